@@ -1,0 +1,11 @@
+"""`langur reproduce` (CLI.md).  Not yet implemented."""
+
+from ..cli import UsageError
+
+
+def add_arguments(p):
+    p.add_argument("files", nargs="*")
+
+
+def run(args):
+    raise UsageError("`langur reproduce` is not implemented yet")

@@ -1,0 +1,408 @@
+"""The core language Langur (paper §4; LANGUAGE.md §1), shared by every engine.
+
+    t, s, r ::= c | x | z | t + s | t · s | f(t) | t ^ k
+              | ifge0 t then s else r          -- t variable-free
+              | ifge0 ⌊Ψ⌋ then s else r        -- Ψ a C¹ diffeomorphism in the variables
+              | let z = t in s                 -- t variable-free
+    p       ::= int t d(x1, …, xn)
+
+The extension by smooth primitives ``f(t)`` and constant powers ``t ^ k`` is LANGUAGE.md §1's;
+``t / s`` is ``t · s ^ -1`` and ``t − s`` is ``t + (−1)·s``.
+
+Nodes are frozen dataclasses.  Every node may carry the source ``span`` it came from (for
+diagnostics); spans never take part in equality or hashing, so ``parse(print(t)) == t`` compares
+structure only.
+
+``Call`` is not part of the paper's core: it appears only in a module's *elaborated* form (one
+module's definitions with calls into other modules left as links, for separate compilation, §9).
+``langur.syntax.desugar.inline`` removes every ``Call``; the semantic functions ``denote`` and
+``ddenote`` see pure core terms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
+from typing import Callable, Union
+
+from .diagnostics import Span
+
+#: Smooth primitives of the surface language (LANGUAGE.md §1).
+PRIMITIVES: tuple[str, ...] = ("exp", "log", "sin", "cos", "tan", "sqrt", "tanh", "atan")
+#: Further smooth primitives that only the front end introduces, inside inverse branches of
+#: automatically completed diffeomorphisms (``sin(x) - t`` is inverted with ``asin``).
+INTERNAL_PRIMITIVES: tuple[str, ...] = ("asin", "acos", "atanh")
+ALL_PRIMITIVES: tuple[str, ...] = PRIMITIVES + INTERNAL_PRIMITIVES
+
+PI = "pi"  # the one named constant: Const(PI) is π
+
+
+def _span() -> Span | None:
+    return field(default=None, compare=False, repr=False)  # type: ignore[return-value]
+
+
+@dataclass(frozen=True)
+class Const:
+    """A constant ``c``: an exact rational, or the string ``"pi"`` for π."""
+
+    value: Fraction | str
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Var:
+    """A variable of integration ``x`` (or an input ``u`` of an inverse diffeomorphism)."""
+
+    name: str
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Param:
+    """A parameter ``z`` (declared, or bound by ``let``)."""
+
+    name: str
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Add:
+    left: "Term"
+    right: "Term"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Mul:
+    left: "Term"
+    right: "Term"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Prim:
+    """A smooth primitive applied to a term: ``op`` in :data:`ALL_PRIMITIVES`."""
+
+    op: str
+    arg: "Term"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Pow:
+    """``base ^ exponent`` with a constant rational exponent (``t / s`` is ``t · s ^ -1``)."""
+
+    base: "Term"
+    exponent: Fraction
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class IfGe0:
+    """``ifge0 cond then then else orelse`` with a variable-free ``cond`` (Fig. 6, conditional)."""
+
+    cond: "Term"
+    then: "Term"
+    orelse: "Term"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class IfDiffeo:
+    """``ifge0 ⌊Ψ⌋ then then else orelse`` (Fig. 6, diffeomorphic conditional).
+
+    The condition is ``π₀Ψ̂ ≥ 0``, i.e. ``psi.forward[0] ≥ 0``.
+    """
+
+    psi: "Diffeo"
+    then: "Term"
+    orelse: "Term"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Let:
+    """``let name = bound in body``: ``bound`` variable-free, ``name`` a parameter in ``body``."""
+
+    name: str
+    bound: "Term"
+    body: "Term"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Call:
+    """A call of ``def name`` of module ``module`` (elaborated form only; see module docstring).
+
+    ``args`` follow the def's argument kinds: a ``var`` argument is a term over variables, a
+    ``param`` argument a variable-free term.
+    """
+
+    module: str
+    name: str
+    args: tuple["Term", ...]
+    span: Span | None = _span()
+
+
+Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call]
+
+
+@dataclass(frozen=True)
+class InverseBranch:
+    """One branch of Ψ̂⁻¹: ``variables[i] = components[i](u⃗; z⃗)`` where every guard is ``≥ 0``.
+
+    ``components`` are terms over ``Var(u)`` for the diffeo's ``inputs`` and over parameters.
+    ``guards`` (same kind of terms) say where this branch exists, e.g. ``u0 + a`` for the branch
+    ``x = sqrt(u0 + a)`` of ``x^2 - a``.  The branches' images partition (up to a null set) the part
+    of ℝⁿ the program integrates over, so that
+
+        ∫ h(x) δ(π₀Ψ̂(x)) dx = Σ_branches ∫_{guards ≥ 0} h(Ψ̂_b⁻¹(0, u')) |det DΨ̂_b⁻¹(0, u')| du'.
+    """
+
+    components: tuple["Term", ...]
+    guards: tuple["Term", ...] = ()
+
+
+@dataclass(frozen=True)
+class Diffeo:
+    """A (piecewise) C¹ diffeomorphism ``x⃗ ↦ Ψ̂(x⃗; z⃗)`` with its inverse branches (§4, §5).
+
+    * ``variables``: Ψ̂'s inputs x⃗, in order (after inlining: all variables of the program).
+    * ``forward``: Ψ̂'s components, terms over ``Var(x)`` and parameters; ``forward[0]`` = π₀Ψ̂ is
+      the condition.
+    * ``inputs``: the names of Ψ̂⁻¹'s inputs u⃗ (disjoint from ``variables`` and all parameters).
+    * ``branches``: Ψ̂⁻¹, one :class:`InverseBranch` per branch (one for a true diffeomorphism).
+    * ``solved_for``: for an automatically completed condition, the variable isolated from
+      π₀Ψ̂ = u₀ (then ``forward = (condition, the other variables in order)``); else ``None``.
+    * ``name``: the ``diffeo`` declaration's name, or ``None`` when completed.
+    * ``nonzero``: variable-free terms that must not vanish for Ψ̂ to be a diffeomorphism (a
+      parameter coefficient such as ``t`` in ``t*x - 1``).
+    """
+
+    variables: tuple[str, ...]
+    forward: tuple["Term", ...]
+    inputs: tuple[str, ...]
+    branches: tuple[InverseBranch, ...]
+    solved_for: str | None = None
+    name: str | None = None
+    nonzero: tuple["Term", ...] = ()
+    span: Span | None = _span()
+
+    @property
+    def condition(self) -> "Term":
+        """π₀Ψ̂."""
+        return self.forward[0]
+
+
+@dataclass(frozen=True)
+class Program:
+    """``int body d(variables)`` (Fig. 11).
+
+    ``box`` is a bounding box outside of which ``body`` vanishes: one ``(lo, hi)`` pair of
+    variable-free terms per variable, in order (from the domain, or from bounding indicators).
+    It is what makes the integrand compactly supported (Prop. 8.1) and where samplers sample.
+    """
+
+    body: "Term"
+    variables: tuple[str, ...]
+    box: tuple[tuple["Term", "Term"], ...]
+    span: Span | None = _span()
+
+
+# ----------------------------------------------------------------------------------------------
+# Small constructors and generic traversals.  The semantic functions are written as one `match`
+# each in their own modules; these helpers are structural only.
+
+
+def const(v: int | Fraction | str) -> Const:
+    return Const(v if isinstance(v, str) else Fraction(v))
+
+
+def neg(t: Term) -> Term:
+    return Mul(Const(Fraction(-1)), t)
+
+
+def sub(t: Term, s: Term) -> Term:
+    return Add(t, neg(s))
+
+
+def div(t: Term, s: Term) -> Term:
+    return Mul(t, Pow(s, Fraction(-1)))
+
+
+def children(t: Term) -> tuple[Term, ...]:
+    """Direct subterms of ``t`` (the diffeo's own terms are not children: see ``diffeo_terms``)."""
+    match t:
+        case Const() | Var() | Param():
+            return ()
+        case Add(a, b) | Mul(a, b):
+            return (a, b)
+        case Prim(_, a) | Pow(a, _):
+            return (a,)
+        case IfGe0(c, a, b):
+            return (c, a, b)
+        case IfDiffeo(_, a, b):
+            return (a, b)
+        case Let(_, a, b):
+            return (a, b)
+        case Call(_, _, args):
+            return tuple(args)
+    raise TypeError(f"not a core term: {t!r}")
+
+
+def subterms(t: Term):
+    """Pre-order iteration over ``t`` and all its subterms."""
+    stack = [t]
+    while stack:
+        u = stack.pop()
+        yield u
+        stack.extend(reversed(children(u)))
+
+
+def free_vars(t: Term) -> frozenset[str]:
+    """Names of variables occurring in ``t`` (including in diffeomorphic conditions)."""
+    out: set[str] = set()
+    for u in subterms(t):
+        if isinstance(u, Var):
+            out.add(u.name)
+        elif isinstance(u, IfDiffeo):
+            out.update(u.psi.variables)
+    return frozenset(out)
+
+
+def free_params(t: Term) -> frozenset[str]:
+    """Names of parameters occurring free in ``t`` (``let`` binds its name in its body)."""
+    match t:
+        case Param(name):
+            return frozenset({name})
+        case Let(name, bound, body):
+            return free_params(bound) | (free_params(body) - {name})
+        case IfDiffeo(psi, a, b):
+            return diffeo_params(psi) | free_params(a) | free_params(b)
+        case _:
+            out: frozenset[str] = frozenset()
+            for c in children(t):
+                out |= free_params(c)
+            return out
+
+
+def diffeo_params(psi: Diffeo) -> frozenset[str]:
+    out: frozenset[str] = frozenset()
+    for f in psi.forward:
+        out |= free_params(f)
+    return out
+
+
+def substitute(
+    t: Term,
+    variables: dict[str, Term] | None = None,
+    params: dict[str, Term] | None = None,
+) -> Term:
+    """Capture-avoiding enough substitution of variables and parameters in ``t``.
+
+    Variables inside a diffeomorphic condition may only be renamed to other variables (a
+    diffeomorphism composed with an arbitrary map is no longer one): callers that need more
+    must re-complete the condition (``langur.syntax.diffeo``).
+    """
+    variables = variables or {}
+    params = params or {}
+
+    def go(u: Term, ps: dict[str, Term]) -> Term:
+        match u:
+            case Var(name):
+                return variables.get(name, u)
+            case Param(name):
+                return ps.get(name, u)
+            case Const():
+                return u
+            case Let(name, bound, body):
+                inner = {k: v for k, v in ps.items() if k != name}
+                return replace(u, bound=go(bound, ps), body=go(body, inner))
+            case IfDiffeo(psi, a, b):
+                return replace(u, psi=substitute_diffeo(psi, variables, ps), then=go(a, ps), orelse=go(b, ps))
+            case _:
+                return map_children(u, lambda c: go(c, ps))
+
+    return go(t, params)
+
+
+def map_children(t: Term, f: Callable[[Term], Term]) -> Term:
+    """Rebuild ``t`` with ``f`` applied to each direct child (see :func:`children`)."""
+    match t:
+        case Const() | Var() | Param():
+            return t
+        case Add(a, b):
+            return replace(t, left=f(a), right=f(b))
+        case Mul(a, b):
+            return replace(t, left=f(a), right=f(b))
+        case Prim(_, a):
+            return replace(t, arg=f(a))
+        case Pow(a, _):
+            return replace(t, base=f(a))
+        case IfGe0(c, a, b):
+            return replace(t, cond=f(c), then=f(a), orelse=f(b))
+        case IfDiffeo(_, a, b):
+            return replace(t, then=f(a), orelse=f(b))
+        case Let(_, a, b):
+            return replace(t, bound=f(a), body=f(b))
+        case Call(_, _, args):
+            return replace(t, args=tuple(f(a) for a in args))
+    raise TypeError(f"not a core term: {t!r}")
+
+
+def substitute_diffeo(psi: Diffeo, variables: dict[str, Term], params: dict[str, Term]) -> Diffeo:
+    """Rename Ψ's variables (each must map to a ``Var``) and substitute its parameters."""
+    renames: dict[str, str] = {}
+    for x in psi.variables:
+        if x in variables:
+            target = variables[x]
+            if not isinstance(target, Var):
+                raise ValueError(f"diffeomorphism variable {x} can only be renamed, not replaced by {target!r}")
+            renames[x] = target.name
+    vmap = {x: Var(y) for x, y in renames.items()}
+    return replace(
+        psi,
+        variables=tuple(renames.get(x, x) for x in psi.variables),
+        forward=tuple(substitute(f, vmap, params) for f in psi.forward),
+        branches=tuple(
+            InverseBranch(
+                tuple(substitute(c, {}, params) for c in b.components),
+                tuple(substitute(g, {}, params) for g in b.guards),
+            )
+            for b in psi.branches
+        ),
+        solved_for=renames.get(psi.solved_for, psi.solved_for) if psi.solved_for else None,
+        nonzero=tuple(substitute(n, {}, params) for n in psi.nonzero),
+    )
+
+
+def extend_diffeo(psi: Diffeo, variables: tuple[str, ...]) -> Diffeo:
+    """Ψ̂ on a subset of ``variables`` extended by the identity on the rest, inputs in that order.
+
+    The result's ``variables`` are exactly ``variables``; forward gains the missing variables as
+    extra components; every branch gains matching identity components on fresh inputs.
+    """
+    missing = [x for x in variables if x not in psi.variables]
+    if not missing and psi.variables == variables:
+        return psi
+    taken = set(psi.inputs) | set(variables)
+    fresh = []
+    k = len(psi.inputs)
+    for _ in missing:
+        while f"u{k}" in taken:
+            k += 1
+        fresh.append(f"u{k}")
+        taken.add(f"u{k}")
+    forward = psi.forward + tuple(Var(x) for x in missing)
+    inputs = psi.inputs + tuple(fresh)
+    branches = []
+    for b in psi.branches:
+        by_name = dict(zip(psi.variables, b.components))
+        by_name.update({x: Var(u) for x, u in zip(missing, fresh)})
+        branches.append(InverseBranch(tuple(by_name[x] for x in variables), b.guards))
+    return replace(psi, variables=variables, forward=forward, inputs=inputs, branches=tuple(branches))
+
+
+def branch_components(psi: Diffeo, branch: InverseBranch) -> dict[str, Term]:
+    """The inverse branch as ``{variable name: term over inputs and parameters}``."""
+    return dict(zip(psi.variables, branch.components))

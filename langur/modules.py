@@ -1,0 +1,64 @@
+"""Elaborated modules: the front end's output, per module, for separate compilation (§9).
+
+``langur.frontend.load`` parses a file, follows its imports, desugars and type-checks each module
+once, and returns a :class:`Loaded`: every module's elaborated form (its defs and program with calls
+into other modules left as :class:`langur.core.Call` links) and the main program fully inlined into
+the pure core language.  A module's elaborated form depends only on its own text and the
+*signatures* of what it imports, so it can be compiled and cached on its own.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+from .core import Diffeo, Program, Term
+from .diagnostics import Span
+
+
+@dataclass(frozen=True)
+class CoreDef:
+    """``def name(args) = body`` after desugaring.
+
+    ``args`` are ``(name, kind)`` with kind ``"var"`` or ``"param"``; in ``body`` a var argument is
+    ``Var(name)`` and a param argument ``Param(name)``.  ``body`` may contain ``Call`` nodes.
+    """
+
+    module: str
+    name: str
+    args: tuple[tuple[str, str], ...]
+    body: Term
+    span: Span | None = field(default=None, compare=False, repr=False)
+
+
+@dataclass
+class ElaboratedModule:
+    name: str  # the module's name: its file stem, or the NAME of --module NAME=PATH
+    path: str
+    source_hash: str  # sha256 of the file's bytes
+    params: dict[str, Fraction | None]  # declared params with their defaults (None: no default)
+    diffeos: dict[str, Diffeo]  # declared (and checked) diffeos, in the declaration's own names
+    defs: dict[str, CoreDef]
+    imports: dict[str, tuple[str, str]]  # local name -> (module name, name there)
+    program: Program | None  # elaborated: calls left as Call nodes
+
+
+@dataclass
+class Loaded:
+    main: ElaboratedModule
+    modules: dict[str, ElaboratedModule]  # every module reached, the main one included
+    program: Program | None  # the main program, fully inlined: pure core, no Call nodes
+    params: dict[str, Fraction | None]  # the program's parameters with defaults, declaration order
+
+    def param_values(self, overrides: dict[str, float] | None = None) -> dict[str, Fraction | float]:
+        """Defaults overridden by ``overrides``; raises ``KeyError`` naming a missing value."""
+        out: dict[str, Fraction | float] = {}
+        overrides = overrides or {}
+        for name, default in self.params.items():
+            if name in overrides:
+                out[name] = overrides[name]
+            elif default is not None:
+                out[name] = default
+            else:
+                raise KeyError(name)
+        return out

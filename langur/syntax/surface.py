@@ -1,0 +1,219 @@
+"""Surface syntax of `.lgr` files (LANGUAGE.md §6): what the parser builds, before desugaring.
+
+Every node carries the ``span`` of its source text.  Spans do not take part in equality.
+The desugarer (``langur.syntax.desugar``) is the only consumer; it maps these nodes to the core
+language of ``langur.core`` exactly as LANGUAGE.md §6's table says.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Union
+
+from ..diagnostics import Span
+
+
+def _span() -> Span | None:
+    return field(default=None, compare=False, repr=False)  # type: ignore[return-value]
+
+
+# --- terms ------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Num:
+    """A decimal literal, read exactly (``0.5`` is ``Fraction(1, 2)``)."""
+
+    value: Fraction
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Name:
+    """A name in a term: variable, parameter, let-bound name, def argument, or ``pi``."""
+
+    name: str
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class BinOp:
+    """``left op right`` with ``op`` one of ``+ - * / ^``."""
+
+    op: str
+    left: "STerm"
+    right: "STerm"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Neg:
+    """Unary minus ``-arg``."""
+
+    arg: "STerm"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Apply:
+    """``name(args…)``: a primitive (``exp``, …, ``abs``, ``min``, ``max``) or a def call."""
+
+    name: str
+    args: tuple["STerm", ...]
+    span: Span | None = _span()
+    name_span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Iverson:
+    """``[t0 op0 t1 op1 t2 …]``: a chain of comparisons, ``ops[i]`` between ``terms[i]`` and ``terms[i+1]``."""
+
+    terms: tuple["STerm", ...]
+    ops: tuple[str, ...]  # each one of "<=", ">=", "<", ">"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class LetIn:
+    name: str
+    bound: "STerm"
+    body: "STerm"
+    span: Span | None = _span()
+    name_span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class DiffeoApp:
+    """``NAME(terms ; terms)`` in the condition of ``ifge0``: a declared diffeo applied (⌊Ψ⌋)."""
+
+    name: str
+    variables: tuple["STerm", ...]
+    params: tuple["STerm", ...]
+    span: Span | None = _span()
+    name_span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class IfGe0S:
+    """``ifge0 cond then then else orelse``; ``cond`` a term or a :class:`DiffeoApp`."""
+
+    cond: Union["STerm", DiffeoApp]
+    then: "STerm"
+    orelse: "STerm"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class IfCmp:
+    """``if left op right then then else orelse``."""
+
+    left: "STerm"
+    op: str
+    right: "STerm"
+    then: "STerm"
+    orelse: "STerm"
+    span: Span | None = _span()
+
+
+STerm = Union[Num, Name, BinOp, Neg, Apply, Iverson, LetIn, IfGe0S, IfCmp]
+
+
+# --- declarations and modules -----------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Ident:
+    """A name being declared or bound, with where it was written."""
+
+    name: str
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class ParamDecl:
+    """One ``pdecl`` of a ``param`` item: a name with an optional numeric default."""
+
+    name: Ident
+    default: Fraction | None
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class ParamItem:
+    decls: tuple[ParamDecl, ...]
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class DiffeoDecl:
+    """``diffeo name(variables; params) = (forward…) inverse (inputs) = (inverse…)``."""
+
+    name: Ident
+    variables: tuple[Ident, ...]
+    params: tuple[Ident, ...]
+    forward: tuple[STerm, ...]
+    inputs: tuple[Ident, ...]
+    inverse: tuple[STerm, ...]
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class DefArg:
+    name: Ident
+    kind: str  # "var" | "param"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class DefDecl:
+    name: Ident
+    args: tuple[DefArg, ...]
+    body: STerm
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class ImportName:
+    name: Ident
+    alias: Ident | None
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class ImportItem:
+    """``from module import name [as alias], …``."""
+
+    module: Ident
+    names: tuple[ImportName, ...]
+    span: Span | None = _span()
+
+
+Item = Union[ParamItem, DiffeoDecl, DefDecl, ImportItem]
+
+
+@dataclass(frozen=True)
+class Interval:
+    lo: STerm
+    hi: STerm
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class ProgramS:
+    """``int (domain)? body d(variables)``; ``domain`` is ``None`` when absent."""
+
+    domain: tuple[Interval, ...] | None
+    body: STerm
+    variables: tuple[Ident, ...]
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class ModuleS:
+    """A parsed `.lgr` file: its items in order, then at most one program."""
+
+    path: str
+    items: tuple[Item, ...]
+    program: ProgramS | None
+    span: Span | None = _span()
