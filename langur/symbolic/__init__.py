@@ -1,0 +1,1 @@
+"""Exact (sympy) machinery behind ``langur.denote`` and ``langur.ddenote``."""

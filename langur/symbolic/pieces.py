@@ -1,0 +1,90 @@
+"""The simply decomposable normal form (paper Def. 6.2, Theorem 7.1) as sympy data.
+
+The semantic functions (``langur.denote``, ``langur.ddenote``) produce these; the integrator
+(``langur.symbolic.integrate``) consumes them.  Nothing here calls sympy's ``integrate``.
+
+* A :class:`Condition` is ``[expr ≥ 0]`` for a sympy expression in variable and parameter symbols,
+  with the inverse branches of its diffeomorphism when known (``Psi``), so regions can be computed
+  from the roots instead of by solving.
+* A :class:`Piece` is ``Π conditions · weight`` with a smooth ``weight`` (Def. 6.2's summand).
+* A :class:`DeltaPiece` is ``δ(π₀Ψ̂) · Π conditions · weight`` (Theorem 7.1's ``h_ik · δ(Φ_ik)``):
+  it is integrated through the change of variables ``u = Ψ̂(x)`` over every inverse branch.
+* An :class:`Integral` is a result: an exact expression in the parameters when one was found,
+  its value at the evaluation point, how it was obtained, and an error bound.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+
+@dataclass(frozen=True)
+class Branch:
+    """One inverse branch of Ψ̂: ``{variable symbol: expression in the input symbols and params}``,
+    valid where every guard is ``≥ 0``."""
+
+    inverse: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    guards: tuple[sp.Expr, ...] = ()
+
+
+@dataclass(frozen=True)
+class Psi:
+    """A (piecewise) diffeomorphism in sympy form: forward components over the variables and the
+    inverse branches over ``inputs`` (``inputs[0]`` is the coordinate of the condition π₀Ψ̂)."""
+
+    variables: tuple[sp.Symbol, ...]
+    forward: tuple[sp.Expr, ...]
+    inputs: tuple[sp.Symbol, ...]
+    branches: tuple[Branch, ...]
+    solved_for: sp.Symbol | None = None
+
+
+@dataclass(frozen=True)
+class Condition:
+    """``[expr ≥ 0]``.  ``psi`` (optional) has ``psi.forward[0] == expr``; ``origin`` is an opaque
+    tag for diagnostics (e.g. the core IfDiffeo node's span)."""
+
+    expr: sp.Expr
+    psi: Psi | None = None
+    origin: object = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class Piece:
+    """``Π [c.expr ≥ 0] · weight`` with a smooth weight."""
+
+    conditions: tuple[Condition, ...]
+    weight: sp.Expr
+
+
+@dataclass(frozen=True)
+class DeltaPiece:
+    """``δ(π₀Ψ̂) · Π [c.expr ≥ 0] · weight``.  ``weight`` already contains ``D_γ π₀Ψ̂ · γ'`` and the jump
+    factor ``⟦s⟧ − ⟦r⟧`` when it is smooth; a non-smooth jump is expanded into several DeltaPieces with
+    the same ``psi``."""
+
+    psi: Psi
+    conditions: tuple[Condition, ...]
+    weight: sp.Expr
+
+
+@dataclass
+class Integral:
+    """The result of integrating pieces over the box.
+
+    ``expr``: exact sympy expression in the parameters (None when no closed form was found);
+    ``value``: float at the evaluation point; ``method``: "closed_form" or "quadrature";
+    ``error``: a bound on |value − true value| (0.0 for a closed form that passed the
+    cross-check); ``check``: the independent quadrature value used to cross-check a closed form
+    (None if it could not be computed); ``notes``: human-readable remarks (e.g. "closed form valid
+    for parameters near the evaluation point: theta in (0, 1)").
+    """
+
+    expr: sp.Expr | None
+    value: float
+    method: str
+    error: float = 0.0
+    check: float | None = None
+    notes: list[str] = field(default_factory=list)
