@@ -1,11 +1,71 @@
-"""`langur deriv` (CLI.md).  Not yet implemented."""
+"""``langur deriv FILE --wrt NAME``: ⦇p⦈ exact and by Monte Carlo, standard AD, and Theorem 8.1."""
 
-from ..cli import UsageError
+from __future__ import annotations
+
+from ..cli import add_common
+from . import _common as c
+from ._engines import ENGINE_CHOICES, run_exact, run_mc
 
 
 def add_arguments(p):
-    p.add_argument("files", nargs="*")
+    p.add_argument("file", metavar="FILE", help="a .lgr file with a program (- reads standard input)")
+    p.add_argument("--wrt", metavar="NAME", help="differentiate with respect to this parameter")
+    p.add_argument("--dir", action="append", metavar="NAME=VALUE",
+                   help="a direction γ' instead of --wrt (repeatable, or comma-separated)")
+    add_common(p, mc=True)
+    p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
+                   help="Monte Carlo sampling (default uniform)")
+    p.add_argument("--engine", choices=ENGINE_CHOICES, default="both",
+                   help="which engines to run (default both)")
 
 
-def run(args):
-    raise UsageError("`langur deriv` is not implemented yet")
+def run(args) -> int:
+    loaded = c.load(args)
+    program = c.require_program(loaded, args.file)
+    params = c.param_values(args, loaded)
+    direction = c.direction(args, loaded)
+    status = 0
+    exact = mc = theorem = None
+    standard_ad = None
+    if args.engine in ("both", "exact"):
+        result, status = run_exact("deriv", program, params, direction)
+        if result is not None:
+            theorem = result.pop("theorem_8_1", None)
+            exact_sad = result.pop("standard_ad", None)
+            exact = result
+            if exact_sad is not None:
+                standard_ad = {"value": exact_sad, "stderr": 0.0, "source": "exact"}
+    if args.engine in ("both", "mc"):
+        mc = run_mc("deriv", loaded, params, args, direction)
+        if mc is not None:
+            sad = mc.pop("standard_ad", None)
+            if sad is not None:
+                standard_ad = {"value": sad["value"], "stderr": sad["stderr"], "source": "mc"}
+    if args.json:
+        c.dump_json({"params": params, "direction": direction, "exact": exact, "mc": mc,
+                     "standard_ad": standard_ad, "theorem_8_1": theorem})
+        return status
+    wrt = [k for k, v in direction.items() if v]
+    what = f"d/d{wrt[0]}" if len(wrt) == 1 and direction[wrt[0]] == 1 else \
+        "derivative in direction " + ", ".join(f"{k}'={c.fmt(v)}" for k, v in direction.items() if v)
+    print(f"{args.file}: {what} at {c.fmt_params(params)}")
+    if exact is not None:
+        how = "closed form" if exact.get("method") == "closed_form" else \
+            f"quadrature, error ≤ {c.fmt(exact.get('error'), 3)}"
+        print(f"  exact       : {c.fmt(exact['value'])} = regular {c.fmt(exact['regular'])}"
+              f" + boundary {c.fmt(exact['boundary'])}   ({how}: {exact.get('expr')})")
+        for note in exact.get("notes") or []:
+            print(f"                note: {note}")
+    if mc is not None:
+        print(f"  MC          : {c.fmt(mc['value'])} ± {c.fmt(mc['stderr'], 3)} = regular "
+              f"{c.fmt(mc['regular']['value'])} + boundary {c.fmt(mc['boundary']['value'])}   "
+              f"({mc['samples']} samples, {mc.get('method', 'uniform')}, seed {mc['seed']})")
+    if standard_ad is not None:
+        print(f"  standard AD : {c.fmt(standard_ad['value'])} ± {c.fmt(standard_ad['stderr'], 3)}"
+              "   (deltas dropped: what PyTorch or JAX compute on the discretized integral)")
+    if theorem is not None:
+        verdict = "holds" if theorem.get("holds") else "FAILS"
+        print(f"  Theorem 8.1 : {verdict}: D⟦p⟧ = {c.fmt(theorem.get('d_denotation'))}, "
+              f"⦇p⦈ = {c.fmt(theorem.get('derivative_denotation'))}"
+              + ("" if theorem.get("holds") else "   (run `langur check` for transversality)"))
+    return status

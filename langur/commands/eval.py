@@ -1,11 +1,45 @@
-"""`langur eval` (CLI.md).  Not yet implemented."""
+"""``langur eval FILE``: the program's value, exact (symbolic, §6/§8) and Monte Carlo (operational, §9)."""
 
-from ..cli import UsageError
+from __future__ import annotations
+
+import sys
+
+from ..cli import add_common
+from . import _common as c
+from ._engines import ENGINE_CHOICES, run_exact, run_mc
 
 
 def add_arguments(p):
-    p.add_argument("files", nargs="*")
+    p.add_argument("file", metavar="FILE", help="a .lgr file with a program (- reads standard input)")
+    add_common(p, mc=True)
+    p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
+                   help="Monte Carlo sampling (default uniform)")
+    p.add_argument("--engine", choices=ENGINE_CHOICES, default="both",
+                   help="which engines to run (default both)")
 
 
-def run(args):
-    raise UsageError("`langur eval` is not implemented yet")
+def run(args) -> int:
+    loaded = c.load(args)
+    program = c.require_program(loaded, args.file)
+    params = c.param_values(args, loaded)
+    status = 0
+    exact = mc = None
+    if args.engine in ("both", "exact"):
+        exact, status = run_exact("eval", program, params)
+    if args.engine in ("both", "mc"):
+        mc = run_mc("eval", loaded, params, args)
+    if args.json:
+        c.dump_json({"params": params, "exact": exact, "mc": mc})
+        return status
+    print(f"{args.file}: value at {c.fmt_params(params)}")
+    if exact is not None:
+        how = "closed form" if exact.get("method") == "closed_form" else \
+            f"quadrature, error ≤ {c.fmt(exact.get('error'), 3)}"
+        print(f"  exact : {c.fmt(exact['value'])}   ({how}: {exact.get('expr')})")
+        for note in exact.get("notes") or []:
+            print(f"          note: {note}")
+    if mc is not None:
+        print(f"  MC    : {c.fmt(mc['value'])} ± {c.fmt(mc['stderr'], 3)}   "
+              f"({mc['samples']} samples, {mc.get('method', 'uniform')}, seed {mc['seed']})")
+    sys.stdout.flush()
+    return status

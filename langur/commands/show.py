@@ -1,11 +1,61 @@
-"""`langur show` (CLI.md).  Not yet implemented."""
+"""``langur show FILE``: the core term after desugaring (§4), its denotation ⟦p⟧ (Fig. 7, 12), and
+with ``--wrt``/``--dir`` its derivative ⦇p⦈ in the normal form of Theorem 7.1."""
 
-from ..cli import UsageError
+from __future__ import annotations
+
+from ..cli import add_common
+from . import _common as c
 
 
 def add_arguments(p):
-    p.add_argument("files", nargs="*")
+    p.add_argument("file", metavar="FILE", help="a .lgr file (- reads standard input)")
+    p.add_argument("--wrt", metavar="NAME", help="also show the derivative in this parameter")
+    p.add_argument("--dir", action="append", metavar="NAME=VALUE", help="a direction γ' instead of --wrt")
+    p.add_argument("--latex", action="store_true", help="LaTeX for the denotation and the derivative")
+    p.add_argument("--core", action="store_true", help="only the core term (no semantics)")
+    add_common(p)
 
 
-def run(args):
-    raise UsageError("`langur show` is not implemented yet")
+def _core_text(loaded) -> str:
+    from ..syntax import printer
+
+    lines = []
+    main = loaded.main
+    for name, d in main.defs.items():
+        args = ", ".join(f"{a}: {k}" for a, k in d.args)
+        lines.append(f"def {name}({args}) = {printer.print_core(d.body)}")
+    for name, psi in main.diffeos.items():
+        lines.append(f"diffeo {name}: {printer.print_diffeo(psi)}")
+    if loaded.program is not None:
+        lines.append(printer.print_program(loaded.program))
+    return "\n".join(lines) if lines else "(empty module)"
+
+
+def run(args) -> int:
+    loaded = c.load(args)
+    core = _core_text(loaded)
+    out: dict = {"core": core}
+    program = loaded.program
+    want_deriv = bool(args.wrt or args.dir)
+    if program is not None and not args.core:
+        from ..symbolic import present
+
+        params = c.param_values(args, loaded)
+        out["denotation"] = present.show_denotation(program, latex=args.latex, params=params)
+        if want_deriv:
+            direction = c.direction(args, loaded)
+            out["derivative"] = present.show_derivative(program, direction, latex=args.latex, params=params)
+    elif want_deriv and program is None:
+        c.require_program(loaded, args.file)
+    if args.json:
+        c.dump_json(out)
+        return 0
+    print("core:")
+    print("  " + core.replace("\n", "\n  "))
+    if "denotation" in out:
+        print("denotation ⟦p⟧:")
+        print("  " + out["denotation"].replace("\n", "\n  "))
+    if "derivative" in out:
+        print("derivative ⦇p⦈ (Theorem 7.1 normal form):")
+        print("  " + out["derivative"].replace("\n", "\n  "))
+    return 0

@@ -1,0 +1,120 @@
+"""Plumbing shared by the subcommands: loading FILE, parameter values, directions, JSON output."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+from fractions import Fraction
+
+from ..cli import UsageError, parse_assignments, parse_modules
+
+
+def load(args, path: str | None = None):
+    """Load FILE (``-`` is standard input) with the ``--module`` overrides; LangurError propagates."""
+    from .. import frontend
+
+    path = path if path is not None else args.file
+    modules = parse_modules(getattr(args, "module", None))
+    for name, mpath in modules.items():
+        if not os.path.isfile(mpath):
+            raise UsageError(f"--module {name}={mpath}: no such file")
+    if path == "-":
+        data = sys.stdin.buffer.read()
+        loader = getattr(frontend, "load_bytes", None)
+        if loader is not None:
+            return loader(data, "<stdin>", modules=modules)
+        return frontend.load_text(data.decode("utf-8", errors="replace"), "<stdin>", modules=modules)
+    if not os.path.exists(path):
+        raise UsageError(f"{path}: no such file")
+    if os.path.isdir(path):
+        raise UsageError(f"{path}: is a directory")
+    return frontend.load(path, modules=modules)
+
+
+def require_program(loaded, path: str):
+    if loaded.program is None:
+        raise UsageError(f"{path}: the module has no program (`int … d(…)`) to evaluate")
+    return loaded.program
+
+
+def param_values(args, loaded) -> dict[str, Fraction | float]:
+    """Defaults overridden by ``--at``; unknown or missing parameters are usage errors."""
+    at = parse_assignments(getattr(args, "at", None), "--at")
+    unknown = sorted(set(at) - set(loaded.params))
+    if unknown:
+        declared = ", ".join(loaded.params) or "none"
+        raise UsageError(f"--at {unknown[0]}: no such parameter (declared: {declared})")
+    values: dict[str, Fraction | float] = {}
+    for name, default in loaded.params.items():
+        if name in at:
+            v = at[name]
+            values[name] = Fraction(str(v)) if math.isfinite(v) else v  # 0.1 stays exactly 1/10
+        elif default is not None:
+            values[name] = default
+        else:
+            raise UsageError(f"parameter {name} has no default: give it with --at {name}=VALUE")
+    return values
+
+
+def direction(args, loaded) -> dict[str, float]:
+    """``--wrt NAME`` is the unit vector e_NAME; ``--dir a=1,b=0.5`` an arbitrary γ'."""
+    wrt = getattr(args, "wrt", None)
+    dirs = getattr(args, "dir", None)
+    if wrt and dirs:
+        raise UsageError("give either --wrt NAME or --dir NAME=VALUE,…, not both")
+    if wrt:
+        if wrt not in loaded.params:
+            declared = ", ".join(loaded.params) or "none"
+            raise UsageError(f"--wrt {wrt}: no such parameter (declared: {declared})")
+        return {name: (1.0 if name == wrt else 0.0) for name in loaded.params}
+    if dirs:
+        d = parse_assignments(dirs, "--dir")
+        unknown = sorted(set(d) - set(loaded.params))
+        if unknown:
+            raise UsageError(f"--dir {unknown[0]}: no such parameter")
+        return {name: d.get(name, 0.0) for name in loaded.params}
+    if len(loaded.params) == 1:
+        (only,) = loaded.params
+        return {only: 1.0}
+    raise UsageError("which derivative? give --wrt NAME or --dir NAME=VALUE,…")
+
+
+def jsonable(v):
+    """JSON numbers, with NaN and infinities as the strings "nan", "inf", "-inf" (CLI.md)."""
+    if isinstance(v, dict):
+        return {str(k): jsonable(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [jsonable(x) for x in v]
+    if isinstance(v, bool) or v is None or isinstance(v, str):
+        return v
+    if isinstance(v, (int, Fraction)):
+        return float(v) if isinstance(v, Fraction) else v
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return str(v)
+    if math.isnan(f):
+        return "nan"
+    if math.isinf(f):
+        return "inf" if f > 0 else "-inf"
+    return f
+
+
+def dump_json(obj) -> None:
+    print(json.dumps(jsonable(obj)))
+
+
+def fmt(v, digits: int = 10) -> str:
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return str(v)
+    if math.isnan(f) or math.isinf(f):
+        return str(f)
+    return f"{f:.{digits}g}"
+
+
+def fmt_params(values: dict) -> str:
+    return ", ".join(f"{k} = {fmt(v)}" for k, v in values.items()) or "no parameters"
