@@ -1,0 +1,497 @@
+"""Parser of `.lgr` files (LANGUAGE.md §6) into the surface AST of :mod:`langur.syntax.surface`.
+
+The grammar is ``grammar.lark`` beside this file (its header documents the decisions: reserved
+keywords, the soft keyword ``d``, precedence).  It is parsed with lark's LALR(1) parser and an
+*inline* transformer: lark calls the callbacks below on every reduction, so no parse tree is
+built and nothing recurses in Python however deep the input nests.  Every node gets an exact
+:class:`~langur.diagnostics.Span` (1-based lines and columns, ``end_col`` exclusive).
+
+Public API::
+
+    parse_module(text: str, path: str = "<string>") -> ModuleS
+    parse_term(text: str, path: str = "<string>") -> STerm
+    parse_bytes(data: bytes, path: str = "<bytes>") -> ModuleS
+
+Every syntax error raises :class:`~langur.diagnostics.LangurError` with one diagnostic:
+
+======  ==========================================================================================
+code    meaning
+======  ==========================================================================================
+E101    the file is not UTF-8 (position of the first undecodable byte)
+E102    unexpected token: says what was found and what was expected there
+E103    unexpected end of input: says what was expected
+E104    a character that starts no token (``@``, ``!``, a non-ASCII letter, …)
+E105    nesting too deep: a term more than :data:`MAX_DEPTH` levels deep (also long chains such
+        as ``1+1+…+1``, which nest to the left).  Recursive consumers (desugarer, semantics,
+        dataclass equality) stay far from Python's recursion limit.
+E106    a number literal too long (more than :data:`MAX_DIGITS` digits) or with an exponent
+        beyond ±\\ :data:`MAX_EXPONENT`
+E107    anything after the program (a second program, or an item after the program)
+E108    source too large: more than :data:`MAX_SIGNIFICANT` characters outside comments and
+        white space (a bound that keeps the worst case, a 10 MB file, to a few seconds)
+======  ==========================================================================================
+"""
+
+from __future__ import annotations
+
+import re
+import threading
+from fractions import Fraction
+from pathlib import Path
+
+from lark import Lark, Token
+from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
+
+from ..diagnostics import LangurError, Span, error
+from .surface import (
+    Apply,
+    BinOp,
+    DefArg,
+    DefDecl,
+    DiffeoApp,
+    DiffeoDecl,
+    Ident,
+    IfCmp,
+    IfGe0S,
+    ImportItem,
+    ImportName,
+    Interval,
+    Iverson,
+    LetIn,
+    ModuleS,
+    Name,
+    Neg,
+    Num,
+    ParamDecl,
+    ParamItem,
+    ProgramS,
+    STerm,
+)
+
+__all__ = [
+    "parse_module", "parse_term", "parse_bytes",
+    "KEYWORDS", "MAX_DEPTH", "MAX_DIGITS", "MAX_EXPONENT", "MAX_SIGNIFICANT",
+]  # fmt: skip
+
+#: Reserved words (``d`` is only a keyword right after the integrand: see grammar.lark).
+KEYWORDS: frozenset[str] = frozenset(
+    "param diffeo inverse def from import as int d let in ifge0 if then else var".split()
+)
+#: Most characters outside comments and white space that a source may have (E108).
+MAX_SIGNIFICANT = 1_000_000
+#: Deepest term nesting accepted (E105).
+MAX_DEPTH = 200
+#: Longest number literal, in digits (E106).
+MAX_DIGITS = 1000
+#: Largest absolute decimal exponent of a number literal (E106).
+MAX_EXPONENT = 1000
+
+_CMP = {"<=": "<=", "≤": "<=", ">=": ">=", "≥": ">=", "<": "<", ">": ">"}
+
+
+# ----------------------------------------------------------------------------------------------
+# Positions.  Intermediate results are `_R` (a node with the span of its source text including
+# any parentheses around it, and its depth); tokens carry their own positions.
+
+
+class _R:
+    __slots__ = ("node", "line", "col", "end_line", "end_col", "depth")
+
+    def __init__(self, node, line, col, end_line, end_col, depth):
+        self.node = node
+        self.line = line
+        self.col = col
+        self.end_line = end_line
+        self.end_col = end_col
+        self.depth = depth
+
+
+def _start(x) -> tuple[int, int]:
+    if isinstance(x, Token):
+        return x.line, x.column
+    if isinstance(x, _R):
+        return x.line, x.col
+    return x.span.line, x.span.col  # a node (Ident, ParamDecl, …)
+
+
+def _end(x) -> tuple[int, int]:
+    if isinstance(x, Token):
+        return x.end_line, x.end_column
+    if isinstance(x, _R):
+        return x.end_line, x.end_col
+    return x.span.end_line, x.span.end_col
+
+
+class _Builder:
+    """The inline transformer: one method per (aliased) grammar rule, called on reduction."""
+
+    def __init__(self) -> None:
+        self.path = "<string>"
+
+    # -- helpers --
+    def span(self, first, last) -> Span:
+        (l1, c1), (l2, c2) = _start(first), _end(last)
+        return Span(self.path, l1, c1, l2, c2)
+
+    def tok_span(self, t: Token) -> Span:
+        return Span(self.path, t.line, t.column, t.end_line, t.end_column)
+
+    def term(self, make, first, last, subs) -> _R:
+        """Build a term node spanning ``first``..``last`` with subterm results ``subs``."""
+        sp = self.span(first, last)
+        depth = 1 + max((s.depth for s in subs), default=0)
+        if depth > MAX_DEPTH:
+            raise error(sp, "E105", f"nesting too deep: terms may nest at most {MAX_DEPTH} levels")
+        return _R(make(sp), sp.line, sp.col, sp.end_line, sp.end_col, depth)
+
+    def ident(self, t: Token) -> Ident:
+        return Ident(str(t), self.tok_span(t))
+
+    def number(self, t: Token) -> Fraction:
+        text = str(t)
+        mantissa, _, exp = text.lower().partition("e")
+        if sum(ch.isdigit() for ch in mantissa) > MAX_DIGITS:
+            raise error(self.tok_span(t), "E106", f"number literal too long (more than {MAX_DIGITS} digits)")
+        if exp and (len(exp.lstrip("+-").lstrip("0")) > 6 or abs(int(exp)) > MAX_EXPONENT):
+            raise error(
+                self.tok_span(t), "E106", f"number literal's exponent {exp} is beyond ±{MAX_EXPONENT}"
+            )
+        return Fraction(text)
+
+    # -- module level --
+    def start(self, c):
+        return c  # items then maybe a program; parse_module builds the ModuleS
+
+    def param_item(self, c):
+        decls = tuple(x for x in c if isinstance(x, ParamDecl))
+        return ParamItem(decls, self.span(c[0], c[-1]))
+
+    def pdecl(self, c):
+        return ParamDecl(self.ident(c[0]), None, self.span(c[0], c[-1]))
+
+    def pdecl_default(self, c):
+        return ParamDecl(self.ident(c[0]), self.number(c[2]), self.span(c[0], c[-1]))
+
+    def pdecl_default_neg(self, c):
+        return ParamDecl(self.ident(c[0]), -self.number(c[3]), self.span(c[0], c[-1]))
+
+    def diffeo_item(self, c):
+        # DIFFEO name ( names ; names? ) = tuple INVERSE ( names ) = tuple
+        name, variables = c[1], c[3]
+        rest = c[5:]
+        params: tuple = ()
+        if isinstance(rest[0], list):
+            params = tuple(rest[0])
+            rest = rest[1:]
+        # rest: ) = tuple INVERSE ( names ) = tuple
+        forward, inputs, inverse = rest[2], rest[5], rest[8]
+        return DiffeoDecl(
+            self.ident(name),
+            tuple(variables),
+            params,
+            tuple(r.node for r in forward[1]),
+            tuple(inputs),
+            tuple(r.node for r in inverse[1]),
+            self.span(c[0], inverse[2]),
+        )
+
+    def tuple(self, c):
+        return (c[0], c[1], c[2])  # ( terms ): kept with its tokens for spans
+
+    def def_item(self, c):
+        args = c[3] if isinstance(c[3], tuple) else ()
+        body = c[-1]
+        return DefDecl(self.ident(c[1]), args, body.node, self.span(c[0], body))
+
+    def defargs(self, c):
+        return tuple(x for x in c if isinstance(x, DefArg))
+
+    def defarg(self, c):
+        return DefArg(self.ident(c[0]), str(c[2]), self.span(c[0], c[2]))
+
+    def import_item(self, c):
+        names = tuple(x for x in c[3:] if isinstance(x, ImportName))
+        return ImportItem(self.ident(c[1]), names, self.span(c[0], c[-1]))
+
+    def impname(self, c):
+        alias = self.ident(c[2]) if len(c) == 3 else None
+        return ImportName(self.ident(c[0]), alias, self.span(c[0], c[-1]))
+
+    def program(self, c):
+        # INT domain? term D ( names )
+        domain = c[1] if isinstance(c[1], tuple) else None
+        body = c[2] if domain is not None else c[1]
+        variables = tuple(c[-2])
+        return ProgramS(domain, body.node, variables, self.span(c[0], c[-1]))
+
+    def domain(self, c):
+        return tuple(x for x in c if isinstance(x, Interval))
+
+    def interval(self, c):
+        return Interval(c[1].node, c[3].node, self.span(c[0], c[-1]))
+
+    def names(self, c):
+        return [self.ident(x) for x in c if x.type != "COMMA"]
+
+    def terms(self, c):
+        return [x for x in c if isinstance(x, _R)]
+
+    def name(self, c):
+        t = c[0]
+        return t if t.type == "NAME" else Token.new_borrow_pos("NAME", str(t), t)
+
+    def cmp(self, c):
+        return c[0]
+
+    # -- terms --
+    def plain(self, c):
+        return c[0]
+
+    def cond_term(self, c):
+        return c[0]
+
+    def binop(self, c):
+        left, op, right = c
+        return self.term(lambda sp: BinOp(str(op), left.node, right.node, sp), left, right, (left, right))
+
+    def neg(self, c):
+        arg = c[1]
+        return self.term(lambda sp: Neg(arg.node, sp), c[0], arg, (arg,))
+
+    def num(self, c):
+        value = self.number(c[0])
+        return self.term(lambda sp: Num(value, sp), c[0], c[0], ())
+
+    def var(self, c):
+        t = c[0]
+        return self.term(lambda sp: Name(str(t), sp), t, t, ())
+
+    def apply(self, c):
+        args = c[2] if isinstance(c[2], list) else []
+        nsp = self.tok_span(c[0])
+        return self.term(
+            lambda sp: Apply(str(c[0]), tuple(a.node for a in args), sp, nsp), c[0], c[-1], args
+        )
+
+    def paren(self, c):
+        inner = c[1]
+        (l1, c1), (l2, c2) = _start(c[0]), _end(c[2])
+        return _R(inner.node, l1, c1, l2, c2, inner.depth)
+
+    def iverson(self, c):
+        terms = [x for x in c if isinstance(x, _R)]
+        ops = tuple(_CMP[str(x)] for x in c[2:-1:2])
+        return self.term(lambda sp: Iverson(tuple(t.node for t in terms), ops, sp), c[0], c[-1], terms)
+
+    def let(self, c):
+        name, bound, body = c[1], c[3], c[5]
+        nsp = self.tok_span(name)
+        return self.term(lambda sp: LetIn(str(name), bound.node, body.node, sp, nsp), c[0], body, (bound, body))
+
+    def ifge0(self, c):
+        cond, then, orelse = c[1], c[3], c[5]
+        return self.term(lambda sp: IfGe0S(cond.node, then.node, orelse.node, sp), c[0], orelse, (cond, then, orelse))
+
+    def ifcmp(self, c):
+        left, op, right, then, orelse = c[1], _CMP[str(c[2])], c[3], c[5], c[7]
+        return self.term(
+            lambda sp: IfCmp(left.node, op, right.node, then.node, orelse.node, sp),
+            c[0],
+            orelse,
+            (left, right, then, orelse),
+        )
+
+    def diffeo_app(self, c):
+        variables = c[2]
+        params = c[4] if isinstance(c[4], list) else []
+        nsp = self.tok_span(c[0])
+        return self.term(
+            lambda sp: DiffeoApp(
+                str(c[0]), tuple(v.node for v in variables), tuple(p.node for p in params), sp, nsp
+            ),
+            c[0],
+            c[-1],
+            list(variables) + list(params),
+        )
+
+
+_LOCK = threading.Lock()
+_PARSER: Lark | None = None
+_BUILDER = _Builder()
+
+
+def _parser() -> Lark:
+    global _PARSER
+    if _PARSER is None:
+        grammar = (Path(__file__).with_name("grammar.lark")).read_text(encoding="utf-8")
+        _PARSER = Lark(
+            grammar,
+            parser="lalr",
+            lexer="basic",
+            start=["start", "term"],
+            transformer=_BUILDER,
+            keep_all_tokens=True,
+            maybe_placeholders=False,
+        )
+    return _PARSER
+
+
+# ----------------------------------------------------------------------------------------------
+# Errors in words.
+
+_TERM_START = ("NAME", "NUMBER", "LPAR", "LSQB", "MINUS")
+_OPERATORS = ("PLUS", "MINUS", "STAR", "SLASH", "CARET")
+_CMPS = ("LE", "GE", "LT", "GT")
+_PUNCT = {
+    "LPAR": "(", "RPAR": ")", "LSQB": "[", "RSQB": "]", "COMMA": ",", "SEMI": ";", "COLON": ":",
+    "EQUAL": "=", "PLUS": "+", "MINUS": "-", "STAR": "*", "SLASH": "/", "CARET": "^",
+    "LE": "<=", "GE": ">=", "LT": "<", "GT": ">",
+}  # fmt: skip
+_ORDER = [
+    "TERM", "NAME", "NUMBER", "OPERATOR", "CMP", *_PUNCT, "PARAM", "DIFFEO", "DEF", "FROM", "INT",
+    "D", "LET", "IN", "IFGE0", "IF", "THEN", "ELSE", "INVERSE", "IMPORT", "AS", "VAR", "$END",
+]  # fmt: skip
+
+
+def _describe_expected(expected: set[str]) -> str:
+    exp = set(expected)
+    words: dict[str, str] = {}
+    if all(t in exp for t in _TERM_START):
+        exp -= {*_TERM_START, "D", "LET", "IF", "IFGE0"}
+        words["TERM"] = "a term"
+    elif "NAME" in exp:
+        exp.discard("D")
+        words["NAME"] = "a name"
+    if sum(t in exp for t in _OPERATORS) >= 3:
+        exp -= set(_OPERATORS)
+        words["OPERATOR"] = "an operator"
+    if all(t in exp for t in _CMPS):
+        exp -= set(_CMPS)
+        words["CMP"] = "a comparison (<=, >=, <, >)"
+    for t in exp:
+        if t in words:
+            continue
+        if t == "$END":
+            words[t] = "end of input"
+        elif t == "NUMBER":
+            words[t] = "a number"
+        elif t in _PUNCT:
+            words[t] = f"'{_PUNCT[t]}'"
+        else:
+            words[t] = f"'{t.lower()}'"
+    keys = sorted(words, key=lambda k: (_ORDER.index(k) if k in _ORDER else len(_ORDER), k))
+    parts = [words[k] for k in keys]
+    if not parts:
+        return "nothing here"
+    if len(parts) == 1:
+        return parts[0]
+    return ", ".join(parts[:-1]) + " or " + parts[-1]
+
+
+def _describe_found(tok: Token) -> str:
+    if tok.type == "$END":
+        return "end of input"
+    if tok.type == "NAME":
+        return f"name '{tok}'"
+    if tok.type == "NUMBER":
+        text = str(tok)
+        return f"number '{text if len(text) <= 20 else text[:17] + '...'}'"
+    return f"'{tok}'"
+
+
+def _convert(exc: UnexpectedInput, path: str) -> LangurError:
+    if isinstance(exc, UnexpectedToken):
+        tok = exc.token
+        expected = set(exc.accepts or exc.expected or ())
+        if tok.type == "$END":
+            sp = Span(path, tok.end_line or 1, tok.end_column or 1, tok.end_line or 1, tok.end_column or 1)
+            return error(sp, "E103", f"unexpected end of input; expected {_describe_expected(expected)}")
+        sp = Span(path, tok.line, tok.column, tok.end_line, tok.end_column)
+        if expected == {"$END"}:
+            return error(
+                sp,
+                "E107",
+                f"unexpected {_describe_found(tok)} after the program: a file holds its items, "
+                "then at most one program, and nothing after it",
+            )
+        hint = ""
+        if tok.type == "SEMI":
+            hint = " (NAME(variables; params) applies a declared diffeo only as the condition of ifge0)"
+        return error(
+            sp, "E102", f"unexpected {_describe_found(tok)}; expected {_describe_expected(expected)}{hint}"
+        )
+    if isinstance(exc, UnexpectedCharacters):
+        ch = exc.char
+        shown = repr(ch)[1:-1] if not ch.isprintable() else ch
+        sp = Span(path, exc.line, exc.column, exc.line, exc.column + 1)
+        return error(sp, "E104", f"unexpected character '{shown}' (U+{ord(ch):04X})")
+    line = getattr(exc, "line", 1) or 1
+    col = getattr(exc, "column", 1) or 1
+    return error(Span(path, line, col, line, col + 1), "E102", "syntax error")
+
+
+_INSIGNIFICANT = re.compile(r"#[^\n]*|\s+")
+
+
+def _check_size(text: str, path: str) -> None:
+    if len(text) <= MAX_SIGNIFICANT:
+        return
+    significant = len(text) - sum(m.end() - m.start() for m in _INSIGNIFICANT.finditer(text))
+    if significant > MAX_SIGNIFICANT:
+        raise error(
+            Span(path, 1, 1, 1, 1),
+            "E108",
+            f"source too large: {significant} characters outside comments and white space "
+            f"(at most {MAX_SIGNIFICANT})",
+        )
+
+
+def _run(text: str, path: str, start: str):
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    _check_size(text, path)
+    with _LOCK:
+        parser = _parser()
+        _BUILDER.path = path
+        try:
+            return text, parser.parse(text, start=start)
+        except UnexpectedInput as exc:
+            raise _convert(exc, path) from None
+
+
+def _end_position(text: str) -> tuple[int, int]:
+    line = text.count("\n") + 1
+    last = text.rfind("\n")
+    return line, len(text) - last  # col after the last character (1-based, exclusive)
+
+
+def parse_module(text: str, path: str = "<string>") -> ModuleS:
+    """Parse a whole `.lgr` file: items, then at most one program (LANGUAGE.md §6)."""
+    text, result = _run(text, path, "start")
+    program = result[-1] if result and isinstance(result[-1], ProgramS) else None
+    items = tuple(result[:-1] if program is not None else result)
+    end_line, end_col = _end_position(text)
+    return ModuleS(path, items, program, Span(path, 1, 1, end_line, end_col))
+
+
+def parse_term(text: str, path: str = "<string>") -> STerm:
+    """Parse a single term (the ``term`` rule of LANGUAGE.md §6)."""
+    _, result = _run(text, path, "term")
+    return result.node
+
+
+def parse_bytes(data: bytes, path: str = "<bytes>") -> ModuleS:
+    """Decode ``data`` as UTF-8 (a leading BOM is dropped) and parse it; bad bytes are E101."""
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        before = data[: exc.start]
+        line = before.count(b"\n") + 1
+        col = len(before[before.rfind(b"\n") + 1 :].decode("utf-8", errors="replace")) + 1
+        bad = data[exc.start]
+        raise error(
+            Span(path, line, col, line, col + 1), "E101", f"the file is not valid UTF-8: byte 0x{bad:02x}"
+        ) from None
+    return parse_module(text, path)
