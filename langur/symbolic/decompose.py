@@ -1,0 +1,314 @@
+"""⟦t⟧ as a simply decomposable function (paper Def. 6.2, Theorem 6.1), built structurally.
+
+``decompose(t)`` returns ⟦t⟧ as a list of :class:`~langur.symbolic.pieces.Piece`s, i.e. as
+
+    ⟦t⟧(x⃗, z⃗) = Σ_i ( Π_j [Φ_ij(x⃗, z⃗) ≥ 0] ) · g_i(x⃗, z⃗)          (Def. 6.2)
+
+with smooth weights ``g_i``.  It follows the proof of Theorem 6.1 (one case per term former)
+instead of parsing the ``Piecewise`` that ``langur.denote.denote`` returns:
+
+* a diffeomorphic conditional ``ifge0 ⌊Ψ⌋ then s else r`` is ``[π₀Ψ̂ ≥ 0]·⟦s⟧ + [−π₀Ψ̂ ≥ 0]·⟦r⟧``
+  (the two halves overlap on the null set π₀Ψ̂ = 0 only); every condition keeps its Ψ̂ as a
+  :class:`~langur.symbolic.pieces.Psi` with all inverse branches, and the complement's Ψ̂ is Ψ̂
+  with its first component negated (inverse branches: ``u₀ ↦ −u₀``);
+* a conditional on a variable-free condition is smooth in the variables: it is decided at the
+  evaluation point ``at`` when one is given, else kept as a ``Piecewise`` in the parameters;
+* products distribute; a smooth primitive (or power) of a discontinuous argument is split over
+  the sign patterns of its argument's conditions.
+
+This module also holds the small core-term → sympy helpers shared by ``denote`` and ``ddenote``:
+one real :class:`sympy.Symbol` per name, constants, primitives, and Diffeo → ``Psi``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
+from functools import lru_cache
+from typing import Callable, Iterable, Mapping, Sequence
+
+import sympy as sp
+
+from ..core import (PI, Add, Call, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var,
+                    extend_diffeo)
+from .pieces import Branch, Condition, Piece, Psi
+
+#: Smooth primitives as sympy functions (LANGUAGE.md §1; the internal ones come from inverses).
+PRIMITIVES: dict[str, Callable[[sp.Expr], sp.Expr]] = {
+    "exp": sp.exp, "log": sp.log, "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "sqrt": sp.sqrt,
+    "tanh": sp.tanh, "atan": sp.atan, "asin": sp.asin, "acos": sp.acos, "atanh": sp.atanh,
+}
+
+#: Above this many distinct conditions under one primitive, the sign-pattern split is refused.
+MAX_SPLIT_CONDITIONS = 12
+
+
+# ----------------------------------------------------------------------------------------------
+# Symbols and numbers
+
+
+@lru_cache(maxsize=None)
+def symbol(name: str) -> sp.Symbol:
+    """The real sympy symbol of a variable, parameter or diffeo input: same name, same symbol."""
+    return sp.Symbol(name, real=True)
+
+
+def symbols(names: Iterable[str]) -> tuple[sp.Symbol, ...]:
+    return tuple(symbol(n) for n in names)
+
+
+def const_expr(value: Fraction | str) -> sp.Expr:
+    """A core constant: an exact rational, or π."""
+    if value == PI:
+        return sp.pi
+    f = Fraction(value)
+    return sp.Rational(f.numerator, f.denominator)
+
+
+def exact_number(v) -> sp.Expr:
+    """A parameter value as sympy: Fractions, ints and decimal floats become exact Rationals
+    (``0.5`` → 1/2, ``0.1`` → 1/10 as typed); non-finite floats stay floats."""
+    if isinstance(v, sp.Basic):
+        return v
+    if isinstance(v, Fraction):
+        return sp.Rational(v.numerator, v.denominator)
+    if isinstance(v, bool):
+        return sp.Integer(int(v))
+    if isinstance(v, int):
+        return sp.Integer(v)
+    if isinstance(v, float):
+        return sp.Rational(repr(v)) if math.isfinite(v) else sp.Float(v)
+    return sp.sympify(v)
+
+
+def at_symbols(at: Mapping[str, object] | None) -> dict[sp.Symbol, sp.Expr]:
+    """``{"theta": 0.5}`` → ``{theta: 1/2}`` (symbols and exact numbers)."""
+    return {symbol(k): exact_number(v) for k, v in (at or {}).items()}
+
+
+def prim_derivative(op: str) -> Callable[[sp.Expr], sp.Expr]:
+    """f' for the chain rule (LANGUAGE.md §1)."""
+    y = sp.Dummy("y", real=True)
+    d = sp.diff(PRIMITIVES[op](y), y)
+    return lambda w: d.xreplace({y: w})
+
+
+# ----------------------------------------------------------------------------------------------
+# Context
+
+
+@dataclass(frozen=True)
+class Ctx:
+    """What the semantic functions carry down the term.
+
+    ``env``: let-bound parameter → its denotation (in the declared parameters), so every
+    expression is over variables and declared parameters only; ``at``: the evaluation point
+    (symbols → numbers) deciding variable-free conditionals, or None to keep them symbolic;
+    ``variables``: the program's variables, to which every Ψ̂ is extended.
+    """
+
+    env: Mapping[str, sp.Expr] = field(default_factory=dict)
+    at: Mapping[sp.Symbol, sp.Expr] | None = None
+    variables: tuple[str, ...] | None = None
+
+    def bind(self, name: str, value: sp.Expr) -> "Ctx":
+        return replace(self, env={**self.env, name: value})
+
+
+def parameter(name: str, ctx: Ctx) -> sp.Expr:
+    return ctx.env.get(name, symbol(name))
+
+
+# ----------------------------------------------------------------------------------------------
+# Conditions and Ψ̂
+
+
+def psi_of(diffeo: Diffeo, ctx: Ctx) -> Psi:
+    """The core Diffeo (extended to the program's variables) as a sympy ``Psi``, all branches."""
+    if ctx.variables is not None and tuple(diffeo.variables) != tuple(ctx.variables):
+        diffeo = extend_diffeo(diffeo, tuple(ctx.variables))
+    branches = tuple(
+        Branch(tuple((symbol(v), smooth_value(c, ctx)) for v, c in zip(diffeo.variables, b.components)),
+               tuple(smooth_value(g, ctx) for g in b.guards))
+        for b in diffeo.branches)
+    return Psi(variables=symbols(diffeo.variables),
+               forward=tuple(smooth_value(f, ctx) for f in diffeo.forward),
+               inputs=symbols(diffeo.inputs),
+               branches=branches,
+               solved_for=symbol(diffeo.solved_for) if diffeo.solved_for else None)
+
+
+def negate_psi(psi: Psi) -> Psi:
+    """Ψ̂ with π₀ negated: same zero set; on the inverse side ``u₀ ↦ −u₀``."""
+    u0 = psi.inputs[0]
+    flip = {u0: -u0}
+    branches = tuple(Branch(tuple((v, e.xreplace(flip)) for v, e in b.inverse),
+                            tuple(g.xreplace(flip) for g in b.guards)) for b in psi.branches)
+    return replace(psi, forward=(-psi.forward[0],) + tuple(psi.forward[1:]), branches=branches)
+
+
+def condition_of(diffeo: Diffeo, ctx: Ctx, origin: object = None) -> Condition:
+    psi = psi_of(diffeo, ctx)
+    return Condition(psi.forward[0], psi, origin)
+
+
+def complement(c: Condition) -> Condition:
+    """[−Φ ≥ 0]: the complement of [Φ ≥ 0] up to the null set Φ = 0."""
+    return Condition(-c.expr, negate_psi(c.psi) if c.psi is not None else None, c.origin)
+
+
+# ----------------------------------------------------------------------------------------------
+# Operations on lists of pieces
+
+
+def leaf(e: sp.Expr) -> list[Piece]:
+    return [] if e == 0 else [Piece((), e)]
+
+
+def dedupe(conds: Iterable[Condition]) -> tuple[Condition, ...]:
+    seen: dict[sp.Expr, Condition] = {}
+    for c in conds:
+        seen.setdefault(c.expr, c)
+    return tuple(seen.values())
+
+
+def normalize(pieces: Iterable[Piece], drop_complements: bool = True) -> list[Piece]:
+    """Merge pieces with the same conditions, drop repeated conditions ([c]·[c] = [c]), drop
+    pieces with a condition and its complement (a null set) and zero weights."""
+    merged: dict[frozenset, Piece] = {}
+    for p in pieces:
+        conds = dedupe(p.conditions)
+        exprs = {c.expr for c in conds}
+        if drop_complements and any(-e in exprs for e in exprs):
+            continue
+        key = frozenset(exprs)
+        if key in merged:
+            merged[key] = Piece(merged[key].conditions, merged[key].weight + p.weight)
+        else:
+            merged[key] = Piece(conds, p.weight)
+    return [p for p in merged.values() if p.weight != 0]
+
+
+def multiply(ps: Sequence[Piece], qs: Sequence[Piece]) -> list[Piece]:
+    """(Σ_i P_i)·(Σ_j Q_j) = Σ_ij P_i·Q_j."""
+    return normalize(Piece(p.conditions + q.conditions, p.weight * q.weight) for p in ps for q in qs)
+
+
+def scale(ps: Sequence[Piece], factor: sp.Expr) -> list[Piece]:
+    return [Piece(p.conditions, factor * p.weight) for p in ps]
+
+
+def with_conditions(ps: Sequence[Piece], conds: tuple[Condition, ...]) -> list[Piece]:
+    return normalize(Piece(conds + p.conditions, p.weight) for p in ps)
+
+
+def collapse(ps: Sequence[Piece], what: str = "term") -> sp.Expr:
+    """Σ weights of a decomposition that must have no conditions (a smooth function)."""
+    if any(p.conditions for p in ps):
+        raise TypeError(f"{what} is not smooth in the variables (it has a diffeomorphic conditional)")
+    return sp.Add(*[p.weight for p in ps])
+
+
+def apply_smooth(f: Callable[[sp.Expr], sp.Expr], ps: Sequence[Piece]) -> list[Piece]:
+    """f(Σ_i Π_j [Φ_ij ≥ 0]·g_i), split over the sign patterns of the distinct conditions."""
+    if not any(p.conditions for p in ps):
+        return leaf(f(sp.Add(*[p.weight for p in ps])))
+    keys: list[Condition] = []
+    for p in ps:
+        for c in p.conditions:
+            if all(c.expr != k.expr and -c.expr != k.expr for k in keys):
+                keys.append(c)
+    if len(keys) > MAX_SPLIT_CONDITIONS:
+        raise NotImplementedError(f"a primitive of a term with {len(keys)} distinct discontinuities")
+    out = []
+    for signs in itertools.product((True, False), repeat=len(keys)):
+        pattern = tuple(k if s else complement(k) for k, s in zip(keys, signs))
+        holds = {c.expr for c in pattern}
+        value = sp.Add(*[p.weight for p in ps if all(c.expr in holds for c in p.conditions)])
+        out.append(Piece(pattern, f(value)))
+    return normalize(out)
+
+
+def decide(cond: sp.Expr, at: Mapping[sp.Symbol, sp.Expr] | None) -> bool | None:
+    """``cond ≥ 0`` at the evaluation point, or None when it cannot be decided there."""
+    if at is None or not cond.free_symbols <= set(at):
+        return None
+    v = cond.xreplace(dict(at))
+    try:
+        return bool(sp.N(v, 30) >= 0)
+    except TypeError:
+        return None
+
+
+def select(cond: sp.Expr, then, orelse, at, wrap: Callable[[object, sp.Expr, bool], object]):
+    """A conditional on a variable-free condition: decided at ``at`` if possible; else both
+    branches with their weights wrapped by ``wrap(item, cond, branch)`` into Piecewise."""
+    chosen = decide(cond, at)
+    if chosen is True:
+        return then
+    if chosen is False:
+        return orelse
+    return wrap(then, cond, True) + wrap(orelse, cond, False)
+
+
+def gate(weight: sp.Expr, cond: sp.Expr, branch: bool) -> sp.Expr:
+    """``weight`` where ``cond ≥ 0`` (branch True) or where ``cond < 0`` (False), else 0."""
+    if branch:
+        return sp.Piecewise((weight, cond >= 0), (0, True))
+    return sp.Piecewise((0, cond >= 0), (weight, True))
+
+
+def _gate_pieces(ps: list[Piece], cond: sp.Expr, branch: bool) -> list[Piece]:
+    return [Piece(p.conditions, gate(p.weight, cond, branch)) for p in ps]
+
+
+# ----------------------------------------------------------------------------------------------
+# The decomposition (Theorem 6.1, one case per term former)
+
+
+def decompose(t: Term, ctx: Ctx | None = None) -> list[Piece]:
+    """⟦t⟧ as a sum of products of simple discontinuities times smooth weights (Def. 6.2)."""
+    ctx = ctx or Ctx()
+    match t:
+        case Const(value):  # Fig. 7, constant
+            return leaf(const_expr(value))
+        case Var(name):  # Fig. 7, variable
+            return leaf(symbol(name))
+        case Param(name):  # Fig. 7, parameter
+            return leaf(parameter(name, ctx))
+        case Add(a, b):  # Fig. 7, sum
+            return normalize(decompose(a, ctx) + decompose(b, ctx))
+        case Mul(a, b):  # Fig. 7, product: products distribute
+            return multiply(decompose(a, ctx), decompose(b, ctx))
+        case Prim(op, a):  # LANGUAGE.md §1, smooth primitive: split over sign patterns
+            return apply_smooth(PRIMITIVES[op], decompose(a, ctx))
+        case Pow(a, k):  # LANGUAGE.md §1, constant power
+            return apply_smooth(lambda w, k=const_expr(k): w ** k, decompose(a, ctx))
+        case IfGe0(c, a, b):  # Fig. 7, conditional: smooth in the variables
+            return normalize(select(smooth_value(c, ctx), decompose(a, ctx), decompose(b, ctx), ctx.at,
+                                    _gate_pieces))
+        case IfDiffeo(psi, a, b):  # Fig. 7, diffeomorphic conditional: [Φ ≥ 0]·⟦s⟧ + [−Φ ≥ 0]·⟦r⟧
+            c = condition_of(psi, ctx, t.span)
+            return normalize(with_conditions(decompose(a, ctx), (c,))
+                             + with_conditions(decompose(b, ctx), (complement(c),)))
+        case Let(name, bound, body):  # Fig. 7, let: ⟦s⟧ with z ↦ ⟦t⟧
+            return decompose(body, ctx.bind(name, smooth_value(bound, ctx)))
+        case Call(module, name, _):
+            raise TypeError(f"call of {module}.{name} left in a core term: inline it first")
+    raise TypeError(f"not a core term: {t!r}")
+
+
+def smooth_value(t: Term, ctx: Ctx | None = None) -> sp.Expr:
+    """⟦t⟧ of a term without diffeomorphic conditionals (a variable-free term, a Ψ̂ component)."""
+    return collapse(decompose(t, ctx), "term")
+
+
+def as_expr(ps: Sequence[Piece]) -> sp.Expr:
+    """A decomposition back as one sympy expression (indicators as Piecewise), for display."""
+    terms = []
+    for p in ps:
+        cond = sp.And(*[c.expr >= 0 for c in p.conditions])
+        terms.append(p.weight if cond is sp.true else sp.Piecewise((p.weight, cond), (0, True)))
+    return sp.Add(*terms)
