@@ -1,0 +1,284 @@
+"""Independent adaptive quadrature of pieces at the evaluation point (cross-check and fallback).
+
+Nothing here uses the closed-form machinery of :mod:`langur.symbolic.regions`: every integrand is
+evaluated numerically (``lambdify`` at the parameter values) and integrated with nested
+``scipy.integrate.quad``.  At each level the range of the current variable is split at the
+breakpoints of the conditions that depend only on it and on outer variables:
+
+* the roots given by a condition's Psi when it is solved for that variable (inverse branches at
+  ``u0 = 0``, guards checked), and
+* numerically found roots: sign changes of the condition on a grid refined with ``brentq``, and
+  boundaries of the set where the condition is defined (NaN, e.g. ``sqrt`` of a negative number)
+  refined by bisection.
+
+On each sub-interval the conditions are constant (tested at the midpoint), so ``quad`` only ever
+sees smooth integrands.  Delta pieces (LANGUAGE.md §4) are integrated over ``u'`` after the change
+of variables; the Jacobian used here is ``1/|det DΨ̂(x)|`` at ``x = Ψ̂_b⁻¹(0, u')`` (the forward
+map's derivative), independent of the inverse-map Jacobian used by the closed form.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+import sympy as sp
+from scipy import integrate as si
+from scipy import optimize as so
+
+from langur.symbolic.pieces import DeltaPiece, Piece, Psi
+
+GRID = 40
+EPSABS = 1e-11
+EPSREL = 1e-11
+
+
+def _num(expr, at: dict) -> float:
+    return complex(sp.sympify(expr).xreplace(_floats(at)).evalf(30)).real
+
+
+def _floats(at: dict) -> dict:
+    return {k: sp.Float(float(v), 30) for k, v in at.items()}
+
+
+def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., float]:
+    e = sp.sympify(expr).xreplace(_floats(at))
+    f = sp.lambdify(list(symbols), e, modules=["numpy"])
+
+    def call(*vals):
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                v = f(*vals)
+            except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+                return math.nan
+        v = complex(v)
+        if abs(v.imag) > 1e-9 * max(1.0, abs(v.real)):
+            return math.nan
+        return v.real
+
+    return call
+
+
+@dataclass
+class NumCond:
+    """``f(*vals) >= 0`` where ``vals`` are the values of the first ``level + 1`` variables."""
+
+    f: Callable[..., float]
+    level: int
+    hints: Callable[..., list[float]] | None = None
+
+
+@dataclass
+class NumProblem:
+    conds: list[NumCond]
+    weight: Callable[..., float]
+    bounds: list[tuple[float, float]]
+    errors: list[float] = field(default_factory=list)
+
+
+def _holds(v: float) -> bool:
+    return not math.isnan(v) and v >= 0
+
+
+def _state(v: float) -> int:
+    if math.isnan(v):
+        return 0
+    return 1 if v >= 0 else -1
+
+
+def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
+    """Points in (lo, hi) where ``g`` changes sign or definedness (grid + brentq/bisection)."""
+    xs = np.linspace(lo, hi, GRID + 1)
+    vals = [g(x) for x in xs]
+    out = []
+    for i in range(GRID):
+        a, b, fa, fb = xs[i], xs[i + 1], vals[i], vals[i + 1]
+        if fa == 0.0 and i > 0:
+            out.append(a)
+        sa, sb = _state(fa), _state(fb)
+        if sa == sb:
+            continue
+        if sa != 0 and sb != 0 and fa != 0.0 and fb != 0.0:
+            try:
+                out.append(so.brentq(g, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps))
+                continue
+            except (ValueError, RuntimeError):
+                pass
+        for _ in range(80):  # bisection on the state (definedness / sign)
+            m = 0.5 * (a + b)
+            if _state(g(m)) == sa:
+                a = m
+            else:
+                b = m
+        out.append(0.5 * (a + b))
+    return out
+
+
+def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
+    lo, hi = p.bounds[level]
+    if not hi > lo:
+        return 0.0
+    here = [c for c in p.conds if c.level == level]
+    pts = {lo, hi}
+    for c in here:
+        def g(t, c=c):
+            return c.f(*prefix, t)
+        for r in _roots(g, lo, hi):
+            pts.add(r)
+        if c.hints is not None:
+            for r in c.hints(*prefix):
+                if lo < r < hi:
+                    pts.add(r)
+    pts = sorted(pts)
+    last = level == len(p.bounds) - 1
+    total = 0.0
+    err = 0.0
+    for a, b in zip(pts, pts[1:]):
+        if b - a <= 1e-15 * max(1.0, abs(a)):
+            continue
+        m = 0.5 * (a + b)
+        if not all(_holds(c.f(*prefix, m)) for c in here):
+            continue
+        if last:
+            def h(t):
+                return p.weight(*prefix, t)
+        else:
+            def h(t):
+                return _nested(p, level + 1, prefix + (t,))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            val, e = si.quad(h, a, b, epsabs=EPSABS, epsrel=EPSREL, limit=200)
+        total += val
+        err += e
+    if level == 0:
+        p.errors.append(err)
+    return total
+
+
+def integrate_problem(p: NumProblem) -> tuple[float, float]:
+    """Value and error estimate of ``∫_bounds Π[conds] · weight``."""
+    if any(c.level < 0 and not _holds(c.f()) for c in p.conds):
+        return 0.0, 0.0
+    if not p.bounds:
+        return p.weight(), 0.0
+    p.errors.clear()
+    val = _nested(p, 0, ())
+    err = sum(p.errors)
+    # Inner levels' errors are not propagated by quad; add a conservative relative allowance.
+    return val, err + 1e-10 * (1.0 + abs(val)) * len(p.bounds)
+
+
+def _level(expr, variables: Sequence[sp.Symbol]) -> int:
+    fs = sp.sympify(expr).free_symbols
+    lv = -1
+    for i, v in enumerate(variables):
+        if v in fs:
+            lv = i
+    return lv
+
+
+def _psi_hints(psi: Psi | None, v: sp.Symbol, variables, level: int, at: dict):
+    """Roots of the condition in ``v`` from Psi's inverse branches (completed Psi only)."""
+    if psi is None or psi.solved_for != v or not psi.branches:
+        return None
+    others = [x for x in psi.variables if x != v]
+    if any(x not in variables[:level] for x in others):
+        return None
+    sub = {psi.inputs[0]: 0}
+    sub.update({u: x for u, x in zip(psi.inputs[1:], others)})
+    fns = []
+    for b in psi.branches:
+        comp = dict(b.inverse)[v].xreplace(sub)
+        guards = [g.xreplace(sub) for g in b.guards]
+        fns.append((_lambdify(variables[:level], comp, at), [_lambdify(variables[:level], g, at) for g in guards]))
+
+    def hints(*prefix):
+        out = []
+        for f, gs in fns:
+            if all(_holds(g(*prefix)) for g in gs):
+                r = f(*prefix)
+                if not math.isnan(r):
+                    out.append(r)
+        return out
+
+    return hints
+
+
+def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
+    variables = list(variables)
+    conds = []
+    for c in piece.conditions:
+        lv = _level(c.expr, variables)
+        hints = _psi_hints(c.psi, variables[lv], variables, lv, at) if lv >= 0 else None
+        conds.append(NumCond(_lambdify(variables[: lv + 1], c.expr, at), lv, hints))
+    bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in box]
+    return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds)
+
+
+def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict) -> tuple[float, float]:
+    """Σ ∫_box piece at ``at``: (value, error estimate)."""
+    val = err = 0.0
+    for pc in pieces:
+        v, e = integrate_problem(piece_problem(pc, variables, box, at))
+        val += v
+        err += e
+    return val, err
+
+
+def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[NumProblem]:
+    """One problem over ``u'`` per inverse branch (forward-Jacobian form, see module doc).
+
+    ``ubox``: the (lo, hi) bounds of ``u'`` (shared with the closed form: it is only an
+    enclosure; the box conditions added here cut it to the right region)."""
+    psi = piece.psi
+    variables = list(variables)
+    missing = [x for x in variables if x not in psi.variables]
+    uprime = list(psi.inputs[1:]) + missing
+    jac = sp.Matrix(psi.forward).jacobian(list(psi.variables)).det()
+    jac_f = _lambdify(variables, jac, at)
+    bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in ubox]
+    problems = []
+    for b in psi.branches:
+        sub = {psi.inputs[0]: sp.Integer(0)}
+        inv = {x: e.xreplace(sub) for x, e in b.inverse}
+        xs = [inv.get(x, x) for x in variables]
+        x_fns = [_lambdify(uprime, e, at) for e in xs]
+
+        def xmap(*u, x_fns=x_fns):
+            return [f(*u) for f in x_fns]
+
+        conds = []
+        exprs = [c.expr for c in piece.conditions] + [g.xreplace(sub) for g in b.guards]
+        guards_start = len(piece.conditions)
+        for i, (lo, hi) in enumerate(box):
+            exprs += [variables[i] - lo, hi - variables[i]]
+        for k, e in enumerate(exprs):
+            se = e if guards_start <= k < guards_start + len(b.guards) else e.xreplace(dict(zip(variables, xs)))
+            if se.is_number and abs(_num(se, at)) < 1e-300:
+                continue  # vanishes identically on the zero set: 0 >= 0 is TRUE (paper convention)
+            lv = _level(se, uprime)
+            conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv))
+        w_f = _lambdify(variables, piece.weight, at)
+
+        def weight(*u, xmap=xmap, w_f=w_f):
+            x = xmap(*u)
+            d = jac_f(*x)
+            return w_f(*x) / abs(d)
+
+        problems.append(NumProblem(conds, weight, bounds))
+    return problems
+
+
+def quad_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at: dict, uboxes) -> tuple[float, float]:
+    """Σ ∫ h δ(π₀Ψ̂) at ``at`` over the box; ``uboxes[i]`` is piece i's ``u'`` box."""
+    val = err = 0.0
+    for pc, ub in zip(pieces, uboxes):
+        for prob in delta_problems(pc, variables, box, at, ub):
+            v, e = integrate_problem(prob)
+            val += v
+            err += e
+    return val, err

@@ -1,0 +1,551 @@
+"""Exact integration of ``Π [cond ≥ 0] · weight`` over a box by iterated integration (paper §6.3,
+Def. 6.1–6.2; LANGUAGE.md §3–§4).
+
+Regions are computed from the conditions, never by handing Piecewise/Heaviside/Min/Max to sympy's
+``integrate`` (sympy 1.14 gets those wrong: #26071, #21426, #28091, #17321).  sympy only ever
+integrates a SMOOTH weight in one variable (:func:`antiderivative`), time-boxed, and the bounds are
+substituted afterwards.
+
+* Each condition involving the integration variable ``v`` is solved for ``v`` into alternatives
+  ``(extra conditions on the other symbols, lower bounds, upper bounds)``
+  (:func:`alternatives`): linear and quadratic polynomials in ``v`` exactly, a Psi solved for ``v``
+  with one branch through its inverse (a diffeomorphism's condition is monotone in ``v``).  A
+  direction (sign of the derivative) that depends on parameters only is decided at the
+  evaluation point; one that depends on outer variables becomes a case split.
+* Innermost variables: ``v ∈ [max L, min U]`` is split into the cases "``l`` is the largest lower
+  and ``u`` the smallest upper bound"; each case adds the comparisons as conditions on the outer
+  variables and integrates ``F(u) − F(l)``, a smooth function with plain bounds.
+* Outermost variable (only parameters left): ``F(Max(A, B)) − F(A)`` with ``A = Max(L)``,
+  ``B = Min(U)`` — valid for all parameter values, e.g. ``∫₀¹[θ − x ≥ 0] = Max(0, Min(1, θ))``.
+  Conditions that cannot be solved that way (several branches, transcendental) are handled by
+  :func:`_generic_1d`: all roots, ordered at the evaluation point, sign of every condition on each
+  sub-interval decided there.
+* Every comparison of parameter-only quantities is decided at the evaluation point ``at`` and
+  recorded in :attr:`Context.cell`: the closed form is valid in the parameter cell they define.
+"""
+
+from __future__ import annotations
+
+import itertools
+import random
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import sympy as sp
+
+from langur.symbolic.pieces import DeltaPiece, Psi
+from langur.symbolic.timebox import Deadline
+
+
+class Unsupported(Exception):
+    """No closed form by this method; the caller falls back to quadrature."""
+
+
+@dataclass(frozen=True)
+class Cond:
+    """``expr ≥ 0`` (``expr > 0`` when ``strict``; strictness only matters for parameter-only
+    comparisons, where it breaks ties between case splits)."""
+
+    expr: sp.Expr
+    strict: bool = False
+    psi: Psi | None = None
+
+
+@dataclass
+class Context:
+    """Evaluation point, time budget and the decisions taken at the evaluation point."""
+
+    at: dict
+    deadline: Deadline
+    params: frozenset = frozenset()
+    cell: list = field(default_factory=list)
+    generic: bool = False  # the generic 1-D path was used (cell also fixes the set of real roots)
+    notes: list = field(default_factory=list)
+
+    def value(self, expr) -> complex:
+        e = sp.sympify(expr).xreplace({k: sp.Float(float(v), 40) for k, v in self.at.items()})
+        return complex(e.evalf(30))
+
+    def decide(self, expr, strict: bool = False) -> bool:
+        """``expr ≥ 0`` (``> 0``) for a parameter-only ``expr``, at the evaluation point; recorded."""
+        expr = sp.sympify(expr)
+        if expr.is_number:
+            return self._decide_number(expr, strict)
+        v = self.value(expr)
+        if abs(v.imag) > 1e-20 * max(1.0, abs(v.real)):
+            raise Unsupported(f"complex value of {expr} at the evaluation point")
+        x = v.real
+        if abs(x) < 1e-25:
+            ok = not strict
+            rel = sp.Eq(expr, 0)
+        else:
+            ok = x > 0
+            rel = (expr > 0) if ok else (expr < 0)
+        if rel not in self.cell:
+            self.cell.append(rel)
+        return ok
+
+    def _decide_number(self, expr, strict: bool) -> bool:
+        if expr.is_zero:
+            return not strict
+        if expr.is_extended_real is False:
+            raise Unsupported(f"complex number {expr}")
+        pos = expr.is_positive
+        if pos is None:
+            v = complex(expr.evalf(40))
+            if abs(v.imag) > 1e-30:
+                raise Unsupported(f"complex number {expr}")
+            return v.real > 0 or (v.real == 0 and not strict)
+        return bool(pos)
+
+    def sign(self, expr) -> int:
+        """Sign of a parameter-only expression at the evaluation point (recorded)."""
+        if self.decide(expr, strict=True):
+            return 1
+        if self.decide(-expr, strict=True):
+            return -1
+        raise Unsupported(f"{expr} vanishes at the evaluation point")
+
+
+# ------------------------------------------------------------------------------------------
+# Antiderivatives of smooth weights.
+
+_BAD = (sp.Integral, sp.Piecewise, sp.Heaviside, sp.DiracDelta, sp.Min, sp.Max, sp.Abs, sp.sign,
+        sp.floor, sp.ceiling, sp.exp_polar, sp.polar_lift, sp.lowergamma, sp.uppergamma,
+        sp.meijerg, sp.hyper)
+
+
+def _mentions_bad(expr, v) -> bool:
+    for node in sp.preorder_traversal(expr):
+        if isinstance(node, _BAD) and v in node.free_symbols:
+            return True
+        if isinstance(node, (sp.Integral, sp.exp_polar, sp.polar_lift)):
+            return True
+    return False
+
+
+def _resolve_piecewise(expr, v, ctx: Context):
+    """Replace Piecewise with parameter-only conditions by the branch valid at ``at``."""
+
+    def pick(pw):
+        for e, c in pw.args:
+            if c is sp.true:
+                return e
+            if v in c.free_symbols or c.free_symbols - ctx.params:
+                raise Unsupported(f"antiderivative with condition {c}")
+            ok = c.xreplace({k: sp.Float(float(x), 40) for k, x in ctx.at.items()})
+            if ok not in (sp.true, sp.false):
+                raise Unsupported(f"undecidable condition {c}")
+            rel = c if ok is sp.true else sp.Not(c)
+            if rel not in ctx.cell:
+                ctx.cell.append(rel)
+            if ok is sp.true:
+                return e
+        raise Unsupported("no Piecewise branch holds")
+
+    return expr.replace(lambda e: isinstance(e, sp.Piecewise), pick)
+
+
+def _gaussian_termwise(w, v):
+    """∫ Σ poly(v)·exp(quadratic(v)) dv by completing the square (sympy misses the shifted case)."""
+    total = sp.Integer(0)
+    for term in sp.Add.make_args(sp.expand(sp.powsimp(sp.expand(w), combine="exp"))):
+        term = sp.powsimp(term, combine="exp")
+        exps = [f for f in sp.Mul.make_args(term) if isinstance(f, sp.exp) and v in f.free_symbols]
+        if len(exps) == 1:
+            e = sp.expand(exps[0].args[0])
+            poly = e.as_poly(v)
+            if poly is not None and poly.degree() == 2 and not any(c.has(v) for c in poly.all_coeffs()):
+                a, b, _ = poly.all_coeffs()
+                x0 = -b / (2 * a)
+                s = sp.Dummy("s", real=True)
+                shifted = sp.expand(term.xreplace({v: s + x0}))
+                F = sp.integrate(shifted, s, conds="none")
+                total += F.xreplace({s: v - x0})
+                continue
+        total += sp.integrate(term, v, conds="none")
+    return total
+
+
+def antiderivative(w, v, ctx: Context):
+    """A smooth antiderivative of the smooth ``w`` in ``v`` (sympy, time-boxed), or Unsupported."""
+    w = sp.sympify(w)
+    if v not in w.free_symbols:
+        return w * v
+    if _mentions_bad(w, v):
+        raise Unsupported(f"weight {w} is not smooth in {v}")
+    attempts = (
+        lambda: sp.integrate(w, v, meijerg=False, risch=False, conds="none"),
+        lambda: sp.integrate(w, v, conds="none"),
+        lambda: _gaussian_termwise(w, v),
+    )
+    reasons = []
+    for attempt in attempts:
+        try:
+            F = ctx.deadline.run(attempt, cap=max(2.0, ctx.deadline.seconds / 3))
+        except TimeoutError:
+            reasons.append("sympy integrate timed out")
+            continue
+        except Exception as exc:  # sympy raises all sorts of errors on hard inputs
+            reasons.append(f"sympy integrate failed: {type(exc).__name__}")
+            continue
+        try:
+            F = _resolve_piecewise(F, v, ctx)
+        except Unsupported as exc:
+            reasons.append(str(exc))
+            continue
+        if _mentions_bad(F, v) or F.has(sp.zoo, sp.nan):
+            reasons.append(f"no elementary antiderivative of {w} in {v}")
+            continue
+        return F
+    raise Unsupported("; ".join(dict.fromkeys(reasons)) or f"no antiderivative of {w}")
+
+
+# ------------------------------------------------------------------------------------------
+# Solving one condition for one variable.
+
+
+@dataclass
+class Alt:
+    extra: list  # Conds free of v
+    lowers: list  # v ≥ each
+    uppers: list  # v ≤ each
+
+
+def _direction(d, v, outer, ctx: Context, root) -> list[Alt]:
+    """Half-line(s) for a condition with one root ``root`` whose derivative in v has sign of d."""
+    d = sp.sympify(d)
+    if not (d.free_symbols & set(outer)):
+        s = ctx.sign(d)
+        return [Alt([], [root], [])] if s > 0 else [Alt([], [], [root])]
+    return [Alt([Cond(d, strict=True)], [root], []), Alt([Cond(-d)], [], [root])]
+
+
+def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
+    """``[c ≥ 0]`` as a disjoint union (up to null sets) of intervals in ``v``."""
+    e = c.expr
+    poly = None
+    try:
+        poly = sp.Poly(e, v)
+        if any(v in k.free_symbols for k in poly.all_coeffs()):
+            poly = None
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        poly = None
+    if poly is not None and poly.degree() == 1:
+        a, b = poly.all_coeffs()
+        return _direction(a, v, outer, ctx, sp.cancel(-b / a))
+    if poly is not None and poly.degree() == 2:
+        a, b, d = poly.all_coeffs()
+        if a.free_symbols & set(outer):
+            raise Unsupported("quadratic with a variable leading coefficient")
+        disc = sp.expand(b**2 - 4 * a * d)
+        r_minus = (-b - sp.sqrt(disc)) / (2 * a)
+        r_plus = (-b + sp.sqrt(disc)) / (2 * a)
+        if ctx.sign(a) < 0:  # c ≥ 0 between the roots
+            return [Alt([Cond(disc)], [r_plus], [r_minus])]
+        return [Alt([Cond(-disc, strict=True)], [], []),
+                Alt([Cond(disc)], [], [r_minus]), Alt([Cond(disc)], [r_plus], [])]
+    psi = c.psi
+    if psi is not None and psi.solved_for == v and len(psi.branches) == 1 and not psi.branches[0].guards:
+        sub = {psi.inputs[0]: sp.Integer(0)}
+        sub.update(dict(zip(psi.inputs[1:], [x for x in psi.variables if x != v])))
+        comp = dict(psi.branches[0].inverse)[v]
+        root = comp.xreplace(sub)
+        d = sp.diff(comp, psi.inputs[0]).xreplace(sub)
+        return _direction(d, v, outer, ctx, root)
+    raise Unsupported(f"cannot solve {e} >= 0 for {v} in closed form")
+
+
+# ------------------------------------------------------------------------------------------
+# Iterated integration.
+
+
+def _dedupe(bounds):
+    out = []
+    for b in bounds:
+        if not any(sp.expand(b - o) == 0 for o in out):
+            out.append(b)
+    return out
+
+
+def _prefilter(conds, ctx: Context):
+    """Drop conditions true at ``at`` (parameter-only) or numerically true; None if one is false."""
+    kept = []
+    for c in conds:
+        e = sp.sympify(c.expr)
+        if not (e.free_symbols - ctx.params):
+            if not ctx.decide(e, c.strict):
+                return None
+            continue
+        kept.append(c)
+    return kept
+
+
+def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
+    """∫ over ``box`` of Π conds · weight in ``variables`` (innermost last); params decided at at."""
+    conds = _prefilter(conds, ctx)
+    if conds is None:
+        return sp.Integer(0)
+    if not variables:
+        return weight
+    if weight == 0:
+        return sp.Integer(0)
+    v, outer = variables[-1], list(variables[:-1])
+    dep = [c for c in conds if v in c.expr.free_symbols]
+    rest = [c for c in conds if v not in c.expr.free_symbols]
+    lo, hi = box[v]
+    if not outer:
+        if rest:
+            raise Unsupported("condition on a variable outside the integration order")
+        return _outermost(dep, weight, v, lo, hi, ctx)
+    F = antiderivative(weight, v, ctx)
+    total = sp.Integer(0)
+    for combo in itertools.product(*[alternatives(c, v, outer, ctx) for c in dep]):
+        extra = [x for alt in combo for x in alt.extra]
+        L = _dedupe([lo] + [b for alt in combo for b in alt.lowers])
+        U = _dedupe([hi] + [b for alt in combo for b in alt.uppers])
+        for i, l in enumerate(L):
+            for j, u in enumerate(U):
+                new = [Cond(l - l2, strict=k < i) for k, l2 in enumerate(L) if k != i]
+                new += [Cond(u2 - u, strict=k < j) for k, u2 in enumerate(U) if k != j]
+                new.append(Cond(u - l))
+                g = F.xreplace({v: u}) - F.xreplace({v: l})
+                total += integrate_vars(rest + extra + new, g, outer, box, ctx)
+    return total
+
+
+def _outermost(conds, weight, v, lo, hi, ctx: Context):
+    """Last variable: ``F(Max(A, B)) − F(A)`` per alternative, else the generic 1-D method."""
+    sub = Context(ctx.at, ctx.deadline, ctx.params)
+    try:
+        alts = [alternatives(c, v, [], sub) for c in conds]
+        F = antiderivative(weight, v, sub)
+        total = sp.Integer(0)
+        for combo in itertools.product(*alts):
+            extra = _prefilter([x for alt in combo for x in alt.extra], sub)
+            if extra is None:
+                continue
+            A = sp.Max(*_dedupe([lo] + [b for alt in combo for b in alt.lowers]))
+            B = sp.Min(*_dedupe([hi] + [b for alt in combo for b in alt.uppers]))
+            total += F.xreplace({v: sp.Max(A, B)}) - F.xreplace({v: A})
+        ctx.cell.extend(r for r in sub.cell if r not in ctx.cell)
+        return total
+    except Unsupported:
+        return _generic_1d(conds, weight, v, lo, hi, ctx)
+
+
+def _roots(c: Cond, v, ctx: Context):
+    psi = c.psi
+    if psi is not None and psi.solved_for == v and psi.branches:
+        sub = {psi.inputs[0]: sp.Integer(0)}
+        out = []
+        for b in psi.branches:
+            if all(ctx.decide(g.xreplace(sub)) for g in b.guards):
+                out.append(dict(b.inverse)[v].xreplace(sub))
+        return out
+    try:
+        sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False), cap=max(2.0, ctx.deadline.seconds / 4))
+    except TimeoutError:
+        raise Unsupported(f"solving {c.expr} = 0 for {v} timed out") from None
+    except (NotImplementedError, ValueError, TypeError) as exc:
+        raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {exc}") from None
+    if not isinstance(sols, list):
+        raise Unsupported(f"infinitely many roots of {c.expr} in {v}")
+    return [s for s in sols if not isinstance(s, (dict, tuple))]
+
+
+def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
+    """Roots of all conditions, ordered at ``at``; conditions decided per sub-interval at ``at``."""
+    F = antiderivative(weight, v, ctx)
+    lo_v, hi_v = ctx.value(lo).real, ctx.value(hi).real
+    pts = [(lo_v, lo), (hi_v, hi)]
+    for c in conds:
+        for r in _roots(c, v, ctx):
+            z = ctx.value(r)
+            if abs(z.imag) > 1e-12 * max(1.0, abs(z.real)) or not (lo_v < z.real < hi_v):
+                continue
+            pts.append((z.real, r))
+    pts.sort(key=lambda p: p[0])
+    uniq = []
+    for p in pts:
+        if uniq and abs(p[0] - uniq[-1][0]) < 1e-13 * max(1.0, abs(p[0])):
+            continue
+        uniq.append(p)
+    for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
+        rel = eb - ea > 0
+        if rel is not sp.true and rel not in ctx.cell:
+            ctx.cell.append(rel)
+    ctx.generic = True
+    total = sp.Integer(0)
+    start = None
+    for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
+        m = (a + b) / 2
+        ok = True
+        for c in conds:
+            z = ctx.value(c.expr.xreplace({v: sp.Float(m, 40)}))
+            if abs(z.imag) > 1e-20 or not (z.real > 0 or (z.real == 0 and not c.strict)):
+                ok = False
+                break
+        if ok and start is None:
+            start = ea
+        if not ok and start is not None:
+            total += F.xreplace({v: ea}) - F.xreplace({v: start})
+            start = None
+    if start is not None:
+        total += F.xreplace({v: uniq[-1][1]}) - F.xreplace({v: start})
+    return total
+
+
+def integrate_region(conds: Sequence[Cond], weight, variables: Sequence, box: dict, ctx: Context):
+    """Exact ∫ Π conds · weight over ``box``, trying each integration order.
+
+    Parameter-only conditions of the input stay exact as a Piecewise factor; comparisons made
+    during the decomposition are decided at ``at`` (``ctx.cell``)."""
+    top = []
+    others = []
+    for c in conds:
+        e = sp.sympify(c.expr)
+        if e.free_symbols & set(variables):
+            others.append(c)
+        elif e.is_number:
+            if not ctx.decide(e, c.strict):
+                return sp.Integer(0)
+        else:
+            top.append(e > 0 if c.strict else e >= 0)
+    failures = []
+    orders = list(itertools.permutations(variables))
+    orders.sort(key=lambda o: o != tuple(variables))
+    for order in orders:
+        sub = Context(ctx.at, ctx.deadline, ctx.params)
+        try:
+            val = integrate_vars(others, weight, list(order), box, sub)
+        except Unsupported as exc:
+            failures.append(str(exc))
+            if ctx.deadline.remaining() <= 0:
+                break
+            continue
+        ctx.cell.extend(r for r in sub.cell if r not in ctx.cell)
+        ctx.generic = ctx.generic or sub.generic
+        if top:
+            val = sp.Piecewise((val, sp.And(*top)), (0, True))
+        return val
+    raise Unsupported(failures[0] if failures else "no integration order")
+
+
+# ------------------------------------------------------------------------------------------
+# Delta pieces: change of variables through Psi (LANGUAGE.md §4).
+
+
+def _sample(ctx: Context, syms, ubox, n=5, seed=0):
+    rng = random.Random(seed)
+    bounds = [(ctx.value(lo).real, ctx.value(hi).real) for lo, hi in ubox]
+    for _ in range(n):
+        yield {s: sp.Float(rng.uniform(a, b), 30) for s, (a, b) in zip(syms, bounds)}
+
+
+def u_box(psi: Psi, variables: Sequence, box: dict, ctx: Context):
+    """Bounds for ``u'`` = (inputs[1:], variables Psi does not mention): an enclosure of the image
+    of the box under ``forward[1:]`` (exact for variables and affine maps; interval arithmetic at
+    the evaluation point otherwise)."""
+    out = []
+    for f in psi.forward[1:]:
+        f = sp.sympify(f)
+        if f in box:
+            out.append(box[f])
+            continue
+        poly = None
+        try:
+            poly = sp.Poly(f, *psi.variables)
+        except sp.PolynomialError:
+            pass
+        if poly is not None and poly.total_degree() <= 1:
+            lo = hi = f.xreplace({x: 0 for x in psi.variables})
+            for x in psi.variables:
+                a = poly.coeff_monomial(x)
+                if a == 0:
+                    continue
+                xl, xh = box[x]
+                if ctx.sign(a) > 0:
+                    lo, hi = lo + a * xl, hi + a * xh
+                else:
+                    lo, hi = lo + a * xh, hi + a * xl
+            out.append((lo, hi))
+            continue
+        num = {k: sp.Float(float(v), 30) for k, v in ctx.at.items()}
+        ab = f.xreplace(num).subs({x: sp.AccumBounds(*[sp.Float(ctx.value(b).real, 30) for b in box[x]])
+                                   for x in psi.variables})
+        if not isinstance(ab, sp.AccumBounds):
+            raise Unsupported(f"no interval enclosure of {f}")
+        pad = 1e-9 * (1 + abs(float(ab.max - ab.min)))
+        out.append((sp.Rational(float(ab.min) - pad), sp.Rational(float(ab.max) + pad)))
+        ctx.notes.append(f"u-box of {f} from a numeric enclosure at the evaluation point")
+    for x in variables:
+        if x not in psi.variables:
+            out.append(box[x])
+    return out
+
+
+def vanishes_identically(expr, syms, ubox, ctx: Context) -> bool:
+    """True when a substituted condition is identically 0 on the zero set (then ``0 ≥ 0``: TRUE,
+    the paper's convention — it is what makes coincident conditions count twice)."""
+    expr = sp.sympify(expr)
+    if expr == 0:
+        return True
+    if expr.is_number:
+        return False
+    for pt in _sample(ctx, syms, ubox):
+        z = ctx.value(expr.xreplace(pt))
+        if abs(z) > 1e-12:
+            return False
+    try:
+        return ctx.deadline.run(lambda: sp.simplify(expr), cap=3.0) == 0
+    except TimeoutError:
+        return True  # numerically zero at random points
+
+
+def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Context):
+    """The delta piece as regular problems over ``u'``: ``[(conds, weight), …]``, ``u'``, its box."""
+    psi = piece.psi
+    missing = [x for x in variables if x not in psi.variables]
+    uprime = list(psi.inputs[1:]) + missing
+    ubox = u_box(psi, variables, box, ctx)
+    u0 = psi.inputs[0]
+    problems = []
+    for b in psi.branches:
+        inv = dict(b.inverse)
+        comps = [inv[x] for x in psi.variables]
+        jac = sp.Matrix([[sp.diff(e, u) for u in psi.inputs] for e in comps]).det()
+        sub = {u0: sp.Integer(0)}
+        xsub = {x: inv[x].xreplace(sub) for x in psi.variables}
+        try:
+            J = ctx.deadline.run(lambda: sp.simplify(jac.xreplace(sub)), cap=3.0)
+        except TimeoutError:
+            J = jac.xreplace(sub)
+        exprs = [sp.sympify(c.expr).xreplace(xsub) for c in piece.conditions]
+        exprs += [sp.sympify(g).xreplace(sub) for g in b.guards]
+        for x in variables:
+            xl, xh = box[x]
+            exprs += [xsub.get(x, x) - xl, xh - xsub.get(x, x)]
+        conds = []
+        for e in exprs:
+            if vanishes_identically(e, uprime, ubox, ctx):
+                continue
+            conds.append(Cond(e))
+        weight = sp.sympify(piece.weight).xreplace(xsub)
+        if not (J.free_symbols & set(uprime)):
+            problems.append((conds, weight * sp.Abs(J)))
+            continue
+        signs = set()
+        for pt in _sample(ctx, uprime, ubox, n=16, seed=1):
+            z = ctx.value(J.xreplace(pt))
+            if abs(z.imag) < 1e-12 and z.real != 0:
+                signs.add(1 if z.real > 0 else -1)
+        if len(signs) == 1:
+            s = signs.pop()
+            ctx.notes.append(f"sign of det DΨ̂⁻¹ = {J} taken as {'+' if s > 0 else '-'} "
+                             "(sampled at the evaluation point; checked by quadrature)")
+            problems.append((conds, weight * s * J))
+        else:
+            problems.append((conds + [Cond(J)], weight * J))
+            problems.append((conds + [Cond(-J)], -weight * J))
+    return problems, uprime, ubox

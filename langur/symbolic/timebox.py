@@ -1,0 +1,100 @@
+"""Time limits for sympy calls that can blow up (solve, integrate, simplify).
+
+``run_with_timeout(fn, seconds)`` calls ``fn()`` and raises :class:`TimeoutError` when it takes
+longer than ``seconds``.  On the main thread of the main interpreter this is enforced with
+``signal.SIGALRM`` (``setitimer``), nesting correctly: an inner limit never extends an outer one,
+and the outer timer is re-armed afterwards.  Elsewhere (worker threads, sub-interpreters, platforms
+without ``SIGALRM``) the call cannot be interrupted: ``fn`` runs to completion and a
+``TimeoutError`` is raised afterwards when it overran, so callers still fall back consistently.
+
+:class:`Deadline` is a small helper for an overall time budget split over many calls.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+import time
+from typing import Callable, TypeVar
+
+T = TypeVar("T")
+
+_HAS_ALARM = hasattr(signal, "SIGALRM") and hasattr(signal, "setitimer")
+
+
+class _Expired(BaseException):
+    """Raised from the alarm handler; a BaseException so that library code catching
+    ``Exception`` cannot swallow it.  Converted to :class:`TimeoutError` at the boundary."""
+
+    def __init__(self, token: object):
+        super().__init__("time limit")
+        self.token = token
+
+
+def _can_use_alarm() -> bool:
+    if not _HAS_ALARM or threading.current_thread() is not threading.main_thread():
+        return False
+    try:  # sub-interpreters cannot install signal handlers
+        signal.getsignal(signal.SIGALRM)
+    except (ValueError, RuntimeError):  # pragma: no cover - defensive
+        return False
+    return True
+
+
+def run_with_timeout(fn: Callable[[], T], seconds: float) -> T:
+    """``fn()``, or :class:`TimeoutError` when it runs longer than ``seconds``."""
+    if seconds is None:
+        return fn()
+    if seconds <= 0:
+        raise TimeoutError("no time left")
+    if not _can_use_alarm():
+        start = time.monotonic()
+        result = fn()
+        if time.monotonic() - start > seconds:
+            raise TimeoutError(f"call took longer than {seconds:.3g} s")
+        return result
+
+    token = object()
+    start = time.monotonic()
+    old_remaining, _ = signal.getitimer(signal.ITIMER_REAL)
+    limit = seconds if old_remaining <= 0 else min(seconds, old_remaining)
+
+    def handler(signum, frame):  # noqa: ARG001
+        raise _Expired(token)
+
+    old_handler = signal.signal(signal.SIGALRM, handler)
+    signal.setitimer(signal.ITIMER_REAL, limit)
+    try:
+        return fn()
+    except _Expired as exc:
+        if exc.token is token:
+            raise TimeoutError(f"call took longer than {limit:.3g} s") from None
+        raise
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old_handler)
+        if old_remaining > 0:
+            left = old_remaining - (time.monotonic() - start)
+            if left <= 0:
+                # The outer limit expired while we ran: deliver it now to the outer handler.
+                signal.setitimer(signal.ITIMER_REAL, 1e-4)
+            else:
+                signal.setitimer(signal.ITIMER_REAL, left)
+
+
+class Deadline:
+    """An overall time budget: ``run(fn, cap)`` runs ``fn`` under the remaining time (at most
+    ``cap`` seconds when given)."""
+
+    def __init__(self, seconds: float):
+        self.seconds = seconds
+        self.end = time.monotonic() + seconds
+
+    def remaining(self) -> float:
+        return self.end - time.monotonic()
+
+    def run(self, fn: Callable[[], T], cap: float | None = None) -> T:
+        left = self.remaining()
+        if cap is not None:
+            left = min(left, cap)
+        return run_with_timeout(fn, left)
