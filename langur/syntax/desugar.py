@@ -1,0 +1,342 @@
+"""Desugaring: the surface AST (``langur.syntax.surface``) to the core language (``langur.core``).
+
+This is the ONE place where LANGUAGE.md §6's sugar table is implemented; :meth:`Desugarer.term`
+is one ``match`` with a case per row.  Typing rules that concern names and sugar (unbound names,
+argument kinds, arity, ``let``, conditions over variables, …) are applied here, on the surface
+AST, through the ``reject_*`` helpers of :mod:`langur.typesys` (which documents every T2xx code).
+
+Scopes (LANGUAGE.md §6, "A name in a term is …"):
+
+* a program's body: Δ = its variables; Γ = the module's declared params and ``let``-bound names;
+* a ``def`` body: Δ = its ``var`` arguments; Γ = its ``param`` arguments, the module's declared
+  params (shared by name with the program that inlines it) and ``let``-bound names;
+* a ``diffeo`` declaration: Δ = its variables (forward) or its inputs (inverse); Γ = its params;
+* a domain bound: Δ = ∅ (bounds are variable-free).
+
+Conditions over variables become ``IfDiffeo``: a declared diffeo application is instantiated
+(``langur.syntax.diffeo.instantiate``); any other condition is completed automatically
+(``langur.syntax.diffeo.complete``) over *all* of Δ.  In a program body a declared diffeo is
+extended by the identity to all the program's variables; in a ``def`` body it stays over its
+application's variables (the inliner renames and extends it at each call site).
+Def calls are left as ``Call(module, name, args)`` links (separate compilation, §9);
+``langur.syntax.inline.inline`` (re-exported here as :func:`inline`) removes them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
+
+from ..core import (ALL_PRIMITIVES, PI, PRIMITIVES, Add, Call, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param,
+                    Pow, Prim, Term, Var, free_vars, neg, sub, subterms)
+from ..diagnostics import Diagnostic, LangurError, Span
+from ..modules import ElaboratedModule
+from .. import typesys as ty
+from .diffeo import CompletionError, complete, instantiate
+from .surface import (Apply, BinOp, DiffeoApp, IfCmp, IfGe0S, Iverson, LetIn, Name, Neg, Num, STerm)
+from .inline import inline  # noqa: F401  (re-exported: core.py's docstring names desugar.inline)
+
+#: Function names that are not primitives but sugar (LANGUAGE.md §6).
+SUGAR_FUNCTIONS = ("abs", "min", "max")
+#: Names a declaration may not take.
+RESERVED = frozenset(PRIMITIVES) | frozenset(ALL_PRIMITIVES) | frozenset(SUGAR_FUNCTIONS) | {"pi"}
+
+
+@dataclass(frozen=True)
+class DefSig:
+    """A def's signature: where it lives and its arguments' kinds (what a call site needs)."""
+
+    module: str
+    name: str
+    args: tuple[tuple[str, str], ...]
+
+
+@dataclass(frozen=True)
+class DiffeoSig:
+    """A checked ``diffeo`` declaration with its parameters' names in declaration order."""
+
+    diffeo: Diffeo
+    params: tuple[str, ...]
+
+
+@dataclass
+class Env:
+    """What a module's terms can call: defs and diffeos (local and imported), by local name."""
+
+    module: str
+    defs: dict[str, DefSig] = field(default_factory=dict)
+    diffeos: dict[str, DiffeoSig] = field(default_factory=dict)
+    poisoned: set[str] = field(default_factory=set)  # names whose declaration failed: no cascades
+
+
+@dataclass(frozen=True)
+class Scope:
+    """Δ (``variables``, in order), Γ (``gamma``), the numeric box for completion, and where we are."""
+
+    variables: tuple[str, ...]
+    gamma: frozenset[str]
+    box: tuple[tuple[str, float, float], ...] = ()
+    where: str = "this term"
+    in_program: bool = True  # extend declared diffeos to all variables (program bodies)
+    hidden_vars: frozenset[str] = frozenset()  # variables not allowed here (domain bounds)
+
+    def with_param(self, name: str) -> "Scope":
+        return replace(self, gamma=self.gamma | {name})
+
+
+class Desugarer:
+    """Desugars terms of one module; collects diagnostics instead of stopping at the first."""
+
+    def __init__(self, env: Env, errors: list[Diagnostic] | None = None):
+        self.env = env
+        self.errors: list[Diagnostic] = errors if errors is not None else []
+
+    def fail(self, d: Diagnostic, span: Span | None) -> Term:
+        self.errors.append(d)
+        return Const(Fraction(0), span=span)
+
+    # ------------------------------------------------------------------------------------------
+    def term(self, st: STerm, sc: Scope) -> Term:
+        """The core term of the surface term ``st`` (LANGUAGE.md §6, the sugar table)."""
+        span = getattr(st, "span", None)
+        match st:
+            case Num(v):
+                # a decimal literal, read exactly
+                return Const(v, span=span)
+            case Name():
+                # a variable, parameter, let-bound name, def argument, or pi
+                return self.name(st, sc)
+            case Neg(Num(v)):
+                # a negative literal is Const(-k)
+                return Const(-v, span=span)
+            case Neg(a):
+                # unary −t is (−1)·t
+                return Mul(Const(Fraction(-1)), self.term(a, sc), span=span)
+            case BinOp("^", a, k):
+                # t ^ k with k a constant rational (T213 otherwise)
+                return self.power(st, sc)
+            case BinOp(op, a, b):
+                # t + s;  t − s is t + (−1)·s;  t · s;  t / s is t · s ^ −1
+                left, right = self.term(a, sc), self.term(b, sc)
+                if op == "+":
+                    return Add(left, right, span=span)
+                if op == "-":
+                    return replace(sub(left, right), span=span)
+                if op == "*":
+                    return Mul(left, right, span=span)
+                if op == "/":
+                    return Mul(left, Pow(right, Fraction(-1), span=span), span=span)
+                raise ValueError(f"unknown operator {op}")
+            case Apply():
+                # f(t) primitive; abs/min/max sugar; a def call (left as a Call link)
+                return self.apply(st, sc)
+            case Iverson(terms, ops):
+                # [t0 op t1 op t2 …] is the product [t0 op t1]·[t1 op t2]·…
+                core = [self.term(t, sc) for t in terms]
+                out = None
+                for i, op in enumerate(ops):
+                    f = self.conditional(compare(core[i], op, core[i + 1]), Const(Fraction(1)),
+                                         Const(Fraction(0)), sc, span)
+                    out = f if out is None else Mul(out, f, span=span)
+                return out
+            case LetIn(name, bound, body):
+                # let z = t in s, t variable-free (Fig. 6, let)
+                return self.let(st, sc)
+            case IfGe0S(DiffeoApp() as app, then, orelse):
+                # ifge0 ⌊Ψ⌋ then s else r with a declared Ψ
+                psi = self.diffeo_app(app, sc)
+                s, r = self.term(then, sc), self.term(orelse, sc)
+                if psi is None:
+                    return Const(Fraction(0), span=span)
+                return IfDiffeo(psi, s, r, span=span)
+            case IfGe0S(c, then, orelse):
+                # ifge0 t then s else r: plain if t is variable-free, else completed ⌊Ψ⌋
+                return self.conditional(self.term(c, sc), self.term(then, sc), self.term(orelse, sc), sc, span,
+                                        cond_span=getattr(c, "span", None))
+            case IfCmp(left, op, right, then, orelse):
+                # if t CMP s then p else q is ifge0 (t − s) (or s − t) then p else q
+                cond = compare(self.term(left, sc), op, self.term(right, sc))
+                return self.conditional(cond, self.term(then, sc), self.term(orelse, sc), sc, span)
+        raise TypeError(f"not a surface term: {st!r}")
+
+    # ------------------------------------------------------------------------------------------
+    def name(self, st: Name, sc: Scope) -> Term:
+        n, span = st.name, st.span
+        if n in sc.variables:
+            return Var(n, span=span)
+        if n in sc.gamma:
+            return Param(n, span=span)
+        if n == "pi":
+            return Const(PI, span=span)
+        if n in self.env.poisoned:
+            return Const(Fraction(0), span=span)
+        if n in self.env.defs or n in self.env.diffeos:
+            return self.fail(ty.reject_unbound(span, n, f" (`{n}` is a {'def' if n in self.env.defs else 'diffeo'}, "
+                                               "not a value)"), span)
+        if n in sc.hidden_vars:
+            return self.fail(ty.reject_undeclared_param(span, n, sc.where + f" (`{n}` is a variable of "
+                                                        "integration; this position must be variable-free)"), span)
+        if sc.where != "this term":
+            return self.fail(ty.reject_undeclared_param(span, n, sc.where), span)
+        return self.fail(ty.reject_unbound(span, n), span)
+
+    def power(self, st: BinOp, sc: Scope) -> Term:
+        base = self.term(st.left, sc)
+        k = constant_value(st.right)
+        if k is None:
+            return self.fail(ty.reject_exponent(getattr(st.right, "span", st.span)), st.span)
+        return Pow(base, k, span=st.span)
+
+    def apply(self, st: Apply, sc: Scope) -> Term:
+        name, span = st.name, st.span
+        where = st.name_span or span
+        if name in self.env.poisoned:
+            return Const(Fraction(0), span=span)
+        if name in PRIMITIVES or name == "abs":
+            if len(st.args) != 1:
+                return self.fail(ty.reject_arity(where, f"`{name}`", 1, len(st.args)), span)
+            a = self.term(st.args[0], sc)
+            if name == "abs":
+                # abs(t) is ifge0 t then t else −t
+                return self.conditional(a, a, neg(a), sc, span)
+            return Prim(name, a, span=span)
+        if name in ("min", "max"):
+            if len(st.args) != 2:
+                return self.fail(ty.reject_arity(where, f"`{name}`", 2, len(st.args)), span)
+            t, s = (self.term(a, sc) for a in st.args)
+            # min(t, s) is ifge0 t − s then s else t;  max(t, s) is ifge0 t − s then t else s
+            then, orelse = (s, t) if name == "min" else (t, s)
+            return self.conditional(sub(t, s), then, orelse, sc, span)
+        if name in self.env.defs:
+            sig = self.env.defs[name]
+            if len(st.args) != len(sig.args):
+                return self.fail(ty.reject_arity(where, f"def `{name}`", len(sig.args), len(st.args)), span)
+            args = []
+            ok = True
+            for a, (aname, kind) in zip(st.args, sig.args):
+                t = self.term(a, sc)
+                used = free_vars(t)
+                if kind == "var" and not used:
+                    self.errors.append(ty.reject_var_arg_without_variables(getattr(a, "span", span), name, aname))
+                    ok = False
+                elif kind == "param" and used:
+                    self.errors.append(ty.reject_param_arg_with_variables(getattr(a, "span", span), name, aname, used))
+                    ok = False
+                args.append(t)
+            if not ok:
+                return Const(Fraction(0), span=span)
+            return Call(sig.module, sig.name, tuple(args), span=span)
+        if name in self.env.diffeos:
+            return self.fail(ty.reject_unknown_function(where, name, ": it is a diffeo, which is applied only as the "
+                                                        f"condition of ifge0: `ifge0 {name}(variables; params) then …`"),
+                             span)
+        if name in ALL_PRIMITIVES:
+            return self.fail(ty.reject_unknown_function(where, name, " (an internal primitive, not part of the "
+                                                        "surface language)"), span)
+        return self.fail(ty.reject_unknown_function(where, name, ": not a primitive (" + ", ".join(PRIMITIVES) +
+                                                    ", abs, min, max) nor a def in scope"), span)
+
+    def let(self, st: LetIn, sc: Scope) -> Term:
+        where = st.name_span or st.span
+        bound = self.term(st.bound, sc)
+        used = free_vars(bound)
+        if used:
+            self.errors.append(ty.reject_let_with_variables(getattr(st.bound, "span", st.span), st.name, used))
+        if st.name in sc.variables:
+            self.errors.append(ty.reject_var_param_clash(where, st.name, "let binds the name of a variable"))
+        elif st.name == "pi":
+            self.errors.append(ty.reject_duplicate(where, "name (reserved constant)", "pi"))
+        body = self.term(st.body, sc.with_param(st.name))
+        return Let(st.name, bound, body, span=st.span)
+
+    def conditional(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span=None) -> Term:
+        """``ifge0 cond then … else …``: IfGe0 when ``cond`` is variable-free, else the completed
+        IfDiffeo (Fig. 6, conditional / diffeomorphic conditional)."""
+        if not free_vars(cond):
+            return IfGe0(cond, then, orelse, span=span)
+        try:
+            psi = complete(cond, sc.variables, sc.box)
+        except CompletionError as e:
+            return self.fail(ty.reject_condition(cond_span or cond.span or span, str(e)), span)
+        return IfDiffeo(psi, then, orelse, span=span)
+
+    def diffeo_app(self, app: DiffeoApp, sc: Scope) -> Diffeo | None:
+        where = app.name_span or app.span
+        if app.name in self.env.poisoned:
+            return None
+        if app.name not in self.env.diffeos:
+            detail = ": it is a def, not a diffeo" if app.name in self.env.defs else ": no diffeo of that name in scope"
+            self.errors.append(ty.reject_unknown_function(where, app.name, detail))
+            return None
+        sig = self.env.diffeos[app.name]
+        n, m = len(sig.diffeo.variables), len(sig.params)
+        if len(app.variables) != n or len(app.params) != m:
+            self.errors.append(ty.diag(where, "T203", f"diffeo `{app.name}` takes {n} variable(s) and {m} "
+                                       f"parameter(s), got {len(app.variables)} and {len(app.params)}"))
+            return None
+        names: list[str] = []
+        for v in app.variables:
+            if not (isinstance(v, Name) and v.name in sc.variables):
+                self.errors.append(ty.reject_diffeo_args(getattr(v, "span", where), app.name,
+                                                         "this argument is not a variable of integration"))
+                return None
+            if v.name in names:
+                self.errors.append(ty.reject_diffeo_args(v.span, app.name, f"`{v.name}` is passed twice"))
+                return None
+            names.append(v.name)
+        params = []
+        for p, pname in zip(app.params, sig.params):
+            t = self.term(p, sc)
+            used = free_vars(t)
+            if used:
+                self.errors.append(ty.reject_param_arg_with_variables(getattr(p, "span", where), app.name, pname, used))
+                return None
+            params.append(t)
+        psi = instantiate(sig.diffeo, sig.params, tuple(names), tuple(params),
+                          sc.variables if sc.in_program else None)
+        return replace(psi, span=app.span)
+
+
+def compare(left: Term, op: str, right: Term) -> Term:
+    """The condition of ``[left op right]``: ``left − right`` for ≥ and >, ``right − left`` for ≤ and <."""
+    if op in (">=", ">", "≥"):
+        return sub(left, right)
+    if op in ("<=", "<", "≤"):
+        return sub(right, left)
+    raise ValueError(f"unknown comparison {op}")
+
+
+def constant_value(st: STerm) -> Fraction | None:
+    """The value of a constant rational surface expression (an exponent), or None."""
+    match st:
+        case Num(v):
+            return v
+        case Neg(a):
+            v = constant_value(a)
+            return None if v is None else -v
+        case BinOp(op, a, b):
+            x, y = constant_value(a), constant_value(b)
+            if x is None or y is None:
+                return None
+            if op == "+":
+                return x + y
+            if op == "-":
+                return x - y
+            if op == "*":
+                return x * y
+            if op == "/":
+                return None if y == 0 else x / y
+            if op == "^":
+                if y.denominator != 1 or abs(y) > 64 or (x == 0 and y < 0):
+                    return None
+                return x ** int(y)
+    return None
+
+
+def is_smooth(t: Term) -> bool:
+    """No conditionals, lets or calls: a term sympy can treat as a smooth function."""
+    return not any(isinstance(u, (IfGe0, IfDiffeo, Let, Call)) for u in subterms(t))
+
+
+__all__ = ["Desugarer", "Env", "Scope", "DefSig", "DiffeoSig", "compare", "constant_value", "inline",
+           "is_smooth", "ElaboratedModule", "LangurError"]

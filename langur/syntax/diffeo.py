@@ -1,0 +1,418 @@
+"""Diffeomorphisms for diffeomorphic conditionals (paper §4, §5.2; LANGUAGE.md §6).
+
+Two jobs, both with sympy (through :mod:`langur.syntax.sympy_bridge`, every call time-boxed):
+
+* :func:`complete`: a condition ``t`` over variables that is not a declared diffeo is completed to
+  ``Ψ̂ = (t, the other variables)`` by solving ``t = u₀`` for one variable ``v``.  The candidates
+  are ranked (best first), ties broken by taking the *last* variable in order (LANGUAGE.md §6's
+  example ``[y < x + θ]`` solves for ``y``), so the same term always gives the same Diffeo:
+
+  0. ``t`` affine in ``v`` with a constant nonzero coefficient: one branch;
+  1. affine in ``v`` with a coefficient over parameters only (``t*x - 1``): one branch, and the
+     coefficient is recorded in ``Diffeo.nonzero``;
+  2. ``v`` occurs once, under invertible steps (``+ c``, ``· c``, ``^ k``, ``exp``, ``log``,
+     ``tanh``, ``atan``, and the periodic ``sin``/``cos``/``tan`` when the argument's range over the
+     variables' box is bounded): one branch per inverse, each with guards ``≥ 0`` saying where it
+     exists (``x^2 - a``: ``x = ±sqrt(u0 + a)``, guard ``u0 + a``); periodic inverses keep only
+     the branches whose image meets the argument's range, so ``sin(x) - t`` on ``[0, 1]`` has one;
+  3. the numerator of ``t - u₀`` is a polynomial of degree ≤ 2 in ``v``: the quadratic formula,
+     two branches with guard ``discriminant ≥ 0``.
+
+  Every branch is kept because the delta of the condition sums over all roots.  What cannot be
+  completed raises :class:`CompletionError` (the desugarer turns it into a located T207).
+
+* :func:`check_declared`: a ``diffeo`` declaration is checked: arity, ``Ψ̂(Ψ̂⁻¹(u)) = u`` and
+  ``Ψ̂⁻¹(Ψ̂(x)) = x`` (symbolically, else numerically at random points), nonsingular Jacobian.
+  :func:`instantiate` applies a checked declaration to actual variables and parameter terms.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from dataclasses import replace
+from functools import lru_cache
+
+import sympy as sp
+
+from ..core import Diffeo, InverseBranch, Term, Var, extend_diffeo, free_params, free_vars, substitute
+from .sympy_bridge import NotSmooth, SympyTimeout, from_sympy, symbol, time_limited, to_sympy
+
+#: Wall-clock limit (seconds) of one completion / one declaration check.
+TIME_LIMIT = 10.0
+#: More inverse branches than this on the domain is treated as "infinitely many".
+MAX_BRANCHES = 64
+
+Box = tuple[tuple[str, float, float], ...]  # (variable, lo, hi); absent or infinite: unbounded
+
+
+class CompletionError(Exception):
+    """The condition cannot be completed to a diffeomorphism (the message says why)."""
+
+
+class DiffeoCheckError(Exception):
+    """A declared diffeo fails its check; ``code`` is the T2xx code (see ``langur.typesys``)."""
+
+    def __init__(self, code: str, message: str):
+        super().__init__(message)
+        self.code = code
+
+
+def fresh_inputs(n: int, taken: set[str]) -> tuple[str, ...]:
+    """``u0 … u{n-1}``, or with the first prefix among ``u, u_, w, w_, …`` that clashes with nothing."""
+    for prefix in ("u", "u_", "w", "w_", "v_", "_u"):
+        names = tuple(f"{prefix}{i}" for i in range(n))
+        if not taken.intersection(names):
+            return names
+    k = 0
+    while any(f"_u{k}_{i}" in taken for i in range(n)):
+        k += 1
+    return tuple(f"_u{k}_{i}" for i in range(n))
+
+
+# ----------------------------------------------------------------------------------------------
+# Automatic completion
+
+
+def complete(cond: Term, variables: tuple[str, ...], box: Box = ()) -> Diffeo:
+    """Complete the condition ``cond`` (a smooth term over ``variables`` and parameters) to a
+    diffeomorphism ``Ψ̂ = (cond, the other variables)`` (LANGUAGE.md §6, "Conditions over
+    variables").  ``box`` bounds the variables (needed only by periodic inverses).
+    Deterministic: equal arguments give equal results.  Raises :class:`CompletionError`."""
+    psi = _complete_cached(cond, tuple(variables), tuple(box))
+    return replace(psi, forward=(cond,) + psi.forward[1:], span=getattr(cond, "span", None))
+
+
+@lru_cache(maxsize=4096)
+def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box) -> Diffeo:
+    occurring = [v for v in variables if v in free_vars(cond)]
+    if not occurring:
+        raise CompletionError("the condition has no variables (it is a plain ifge0)")
+    try:
+        expr = to_sympy(cond)
+    except NotSmooth as e:
+        raise CompletionError(f"the condition contains {e}; only a smooth condition over variables "
+                              "can be completed to a diffeomorphism") from None
+    params = tuple(sorted(free_params(cond)))
+    inputs = fresh_inputs(len(variables), set(variables) | set(params) | _symbol_names(expr))
+    bounds = {v: (lo, hi) for v, lo, hi in box}
+    try:
+        found = time_limited(lambda: _choose(expr, variables, occurring, inputs, params, bounds), TIME_LIMIT)
+    except SympyTimeout:
+        raise CompletionError(f"sympy could not invert the condition within {TIME_LIMIT:g}s") from None
+    if isinstance(found, str):
+        raise CompletionError(found)
+    v, branches, nonzero = found
+    others = [x for x in variables if x != v]
+    by_other = {x: Var(u) for x, u in zip(others, inputs[1:])}
+    core_branches = []
+    for vexpr, guards in branches:
+        comp = from_sympy(vexpr, inputs, params)
+        core_branches.append(InverseBranch(
+            tuple(comp if x == v else by_other[x] for x in variables),
+            tuple(from_sympy(g, inputs, params) for g in guards)))
+    return Diffeo(variables=variables, forward=(cond,) + tuple(Var(x) for x in others), inputs=inputs,
+                  branches=tuple(core_branches), solved_for=v, name=None,
+                  nonzero=tuple(from_sympy(n, (), params) for n in nonzero))
+
+
+def _symbol_names(expr: sp.Expr) -> set[str]:
+    return {s.name for s in expr.free_symbols}
+
+
+def _choose(expr, variables, occurring, inputs, params, bounds):
+    """The best-ranked variable (ties: the last one) with its branches, or a reason string."""
+    best = None
+    reasons = []
+    for v in occurring:
+        others = [x for x in variables if x != v]
+        sub = {symbol(x): symbol(u) for x, u in zip(others, inputs[1:])}
+        e = expr.subs(sub, simultaneous=True)
+        ranges = {symbol(u): bounds.get(x, (-math.inf, math.inf)) for x, u in zip(others, inputs[1:])}
+        ranges[symbol(v)] = bounds.get(v, (-math.inf, math.inf))
+        result = _solve_for(e, symbol(v), symbol(inputs[0]), set(sub.values()), ranges)
+        if isinstance(result, str):
+            reasons.append(f"{v}: {result}")
+            continue
+        rank, branches, nonzero = result
+        if not branches:
+            reasons.append(f"{v}: no inverse branch meets the domain")
+            continue
+        if best is None or rank <= best[0]:
+            best = (rank, v, branches, nonzero)
+    if best is None:
+        return "no variable can be isolated (" + "; ".join(reasons) + ")"
+    _, v, branches, nonzero = best
+    return v, branches, nonzero
+
+
+def _solve_for(e, v, u0, others: set, ranges):
+    """Solve ``e = u0`` for ``v``: ``(rank, [(v_expr, [guards])], [nonzero])`` or a reason."""
+    d = sp.diff(e, v)
+    if v not in d.free_symbols and not (d.free_symbols & (others | {u0})):
+        if d.is_zero:
+            return "the condition does not depend on it"
+        rest = e.subs(v, 0)
+        sol = (u0 - rest) / d
+        if not d.free_symbols:  # rank 0: constant coefficient
+            return 0, [(sol, [])], []
+        return 1, [(sol, [])], [d]  # rank 1: parameter coefficient, must not vanish
+    try:
+        branches, nonzero = _peel(e, u0, v, others | {u0}, ranges)
+        if len(branches) > MAX_BRANCHES:
+            return f"more than {MAX_BRANCHES} inverse branches on the domain"
+        return 2, branches, nonzero
+    except _Unpeelable as err:
+        peel_reason = str(err)
+    quad = _quadratic(e, u0, v, others)
+    if quad is not None:
+        return 3, quad[0], quad[1]
+    return peel_reason
+
+
+class _Unpeelable(Exception):
+    pass
+
+
+def _peel(a, target, v, variables: set, ranges):
+    """Invert ``a = target`` for ``v`` step by step; ``v`` must occur once along one path."""
+    if a == v:
+        return [(target, [])], []
+    if a.is_Add or a.is_Mul:
+        with_v = [p for p in a.args if v in p.free_symbols]
+        if len(with_v) != 1:
+            raise _Unpeelable(f"{v} occurs in several terms of {a}")
+        part = with_v[0]
+        rest = a - part if a.is_Add else a / part
+        if a.is_Add:
+            return _peel(part, target - rest, v, variables, ranges)
+        if rest.free_symbols & variables:
+            raise _Unpeelable(f"its coefficient {rest} depends on other variables")
+        br, nz = _peel(part, target / rest, v, variables, ranges)
+        return br, ([rest] if rest.free_symbols else []) + nz
+    if a.is_Pow:
+        base, k = a.args
+        if v in k.free_symbols or not k.is_Rational:
+            raise _Unpeelable(f"non-constant exponent in {a}")
+        if k < 0:
+            return _peel(base ** (-k), 1 / target, v, variables, ranges)
+        if k.is_integer and k % 2 == 0:
+            root = target ** (1 / k)
+            return _branches(base, [(root, [target]), (-root, [target])], v, variables, ranges)
+        if k.is_integer:
+            return _branches(base, [(target ** (1 / k), [target]), (-(-target) ** (1 / k), [-target])],
+                             v, variables, ranges)
+        return _branches(base, [(target ** (1 / k), [target])], v, variables, ranges)
+    if len(a.args) == 1:
+        arg = a.args[0]
+        f = a.func
+        if f is sp.exp:
+            return _branches(arg, [(sp.log(target), [target])], v, variables, ranges)
+        if f is sp.log:
+            return _branches(arg, [(sp.exp(target), [])], v, variables, ranges)
+        if f is sp.tanh:
+            return _branches(arg, [(sp.atanh(target), [1 - target ** 2])], v, variables, ranges)
+        if f is sp.atan:
+            return _branches(arg, [(sp.tan(target), [sp.pi ** 2 / 4 - target ** 2])], v, variables, ranges)
+        if f in (sp.sin, sp.cos, sp.tan):
+            return _periodic(f, arg, target, v, variables, ranges)
+    raise _Unpeelable(f"cannot invert {a}")
+
+
+def _branches(inner, steps, v, variables, ranges):
+    out, nonzero = [], []
+    for value, guards in steps:
+        br, nz = _peel(inner, value, v, variables, ranges)
+        out.extend((x, guards + g) for x, g in br)
+        nonzero.extend(n for n in nz if n not in nonzero)
+    return out, nonzero
+
+
+def _periodic(f, arg, target, v, variables, ranges):
+    """Inverse branches of ``f(arg) = target`` whose image meets the range of ``arg`` on the box."""
+    lo, hi = _range(arg, ranges)
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise _Unpeelable(f"{f.__name__}({arg}) has infinitely many inverse branches unless {arg} "
+                          "ranges over a bounded interval (give the variables a constant bounded domain)")
+    pi = math.pi
+    # (inverse, image lo, image hi, period in units of π, guards)
+    if f is sp.tan:
+        shapes = [(sp.atan(target), -pi / 2, pi / 2, 1, [])]
+    elif f is sp.sin:
+        g = [1 - target ** 2]
+        shapes = [(sp.asin(target), -pi / 2, pi / 2, 2, g), (sp.pi - sp.asin(target), pi / 2, 3 * pi / 2, 2, g)]
+    else:
+        g = [1 - target ** 2]
+        shapes = [(sp.acos(target), 0.0, pi, 2, g), (-sp.acos(target), -pi, 0.0, 2, g)]
+    steps = []
+    for expr, ilo, ihi, period, guards in shapes:
+        first = math.floor((lo - ihi) / (period * pi)) - 1
+        last = math.ceil((hi - ilo) / (period * pi)) + 1
+        if last - first > 4 * MAX_BRANCHES:
+            raise _Unpeelable(f"more than {MAX_BRANCHES} inverse branches of {f.__name__} on the domain")
+        for j in range(first, last + 1):
+            a, b = ilo + j * period * pi, ihi + j * period * pi
+            if max(a, lo) < min(b, hi) or (lo == hi and a <= lo <= b):
+                steps.append((expr + j * period * sp.pi if j else expr, guards))
+    if len(steps) > MAX_BRANCHES:
+        raise _Unpeelable(f"more than {MAX_BRANCHES} inverse branches of {f.__name__} on the domain")
+    return _branches(arg, _dedupe(steps), v, variables, ranges)
+
+
+def _dedupe(steps):
+    out = []
+    for s in steps:
+        if s not in out:
+            out.append(s)
+    return out
+
+
+def _range(expr, ranges) -> tuple[float, float]:
+    """An interval containing ``expr`` over the box (variables only; parameters: unbounded)."""
+    syms = expr.free_symbols
+    if any(s not in ranges for s in syms):
+        return -math.inf, math.inf
+    env = {}
+    for s in syms:
+        lo, hi = ranges[s]
+        if not (math.isfinite(lo) and math.isfinite(hi)):
+            return -math.inf, math.inf
+        env[s] = sp.AccumBounds(sp.Float(lo), sp.Float(hi)) if lo < hi else sp.Float(lo)
+    try:
+        r = expr.subs(env)
+        if isinstance(r, sp.AccumBounds):
+            lo_, hi_ = float(r.min), float(r.max)
+        else:
+            lo_ = hi_ = float(r)
+    except (TypeError, ValueError, AttributeError):
+        return -math.inf, math.inf
+    if math.isnan(lo_) or math.isnan(hi_):
+        return -math.inf, math.inf
+    return lo_, hi_
+
+
+def _quadratic(e, u0, v, others):
+    """Roots of ``e = u0`` when its numerator is a polynomial of degree ≤ 2 in ``v``."""
+    num = sp.numer(sp.together(e - u0))
+    try:
+        poly = sp.Poly(num, v)
+    except sp.PolynomialError:
+        return None
+    if poly.degree() < 1 or poly.degree() > 2 or any(v in c.free_symbols for c in poly.all_coeffs()):
+        return None
+    coeffs = poly.all_coeffs()
+    lead = coeffs[0]
+    if lead.free_symbols & others:
+        return None
+    nonzero = [lead] if lead.free_symbols and not (lead.free_symbols & {u0}) else []
+    if poly.degree() == 1:
+        return [(-coeffs[1] / lead, [])], nonzero
+    a, b, c = coeffs
+    disc = b ** 2 - 4 * a * c
+    return [((-b + sp.sqrt(disc)) / (2 * a), [disc]), ((-b - sp.sqrt(disc)) / (2 * a), [disc])], nonzero
+
+
+# ----------------------------------------------------------------------------------------------
+# Declared diffeomorphisms
+
+
+def check_declared(name: str, variables: tuple[str, ...], params: tuple[str, ...], forward: tuple[Term, ...],
+                   inputs: tuple[str, ...], inverse: tuple[Term, ...]) -> Diffeo:
+    """Check ``diffeo name(variables; params) = forward inverse (inputs) = inverse`` (§5.2) and
+    return it as a :class:`Diffeo` in the declaration's own names (inputs renamed apart from the
+    variables and parameters if needed).  Raises :class:`DiffeoCheckError` (T214 arity, T215
+    inverse does not invert, T216 singular Jacobian)."""
+    n = len(variables)
+    if len(forward) != n:
+        raise DiffeoCheckError("T214", f"diffeo {name} has {n} variable(s) but {len(forward)} forward "
+                               "component(s); Ψ̂ must map ℝⁿ to ℝⁿ")
+    if len(inputs) != n:
+        raise DiffeoCheckError("T214", f"diffeo {name}'s inverse takes {len(inputs)} input(s), expected {n}")
+    if len(inverse) != n:
+        raise DiffeoCheckError("T214", f"diffeo {name}'s inverse has {len(inverse)} component(s), expected {n}")
+    if set(inputs) & (set(variables) | set(params)):
+        new = fresh_inputs(n, set(variables) | set(params) | set(inputs))
+        inverse = tuple(substitute(c, {a: Var(b) for a, b in zip(inputs, new)}) for c in inverse)
+        inputs = new
+    try:
+        nonzero = time_limited(lambda: _check(name, variables, params, forward, inputs, inverse), TIME_LIMIT)
+    except SympyTimeout:
+        nonzero = ()  # the numeric checks inside passed before sympy ran out of time
+    return Diffeo(variables=tuple(variables), forward=tuple(forward), inputs=tuple(inputs),
+                  branches=(InverseBranch(tuple(inverse)),), solved_for=None, name=name, nonzero=nonzero)
+
+
+def _check(name, variables, params, forward, inputs, inverse):
+    xs = [symbol(x) for x in variables]
+    us = [symbol(u) for u in inputs]
+    F = [to_sympy(f) for f in forward]
+    G = [to_sympy(g) for g in inverse]
+    _numeric_inverse(name, variables, params, inputs, F, G, xs, us)
+    J = sp.Matrix(F).jacobian(xs)
+    det = sp.simplify(J.det())
+    if det == 0:
+        raise DiffeoCheckError("T216", f"diffeo {name} has a singular Jacobian: det DΨ̂ = 0 everywhere")
+    if det.free_symbols & set(xs):
+        if len(det.free_symbols & set(xs)) == 1:
+            (x,) = det.free_symbols & set(xs)
+            zeros = sp.solveset(det, x, sp.S.Reals)
+            if isinstance(zeros, sp.FiniteSet) and len(zeros) > 0:
+                raise DiffeoCheckError("T216", f"diffeo {name} has a singular Jacobian where {x} = "
+                                       f"{sorted(zeros, key=str)[0]} (det DΨ̂ = {det})")
+        return ()
+    if det.free_symbols:
+        return (from_sympy(det, (), params),)
+    return ()
+
+
+def _numeric_inverse(name, variables, params, inputs, F, G, xs, us):
+    """Ψ̂⁻¹∘Ψ̂ = id and Ψ̂∘Ψ̂⁻¹ = id, symbolically if sympy can, else at random points."""
+    ps = [symbol(p) for p in params]
+    there = [sp.simplify(f.subs(dict(zip(xs, G)), simultaneous=True) - u) for f, u in zip(F, us)]
+    back = [sp.simplify(g.subs(dict(zip(us, F)), simultaneous=True) - x) for g, x in zip(G, xs)]
+    if all(d == 0 for d in there + back):
+        return
+    rng = random.Random(0)
+    checked = 0
+    for _ in range(40):
+        env = {s: sp.Rational(rng.randint(-300, 300), 100) for s in xs + us + ps}
+        for diffs, what, pt in ((there, "Ψ̂(Ψ̂⁻¹(u)) ≠ u", us), (back, "Ψ̂⁻¹(Ψ̂(x)) ≠ x", xs)):
+            for d in diffs:
+                try:
+                    val = complex(d.subs(env).evalf())
+                except (TypeError, ValueError):
+                    continue
+                if math.isnan(val.real):
+                    continue
+                checked += 1
+                if abs(val) > 1e-9 * (1 + abs(val)):
+                    where = ", ".join(f"{s}={env[s]}" for s in pt + ps)
+                    raise DiffeoCheckError("T215", f"diffeo {name}: the inverse does not invert: {what} at {where}")
+    if not checked:
+        raise DiffeoCheckError("T215", f"diffeo {name}: could not verify that the inverse inverts Ψ̂")
+
+
+def instantiate(psi: Diffeo, decl_params: tuple[str, ...], var_names: tuple[str, ...],
+                param_terms: tuple[Term, ...], program_variables: tuple[str, ...] | None = None) -> Diffeo:
+    """The declared ``psi`` (parameters ``decl_params`` in declaration order) applied to distinct
+    variables ``var_names`` and variable-free ``param_terms``: inputs renamed to fresh ``u0 …``
+    (apart from the variables and parameters), then extended by the identity to
+    ``program_variables`` (``core.extend_diffeo``) when given."""
+    pmap = dict(zip(decl_params, param_terms))
+    vmap = {x: Var(y) for x, y in zip(psi.variables, var_names)}
+    taken = set(var_names) | set(program_variables or ())
+    for t in param_terms:
+        taken |= free_params(t)
+    new_inputs = fresh_inputs(len(psi.inputs), taken)
+    imap = {a: Var(b) for a, b in zip(psi.inputs, new_inputs)}
+    out = Diffeo(
+        variables=tuple(var_names),
+        forward=tuple(substitute(f, vmap, pmap) for f in psi.forward),
+        inputs=new_inputs,
+        branches=tuple(InverseBranch(tuple(substitute(c, imap, pmap) for c in b.components),
+                                     tuple(substitute(g, imap, pmap) for g in b.guards)) for b in psi.branches),
+        solved_for=None, name=psi.name,
+        nonzero=tuple(substitute(z, {}, pmap) for z in psi.nonzero))
+    if program_variables is not None:
+        out = extend_diffeo(out, tuple(program_variables))
+    return out

@@ -1,0 +1,144 @@
+"""Inlining def calls: a module's elaborated program (with ``Call`` links) to pure core (§9).
+
+Each ``Call(module, name, args)`` is replaced by the def's body with its arguments substituted
+(LANGUAGE.md §6: "the body with arguments substituted"):
+
+* a ``var`` argument's term replaces the argument's variable; a ``param`` argument's term its
+  parameter; ``let`` binders of the body are renamed apart from the arguments' parameters and the
+  program's variables (no capture);
+* a completed condition (``Diffeo.solved_for`` set) is substituted and *re-completed* over all of
+  the program's variables with the program's box (``langur.syntax.diffeo.complete``), so that it
+  is exactly what desugaring the same condition in the program would give, also when a var
+  argument is not a bare variable;
+* a declared diffeo's variables must be passed distinct variables of integration (T217): it is
+  renamed, its parameters substituted, and extended by the identity to the program's variables.
+
+Afterwards every ``IfDiffeo``'s Diffeo is over exactly ``Program.variables``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Mapping
+
+from ..core import (Call, Const, IfDiffeo, IfGe0, Let, Param, Program, Term, Var, free_params, free_vars,
+                    map_children)
+from ..diagnostics import Diagnostic, LangurError
+from ..modules import ElaboratedModule
+from .. import typesys as ty
+from .diffeo import CompletionError, complete, instantiate
+from .support import numeric_box
+
+
+def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program:
+    """``program`` with every ``Call`` inlined (recursively); raises LangurError (T207, T217, T221)."""
+    inl = _Inliner(modules, program.variables, numeric_box(program.variables, program.box))
+    body = inl.expand(program.body, ())
+    if inl.errors:
+        raise LangurError(inl.errors)
+    return replace(program, body=body)
+
+
+class _Inliner:
+    def __init__(self, modules, variables, box):
+        self.modules = modules
+        self.variables = tuple(variables)
+        self.box = box
+        self.errors: list[Diagnostic] = []
+
+    def expand(self, t: Term, stack: tuple) -> Term:
+        match t:
+            case Call(module, name, args):
+                key = (module, name)
+                if key in stack:
+                    self.errors.append(ty.reject_recursive(t.span, [f"{m}.{n}" for m, n in stack + (key,)]))
+                    return Const(0, span=t.span)
+                d = self.modules[module].defs[name]
+                args = tuple(self.expand(a, stack) for a in args)
+                body = self.instantiate(d, args, t.span)
+                return self.expand(body, stack + (key,))
+            case IfDiffeo(_, a, b):
+                return replace(t, then=self.expand(a, stack), orelse=self.expand(b, stack))
+            case _:
+                return map_children(t, lambda c: self.expand(c, stack))
+
+    def instantiate(self, d, args: tuple[Term, ...], span) -> Term:
+        vmap = {n: a for (n, k), a in zip(d.args, args) if k == "var"}
+        pmap = {n: a for (n, k), a in zip(d.args, args) if k == "param"}
+        taken = set(self.variables)
+        for a in args:
+            taken |= free_params(a)
+        return _Subst(self, vmap, taken, span, d.name).go(d.body, pmap)
+
+
+class _Subst:
+    def __init__(self, inl: _Inliner, vmap, taken, span, fname):
+        self.inl, self.vmap, self.taken, self.span, self.fname = inl, vmap, set(taken), span, fname
+
+    def go(self, t: Term, pmap: dict[str, Term]) -> Term:
+        match t:
+            case Var(name):
+                return self.vmap.get(name, t)
+            case Param(name):
+                return pmap.get(name, t)
+            case Const():
+                return t
+            case Let(name, bound, body):
+                bound = self.go(bound, pmap)
+                if name in self.taken:
+                    new = _fresh(name, self.taken | _names(body))
+                    self.taken.add(new)
+                    return replace(t, name=new, bound=bound, body=self.go(body, {**pmap, name: Param(new)}))
+                inner = {k: v for k, v in pmap.items() if k != name}
+                return replace(t, bound=bound, body=self.go(body, inner))
+            case IfDiffeo(psi, a, b):
+                a, b = self.go(a, pmap), self.go(b, pmap)
+                if psi.name is None:
+                    cond = self.go(psi.forward[0], pmap)
+                    if not free_vars(cond):
+                        return IfGe0(cond, a, b, span=t.span)
+                    try:
+                        new_psi = complete(cond, self.inl.variables, self.inl.box)
+                    except CompletionError as e:
+                        self.inl.errors.append(ty.reject_condition(
+                            self.span, f"in the body of `{self.fname}` inlined here: {e}"))
+                        return Const(0, span=t.span)
+                    return replace(t, psi=new_psi, then=a, orelse=b)
+                names = []
+                for x in psi.variables:
+                    target = self.vmap.get(x, Var(x))
+                    if not isinstance(target, Var) or target.name in names:
+                        self.inl.errors.append(ty.reject_diffeo_args(
+                            self.span, psi.name, f"in the body of `{self.fname}`, its variable `{x}` is passed a "
+                            "term that is not a distinct variable of integration"))
+                        return Const(0, span=t.span)
+                    names.append(target.name)
+                keys = tuple(pmap)
+                new_psi = instantiate(psi, keys, tuple(names), tuple(pmap[k] for k in keys), self.inl.variables)
+                return replace(t, psi=new_psi, then=a, orelse=b)
+            case _:
+                return map_children(t, lambda c: self.go(c, pmap))
+
+
+def _names(t: Term) -> set[str]:
+    out = set(free_params(t))
+    stack = [t]
+    while stack:
+        u = stack.pop()
+        if isinstance(u, Let):
+            out.add(u.name)
+        stack.extend(_children(u))
+    return out
+
+
+def _children(u):
+    from ..core import children
+
+    return children(u)
+
+
+def _fresh(name: str, taken: set[str]) -> str:
+    k = 1
+    while f"{name}_{k}" in taken:
+        k += 1
+    return f"{name}_{k}"

@@ -1,0 +1,118 @@
+"""Compact support of a program's integrand (paper §8.3, Prop. 8.1–8.2): the program's box.
+
+With a domain ``int ([l1, u1], …) t d(x⃗)`` the box is the domain.  Without one, the box is read
+off the *bounding indicator factors* of the integrand: the factors of its top-level product that
+are ``ifge0 ⌊Ψ⌋ then s else 0`` (the integrand vanishes where ``π₀Ψ̂ < 0``) or ``… then 0 else r``
+(it vanishes where ``π₀Ψ̂ ≥ 0``), whose condition is affine in the variables with constant
+coefficients.  A bound that mentions other variables (``[0 <= y <= x]``) is widened over their
+box by interval reasoning (``y ≤ x ≤ 1``).  A variable nothing bounds makes the program not
+compactly supported (T209, reported by the desugarer).
+"""
+
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+
+from ..core import Const, IfDiffeo, Mul, Term, free_params
+from .sympy_bridge import NotSmooth, from_sympy, symbol, to_sympy
+
+Bound = tuple[Term | None, Term | None]
+
+
+def top_factors(t: Term) -> list[Term]:
+    """The factors of ``t``'s top-level product, left to right."""
+    out, stack = [], [t]
+    while stack:
+        u = stack.pop()
+        if isinstance(u, Mul):
+            stack.append(u.right)
+            stack.append(u.left)
+        else:
+            out.append(u)
+    return out
+
+
+def _is_zero(t: Term) -> bool:
+    return isinstance(t, Const) and t.value == 0
+
+
+def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
+    """One ``(lo, hi)`` per variable (``None`` where nothing bounds that side)."""
+    xs = [symbol(x) for x in variables]
+    constraints = []  # (variable index, "lo"|"hi", {other index: coeff}, param part)
+    for f in top_factors(body):
+        if not isinstance(f, IfDiffeo):
+            continue
+        if _is_zero(f.orelse):
+            sign = 1
+        elif _is_zero(f.then):
+            sign = -1
+        else:
+            continue
+        try:
+            e = sp.expand(sign * to_sympy(f.psi.forward[0]))
+        except NotSmooth:
+            continue
+        coeffs = {}
+        affine = True
+        for i, x in enumerate(xs):
+            d = sp.diff(e, x)
+            if d.free_symbols:  # not affine with constant coefficients
+                affine = False
+                break
+            if d != 0:
+                coeffs[i] = d
+        if not affine or not coeffs:
+            continue
+        rest = sp.expand(e - sum(c * xs[i] for i, c in coeffs.items()))
+        if rest.free_symbols & set(xs):
+            continue
+        for i, c in coeffs.items():
+            # c·x_i + Σ c_j x_j + rest ≥ 0  ⇒  x_i ≥ (−rest − Σ c_j x_j)/c  (c > 0), ≤ when c < 0
+            others = {j: -cj / c for j, cj in coeffs.items() if j != i}
+            constraints.append((i, "lo" if c > 0 else "hi", others, -rest / c))
+    box: list[list] = [[None, None] for _ in variables]
+    for _ in range(len(variables) + 1):
+        changed = False
+        for i, side, others, base in constraints:
+            k = 0 if side == "lo" else 1
+            if box[i][k] is not None:
+                continue
+            value = base
+            for j, cj in others.items():
+                # widen over x_j's box: the minimum (lo side) or maximum (hi side) of cj·x_j
+                want_hi = (cj > 0) == (side == "hi")
+                b = box[j][1 if want_hi else 0]
+                if b is None:
+                    value = None
+                    break
+                value = value + cj * b
+            if value is not None:
+                box[i][k] = sp.nsimplify(value) if value.is_Float else value
+                changed = True
+        if not changed:
+            break
+    params = set()
+    for _, _, _, base in constraints:
+        params |= {s.name for s in base.free_symbols}
+    return [tuple(None if b is None else from_sympy(sp.simplify(b), (), params) for b in pair) for pair in box]
+
+
+def numeric_box(variables: tuple[str, ...], box) -> tuple[tuple[str, float, float], ...]:
+    """The box's constant bounds as floats (parametric or missing bounds: ±∞), for completion."""
+    out = []
+    for x, (lo, hi) in zip(variables, box):
+        out.append((x, _num(lo, -math.inf), _num(hi, math.inf)))
+    return tuple(out)
+
+
+def _num(t: Term | None, default: float) -> float:
+    if t is None or free_params(t):
+        return default
+    try:
+        v = float(to_sympy(t))
+    except (NotSmooth, TypeError, ValueError):
+        return default
+    return v if math.isfinite(v) else default

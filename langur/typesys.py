@@ -1,0 +1,305 @@
+"""The type system of Langur: paper Fig. 6 (terms) and Fig. 11 (programs), LANGUAGE.md §2.
+
+The judgement is ``Δ; Γ ⊢ t : real`` with ``Δ`` the variables of integration and ``Γ`` the
+parameters, disjoint.  Typing happens in two places, with the same rules and codes:
+
+* during elaboration (``langur.syntax.desugar``), on the surface AST, where names are resolved and
+  the sugar is expanded: the desugarer reports each rejection through the ``reject_*`` helpers
+  below, located at the offending source text;
+* on the resulting pure core term (:func:`type_term`, :func:`type_program`): one function per
+  judgement, one ``match`` case per rule of Fig. 6 / Fig. 11 in the figure's order.  On the
+  desugarer's output these never fire (they certify it); they also type core terms built by
+  other means (tests, fuzzers).
+
+Every rejection is a :class:`~langur.diagnostics.Diagnostic` whose message names the rule.
+
+======  ==========================================================================================
+code    rejection (rule)
+======  ==========================================================================================
+T201    unbound name: not a variable of the enclosing ``int``, a declared ``param``, a ``let``-bound
+        name or an argument of the enclosing ``def`` (Fig. 6, variable / parameter)
+T202    unknown function: not a primitive, ``abs``/``min``/``max``, a ``def`` or a ``diffeo`` in
+        scope; or a ``diffeo`` called like a function / a ``def`` applied as ⌊Ψ⌋
+T203    wrong arity: a primitive, ``def`` or ``diffeo`` applied to the wrong number of arguments;
+        a domain with a different number of intervals than ``d(…)`` has variables
+T204    a ``var`` argument of a ``def`` given a variable-free term (a ``param`` where a ``var`` is
+        required)
+T205    a ``param`` argument of a ``def`` (or a parameter argument of a ``diffeo``) given a term
+        with variables (a ``var`` where a ``param`` is required; Fig. 6 parameters are ·;Γ terms)
+T206    the bound term of ``let`` mentions a variable (Fig. 6, let: ``·;Γ ⊢ t``)
+T207    the condition of ``ifge0`` mentions variables and cannot be completed to a
+        diffeomorphism (Fig. 6, conditional requires ``·;Γ ⊢ t``; diffeomorphic conditional
+        requires a C¹ diffeomorphism: none found, e.g. no variable can be isolated, infinitely
+        many inverse branches on the domain, or the condition is not smooth)
+T208    nested ``int`` (Fig. 11: a term contains no ``int``).  The grammar cannot express it
+        (``int`` is a keyword that only starts the program), so the parser reports it as E102;
+        :func:`type_program` keeps the code for core programs built by other means.
+T209    the integrand is not compactly supported (§8.3, Prop. 8.1): no domain and no bounding
+        indicator factors bound every variable
+T210    undeclared parameter: a name used where only parameters may occur (a domain bound, a
+        ``let``-bound term, a plain condition, a ``param`` argument) that is not declared
+        (Fig. 6, parameter: ``z:real ∈ Γ``)
+T211    duplicate declaration: a param, def, diffeo or imported name declared twice (or
+        shadowing a primitive / ``pi``), a def argument, diffeo variable/parameter/input or
+        integration variable listed twice
+T212    a name both a variable and a parameter (``Vars ∩ Params = ∅``, §4): an integration
+        variable named like a declared param, a ``let`` binding a variable's name, a def
+        argument that is both, a diffeo variable that is also its parameter
+T213    non-constant exponent in ``t ^ k`` (LANGUAGE.md §1: ``k`` a constant rational)
+T214    declared diffeo: arity (Ψ̂ must map ℝⁿ to ℝⁿ: as many forward and inverse components as
+        variables and inverse inputs)
+T215    declared diffeo: the inverse does not invert (``Ψ̂(Ψ̂⁻¹(u)) ≠ u`` or ``Ψ̂⁻¹(Ψ̂(x)) ≠ x``)
+T216    declared diffeo: singular Jacobian (not a C¹ diffeomorphism, Def. 3.4)
+T217    a diffeo applied to variable arguments that are not distinct integration variables
+        (Fig. 6, diffeomorphic conditional: Ψ's arguments are variables of Δ)
+T218    import: module not found (``m.lgr`` beside the importing file, or ``--module m=PATH``)
+T219    import cycle
+T220    import: the module has no ``def`` or ``diffeo`` of that name
+T221    recursive ``def`` (defs are inlined: Langur is first-order, §4)
+T222    a diffeo's component is not a smooth term (conditionals, calls and ``let`` are not allowed)
+======  ==========================================================================================
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from .core import (ALL_PRIMITIVES, Add, Call, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim,
+                   Program, Term, Var, free_vars)
+from .diagnostics import Diagnostic, Span
+
+CODES: dict[str, str] = {
+    "T201": "unbound name",
+    "T202": "unknown function",
+    "T203": "wrong arity",
+    "T204": "variable-free term for a var argument",
+    "T205": "term with variables for a param argument",
+    "T206": "let-bound term with a variable",
+    "T207": "condition over variables cannot be completed to a diffeomorphism",
+    "T208": "nested int",
+    "T209": "integrand not compactly supported",
+    "T210": "undeclared parameter",
+    "T211": "duplicate declaration",
+    "T212": "name both variable and parameter",
+    "T213": "non-constant exponent",
+    "T214": "diffeo arity",
+    "T215": "diffeo inverse does not invert",
+    "T216": "diffeo Jacobian singular",
+    "T217": "diffeo variable arguments not distinct variables",
+    "T218": "module not found",
+    "T219": "import cycle",
+    "T220": "imported name not found",
+    "T221": "recursive def",
+    "T222": "diffeo component not smooth",
+}
+
+
+def diag(span: Span | None, code: str, message: str, related: tuple[Span, ...] = ()) -> Diagnostic:
+    """An error diagnostic with a code from :data:`CODES`."""
+    assert code in CODES, code
+    return Diagnostic(span, "error", code, message, related)
+
+
+# ----------------------------------------------------------------------------------------------
+# Rejections raised while elaborating the surface AST (one helper per rule; the desugarer calls
+# them at the point where the rule applies).
+
+
+def reject_unbound(span, name: str, where: str = "") -> Diagnostic:
+    return diag(span, "T201", f"unbound name `{name}`{where}: not a variable of the enclosing int, a declared "
+                "param, a let-bound name or an argument of the enclosing def (Fig. 6, variable/parameter)")
+
+
+def reject_undeclared_param(span, name: str, position: str) -> Diagnostic:
+    return diag(span, "T210", f"undeclared parameter `{name}` in {position}: only declared params, let-bound "
+                "names and param arguments may occur here (Fig. 6, parameter: z:real ∈ Γ)")
+
+
+def reject_unknown_function(span, name: str, detail: str = "") -> Diagnostic:
+    return diag(span, "T202", f"unknown function `{name}`{detail}")
+
+
+def reject_arity(span, what: str, expected: int, got: int) -> Diagnostic:
+    return diag(span, "T203", f"{what} takes {expected} argument(s), got {got}")
+
+
+def reject_var_arg_without_variables(span, fname: str, arg: str) -> Diagnostic:
+    return diag(span, "T204", f"argument `{arg}` of `{fname}` is a var argument: it needs a term over variables, "
+                "got a variable-free term (a param where a var is required)")
+
+
+def reject_param_arg_with_variables(span, fname: str, arg: str, names) -> Diagnostic:
+    return diag(span, "T205", f"argument `{arg}` of `{fname}` is a parameter: it must be variable-free, but "
+                f"mentions {', '.join(sorted(names))} (a var where a param is required; Fig. 6: ·;Γ ⊢ t)")
+
+
+def reject_let_with_variables(span, name: str, names) -> Diagnostic:
+    return diag(span, "T206", f"the term bound to `{name}` mentions the variable(s) {', '.join(sorted(names))} "
+                "(Fig. 6, let: ·;Γ ⊢ t : real, the bound term must be variable-free)")
+
+
+def reject_condition(span, reason: str) -> Diagnostic:
+    return diag(span, "T207", "the condition mentions variables, so it must be a diffeomorphism "
+                f"(Fig. 6, diffeomorphic conditional), but it cannot be completed to one: {reason}")
+
+
+def reject_not_compact(span, unbounded) -> Diagnostic:
+    return diag(span, "T209", "integrand is not compactly supported (§8.3, Prop. 8.1): nothing bounds "
+                f"{', '.join(unbounded)}; give a domain `int ([lo, hi], …) …` or bounding indicator "
+                "factors such as `[0 <= x <= 1] * …`")
+
+
+def reject_duplicate(span, what: str, name: str, first: Span | None = None) -> Diagnostic:
+    where = f" (first at {first})" if first is not None else ""
+    return diag(span, "T211", f"duplicate {what} `{name}`{where}", (first,) if first is not None else ())
+
+
+def reject_var_param_clash(span, name: str, detail: str) -> Diagnostic:
+    return diag(span, "T212", f"`{name}` is both a variable and a parameter ({detail}; Vars ∩ Params = ∅, §4)")
+
+
+def reject_exponent(span) -> Diagnostic:
+    return diag(span, "T213", "non-constant exponent: `t ^ k` needs a constant rational k (LANGUAGE.md §1; "
+                "use exp(k * log(t)) for a variable exponent)")
+
+
+def reject_diffeo_args(span, name: str, detail: str) -> Diagnostic:
+    return diag(span, "T217", f"diffeo `{name}` must be applied to distinct variables of integration "
+                f"(Fig. 6, diffeomorphic conditional): {detail}")
+
+
+def reject_recursive(span, cycle) -> Diagnostic:
+    return diag(span, "T221", "recursive def: " + " -> ".join(cycle) + " (defs are inlined; Langur is first-order)")
+
+
+def reject_not_smooth(span, name: str, detail: str) -> Diagnostic:
+    return diag(span, "T222", f"diffeo `{name}`: components must be smooth terms over its variables and "
+                f"parameters: {detail}")
+
+
+# ----------------------------------------------------------------------------------------------
+# Fig. 6 and Fig. 11 on the core language.
+
+
+def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[Diagnostic]) -> None:
+    """``Δ; Γ ⊢ t : real`` (Fig. 6, extended by primitives and constant powers, LANGUAGE.md §1).
+
+    Appends one diagnostic per violated rule to ``out``.  ``Call`` (elaborated modules only) is
+    typed by its arguments: the callee's own body was typed where it was declared.
+    """
+    match t:
+        case Const():
+            # Fig. 6, constant: Δ;Γ ⊢ c : real
+            return
+        case Var(x):
+            # Fig. 6, variable: x:real ∈ Δ
+            if x not in delta:
+                if x in gamma:
+                    out.append(reject_var_param_clash(t.span, x, "used as a variable but bound as a parameter"))
+                else:
+                    out.append(reject_unbound(t.span, x, " (not a variable of Δ)"))
+        case Param(z):
+            # Fig. 6, parameter: z:real ∈ Γ
+            if z not in gamma:
+                out.append(reject_undeclared_param(t.span, z, "this term"))
+        case Add(a, b) | Mul(a, b):
+            # Fig. 6, sum / product
+            type_term(delta, gamma, a, out)
+            type_term(delta, gamma, b, out)
+        case Prim(op, a):
+            # LANGUAGE.md §1, smooth primitive f(t)
+            if op not in ALL_PRIMITIVES:
+                out.append(reject_unknown_function(t.span, op))
+            type_term(delta, gamma, a, out)
+        case Pow(a, k):
+            # LANGUAGE.md §1, constant power t ^ k
+            if not isinstance(k, Fraction):
+                out.append(reject_exponent(t.span))
+            type_term(delta, gamma, a, out)
+        case IfGe0(c, a, b):
+            # Fig. 6, conditional: ·;Γ ⊢ t, Δ;Γ ⊢ s, Δ;Γ ⊢ r
+            used = free_vars(c)
+            if used:
+                out.append(reject_condition(t.span, "a plain ifge0 condition must be variable-free, but it "
+                                            f"mentions {', '.join(sorted(used))}"))
+            type_term(frozenset(), gamma, c, out)
+            type_term(delta, gamma, a, out)
+            type_term(delta, gamma, b, out)
+        case IfDiffeo(psi, a, b):
+            # Fig. 6, diffeomorphic conditional: Ψ over variables of Δ and params of Γ
+            type_diffeo(delta, gamma, psi, out, t.span)
+            type_term(delta, gamma, a, out)
+            type_term(delta, gamma, b, out)
+        case Let(z, bound, body):
+            # Fig. 6, let: ·;Γ ⊢ t and Δ; Γ, z ⊢ s
+            used = free_vars(bound)
+            if used:
+                out.append(reject_let_with_variables(t.span, z, used))
+            if z in delta:
+                out.append(reject_var_param_clash(t.span, z, "let binds the name of a variable"))
+            type_term(frozenset(), gamma, bound, out)
+            type_term(delta, gamma | {z}, body, out)
+        case Call(_, _, args):
+            # elaborated modules only: the arguments are terms of the caller's context
+            for a in args:
+                type_term(delta, gamma, a, out)
+        case _:
+            raise TypeError(f"not a core term: {t!r}")
+
+
+def type_diffeo(delta: frozenset[str], gamma: frozenset[str], psi: Diffeo, out: list[Diagnostic], span=None) -> None:
+    """The premise of Fig. 6's diffeomorphic conditional: Ψ̂'s inputs are variables of Δ, its
+    components terms over them and Γ; the inverse's branches terms over its inputs and Γ.  That
+    ``Ψ̂`` *is* a diffeomorphism is established by ``langur.syntax.diffeo`` (T207, T214–T216)."""
+    where = span or psi.span
+    if len(set(psi.variables)) != len(psi.variables) or not set(psi.variables) <= delta:
+        out.append(reject_diffeo_args(where, psi.name or "(completed)",
+                                      f"{', '.join(psi.variables)} are not distinct variables of Δ"))
+    if len(psi.forward) != len(psi.variables) or len(psi.inputs) != len(psi.variables):
+        out.append(diag(where, "T214", f"Ψ̂ has {len(psi.variables)} variables, {len(psi.forward)} components "
+                        f"and {len(psi.inputs)} inverse inputs"))
+    for f in psi.forward:
+        type_term(frozenset(psi.variables), gamma, f, out)
+    for b in psi.branches:
+        if len(b.components) != len(psi.variables):
+            out.append(diag(where, "T214", "an inverse branch has the wrong number of components"))
+        for c in b.components + b.guards:
+            type_term(frozenset(psi.inputs), gamma, c, out)
+    for z in psi.nonzero:
+        type_term(frozenset(), gamma, z, out)
+
+
+def type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
+    """``·; Γ ⊢ int t d(x1, …, xn) : real`` (Fig. 11) and compact support (§8.3): the program's
+    diagnostics (empty when it is well typed)."""
+    out: list[Diagnostic] = []
+    seen: set[str] = set()
+    for x in p.variables:
+        if x in seen:
+            out.append(reject_duplicate(p.span, "integration variable", x))
+        seen.add(x)
+        if x in gamma:
+            out.append(reject_var_param_clash(p.span, x, "integration variable and declared param"))
+    # Fig. 11: x1:real, …, xn:real; Γ ⊢ t : real  (a term contains no int: T208 cannot arise here,
+    # since a core Term has no program node)
+    type_term(frozenset(p.variables), gamma, p.body, out)
+    # after inlining every diffeomorphic condition is over all the program's variables
+    for u in _ifdiffeos(p.body):
+        if u.psi.variables != p.variables:
+            out.append(reject_diffeo_args(u.span, u.psi.name or "(completed)",
+                                          f"over {u.psi.variables}, not the program's variables {p.variables}"))
+    # §8.3: compact support, witnessed by the box
+    if len(p.box) != len(p.variables):
+        out.append(reject_not_compact(p.span, p.variables[len(p.box):] or p.variables))
+    for lo, hi in p.box:
+        type_term(frozenset(), gamma, lo, out)
+        type_term(frozenset(), gamma, hi, out)
+    return out
+
+
+def _ifdiffeos(t: Term):
+    from .core import subterms
+
+    for u in subterms(t):
+        if isinstance(u, IfDiffeo):
+            yield u
