@@ -357,8 +357,8 @@ def _describe_expected(expected: set[str]) -> str:
     exp = set(expected)
     words: dict[str, str] = {}
     if all(t in exp for t in _TERM_START):
+        words["TERM"] = "a term" if "LET" in exp else "an operand"
         exp -= {*_TERM_START, "D", "LET", "IF", "IFGE0"}
-        words["TERM"] = "a term"
     elif "NAME" in exp:
         exp.discard("D")
         words["NAME"] = "a name"
@@ -417,6 +417,8 @@ def _convert(exc: UnexpectedInput, path: str) -> LangurError:
         hint = ""
         if tok.type == "SEMI":
             hint = " (NAME(variables; params) applies a declared diffeo only as the condition of ifge0)"
+        elif tok.type in ("LET", "IF", "IFGE0") and "NAME" in expected:
+            hint = f" ('{tok}' must be in parentheses inside arithmetic)"
         return error(
             sp, "E102", f"unexpected {_describe_found(tok)}; expected {_describe_expected(expected)}{hint}"
         )
