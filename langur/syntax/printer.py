@@ -303,11 +303,36 @@ def _diffeos_in(t) -> list[C.Diffeo]:
     return found
 
 
-def print_program(p: C.Program) -> str:
-    """A core program as a `.lgr` file: ``param`` for its free parameters, one ``diffeo``
-    declaration per declared diffeo instance, the box as a comment, then ``int body d(x⃗)``.
+def _split_domain(p: C.Program):
+    """``rest`` if ``p.body`` is ``[x1 ≥ l1]·[u1 ≥ x1]·…·rest`` for ``p.box`` (what the desugarer makes
+    of ``int ([l1, u1], …) rest d(x⃗)``, LANGUAGE.md §6), else ``None``."""
+    if not p.box or not isinstance(p.body, C.Mul):
+        return None
+    expected = []
+    for x, (lo, hi) in zip(p.variables, p.box):
+        expected += [C.sub(C.Var(x), lo), C.sub(hi, C.Var(x))]
+    chain, rest = p.body.left, p.body.right
+    for cond in reversed(expected):
+        ind = chain.right if isinstance(chain, C.Mul) and cond is not expected[0] else chain
+        if not (
+            isinstance(ind, C.IfDiffeo)
+            and ind.then == C.Const(Fraction(1))
+            and ind.orelse == C.Const(Fraction(0))
+            and ind.psi.forward[0] == cond
+        ):
+            return None
+        chain = chain.left if cond is not expected[0] else None
+    return rest
 
-    The box is a comment, not a domain: a domain would add its indicators to the body again.
+
+def print_program(p: C.Program, defaults: dict | None = None) -> str:
+    """A core program as a `.lgr` file: ``param`` for its free parameters, one ``diffeo``
+    declaration per declared diffeo instance, then ``int (domain)? body d(x⃗)``.
+
+    When the body starts with the indicators of its box (as desugared from a domain) they are
+    printed back as the domain; otherwise the box is printed as a comment (a domain would add
+    its indicators to the body again).  ``defaults`` (``Loaded.params``) gives the ``param``
+    declarations their default values.
     """
     lines: list[str] = []
     names: dict = {}
@@ -331,13 +356,23 @@ def print_program(p: C.Program) -> str:
     params = set(C.free_params(p.body))
     for lo, hi in p.box:
         params |= C.free_params(lo) | C.free_params(hi)
+    defaults = defaults or {}
     if params:
-        lines.append("param " + ", ".join(sorted(params)))
+        decl = []
+        for name in sorted(params):
+            v = defaults.get(name)
+            decl.append(name if v is None else f"{name} = {_render(C.Const(Fraction(v)), _CoreRule(None), UNARY)}")
+        lines.append("param " + ", ".join(decl))
     lines.extend(decls)
-    if p.box:
-        box = ", ".join(f"{x} in [{print_core(lo)}, {print_core(hi)}]" for x, (lo, hi) in zip(p.variables, p.box))
-        lines.append(f"# box: {box}")
-    lines.append(f"int {print_core(p.body, names)} d({', '.join(p.variables)})")
+    rest = _split_domain(p)
+    if rest is not None:
+        domain = ", ".join(f"[{print_core(lo)}, {print_core(hi)}]" for lo, hi in p.box)
+        lines.append(f"int ({domain}) {print_core(rest, names)} d({', '.join(p.variables)})")
+    else:
+        if p.box:
+            box = ", ".join(f"{x} in [{print_core(lo)}, {print_core(hi)}]" for x, (lo, hi) in zip(p.variables, p.box))
+            lines.append(f"# box: {box}")
+        lines.append(f"int {print_core(p.body, names)} d({', '.join(p.variables)})")
     return "\n".join(lines)
 
 
