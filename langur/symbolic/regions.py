@@ -167,6 +167,15 @@ def _gaussian_termwise(w, v):
     return total
 
 
+def _has_gaussian(w, v) -> bool:
+    for node in sp.preorder_traversal(w):
+        if isinstance(node, sp.exp) and v in node.free_symbols:
+            p = sp.expand(node.args[0]).as_poly(v)
+            if p is not None and p.degree() == 2:
+                return True
+    return False
+
+
 def antiderivative(w, v, ctx: Context):
     """A smooth antiderivative of the smooth ``w`` in ``v`` (sympy, time-boxed), or Unsupported."""
     w = sp.sympify(w)
@@ -174,11 +183,13 @@ def antiderivative(w, v, ctx: Context):
         return w * v
     if _mentions_bad(w, v):
         raise Unsupported(f"weight {w} is not smooth in {v}")
-    attempts = (
+    attempts = [
         lambda: sp.integrate(w, v, meijerg=False, risch=False, conds="none"),
         lambda: sp.integrate(w, v, conds="none"),
         lambda: _gaussian_termwise(w, v),
-    )
+    ]
+    if _has_gaussian(w, v):  # sympy's general algorithms are slow and fail on shifted Gaussians
+        attempts.insert(0, attempts.pop())
     reasons = []
     for attempt in attempts:
         try:
