@@ -186,10 +186,10 @@ def _peel(a, target, v, variables: set, ranges):
         rest = a - part if a.is_Add else a / part
         if a.is_Add:
             return _peel(part, target - rest, v, variables, ranges)
-        if rest.free_symbols & variables:
-            raise _Unpeelable(f"its coefficient {rest} depends on other variables")
+        # a coefficient over parameters must not vanish (Diffeo.nonzero); one over other variables
+        # vanishes on a null set only (where Ψ̂ is not invertible: measure zero, like a tangency)
         br, nz = _peel(part, target / rest, v, variables, ranges)
-        return br, ([rest] if rest.free_symbols else []) + nz
+        return br, ([rest] if rest.free_symbols and not rest.free_symbols & variables else []) + nz
     if a.is_Pow:
         base, k = a.args
         if v in k.free_symbols or not k.is_Rational:
@@ -302,9 +302,7 @@ def _quadratic(e, u0, v, others):
         return None
     coeffs = poly.all_coeffs()
     lead = coeffs[0]
-    if lead.free_symbols & others:
-        return None
-    nonzero = [lead] if lead.free_symbols and not (lead.free_symbols & {u0}) else []
+    nonzero = [lead] if lead.free_symbols and not (lead.free_symbols & (others | {u0})) else []
     if poly.degree() == 1:
         return [(-coeffs[1] / lead, [])], nonzero
     a, b, c = coeffs
@@ -347,11 +345,11 @@ def _check(name, variables, params, forward, inputs, inverse):
     us = [symbol(u) for u in inputs]
     F = [to_sympy(f) for f in forward]
     G = [to_sympy(g) for g in inverse]
-    _numeric_inverse(name, variables, params, inputs, F, G, xs, us)
     J = sp.Matrix(F).jacobian(xs)
     det = sp.simplify(J.det())
     if det == 0:
         raise DiffeoCheckError("T216", f"diffeo {name} has a singular Jacobian: det DΨ̂ = 0 everywhere")
+    _numeric_inverse(name, variables, params, inputs, F, G, xs, us)
     if det.free_symbols & set(xs):
         if len(det.free_symbols & set(xs)) == 1:
             (x,) = det.free_symbols & set(xs)
@@ -382,8 +380,8 @@ def _numeric_inverse(name, variables, params, inputs, F, G, xs, us):
                     val = complex(d.subs(env).evalf())
                 except (TypeError, ValueError):
                     continue
-                if math.isnan(val.real):
-                    continue
+                if math.isnan(val.real) or math.isnan(val.imag) or abs(val.imag) > 1e-12:
+                    continue  # outside the (real) domain of a component: no evidence either way
                 checked += 1
                 if abs(val) > 1e-9 * (1 + abs(val)):
                     where = ", ".join(f"{s}={env[s]}" for s in pt + ps)
