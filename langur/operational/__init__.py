@@ -1,0 +1,76 @@
+"""The operational semantics of Langur as a Monte Carlo engine (paper §9, Appendix D/E).
+
+The second, independent implementation of ⟦p⟧ and ⦇p⦈ (the symbolic engine is the reference).
+It shares only :mod:`langur.core`, :mod:`langur.modules` and :mod:`langur.diagnostics` with the
+rest of the workbench and never uses sympy.
+
+API::
+
+    estimate_value(program_or_loaded, params, *, samples=10000, seed=0, method="uniform")
+        -> {"value", "stderr", "samples", "seed", "method"}
+    estimate_derivative(program_or_loaded, params, direction, *, samples=10000, seed=0,
+                        method="uniform")
+        -> {"value", "stderr", "regular": {"value", "stderr"}, "boundary": {"value", "stderr"},
+            "standard_ad": {"value", "stderr"}, "samples", "seed", "method"}
+
+``program_or_loaded`` is a core :class:`~langur.core.Program` (evaluated as is: the *inlined*
+program) or a :class:`~langur.modules.Loaded` (then *linked* from separately compiled modules,
+§9; see :mod:`.link`).  ``method`` is ``"uniform"``, ``"stratified"`` or ``"qmc"``.  ``seed``
+makes the output bit-identical (one ``np.random.default_rng(seed)``, never global state).
+
+The estimator
+-------------
+Value.  With B = Program.box (evaluated at γ; the integrand vanishes outside it), V = vol(B)
+and points ρ₁…ρ_N of a design in B (i.i.d. uniform; or two uniform points in each of N/2 grid
+strata; or K independently scrambled Sobol' nets),
+
+    ⟦int t d(x⃗)⟧(γ) ≈ V · (1/N) Σᵢ ⟦t⟧(ρᵢ, γ).
+
+Derivative.  By Theorem 7.1, ⦇t⦈ = f·T₁ + Σ_k E_k·δ(π₀Ψ̂_k), one delta per *site* k (a syntactic
+diffeomorphic conditional; inside a def, each call is its own site), so
+
+    ⦇int t d(x⃗)⦈(γ,γ') = ∫_B f + Σ_k ∫ E_k δ(π₀Ψ̂_k).
+
+* Regular part ∫_B f: f is the forward-mode tangent with every delta dropped (standard AD, the
+  paper's Dˢ), sampled on the same design as the value.  Reported as ``regular`` and
+  ``standard_ad``.
+* Delta part (``boundary``).  E_k obeys Fig. 8 with E_k(c) = E_k(x) = 0: sums add, products
+  E_k(t)·⟦s⟧ + E_k(s)·⟦t⟧, primitives f'(⟦t⟧)·E_k(t), conditionals select, and site k itself adds
+  (D_γ π₀Ψ̂_k·γ')·(⟦s⟧ − ⟦r⟧).  With the change of variables u = Ψ̂_k(x) (LANGUAGE.md §4),
+
+      ∫ E_k δ(π₀Ψ̂_k) dx = Σ_b ∫_{U'} [guards_b ≥ 0] · E_k(Ψ̂_b⁻¹(0,u')) · |det DΨ̂_b⁻¹(0,u')| du',
+
+  summed over every inverse branch b (x² − a has two).  U' is a box containing every u' whose
+  preimage lies in B: for a completed condition the other variables' own intervals; for a
+  declared Ψ̂ whose other components are not variables, an interval enclosure of Ψ̂[1:] over B.
+  The engine draws a design of N points u'ⱼ in U' and estimates the site by
+  vol(U') · (1/N) Σⱼ Σ_b [guards ≥ 0]·E_k(x_bj)·|det DΨ̂_b⁻¹(0,u'ⱼ)|, with x_bj = Ψ̂_b⁻¹(0, u'ⱼ).
+  The Jacobian is computed by the engine's own forward mode through the compiled inverse branch
+  (one pass per input).  In one variable U' is a point: each root is evaluated once, exactly
+  (standard error 0, the sifting property).  Sites whose condition reads no parameter that γ'
+  moves (such as a fixed domain bound) have D_γ π₀Ψ̂·γ' ≡ 0 and are skipped.
+
+Why unbiased: each design point is uniform on its box (stratified: on its stratum; scrambled
+Sobol': marginally uniform), so each term's expectation is the integral it estimates.  Nothing
+relies on a particular variable order, on Ψ̂'s other coordinates being the original variables, on
+a single root, or on fixed bounds: the domain's indicators [x ≥ l(γ)] are sites like any other
+(Leibniz rule), and points outside B score 0 through those indicators, evaluated at the point
+(``≥ 0`` holds at exactly 0, the paper's convention).
+
+Standard errors and variance sources: the sample standard deviation over i.i.d. points / √N;
+for stratified designs Σ_h (f_h1 − f_h2)²/4 / S² (unbiased within-stratum variance); for
+randomized QMC the spread of the K = 16 independent randomizations' means / √K.  The regular
+part, the value and each site use independent draws, so variances add.  Variance comes from the
+integrand's variation over B, from E_k's variation along each zero set (none in one variable),
+and from the Jacobian weights; a site whose enclosure U' is much larger than its zero set's image
+wastes samples (more variance, no bias).
+
+Separate compilation: :mod:`.link`.  The naive per-sample pure-Python evaluator used as the
+benchmark baseline and as a cross-check: :mod:`.naive`.
+"""
+
+from .estimate import estimate_derivative, estimate_value
+from .link import cache_stats, clear_cache, compile_program, link, reset_cache_stats
+
+__all__ = ["estimate_value", "estimate_derivative", "cache_stats", "reset_cache_stats", "clear_cache",
+           "compile_program", "link"]

@@ -1,0 +1,339 @@
+"""Compile a core term once into a vectorized numpy evaluator with forward-mode tangents (§9).
+
+:func:`compile_term` turns a core term into a *unit*: a Python closure ``fn(env) -> (value, d)``
+that evaluates the term on whole arrays of points at once (no Python loop per sample), plus the
+term's *slot table* (its diffeomorphic conditionals and calls in pre-order, for linking).
+
+``d`` is the derivative part of a dual number; ``None`` stands for an exact zero (so terms that do
+not depend on the direction cost nothing).  What ``d`` means depends on the environment's mode:
+
+* ``VALUE``   — ``d`` is always ``None``: ⟦t⟧ only (Fig. 7).
+* ``TANGENT`` — forward-mode derivative in the direction given by ``env.dparams`` (γ') and
+  ``env.dvars`` (a direction in the variables, used for Jacobians of inverse branches): the
+  regular part of ⦇t⦈ with every delta dropped, i.e. standard AD, the paper's Dˢ (Fig. 1d, 2c).
+* ``DELTA``   — ``d`` is G_k(t), the coefficient of δ_k in ⦇t⦈ *per unit* of D_γ π₀Ψ̂_k·γ', where
+  ``k = env.site[i]`` is the site owning point ``i``.  It obeys Fig. 8 with every ⦇z⦈ = 0: sums
+  add, products G(t)·⟦s⟧ + G(s)·⟦t⟧, primitives f'(⟦t⟧)·G(t), conditionals select, and at site k
+  itself ``⟦s⟧ − ⟦r⟧`` is added.  (E_k = (D_γ π₀Ψ̂_k·γ')·G_k because E_k is linear in site k's
+  seed; the factor is computed from the site's canonical condition by the sampler.)
+
+Numerical conventions: Const("pi") is π; primitives outside their domain give NaN (log x for
+x ≤ 0, t^k with k < 0 at t = 0, sqrt/asin/acos/atanh outside their domains); callers wrap
+evaluation in ``np.errstate(all="ignore")``.  Variable-free subterms evaluate to scalars, so a
+``param`` argument evaluated once by a linked call and the same term substituted by the inliner
+run exactly the same floating-point operations (bit-identical linking, Theorem 9.1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Callable
+
+import numpy as np
+
+from ..core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
+
+VALUE, TANGENT, DELTA = 0, 1, 2
+NAN = float("nan")
+
+
+class Env:
+    """Evaluation environment: ρ (``vars``), γ (``params``), γ' (``dparams``), linking state."""
+
+    __slots__ = ("vars", "dvars", "params", "dparams", "mode", "site", "sites", "base", "offsets",
+                 "units", "root_params", "root_dparams", "_venv")
+
+    def __init__(self, vars, params, *, dvars=None, dparams=None, mode=VALUE, site=None, sites=None,
+                 base=0, offsets=None, units=None, root_params=None, root_dparams=None):
+        self.vars = vars
+        self.dvars = dvars or {}
+        self.params = params
+        self.dparams = dparams or {}
+        self.mode = mode
+        self.site = site      # DELTA mode: int array, the site id owning each point
+        self.sites = sites or frozenset()  # the site ids present in ``site``
+        self.base = base      # global id of this unit's first site (linking)
+        self.offsets = offsets  # slot -> site offset within the unit (None: slot = offset)
+        self.units = units    # (module, def) -> (fn, offsets) for Call nodes (linking)
+        self.root_params = params if root_params is None else root_params
+        self.root_dparams = self.dparams if root_dparams is None else root_dparams
+        self._venv = None
+
+    def value_env(self) -> "Env":
+        """The same point and parameters without any derivative (conditions are values only)."""
+        if self.mode == VALUE:
+            return self
+        if self._venv is None:
+            self._venv = Env(self.vars, self.params, units=self.units, root_params=self.root_params,
+                             base=self.base, offsets=self.offsets)
+        return self._venv
+
+    def bind(self, name: str, v, d) -> "Env":
+        """``γ[z ↦ v]``, ``γ'[z ↦ d]`` (Fig. 8, let)."""
+        dp = self.dparams
+        if d is not None or name in dp:
+            dp = dict(dp)
+            if d is None:
+                del dp[name]
+            else:
+                dp[name] = d
+        e = Env(self.vars, {**self.params, name: v}, dvars=self.dvars, dparams=dp, mode=self.mode,
+                site=self.site, sites=self.sites, base=self.base, offsets=self.offsets, units=self.units,
+                root_params=self.root_params, root_dparams=self.root_dparams)
+        return e
+
+
+Fn = Callable[[Env], tuple]
+
+
+@dataclass
+class Unit:
+    """A compiled term: ``fn`` and its slots (pre-order: ``("site", None)`` or ``("call", (m, f))``)."""
+
+    fn: Fn
+    slots: list
+
+
+# -- primitives: value and derivative, NaN outside the domain ------------------------------------
+
+def _log(a):
+    return np.where(a > 0, np.log(np.where(a > 0, a, 1.0)), NAN)
+
+
+def _atanh(a):
+    return np.where(np.abs(a) < 1, np.arctanh(a), NAN)
+
+
+PRIM_VALUE: dict[str, Callable] = {
+    "exp": np.exp, "log": _log, "sin": np.sin, "cos": np.cos, "tan": np.tan, "sqrt": np.sqrt,
+    "tanh": np.tanh, "atan": np.arctan, "asin": np.arcsin, "acos": np.arccos, "atanh": _atanh,
+}
+
+
+def prim_derivative(op: str, a, v):
+    """f'(a) given a and v = f(a) (chain rule, §1's extension by smooth primitives)."""
+    match op:
+        case "exp":
+            return v
+        case "log":
+            return np.where(a > 0, 1.0 / a, NAN)
+        case "sin":
+            return np.cos(a)
+        case "cos":
+            return -np.sin(a)
+        case "tan":
+            return 1.0 + v * v
+        case "sqrt":
+            return np.where(a > 0, 0.5 / v, NAN)
+        case "tanh":
+            return 1.0 - v * v
+        case "atan":
+            return 1.0 / (1.0 + a * a)
+        case "asin":
+            return np.where(np.abs(a) < 1, 1.0 / np.sqrt(1.0 - a * a), NAN)
+        case "acos":
+            return np.where(np.abs(a) < 1, -1.0 / np.sqrt(1.0 - a * a), NAN)
+        case "atanh":
+            return np.where(np.abs(a) < 1, 1.0 / (1.0 - a * a), NAN)
+    raise ValueError(f"unknown primitive {op}")
+
+
+def power(a, k: Fraction):
+    """a^k for a constant rational k; NaN where undefined (0 to a negative power, fractional
+    power of a negative number)."""
+    if k == 1:
+        return a
+    if k == 2:
+        return a * a
+    if k == 0:
+        return np.where(a == a, 1.0, NAN)
+    if k == -1:
+        out = 1.0 / np.where(a == 0, NAN, a)
+    elif k == Fraction(1, 2):
+        out = np.sqrt(a)
+    else:
+        out = np.power(np.where(a == 0, NAN, a) if k < 0 else a, float(k))
+    return out
+
+
+def power_derivative(a, k: Fraction, v):
+    """d/da a^k = k·a^(k−1)."""
+    if k == 1:
+        return 1.0
+    if k == 2:
+        return 2.0 * a
+    if k == 0:
+        return 0.0
+    if k == -1:
+        return -(v * v)
+    return float(k) * power(a, k - 1)
+
+
+def const_value(c: Const) -> float:
+    return math.pi if c.value == "pi" else float(c.value)
+
+
+# -- dual-number helpers ------------------------------------------------------------------------
+
+def _dadd(da, db):
+    if da is None:
+        return db
+    if db is None:
+        return da
+    return da + db
+
+
+def _dmul(da, b, db, a):
+    """⦇t·s⦈ = ⦇t⦈·⟦s⟧ + ⦇s⦈·⟦t⟧ (Fig. 8, product)."""
+    if da is None:
+        return None if db is None else db * a
+    if db is None:
+        return da * b
+    return da * b + db * a
+
+
+def _select(c, ds, dr):
+    if ds is None and dr is None:
+        return None
+    return np.where(c, 0.0 if ds is None else ds, 0.0 if dr is None else dr)
+
+
+# -- the compiler: one match over the core AST, Fig. 8's order -----------------------------------
+
+def compile_term(t: Term) -> Unit:
+    """Compile ``t`` once; the result evaluates ⟦t⟧ and ⦇t⦈'s parts on arrays of points."""
+    slots: list = []
+    fn = _compile(t, slots)
+    return Unit(fn, slots)
+
+
+def _compile(t: Term, slots: list) -> Fn:
+    match t:
+        case Const():
+            # Fig. 7/8, constant: ⟦c⟧ = c, ⦇c⦈ = 0
+            c = const_value(t)
+            return lambda env: (c, None)
+        case Var(name):
+            # Fig. 7/8, variable: ⟦x⟧ = ρ(x), ⦇x⦈ = 0 (a direction in the variables only for Jacobians)
+            return lambda env: (env.vars[name], env.dvars.get(name))
+        case Param(name):
+            # Fig. 7/8, parameter: ⟦z⟧ = γ(z), ⦇z⦈ = γ'(z)
+            return lambda env: (env.params[name], env.dparams.get(name))
+        case Add(left, right):
+            # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈
+            f, g = _compile(left, slots), _compile(right, slots)
+
+            def add(env):
+                a, da = f(env)
+                b, db = g(env)
+                return a + b, _dadd(da, db)
+            return add
+        case Mul(left, right):
+            # Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
+            f, g = _compile(left, slots), _compile(right, slots)
+
+            def mul(env):
+                a, da = f(env)
+                b, db = g(env)
+                return a * b, _dmul(da, b, db, a)
+            return mul
+        case IfGe0(cond, then, orelse):
+            # Fig. 8, conditional on parameters: ⦇s⦈ if ⟦t⟧(·,γ) ≥ 0 else ⦇r⦈
+            fc, fs, fr = _compile(cond, slots), _compile(then, slots), _compile(orelse, slots)
+
+            def ifge0(env):
+                c, _ = fc(env.value_env())
+                if np.ndim(c) == 0:
+                    return fs(env) if c >= 0 else fr(env)
+                s, ds = fs(env)
+                r, dr = fr(env)
+                m = c >= 0
+                return np.where(m, s, r), _select(m, ds, dr)
+            return ifge0
+        case IfDiffeo(psi, then, orelse):
+            # Fig. 8, diffeomorphic conditional: (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·D_γπ₀Ψ̂·γ'·(⟦s⟧−⟦r⟧)
+            slot = len(slots)
+            slots.append(("site", None))
+            fc = _compile(psi.forward[0], [])
+            fs, fr = _compile(then, slots), _compile(orelse, slots)
+
+            def ifdiffeo(env):
+                c, _ = fc(env.value_env())
+                m = c >= 0
+                s, ds = fs(env)
+                r, dr = fr(env)
+                d = _select(m, ds, dr)
+                if env.mode == DELTA:
+                    gid = env.base + (slot if env.offsets is None else env.offsets[slot])
+                    if gid in env.sites:
+                        jump = np.where(env.site == gid, s - r, 0.0)
+                        d = jump if d is None else d + jump
+                return np.where(m, s, r), d
+            return ifdiffeo
+        case Let(name, bound, body):
+            # Fig. 8, let: ⦇s⦈(ρ, γ[z ↦ ⟦t⟧], γ'[z ↦ ⦇t⦈])
+            fb, fbody = _compile(bound, slots), _compile(body, slots)
+
+            def let(env):
+                v, d = fb(env)
+                return fbody(env.bind(name, v, d))
+            return let
+        case Prim(op, arg):
+            # extension (§1): smooth primitive, chain rule ⦇f(t)⦈ = f'(⟦t⟧)·⦇t⦈
+            f, prim = _compile(arg, slots), PRIM_VALUE[op]
+
+            def primitive(env):
+                a, da = f(env)
+                v = prim(a)
+                return v, (None if da is None else prim_derivative(op, a, v) * da)
+            return primitive
+        case Pow(base, k):
+            # extension (§1): constant power, ⦇t^k⦈ = k·⟦t⟧^(k−1)·⦇t⦈
+            f = _compile(base, slots)
+
+            def pow_(env):
+                a, da = f(env)
+                v = power(a, k)
+                return v, (None if da is None else power_derivative(a, k, v) * da)
+            return pow_
+        case Call(module, name, args):
+            # §9, separate compilation: a link to a separately compiled def (see link.py)
+            slot = len(slots)
+            slots.append(("call", (module, name)))
+            return _compile_call(slot, module, name, args, slots)
+    raise TypeError(f"not a core term: {t!r}")
+
+
+def _compile_call(slot: int, module: str, name: str, args, slots: list) -> Fn:
+    """A linked call: param arguments evaluated once in the caller (a value and its tangent, as a
+    ``let`` would), var arguments renamed (they must be plain variables, see link.py)."""
+    arg_fns = []
+    for a in args:
+        if isinstance(a, Var):
+            arg_fns.append(("var", a.name))
+        else:
+            arg_fns.append(("term", _compile(a, slots)))
+
+    def call(env):
+        fn, offsets, arg_names, kinds = env.units[(module, name)]
+        vars_, dvars, params, dparams = {}, {}, dict(env.root_params), dict(env.root_dparams)
+        for (how, a), argname, kind in zip(arg_fns, arg_names, kinds):
+            if how == "var":
+                vars_[argname] = env.vars[a]
+                if a in env.dvars:
+                    dvars[argname] = env.dvars[a]
+            else:
+                v, d = a(env)
+                params[argname] = v
+                if d is None:
+                    dparams.pop(argname, None)
+                else:
+                    dparams[argname] = d
+        base = env.base + (slot if env.offsets is None else env.offsets[slot])
+        inner = Env(vars_, params, dvars=dvars, dparams=dparams, mode=env.mode, site=env.site,
+                    sites=env.sites, base=base, offsets=offsets, units=env.units,
+                    root_params=env.root_params, root_dparams=env.root_dparams)
+        return fn(inner)
+    return call

@@ -1,0 +1,204 @@
+"""The naive evaluator: the operational semantics one sample at a time, in pure Python (§9).
+
+A tree-walking interpreter of Fig. 7/8 over floats (``math``), the way a prototype such as
+Potto evaluates a program at each sample.  It is the benchmark baseline (bench/bench_operational.py)
+and an independent cross-check of the vectorized compiler in the tests: same formulas, no numpy,
+no compilation, no linking (it evaluates the inlined program).
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+
+from ..core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var
+from .compile import DELTA, TANGENT, VALUE
+from .link import collect_sites
+from .sample import design
+
+NAN = float("nan")
+
+
+def _safe(f):
+    def g(a):
+        try:
+            return f(a)
+        except (ValueError, ZeroDivisionError):
+            return NAN
+        except OverflowError:
+            return math.inf
+    return g
+
+
+_PRIM = {"exp": _safe(math.exp), "log": _safe(lambda a: math.log(a) if a > 0 else NAN), "sin": _safe(math.sin),
+         "cos": _safe(math.cos), "tan": _safe(math.tan), "sqrt": _safe(math.sqrt), "tanh": _safe(math.tanh),
+         "atan": _safe(math.atan), "asin": _safe(math.asin), "acos": _safe(math.acos),
+         "atanh": _safe(lambda a: math.atanh(a) if abs(a) < 1 else NAN)}
+
+
+def _dprim(op, a, v):
+    match op:
+        case "exp":
+            return v
+        case "log":
+            return 1.0 / a if a > 0 else NAN
+        case "sin":
+            return math.cos(a)
+        case "cos":
+            return -math.sin(a)
+        case "tan":
+            return 1.0 + v * v
+        case "sqrt":
+            return 0.5 / v if a > 0 else NAN
+        case "tanh":
+            return 1.0 - v * v
+        case "atan":
+            return 1.0 / (1.0 + a * a)
+        case "asin" | "acos":
+            s = 1.0 / math.sqrt(1.0 - a * a) if abs(a) < 1 else NAN
+            return s if op == "asin" else -s
+        case "atanh":
+            return 1.0 / (1.0 - a * a) if abs(a) < 1 else NAN
+
+
+def _pow(a: float, k: Fraction) -> float:
+    if k < 0 and a == 0 or math.isnan(a):
+        return NAN
+    try:
+        if k.denominator != 1 and a < 0:
+            return NAN
+        return a ** float(k)
+    except (OverflowError, ZeroDivisionError):
+        return math.inf
+
+
+class _Counter:
+    __slots__ = ("n",)
+
+    def __init__(self):
+        self.n = 0
+
+
+def evaluate(t: Term, rho: dict, gamma: dict, dgamma: dict, mode: int = VALUE, site: int = -1,
+             counter: _Counter | None = None, dvars: dict | None = None) -> tuple[float, float]:
+    """(⟦t⟧, d) at ONE point: d is the tangent (TANGENT) or the coefficient of δ_site per unit of
+    D_γπ₀Ψ̂·γ' (DELTA).  Both branches of every conditional are walked, so that sites are numbered
+    in pre-order like the compiler's."""
+    counter = counter or _Counter()
+    dvars = dvars or {}
+
+    def go(u, g, dg):
+        match u:
+            case Const(c):
+                return (math.pi if c == "pi" else float(c)), 0.0
+            case Var(name):
+                return rho[name], dvars.get(name, 0.0)
+            case Param(name):
+                return g[name], (dg.get(name, 0.0) if mode == TANGENT else 0.0)
+            case Add(a, b):
+                (x, dx), (y, dy) = go(a, g, dg), go(b, g, dg)
+                return x + y, dx + dy
+            case Mul(a, b):
+                (x, dx), (y, dy) = go(a, g, dg), go(b, g, dg)
+                return x * y, dx * y + dy * x
+            case IfGe0(c, a, b):
+                cv, _ = go(c, g, dg)
+                sa, sb = go(a, g, dg), go(b, g, dg)
+                return sa if cv >= 0 else sb
+            case IfDiffeo(psi, a, b):
+                k = counter.n
+                counter.n += 1
+                cv, _ = evaluate(psi.forward[0], rho, g, {}, VALUE)
+                (s, ds), (r, dr) = go(a, g, dg), go(b, g, dg)
+                d = ds if cv >= 0 else dr
+                if mode == DELTA and k == site:
+                    d = d + (s - r)
+                return (s if cv >= 0 else r), d
+            case Let(name, bound, body):
+                v, dv = go(bound, g, dg)
+                return go(body, {**g, name: v}, {**dg, name: dv})
+            case Prim(op, a):
+                x, dx = go(a, g, dg)
+                v = _PRIM[op](x)
+                return v, (_dprim(op, x, v) * dx if dx != 0.0 else 0.0)
+            case Pow(a, k):
+                x, dx = go(a, g, dg)
+                v = _pow(x, k)
+                return v, (float(k) * _pow(x, k - 1) * dx if dx != 0.0 else 0.0)
+            case Call():
+                raise ValueError("the naive evaluator runs inlined programs only")
+        raise TypeError(f"not a core term: {u!r}")
+
+    return go(t, gamma, dgamma)
+
+
+def _box(program: Program, params):
+    return [(evaluate(lo, {}, params, {})[0], evaluate(hi, {}, params, {})[0]) for lo, hi in program.box]
+
+
+def naive_value(program: Program, params: dict, *, samples=10000, seed=0, method="uniform") -> dict:
+    """⟦p⟧ by Monte Carlo, one sample at a time (same design and seed as the vectorized engine)."""
+    rng = np.random.default_rng(seed)
+    box = _box(program, params)
+    d = design(rng, len(program.variables), samples, method)
+    vol = math.prod(hi - lo for lo, hi in box)
+    f = []
+    for row in d.points.tolist():
+        rho = {x: lo + r * (hi - lo) for x, r, (lo, hi) in zip(program.variables, row, box)}
+        f.append(evaluate(program.body, rho, params, {})[0])
+    mean, se = d.mean(np.array(f))
+    return {"value": vol * mean, "stderr": vol * se}
+
+
+def naive_derivative(program: Program, params: dict, direction: dict, *, samples=10000, seed=0,
+                     method="uniform") -> dict:
+    """⦇p⦈ by Monte Carlo, one sample (and, for deltas, one site and one root) at a time."""
+    rng = np.random.default_rng(seed)
+    box = _box(program, params)
+    variables = program.variables
+    d = design(rng, len(variables), samples, method)
+    vol = math.prod(hi - lo for lo, hi in box)
+    dp = {k: float(v) for k, v in direction.items() if float(v) != 0.0}
+    f = []
+    for row in d.points.tolist():
+        rho = {x: lo + r * (hi - lo) for x, r, (lo, hi) in zip(variables, row, box)}
+        f.append(evaluate(program.body, rho, params, dp, TANGENT)[1])
+    mean, se = d.mean(np.array(f))
+    reg, reg_se = vol * mean, vol * se
+    sites = []
+    collect_sites(program.body, {}, {}, variables, None, sites)
+    bnd, bvar = 0.0, 0.0
+    boxd = dict(zip(variables, box))
+    for k, site in enumerate(sites):
+        if not (site.deps & set(dp)):
+            continue
+        sm = site.sampler
+        des = design(rng, len(variables) - 1, samples, method)
+        region = sm.region(boxd, params)
+        if any(not (b > a) for a, b in region):
+            continue
+        uvol = math.prod(b - a for a, b in region)
+        psi = sm.psi
+        scores = []
+        for row in des.points.tolist():
+            u = {psi.inputs[0]: 0.0}
+            for (name, _, _), r, (a, b) in zip(sm.coords, row, region):
+                u[name] = a + r * (b - a)
+            total = 0.0
+            for br in psi.branches:
+                if any(evaluate(gd, u, params, {})[0] < 0 for gd in br.guards):
+                    continue
+                x = {v: evaluate(c, u, params, {})[0] for v, c in zip(variables, br.components)}
+                jac = np.array([[evaluate(c, u, params, {}, TANGENT, dvars={ui: 1.0})[1] for ui in psi.inputs]
+                                for c in br.components])
+                w = abs(float(np.linalg.det(jac))) if len(variables) > 1 else abs(jac[0, 0])
+                dpsi = evaluate(psi.forward[0], x, params, dp, TANGENT)[1]
+                g = evaluate(program.body, x, params, {}, DELTA, site=k)[1]
+                total += dpsi * g * w
+            scores.append(total)
+        mean, se = des.mean(np.array(scores))
+        bnd += uvol * mean
+        bvar += (uvol * se) ** 2
+    return {"value": reg + bnd, "regular": reg, "boundary": bnd, "stderr": math.sqrt(reg_se ** 2 + bvar)}

@@ -1,0 +1,242 @@
+"""Samplers: points in a box (the domain) and on the zero set of a condition (a delta's support).
+
+* :func:`design` draws points in the unit cube [0,1]^m — ``"uniform"`` (i.i.d.), ``"stratified"``
+  (a grid of strata, two i.i.d. points in each, so the within-stratum variance is estimable) or
+  ``"qmc"`` (randomized quasi-Monte Carlo: K independently scrambled Sobol' sequences,
+  scipy.stats.qmc) — and knows how to turn values at those points into an estimate of the mean
+  with an honest standard error.
+* :class:`SiteSampler` samples the zero set {π₀Ψ̂ = 0} of one diffeomorphic conditional (a *site*)
+  through every branch of Ψ̂⁻¹ and weighs each point by |det DΨ̂_b⁻¹(0, u')| computed by the
+  engine's own forward mode (see the package docstring for the estimator).
+* :func:`enclose` is a small interval evaluator over core terms: it bounds the coordinates u' of
+  the zero set when Ψ̂'s other components are not plain variables.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+
+from ..core import Add, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
+from .compile import TANGENT, VALUE, Env, compile_term, const_value
+
+METHODS = ("uniform", "stratified", "qmc")
+QMC_RANDOMIZATIONS = 16
+
+
+# -- designs in the unit cube ---------------------------------------------------------------------
+
+@dataclass
+class Design:
+    """``points`` (N, m) in [0,1]^m and the estimator of the mean of f over the cube."""
+
+    points: np.ndarray
+    method: str
+    groups: int = 0  # stratified: number of strata (2 points each); qmc: number of randomizations
+
+    def mean(self, f: np.ndarray) -> tuple[float, float]:
+        """Estimate of ∫_{[0,1]^m} f and its standard error."""
+        n = len(f)
+        if n == 0:
+            return 0.0, 0.0
+        if self.method == "exact" or n == 1 and self.method == "uniform" and self.points.shape[1] == 0:
+            return float(f[0]) if n == 1 else float(np.mean(f)), 0.0
+        if self.method == "stratified":
+            pairs = f.reshape(self.groups, 2)
+            est = float(np.mean(pairs))
+            # Var(mean) = Σ_h (1/S)² s_h²/2 with s_h² = (f1 − f2)²/2 the unbiased within-stratum variance
+            var = float(np.sum((pairs[:, 0] - pairs[:, 1]) ** 2 / 4.0)) / self.groups ** 2
+            return est, math.sqrt(var)
+        if self.method == "qmc":
+            per = f.reshape(self.groups, -1).mean(axis=1)
+            est = float(np.mean(per))
+            se = float(np.std(per, ddof=1)) / math.sqrt(self.groups) if self.groups > 1 else float("inf")
+            return est, se
+        est = float(np.mean(f))
+        se = float(np.std(f, ddof=1)) / math.sqrt(n) if n > 1 else float("inf")
+        return est, se
+
+
+def design(rng: np.random.Generator, m: int, samples: int, method: str) -> Design:
+    """``samples`` points (or the nearest count the method supports) in [0,1]^m."""
+    if method not in METHODS:
+        raise ValueError(f"unknown Monte Carlo method {method!r} (one of {', '.join(METHODS)})")
+    if m == 0:  # a point: the zero set of a condition in one variable is a set of roots
+        return Design(np.zeros((1, 0)), "exact")
+    samples = max(int(samples), 2)
+    if method == "uniform":
+        return Design(rng.random((samples, m)), "uniform")
+    if method == "stratified":
+        per_axis = max(1, int(math.floor((samples / 2) ** (1.0 / m) + 1e-9)))
+        strata = per_axis ** m
+        grid = np.stack(np.meshgrid(*([np.arange(per_axis)] * m), indexing="ij"), axis=-1).reshape(strata, m)
+        jitter = rng.random((strata, 2, m))
+        pts = (grid[:, None, :] + jitter) / per_axis
+        return Design(pts.reshape(2 * strata, m), "stratified", strata)
+    from scipy.stats import qmc  # randomized QMC: K independent scramblings
+
+    k = QMC_RANDOMIZATIONS if samples >= 2 * QMC_RANDOMIZATIONS else 2
+    level = max(0, int(math.floor(math.log2(samples / k))))
+    blocks = [qmc.Sobol(m, scramble=True, seed=rng, bits=64).random_base2(level) for _ in range(k)]
+    return Design(np.concatenate(blocks), "qmc", k)
+
+
+# -- interval enclosure over core terms ---------------------------------------------------------
+
+def enclose(t: Term, box: dict[str, tuple[float, float]], params: dict[str, float]) -> tuple[float, float]:
+    """An interval containing ⟦t⟧ for every point of ``box`` (variables) at ``params``."""
+    match t:
+        case Const():
+            c = const_value(t)
+            return c, c
+        case Var(name):
+            return box[name]
+        case Param(name):
+            v = float(params[name])
+            return v, v
+        case Add(a, b):
+            (al, ah), (bl, bh) = enclose(a, box, params), enclose(b, box, params)
+            return al + bl, ah + bh
+        case Mul(a, b):
+            (al, ah), (bl, bh) = enclose(a, box, params), enclose(b, box, params)
+            ps = [x * y for x in (al, ah) for y in (bl, bh)]
+            ps = [p for p in ps if not math.isnan(p)] or [-math.inf, math.inf]
+            return min(ps), max(ps)
+        case Pow(a, k):
+            lo, hi = enclose(a, box, params)
+            return _pow_interval(lo, hi, k)
+        case Prim(op, a):
+            return _prim_interval(op, *enclose(a, box, params))
+        case IfGe0(c, a, b):
+            cl, ch = enclose(c, box, params)
+            if cl >= 0:
+                return enclose(a, box, params)
+            if ch < 0:
+                return enclose(b, box, params)
+            return _hull(enclose(a, box, params), enclose(b, box, params))
+        case IfDiffeo(_, a, b):
+            return _hull(enclose(a, box, params), enclose(b, box, params))
+        case Let(name, bound, body):
+            lo, hi = enclose(bound, box, params)
+            if lo != hi:
+                return -math.inf, math.inf
+            return enclose(body, box, {**params, name: lo})
+    raise TypeError(f"cannot enclose {t!r}")
+
+
+def _hull(a, b):
+    return min(a[0], b[0]), max(a[1], b[1])
+
+
+def _pow_interval(lo, hi, k: Fraction):
+    f = float(k)
+    if k.denominator == 1 and k > 0:
+        cands = [lo ** f, hi ** f]
+        if int(k) % 2 == 0 and lo < 0 < hi:
+            cands.append(0.0)
+        return min(cands), max(cands)
+    if lo <= 0 <= hi and k < 0:
+        return -math.inf, math.inf
+    if lo < 0 and k.denominator != 1:
+        return -math.inf, math.inf
+    a, b = lo ** f, hi ** f
+    return min(a, b), max(a, b)
+
+
+_MONOTONE = {"exp": math.exp, "sqrt": math.sqrt, "tanh": math.tanh, "atan": math.atan,
+             "asin": math.asin, "atanh": math.atanh, "log": math.log}
+
+
+def _prim_interval(op, lo, hi):
+    try:
+        if op in _MONOTONE:
+            return _MONOTONE[op](lo), _MONOTONE[op](hi)
+        if op == "acos":
+            return math.acos(hi), math.acos(lo)
+    except (ValueError, OverflowError):
+        return -math.inf, math.inf
+    if op in ("sin", "cos"):
+        return -1.0, 1.0
+    return -math.inf, math.inf  # tan
+
+
+# -- sampling the zero set of one condition -------------------------------------------------------
+
+class SiteSampler:
+    """Points on {π₀Ψ̂ = 0} for one site, with weights, compiled once per canonical Ψ̂.
+
+    ``psi`` is in the program's variables (all of them, in order) with every parameter a program
+    parameter (lets and call arguments substituted: see link.py).  The coordinates u' are Ψ̂'s
+    components 1..n−1; they are ordered canonically (identity components in the program's
+    variable order first, then the others in Ψ̂'s order) so that the inlined and the linked
+    program draw identical points.
+    """
+
+    def __init__(self, psi: Diffeo, variables: tuple[str, ...]):
+        self.psi = psi
+        self.variables = variables
+        self.condition = compile_term(psi.forward[0]).fn
+        coords = []
+        for i in range(1, len(psi.forward)):
+            f = psi.forward[i]
+            if isinstance(f, Var) and f.name in variables:
+                coords.append(((0, variables.index(f.name)), psi.inputs[i], f.name, None))
+            else:
+                coords.append(((1, i), psi.inputs[i], None, f))
+        coords.sort(key=lambda c: c[0])
+        self.coords = [(u, var, term) for _, u, var, term in coords]
+        self.branches = [([compile_term(c).fn for c in b.components], [compile_term(g).fn for g in b.guards])
+                         for b in psi.branches]
+
+    def region(self, box: dict[str, tuple[float, float]], params: dict) -> list[tuple[float, float]]:
+        """The u'-box: a variable's own interval, or an interval enclosure of Ψ̂'s component."""
+        out = []
+        for _, var, term in self.coords:
+            out.append(box[var] if var is not None else enclose(term, box, params))
+        return out
+
+    def points(self, unit: np.ndarray, region, params: dict):
+        """Map unit-cube points to the zero set through every branch.
+
+        Returns ``volume`` and, per branch, ``(x: dict var -> array, weight, valid)`` with
+        weight = |det DΨ̂_b⁻¹(0, u')| (forward mode, one pass per input) and valid = all guards ≥ 0.
+        """
+        n = unit.shape[0]
+        lo = np.array([r[0] for r in region], dtype=float)
+        hi = np.array([r[1] for r in region], dtype=float)
+        width = hi - lo
+        volume = float(np.prod(width)) if len(region) else 1.0
+        inputs = {self.psi.inputs[0]: np.zeros(n)}
+        for j, (u, _, _) in enumerate(self.coords):
+            inputs[u] = lo[j] + unit[:, j] * width[j]
+        out = []
+        order = self.psi.inputs
+        for comps, guards in self.branches:
+            env = Env(inputs, params)
+            x = {v: np.broadcast_to(np.asarray(c(env)[0], dtype=float), (n,)) for v, c in zip(self.variables, comps)}
+            valid = np.ones(n, dtype=bool)
+            for g in guards:
+                valid &= np.asarray(g(env)[0]) >= 0
+            jac = np.empty((n, len(comps), len(order)))
+            for i, u in enumerate(order):
+                tenv = Env(inputs, params, dvars={u: 1.0}, mode=TANGENT)
+                for j, c in enumerate(comps):
+                    d = c(tenv)[1]
+                    jac[:, j, i] = 0.0 if d is None else d
+            weight = np.abs(jac[:, 0, 0]) if len(order) == 1 else np.abs(np.linalg.det(jac))
+            out.append((x, weight, valid))
+        return volume, out
+
+    def dpsi(self, x: dict, params: dict, dparams: dict):
+        """D_γ π₀Ψ̂ · γ' at the points ``x`` (forward mode in the parameters)."""
+        d = self.condition(Env(x, params, dparams=dparams, mode=TANGENT))[1]
+        return 0.0 if d is None else d
+
+
+def evaluate_box(box_fns, params: dict) -> list[tuple[float, float]]:
+    """Program.box at the parameters (box terms are variable-free)."""
+    env = Env({}, params, mode=VALUE)
+    return [(float(lo(env)[0]), float(hi(env)[0])) for lo, hi in box_fns]
