@@ -222,7 +222,7 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
             if used:
                 out.append(reject_condition(t.span, "a plain ifge0 condition must be variable-free, but it "
                                             f"mentions {', '.join(sorted(used))}"))
-            type_term(frozenset(), gamma, c, out)
+            type_term(delta if used else frozenset(), gamma, c, out)  # one report per fault
             type_term(delta, gamma, a, out)
             type_term(delta, gamma, b, out)
         case IfDiffeo(psi, a, b):
@@ -237,7 +237,7 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
                 out.append(reject_let_with_variables(t.span, z, used))
             if z in delta:
                 out.append(reject_var_param_clash(t.span, z, "let binds the name of a variable"))
-            type_term(frozenset(), gamma, bound, out)
+            type_term(delta if used else frozenset(), gamma, bound, out)
             type_term(delta, gamma | {z}, body, out)
         case Call(_, _, args):
             # elaborated modules only: the arguments are terms of the caller's context

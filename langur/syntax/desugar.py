@@ -136,7 +136,7 @@ class Desugarer:
                 out = None
                 for i, op in enumerate(ops):
                     f = self.conditional(compare(core[i], op, core[i + 1]), Const(Fraction(1)),
-                                         Const(Fraction(0)), sc, span)
+                                         Const(Fraction(0)), sc, span, join(terms[i], terms[i + 1]))
                     out = f if out is None else Mul(out, f, span=span)
                 return out
             case LetIn(name, bound, body):
@@ -156,7 +156,7 @@ class Desugarer:
             case IfCmp(left, op, right, then, orelse):
                 # if t CMP s then p else q is ifge0 (t − s) (or s − t) then p else q
                 cond = compare(self.term(left, sc), op, self.term(right, sc))
-                return self.conditional(cond, self.term(then, sc), self.term(orelse, sc), sc, span)
+                return self.conditional(cond, self.term(then, sc), self.term(orelse, sc), sc, span, join(left, right))
         raise TypeError(f"not a surface term: {st!r}")
 
     # ------------------------------------------------------------------------------------------
@@ -214,7 +214,7 @@ class Desugarer:
             args = []
             ok = True
             for a, (aname, kind) in zip(st.args, sig.args):
-                t = self.term(a, sc)
+                t = self.term(a, sc if kind == "var" else replace(sc, where=f"param argument `{aname}` of `{name}`"))
                 used = free_vars(t)
                 if kind == "var" and not used:
                     self.errors.append(ty.reject_var_arg_without_variables(getattr(a, "span", span), name, aname))
@@ -238,7 +238,7 @@ class Desugarer:
 
     def let(self, st: LetIn, sc: Scope) -> Term:
         where = st.name_span or st.span
-        bound = self.term(st.bound, sc)
+        bound = self.term(st.bound, replace(sc, where=f"the term bound to `{st.name}`"))
         used = free_vars(bound)
         if used:
             self.errors.append(ty.reject_let_with_variables(getattr(st.bound, "span", st.span), st.name, used))
@@ -286,7 +286,7 @@ class Desugarer:
             names.append(v.name)
         params = []
         for p, pname in zip(app.params, sig.params):
-            t = self.term(p, sc)
+            t = self.term(p, replace(sc, where=f"parameter `{pname}` of diffeo `{app.name}`"))
             used = free_vars(t)
             if used:
                 self.errors.append(ty.reject_param_arg_with_variables(getattr(p, "span", where), app.name, pname, used))
@@ -295,6 +295,14 @@ class Desugarer:
         psi = instantiate(sig.diffeo, sig.params, tuple(names), tuple(params),
                           sc.variables if sc.in_program else None)
         return replace(psi, span=app.span)
+
+
+def join(a: STerm, b: STerm) -> Span | None:
+    """The span from the start of ``a`` to the end of ``b`` (a comparison's source text)."""
+    sa, sb = getattr(a, "span", None), getattr(b, "span", None)
+    if sa is None or sb is None:
+        return sa or sb
+    return Span(sa.path, sa.line, sa.col, sb.end_line, sb.end_col)
 
 
 def compare(left: Term, op: str, right: Term) -> Term:
