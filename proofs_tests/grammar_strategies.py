@@ -69,7 +69,9 @@ def surface_items() -> st.SearchStrategy:
     defaults = st.one_of(st.none(), numbers, numbers.map(lambda v: -v))
     param_item = st.builds(
         S.ParamItem,
-        st.lists(st.builds(S.ParamDecl, st.builds(S.Ident, names), defaults), min_size=1, max_size=3).map(tuple),
+        st.lists(st.builds(S.ParamDecl, st.builds(S.Ident, names), defaults), min_size=1, max_size=3).map(
+            tuple
+        ),
     )
     diffeo = st.integers(1, 3).flatmap(
         lambda n: st.builds(
@@ -85,16 +87,18 @@ def surface_items() -> st.SearchStrategy:
     defn = st.builds(
         S.DefDecl,
         st.builds(S.Ident, names),
-        st.lists(st.builds(S.DefArg, st.builds(S.Ident, names), st.sampled_from(("var", "param"))), max_size=3).map(
-            tuple
-        ),
+        st.lists(
+            st.builds(S.DefArg, st.builds(S.Ident, names), st.sampled_from(("var", "param"))), max_size=3
+        ).map(tuple),
         terms,
     )
     imp = st.builds(
         S.ImportItem,
         st.builds(S.Ident, names),
         st.lists(
-            st.builds(S.ImportName, st.builds(S.Ident, names), st.one_of(st.none(), st.builds(S.Ident, names))),
+            st.builds(
+                S.ImportName, st.builds(S.Ident, names), st.one_of(st.none(), st.builds(S.Ident, names))
+            ),
             min_size=1,
             max_size=3,
         ).map(tuple),
@@ -104,7 +108,9 @@ def surface_items() -> st.SearchStrategy:
 
 def surface_programs() -> st.SearchStrategy:
     terms = surface_terms(10)
-    domain = st.one_of(st.none(), st.lists(st.builds(S.Interval, terms, terms), min_size=1, max_size=3).map(tuple))
+    domain = st.one_of(
+        st.none(), st.lists(st.builds(S.Interval, terms, terms), min_size=1, max_size=3).map(tuple)
+    )
     return st.builds(S.ProgramS, domain, terms, _idents(1, 3))
 
 

@@ -69,13 +69,36 @@ from .surface import (
 )
 
 __all__ = [
-    "parse_module", "parse_term", "parse_bytes",
-    "KEYWORDS", "MAX_DEPTH", "MAX_DIGITS", "MAX_EXPONENT", "MAX_SIGNIFICANT",
+    "KEYWORDS",
+    "MAX_DEPTH",
+    "MAX_DIGITS",
+    "MAX_EXPONENT",
+    "MAX_SIGNIFICANT",
+    "parse_bytes",
+    "parse_module",
+    "parse_term",
 ]  # fmt: skip
 
 #: Reserved words (``d`` is only a keyword right after the integrand: see grammar.lark).
 KEYWORDS: frozenset[str] = frozenset(
-    "param diffeo inverse def from import as int d let in ifge0 if then else var".split()
+    [
+        "param",
+        "diffeo",
+        "inverse",
+        "def",
+        "from",
+        "import",
+        "as",
+        "int",
+        "d",
+        "let",
+        "in",
+        "ifge0",
+        "if",
+        "then",
+        "else",
+        "var",
+    ]
 )
 #: Most characters outside comments and white space that a source may have (E108).
 MAX_SIGNIFICANT = 1_000_000
@@ -95,7 +118,7 @@ _CMP = {"<=": "<=", "≤": "<=", ">=": ">=", "≥": ">=", "<": "<", ">": ">"}
 
 
 class _R:
-    __slots__ = ("node", "line", "col", "end_line", "end_col", "depth")
+    __slots__ = ("col", "depth", "end_col", "end_line", "line", "node")
 
     def __init__(self, node, line, col, end_line, end_col, depth):
         self.node = node
@@ -269,9 +292,7 @@ class _Builder:
     def apply(self, c):
         args = c[2] if isinstance(c[2], list) else []
         nsp = self.tok_span(c[0])
-        return self.term(
-            lambda sp: Apply(str(c[0]), tuple(a.node for a in args), sp, nsp), c[0], c[-1], args
-        )
+        return self.term(lambda sp: Apply(str(c[0]), tuple(a.node for a in args), sp, nsp), c[0], c[-1], args)
 
     def paren(self, c):
         inner = c[1]
@@ -286,11 +307,15 @@ class _Builder:
     def let(self, c):
         name, bound, body = c[1], c[3], c[5]
         nsp = self.tok_span(name)
-        return self.term(lambda sp: LetIn(str(name), bound.node, body.node, sp, nsp), c[0], body, (bound, body))
+        return self.term(
+            lambda sp: LetIn(str(name), bound.node, body.node, sp, nsp), c[0], body, (bound, body)
+        )
 
     def ifge0(self, c):
         cond, then, orelse = c[1], c[3], c[5]
-        return self.term(lambda sp: IfGe0S(cond.node, then.node, orelse.node, sp), c[0], orelse, (cond, then, orelse))
+        return self.term(
+            lambda sp: IfGe0S(cond.node, then.node, orelse.node, sp), c[0], orelse, (cond, then, orelse)
+        )
 
     def ifcmp(self, c):
         left, op, right, then, orelse = c[1], _CMP[str(c[2])], c[3], c[5], c[7]
@@ -449,8 +474,7 @@ def _check_size(text: str, path: str) -> None:
 
 
 def _run(text: str, path: str, start: str):
-    if text.startswith("\ufeff"):
-        text = text[1:]
+    text = text.removeprefix("\ufeff")
     _check_size(text, path)
     with _LOCK:
         parser = _parser()

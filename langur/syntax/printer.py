@@ -44,7 +44,7 @@ from fractions import Fraction
 from .. import core as C
 from . import surface as S
 
-__all__ = ["print_term", "print_module_surface", "print_core", "print_program", "print_diffeo", "decimal"]
+__all__ = ["decimal", "print_core", "print_diffeo", "print_module_surface", "print_program", "print_term"]
 
 # Precedence levels: a node of level L printed where level >= M is required gets parentheses
 # when L < M.
@@ -150,12 +150,23 @@ def _surface_rule(t, level: int) -> list:
         case S.LetIn(name, bound, body):
             return _wrap(TERM, level, ["let ", name, " = ", (bound, SUM), " in ", (body, TERM)])
         case S.IfGe0S(cond, then, orelse):
-            return _wrap(TERM, level, ["ifge0 ", (cond, SUM), " then ", (then, SUM), " else ", (orelse, TERM)])
+            return _wrap(
+                TERM, level, ["ifge0 ", (cond, SUM), " then ", (then, SUM), " else ", (orelse, TERM)]
+            )
         case S.IfCmp(left, op, right, then, orelse):
             return _wrap(
                 TERM,
                 level,
-                ["if ", (left, SUM), f" {op} ", (right, SUM), " then ", (then, SUM), " else ", (orelse, TERM)],
+                [
+                    "if ",
+                    (left, SUM),
+                    f" {op} ",
+                    (right, SUM),
+                    " then ",
+                    (then, SUM),
+                    " else ",
+                    (orelse, TERM),
+                ],
             )
         case S.DiffeoApp(name, variables, params):
             return [name, "(", *_commas(variables), ";", *([" "] if params else []), *_commas(params), ")"]
@@ -259,9 +270,15 @@ class _CoreRule:
                 _, kparts = _const_parts(Fraction(k))
                 return _wrap(POWER, level, [(base, ATOM), " ^ ", *kparts])
             case C.IfGe0(cond, then, orelse):
-                return _wrap(TERM, level, ["ifge0 ", (cond, SUM), " then ", (then, SUM), " else ", (orelse, TERM)])
+                return _wrap(
+                    TERM, level, ["ifge0 ", (cond, SUM), " then ", (then, SUM), " else ", (orelse, TERM)]
+                )
             case C.IfDiffeo(psi, then, orelse):
-                return _wrap(TERM, level, ["ifge0 ", *self.condition(psi), " then ", (then, SUM), " else ", (orelse, TERM)])
+                return _wrap(
+                    TERM,
+                    level,
+                    ["ifge0 ", *self.condition(psi), " then ", (then, SUM), " else ", (orelse, TERM)],
+                )
             case C.Let(name, bound, body):
                 return _wrap(TERM, level, ["let ", name, " = ", (bound, SUM), " in ", (body, TERM)])
             case C.Call(module, name, args):
@@ -361,7 +378,9 @@ def print_program(p: C.Program, defaults: dict | None = None) -> str:
         decl = []
         for name in sorted(params):
             v = defaults.get(name)
-            decl.append(name if v is None else f"{name} = {_render(C.Const(Fraction(v)), _CoreRule(None), UNARY)}")
+            decl.append(
+                name if v is None else f"{name} = {_render(C.Const(Fraction(v)), _CoreRule(None), UNARY)}"
+            )
         lines.append("param " + ", ".join(decl))
     lines.extend(decls)
     rest = _split_domain(p)
@@ -370,7 +389,9 @@ def print_program(p: C.Program, defaults: dict | None = None) -> str:
         lines.append(f"int ({domain}) {print_core(rest, names)} d({', '.join(p.variables)})")
     else:
         if p.box:
-            box = ", ".join(f"{x} in [{print_core(lo)}, {print_core(hi)}]" for x, (lo, hi) in zip(p.variables, p.box))
+            box = ", ".join(
+                f"{x} in [{print_core(lo)}, {print_core(hi)}]" for x, (lo, hi) in zip(p.variables, p.box)
+            )
             lines.append(f"# box: {box}")
         lines.append(f"int {print_core(p.body, names)} d({', '.join(p.variables)})")
     return "\n".join(lines)
