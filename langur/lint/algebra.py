@@ -1,0 +1,242 @@
+"""Sympy helpers for the transversality checker (paper Def. 7.2; LANGUAGE.md §5).
+
+Every sympy call here is time-boxed (:func:`timed`), and every symbolic verdict is guarded by a
+numeric spot check at random points, because ``simplify`` can both miss a zero and (rarely) invent
+one:
+
+* :func:`vanishes` — is an expression identically zero in the given symbols?
+* :func:`bad_parameters` — the parameter values for which an expression vanishes identically in
+  the remaining symbols (the parametric degeneracy sets of X304/X306), as solution dicts;
+* :func:`solve_points` — common zeros of a system in the variables (tangency and triple points);
+* :func:`describe_set` — a human reading of a union of solution dicts (``a = b``,
+  ``theta ∈ {0, 1}``).
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from fractions import Fraction
+from typing import Callable, Iterable, Mapping, TypeVar
+
+import sympy as sp
+
+try:  # the symbolic engine's nesting-safe SIGALRM limiter
+    from ..symbolic.timebox import run_with_timeout as _run_with_timeout
+except ImportError:  # pragma: no cover - the engine is always shipped with the package
+    def _run_with_timeout(fn, seconds):
+        return fn()
+
+T = TypeVar("T")
+
+#: Wall-clock limit (seconds) of one sympy call made by the checker.
+TIME_LIMIT = 2.0
+#: Random points of a numeric spot check.
+SPOT_POINTS = 12
+_TOL = 1e-8
+
+
+class Undecided(Exception):
+    """A sympy call ran out of time or failed: the checker cannot decide this question."""
+
+
+def timed(fn: Callable[[], T], seconds: float = TIME_LIMIT) -> T:
+    """``fn()`` under a wall-clock limit; :class:`Undecided` on time-out or on a sympy failure."""
+    try:
+        return _run_with_timeout(fn, seconds)
+    except TimeoutError as e:
+        raise Undecided(f"sympy took longer than {seconds:g} s") from e
+    except (NotImplementedError, TypeError, ValueError, ZeroDivisionError, AttributeError,
+            RecursionError, sp.PolynomialError) as e:
+        raise Undecided(f"sympy failed: {type(e).__name__}") from e
+
+
+def exact(value) -> sp.Expr:
+    """A parameter value as an exact sympy number (``0.3`` given on the command line is 3/10)."""
+    if isinstance(value, sp.Basic):
+        return value
+    if isinstance(value, Fraction):
+        return sp.Rational(value.numerator, value.denominator)
+    if isinstance(value, int):
+        return sp.Integer(value)
+    if isinstance(value, float):
+        if math.isfinite(value):
+            return sp.Rational(str(value))
+        return sp.nan
+    return sp.sympify(value)
+
+
+def _numeric(expr: sp.Expr, point: Mapping[sp.Symbol, float]) -> complex | None:
+    try:
+        v = complex(expr.evalf(15, subs=dict(point)))
+    except (TypeError, ValueError, ZeroDivisionError, OverflowError):
+        return None
+    if not (math.isfinite(v.real) and math.isfinite(v.imag)):
+        return None
+    return v
+
+
+def spot_values(expr: sp.Expr, symbols: Iterable[sp.Symbol], guards: Iterable[sp.Expr] = (),
+                seed: int = 0, points: int = SPOT_POINTS, fixed: Mapping[sp.Symbol, sp.Expr] | None = None
+                ) -> list[complex]:
+    """``expr`` at random points of ``symbols`` (uniform in [-2, 2]) where every guard is ``≥ 0``
+    and the value is real and finite.  Deterministic for a given ``seed``."""
+    rng = random.Random(seed)
+    syms = sorted(set(symbols), key=str)
+    fixed = dict(fixed or {})
+    guards = tuple(guards)
+    out: list[complex] = []
+    tries = 0
+    while len(out) < points and tries < points * 6:
+        tries += 1
+        pt = {s: sp.Float(rng.uniform(-2.0, 2.0), 15) for s in syms}
+        pt.update(fixed)
+        ok = True
+        for g in guards:
+            gv = _numeric(g, pt)
+            if gv is None or abs(gv.imag) > 1e-9 or gv.real < 0:
+                ok = False
+                break
+        if not ok:
+            continue
+        v = _numeric(expr, pt)
+        if v is None or abs(v.imag) > 1e-7 * max(1.0, abs(v.real)):
+            continue
+        out.append(v)
+    return out
+
+
+def vanishes(expr: sp.Expr, symbols: Iterable[sp.Symbol], guards: Iterable[sp.Expr] = (), seed: int = 0) -> bool:
+    """Is ``expr`` identically zero in ``symbols`` (where the guards hold)?
+
+    A numeric spot check first (a nonzero value at a valid random point settles "no" without
+    simplifying); when every sampled value is zero, ``simplify`` must agree, except that a
+    simplification that times out leaves the numeric verdict standing.  No valid sample point at
+    all (the guards never hold) counts as "no": there is no zero set to speak of.
+    """
+    symbols = tuple(symbols)
+    if expr == 0:
+        return True
+    values = spot_values(expr, symbols, guards, seed)
+    if not values:
+        return False
+    if any(abs(v) > _TOL * max(1.0, 1.0) for v in values):
+        return False
+    try:
+        s = timed(lambda: sp.simplify(expr))
+    except Undecided:
+        return True
+    if s == 0:
+        return True
+    # simplify could not show it; a few more samples decide.
+    more = spot_values(expr, symbols, guards, seed + 1, points=3 * SPOT_POINTS)
+    return bool(more) and all(abs(v) <= _TOL for v in more)
+
+
+def _equations(expr: sp.Expr, inner: tuple[sp.Symbol, ...], seed: int) -> list[sp.Expr]:
+    """Equations in the parameters that say ``expr`` vanishes identically in ``inner``."""
+    if not inner:
+        return [expr]
+    num = sp.numer(sp.together(expr))
+    try:
+        poly = timed(lambda: sp.Poly(sp.expand(num), *inner))
+        coeffs = [c for c in poly.coeffs() if not c.free_symbols & set(inner)]
+        if len(coeffs) == len(poly.coeffs()):
+            return coeffs
+    except (Undecided, sp.PolynomialError, sp.GeneratorsNeeded):
+        pass
+    rng = random.Random(seed)
+    return [expr.subs({u: sp.Rational(rng.randint(-9, 9), rng.randint(1, 5)) for u in inner}) for _ in range(3)]
+
+
+def bad_parameters(expr: sp.Expr, inner: Iterable[sp.Symbol], params: Iterable[sp.Symbol],
+                   guards: Iterable[sp.Expr] = (), seed: int = 0) -> list[dict[sp.Symbol, sp.Expr]]:
+    """The parameter values at which ``expr`` vanishes identically in ``inner``, as ``sp.solve``
+    solution dicts, each verified (the expression with the solution substituted vanishes).
+
+    ``[]`` when there are none (or they cannot be found in time: then :class:`Undecided`)."""
+    inner = tuple(inner)
+    params = sorted(set(params) & expr.free_symbols, key=str)
+    if not params:
+        return []
+    eqs = [e for e in _equations(expr, inner, seed) if e != 0]
+    if not eqs:
+        return []
+    sols = timed(lambda: sp.solve(eqs, params, dict=True))
+    out = []
+    for sol in sols:
+        if not sol or any(v.has(sp.I) or v.free_symbols & set(inner) for v in sol.values()):
+            continue
+        rest = expr.subs(sol)
+        rest_params = [p for p in params if p not in sol]
+        if vanishes(rest, inner + tuple(rest_params), [g.subs(sol) for g in guards], seed):
+            out.append(sol)
+    return out
+
+
+def solve_points(eqs: list[sp.Expr], unknowns: Iterable[sp.Symbol]) -> list[dict[sp.Symbol, sp.Expr]]:
+    """Real common zeros of ``eqs`` in ``unknowns`` (other symbols are generic parameters).
+
+    A solution may leave some unknowns free (a curve of solutions); solutions with complex values
+    are dropped; each is verified by substituting it back (:func:`vanishes` in the parameters and
+    the free unknowns), so a solution that only holds for special parameter values is dropped."""
+    unknowns = tuple(unknowns)
+    eqs = [e for e in eqs if e != 0]
+    if not eqs:
+        return []
+    sols = timed(lambda: sp.solve(eqs, unknowns, dict=True))
+    others = set().union(*(e.free_symbols for e in eqs)) - set(unknowns)
+    out = []
+    for sol in sols:
+        if not sol or any(v.has(sp.I) for v in sol.values()):
+            continue
+        free = set(unknowns) - set(sol)
+        if all(vanishes(e.subs(sol), others | free) for e in eqs):
+            out.append(sol)
+    return out
+
+
+def _text(e: sp.Expr) -> str:
+    return sp.sstr(e)
+
+
+def describe_set(solutions: list[dict[sp.Symbol, sp.Expr]]) -> str:
+    """``[{θ: 0}, {θ: 1}]`` → ``theta ∈ {0, 1}``; ``[{a: b}]`` → ``a = b``; mixed → joined by "or"."""
+    singles: dict[sp.Symbol, list[sp.Expr]] = {}
+    parts: list[str] = []
+    for sol in solutions:
+        if len(sol) == 1:
+            (k, v), = sol.items()
+            if not v.free_symbols:
+                if v not in singles.setdefault(k, []):
+                    singles[k].append(v)
+                continue
+        text = " and ".join(f"{_text(k)} = {_text(v)}" for k, v in sorted(sol.items(), key=lambda kv: str(kv[0])))
+        if text not in parts:
+            parts.append(text)
+    head = []
+    for k, vals in sorted(singles.items(), key=lambda kv: str(kv[0])):
+        vals = sorted(vals, key=lambda v: float(v) if v.is_real else 0.0)
+        if len(vals) == 1:
+            head.append(f"{_text(k)} = {_text(vals[0])}")
+        else:
+            head.append(f"{_text(k)} ∈ {{{', '.join(_text(v) for v in vals)}}}")
+    return " or ".join(head + parts)
+
+
+def describe_point(point: Mapping[str, object], names: Iterable[str]) -> str:
+    """``a = 0.3, b = 0.3`` for the named parameters (in the given order)."""
+    out = []
+    for n in names:
+        if n in point:
+            v = point[n]
+            out.append(f"{n} = {_num(v)}")
+    return ", ".join(out)
+
+
+def _num(v) -> str:
+    if isinstance(v, Fraction):
+        return str(v.numerator) if v.denominator == 1 else f"{float(v):g}"
+    if isinstance(v, float):
+        return f"{v:g}"
+    return str(v)

@@ -1,0 +1,175 @@
+"""X307: smooth primitives applied outside their domain on the domain of integration.
+
+LANGUAGE.md §1: where a primitive is applied outside its domain (log of a non-positive number,
+division by zero) the value is undefined, and "the checker warns when it can see it happen on the
+domain of integration".  It looks at the parameter values in force (defaults or ``--at``) and
+evaluates the integrand with numpy at random points of the box (fixed seed), each subterm only
+where it is evaluated (a branch of a conditional only where its condition selects it), and warns
+when a set of positive measure is out of the domain:
+
+* ``log``: argument < 0 (a zero on a null set is an integrable singularity and is not reported);
+* ``sqrt`` and fractional powers ``t ^ (p/q)``: base < 0;
+* division, ``t ^ k`` with k < 0: the base takes both signs (it crosses zero inside the region);
+* ``tan``: ``cos`` of the argument takes both signs (a pole inside the region);
+* ``asin``/``acos``/``atanh`` (inverse branches only): argument outside [-1, 1] (open for atanh).
+
+A sampling check can miss a tiny bad region: it reports what it sees, never claims absence.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import Mapping
+
+import numpy as np
+
+from ..core import PI, Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var
+
+SAMPLES = 4096
+_FUNCS = {"exp": np.exp, "log": np.log, "sin": np.sin, "cos": np.cos, "tan": np.tan, "sqrt": np.sqrt,
+          "tanh": np.tanh, "atan": np.arctan, "asin": np.arcsin, "acos": np.arccos, "atanh": np.arctanh}
+
+
+class _Skip(Exception):
+    pass
+
+
+def _const(v) -> float:
+    return float(np.pi) if v == PI else float(v)
+
+
+def _scalar(t: Term, params: Mapping[str, float]) -> float:
+    """A variable-free term's value (for bounds and variable-free conditions)."""
+    out = _Eval({}, params, np.ones(1, dtype=bool), report=False).value(t, np.ones(1, dtype=bool))
+    return float(np.asarray(out).reshape(-1)[0])
+
+
+class _Eval:
+    def __init__(self, xs: dict[str, np.ndarray], params: Mapping[str, float], mask, report=True):
+        self.xs = xs
+        self.params = dict(params)
+        self.report = report
+        self.bad: list[tuple[Term, str, np.ndarray]] = []
+
+    def flag(self, t: Term, why: str, where: np.ndarray):
+        if self.report and where.any():
+            self.bad.append((t, why, where))
+
+    def value(self, t: Term, mask: np.ndarray):
+        """⟦t⟧ at the sample points (Fig. 7), flagging primitives applied outside their domain on
+        the points of ``mask`` (those where this subterm is actually evaluated)."""
+        match t:
+            case Const(v):
+                # Fig. 7, constant
+                return np.full(mask.shape, _const(v))
+            case Var(name):
+                # Fig. 7, variable
+                return self.xs[name]
+            case Param(name):
+                # Fig. 7, parameter
+                if name not in self.params:
+                    raise _Skip(name)
+                return np.full(mask.shape, float(self.params[name]))
+            case Add(a, b):
+                # Fig. 7, sum
+                return self.value(a, mask) + self.value(b, mask)
+            case Mul(a, b):
+                # Fig. 7, product (an undefined factor makes the product undefined: both evaluated)
+                return self.value(a, mask) * self.value(b, mask)
+            case Prim(op, a):
+                # LANGUAGE.md §1, primitive
+                v = self.value(a, mask)
+                if op == "log":
+                    self.flag(t, "its argument is negative", mask & (v < 0))
+                elif op == "sqrt":
+                    self.flag(t, "its argument is negative", mask & (v < 0))
+                elif op == "tan":
+                    c = np.cos(v)
+                    if (mask & (c > 0)).any() and (mask & (c < 0)).any():
+                        self.flag(t, "its argument crosses a pole (cos changes sign)", mask & (c < 0))
+                elif op in ("asin", "acos"):
+                    self.flag(t, "its argument lies outside [-1, 1]", mask & (np.abs(v) > 1))
+                elif op == "atanh":
+                    self.flag(t, "its argument lies outside (-1, 1)", mask & (np.abs(v) >= 1))
+                return _FUNCS[op](v)
+            case Pow(a, k):
+                # LANGUAGE.md §1, constant power (t / s is t · s^-1)
+                v = self.value(a, mask)
+                if k < 0 and (mask & (v > 0)).any() and (mask & (v < 0)).any():
+                    self.flag(t, "the denominator changes sign, so it divides by zero inside the region", mask & (v < 0))
+                if k < 0:
+                    self.flag(t, "the denominator is zero (division by zero)", mask & (v == 0))
+                if Fraction(k).denominator != 1:
+                    self.flag(t, "a fractional power of a negative base", mask & (v < 0))
+                if Fraction(k).denominator != 1:
+                    return np.power(np.where(v >= 0, v, np.nan), float(k))
+                return np.power(v, float(k))
+            case IfGe0(cond, s, r):
+                # Fig. 7, conditional on a variable-free condition
+                c = self.value(cond, mask) >= 0
+                return np.where(c, self.value(s, mask & c), self.value(r, mask & ~c))
+            case IfDiffeo(psi, s, r):
+                # Fig. 7, diffeomorphic conditional: [π₀Ψ̂ ≥ 0]
+                c = self.value(psi.forward[0], mask) >= 0
+                return np.where(c, self.value(s, mask & c), self.value(r, mask & ~c))
+            case Let(name, bound, body):
+                # Fig. 7, let
+                saved = self.params.get(name)
+                self.params[name] = float(np.asarray(self.value(bound, mask)).reshape(-1)[0])
+                try:
+                    return self.value(body, mask)
+                finally:
+                    if saved is None:
+                        self.params.pop(name, None)
+                    else:
+                        self.params[name] = saved
+            case Call():
+                raise _Skip("call")
+        raise TypeError(f"not a core term: {t!r}")
+
+
+def domain_findings(program: Program | None, point: Mapping[str, object] | None, sources: Mapping[str, str]):
+    """X307 findings of ``program`` at the parameter ``point`` (nothing when a value is missing)."""
+    from ..transversality import Finding
+
+    if program is None or point is None:
+        return []
+    params = {k: float(v) for k, v in point.items()}
+    try:
+        with np.errstate(all="ignore"):
+            bounds = [(_scalar(lo, params), _scalar(hi, params)) for lo, hi in program.box]
+    except (_Skip, KeyError):
+        return []
+    if not all(np.isfinite(lo) and np.isfinite(hi) and lo < hi for lo, hi in bounds):
+        return []
+    rng = np.random.default_rng(0)
+    xs = {x: rng.uniform(lo, hi, SAMPLES) for x, (lo, hi) in zip(program.variables, bounds)}
+    ev = _Eval(xs, params, None)
+    mask = np.ones(SAMPLES, dtype=bool)
+    try:
+        with np.errstate(all="ignore"):
+            ev.value(program.body, mask)
+    except _Skip:
+        return []
+    out = []
+    seen = set()
+    for t, why, where in ev.bad:
+        key = (id(t), why)
+        if key in seen:
+            continue
+        seen.add(key)
+        k = int(np.argmax(where))
+        example = ", ".join(f"{x} = {xs[x][k]:.3g}" for x in program.variables)
+        span = t.span
+        text = None
+        if span is not None and span.path in sources and span.line == span.end_line:
+            lines = sources[span.path].splitlines()
+            if 1 <= span.line <= len(lines):
+                text = lines[span.line - 1][span.col - 1:span.end_col - 1].strip()
+        what = f"`{text}`" if text else (f"`{t.op}`" if isinstance(t, Prim) else "a power")
+        vals = ", ".join(f"{k2} = {v:g}" for k2, v in params.items())
+        at = f" (at {vals})" if vals else ""
+        out.append(Finding(span, "warning", "X307",
+                           f"{what} is applied outside its domain on the domain of integration{at}: {why}, e.g. at "
+                           f"{example}; the integrand is undefined there (LANGUAGE.md §1)", (), tuple(params)))
+    return out

@@ -1,0 +1,854 @@
+"""Transversality of the zero sets of diffeomorphic conditions: the analysis behind ``langur check``.
+
+Paper Def. 7.2 (§7.3.1): a family of submanifolds of ℝⁿ is mutually transverse when, for every
+subfamily and every point of their common intersection, their normals there are linearly
+independent.  Theorem 8.1 assumes that the zero sets of all diffeomorphic conditions that
+*multiply one another* are mutually transverse (LANGUAGE.md §5).  This module
+
+1. **collects** (:func:`collect`) the conditions of a pure core program and which of them multiply:
+   the derivative denotation (Fig. 8) multiplies the delta of a condition by the other factors of
+   a product, by the jump ``T⟦s⟧ − ⟦r⟧`` of its branches (nesting), and — through the chain rule
+   — by ``f'(⟦t⟧)`` for a primitive or a power of a discontinuous ``t``, which jumps on the same
+   set (``[x<t]^2``, ``exp([x>=a])``, paper §7.3.2).  Summands never multiply.  ``let`` is seen
+   through (its bound value replaces the name), defs are already inlined, and the domain's bounds
+   are the product's first factors (§6 sugar, §8.3);
+2. **classifies** (:func:`check_program`) every pair and every family of n+1 multiplying
+   conditions, deciding with sympy (time-boxed, spot-checked numerically; ``langur.lint.algebra``)
+   by restricting one condition to the other's zero set through its inverse branches
+   ``x = Ψ̂_b⁻¹(0, u′)``:
+
+   * the restriction vanishes identically for every parameter value: **coincidence** (X301, an
+     error: the delta is evaluated on its own jump and the derivative counts it twice), or X308
+     when neither zero set moves with the parameters (the deltas have zero weight);
+   * it vanishes identically for some parameter values: a **parametric degeneracy** (X304, the
+     set is printed).  When both jumps move and lie on the same side they are counted twice in
+     directions where the integral *is* differentiable, so the set is always reported; otherwise
+     (a jump meeting a fixed zero set such as the domain's bound, or two jumps closing a window)
+     the integral merely has a kink there, a null set of parameters Theorem 8.1 excludes, and
+     the set is reported only when the parameter values at hand lie in it.  At the values given
+     with ``--at`` a degeneracy is an error (X305);
+   * otherwise the zero sets may still meet non-transversally at isolated points: **tangency**
+     (X302: the restriction and its gradient vanish together) and **more than n zero sets through
+     a point of ℝⁿ** (X303).  Both are null sets of each delta's support: Theorem 8.1 no longer
+     applies, but the derivative is still likely right (warnings).
+
+Parameter coefficients that stop a condition from being a diffeomorphism (``Diffeo.nonzero``,
+``[t*x >= 1]`` at ``t = 0``) are X306 (X305 at ``--at``); primitives applied outside their domain
+on the domain of integration are X307 (``langur.lint.domains``).  ``docs/CODES.md`` documents
+every code.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Mapping
+
+import sympy as sp
+
+from .core import (Add, Call, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var,
+                   extend_diffeo)
+from .diagnostics import Diagnostic, Span
+from .lint import algebra
+from .lint.algebra import Undecided, bad_parameters, describe_point, describe_set, exact, solve_points, vanishes
+from .syntax.sympy_bridge import symbol, to_sympy
+
+#: At most this many products of conditions are tracked (beyond: X310, analysis incomplete).
+MAX_PRODUCTS = 4000
+#: At most this many families of n+1 conditions are solved for a common point.
+MAX_FAMILIES = 400
+
+
+# ----------------------------------------------------------------------------------------------
+# Findings
+
+
+@dataclass
+class Finding:
+    """One diagnostic of the checker, with what ``--prove`` needs (the parameters it is about)."""
+
+    span: Span | None
+    severity: str
+    code: str
+    message: str
+    related: tuple[Span, ...] = ()
+    params: tuple[str, ...] = ()
+    prove: dict | None = None
+
+    def diagnostic(self) -> Diagnostic:
+        return Diagnostic(self.span, self.severity, self.code, self.message, self.related)
+
+
+# ----------------------------------------------------------------------------------------------
+# 1. Collection
+
+
+@dataclass
+class Occurrence:
+    """One diffeomorphic conditional of the program (one node of the inlined core term)."""
+
+    index: int
+    psi: Diffeo
+    span: Span | None
+    f: sp.Expr  # π₀Ψ̂ over variable and declared-parameter symbols (let-bound names replaced)
+    branches: tuple[tuple[dict, tuple], ...]  # ({x: expr over u′}, guards over u′) at u₀ = 0
+    uprime: tuple[sp.Symbol, ...]  # the inputs u₁… that parameterize the zero set
+    nonzero: tuple[sp.Expr, ...]
+    bound: str | None = None  # "x >= 0" when this is a bound of the domain of integration
+    bound_at: tuple[int, int] | None = None  # (variable index, 0 lower / 1 upper)
+    sites: tuple[Span, ...] = ()  # call sites (outermost first) when it comes from a def's body
+    node_span: Span | None = None  # the whole conditional (the condition alone is ``span``)
+    _moving: bool | None = field(default=None, repr=False)
+
+
+@dataclass(frozen=True)
+class Product:
+    """A monomial of the derivative's structure: the conditions multiplying one another.
+
+    ``squared``: occurrences multiplied by themselves (``[x<t]^2``), with the span of the power
+    or primitive that did it."""
+
+    ids: frozenset[int]
+    squared: frozenset[tuple[int, Span | None]] = frozenset()
+
+
+ONE = frozenset({Product(frozenset())})
+
+
+@dataclass
+class Collected:
+    occurrences: list[Occurrence]
+    products: frozenset[Product]
+    variables: tuple[str, ...]
+    truncated: bool = False
+
+
+class _Collector:
+    def __init__(self, program: Program):
+        self.program = program
+        self.variables = program.variables
+        self.occurrences: list[Occurrence] = []
+        self.top: dict[int, int] = {}  # id(node) of a top-level factor → occurrence index
+        self.truncated = False
+
+    def add(self, node: IfDiffeo, env: dict[str, sp.Expr]) -> int:
+        psi = node.psi
+        if set(psi.variables) != set(self.variables):
+            psi = extend_diffeo(psi, tuple(self.variables))
+        f = to_sympy(psi.forward[0], env)
+        zero = {**env, psi.inputs[0]: sp.Integer(0)}
+        branches = []
+        for b in psi.branches:
+            comps = {symbol(x): to_sympy(c, zero) for x, c in zip(psi.variables, b.components)}
+            guards = tuple(to_sympy(g, zero) for g in b.guards)
+            branches.append((comps, guards))
+        occ = Occurrence(
+            index=len(self.occurrences), psi=psi, span=node.psi.span or node.span, f=f, branches=tuple(branches),
+            node_span=node.span,
+            uprime=tuple(symbol(u) for u in psi.inputs[1:]),
+            nonzero=tuple(to_sympy(t, env) for t in psi.nonzero),
+        )
+        self.occurrences.append(occ)
+        return occ.index
+
+    def times(self, A: frozenset[Product], B: frozenset[Product], site: Span | None = None) -> frozenset[Product]:
+        out = set()
+        for m in A:
+            for n in B:
+                both = m.ids & n.ids
+                out.add(Product(m.ids | n.ids, m.squared | n.squared | frozenset((i, site) for i in both)))
+                if len(out) > MAX_PRODUCTS:
+                    self.truncated = True
+                    return frozenset(out)
+        return frozenset(out)
+
+    def products(self, t: Term, env: dict[str, sp.Expr]) -> frozenset[Product]:
+        """Which conditions multiply in ``t`` (one case per term former of Fig. 6 / Fig. 8)."""
+        match t:
+            case Const() | Var() | Param():
+                # Fig. 8, constants, variables, parameters: ⦇c⦈ = ⦇x⦈ = 0, ⦇z⦈ = γ'(z): no jump
+                return ONE
+            case Add(a, b):
+                # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈: summands never multiply
+                out = self.products(a, env) | self.products(b, env)
+                if len(out) > MAX_PRODUCTS:
+                    self.truncated = True
+                    out = frozenset(sorted(out, key=lambda p: sorted(p.ids))[:MAX_PRODUCTS])
+                return out
+            case Mul(a, b):
+                # Fig. 8, product: ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧: each delta meets the other factor's jumps
+                return self.times(self.products(a, env), self.products(b, env))
+            case Prim(_, a):
+                # chain rule (LANGUAGE.md §1): f'(⟦a⟧)·⦇a⦈, and f'(⟦a⟧) jumps wherever a does
+                A = self.products(a, env)
+                return self.times(A, A, t.span)
+            case Pow(a, k):
+                # chain rule for t ^ k: k·t^(k−1)·⦇t⦈ (no jump left for k = 1, nothing for k = 0)
+                if k == 0:
+                    return ONE
+                A = self.products(a, env)
+                return A if k == 1 else self.times(A, A, t.span)
+            case IfGe0(_, s, r):
+                # Fig. 8, conditional on a variable-free condition: no delta in the variables
+                return self.products(s, env) | self.products(r, env)
+            case IfDiffeo(_, s, r):
+                # Fig. 8, diffeomorphic conditional: δ(π₀Ψ̂)·(D_γ π₀Ψ̂)·T⟦s⟧−⟦r⟧ plus the branches
+                # selected by [π₀Ψ̂ ≥ 0]: the condition multiplies every condition of both branches
+                i = self.add(t, env)
+                return frozenset(Product(m.ids | {i}, m.squared) for m in self.products(s, env) | self.products(r, env))
+            case Let(name, bound, body):
+                # Fig. 8, let: ⦇s⦈ with z ↦ ⟦t⟧; conditions in s see the bound value
+                return self.products(body, {**env, name: to_sympy(bound, env)})
+            case Call():
+                raise ValueError("the transversality checker needs the inlined program (no Call nodes)")
+        raise TypeError(f"not a core term: {t!r}")
+
+
+def call_sites(loaded) -> list[tuple[Span | None, tuple[Span, ...]]] | None:
+    """Each conditional of the main program in pre-order (as :func:`collect` visits the inlined
+    program), with the ``Call`` sites of the elaborated program it was inlined through."""
+    from .core import children
+
+    main = getattr(loaded, "main", None)
+    if main is None or main.program is None:
+        return None
+    out: list = []
+
+    def walk(t: Term, stack: tuple[Span, ...], depth: int):
+        if depth > 200:
+            raise RecursionError
+        match t:
+            case Call(module, name, _):
+                d = loaded.modules[module].defs[name]
+                walk(d.body, stack + ((t.span,) if t.span is not None else ()), depth + 1)
+            case IfDiffeo(_, s, r):
+                out.append((t.span, stack))
+                walk(s, stack, depth + 1)
+                walk(r, stack, depth + 1)
+            case Let(_, _, body):
+                walk(body, stack, depth + 1)
+            case IfGe0(_, s, r):
+                walk(s, stack, depth + 1)
+                walk(r, stack, depth + 1)
+            case _:
+                for ch in children(t):
+                    walk(ch, stack, depth + 1)
+
+    try:
+        walk(main.program.body, (), 0)
+    except (KeyError, RecursionError):
+        return None
+    return out
+
+
+def _factors(t: Term) -> list[Term]:
+    return _factors(t.left) + _factors(t.right) if isinstance(t, Mul) else [t]
+
+
+def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] | None = None) -> Collected:
+    """The conditions of ``program`` and the products they form (see the module docstring).
+
+    ``sites`` (from :func:`call_sites`): for each conditional in pre-order, its span and the
+    call sites it was inlined through; attached to the occurrences when they line up."""
+    c = _Collector(program)
+    prods = c.products(program.body, {})
+    if sites is not None and len(sites) == len(c.occurrences) and all(
+            s == o.node_span for (s, _), o in zip(sites, c.occurrences)):
+        for (_, stack), o in zip(sites, c.occurrences):
+            o.sites = stack
+    # The domain's bounds are the leading factors [x ≥ lo]·[hi ≥ x] of the body (§6, §8.3).
+    bounds = {}
+    for i, (x, (lo, hi)) in enumerate(zip(program.variables, program.box)):
+        xs = symbol(x)
+        try:
+            bounds[x] = ((xs - to_sympy(lo), f"{x} >= {sp.sstr(to_sympy(lo))}", (i, 0)),
+                         (to_sympy(hi) - xs, f"{x} <= {sp.sstr(to_sympy(hi))}", (i, 1)))
+        except Exception:  # a bound that is not a smooth term: nothing to label
+            continue
+    n_top = 0
+    for fac in _factors(program.body):
+        if not isinstance(fac, IfDiffeo):
+            break
+        n_top += 1
+    for occ in c.occurrences[:n_top]:
+        for pair in bounds.values():
+            for expr, text, at in pair:
+                if occ.bound is None and sp.expand(occ.f - expr) == 0:
+                    occ.bound, occ.bound_at = text, at
+    return Collected(c.occurrences, prods, tuple(program.variables), c.truncated)
+
+
+# ----------------------------------------------------------------------------------------------
+# 2. Classification helpers
+
+
+def _restrict(expr: sp.Expr, branch) -> sp.Expr:
+    comps, _ = branch
+    return expr.xreplace(comps)
+
+
+def _xsyms(variables) -> tuple[sp.Symbol, ...]:
+    return tuple(symbol(x) for x in variables)
+
+
+def _moving(occ: Occurrence, variables) -> bool:
+    """Does the zero set move with the parameters (is ``D_γ π₀Ψ̂`` nonzero somewhere on it)?"""
+    if occ._moving is None:
+        xs = set(_xsyms(variables))
+        params = [s for s in occ.f.free_symbols if s not in xs]
+        occ._moving = False
+        for p in params:
+            d = sp.diff(occ.f, p)
+            for br in occ.branches:
+                if not vanishes(_restrict(d, br), occ.uprime + tuple(params), br[1]):
+                    occ._moving = True
+                    return True
+    return occ._moving
+
+
+def _params_of(*occs: Occurrence, variables) -> list[sp.Symbol]:
+    xs = set(_xsyms(variables))
+    out: set[sp.Symbol] = set()
+    for o in occs:
+        out |= {s for s in o.f.free_symbols if s not in xs}
+        for comps, guards in o.branches:
+            for e in list(comps.values()) + list(guards):
+                out |= {s for s in e.free_symbols if s not in xs and s not in set(o.uprime)}
+    return sorted(out, key=str)
+
+
+def _orientation(c: Occurrence, g: Occurrence, branch, variables, fixed: dict | None = None) -> int:
+    """+1 when the two conditions are ≥ 0 on the same side of their common zero set, −1 when on
+    opposite sides (sign of ∇f·∇g there), 0 when it cannot be told."""
+    xs = _xsyms(variables)
+    dot = sum(sp.diff(c.f, x) * sp.diff(g.f, x) for x in xs)
+    e = _restrict(dot, branch)
+    if fixed:
+        e = e.subs(fixed)
+    syms = e.free_symbols
+    vals = algebra.spot_values(e, syms, [gd.subs(fixed or {}) for gd in branch[1]], seed=7)
+    vals = [v.real for v in vals if abs(v.real) > 1e-9]
+    if not vals:
+        return 0
+    pos = sum(1 for v in vals if v > 0)
+    return 1 if pos * 2 >= len(vals) else -1
+
+
+def _in_box(xvals: Mapping[sp.Symbol, sp.Expr], box, point, variables) -> bool:
+    tol = 1e-9
+    for x, (lo, hi) in zip(variables, box):
+        try:
+            v = complex(sp.sympify(xvals[symbol(x)]).subs(point).evalf())
+            lo_v = float(lo.subs(point)) if lo.free_symbols else float(lo)
+            hi_v = float(hi.subs(point)) if hi.free_symbols else float(hi)
+        except (TypeError, ValueError, KeyError):
+            return True  # cannot tell: assume it can happen
+        if abs(v.imag) > 1e-9 or v.real < lo_v - tol or v.real > hi_v + tol:
+            return False
+    return True
+
+
+def _meets_box(c: Occurrence, branch, box, point, variables, extra_eq: sp.Expr | None = None) -> bool:
+    """Does the branch's piece of c's zero set meet the closed box at the parameter ``point``?"""
+    comps, guards = branch
+    if not c.uprime:
+        if any(_num(gd.subs(point)) < 0 for gd in guards if _num(gd.subs(point)) is not None):
+            return False
+        return _in_box(comps, box, point, variables)
+    # Sample the box, map each sample to u′ (the other components of Ψ̂), come back to the zero set.
+    import random
+
+    rng = random.Random(3)
+    fwd = [to_sympy(t) for t in c.psi.forward[1:]]
+    xs = _xsyms(variables)
+    boxv = []
+    for lo, hi in box:
+        lo_v, hi_v = _num(lo.subs(point)), _num(hi.subs(point))
+        if lo_v is None or hi_v is None:
+            return True
+        boxv.append((lo_v, hi_v))
+    for _ in range(60):
+        xpt = {x: sp.Float(rng.uniform(lo, hi), 12) for x, (lo, hi) in zip(xs, boxv)}
+        upt = {u: F.subs(point).subs(xpt) for u, F in zip(c.uprime, fwd)}
+        if any(_num(gd.subs(point).subs(upt)) is None or _num(gd.subs(point).subs(upt)) < 0 for gd in guards):
+            continue
+        image = {x: e.subs(point).subs(upt) for x, e in comps.items()}
+        if extra_eq is not None:
+            v = _num(extra_eq.subs(point).subs(upt))
+            if v is None or abs(v) > 1e-7:
+                continue
+        if _in_box(image, box, {}, variables):
+            return True
+    return False
+
+
+def _num(e) -> float | None:
+    try:
+        v = complex(sp.sympify(e).evalf())
+    except (TypeError, ValueError):
+        return None
+    if abs(v.imag) > 1e-9:
+        return None
+    return v.real
+
+
+def _is_linear(f: sp.Expr, xs) -> bool:
+    try:
+        return sp.Poly(f, *xs).total_degree() <= 1
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return False
+
+
+def _span_key(span: Span | None) -> tuple:
+    return (span.path, span.line, span.col) if span is not None else ("", 0, 0)
+
+
+# ----------------------------------------------------------------------------------------------
+# 3. Classification
+
+
+class _Checker:
+    def __init__(self, program: Program, declared: Mapping[str, object], point: dict[str, object] | None,
+                 explicit: bool, sources: Mapping[str, str],
+                 domain_spans: Mapping[tuple[int, int], Span] | None = None, sites=None):
+        self.program = program
+        self.col = collect(program, sites)
+        self.domain_spans = dict(domain_spans or {})
+        self.variables = program.variables
+        self.xs = _xsyms(self.variables)
+        self.n = len(self.variables)
+        self.box = [(to_sympy(lo), to_sympy(hi)) for lo, hi in program.box]
+        self.declared = list(declared)
+        self.point_values = point
+        self.point = {symbol(k): exact(v) for k, v in point.items()} if point is not None else None
+        self.explicit = explicit
+        self.sources = sources
+        self.findings: list[Finding] = []
+        self.coincident: set[frozenset[int]] = set()
+        self.kinks: dict[int, list] = {}
+
+    # -- wording --------------------------------------------------------------------------------
+
+    def text(self, span: Span | None) -> str | None:
+        if span is None or span.path not in self.sources:
+            return None
+        lines = self.sources[span.path].splitlines()
+        if not 1 <= span.line <= len(lines):
+            return None
+        line = lines[span.line - 1]
+        end = span.end_col if span.end_line == span.line else len(line) + 1
+        frag = line[span.col - 1:end - 1].strip()
+        if span.end_line != span.line:
+            frag += " …"
+        return frag if len(frag) <= 60 else frag[:57] + "…"
+
+    def anchor(self, occ: Occurrence) -> Span | None:
+        """Where a finding about ``occ`` points: the outermost call site for a condition inlined
+        from a def (the user's text in the checked file), the domain's interval for a bound, else
+        the condition itself."""
+        if occ.sites:
+            return occ.sites[0]
+        if occ.bound_at is not None and occ.bound_at in self.domain_spans:
+            return self.domain_spans[occ.bound_at]
+        return occ.span
+
+    def label(self, occ: Occurrence) -> str:
+        if occ.bound:
+            return f"the domain's bound {occ.bound}"
+        frag = self.text(occ.span)
+        whole = self.text(occ.node_span) or ""
+        if frag and occ.node_span != occ.span and whole.startswith(("ifge0", "if")):
+            frag = ("ifge0 " if whole.startswith("ifge0") else "if ") + frag
+        text = f"`{frag}`" if frag else f"`{sp.sstr(occ.f)} >= 0`"
+        if occ.sites and occ.span is not None:
+            text += f" (in a def's body at {self.where(occ.span, occ.sites[0])})"
+        return text
+
+    def where(self, span: Span | None, relative_to: Span | None) -> str:
+        if span is None:
+            return "an unknown place"
+        if relative_to is not None and relative_to.path == span.path:
+            return f"{span.line}:{span.col}"
+        return f"{span.path}:{span.line}:{span.col}"
+
+    def zero_set(self, occ: Occurrence) -> str:
+        psi = occ.psi
+        if psi.solved_for and len(occ.branches) == 1:
+            back = {u: to_sympy(fw) for u, fw in zip(occ.uprime, psi.forward[1:])}
+            v = symbol(psi.solved_for)
+            try:
+                return f"{psi.solved_for} = {sp.sstr(occ.branches[0][0][v].xreplace(back))}"
+            except Exception:
+                pass
+        return f"{sp.sstr(occ.f)} = 0"
+
+    def param_names(self, *occs: Occurrence) -> tuple[str, ...]:
+        names = {s.name for s in _params_of(*occs, variables=self.variables)}
+        return tuple(n for n in self.declared if n in names) + tuple(sorted(names - set(self.declared)))
+
+    def every(self, names) -> str:
+        return f"for every value of {', '.join(names)}" if names else "(no parameter involved)"
+
+    def at_point(self, names=None) -> str:
+        names = names if names else self.declared
+        return describe_point(self.point_values or {}, names)
+
+    def primary(self, a: Occurrence, b: Occurrence) -> tuple[Occurrence, Occurrence]:
+        """The occurrence a finding points at (the user's condition, the later one), and the other."""
+        if a.bound and not b.bound:
+            return b, a
+        if b.bound and not a.bound:
+            return a, b
+        return (b, a) if _span_key(self.anchor(b)) >= _span_key(self.anchor(a)) else (a, b)
+
+    def add(self, span, severity, code, message, related=(), params=()):
+        related = tuple(r for r in related if r is not None and r != span)
+        self.findings.append(Finding(span, severity, code, message, related, tuple(params)))
+
+    # -- the analysis ---------------------------------------------------------------------------
+
+    def run(self) -> list[Finding]:
+        col = self.col
+        if col.truncated:
+            self.add(self.program.span, "warning", "X310",
+                     f"the integrand has more than {MAX_PRODUCTS} products of conditions: only the first "
+                     "ones were checked for transversality")
+        pairs: set[tuple[int, int]] = set()
+        squared: dict[int, Span | None] = {}
+        families: set[tuple[int, ...]] = set()
+        for p in sorted(col.products, key=lambda p: sorted(p.ids)):
+            ids = sorted(p.ids)
+            pairs.update(itertools.combinations(ids, 2))
+            for i, site in sorted(p.squared, key=lambda s: (s[0], _span_key(s[1]))):
+                squared.setdefault(i, site)
+            if self.n >= 2 and len(ids) > self.n and len(families) < MAX_FAMILIES:
+                for fam in itertools.combinations(ids, self.n + 1):
+                    families.add(fam)
+                    if len(families) >= MAX_FAMILIES:
+                        break
+        occ = col.occurrences
+        for i, site in sorted(squared.items()):
+            self.squared(occ[i], site)
+        for i, j in sorted(pairs):
+            self.pair(occ[i], occ[j])
+        self.report_kinks()
+        for fam in sorted(families):
+            self.family([occ[i] for i in fam])
+        for o in occ:
+            self.nonzero(o)
+        return self.findings
+
+    def undecided(self, a: Occurrence, b: Occurrence | None, why: str):
+        p, o = self.primary(a, b) if b is not None else (a, None)
+        other = f" and {self.label(o)} at {self.where(self.anchor(o), self.anchor(p))}" if o is not None else ""
+        self.add(self.anchor(p), "warning", "X310",
+                 f"could not decide the transversality of {self.label(p)}{other} ({why}): Theorem 8.1's "
+                 "assumption is unchecked here", (self.anchor(o),) if o is not None else ())
+
+    def squared(self, c: Occurrence, site: Span | None):
+        """A condition multiplied by itself through a power or a primitive (paper §7.3.2)."""
+        names = self.param_names(c)
+        self.coincident.add(frozenset({c.index}))
+        what = self.text(site) if site is not None else None
+        how = f"`{what}`" if what else "a power or a primitive"
+        if not _moving(c, self.variables):
+            self.add(self.anchor(c), "warning", "X308",
+                     f"{self.label(c)} is multiplied by itself through {how}, but its zero set {self.zero_set(c)} does "
+                     "not move with the parameters: its delta has zero weight and the derivative is unaffected",
+                     (site,), names)
+            return
+        self.add(self.anchor(c), "error", "X301",
+                 f"{self.label(c)} is multiplied by itself through {how} at {self.where(site, self.anchor(c))}: the chain "
+                 f"rule multiplies its delta by a function that jumps on the same zero set {self.zero_set(c)}, "
+                 f"{self.every(names)}, so the derivative is wrong (Def. 7.2 fails on a set of positive "
+                 "measure; paper §7.3.2); rewrite it without the power, e.g. [c]^k as [c] and f([c]) as "
+                 "f(0) + (f(1) - f(0))*[c]", (site,), names)
+
+    def pair(self, a: Occurrence, b: Occurrence):
+        c, g = (a, b) if len(a.branches) <= len(b.branches) else (b, a)
+        params = _params_of(c, g, variables=self.variables)
+        names = self.param_names(c, g)
+        relations = []
+        try:
+            for br in c.branches:
+                e = _restrict(g.f, br)
+                if vanishes(e, c.uprime + tuple(params), br[1]):
+                    return self.always(c, g, br, names)
+                for sol in bad_parameters(e, c.uprime, params, br[1]):
+                    relations.append((sol, br, e))
+        except Undecided as u:
+            return self.undecided(c, g, str(u))
+        if relations:
+            self.parametric(c, g, relations, names)
+        if self.n >= 2 and not (_is_linear(c.f, self.xs) and _is_linear(g.f, self.xs)):
+            self.tangency(c, g, names)
+
+    def always(self, c: Occurrence, g: Occurrence, br, names):
+        self.coincident.add(frozenset({c.index, g.index}))
+        p, o = self.primary(c, g)
+        where = self.where(self.anchor(o), self.anchor(p))
+        if not (_moving(c, self.variables) or _moving(g, self.variables)):
+            self.add(self.anchor(p), "warning", "X308",
+                     f"{self.label(p)} and {self.label(o)} at {where} have the same zero set {self.zero_set(c)}, but it "
+                     "does not move with the parameters: the deltas have zero weight and the derivative is "
+                     "unaffected (the product is redundant; Def. 7.2 fails formally)", (self.anchor(o),), names)
+            return
+        side = _orientation(c, g, br, self.variables)
+        if side < 0:
+            why = ("they are ≥ 0 on opposite sides of it, so their product vanishes almost everywhere and the "
+                   "derivative denotation has no meaning there (Def. 7.2 fails on a set of positive measure; "
+                   "paper §7.3.1)")
+        else:
+            why = ("the delta of one is evaluated on the jump of the other, so the derivative counts the jump "
+                   "twice (Def. 7.2 fails on a set of positive measure; paper §7.3.1); use the condition once")
+        self.add(self.anchor(p), "error", "X301",
+                 f"{self.label(p)} and {self.label(o)} at {where} multiply and have the same zero set "
+                 f"{self.zero_set(c)} {self.every(names)}: {why}", (self.anchor(o),), names)
+
+    def in_set(self, c: Occurrence, rel) -> bool:
+        """Is the parameter point in this relation's set, with the common zero set inside the box?"""
+        if self.point is None:
+            return False
+        sol, br, e = rel
+        comps, guards = br
+        try:
+            at = e.subs(self.point)
+            if not vanishes(at, c.uprime, [gd.subs(self.point) for gd in guards]):
+                return False
+        except Undecided:
+            return False
+        return _meets_box(c, br, self.box, self.point, self.variables)
+
+    def parametric(self, c: Occurrence, g: Occurrence, relations, names):
+        both = _moving(c, self.variables) and _moving(g, self.variables)
+        sides = {_orientation(c, g, br, self.variables, fixed=sol) for sol, br, _ in relations}
+        hit = any(self.in_set(c, r) for r in relations)
+        the_set = describe_set([sol for sol, _, _ in relations])
+        p, o = self.primary(c, g)
+        where = self.where(self.anchor(o), self.anchor(p))
+        if both and 1 in sides and not (c.bound or g.bound):
+            if hit and self.explicit:
+                self.add(self.anchor(p), "error", "X305",
+                         f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at {where} "
+                         f"coincide (they do when {the_set}): the derivative counts the jump twice here "
+                         "(Def. 7.2 fails; paper §7.3.1)", (self.anchor(o),), names)
+            else:
+                note = f"; the default values {self.at_point(names)} lie in this set" if hit else ""
+                self.add(self.anchor(p), "warning", "X304",
+                         f"{self.label(p)} and {self.label(o)} at {where} have coincident zero sets when {the_set}: "
+                         f"there the derivative counts the jump twice (Def. 7.2 fails; paper §7.3.1){note}",
+                         (self.anchor(o),), names)
+            return
+        # A jump meeting a fixed zero set (the domain's bound) or closing a window: a kink.
+        mover = c if (_moving(c, self.variables) and not c.bound) or g.bound else g
+        other = g if mover is c else c
+        self.kinks.setdefault(mover.index, []).append((other, relations, hit))
+
+    def report_kinks(self):
+        occ = self.col.occurrences
+        for i, entries in sorted(self.kinks.items()):
+            if not any(hit for _, _, hit in entries):
+                continue
+            c = occ[i]
+            sols = [sol for _, rels, _ in entries for sol, _, _ in rels]
+            names = self.param_names(c, *(o for o, _, _ in entries))
+            shown = [e for e in entries if e[2]] if self.explicit else entries
+            parts = [f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(c))}"
+                     + ("" if self.explicit else f" when {describe_set([s for s, _, _ in rels])}")
+                     for o, rels, _ in shown]
+            the_set = describe_set(sols)
+            related = tuple(self.anchor(o) for o, _, _ in shown)
+            consequence = ("the integral has a kink there and its derivative does not exist (Def. 7.2 fails; "
+                           "Theorem 8.1 holds only for almost every parameter value)")
+            if self.explicit:
+                self.add(self.anchor(c), "error", "X305",
+                         f"at {self.at_point(names)} the jump of {self.label(c)} lies on {'; '.join(parts)}: "
+                         f"{consequence} (degenerate when {the_set})", related, names)
+            else:
+                self.add(self.anchor(c), "warning", "X304",
+                         f"the jump of {self.label(c)} lies on {'; '.join(parts)}, i.e. when {the_set}; the "
+                         f"default values {self.at_point(names)} lie in this set: {consequence}", related, names)
+
+    def _point_text(self, sol: Mapping[sp.Symbol, sp.Expr]) -> str:
+        xs = [x for x in self.xs if x in sol]
+        return f"({', '.join(x.name for x in xs)}) = ({', '.join(sp.sstr(sol[x]) for x in xs)})"
+
+    def _inside(self, xsol: Mapping[sp.Symbol, sp.Expr], guards=(), sub=None) -> bool:
+        if self.point is None:
+            return True
+        for gd in guards:
+            v = _num(gd.subs(sub or {}).subs(self.point))
+            if v is not None and v < -1e-9:
+                return False
+        return _in_box(xsol, self.box, self.point, self.variables)
+
+    def tangency(self, c: Occurrence, g: Occurrence, names):
+        """Tangency: a common zero of both conditions where their normals are linearly dependent
+        (every 2×2 minor of the Jacobian [∇f; ∇g] vanishes)."""
+        p, o = self.primary(c, g)
+        where = self.where(self.anchor(o), self.anchor(p))
+        xs = self.xs
+        df = [sp.diff(c.f, x) for x in xs]
+        dg = [sp.diff(g.f, x) for x in xs]
+        eqs = [c.f, g.f] + [df[i] * dg[j] - df[j] * dg[i] for i, j in itertools.combinations(range(self.n), 2)]
+        try:
+            for sol in solve_points(eqs, xs):
+                if self._inside(sol):
+                    self.add(self.anchor(p), "warning", "X302",
+                             f"the zero sets of {self.label(p)} and {self.label(o)} at {where} are tangent at "
+                             f"{self._point_text(sol)} {self.every(names)}: Def. 7.2 fails there, so Theorem 8.1 no "
+                             "longer applies; the failure set is a null set of each delta's support, so the "
+                             "derivative is still likely right", (self.anchor(o),), names)
+                    return
+            if self.explicit and self.point is not None:
+                for sol in solve_points([e.subs(self.point) for e in eqs], xs):
+                    if self._inside(sol):
+                        self.add(self.anchor(p), "warning", "X302",
+                                 f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at "
+                                 f"{where} are tangent at {self._point_text(sol)}: Def. 7.2 fails there, so Theorem "
+                                 "8.1 no longer applies; the failure set is a null set of each delta's support, so "
+                                 "the derivative is still likely right", (self.anchor(o),), names)
+                        return
+        except Undecided as u:
+            self.undecided(c, g, str(u))
+
+    def family(self, fam: list[Occurrence]):
+        """More than n zero sets through one point of ℝⁿ (Def. 7.2 with a subfamily of n+1)."""
+        ids = [o.index for o in fam]
+        if any(frozenset(pr) in self.coincident for pr in itertools.combinations(ids, 2)):
+            return
+        if not any(_moving(o, self.variables) for o in fam):
+            return
+        names = self.param_names(*fam)
+        ordered = sorted(fam, key=lambda o: (o.bound is None, _span_key(self.anchor(o))))
+        p, others = ordered[-1], ordered[:-1]
+        listing = ", ".join(f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(p))}" for o in others)
+        eqs = [o.f for o in fam]
+        try:
+            for sol in solve_points(eqs, self.xs):
+                if self._inside(sol):
+                    self.add(self.anchor(p), "warning", "X303",
+                             f"{len(fam)} zero sets pass through {self._point_text(sol)} in ℝ^{self.n} "
+                             f"({self.label(p)}, {listing}) {self.every(names)}: their normals cannot be linearly "
+                             "independent, so Def. 7.2 fails there and Theorem 8.1 no longer applies; the failure "
+                             "set is null on each delta's support, so the derivative is still likely right",
+                             tuple(self.anchor(o) for o in others), names)
+                    return
+            if self.explicit and self.point is not None:
+                for sol in solve_points([e.subs(self.point) for e in eqs], self.xs):
+                    if self._inside(sol):
+                        self.add(self.anchor(p), "warning", "X303",
+                                 f"at {self.at_point(names)} {len(fam)} zero sets pass through {self._point_text(sol)} "
+                                 f"in ℝ^{self.n} ({self.label(p)}, {listing}): Def. 7.2 fails there and Theorem 8.1 "
+                                 "no longer applies; the failure set has measure zero on each delta, so the "
+                                 "derivative is still likely right", tuple(self.anchor(o) for o in others), names)
+                        return
+        except Undecided as u:
+            self.undecided(p, others[0], str(u))
+
+    def nonzero(self, c: Occurrence):
+        """Parameter coefficients that must not vanish for Ψ̂ to be a diffeomorphism (X306/X305)."""
+        for t in c.nonzero:
+            params = sorted(t.free_symbols, key=str)
+            names = tuple(s.name for s in params)
+            try:
+                sols = algebra.timed(lambda: sp.solve(t, params, dict=True)) if params else []
+            except Undecided as u:
+                self.undecided(c, None, str(u))
+                continue
+            sols = [s for s in sols if not any(v.has(sp.I) for v in s.values())]
+            the_set = describe_set(sols) if sols else f"{sp.sstr(t)} = 0"
+            hit = self.point is not None and _num(t.subs(self.point)) == 0
+            if hit and self.explicit:
+                self.add(self.anchor(c), "error", "X305",
+                         f"at {self.at_point(names)} {self.label(c)} is not a diffeomorphism ({sp.sstr(t)} = 0): its "
+                         "zero set degenerates and the derivative is not defined here", (), names)
+            elif sols or hit:
+                note = f"; the default values {self.at_point(names)} lie in this set" if hit else ""
+                self.add(self.anchor(c), "warning", "X306",
+                         f"{self.label(c)} stops being a diffeomorphism when {the_set} (its coefficient "
+                         f"{sp.sstr(t)} vanishes): there the derivative is not defined{note}", (), names)
+
+
+def check_loaded(loaded, *, at: Mapping[str, float] | None = None,
+                 sources: Mapping[str, str] | None = None) -> list[Finding]:
+    """:func:`check_program` on a front end's :class:`~langur.modules.Loaded`, with call sites of
+    inlined defs and the domain's intervals located in the user's source."""
+    if loaded.program is None:
+        return []
+    sources = dict(sources or {})
+    for m in loaded.modules.values():
+        if m.path not in sources:
+            try:
+                with open(m.path, encoding="utf-8") as fh:
+                    sources[m.path] = fh.read()
+            except OSError:
+                pass
+    return check_program(loaded.program, loaded.params, at=at, sources=sources,
+                         domain_spans=_domain_spans(loaded, sources), sites=call_sites(loaded))
+
+
+def _domain_spans(loaded, sources) -> dict[tuple[int, int], Span]:
+    from .syntax.parser import parse_module
+
+    text = sources.get(loaded.main.path)
+    if text is None:
+        return {}
+    try:
+        surface = parse_module(text, loaded.main.path)
+    except Exception:
+        return {}
+    out = {}
+    if surface.program is not None and surface.program.domain:
+        for i, iv in enumerate(surface.program.domain):
+            for k, end in enumerate((iv.lo, iv.hi)):
+                span = getattr(end, "span", None) or iv.span
+                if span is not None:
+                    out[(i, k)] = span
+    return out
+
+
+def check_program(program: Program, declared: Mapping[str, object] | None = None, *,
+                  at: Mapping[str, float] | None = None, sources: Mapping[str, str] | None = None,
+                  domain_spans: Mapping[tuple[int, int], Span] | None = None,
+                  sites: list | None = None) -> list[Finding]:
+    """The transversality findings of ``program`` (see the module docstring).
+
+    ``declared``: the program's parameters with their defaults (None: no default), in declaration
+    order; ``at``: values given on the command line (``--at``), which make degeneracies at that
+    point errors; ``sources``: file texts by path, to quote the user's conditions in messages;
+    ``domain_spans``: ``(variable index, 0 lower / 1 upper) → span`` of the domain's bounds;
+    ``sites``: :func:`call_sites` of the program.
+    """
+    declared = dict(declared or {})
+    at = dict(at or {})
+    point: dict[str, object] | None = {}
+    for name, default in declared.items():
+        if name in at:
+            point[name] = at[name]
+        elif default is not None:
+            point[name] = default
+        else:
+            point = None
+            break
+    if point is not None:
+        point.update({k: v for k, v in at.items() if k not in point})
+    checker = _Checker(program, declared, point, bool(at), dict(sources or {}), domain_spans, sites)
+    findings = checker.run()
+    from .lint.domains import domain_findings
+
+    findings += domain_findings(program, point, sources or {})
+    return _dedupe(findings)
+
+
+def _dedupe(findings: list[Finding]) -> list[Finding]:
+    seen = set()
+    out = []
+    for f in findings:
+        key = (f.code, _span_key(f.span), f.message)
+        if key not in seen:
+            seen.add(key)
+            out.append(f)
+    out.sort(key=lambda f: (_span_key(f.span), f.code))
+    return out
