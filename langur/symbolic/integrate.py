@@ -174,12 +174,14 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
     ctx, boxd = _setup(variables, box, at, timeout)
     exacts, quads, why = [], [], []
     for i, pc in enumerate(pieces):
+        uvars = regions.u_prime(pc.psi, variables)
         try:
-            problems, uvars, ubox = regions.delta_to_regular(pc, variables, boxd, ctx)
-        except (Unsupported, TimeoutError) as exc:
-            raise Unsupported(f"delta piece {i}: cannot change variables: {exc}") from None
+            ubox = regions.u_box(pc.psi, variables, boxd, ctx)
+        except Unsupported as exc:
+            raise ValueError(f"delta piece {i}: cannot bound the zero set's coordinates: {exc}") from None
         quads.append(quadrature.quad_delta_pieces([pc], variables, box, ctx.at, [ubox]))
         try:
+            problems = regions.delta_to_regular(pc, variables, boxd, ctx, ubox)
             exacts.append(_exact_piece(problems, uvars, dict(zip(uvars, ubox)), ctx, quads[-1],
                                        f"delta piece {i}"))
             why.append("")

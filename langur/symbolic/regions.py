@@ -64,7 +64,30 @@ class Context:
 
     def value(self, expr) -> complex:
         e = sp.sympify(expr).xreplace({k: sp.Float(float(v), 40) for k, v in self.at.items()})
-        return complex(e.evalf(30))
+        try:
+            return complex(e.evalf(30))
+        except TypeError:
+            raise ValueError(f"no value for {sorted(map(str, e.free_symbols))} in {expr}") from None
+
+    def record(self, rel_kind: str, expr) -> None:
+        """Add ``expr > 0`` / ``expr >= 0`` / ``expr = 0`` to the cell, canonically (positive
+        content divided out, so ``4*a + 4 > 0`` and ``-a - 1 < 0`` are one entry)."""
+        e = sp.expand(expr)
+        _, p = e.as_content_primitive()
+        rel = {">": sp.StrictGreaterThan, ">=": sp.GreaterThan, "=": sp.Eq}[rel_kind](p, 0)
+        if rel_kind == "=" and sp.Eq(-p, 0) in self.cell:
+            return
+        if rel not in (sp.true, sp.false) and rel not in self.cell:
+            self.cell.append(rel)
+
+    def record_relation(self, rel) -> None:
+        if isinstance(rel, sp.Rel) and rel.rel_op in (">", "<", ">=", "<="):
+            d = rel.lhs - rel.rhs if rel.rel_op[0] == ">" else rel.rhs - rel.lhs
+            self.record(">" if len(rel.rel_op) == 1 else ">=", d)
+        elif isinstance(rel, sp.Not) and isinstance(rel.args[0], sp.Rel):
+            self.record_relation(rel.args[0].negated)
+        elif rel not in self.cell:
+            self.cell.append(rel)
 
     def decide(self, expr, strict: bool = False) -> bool:
         """``expr ≥ 0`` (``> 0``) for a parameter-only ``expr``, at the evaluation point; recorded."""
@@ -76,14 +99,10 @@ class Context:
             raise Unsupported(f"complex value of {expr} at the evaluation point")
         x = v.real
         if abs(x) < 1e-25:
-            ok = not strict
-            rel = sp.Eq(expr, 0)
-        else:
-            ok = x > 0
-            rel = (expr > 0) if ok else (expr < 0)
-        if rel not in self.cell:
-            self.cell.append(rel)
-        return ok
+            self.record("=", expr)
+            return not strict
+        self.record(">", expr if x > 0 else -expr)
+        return x > 0
 
     def _decide_number(self, expr, strict: bool) -> bool:
         if expr.is_zero:
@@ -136,9 +155,7 @@ def _resolve_piecewise(expr, v, ctx: Context):
             ok = c.xreplace({k: sp.Float(float(x), 40) for k, x in ctx.at.items()})
             if ok not in (sp.true, sp.false):
                 raise Unsupported(f"undecidable condition {c}")
-            rel = c if ok is sp.true else sp.Not(c)
-            if rel not in ctx.cell:
-                ctx.cell.append(rel)
+            ctx.record_relation(c if ok is sp.true else sp.Not(c))
             if ok is sp.true:
                 return e
         raise Unsupported("no Piecewise branch holds")
@@ -383,9 +400,8 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
             continue
         uniq.append(p)
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
-        rel = eb - ea > 0
-        if rel is not sp.true and rel not in ctx.cell:
-            ctx.cell.append(rel)
+        if not (eb - ea).is_number:
+            ctx.record(">", eb - ea)
     ctx.generic = True
     total = sp.Integer(0)
     start = None
@@ -482,18 +498,41 @@ def u_box(psi: Psi, variables: Sequence, box: dict, ctx: Context):
                     lo, hi = lo + a * xh, hi + a * xl
             out.append((lo, hi))
             continue
-        num = {k: sp.Float(float(v), 30) for k, v in ctx.at.items()}
-        ab = f.xreplace(num).subs({x: sp.AccumBounds(*[sp.Float(ctx.value(b).real, 30) for b in box[x]])
-                                   for x in psi.variables})
-        if not isinstance(ab, sp.AccumBounds):
-            raise Unsupported(f"no interval enclosure of {f}")
-        pad = 1e-9 * (1 + abs(float(ab.max - ab.min)))
-        out.append((sp.Rational(float(ab.min) - pad), sp.Rational(float(ab.max) + pad)))
-        ctx.notes.append(f"u-box of {f} from a numeric enclosure at the evaluation point")
+        out.append(_enclosure(f, psi.variables, box, ctx))
     for x in variables:
         if x not in psi.variables:
             out.append(box[x])
     return out
+
+
+def _enclosure(f, xs, box: dict, ctx: Context):
+    """Numeric bounds of ``f`` over the box at ``at``: interval arithmetic (AccumBounds), else a
+    padded sample (noted as heuristic)."""
+    num = {k: sp.Float(float(v), 30) for k, v in ctx.at.items()}
+    ranges = {x: [ctx.value(b).real for b in box[x]] for x in xs}
+    try:
+        ab = f.xreplace(num).subs({x: sp.AccumBounds(*[sp.Float(b, 30) for b in ranges[x]]) for x in xs})
+    except Exception:  # noqa: BLE001 - AccumBounds does not support every function
+        ab = None
+    if isinstance(ab, sp.AccumBounds) and ab.min.is_finite and ab.max.is_finite:
+        lo, hi = float(ab.min), float(ab.max)
+        pad = 1e-9 * (1 + hi - lo)
+        ctx.notes.append(f"u-box of {f} from interval arithmetic at the evaluation point")
+    else:
+        fn = sp.lambdify(list(xs), f.xreplace(num), modules=["math"])
+        grid = itertools.product(*[[a + (b - a) * i / 24 for i in range(25)] for a, b in ranges.values()])
+        vals = []
+        for pt in grid:
+            try:
+                vals.append(float(fn(*pt)))
+            except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+                pass
+        if not vals:
+            raise ValueError(f"cannot bound {f} over the box")
+        lo, hi = min(vals), max(vals)
+        pad = 0.25 * (1 + hi - lo)
+        ctx.notes.append(f"u-box of {f} from a padded sample at the evaluation point (heuristic)")
+    return sp.Rational(lo - pad), sp.Rational(hi + pad)
 
 
 def vanishes_identically(expr, syms, ubox, ctx: Context) -> bool:
@@ -514,12 +553,11 @@ def vanishes_identically(expr, syms, ubox, ctx: Context) -> bool:
         return True  # numerically zero at random points
 
 
-def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Context):
-    """The delta piece as regular problems over ``u'``: ``[(conds, weight), …]``, ``u'``, its box."""
+def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Context, ubox):
+    """The delta piece as regular problems over ``u'`` (:func:`u_prime`, box ``ubox`` from
+    :func:`u_box`): ``[(conds, weight), …]``."""
     psi = piece.psi
-    missing = [x for x in variables if x not in psi.variables]
-    uprime = list(psi.inputs[1:]) + missing
-    ubox = u_box(psi, variables, box, ctx)
+    uprime = u_prime(psi, variables)
     u0 = psi.inputs[0]
     problems = []
     for b in psi.branches:
@@ -559,4 +597,9 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
         else:
             problems.append((conds + [Cond(J)], weight * J))
             problems.append((conds + [Cond(-J)], -weight * J))
-    return problems, uprime, ubox
+    return problems
+
+
+def u_prime(psi: Psi, variables: Sequence) -> list:
+    """The coordinates of the zero set: ``inputs[1:]`` and the variables Psi does not mention."""
+    return list(psi.inputs[1:]) + [x for x in variables if x not in psi.variables]
