@@ -14,14 +14,14 @@ from .link import Linked, compile_program, link
 from .sample import design, evaluate_box
 
 
-def prepare(program_or_loaded, params: dict) -> tuple[Linked, dict]:
+def prepare(program_or_loaded, params: dict, sites: str = "inlined") -> tuple[Linked, dict]:
     """Compile (or fetch from the cache) and resolve parameter values to floats."""
     if isinstance(program_or_loaded, Loaded):
         values = program_or_loaded.param_values({k: v for k, v in params.items()})
         unknown = set(params) - set(values)
         if unknown:
             raise KeyError(f"unknown parameter(s): {', '.join(sorted(unknown))}")
-        linked = link(program_or_loaded)
+        linked = link(program_or_loaded, sites)
     elif isinstance(program_or_loaded, Program):
         values = dict(params)
         linked = compile_program(program_or_loaded)
@@ -52,9 +52,9 @@ def _full(v, n: int) -> np.ndarray:
 
 
 def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, seed: int = 0,
-                   method: str = "uniform") -> dict:
+                   method: str = "uniform", sites: str = "inlined") -> dict:
     """⟦int t d(x⃗)⟧(γ) ≈ vol(box)·mean ⟦t⟧(ρᵢ, γ) over a design in Program.box."""
-    linked, p = prepare(program_or_loaded, params)
+    linked, p = prepare(program_or_loaded, params, sites)
     rng = np.random.default_rng(seed)
     with np.errstate(all="ignore"):
         x, volume, d = _domain(linked, p, rng, samples, method)
@@ -68,9 +68,11 @@ def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, see
 
 
 def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, samples: int = 10000,
-                        seed: int = 0, method: str = "uniform") -> dict:
-    """⦇int t d(x⃗)⦈(γ, γ') ≈ regular part (standard AD) + one zero-set estimate per site."""
-    linked, p = prepare(program_or_loaded, params)
+                        seed: int = 0, method: str = "uniform", sites: str = "inlined") -> dict:
+    """⦇int t d(x⃗)⦈(γ, γ') ≈ regular part (standard AD) + one zero-set estimate per site.
+
+    ``sites`` (for a Loaded only): where the zero-set samplers come from, see :func:`.link.link`."""
+    linked, p = prepare(program_or_loaded, params, sites)
     unknown = set(direction) - set(p)
     if unknown:
         raise KeyError(f"direction names unknown parameter(s): {', '.join(sorted(unknown))}")

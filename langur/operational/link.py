@@ -11,11 +11,16 @@ source hash only, so only its defs are recompiled; :func:`cache_stats` says what
 
 Sites.  Each syntactic diffeomorphic conditional is a *site*; inside a def every call is its own
 site.  Sites are numbered in pre-order of the program with calls expanded in place — the order in
-which they occur in the inlined program — and each site gets a *canonical* Ψ̂: renamed to the
-program's variables, extended by the identity to all of them, with let-bound parameters and
-``param`` arguments substituted so that it mentions program parameters only.  The inlined and
-the linked program therefore have the same sites, the same samplers and, because each unit
-performs the same floating-point operations in the same order, bit-identical results.
+which they occur in the inlined program — and each site gets a *canonical* Ψ̂ over the
+program's variables (extended by the identity to all of them) that mentions program parameters
+only (let-bound parameters and ``param`` arguments substituted), from which its zero-set sampler
+is built (sample.py).  The samplers are link-time objects: by default they are taken from the
+inlined program's sites (same pre-order), because the front end re-completes a def's conditions
+when it inlines and a different (equally valid) Ψ̂ would sample different points; with
+``link(loaded, sites="defs")`` they come from the defs' own Ψ̂ renamed and extended, fully
+separately.  The integrand itself is always evaluated by the separately compiled units, which
+perform the same floating-point operations in the same order as the inlined program, so linked
+and inlined evaluation agree bit for bit.
 
 Fallback: a ``var`` argument that is not a plain variable (``f(2*x)``) would need the callee's
 conditions re-completed as diffeomorphisms of the caller's variables (a job for the front end's
@@ -131,8 +136,17 @@ def _box(program: Program) -> list:
 
 # -- linking separately compiled modules --------------------------------------------------------
 
-def link(loaded: Loaded) -> Linked:
-    """Link ``loaded``'s main program from its modules' separately compiled defs."""
+def link(loaded: Loaded, sites: str = "inlined") -> Linked:
+    """Link ``loaded``'s main program from its modules' separately compiled defs.
+
+    ``sites`` chooses where the zero-set samplers come from: ``"inlined"`` (default) from the
+    diffeomorphisms of ``Loaded.program`` matched by pre-order position, so that linked and inlined
+    evaluation draw the same points and agree bit for bit; ``"defs"`` from each def's own Ψ̂,
+    renamed and extended (fully separate, an equally unbiased but different parametrization of
+    the same zero sets: the front end *re-completes* a def's conditions over the program's
+    variables and box when it inlines, see langur.syntax.inline)."""
+    if sites not in ("inlined", "defs"):
+        raise ValueError(f"sites must be 'inlined' or 'defs', not {sites!r}")
     main = loaded.main
     if main.program is None or loaded.program is None:
         raise ValueError(f"module {main.name} has no program (no `int … d(…)`) to evaluate")
@@ -144,7 +158,7 @@ def link(loaded: Loaded) -> Linked:
     defs = {(m.name, d.name): d for m in loaded.modules.values() for d in m.defs.values()}
     if not _linkable(main.program, defs):
         return compile_program(loaded.program)
-    link_key = ("link", prog_key, frozenset(keys.items()))
+    link_key = ("link", sites, prog_key, frozenset(keys.items()))
     hit = CACHE.linked.get(link_key)
     if hit is not None:
         CACHE.hits += 1
@@ -173,13 +187,19 @@ def link(loaded: Loaded) -> Linked:
         d = defs[name]
         total(name)
         table[name] = (u.fn, counts[name], tuple(a for a, _ in d.args), tuple(k for _, k in d.args))
-    sites: list[Site] = []
-    collect_sites(main.program.body, {}, {}, main.program.variables, defs, sites)
+    found: list[Site] = []
+    collect_sites(main.program.body, {}, {}, main.program.variables, defs, found)
+    if sites == "inlined":
+        inl: list[Site] = []
+        collect_sites(loaded.program.body, {}, {}, loaded.program.variables, None, inl)
+        if len(inl) != len(found) or loaded.program.variables != main.program.variables:
+            return compile_program(loaded.program)  # the inliner changed the structure: evaluate it
+        found = inl
     box = main.program.box
     if any(isinstance(s, Call) for lo, hi in box for t in (lo, hi) for s in subterms(t)):
         box = loaded.program.box
     linked = Linked(body.fn, count(body), table, main.program.variables,
-                    [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in box], sites, "linked")
+                    [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in box], found, "linked")
     CACHE.linked[link_key] = linked
     CACHE.last_link = "linked"
     return linked
