@@ -809,6 +809,21 @@ def _domain_spans(loaded, sources) -> dict[tuple[int, int], Span]:
     return out
 
 
+def point_of(declared: Mapping[str, object], at: Mapping[str, float] | None) -> dict[str, object] | None:
+    """The parameter values in force: defaults overridden by ``at``; None when one has no value."""
+    at = dict(at or {})
+    point: dict[str, object] = {}
+    for name, default in declared.items():
+        if name in at:
+            point[name] = at[name]
+        elif default is not None:
+            point[name] = default
+        else:
+            return None
+    point.update({k: v for k, v in at.items() if k not in point})
+    return point
+
+
 def check_program(program: Program, declared: Mapping[str, object] | None = None, *,
                   at: Mapping[str, float] | None = None, sources: Mapping[str, str] | None = None,
                   domain_spans: Mapping[tuple[int, int], Span] | None = None,
@@ -823,17 +838,7 @@ def check_program(program: Program, declared: Mapping[str, object] | None = None
     """
     declared = dict(declared or {})
     at = dict(at or {})
-    point: dict[str, object] | None = {}
-    for name, default in declared.items():
-        if name in at:
-            point[name] = at[name]
-        elif default is not None:
-            point[name] = default
-        else:
-            point = None
-            break
-    if point is not None:
-        point.update({k: v for k, v in at.items() if k not in point})
+    point = point_of(declared, at)
     checker = _Checker(program, declared, point, bool(at), dict(sources or {}), domain_spans, sites)
     findings = checker.run()
     from .lint.domains import domain_findings

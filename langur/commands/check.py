@@ -1,11 +1,153 @@
-"""`langur check` (CLI.md).  Not yet implemented."""
+"""``langur check FILE…``: parse, type-check and lint for transversality (CLI.md, Diagnostics).
 
-from ..cli import UsageError
+Each FILE (``-`` is standard input, a directory means every ``*.lgr`` below it) is loaded by the
+front end; its E1xx/T2xx errors are reported as they are, otherwise the transversality analysis
+(``langur.transversality``, paper Def. 7.2) runs on the inlined program.  Findings pass through
+the configuration (``[tool.langur]`` in the nearest pyproject.toml, ``--select``/``--ignore``;
+``langur.lint.config``) and ``# noqa`` comments (``langur.lint.noqa``), and are printed in the
+chosen format (``langur.lint.formats``).  With ``--prove`` each finding also carries the
+Theorem 8.1 check at the parameter values in force (``langur.lint.prove``).
+
+Exit status: 0 when nothing at error severity was reported (or ``--exit-zero``), 1 when
+something was (including front-end errors), 2 for usage errors (unknown option, a FILE that is
+missing or unreadable, a malformed ``[tool.langur]``, an ``--at`` name no FILE declares).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+from ..cli import UsageError, add_common, parse_assignments, parse_modules
+from ..diagnostics import Diagnostic, LangurError
+
+FORMATS = ("text", "json", "sarif", "github")
+STDIN_NAME = "<stdin>"
 
 
 def add_arguments(p):
-    p.add_argument("files", nargs="*")
+    p.add_argument("files", nargs="+", metavar="FILE",
+                   help=".lgr files or directories to check (- reads standard input)")
+    add_common(p, params=True)
+    p.add_argument("--format", choices=FORMATS, default=None,
+                   help="output format: text (default), json (same as --json), sarif (SARIF 2.1.0), "
+                        "github (GitHub Actions annotations)")
+    p.add_argument("--exit-zero", action="store_true", help="exit with status 0 even when errors are reported")
+    p.add_argument("--prove", action="store_true",
+                   help="for each finding, also check Theorem 8.1 at the parameter values in force "
+                        "(is the derivative actually wrong there?)")
+    p.add_argument("--select", action="append", metavar="CODES",
+                   help="report only these code prefixes (comma-separated; replaces [tool.langur] select)")
+    p.add_argument("--ignore", action="append", metavar="CODES",
+                   help="never report these code prefixes (comma-separated; added to [tool.langur] ignore)")
+    p.add_argument("--isolated", action="store_true", help="ignore every pyproject.toml configuration")
+    p.add_argument("--stdin-filename", metavar="PATH",
+                   help="the name standard input is reported (and configured) as")
 
 
-def run(args):
-    raise UsageError("`langur check` is not implemented yet")
+def _codes(values) -> list[str] | None:
+    if not values:
+        return None
+    out = [c.strip() for v in values for c in v.split(",") if c.strip()]
+    return out or None
+
+
+def _expand(files: list[str]) -> list[str]:
+    out: list[str] = []
+    stdin_seen = False
+    for f in files:
+        if f == "-":
+            if stdin_seen:
+                raise UsageError("standard input (-) can be checked only once")
+            stdin_seen = True
+            out.append(f)
+        elif os.path.isdir(f):
+            found = sorted(str(p) for p in Path(f).rglob("*.lgr") if p.is_file())
+            if not found:
+                raise UsageError(f"{f}: no .lgr files in this directory")
+            out.extend(found)
+        elif not os.path.exists(f):
+            raise UsageError(f"{f}: no such file")
+        elif not os.access(f, os.R_OK):
+            raise UsageError(f"{f}: cannot read (permission denied)")
+        else:
+            out.append(f)
+    return out
+
+
+def run(args) -> int:
+    from .. import __version__, frontend
+    from ..lint import config as cfgmod
+    from ..lint.formats import Report, render
+    from ..lint.noqa import suppressed
+    from ..lint.prove import Prover
+    from ..transversality import check_loaded, point_of
+
+    fmt = args.format or ("json" if args.json else "text")
+    if args.json and args.format not in (None, "json"):
+        raise UsageError(f"--json and --format {args.format} contradict each other")
+    at = parse_assignments(args.at, "--at")
+    modules = parse_modules(args.module)
+    for name, mpath in modules.items():
+        if not os.path.isfile(mpath):
+            raise UsageError(f"--module {name}={mpath}: no such file")
+    files = _expand(args.files)
+    select, ignore = _codes(args.select), _codes(args.ignore)
+
+    # Read everything first: a usage problem (unreadable file, bad config) stops before output.
+    inputs = []
+    for f in files:
+        if f == "-":
+            name = args.stdin_filename or STDIN_NAME
+            data = sys.stdin.buffer.read()
+            where = args.stdin_filename or os.getcwd()
+        else:
+            name = f
+            try:
+                with open(f, "rb") as fh:
+                    data = fh.read()
+            except OSError as e:
+                raise UsageError(f"{f}: cannot read ({e.strerror})") from None
+            where = f
+        try:
+            cfg = cfgmod.Config() if args.isolated else cfgmod.find_config(where)
+        except cfgmod.ConfigError as e:
+            raise UsageError(str(e)) from None
+        inputs.append((name, data, cfg.with_cli(select, ignore)))
+
+    reports: list[Report] = []
+    used_at: set[str] = set()
+    for name, data, cfg in inputs:
+        text = data.decode("utf-8", errors="replace")
+        sources = {name: text}
+        try:
+            loaded = frontend.load_bytes(data, name, modules=modules)
+        except LangurError as e:
+            reports.extend(Report(d) for d in e.diagnostics)
+            continue
+        here = {k: v for k, v in at.items() if k in loaded.params}
+        used_at |= set(here)
+        if loaded.program is None:
+            continue  # a library module: its defs are checked where they are used
+        findings = check_loaded(loaded, at=here, sources=sources)
+        prover = Prover(loaded.program, point_of(loaded.params, here)) if args.prove else None
+        for fd in findings:
+            d: Diagnostic = fd.diagnostic()
+            if not cfg.enabled(d.code, name) or suppressed(d, sources):
+                continue
+            reports.append(Report(d, prover.prove(fd.params) if prover is not None else None))
+    unknown = sorted(set(at) - used_at)
+    if unknown:
+        raise UsageError(f"--at {unknown[0]}: no checked FILE declares this parameter")
+
+    out = render(reports, fmt, __version__)
+    if out:
+        print(out)
+    errors = sum(1 for r in reports if r.diagnostic.severity == "error")
+    warnings = len(reports) - errors
+    if fmt == "text":
+        checked = f"{len(inputs)} file{'s' if len(inputs) != 1 else ''}"
+        if reports:
+            print(f"{checked} checked: {errors} error(s), {warnings} warning(s)", file=sys.stderr)
+    return 0 if args.exit_zero or errors == 0 else 1
