@@ -41,21 +41,50 @@ every code.
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass, field
-from fractions import Fraction
-from typing import Mapping
+from collections.abc import Mapping
+from dataclasses import dataclass
 
 import sympy as sp
 
-from .core import (Add, Call, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var,
-                   extend_diffeo)
-from .diagnostics import Diagnostic, Span
+from .core import Program
+from .diagnostics import Diagnostic, LangurError, Span
 from .lint import algebra
-from .lint.algebra import Undecided, bad_parameters, describe_point, describe_set, exact, solve_points, vanishes
+from .lint.algebra import (
+    Undecided,
+    bad_parameters,
+    describe_point,
+    describe_set,
+    exact,
+    solve_points,
+    vanishes,
+)
+from .lint.collect import MAX_PRODUCTS, Collected, Occurrence, Product, call_sites, collect
+from .lint.geometry import (
+    _in_box,
+    _is_linear,
+    _meets_box,
+    _moving,
+    _num,
+    _orientation,
+    _params_of,
+    _restrict,
+    _span_key,
+    _xsyms,
+)
 from .syntax.sympy_bridge import symbol, to_sympy
 
-#: At most this many products of conditions are tracked (beyond: X310, analysis incomplete).
-MAX_PRODUCTS = 4000
+__all__ = [
+    "Collected",
+    "Finding",
+    "Occurrence",
+    "Product",
+    "call_sites",
+    "check_loaded",
+    "check_program",
+    "collect",
+    "point_of",
+]
+
 #: At most this many families of n+1 conditions are solved for a common point.
 MAX_FAMILIES = 400
 
@@ -78,330 +107,6 @@ class Finding:
 
     def diagnostic(self) -> Diagnostic:
         return Diagnostic(self.span, self.severity, self.code, self.message, self.related)
-
-
-# ----------------------------------------------------------------------------------------------
-# 1. Collection
-
-
-@dataclass
-class Occurrence:
-    """One diffeomorphic conditional of the program (one node of the inlined core term)."""
-
-    index: int
-    psi: Diffeo
-    span: Span | None
-    f: sp.Expr  # π₀Ψ̂ over variable and declared-parameter symbols (let-bound names replaced)
-    branches: tuple[tuple[dict, tuple], ...]  # ({x: expr over u′}, guards over u′) at u₀ = 0
-    uprime: tuple[sp.Symbol, ...]  # the inputs u₁… that parameterize the zero set
-    nonzero: tuple[sp.Expr, ...]
-    bound: str | None = None  # "x >= 0" when this is a bound of the domain of integration
-    bound_at: tuple[int, int] | None = None  # (variable index, 0 lower / 1 upper)
-    sites: tuple[Span, ...] = ()  # call sites (outermost first) when it comes from a def's body
-    node_span: Span | None = None  # the whole conditional (the condition alone is ``span``)
-    _moving: bool | None = field(default=None, repr=False)
-
-
-@dataclass(frozen=True)
-class Product:
-    """A monomial of the derivative's structure: the conditions multiplying one another.
-
-    ``squared``: occurrences multiplied by themselves (``[x<t]^2``), with the span of the power
-    or primitive that did it."""
-
-    ids: frozenset[int]
-    squared: frozenset[tuple[int, Span | None]] = frozenset()
-
-
-ONE = frozenset({Product(frozenset())})
-
-
-@dataclass
-class Collected:
-    occurrences: list[Occurrence]
-    products: frozenset[Product]
-    variables: tuple[str, ...]
-    truncated: bool = False
-
-
-class _Collector:
-    def __init__(self, program: Program):
-        self.program = program
-        self.variables = program.variables
-        self.occurrences: list[Occurrence] = []
-        self.top: dict[int, int] = {}  # id(node) of a top-level factor → occurrence index
-        self.truncated = False
-
-    def add(self, node: IfDiffeo, env: dict[str, sp.Expr]) -> int:
-        psi = node.psi
-        if set(psi.variables) != set(self.variables):
-            psi = extend_diffeo(psi, tuple(self.variables))
-        f = to_sympy(psi.forward[0], env)
-        zero = {**env, psi.inputs[0]: sp.Integer(0)}
-        branches = []
-        for b in psi.branches:
-            comps = {symbol(x): to_sympy(c, zero) for x, c in zip(psi.variables, b.components)}
-            guards = tuple(to_sympy(g, zero) for g in b.guards)
-            branches.append((comps, guards))
-        occ = Occurrence(
-            index=len(self.occurrences), psi=psi, span=node.psi.span or node.span, f=f, branches=tuple(branches),
-            node_span=node.span,
-            uprime=tuple(symbol(u) for u in psi.inputs[1:]),
-            nonzero=tuple(to_sympy(t, env) for t in psi.nonzero),
-        )
-        self.occurrences.append(occ)
-        return occ.index
-
-    def times(self, A: frozenset[Product], B: frozenset[Product], site: Span | None = None) -> frozenset[Product]:
-        out = set()
-        for m in A:
-            for n in B:
-                both = m.ids & n.ids
-                out.add(Product(m.ids | n.ids, m.squared | n.squared | frozenset((i, site) for i in both)))
-                if len(out) > MAX_PRODUCTS:
-                    self.truncated = True
-                    return frozenset(out)
-        return frozenset(out)
-
-    def products(self, t: Term, env: dict[str, sp.Expr]) -> frozenset[Product]:
-        """Which conditions multiply in ``t`` (one case per term former of Fig. 6 / Fig. 8)."""
-        match t:
-            case Const() | Var() | Param():
-                # Fig. 8, constants, variables, parameters: ⦇c⦈ = ⦇x⦈ = 0, ⦇z⦈ = γ'(z): no jump
-                return ONE
-            case Add(a, b):
-                # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈: summands never multiply
-                out = self.products(a, env) | self.products(b, env)
-                if len(out) > MAX_PRODUCTS:
-                    self.truncated = True
-                    out = frozenset(sorted(out, key=lambda p: sorted(p.ids))[:MAX_PRODUCTS])
-                return out
-            case Mul(a, b):
-                # Fig. 8, product: ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧: each delta meets the other factor's jumps
-                return self.times(self.products(a, env), self.products(b, env))
-            case Prim(_, a):
-                # chain rule (LANGUAGE.md §1): f'(⟦a⟧)·⦇a⦈, and f'(⟦a⟧) jumps wherever a does
-                A = self.products(a, env)
-                return self.times(A, A, t.span)
-            case Pow(a, k):
-                # chain rule for t ^ k: k·t^(k−1)·⦇t⦈ (no jump left for k = 1, nothing for k = 0)
-                if k == 0:
-                    return ONE
-                A = self.products(a, env)
-                return A if k == 1 else self.times(A, A, t.span)
-            case IfGe0(_, s, r):
-                # Fig. 8, conditional on a variable-free condition: no delta in the variables
-                return self.products(s, env) | self.products(r, env)
-            case IfDiffeo(_, s, r):
-                # Fig. 8, diffeomorphic conditional: δ(π₀Ψ̂)·(D_γ π₀Ψ̂)·T⟦s⟧−⟦r⟧ plus the branches
-                # selected by [π₀Ψ̂ ≥ 0]: the condition multiplies every condition of both branches
-                i = self.add(t, env)
-                return frozenset(Product(m.ids | {i}, m.squared) for m in self.products(s, env) | self.products(r, env))
-            case Let(name, bound, body):
-                # Fig. 8, let: ⦇s⦈ with z ↦ ⟦t⟧; conditions in s see the bound value
-                return self.products(body, {**env, name: to_sympy(bound, env)})
-            case Call():
-                raise ValueError("the transversality checker needs the inlined program (no Call nodes)")
-        raise TypeError(f"not a core term: {t!r}")
-
-
-def call_sites(loaded) -> list[tuple[Span | None, tuple[Span, ...]]] | None:
-    """Each conditional of the main program in pre-order (as :func:`collect` visits the inlined
-    program), with the ``Call`` sites of the elaborated program it was inlined through."""
-    from .core import children
-
-    main = getattr(loaded, "main", None)
-    if main is None or main.program is None:
-        return None
-    out: list = []
-
-    def walk(t: Term, stack: tuple[Span, ...], depth: int):
-        if depth > 200:
-            raise RecursionError
-        match t:
-            case Call(module, name, _):
-                d = loaded.modules[module].defs[name]
-                walk(d.body, stack + ((t.span,) if t.span is not None else ()), depth + 1)
-            case IfDiffeo(_, s, r):
-                out.append((t.span, stack))
-                walk(s, stack, depth + 1)
-                walk(r, stack, depth + 1)
-            case Let(_, _, body):
-                walk(body, stack, depth + 1)
-            case IfGe0(_, s, r):
-                walk(s, stack, depth + 1)
-                walk(r, stack, depth + 1)
-            case _:
-                for ch in children(t):
-                    walk(ch, stack, depth + 1)
-
-    try:
-        walk(main.program.body, (), 0)
-    except (KeyError, RecursionError):
-        return None
-    return out
-
-
-def _factors(t: Term) -> list[Term]:
-    return _factors(t.left) + _factors(t.right) if isinstance(t, Mul) else [t]
-
-
-def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] | None = None) -> Collected:
-    """The conditions of ``program`` and the products they form (see the module docstring).
-
-    ``sites`` (from :func:`call_sites`): for each conditional in pre-order, its span and the
-    call sites it was inlined through; attached to the occurrences when they line up."""
-    c = _Collector(program)
-    prods = c.products(program.body, {})
-    if sites is not None and len(sites) == len(c.occurrences) and all(
-            s == o.node_span for (s, _), o in zip(sites, c.occurrences)):
-        for (_, stack), o in zip(sites, c.occurrences):
-            o.sites = stack
-    # The domain's bounds are the leading factors [x ≥ lo]·[hi ≥ x] of the body (§6, §8.3).
-    bounds = {}
-    for i, (x, (lo, hi)) in enumerate(zip(program.variables, program.box)):
-        xs = symbol(x)
-        try:
-            bounds[x] = ((xs - to_sympy(lo), f"{x} >= {sp.sstr(to_sympy(lo))}", (i, 0)),
-                         (to_sympy(hi) - xs, f"{x} <= {sp.sstr(to_sympy(hi))}", (i, 1)))
-        except Exception:  # a bound that is not a smooth term: nothing to label
-            continue
-    n_top = 0
-    for fac in _factors(program.body):
-        if not isinstance(fac, IfDiffeo):
-            break
-        n_top += 1
-    for occ in c.occurrences[:n_top]:
-        for pair in bounds.values():
-            for expr, text, at in pair:
-                if occ.bound is None and sp.expand(occ.f - expr) == 0:
-                    occ.bound, occ.bound_at = text, at
-    return Collected(c.occurrences, prods, tuple(program.variables), c.truncated)
-
-
-# ----------------------------------------------------------------------------------------------
-# 2. Classification helpers
-
-
-def _restrict(expr: sp.Expr, branch) -> sp.Expr:
-    comps, _ = branch
-    return expr.xreplace(comps)
-
-
-def _xsyms(variables) -> tuple[sp.Symbol, ...]:
-    return tuple(symbol(x) for x in variables)
-
-
-def _moving(occ: Occurrence, variables) -> bool:
-    """Does the zero set move with the parameters (is ``D_γ π₀Ψ̂`` nonzero somewhere on it)?"""
-    if occ._moving is None:
-        xs = set(_xsyms(variables))
-        params = [s for s in occ.f.free_symbols if s not in xs]
-        occ._moving = False
-        for p in params:
-            d = sp.diff(occ.f, p)
-            for br in occ.branches:
-                if not vanishes(_restrict(d, br), occ.uprime + tuple(params), br[1]):
-                    occ._moving = True
-                    return True
-    return occ._moving
-
-
-def _params_of(*occs: Occurrence, variables) -> list[sp.Symbol]:
-    xs = set(_xsyms(variables))
-    out: set[sp.Symbol] = set()
-    for o in occs:
-        out |= {s for s in o.f.free_symbols if s not in xs}
-        for comps, guards in o.branches:
-            for e in list(comps.values()) + list(guards):
-                out |= {s for s in e.free_symbols if s not in xs and s not in set(o.uprime)}
-    return sorted(out, key=str)
-
-
-def _orientation(c: Occurrence, g: Occurrence, branch, variables, fixed: dict | None = None) -> int:
-    """+1 when the two conditions are ≥ 0 on the same side of their common zero set, −1 when on
-    opposite sides (sign of ∇f·∇g there), 0 when it cannot be told."""
-    xs = _xsyms(variables)
-    dot = sum(sp.diff(c.f, x) * sp.diff(g.f, x) for x in xs)
-    e = _restrict(dot, branch)
-    if fixed:
-        e = e.subs(fixed)
-    syms = e.free_symbols
-    vals = algebra.spot_values(e, syms, [gd.subs(fixed or {}) for gd in branch[1]], seed=7)
-    vals = [v.real for v in vals if abs(v.real) > 1e-9]
-    if not vals:
-        return 0
-    pos = sum(1 for v in vals if v > 0)
-    return 1 if pos * 2 >= len(vals) else -1
-
-
-def _in_box(xvals: Mapping[sp.Symbol, sp.Expr], box, point, variables) -> bool:
-    tol = 1e-9
-    for x, (lo, hi) in zip(variables, box):
-        try:
-            v = complex(sp.sympify(xvals[symbol(x)]).subs(point).evalf())
-            lo_v = float(lo.subs(point)) if lo.free_symbols else float(lo)
-            hi_v = float(hi.subs(point)) if hi.free_symbols else float(hi)
-        except (TypeError, ValueError, KeyError):
-            return True  # cannot tell: assume it can happen
-        if abs(v.imag) > 1e-9 or v.real < lo_v - tol or v.real > hi_v + tol:
-            return False
-    return True
-
-
-def _meets_box(c: Occurrence, branch, box, point, variables, extra_eq: sp.Expr | None = None) -> bool:
-    """Does the branch's piece of c's zero set meet the closed box at the parameter ``point``?"""
-    comps, guards = branch
-    if not c.uprime:
-        if any(_num(gd.subs(point)) < 0 for gd in guards if _num(gd.subs(point)) is not None):
-            return False
-        return _in_box(comps, box, point, variables)
-    # Sample the box, map each sample to u′ (the other components of Ψ̂), come back to the zero set.
-    import random
-
-    rng = random.Random(3)
-    fwd = [to_sympy(t) for t in c.psi.forward[1:]]
-    xs = _xsyms(variables)
-    boxv = []
-    for lo, hi in box:
-        lo_v, hi_v = _num(lo.subs(point)), _num(hi.subs(point))
-        if lo_v is None or hi_v is None:
-            return True
-        boxv.append((lo_v, hi_v))
-    for _ in range(60):
-        xpt = {x: sp.Float(rng.uniform(lo, hi), 12) for x, (lo, hi) in zip(xs, boxv)}
-        upt = {u: F.subs(point).subs(xpt) for u, F in zip(c.uprime, fwd)}
-        if any(_num(gd.subs(point).subs(upt)) is None or _num(gd.subs(point).subs(upt)) < 0 for gd in guards):
-            continue
-        image = {x: e.subs(point).subs(upt) for x, e in comps.items()}
-        if extra_eq is not None:
-            v = _num(extra_eq.subs(point).subs(upt))
-            if v is None or abs(v) > 1e-7:
-                continue
-        if _in_box(image, box, {}, variables):
-            return True
-    return False
-
-
-def _num(e) -> float | None:
-    try:
-        v = complex(sp.sympify(e).evalf())
-    except (TypeError, ValueError):
-        return None
-    if abs(v.imag) > 1e-9:
-        return None
-    return v.real
-
-
-def _is_linear(f: sp.Expr, xs) -> bool:
-    try:
-        return sp.Poly(f, *xs).total_degree() <= 1
-    except (sp.PolynomialError, sp.GeneratorsNeeded):
-        return False
-
-
-def _span_key(span: Span | None) -> tuple:
-    return (span.path, span.line, span.col) if span is not None else ("", 0, 0)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -477,10 +182,8 @@ class _Checker:
         if psi.solved_for and len(occ.branches) == 1:
             back = {u: to_sympy(fw) for u, fw in zip(occ.uprime, psi.forward[1:])}
             v = symbol(psi.solved_for)
-            try:
+            if v in occ.branches[0][0]:
                 return f"{psi.solved_for} = {sp.sstr(occ.branches[0][0][v].xreplace(back))}"
-            except Exception:
-                pass
         return f"{sp.sstr(occ.f)} = 0"
 
     def param_names(self, *occs: Occurrence) -> tuple[str, ...]:
@@ -610,8 +313,8 @@ class _Checker:
         """Is the parameter point in this relation's set, with the common zero set inside the box?"""
         if self.point is None:
             return False
-        sol, br, e = rel
-        comps, guards = br
+        _, br, e = rel
+        guards = br[1]
         try:
             at = e.subs(self.point)
             if not vanishes(at, c.uprime, [gd.subs(self.point) for gd in guards]):
@@ -753,7 +456,7 @@ class _Checker:
             params = sorted(t.free_symbols, key=str)
             names = tuple(s.name for s in params)
             try:
-                sols = algebra.timed(lambda: sp.solve(t, params, dict=True)) if params else []
+                sols = algebra.timed(lambda t=t, params=params: sp.solve(t, params, dict=True)) if params else []
             except Undecided as u:
                 self.undecided(c, None, str(u))
                 continue
@@ -797,7 +500,7 @@ def _domain_spans(loaded, sources) -> dict[tuple[int, int], Span]:
         return {}
     try:
         surface = parse_module(text, loaded.main.path)
-    except Exception:
+    except LangurError:
         return {}
     out = {}
     if surface.program is not None and surface.program.domain:

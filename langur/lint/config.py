@@ -20,10 +20,11 @@ from __future__ import annotations
 
 import fnmatch
 import os
-import tomllib
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path, PurePosixPath
+
+import tomllib
 
 
 class ConfigError(Exception):
@@ -39,7 +40,7 @@ class Config:
     source: Path | None = None
     extra: dict = field(default_factory=dict, compare=False)
 
-    def with_cli(self, select: list[str] | None, ignore: list[str] | None) -> "Config":
+    def with_cli(self, select: list[str] | None, ignore: list[str] | None) -> Config:
         return Config(tuple(select) if select else self.select, self.ignore + tuple(ignore or ()),
                       self.per_file_ignores, self.root, self.source)
 

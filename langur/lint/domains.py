@@ -18,8 +18,8 @@ A sampling check can miss a tiny bad region: it reports what it sees, never clai
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from fractions import Fraction
-from typing import Mapping
 
 import numpy as np
 
@@ -79,9 +79,7 @@ class _Eval:
             case Prim(op, a):
                 # LANGUAGE.md §1, primitive
                 v = self.value(a, mask)
-                if op == "log":
-                    self.flag(t, "its argument is negative", mask & (v < 0))
-                elif op == "sqrt":
+                if op == "log" or op == "sqrt":
                     self.flag(t, "its argument is negative", mask & (v < 0))
                 elif op == "tan":
                     c = np.cos(v)

@@ -15,7 +15,7 @@ but the absence of one.
 from __future__ import annotations
 
 import re
-from typing import Mapping
+from collections.abc import Mapping
 
 from ..diagnostics import Diagnostic
 

@@ -11,7 +11,7 @@ cached per file and direction, and every call is time-boxed.
 from __future__ import annotations
 
 import math
-from typing import Mapping
+from collections.abc import Mapping
 
 from .algebra import describe_point
 

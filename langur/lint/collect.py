@@ -1,0 +1,240 @@
+"""Collection for the transversality checker: which diffeomorphic conditions multiply.
+
+Paper Fig. 8 (the derivative denotation) multiplies the delta of a condition by the other factors
+of a product, by the jump ``T⟦s⟧ − ⟦r⟧`` of its branches (nesting), and — through the chain rule —
+by ``f'(⟦t⟧)`` for a primitive or a power of a discontinuous ``t``, which jumps on the same set
+(paper §7.3.2).  Summands never multiply.  :func:`collect` computes, for a pure core program, the
+conditions (:class:`Occurrence`, with π₀Ψ̂ and the inverse branches as sympy expressions) and the
+products they form (:class:`Product`), and marks the domain's bounds (LANGUAGE.md §6, §8.3).
+:func:`call_sites` recovers, from the elaborated program, the def calls each condition was
+inlined through, so that messages point at the user's text.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from ..core import (
+    Add,
+    Call,
+    Const,
+    Diffeo,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Program,
+    Term,
+    Var,
+    extend_diffeo,
+)
+from ..diagnostics import Span
+from ..syntax.sympy_bridge import NotSmooth, symbol, to_sympy
+
+#: At most this many products of conditions are tracked (beyond: X310, analysis incomplete).
+MAX_PRODUCTS = 4000
+
+# ----------------------------------------------------------------------------------------------
+# 1. Collection
+
+
+@dataclass
+class Occurrence:
+    """One diffeomorphic conditional of the program (one node of the inlined core term)."""
+
+    index: int
+    psi: Diffeo
+    span: Span | None
+    f: sp.Expr  # π₀Ψ̂ over variable and declared-parameter symbols (let-bound names replaced)
+    branches: tuple[tuple[dict, tuple], ...]  # ({x: expr over u′}, guards over u′) at u₀ = 0
+    uprime: tuple[sp.Symbol, ...]  # the inputs u₁… that parameterize the zero set
+    nonzero: tuple[sp.Expr, ...]
+    bound: str | None = None  # "x >= 0" when this is a bound of the domain of integration
+    bound_at: tuple[int, int] | None = None  # (variable index, 0 lower / 1 upper)
+    sites: tuple[Span, ...] = ()  # call sites (outermost first) when it comes from a def's body
+    node_span: Span | None = None  # the whole conditional (the condition alone is ``span``)
+    _moving: bool | None = field(default=None, repr=False)
+
+
+@dataclass(frozen=True)
+class Product:
+    """A monomial of the derivative's structure: the conditions multiplying one another.
+
+    ``squared``: occurrences multiplied by themselves (``[x<t]^2``), with the span of the power
+    or primitive that did it."""
+
+    ids: frozenset[int]
+    squared: frozenset[tuple[int, Span | None]] = frozenset()
+
+
+ONE = frozenset({Product(frozenset())})
+
+
+@dataclass
+class Collected:
+    occurrences: list[Occurrence]
+    products: frozenset[Product]
+    variables: tuple[str, ...]
+    truncated: bool = False
+
+
+class _Collector:
+    def __init__(self, program: Program):
+        self.program = program
+        self.variables = program.variables
+        self.occurrences: list[Occurrence] = []
+        self.top: dict[int, int] = {}  # id(node) of a top-level factor → occurrence index
+        self.truncated = False
+
+    def add(self, node: IfDiffeo, env: dict[str, sp.Expr]) -> int:
+        psi = node.psi
+        if set(psi.variables) != set(self.variables):
+            psi = extend_diffeo(psi, tuple(self.variables))
+        f = to_sympy(psi.forward[0], env)
+        zero = {**env, psi.inputs[0]: sp.Integer(0)}
+        branches = []
+        for b in psi.branches:
+            comps = {symbol(x): to_sympy(c, zero) for x, c in zip(psi.variables, b.components)}
+            guards = tuple(to_sympy(g, zero) for g in b.guards)
+            branches.append((comps, guards))
+        occ = Occurrence(
+            index=len(self.occurrences), psi=psi, span=node.psi.span or node.span, f=f, branches=tuple(branches),
+            node_span=node.span,
+            uprime=tuple(symbol(u) for u in psi.inputs[1:]),
+            nonzero=tuple(to_sympy(t, env) for t in psi.nonzero),
+        )
+        self.occurrences.append(occ)
+        return occ.index
+
+    def times(self, A: frozenset[Product], B: frozenset[Product], site: Span | None = None) -> frozenset[Product]:
+        out = set()
+        for m in A:
+            for n in B:
+                both = m.ids & n.ids
+                out.add(Product(m.ids | n.ids, m.squared | n.squared | frozenset((i, site) for i in both)))
+                if len(out) > MAX_PRODUCTS:
+                    self.truncated = True
+                    return frozenset(out)
+        return frozenset(out)
+
+    def products(self, t: Term, env: dict[str, sp.Expr]) -> frozenset[Product]:
+        """Which conditions multiply in ``t`` (one case per term former of Fig. 6 / Fig. 8)."""
+        match t:
+            case Const() | Var() | Param():
+                # Fig. 8, constants, variables, parameters: ⦇c⦈ = ⦇x⦈ = 0, ⦇z⦈ = γ'(z): no jump
+                return ONE
+            case Add(a, b):
+                # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈: summands never multiply
+                out = self.products(a, env) | self.products(b, env)
+                if len(out) > MAX_PRODUCTS:
+                    self.truncated = True
+                    out = frozenset(sorted(out, key=lambda p: sorted(p.ids))[:MAX_PRODUCTS])
+                return out
+            case Mul(a, b):
+                # Fig. 8, product: ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧: each delta meets the other factor's jumps
+                return self.times(self.products(a, env), self.products(b, env))
+            case Prim(_, a):
+                # chain rule (LANGUAGE.md §1): f'(⟦a⟧)·⦇a⦈, and f'(⟦a⟧) jumps wherever a does
+                A = self.products(a, env)
+                return self.times(A, A, t.span)
+            case Pow(a, k):
+                # chain rule for t ^ k: k·t^(k−1)·⦇t⦈ (no jump left for k = 1, nothing for k = 0)
+                if k == 0:
+                    return ONE
+                A = self.products(a, env)
+                return A if k == 1 else self.times(A, A, t.span)
+            case IfGe0(_, s, r):
+                # Fig. 8, conditional on a variable-free condition: no delta in the variables
+                return self.products(s, env) | self.products(r, env)
+            case IfDiffeo(_, s, r):
+                # Fig. 8, diffeomorphic conditional: δ(π₀Ψ̂)·(D_γ π₀Ψ̂)·T⟦s⟧−⟦r⟧ plus the branches
+                # selected by [π₀Ψ̂ ≥ 0]: the condition multiplies every condition of both branches
+                i = self.add(t, env)
+                return frozenset(Product(m.ids | {i}, m.squared) for m in self.products(s, env) | self.products(r, env))
+            case Let(name, bound, body):
+                # Fig. 8, let: ⦇s⦈ with z ↦ ⟦t⟧; conditions in s see the bound value
+                return self.products(body, {**env, name: to_sympy(bound, env)})
+            case Call():
+                raise ValueError("the transversality checker needs the inlined program (no Call nodes)")
+        raise TypeError(f"not a core term: {t!r}")
+
+
+def call_sites(loaded) -> list[tuple[Span | None, tuple[Span, ...]]] | None:
+    """Each conditional of the main program in pre-order (as :func:`collect` visits the inlined
+    program), with the ``Call`` sites of the elaborated program it was inlined through."""
+    from ..core import children
+
+    main = getattr(loaded, "main", None)
+    if main is None or main.program is None:
+        return None
+    out: list = []
+
+    def walk(t: Term, stack: tuple[Span, ...], depth: int):
+        if depth > 200:
+            raise RecursionError
+        match t:
+            case Call(module, name, _):
+                d = loaded.modules[module].defs[name]
+                walk(d.body, stack + ((t.span,) if t.span is not None else ()), depth + 1)
+            case IfDiffeo(_, s, r):
+                out.append((t.span, stack))
+                walk(s, stack, depth + 1)
+                walk(r, stack, depth + 1)
+            case Let(_, _, body):
+                walk(body, stack, depth + 1)
+            case IfGe0(_, s, r):
+                walk(s, stack, depth + 1)
+                walk(r, stack, depth + 1)
+            case _:
+                for ch in children(t):
+                    walk(ch, stack, depth + 1)
+
+    try:
+        walk(main.program.body, (), 0)
+    except (KeyError, RecursionError):
+        return None
+    return out
+
+
+def _factors(t: Term) -> list[Term]:
+    return _factors(t.left) + _factors(t.right) if isinstance(t, Mul) else [t]
+
+
+def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] | None = None) -> Collected:
+    """The conditions of ``program`` and the products they form (see the module docstring).
+
+    ``sites`` (from :func:`call_sites`): for each conditional in pre-order, its span and the
+    call sites it was inlined through; attached to the occurrences when they line up."""
+    c = _Collector(program)
+    prods = c.products(program.body, {})
+    if sites is not None and len(sites) == len(c.occurrences) and all(
+            s == o.node_span for (s, _), o in zip(sites, c.occurrences)):
+        for (_, stack), o in zip(sites, c.occurrences):
+            o.sites = stack
+    # The domain's bounds are the leading factors [x ≥ lo]·[hi ≥ x] of the body (§6, §8.3).
+    bounds = {}
+    for i, (x, (lo, hi)) in enumerate(zip(program.variables, program.box)):
+        xs = symbol(x)
+        try:
+            bounds[x] = ((xs - to_sympy(lo), f"{x} >= {sp.sstr(to_sympy(lo))}", (i, 0)),
+                         (to_sympy(hi) - xs, f"{x} <= {sp.sstr(to_sympy(hi))}", (i, 1)))
+        except (NotSmooth, KeyError):  # a bound that is not a smooth term: nothing to label
+            continue
+    n_top = 0
+    for fac in _factors(program.body):
+        if not isinstance(fac, IfDiffeo):
+            break
+        n_top += 1
+    for occ in c.occurrences[:n_top]:
+        for pair in bounds.values():
+            for expr, text, at in pair:
+                if occ.bound is None and sp.expand(occ.f - expr) == 0:
+                    occ.bound, occ.bound_at = text, at
+    return Collected(c.occurrences, prods, tuple(program.variables), c.truncated)
+
+
