@@ -1,0 +1,252 @@
+"""The transversality checker (paper Def. 7.2, §7.3; LANGUAGE.md §5): langur.transversality.
+
+Expected classifications come from the paper and from each degenerate example's own comment
+(``shared/examples/degenerate/*.lgr``); tangency and triple points are computed by hand below.
+"""
+
+from fractions import Fraction
+
+import pytest
+import sympy as sp
+
+from langur import transversality as tv
+from langur.core import Add, Const, Diffeo, IfDiffeo, InverseBranch, Mul, Param, Program, Var, const, sub
+from langur.frontend import load, load_text
+from langur.lint import algebra
+from langur.lint.prove import Prover
+from paths import DEGENERATE, EXAMPLES
+
+
+def check_file(path, at=None):
+    return tv.check_loaded(load(str(path)), at=at)
+
+
+def check_text(text, at=None, name="t.lgr"):
+    return tv.check_loaded(load_text(text, name), at=at, sources={name: text})
+
+
+def codes(findings):
+    return sorted((f.code, f.severity) for f in findings)
+
+
+# ---------------------------------------------------------------------------------------------
+# Hand-built core terms (no front end): what multiplies
+
+
+def ge(a: str) -> Diffeo:
+    """[x ≥ a] in one variable: Ψ̂(x) = x − a, inverse x = a + u0."""
+    return Diffeo(("x",), (sub(Var("x"), Param(a)),), ("u0",), (InverseBranch((Add(Param(a), Var("u0")),)),),
+                  solved_for="x")
+
+
+def ind(psi):
+    return IfDiffeo(psi, const(1), const(0))
+
+
+def program(body):
+    return Program(body, ("x",), ((const(0), const(1)),))
+
+
+def test_products_of_a_product_and_of_a_sum():
+    prod = tv.collect(program(Mul(ind(ge("a")), ind(ge("a")))))
+    assert [sorted(p.ids) for p in prod.products] == [[0, 1]]
+    summ = tv.collect(program(Add(ind(ge("a")), ind(ge("a")))))
+    assert sorted(sorted(p.ids) for p in summ.products) == [[0], [1]]
+
+
+def test_nesting_and_powers_multiply():
+    nested = tv.collect(program(IfDiffeo(ge("a"), ind(ge("b")), const(0))))
+    # the outer condition multiplies the inner one (then-branch) and nothing (else-branch 0)
+    assert sorted(sorted(p.ids) for p in nested.products) == [[0], [0, 1]]
+    from langur.core import Pow, Prim
+
+    squared = tv.collect(program(Pow(ind(ge("a")), Fraction(2))))
+    (p,) = squared.products
+    assert p.ids == {0} and {i for i, _ in p.squared} == {0}
+    exp = tv.collect(program(Prim("exp", ind(ge("a")))))
+    assert {i for p in exp.products for i, _ in p.squared} == {0}
+    linear = tv.collect(program(Pow(ind(ge("a")), Fraction(1))))
+    assert all(not p.squared for p in linear.products)
+
+
+def test_hand_built_coincidence_and_sum():
+    params = {"a": Fraction(1, 2)}
+    assert codes(tv.check_program(program(Mul(ind(ge("a")), ind(ge("a")))), params)) == [("X301", "error")]
+    assert tv.check_program(program(Add(ind(ge("a")), ind(ge("a")))), params) == []
+    # [x ≥ a]·[x ≥ b]: coincident exactly when a = b (LANGUAGE.md §5)
+    found = tv.check_program(program(Mul(ind(ge("a")), ind(ge("b")))), {"a": Fraction(1, 5), "b": Fraction(3, 5)})
+    assert codes(found) == [("X304", "warning")] and "when a = b" in found[0].message
+
+
+# ---------------------------------------------------------------------------------------------
+# The shared examples, classified as their comments say
+
+
+def test_coincident_is_an_error_pointing_at_both():
+    (f,) = check_file(DEGENERATE / "coincident.lgr")
+    assert (f.code, f.severity) == ("X301", "error")
+    # the second [x >= a] (col 25) is the primary position, the first (col 14) the related one
+    assert (f.span.line, f.span.col) == (5, 25)
+    assert [(r.line, r.col) for r in f.related] == [(5, 14)]
+    assert "5:14" in f.message and "x = a" in f.message and "twice" in f.message
+
+
+def test_nested_is_an_error():
+    (f,) = check_file(DEGENERATE / "nested.lgr")
+    assert (f.code, f.severity) == ("X301", "error")
+    assert f.span.line == 4 and f.related and f.related[0].line == 4
+
+
+def test_tangent_is_a_measure_zero_warning_at_the_hand_computed_point():
+    # y = x² + a and y = 2x² + a meet where x² = 0: the point (0, a), normals (−2x, 1), (4x, −1)
+    # are dependent exactly there.
+    (f,) = check_file(DEGENERATE / "tangent.lgr")
+    assert (f.code, f.severity) == ("X302", "warning")
+    assert "(x, y) = (0, a)" in f.message
+    assert "measure zero" in f.message or "null set" in f.message
+    assert "Theorem 8.1" in f.message
+
+
+def test_three_lines_is_a_measure_zero_warning():
+    # x = a, y = a and x + y = 2a meet at (a, a): three normals in ℝ² are dependent.
+    (f,) = check_file(DEGENERATE / "three_lines.lgr")
+    assert (f.code, f.severity) == ("X303", "warning")
+    assert "(x, y) = (a, a)" in f.message and len(f.related) == 2
+
+
+def test_boundary_names_the_bad_set_and_is_an_error_at_it():
+    (f,) = check_file(DEGENERATE / "boundary.lgr")  # default theta = 1 lies in the set
+    assert (f.code, f.severity) == ("X304", "warning")
+    assert "theta ∈ {0, 1}" in f.message
+    (g,) = check_file(DEGENERATE / "boundary.lgr", at={"theta": 1.0})
+    assert (g.code, g.severity) == ("X305", "error")
+    (h,) = check_file(DEGENERATE / "boundary.lgr", at={"theta": 0.0})
+    assert (h.code, h.severity) == ("X305", "error") and "x >= 0" in h.message
+    assert check_file(DEGENERATE / "boundary.lgr", at={"theta": 0.5}) == []
+
+
+def test_equal_params_names_the_bad_set_and_is_an_error_at_it():
+    (f,) = check_file(DEGENERATE / "equal_params.lgr")
+    assert (f.code, f.severity) == ("X304", "warning") and "when a = b" in f.message
+    (g,) = check_file(DEGENERATE / "equal_params.lgr", at={"a": 0.3, "b": 0.3})
+    assert (g.code, g.severity) == ("X305", "error")
+    # a = b = 5: the common jump x = 5 lies outside the domain [0, 1]: no error, the set is named
+    (h,) = check_file(DEGENERATE / "equal_params.lgr", at={"a": 5.0, "b": 5.0})
+    assert (h.code, h.severity) == ("X304", "warning")
+
+
+@pytest.mark.parametrize("name", ["fig1.lgr", "fig9.lgr", "renderer.lgr", "risk.lgr", "densities.lgr",
+                                  "shader.lgr", "lin_shader.lgr", "quad_shader.lgr"])
+def test_the_other_examples_are_clean(name):
+    assert check_file(EXAMPLES / name) == []
+
+
+def test_def_call_sites_are_the_primary_position():
+    text = "def w(x: var, a: param) = [x >= a]\nparam a = 0.5\nint ([0, 1]) w(x, a) * w(x, a) d(x)"
+    (f,) = check_text(text)
+    assert f.code == "X301"
+    assert (f.span.line, f.span.col) == (3, 24) and (f.related[0].line, f.related[0].col) == (3, 14)
+    assert "1:27" in f.message  # the def body's condition
+
+
+# ---------------------------------------------------------------------------------------------
+# Every code on small programs
+
+
+@pytest.mark.parametrize("text", [
+    "param t = 0.5\nint ([0, 1]) [x < t]^2 d(x)",                                    # power
+    "param a = 0.5\nint ([0, 1]) exp([x >= a]) d(x)",                                 # primitive
+    "param t = 0.5\nint ([0, 1]) [x >= t] * [x < t] d(x)",                            # opposite sides
+    "param a = 0.25\nint ([0, 1]) let s = 2*a in [x >= s] * [2*x >= 4*a] d(x)",       # through let
+    "param c = 0.1\nint ([0, 1], [0, 1]) [x + y >= c] * [2*x + 2*y - 2*c >= 0] d(x, y)",
+    "param a = 0.5\nint ([0, 1]) ifge0 x - a then 0 else (ifge0 a - x then 1 else 0) d(x)",
+])
+def test_x301_coincidence(text):
+    found = check_text(text)
+    assert ("X301", "error") in codes(found)
+
+
+def test_teg_issue_25_square_of_a_difference():
+    # ½∫₀¹([x<a] − [x<t])²: the squares [x<a]², [x<t]² are coincident for every value;
+    # the cross term [x<a][x<t] only when a = t.
+    found = check_text("param a = 0.3, t = 0.6\nint ([0, 1]) 0.5 * ([x < a] - [x < t])^2 d(x)")
+    assert codes(found) == [("X301", "error"), ("X301", "error"), ("X304", "warning")]
+    assert "when a = t" in [f for f in found if f.code == "X304"][0].message
+
+
+def test_summands_do_not_multiply():
+    assert check_text("param a = 0.5\nint ([0, 1]) [x >= a] + [x >= a] d(x)") == []
+
+
+def test_x302_osculating_circles():
+    # x²+y² = 1 and (x−a)²+y² = (1−a)² are tangent at (1, 0) for every a (hand computation:
+    # the normals (2x, 2y), (2(x−a), 2y) are dependent iff a·y = 0).
+    (f,) = check_text("param a = 0.5\nint ([-2, 2], [-2, 2]) [x^2 + y^2 <= 1] * [(x - a)^2 + y^2 <= (1 - a)^2] d(x, y)")
+    assert f.code == "X302" and "(x, y) = (1, 0)" in f.message
+
+
+def test_transverse_circles_are_clean():
+    assert check_text("param r = 0.5\nint ([-1, 1], [-1, 1]) [x^2 + y^2 <= r] * [(x - 0.2)^2 + y^2 <= r] d(x, y)") == []
+
+
+def test_x306_and_x305_parameter_coefficient():
+    (f,) = check_text("param t = 2\nint ([0, 1]) [t*x >= 1] d(x)")
+    assert (f.code, f.severity) == ("X306", "warning") and "t = 0" in f.message
+    (g,) = check_text("param t = 2\nint ([0, 1]) [t*x >= 1] d(x)", at={"t": 0.0})
+    assert (g.code, g.severity) == ("X305", "error")
+
+
+def test_x307_primitive_outside_its_domain():
+    (f,) = check_text("param a = 1\nint ([-1, 1]) a * log(x) d(x)")
+    assert (f.code, f.severity) == ("X307", "warning") and "log(x)" in f.message
+    assert check_text("param a = 1\nint ([-1, 1]) if x > 0 then log(x) else 0 d(x)") == []
+    assert check_text("int ([0, 1]) log(x + 1) d(x)") == []
+    (g,) = check_text("int ([-1, 1]) 1 / x d(x)")
+    assert g.code == "X307" and "divides by zero" in g.message
+
+
+def test_x308_static_coincidence_is_harmless():
+    (f,) = check_text("int ([0, 1]) [x >= 0.5] * [x >= 0.5] d(x)")
+    assert (f.code, f.severity) == ("X308", "warning")
+
+
+def test_x310_when_sympy_cannot_decide(monkeypatch):
+    def undecided(*a, **k):
+        raise algebra.Undecided("sympy took longer than 2 s")
+
+    monkeypatch.setattr(tv, "bad_parameters", undecided)
+    found = check_text("param a = 0.3, b = 0.6\nint ([0, 1]) [x >= a] * [x >= b] d(x)")
+    assert found and {f.code for f in found} == {"X310"}
+
+
+# ---------------------------------------------------------------------------------------------
+# Helpers
+
+
+def test_describe_set():
+    a, b, th = sp.symbols("a b theta", real=True)
+    assert algebra.describe_set([{th: sp.Integer(1)}, {th: sp.Integer(0)}]) == "theta ∈ {0, 1}"
+    assert algebra.describe_set([{a: b}]) == "a = b"
+    assert algebra.describe_set([{a: sp.Integer(0)}, {a: b}]) == "a = 0 or a = b"
+
+
+def test_vanishes_and_bad_parameters():
+    u, a, b = sp.symbols("u a b", real=True)
+    assert algebra.vanishes((u + a) ** 2 - u**2 - 2 * a * u - a**2, [u, a])
+    assert not algebra.vanishes(u - a, [u, a])
+    # (a − b)·u + (a − b)² vanishes identically in u exactly when a = b
+    assert algebra.bad_parameters((a - b) * u + (a - b) ** 2, [u], [a, b]) == [{a: b}]
+
+
+def test_prove_says_whether_the_derivative_is_wrong():
+    # coincident.lgr at a = 0.5: D_a ∫₀¹[x ≥ a] dx = −1; the derivative denotation counts the
+    # jump twice: −2 (paper §7.3.1).  three_lines.lgr: Def. 7.2 fails on a null set only.
+    loaded = load(str(DEGENERATE / "coincident.lgr"))
+    (f,) = tv.check_loaded(loaded)
+    res = Prover(loaded.program, tv.point_of(loaded.params, {})).prove(f.params)
+    assert res["verdict"] == "wrong"
+    assert res["directions"]["a"]["d_denotation"] == pytest.approx(-1.0)
+    assert res["directions"]["a"]["derivative_denotation"] == pytest.approx(-2.0)
+    loaded = load(str(DEGENERATE / "three_lines.lgr"))
+    (f,) = tv.check_loaded(loaded)
+    assert Prover(loaded.program, tv.point_of(loaded.params, {})).prove(f.params)["verdict"] == "right"
