@@ -57,6 +57,10 @@ a single root, or on fixed bounds: the domain's indicators [x ≥ l(γ)] are sit
 (Leibniz rule), and points outside B score 0 through those indicators, evaluated at the point
 (``≥ 0`` holds at exactly 0, the paper's convention).
 
+Limits: if no finite box encloses a zero set's coordinates u' (Ψ̂'s other components have a pole
+over the domain), the boundary estimate is NaN rather than biased.  A ``var`` argument that is not
+a plain variable makes the program evaluate inlined (see :mod:`.link`).
+
 Standard errors and variance sources: the sample standard deviation over i.i.d. points / √N;
 for stratified designs Σ_h (f_h1 − f_h2)²/4 / S² (unbiased within-stratum variance); for
 randomized QMC the spread of the K = 16 independent randomizations' means / √K.  The regular

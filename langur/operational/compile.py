@@ -90,7 +90,8 @@ Fn = Callable[[Env], tuple]
 
 @dataclass
 class Unit:
-    """A compiled term: ``fn`` and its slots (pre-order: ``("site", None)`` or ``("call", (m, f))``)."""
+    """A compiled term: ``fn`` and its slots in pre-order: ``("site", None, ())`` or
+    ``("call", (module, def), which arguments are plain variables)``."""
 
     fn: Fn
     slots: list
@@ -172,7 +173,8 @@ def power_derivative(a, k: Fraction, v):
 
 
 def const_value(c: Const) -> float:
-    return math.pi if c.value == "pi" else float(c.value)
+    v = c.value
+    return math.pi if v == "pi" else v.numerator / v.denominator  # = float(Fraction): correctly rounded
 
 
 # -- dual-number helpers ------------------------------------------------------------------------
@@ -255,7 +257,7 @@ def _compile(t: Term, slots: list) -> Fn:
         case IfDiffeo(psi, then, orelse):
             # Fig. 8, diffeomorphic conditional: (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·D_γπ₀Ψ̂·γ'·(⟦s⟧−⟦r⟧)
             slot = len(slots)
-            slots.append(("site", None))
+            slots.append(("site", None, ()))
             fc = _compile(psi.forward[0], [])
             fs, fr = _compile(then, slots), _compile(orelse, slots)
 
@@ -301,7 +303,7 @@ def _compile(t: Term, slots: list) -> Fn:
         case Call(module, name, args):
             # §9, separate compilation: a link to a separately compiled def (see link.py)
             slot = len(slots)
-            slots.append(("call", (module, name)))
+            slots.append(("call", (module, name), tuple(isinstance(a, Var) for a in args)))
             return _compile_call(slot, module, name, args, slots)
     raise TypeError(f"not a core term: {t!r}")
 

@@ -113,7 +113,9 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str)
         des = design(rng, m, samples, method)
         region = site.sampler.region(box, p)
         if any(math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b) for a, b in region):
-            raise ValueError("cannot bound the zero set of a condition: its other coordinates are unbounded")
+            # no finite box encloses this zero set's coordinates (a pole of Ψ̂'s other components
+            # over the domain): no uniform design can sample it, so the estimate is undefined
+            return math.nan, math.nan
         if any(not (b > a) for a, b in region):
             continue
         volume, branches = site.sampler.points(des.points, region, p)

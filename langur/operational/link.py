@@ -2,8 +2,11 @@
 
 Every module's elaborated form (``Loaded.modules[name]``: its defs with ``Call`` links and its
 program) is compiled *per def* into a :class:`~langur.operational.compile.Unit` and cached under
-a key made of the def's content: ``(module source_hash, CoreDef)`` (structural equality and
-hashing of the frozen dataclasses; spans take no part).  A program is *linked* from compiled parts: a ``Call`` node evaluates its ``param``
+a key made of what determines the def's elaborated form: ``(module name, module source_hash,
+def name, import signature)`` — the module's own text and the *signatures* (argument kinds,
+declared diffeos) of what it imports, never the imported bodies (modules.py: "a module's
+elaborated form depends only on its own text and the signatures of what it imports").  A
+program seen again (the same Loaded or Program object) is found by identity first.  A program is *linked* from compiled parts: a ``Call`` node evaluates its ``param``
 arguments once in the caller (value and tangent, exactly as a ``let`` would) and runs the callee's
 compiled body in an environment where its ``var`` arguments are renamings of the caller's
 variables.  Swapping a module (``load(path, modules={"shader": ...})``) changes that module's
@@ -64,7 +67,7 @@ class Linked:
 class CompileCache:
     units: dict = field(default_factory=dict)
     linked: dict = field(default_factory=dict)
-    samplers: dict = field(default_factory=dict)
+    by_id: dict = field(default_factory=dict)
     compiled: list = field(default_factory=list)  # (kind, module, name) of every compilation
     hits: int = 0
     last_link: str | None = None
@@ -88,7 +91,7 @@ def reset_cache_stats() -> None:
 def clear_cache() -> None:
     CACHE.units.clear()
     CACHE.linked.clear()
-    CACHE.samplers.clear()
+    CACHE.by_id.clear()
     reset_cache_stats()
 
 
@@ -104,30 +107,44 @@ def _unit(key: tuple, term: Term, label: tuple) -> Unit:
 
 
 def _sampler(psi: Diffeo, variables: tuple[str, ...]) -> SiteSampler:
-    k = (psi, variables)
-    s = CACHE.samplers.get(k)
-    if s is None:
-        s = CACHE.samplers[k] = SiteSampler(psi, variables)
-    return s
+    return SiteSampler(psi, variables)
+
+
+def _memo_get(obj, sites: str):
+    hit = CACHE.by_id.get(id(obj))
+    if hit is not None and hit[0] is obj and hit[1] == sites:
+        CACHE.hits += 1
+        CACHE.last_link = hit[2].how
+        return hit[2]
+    return None
+
+
+def _memo_put(obj, sites: str, linked: "Linked") -> "Linked":
+    if len(CACHE.by_id) >= 64:
+        CACHE.by_id.pop(next(iter(CACHE.by_id)))
+    CACHE.by_id[id(obj)] = (obj, sites, linked)  # holds obj: its id cannot be reused meanwhile
+    CACHE.last_link = linked.how
+    return linked
 
 
 # -- the inlined program ------------------------------------------------------------------------
 
 def compile_program(program: Program) -> Linked:
     """Compile a pure core program (no ``Call``) once; cached by its content."""
+    hit = _memo_get(program, "")
+    if hit is not None:
+        return hit
     key = ("program", program)
     hit = CACHE.linked.get(key)
     if hit is not None:
         CACHE.hits += 1
-        CACHE.last_link = "inlined"
-        return hit
+        return _memo_put(program, "", hit)
     unit = _unit(("unit", program.body), program.body, ("program", None, None))
     sites = []
     collect_sites(program.body, {}, {}, program.variables, None, sites)
     linked = Linked(unit.fn, None, {}, program.variables, _box(program), sites, "inlined")
     CACHE.linked[key] = linked
-    CACHE.last_link = "inlined"
-    return linked
+    return _memo_put(program, "", linked)
 
 
 def _box(program: Program) -> list:
@@ -150,28 +167,33 @@ def link(loaded: Loaded, sites: str = "inlined") -> Linked:
     main = loaded.main
     if main.program is None or loaded.program is None:
         raise ValueError(f"module {main.name} has no program (no `int … d(…)`) to evaluate")
+    hit = _memo_get(loaded, sites)
+    if hit is not None:
+        return hit
     keys = {}
     for m in loaded.modules.values():
+        sig = _import_signature(m, loaded)
         for d in m.defs.values():
-            keys[(m.name, d.name)] = ("def", m.source_hash, d)
-    prog_key = ("program", main.source_hash, main.program)
-    defs = {(m.name, d.name): d for m in loaded.modules.values() for d in m.defs.values()}
-    if not _linkable(main.program, defs):
-        return compile_program(loaded.program)
+            keys[(m.name, d.name)] = ("def", m.name, m.source_hash, d.name, sig)
+    prog_key = ("program", main.name, main.source_hash, _import_signature(main, loaded))
     link_key = ("link", sites, prog_key, frozenset(keys.items()))
     hit = CACHE.linked.get(link_key)
     if hit is not None:
         CACHE.hits += 1
-        CACHE.last_link = "linked"
-        return hit
+        return _memo_put(loaded, sites, hit)
+    defs = {(m.name, d.name): d for m in loaded.modules.values() for d in m.defs.values()}
     units = {name: _unit(k, defs[name].body, ("def",) + name) for name, k in keys.items()}
     body = _unit(prog_key, main.program.body, ("program", main.name, None))
+    if not _linkable(body, units, defs):
+        linked = compile_program(loaded.program)
+        CACHE.linked[link_key] = linked
+        return _memo_put(loaded, sites, linked)
     counts: dict = {}
 
     def count(unit: Unit) -> list:
         """Offsets of the unit's slots within its own sites, and (last) its total."""
         offs, n = [], 0
-        for kind, target in unit.slots:
+        for kind, target, _ in unit.slots:
             offs.append(n)
             n += 1 if kind == "site" else total(target)
         offs.append(n)
@@ -187,39 +209,55 @@ def link(loaded: Loaded, sites: str = "inlined") -> Linked:
         d = defs[name]
         total(name)
         table[name] = (u.fn, counts[name], tuple(a for a, _ in d.args), tuple(k for _, k in d.args))
+    offsets = count(body)
     found: list[Site] = []
-    collect_sites(main.program.body, {}, {}, main.program.variables, defs, found)
     if sites == "inlined":
-        inl: list[Site] = []
-        collect_sites(loaded.program.body, {}, {}, loaded.program.variables, None, inl)
-        if len(inl) != len(found) or loaded.program.variables != main.program.variables:
-            return compile_program(loaded.program)  # the inliner changed the structure: evaluate it
-        found = inl
+        collect_sites(loaded.program.body, {}, {}, loaded.program.variables, None, found)
+        if len(found) != offsets[-1] or loaded.program.variables != main.program.variables:
+            linked = compile_program(loaded.program)  # the inliner changed the structure: evaluate it
+            CACHE.linked[link_key] = linked
+            return _memo_put(loaded, sites, linked)
+    else:
+        collect_sites(main.program.body, {}, {}, main.program.variables, defs, found)
     box = main.program.box
     if any(isinstance(s, Call) for lo, hi in box for t in (lo, hi) for s in subterms(t)):
         box = loaded.program.box
-    linked = Linked(body.fn, count(body), table, main.program.variables,
+    linked = Linked(body.fn, offsets, table, main.program.variables,
                     [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in box], found, "linked")
     CACHE.linked[link_key] = linked
-    CACHE.last_link = "linked"
-    return linked
+    return _memo_put(loaded, sites, linked)
 
 
-def _linkable(program: Program, defs: dict) -> bool:
-    """Every reachable call passes plain variables as its ``var`` arguments."""
-    seen, stack = set(), [program.body]
+def _import_signature(m, loaded: Loaded) -> tuple:
+    """What a module's elaborated form depends on besides its own text: the signatures of what
+    it imports (a def's argument kinds, a diffeo's definition), never their bodies."""
+    out = []
+    for local, (mod, name) in sorted(m.imports.items()):
+        other = loaded.modules.get(mod)
+        if other is None:
+            out.append((local, mod, name, None))
+        elif name in other.defs:
+            out.append((local, mod, name, tuple(other.defs[name].args)))
+        else:
+            out.append((local, mod, name, other.diffeos.get(name)))
+    return tuple(out)
+
+
+def _linkable(body: Unit, units: dict, defs: dict) -> bool:
+    """Every reachable call passes plain variables as its ``var`` arguments (from the slots)."""
+    seen, stack = set(), [body]
     while stack:
-        for t in subterms(stack.pop()):
-            if isinstance(t, Call):
-                d = defs.get((t.module, t.name))
-                if d is None:
-                    raise ValueError(f"unresolved call {t.module}.{t.name}")
-                for a, (_, kind) in zip(t.args, d.args):
-                    if kind == "var" and not isinstance(a, Var):
-                        return False
-                if (t.module, t.name) not in seen:
-                    seen.add((t.module, t.name))
-                    stack.append(d.body)
+        for kind, target, plain in stack.pop().slots:
+            if kind != "call":
+                continue
+            d = defs.get(target)
+            if d is None:
+                raise ValueError(f"unresolved call {target[0]}.{target[1]}")
+            if any(k == "var" and not ok for ok, (_, k) in zip(plain, d.args)):
+                return False
+            if target not in seen:
+                seen.add(target)
+                stack.append(units[target])
     return True
 
 

@@ -216,16 +216,18 @@ class SiteSampler:
         order = self.psi.inputs
         for comps, guards in self.branches:
             env = Env(inputs, params)
-            x = {v: np.broadcast_to(np.asarray(c(env)[0], dtype=float), (n,)) for v, c in zip(self.variables, comps)}
             valid = np.ones(n, dtype=bool)
             for g in guards:
                 valid &= np.asarray(g(env)[0]) >= 0
             jac = np.empty((n, len(comps), len(order)))
-            for i, u in enumerate(order):
+            x = {}
+            for i, u in enumerate(order):  # one forward-mode pass per input: column i of DΨ̂_b⁻¹
                 tenv = Env(inputs, params, dvars={u: 1.0}, mode=TANGENT)
                 for j, c in enumerate(comps):
-                    d = c(tenv)[1]
+                    v, d = c(tenv)
                     jac[:, j, i] = 0.0 if d is None else d
+                    if i == 0:
+                        x[self.variables[j]] = np.broadcast_to(np.asarray(v, dtype=float), (n,))
             weight = np.abs(jac[:, 0, 0]) if len(order) == 1 else np.abs(np.linalg.det(jac))
             out.append((x, weight, valid))
         return volume, out
