@@ -91,15 +91,20 @@ def _codes(value, what: str, source: Path) -> tuple[str, ...]:
 _KNOWN = {"select", "ignore", "per-file-ignores"}
 
 
-@lru_cache(maxsize=64)
 def _read(pyproject: Path) -> Config | None:
     try:
-        with open(pyproject, "rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as e:
-        raise ConfigError(f"{pyproject}: not valid TOML: {e}") from None
+        raw = pyproject.read_bytes()
     except OSError:
         return None
+    return _parse(pyproject, raw)
+
+
+@lru_cache(maxsize=64)
+def _parse(pyproject: Path, raw: bytes) -> Config | None:
+    try:
+        data = tomllib.loads(raw.decode("utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
+        raise ConfigError(f"{pyproject}: not valid TOML: {e}") from None
     table = data.get("tool", {}).get("langur") if isinstance(data.get("tool"), dict) else None
     if table is None:
         return None
