@@ -218,3 +218,32 @@ def test_swapping_the_shader_recompiles_one_def():
     estimate_value(ex("renderer.lgr"), {"c": -1.0}, samples=100)
     estimate_value(ex("renderer.lgr", shader="lin_shader.lgr"), {"c": -1.0}, samples=100)
     assert cache_stats()["compiled"] == []
+
+
+def test_defs_with_lets_module_params_and_param_expressions(tmp_path):
+    # lib: param k; h(t, a) = let q = a·k in [t ≤ q]·exp(t·k).  main: ∫∫_{[0,1]²} h(x, a)·h(y, a + 0.1).
+    # F(a, k) = G(a, k)·G(a + 0.1, k) with G(c, k) = ∫_0^{ck} e^{kt} dt = (e^{ck²} − 1)/k while ck ≤ 1;
+    # ∂G/∂c = k·e^{ck²}, ∂G/∂k = (2ck²·e^{ck²} − (e^{ck²} − 1))/k².  At a = 0.3, k = 2 both jumps are inside.
+    (tmp_path / "lib.lgr").write_text("param k = 2\ndef h(t: var, a: param) = let q = a * k in [t <= q] * exp(t * k)\n")
+    (tmp_path / "main.lgr").write_text("from lib import h\nparam a = 0.3\n"
+                                       "int ([0, 1], [0, 1]) h(x, a) * h(y, a + 0.1) d(x, y)\n")
+    L = load(str(tmp_path / "main.lgr"))
+    a, k = 0.3, 2.0
+
+    def G(c):
+        return (math.exp(c * k * k) - 1) / k
+
+    def Gc(c):
+        return k * math.exp(c * k * k)
+
+    def Gk(c):
+        return (2 * c * k * k * math.exp(c * k * k) - (math.exp(c * k * k) - 1)) / k ** 2
+
+    p = {"a": a, "k": k}
+    assert close(estimate_value(L, p, samples=N, seed=21), G(a) * G(a + 0.1))
+    for direction, expected in (({"a": 1}, Gc(a) * G(a + .1) + G(a) * Gc(a + .1)),
+                                ({"k": 1}, Gk(a) * G(a + .1) + G(a) * Gk(a + .1))):
+        linked = estimate_derivative(L, p, direction, samples=N, seed=21)
+        assert cache_stats()["last_link"] == "linked"
+        assert linked == estimate_derivative(L.program, p, direction, samples=N, seed=21)
+        assert close(linked, expected)

@@ -204,14 +204,29 @@ def _select(c, ds, dr):
 
 # -- the compiler: one match over the core AST, Fig. 8's order -----------------------------------
 
-def compile_term(t: Term) -> Unit:
-    """Compile ``t`` once; the result evaluates ⟦t⟧ and ⦇t⦈'s parts on arrays of points."""
-    slots: list = []
-    fn = _compile(t, slots)
-    return Unit(fn, slots)
+def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
+    """Compile ``t`` once; the result evaluates ⟦t⟧ and ⦇t⦈'s parts on arrays of points.
+
+    ``local``: for a def body, its param arguments; any other parameter it reads (its module's
+    declared params) is then looked up among the program's parameters (``env.root_params``), so a
+    linked call binds only its arguments.  ``None``: every parameter is in ``env.params``."""
+    ctx = _Ctx([], local)
+    fn = _compile(t, ctx)
+    return Unit(fn, ctx.slots)
 
 
-def _compile(t: Term, slots: list) -> Fn:
+class _Ctx:
+    __slots__ = ("slots", "local")
+
+    def __init__(self, slots: list, local):
+        self.slots = slots
+        self.local = local
+
+    def bind(self, name: str) -> "_Ctx":
+        return self if self.local is None else _Ctx(self.slots, self.local | {name})
+
+
+def _compile(t: Term, ctx: _Ctx) -> Fn:
     match t:
         case Const():
             # Fig. 7/8, constant: ⟦c⟧ = c, ⦇c⦈ = 0
@@ -222,10 +237,12 @@ def _compile(t: Term, slots: list) -> Fn:
             return lambda env: (env.vars[name], env.dvars.get(name))
         case Param(name):
             # Fig. 7/8, parameter: ⟦z⟧ = γ(z), ⦇z⦈ = γ'(z)
+            if ctx.local is not None and name not in ctx.local:
+                return lambda env: (env.root_params[name], env.root_dparams.get(name))
             return lambda env: (env.params[name], env.dparams.get(name))
         case Add(left, right):
             # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈
-            f, g = _compile(left, slots), _compile(right, slots)
+            f, g = _compile(left, ctx), _compile(right, ctx)
 
             def add(env):
                 a, da = f(env)
@@ -234,7 +251,7 @@ def _compile(t: Term, slots: list) -> Fn:
             return add
         case Mul(left, right):
             # Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
-            f, g = _compile(left, slots), _compile(right, slots)
+            f, g = _compile(left, ctx), _compile(right, ctx)
 
             def mul(env):
                 a, da = f(env)
@@ -243,7 +260,7 @@ def _compile(t: Term, slots: list) -> Fn:
             return mul
         case IfGe0(cond, then, orelse):
             # Fig. 8, conditional on parameters: ⦇s⦈ if ⟦t⟧(·,γ) ≥ 0 else ⦇r⦈
-            fc, fs, fr = _compile(cond, slots), _compile(then, slots), _compile(orelse, slots)
+            fc, fs, fr = _compile(cond, ctx), _compile(then, ctx), _compile(orelse, ctx)
 
             def ifge0(env):
                 c, _ = fc(env.value_env())
@@ -256,10 +273,10 @@ def _compile(t: Term, slots: list) -> Fn:
             return ifge0
         case IfDiffeo(psi, then, orelse):
             # Fig. 8, diffeomorphic conditional: (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·D_γπ₀Ψ̂·γ'·(⟦s⟧−⟦r⟧)
-            slot = len(slots)
-            slots.append(("site", None, ()))
-            fc = _compile(psi.forward[0], [])
-            fs, fr = _compile(then, slots), _compile(orelse, slots)
+            slot = len(ctx.slots)
+            ctx.slots.append(("site", None, ()))
+            fc = _compile(psi.forward[0], _Ctx([], ctx.local))
+            fs, fr = _compile(then, ctx), _compile(orelse, ctx)
 
             def ifdiffeo(env):
                 c, _ = fc(env.value_env())
@@ -276,7 +293,7 @@ def _compile(t: Term, slots: list) -> Fn:
             return ifdiffeo
         case Let(name, bound, body):
             # Fig. 8, let: ⦇s⦈(ρ, γ[z ↦ ⟦t⟧], γ'[z ↦ ⦇t⦈])
-            fb, fbody = _compile(bound, slots), _compile(body, slots)
+            fb, fbody = _compile(bound, ctx), _compile(body, ctx.bind(name))
 
             def let(env):
                 v, d = fb(env)
@@ -284,7 +301,7 @@ def _compile(t: Term, slots: list) -> Fn:
             return let
         case Prim(op, arg):
             # extension (§1): smooth primitive, chain rule ⦇f(t)⦈ = f'(⟦t⟧)·⦇t⦈
-            f, prim = _compile(arg, slots), PRIM_VALUE[op]
+            f, prim = _compile(arg, ctx), PRIM_VALUE[op]
 
             def primitive(env):
                 a, da = f(env)
@@ -293,7 +310,7 @@ def _compile(t: Term, slots: list) -> Fn:
             return primitive
         case Pow(base, k):
             # extension (§1): constant power, ⦇t^k⦈ = k·⟦t⟧^(k−1)·⦇t⦈
-            f = _compile(base, slots)
+            f = _compile(base, ctx)
 
             def pow_(env):
                 a, da = f(env)
@@ -302,13 +319,13 @@ def _compile(t: Term, slots: list) -> Fn:
             return pow_
         case Call(module, name, args):
             # §9, separate compilation: a link to a separately compiled def (see link.py)
-            slot = len(slots)
-            slots.append(("call", (module, name), tuple(isinstance(a, Var) for a in args)))
-            return _compile_call(slot, module, name, args, slots)
+            slot = len(ctx.slots)
+            ctx.slots.append(("call", (module, name), tuple(isinstance(a, Var) for a in args)))
+            return _compile_call(slot, module, name, args, ctx)
     raise TypeError(f"not a core term: {t!r}")
 
 
-def _compile_call(slot: int, module: str, name: str, args, slots: list) -> Fn:
+def _compile_call(slot: int, module: str, name: str, args, ctx: _Ctx) -> Fn:
     """A linked call: param arguments evaluated once in the caller (a value and its tangent, as a
     ``let`` would), var arguments renamed (they must be plain variables, see link.py)."""
     arg_fns = []
@@ -316,11 +333,11 @@ def _compile_call(slot: int, module: str, name: str, args, slots: list) -> Fn:
         if isinstance(a, Var):
             arg_fns.append(("var", a.name))
         else:
-            arg_fns.append(("term", _compile(a, slots)))
+            arg_fns.append(("term", _compile(a, ctx)))
 
     def call(env):
         fn, offsets, arg_names, kinds = env.units[(module, name)]
-        vars_, dvars, params, dparams = {}, {}, dict(env.root_params), dict(env.root_dparams)
+        vars_, dvars, params, dparams = {}, {}, {}, {}
         for (how, a), argname, kind in zip(arg_fns, arg_names, kinds):
             if how == "var":
                 vars_[argname] = env.vars[a]
@@ -329,9 +346,7 @@ def _compile_call(slot: int, module: str, name: str, args, slots: list) -> Fn:
             else:
                 v, d = a(env)
                 params[argname] = v
-                if d is None:
-                    dparams.pop(argname, None)
-                else:
+                if d is not None:
                     dparams[argname] = d
         base = env.base + (slot if env.offsets is None else env.offsets[slot])
         inner = Env(vars_, params, dvars=dvars, dparams=dparams, mode=env.mode, site=env.site,

@@ -122,24 +122,31 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str)
         plan.append((k, des, volume, [(xb, w, ok, site.sampler.dpsi(xb, p, dp)) for xb, w, ok in branches]))
     if not plan:
         return 0.0, 0.0
-    ids, xs = [], {v: [] for v in linked.variables}
+    # lay out every (site, branch) block of points one after the other: site ids, points, weights
+    ids, xs, ws, oks, dps, counts = [], {v: [] for v in linked.variables}, [], [], [], []
     for k, des, _, branches in plan:
-        for xb, _, _, _ in branches:
-            ids.append(np.full(des.points.shape[0], k))
+        nb = des.points.shape[0]
+        counts.append(nb * len(branches))
+        for xb, w, ok, dpsi in branches:
+            ids.append(np.full(nb, k))
             for v in linked.variables:
                 xs[v].append(xb[v])
+            ws.append(w)
+            oks.append(ok)
+            dps.append(np.broadcast_to(np.asarray(dpsi, dtype=float), (nb,)))
     site = np.concatenate(ids)
     x = {v: np.concatenate(a) for v, a in xs.items()}
     _, g = linked.fn(_env(linked, x, p, mode=DELTA, site=site, sites=frozenset(k for k, *_ in plan)))
-    g = _full(g, len(site))
-    total, var, at = 0.0, 0.0, 0
-    for k, des, volume, branches in plan:
-        f = 0.0
-        for _, w, ok, dpsi in branches:
-            nb = des.points.shape[0]
-            f = f + np.where(ok, dpsi * g[at:at + nb] * w, 0.0)
-            at += nb
-        mean, se = des.mean(_full(f, des.points.shape[0]))
+    # score = [guards ≥ 0] · (D_γπ₀Ψ̂·γ') · G_k · |det DΨ̂_b⁻¹|, all blocks at once
+    score = np.where(np.concatenate(oks), np.concatenate(dps) * _full(g, len(site)) * np.concatenate(ws), 0.0)
+    starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    if all(des.method == "exact" for _, des, _, _ in plan):  # one variable: every root once, exactly
+        return float(np.sum(np.add.reduceat(score, starts))), 0.0
+    total, var = 0.0, 0.0
+    for (k, des, volume, branches), at, c in zip(plan, starts, counts):
+        # per u'-point, the sum over branches; then the design's mean and standard error
+        f = score[at:at + c].reshape(len(branches), des.points.shape[0]).sum(axis=0)
+        mean, se = des.mean(f)
         total += volume * mean
         var += (volume * se) ** 2
     return total, var

@@ -95,10 +95,10 @@ def clear_cache() -> None:
     reset_cache_stats()
 
 
-def _unit(key: tuple, term: Term, label: tuple) -> Unit:
+def _unit(key: tuple, term: Term, label: tuple, local: frozenset[str] | None = None) -> Unit:
     u = CACHE.units.get(key)
     if u is None:
-        u = compile_term(term)
+        u = compile_term(term, local)
         CACHE.units[key] = u
         CACHE.compiled.append(label)
     else:
@@ -182,7 +182,9 @@ def link(loaded: Loaded, sites: str = "inlined") -> Linked:
         CACHE.hits += 1
         return _memo_put(loaded, sites, hit)
     defs = {(m.name, d.name): d for m in loaded.modules.values() for d in m.defs.values()}
-    units = {name: _unit(k, defs[name].body, ("def",) + name) for name, k in keys.items()}
+    units = {name: _unit(k, defs[name].body, ("def",) + name,
+                         frozenset(a for a, kind in defs[name].args if kind == "param"))
+             for name, k in keys.items()}
     body = _unit(prog_key, main.program.body, ("program", main.name, None))
     if not _linkable(body, units, defs):
         linked = compile_program(loaded.program)
