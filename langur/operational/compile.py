@@ -174,7 +174,11 @@ def power_derivative(a, k: Fraction, v):
 
 def const_value(c: Const) -> float:
     v = c.value
-    return math.pi if v == "pi" else v.numerator / v.denominator  # = float(Fraction): correctly rounded
+    if isinstance(v, str):
+        return math.pi
+    if isinstance(v, float):
+        return v
+    return v.numerator / v.denominator  # = float(Fraction): int / int is correctly rounded
 
 
 # -- dual-number helpers ------------------------------------------------------------------------
