@@ -41,6 +41,7 @@ every code.
 from __future__ import annotations
 
 import itertools
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -110,13 +111,36 @@ class Finding:
 
 
 # ----------------------------------------------------------------------------------------------
-# 3. Classification
+# Classification (the collection is langur.lint.collect, the geometry langur.lint.geometry)
+
+#: Seconds the whole analysis of one program may take (beyond: X310, the rest unchecked).
+BUDGET = 30.0
+_FAILURES = (
+    Undecided,
+    TypeError,
+    ValueError,
+    AttributeError,
+    ZeroDivisionError,
+    NotImplementedError,
+    RecursionError,
+    KeyError,
+    IndexError,
+    sp.PolynomialError,
+    sp.SympifyError,
+)
 
 
 class _Checker:
-    def __init__(self, program: Program, declared: Mapping[str, object], point: dict[str, object] | None,
-                 explicit: bool, sources: Mapping[str, str],
-                 domain_spans: Mapping[tuple[int, int], Span] | None = None, sites=None):
+    def __init__(
+        self,
+        program: Program,
+        declared: Mapping[str, object],
+        point: dict[str, object] | None,
+        explicit: bool,
+        sources: Mapping[str, str],
+        domain_spans: Mapping[tuple[int, int], Span] | None = None,
+        sites=None,
+    ):
         self.program = program
         self.col = collect(program, sites)
         self.domain_spans = dict(domain_spans or {})
@@ -143,7 +167,7 @@ class _Checker:
             return None
         line = lines[span.line - 1]
         end = span.end_col if span.end_line == span.line else len(line) + 1
-        frag = line[span.col - 1:end - 1].strip()
+        frag = line[span.col - 1 : end - 1].strip()
         if span.end_line != span.line:
             frag += " …"
         return frag if len(frag) <= 60 else frag[:57] + "…"
@@ -163,6 +187,8 @@ class _Checker:
             return f"the domain's bound {occ.bound}"
         frag = self.text(occ.span)
         whole = self.text(occ.node_span) or ""
+        if frag and frag.startswith(("if ", "ifge0 ")) and " then" in frag:
+            frag = frag[: frag.index(" then")]
         if frag and occ.node_span != occ.span and whole.startswith(("ifge0", "if")):
             frag = ("ifge0 " if whole.startswith("ifge0") else "if ") + frag
         text = f"`{frag}`" if frag else f"`{sp.sstr(occ.f)} >= 0`"
@@ -214,9 +240,13 @@ class _Checker:
     def run(self) -> list[Finding]:
         col = self.col
         if col.truncated:
-            self.add(self.program.span, "warning", "X310",
-                     f"the integrand has more than {MAX_PRODUCTS} products of conditions: only the first "
-                     "ones were checked for transversality")
+            self.add(
+                self.program.span,
+                "warning",
+                "X310",
+                f"the integrand has more than {MAX_PRODUCTS} products of conditions: only the first "
+                "ones were checked for transversality",
+            )
         pairs: set[tuple[int, int]] = set()
         squared: dict[int, Span | None] = {}
         families: set[tuple[int, ...]] = set()
@@ -231,23 +261,47 @@ class _Checker:
                     if len(families) >= MAX_FAMILIES:
                         break
         occ = col.occurrences
-        for i, site in sorted(squared.items()):
-            self.squared(occ[i], site)
-        for i, j in sorted(pairs):
-            self.pair(occ[i], occ[j])
-        self.report_kinks()
-        for fam in sorted(families):
-            self.family([occ[i] for i in fam])
-        for o in occ:
-            self.nonzero(o)
+        steps = [(self.squared, (occ[i], site)) for i, site in sorted(squared.items())]
+        steps += [(self.pair, (occ[i], occ[j])) for i, j in sorted(pairs)]
+        steps += [(self.report_kinks, ())]
+        steps += [(self.family, ([occ[i] for i in fam],)) for fam in sorted(families)]
+        steps += [(self.nonzero, (o,)) for o in occ]
+        deadline = time.monotonic() + BUDGET
+        for k, (step, args) in enumerate(steps):
+            if time.monotonic() > deadline:
+                self.add(
+                    self.program.span,
+                    "warning",
+                    "X310",
+                    f"the transversality analysis stopped after {BUDGET:g} s with {len(steps) - k} of "
+                    f"{len(steps)} checks left: the rest is unchecked",
+                )
+                break
+            try:
+                step(*args)
+            except _FAILURES as e:  # a sympy failure outside a time-boxed call: say so, go on
+                first = args[0][0] if args and isinstance(args[0], list) else (args[0] if args else None)
+                second = args[1] if len(args) > 1 and isinstance(args[1], Occurrence) else None
+                why = f"{type(e).__name__} in the analysis"
+                if isinstance(first, Occurrence):
+                    self.undecided(first, second, why)
+                else:
+                    self.add(self.program.span, "warning", "X310", f"could not finish the analysis ({why})")
         return self.findings
 
     def undecided(self, a: Occurrence, b: Occurrence | None, why: str):
         p, o = self.primary(a, b) if b is not None else (a, None)
-        other = f" and {self.label(o)} at {self.where(self.anchor(o), self.anchor(p))}" if o is not None else ""
-        self.add(self.anchor(p), "warning", "X310",
-                 f"could not decide the transversality of {self.label(p)}{other} ({why}): Theorem 8.1's "
-                 "assumption is unchecked here", (self.anchor(o),) if o is not None else ())
+        other = (
+            f" and {self.label(o)} at {self.where(self.anchor(o), self.anchor(p))}" if o is not None else ""
+        )
+        self.add(
+            self.anchor(p),
+            "warning",
+            "X310",
+            f"could not decide the transversality of {self.label(p)}{other} ({why}): Theorem 8.1's "
+            "assumption is unchecked here",
+            (self.anchor(o),) if o is not None else (),
+        )
 
     def squared(self, c: Occurrence, site: Span | None):
         """A condition multiplied by itself through a power or a primitive (paper §7.3.2)."""
@@ -256,17 +310,28 @@ class _Checker:
         what = self.text(site) if site is not None else None
         how = f"`{what}`" if what else "a power or a primitive"
         if not _moving(c, self.variables):
-            self.add(self.anchor(c), "warning", "X308",
-                     f"{self.label(c)} is multiplied by itself through {how}, but its zero set {self.zero_set(c)} does "
-                     "not move with the parameters: its delta has zero weight and the derivative is unaffected",
-                     (site,), names)
+            self.add(
+                self.anchor(c),
+                "warning",
+                "X308",
+                f"{self.label(c)} is multiplied by itself through {how}, but its zero set {self.zero_set(c)} does "
+                "not move with the parameters: its delta has zero weight and the derivative is unaffected",
+                (site,),
+                names,
+            )
             return
-        self.add(self.anchor(c), "error", "X301",
-                 f"{self.label(c)} is multiplied by itself through {how} at {self.where(site, self.anchor(c))}: the chain "
-                 f"rule multiplies its delta by a function that jumps on the same zero set {self.zero_set(c)}, "
-                 f"{self.every(names)}, so the derivative is wrong (Def. 7.2 fails on a set of positive "
-                 "measure; paper §7.3.2); rewrite it without the power, e.g. [c]^k as [c] and f([c]) as "
-                 "f(0) + (f(1) - f(0))*[c]", (site,), names)
+        self.add(
+            self.anchor(c),
+            "error",
+            "X301",
+            f"{self.label(c)} is multiplied by itself through {how} at {self.where(site, self.anchor(c))}: the chain "
+            f"rule multiplies its delta by a function that jumps on the same zero set {self.zero_set(c)}, "
+            f"{self.every(names)}, so the derivative is wrong (Def. 7.2 fails on a set of positive "
+            "measure; paper §7.3.2); rewrite it without the power, e.g. [c]^k as [c] and f([c]) as "
+            "f(0) + (f(1) - f(0))*[c]",
+            (site,),
+            names,
+        )
 
     def pair(self, a: Occurrence, b: Occurrence):
         c, g = (a, b) if len(a.branches) <= len(b.branches) else (b, a)
@@ -292,22 +357,38 @@ class _Checker:
         p, o = self.primary(c, g)
         where = self.where(self.anchor(o), self.anchor(p))
         if not (_moving(c, self.variables) or _moving(g, self.variables)):
-            self.add(self.anchor(p), "warning", "X308",
-                     f"{self.label(p)} and {self.label(o)} at {where} have the same zero set {self.zero_set(c)}, but it "
-                     "does not move with the parameters: the deltas have zero weight and the derivative is "
-                     "unaffected (the product is redundant; Def. 7.2 fails formally)", (self.anchor(o),), names)
+            self.add(
+                self.anchor(p),
+                "warning",
+                "X308",
+                f"{self.label(p)} and {self.label(o)} at {where} have the same zero set {self.zero_set(c)}, but it "
+                "does not move with the parameters: the deltas have zero weight and the derivative is "
+                "unaffected (the product is redundant; Def. 7.2 fails formally)",
+                (self.anchor(o),),
+                names,
+            )
             return
         side = _orientation(c, g, br, self.variables)
         if side < 0:
-            why = ("they are ≥ 0 on opposite sides of it, so their product vanishes almost everywhere and the "
-                   "derivative denotation has no meaning there (Def. 7.2 fails on a set of positive measure; "
-                   "paper §7.3.1)")
+            why = (
+                "they are ≥ 0 on opposite sides of it, so their product vanishes almost everywhere and the "
+                "derivative denotation has no meaning there (Def. 7.2 fails on a set of positive measure; "
+                "paper §7.3.1)"
+            )
         else:
-            why = ("the delta of one is evaluated on the jump of the other, so the derivative counts the jump "
-                   "twice (Def. 7.2 fails on a set of positive measure; paper §7.3.1); use the condition once")
-        self.add(self.anchor(p), "error", "X301",
-                 f"{self.label(p)} and {self.label(o)} at {where} multiply and have the same zero set "
-                 f"{self.zero_set(c)} {self.every(names)}: {why}", (self.anchor(o),), names)
+            why = (
+                "the delta of one is evaluated on the jump of the other, so the derivative counts the jump "
+                "twice (Def. 7.2 fails on a set of positive measure; paper §7.3.1); use the condition once"
+            )
+        self.add(
+            self.anchor(p),
+            "error",
+            "X301",
+            f"{self.label(p)} and {self.label(o)} at {where} multiply and have the same zero set "
+            f"{self.zero_set(c)} {self.every(names)}: {why}",
+            (self.anchor(o),),
+            names,
+        )
 
     def in_set(self, c: Occurrence, rel) -> bool:
         """Is the parameter point in this relation's set, with the common zero set inside the box?"""
@@ -332,16 +413,27 @@ class _Checker:
         where = self.where(self.anchor(o), self.anchor(p))
         if both and 1 in sides and not (c.bound or g.bound):
             if hit and self.explicit:
-                self.add(self.anchor(p), "error", "X305",
-                         f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at {where} "
-                         f"coincide (they do when {the_set}): the derivative counts the jump twice here "
-                         "(Def. 7.2 fails; paper §7.3.1)", (self.anchor(o),), names)
+                self.add(
+                    self.anchor(p),
+                    "error",
+                    "X305",
+                    f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at {where} "
+                    f"coincide (they do when {the_set}): the derivative counts the jump twice here "
+                    "(Def. 7.2 fails; paper §7.3.1)",
+                    (self.anchor(o),),
+                    names,
+                )
             else:
                 note = f"; the default values {self.at_point(names)} lie in this set" if hit else ""
-                self.add(self.anchor(p), "warning", "X304",
-                         f"{self.label(p)} and {self.label(o)} at {where} have coincident zero sets when {the_set}: "
-                         f"there the derivative counts the jump twice (Def. 7.2 fails; paper §7.3.1){note}",
-                         (self.anchor(o),), names)
+                self.add(
+                    self.anchor(p),
+                    "warning",
+                    "X304",
+                    f"{self.label(p)} and {self.label(o)} at {where} have coincident zero sets when {the_set}: "
+                    f"there the derivative counts the jump twice (Def. 7.2 fails; paper §7.3.1){note}",
+                    (self.anchor(o),),
+                    names,
+                )
             return
         # A jump meeting a fixed zero set (the domain's bound) or closing a window: a kink.
         mover = c if (_moving(c, self.variables) and not c.bound) or g.bound else g
@@ -357,21 +449,37 @@ class _Checker:
             sols = [sol for _, rels, _ in entries for sol, _, _ in rels]
             names = self.param_names(c, *(o for o, _, _ in entries))
             shown = [e for e in entries if e[2]] if self.explicit else entries
-            parts = [f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(c))}"
-                     + ("" if self.explicit else f" when {describe_set([s for s, _, _ in rels])}")
-                     for o, rels, _ in shown]
+            parts = [
+                f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(c))}"
+                + ("" if self.explicit else f" when {describe_set([s for s, _, _ in rels])}")
+                for o, rels, _ in shown
+            ]
             the_set = describe_set(sols)
             related = tuple(self.anchor(o) for o, _, _ in shown)
-            consequence = ("the integral has a kink there and its derivative does not exist (Def. 7.2 fails; "
-                           "Theorem 8.1 holds only for almost every parameter value)")
+            consequence = (
+                "the integral has a kink there and its derivative does not exist (Def. 7.2 fails; "
+                "Theorem 8.1 holds only for almost every parameter value)"
+            )
             if self.explicit:
-                self.add(self.anchor(c), "error", "X305",
-                         f"at {self.at_point(names)} the jump of {self.label(c)} lies on {'; '.join(parts)}: "
-                         f"{consequence} (degenerate when {the_set})", related, names)
+                self.add(
+                    self.anchor(c),
+                    "error",
+                    "X305",
+                    f"at {self.at_point(names)} the jump of {self.label(c)} lies on {'; '.join(parts)}: "
+                    f"{consequence} (degenerate when {the_set})",
+                    related,
+                    names,
+                )
             else:
-                self.add(self.anchor(c), "warning", "X304",
-                         f"the jump of {self.label(c)} lies on {'; '.join(parts)}, i.e. when {the_set}; the "
-                         f"default values {self.at_point(names)} lie in this set: {consequence}", related, names)
+                self.add(
+                    self.anchor(c),
+                    "warning",
+                    "X304",
+                    f"the jump of {self.label(c)} lies on {'; '.join(parts)}, i.e. when {the_set}; the "
+                    f"default values {self.at_point(names)} lie in this set: {consequence}",
+                    related,
+                    names,
+                )
 
     def _point_text(self, sol: Mapping[sp.Symbol, sp.Expr]) -> str:
         xs = [x for x in self.xs if x in sol]
@@ -386,6 +494,13 @@ class _Checker:
                 return False
         return _in_box(xsol, self.box, self.point, self.variables)
 
+    def _possible_at_point(self, eqs) -> bool:
+        """A cheap filter: with the parameter values known, a common point inside the box must
+        exist at those values (solved with numbers) for anything to be reported."""
+        if self.point is None:
+            return True
+        return any(self._inside(sol) for sol in solve_points([e.subs(self.point) for e in eqs], self.xs))
+
     def tangency(self, c: Occurrence, g: Occurrence, names):
         """Tangency: a common zero of both conditions where their normals are linearly dependent
         (every 2×2 minor of the Jacobian [∇f; ∇g] vanishes)."""
@@ -394,24 +509,40 @@ class _Checker:
         xs = self.xs
         df = [sp.diff(c.f, x) for x in xs]
         dg = [sp.diff(g.f, x) for x in xs]
-        eqs = [c.f, g.f] + [df[i] * dg[j] - df[j] * dg[i] for i, j in itertools.combinations(range(self.n), 2)]
+        eqs = [c.f, g.f] + [
+            df[i] * dg[j] - df[j] * dg[i] for i, j in itertools.combinations(range(self.n), 2)
+        ]
         try:
+            if not self._possible_at_point(eqs):
+                return
             for sol in solve_points(eqs, xs):
                 if self._inside(sol):
-                    self.add(self.anchor(p), "warning", "X302",
-                             f"the zero sets of {self.label(p)} and {self.label(o)} at {where} are tangent at "
-                             f"{self._point_text(sol)} {self.every(names)}: Def. 7.2 fails there, so Theorem 8.1 no "
-                             "longer applies; the failure set is a null set of each delta's support, so the "
-                             "derivative is still likely right", (self.anchor(o),), names)
+                    self.add(
+                        self.anchor(p),
+                        "warning",
+                        "X302",
+                        f"the zero sets of {self.label(p)} and {self.label(o)} at {where} are tangent at "
+                        f"{self._point_text(sol)} {self.every(names)}: Def. 7.2 fails there, so Theorem 8.1 no "
+                        "longer applies; the failure set is a null set of each delta's support, so the "
+                        "derivative is still likely right",
+                        (self.anchor(o),),
+                        names,
+                    )
                     return
             if self.explicit and self.point is not None:
                 for sol in solve_points([e.subs(self.point) for e in eqs], xs):
                     if self._inside(sol):
-                        self.add(self.anchor(p), "warning", "X302",
-                                 f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at "
-                                 f"{where} are tangent at {self._point_text(sol)}: Def. 7.2 fails there, so Theorem "
-                                 "8.1 no longer applies; the failure set is a null set of each delta's support, so "
-                                 "the derivative is still likely right", (self.anchor(o),), names)
+                        self.add(
+                            self.anchor(p),
+                            "warning",
+                            "X302",
+                            f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at "
+                            f"{where} are tangent at {self._point_text(sol)}: Def. 7.2 fails there, so Theorem "
+                            "8.1 no longer applies; the failure set is a null set of each delta's support, so "
+                            "the derivative is still likely right",
+                            (self.anchor(o),),
+                            names,
+                        )
                         return
         except Undecided as u:
             self.undecided(c, g, str(u))
@@ -426,26 +557,41 @@ class _Checker:
         names = self.param_names(*fam)
         ordered = sorted(fam, key=lambda o: (o.bound is None, _span_key(self.anchor(o))))
         p, others = ordered[-1], ordered[:-1]
-        listing = ", ".join(f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(p))}" for o in others)
+        listing = ", ".join(
+            f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(p))}" for o in others
+        )
         eqs = [o.f for o in fam]
         try:
+            if not self._possible_at_point(eqs):
+                return
             for sol in solve_points(eqs, self.xs):
                 if self._inside(sol):
-                    self.add(self.anchor(p), "warning", "X303",
-                             f"{len(fam)} zero sets pass through {self._point_text(sol)} in ℝ^{self.n} "
-                             f"({self.label(p)}, {listing}) {self.every(names)}: their normals cannot be linearly "
-                             "independent, so Def. 7.2 fails there and Theorem 8.1 no longer applies; the failure "
-                             "set is null on each delta's support, so the derivative is still likely right",
-                             tuple(self.anchor(o) for o in others), names)
+                    self.add(
+                        self.anchor(p),
+                        "warning",
+                        "X303",
+                        f"{len(fam)} zero sets pass through {self._point_text(sol)} in ℝ^{self.n} "
+                        f"({self.label(p)}, {listing}) {self.every(names)}: their normals cannot be linearly "
+                        "independent, so Def. 7.2 fails there and Theorem 8.1 no longer applies; the failure "
+                        "set is null on each delta's support, so the derivative is still likely right",
+                        tuple(self.anchor(o) for o in others),
+                        names,
+                    )
                     return
             if self.explicit and self.point is not None:
                 for sol in solve_points([e.subs(self.point) for e in eqs], self.xs):
                     if self._inside(sol):
-                        self.add(self.anchor(p), "warning", "X303",
-                                 f"at {self.at_point(names)} {len(fam)} zero sets pass through {self._point_text(sol)} "
-                                 f"in ℝ^{self.n} ({self.label(p)}, {listing}): Def. 7.2 fails there and Theorem 8.1 "
-                                 "no longer applies; the failure set has measure zero on each delta, so the "
-                                 "derivative is still likely right", tuple(self.anchor(o) for o in others), names)
+                        self.add(
+                            self.anchor(p),
+                            "warning",
+                            "X303",
+                            f"at {self.at_point(names)} {len(fam)} zero sets pass through {self._point_text(sol)} "
+                            f"in ℝ^{self.n} ({self.label(p)}, {listing}): Def. 7.2 fails there and Theorem 8.1 "
+                            "no longer applies; the failure set has measure zero on each delta, so the "
+                            "derivative is still likely right",
+                            tuple(self.anchor(o) for o in others),
+                            names,
+                        )
                         return
         except Undecided as u:
             self.undecided(p, others[0], str(u))
@@ -456,7 +602,9 @@ class _Checker:
             params = sorted(t.free_symbols, key=str)
             names = tuple(s.name for s in params)
             try:
-                sols = algebra.timed(lambda t=t, params=params: sp.solve(t, params, dict=True)) if params else []
+                sols = (
+                    algebra.timed(lambda t=t, params=params: sp.solve(t, params, dict=True)) if params else []
+                )
             except Undecided as u:
                 self.undecided(c, None, str(u))
                 continue
@@ -464,18 +612,31 @@ class _Checker:
             the_set = describe_set(sols) if sols else f"{sp.sstr(t)} = 0"
             hit = self.point is not None and _num(t.subs(self.point)) == 0
             if hit and self.explicit:
-                self.add(self.anchor(c), "error", "X305",
-                         f"at {self.at_point(names)} {self.label(c)} is not a diffeomorphism ({sp.sstr(t)} = 0): its "
-                         "zero set degenerates and the derivative is not defined here", (), names)
+                self.add(
+                    self.anchor(c),
+                    "error",
+                    "X305",
+                    f"at {self.at_point(names)} {self.label(c)} is not a diffeomorphism ({sp.sstr(t)} = 0): its "
+                    "zero set degenerates and the derivative is not defined here",
+                    (),
+                    names,
+                )
             elif sols or hit:
                 note = f"; the default values {self.at_point(names)} lie in this set" if hit else ""
-                self.add(self.anchor(c), "warning", "X306",
-                         f"{self.label(c)} stops being a diffeomorphism when {the_set} (its coefficient "
-                         f"{sp.sstr(t)} vanishes): there the derivative is not defined{note}", (), names)
+                self.add(
+                    self.anchor(c),
+                    "warning",
+                    "X306",
+                    f"{self.label(c)} stops being a diffeomorphism when {the_set} (its coefficient "
+                    f"{sp.sstr(t)} vanishes): there the derivative is not defined{note}",
+                    (),
+                    names,
+                )
 
 
-def check_loaded(loaded, *, at: Mapping[str, float] | None = None,
-                 sources: Mapping[str, str] | None = None) -> list[Finding]:
+def check_loaded(
+    loaded, *, at: Mapping[str, float] | None = None, sources: Mapping[str, str] | None = None
+) -> list[Finding]:
     """:func:`check_program` on a front end's :class:`~langur.modules.Loaded`, with call sites of
     inlined defs and the domain's intervals located in the user's source."""
     if loaded.program is None:
@@ -488,8 +649,14 @@ def check_loaded(loaded, *, at: Mapping[str, float] | None = None,
                     sources[m.path] = fh.read()
             except OSError:
                 pass
-    return check_program(loaded.program, loaded.params, at=at, sources=sources,
-                         domain_spans=_domain_spans(loaded, sources), sites=call_sites(loaded))
+    return check_program(
+        loaded.program,
+        loaded.params,
+        at=at,
+        sources=sources,
+        domain_spans=_domain_spans(loaded, sources),
+        sites=call_sites(loaded),
+    )
 
 
 def _domain_spans(loaded, sources) -> dict[tuple[int, int], Span]:
@@ -527,10 +694,15 @@ def point_of(declared: Mapping[str, object], at: Mapping[str, float] | None) -> 
     return point
 
 
-def check_program(program: Program, declared: Mapping[str, object] | None = None, *,
-                  at: Mapping[str, float] | None = None, sources: Mapping[str, str] | None = None,
-                  domain_spans: Mapping[tuple[int, int], Span] | None = None,
-                  sites: list | None = None) -> list[Finding]:
+def check_program(
+    program: Program,
+    declared: Mapping[str, object] | None = None,
+    *,
+    at: Mapping[str, float] | None = None,
+    sources: Mapping[str, str] | None = None,
+    domain_spans: Mapping[tuple[int, int], Span] | None = None,
+    sites: list | None = None,
+) -> list[Finding]:
     """The transversality findings of ``program`` (see the module docstring).
 
     ``declared``: the program's parameters with their defaults (None: no default), in declaration
@@ -542,7 +714,17 @@ def check_program(program: Program, declared: Mapping[str, object] | None = None
     declared = dict(declared or {})
     at = dict(at or {})
     point = point_of(declared, at)
-    checker = _Checker(program, declared, point, bool(at), dict(sources or {}), domain_spans, sites)
+    try:
+        checker = _Checker(program, declared, point, bool(at), dict(sources or {}), domain_spans, sites)
+    except _FAILURES as e:  # the conditions could not be read as sympy expressions
+        return [
+            Finding(
+                program.span,
+                "warning",
+                "X310",
+                f"could not analyse the conditions ({type(e).__name__}): transversality is unchecked",
+            )
+        ]
     findings = checker.run()
     from .lint.domains import domain_findings
 

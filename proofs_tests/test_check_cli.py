@@ -21,7 +21,9 @@ from paths import DEGENERATE, EXAMPLES, REPO
 
 SCHEMA = Path(__file__).parent / "data" / "sarif-2.1.0.schema.json"
 COINCIDENT = "param a = 0.5\nint ([0, 1]) [x >= a] * [x >= a] d(x){tail}\n"
-LINE = re.compile(r"^(?P<path>.+):(?P<line>\d+):(?P<col>\d+): (?P<sev>error|warning) (?P<code>[ETX]\d{3}) .+$")
+LINE = re.compile(
+    r"^(?P<path>.+):(?P<line>\d+):(?P<col>\d+): (?P<sev>error|warning) (?P<code>[ETX]\d{3}) .+$"
+)
 
 
 def run(capsys, *argv, stdin: bytes | None = None, monkeypatch=None):
@@ -40,14 +42,17 @@ def codes_in(out: str) -> list[str]:
 # Exit status and the text format
 
 
-@pytest.mark.parametrize("name,status,expected", [
-    ("coincident.lgr", 1, ["X301"]),
-    ("nested.lgr", 1, ["X301"]),
-    ("tangent.lgr", 0, ["X302"]),
-    ("three_lines.lgr", 0, ["X303"]),
-    ("boundary.lgr", 0, ["X304"]),
-    ("equal_params.lgr", 0, ["X304"]),
-])
+@pytest.mark.parametrize(
+    "name,status,expected",
+    [
+        ("coincident.lgr", 1, ["X301"]),
+        ("nested.lgr", 1, ["X301"]),
+        ("tangent.lgr", 0, ["X302"]),
+        ("three_lines.lgr", 0, ["X303"]),
+        ("boundary.lgr", 0, ["X304"]),
+        ("equal_params.lgr", 0, ["X304"]),
+    ],
+)
 def test_degenerate_examples(capsys, name, status, expected):
     code, out, _ = run(capsys, DEGENERATE / name, "--isolated")
     assert code == status
@@ -57,10 +62,13 @@ def test_degenerate_examples(capsys, name, status, expected):
         assert m and m.group("path") == str(DEGENERATE / name)
 
 
-@pytest.mark.parametrize("name,at,expected", [
-    ("boundary.lgr", "theta=1", "X305"),
-    ("equal_params.lgr", "a=0.3,b=0.3", "X305"),
-])
+@pytest.mark.parametrize(
+    "name,at,expected",
+    [
+        ("boundary.lgr", "theta=1", "X305"),
+        ("equal_params.lgr", "a=0.3,b=0.3", "X305"),
+    ],
+)
 def test_at_a_degenerate_point_is_an_error(capsys, name, at, expected):
     code, out, _ = run(capsys, DEGENERATE / name, "--isolated", "--at", at)
     assert code == 1 and codes_in(out) == [expected]
@@ -122,8 +130,14 @@ def test_json_shape(capsys):
     doc = json.loads(out)
     (d,) = doc["diagnostics"]
     assert code == 1
-    assert {k: d[k] for k in ("line", "col", "end_line", "end_col", "severity", "code")} == \
-        {"line": 5, "col": 25, "end_line": 5, "end_col": 33, "severity": "error", "code": "X301"}
+    assert {k: d[k] for k in ("line", "col", "end_line", "end_col", "severity", "code")} == {
+        "line": 5,
+        "col": 25,
+        "end_line": 5,
+        "end_col": 33,
+        "severity": "error",
+        "code": "X301",
+    }
     assert d["path"] == str(DEGENERATE / "coincident.lgr") and d["related"][0]["col"] == 14
 
 
@@ -140,7 +154,9 @@ def test_sarif_validates_against_the_schema(capsys):
     for r in results:
         assert rules[r["ruleIndex"]]["id"] == r["ruleId"]
         assert r["level"] == ("error" if r["ruleId"] == "X301" else "warning")
-    coincident = next(r for r in results if "coincident" in r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"])
+    coincident = next(
+        r for r in results if "coincident" in r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"]
+    )
     assert coincident["locations"][0]["physicalLocation"]["region"]["startLine"] == 5
     assert coincident["relatedLocations"][0]["physicalLocation"]["region"]["startColumn"] == 14
 
@@ -159,11 +175,13 @@ def test_sarif_of_a_clean_run_and_of_a_syntax_error_validates(capsys, tmp_path):
 
 
 def test_github_format(capsys):
-    code, out, _ = run(capsys, DEGENERATE / "coincident.lgr", DEGENERATE / "tangent.lgr", "--isolated",
-                       "--format", "github")
+    code, out, _ = run(
+        capsys, DEGENERATE / "coincident.lgr", DEGENERATE / "tangent.lgr", "--isolated", "--format", "github"
+    )
     first, second = out.splitlines()
-    assert first.startswith(f"::error file={DEGENERATE / 'coincident.lgr'},line=5,col=25,endLine=5,endColumn=33,"
-                            "title=X301::X301 ")
+    assert first.startswith(
+        f"::error file={DEGENERATE / 'coincident.lgr'},line=5,col=25,endLine=5,endColumn=33,title=X301::X301 "
+    )
     assert second.startswith("::warning file=") and ",line=5,col=41," in second and "::X302 " in second
     assert code == 1
 
@@ -171,22 +189,28 @@ def test_github_format(capsys):
 def test_github_escaping():
     d = Diagnostic(Span("a,b:c.lgr", 1, 2, 1, 3), "warning", "X304", "100% sure\nsecond line")
     (line,) = github_lines([Report(d)])
-    assert line == "::warning file=a%2Cb%3Ac.lgr,line=1,col=2,endLine=1,endColumn=3,title=X304::X304 100%25 sure%0Asecond line"
+    assert (
+        line
+        == "::warning file=a%2Cb%3Ac.lgr,line=1,col=2,endLine=1,endColumn=3,title=X304::X304 100%25 sure%0Asecond line"
+    )
 
 
 # ---------------------------------------------------------------------------------------------
 # noqa
 
 
-@pytest.mark.parametrize("tail,status,remaining", [
-    ("  # noqa: X301", 0, []),
-    ("  # noqa", 0, []),
-    ("  # noqa:X301,X304", 0, []),
-    ("  # NOQA: x304, X301", 0, []),
-    ("  # noqa: X304", 1, ["X301"]),          # another code does not silence X301
-    ("  # why: the jump is meant twice  # noqa: X301", 0, []),
-    ("  # a comment without the directive", 1, ["X301"]),
-])
+@pytest.mark.parametrize(
+    "tail,status,remaining",
+    [
+        ("  # noqa: X301", 0, []),
+        ("  # noqa", 0, []),
+        ("  # noqa:X301,X304", 0, []),
+        ("  # NOQA: x304, X301", 0, []),
+        ("  # noqa: X304", 1, ["X301"]),  # another code does not silence X301
+        ("  # why: the jump is meant twice  # noqa: X301", 0, []),
+        ("  # a comment without the directive", 1, ["X301"]),
+    ],
+)
 def test_noqa(capsys, tmp_path, tail, status, remaining):
     f = tmp_path / "c.lgr"
     f.write_text(COINCIDENT.format(tail=tail))
@@ -291,8 +315,12 @@ def test_prove_adds_the_theorem_check(capsys):
 def test_console_script():
     exe = shutil.which("langur")
     cmd = [exe] if exe else [sys.executable, "-m", "langur.cli"]
-    p = subprocess.run(cmd + ["check", "--isolated", str(DEGENERATE / "coincident.lgr")],
-                       capture_output=True, text=True, timeout=120)
+    p = subprocess.run(
+        cmd + ["check", "--isolated", str(DEGENERATE / "coincident.lgr")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert p.returncode == 1 and " error X301 " in p.stdout and "Traceback" not in p.stderr
 
 
@@ -301,3 +329,16 @@ def test_pre_commit_hook():
     (hook,) = [h for h in hooks if h["id"] == "langur-check"]
     assert hook["entry"].split()[:2] == ["langur", "check"]
     assert re.search(hook["files"], "examples/fig1.lgr") and not re.search(hook["files"], "fig1.py")
+
+
+def test_every_code_is_documented():
+    from langur import typesys
+    from langur.lint.formats import X_CODES, _front_end_codes
+
+    doc = (REPO / "docs" / "CODES.md").read_text()
+    emitted = set()
+    for f in [REPO / "langur" / "transversality.py", *(REPO / "langur" / "lint").glob("*.py")]:
+        emitted |= set(re.findall(r'"(X3\d\d)"', f.read_text()))
+    assert emitted and emitted <= set(X_CODES)
+    for code in sorted(set(X_CODES) | set(typesys.CODES) | set(_front_end_codes())):
+        assert re.search(rf"^\| {code} \|", doc, re.MULTILINE), code

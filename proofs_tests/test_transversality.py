@@ -35,8 +35,13 @@ def codes(findings):
 
 def ge(a: str) -> Diffeo:
     """[x ≥ a] in one variable: Ψ̂(x) = x − a, inverse x = a + u0."""
-    return Diffeo(("x",), (sub(Var("x"), Param(a)),), ("u0",), (InverseBranch((Add(Param(a), Var("u0")),)),),
-                  solved_for="x")
+    return Diffeo(
+        ("x",),
+        (sub(Var("x"), Param(a)),),
+        ("u0",),
+        (InverseBranch((Add(Param(a), Var("u0")),)),),
+        solved_for="x",
+    )
 
 
 def ind(psi):
@@ -74,7 +79,9 @@ def test_hand_built_coincidence_and_sum():
     assert codes(tv.check_program(program(Mul(ind(ge("a")), ind(ge("a")))), params)) == [("X301", "error")]
     assert tv.check_program(program(Add(ind(ge("a")), ind(ge("a")))), params) == []
     # [x ≥ a]·[x ≥ b]: coincident exactly when a = b (LANGUAGE.md §5)
-    found = tv.check_program(program(Mul(ind(ge("a")), ind(ge("b")))), {"a": Fraction(1, 5), "b": Fraction(3, 5)})
+    found = tv.check_program(
+        program(Mul(ind(ge("a")), ind(ge("b")))), {"a": Fraction(1, 5), "b": Fraction(3, 5)}
+    )
     assert codes(found) == [("X304", "warning")] and "when a = b" in found[0].message
 
 
@@ -135,8 +142,19 @@ def test_equal_params_names_the_bad_set_and_is_an_error_at_it():
     assert (h.code, h.severity) == ("X304", "warning")
 
 
-@pytest.mark.parametrize("name", ["fig1.lgr", "fig9.lgr", "renderer.lgr", "risk.lgr", "densities.lgr",
-                                  "shader.lgr", "lin_shader.lgr", "quad_shader.lgr"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "fig1.lgr",
+        "fig9.lgr",
+        "renderer.lgr",
+        "risk.lgr",
+        "densities.lgr",
+        "shader.lgr",
+        "lin_shader.lgr",
+        "quad_shader.lgr",
+    ],
+)
 def test_the_other_examples_are_clean(name):
     assert check_file(EXAMPLES / name) == []
 
@@ -153,14 +171,17 @@ def test_def_call_sites_are_the_primary_position():
 # Every code on small programs
 
 
-@pytest.mark.parametrize("text", [
-    "param t = 0.5\nint ([0, 1]) [x < t]^2 d(x)",                                    # power
-    "param a = 0.5\nint ([0, 1]) exp([x >= a]) d(x)",                                 # primitive
-    "param t = 0.5\nint ([0, 1]) [x >= t] * [x < t] d(x)",                            # opposite sides
-    "param a = 0.25\nint ([0, 1]) let s = 2*a in [x >= s] * [2*x >= 4*a] d(x)",       # through let
-    "param c = 0.1\nint ([0, 1], [0, 1]) [x + y >= c] * [2*x + 2*y - 2*c >= 0] d(x, y)",
-    "param a = 0.5\nint ([0, 1]) ifge0 x - a then 0 else (ifge0 a - x then 1 else 0) d(x)",
-])
+@pytest.mark.parametrize(
+    "text",
+    [
+        "param t = 0.5\nint ([0, 1]) [x < t]^2 d(x)",  # power
+        "param a = 0.5\nint ([0, 1]) exp([x >= a]) d(x)",  # primitive
+        "param t = 0.5\nint ([0, 1]) [x >= t] * [x < t] d(x)",  # opposite sides
+        "param a = 0.25\nint ([0, 1]) let s = 2*a in [x >= s] * [2*x >= 4*a] d(x)",  # through let
+        "param c = 0.1\nint ([0, 1], [0, 1]) [x + y >= c] * [2*x + 2*y - 2*c >= 0] d(x, y)",
+        "param a = 0.5\nint ([0, 1]) ifge0 x - a then 0 else (ifge0 a - x then 1 else 0) d(x)",
+    ],
+)
 def test_x301_coincidence(text):
     found = check_text(text)
     assert ("X301", "error") in codes(found)
@@ -181,12 +202,19 @@ def test_summands_do_not_multiply():
 def test_x302_osculating_circles():
     # x²+y² = 1 and (x−a)²+y² = (1−a)² are tangent at (1, 0) for every a (hand computation:
     # the normals (2x, 2y), (2(x−a), 2y) are dependent iff a·y = 0).
-    (f,) = check_text("param a = 0.5\nint ([-2, 2], [-2, 2]) [x^2 + y^2 <= 1] * [(x - a)^2 + y^2 <= (1 - a)^2] d(x, y)")
+    (f,) = check_text(
+        "param a = 0.5\nint ([-2, 2], [-2, 2]) [x^2 + y^2 <= 1] * [(x - a)^2 + y^2 <= (1 - a)^2] d(x, y)"
+    )
     assert f.code == "X302" and "(x, y) = (1, 0)" in f.message
 
 
 def test_transverse_circles_are_clean():
-    assert check_text("param r = 0.5\nint ([-1, 1], [-1, 1]) [x^2 + y^2 <= r] * [(x - 0.2)^2 + y^2 <= r] d(x, y)") == []
+    assert (
+        check_text(
+            "param r = 0.5\nint ([-1, 1], [-1, 1]) [x^2 + y^2 <= r] * [(x - 0.2)^2 + y^2 <= r] d(x, y)"
+        )
+        == []
+    )
 
 
 def test_x306_and_x305_parameter_coefficient():

@@ -27,23 +27,42 @@ STDIN_NAME = "<stdin>"
 
 
 def add_arguments(p):
-    p.add_argument("files", nargs="+", metavar="FILE",
-                   help=".lgr files or directories to check (- reads standard input)")
+    p.add_argument(
+        "files", nargs="+", metavar="FILE", help=".lgr files or directories to check (- reads standard input)"
+    )
     add_common(p, params=True)
-    p.add_argument("--format", choices=FORMATS, default=None,
-                   help="output format: text (default), json (same as --json), sarif (SARIF 2.1.0), "
-                        "github (GitHub Actions annotations)")
-    p.add_argument("--exit-zero", action="store_true", help="exit with status 0 even when errors are reported")
-    p.add_argument("--prove", action="store_true",
-                   help="for each finding, also check Theorem 8.1 at the parameter values in force "
-                        "(is the derivative actually wrong there?)")
-    p.add_argument("--select", action="append", metavar="CODES",
-                   help="report only these code prefixes (comma-separated; replaces [tool.langur] select)")
-    p.add_argument("--ignore", action="append", metavar="CODES",
-                   help="never report these code prefixes (comma-separated; added to [tool.langur] ignore)")
+    p.add_argument(
+        "--format",
+        choices=FORMATS,
+        default=None,
+        help="output format: text (default), json (same as --json), sarif (SARIF 2.1.0), "
+        "github (GitHub Actions annotations)",
+    )
+    p.add_argument(
+        "--exit-zero", action="store_true", help="exit with status 0 even when errors are reported"
+    )
+    p.add_argument(
+        "--prove",
+        action="store_true",
+        help="for each finding, also check Theorem 8.1 at the parameter values in force "
+        "(is the derivative actually wrong there?)",
+    )
+    p.add_argument(
+        "--select",
+        action="append",
+        metavar="CODES",
+        help="report only these code prefixes (comma-separated; replaces [tool.langur] select)",
+    )
+    p.add_argument(
+        "--ignore",
+        action="append",
+        metavar="CODES",
+        help="never report these code prefixes (comma-separated; added to [tool.langur] ignore)",
+    )
     p.add_argument("--isolated", action="store_true", help="ignore every pyproject.toml configuration")
-    p.add_argument("--stdin-filename", metavar="PATH",
-                   help="the name standard input is reported (and configured) as")
+    p.add_argument(
+        "--stdin-filename", metavar="PATH", help="the name standard input is reported (and configured) as"
+    )
 
 
 def _codes(values) -> list[str] | None:

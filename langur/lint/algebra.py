@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import random
+from functools import lru_cache
 from collections.abc import Callable, Iterable, Mapping
 from fractions import Fraction
 from typing import TypeVar
@@ -25,8 +26,10 @@ import sympy as sp
 try:  # the symbolic engine's nesting-safe SIGALRM limiter
     from ..symbolic.timebox import run_with_timeout as _run_with_timeout
 except ImportError:  # pragma: no cover - the engine is always shipped with the package
+
     def _run_with_timeout(fn, seconds):
         return fn()
+
 
 T = TypeVar("T")
 
@@ -47,8 +50,15 @@ def timed(fn: Callable[[], T], seconds: float = TIME_LIMIT) -> T:
         return _run_with_timeout(fn, seconds)
     except TimeoutError as e:
         raise Undecided(f"sympy took longer than {seconds:g} s") from e
-    except (NotImplementedError, TypeError, ValueError, ZeroDivisionError, AttributeError,
-            RecursionError, sp.PolynomialError) as e:
+    except (
+        NotImplementedError,
+        TypeError,
+        ValueError,
+        ZeroDivisionError,
+        AttributeError,
+        RecursionError,
+        sp.PolynomialError,
+    ) as e:
         raise Undecided(f"sympy failed: {type(e).__name__}") from e
 
 
@@ -77,9 +87,14 @@ def _numeric(expr: sp.Expr, point: Mapping[sp.Symbol, float]) -> complex | None:
     return v
 
 
-def spot_values(expr: sp.Expr, symbols: Iterable[sp.Symbol], guards: Iterable[sp.Expr] = (),
-                seed: int = 0, points: int = SPOT_POINTS, fixed: Mapping[sp.Symbol, sp.Expr] | None = None
-                ) -> list[complex]:
+def spot_values(
+    expr: sp.Expr,
+    symbols: Iterable[sp.Symbol],
+    guards: Iterable[sp.Expr] = (),
+    seed: int = 0,
+    points: int = SPOT_POINTS,
+    fixed: Mapping[sp.Symbol, sp.Expr] | None = None,
+) -> list[complex]:
     """``expr`` at random points of ``symbols`` (uniform in [-2, 2]) where every guard is ``≥ 0``
     and the value is real and finite.  Deterministic for a given ``seed``."""
     rng = random.Random(seed)
@@ -107,7 +122,9 @@ def spot_values(expr: sp.Expr, symbols: Iterable[sp.Symbol], guards: Iterable[sp
     return out
 
 
-def vanishes(expr: sp.Expr, symbols: Iterable[sp.Symbol], guards: Iterable[sp.Expr] = (), seed: int = 0) -> bool:
+def vanishes(
+    expr: sp.Expr, symbols: Iterable[sp.Symbol], guards: Iterable[sp.Expr] = (), seed: int = 0
+) -> bool:
     """Is ``expr`` identically zero in ``symbols`` (where the guards hold)?
 
     A numeric spot check first (a nonzero value at a valid random point settles "no" without
@@ -147,11 +164,18 @@ def _equations(expr: sp.Expr, inner: tuple[sp.Symbol, ...], seed: int) -> list[s
     except (Undecided, sp.PolynomialError, sp.GeneratorsNeeded):
         pass
     rng = random.Random(seed)
-    return [expr.subs({u: sp.Rational(rng.randint(-9, 9), rng.randint(1, 5)) for u in inner}) for _ in range(3)]
+    return [
+        expr.subs({u: sp.Rational(rng.randint(-9, 9), rng.randint(1, 5)) for u in inner}) for _ in range(3)
+    ]
 
 
-def bad_parameters(expr: sp.Expr, inner: Iterable[sp.Symbol], params: Iterable[sp.Symbol],
-                   guards: Iterable[sp.Expr] = (), seed: int = 0) -> list[dict[sp.Symbol, sp.Expr]]:
+def bad_parameters(
+    expr: sp.Expr,
+    inner: Iterable[sp.Symbol],
+    params: Iterable[sp.Symbol],
+    guards: Iterable[sp.Expr] = (),
+    seed: int = 0,
+) -> list[dict[sp.Symbol, sp.Expr]]:
     """The parameter values at which ``expr`` vanishes identically in ``inner``, as ``sp.solve``
     solution dicts, each verified (the expression with the solution substituted vanishes).
 
@@ -176,6 +200,16 @@ def bad_parameters(expr: sp.Expr, inner: Iterable[sp.Symbol], params: Iterable[s
 
 
 def solve_points(eqs: list[sp.Expr], unknowns: Iterable[sp.Symbol]) -> list[dict[sp.Symbol, sp.Expr]]:
+    """Cached :func:`_solve_points` (the same family of conditions recurs in many products)."""
+    return list(_solve_points_cached(tuple(eqs), tuple(unknowns)))
+
+
+@lru_cache(maxsize=2048)
+def _solve_points_cached(eqs: tuple, unknowns: tuple) -> tuple:
+    return tuple(_solve_points(list(eqs), unknowns))
+
+
+def _solve_points(eqs: list[sp.Expr], unknowns: Iterable[sp.Symbol]) -> list[dict[sp.Symbol, sp.Expr]]:
     """Real common zeros of ``eqs`` in ``unknowns`` (other symbols are generic parameters).
 
     A solution may leave some unknowns free (a curve of solutions); solutions with complex values
@@ -207,12 +241,14 @@ def describe_set(solutions: list[dict[sp.Symbol, sp.Expr]]) -> str:
     parts: list[str] = []
     for sol in solutions:
         if len(sol) == 1:
-            (k, v), = sol.items()
+            ((k, v),) = sol.items()
             if not v.free_symbols:
                 if v not in singles.setdefault(k, []):
                     singles[k].append(v)
                 continue
-        text = " and ".join(f"{_text(k)} = {_text(v)}" for k, v in sorted(sol.items(), key=lambda kv: str(kv[0])))
+        text = " and ".join(
+            f"{_text(k)} = {_text(v)}" for k, v in sorted(sol.items(), key=lambda kv: str(kv[0]))
+        )
         if text not in parts:
             parts.append(text)
     head = []

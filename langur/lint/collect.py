@@ -103,7 +103,11 @@ class _Collector:
             guards = tuple(to_sympy(g, zero) for g in b.guards)
             branches.append((comps, guards))
         occ = Occurrence(
-            index=len(self.occurrences), psi=psi, span=node.psi.span or node.span, f=f, branches=tuple(branches),
+            index=len(self.occurrences),
+            psi=psi,
+            span=node.psi.span or node.span,
+            f=f,
+            branches=tuple(branches),
             node_span=node.span,
             uprime=tuple(symbol(u) for u in psi.inputs[1:]),
             nonzero=tuple(to_sympy(t, env) for t in psi.nonzero),
@@ -111,7 +115,9 @@ class _Collector:
         self.occurrences.append(occ)
         return occ.index
 
-    def times(self, A: frozenset[Product], B: frozenset[Product], site: Span | None = None) -> frozenset[Product]:
+    def times(
+        self, A: frozenset[Product], B: frozenset[Product], site: Span | None = None
+    ) -> frozenset[Product]:
         out = set()
         for m in A:
             for n in B:
@@ -155,7 +161,9 @@ class _Collector:
                 # Fig. 8, diffeomorphic conditional: δ(π₀Ψ̂)·(D_γ π₀Ψ̂)·T⟦s⟧−⟦r⟧ plus the branches
                 # selected by [π₀Ψ̂ ≥ 0]: the condition multiplies every condition of both branches
                 i = self.add(t, env)
-                return frozenset(Product(m.ids | {i}, m.squared) for m in self.products(s, env) | self.products(r, env))
+                return frozenset(
+                    Product(m.ids | {i}, m.squared) for m in self.products(s, env) | self.products(r, env)
+                )
             case Let(name, bound, body):
                 # Fig. 8, let: ⦇s⦈ with z ↦ ⟦t⟧; conditions in s see the bound value
                 return self.products(body, {**env, name: to_sympy(bound, env)})
@@ -212,8 +220,11 @@ def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] 
     call sites it was inlined through; attached to the occurrences when they line up."""
     c = _Collector(program)
     prods = c.products(program.body, {})
-    if sites is not None and len(sites) == len(c.occurrences) and all(
-            s == o.node_span for (s, _), o in zip(sites, c.occurrences)):
+    if (
+        sites is not None
+        and len(sites) == len(c.occurrences)
+        and all(s == o.node_span for (s, _), o in zip(sites, c.occurrences))
+    ):
         for (_, stack), o in zip(sites, c.occurrences):
             o.sites = stack
     # The domain's bounds are the leading factors [x ≥ lo]·[hi ≥ x] of the body (§6, §8.3).
@@ -221,8 +232,10 @@ def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] 
     for i, (x, (lo, hi)) in enumerate(zip(program.variables, program.box)):
         xs = symbol(x)
         try:
-            bounds[x] = ((xs - to_sympy(lo), f"{x} >= {sp.sstr(to_sympy(lo))}", (i, 0)),
-                         (to_sympy(hi) - xs, f"{x} <= {sp.sstr(to_sympy(hi))}", (i, 1)))
+            bounds[x] = (
+                (xs - to_sympy(lo), f"{x} >= {sp.sstr(to_sympy(lo))}", (i, 0)),
+                (to_sympy(hi) - xs, f"{x} <= {sp.sstr(to_sympy(hi))}", (i, 1)),
+            )
         except (NotSmooth, KeyError):  # a bound that is not a smooth term: nothing to label
             continue
     n_top = 0
@@ -236,5 +249,3 @@ def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] 
                 if occ.bound is None and sp.expand(occ.f - expr) == 0:
                     occ.bound, occ.bound_at = text, at
     return Collected(c.occurrences, prods, tuple(program.variables), c.truncated)
-
-

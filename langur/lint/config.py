@@ -41,8 +41,13 @@ class Config:
     extra: dict = field(default_factory=dict, compare=False)
 
     def with_cli(self, select: list[str] | None, ignore: list[str] | None) -> Config:
-        return Config(tuple(select) if select else self.select, self.ignore + tuple(ignore or ()),
-                      self.per_file_ignores, self.root, self.source)
+        return Config(
+            tuple(select) if select else self.select,
+            self.ignore + tuple(ignore or ()),
+            self.per_file_ignores,
+            self.root,
+            self.source,
+        )
 
     def enabled(self, code: str, path: str | None) -> bool:
         """Is ``code`` reported for a finding in the checked file ``path``?"""
@@ -112,8 +117,10 @@ def _parse(pyproject: Path, raw: bytes) -> Config | None:
         raise ConfigError(f"{pyproject}: [tool.langur] must be a table")
     unknown = sorted(set(table) - _KNOWN)
     if unknown:
-        raise ConfigError(f"{pyproject}: [tool.langur] has unknown key(s) {', '.join(unknown)} "
-                          f"(known: {', '.join(sorted(_KNOWN))})")
+        raise ConfigError(
+            f"{pyproject}: [tool.langur] has unknown key(s) {', '.join(unknown)} "
+            f"(known: {', '.join(sorted(_KNOWN))})"
+        )
     select = _codes(table["select"], "select", pyproject) if "select" in table else None
     ignore = _codes(table.get("ignore", []), "ignore", pyproject)
     pfi = table.get("per-file-ignores", {})

@@ -26,8 +26,19 @@ import numpy as np
 from ..core import PI, Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var
 
 SAMPLES = 4096
-_FUNCS = {"exp": np.exp, "log": np.log, "sin": np.sin, "cos": np.cos, "tan": np.tan, "sqrt": np.sqrt,
-          "tanh": np.tanh, "atan": np.arctan, "asin": np.arcsin, "acos": np.arccos, "atanh": np.arctanh}
+_FUNCS = {
+    "exp": np.exp,
+    "log": np.log,
+    "sin": np.sin,
+    "cos": np.cos,
+    "tan": np.tan,
+    "sqrt": np.sqrt,
+    "tanh": np.tanh,
+    "atan": np.arctan,
+    "asin": np.arcsin,
+    "acos": np.arccos,
+    "atanh": np.arctanh,
+}
 
 
 class _Skip(Exception):
@@ -94,7 +105,11 @@ class _Eval:
                 # LANGUAGE.md §1, constant power (t / s is t · s^-1)
                 v = self.value(a, mask)
                 if k < 0 and (mask & (v > 0)).any() and (mask & (v < 0)).any():
-                    self.flag(t, "the denominator changes sign, so it divides by zero inside the region", mask & (v < 0))
+                    self.flag(
+                        t,
+                        "the denominator changes sign, so it divides by zero inside the region",
+                        mask & (v < 0),
+                    )
                 if k < 0:
                     self.flag(t, "the denominator is zero (division by zero)", mask & (v == 0))
                 if Fraction(k).denominator != 1:
@@ -163,11 +178,19 @@ def domain_findings(program: Program | None, point: Mapping[str, object] | None,
         if span is not None and span.path in sources and span.line == span.end_line:
             lines = sources[span.path].splitlines()
             if 1 <= span.line <= len(lines):
-                text = lines[span.line - 1][span.col - 1:span.end_col - 1].strip()
+                text = lines[span.line - 1][span.col - 1 : span.end_col - 1].strip()
         what = f"`{text}`" if text else (f"`{t.op}`" if isinstance(t, Prim) else "a power")
         vals = ", ".join(f"{k2} = {v:g}" for k2, v in params.items())
         at = f" (at {vals})" if vals else ""
-        out.append(Finding(span, "warning", "X307",
-                           f"{what} is applied outside its domain on the domain of integration{at}: {why}, e.g. at "
-                           f"{example}; the integrand is undefined there (LANGUAGE.md §1)", (), tuple(params)))
+        out.append(
+            Finding(
+                span,
+                "warning",
+                "X307",
+                f"{what} is applied outside its domain on the domain of integration{at}: {why}, e.g. at "
+                f"{example}; the integrand is undefined there (LANGUAGE.md §1)",
+                (),
+                tuple(params),
+            )
+        )
     return out

@@ -23,30 +23,57 @@ from ..diagnostics import Diagnostic, Span
 
 #: The transversality codes (docs/CODES.md has the long form).
 X_CODES: dict[str, tuple[str, str, str]] = {
-    "X301": ("coincident-zero-sets", "error",
-             "Two multiplying conditions (or one multiplied by itself through a power or primitive) have the "
-             "same zero set for every parameter value: the derivative counts the jump twice (Def. 7.2)."),
-    "X302": ("tangent-zero-sets", "warning",
-             "Two multiplying zero sets are tangent at a point (normals linearly dependent): Def. 7.2 fails "
-             "on a null set; Theorem 8.1 no longer applies, the derivative is still likely right."),
-    "X303": ("too-many-zero-sets-through-a-point", "warning",
-             "More than n multiplying zero sets pass through one point of R^n: Def. 7.2 fails on a null set."),
-    "X304": ("degenerate-for-some-parameters", "warning",
-             "Multiplying zero sets coincide for some parameter values (the set is printed)."),
-    "X305": ("degenerate-at-given-parameters", "error",
-             "At the parameter values given with --at the zero sets coincide or a condition is not a "
-             "diffeomorphism: the derivative is not defined there."),
-    "X306": ("not-a-diffeomorphism-for-some-parameters", "warning",
-             "A parameter coefficient of a condition vanishes for some parameter values: there the condition "
-             "is not a diffeomorphism."),
-    "X307": ("primitive-outside-domain", "warning",
-             "A primitive (log, sqrt, division, tan, ...) is applied outside its domain on the domain of "
-             "integration at the parameter values in force."),
-    "X308": ("redundant-static-coincidence", "warning",
-             "Multiplying conditions with the same zero set that does not move with the parameters: the "
-             "deltas have zero weight, the derivative is unaffected (the product is redundant)."),
-    "X310": ("undecided", "warning",
-             "The checker could not decide transversality here (a sympy computation timed out or failed)."),
+    "X301": (
+        "coincident-zero-sets",
+        "error",
+        "Two multiplying conditions (or one multiplied by itself through a power or primitive) have the "
+        "same zero set for every parameter value: the derivative counts the jump twice (Def. 7.2).",
+    ),
+    "X302": (
+        "tangent-zero-sets",
+        "warning",
+        "Two multiplying zero sets are tangent at a point (normals linearly dependent): Def. 7.2 fails "
+        "on a null set; Theorem 8.1 no longer applies, the derivative is still likely right.",
+    ),
+    "X303": (
+        "too-many-zero-sets-through-a-point",
+        "warning",
+        "More than n multiplying zero sets pass through one point of R^n: Def. 7.2 fails on a null set.",
+    ),
+    "X304": (
+        "degenerate-for-some-parameters",
+        "warning",
+        "Multiplying zero sets coincide for some parameter values (the set is printed).",
+    ),
+    "X305": (
+        "degenerate-at-given-parameters",
+        "error",
+        "At the parameter values given with --at the zero sets coincide or a condition is not a "
+        "diffeomorphism: the derivative is not defined there.",
+    ),
+    "X306": (
+        "not-a-diffeomorphism-for-some-parameters",
+        "warning",
+        "A parameter coefficient of a condition vanishes for some parameter values: there the condition "
+        "is not a diffeomorphism.",
+    ),
+    "X307": (
+        "primitive-outside-domain",
+        "warning",
+        "A primitive (log, sqrt, division, tan, ...) is applied outside its domain on the domain of "
+        "integration at the parameter values in force.",
+    ),
+    "X308": (
+        "redundant-static-coincidence",
+        "warning",
+        "Multiplying conditions with the same zero set that does not move with the parameters: the "
+        "deltas have zero weight, the derivative is unaffected (the product is redundant).",
+    ),
+    "X310": (
+        "undecided",
+        "warning",
+        "The checker could not decide transversality here (a sympy computation timed out or failed).",
+    ),
 }
 
 
@@ -82,8 +109,13 @@ class Report:
 
 
 def _span_json(s: Span | None) -> dict:
-    return {"path": s.path if s else None, "line": s.line if s else None, "col": s.col if s else None,
-            "end_line": s.end_line if s else None, "end_col": s.end_col if s else None}
+    return {
+        "path": s.path if s else None,
+        "line": s.line if s else None,
+        "col": s.col if s else None,
+        "end_line": s.end_line if s else None,
+        "end_col": s.end_col if s else None,
+    }
 
 
 def text_lines(reports: list[Report]) -> list[str]:
@@ -99,8 +131,13 @@ def json_document(reports: list[Report]) -> dict:
     items = []
     for r in reports:
         d = r.diagnostic
-        item = {**_span_json(d.span), "severity": d.severity, "code": d.code, "message": r.message,
-                "related": [_span_json(s) for s in d.related]}
+        item = {
+            **_span_json(d.span),
+            "severity": d.severity,
+            "code": d.code,
+            "message": r.message,
+            "related": [_span_json(s) for s in d.related],
+        }
         if r.prove is not None:
             item["prove"] = r.prove
         items.append(item)
@@ -136,35 +173,59 @@ def sarif_document(reports: list[Report], version: str = "0") -> dict:
         index[code] = len(rules)
         if code in X_CODES:
             name, level, text = X_CODES[code]
-            rules.append({"id": code, "name": name, "shortDescription": {"text": text},
-                          "defaultConfiguration": {"level": level}})
+            rules.append(
+                {
+                    "id": code,
+                    "name": name,
+                    "shortDescription": {"text": text},
+                    "defaultConfiguration": {"level": level},
+                }
+            )
         else:
-            rules.append({"id": code, "shortDescription": {"text": front.get(code, code)},
-                          "defaultConfiguration": {"level": "error"}})
+            rules.append(
+                {
+                    "id": code,
+                    "shortDescription": {"text": front.get(code, code)},
+                    "defaultConfiguration": {"level": "error"},
+                }
+            )
     results = []
     for r in reports:
         d = r.diagnostic
-        res = {"ruleId": d.code, "ruleIndex": index[d.code],
-               "level": "error" if d.severity == "error" else "warning",
-               "message": {"text": r.message}}
+        res = {
+            "ruleId": d.code,
+            "ruleIndex": index[d.code],
+            "level": "error" if d.severity == "error" else "warning",
+            "message": {"text": r.message},
+        }
         if d.span is not None:
             res["locations"] = [_location(d.span)]
         related = [s for s in d.related if s is not None]
         if related:
-            res["relatedLocations"] = [{**_location(s), "id": k, "message": {"text": "the other condition"}}
-                                       for k, s in enumerate(related)]
+            res["relatedLocations"] = [
+                {**_location(s), "id": k, "message": {"text": "the other condition"}}
+                for k, s in enumerate(related)
+            ]
         if r.prove is not None:
             res["properties"] = {"prove": r.prove}
         results.append(res)
     return {
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",
-        "runs": [{
-            "tool": {"driver": {"name": "langur", "version": version, "semanticVersion": version,
-                                "rules": rules}},
-            "columnKind": "unicodeCodePoints",
-            "results": results,
-        }],
+        "runs": [
+            {
+                "tool": {
+                    "driver": {
+                        "name": "langur",
+                        "version": version,
+                        "semanticVersion": version,
+                        "rules": rules,
+                    }
+                },
+                "columnKind": "unicodeCodePoints",
+                "results": results,
+            }
+        ],
     }
 
 
@@ -184,8 +245,13 @@ def github_lines(reports: list[Report]) -> list[str]:
         props = []
         if d.span is not None:
             s = d.span
-            props += [f"file={_escape_property(s.path)}", f"line={s.line}", f"col={s.col}",
-                      f"endLine={s.end_line}", f"endColumn={s.end_col}"]
+            props += [
+                f"file={_escape_property(s.path)}",
+                f"line={s.line}",
+                f"col={s.col}",
+                f"endLine={s.end_line}",
+                f"endColumn={s.end_col}",
+            ]
         props.append(f"title={_escape_property(d.code)}")
         out.append(f"::{kind} {','.join(props)}::{_escape_data(d.code + ' ' + r.message)}")
     return out

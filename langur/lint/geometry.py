@@ -138,5 +138,3 @@ def _is_linear(f: sp.Expr, xs) -> bool:
 
 def _span_key(span: Span | None) -> tuple:
     return (span.path, span.line, span.col) if span is not None else ("", 0, 0)
-
-

@@ -19,8 +19,9 @@ from collections.abc import Mapping
 
 from ..diagnostics import Diagnostic
 
-_NOQA = re.compile(r"#\s*noqa(?P<colon>\s*:\s*(?P<codes>[A-Za-z]+[0-9]+(?:\s*[,\s]\s*[A-Za-z]+[0-9]+)*)?)?",
-                   re.IGNORECASE)
+_NOQA = re.compile(
+    r"#\s*noqa(?P<colon>\s*:\s*(?P<codes>[A-Za-z]+[0-9]+(?:\s*[,\s]\s*[A-Za-z]+[0-9]+)*)?)?", re.IGNORECASE
+)
 
 
 def directive(line: str) -> frozenset[str] | None:

@@ -54,8 +54,12 @@ class Prover:
             else:
                 d, dd = _value(thm["d_denotation"]), _value(thm["derivative_denotation"])
                 decided = all(isinstance(v, (int, float)) and math.isfinite(v) for v in (d, dd))
-                out = {"holds": bool(thm["holds"]) if decided else None, "d_denotation": thm["d_denotation"],
-                       "derivative_denotation": thm["derivative_denotation"], "how": thm.get("how")}
+                out = {
+                    "holds": bool(thm["holds"]) if decided else None,
+                    "d_denotation": thm["d_denotation"],
+                    "derivative_denotation": thm["derivative_denotation"],
+                    "how": thm.get("how"),
+                }
                 if not decided:
                     out["reason"] = "D⟦p⟧ is not a finite number here (no derivative, or not computed)"
         except Exception as e:  # the engine's failures are reported, never raised
@@ -66,8 +70,11 @@ class Prover:
     def prove(self, names) -> dict:
         """``{"params", "directions": {name: check}, "verdict", "summary"}`` for a finding."""
         if self.point is None:
-            return {"verdict": "unknown", "summary": "no parameter values to check at (give --at)",
-                    "directions": {}}
+            return {
+                "verdict": "unknown",
+                "summary": "no parameter values to check at (give --at)",
+                "directions": {},
+            }
         names = [n for n in names if n in self.point] or list(self.point)
         if not names:
             return {"verdict": "unknown", "summary": "the program has no parameters", "directions": {}}
@@ -79,7 +86,9 @@ class Prover:
                 parts.append(f"D_{n}: undecided ({c.get('reason', 'unknown')})")
             else:
                 rel = "=" if c["holds"] else "≠"
-                parts.append(f"D_{n}⟦p⟧ = {_fmt(c['d_denotation'])} {rel} ⦇p⦈ = {_fmt(c['derivative_denotation'])}")
+                parts.append(
+                    f"D_{n}⟦p⟧ = {_fmt(c['d_denotation'])} {rel} ⦇p⦈ = {_fmt(c['derivative_denotation'])}"
+                )
         if any(c.get("holds") is False for c in checks.values()):
             verdict, tail = "wrong", "the derivative denotation is wrong here"
         elif all(c.get("holds") is True for c in checks.values()):
@@ -87,5 +96,9 @@ class Prover:
         else:
             verdict, tail = "unknown", "could not decide whether the derivative is right here"
         summary = f"at {at}: {'; '.join(parts)}: {tail}"
-        return {"params": {k: float(v) for k, v in self.point.items()}, "directions": checks,
-                "verdict": verdict, "summary": summary}
+        return {
+            "params": {k: float(v) for k, v in self.point.items()},
+            "directions": checks,
+            "verdict": verdict,
+            "summary": summary,
+        }
