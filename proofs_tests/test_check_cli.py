@@ -342,3 +342,21 @@ def test_every_code_is_documented():
     assert emitted and emitted <= set(X_CODES)
     for code in sorted(set(X_CODES) | set(typesys.CODES) | set(_front_end_codes())):
         assert re.search(rf"^\| {code} \|", doc, re.MULTILINE), code
+
+
+def test_modules_and_imported_defs(capsys, tmp_path):
+    # --module swaps the shader of renderer.lgr (CLI.md): still transverse, exit 0
+    code, out, _ = run(capsys, EXAMPLES / "renderer.lgr", "--isolated", "--module",
+                       f"shader={EXAMPLES / 'lin_shader.lgr'}")
+    assert code == 0 and out == ""
+    code, _, err = run(capsys, EXAMPLES / "renderer.lgr", "--module", f"shader={tmp_path / 'none.lgr'}")
+    assert code == 2 and "no such file" in err
+    # a degenerate def in an imported module: the finding points at the call in the checked file
+    (tmp_path / "lib.lgr").write_text("def sq(x: var, a: param) = [x >= a] * [x >= a]\n")
+    main_file = tmp_path / "main.lgr"
+    main_file.write_text("from lib import sq\nparam a = 0.5\nint ([0, 1]) 2 * sq(x, a) d(x)\n")
+    code, out, _ = run(capsys, main_file, "--isolated", "--json")
+    (d,) = json.loads(out)["diagnostics"]
+    assert code == 1 and d["code"] == "X301"
+    assert (d["path"], d["line"], d["col"]) == (str(main_file), 3, 18)
+    assert "lib.lgr:1:" in d["message"]

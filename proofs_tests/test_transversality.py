@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 
 from langur import transversality as tv
-from langur.core import Add, Const, Diffeo, IfDiffeo, InverseBranch, Mul, Param, Program, Var, const, sub
+from langur.core import Add, Diffeo, IfDiffeo, InverseBranch, Mul, Param, Program, Var, const, sub
 from langur.frontend import load, load_text
 from langur.lint import algebra
 from langur.lint.prove import Prover
