@@ -178,7 +178,8 @@ class SiteSampler:
     def __init__(self, psi: Diffeo, variables: tuple[str, ...]):
         self.psi = psi
         self.variables = variables
-        self.condition = compile_term(psi.forward[0]).fn
+        self._condition = None
+        self._branches = None
         coords = []
         for i in range(1, len(psi.forward)):
             f = psi.forward[i]
@@ -188,8 +189,21 @@ class SiteSampler:
                 coords.append(((1, i), psi.inputs[i], None, f))
         coords.sort(key=lambda c: c[0])
         self.coords = [(u, var, term) for _, u, var, term in coords]
-        self.branches = [([compile_term(c).fn for c in b.components], [compile_term(g).fn for g in b.guards])
-                         for b in psi.branches]
+
+    @property
+    def condition(self):
+        """π₀Ψ̂ compiled (on first use: a site the direction does not move is never compiled)."""
+        if self._condition is None:
+            self._condition = compile_term(self.psi.forward[0]).fn
+        return self._condition
+
+    @property
+    def branches(self):
+        """Each inverse branch's components and guards, compiled on first use."""
+        if self._branches is None:
+            self._branches = [([compile_term(c).fn for c in b.components], [compile_term(g).fn for g in b.guards])
+                              for b in self.psi.branches]
+        return self._branches
 
     def region(self, box: dict[str, tuple[float, float]], params: dict) -> list[tuple[float, float]]:
         """The u'-box: a variable's own interval, or an interval enclosure of Ψ̂'s component."""
