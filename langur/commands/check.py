@@ -149,6 +149,10 @@ def run(args) -> int:
         used_at |= set(here)
         if loaded.program is None:
             continue  # a library module: its defs are checked where they are used
+        for m in loaded.modules.values():  # imported modules: quoted in messages, their # noqa honoured
+            if m.path not in sources and os.path.isfile(m.path):
+                with open(m.path, encoding="utf-8", errors="replace") as fh:
+                    sources[m.path] = fh.read()
         findings = check_loaded(loaded, at=here, sources=sources)
         prover = Prover(loaded.program, point_of(loaded.params, here)) if args.prove else None
         for fd in findings:

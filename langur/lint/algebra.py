@@ -138,7 +138,7 @@ def vanishes(
     values = spot_values(expr, symbols, guards, seed)
     if not values:
         return False
-    if any(abs(v) > _TOL * max(1.0, 1.0) for v in values):
+    if any(abs(v) > _TOL for v in values):
         return False
     try:
         s = timed(lambda: sp.simplify(expr))
