@@ -9,6 +9,9 @@
 * :func:`term_texts`, :func:`module_texts` – grammar-valid source texts with random layout.
 * :func:`tokenize` – split a source into tokens (for mutation fuzzing).
 
+The strategy factories are cached: building a recursive strategy is costly, and hypothesis
+generates much faster from one strategy object reused than from a fresh one per draw.
+
 Other helpers may import this module (from ``proofs_tests``).
 """
 
@@ -16,6 +19,7 @@ from __future__ import annotations
 
 import re
 from fractions import Fraction
+from functools import cache
 
 from hypothesis import strategies as st
 
@@ -34,6 +38,14 @@ numbers = st.builds(
 )
 
 
+@st.composite
+def iverson(draw, children) -> S.Iverson:
+    """``[t0 op0 t1 …]`` with one to three comparisons."""
+    ops = tuple(draw(st.lists(st.sampled_from(CMPS), min_size=1, max_size=3)))
+    return S.Iverson(tuple(draw(children) for _ in range(len(ops) + 1)), ops)
+
+
+@cache
 def surface_terms(max_leaves: int = 16) -> st.SearchStrategy:
     """Random surface terms as the parser produces them (spans left out: they never compare)."""
     leaves = st.one_of(st.builds(S.Num, numbers), st.builds(S.Name, names))
@@ -45,13 +57,7 @@ def surface_terms(max_leaves: int = 16) -> st.SearchStrategy:
             st.builds(S.BinOp, st.sampled_from("+-*/^"), children, children),
             st.builds(S.Neg, children),
             st.builds(S.Apply, st.sampled_from(FUNCS), st.lists(children, max_size=3).map(tuple)),
-            st.integers(1, 3).flatmap(
-                lambda n: st.builds(
-                    S.Iverson,
-                    st.lists(children, min_size=n + 1, max_size=n + 1).map(tuple),
-                    st.lists(st.sampled_from(CMPS), min_size=n, max_size=n).map(tuple),
-                )
-            ),
+            iverson(children),
             st.builds(S.LetIn, names, children, children),
             st.builds(S.IfGe0S, st.one_of(children, diffeo_app), children, children),
             st.builds(S.IfCmp, children, st.sampled_from(CMPS), children, children, children),
@@ -64,8 +70,22 @@ def _idents(n_min=1, n_max=3):
     return st.lists(st.builds(S.Ident, names), min_size=n_min, max_size=n_max).map(tuple)
 
 
+@st.composite
+def diffeo_decls(draw, terms) -> S.DiffeoDecl:
+    n = draw(st.integers(1, 3))
+    return S.DiffeoDecl(
+        S.Ident(draw(names)),
+        draw(_idents(1, 3)),
+        draw(_idents(0, 2)),
+        tuple(draw(terms) for _ in range(n)),
+        draw(_idents(n, n)),
+        tuple(draw(terms) for _ in range(n)),
+    )
+
+
+@cache
 def surface_items() -> st.SearchStrategy:
-    terms = surface_terms(8)
+    terms = surface_terms(6)
     defaults = st.one_of(st.none(), numbers, numbers.map(lambda v: -v))
     param_item = st.builds(
         S.ParamItem,
@@ -73,17 +93,7 @@ def surface_items() -> st.SearchStrategy:
             tuple
         ),
     )
-    diffeo = st.integers(1, 3).flatmap(
-        lambda n: st.builds(
-            S.DiffeoDecl,
-            st.builds(S.Ident, names),
-            _idents(1, 3),
-            _idents(0, 2),
-            st.lists(terms, min_size=n, max_size=n).map(tuple),
-            _idents(n, n),
-            st.lists(terms, min_size=n, max_size=n).map(tuple),
-        )
-    )
+    diffeo = diffeo_decls(terms)
     defn = st.builds(
         S.DefDecl,
         st.builds(S.Ident, names),
@@ -106,6 +116,7 @@ def surface_items() -> st.SearchStrategy:
     return st.one_of(param_item, diffeo, defn, imp)
 
 
+@cache
 def surface_programs() -> st.SearchStrategy:
     terms = surface_terms(10)
     domain = st.one_of(
@@ -114,10 +125,11 @@ def surface_programs() -> st.SearchStrategy:
     return st.builds(S.ProgramS, domain, terms, _idents(1, 3))
 
 
+@cache
 def surface_modules() -> st.SearchStrategy:
     return st.builds(
         lambda items, program: S.ModuleS("<string>", tuple(items), program),
-        st.lists(surface_items(), max_size=4),
+        st.lists(surface_items(), max_size=3),
         st.one_of(st.none(), surface_programs()),
     )
 

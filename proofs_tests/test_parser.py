@@ -405,13 +405,13 @@ def test_ten_megabytes():
     "text",
     [
         "int " + "(" * 100_000 + "x" + ")" * 100_000 + " d(x)",
-        "int " + "let a = 1 in " * 60_000 + "a d(x)",
+        "int " + "let a = 1 in " * 20_000 + "a d(x)",
         "int " + "+".join(["x"] * 100_000) + " d(x)",
-        "int " + "-" * 300_000 + "x d(x)",
+        "int " + "-" * 100_000 + "x d(x)",
         "int " + "[" * 50_000 + "x",
         "int " + "f(" * 50_000 + "x" + ")" * 50_000 + " d(x)",
-        "int " + "2^" * 100_000 + "x d(x)",
-        "int " + "ifge0 x then 1 else " * 30_000 + "0 d(x)",
+        "int " + "2^" * 30_000 + "x d(x)",
+        "int " + "ifge0 x then 1 else " * 10_000 + "0 d(x)",
     ],
     ids=["parens", "lets", "sum", "minus", "brackets", "calls", "powers", "ifge0"],
 )
