@@ -145,20 +145,17 @@ def lambdify(t: Term, names: list[str]):
 def time_limited(f: Callable[[], T], seconds: float) -> T:
     """``f()`` if it finishes within ``seconds``, else :class:`SympyTimeout`.
 
-    In the main thread an interval timer interrupts ``f``; elsewhere ``f`` runs in a daemon
+    In the main thread this is ``langur.symbolic.timebox.run_with_timeout`` (an interval timer
+    that nests correctly with the symbolic engine's own limits); elsewhere ``f`` runs in a daemon
     thread that is abandoned on timeout (it cannot be interrupted, but it never blocks exit).
     """
     if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
-        def on_alarm(signum, frame):
-            raise SympyTimeout(f"sympy took longer than {seconds}s")
+        from ..symbolic.timebox import run_with_timeout
 
-        old = signal.signal(signal.SIGALRM, on_alarm)
-        signal.setitimer(signal.ITIMER_REAL, seconds)
         try:
-            return f()
-        finally:
-            signal.setitimer(signal.ITIMER_REAL, 0)
-            signal.signal(signal.SIGALRM, old)
+            return run_with_timeout(f, seconds)
+        except TimeoutError:
+            raise SympyTimeout(f"sympy took longer than {seconds}s") from None
     box: dict[str, object] = {}
 
     def run():
