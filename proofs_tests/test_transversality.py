@@ -278,3 +278,14 @@ def test_prove_says_whether_the_derivative_is_wrong():
     loaded = load(str(DEGENERATE / "three_lines.lgr"))
     (f,) = tv.check_loaded(loaded)
     assert Prover(loaded.program, tv.point_of(loaded.params, {})).prove(f.params)["verdict"] == "right"
+
+
+@pytest.mark.parametrize("text", [
+    "param a = 0.5\nint ([0, 1]) min(x, a) * [x >= a] d(x)",
+    "param a = 0.5\nint ([0, 1]) abs(x - a)^2 d(x)",
+    "param t = 1\nint ([0, 1]) max(t*x, 1) d(x)",
+])
+def test_continuous_conditionals_have_no_delta(text):
+    # abs/min/max: the branches agree on the zero set, the jump ⟦s⟧ − ⟦r⟧ is 0 there, so Fig. 8's
+    # delta term vanishes and nothing is multiplied by it.
+    assert check_text(text) == []

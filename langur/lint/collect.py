@@ -58,6 +58,7 @@ class Occurrence:
     bound_at: tuple[int, int] | None = None  # (variable index, 0 lower / 1 upper)
     sites: tuple[Span, ...] = ()  # call sites (outermost first) when it comes from a def's body
     node_span: Span | None = None  # the whole conditional (the condition alone is ``span``)
+    continuous: bool = False  # its branches agree on the zero set: no delta (abs, min, max)
     _moving: bool | None = field(default=None, repr=False)
 
 
@@ -115,6 +116,27 @@ class _Collector:
         self.occurrences.append(occ)
         return occ.index
 
+    def continuous(self, occ: "Occurrence", s: Term, r: Term, env: dict[str, sp.Expr]) -> bool:
+        """Is ``ifge0 ⌊Ψ⌋ then s else r`` continuous (smooth branches that agree on the zero set)?
+        Then its delta has zero weight and it multiplies nothing (``abs``, ``min``, ``max``)."""
+        from .algebra import Undecided, vanishes
+
+        try:
+            jump = to_sympy(s, env) - to_sympy(r, env)
+        except NotSmooth:
+            return False
+        xs = {symbol(x) for x in self.variables}
+        try:
+            for comps, guards in occ.branches:
+                e = jump.xreplace(comps)
+                others = tuple(sym for sym in e.free_symbols if sym not in xs)
+                if not vanishes(e, others, guards):
+                    return False
+        except Undecided:
+            return False
+        occ.continuous = True
+        return True
+
     def times(
         self, A: frozenset[Product], B: frozenset[Product], site: Span | None = None
     ) -> frozenset[Product]:
@@ -160,10 +182,12 @@ class _Collector:
             case IfDiffeo(_, s, r):
                 # Fig. 8, diffeomorphic conditional: δ(π₀Ψ̂)·(D_γ π₀Ψ̂)·T⟦s⟧−⟦r⟧ plus the branches
                 # selected by [π₀Ψ̂ ≥ 0]: the condition multiplies every condition of both branches
+                # — unless the jump ⟦s⟧ − ⟦r⟧ vanishes on the zero set (abs, min, max): no delta at all
                 i = self.add(t, env)
-                return frozenset(
-                    Product(m.ids | {i}, m.squared) for m in self.products(s, env) | self.products(r, env)
-                )
+                both = self.products(s, env) | self.products(r, env)
+                if self.continuous(self.occurrences[i], s, r, env):
+                    return both
+                return frozenset(Product(m.ids | {i}, m.squared) for m in both)
             case Let(name, bound, body):
                 # Fig. 8, let: ⦇s⦈ with z ↦ ⟦t⟧; conditions in s see the bound value
                 return self.products(body, {**env, name: to_sympy(bound, env)})
