@@ -247,3 +247,24 @@ def test_defs_with_lets_module_params_and_param_expressions(tmp_path):
         assert cache_stats()["last_link"] == "linked"
         assert linked == estimate_derivative(L.program, p, direction, samples=N, seed=21)
         assert close(linked, expected)
+
+
+def test_general_var_argument_falls_back_to_the_inlined_program(tmp_path):
+    # f(t) = [t ≥ a] called as f(2x): not a renaming, so the program is evaluated inlined.
+    # ∫_0^1 [2x ≥ a] dx = 1 − a/2, D_a = −1/2 (exact: one root x = a/2 with |d(2x)/dx| = 2)
+    (tmp_path / "lib.lgr").write_text("def f(t: var, a: param) = [t >= a]\n")
+    (tmp_path / "main.lgr").write_text("from lib import f\nparam a = 0.6\nint ([0, 1]) f(2 * x, a) d(x)\n")
+    L = load(str(tmp_path / "main.lgr"))
+    d = estimate_derivative(L, {"a": 0.6}, {"a": 1}, samples=100)
+    assert cache_stats()["last_link"] == "inlined"
+    assert abs(d["value"] + 0.5) < 1e-12
+    assert close(estimate_value(L, {"a": 0.6}, samples=N, seed=22), 0.7)
+
+
+def test_the_engine_never_imports_sympy():
+    import subprocess
+    import sys
+
+    code = "import sys, langur.operational; print('sympy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

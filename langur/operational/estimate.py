@@ -35,6 +35,8 @@ def _domain(linked: Linked, params: dict, rng, samples: int, method: str):
     box = evaluate_box(linked.box_fns, params)
     m = len(linked.variables)
     d = design(rng, m, samples, method)
+    if any(math.isnan(lo) or math.isnan(hi) for lo, hi in box):
+        return None, math.nan, d  # a bound outside its primitive's domain: the integral is undefined
     if any(not (hi > lo) for lo, hi in box):
         return None, 0.0, d
     lo = np.array([b[0] for b in box])
@@ -60,7 +62,7 @@ def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, see
         x, volume, d = _domain(linked, p, rng, samples, method)
         n = d.points.shape[0]
         if x is None:
-            mean, se = 0.0, 0.0
+            mean, se = (0.0, 0.0) if volume == 0.0 else (math.nan, math.nan)
         else:
             v, _ = linked.fn(_env(linked, x, p, mode=VALUE))
             mean, se = d.mean(_full(v, n))
@@ -83,7 +85,7 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
         x, volume, d = _domain(linked, p, rng, samples, method)
         n = d.points.shape[0]
         if x is None:
-            reg, reg_se = 0.0, 0.0
+            reg, reg_se = (0.0, 0.0) if volume == 0.0 else (math.nan, math.nan)
         else:
             _, t = linked.fn(_env(linked, x, p, dparams=dp, mode=TANGENT))
             reg, reg_se = d.mean(_full(t, n))

@@ -110,6 +110,18 @@ def _sampler(psi: Diffeo, variables: tuple[str, ...]) -> SiteSampler:
     return SiteSampler(psi, variables)
 
 
+LINKED_CAPACITY = 16  # linked programs kept (each holds its samplers); compiled units are kept
+
+
+def _put_linked(key, linked: "Linked") -> None:
+    """Remember a linked program, forgetting the oldest beyond LINKED_CAPACITY (a long session of
+    swaps must not grow the heap without bound: the garbage collector's cost grows with it)."""
+    CACHE.linked.pop(key, None)
+    CACHE.linked[key] = linked
+    while len(CACHE.linked) > LINKED_CAPACITY:
+        CACHE.linked.pop(next(iter(CACHE.linked)))
+
+
 def _memo_get(obj, sites: str):
     hit = CACHE.by_id.get(id(obj))
     if hit is not None and hit[0] is obj and hit[1] == sites:
@@ -120,7 +132,7 @@ def _memo_get(obj, sites: str):
 
 
 def _memo_put(obj, sites: str, linked: "Linked") -> "Linked":
-    if len(CACHE.by_id) >= 64:
+    if len(CACHE.by_id) >= LINKED_CAPACITY:
         CACHE.by_id.pop(next(iter(CACHE.by_id)))
     CACHE.by_id[id(obj)] = (obj, sites, linked)  # holds obj: its id cannot be reused meanwhile
     CACHE.last_link = linked.how
@@ -143,7 +155,7 @@ def compile_program(program: Program) -> Linked:
     sites = []
     collect_sites(program.body, {}, {}, program.variables, None, sites)
     linked = Linked(unit.fn, None, {}, program.variables, _box(program), sites, "inlined")
-    CACHE.linked[key] = linked
+    _put_linked(key, linked)
     return _memo_put(program, "", linked)
 
 
@@ -188,7 +200,7 @@ def link(loaded: Loaded, sites: str = "inlined") -> Linked:
     body = _unit(prog_key, main.program.body, ("program", main.name, None))
     if not _linkable(body, units, defs):
         linked = compile_program(loaded.program)
-        CACHE.linked[link_key] = linked
+        _put_linked(link_key, linked)
         return _memo_put(loaded, sites, linked)
     counts: dict = {}
 
@@ -217,7 +229,7 @@ def link(loaded: Loaded, sites: str = "inlined") -> Linked:
         collect_sites(loaded.program.body, {}, {}, loaded.program.variables, None, found)
         if len(found) != offsets[-1] or loaded.program.variables != main.program.variables:
             linked = compile_program(loaded.program)  # the inliner changed the structure: evaluate it
-            CACHE.linked[link_key] = linked
+            _put_linked(link_key, linked)
             return _memo_put(loaded, sites, linked)
     else:
         collect_sites(main.program.body, {}, {}, main.program.variables, defs, found)
@@ -226,7 +238,7 @@ def link(loaded: Loaded, sites: str = "inlined") -> Linked:
         box = loaded.program.box
     linked = Linked(body.fn, offsets, table, main.program.variables,
                     [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in box], found, "linked")
-    CACHE.linked[link_key] = linked
+    _put_linked(link_key, linked)
     return _memo_put(loaded, sites, linked)
 
 
