@@ -358,6 +358,7 @@ def _parser() -> Lark:
             transformer=_BUILDER,
             keep_all_tokens=True,
             maybe_placeholders=False,
+            cache=True,  # lark pickles its LALR tables in the temp dir: ~3x faster start-up
         )
     return _PARSER
 
