@@ -13,10 +13,18 @@ Two jobs, both with sympy (through :mod:`langur.syntax.sympy_bridge`, every call
   2. ``v`` occurs once, under invertible steps (``+ c``, ``· c``, ``^ k``, ``exp``, ``log``,
      ``tanh``, ``atan``, and the periodic ``sin``/``cos``/``tan`` when the argument's range over the
      variables' box is bounded): one branch per inverse, each with guards ``≥ 0`` saying where it
-     exists (``x^2 - a``: ``x = ±sqrt(u0 + a)``, guard ``u0 + a``); periodic inverses keep only
-     the branches whose image meets the argument's range, so ``sin(x) - t`` on ``[0, 1]`` has one;
-  3. the numerator of ``t - u₀`` is a polynomial of degree ≤ 2 in ``v``: the quadratic formula,
-     two branches with guard ``discriminant ≥ 0``.
+     exists (``x^2 - a``: ``x = ±sqrt(u0 + a)``, guard ``u0 + a``; ``x^3 - a``: two branches with
+     complementary guards); periodic inverses keep only the branches whose image meets the
+     argument's range, so ``sin(x) - t`` on ``[0, 1]`` has one.  A factor ``c`` over parameters
+     is recorded in ``nonzero``; a factor over other variables (``x*y - 1`` solved for ``y``)
+     vanishes only on a null set, where Ψ̂ is not invertible (like a tangency, measure zero);
+  3. the numerator of ``t - u₀`` is a polynomial of degree ≤ 2 in ``v`` (rational conditions
+     such as ``x/(1+x) - a``): its roots, two branches with guard ``discriminant ≥ 0`` for
+     degree 2.
+
+  Inverse branches are solved with these bounded strategies only (no open-ended
+  ``sympy.solve``, whose solution sets for transcendental equations can be incomplete: a missed
+  root would silently drop part of the derivative).
 
   Every branch is kept because the delta of the condition sums over all roots.  What cannot be
   completed raises :class:`CompletionError` (the desugarer turns it into a located T207).
@@ -40,6 +48,8 @@ from .sympy_bridge import NotSmooth, SympyTimeout, from_sympy, symbol, time_limi
 
 #: Wall-clock limit (seconds) of one completion / one declaration check.
 TIME_LIMIT = 10.0
+#: Limit (seconds) of the symbolic proof that a declared inverse inverts (then: numeric check).
+SYMBOLIC_LIMIT = 3.0
 #: More inverse branches than this on the domain is treated as "infinitely many".
 MAX_BRANCHES = 64
 
@@ -335,7 +345,8 @@ def check_declared(name: str, variables: tuple[str, ...], params: tuple[str, ...
     try:
         nonzero = time_limited(lambda: _check(name, variables, params, forward, inputs, inverse), TIME_LIMIT)
     except SympyTimeout:
-        nonzero = ()  # the numeric checks inside passed before sympy ran out of time
+        raise DiffeoCheckError("T215", f"diffeo {name}: could not check within {TIME_LIMIT:g}s that the inverse "
+                               "inverts Ψ̂ and that its Jacobian is nonsingular (simplify the declaration)") from None
     return Diffeo(variables=tuple(variables), forward=tuple(forward), inputs=tuple(inputs),
                   branches=(InverseBranch(tuple(inverse)),), solved_for=None, name=name, nonzero=nonzero)
 
@@ -366,10 +377,13 @@ def _check(name, variables, params, forward, inputs, inverse):
 def _numeric_inverse(name, variables, params, inputs, F, G, xs, us):
     """Ψ̂⁻¹∘Ψ̂ = id and Ψ̂∘Ψ̂⁻¹ = id, symbolically if sympy can, else at random points."""
     ps = [symbol(p) for p in params]
-    there = [sp.simplify(f.subs(dict(zip(xs, G)), simultaneous=True) - u) for f, u in zip(F, us)]
-    back = [sp.simplify(g.subs(dict(zip(us, F)), simultaneous=True) - x) for g, x in zip(G, xs)]
-    if all(d == 0 for d in there + back):
-        return
+    there = [f.subs(dict(zip(xs, G)), simultaneous=True) - u for f, u in zip(F, us)]
+    back = [g.subs(dict(zip(us, F)), simultaneous=True) - x for g, x in zip(G, xs)]
+    try:  # a symbolic proof when sympy finds one quickly; otherwise the numeric check decides
+        if time_limited(lambda: all(sp.simplify(d) == 0 for d in there + back), SYMBOLIC_LIMIT):
+            return
+    except SympyTimeout:
+        pass
     rng = random.Random(0)
     checked = 0
     for _ in range(40):
