@@ -166,10 +166,12 @@ def test_diagnostics_print_as_path_line_col():
     assert d.format().startswith("prog.lgr:2:18: error T201 ")
 
 
-@pytest.mark.parametrize("path", [p for p in ALL if "int" in p.read_text()], ids=lambda p: p.name)
+@pytest.mark.parametrize("path", ALL, ids=lambda p: p.name)
 def test_printed_program_loads_back_to_the_same_program(path):
     from langur.syntax.printer import print_program
 
     p = load(str(path)).program
+    if p is None:
+        pytest.skip("a library module without a program")
     again = load_text(print_program(p), "printed.lgr").program
     assert again.body == p.body and again.box == p.box and again.variables == p.variables
