@@ -9,6 +9,8 @@ import time
 from fractions import Fraction
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from paths import DEGENERATE, EXAMPLES
 
 from langur.diagnostics import LangurError, Span
@@ -231,6 +233,27 @@ def test_numbers_are_exact():
     assert parse_term("3.") == N(3)
     assert parse_term("0.1").value == Fraction(1, 10)  # not the binary float 0.1
     assert parse_term("123456789012345678901234567890").value == 123456789012345678901234567890
+
+
+def test_number_edge_cases():
+    assert parse_term("007").value == 7
+    assert parse_term("12.5e-2").value == Fraction(1, 8)
+    assert parse_term("1e" + "0" * 10_000 + "1").value == 10  # long exponent, small value: fine
+    assert parse_term("1e1000").value == 10**1000
+    d = err(parse_term, "1e1001")
+    assert (d.code, d.span.col, d.span.end_col) == ("E106", 1, 7)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.from_regex(r"\A(?:[0-9]{1,12}(?:\.[0-9]{0,8})?|\.[0-9]{1,8})(?:[eE][+-]?[0-9]{1,3})?\Z"))
+def test_numbers_agree_with_fractions_parser(text):
+    # Fraction's own decimal parser is the independent oracle
+    assert parse_term(text).value == Fraction(text)
+
+
+def test_crlf_line_endings():
+    m = parse_module("param a = 1\r\nint x\r\n d(x)\r\n", "crlf.lgr")
+    assert m.program.variables[0].span == Span("crlf.lgr", 3, 4, 3, 5)
 
 
 def test_calls_and_pi_are_plain_names():

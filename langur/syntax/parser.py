@@ -172,15 +172,21 @@ class _Builder:
         return Ident(str(t), self.tok_span(t))
 
     def number(self, t: Token) -> Fraction:
+        """The exact value of a decimal literal (E106 when too long or its exponent too large)."""
         text = str(t)
         mantissa, _, exp = text.lower().partition("e")
-        if sum(ch.isdigit() for ch in mantissa) > MAX_DIGITS:
+        whole, _, frac = mantissa.partition(".")
+        if len(whole) + len(frac) > MAX_DIGITS:
             raise error(self.tok_span(t), "E106", f"number literal too long (more than {MAX_DIGITS} digits)")
-        if exp and (len(exp.lstrip("+-").lstrip("0")) > 6 or abs(int(exp)) > MAX_EXPONENT):
+        exp_digits = exp.lstrip("+-").lstrip("0")
+        if len(exp_digits) > 6 or (exp_digits and int(exp_digits) > MAX_EXPONENT):
+            shown = exp if len(exp) <= 12 else exp[:9] + "..."
             raise error(
-                self.tok_span(t), "E106", f"number literal's exponent {exp} is beyond ±{MAX_EXPONENT}"
+                self.tok_span(t), "E106", f"number literal's exponent {shown} is beyond ±{MAX_EXPONENT}"
             )
-        return Fraction(text)
+        power = (int(exp_digits) if exp_digits else 0) * (-1 if exp.startswith("-") else 1) - len(frac)
+        value = Fraction(int(whole + frac or "0"))
+        return value * 10**power if power >= 0 else value / 10**-power
 
     # -- module level --
     def start(self, c):
