@@ -408,6 +408,8 @@ class _Checker:
         both = _moving(c, self.variables) and _moving(g, self.variables)
         sides = {_orientation(c, g, br, self.variables, fixed=sol) for sol, br, _ in relations}
         hit = any(self.in_set(c, r) for r in relations)
+        if hit:  # coincident at the values in force: families through them say nothing more
+            self.coincident.add(frozenset({c.index, g.index}))
         the_set = describe_set([sol for sol, _, _ in relations])
         p, o = self.primary(c, g)
         where = self.where(self.anchor(o), self.anchor(p))

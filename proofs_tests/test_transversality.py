@@ -289,3 +289,15 @@ def test_continuous_conditionals_have_no_delta(text):
     # abs/min/max: the branches agree on the zero set, the jump ⟦s⟧ − ⟦r⟧ is 0 there, so Fig. 8's
     # delta term vanishes and nothing is multiplied by it.
     assert check_text(text) == []
+
+
+def test_parametric_coincidence_in_two_variables():
+    text = "param a = 0.5, b = 0.7\nint ([0, 1], [0, 1]) [x + y >= a] * [x + y >= b] d(x, y)"
+    (f,) = check_text(text)
+    assert (f.code, "when a = b" in f.message) == ("X304", True)
+    # at a = b = 0.6 the common line x + y = 0.6 crosses the square: an error, and nothing more
+    (g,) = check_text(text, at={"a": 0.6, "b": 0.6})
+    assert (g.code, g.severity) == ("X305", "error")
+    # at a = b = 5 the line misses the square: the set is named, no error
+    (h,) = check_text(text, at={"a": 5.0, "b": 5.0})
+    assert (h.code, h.severity) == ("X304", "warning")
