@@ -1,11 +1,50 @@
-"""`langur reproduce` (CLI.md).  Not yet implemented."""
+"""``langur reproduce [NAME…]``: the paper's examples and figures, each with its numbers checked."""
+
+from __future__ import annotations
 
 from ..cli import UsageError
+from . import _common as c
 
 
 def add_arguments(p):
-    p.add_argument("files", nargs="*")
+    from ..reproduce import EXPERIMENTS
+
+    p.add_argument("names", nargs="*", metavar="NAME",
+                   help=f"experiments to run (default all): {', '.join(EXPERIMENTS)}")
+    p.add_argument("--samples", type=int, default=100000, help="Monte Carlo samples (default 100000)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--json", action="store_true", help="one JSON object on standard output")
 
 
-def run(args):
-    raise UsageError("`langur reproduce` is not implemented yet")
+def run(args) -> int:
+    from .. import reproduce
+
+    names = args.names or list(reproduce.EXPERIMENTS)
+    unknown = [n for n in names if n not in reproduce.EXPERIMENTS]
+    if unknown:
+        raise UsageError(f"no experiment named {unknown[0]} (have: {', '.join(reproduce.EXPERIMENTS)})")
+    if args.samples < 100:
+        raise UsageError("--samples must be at least 100")
+    try:
+        reproduce.examples_dir()
+    except FileNotFoundError as e:
+        raise UsageError(str(e)) from None
+    results = []
+    for name in names:
+        (ex,) = reproduce.run([name], args.samples, args.seed)
+        results.append(ex)
+        if not args.json:
+            print(f"{'PASS' if ex.ok else 'FAIL'}  {ex.name}: {ex.title}   ({ex.seconds:.1f} s)")
+            for ch in ex.checks:
+                mark = "✓" if ch.ok else "✗"
+                print(f"   {mark} {ch.what:<58} {c.fmt(ch.got, 8):>14}  expected {c.fmt(ch.expected, 8):<12} [{ch.how}]")
+            for note in ex.notes:
+                print(f"     {note}")
+    ok = all(ex.ok for ex in results)
+    if args.json:
+        c.dump_json({"ok": ok, "experiments": [
+            {"name": ex.name, "title": ex.title, "ok": ex.ok, "seconds": ex.seconds, "notes": ex.notes,
+             "checks": [vars(ch) for ch in ex.checks]} for ex in results]})
+    else:
+        print(f"{sum(ex.ok for ex in results)}/{len(results)} experiments reproduced")
+    return 0 if ok else 1
