@@ -82,24 +82,7 @@ __all__ = [
 
 #: Reserved words (``d`` is only a keyword right after the integrand: see grammar.lark).
 KEYWORDS: frozenset[str] = frozenset(
-    [
-        "param",
-        "diffeo",
-        "inverse",
-        "def",
-        "from",
-        "import",
-        "as",
-        "int",
-        "d",
-        "let",
-        "in",
-        "ifge0",
-        "if",
-        "then",
-        "else",
-        "var",
-    ]
+    "param diffeo inverse def from import as int d let in ifge0 if then else var".split()  # noqa: SIM905
 )
 #: Most characters outside comments and white space that a source may have (E108).
 MAX_SIGNIFICANT = 1_000_000
