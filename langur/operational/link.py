@@ -68,6 +68,7 @@ class CompileCache:
     units: dict = field(default_factory=dict)
     linked: dict = field(default_factory=dict)
     by_id: dict = field(default_factory=dict)
+    samplers: dict = field(default_factory=dict)
     compiled: list = field(default_factory=list)  # (kind, module, name) of every compilation
     hits: int = 0
     last_link: str | None = None
@@ -92,6 +93,7 @@ def clear_cache() -> None:
     CACHE.units.clear()
     CACHE.linked.clear()
     CACHE.by_id.clear()
+    CACHE.samplers.clear()
     reset_cache_stats()
 
 
@@ -106,8 +108,19 @@ def _unit(key: tuple, term: Term, label: tuple, local: frozenset[str] | None = N
     return u
 
 
+SAMPLER_CAPACITY = 4096
+
+
 def _sampler(psi: Diffeo, variables: tuple[str, ...]) -> SiteSampler:
-    return SiteSampler(psi, variables)
+    """A site's sampler, shared by every program with the same canonical Ψ̂ (a swap does not
+    change the scene's conditions)."""
+    key = (psi, variables)
+    s = CACHE.samplers.get(key)
+    if s is None:
+        s = CACHE.samplers[key] = SiteSampler(psi, variables)
+        if len(CACHE.samplers) > SAMPLER_CAPACITY:
+            CACHE.samplers.pop(next(iter(CACHE.samplers)))
+    return s
 
 
 LINKED_CAPACITY = 16  # linked programs kept (each holds its samplers); compiled units are kept
