@@ -268,3 +268,21 @@ def test_the_engine_never_imports_sympy():
     code = "import sys, langur.operational; print('sympy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+@pytest.mark.parametrize("method", ["uniform", "stratified"])
+def test_three_variables(method):
+    # F(t) = ∫_{[0,1]³} [x + y + z ≤ t]·(1 + x) = t³/6 + t⁴/24 for t ≤ 1 (the simplex has volume t³/6
+    # and ∫ x over it is t⁴/24); F'(t) = t²/2 + t³/6, all from the delta on the plane x + y + z = t
+    # (a 2-dimensional zero set: u' = the two other variables, |det DΨ̂⁻¹| = 1 from a 3×3 Jacobian).
+    L = load_text_("param t = 0.9\nint ([0, 1], [0, 1], [0, 1]) [x + y + z <= t] * (1 + x) d(x, y, z)\n")
+    t = 0.9
+    assert close(estimate_value(L, {"t": t}, samples=N, seed=23, method=method), t ** 3 / 6 + t ** 4 / 24)
+    d = estimate_derivative(L, {"t": t}, {"t": 1}, samples=N, seed=23, method=method)
+    assert d["regular"]["value"] == 0.0 and close(d, t ** 2 / 2 + t ** 3 / 6)
+
+
+def load_text_(text):
+    from langur.frontend import load_text
+
+    return load_text(text)
