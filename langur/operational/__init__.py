@@ -57,8 +57,12 @@ a single root, or on fixed bounds: the domain's indicators [x ≥ l(γ)] are sit
 (Leibniz rule), and points outside B score 0 through those indicators, evaluated at the point
 (``≥ 0`` holds at exactly 0, the paper's convention).
 
-Limits: if no finite box encloses a zero set's coordinates u' (Ψ̂'s other components have a pole
-over the domain), the boundary estimate is NaN rather than biased.  A ``var`` argument that is not
+Limits: where an inverse branch folds (a guard vanishes, e.g. a circle x² + y² ≤ r² solved for
+y = ±√(r² − x²)), |det DΨ̂_b⁻¹| grows like 1/√(distance to the fold): integrable, so the estimator
+stays unbiased, but not square-integrable, so its variance is (logarithmically) infinite and the
+reported standard error understates the error.  If no finite box encloses a zero set's
+coordinates u' (Ψ̂'s other components have a pole over the domain), the boundary estimate is NaN
+rather than biased.  A ``var`` argument that is not
 a plain variable makes the program evaluate inlined (see :mod:`.link`).
 
 Standard errors and variance sources: the sample standard deviation over i.i.d. points / √N;
