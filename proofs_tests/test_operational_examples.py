@@ -286,3 +286,23 @@ def load_text_(text):
     from langur.frontend import load_text
 
     return load_text(text)
+
+
+@pytest.mark.parametrize("method", ["uniform", "stratified", "qmc"])
+def test_linking_bit_for_bit_with_renamed_swapped_and_nested_calls(tmp_path, method):
+    # calls with swapped variables (g(y, x, …)), a param argument that is an expression (c + a), a
+    # def called twice, a let around a call, a fold (circle): linked == inlined, bit for bit
+    (tmp_path / "lib.lgr").write_text(
+        "def win(t: var, a: param, b: param) = [a <= t <= b]\n"
+        "def g(u: var, v: var, c: param) = if u + 2*v >= c then exp(u*v) else u - v\n"
+        "def circ(p: var, q: var, r: param) = [p^2 + q^2 <= r^2] * win(p, -r, r)\n")
+    (tmp_path / "main.lgr").write_text(
+        "from lib import win, g, circ\nparam a = 0.2, b = 0.7, c = 0.5, r = 0.6\n"
+        "int ([0, 1], [0, 1]) win(y, a, b) * g(x, y, c + a) * win(x, a*b, b)"
+        " + (let z = 2*c in g(y, x, z) * circ(x, y, r)) d(x, y)\n")
+    L = load(str(tmp_path / "main.lgr"))
+    p = params_of(L)
+    for direction in ({k: 1.0 for k in p}, {"r": 1.0}, {"a": -2.0, "c": 0.5}):
+        linked = estimate_derivative(L, p, direction, samples=2000, seed=24, method=method)
+        assert cache_stats()["last_link"] == "linked"
+        assert linked == estimate_derivative(L.program, p, direction, samples=2000, seed=24, method=method)
