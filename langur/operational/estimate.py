@@ -27,6 +27,9 @@ def prepare(program_or_loaded, params: dict, sites: str = "inlined") -> tuple[Li
         linked = compile_program(program_or_loaded)
     else:
         raise TypeError(f"expected a core Program or a Loaded, got {type(program_or_loaded).__name__}")
+    missing = linked.needs - set(values)
+    if missing:
+        raise KeyError(f"no value for parameter(s): {', '.join(sorted(missing))}")
     return linked, {k: float(v) for k, v in values.items()}
 
 
