@@ -151,8 +151,11 @@ def run(args) -> int:
             continue  # a library module: its defs are checked where they are used
         for m in loaded.modules.values():  # imported modules: quoted in messages, their # noqa honoured
             if m.path not in sources and os.path.isfile(m.path):
-                with open(m.path, encoding="utf-8", errors="replace") as fh:
-                    sources[m.path] = fh.read()
+                try:
+                    with open(m.path, encoding="utf-8", errors="replace") as fh:
+                        sources[m.path] = fh.read()
+                except OSError:
+                    pass
         findings = check_loaded(loaded, at=here, sources=sources)
         prover = Prover(loaded.program, point_of(loaded.params, here)) if args.prove else None
         for fd in findings:
@@ -161,7 +164,7 @@ def run(args) -> int:
                 continue
             reports.append(Report(d, prover.prove(fd.params) if prover is not None else None))
     unknown = sorted(set(at) - used_at)
-    if unknown:
+    if unknown and not any(r.diagnostic.code[:1] in ("E", "T") for r in reports):
         raise UsageError(f"--at {unknown[0]}: no checked FILE declares this parameter")
 
     out = render(reports, fmt, __version__)
