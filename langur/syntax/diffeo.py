@@ -107,20 +107,27 @@ def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box) -> Diffeo
     inputs = fresh_inputs(len(variables), set(variables) | set(params) | _symbol_names(expr))
     bounds = {v: (lo, hi) for v, lo, hi in box}
     try:
-        found = time_limited(lambda: _choose(expr, variables, occurring, inputs, params, bounds), TIME_LIMIT)
+        found = time_limited(lambda: _choose(cond, expr, variables, occurring, inputs, params, bounds), TIME_LIMIT)
     except SympyTimeout:
         raise CompletionError(f"sympy could not invert the condition within {TIME_LIMIT:g}s") from None
     if isinstance(found, str):
         raise CompletionError(found)
-    v, branches, nonzero = found
+    return found
+
+
+def _to_diffeo(cond, variables, inputs, params, v, branches, nonzero) -> Diffeo:
+    """The Diffeo of ``cond`` solved for ``v`` (raises ValueError if a branch is not expressible)."""
     others = [x for x in variables if x != v]
     by_other = {x: Var(u) for x, u in zip(others, inputs[1:])}
     core_branches = []
     for vexpr, guards in branches:
         comp = from_sympy(vexpr, inputs, params)
-        core_branches.append(InverseBranch(
-            tuple(comp if x == v else by_other[x] for x in variables),
-            tuple(from_sympy(g, inputs, params) for g in guards)))
+        gs = []
+        for g in guards:
+            gt = from_sympy(g, inputs, params)
+            if gt not in gs:
+                gs.append(gt)
+        core_branches.append(InverseBranch(tuple(comp if x == v else by_other[x] for x in variables), tuple(gs)))
     return Diffeo(variables=variables, forward=(cond,) + tuple(Var(x) for x in others), inputs=inputs,
                   branches=tuple(core_branches), solved_for=v, name=None,
                   nonzero=tuple(from_sympy(n, (), params) for n in nonzero))
@@ -130,9 +137,9 @@ def _symbol_names(expr: sp.Expr) -> set[str]:
     return {s.name for s in expr.free_symbols}
 
 
-def _choose(expr, variables, occurring, inputs, params, bounds):
-    """The best-ranked variable (ties: the last one) with its branches, or a reason string."""
-    best = None
+def _choose(cond, expr, variables, occurring, inputs, params, bounds):
+    """The Diffeo for the best-ranked variable (ties: the last one), or a reason string."""
+    found = []
     reasons = []
     for v in occurring:
         others = [x for x in variables if x != v]
@@ -148,12 +155,13 @@ def _choose(expr, variables, occurring, inputs, params, bounds):
         if not branches:
             reasons.append(f"{v}: no inverse branch meets the domain")
             continue
-        if best is None or rank <= best[0]:
-            best = (rank, v, branches, nonzero)
-    if best is None:
-        return "no variable can be isolated (" + "; ".join(reasons) + ")"
-    _, v, branches, nonzero = best
-    return v, branches, nonzero
+        found.append((rank, -variables.index(v), v, branches, nonzero))
+    for rank, _, v, branches, nonzero in sorted(found, key=lambda f: f[:2]):
+        try:
+            return _to_diffeo(cond, variables, inputs, params, v, branches, nonzero)
+        except ValueError as e:
+            reasons.append(f"{v}: {e}")
+    return "no variable can be isolated (" + "; ".join(reasons) + ")"
 
 
 def _solve_for(e, v, u0, others: set, ranges):

@@ -122,6 +122,8 @@ def from_sympy(expr: sp.Expr, variables: Iterable[str], params: Iterable[str] = 
             if k == Fraction(-1, 2):
                 return Pow(Prim("sqrt", go(base)), Fraction(-1))
             return Pow(go(base), k)
+        if isinstance(e, sp.Abs):  # |t| = sqrt(t^2), as sympy writes sqrt(u^2) for real u
+            return Prim("sqrt", Pow(go(e.args[0]), Fraction(2)))
         op = _BACK.get(type(e)) or _BACK.get(e.func)
         if op is not None and len(e.args) == 1:
             return Prim(op, go(e.args[0]))
