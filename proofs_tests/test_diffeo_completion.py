@@ -227,3 +227,43 @@ def test_the_validator_itself_catches_a_missing_branch_and_a_wrong_inverse():
     wrong = replace(psi.branches[0], components=(Add(psi.branches[0].components[0], const(F(1, 100))),))
     with pytest.raises(AssertionError):
         validate(replace(psi, branches=(wrong,) + psi.branches[1:]), box, params)
+
+
+def _random_condition(rng: random.Random, depth: int):
+    if depth == 0:
+        r = rng.random()
+        if r < 0.4:
+            return Var(rng.choice("xy"))
+        if r < 0.6:
+            return P("a")
+        return Const(F(rng.randint(1, 5), rng.choice([1, 2])))
+    r = rng.random()
+    if r < 0.3:
+        return Add(_random_condition(rng, depth - 1), _random_condition(rng, depth - 1))
+    if r < 0.5:
+        return Mul(_random_condition(rng, depth - 1), _random_condition(rng, depth - 1))
+    if r < 0.75:
+        op = rng.choice(["exp", "log", "sin", "cos", "tan", "sqrt", "tanh", "atan"])
+        return Prim(op, _random_condition(rng, depth - 1))
+    return Pow(_random_condition(rng, depth - 1), rng.choice([F(2), F(3), F(-1), F(1, 2), F(-2)]))
+
+
+def test_random_conditions_complete_correctly_or_are_rejected():
+    """Random smooth conditions in x, y: each completion found is validated like the cases above."""
+    from langur.core import free_vars
+
+    rng = random.Random(7)
+    box = {"x": (0.1, 2.0), "y": (-1.0, 1.5)}
+    nb = tuple((k, *v) for k, v in box.items())
+    completed = 0
+    while completed < 40:
+        cond = sub(_random_condition(rng, rng.randint(1, 3)), P("a"))
+        if not free_vars(cond):
+            continue
+        try:
+            psi = complete(cond, ("x", "y"), nb)
+        except CompletionError:
+            continue
+        completed += 1
+        with np.errstate(all="ignore"):
+            validate(psi, box, {"a": (-1.0, 1.0)}, seed=completed, trials=8)
