@@ -6,10 +6,14 @@ a key made of what determines the def's elaborated form: ``(module name, module 
 def name, import signature)`` — the module's own text and the *signatures* (argument kinds,
 declared diffeos) of what it imports, never the imported bodies (modules.py: "a module's
 elaborated form depends only on its own text and the signatures of what it imports").  A
-program seen again (the same Loaded or Program object) is found by identity first.  A program is *linked* from compiled parts: a ``Call`` node evaluates its ``param``
-arguments once in the caller (value and tangent, exactly as a ``let`` would) and runs the callee's
-compiled body in an environment where its ``var`` arguments are renamings of the caller's
-variables.  Swapping a module (``load(path, modules={"shader": ...})``) changes that module's
+program seen again (the same Loaded or Program object) is found by identity first; a pure
+Program by structural equality.  Caches of linked programs and samplers are bounded.
+
+A program is *linked* from compiled parts: a ``Call`` node evaluates its ``param`` arguments once
+in the caller (value and tangent, exactly as a ``let`` would) and runs the callee's compiled body
+in an environment that binds only those arguments (the callee's other parameters are its module's
+declared params, read from the program's parameters) and where its ``var`` arguments are
+renamings of the caller's variables.  Swapping a module (``load(path, modules={"shader": ...})``) changes that module's
 source hash only, so only its defs are recompiled; :func:`cache_stats` says what was compiled.
 
 Sites.  Each syntactic diffeomorphic conditional is a *site*; inside a def every call is its own
