@@ -30,16 +30,16 @@ import hashlib
 import os
 from fractions import Fraction
 
+from . import typesys as ty
 from .core import Diffeo, Term, free_params
 from .diagnostics import Diagnostic, LangurError, Span
 from .modules import Loaded
-from . import typesys as ty
 from .syntax.desugar import Desugarer, DiffeoSig, Env, Scope
 from .syntax.elaborate import Elaborated, elaborate
 from .syntax.inline import inline
 from .syntax.support import numeric_box
 
-__all__ = ["load", "load_text", "load_bytes", "core_term_from_text"]
+__all__ = ["core_term_from_text", "load", "load_bytes", "load_text"]
 
 
 def load(path: str, modules: dict[str, str] | None = None) -> Loaded:
@@ -70,7 +70,7 @@ def load_bytes(data: bytes, path: str = "<bytes>", modules: dict[str, str] | Non
         used = set()
         for t in [program.body] + [b for pair in program.box for b in pair]:
             used |= free_params(t)
-        for name, m in loader.done.items():
+        for m in loader.done.values():
             for p, default in m.params.items():
                 if p in used and p not in params:
                     params[p] = default
@@ -82,7 +82,7 @@ def load_bytes(data: bytes, path: str = "<bytes>", modules: dict[str, str] | Non
 
 def _module_name(path: str) -> str:
     base = os.path.basename(path)
-    return base[:-4] if base.endswith(".lgr") else base
+    return base.removesuffix(".lgr")
 
 
 class _Loader:

@@ -64,8 +64,24 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from .core import (ALL_PRIMITIVES, Add, Call, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim,
-                   Program, Term, Var, free_vars)
+from .core import (
+    ALL_PRIMITIVES,
+    Add,
+    Call,
+    Const,
+    Diffeo,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Program,
+    Term,
+    Var,
+    free_vars,
+)
 from .diagnostics import Diagnostic, Span
 
 CODES: dict[str, str] = {

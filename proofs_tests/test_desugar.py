@@ -9,8 +9,23 @@ from fractions import Fraction as F
 import pytest
 import sympy as sp
 
-from langur.core import (Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Var, const, neg, sub,
-                         subterms)
+from langur.core import (
+    Add,
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Var,
+    const,
+    neg,
+    sub,
+    subterms,
+)
 from langur.diagnostics import LangurError
 from langur.frontend import core_term_from_text, load_text
 from langur.syntax.diffeo import complete

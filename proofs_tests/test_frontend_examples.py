@@ -5,13 +5,12 @@ from __future__ import annotations
 from fractions import Fraction as F
 
 import pytest
+from paths import DEGENERATE, EXAMPLES
 
 from langur.core import Call, Const, IfDiffeo, free_params, subterms
 from langur.diagnostics import LangurError
 from langur.frontend import core_term_from_text, load, load_bytes, load_text
 from langur.modules import Loaded
-
-from paths import DEGENERATE, EXAMPLES
 
 ALL = sorted(EXAMPLES.glob("*.lgr")) + sorted(DEGENERATE.glob("*.lgr"))
 

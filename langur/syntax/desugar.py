@@ -27,14 +27,34 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
-from ..core import (ALL_PRIMITIVES, PI, PRIMITIVES, Add, Call, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param,
-                    Pow, Prim, Term, Var, free_vars, neg, sub, subterms)
+from .. import typesys as ty
+from ..core import (
+    ALL_PRIMITIVES,
+    PI,
+    PRIMITIVES,
+    Add,
+    Call,
+    Const,
+    Diffeo,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Term,
+    Var,
+    free_vars,
+    neg,
+    sub,
+    subterms,
+)
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
-from .. import typesys as ty
 from .diffeo import CompletionError, complete, instantiate
-from .surface import (Apply, BinOp, DiffeoApp, IfCmp, IfGe0S, Iverson, LetIn, Name, Neg, Num, STerm)
-from .inline import inline  # noqa: F401  (re-exported: core.py's docstring names desugar.inline)
+from .inline import inline
+from .surface import Apply, BinOp, DiffeoApp, IfCmp, IfGe0S, Iverson, LetIn, Name, Neg, Num, STerm
 
 #: Function names that are not primitives but sugar (LANGUAGE.md §6).
 SUGAR_FUNCTIONS = ("abs", "min", "max")
@@ -80,7 +100,7 @@ class Scope:
     in_program: bool = True  # extend declared diffeos to all variables (program bodies)
     hidden_vars: frozenset[str] = frozenset()  # variables not allowed here (domain bounds)
 
-    def with_param(self, name: str) -> "Scope":
+    def with_param(self, name: str) -> Scope:
         return replace(self, gamma=self.gamma | {name})
 
 
@@ -112,7 +132,7 @@ class Desugarer:
             case Neg(a):
                 # unary −t is (−1)·t
                 return Mul(Const(Fraction(-1)), self.term(a, sc), span=span)
-            case BinOp("^", a, k):
+            case BinOp("^"):
                 # t ^ k with k a constant rational (T213 otherwise)
                 return self.power(st, sc)
             case BinOp(op, a, b):
@@ -139,7 +159,7 @@ class Desugarer:
                                          Const(Fraction(0)), sc, span, join(terms[i], terms[i + 1]))
                     out = f if out is None else Mul(out, f, span=span)
                 return out
-            case LetIn(name, bound, body):
+            case LetIn():
                 # let z = t in s, t variable-free (Fig. 6, let)
                 return self.let(st, sc)
             case IfGe0S(DiffeoApp() as app, then, orelse):
@@ -346,5 +366,16 @@ def is_smooth(t: Term) -> bool:
     return not any(isinstance(u, (IfGe0, IfDiffeo, Let, Call)) for u in subterms(t))
 
 
-__all__ = ["Desugarer", "Env", "Scope", "DefSig", "DiffeoSig", "compare", "constant_value", "inline",
-           "is_smooth", "ElaboratedModule", "LangurError"]
+__all__ = [
+    "DefSig",
+    "Desugarer",
+    "DiffeoSig",
+    "ElaboratedModule",
+    "Env",
+    "LangurError",
+    "Scope",
+    "compare",
+    "constant_value",
+    "inline",
+    "is_smooth",
+]

@@ -375,7 +375,7 @@ def _check(name, variables, params, forward, inputs, inverse):
             zeros = sp.solveset(det, x, sp.S.Reals)
             if isinstance(zeros, sp.FiniteSet) and len(zeros) > 0:
                 raise DiffeoCheckError("T216", f"diffeo {name} has a singular Jacobian where {x} = "
-                                       f"{sorted(zeros, key=str)[0]} (det DΨ̂ = {det})")
+                                       f"{min(zeros, key=str)} (det DΨ̂ = {det})")
         return ()
     if det.free_symbols:
         return (from_sympy(det, (), params),)

@@ -10,14 +10,14 @@ raises them together.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Callable
 
-from ..core import Call, Const, Diffeo, IfDiffeo, Mul, Program, Var, free_vars, subterms
+from .. import typesys as ty
+from ..core import Call, Const, Diffeo, IfDiffeo, Mul, Program, Var, sub, subterms
 from ..diagnostics import Diagnostic, Span
 from ..modules import CoreDef, ElaboratedModule
-from .. import typesys as ty
 from .desugar import RESERVED, DefSig, Desugarer, DiffeoSig, Env, Scope, is_smooth
 from .diffeo import CompletionError, DiffeoCheckError, check_declared, complete
 from .support import infer_box, numeric_box
@@ -244,7 +244,7 @@ def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) 
         # int ([l1, u1], …) t d(x⃗)  is  int [x1 ≥ l1]·[u1 ≥ x1]·…·t d(x⃗)
         indicators = []
         for x, (lo, hi) in zip(xs, box):
-            for cond in (_sub(Var(x), lo), _sub(hi, Var(x))):
+            for cond in (sub(Var(x), lo), sub(hi, Var(x))):
                 try:
                     psi = complete(cond, xs, sc.box)
                 except CompletionError as e:  # cannot happen for an affine condition; be safe
@@ -259,11 +259,3 @@ def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) 
         return None
     return Program(body=body, variables=xs, box=box, span=p.span)
 
-
-def _sub(a, b):
-    from ..core import sub
-
-    return sub(a, b)
-
-
-_ = free_vars

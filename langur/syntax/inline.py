@@ -18,14 +18,26 @@ Afterwards every ``IfDiffeo``'s Diffeo is over exactly ``Program.variables``.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import replace
-from typing import Mapping
 
-from ..core import (Call, Const, IfDiffeo, IfGe0, Let, Param, Program, Term, Var, free_params, free_vars,
-                    map_children)
+from .. import typesys as ty
+from ..core import (
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Param,
+    Program,
+    Term,
+    Var,
+    free_params,
+    free_vars,
+    map_children,
+)
 from ..diagnostics import Diagnostic, LangurError
 from ..modules import ElaboratedModule
-from .. import typesys as ty
 from .diffeo import CompletionError, complete, instantiate
 from .support import numeric_box
 

@@ -16,13 +16,28 @@ from __future__ import annotations
 
 import signal
 import threading
+from collections.abc import Callable, Iterable
 from fractions import Fraction
-from typing import Callable, Iterable, TypeVar
+from typing import TypeVar
 
 import sympy as sp
 
-from ..core import (ALL_PRIMITIVES, PI, Add, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term,
-                    Var, Call)
+from ..core import (
+    ALL_PRIMITIVES,
+    PI,
+    Add,
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Term,
+    Var,
+)
 
 T = TypeVar("T")
 
