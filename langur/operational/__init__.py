@@ -57,10 +57,15 @@ a single root, or on fixed bounds: the domain's indicators [x ≥ l(γ)] are sit
 (Leibniz rule), and points outside B score 0 through those indicators, evaluated at the point
 (``≥ 0`` holds at exactly 0, the paper's convention).
 
-Limits: where an inverse branch folds (a guard vanishes, e.g. a circle x² + y² ≤ r² solved for
-y = ±√(r² − x²)), |det DΨ̂_b⁻¹| grows like 1/√(distance to the fold): integrable, so the estimator
-stays unbiased, but not square-integrable, so its variance is (logarithmically) infinite and the
-reported standard error understates the error.  If no finite box encloses a zero set's
+Folds: where an inverse branch folds (a guard vanishes, e.g. a circle x² + y² ≤ r² solved for
+y = ±√(r² − x²)), |det DΨ̂_b⁻¹| grows like 1/√(distance to the fold): integrable but not
+square-integrable.  With a 1-dimensional u' (two variables) the design is mapped through an exact
+change of variables that vanishes quadratically at the guards' roots (``SiteSampler.fold_map``),
+which makes the variance finite (still unbiased: it is a change of variables, whatever the roots
+found).  With u' of dimension ≥ 2 (three or more variables) folds are not treated: the estimator
+stays unbiased but its variance is (logarithmically) infinite and the standard error unreliable.
+
+Limits: if no finite box encloses a zero set's
 coordinates u' (Ψ̂'s other components have a pole over the domain), the boundary estimate is NaN
 rather than biased.  A ``var`` argument that is not
 a plain variable makes the program evaluate inlined (see :mod:`.link`).

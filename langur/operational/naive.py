@@ -182,10 +182,19 @@ def naive_derivative(program: Program, params: dict, direction: dict, *, samples
         uvol = math.prod(b - a for a, b in region)
         psi = sm.psi
         scores = []
-        for row in des.points.tolist():
+        folds = len(sm.coords) == 1 and any(br.guards for br in psi.branches)
+        if folds:  # the same change of variables at folds as the engine (sample.SiteSampler.fold_map)
+            mapped, factors = sm.fold_map(des.points[:, 0], region[0][0], region[0][1], params)
+        for i, row in enumerate(des.points.tolist()):
             u = {psi.inputs[0]: 0.0}
             for (name, _, _), r, (a, b) in zip(sm.coords, row, region):
                 u[name] = a + r * (b - a)
+            factor = 1.0
+            if folds:
+                u[sm.coords[0][0]], factor = float(mapped[i]), float(factors[i])
+                if factor == 0.0:
+                    scores.append(0.0)
+                    continue
             total = 0.0
             for br in psi.branches:
                 if any(evaluate(gd, u, params, {})[0] < 0 for gd in br.guards):
@@ -196,7 +205,7 @@ def naive_derivative(program: Program, params: dict, direction: dict, *, samples
                 w = abs(float(np.linalg.det(jac))) if len(variables) > 1 else abs(jac[0, 0])
                 dpsi = evaluate(psi.forward[0], x, params, dp, TANGENT)[1]
                 g = evaluate(program.body, x, params, {}, DELTA, site=k)[1]
-                total += dpsi * g * w
+                total += dpsi * g * w * factor
             scores.append(total)
         mean, se = des.mean(np.array(scores))
         bnd += uvol * mean

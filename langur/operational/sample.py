@@ -224,8 +224,12 @@ class SiteSampler:
         width = hi - lo
         volume = float(np.prod(width)) if len(region) else 1.0
         inputs = {self.psi.inputs[0]: np.zeros(n)}
-        for j, (u, _, _) in enumerate(self.coords):
-            inputs[u] = lo[j] + unit[:, j] * width[j]
+        factor = None
+        if len(self.coords) == 1 and any(g for _, g in self.branches):
+            inputs[self.coords[0][0]], factor = self.fold_map(unit[:, 0], lo[0], hi[0], params)
+        else:
+            for j, (u, _, _) in enumerate(self.coords):
+                inputs[u] = lo[j] + unit[:, j] * width[j]
         out = []
         order = self.psi.inputs
         for comps, guards in self.branches:
@@ -243,8 +247,40 @@ class SiteSampler:
                     if i == 0:
                         x[self.variables[j]] = np.broadcast_to(np.asarray(v, dtype=float), (n,))
             weight = np.abs(jac[:, 0, 0]) if len(order) == 1 else np.abs(np.linalg.det(jac))
+            if factor is not None:
+                weight = np.where(factor > 0, weight * factor, 0.0)
             out.append((x, weight, valid))
         return volume, out
+
+    def fold_map(self, s: np.ndarray, lo: float, hi: float, params: dict, grid: int = 257):
+        """Where branches fold, |det DΨ̂_b⁻¹| ~ 1/√(distance to the guard's root): integrable, not
+        square-integrable.  For a 1-dimensional u' this maps the design through a change of
+        variables u = T(s) that vanishes like s² at each root: [lo, hi] is cut at the guards'
+        roots (found on a grid, refined by bisection), and each piece [p, q] is run through
+        u = p + (q − p)(1 − cos πt)/2, so f(T(s))·T'(s) is bounded.  The design's points s stay
+        uniform on [0, 1] with vol = hi − lo, so the returned factor is T'(s)/(hi − lo).  Any cut
+        points give an exact change of variables (unbiased); good ones only lower the variance."""
+        u_name = self.coords[0][0]
+        cuts = [lo, hi]
+        xs = np.linspace(lo, hi, grid)
+        for _, guards in self.branches:
+            for g in guards:
+                def sign(u):
+                    return np.asarray(g(Env({self.psi.inputs[0]: np.zeros(len(u)), u_name: u}, params))[0]) >= 0
+                sg = np.broadcast_to(sign(xs), xs.shape)
+                k = np.nonzero(sg[1:] != sg[:-1])[0]
+                a, b, sa = xs[k], xs[k + 1], sg[k]
+                for _ in range(60 if len(k) else 0):
+                    m = 0.5 * (a + b)
+                    same = np.broadcast_to(sign(m), m.shape) == sa
+                    a, b = np.where(same, m, a), np.where(same, b, m)
+                cuts.extend((0.5 * (a + b)).tolist())
+        pts = np.array(sorted(set(c for c in cuts if lo <= c <= hi)))
+        frac = (pts - lo) / (hi - lo)
+        j = np.clip(np.searchsorted(frac, s, side="right") - 1, 0, len(pts) - 2)
+        t = (s - frac[j]) / (frac[j + 1] - frac[j])
+        u = pts[j] + (pts[j + 1] - pts[j]) * (1.0 - np.cos(np.pi * t)) / 2.0
+        return u, (np.pi / 2.0) * np.sin(np.pi * t)
 
     def dpsi(self, x: dict, params: dict, dparams: dict):
         """D_γ π₀Ψ̂ · γ' at the points ``x`` (forward mode in the parameters)."""
