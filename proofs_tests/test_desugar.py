@@ -217,3 +217,21 @@ def test_core_term_from_text_reports_unbound_names():
     with pytest.raises(LangurError) as info:
         core_term_from_text("x + q", ("x",), ("a",))
     assert info.value.diagnostics[0].code == "T201"
+
+
+def test_condition_calling_a_local_def_is_completed_with_the_call_expanded():
+    called = program("param a = 0.5\ndef f(x: var) = [g(x) <= a]\ndef g(x: var) = x ^ 2 + 1\n"
+                     "int ([-1, 1]) f(x) d(x)")
+    direct = program("param a = 0.5\nint ([-1, 1]) [x ^ 2 + 1 <= a] d(x)")
+    assert called.body == direct.body
+
+
+def test_condition_calling_an_imported_def_is_rejected(tmp_path):
+    from langur.frontend import load
+
+    (tmp_path / "lib.lgr").write_text("def g(x: var) = x ^ 2\n")
+    (tmp_path / "main.lgr").write_text("from lib import g\nparam a = 0.5\nint ([-1, 1]) [g(x) <= a] d(x)\n")
+    with pytest.raises(LangurError) as info:
+        load(str(tmp_path / "main.lgr"))
+    (d,) = info.value.diagnostics
+    assert d.code == "T207" and "own module" in d.message and (d.span.line, d.span.col) == (3, 16)

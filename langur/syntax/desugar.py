@@ -18,6 +18,9 @@ Conditions over variables become ``IfDiffeo``: a declared diffeo application is 
 (``langur.syntax.diffeo.complete``) over *all* of Δ.  In a program body a declared diffeo is
 extended by the identity to all the program's variables; in a ``def`` body it stays over its
 application's variables (the inliner renames and extends it at each call site).
+A condition over variables that calls defs of its own module is completed with those calls
+expanded (it is completed as a whole); calling an imported def there is a T207 (the module's
+elaborated form would depend on the imported body, not just its signature).
 Def calls are left as ``Call(module, name, args)`` links (separate compilation, §9);
 ``langur.syntax.inline.inline`` (re-exported here as :func:`inline`) removes them.
 """
@@ -53,7 +56,7 @@ from ..core import (
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from .diffeo import CompletionError, complete, instantiate
-from .inline import inline
+from .inline import expand_calls, inline
 from .surface import Apply, BinOp, DiffeoApp, IfCmp, IfGe0S, Iverson, LetIn, Name, Neg, Num, STerm
 
 #: Function names that are not primitives but sugar (LANGUAGE.md §6).
@@ -87,6 +90,7 @@ class Env:
     defs: dict[str, DefSig] = field(default_factory=dict)
     diffeos: dict[str, DiffeoSig] = field(default_factory=dict)
     poisoned: set[str] = field(default_factory=set)  # names whose declaration failed: no cascades
+    bodies: dict[tuple[str, str], object] = field(default_factory=dict)  # (module, def) -> CoreDef
 
 
 @dataclass(frozen=True)
@@ -274,6 +278,12 @@ class Desugarer:
         IfDiffeo (Fig. 6, conditional / diffeomorphic conditional)."""
         if not free_vars(cond):
             return IfGe0(cond, then, orelse, span=span)
+        if any(isinstance(u, Call) for u in subterms(cond)):
+            # a condition is completed as a whole: expand the defs it calls first
+            cond, errs = expand_calls(cond, lambda m, n: self.env.bodies.get((m, n)), sc.variables, sc.box)
+            if errs:
+                self.errors.extend(errs)
+                return Const(Fraction(0), span=span)
         try:
             psi = complete(cond, sc.variables, sc.box)
         except CompletionError as e:

@@ -11,7 +11,7 @@ raises them together.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from fractions import Fraction
 
 from .. import typesys as ty
@@ -21,7 +21,7 @@ from ..modules import CoreDef, ElaboratedModule
 from .desugar import RESERVED, DefSig, Desugarer, DiffeoSig, Env, Scope, is_smooth
 from .diffeo import CompletionError, DiffeoCheckError, check_declared, complete
 from .support import infer_box, numeric_box
-from .surface import DefDecl, DiffeoDecl, ImportItem, ModuleS, ParamItem, ProgramS
+from .surface import Apply, DefDecl, DiffeoDecl, ImportItem, ModuleS, ParamItem, ProgramS
 
 
 @dataclass
@@ -108,7 +108,7 @@ def elaborate(mod: ModuleS, name: str, path: str, source_hash: str, resolve: Res
 
     # pass 2: def bodies
     module_params = frozenset(params)
-    for item in def_items:
+    for item in _dependency_order(def_items):
         sig = env.defs[item.name.name]
         var_args = tuple(n for n, k in sig.args if k == "var")
         for a in item.args:
@@ -119,11 +119,47 @@ def elaborate(mod: ModuleS, name: str, path: str, source_hash: str, resolve: Res
         sc = Scope(variables=var_args, gamma=frozenset(gamma), in_program=False)
         body = ds.term(item.body, sc)
         defs[item.name.name] = CoreDef(name, item.name.name, sig.args, body, span=item.span)
+        env.bodies[(name, item.name.name)] = defs[item.name.name]
+    defs = {item.name.name: defs[item.name.name] for item in def_items}  # declaration order
     _check_recursion(name, defs, errors)
 
     program = _program(mod.program, ds, module_params, errors) if mod.program is not None else None
     return Elaborated(name=name, path=path, source_hash=source_hash, params=params, diffeos=diffeos, defs=defs,
                       imports=imports, program=program, diffeo_params=diffeo_params)
+
+
+def _dependency_order(items: list[DefDecl]) -> list[DefDecl]:
+    """Defs ordered so that a def comes after the local defs it calls (declaration order
+    otherwise; cycles are left in place for the recursion check)."""
+    by_name = {d.name.name: d for d in items}
+    out: list[DefDecl] = []
+    state: dict[str, int] = {}
+
+    def called(d: DefDecl) -> list[str]:
+        found, stack = [], [d.body]
+        while stack:
+            u = stack.pop()
+            if isinstance(u, Apply) and u.name in by_name and u.name not in found:
+                found.append(u.name)
+            for f in fields(u):
+                v = getattr(u, f.name)
+                for c in (v if isinstance(v, tuple) else (v,)):
+                    if hasattr(c, "span") and not isinstance(c, (str, Span)):
+                        stack.append(c)
+        return found
+
+    def visit(d: DefDecl) -> None:
+        state[d.name.name] = 1
+        for n in called(d):
+            if state.get(n) is None:
+                visit(by_name[n])
+        state[d.name.name] = 2
+        out.append(d)
+
+    for d in items:
+        if state.get(d.name.name) is None:
+            visit(d)
+    return out
 
 
 def _def_args(item: DefDecl, errors) -> tuple[tuple[tuple[str, str], ...], bool]:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import replace
+from fractions import Fraction
 
 from .. import typesys as ty
 from ..core import (
@@ -44,16 +45,25 @@ from .support import numeric_box
 
 def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program:
     """``program`` with every ``Call`` inlined (recursively); raises LangurError (T207, T217, T221)."""
-    inl = _Inliner(modules, program.variables, numeric_box(program.variables, program.box))
+    inl = _Inliner(lambda m, n: modules[m].defs[n], program.variables,
+                   numeric_box(program.variables, program.box))
     body = inl.expand(program.body, ())
     if inl.errors:
         raise LangurError(inl.errors)
     return replace(program, body=body)
 
 
+def expand_calls(t: Term, lookup, variables: tuple[str, ...], box) -> tuple[Term, list[Diagnostic]]:
+    """``t`` with its calls inlined, in a scope with ``variables`` and numeric ``box``; ``lookup(module,
+    name)`` gives the CoreDef (or None: not available yet).  Used for conditions that call defs:
+    a condition is completed as a whole, so its calls must be expanded first."""
+    inl = _Inliner(lookup, tuple(variables), box)
+    return inl.expand(t, ()), inl.errors
+
+
 class _Inliner:
-    def __init__(self, modules, variables, box):
-        self.modules = modules
+    def __init__(self, lookup, variables, box):
+        self.lookup = lookup
         self.variables = tuple(variables)
         self.box = box
         self.errors: list[Diagnostic] = []
@@ -64,8 +74,15 @@ class _Inliner:
                 key = (module, name)
                 if key in stack:
                     self.errors.append(ty.reject_recursive(t.span, [f"{m}.{n}" for m, n in stack + (key,)]))
-                    return Const(0, span=t.span)
-                d = self.modules[module].defs[name]
+                    return Const(Fraction(0), span=t.span)
+                d = self.lookup(module, name)
+                if d is None:
+                    self.errors.append(ty.reject_condition(t.span, f"it calls `{name}` of module `{module}`; a "
+                                                           "condition is completed as a whole, so it may call only "
+                                                           "(non-recursive) defs of its own module (a module's "
+                                                           "elaborated form depends only on the signatures of "
+                                                           "what it imports)"))
+                    return Const(Fraction(0), span=t.span)
                 args = tuple(self.expand(a, stack) for a in args)
                 body = self.instantiate(d, args, t.span)
                 return self.expand(body, stack + (key,))
@@ -114,7 +131,7 @@ class _Subst:
                     except CompletionError as e:
                         self.inl.errors.append(ty.reject_condition(
                             self.span, f"in the body of `{self.fname}` inlined here: {e}"))
-                        return Const(0, span=t.span)
+                        return Const(Fraction(0), span=t.span)
                     return replace(t, psi=new_psi, then=a, orelse=b)
                 names = []
                 for x in psi.variables:
@@ -123,7 +140,7 @@ class _Subst:
                         self.inl.errors.append(ty.reject_diffeo_args(
                             self.span, psi.name, f"in the body of `{self.fname}`, its variable `{x}` is passed a "
                             "term that is not a distinct variable of integration"))
-                        return Const(0, span=t.span)
+                        return Const(Fraction(0), span=t.span)
                     names.append(target.name)
                 keys = tuple(pmap)
                 new_psi = instantiate(psi, keys, tuple(names), tuple(pmap[k] for k in keys), self.inl.variables)
