@@ -259,22 +259,32 @@ class SiteSampler:
         roots (found on a grid, refined by bisection), and each piece [p, q] is run through
         u = p + (q − p)(1 − cos πt)/2, so f(T(s))·T'(s) is bounded.  The design's points s stay
         uniform on [0, 1] with vol = hi − lo, so the returned factor is T'(s)/(hi − lo).  Any cut
-        points give an exact change of variables (unbiased); good ones only lower the variance."""
+        points give an exact change of variables (unbiased); good ones only lower the variance.
+        Without a root on [lo, hi] (nor at its ends) the map is the identity."""
         u_name = self.coords[0][0]
         cuts = [lo, hi]
         xs = np.linspace(lo, hi, grid)
+        at_ends = False
         for _, guards in self.branches:
             for g in guards:
+                def value(u):
+                    v = g(Env({self.psi.inputs[0]: np.zeros(len(u)), u_name: u}, params))[0]
+                    return np.broadcast_to(np.asarray(v, dtype=float), u.shape)
+
                 def sign(u):
-                    return np.asarray(g(Env({self.psi.inputs[0]: np.zeros(len(u)), u_name: u}, params))[0]) >= 0
-                sg = np.broadcast_to(sign(xs), xs.shape)
+                    return value(u) >= 0
+                vals = value(xs)
+                at_ends |= bool(np.any(np.abs(vals[[0, -1]]) <= 1e-9 * (1.0 + np.nanmax(np.abs(vals)))))
+                sg = vals >= 0
                 k = np.nonzero(sg[1:] != sg[:-1])[0]
                 a, b, sa = xs[k], xs[k + 1], sg[k]
                 for _ in range(60 if len(k) else 0):
                     m = 0.5 * (a + b)
-                    same = np.broadcast_to(sign(m), m.shape) == sa
+                    same = sign(m) == sa
                     a, b = np.where(same, m, a), np.where(same, b, m)
                 cuts.extend((0.5 * (a + b)).tolist())
+        if len(cuts) == 2 and not at_ends:  # no fold on [lo, hi]: the plain uniform map
+            return lo + s * (hi - lo), np.ones_like(s)
         pts = np.array(sorted(set(c for c in cuts if lo <= c <= hi)))
         frac = (pts - lo) / (hi - lo)
         j = np.clip(np.searchsorted(frac, s, side="right") - 1, 0, len(pts) - 2)
