@@ -185,6 +185,8 @@ def test_box_from_bounding_indicators():
     (xlo, xhi), (ylo, yhi) = p.box
     assert sp.simplify(to_sympy(xlo) - a) == 0 and sp.simplify(to_sympy(xhi) - (a + 1)) == 0
     assert (to_sympy(ylo), to_sympy(yhi)) == (2, 3)
+    p = program("param a = 1\nint let z = 2 * a in [0 <= x <= z] * x d(x)")
+    assert p.box == ((ZERO, Mul(const(2), Param("a"))),)
 
 
 def test_periodic_condition_without_domain_uses_the_inferred_box():

@@ -4,7 +4,8 @@ With a domain ``int ([l1, u1], …) t d(x⃗)`` the box is the domain.  Without 
 off the *bounding indicator factors* of the integrand: the factors of its top-level product that
 are ``ifge0 ⌊Ψ⌋ then s else 0`` (the integrand vanishes where ``π₀Ψ̂ < 0``) or ``… then 0 else r``
 (it vanishes where ``π₀Ψ̂ ≥ 0``), whose condition is affine in the variables with constant
-coefficients.  A bound that mentions other variables (``[0 <= y <= x]``) is widened over their
+coefficients (looking through ``let``, whose bound terms are substituted into the bounds).
+A bound that mentions other variables (``[0 <= y <= x]``) is widened over their
 box by interval reasoning (``y ≤ x ≤ 1``).  A variable nothing bounds makes the program not
 compactly supported (T209, reported by the desugarer).
 """
@@ -15,22 +16,26 @@ import math
 
 import sympy as sp
 
-from ..core import Const, IfDiffeo, Mul, Term, free_params
+from ..core import Const, IfDiffeo, Let, Mul, Term, free_params, substitute
 from .sympy_bridge import NotSmooth, from_sympy, symbol, to_sympy
 
 Bound = tuple[Term | None, Term | None]
 
 
-def top_factors(t: Term) -> list[Term]:
-    """The factors of ``t``'s top-level product, left to right."""
-    out, stack = [], [t]
+def top_factors(t: Term) -> list[tuple[Term, dict[str, Term]]]:
+    """The factors of ``t``'s top-level product, left to right, looking through ``let`` (each
+    factor with the substitution of the ``let``-bound names around it)."""
+    out, stack = [], [(t, {})]
     while stack:
-        u = stack.pop()
+        u, env = stack.pop()
         if isinstance(u, Mul):
-            stack.append(u.right)
-            stack.append(u.left)
+            stack.append((u.right, env))
+            stack.append((u.left, env))
+        elif isinstance(u, Let):
+            bound = substitute(u.bound, {}, env)
+            stack.append((u.body, {**env, u.name: bound}))
         else:
-            out.append(u)
+            out.append((u, env))
     return out
 
 
@@ -42,7 +47,7 @@ def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
     """One ``(lo, hi)`` per variable (``None`` where nothing bounds that side)."""
     xs = [symbol(x) for x in variables]
     constraints = []  # (variable index, "lo"|"hi", {other index: coeff}, param part)
-    for f in top_factors(body):
+    for f, env in top_factors(body):
         if not isinstance(f, IfDiffeo):
             continue
         if _is_zero(f.orelse):
@@ -52,7 +57,7 @@ def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
         else:
             continue
         try:
-            e = sp.expand(sign * to_sympy(f.psi.forward[0]))
+            e = sp.expand(sign * to_sympy(substitute(f.psi.forward[0], {}, env)))
         except NotSmooth:
             continue
         coeffs = {}
