@@ -30,8 +30,9 @@ import statistics
 import sys
 import tempfile
 import time
+from functools import partial
 
-from langur.frontend import load, load_text
+from langur.frontend import load
 from langur.operational import clear_cache, estimate_derivative, estimate_value, link
 from langur.operational.naive import naive_derivative, naive_value
 
@@ -68,13 +69,13 @@ def throughput(quick: bool) -> None:
         d = {wrt: 1.0}
         estimate_derivative(L, p, d, samples=100)  # compile once (cached)
         rows = [
-            ("value", lambda n: estimate_value(L, p, samples=n), lambda n: naive_value(L.program, p, samples=n)),
-            (f"derivative d/d{wrt}", lambda n: estimate_derivative(L, p, d, samples=n),
-             lambda n: naive_derivative(L.program, p, d, samples=n)),
+            ("value", partial(estimate_value, L, p, samples=nv), partial(naive_value, L.program, p, samples=nn)),
+            (f"derivative d/d{wrt}", partial(estimate_derivative, L, p, d, samples=nv),
+             partial(naive_derivative, L.program, p, d, samples=nn)),
         ]
         for label, fast, slow in rows:
-            tf = median_time(lambda: fast(nv), 3)
-            ts = median_time(lambda: slow(nn), 1)
+            tf = median_time(fast, 3)
+            ts = median_time(slow, 1)
             # a derivative "sample" is one domain point plus, for each delta, one zero-set point
             print(f"| {name} | {label} | {nv / tf:,.0f} | {nn / ts:,.0f} | {(nv / tf) / (nn / ts):,.0f}× |")
     print()
@@ -123,8 +124,8 @@ def jumps(quick: bool, tmp: str) -> None:
             comp.append(t1 - t0)
             first.append(t2 - t1)
         cold = statistics.median(a + b for a, b in zip(comp, first))
-        t_eval = median_time(lambda: estimate_derivative(L, p, d, samples=10), 9)
-        t_naive = median_time(lambda: naive_derivative(L.program, p, d, samples=10), 1)
+        t_eval = median_time(partial(estimate_derivative, L, p, d, samples=10), 9)
+        t_naive = median_time(partial(naive_derivative, L.program, p, d, samples=10), 1)
         print(f"| {n} | {2 * n} | {t_load * 1e3:.0f} | {statistics.median(comp) * 1e3:.2f} | "
               f"{statistics.median(first) * 1e3:.2f} | **{cold * 1e3:.2f}** | {t_eval * 1e3:.2f} | "
               f"{t_naive * 1e3:.1f} | {r['value']:.3f} ± {r['stderr']:.3f} |")

@@ -19,8 +19,23 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from langur.core import (Add, Const, Diffeo, IfDiffeo, IfGe0, InverseBranch, Let, Mul, Param, Pow, Prim,
-                         Program, Var, const, sub)
+from langur.core import (
+    Add,
+    Const,
+    Diffeo,
+    IfDiffeo,
+    IfGe0,
+    InverseBranch,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Program,
+    Var,
+    const,
+    sub,
+)
 from langur.operational import estimate_derivative, estimate_value
 from langur.operational.naive import naive_derivative, naive_value
 
@@ -47,7 +62,7 @@ def with_domain(variables, bounds, body):
     """int ([l1,u1],…) body d(variables): [v ≥ l]·[u ≥ v]·…·body, each indicator solved for v."""
     factors = []
     for v, (lo, hi) in zip(variables, bounds):
-        def comps(expr):
+        def comps(expr, v=v):
             out, k = [], 1
             for w in variables:
                 if w == v:
@@ -326,7 +341,8 @@ def test_naive_estimators_reproduce_the_engine():
 
 # -- property: compiled and naive evaluators agree on random terms ----------------------------------
 
-from hypothesis import given, settings, strategies as st  # noqa: E402
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 
 def _param_terms():

@@ -15,7 +15,13 @@ import os
 import pytest
 
 from langur.frontend import load
-from langur.operational import cache_stats, clear_cache, estimate_derivative, estimate_value, reset_cache_stats
+from langur.operational import (
+    cache_stats,
+    clear_cache,
+    estimate_derivative,
+    estimate_value,
+    reset_cache_stats,
+)
 
 EX = "/work/shared/examples"
 N = 40000

@@ -85,5 +85,12 @@ benchmark baseline and as a cross-check: :mod:`.naive`.
 from .estimate import estimate_derivative, estimate_value
 from .link import cache_stats, clear_cache, compile_program, link, reset_cache_stats
 
-__all__ = ["estimate_value", "estimate_derivative", "cache_stats", "reset_cache_stats", "clear_cache",
-           "compile_program", "link"]
+__all__ = [
+           "cache_stats",
+           "clear_cache",
+           "compile_program",
+           "estimate_derivative",
+           "estimate_value",
+           "link",
+           "reset_cache_stats",
+]

@@ -27,9 +27,9 @@ run exactly the same floating-point operations (bit-identical linking, Theorem 9
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Callable
 
 import numpy as np
 
@@ -42,8 +42,21 @@ NAN = float("nan")
 class Env:
     """Evaluation environment: ρ (``vars``), γ (``params``), γ' (``dparams``), linking state."""
 
-    __slots__ = ("vars", "dvars", "params", "dparams", "mode", "site", "sites", "base", "offsets",
-                 "units", "root_params", "root_dparams", "_venv")
+    __slots__ = (
+        "_venv",
+        "base",
+        "dparams",
+        "dvars",
+        "mode",
+        "offsets",
+        "params",
+        "root_dparams",
+        "root_params",
+        "site",
+        "sites",
+        "units",
+        "vars",
+    )
 
     def __init__(self, vars, params, *, dvars=None, dparams=None, mode=VALUE, site=None, sites=None,
                  base=0, offsets=None, units=None, root_params=None, root_dparams=None):
@@ -61,7 +74,7 @@ class Env:
         self.root_dparams = self.dparams if root_dparams is None else root_dparams
         self._venv = None
 
-    def value_env(self) -> "Env":
+    def value_env(self) -> Env:
         """The same point and parameters without any derivative (conditions are values only)."""
         if self.mode == VALUE:
             return self
@@ -70,7 +83,7 @@ class Env:
                              base=self.base, offsets=self.offsets)
         return self._venv
 
-    def bind(self, name: str, v, d) -> "Env":
+    def bind(self, name: str, v, d) -> Env:
         """``γ[z ↦ v]``, ``γ'[z ↦ d]`` (Fig. 8, let)."""
         dp = self.dparams
         if d is not None or name in dp:
@@ -149,7 +162,7 @@ def power(a, k: Fraction):
     if k == 2:
         return a * a
     if k == 0:
-        return np.where(a == a, 1.0, NAN)
+        return np.where(np.isnan(a), NAN, 1.0)
     if k == -1:
         out = 1.0 / np.where(a == 0, NAN, a)
     elif k == Fraction(1, 2):
@@ -220,13 +233,13 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
 
 
 class _Ctx:
-    __slots__ = ("slots", "local")
+    __slots__ = ("local", "slots")
 
     def __init__(self, slots: list, local):
         self.slots = slots
         self.local = local
 
-    def bind(self, name: str) -> "_Ctx":
+    def bind(self, name: str) -> _Ctx:
         return self if self.local is None else _Ctx(self.slots, self.local | {name})
 
 

@@ -39,8 +39,21 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from ..core import (Call, Diffeo, IfDiffeo, Let, Program, Term, Var, children, extend_diffeo, free_params,
-                    substitute, substitute_diffeo, subterms)
+from ..core import (
+    Call,
+    Diffeo,
+    IfDiffeo,
+    Let,
+    Program,
+    Term,
+    Var,
+    children,
+    extend_diffeo,
+    free_params,
+    substitute,
+    substitute_diffeo,
+    subterms,
+)
 from ..modules import Loaded
 from .compile import Unit, compile_term
 from .sample import SiteSampler
@@ -138,7 +151,7 @@ def _sampler(psi: Diffeo, variables: tuple[str, ...]) -> SiteSampler:
 LINKED_CAPACITY = 16  # linked programs kept (each holds its samplers); compiled units are kept
 
 
-def _put_linked(key, linked: "Linked") -> None:
+def _put_linked(key, linked: Linked) -> None:
     """Remember a linked program, forgetting the oldest beyond LINKED_CAPACITY (a long session of
     swaps must not grow the heap without bound: the garbage collector's cost grows with it)."""
     CACHE.linked.pop(key, None)
@@ -156,7 +169,7 @@ def _memo_get(obj, sites: str):
     return None
 
 
-def _memo_put(obj, sites: str, linked: "Linked") -> "Linked":
+def _memo_put(obj, sites: str, linked: Linked) -> Linked:
     if len(CACHE.by_id) >= LINKED_CAPACITY:
         CACHE.by_id.pop(next(iter(CACHE.by_id)))
     CACHE.by_id[id(obj)] = (obj, sites, linked)  # holds obj: its id cannot be reused meanwhile

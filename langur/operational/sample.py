@@ -70,7 +70,7 @@ def design(rng: np.random.Generator, m: int, samples: int, method: str) -> Desig
     if method == "uniform":
         return Design(rng.random((samples, m)), "uniform")
     if method == "stratified":
-        per_axis = max(1, int(math.floor((samples / 2) ** (1.0 / m) + 1e-9)))
+        per_axis = max(1, math.floor((samples / 2) ** (1.0 / m) + 1e-9))
         strata = per_axis ** m
         grid = np.stack(np.meshgrid(*([np.arange(per_axis)] * m), indexing="ij"), axis=-1).reshape(strata, m)
         jitter = rng.random((strata, 2, m))
@@ -79,7 +79,7 @@ def design(rng: np.random.Generator, m: int, samples: int, method: str) -> Desig
     from scipy.stats import qmc  # randomized QMC: K independent scramblings
 
     k = QMC_RANDOMIZATIONS if samples >= 2 * QMC_RANDOMIZATIONS else 2
-    level = max(0, int(math.floor(math.log2(samples / k))))
+    level = max(0, math.floor(math.log2(samples / k)))
     blocks = [qmc.Sobol(m, scramble=True, seed=rng, bits=64).random_base2(level) for _ in range(k)]
     return Design(np.concatenate(blocks), "qmc", k)
 
@@ -267,11 +267,11 @@ class SiteSampler:
         at_ends = False
         for _, guards in self.branches:
             for g in guards:
-                def value(u):
+                def value(u, g=g):
                     v = g(Env({self.psi.inputs[0]: np.zeros(len(u)), u_name: u}, params))[0]
                     return np.broadcast_to(np.asarray(v, dtype=float), u.shape)
 
-                def sign(u):
+                def sign(u, value=value):
                     return value(u) >= 0
                 vals = value(xs)
                 at_ends |= bool(np.any(np.abs(vals[[0, -1]]) <= 1e-9 * (1.0 + np.nanmax(np.abs(vals)))))
@@ -285,7 +285,7 @@ class SiteSampler:
                 cuts.extend((0.5 * (a + b)).tolist())
         if len(cuts) == 2 and not at_ends:  # no fold on [lo, hi]: the plain uniform map
             return lo + s * (hi - lo), np.ones_like(s)
-        pts = np.array(sorted(set(c for c in cuts if lo <= c <= hi)))
+        pts = np.array(sorted({c for c in cuts if lo <= c <= hi}))
         frac = (pts - lo) / (hi - lo)
         j = np.clip(np.searchsorted(frac, s, side="right") - 1, 0, len(pts) - 2)
         t = (s - frac[j]) / (frac[j + 1] - frac[j])
