@@ -43,7 +43,17 @@ from functools import lru_cache
 
 import sympy as sp
 
-from ..core import Diffeo, InverseBranch, Term, Var, extend_diffeo, free_params, free_vars, substitute
+from ..core import (
+    Diffeo,
+    InverseBranch,
+    Term,
+    Var,
+    diffeo_params,
+    extend_diffeo,
+    free_params,
+    free_vars,
+    substitute,
+)
 from .sympy_bridge import NotSmooth, SympyTimeout, from_sympy, symbol, time_limited, to_sympy
 
 #: Wall-clock limit (seconds) of one completion / one declaration check.
@@ -420,7 +430,7 @@ def instantiate(psi: Diffeo, decl_params: tuple[str, ...], var_names: tuple[str,
     ``program_variables`` (``core.extend_diffeo``) when given."""
     pmap = dict(zip(decl_params, param_terms))
     vmap = {x: Var(y) for x, y in zip(psi.variables, var_names)}
-    taken = set(var_names) | set(program_variables or ())
+    taken = set(var_names) | set(program_variables or ()) | (diffeo_params(psi) - set(pmap))
     for t in param_terms:
         taken |= free_params(t)
     new_inputs = fresh_inputs(len(psi.inputs), taken)
