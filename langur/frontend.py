@@ -116,9 +116,14 @@ class _Loader:
             cycle = self.stack[self.stack.index(name):] + [name]
             self.errors.append(ty.diag(span, "T219", "import cycle: " + " -> ".join(cycle)))
             return None
-        if name in self.done:
-            return self.done[name]
         path = self.overrides.get(name) or os.path.join(os.path.dirname(importer), name + ".lgr")
+        if name in self.done:
+            first = self.done[name].path
+            if name not in self.overrides and os.path.abspath(first) != os.path.abspath(path):
+                self.errors.append(ty.diag(span, "T218", f"module name `{name}` refers to two files, {first} and "
+                                           f"{path}: rename one, or choose one with --module {name}=PATH"))
+                return None
+            return self.done[name]
         try:
             with open(path, "rb") as f:
                 data = f.read()

@@ -174,3 +174,12 @@ def test_printed_program_loads_back_to_the_same_program(path):
         pytest.skip("a library module without a program")
     again = load_text(print_program(p), "printed.lgr").program
     assert again.body == p.body and again.box == p.box and again.variables == p.variables
+
+
+def test_one_module_name_for_two_files_is_an_error(tmp_path):
+    (tmp_path / "sub").mkdir()
+    write(tmp_path, {"lib.lgr": "def f(x: var) = x\n", "sub/lib.lgr": "def g(x: var) = x\n",
+                     "sub/other.lgr": "from lib import g\ndef h(x: var) = g(x)\n",
+                     "main.lgr": "from lib import f\nfrom other import h\nint ([0, 1]) f(x) + h(x) d(x)\n"})
+    diags = error_of(load, str(tmp_path / "main.lgr"), modules={"other": str(tmp_path / "sub/other.lgr")})
+    assert [d.code for d in diags] == ["T218"] and "two files" in diags[0].message
