@@ -183,3 +183,19 @@ def test_one_module_name_for_two_files_is_an_error(tmp_path):
                      "main.lgr": "from lib import f\nfrom other import h\nint ([0, 1]) f(x) + h(x) d(x)\n"})
     diags = error_of(load, str(tmp_path / "main.lgr"), modules={"other": str(tmp_path / "sub/other.lgr")})
     assert [d.code for d in diags] == ["T218"] and "two files" in diags[0].message
+
+
+def test_random_modules_load_or_fail_with_diagnostics_never_a_crash():
+    from grammar_strategies import module_texts
+    from hypothesis import HealthCheck, given, settings
+
+    @settings(max_examples=150, deadline=None, suppress_health_check=list(HealthCheck), database=None)
+    @given(module_texts())
+    def run(case):
+        _, text = case
+        try:
+            load_text(text, "/nonexistent-dir/fuzz.lgr")
+        except LangurError as e:
+            assert e.diagnostics and all(d.code[0] in "ET" and d.span is not None for d in e.diagnostics)
+
+    run()
