@@ -391,6 +391,8 @@ def _describe_expected(expected: set[str]) -> str:
             words[t] = "end of input"
         elif t == "NUMBER":
             words[t] = "a number"
+        elif t == "D":
+            words[t] = "'d' (closing the program: d(variables))"
         elif t in _PUNCT:
             words[t] = f"'{_PUNCT[t]}'"
         else:
