@@ -25,9 +25,9 @@ def _core_text(loaded) -> str:
         args = ", ".join(f"{a}: {k}" for a, k in d.args)
         lines.append(f"def {name}({args}) = {printer.print_core(d.body)}")
     for name, psi in main.diffeos.items():
-        lines.append(f"diffeo {name}: {printer.print_diffeo(psi)}")
+        lines.append(printer.print_diffeo(psi))
     if loaded.program is not None:
-        lines.append(printer.print_program(loaded.program))
+        lines.append(printer.print_program(loaded.program, defaults=loaded.params))
     return "\n".join(lines) if lines else "(empty module)"
 
 
