@@ -185,6 +185,13 @@ def power_derivative(a, k: Fraction, v):
     return float(k) * power(a, k - 1)
 
 
+def full(v, n: int) -> np.ndarray:
+    """``v`` (a scalar, None for 0, or an array of n values) as an array of n floats."""
+    if type(v) is np.ndarray and v.shape == (n,):
+        return v
+    return np.full(n, 0.0 if v is None else v, dtype=float)
+
+
 def const_value(c: Const) -> float:
     v = c.value
     if isinstance(v, str):

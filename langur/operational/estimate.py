@@ -9,7 +9,7 @@ import numpy as np
 
 from ..core import Program
 from ..modules import Loaded
-from .compile import DELTA, TANGENT, VALUE, Env
+from .compile import DELTA, TANGENT, VALUE, Env, full
 from .link import Linked, compile_program, link
 from .sample import design, evaluate_box
 
@@ -52,8 +52,7 @@ def _env(linked: Linked, x, params, **kw) -> Env:
     return Env(x, params, units=linked.units, offsets=linked.offsets, **kw)
 
 
-def _full(v, n: int) -> np.ndarray:
-    return np.broadcast_to(np.asarray(0.0 if v is None else v, dtype=float), (n,))
+_full = full
 
 
 def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, seed: int = 0,
@@ -116,12 +115,12 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str)
         if not (site.deps & live):
             continue  # D_γ π₀Ψ̂·γ' ≡ 0: the delta's coefficient vanishes identically
         des = design(rng, m, samples, method)
-        region = site.sampler.region(box, p)
-        if any(math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b) for a, b in region):
+        region = site.sampler.region(box, p) if m else ()
+        if region and any(math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b) for a, b in region):
             # no finite box encloses this zero set's coordinates (a pole of Ψ̂'s other components
             # over the domain): no uniform design can sample it, so the estimate is undefined
             return math.nan, math.nan
-        if any(not (b > a) for a, b in region):
+        if region and any(not (b > a) for a, b in region):
             continue
         volume, branches = site.sampler.points(des.points, region, p)
         plan.append((k, des, volume, [(xb, w, ok, site.sampler.dpsi(xb, p, dp)) for xb, w, ok in branches]))
@@ -138,7 +137,7 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str)
                 xs[v].append(xb[v])
             ws.append(w)
             oks.append(ok)
-            dps.append(np.broadcast_to(np.asarray(dpsi, dtype=float), (nb,)))
+            dps.append(full(dpsi, nb))
     site = np.concatenate(ids)
     x = {v: np.concatenate(a) for v, a in xs.items()}
     _, g = linked.fn(_env(linked, x, p, mode=DELTA, site=site, sites=frozenset(k for k, *_ in plan)))

@@ -21,7 +21,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..core import Add, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
-from .compile import TANGENT, VALUE, Env, compile_term, const_value
+from .compile import TANGENT, VALUE, Env, compile_term, const_value, full
 
 METHODS = ("uniform", "stratified", "qmc")
 QMC_RANDOMIZATIONS = 16
@@ -180,6 +180,7 @@ class SiteSampler:
         self.variables = variables
         self._condition = None
         self._branches = None
+        self.has_guards = any(b.guards for b in psi.branches)
         coords = []
         for i in range(1, len(psi.forward)):
             f = psi.forward[i]
@@ -225,13 +226,22 @@ class SiteSampler:
         volume = float(np.prod(width)) if len(region) else 1.0
         inputs = {self.psi.inputs[0]: np.zeros(n)}
         factor = None
-        if len(self.coords) == 1 and any(g for _, g in self.branches):
+        if len(self.coords) == 1 and self.has_guards:
             inputs[self.coords[0][0]], factor = self.fold_map(unit[:, 0], lo[0], hi[0], params)
         else:
             for j, (u, _, _) in enumerate(self.coords):
                 inputs[u] = lo[j] + unit[:, j] * width[j]
         out = []
         order = self.psi.inputs
+        if len(order) == 1:  # one variable: x = Ψ̂⁻¹(0) and dx/du0 from one forward-mode pass
+            tenv = Env(inputs, params, dvars={order[0]: 1.0}, mode=TANGENT)
+            for comps, guards in self.branches:
+                valid = np.ones(n, dtype=bool)
+                for g in guards:
+                    valid &= np.asarray(g(tenv)[0]) >= 0
+                v, d = comps[0](tenv)
+                out.append(({self.variables[0]: full(v, n)}, np.abs(full(d, n)), valid))
+            return volume, out
         for comps, guards in self.branches:
             env = Env(inputs, params)
             valid = np.ones(n, dtype=bool)
@@ -245,7 +255,7 @@ class SiteSampler:
                     v, d = c(tenv)
                     jac[:, j, i] = 0.0 if d is None else d
                     if i == 0:
-                        x[self.variables[j]] = np.broadcast_to(np.asarray(v, dtype=float), (n,))
+                        x[self.variables[j]] = full(v, n)
             weight = np.abs(jac[:, 0, 0]) if len(order) == 1 else np.abs(np.linalg.det(jac))
             if factor is not None:
                 weight = np.where(factor > 0, weight * factor, 0.0)
