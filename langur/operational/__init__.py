@@ -6,16 +6,21 @@ rest of the workbench and never uses sympy.
 
 API::
 
-    estimate_value(program_or_loaded, params, *, samples=10000, seed=0, method="uniform")
+    estimate_value(program_or_loaded, params, *, samples=10000, seed=0, method="uniform",
+                   sites="inlined")
         -> {"value", "stderr", "samples", "seed", "method"}
     estimate_derivative(program_or_loaded, params, direction, *, samples=10000, seed=0,
-                        method="uniform")
+                        method="uniform", sites="inlined")
         -> {"value", "stderr", "regular": {"value", "stderr"}, "boundary": {"value", "stderr"},
             "standard_ad": {"value", "stderr"}, "samples", "seed", "method"}
+    cache_stats() -> {"compiled": [(kind, module, name), …], "hits", "units", "last_link"}
+    reset_cache_stats(), clear_cache(), link(loaded, sites="inlined"), compile_program(program)
 
 ``program_or_loaded`` is a core :class:`~langur.core.Program` (evaluated as is: the *inlined*
 program) or a :class:`~langur.modules.Loaded` (then *linked* from separately compiled modules,
-§9; see :mod:`.link`).  ``method`` is ``"uniform"``, ``"stratified"`` or ``"qmc"``.  ``seed``
+§9; see :mod:`.link`; ``sites`` chooses where its zero-set samplers come from).  ``params``
+may omit parameters with defaults (for a Loaded); ``direction`` (γ') names parameters, the
+others move by 0; a parameter with no value raises ``KeyError``.  ``method`` is ``"uniform"``, ``"stratified"`` or ``"qmc"``.  ``seed``
 makes the output bit-identical (one ``np.random.default_rng(seed)``, never global state).
 
 The estimator
