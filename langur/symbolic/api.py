@@ -1,0 +1,96 @@
+"""What the command line calls for the exact (symbolic) engine (CLI.md, JSON shapes).
+
+* :func:`exact_eval` → the ``exact`` object of ``langur eval --json``;
+* :func:`exact_deriv` → the ``exact`` object of ``langur deriv --json`` plus ``standard_ad`` (the
+  regular part alone, the paper's Dˢ) and ``theorem_8_1`` (the check of Theorem 8.1).
+
+Parameter values may be floats or Fractions; exact decimals are used as sympy Rationals (``0.5``
+is 1/2).  When neither a closed form nor quadrature works, :class:`ExactUnavailable` is raised with
+a one-line reason (the CLI then prints ``"exact": null`` and the reason on standard error).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Mapping
+
+import sympy as sp
+
+from ..core import Program
+from .pieces import Integral
+
+
+class ExactUnavailable(Exception):
+    """The symbolic engine cannot evaluate this program (the message says why, on one line)."""
+
+
+def _number(v: float):
+    """A JSON-ready float (NaN and infinities as the strings of CLI.md)."""
+    v = float(v)
+    if math.isnan(v):
+        return "nan"
+    if math.isinf(v):
+        return "inf" if v > 0 else "-inf"
+    return v
+
+
+def _expr_text(e: sp.Expr | None) -> str | None:
+    return None if e is None else sp.sstr(e)
+
+
+def _integral_fields(r: Integral) -> dict:
+    out = {"value": _number(r.value), "expr": _expr_text(r.expr), "method": r.method}
+    if r.method != "closed_form":
+        out["error"] = _number(r.error)
+    out["notes"] = list(r.notes)
+    return out
+
+
+def _guard(fn, *args, **kwargs):
+    try:
+        return fn(*args, **kwargs)
+    except (NotImplementedError, TypeError, ValueError, ZeroDivisionError, ArithmeticError, TimeoutError) as e:
+        reason = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise ExactUnavailable(f"symbolic engine: {reason}") from e
+
+
+def exact_eval(program: Program, params: Mapping[str, float | object]) -> dict:
+    """⟦p⟧ at ``params``: ``{"value", "expr", "method", "error" (quadrature only), "notes"}``."""
+    from ..denote import denote_program
+
+    return _integral_fields(_guard(denote_program, program, dict(params)))
+
+
+def exact_deriv(program: Program, params: Mapping[str, float | object], direction: Mapping[str, float | object],
+                *, check: bool = True) -> dict:
+    """⦇p⦈ at ``params`` in the direction γ' = ``direction`` (``--wrt a`` is ``{"a": 1}``).
+
+    Returns ``{"value", "regular", "boundary", "expr", "method", "error" (quadrature only),
+    "notes", "standard_ad", "theorem_8_1"}``; ``regular + boundary = value`` and
+    ``standard_ad = regular``; ``theorem_8_1`` is :func:`~langur.symbolic.theorem.check_theorem_8_1`'s
+    dict (None when ``check`` is false or the check itself cannot be computed).
+    """
+    from ..ddenote import ddenote_program
+    from .theorem import check_theorem_8_1
+
+    params, direction = dict(params), dict(direction)
+    res = _guard(ddenote_program, program, params, direction)
+    out = {"value": _number(res.value), "regular": _number(res.regular.value),
+           "boundary": _number(res.boundary.value), "expr": _expr_text(res.expr), "method": res.method}
+    if res.method != "closed_form":
+        out["error"] = _number(res.error)
+    out["notes"] = list(res.notes)
+    out["standard_ad"] = _number(res.standard_ad)
+    theorem = None
+    if check:
+        try:
+            theorem = check_theorem_8_1(program, params, direction, derivative=res)
+        except ExactUnavailable:
+            raise
+        except Exception as e:  # the check is a report, not a reason to lose the derivative
+            out["notes"].append(f"Theorem 8.1 check not computed: {str(e).splitlines()[0] if str(e) else e!r}")
+    if theorem is not None:
+        theorem = {**theorem, "d_denotation": _number(theorem["d_denotation"]),
+                   "derivative_denotation": _number(theorem["derivative_denotation"])}
+    out["theorem_8_1"] = theorem
+    return out
