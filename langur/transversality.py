@@ -663,6 +663,35 @@ def check_loaded(
     )
 
 
+def check_library(loaded, *, sources: Mapping[str, str] | None = None) -> list[Finding]:
+    """The findings of each ``def`` of a module without a program (a library, e.g. densities.lgr),
+    each body analysed as an integrand over its ``var`` arguments, with its ``param`` arguments
+    as parameters without values and no domain: what is degenerate for every argument value
+    (X301, X302, X303, X304 for two moving jumps, X306) is reported at the def's text."""
+    from dataclasses import replace
+
+    from .core import Call, Param, Var
+    from .syntax.inline import inline
+
+    main = loaded.main
+    sources = dict(sources or {})
+    out: list[Finding] = []
+    for d in main.defs.values():
+        variables = tuple(n for n, kind in d.args if kind == "var")
+        if not variables:
+            continue
+        args = tuple(Var(n) if kind == "var" else Param(n) for n, kind in d.args)
+        unbounded = tuple((Param("__lo"), Param("__hi")) for _ in variables)
+        try:
+            program = inline(Program(Call(main.name, d.name, args), variables, unbounded), loaded.modules)
+        except LangurError:
+            continue
+        program = replace(program, box=(), span=d.span)
+        params = {n: None for n, kind in d.args if kind == "param"}
+        out += check_program(program, params, sources=sources)
+    return _dedupe(out)
+
+
 def _domain_spans(loaded, sources) -> dict[tuple[int, int], Span]:
     from .syntax.parser import parse_module
 

@@ -346,8 +346,9 @@ def test_every_code_is_documented():
 
 def test_modules_and_imported_defs(capsys, tmp_path):
     # --module swaps the shader of renderer.lgr (CLI.md): still transverse, exit 0
-    code, out, _ = run(capsys, EXAMPLES / "renderer.lgr", "--isolated", "--module",
-                       f"shader={EXAMPLES / 'lin_shader.lgr'}")
+    code, out, _ = run(
+        capsys, EXAMPLES / "renderer.lgr", "--isolated", "--module", f"shader={EXAMPLES / 'lin_shader.lgr'}"
+    )
     assert code == 0 and out == ""
     code, _, err = run(capsys, EXAMPLES / "renderer.lgr", "--module", f"shader={tmp_path / 'none.lgr'}")
     assert code == 2 and "no such file" in err
@@ -360,3 +361,20 @@ def test_modules_and_imported_defs(capsys, tmp_path):
     assert code == 1 and d["code"] == "X301"
     assert (d["path"], d["line"], d["col"]) == (str(main_file), 3, 18)
     assert "lib.lgr:1:" in d["message"]
+
+
+def test_library_modules_lint_each_def(capsys, tmp_path):
+    lib = tmp_path / "lib.lgr"
+    lib.write_text(
+        "def sq(x: var, a: param) = [x >= a] * [x >= a]\n"
+        "def win(x: var, a: param, b: param) = [a <= x <= b]\n"
+        "def two(x: var, a: param, b: param) = [x >= a] * [x >= b]\n"
+        "def uses(x: var, a: param) = sq(x, a) + 1\n"
+    )
+    code, out, _ = run(capsys, lib, "--isolated")
+    # sq: coincident for every a (reported once, also through `uses`); two: when a = b; win: a
+    # window closing at a = b is only a kink (no parameter values to be at): nothing
+    assert code == 1 and codes_in(out) == ["X301", "X304"]
+    assert out.startswith(f"{lib}:1:39: error X301") and "when a = b" in out
+    code, out, _ = run(capsys, EXAMPLES / "densities.lgr", "--isolated")
+    assert code == 0 and out == ""

@@ -101,7 +101,7 @@ def run(args) -> int:
     from ..lint.formats import Report, render
     from ..lint.noqa import suppressed
     from ..lint.prove import Prover
-    from ..transversality import check_loaded, point_of
+    from ..transversality import check_library, check_loaded, point_of
 
     fmt = args.format or ("json" if args.json else "text")
     if args.json and args.format not in (None, "json"):
@@ -147,8 +147,10 @@ def run(args) -> int:
             continue
         here = {k: v for k, v in at.items() if k in loaded.params}
         used_at |= set(here)
-        if loaded.program is None:
-            continue  # a library module: its defs are checked where they are used
+        if loaded.program is None:  # a library module: each def on its own
+            findings = check_library(loaded, sources=sources)
+        else:
+            findings = None
         for m in loaded.modules.values():  # imported modules: quoted in messages, their # noqa honoured
             if m.path not in sources and os.path.isfile(m.path):
                 try:
@@ -156,8 +158,13 @@ def run(args) -> int:
                         sources[m.path] = fh.read()
                 except OSError:
                     pass
-        findings = check_loaded(loaded, at=here, sources=sources)
-        prover = Prover(loaded.program, point_of(loaded.params, here)) if args.prove else None
+        if findings is None:
+            findings = check_loaded(loaded, at=here, sources=sources)
+        prover = (
+            Prover(loaded.program, point_of(loaded.params, here))
+            if args.prove and loaded.program is not None
+            else None
+        )
         for fd in findings:
             d: Diagnostic = fd.diagnostic()
             if not cfg.enabled(d.code, name) or suppressed(d, sources):

@@ -145,7 +145,7 @@ def domain_findings(program: Program | None, point: Mapping[str, object] | None,
     """X307 findings of ``program`` at the parameter ``point`` (nothing when a value is missing)."""
     from ..transversality import Finding
 
-    if program is None or point is None:
+    if program is None or point is None or len(program.box) != len(program.variables):
         return []
     params = {k: float(v) for k, v in point.items()}
     try:
