@@ -79,10 +79,10 @@ def _agree(closed: float, quad: float, err: float) -> bool:
 
 def _tidy(expr, ctx: Context):
     """A simpler equal form when sympy finds one quickly (checked at the evaluation point)."""
-    if sp.count_ops(expr) > 300:
-        return expr
+    if sp.count_ops(expr) > 300 or len(expr.atoms(sp.Max, sp.Min)) > 2:
+        return expr  # sympy's simplify is slow on Max/Min and rarely helps there
     try:
-        s = ctx.deadline.run(lambda: sp.simplify(expr), cap=3.0)
+        s = ctx.deadline.run(lambda: sp.simplify(expr), cap=2.0)
     except Exception:  # noqa: BLE001 - simplification is cosmetic; TimeoutError included
         return expr
     try:
@@ -153,9 +153,10 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
     """Σ ∫_box Π[conditions]·weight (regular part of a denotation or derivative denotation)."""
     variables = tuple(variables)
     ctx, boxd = _setup(variables, box, at, timeout)
-    exacts, quads, why = [], [], []
+    exacts, why = [], []
+    quads = [quadrature.quad_pieces([pc], variables, box, ctx.at) for pc in pieces]
+    ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work
     for i, pc in enumerate(pieces):
-        quads.append(quadrature.quad_pieces([pc], variables, box, ctx.at))
         problems = [([Cond(sp.sympify(c.expr), psi=c.psi) for c in pc.conditions], sp.sympify(pc.weight))]
         try:
             exacts.append(_exact_piece(problems, list(variables), boxd, ctx, quads[-1], f"piece {i}"))
@@ -172,14 +173,16 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
     ∫ h(Ψ̂_b⁻¹(0,u'))·|det DΨ̂_b⁻¹(0,u')| du' on the guards (LANGUAGE.md §4)."""
     variables = tuple(variables)
     ctx, boxd = _setup(variables, box, at, timeout)
-    exacts, quads, why = [], [], []
+    exacts, why, uboxes = [], [], []
     for i, pc in enumerate(pieces):
-        uvars = regions.u_prime(pc.psi, variables)
         try:
-            ubox = regions.u_box(pc.psi, variables, boxd, ctx)
+            uboxes.append(regions.u_box(pc.psi, variables, boxd, ctx))
         except Unsupported as exc:
             raise ValueError(f"delta piece {i}: cannot bound the zero set's coordinates: {exc}") from None
-        quads.append(quadrature.quad_delta_pieces([pc], variables, box, ctx.at, [ubox]))
+    quads = [quadrature.quad_delta_pieces([pc], variables, box, ctx.at, [ub]) for pc, ub in zip(pieces, uboxes)]
+    ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work
+    for i, (pc, ubox) in enumerate(zip(pieces, uboxes)):
+        uvars = regions.u_prime(pc.psi, variables)
         try:
             problems = regions.delta_to_regular(pc, variables, boxd, ctx, ubox)
             exacts.append(_exact_piece(problems, uvars, dict(zip(uvars, ubox)), ctx, quads[-1],

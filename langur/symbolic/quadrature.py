@@ -19,6 +19,7 @@ map's derivative), independent of the inverse-map Jacobian used by the closed fo
 
 from __future__ import annotations
 
+import itertools
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -32,8 +33,7 @@ from scipy import optimize as so
 from langur.symbolic.pieces import DeltaPiece, Piece, Psi
 
 GRID = 40
-EPSABS = 1e-11
-EPSREL = 1e-11
+EPSABS = 1e-11  # innermost level; each outer level is 10x looser
 
 
 def _num(expr, at: dict) -> float:
@@ -45,22 +45,32 @@ def _floats(at: dict) -> dict:
 
 
 def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., float]:
+    """A fast scalar function (``math``); NaN where the expression is undefined or complex."""
     e = sp.sympify(expr).xreplace(_floats(at))
-    f = sp.lambdify(list(symbols), e, modules=["numpy"])
-
-    def call(*vals):
-        with np.errstate(all="ignore"), warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+    try:
+        f = sp.lambdify(list(symbols), e, modules=["math"])
+        f(*[0.5] * len(symbols))  # probe: fails with NameError for functions math lacks
+    except NameError:
+        f = None
+    except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
+        f = sp.lambdify(list(symbols), e, modules=["math"])
+    if f is not None:
+        def call(*vals):
             try:
-                v = f(*vals)
+                return float(f(*vals))
             except (ValueError, ZeroDivisionError, OverflowError, TypeError):
                 return math.nan
-        v = complex(v)
-        if abs(v.imag) > 1e-9 * max(1.0, abs(v.real)):
-            return math.nan
-        return v.real
+        return call
+    g = sp.lambdify(list(symbols), e, modules=["mpmath"])
 
-    return call
+    def slow(*vals):
+        try:
+            v = complex(g(*vals))
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            return math.nan
+        return v.real if abs(v.imag) <= 1e-12 * max(1.0, abs(v.real)) else math.nan
+
+    return slow
 
 
 @dataclass
@@ -70,6 +80,8 @@ class NumCond:
     f: Callable[..., float]
     level: int
     hints: Callable[..., list[float]] | None = None
+    expr: sp.Expr | None = None  # with the parameters' values substituted (for polynomial roots)
+    roots: Callable[..., list[float]] | None = None
 
 
 @dataclass
@@ -78,6 +90,8 @@ class NumProblem:
     weight: Callable[..., float]
     bounds: list[tuple[float, float]]
     errors: list[float] = field(default_factory=list)
+    kinks: dict = field(default_factory=dict)
+    syms: list = field(default_factory=list)  # one symbol per level (for polynomial roots)
 
 
 def _holds(v: float) -> bool:
@@ -118,6 +132,61 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
     return out
 
 
+def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int):
+    """``prefix ↦ real roots in syms[level]`` when ``expr`` is a polynomial in it (numpy), else None."""
+    v = syms[level]
+    try:
+        poly = sp.Poly(expr, v)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return None
+    coeffs = poly.all_coeffs()
+    if poly.degree() > 8 or any(v in c.free_symbols for c in coeffs):
+        return None
+    fns = [sp.lambdify(list(syms[:level]), c, modules=["numpy"]) for c in coeffs]
+
+    def roots(*prefix):
+        cs = [complex(f(*prefix)) for f in fns]
+        if not all(math.isfinite(c.real) and math.isfinite(c.imag) for c in cs):
+            return []
+        cs = np.array([c.real for c in cs])
+        nz = np.flatnonzero(cs)
+        if len(nz) == 0:
+            return []
+        out = np.roots(cs[nz[0]:])
+        return [float(r.real) for r in out if abs(r.imag) <= 1e-9 * (1 + abs(r))]
+
+    return roots
+
+
+def _finder(c: NumCond, syms, level: int):
+    if c.roots is None and c.expr is not None and syms:
+        c.roots = _poly_roots(c.expr, syms, level) or False
+    return c.roots or None
+
+
+def _kink_functions(p: NumProblem, level: int):
+    """Deeper conditions with the deeper variables at box corners: their roots in this level's
+    variable are where the inner integral's region changes shape (kinks of the integrand)."""
+    out = []
+    for c in p.conds:
+        if c.level <= level:
+            continue
+        for corner in itertools.product(*[p.bounds[j] for j in range(level + 1, c.level + 1)]):
+            f = (lambda *a, c=c, corner=corner: c.f(*a, *corner))
+            roots = None
+            if c.expr is not None and p.syms:
+                e = c.expr.xreplace(dict(zip(p.syms[level + 1:], corner)))
+                roots = _poly_roots(e, p.syms, level)
+            out.append((f, roots))
+    return out
+
+
+def _find(g, roots, prefix, lo, hi):
+    if roots is not None:
+        return [r for r in roots(*prefix) if lo < r < hi]
+    return _roots(g, lo, hi)
+
+
 def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     lo, hi = p.bounds[level]
     if not hi > lo:
@@ -127,14 +196,21 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     for c in here:
         def g(t, c=c):
             return c.f(*prefix, t)
-        for r in _roots(g, lo, hi):
+        for r in _find(g, _finder(c, p.syms, level), prefix, lo, hi):
             pts.add(r)
         if c.hints is not None:
             for r in c.hints(*prefix):
                 if lo < r < hi:
                     pts.add(r)
+    kinks = set()
+    if level not in p.kinks:
+        p.kinks[level] = _kink_functions(p, level)
+    for kf, roots in p.kinks[level]:
+        for r in _find(lambda t, kf=kf: kf(*prefix, t), roots, prefix, lo, hi):
+            kinks.add(r)
     pts = sorted(pts)
     last = level == len(p.bounds) - 1
+    eps = EPSABS * 10 ** (len(p.bounds) - 1 - level)  # inner levels tighter than outer ones
     total = 0.0
     err = 0.0
     for a, b in zip(pts, pts[1:]):
@@ -149,9 +225,10 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         else:
             def h(t):
                 return _nested(p, level + 1, prefix + (t,))
+        inside = sorted(q for q in kinks if a < q < b) or None
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            val, e = si.quad(h, a, b, epsabs=EPSABS, epsrel=EPSREL, limit=200)
+            val, e = si.quad(h, a, b, epsabs=eps, epsrel=eps, limit=100, points=inside)
         total += val
         err += e
     if level == 0:
@@ -214,9 +291,10 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
     for c in piece.conditions:
         lv = _level(c.expr, variables)
         hints = _psi_hints(c.psi, variables[lv], variables, lv, at) if lv >= 0 else None
-        conds.append(NumCond(_lambdify(variables[: lv + 1], c.expr, at), lv, hints))
+        conds.append(NumCond(_lambdify(variables[: lv + 1], c.expr, at), lv, hints,
+                             sp.sympify(c.expr).xreplace(_floats(at))))
     bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in box]
-    return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds)
+    return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds, syms=variables)
 
 
 def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict) -> tuple[float, float]:
@@ -261,7 +339,7 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
             if se.is_number and abs(_num(se, at)) < 1e-300:
                 continue  # vanishes identically on the zero set: 0 >= 0 is TRUE (paper convention)
             lv = _level(se, uprime)
-            conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv))
+            conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, se.xreplace(_floats(at))))
         w_f = _lambdify(variables, piece.weight, at)
 
         def weight(*u, xmap=xmap, w_f=w_f):
@@ -269,7 +347,7 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
             d = jac_f(*x)
             return w_f(*x) / abs(d)
 
-        problems.append(NumProblem(conds, weight, bounds))
+        problems.append(NumProblem(conds, weight, bounds, syms=uprime))
     return problems
 
 
