@@ -397,3 +397,17 @@ def test_random_terms_compiled_equals_naive(term, av, bv):
             assert math.isfinite(v[i]) and _agree(v[i], nv), (v[i], nv)
         assert _agree(t[i], evaluate(term, rho, p, dp, TANGENT)[1])
         assert _agree(g[i], evaluate(term, rho, p, {}, DELTA, site=0)[1])
+
+
+def test_parameter_singularities_are_nan_not_exceptions():
+    # found by the property test: d/da log(a) at a = 0 divided a Python float by zero
+    from langur.operational.compile import TANGENT, Env, compile_term
+
+    a = Param("a")
+    for op, at in (("log", 0.0), ("atanh", 1.0), ("atanh", -1.0), ("log", -2.0)):
+        with np.errstate(all="ignore"):  # as the estimators evaluate
+            v, d = compile_term(Prim(op, a)).fn(Env({}, {"a": at}, dparams={"a": 1.0}, mode=TANGENT))
+        assert not math.isfinite(float(v)) and math.isnan(float(d))
+    prog = with_domain(("x",), [(ZERO, ONE)], Mul(x, Prim("log", a)))
+    d = estimate_derivative(prog, {"a": 0.0}, {"a": 1}, samples=100)
+    assert math.isnan(d["value"]) and math.isnan(d["regular"]["value"])

@@ -132,7 +132,7 @@ def prim_derivative(op: str, a, v):
         case "exp":
             return v
         case "log":
-            return np.where(a > 0, 1.0 / a, NAN)
+            return np.where(a > 0, 1.0 / np.asarray(a, dtype=float), NAN)  # numpy division: no exception at 0
         case "sin":
             return np.cos(a)
         case "cos":
@@ -150,7 +150,7 @@ def prim_derivative(op: str, a, v):
         case "acos":
             return np.where(np.abs(a) < 1, -1.0 / np.sqrt(1.0 - a * a), NAN)
         case "atanh":
-            return np.where(np.abs(a) < 1, 1.0 / (1.0 - a * a), NAN)
+            return np.where(np.abs(a) < 1, 1.0 / np.asarray(1.0 - a * a, dtype=float), NAN)
     raise ValueError(f"unknown primitive {op}")
 
 
