@@ -1,0 +1,222 @@
+"""Regions from conditions (langur.symbolic.regions) and the time limits (timebox).
+
+Expected values are derived by hand in the comments.
+"""
+
+import threading
+import time
+
+import pytest
+import sympy as sp
+
+from langur.symbolic import regions
+from langur.symbolic.pieces import Branch, DeltaPiece, Psi
+from langur.symbolic.regions import Cond, Context, Unsupported
+from langur.symbolic.timebox import Deadline, run_with_timeout
+
+x, y = sp.symbols("x y", real=True)
+theta, a, s, r, k = sp.symbols("theta a s r k", real=True)
+u0, u1 = sp.symbols("u0 u1", real=True)
+
+
+def ctx(**at):
+    vals = {sp.Symbol(n, real=True): sp.nsimplify(v) for n, v in at.items()}
+    return Context(vals, Deadline(20.0), frozenset(vals))
+
+
+# ---------------------------------------------------------------------------------------------
+# Solving one condition for one variable.
+
+
+def test_linear_condition_directions():
+    c = ctx(theta=0.5)
+    # θ − x ≥ 0  ⟺  x ≤ θ (slope −1 < 0): an upper bound
+    (alt,) = regions.alternatives(Cond(theta - x), x, [], c)
+    assert alt.uppers == [theta] and alt.lowers == [] and c.cell == []
+    # 2x − θ ≥ 0  ⟺  x ≥ θ/2
+    (alt,) = regions.alternatives(Cond(2 * x - theta), x, [], c)
+    assert alt.lowers == [theta / 2]
+
+
+def test_parametric_slope_is_decided_at_the_point():
+    # a·x − 1 ≥ 0 at a = −2: slope negative, x ≤ 1/a; the cell records a < 0 (as −a > 0)
+    c = ctx(a=-2)
+    (alt,) = regions.alternatives(Cond(a * x - 1), x, [], c)
+    assert alt.uppers == [1 / a]
+    assert c.cell == [sp.StrictGreaterThan(-a, 0)]
+
+
+def test_slope_depending_on_an_outer_variable_is_a_case_split():
+    # x·y − 1 ≥ 0 in y: y ≥ 1/x where x > 0, y ≤ 1/x where x < 0
+    alts = regions.alternatives(Cond(x * y - 1), y, [x], ctx())
+    assert [(alt.extra[0].expr, alt.lowers, alt.uppers) for alt in alts] == [
+        (x, [1 / x], []), (-x, [], [1 / x])]
+
+
+def test_quadratic_condition():
+    # a − x² ≥ 0: between the roots ±√a, where the discriminant 4a ≥ 0
+    (alt,) = regions.alternatives(Cond(a - x**2), x, [], ctx(a=0.25))
+    assert alt.extra[0].expr == 4 * a
+    assert alt.lowers == [-sp.sqrt(a)] and alt.uppers == [sp.sqrt(a)]
+    # x² − a ≥ 0: everywhere when 4a < 0, else outside [−√a, √a]
+    alts = regions.alternatives(Cond(x**2 - a), x, [], ctx(a=0.25))
+    assert [(alt.lowers, alt.uppers) for alt in alts] == [([], []), ([], [-sp.sqrt(a)]), ([sp.sqrt(a)], [])]
+
+
+def test_condition_solved_through_its_psi():
+    # exp(x) − θ ≥ 0 with Psi solved for x: x = log(u0 + θ) (∂x/∂u0 > 0): x ≥ log θ
+    psi = Psi((x,), (sp.exp(x) - theta,), (u0,), (Branch(((x, sp.log(u0 + theta)),)),), x)
+    (alt,) = regions.alternatives(Cond(sp.exp(x) - theta, psi=psi), x, [], ctx(theta=2))
+    assert alt.lowers == [sp.log(theta)]
+
+
+def test_unsolvable_condition_is_unsupported():
+    with pytest.raises(Unsupported):
+        regions.alternatives(Cond(sp.sin(x * y) - x), y, [x], ctx())
+
+
+# ---------------------------------------------------------------------------------------------
+# Whole regions.
+
+
+def test_half_line_closed_form_valid_for_all_theta():
+    # ∫₀¹ [θ − x ≥ 0]·x dx = Min(Max(θ,0),1)²/2
+    c = ctx(theta=0.5)
+    e = regions.integrate_region([Cond(theta - x)], x, [x], {x: (0, 1)}, c)
+    for q in [sp.Rational(n, 5) for n in range(-5, 11)]:
+        assert e.subs(theta, q) == sp.Min(sp.Max(q, 0), 1) ** 2 / 2
+    assert c.cell == []
+
+
+def test_triangle_valid_for_all_s():
+    # area of {x, y ∈ [0,1], x + y ≤ s}: 0 (s ≤ 0), s²/2 (0..1), 1 − (2 − s)²/2 (1..2), 1 (s ≥ 2)
+    c = ctx(s=0.5)
+    e = regions.integrate_region([Cond(s - x - y)], sp.Integer(1), [x, y], {x: (0, 1), y: (0, 1)}, c)
+
+    def hand(q):
+        if q <= 0:
+            return 0
+        if q <= 1:
+            return q**2 / 2
+        if q <= 2:
+            return 1 - (2 - q) ** 2 / 2
+        return 1
+
+    for q in [sp.Rational(n, 4) for n in range(-4, 13)]:
+        assert e.subs(s, q) == hand(q)
+
+
+def test_generic_roots_ordered_at_the_point():
+    # [exp(x) − θ ≥ 0] on [0, 2], no Psi: x ≥ log θ; length 2 − log θ for 1 < θ < e²; the cell
+    # fixes the order 0 < log θ < 2
+    c = ctx(theta=2)
+    e = regions.integrate_region([Cond(sp.exp(x) - theta)], sp.Integer(1), [x], {x: (0, 2)}, c)
+    assert sp.simplify(e - (2 - sp.log(theta))) == 0
+    assert c.generic
+    assert sp.StrictGreaterThan(sp.log(theta), 0) in c.cell
+
+
+def test_parameter_only_condition_stays_exact():
+    # [θ ≥ 0]·∫₀¹ 1 = Piecewise: 1 for θ ≥ 0, else 0 — for every θ, not just at the point
+    e = regions.integrate_region([Cond(theta)], sp.Integer(1), [x], {x: (0, 1)}, ctx(theta=1))
+    assert e.subs(theta, 3) == 1 and e.subs(theta, -3) == 0
+
+
+def test_antiderivative_rejects_non_elementary_and_non_smooth():
+    with pytest.raises(Unsupported):
+        regions.antiderivative(sp.exp(x**3), x, ctx())
+    with pytest.raises(Unsupported):
+        regions.antiderivative(sp.Abs(x), x, ctx())
+    # shifted Gaussian by completing the square: d/dx F = w
+    w = sp.exp(-(x - theta) ** 2 / 50) * sp.exp(-(x - 2) ** 2 / 50)
+    F = regions.antiderivative(w, x, ctx(theta=1))
+    assert F.has(sp.erf)
+    assert sp.N((sp.diff(F, x) - w).subs({x: 0.3, theta: 1.7})) == pytest.approx(0, abs=1e-14)
+
+
+# ---------------------------------------------------------------------------------------------
+# Delta pieces: the zero set's coordinates.
+
+
+def test_u_box_affine_and_nonlinear():
+    box = {x: (0, 1), y: (0, 1)}
+    # x + 2y over [0,1]²: [0, 3]
+    psi = Psi((x, y), (k - 2 * x + y, x + 2 * y), (u0, u1), (), None)
+    assert regions.u_box(psi, (x, y), box, ctx(k=0.5)) == [(0, 3)]
+    # x + y² over [0,1]²: [0, 2] (interval arithmetic, padded by ~1e-9)
+    psi = Psi((x, y), (y - x, x + y**2), (u0, u1), (), None)
+    ((lo, hi),) = regions.u_box(psi, (x, y), box, ctx())
+    assert -1e-8 < lo <= 0 and 2 <= hi < 2 + 1e-8
+
+
+def test_vanishing_condition_is_true_on_its_zero_set():
+    c = ctx(a=0.5)
+    assert regions.vanishes_identically(sp.sqrt(a) ** 2 - a, [], [], c) is True
+    assert regions.vanishes_identically(sp.sin(u1) ** 2 + sp.cos(u1) ** 2 - 1, [u1], [(0, 1)], c)
+    assert not regions.vanishes_identically(u1 - a, [u1], [(0, 1)], c)
+
+
+def test_delta_to_regular_disk_jacobian():
+    # y = ±√(r − u0 − u1²), x = u1: |det DΨ̂⁻¹(0, u1)| = 1/(2√(r − u1²)); at r = 1/4, u1 = 0: 1
+    root = sp.sqrt(r - u0 - u1**2)
+    psi = Psi((x, y), (r - x**2 - y**2, x), (u0, u1),
+              (Branch(((y, root), (x, u1)), (r - u0 - u1**2,)), Branch(((y, -root), (x, u1)), (r - u0 - u1**2,))),
+              y)
+    c = ctx(r=0.25)
+    box = {x: (-1, 1), y: (-1, 1)}
+    ubox = regions.u_box(psi, (x, y), box, c)
+    assert ubox == [(-1, 1)]
+    problems = regions.delta_to_regular(DeltaPiece(psi, (), sp.Integer(1)), (x, y), box, c, ubox)
+    assert len(problems) == 2
+    for conds, weight in problems:
+        assert weight.subs({u1: 0, r: sp.Rational(1, 4)}) == 1
+        # the guard r − u1² ≥ 0 is among the conditions
+        assert any(sp.expand(cd.expr - (r - u1**2)) == 0 for cd in conds)
+
+
+# ---------------------------------------------------------------------------------------------
+# Time limits.
+
+
+def test_timeout_interrupts_and_returns():
+    assert run_with_timeout(lambda: 42, 1.0) == 42
+    start = time.monotonic()
+    with pytest.raises(TimeoutError):
+        run_with_timeout(lambda: time.sleep(5), 0.2)
+    assert time.monotonic() - start < 2
+
+
+def test_nested_timeouts_never_extend_the_outer_one():
+    start = time.monotonic()
+    with pytest.raises(TimeoutError):
+        run_with_timeout(lambda: run_with_timeout(lambda: time.sleep(5), 10.0), 0.3)
+    assert time.monotonic() - start < 2
+    # an inner limit that expires is reported by the inner call; the outer call goes on
+    def outer():
+        with pytest.raises(TimeoutError):
+            run_with_timeout(lambda: time.sleep(5), 0.1)
+        return "outer done"
+    assert run_with_timeout(outer, 5.0) == "outer done"
+
+
+def test_timeout_off_the_main_thread_checks_elapsed_time():
+    out = {}
+
+    def work():
+        try:
+            run_with_timeout(lambda: time.sleep(0.3), 0.05)
+        except TimeoutError:
+            out["raised"] = True
+        out["value"] = run_with_timeout(lambda: 7, 1.0)
+
+    th = threading.Thread(target=work)
+    th.start()
+    th.join()
+    assert out == {"raised": True, "value": 7}
+
+
+def test_sympy_integrate_under_a_deadline_falls_back():
+    # no time at all: the antiderivative step reports Unsupported (so callers use quadrature)
+    c = Context({}, Deadline(0.0), frozenset())
+    with pytest.raises(Unsupported):
+        regions.antiderivative(x * sp.exp(x), x, c)
