@@ -199,3 +199,10 @@ def test_random_modules_load_or_fail_with_diagnostics_never_a_crash():
             assert e.diagnostics and all(d.code[0] in "ET" and d.span is not None for d in e.diagnostics)
 
     run()
+
+
+def test_duplicate_imports(tmp_path):
+    write(tmp_path, {"lib.lgr": "def f(x: var) = x\ndef g(x: var) = x\n",
+                     "main.lgr": "from lib import f\nfrom lib import g as f\n"})
+    (d,) = error_of(load, str(tmp_path / "main.lgr"))
+    assert d.code == "T211" and (d.span.line, d.span.col) == (2, 22) and "imported name" in d.message
