@@ -54,6 +54,14 @@ def test_fig1_closed_form_for_all_theta(th, expected):
         assert e.subs(theta, q) == sp.Min(sp.Max(q, 0), 1)
 
 
+def test_pieces_are_summed():
+    # [θ − x ≥ 0]·1 + [x − θ ≥ 0]·2 on [0, 1] at θ = 1/4: θ + 2(1 − θ) = 2 − θ = 7/4
+    pieces = [Piece((Condition(theta - x),), ONE), Piece((Condition(x - theta),), 2 * ONE)]
+    res = integrate_pieces(pieces, (x,), ((0, 1),), {theta: sp.Rational(1, 4)})
+    assert res.method == "closed_form" and res.value == pytest.approx(1.75, abs=1e-15)
+    assert res.expr.subs(theta, sp.Rational(1, 2)) == sp.Rational(3, 2)
+
+
 def test_empty_sum_is_exactly_zero():
     res = integrate_pieces([], (x,), ((0, 1),), {})
     assert res.expr == 0 and res.value == 0.0 and res.method == "closed_form"

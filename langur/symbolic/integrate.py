@@ -159,7 +159,7 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
     for i, pc in enumerate(pieces):
         problems = [([Cond(sp.sympify(c.expr), psi=c.psi) for c in pc.conditions], sp.sympify(pc.weight))]
         try:
-            exacts.append(_exact_piece(problems, list(variables), boxd, ctx, quads[-1], f"piece {i}"))
+            exacts.append(_exact_piece(problems, list(variables), boxd, ctx, quads[i], f"piece {i}"))
             why.append("")
         except (Unsupported, TimeoutError) as exc:
             exacts.append(None)
@@ -185,7 +185,7 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
         uvars = regions.u_prime(pc.psi, variables)
         try:
             problems = regions.delta_to_regular(pc, variables, boxd, ctx, ubox)
-            exacts.append(_exact_piece(problems, uvars, dict(zip(uvars, ubox)), ctx, quads[-1],
+            exacts.append(_exact_piece(problems, uvars, dict(zip(uvars, ubox)), ctx, quads[i],
                                        f"delta piece {i}"))
             why.append("")
         except (Unsupported, TimeoutError) as exc:
