@@ -86,7 +86,7 @@ __all__ = [
     "point_of",
 ]
 
-#: At most this many families of n+1 conditions are solved for a common point.
+#: At most this many families of 3 to n+1 conditions are solved for a common point.
 MAX_FAMILIES = 400
 
 
@@ -156,6 +156,7 @@ class _Checker:
         self.findings: list[Finding] = []
         self.coincident: set[frozenset[int]] = set()
         self.kinks: dict[int, list] = {}
+        self.degenerate_families: list[frozenset[int]] = []
 
     # -- wording --------------------------------------------------------------------------------
 
@@ -255,8 +256,11 @@ class _Checker:
             pairs.update(itertools.combinations(ids, 2))
             for i, site in sorted(p.squared, key=lambda s: (s[0], _span_key(s[1]))):
                 squared.setdefault(i, site)
-            if self.n >= 2 and len(ids) > self.n and len(families) < MAX_FAMILIES:
-                for fam in itertools.combinations(ids, self.n + 1):
+            # subfamilies of 3 ≤ k ≤ n+1 conditions (k = 2 is the pairs' tangency check)
+            for k in range(3, min(self.n + 1, len(ids)) + 1):
+                if len(families) >= MAX_FAMILIES:
+                    break
+                for fam in itertools.combinations(ids, k):
                     families.add(fam)
                     if len(families) >= MAX_FAMILIES:
                         break
@@ -264,7 +268,9 @@ class _Checker:
         steps = [(self.squared, (occ[i], site)) for i, site in sorted(squared.items())]
         steps += [(self.pair, (occ[i], occ[j])) for i, j in sorted(pairs)]
         steps += [(self.report_kinks, ())]
-        steps += [(self.family, ([occ[i] for i in fam],)) for fam in sorted(families)]
+        steps += [
+            (self.family, ([occ[i] for i in fam],)) for fam in sorted(families, key=lambda f: (len(f), f))
+        ]
         steps += [(self.nonzero, (o,)) for o in occ]
         deadline = time.monotonic() + BUDGET
         for k, (step, args) in enumerate(steps):
@@ -485,7 +491,9 @@ class _Checker:
 
     def _point_text(self, sol: Mapping[sp.Symbol, sp.Expr]) -> str:
         xs = [x for x in self.xs if x in sol]
-        return f"({', '.join(x.name for x in xs)}) = ({', '.join(sp.sstr(sol[x]) for x in xs)})"
+        free = [x.name for x in self.xs if x not in sol]
+        text = f"({', '.join(x.name for x in xs)}) = ({', '.join(sp.sstr(sol[x]) for x in xs)})"
+        return text + (f" (any {', '.join(free)})" if free else "")
 
     def _inside(self, xsol: Mapping[sp.Symbol, sp.Expr], guards=(), sub=None) -> bool:
         if self.point is None:
@@ -550,7 +558,13 @@ class _Checker:
             self.undecided(c, g, str(u))
 
     def family(self, fam: list[Occurrence]):
-        """More than n zero sets through one point of ℝⁿ (Def. 7.2 with a subfamily of n+1)."""
+        """Def. 7.2 for a subfamily of k ≥ 3 zero sets: for k = n+1, a common point at all (X303:
+        n+1 normals of ℝⁿ are never independent); for k ≤ n, a common point where the k×k minors
+        of the Jacobian all vanish (X302: the normals are linearly dependent there)."""
+        if any(done <= frozenset(o.index for o in fam) for done in self.degenerate_families):
+            return  # contains a subfamily already reported
+        if len(fam) <= self.n:
+            return self.dependent(fam)
         ids = [o.index for o in fam]
         if any(frozenset(pr) in self.coincident for pr in itertools.combinations(ids, 2)):
             return
@@ -568,6 +582,7 @@ class _Checker:
                 return
             for sol in solve_points(eqs, self.xs):
                 if self._inside(sol):
+                    self.degenerate_families.append(frozenset(o.index for o in fam))
                     self.add(
                         self.anchor(p),
                         "warning",
@@ -583,6 +598,7 @@ class _Checker:
             if self.explicit and self.point is not None:
                 for sol in solve_points([e.subs(self.point) for e in eqs], self.xs):
                     if self._inside(sol):
+                        self.degenerate_families.append(frozenset(o.index for o in fam))
                         self.add(
                             self.anchor(p),
                             "warning",
@@ -595,6 +611,48 @@ class _Checker:
                             names,
                         )
                         return
+        except Undecided as u:
+            self.undecided(p, others[0], str(u))
+
+    def dependent(self, fam: list[Occurrence]):
+        """k ≤ n zero sets of ℝⁿ through a common point with linearly dependent normals."""
+        ids = [o.index for o in fam]
+        if any(frozenset(pr) in self.coincident for pr in itertools.combinations(ids, 2)):
+            return
+        if not any(_moving(o, self.variables) for o in fam):
+            return
+        k = len(fam)
+        jac = sp.Matrix([[sp.diff(o.f, x) for x in self.xs] for o in fam])
+        minors = [
+            jac.extract(list(range(k)), list(cols)).det() for cols in itertools.combinations(range(self.n), k)
+        ]
+        if any(m.is_number and m != 0 for m in minors):  # the normals are independent everywhere
+            return
+        eqs = [o.f for o in fam] + [m for m in minors if m != 0]  # an identically 0 minor holds everywhere
+        names = self.param_names(*fam)
+        ordered = sorted(fam, key=lambda o: (o.bound is None, _span_key(self.anchor(o))))
+        p, others = ordered[-1], ordered[:-1]
+        listing = ", ".join(
+            f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(p))}" for o in others
+        )
+        try:
+            if not self._possible_at_point(eqs):
+                return
+            for sol in solve_points(eqs, self.xs):
+                if self._inside(sol):
+                    self.degenerate_families.append(frozenset(o.index for o in fam))
+                    self.add(
+                        self.anchor(p),
+                        "warning",
+                        "X302",
+                        f"the normals of {k} zero sets ({self.label(p)}, {listing}) are linearly dependent at "
+                        f"{self._point_text(sol)} {self.every(names)}: Def. 7.2 fails there, so Theorem 8.1 no "
+                        "longer applies; the failure set is a null set of each delta's support, so the "
+                        "derivative is still likely right",
+                        tuple(self.anchor(o) for o in others),
+                        names,
+                    )
+                    return
         except Undecided as u:
             self.undecided(p, others[0], str(u))
 

@@ -309,3 +309,23 @@ def test_parametric_coincidence_in_two_variables():
     # at a = b = 5 the line misses the square: the set is named, no error
     (h,) = check_text(text, at={"a": 5.0, "b": 5.0})
     assert (h.code, h.severity) == ("X304", "warning")
+
+
+def test_three_planes_through_a_line_in_r3():
+    # x = a, x + y = 2a and 2x + y = 3a all contain the line x = y = a: their normals (1,0,0),
+    # (1,1,0), (2,1,0) are dependent there (Def. 7.2 with a subfamily of 3 ≤ n = 3).
+    text = (
+        "param a = 0.25\nint ([0, 1], [0, 1], [0, 1]) [x >= a] * [x + y >= 2*a] * [2*x + y >= 3*a] d(x, y, z)"
+    )
+    (f,) = check_text(text)
+    assert (f.code, f.severity) == ("X302", "warning") and "(x, y) = (a, a) (any z)" in f.message
+    # three coordinate planes meet at one point transversally; a fourth plane through it does not
+    assert (
+        check_text("param a = 0.25\nint ([0, 1], [0, 1], [0, 1]) [x >= a] * [y >= a] * [z >= a] d(x, y, z)")
+        == []
+    )
+    (g,) = check_text(
+        "param a = 0.25\nint ([0, 1], [0, 1], [0, 1]) [x >= a] * [y >= a] * [z >= a] * "
+        "[x + y + z >= 3*a] d(x, y, z)"
+    )
+    assert g.code == "X303" and "(x, y, z) = (a, a, a)" in g.message
