@@ -18,6 +18,9 @@ Modules.  ``from m import f`` finds ``m.lgr`` in the directory of the importing 
 NAME it was given in ``modules``; the main module's name is its file's stem.  Missing modules
 (T218), import cycles (T219) and missing names (T220) are errors at the import.
 
+Caching.  Nothing is cached across loads except ``langur.syntax.diffeo.complete``'s memo of
+completed conditions (a pure function of the condition, the variables and the box).
+
 Parameters.  ``Loaded.params`` are the main module's declared params (defaults as Fraction) in
 declaration order, followed by any declared param of an imported module that an inlined def body
 uses (a def body may use its arguments, ``let``-bound names and its own module's declared params;

@@ -102,7 +102,16 @@ def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
     params = set()
     for _, _, _, base in constraints:
         params |= {s.name for s in base.free_symbols}
-    return [tuple(None if b is None else from_sympy(sp.simplify(b), (), params) for b in pair) for pair in box]
+    return [tuple(_term(b, params) for b in pair) for pair in box]
+
+
+def _term(b, params) -> Term | None:
+    if b is None:
+        return None
+    try:
+        return from_sympy(b, (), params)
+    except ValueError:  # not expressible as a core term: leave this side unbounded
+        return None
 
 
 def numeric_box(variables: tuple[str, ...], box) -> tuple[tuple[str, float, float], ...]:
