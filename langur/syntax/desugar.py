@@ -287,7 +287,10 @@ class Desugarer:
         try:
             psi = complete(cond, sc.variables, sc.box)
         except CompletionError as e:
-            return self.fail(ty.reject_condition(cond_span or cond.span or span, str(e)), span)
+            why = str(e)
+            if not sc.in_program and "bounded" in why:
+                why += "; inside a def or diffeo the variables' domain is unknown: write this condition in the program"
+            return self.fail(ty.reject_condition(cond_span or cond.span or span, why), span)
         return IfDiffeo(psi, then, orelse, span=span)
 
     def diffeo_app(self, app: DiffeoApp, sc: Scope) -> Diffeo | None:
