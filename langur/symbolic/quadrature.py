@@ -307,6 +307,20 @@ def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict) -> tuple[floa
     return val, err
 
 
+def _vanishes(expr, syms, bounds, at) -> bool:
+    """Numerically zero at a few pseudo-random points of the u' box."""
+    expr = sp.sympify(expr)
+    if expr.is_number:
+        return abs(_num(expr, at)) < 1e-300
+    f = _lambdify(syms, expr, at)
+    rng = np.random.default_rng(12345)
+    for _ in range(5):
+        v = f(*[rng.uniform(lo, hi) for lo, hi in bounds])
+        if math.isnan(v) or abs(v) > 1e-12:
+            return False
+    return True
+
+
 def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[NumProblem]:
     """One problem over ``u'`` per inverse branch (forward-Jacobian form, see module doc).
 
@@ -336,7 +350,7 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
             exprs += [variables[i] - lo, hi - variables[i]]
         for k, e in enumerate(exprs):
             se = e if guards_start <= k < guards_start + len(b.guards) else e.xreplace(dict(zip(variables, xs)))
-            if se.is_number and abs(_num(se, at)) < 1e-300:
+            if _vanishes(se, uprime, bounds, at):
                 continue  # vanishes identically on the zero set: 0 >= 0 is TRUE (paper convention)
             lv = _level(se, uprime)
             conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, se.xreplace(_floats(at))))
