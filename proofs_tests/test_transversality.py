@@ -12,7 +12,7 @@ import sympy as sp
 from langur import transversality as tv
 from langur.core import Add, Diffeo, IfDiffeo, InverseBranch, Mul, Param, Program, Var, const, sub
 from langur.frontend import load, load_text
-from langur.lint import algebra
+from langur.lint import algebra, classify
 from langur.lint.prove import Prover
 from paths import DEGENERATE, EXAMPLES
 
@@ -242,7 +242,7 @@ def test_x310_when_sympy_cannot_decide(monkeypatch):
     def undecided(*a, **k):
         raise algebra.Undecided("sympy took longer than 2 s")
 
-    monkeypatch.setattr(tv, "bad_parameters", undecided)
+    monkeypatch.setattr(classify, "bad_parameters", undecided)
     found = check_text("param a = 0.3, b = 0.6\nint ([0, 1]) [x >= a] * [x >= b] d(x)")
     assert found and {f.code for f in found} == {"X310"}
 

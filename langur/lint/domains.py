@@ -143,7 +143,7 @@ class _Eval:
 
 def domain_findings(program: Program | None, point: Mapping[str, object] | None, sources: Mapping[str, str]):
     """X307 findings of ``program`` at the parameter ``point`` (nothing when a value is missing)."""
-    from ..transversality import Finding
+    from .findings import Finding
 
     if program is None or point is None or len(program.box) != len(program.variables):
         return []

@@ -19,32 +19,32 @@ from .algebra import vanishes
 from .collect import Occurrence
 
 
-def _restrict(expr: sp.Expr, branch) -> sp.Expr:
+def restrict(expr: sp.Expr, branch) -> sp.Expr:
     comps, _ = branch
     return expr.xreplace(comps)
 
 
-def _xsyms(variables) -> tuple[sp.Symbol, ...]:
+def xsyms(variables) -> tuple[sp.Symbol, ...]:
     return tuple(symbol(x) for x in variables)
 
 
-def _moving(occ: Occurrence, variables) -> bool:
+def moving(occ: Occurrence, variables) -> bool:
     """Does the zero set move with the parameters (is ``D_γ π₀Ψ̂`` nonzero somewhere on it)?"""
     if occ._moving is None:
-        xs = set(_xsyms(variables))
+        xs = set(xsyms(variables))
         params = [s for s in occ.f.free_symbols if s not in xs]
         occ._moving = False
         for p in params:
             d = sp.diff(occ.f, p)
             for br in occ.branches:
-                if not vanishes(_restrict(d, br), occ.uprime + tuple(params), br[1]):
+                if not vanishes(restrict(d, br), occ.uprime + tuple(params), br[1]):
                     occ._moving = True
                     return True
     return occ._moving
 
 
-def _params_of(*occs: Occurrence, variables) -> list[sp.Symbol]:
-    xs = set(_xsyms(variables))
+def params_of(*occs: Occurrence, variables) -> list[sp.Symbol]:
+    xs = set(xsyms(variables))
     out: set[sp.Symbol] = set()
     for o in occs:
         out |= {s for s in o.f.free_symbols if s not in xs}
@@ -54,12 +54,12 @@ def _params_of(*occs: Occurrence, variables) -> list[sp.Symbol]:
     return sorted(out, key=str)
 
 
-def _orientation(c: Occurrence, g: Occurrence, branch, variables, fixed: dict | None = None) -> int:
+def orientation(c: Occurrence, g: Occurrence, branch, variables, fixed: dict | None = None) -> int:
     """+1 when the two conditions are ≥ 0 on the same side of their common zero set, −1 when on
     opposite sides (sign of ∇f·∇g there), 0 when it cannot be told."""
-    xs = _xsyms(variables)
+    xs = xsyms(variables)
     dot = sum(sp.diff(c.f, x) * sp.diff(g.f, x) for x in xs)
-    e = _restrict(dot, branch)
+    e = restrict(dot, branch)
     if fixed:
         e = e.subs(fixed)
     syms = e.free_symbols
@@ -71,7 +71,7 @@ def _orientation(c: Occurrence, g: Occurrence, branch, variables, fixed: dict | 
     return 1 if pos * 2 >= len(vals) else -1
 
 
-def _in_box(xvals: Mapping[sp.Symbol, sp.Expr], box, point, variables) -> bool:
+def in_box(xvals: Mapping[sp.Symbol, sp.Expr], box, point, variables) -> bool:
     tol = 1e-9
     for x, (lo, hi) in zip(variables, box):
         try:
@@ -85,41 +85,41 @@ def _in_box(xvals: Mapping[sp.Symbol, sp.Expr], box, point, variables) -> bool:
     return True
 
 
-def _meets_box(c: Occurrence, branch, box, point, variables, extra_eq: sp.Expr | None = None) -> bool:
+def meets_box(c: Occurrence, branch, box, point, variables, extra_eq: sp.Expr | None = None) -> bool:
     """Does the branch's piece of c's zero set meet the closed box at the parameter ``point``?"""
     comps, guards = branch
     if not c.uprime:
-        if any(_num(gd.subs(point)) < 0 for gd in guards if _num(gd.subs(point)) is not None):
+        if any(num(gd.subs(point)) < 0 for gd in guards if num(gd.subs(point)) is not None):
             return False
-        return _in_box(comps, box, point, variables)
+        return in_box(comps, box, point, variables)
     # Sample the box, map each sample to u′ (the other components of Ψ̂), come back to the zero set.
     import random
 
     rng = random.Random(3)
     fwd = [to_sympy(t) for t in c.psi.forward[1:]]
-    xs = _xsyms(variables)
+    xs = xsyms(variables)
     boxv = []
     for lo, hi in box:
-        lo_v, hi_v = _num(lo.subs(point)), _num(hi.subs(point))
+        lo_v, hi_v = num(lo.subs(point)), num(hi.subs(point))
         if lo_v is None or hi_v is None:
             return True
         boxv.append((lo_v, hi_v))
     for _ in range(60):
         xpt = {x: sp.Float(rng.uniform(lo, hi), 12) for x, (lo, hi) in zip(xs, boxv)}
         upt = {u: F.subs(point).subs(xpt) for u, F in zip(c.uprime, fwd)}
-        if any(_num(gd.subs(point).subs(upt)) is None or _num(gd.subs(point).subs(upt)) < 0 for gd in guards):
+        if any(num(gd.subs(point).subs(upt)) is None or num(gd.subs(point).subs(upt)) < 0 for gd in guards):
             continue
         image = {x: e.subs(point).subs(upt) for x, e in comps.items()}
         if extra_eq is not None:
-            v = _num(extra_eq.subs(point).subs(upt))
+            v = num(extra_eq.subs(point).subs(upt))
             if v is None or abs(v) > 1e-7:
                 continue
-        if _in_box(image, box, {}, variables):
+        if in_box(image, box, {}, variables):
             return True
     return False
 
 
-def _num(e) -> float | None:
+def num(e) -> float | None:
     try:
         v = complex(sp.sympify(e).evalf())
     except (TypeError, ValueError):
@@ -129,12 +129,12 @@ def _num(e) -> float | None:
     return v.real
 
 
-def _is_linear(f: sp.Expr, xs) -> bool:
+def is_linear(f: sp.Expr, xs) -> bool:
     try:
         return sp.Poly(f, *xs).total_degree() <= 1
     except (sp.PolynomialError, sp.GeneratorsNeeded):
         return False
 
 
-def _span_key(span: Span | None) -> tuple:
+def span_key(span: Span | None) -> tuple:
     return (span.path, span.line, span.col) if span is not None else ("", 0, 0)
