@@ -36,9 +36,9 @@ from fractions import Fraction
 from . import typesys as ty
 from .core import Diffeo, Term, free_params
 from .diagnostics import Diagnostic, LangurError, Span
-from .modules import Loaded
+from .modules import ElaboratedModule, Loaded
 from .syntax.desugar import Desugarer, DiffeoSig, Env, Scope
-from .syntax.elaborate import Elaborated, elaborate
+from .syntax.elaborate import elaborate
 from .syntax.inline import inline
 from .syntax.support import numeric_box
 
@@ -93,11 +93,11 @@ class _Loader:
 
     def __init__(self, overrides: dict[str, str]):
         self.overrides = dict(overrides)
-        self.done: dict[str, Elaborated] = {}
+        self.done: dict[str, ElaboratedModule] = {}
         self.stack: list[str] = []
         self.errors: list[Diagnostic] = []
 
-    def module(self, name: str, path: str, data: bytes, span: Span | None) -> Elaborated | None:
+    def module(self, name: str, path: str, data: bytes, span: Span | None) -> ElaboratedModule | None:
         from .syntax.parser import parse_bytes
 
         try:
@@ -114,7 +114,7 @@ class _Loader:
         self.done[name] = elab
         return elab
 
-    def resolve(self, name: str, span: Span | None, importer: str) -> Elaborated | None:
+    def resolve(self, name: str, span: Span | None, importer: str) -> ElaboratedModule | None:
         if name in self.stack:
             cycle = self.stack[self.stack.index(name):] + [name]
             self.errors.append(ty.diag(span, "T219", "import cycle: " + " -> ".join(cycle)))

@@ -41,6 +41,8 @@ class ElaboratedModule:
     defs: dict[str, CoreDef]
     imports: dict[str, tuple[str, str]]  # local name -> (module name, name there)
     program: Program | None  # elaborated: calls left as Call nodes
+    # each declared diffeo's parameter names in declaration order (a Diffeo value does not keep it)
+    diffeo_params: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
 
 @dataclass

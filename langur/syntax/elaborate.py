@@ -1,4 +1,4 @@
-"""Elaborating one module: a parsed ``ModuleS`` to an :class:`Elaborated` module (§9).
+"""Elaborating one module: a parsed ``ModuleS`` to an :class:`~langur.modules.ElaboratedModule` (§9).
 
 Declarations are checked in order (LANGUAGE.md §6): ``from m import …`` (through a ``resolve``
 callback supplied by ``langur.frontend``, which finds and elaborates ``m`` first), ``param``,
@@ -11,7 +11,7 @@ raises them together.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import fields, replace
 from fractions import Fraction
 
 from .. import typesys as ty
@@ -23,21 +23,12 @@ from .diffeo import CompletionError, DiffeoCheckError, check_declared, complete
 from .support import infer_box, numeric_box
 from .surface import Apply, DefDecl, DiffeoDecl, ImportItem, ModuleS, ParamItem, ProgramS
 
-
-@dataclass
-class Elaborated(ElaboratedModule):
-    """An :class:`ElaboratedModule` that also remembers each declared diffeo's parameter order
-    (a :class:`~langur.core.Diffeo` does not record it; applications pass parameters by position)."""
-
-    diffeo_params: dict[str, tuple[str, ...]] = field(default_factory=dict)
-
-
 #: ``resolve(module name, span of the import) -> Elaborated | None`` (None: already reported).
-Resolver = Callable[[str, Span | None], "Elaborated | None"]
+Resolver = Callable[[str, Span | None], "ElaboratedModule | None"]
 
 
 def elaborate(mod: ModuleS, name: str, path: str, source_hash: str, resolve: Resolver,
-              errors: list[Diagnostic]) -> Elaborated:
+              errors: list[Diagnostic]) -> ElaboratedModule:
     """Elaborate ``mod``; diagnostics are appended to ``errors`` (the result is then partial)."""
     env = Env(module=name)
     ds = Desugarer(env, errors)
@@ -74,7 +65,7 @@ def elaborate(mod: ModuleS, name: str, path: str, source_hash: str, resolve: Res
                     env.defs[local.name] = DefSig(other.name, d.name, d.args)
                     imports[local.name] = (other.name, imp.name.name)
                 elif imp.name.name in other.diffeos:
-                    ps = getattr(other, "diffeo_params", {}).get(imp.name.name, ())
+                    ps = other.diffeo_params.get(imp.name.name, ())
                     env.diffeos[local.name] = DiffeoSig(other.diffeos[imp.name.name], ps)
                     imports[local.name] = (other.name, imp.name.name)
                 else:
@@ -124,7 +115,7 @@ def elaborate(mod: ModuleS, name: str, path: str, source_hash: str, resolve: Res
     _check_recursion(name, defs, errors)
 
     program = _program(mod.program, ds, module_params, errors) if mod.program is not None else None
-    return Elaborated(name=name, path=path, source_hash=source_hash, params=params, diffeos=diffeos, defs=defs,
+    return ElaboratedModule(name=name, path=path, source_hash=source_hash, params=params, diffeos=diffeos, defs=defs,
                       imports=imports, program=program, diffeo_params=diffeo_params)
 
 
