@@ -148,7 +148,9 @@ class _Builder:
         sp = self.span(first, last)
         depth = 1 + max((s.depth for s in subs), default=0)
         if depth > MAX_DEPTH:
-            raise error(sp, "E105", f"nesting too deep: terms may nest at most {MAX_DEPTH} levels")
+            raise error(sp, "E105", f"nesting too deep: terms may nest at most {MAX_DEPTH} levels (each operator "
+                        "of a chain like `t1 + t2 + …` is a level: group long sums in parentheses, "
+                        "`(t1 + … + t100) + (t101 + …)`, or bind parts with `let`)")
         return _R(make(sp), sp.line, sp.col, sp.end_line, sp.end_col, depth)
 
     def ident(self, t: Token) -> Ident:
