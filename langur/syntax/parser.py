@@ -150,7 +150,7 @@ class _Builder:
         if depth > MAX_DEPTH:
             raise error(sp, "E105", f"nesting too deep: terms may nest at most {MAX_DEPTH} levels (each operator "
                         "of a chain like `t1 + t2 + …` is a level: group long sums in parentheses, "
-                        "`(t1 + … + t100) + (t101 + …)`, or bind parts with `let`)")
+                        "`(t1 + … + t100) + (t101 + …)`)")
         return _R(make(sp), sp.line, sp.col, sp.end_line, sp.end_col, depth)
 
     def ident(self, t: Token) -> Ident:
