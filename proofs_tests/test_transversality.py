@@ -329,3 +329,11 @@ def test_three_planes_through_a_line_in_r3():
         "[x + y + z >= 3*a] d(x, y, z)"
     )
     assert g.code == "X303" and "(x, y, z) = (a, a, a)" in g.message
+
+
+def test_transcendental_parameter_set_decided_at_the_point():
+    # sin(x) = a meets the bound x = 1 at a = sin(1), x = 0 at a = 0 (solved); at a = 0 an error
+    text = "param a = 0.5\nint ([0, 1]) [sin(x) >= a] d(x)"
+    assert check_text(text) == []
+    (f,) = check_text(text, at={"a": 0.0})
+    assert (f.code, f.severity) == ("X305", "error") and "x >= 0" in f.message

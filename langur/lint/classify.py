@@ -272,19 +272,53 @@ class Checker:
         params = params_of(c, g, variables=self.variables)
         names = self.param_names(c, g)
         relations = []
-        try:
-            for br in c.branches:
-                e = restrict(g.f, br)
-                if vanishes(e, c.uprime + tuple(params), br[1]):
-                    return self.always(c, g, br, names)
-                for sol in bad_parameters(e, c.uprime, params, br[1]):
-                    relations.append((sol, br, e))
-        except Undecided as u:
-            return self.undecided(c, g, str(u))
+        unsolved = []
+        for br in c.branches:
+            e = restrict(g.f, br)
+            if vanishes(e, c.uprime + tuple(params), br[1]):
+                return self.always(c, g, br, names)
+            try:
+                relations += [(sol, br, e) for sol in bad_parameters(e, c.uprime, params, br[1])]
+            except Undecided as u:
+                unsolved.append((br, e, str(u)))
+        if unsolved:
+            self.unsolved(c, g, unsolved, names)
         if relations:
             self.parametric(c, g, relations, names)
         if self.n >= 2 and not (is_linear(c.f, self.xs) and is_linear(g.f, self.xs)):
             self.tangency(c, g, names)
+
+    def unsolved(self, c: Occurrence, g: Occurrence, unsolved, names):
+        """The parameter set of a coincidence could not be solved for (a transcendental equation).
+        Two moving jumps: the set matters everywhere (X310).  Otherwise only the values in force
+        matter (a kink), and those are decided directly."""
+        why = unsolved[0][2]
+        if moving(c, self.variables) and moving(g, self.variables) and not (c.bound or g.bound):
+            return self.undecided(c, g, why)
+        if self.point is None:
+            return
+        hit = any(self.in_set(c, (None, br, e)) for br, e, _ in unsolved)
+        if not hit:
+            return
+        self.coincident.add(frozenset({c.index, g.index}))
+        p, o = self.primary(c, g)
+        where = self.where(self.anchor(o), self.anchor(p))
+        text = (
+            f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at {where} "
+            f"coincide (the set of such parameter values could not be solved for: {why}): the integral "
+            "has a kink there and its derivative does not exist (Def. 7.2 fails)"
+        )
+        if self.explicit:
+            self.add(self.anchor(p), "error", "X305", text, (self.anchor(o),), names)
+        else:
+            self.add(
+                self.anchor(p),
+                "warning",
+                "X304",
+                text.replace("at ", "at the default values ", 1),
+                (self.anchor(o),),
+                names,
+            )
 
     def always(self, c: Occurrence, g: Occurrence, br, names):
         self.coincident.add(frozenset({c.index, g.index}))
