@@ -193,6 +193,49 @@ def _has_gaussian(w, v) -> bool:
     return False
 
 
+def _constant_symbols(w) -> dict:
+    """Positive irrational constants (√2, π, …) of ``w`` mapped to positive dummy symbols."""
+    reps = {}
+    for a in w.atoms(sp.Pow, sp.NumberSymbol):
+        if a.is_number and not a.is_Rational and a.is_positive and not a.free_symbols:
+            if isinstance(a, sp.Pow) and not (a.base.is_Rational and a.exp.is_Rational):
+                continue
+            reps[a] = sp.Dummy("c", positive=True)
+    return reps
+
+
+def _derivative_matches(F, w, v, ctx: Context) -> bool:
+    """d/dv F = w at a few pseudo-random points (parameters at ``at``): sympy's integrate has
+    returned wrong antiderivatives (even 0) for symbolic constants; catch that early."""
+    try:
+        d = sp.diff(F, v) - w
+    except Exception:  # noqa: BLE001
+        return False
+    syms = sorted(d.free_symbols - set(ctx.at), key=str)
+    rng = random.Random(7)
+    checked = 0
+    for _ in range(8):
+        pt = {k: sp.Float(float(x), 30) for k, x in ctx.at.items()}
+        pt.update({s: sp.Float(rng.uniform(-1.5, 1.5), 30) for s in syms})
+        try:
+            dv = complex(d.xreplace(pt).evalf(25))
+            wv = complex(sp.sympify(w).xreplace(pt).evalf(25))
+        except (TypeError, ValueError, ZeroDivisionError):
+            continue
+        if not all(map(_finite, (dv, wv))):
+            continue
+        if abs(dv) > 1e-9 * (1 + abs(wv)):
+            return False
+        checked += 1
+        if checked >= 3:
+            break
+    return True
+
+
+def _finite(z: complex) -> bool:
+    return z == z and abs(z) != float("inf")
+
+
 def antiderivative(w, v, ctx: Context):
     """A smooth antiderivative of the smooth ``w`` in ``v`` (sympy, time-boxed), or Unsupported."""
     w = sp.sympify(w)
@@ -200,8 +243,11 @@ def antiderivative(w, v, ctx: Context):
         return w * v
     if _mentions_bad(w, v):
         raise Unsupported(f"weight {w} is not smooth in {v}")
+    reps = _constant_symbols(w)
+    back = {d: c for c, d in reps.items()}
+    wa = w.xreplace(reps)  # algebraic constants as positive symbols: sympy is much faster on them
     attempts = [
-        lambda: sp.integrate(w, v, meijerg=False, risch=False, conds="none"),
+        lambda: sp.integrate(wa, v, meijerg=False, risch=False, conds="none").xreplace(back),
         lambda: sp.integrate(w, v, conds="none"),
         lambda: _gaussian_termwise(w, v),
     ]
@@ -224,6 +270,9 @@ def antiderivative(w, v, ctx: Context):
             continue
         if _mentions_bad(F, v) or F.has(sp.zoo, sp.nan):
             reasons.append(f"no elementary antiderivative of {w} in {v}")
+            continue
+        if not _derivative_matches(F, w, v, ctx):
+            reasons.append(f"sympy's antiderivative of {w} in {v} fails d/d{v} F = w")
             continue
         return F
     raise Unsupported("; ".join(dict.fromkeys(reasons)) or f"no antiderivative of {w}")
