@@ -17,19 +17,37 @@ a DiracDelta); the regular part alone is standard AD (the paper's Dˢ).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Mapping
 
 import sympy as sp
 
 from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var
 from .denote import program_box, zero_integral
-from .symbolic.decompose import (Ctx, apply_smooth, at_symbols, collapse, complement, condition_of,
-                                 const_expr, decompose, dedupe, exact_number, gate, leaf, multiply, normalize,
-                                 prim_derivative, select, smooth_value, symbols, with_conditions)
+from .symbolic.decompose import (
+    Ctx,
+    apply_smooth,
+    at_symbols,
+    collapse,
+    complement,
+    condition_of,
+    const_expr,
+    decompose,
+    dedupe,
+    exact_number,
+    gate,
+    leaf,
+    multiply,
+    normalize,
+    prim_derivative,
+    select,
+    smooth_value,
+    symbols,
+    with_conditions,
+)
 from .symbolic.pieces import Condition, DeltaPiece, Integral, Piece
 
-__all__ = ["ddenote", "ddenote_program", "NormalForm", "DerivativeResult", "tangent"]
+__all__ = ["DerivativeResult", "NormalForm", "ddenote", "ddenote_program", "tangent"]
 
 
 @dataclass
@@ -39,16 +57,16 @@ class NormalForm:
     regular: list[Piece] = field(default_factory=list)
     deltas: list[DeltaPiece] = field(default_factory=list)
 
-    def __add__(self, other: "NormalForm") -> "NormalForm":
+    def __add__(self, other: NormalForm) -> NormalForm:
         return NormalForm(normalize(self.regular + other.regular), merge_deltas(self.deltas + other.deltas))
 
-    def times(self, ps: list[Piece]) -> "NormalForm":
+    def times(self, ps: list[Piece]) -> NormalForm:
         """⦇t⦈ · T⟦s⟧ with ⟦s⟧ given by its decomposition: distribute over both parts."""
         return NormalForm(multiply(self.regular, ps),
                           merge_deltas(DeltaPiece(d.psi, d.conditions + p.conditions, d.weight * p.weight)
                                        for d in self.deltas for p in ps))
 
-    def under(self, c: Condition) -> "NormalForm":
+    def under(self, c: Condition) -> NormalForm:
         """[c ≥ 0] · ⦇t⦈."""
         return NormalForm(with_conditions(self.regular, (c,)),
                           merge_deltas(DeltaPiece(d.psi, (c,) + d.conditions, d.weight) for d in self.deltas))

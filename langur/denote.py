@@ -13,13 +13,21 @@ Piecewise), which returns the closed form in the parameters when it finds one, e
 
 from __future__ import annotations
 
-from typing import Mapping
+from collections.abc import Mapping
 
 import sympy as sp
 
 from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var
-from .symbolic.decompose import (PRIMITIVES, Ctx, at_symbols, const_expr, decompose, smooth_value, symbol,
-                                 symbols)
+from .symbolic.decompose import (
+    PRIMITIVES,
+    Ctx,
+    at_symbols,
+    const_expr,
+    decompose,
+    smooth_value,
+    symbol,
+    symbols,
+)
 from .symbolic.pieces import Integral
 
 __all__ = ["denote", "denote_program", "program_box", "symbol"]

@@ -8,18 +8,32 @@ tests do not depend on the integrator; every expected value is derived by hand i
 from fractions import Fraction
 
 import sympy as sp
+from test_denote import X, fig1, ge, indicator, interval, le, u0
 
-from langur.core import (Add, Diffeo, IfDiffeo, IfGe0, InverseBranch, Let, Mul, Param, Pow, Prim, Var, const,
-                         neg, sub)
+from langur.core import (
+    Add,
+    Diffeo,
+    IfDiffeo,
+    IfGe0,
+    InverseBranch,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Var,
+    const,
+    neg,
+    sub,
+)
 from langur.ddenote import NormalForm, ddenote
 from langur.symbolic.decompose import symbol
-from test_denote import X, fig1, ge, indicator, interval, le, u0
 
 x = Var("x")
 U0 = symbol("u0")
 
 
-def sift(nf: NormalForm, at: dict[str, str], box=(sp.Integer(0), sp.Integer(1))) -> sp.Expr:
+def sift(nf: NormalForm, at: dict[str, str], box=(0, 1)) -> sp.Expr:
     """Σ_k ∫_box h_k(x) δ(Φ_k(x)) dx in one variable, by hand: for each inverse branch x*(u0) of
     Φ_k, evaluate at u0 = 0 and multiply by |dx*/du0| (= 1/|Φ'(x*)|)."""
     pt = {symbol(k): sp.Rational(v) for k, v in at.items()}

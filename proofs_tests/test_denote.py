@@ -10,8 +10,24 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
-from langur.core import (Add, Const, Diffeo, IfDiffeo, IfGe0, InverseBranch, Let, Mul, Param, Pow, Prim,
-                         Program, Var, const, neg, sub)
+from langur.core import (
+    Add,
+    Const,
+    Diffeo,
+    IfDiffeo,
+    IfGe0,
+    InverseBranch,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Program,
+    Var,
+    const,
+    neg,
+    sub,
+)
 from langur.denote import denote
 from langur.symbolic.decompose import Ctx, as_expr, complement, decompose, symbol
 

@@ -12,7 +12,7 @@ a one-line reason (the CLI then prints ``"exact": null`` and the reason on stand
 from __future__ import annotations
 
 import math
-from typing import Mapping
+from collections.abc import Mapping
 
 import sympy as sp
 
@@ -87,7 +87,7 @@ def exact_deriv(program: Program, params: Mapping[str, float | object], directio
             theorem = check_theorem_8_1(program, params, direction, derivative=res)
         except ExactUnavailable:
             raise
-        except Exception as e:  # the check is a report, not a reason to lose the derivative
+        except Exception as e:  # noqa: BLE001 - the check is a report, not a reason to lose the derivative
             out["notes"].append(f"Theorem 8.1 check not computed: {str(e).splitlines()[0] if str(e) else e!r}")
     if theorem is not None:
         theorem = {**theorem, "d_denotation": _number(theorem["d_denotation"]),

@@ -24,15 +24,30 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from functools import lru_cache
-from typing import Callable, Iterable, Mapping, Sequence
+from functools import cache
 
 import sympy as sp
 
-from ..core import (PI, Add, Call, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var,
-                    extend_diffeo)
+from ..core import (
+    PI,
+    Add,
+    Call,
+    Const,
+    Diffeo,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Term,
+    Var,
+    extend_diffeo,
+)
 from .pieces import Branch, Condition, Piece, Psi
 
 #: Smooth primitives as sympy functions (LANGUAGE.md §1; the internal ones come from inverses).
@@ -49,7 +64,7 @@ MAX_SPLIT_CONDITIONS = 12
 # Symbols and numbers
 
 
-@lru_cache(maxsize=None)
+@cache
 def symbol(name: str) -> sp.Symbol:
     """The real sympy symbol of a variable, parameter or diffeo input: same name, same symbol."""
     return sp.Symbol(name, real=True)
@@ -113,7 +128,7 @@ class Ctx:
     at: Mapping[sp.Symbol, sp.Expr] | None = None
     variables: tuple[str, ...] | None = None
 
-    def bind(self, name: str, value: sp.Expr) -> "Ctx":
+    def bind(self, name: str, value: sp.Expr) -> Ctx:
         return replace(self, env={**self.env, name: value})
 
 
@@ -285,7 +300,8 @@ def decompose(t: Term, ctx: Ctx | None = None) -> list[Piece]:
         case Prim(op, a):  # LANGUAGE.md §1, smooth primitive: split over sign patterns
             return apply_smooth(PRIMITIVES[op], decompose(a, ctx))
         case Pow(a, k):  # LANGUAGE.md §1, constant power
-            return apply_smooth(lambda w, k=const_expr(k): w ** k, decompose(a, ctx))
+            power = const_expr(k)
+            return apply_smooth(lambda w: w ** power, decompose(a, ctx))
         case IfGe0(c, a, b):  # Fig. 7, conditional: smooth in the variables
             return normalize(select(smooth_value(c, ctx), decompose(a, ctx), decompose(b, ctx), ctx.at,
                                     _gate_pieces))

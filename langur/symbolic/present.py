@@ -11,7 +11,7 @@ Strings use sympy's ``sstr`` (text) and ``latex``.
 
 from __future__ import annotations
 
-from typing import Mapping, Sequence
+from collections.abc import Mapping, Sequence
 
 import sympy as sp
 
@@ -112,7 +112,7 @@ def show_denotation(program, latex: bool = False, params: Mapping[str, object] |
     if at is not None:
         r = denote_program(program, at)
         if r.expr is not None and r.method == "closed_form":
-            lines.append(("= " if not latex else "= ") + _e(r.expr, latex))
+            lines.append("= " + _e(r.expr, latex))
         lines.append(("  " if not latex else "") + f"value at {_at_text(at)}: {r.value:.12g}"
                      + ("" if r.method == "closed_form" else f" ± {r.error:.2g} (quadrature)"))
         lines += [f"  note: {n}" for n in r.notes] if not latex else []

@@ -1,0 +1,117 @@
+"""Theorem 8.1 (paper §8.3): ⦇int t d(x⃗)⦈(γ, γ') = D_γ⟦int t d(x⃗)⟧(γ)·γ', checked by
+``langur.symbolic.theorem`` on programs whose values and derivatives are derived by hand below,
+and reported to FAIL where transversality fails (degenerate/coincident.lgr)."""
+
+import math
+import os
+
+import pytest
+import sympy as sp
+from paths import DEGENERATE
+from test_examples_exact import close
+
+from langur.ddenote import ddenote_program
+from langur.denote import denote_program
+from langur.frontend import load, load_text
+from langur.symbolic.api import exact_deriv, exact_eval
+from langur.symbolic.decompose import symbol
+from langur.symbolic.pieces import Integral
+from langur.symbolic.theorem import _Tie, check_theorem_8_1, localize
+
+# (source, value, derivative, regular part of the derivative): all by hand.
+PROGRAMS = {
+    # [x² ≤ a] on [−1, 1]: the interval [−√a, √a], value 2√a = 1 at a = ¼; derivative 1/√a = 2:
+    # two roots ±√a of a − x², each sifting 1/|2x| = 1/(2√a).  No regular part.
+    "two_roots": ("param a = 0.25\nint ([-1, 1]) [x^2 <= a] d(x)", 1.0, 2.0, 0.0),
+    # [t·x − 1 ≥ 0] on [0, 1]: x ≥ 1/t, value 1 − 1/t = ½ at t = 2; derivative 1/t² = ¼
+    # (D_tΦ = x, root 1/t, |∂ₓΦ| = t: (1/t)/t).
+    "slope": ("param t = 2\nint ([0, 1]) [t*x - 1 >= 0] d(x)", 0.5, 0.25, 0.0),
+    # ∫₀ᵏ k·x dx = k³/2 = 4 at k = 2; derivative 3k²/2 = 6 = ∫₀ᵏ x dx (= 2, regular) + k·k (= 4, Leibniz).
+    "leibniz": ("param k = 2\nint ([0, k]) k*x d(x)", 4.0, 6.0, 2.0),
+    # the disk x² + y² ≤ r inside [−1, 1]²: area πr = π/2 at r = ½; derivative π (all boundary:
+    # circumference 2π√r times the normal speed 1/(2√r)).
+    "disk": ("param r = 0.5\nint ([-1, 1], [-1, 1]) [x^2 + y^2 <= r] d(x, y)", math.pi / 2, math.pi, 0.0),
+}
+
+
+def program(src):
+    loaded = load_text(src)
+    return loaded.program, loaded.param_values()
+
+
+@pytest.mark.parametrize("name", sorted(PROGRAMS))
+def test_hand_programs(name):
+    src, value, deriv, regular = PROGRAMS[name]
+    prog, at = program(src)
+    e = exact_eval(prog, at)
+    assert e["method"] == "closed_form" and close(e["value"], value), e
+    (z,) = at
+    d = exact_deriv(prog, at, {z: 1})
+    assert d["method"] == "closed_form" and close(d["value"], deriv) and close(d["regular"], regular), d
+    assert close(d["boundary"], deriv - regular) and d["standard_ad"] == d["regular"]
+    th = d["theorem_8_1"]
+    assert th["holds"] is True and close(th["d_denotation"], deriv, 1e-6), th
+
+
+def test_three_variable_simplex():
+    # {x, y, z ≥ 0, x + y + z ≤ s} inside [0, 1]³ with weight 1 + x: volume s³/6, ∫ x = s⁴/24
+    # (by symmetry ∫ x = (1/3)∫ (x+y+z) = (1/3)·∫₀ˢ w·(w²/2) dw = s⁴/24).
+    # At s = ½: 1/48 + 1/384 = 3/128.  Derivative s²/2 + s³/6 = 1/8 + 1/48 = 7/48, all boundary.
+    prog, at = program("param s = 0.5\nint ([0, 1], [0, 1], [0, 1]) [x + y + z <= s] * (1 + x) d(x, y, z)")
+    den = denote_program(prog, at)
+    assert close(den.value, 3 / 128)
+    der = ddenote_program(prog, at, {"s": 1})
+    assert close(der.value, 7 / 48) and close(der.regular.value, 0.0)
+    th = check_theorem_8_1(prog, at, {"s": 1}, denotation=den, derivative=der, nearby=1)
+    assert th["holds"], th
+
+
+def test_finite_differences_when_the_denotation_is_only_quadrature():
+    # Fig. 1 with ⟦p⟧ handed over as a quadrature result: D⟦p⟧ is then estimated by central
+    # differences of ⟦p⟧ at θ ± h, θ ± 2h; ⟦p⟧ = θ, so the estimate is 1 (= ⦇p⦈).
+    prog, at = program("param theta = 0.5\nint ([0, 1]) [x <= theta] d(x)")
+    quad = Integral(None, 0.5, "quadrature", 1e-12)
+    th = check_theorem_8_1(prog, at, {"theta": 1}, denotation=quad)
+    assert th["how"] == "finite_difference" and th["holds"] and close(th["d_denotation"], 1.0, 1e-6)
+    assert th["error"] < 1e-6
+
+
+def test_no_elementary_antiderivative_uses_finite_differences():
+    # ∫₀ᵃ exp(sin x) dx has no elementary closed form: quadrature; its derivative in a is
+    # exp(sin a) (one delta at x = a) = exp(sin ½).
+    prog, at = program("param a = 0.5\nint ([0, 1]) [x <= a] * exp(sin(x)) d(x)")
+    d = exact_deriv(prog, at, {"a": 1})
+    assert close(d["value"], math.exp(math.sin(0.5)))
+    th = d["theorem_8_1"]
+    assert th["how"] == "finite_difference" and th["holds"], th
+
+
+def test_fails_on_coincident_jumps_and_holds_off_the_degenerate_parameters():
+    loaded = load(os.path.join(str(DEGENERATE), "coincident.lgr"))
+    d = exact_deriv(loaded.program, loaded.param_values(), {"a": 1})
+    # ⦇p⦈ = −2 (the jump counted twice), D(1 − a) = −1
+    assert close(d["value"], -2.0) and d["theorem_8_1"]["holds"] is False
+    assert close(d["theorem_8_1"]["d_denotation"], -1.0)
+    # [x ≥ a]·[x ≥ b] is transverse for a ≠ b: ⟦p⟧ = 1 − max(a, b); ∂/∂b = −1 at (0.3, 0.6)
+    loaded = load(os.path.join(str(DEGENERATE), "equal_params.lgr"))
+    d = exact_deriv(loaded.program, loaded.param_values(), {"a": 0, "b": 1})
+    assert close(d["value"], -1.0) and d["theorem_8_1"]["holds"] is True
+
+
+def test_boundary_parameter_is_a_switching_point():
+    # ∫₀¹ [x ≤ θ] = clamp(θ, 0, 1): at θ = 1 the jump sits on the domain's end, D⟦p⟧ does not exist
+    # (one-sided 1 and 0); ⦇p⦈ = 1 there.  The check cannot hold and says why.
+    loaded = load(os.path.join(str(DEGENERATE), "boundary.lgr"))
+    th = check_theorem_8_1(loaded.program, loaded.param_values(), {"theta": 1})
+    assert th["holds"] is False and any("switches" in n for n in th["notes"])
+    th = check_theorem_8_1(loaded.program, {"theta": 0.25}, {"theta": 1})
+    assert th["holds"] is True and th["how"] == "symbolic"
+
+
+def test_localize_picks_branches_and_refuses_ties():
+    a = symbol("a")
+    e = sp.Max(0, sp.Min(1, a)) + sp.Piecewise((a ** 2, a >= 0), (0, True))
+    assert localize(e, {a: sp.Rational(1, 2)}) == a + a ** 2
+    assert localize(e, {a: sp.Integer(-1)}) == 0
+    with pytest.raises(_Tie):
+        localize(e, {a: sp.Integer(1)})
