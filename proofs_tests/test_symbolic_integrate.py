@@ -301,3 +301,12 @@ def test_random_affine_regions_agree_with_quadrature(a1, b1, c1, a2, b2, c2, th)
                            {theta: sp.Rational(th.numerator, th.denominator)})
     if res.method == "closed_form":
         assert res.value == pytest.approx(res.check, abs=1e-7)
+
+
+def test_undefined_integrand_is_reported():
+    # log(x) on [−1, 1] is undefined for x < 0 (LANGUAGE.md §1): no value, a reason instead
+    with pytest.raises(ValueError, match="undefined"):
+        integrate_pieces([Piece((), sp.log(x))], (x,), ((-1, 1),), {})
+    # on [1/2, 1] it is fine: [x log x − x] = (−1) − (½ log ½ − ½) = −½ + ½ log 2
+    res = integrate_pieces([Piece((), sp.log(x))], (x,), ((half, 1),), {})
+    assert res.value == pytest.approx(-0.5 + 0.5 * math.log(2), abs=1e-15)

@@ -149,21 +149,46 @@ def _exact_piece(problems, uvars, ubox: dict, ctx: Context, quad: tuple[float, f
     return total
 
 
+def _check_defined(quads, what: str) -> None:
+    for i, (q, _) in enumerate(quads):
+        if math.isnan(q):
+            raise ValueError(f"{what} {i}: the integrand is undefined (NaN) on part of the region at the "
+                             "evaluation point (a primitive applied outside its domain?)")
+
+
+def _exact_pieces(make_problems, n: int, quads, ctx: Context, what: str):
+    """Closed forms per piece (None where there is none) and the reasons for the fallbacks."""
+    exacts, why = [], []
+    for i in range(n):
+        try:
+            problems, uvars, ubox = make_problems(i)
+            exacts.append(_exact_piece(problems, uvars, ubox, ctx, quads[i], f"{what} {i}"))
+            why.append("")
+        except IntegrationMismatch:
+            raise
+        except (Unsupported, TimeoutError) as exc:
+            exacts.append(None)
+            why.append(f"{what} {i}: {exc or 'time limit'}")
+        except Exception as exc:  # noqa: BLE001 - sympy fails in many ways; quadrature still holds
+            exacts.append(None)
+            why.append(f"{what} {i}: sympy failed ({type(exc).__name__}: {exc})")
+    return exacts, why
+
+
 def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: float = 20.0) -> Integral:
     """Σ ∫_box Π[conditions]·weight (regular part of a denotation or derivative denotation)."""
     variables = tuple(variables)
     ctx, boxd = _setup(variables, box, at, timeout)
-    exacts, why = [], []
     quads = [quadrature.quad_pieces([pc], variables, box, ctx.at) for pc in pieces]
+    _check_defined(quads, "piece")
     ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work
-    for i, pc in enumerate(pieces):
-        problems = [([Cond(sp.sympify(c.expr), psi=c.psi) for c in pc.conditions], sp.sympify(pc.weight))]
-        try:
-            exacts.append(_exact_piece(problems, list(variables), boxd, ctx, quads[i], f"piece {i}"))
-            why.append("")
-        except (Unsupported, TimeoutError) as exc:
-            exacts.append(None)
-            why.append(f"piece {i}: {exc or 'time limit'}")
+
+    def problems(i):
+        pc = pieces[i]
+        conds = [Cond(sp.sympify(c.expr), psi=c.psi) for c in pc.conditions]
+        return [(conds, sp.sympify(pc.weight))], list(variables), boxd
+
+    exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "piece")
     return _finish(exacts, quads, why, ctx, "pieces")
 
 
@@ -173,22 +198,20 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
     ∫ h(Ψ̂_b⁻¹(0,u'))·|det DΨ̂_b⁻¹(0,u')| du' on the guards (LANGUAGE.md §4)."""
     variables = tuple(variables)
     ctx, boxd = _setup(variables, box, at, timeout)
-    exacts, why, uboxes = [], [], []
+    uboxes = []
     for i, pc in enumerate(pieces):
         try:
             uboxes.append(regions.u_box(pc.psi, variables, boxd, ctx))
         except Unsupported as exc:
             raise ValueError(f"delta piece {i}: cannot bound the zero set's coordinates: {exc}") from None
     quads = [quadrature.quad_delta_pieces([pc], variables, box, ctx.at, [ub]) for pc, ub in zip(pieces, uboxes)]
+    _check_defined(quads, "delta piece")
     ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work
-    for i, (pc, ubox) in enumerate(zip(pieces, uboxes)):
-        uvars = regions.u_prime(pc.psi, variables)
-        try:
-            problems = regions.delta_to_regular(pc, variables, boxd, ctx, ubox)
-            exacts.append(_exact_piece(problems, uvars, dict(zip(uvars, ubox)), ctx, quads[i],
-                                       f"delta piece {i}"))
-            why.append("")
-        except (Unsupported, TimeoutError) as exc:
-            exacts.append(None)
-            why.append(f"delta piece {i}: {exc or 'time limit'}")
+
+    def problems(i):
+        uvars = regions.u_prime(pieces[i].psi, variables)
+        probs = regions.delta_to_regular(pieces[i], variables, boxd, ctx, uboxes[i])
+        return probs, uvars, dict(zip(uvars, uboxes[i]))
+
+    exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "delta piece")
     return _finish(exacts, quads, why, ctx, "delta pieces")
