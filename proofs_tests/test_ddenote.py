@@ -157,3 +157,26 @@ def test_normal_form_renders():
     s = str(nf)
     assert "δ(theta - x)" in s and "[x >= 0]" in s
     assert "\\delta" in nf._repr_latex_()
+
+
+def test_show_renders_normal_form_with_inverse_branches():
+    import os
+
+    from paths import EXAMPLES
+
+    from langur.ddenote import ddenote_program
+    from langur.frontend import load
+    from langur.symbolic.present import show_denotation, show_derivative
+
+    loaded = load(os.path.join(str(EXAMPLES), "fig9.lgr"))
+    p, at = loaded.program, loaded.param_values()
+    text = show_derivative(p, {"theta": 1}, params=at)
+    # Fig. 9: ⦇p⦈ = [y < x] + δ(x − y)·(1 + x + y) at θ = 0; one delta term with one inverse branch
+    assert "regular part f = [theta + x - y >= 0]" in text
+    assert "delta term 1: δ(theta + x - y)" in text and "delta term 2" not in text
+    assert "inverse branch 1 in (u0, u1)" in text and "= 4" in text
+    assert "\\delta\\left(" in show_derivative(p, {"theta": 1}, latex=True)
+    den = show_denotation(loaded.program, params=at)
+    assert den.startswith("⟦p⟧ = int_{x in [-1, 1], y in [-1, 1]}") and "value at theta = 0: 2" in den
+    res = ddenote_program(p, at, {"theta": 1})
+    assert res._repr_latex_().startswith("$") and "4" in res._repr_latex_()

@@ -15,6 +15,7 @@ from collections.abc import Mapping, Sequence
 
 import sympy as sp
 
+from .decompose import exact_number, symbol
 from .pieces import Condition, DeltaPiece, Piece, Psi
 
 
@@ -33,13 +34,20 @@ def _factor(weight: sp.Expr, latex: bool) -> str:
     return s
 
 
-def product_text(conditions: Sequence[Condition], weight: sp.Expr, latex: bool = False) -> str:
-    """``[Φ1 >= 0]·[Φ2 >= 0]·(g)``."""
+def product_text(conditions: Sequence[Condition], weight: sp.Expr, latex: bool = False,
+                 lead: str = "") -> str:
+    """``c·lead·[Φ1 >= 0]·[Φ2 >= 0]·(g)`` with the rational coefficient c of the weight in front."""
     dot = " \\cdot " if latex else "·"
-    parts = [condition_text(c, latex) for c in conditions]
-    if weight != 1 or not parts:
-        parts.append(_factor(weight, latex))
-    return dot.join(parts)
+    coeff, rest = sp.sympify(weight).as_coeff_Mul()
+    parts = ([lead] if lead else []) + [condition_text(c, latex) for c in conditions]
+    if rest != 1 or not parts:
+        parts.append(_factor(rest, latex))
+    text = dot.join(parts)
+    if coeff == 1:
+        return text
+    if coeff == -1:
+        return "-" + text
+    return _e(coeff, latex) + dot + text
 
 
 def pieces_text(pieces: Sequence[Piece], latex: bool = False) -> str:
@@ -69,8 +77,8 @@ def psi_text(psi: Psi, latex: bool = False) -> list[str]:
 
 def delta_text(d: DeltaPiece, latex: bool = False) -> str:
     phi = _e(d.psi.forward[0], latex)
-    h = product_text(d.conditions, d.weight, latex)
-    return (f"\\delta\\left({phi}\\right) \\cdot {h}" if latex else f"δ({phi})·{h}")
+    lead = f"\\delta\\left({phi}\\right)" if latex else f"δ({phi})"
+    return product_text(d.conditions, d.weight, latex, lead=lead)
 
 
 def normal_form_text(nf, latex: bool = False) -> str:
@@ -135,7 +143,7 @@ def show_derivative(program, direction: Mapping[str, object], latex: bool = Fals
     nf = ddenote(program.body, direction, at=at, variables=tuple(program.variables))
     xs = ", ".join(program.variables)
     nl = "\\\\\n" if latex else "\n"
-    gp = ", ".join(f"{k}' = {v}" for k, v in direction.items())
+    gp = ", ".join(f"{_e(symbol(k), latex)}' = {_e(exact_number(v), latex)}" for k, v in direction.items())
     lines = []
     if latex:
         lines.append(f"(\\!|p|\\!) = \\int f \\, d({xs}) + \\sum_k \\int \\delta(\\Phi_k)\\, h_k \\, d({xs})"
