@@ -246,8 +246,12 @@ def antiderivative(w, v, ctx: Context):
     reps = _constant_symbols(w)
     back = {d: c for c, d in reps.items()}
     wa = w.xreplace(reps)  # algebraic constants as positive symbols: sympy is much faster on them
+    # Generic symbols can be wrong at the constants' actual values (a discriminant that vanishes
+    # only at √2): every candidate is verified by _derivative_matches below.
     attempts = [
         lambda: sp.integrate(wa, v, meijerg=False, risch=False, conds="none").xreplace(back),
+        lambda: sp.Add(*[sp.integrate(t, v, meijerg=False, risch=False, conds="none")
+                         for t in sp.Add.make_args(w)]),
         lambda: sp.integrate(w, v, conds="none"),
         lambda: _gaussian_termwise(w, v),
     ]
