@@ -30,6 +30,13 @@ PROGRAMS = {
     "leibniz": ("param k = 2\nint ([0, k]) k*x d(x)", 4.0, 6.0, 2.0),
     # the disk x² + y² ≤ r inside [−1, 1]²: area πr = π/2 at r = ½; derivative π (all boundary:
     # circumference 2π√r times the normal speed 1/(2√r)).
+    # let b = 2a in (if b ≥ ½ then [x ≤ b] else 0)·exp(b·x) at a = 0.3 (b = 0.6, the variable-free
+    # conditional is true): F(a) = ∫₀^{2a} e^{2ax} dx = (e^{4a²} − 1)/(2a) = (e^{0.36} − 1)/0.6;
+    # F'(a) = (16a²e^{4a²} − 2e^{4a²} + 2)/(4a²); boundary: δ(b − x)·γ'(b) = 2 times e^{b·b} = 2e^{0.36}
+    # (the let's tangent is ⦇2a⦈ = 2); the rest, ∫₀^{2a} 2x·e^{2ax} dx, is regular.
+    "let_ifge0": ("param a = 0.3\nint ([0, 1]) let b = 2*a in (if b >= 0.5 then [x <= b] else 0) * exp(b*x) d(x)",
+                  (math.exp(0.36) - 1) / 0.6, (1.44 * math.exp(0.36) - 2 * math.exp(0.36) + 2) / 0.36,
+                  (1.44 * math.exp(0.36) - 2 * math.exp(0.36) + 2) / 0.36 - 2 * math.exp(0.36)),
     "disk": ("param r = 0.5\nint ([-1, 1], [-1, 1]) [x^2 + y^2 <= r] d(x, y)", math.pi / 2, math.pi, 0.0),
 }
 
