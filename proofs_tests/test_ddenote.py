@@ -180,3 +180,56 @@ def test_show_renders_normal_form_with_inverse_branches():
     assert den.startswith("⟦p⟧ = int_{x in [-1, 1], y in [-1, 1]}") and "value at theta = 0: 2" in den
     res = ddenote_program(p, at, {"theta": 1})
     assert res._repr_latex_().startswith("$") and "4" in res._repr_latex_()
+
+
+# ----------------------------------------------------------------------------------------------
+# Property: off the jump surfaces, Σ decomposition = ⟦t⟧ and Σ regular part of ⦇t⦈ = ∂_a⟦t⟧
+# (the classical derivative of the Piecewise denotation, by sympy), on random terms.
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from langur.denote import denote
+from langur.symbolic.decompose import Ctx, decompose
+
+A, B = Param("a"), Param("b")
+CONDITIONS = [  # (π₀Ψ̂, inverse x(u0))
+    (lambda p: sub(x, p), lambda p: Add(u0, p)),
+    (lambda p: sub(p, x), lambda p: sub(p, u0)),
+    (lambda p: sub(Mul(const(2), x), p), lambda p: Mul(Add(u0, p), Pow(const(2), Fraction(-1)))),
+]
+
+
+def _ifdiffeo(i, p, s, r):
+    cond, inv = CONDITIONS[i]
+    psi = Diffeo(("x",), (cond(p),), ("u0",), (InverseBranch((inv(p),)),), solved_for="x")
+    return IfDiffeo(psi, s, r)
+
+
+leaves = st.sampled_from([x, A, B, const(1), const(-2), const(Fraction(1, 3))])
+terms = st.recursive(leaves, lambda sub_: st.one_of(
+    st.builds(Add, sub_, sub_), st.builds(Mul, sub_, sub_),
+    st.builds(lambda t: Prim("exp", t), sub_), st.builds(lambda t: Pow(t, Fraction(2)), sub_),
+    st.builds(_ifdiffeo, st.integers(0, 2), st.sampled_from([A, B]), sub_, sub_),
+    st.builds(IfGe0, st.sampled_from([A, B, sub(A, B)]), sub_, sub_),
+    st.builds(lambda t: Let("c", Mul(A, B), t), sub_),
+), max_leaves=8)
+
+
+@settings(max_examples=40, deadline=None)
+@given(terms, st.sampled_from(["-0.9", "-0.35", "0.05", "0.45", "0.8"]))
+def test_pieces_and_regular_part_agree_with_denotation_off_jumps(t, xv):
+    a, b = symbol("a"), symbol("b")
+    pt = {a: sp.Rational(3, 10), b: sp.Rational(-1, 5), X: sp.Rational(xv)}
+    whole = denote(t)
+    pieces = decompose(t, Ctx(variables=("x",)))
+    conds = {c.expr for p in pieces for c in p.conditions}
+    if any(abs(float(c.subs(pt))) < 1e-6 for c in conds):
+        return  # on a jump surface: a null set
+    total = sum((p.weight.subs(pt) for p in pieces if all(c.expr.subs(pt) >= 0 for c in p.conditions)),
+                sp.Integer(0))
+    assert abs(complex(sp.N(total - whole.subs(pt)))) < 1e-9
+    nf = ddenote(t, {"a": 1}, variables=("x",))
+    regular = sum((p.weight.subs(pt) for p in nf.regular
+                   if all(c.expr.subs(pt) >= 0 for c in p.conditions)), sp.Integer(0))
+    assert abs(complex(sp.N(regular - sp.diff(whole, a).subs(pt)))) < 1e-9
