@@ -39,7 +39,10 @@ def directional(expr: sp.Expr, direction: Mapping[str, object]) -> sp.Expr:
 
 
 def _float(e: sp.Expr, at: Mapping[str, object]) -> float:
-    return float(sp.N(e.xreplace(at_symbols(at)), 20))
+    try:
+        return float(sp.N(e.xreplace(at_symbols(at)), 20))
+    except TypeError:  # zoo, or not real there
+        return math.nan
 
 
 class _Tie(Exception):
@@ -142,7 +145,8 @@ def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str,
     den = denotation if denotation is not None else denote_program(program, at, timeout=timeout)
     der = derivative if derivative is not None else ddenote_program(program, at, direction, timeout=timeout)
     if den.method != "closed_form" or den.expr is None:
-        return _finite_difference(program, at, direction, der, den, timeout)
+        return _finite_difference(program, at, direction, der, den, timeout,
+                                  f"⟦p⟧ known by quadrature only ({den.method})")
 
     notes: list[str] = []
     # A closed form valid only in the parameter cell of ``at`` must not be differenced across
@@ -150,7 +154,8 @@ def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str,
     everywhere = bool(den.notes) and den.notes[0].startswith(EVERYWHERE)
     d_value, d_local = _closed_form_derivative(den.expr, at, direction, notes, across=everywhere)
     if d_value is None:
-        fd = _finite_difference(program, at, direction, der, den, timeout)
+        fd = _finite_difference(program, at, direction, der, den, timeout,
+                                "the closed form of ⟦p⟧ holds in one parameter cell only")
         fd["notes"] = notes + fd["notes"]
         return fd
     point = {"params": {k: float(v) for k, v in at.items()}, "d_denotation": d_value,
@@ -203,7 +208,7 @@ def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, 
     return float(sp.N((expr.xreplace(plus) - expr.xreplace(minus)) / (2 * h), 30)), None
 
 
-def _finite_difference(program, at, direction, der, den, timeout) -> dict:
+def _finite_difference(program, at, direction, der, den, timeout, why: str) -> dict:
     """D⟦p⟧·γ' by central differences of quadratures: steps h and 2h, error bound from both."""
     from ..denote import denote_program
 
@@ -225,5 +230,5 @@ def _finite_difference(program, at, direction, der, den, timeout) -> dict:
             "how": "finite_difference", "error": error,
             "points": [{"params": {k: float(v) for k, v in at.items()}, "d_denotation": estimate,
                         "derivative_denotation": der.value}],
-            "notes": [(f"⟦p⟧ known by quadrature only ({den.method}): D⟦p⟧·γ' estimated by central "
-                       f"finite differences (h = {h:g}) with error bound {error:.2g}")]}
+            "notes": [(f"{why}: D⟦p⟧·γ' estimated by central finite differences of ⟦p⟧ "
+                       f"(h = {h:g}) with error bound {error:.2g}")]}
