@@ -165,19 +165,35 @@ def _finder(c: NumCond, syms, level: int):
 
 
 def _kink_functions(p: NumProblem, level: int):
-    """Deeper conditions with the deeper variables at box corners: their roots in this level's
-    variable are where the inner integral's region changes shape (kinks of the integrand)."""
+    """Where the inner integral's region changes shape (kinks of this level's integrand): roots of
+    the deeper conditions with each deeper variable at a box end or, for a condition quadratic in
+    it, at its critical point (where a region in that variable appears or vanishes)."""
     out = []
     for c in p.conds:
         if c.level <= level:
             continue
-        for corner in itertools.product(*[p.bounds[j] for j in range(level + 1, c.level + 1)]):
-            f = (lambda *a, c=c, corner=corner: c.f(*a, *corner))
-            roots = None
-            if c.expr is not None and p.syms:
-                e = c.expr.xreplace(dict(zip(p.syms[level + 1:], corner)))
-                roots = _poly_roots(e, p.syms, level)
-            out.append((f, roots))
+        if c.expr is None or not p.syms:
+            for corner in itertools.product(*[p.bounds[j] for j in range(level + 1, c.level + 1)]):
+                out.append((lambda *a, c=c, corner=corner: c.f(*a, *corner), None))
+            continue
+        exprs = [c.expr]
+        for j in range(c.level, level, -1):
+            v = p.syms[j]
+            nxt = []
+            for e in exprs:
+                nxt += [e.xreplace({v: sp.Float(b)}) for b in p.bounds[j]]
+                try:
+                    poly = sp.Poly(e, v)
+                    if poly.degree() == 2 and not any(v in k.free_symbols for k in poly.all_coeffs()):
+                        a2, a1, _ = poly.all_coeffs()
+                        nxt.append(e.xreplace({v: -a1 / (2 * a2)}))
+                except (sp.PolynomialError, sp.GeneratorsNeeded):
+                    pass
+            exprs = nxt
+        for e in exprs:
+            if e.is_number:
+                continue
+            out.append((_lambdify(p.syms[: level + 1], e, {}), _poly_roots(e, p.syms, level)))
     return out
 
 
