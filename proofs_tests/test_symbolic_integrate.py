@@ -310,3 +310,28 @@ def test_undefined_integrand_is_reported():
     # on [1/2, 1] it is fine: [x log x − x] = (−1) − (½ log ½ − ½) = −½ + ½ log 2
     res = integrate_pieces([Piece((), sp.log(x))], (x,), ((half, 1),), {})
     assert res.value == pytest.approx(-0.5 + 0.5 * math.log(2), abs=1e-15)
+
+
+def test_ball_falls_back_to_accurate_quadrature():
+    # [r − x² − y² − z² ≥ 0] in [−1, 1]³ at r = 1/2: the ball of radius √r, volume (4/3)π r^{3/2}.
+    # The inner bounds ±√(r − x² − y²) compared with the box ends are not solved in closed form
+    # (yet): quadrature, whose error bound must be honest.
+    r_ = sp.Rational(1, 2)
+    res = integrate_pieces([Piece((Condition(r - x**2 - y**2 - z**2),), ONE)], (x, y, z), ((-1, 1),) * 3, {r: r_})
+    want = 4 / 3 * math.pi * 0.5**1.5
+    assert res.method == "quadrature"
+    assert abs(res.value - want) <= res.error + 1e-12 and res.error < 1e-7
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.integers(-3, 3), st.sampled_from([-2, -1, 1, 3]), coef, coef, coef,
+       st.fractions(-2, 2, max_denominator=4))
+def test_random_affine_delta_pieces_agree_with_quadrature(a1, b1, a2, b2, c2, th):
+    # δ(a1 x + b1 y + θ) [a2 x + b2 y + c2 ≥ 0] (1 + x) on [0,1]², Psi solved for y
+    cond = a1 * x + b1 * y + theta
+    psi = completed(cond, y, (x, y), [(u0 - a1 * u1 - theta) / b1])
+    piece = DeltaPiece(psi, (Condition(a2 * x + b2 * y + c2),), 1 + x)
+    res = integrate_delta_pieces([piece], (x, y), ((0, 1), (0, 1)),
+                                 {theta: sp.Rational(th.numerator, th.denominator)})
+    if res.method == "closed_form":
+        assert res.value == pytest.approx(res.check, abs=1e-7)
