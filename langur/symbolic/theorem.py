@@ -23,14 +23,13 @@ from collections.abc import Mapping
 import sympy as sp
 
 from .decompose import at_symbols, exact_number, symbol
+from .integrate import ALL_PARAMS as EVERYWHERE  # the note of a closed form valid for all parameters
 from .timebox import run_with_timeout
 
 #: Relative and absolute tolerance of a numeric comparison of two exact values.
 RTOL, ATOL = 1e-7, 1e-9
 #: Symbolic time budget of each shifted ⟦p⟧ in a finite difference (values only are needed).
 SHIFTED_TIMEOUT = 1.0
-#: How ``langur.symbolic.integrate`` says that a closed form holds for all parameter values.
-EVERYWHERE = "closed form valid for all parameter values"
 
 
 def directional(expr: sp.Expr, direction: Mapping[str, object]) -> sp.Expr:
