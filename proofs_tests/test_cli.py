@@ -53,6 +53,11 @@ def test_deriv_json_fig1(capsys):
     assert r["theorem_8_1"]["holds"] is True
 
 
+def test_no_theorem_skips_the_check(capsys):
+    r = run_json(capsys, "deriv", FIG1, "--wrt", "theta", "--no-theorem")
+    assert r["theorem_8_1"] is None and r["exact"]["value"] == 1.0
+
+
 def test_deriv_at_and_dir(capsys):
     # ∫₀¹[x ≤ θ] = θ for θ in [0, 1]: derivative 1 at θ = 0.25; outside the domain, at θ = 2, 0
     r = run_json(capsys, "deriv", FIG1, "--dir", "theta=2", "--at", "theta=0.25")

@@ -7,7 +7,7 @@ import sys
 ENGINE_CHOICES = ["both", "exact", "mc"]
 
 
-def run_exact(kind: str, program, params, direction=None):
+def run_exact(kind: str, program, params, direction=None, *, theorem: bool = True):
     """The symbolic reference's answer as CLI.md's ``exact`` object, or ``(None, status)``.
 
     ``exact`` is null, with a one-line reason on standard error, only where neither the closed
@@ -19,7 +19,7 @@ def run_exact(kind: str, program, params, direction=None):
     try:
         if kind == "eval":
             return api.exact_eval(program, params), 0
-        return api.exact_deriv(program, params, direction), 0
+        return api.exact_deriv(program, params, direction, check=theorem), 0
     except Exception as e:  # noqa: BLE001 - reported, the other engine still runs
         mismatch = type(e).__name__ == "IntegrationMismatch"
         label = "internal error" if mismatch else "no exact value"
