@@ -40,7 +40,7 @@ EX = os.path.join(os.environ.get("LANGUR_SHARED", os.path.join(os.path.dirname(o
                                                                 "..", "..", "shared")), "examples")
 
 
-CLOCK = time.process_time  # CPU time of this process: the machine is shared (see RESULTS_operational.md)
+CLOCK = time.process_time  # CPU time of this process: the machine is shared (see RESULTS.md)
 
 
 def median_time(f, reps: int, clock=None) -> float:
