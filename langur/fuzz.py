@@ -1,0 +1,607 @@
+"""Differential testing of the two engines (CLI.md, ``langur fuzz``).
+
+The exact symbolic reference (:mod:`langur.symbolic.api`, sympy) and the operational Monte Carlo
+engine (:mod:`langur.operational`, numpy) implement ⟦p⟧ and ⦇p⦈ (LANGUAGE.md §3–§4) independently.
+This module generates random well-typed, *transverse* programs as ``.lgr`` text (so the front end
+is exercised too), loads them with :func:`langur.frontend.load_text`, and compares the engines.
+
+Public API::
+
+    programs(max_summands=3, max_factors=3)        -> hypothesis strategy of FuzzProgram
+    compare_text(text, *, samples=20000, seed=0, timeout=20.0, lint=True) -> ProgramResult
+    run_fuzz(examples=50, seed=0, samples=20000, timeout=20.0, keep=None, lint=True,
+             progress=None) -> FuzzSummary
+
+``hypothesis`` is a development dependency: it is imported lazily, and :class:`MissingHypothesis`
+is raised (with ``pip install hypothesis`` advice) when it is absent.
+
+Generated programs (transverse by construction, LANGUAGE.md §5): one or two variables on boxes
+with constant or parametric bounds; one to three parameters with *generic* defaults (picked
+without replacement from irregular decimals); integrands that are sums of products of smooth
+factors (polynomials, ``exp``, ``sin``, ``cos``, ``sqrt`` of affine or quadratic terms, arguments
+of ``sqrt`` kept positive on every box), Iverson brackets whose conditions are affine in the
+variables with parameter offsets or simple nonlinear (``[x^2 <= a + k]``, ``[y >= x^2 + a + k]``,
+a disk), ``if … then … else …``, ``min``/``max`` and ``let``.  Every zero set in a program is
+distinct, and numerically (at the defaults) no two straight zero sets coincide, none coincides
+with a face of the box, and none passes through a corner of the box.  Optionally (``lint``) the
+program is also run through :func:`langur.transversality.check_loaded` and discarded on any
+X301/X305 finding at the defaults (a cross-test of the linter: such a finding on these programs
+is counted).  X304 ("coincident for *some* parameter values", reported for any two moving jumps
+of one variable on the same side, e.g. ``[x >= a]·[x >= b]``) is recorded but not discarded: the
+defaults are generic, so the program is transverse where it is evaluated.
+
+Comparison (per program, value and the derivative in each parameter): agree iff
+``|mc − exact| ≤ 5·stderr + 1e-9 + exact error bound + 1e-9·max(|mc|, |exact|)`` (the relative term
+covers one-variable deltas, which the Monte Carlo engine evaluates exactly, standard error 0).
+Compared separately: value, derivative, its regular part and its boundary (delta) part, standard
+AD = regular in each engine, and Theorem 8.1's check must hold (these programs are transverse).
+An exact engine that takes longer than ``timeout`` seconds on a program is a ``timeout``, not a
+failure; one that cannot evaluate (``ExactUnavailable``) is ``exact_unavailable``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass, field
+
+__all__ = ["FuzzProgram", "FuzzSummary", "MissingHypothesis", "ProgramResult", "Row",
+           "compare_text", "programs", "run_fuzz"]
+
+# Parameter defaults: irregular decimals, drawn without replacement (no two parameters equal).
+GENERIC = ("0.37", "0.61", "0.23", "0.83", "0.47", "0.71", "0.29", "0.53", "0.67", "0.41", "0.79", "0.31")
+PARAMS = ("a", "b", "c")
+OFFSETS = ("0", "0.3", "-0.2", "0.15", "-0.45", "0.55")
+SIGMA = 5.0          # standard errors allowed (false alarm ≈ 6e-7 per comparison under normality)
+ABS_SLACK = 1e-9
+REL_SLACK = 1e-9
+LINT_DISCARD = ("X301", "X305")
+
+
+class MissingHypothesis(RuntimeError):
+    """``hypothesis`` (a development dependency) is not installed."""
+
+
+def _hypothesis():
+    try:
+        import hypothesis
+        from hypothesis import strategies as st
+    except ImportError:  # pragma: no cover - depends on the environment
+        raise MissingHypothesis("`langur fuzz` needs hypothesis: pip install hypothesis "
+                                "(or pip install -e '.[dev]')") from None
+    return hypothesis, st
+
+
+# ---------------------------------------------------------------------------------------------
+# Program generator
+# ---------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class FuzzProgram:
+    """A generated program: its ``.lgr`` text and the parameter defaults it declares."""
+
+    text: str
+    params: tuple[tuple[str, str], ...]
+
+    def __str__(self) -> str:
+        return self.text
+
+
+@dataclass
+class _Cond:
+    """A condition ``lhs CMP rhs``; ``g(x, y) = lhs − rhs`` numerically at the defaults;
+    ``line`` = (cx, cy, c) when the zero set is the straight line cx·x + cy·y = c (or vertical
+    lines, several for x² = r)."""
+
+    lhs: str
+    cmp: str
+    rhs: str
+    g: object
+    lines: tuple = ()
+    key: tuple = ()
+
+
+class _Ctx:
+    def __init__(self, draw, st, variables, pvals):
+        self.draw, self.st = draw, st
+        self.variables = variables
+        self.pvals = dict(pvals)     # name -> float, includes let names
+        self.names = list(pvals)     # parameter-like names usable in terms
+        self.conds: list[_Cond] = []
+
+    def pick(self, seq):
+        return self.draw(self.st.sampled_from(seq))
+
+    def var(self):
+        return self.pick(self.variables)
+
+    def ev(self, expr_py: str, x=0.0, y=0.0) -> float:
+        env = dict(self.pvals, x=x, y=y, exp=math.exp, sin=math.sin, cos=math.cos, sqrt=math.sqrt)
+        return eval(expr_py, {"__builtins__": {}}, env)  # our own generated text
+
+
+def _lin_text(cx: str, v: str) -> str:
+    return v if cx == "1" else (f"-{v}" if cx == "-1" else f"{cx}*{v}")
+
+
+def _affine_cond(ctx: _Ctx) -> _Cond:
+    """``[Σ c_i v_i CMP P + k]`` (the shapes of the brief: ``[x <= a]``, ``[2*x - y <= a + 0.3]``)."""
+    coefs = ("1", "2", "-1", "0.5")
+    if len(ctx.variables) == 2:
+        shape = ctx.pick(("x", "y", "xy"))
+    else:
+        shape = "x"
+    cx = ctx.pick(coefs) if "x" in shape else "0"
+    cy = ctx.pick(coefs) if "y" in shape else "0"
+    parts = []
+    if cx != "0":
+        parts.append(_lin_text(cx, "x"))
+    if cy != "0":
+        t = _lin_text(cy, "y")
+        parts.append(t if not parts else (f"- {t[1:]}" if t.startswith("-") else f"+ {t}"))
+    lhs = " ".join(parts)
+    p = ctx.pick(ctx.names)
+    k = ctx.pick(OFFSETS)
+    rhs = p if k == "0" else (f"{p} - {k[1:]}" if k.startswith("-") else f"{p} + {k}")
+    cmp = ctx.pick(("<=", ">=", "<", ">"))
+    fx, fy, c = float(cx), float(cy), ctx.pvals[p] + float(k)
+    return _Cond(lhs, cmp, rhs, lambda x, y: fx * x + fy * y - c, ((fx, fy, c),), ("lin", cx, cy, p, k))
+
+
+def _nonlinear_cond(ctx: _Ctx) -> _Cond:
+    """``[v^2 <= P + k]``, ``[y >= x^2 + P + k]`` or the disk ``[x^2 + y^2 <= P + k]``."""
+    shapes = ("square", "parabola", "disk") if len(ctx.variables) == 2 else ("square",)
+    shape = ctx.pick(shapes)
+    p = ctx.pick(ctx.names)
+    k = ctx.pick(("0.3", "0", "0.55", "-0.2"))
+    off = "" if k == "0" else (f" - {k[1:]}" if k.startswith("-") else f" + {k}")
+    r = ctx.pvals[p] + float(k)
+    if shape == "square":
+        v = ctx.var()
+        cmp = ctx.pick(("<=", ">="))
+        lines = ((1.0, 0.0, math.sqrt(r)), (1.0, 0.0, -math.sqrt(r))) if r > 0 else ()
+        if v == "y":
+            lines = tuple((0.0, 1.0, c) for _, _, c in lines)
+            g = (lambda x, y: y * y - r)
+        else:
+            g = (lambda x, y: x * x - r)
+        return _Cond(f"{v}^2", cmp, f"{p}{off}", g, lines, ("sq", v, p, k))
+    if shape == "parabola":
+        cmp = ctx.pick((">=", "<="))
+        return _Cond("y", cmp, f"x^2 + {p}{off}", lambda x, y: y - x * x - r, (), ("par", p, k))
+    return _Cond("x^2 + y^2", "<=", f"{p}{off}", lambda x, y: x * x + y * y - r, (), ("disk", p, k))
+
+
+def _cond(ctx: _Ctx) -> _Cond:
+    c = _nonlinear_cond(ctx) if ctx.draw(ctx.st.integers(0, 3)) == 3 else _affine_cond(ctx)
+    ctx.conds.append(c)
+    return c
+
+
+def _smooth(ctx: _Ctx) -> str:
+    """A smooth factor: polynomial, exp, sin, cos or sqrt of affine/quadratic terms (sqrt's
+    argument positive on every box: all boxes lie in [-1, 2] and parameters are positive)."""
+    v = ctx.var()
+    w = ctx.var()
+    p = ctx.pick(ctx.names)
+    k = ctx.pick(("0.5", "1.5", "2", "0.25"))
+    forms = (
+        f"({v} + {k})",
+        f"({p}*{v} + {k})",
+        f"{v}^2",
+        f"({v}*{w} - {p})",
+        f"exp({k}*{v} - {p})",
+        f"sin({v} + {p}*{w})",
+        f"cos({p}*{v} - {k})",
+        f"sqrt({v} + 1.5)",
+        f"sqrt({v}*{v} + {p})",
+        f"{p}",
+    )
+    return ctx.pick(forms)
+
+
+def _factor(ctx: _Ctx) -> str:
+    kind = ctx.draw(ctx.st.integers(0, 5))
+    if kind <= 1:
+        return _smooth(ctx)
+    if kind <= 3:
+        c = _cond(ctx)
+        return f"[{c.lhs} {c.cmp} {c.rhs}]"
+    if kind == 4:
+        c = _cond(ctx) if ctx.draw(ctx.st.booleans()) else _affine_cond_registered(ctx)
+        then = _smooth(ctx)
+        orelse = ctx.pick(("0", "1", "0.5", _smooth(ctx)))
+        return f"(if {c.lhs} {c.cmp} {c.rhs} then {then} else {orelse})"
+    c = _affine_cond_registered(ctx)  # min/max of (lhs, rhs): the zero set lhs = rhs
+    return f"{ctx.pick(('min', 'max'))}({c.lhs}, {c.rhs})"
+
+
+def _affine_cond_registered(ctx: _Ctx) -> _Cond:
+    c = _affine_cond(ctx)
+    ctx.conds.append(c)
+    return c
+
+
+def _box(ctx: _Ctx, v: str, params: list[str]) -> tuple[str, str, float, float]:
+    kind = ctx.draw(ctx.st.integers(0, 4))
+    if kind == 0:
+        return "0", "1", 0.0, 1.0
+    if kind == 1:
+        return "-1", "1", -1.0, 1.0
+    if kind == 2:
+        return "0", "2", 0.0, 2.0
+    p = ctx.pick(params)
+    if kind == 3:
+        return "0", f"{p} + 1", 0.0, ctx.pvals[p] + 1
+    return f"{p} - 1", "1", ctx.pvals[p] - 1, 1.0
+
+
+def _norm_line(line):
+    cx, cy, c = line
+    n = math.hypot(cx, cy)
+    cx, cy, c = cx / n, cy / n, c / n
+    if cx < -1e-12 or (abs(cx) <= 1e-12 and cy < 0):
+        cx, cy, c = -cx, -cy, -c
+    return cx, cy, c
+
+
+def _generic(ctx: _Ctx, boxes) -> bool:
+    """No two zero sets (nor a zero set and a face of the box) coincide at the defaults, and no
+    zero set passes through a corner of the box."""
+    keys = [c.key for c in ctx.conds]
+    if len(set(keys)) != len(keys):
+        return False
+    lines = []
+    for i, (lo, hi) in enumerate(boxes):
+        e = (1.0, 0.0) if i == 0 else (0.0, 1.0)
+        lines += [(("box",), (*e, lo)), (("box",), (*e, hi))]
+    for j, c in enumerate(ctx.conds):
+        lines += [((j,), ln) for ln in c.lines]
+    normed = [(tag, _norm_line(ln)) for tag, ln in lines]
+    for i in range(len(normed)):
+        for j in range(i + 1, len(normed)):
+            if normed[i][0] == normed[j][0] == ("box",):
+                continue
+            if all(abs(a - b) < 1e-6 for a, b in zip(normed[i][1], normed[j][1])):
+                return False
+    corners = [(lo, 0.0) for lo in boxes[0]] if len(boxes) == 1 else \
+        [(x, y) for x in boxes[0] for y in boxes[1]]
+    for c in ctx.conds:
+        for x, y in corners:
+            if abs(c.g(x, y)) < 1e-6:
+                return False
+    return True
+
+
+def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4):
+    """A hypothesis strategy of :class:`FuzzProgram` (well-typed, transverse at the defaults)."""
+    hypothesis, st = _hypothesis()
+
+    @st.composite
+    def program(draw):
+        nvars = draw(st.integers(1, 2))
+        variables = ("x", "y")[:nvars]
+        npar = draw(st.integers(1, 3))
+        params = list(PARAMS[:npar])
+        defaults = draw(st.lists(st.sampled_from(GENERIC), min_size=npar, max_size=npar, unique=True))
+        pvals = {p: float(d) for p, d in zip(params, defaults)}
+        ctx = _Ctx(draw, st, variables, pvals)
+        boxes_txt, boxes = [], []
+        for v in variables:
+            lo, hi, flo, fhi = _box(ctx, v, params)
+            boxes_txt.append(f"[{lo}, {hi}]")
+            boxes.append((flo, fhi))
+        let = None
+        if draw(st.integers(0, 3)) == 3:  # let s = <positive variable-free term> in …
+            p, q = params[0], params[-1]
+            bound = ctx.pick((f"2*{p}", f"{p} + 0.5*{q}", f"{p}*{q} + 0.1"))
+            ctx.pvals["s"] = ctx.ev(bound.replace("^", "**"))
+            ctx.names.append("s")
+            let = bound
+        summands = []
+        for _ in range(draw(st.integers(1, max_summands))):
+            factors = [_factor(ctx) for _ in range(draw(st.integers(1, max_factors)))]
+            coef = ctx.pick(("", "0.7 * ", "-1.3 * ", "2 * "))
+            summands.append(coef + " * ".join(factors))
+        body = " + ".join(summands)
+        body = body.replace("+ -", "- ")
+        hypothesis.assume(len(ctx.conds) <= max_conds)
+        hypothesis.assume(_generic(ctx, boxes))
+        if let is not None:
+            body = f"let s = {let} in {body}"
+        decl = ", ".join(f"{p} = {d}" for p, d in zip(params, defaults))
+        text = (f"param {decl}\n"
+                f"int ({', '.join(boxes_txt)})\n  {body}\nd({', '.join(variables)})\n")
+        return FuzzProgram(text, tuple(zip(params, defaults)))
+
+    return program()
+
+
+# ---------------------------------------------------------------------------------------------
+# Comparison
+# ---------------------------------------------------------------------------------------------
+
+@dataclass
+class Row:
+    """One comparison: ``quantity`` (value, derivative, regular, boundary, standard_ad, theorem)."""
+
+    quantity: str
+    wrt: str | None
+    exact: float
+    error: float
+    mc: float
+    stderr: float
+    ok: bool
+
+    @property
+    def z(self) -> float:
+        d = abs(self.mc - self.exact)
+        if d == 0:
+            return 0.0
+        return d / self.stderr if self.stderr > 0 else math.inf
+
+    def to_json(self) -> dict:
+        return {"quantity": self.quantity, "wrt": self.wrt, "exact": self.exact, "error": self.error,
+                "mc": self.mc, "stderr": self.stderr, "ok": self.ok}
+
+
+@dataclass
+class ProgramResult:
+    """The outcome for one program: ``status`` is agree, discrepancy, timeout, exact_unavailable,
+    discarded (linter finding), load_error (the front end rejected a generated program) or
+    exact_error (the exact engine failed with an internal error, e.g. a closed form that
+    disagrees with its own quadrature cross-check)."""
+
+    text: str
+    status: str
+    rows: list[Row] = field(default_factory=list)
+    findings: list[str] = field(default_factory=list)
+    reason: str = ""
+    exact_seconds: float = 0.0
+    methods: list[str] = field(default_factory=list)
+
+    @property
+    def failed(self) -> bool:
+        return self.status in ("discrepancy", "load_error", "exact_error")
+
+    def to_json(self) -> dict:
+        return {"program": self.text, "status": self.status, "reason": self.reason,
+                "findings": self.findings, "exact_seconds": round(self.exact_seconds, 3),
+                "methods": self.methods, "rows": [r.to_json() for r in self.rows]}
+
+
+def agree(exact: float, error: float, mc: float, stderr: float) -> bool:
+    """``|mc − exact| ≤ 5·stderr + 1e-9 + error + 1e-9·max(|mc|, |exact|)`` (NaN never agrees)."""
+    vals = (exact, error, mc, stderr)
+    if any(isinstance(v, str) or v is None or (isinstance(v, float) and math.isnan(v)) for v in vals):
+        return False
+    tol = SIGMA * stderr + ABS_SLACK + error + REL_SLACK * max(abs(mc), abs(exact))
+    return abs(mc - exact) <= tol
+
+
+def _f(v) -> float:
+    if isinstance(v, str):
+        return float(v)  # "nan", "inf", "-inf"
+    return float(v)
+
+
+def _exact_child(conn, program, params):
+    """In a forked child: every exact answer, sent back through ``conn``."""
+    import gc
+
+    from .symbolic import api
+
+    gc.callbacks.clear()  # a time limit firing inside a gc callback would be swallowed there
+    try:
+        ex = api.exact_eval(program, params)
+        exd = {p: api.exact_deriv(program, params, {q: (1 if q == p else 0) for q in params}) for p in params}
+        conn.send(("ok", ex, exd))
+    except api.ExactUnavailable as e:
+        conn.send(("exact_unavailable", str(e), None))
+    except BaseException as e:  # noqa: BLE001 - an internal error of the exact engine is a finding
+        conn.send(("exact_error", f"{type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}", None))
+    finally:
+        conn.close()
+
+
+def _exact_all(program, params, timeout: float):
+    """``(status, ex, exd)`` from the exact engine, run in a forked process that is killed after
+    ``timeout`` seconds (a SIGALRM-based limit inside one process can be lost, e.g. when it fires
+    in a garbage-collector callback; a killed child cannot overrun)."""
+    import multiprocessing as mp
+
+    from . import ddenote, denote  # noqa: F401 - imported once here, not in every child
+    from .symbolic import api, theorem  # noqa: F401
+
+    ctx = mp.get_context("fork")
+    parent, child = ctx.Pipe(duplex=False)
+    proc = ctx.Process(target=_exact_child, args=(child, program, params), daemon=True)
+    proc.start()
+    child.close()
+    try:
+        if parent.poll(timeout):
+            try:
+                return parent.recv()
+            except EOFError:
+                return ("exact_error", f"exact engine process died (exit code {proc.exitcode})", None)
+        return ("timeout", f"exact engine took longer than {timeout:g} s", None)
+    finally:
+        if proc.is_alive():
+            proc.kill()
+        proc.join()
+        parent.close()
+
+
+def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: float = 20.0,
+                 lint: bool = True) -> ProgramResult:
+    """Load ``text`` and compare the engines on value and every partial derivative (module doc)."""
+    from . import operational
+    from .diagnostics import LangurError
+    from .frontend import load_text
+
+    try:
+        loaded = load_text(text, path="<fuzz>.lgr")
+    except LangurError as e:
+        return ProgramResult(text, "load_error", reason="; ".join(d.format() for d in e.diagnostics))
+    program = loaded.program
+    params = loaded.param_values({})
+    result = ProgramResult(text, "agree")
+    if lint:
+        from .transversality import check_loaded
+
+        try:
+            found = check_loaded(loaded, at={k: float(v) for k, v in params.items()},
+                                  sources={"<fuzz>.lgr": text})
+        except Exception as e:  # noqa: BLE001 - a linter crash is recorded, the engines still run
+            found = []
+            result.findings.append(f"linter error: {type(e).__name__}: {e}")
+        result.findings += [f"{f.code} {f.message}" for f in found]
+        if any(f.code in LINT_DISCARD for f in found):
+            result.status = "discarded"
+            return result
+    floats = {k: float(v) for k, v in params.items()}
+    t0 = time.monotonic()
+    status, ex, exd = _exact_all(program, params, timeout)
+    result.exact_seconds = time.monotonic() - t0
+    if status != "ok":
+        result.status, result.reason = status, ex
+        return result
+
+    def err(r):
+        return _f(r.get("error", 0.0)) if r.get("method") != "closed_form" else 0.0
+
+    rows = result.rows
+    result.methods.append(ex["method"])
+    mc = operational.estimate_value(loaded, floats, samples=samples, seed=seed)
+    rows.append(Row("value", None, _f(ex["value"]), err(ex), mc["value"], mc["stderr"], False))
+    for i, p in enumerate(params):
+        e = exd[p]
+        result.methods.append(e["method"])
+        d = {q: (1.0 if q == p else 0.0) for q in params}
+        m = operational.estimate_derivative(loaded, floats, d, samples=samples, seed=seed + 1 + i)
+        er = err(e)
+        rows.append(Row("derivative", p, _f(e["value"]), er, m["value"], m["stderr"], False))
+        rows.append(Row("regular", p, _f(e["regular"]), er, m["regular"]["value"], m["regular"]["stderr"], False))
+        rows.append(Row("boundary", p, _f(e["boundary"]), er, m["boundary"]["value"],
+                        m["boundary"]["stderr"], False))
+        # standard AD is the regular part in both engines (exact against exact, MC against MC)
+        rows.append(Row("standard_ad=regular (exact)", p, _f(e["regular"]), er, _f(e["standard_ad"]), 0.0, False))
+        rows.append(Row("standard_ad=regular (mc)", p, m["regular"]["value"], 0.0,
+                        m["standard_ad"]["value"], 0.0, False))
+        th = e.get("theorem_8_1")
+        if th is None:
+            result.findings.append(f"Theorem 8.1 not checked for {p}")
+        else:
+            ok = th.get("holds") is True
+            rows.append(Row("theorem_8_1", p, _f(th["d_denotation"]), er, _f(th["derivative_denotation"]),
+                            0.0, ok))
+            if th.get("holds") is None:
+                rows[-1].ok = True
+                result.findings.append(f"Theorem 8.1 undecided for {p}")
+    for r in rows:
+        if r.quantity != "theorem_8_1":
+            r.ok = agree(r.exact, r.error, r.mc, r.stderr)
+    if not all(r.ok for r in rows):
+        result.status = "discrepancy"
+    return result
+
+
+# ---------------------------------------------------------------------------------------------
+# Driver (what `langur fuzz` runs)
+# ---------------------------------------------------------------------------------------------
+
+@dataclass
+class FuzzSummary:
+    examples: int
+    seed: int
+    samples: int
+    results: list[ProgramResult] = field(default_factory=list)
+    minimal: ProgramResult | None = None
+    kept: list[str] = field(default_factory=list)
+
+    def counts(self) -> dict[str, int]:
+        out = {s: 0 for s in ("agree", "discrepancy", "load_error", "exact_error", "timeout",
+                              "exact_unavailable", "discarded")}
+        for r in self.results:
+            out[r.status] = out.get(r.status, 0) + 1
+        return out
+
+    @property
+    def comparisons(self) -> int:
+        return sum(len(r.rows) for r in self.results)
+
+    @property
+    def failed(self) -> bool:
+        return any(r.failed for r in self.results)
+
+    def to_json(self) -> dict:
+        return {"examples": self.examples, "seed": self.seed, "samples": self.samples,
+                "programs": len(self.results), "comparisons": self.comparisons,
+                "counts": self.counts(), "status": "discrepancy" if self.failed else "agree",
+                "minimal": self.minimal.to_json() if self.minimal else None,
+                "failures": [r.to_json() for r in self.results if r.failed],
+                "kept": self.kept}
+
+
+class _Failed(AssertionError):
+    def __init__(self, result: ProgramResult):
+        super().__init__(result.status)
+        self.result = result
+
+
+def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: float = 20.0,
+             keep: str | None = None, lint: bool = True, progress=None) -> FuzzSummary:
+    """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs); on a
+    failure hypothesis shrinks it, and the minimal failing program is ``summary.minimal``."""
+    hypothesis, _ = _hypothesis()
+    from hypothesis import HealthCheck, given, settings
+
+    summary = FuzzSummary(examples, seed, samples)
+    seen: set[str] = set()
+
+    @settings(max_examples=examples, deadline=None, database=None, derandomize=False,
+              suppress_health_check=list(HealthCheck), print_blob=False)
+    @hypothesis.seed(seed)
+    @given(programs())
+    def check(prog: FuzzProgram):
+        if prog.text in seen:
+            res = next(r for r in summary.results if r.text == prog.text)
+        else:
+            res = compare_text(prog.text, samples=samples, seed=seed, timeout=timeout, lint=lint)
+            seen.add(prog.text)
+            summary.results.append(res)
+            if progress is not None:
+                progress(res)
+        if res.failed:
+            raise _Failed(res)
+
+    try:
+        check()
+    except _Failed as e:
+        summary.minimal = e.result
+    if keep:
+        os.makedirs(keep, exist_ok=True)
+        failing = [r for r in summary.results if r.failed]
+        for i, r in enumerate(failing):
+            path = os.path.join(keep, f"fuzz_{seed}_{i:03d}.lgr")
+            with open(path, "w", encoding="utf-8") as fh:
+                fh.write(_annotated(r))
+            summary.kept.append(path)
+        if summary.minimal is not None:
+            path = os.path.join(keep, f"fuzz_{seed}_minimal.lgr")
+            with open(path, "w", encoding="utf-8") as fh:
+                fh.write(_annotated(summary.minimal))
+            summary.kept.append(path)
+    return summary
+
+
+def _annotated(r: ProgramResult) -> str:
+    lines = [f"# langur fuzz: {r.status}" + (f" ({r.reason})" if r.reason else "")]
+    for row in r.rows:
+        if not row.ok:
+            lines.append(f"# {row.quantity}{' wrt ' + row.wrt if row.wrt else ''}: exact {row.exact!r} "
+                         f"(error {row.error:.3g}), mc {row.mc!r} ± {row.stderr:.3g}")
+    return "\n".join(lines) + "\n" + r.text
+
+

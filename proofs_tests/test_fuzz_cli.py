@@ -1,0 +1,76 @@
+"""`langur fuzz` (CLI.md): JSON shape, exit status, --keep, missing hypothesis, usage errors."""
+
+import json
+
+from langur import fuzz
+from langur.cli import main
+
+
+def run(capsys, *argv):
+    status = main(list(argv))
+    out = capsys.readouterr()
+    return status, out.out, out.err
+
+
+def test_fuzz_json_exits_0_when_engines_agree(capsys):
+    status, out, err = run(capsys, "fuzz", "--examples", "3", "--seed", "1", "--json")
+    assert status == 0, err
+    r = json.loads(out)
+    assert (r["examples"], r["seed"], r["status"]) == (3, 1, "agree")
+    assert r["programs"] >= 1 and r["comparisons"] >= 1
+    assert r["minimal"] is None and r["failures"] == [] and r["kept"] == []
+    assert sum(r["counts"].values()) == r["programs"]
+
+
+def test_fuzz_is_reproducible(capsys):
+    _, out1, _ = run(capsys, "fuzz", "--examples", "2", "--seed", "5", "--json", "--samples", "2000")
+    _, out2, _ = run(capsys, "fuzz", "--examples", "2", "--seed", "5", "--json", "--samples", "2000")
+    assert json.loads(out1) == json.loads(out2)
+
+
+def test_keep_writes_nothing_when_all_agree(capsys, tmp_path):
+    keep = tmp_path / "kept"
+    status, out, err = run(capsys, "fuzz", "--examples", "2", "--seed", "1", "--keep", str(keep),
+                           "--samples", "2000")
+    assert status == 0, err
+    assert not keep.exists() or list(keep.iterdir()) == []
+    assert "all comparisons agree" in out
+
+
+def test_discrepancy_exits_1_prints_and_keeps_the_minimal_program(capsys, tmp_path, monkeypatch):
+    # A fake comparison that fails on every program with an Iverson bracket: the driver must
+    # report the failure, print the (shrunk) program as .lgr text and write it with --keep.
+    def fake(text, **kw):
+        res = fuzz.ProgramResult(text, "agree")
+        ok = "[" not in text
+        res.rows.append(fuzz.Row("value", None, 1.0, 0.0, 1.0 if ok else 2.0, 0.01, ok))
+        res.status = "agree" if ok else "discrepancy"
+        return res
+
+    monkeypatch.setattr(fuzz, "compare_text", fake)
+    keep = tmp_path / "kept"
+    status, out, err = run(capsys, "fuzz", "--examples", "30", "--seed", "2", "--keep", str(keep))
+    assert status == 1, err
+    assert "minimal failing program (discrepancy)" in out and "DISCREPANCY" in out
+    files = sorted(keep.iterdir())
+    assert files and all(f.suffix == ".lgr" for f in files)
+    minimal = (keep / "fuzz_2_minimal.lgr").read_text()
+    assert "[" in minimal and minimal.startswith("# langur fuzz: discrepancy")
+    # the kept file is a valid program (comments first)
+    from langur.frontend import load_text
+
+    assert load_text(minimal).program is not None
+
+
+def test_missing_hypothesis_says_how_to_install(capsys, monkeypatch):
+    def missing():
+        raise fuzz.MissingHypothesis("`langur fuzz` needs hypothesis: pip install hypothesis")
+
+    monkeypatch.setattr(fuzz, "_hypothesis", missing)
+    status, out, err = run(capsys, "fuzz", "--examples", "1")
+    assert status == 2 and "pip install hypothesis" in err and out == ""
+
+
+def test_usage_errors(capsys):
+    assert run(capsys, "fuzz", "--examples", "0")[0] == 2
+    assert run(capsys, "fuzz", "--samples", "1")[0] == 2
