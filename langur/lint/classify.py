@@ -5,6 +5,13 @@ family by family, coincidence (X301, X308), parametric degeneracy (X304, X305), 
 dependent normals (X302), too many zero sets through a point (X303), degenerate coefficients
 (X306), with undecidable questions reported as X310.  ``langur.transversality`` describes the
 rules; ``docs/CODES.md`` the codes.
+
+This module holds the checker's state, its wording (labels, anchors, where a finding points),
+the order of the analysis (:meth:`Checker.run`, with its time budget) and the per-pair dispatch
+(:meth:`Checker.pair`, which looks ``bad_parameters`` up in this module, where the tests replace
+it).  The decisions are its two mixins: :mod:`langur.lint.coincidence`
+(failures of Def. 7.2 on a set of positive measure and degenerate parameter values: X301, X304,
+X305, X306, X308) and :mod:`langur.lint.nullsets` (failures on null sets, §7.3: X302, X303).
 """
 
 from __future__ import annotations
@@ -18,28 +25,15 @@ import sympy as sp
 from ..core import Program
 from ..diagnostics import Span
 from ..syntax.sympy_bridge import symbol, to_sympy
-from . import algebra
-from .algebra import Undecided, bad_parameters, describe_point, describe_set, exact, solve_points, vanishes
+from .algebra import Undecided, bad_parameters, describe_point, exact, vanishes
+from .coincidence import CoincidenceChecks
 from .collect import MAX_PRODUCTS, Occurrence, collect
 from .findings import Finding
-from .geometry import (
-    in_box,
-    is_linear,
-    meets_box,
-    moving,
-    num,
-    orientation,
-    params_of,
-    restrict,
-    span_key,
-    xsyms,
-)
+from .geometry import is_linear, params_of, restrict, span_key, xsyms
+from .nullsets import NullSetChecks
 
 #: At most this many families of 3 to n+1 conditions are solved for a common point.
 MAX_FAMILIES = 400
-
-# ----------------------------------------------------------------------------------------------
-# Classification (the collection is langur.lint.collect, the geometry langur.lint.geometry)
 
 #: Seconds the whole analysis of one program may take (beyond: X310, the rest unchecked).
 BUDGET = 30.0
@@ -58,7 +52,9 @@ _FAILURES = (
 )
 
 
-class Checker:
+class Checker(CoincidenceChecks, NullSetChecks):
+    """The transversality analysis of one program: :meth:`run` returns its findings."""
+
     def __init__(
         self,
         program: Program,
@@ -237,37 +233,10 @@ class Checker:
             (self.anchor(o),) if o is not None else (),
         )
 
-    def squared(self, c: Occurrence, site: Span | None):
-        """A condition multiplied by itself through a power or a primitive (paper §7.3.2)."""
-        names = self.param_names(c)
-        self.coincident.add(frozenset({c.index}))
-        what = self.text(site) if site is not None else None
-        how = f"`{what}`" if what else "a power or a primitive"
-        if not moving(c, self.variables):
-            self.add(
-                self.anchor(c),
-                "warning",
-                "X308",
-                f"{self.label(c)} is multiplied by itself through {how}, but its zero set {self.zero_set(c)} does "
-                "not move with the parameters: its delta has zero weight and the derivative is unaffected",
-                (site,),
-                names,
-            )
-            return
-        self.add(
-            self.anchor(c),
-            "error",
-            "X301",
-            f"{self.label(c)} is multiplied by itself through {how} at {self.where(site, self.anchor(c))}: the chain "
-            f"rule multiplies its delta by a function that jumps on the same zero set {self.zero_set(c)}, "
-            f"{self.every(names)}, so the derivative is wrong (Def. 7.2 fails on a set of positive "
-            "measure; paper §7.3.2); rewrite it without the power, e.g. [c]^k as [c] and f([c]) as "
-            "f(0) + (f(1) - f(0))*[c]",
-            (site,),
-            names,
-        )
-
     def pair(self, a: Occurrence, b: Occurrence):
+        """Def. 7.2 for two multiplying conditions: the same zero set for every parameter value
+        (:meth:`always`), for some values (:meth:`parametric`, :meth:`unsolved`), or a tangent
+        meeting (:meth:`tangency`)."""
         c, g = (a, b) if len(a.branches) <= len(b.branches) else (b, a)
         params = params_of(c, g, variables=self.variables)
         names = self.param_names(c, g)
@@ -287,372 +256,3 @@ class Checker:
             self.parametric(c, g, relations, names)
         if self.n >= 2 and not (is_linear(c.f, self.xs) and is_linear(g.f, self.xs)):
             self.tangency(c, g, names)
-
-    def unsolved(self, c: Occurrence, g: Occurrence, unsolved, names):
-        """The parameter set of a coincidence could not be solved for (a transcendental equation).
-        Two moving jumps: the set matters everywhere (X310).  Otherwise only the values in force
-        matter (a kink), and those are decided directly."""
-        why = unsolved[0][2]
-        if moving(c, self.variables) and moving(g, self.variables) and not (c.bound or g.bound):
-            return self.undecided(c, g, why)
-        if self.point is None:
-            return
-        hit = any(self.in_set(c, (None, br, e)) for br, e, _ in unsolved)
-        if not hit:
-            return
-        self.coincident.add(frozenset({c.index, g.index}))
-        p, o = self.primary(c, g)
-        where = self.where(self.anchor(o), self.anchor(p))
-        text = (
-            f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at {where} "
-            f"coincide (the set of such parameter values could not be solved for: {why}): the integral "
-            "has a kink there and its derivative does not exist (Def. 7.2 fails)"
-        )
-        if self.explicit:
-            self.add(self.anchor(p), "error", "X305", text, (self.anchor(o),), names)
-        else:
-            self.add(
-                self.anchor(p),
-                "warning",
-                "X304",
-                text.replace("at ", "at the default values ", 1),
-                (self.anchor(o),),
-                names,
-            )
-
-    def always(self, c: Occurrence, g: Occurrence, br, names):
-        self.coincident.add(frozenset({c.index, g.index}))
-        p, o = self.primary(c, g)
-        where = self.where(self.anchor(o), self.anchor(p))
-        if not (moving(c, self.variables) or moving(g, self.variables)):
-            self.add(
-                self.anchor(p),
-                "warning",
-                "X308",
-                f"{self.label(p)} and {self.label(o)} at {where} have the same zero set {self.zero_set(c)}, but it "
-                "does not move with the parameters: the deltas have zero weight and the derivative is "
-                "unaffected (the product is redundant; Def. 7.2 fails formally)",
-                (self.anchor(o),),
-                names,
-            )
-            return
-        side = orientation(c, g, br, self.variables)
-        if side < 0:
-            why = (
-                "they are ≥ 0 on opposite sides of it, so their product vanishes almost everywhere and the "
-                "derivative denotation has no meaning there (Def. 7.2 fails on a set of positive measure; "
-                "paper §7.3.1)"
-            )
-        else:
-            why = (
-                "the delta of one is evaluated on the jump of the other, so the derivative counts the jump "
-                "twice (Def. 7.2 fails on a set of positive measure; paper §7.3.1); use the condition once"
-            )
-        self.add(
-            self.anchor(p),
-            "error",
-            "X301",
-            f"{self.label(p)} and {self.label(o)} at {where} multiply and have the same zero set "
-            f"{self.zero_set(c)} {self.every(names)}: {why}",
-            (self.anchor(o),),
-            names,
-        )
-
-    def in_set(self, c: Occurrence, rel) -> bool:
-        """Is the parameter point in this relation's set, with the common zero set inside the box?"""
-        if self.point is None:
-            return False
-        _, br, e = rel
-        guards = br[1]
-        try:
-            at = e.subs(self.point)
-            if not vanishes(at, c.uprime, [gd.subs(self.point) for gd in guards]):
-                return False
-        except Undecided:
-            return False
-        return meets_box(c, br, self.box, self.point, self.variables)
-
-    def parametric(self, c: Occurrence, g: Occurrence, relations, names):
-        both = moving(c, self.variables) and moving(g, self.variables)
-        sides = {orientation(c, g, br, self.variables, fixed=sol) for sol, br, _ in relations}
-        hit = any(self.in_set(c, r) for r in relations)
-        if hit:  # coincident at the values in force: families through them say nothing more
-            self.coincident.add(frozenset({c.index, g.index}))
-        the_set = describe_set([sol for sol, _, _ in relations])
-        p, o = self.primary(c, g)
-        where = self.where(self.anchor(o), self.anchor(p))
-        if both and 1 in sides and not (c.bound or g.bound):
-            if hit and self.explicit:
-                self.add(
-                    self.anchor(p),
-                    "error",
-                    "X305",
-                    f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at {where} "
-                    f"coincide (they do when {the_set}): the derivative counts the jump twice here "
-                    "(Def. 7.2 fails; paper §7.3.1)",
-                    (self.anchor(o),),
-                    names,
-                )
-            else:
-                note = f"; the default values {self.at_point(names)} lie in this set" if hit else ""
-                self.add(
-                    self.anchor(p),
-                    "warning",
-                    "X304",
-                    f"{self.label(p)} and {self.label(o)} at {where} have coincident zero sets when {the_set}: "
-                    f"there the derivative counts the jump twice (Def. 7.2 fails; paper §7.3.1){note}",
-                    (self.anchor(o),),
-                    names,
-                )
-            return
-        # A jump meeting a fixed zero set (the domain's bound) or closing a window: a kink.
-        mover = c if (moving(c, self.variables) and not c.bound) or g.bound else g
-        other = g if mover is c else c
-        self.kinks.setdefault(mover.index, []).append((other, relations, hit))
-
-    def report_kinks(self):
-        occ = self.col.occurrences
-        for i, entries in sorted(self.kinks.items()):
-            if not any(hit for _, _, hit in entries):
-                continue
-            c = occ[i]
-            sols = [sol for _, rels, _ in entries for sol, _, _ in rels]
-            names = self.param_names(c, *(o for o, _, _ in entries))
-            shown = [e for e in entries if e[2]] if self.explicit else entries
-            parts = [
-                f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(c))}"
-                + ("" if self.explicit else f" when {describe_set([s for s, _, _ in rels])}")
-                for o, rels, _ in shown
-            ]
-            the_set = describe_set(sols)
-            related = tuple(self.anchor(o) for o, _, _ in shown)
-            consequence = (
-                "the integral has a kink there and its derivative does not exist (Def. 7.2 fails; "
-                "Theorem 8.1 holds only for almost every parameter value)"
-            )
-            if self.explicit:
-                self.add(
-                    self.anchor(c),
-                    "error",
-                    "X305",
-                    f"at {self.at_point(names)} the jump of {self.label(c)} lies on {'; '.join(parts)}: "
-                    f"{consequence} (degenerate when {the_set})",
-                    related,
-                    names,
-                )
-            else:
-                self.add(
-                    self.anchor(c),
-                    "warning",
-                    "X304",
-                    f"the jump of {self.label(c)} lies on {'; '.join(parts)}, i.e. when {the_set}; the "
-                    f"default values {self.at_point(names)} lie in this set: {consequence}",
-                    related,
-                    names,
-                )
-
-    def _point_text(self, sol: Mapping[sp.Symbol, sp.Expr]) -> str:
-        xs = [x for x in self.xs if x in sol]
-        free = [x.name for x in self.xs if x not in sol]
-        text = f"({', '.join(x.name for x in xs)}) = ({', '.join(sp.sstr(sol[x]) for x in xs)})"
-        return text + (f" (any {', '.join(free)})" if free else "")
-
-    def _inside(self, xsol: Mapping[sp.Symbol, sp.Expr], guards=(), sub=None) -> bool:
-        if self.point is None:
-            return True
-        for gd in guards:
-            v = num(gd.subs(sub or {}).subs(self.point))
-            if v is not None and v < -1e-9:
-                return False
-        return in_box(xsol, self.box, self.point, self.variables)
-
-    def _possible_at_point(self, eqs) -> bool:
-        """A cheap filter: with the parameter values known, a common point inside the box must
-        exist at those values (solved with numbers) for anything to be reported."""
-        if self.point is None:
-            return True
-        return any(self._inside(sol) for sol in solve_points([e.subs(self.point) for e in eqs], self.xs))
-
-    def tangency(self, c: Occurrence, g: Occurrence, names):
-        """Tangency: a common zero of both conditions where their normals are linearly dependent
-        (every 2×2 minor of the Jacobian [∇f; ∇g] vanishes)."""
-        p, o = self.primary(c, g)
-        where = self.where(self.anchor(o), self.anchor(p))
-        xs = self.xs
-        df = [sp.diff(c.f, x) for x in xs]
-        dg = [sp.diff(g.f, x) for x in xs]
-        eqs = [c.f, g.f] + [
-            df[i] * dg[j] - df[j] * dg[i] for i, j in itertools.combinations(range(self.n), 2)
-        ]
-        try:
-            if not self._possible_at_point(eqs):
-                return
-            for sol in solve_points(eqs, xs):
-                if self._inside(sol):
-                    self.add(
-                        self.anchor(p),
-                        "warning",
-                        "X302",
-                        f"the zero sets of {self.label(p)} and {self.label(o)} at {where} are tangent at "
-                        f"{self._point_text(sol)} {self.every(names)}: Def. 7.2 fails there, so Theorem 8.1 no "
-                        "longer applies; the failure set is a null set of each delta's support, so the "
-                        "derivative is still likely right",
-                        (self.anchor(o),),
-                        names,
-                    )
-                    return
-            if self.explicit and self.point is not None:
-                for sol in solve_points([e.subs(self.point) for e in eqs], xs):
-                    if self._inside(sol):
-                        self.add(
-                            self.anchor(p),
-                            "warning",
-                            "X302",
-                            f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at "
-                            f"{where} are tangent at {self._point_text(sol)}: Def. 7.2 fails there, so Theorem "
-                            "8.1 no longer applies; the failure set is a null set of each delta's support, so "
-                            "the derivative is still likely right",
-                            (self.anchor(o),),
-                            names,
-                        )
-                        return
-        except Undecided as u:
-            self.undecided(c, g, str(u))
-
-    def family(self, fam: list[Occurrence]):
-        """Def. 7.2 for a subfamily of k ≥ 3 zero sets: for k = n+1, a common point at all (X303:
-        n+1 normals of ℝⁿ are never independent); for k ≤ n, a common point where the k×k minors
-        of the Jacobian all vanish (X302: the normals are linearly dependent there)."""
-        if any(done <= frozenset(o.index for o in fam) for done in self.degenerate_families):
-            return  # contains a subfamily already reported
-        if len(fam) <= self.n:
-            return self.dependent(fam)
-        ids = [o.index for o in fam]
-        if any(frozenset(pr) in self.coincident for pr in itertools.combinations(ids, 2)):
-            return
-        if not any(moving(o, self.variables) for o in fam):
-            return
-        names = self.param_names(*fam)
-        ordered = sorted(fam, key=lambda o: (o.bound is None, span_key(self.anchor(o))))
-        p, others = ordered[-1], ordered[:-1]
-        listing = ", ".join(
-            f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(p))}" for o in others
-        )
-        eqs = [o.f for o in fam]
-        try:
-            if not self._possible_at_point(eqs):
-                return
-            for sol in solve_points(eqs, self.xs):
-                if self._inside(sol):
-                    self.degenerate_families.append(frozenset(o.index for o in fam))
-                    self.add(
-                        self.anchor(p),
-                        "warning",
-                        "X303",
-                        f"{len(fam)} zero sets pass through {self._point_text(sol)} in ℝ^{self.n} "
-                        f"({self.label(p)}, {listing}) {self.every(names)}: their normals cannot be linearly "
-                        "independent, so Def. 7.2 fails there and Theorem 8.1 no longer applies; the failure "
-                        "set is null on each delta's support, so the derivative is still likely right",
-                        tuple(self.anchor(o) for o in others),
-                        names,
-                    )
-                    return
-            if self.explicit and self.point is not None:
-                for sol in solve_points([e.subs(self.point) for e in eqs], self.xs):
-                    if self._inside(sol):
-                        self.degenerate_families.append(frozenset(o.index for o in fam))
-                        self.add(
-                            self.anchor(p),
-                            "warning",
-                            "X303",
-                            f"at {self.at_point(names)} {len(fam)} zero sets pass through {self._point_text(sol)} "
-                            f"in ℝ^{self.n} ({self.label(p)}, {listing}): Def. 7.2 fails there and Theorem 8.1 "
-                            "no longer applies; the failure set has measure zero on each delta, so the "
-                            "derivative is still likely right",
-                            tuple(self.anchor(o) for o in others),
-                            names,
-                        )
-                        return
-        except Undecided as u:
-            self.undecided(p, others[0], str(u))
-
-    def dependent(self, fam: list[Occurrence]):
-        """k ≤ n zero sets of ℝⁿ through a common point with linearly dependent normals."""
-        ids = [o.index for o in fam]
-        if any(frozenset(pr) in self.coincident for pr in itertools.combinations(ids, 2)):
-            return
-        if not any(moving(o, self.variables) for o in fam):
-            return
-        k = len(fam)
-        jac = sp.Matrix([[sp.diff(o.f, x) for x in self.xs] for o in fam])
-        minors = [
-            jac.extract(list(range(k)), list(cols)).det() for cols in itertools.combinations(range(self.n), k)
-        ]
-        if any(m.is_number and m != 0 for m in minors):  # the normals are independent everywhere
-            return
-        eqs = [o.f for o in fam] + [m for m in minors if m != 0]  # an identically 0 minor holds everywhere
-        names = self.param_names(*fam)
-        ordered = sorted(fam, key=lambda o: (o.bound is None, span_key(self.anchor(o))))
-        p, others = ordered[-1], ordered[:-1]
-        listing = ", ".join(
-            f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(p))}" for o in others
-        )
-        try:
-            if not self._possible_at_point(eqs):
-                return
-            for sol in solve_points(eqs, self.xs):
-                if self._inside(sol):
-                    self.degenerate_families.append(frozenset(o.index for o in fam))
-                    self.add(
-                        self.anchor(p),
-                        "warning",
-                        "X302",
-                        f"the normals of {k} zero sets ({self.label(p)}, {listing}) are linearly dependent at "
-                        f"{self._point_text(sol)} {self.every(names)}: Def. 7.2 fails there, so Theorem 8.1 no "
-                        "longer applies; the failure set is a null set of each delta's support, so the "
-                        "derivative is still likely right",
-                        tuple(self.anchor(o) for o in others),
-                        names,
-                    )
-                    return
-        except Undecided as u:
-            self.undecided(p, others[0], str(u))
-
-    def nonzero(self, c: Occurrence):
-        """Parameter coefficients that must not vanish for Ψ̂ to be a diffeomorphism (X306/X305)."""
-        if c.continuous:  # no delta: a degenerate coefficient changes nothing in the derivative
-            return
-        for t in c.nonzero:
-            params = sorted(t.free_symbols, key=str)
-            names = tuple(s.name for s in params)
-            try:
-                sols = (
-                    algebra.timed(lambda t=t, params=params: sp.solve(t, params, dict=True)) if params else []
-                )
-            except Undecided as u:
-                self.undecided(c, None, str(u))
-                continue
-            sols = [s for s in sols if not any(v.has(sp.I) for v in s.values())]
-            the_set = describe_set(sols) if sols else f"{sp.sstr(t)} = 0"
-            hit = self.point is not None and num(t.subs(self.point)) == 0
-            if hit and self.explicit:
-                self.add(
-                    self.anchor(c),
-                    "error",
-                    "X305",
-                    f"at {self.at_point(names)} {self.label(c)} is not a diffeomorphism ({sp.sstr(t)} = 0): its "
-                    "zero set degenerates and the derivative is not defined here",
-                    (),
-                    names,
-                )
-            elif sols or hit:
-                note = f"; the default values {self.at_point(names)} lie in this set" if hit else ""
-                self.add(
-                    self.anchor(c),
-                    "warning",
-                    "X306",
-                    f"{self.label(c)} stops being a diffeomorphism when {the_set} (its coefficient "
-                    f"{sp.sstr(t)} vanishes): there the derivative is not defined{note}",
-                    (),
-                    names,
-                )

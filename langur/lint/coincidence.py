@@ -1,0 +1,265 @@
+"""Coincident zero sets and parameter-dependent degeneracy (paper Def. 7.2, §7.3.1, §7.3.2).
+
+Failures of Def. 7.2 on a set of positive measure of a delta's support, and the parameter values
+where a zero set degenerates:
+
+* a condition multiplied by itself through a power or a primitive (X301, or X308 when its zero set
+  does not move; §7.3.2);
+* two conditions with the same zero set for every parameter value (X301, X308);
+* two conditions whose zero sets coincide for some parameter values (X304; X305 at ``--at``
+  values inside that set), and a jump lying on a fixed zero set, e.g. the domain's bound, where
+  the integral has a kink (X304/X305);
+* parameter coefficients whose vanishing stops a condition from being a diffeomorphism (X306;
+  X305 at ``--at``).
+
+:class:`CoincidenceChecks` is mixed into :class:`langur.lint.classify.Checker`, which supplies the
+state (``variables``, ``box``, ``point``, ``explicit``, ``coincident``, ``kinks``, ``col``) and the
+wording (``label``, ``anchor``, ``where``, ``zero_set``, ``every``, ``at_point``, ``primary``,
+``add``, ``undecided``).
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ..diagnostics import Span
+from . import algebra
+from .algebra import Undecided, describe_set, vanishes
+from .collect import Occurrence
+from .geometry import meets_box, moving, num, orientation
+
+
+class CoincidenceChecks:
+    """Positive-measure failures of Def. 7.2 and degenerate parameter values (X301, X304–X306, X308)."""
+
+    def squared(self, c: Occurrence, site: Span | None):
+        """A condition multiplied by itself through a power or a primitive (paper §7.3.2)."""
+        names = self.param_names(c)
+        self.coincident.add(frozenset({c.index}))
+        what = self.text(site) if site is not None else None
+        how = f"`{what}`" if what else "a power or a primitive"
+        if not moving(c, self.variables):
+            self.add(
+                self.anchor(c),
+                "warning",
+                "X308",
+                f"{self.label(c)} is multiplied by itself through {how}, but its zero set {self.zero_set(c)} does "
+                "not move with the parameters: its delta has zero weight and the derivative is unaffected",
+                (site,),
+                names,
+            )
+            return
+        self.add(
+            self.anchor(c),
+            "error",
+            "X301",
+            f"{self.label(c)} is multiplied by itself through {how} at {self.where(site, self.anchor(c))}: the chain "
+            f"rule multiplies its delta by a function that jumps on the same zero set {self.zero_set(c)}, "
+            f"{self.every(names)}, so the derivative is wrong (Def. 7.2 fails on a set of positive "
+            "measure; paper §7.3.2); rewrite it without the power, e.g. [c]^k as [c] and f([c]) as "
+            "f(0) + (f(1) - f(0))*[c]",
+            (site,),
+            names,
+        )
+
+    def unsolved(self, c: Occurrence, g: Occurrence, unsolved, names):
+        """The parameter set of a coincidence could not be solved for (a transcendental equation).
+        Two moving jumps: the set matters everywhere (X310).  Otherwise only the values in force
+        matter (a kink), and those are decided directly."""
+        why = unsolved[0][2]
+        if moving(c, self.variables) and moving(g, self.variables) and not (c.bound or g.bound):
+            return self.undecided(c, g, why)
+        if self.point is None:
+            return
+        hit = any(self.in_set(c, (None, br, e)) for br, e, _ in unsolved)
+        if not hit:
+            return
+        self.coincident.add(frozenset({c.index, g.index}))
+        p, o = self.primary(c, g)
+        where = self.where(self.anchor(o), self.anchor(p))
+        text = (
+            f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at {where} "
+            f"coincide (the set of such parameter values could not be solved for: {why}): the integral "
+            "has a kink there and its derivative does not exist (Def. 7.2 fails)"
+        )
+        if self.explicit:
+            self.add(self.anchor(p), "error", "X305", text, (self.anchor(o),), names)
+        else:
+            self.add(
+                self.anchor(p),
+                "warning",
+                "X304",
+                text.replace("at ", "at the default values ", 1),
+                (self.anchor(o),),
+                names,
+            )
+
+    def always(self, c: Occurrence, g: Occurrence, br, names):
+        self.coincident.add(frozenset({c.index, g.index}))
+        p, o = self.primary(c, g)
+        where = self.where(self.anchor(o), self.anchor(p))
+        if not (moving(c, self.variables) or moving(g, self.variables)):
+            self.add(
+                self.anchor(p),
+                "warning",
+                "X308",
+                f"{self.label(p)} and {self.label(o)} at {where} have the same zero set {self.zero_set(c)}, but it "
+                "does not move with the parameters: the deltas have zero weight and the derivative is "
+                "unaffected (the product is redundant; Def. 7.2 fails formally)",
+                (self.anchor(o),),
+                names,
+            )
+            return
+        side = orientation(c, g, br, self.variables)
+        if side < 0:
+            why = (
+                "they are ≥ 0 on opposite sides of it, so their product vanishes almost everywhere and the "
+                "derivative denotation has no meaning there (Def. 7.2 fails on a set of positive measure; "
+                "paper §7.3.1)"
+            )
+        else:
+            why = (
+                "the delta of one is evaluated on the jump of the other, so the derivative counts the jump "
+                "twice (Def. 7.2 fails on a set of positive measure; paper §7.3.1); use the condition once"
+            )
+        self.add(
+            self.anchor(p),
+            "error",
+            "X301",
+            f"{self.label(p)} and {self.label(o)} at {where} multiply and have the same zero set "
+            f"{self.zero_set(c)} {self.every(names)}: {why}",
+            (self.anchor(o),),
+            names,
+        )
+
+    def in_set(self, c: Occurrence, rel) -> bool:
+        """Is the parameter point in this relation's set, with the common zero set inside the box?"""
+        if self.point is None:
+            return False
+        _, br, e = rel
+        guards = br[1]
+        try:
+            at = e.subs(self.point)
+            if not vanishes(at, c.uprime, [gd.subs(self.point) for gd in guards]):
+                return False
+        except Undecided:
+            return False
+        return meets_box(c, br, self.box, self.point, self.variables)
+
+    def parametric(self, c: Occurrence, g: Occurrence, relations, names):
+        both = moving(c, self.variables) and moving(g, self.variables)
+        sides = {orientation(c, g, br, self.variables, fixed=sol) for sol, br, _ in relations}
+        hit = any(self.in_set(c, r) for r in relations)
+        if hit:  # coincident at the values in force: families through them say nothing more
+            self.coincident.add(frozenset({c.index, g.index}))
+        the_set = describe_set([sol for sol, _, _ in relations])
+        p, o = self.primary(c, g)
+        where = self.where(self.anchor(o), self.anchor(p))
+        if both and 1 in sides and not (c.bound or g.bound):
+            if hit and self.explicit:
+                self.add(
+                    self.anchor(p),
+                    "error",
+                    "X305",
+                    f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at {where} "
+                    f"coincide (they do when {the_set}): the derivative counts the jump twice here "
+                    "(Def. 7.2 fails; paper §7.3.1)",
+                    (self.anchor(o),),
+                    names,
+                )
+            else:
+                note = f"; the default values {self.at_point(names)} lie in this set" if hit else ""
+                self.add(
+                    self.anchor(p),
+                    "warning",
+                    "X304",
+                    f"{self.label(p)} and {self.label(o)} at {where} have coincident zero sets when {the_set}: "
+                    f"there the derivative counts the jump twice (Def. 7.2 fails; paper §7.3.1){note}",
+                    (self.anchor(o),),
+                    names,
+                )
+            return
+        # A jump meeting a fixed zero set (the domain's bound) or closing a window: a kink.
+        mover = c if (moving(c, self.variables) and not c.bound) or g.bound else g
+        other = g if mover is c else c
+        self.kinks.setdefault(mover.index, []).append((other, relations, hit))
+
+    def report_kinks(self):
+        occ = self.col.occurrences
+        for i, entries in sorted(self.kinks.items()):
+            if not any(hit for _, _, hit in entries):
+                continue
+            c = occ[i]
+            sols = [sol for _, rels, _ in entries for sol, _, _ in rels]
+            names = self.param_names(c, *(o for o, _, _ in entries))
+            shown = [e for e in entries if e[2]] if self.explicit else entries
+            parts = [
+                f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(c))}"
+                + ("" if self.explicit else f" when {describe_set([s for s, _, _ in rels])}")
+                for o, rels, _ in shown
+            ]
+            the_set = describe_set(sols)
+            related = tuple(self.anchor(o) for o, _, _ in shown)
+            consequence = (
+                "the integral has a kink there and its derivative does not exist (Def. 7.2 fails; "
+                "Theorem 8.1 holds only for almost every parameter value)"
+            )
+            if self.explicit:
+                self.add(
+                    self.anchor(c),
+                    "error",
+                    "X305",
+                    f"at {self.at_point(names)} the jump of {self.label(c)} lies on {'; '.join(parts)}: "
+                    f"{consequence} (degenerate when {the_set})",
+                    related,
+                    names,
+                )
+            else:
+                self.add(
+                    self.anchor(c),
+                    "warning",
+                    "X304",
+                    f"the jump of {self.label(c)} lies on {'; '.join(parts)}, i.e. when {the_set}; the "
+                    f"default values {self.at_point(names)} lie in this set: {consequence}",
+                    related,
+                    names,
+                )
+
+    def nonzero(self, c: Occurrence):
+        """Parameter coefficients that must not vanish for Ψ̂ to be a diffeomorphism (X306/X305)."""
+        if c.continuous:  # no delta: a degenerate coefficient changes nothing in the derivative
+            return
+        for t in c.nonzero:
+            params = sorted(t.free_symbols, key=str)
+            names = tuple(s.name for s in params)
+            try:
+                sols = (
+                    algebra.timed(lambda t=t, params=params: sp.solve(t, params, dict=True)) if params else []
+                )
+            except Undecided as u:
+                self.undecided(c, None, str(u))
+                continue
+            sols = [s for s in sols if not any(v.has(sp.I) for v in s.values())]
+            the_set = describe_set(sols) if sols else f"{sp.sstr(t)} = 0"
+            hit = self.point is not None and num(t.subs(self.point)) == 0
+            if hit and self.explicit:
+                self.add(
+                    self.anchor(c),
+                    "error",
+                    "X305",
+                    f"at {self.at_point(names)} {self.label(c)} is not a diffeomorphism ({sp.sstr(t)} = 0): its "
+                    "zero set degenerates and the derivative is not defined here",
+                    (),
+                    names,
+                )
+            elif sols or hit:
+                note = f"; the default values {self.at_point(names)} lie in this set" if hit else ""
+                self.add(
+                    self.anchor(c),
+                    "warning",
+                    "X306",
+                    f"{self.label(c)} stops being a diffeomorphism when {the_set} (its coefficient "
+                    f"{sp.sstr(t)} vanishes): there the derivative is not defined{note}",
+                    (),
+                    names,
+                )
