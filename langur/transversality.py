@@ -37,8 +37,9 @@ Parameter coefficients that stop a condition from being a diffeomorphism (``Diff
 on the domain of integration are X307 (``langur.lint.domains``).  ``docs/CODES.md`` documents
 every code.
 
-Layout: :mod:`langur.lint.collect` (what multiplies), :mod:`langur.lint.classify` (the decisions
-and messages), :mod:`langur.lint.geometry` and :mod:`langur.lint.algebra` (sympy, time-boxed),
+Layout: :mod:`langur.lint.collect` (what multiplies), :mod:`langur.lint.classify` (the checker
+and its messages) with :mod:`langur.lint.coincidence` (positive-measure failures and parameter
+sets) and :mod:`langur.lint.nullsets` (tangencies, too many zero sets through a point), :mod:`langur.lint.geometry` and :mod:`langur.lint.algebra` (sympy, time-boxed),
 :mod:`langur.lint.domains` (X307), :mod:`langur.lint.prove` (``--prove``).  This module is the
 entry point: :func:`check_loaded` for a front end's ``Loaded``, :func:`check_library` for a module
 of defs, :func:`check_program` for a bare core program.
