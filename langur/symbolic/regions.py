@@ -379,7 +379,7 @@ def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
         if rest:
             raise Unsupported("condition on a variable outside the integration order")
         return _outermost(dep, weight, v, lo, hi, ctx)
-    F = antiderivative(weight, v, ctx)
+    F = None  # computed on first use: empty cases need no antiderivative
     total = sp.Integer(0)
     for combo in itertools.product(*[alternatives(c, v, outer, ctx) for c in dep]):
         extra = [x for alt in combo for x in alt.extra]
@@ -390,8 +390,13 @@ def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
                 new = [Cond(l - l2, strict=k < i) for k, l2 in enumerate(L) if k != i]
                 new += [Cond(u2 - u, strict=k < j) for k, u2 in enumerate(U) if k != j]
                 new.append(Cond(u - l))
+                case = _prefilter(extra + new, ctx)
+                if case is None:
+                    continue
+                if F is None:
+                    F = antiderivative(weight, v, ctx)
                 g = F.xreplace({v: u}) - F.xreplace({v: l})
-                total += integrate_vars(rest + extra + new, g, outer, box, ctx)
+                total += integrate_vars(rest + case, g, outer, box, ctx)
     return total
 
 
@@ -400,7 +405,7 @@ def _outermost(conds, weight, v, lo, hi, ctx: Context):
     sub = Context(ctx.at, ctx.deadline, ctx.params)
     try:
         alts = [alternatives(c, v, [], sub) for c in conds]
-        F = antiderivative(weight, v, sub)
+        F = None
         total = sp.Integer(0)
         for combo in itertools.product(*alts):
             extra = _prefilter([x for alt in combo for x in alt.extra], sub)
@@ -408,7 +413,12 @@ def _outermost(conds, weight, v, lo, hi, ctx: Context):
                 continue
             A = sp.Max(*_dedupe([lo] + [b for alt in combo for b in alt.lowers]))
             B = sp.Min(*_dedupe([hi] + [b for alt in combo for b in alt.uppers]))
-            total += F.xreplace({v: sp.Max(A, B)}) - F.xreplace({v: A})
+            top = sp.Max(A, B)
+            if top == A:
+                continue  # empty for every parameter value
+            if F is None:
+                F = antiderivative(weight, v, sub)
+            total += F.xreplace({v: top}) - F.xreplace({v: A})
         ctx.cell.extend(r for r in sub.cell if r not in ctx.cell)
         return total
     except Unsupported:
@@ -437,7 +447,6 @@ def _roots(c: Cond, v, ctx: Context):
 
 def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     """Roots of all conditions, ordered at ``at``; conditions decided per sub-interval at ``at``."""
-    F = antiderivative(weight, v, ctx)
     lo_v, hi_v = ctx.value(lo).real, ctx.value(hi).real
     pts = [(lo_v, lo), (hi_v, hi)]
     for c in conds:
@@ -458,6 +467,7 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     ctx.generic = True
     total = sp.Integer(0)
     start = None
+    F = None
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         m = (a + b) / 2
         ok = True
@@ -469,9 +479,11 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
         if ok and start is None:
             start = ea
         if not ok and start is not None:
+            F = F if F is not None else antiderivative(weight, v, ctx)
             total += F.xreplace({v: ea}) - F.xreplace({v: start})
             start = None
     if start is not None:
+        F = F if F is not None else antiderivative(weight, v, ctx)
         total += F.xreplace({v: uniq[-1][1]}) - F.xreplace({v: start})
     return total
 
