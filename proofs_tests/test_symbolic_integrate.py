@@ -266,8 +266,9 @@ def test_non_elementary_weight_falls_back_to_quadrature():
     assert any(n.startswith("exact part") and "Max(0, Min(1, theta))" in n for n in res.notes)
 
 
-def test_time_limit_falls_back_to_quadrature():
+def test_time_limit_falls_back_to_quadrature(monkeypatch):
     # ∫₀¹ x eˣ dx = [x eˣ − eˣ]₀¹ = 1, computed by quadrature when there is no time for sympy.
+    monkeypatch.setattr(regions, "_CACHE", {})  # no antiderivative remembered from other tests
     res = integrate_pieces([Piece((), x * sp.exp(x))], (x,), ((0, 1),), {}, timeout=1e-6)
     assert res.method == "quadrature"
     assert res.value == pytest.approx(1.0, abs=1e-9)

@@ -204,6 +204,11 @@ def _constant_symbols(w) -> dict:
     return reps
 
 
+#: sympy's raw answers (or failure reasons) per (weight, variable, attempt): the same weights come
+#: back at other parameter values (Theorem 8.1 checks, finite differences).  Time-outs are not kept.
+_CACHE: dict = {}
+
+
 def _derivative_matches(F, w, v, ctx: Context) -> bool:
     """d/dv F = w at a few pseudo-random points (parameters at ``at``): sympy's integrate has
     returned wrong antiderivatives (even 0) for symbolic constants; catch that early."""
@@ -258,14 +263,23 @@ def antiderivative(w, v, ctx: Context):
     if _has_gaussian(w, v):  # sympy's general algorithms are slow and fail on shifted Gaussians
         attempts.insert(0, attempts.pop())
     reasons = []
-    for attempt in attempts:
-        try:
-            F = ctx.deadline.run(attempt, cap=max(2.0, ctx.deadline.seconds / 3))
-        except TimeoutError:
-            reasons.append("sympy integrate timed out")
-            continue
-        except Exception as exc:  # sympy raises all sorts of errors on hard inputs
-            reasons.append(f"sympy integrate failed: {type(exc).__name__}")
+    for n, attempt in enumerate(attempts):
+        key = (w, v, n)
+        if key in _CACHE:
+            F = _CACHE[key]
+        else:
+            try:
+                F = ctx.deadline.run(attempt, cap=max(2.0, ctx.deadline.seconds / 3))
+            except TimeoutError:
+                reasons.append("sympy integrate timed out")
+                continue
+            except Exception as exc:  # sympy raises all sorts of errors on hard inputs
+                F = f"sympy integrate failed: {type(exc).__name__}"
+            if len(_CACHE) >= 2048:
+                _CACHE.pop(next(iter(_CACHE)))
+            _CACHE[key] = F
+        if isinstance(F, str):
+            reasons.append(F)
             continue
         try:
             F = _resolve_piecewise(F, v, ctx)
