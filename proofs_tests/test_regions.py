@@ -1,4 +1,5 @@
-"""Regions from conditions (langur.symbolic.regions) and the time limits (timebox).
+"""Regions from conditions (langur.symbolic.regions), the change of variables of delta pieces
+(langur.symbolic.delta) and the time limits (timebox).
 
 Expected values are derived by hand in the comments.
 """
@@ -9,7 +10,7 @@ import time
 import pytest
 import sympy as sp
 
-from langur.symbolic import regions
+from langur.symbolic import delta, regions
 from langur.symbolic.pieces import Branch, DeltaPiece, Psi
 from langur.symbolic.regions import Cond, Context, Unsupported
 from langur.symbolic.timebox import Deadline, run_with_timeout
@@ -142,18 +143,18 @@ def test_u_box_affine_and_nonlinear():
     box = {x: (0, 1), y: (0, 1)}
     # x + 2y over [0,1]²: [0, 3]
     psi = Psi((x, y), (k - 2 * x + y, x + 2 * y), (u0, u1), (), None)
-    assert regions.u_box(psi, (x, y), box, ctx(k=0.5)) == [(0, 3)]
+    assert delta.u_box(psi, (x, y), box, ctx(k=0.5)) == [(0, 3)]
     # x + y² over [0,1]²: [0, 2] (interval arithmetic, padded by ~1e-9)
     psi = Psi((x, y), (y - x, x + y**2), (u0, u1), (), None)
-    ((lo, hi),) = regions.u_box(psi, (x, y), box, ctx())
+    ((lo, hi),) = delta.u_box(psi, (x, y), box, ctx())
     assert -1e-8 < lo <= 0 and 2 <= hi < 2 + 1e-8
 
 
 def test_vanishing_condition_is_true_on_its_zero_set():
     c = ctx(a=0.5)
-    assert regions.vanishes_identically(sp.sqrt(a) ** 2 - a, [], [], c) is True
-    assert regions.vanishes_identically(sp.sin(u1) ** 2 + sp.cos(u1) ** 2 - 1, [u1], [(0, 1)], c)
-    assert not regions.vanishes_identically(u1 - a, [u1], [(0, 1)], c)
+    assert delta.vanishes_identically(sp.sqrt(a) ** 2 - a, [], [], c) is True
+    assert delta.vanishes_identically(sp.sin(u1) ** 2 + sp.cos(u1) ** 2 - 1, [u1], [(0, 1)], c)
+    assert not delta.vanishes_identically(u1 - a, [u1], [(0, 1)], c)
 
 
 def test_delta_to_regular_disk_jacobian():
@@ -164,9 +165,9 @@ def test_delta_to_regular_disk_jacobian():
               y)
     c = ctx(r=0.25)
     box = {x: (-1, 1), y: (-1, 1)}
-    ubox = regions.u_box(psi, (x, y), box, c)
+    ubox = delta.u_box(psi, (x, y), box, c)
     assert ubox == [(-1, 1)]
-    problems = regions.delta_to_regular(DeltaPiece(psi, (), sp.Integer(1)), (x, y), box, c, ubox)
+    problems = delta.delta_to_regular(DeltaPiece(psi, (), sp.Integer(1)), (x, y), box, c, ubox)
     assert len(problems) == 2
     for conds, weight in problems:
         assert weight.subs({u1: 0, r: sp.Rational(1, 4)}) == 1

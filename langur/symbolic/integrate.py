@@ -27,7 +27,7 @@ from typing import Sequence
 
 import sympy as sp
 
-from langur.symbolic import quadrature, regions
+from langur.symbolic import delta, quadrature, regions
 from langur.symbolic.pieces import DeltaPiece, Integral, Piece
 from langur.symbolic.regions import Cond, Context, Unsupported
 from langur.symbolic.timebox import Deadline
@@ -201,7 +201,7 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
     uboxes = []
     for i, pc in enumerate(pieces):
         try:
-            uboxes.append(regions.u_box(pc.psi, variables, boxd, ctx))
+            uboxes.append(delta.u_box(pc.psi, variables, boxd, ctx))
         except Unsupported as exc:
             raise ValueError(f"delta piece {i}: cannot bound the zero set's coordinates: {exc}") from None
     quads = [quadrature.quad_delta_pieces([pc], variables, box, ctx.at, [ub]) for pc, ub in zip(pieces, uboxes)]
@@ -209,8 +209,8 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
     ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work
 
     def problems(i):
-        uvars = regions.u_prime(pieces[i].psi, variables)
-        probs = regions.delta_to_regular(pieces[i], variables, boxd, ctx, uboxes[i])
+        uvars = delta.u_prime(pieces[i].psi, variables)
+        probs = delta.delta_to_regular(pieces[i], variables, boxd, ctx, uboxes[i])
         return probs, uvars, dict(zip(uvars, uboxes[i]))
 
     exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "delta piece")

@@ -1,0 +1,166 @@
+"""Delta pieces: the change of variables ``u = Ψ̂(x)`` through Psi (LANGUAGE.md §4, paper §7.2).
+
+    ∫ h(x) δ(π₀Ψ̂(x)) dx = Σ_branches ∫_{guards ≥ 0} h(Ψ̂_b⁻¹(0, u')) |det DΨ̂_b⁻¹(0, u')| du'
+
+:func:`delta_to_regular` turns a :class:`DeltaPiece` into regular problems over ``u'`` (the other
+inputs of Ψ̂⁻¹, plus the variables Ψ̂ does not mention), integrated by
+:func:`langur.symbolic.regions.integrate_region`.  The box's conditions are added (substituted), so
+``u'`` only needs an enclosure (:func:`u_box`).  A substituted condition that vanishes identically on
+the zero set is ``0 ≥ 0``: TRUE, the paper's convention (:func:`vanishes_identically`).  In one
+variable there is no ``u'`` and this is the sifting property ``Σ h(x*)/|Φ'(x*)|``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import random
+from typing import Sequence
+
+import sympy as sp
+
+from langur.symbolic.pieces import DeltaPiece, Psi
+from langur.symbolic.regions import Cond, Context
+
+
+
+
+def _sample(ctx: Context, syms, ubox, n=5, seed=0):
+    rng = random.Random(seed)
+    bounds = [(ctx.value(lo).real, ctx.value(hi).real) for lo, hi in ubox]
+    for _ in range(n):
+        yield {s: sp.Float(rng.uniform(a, b), 30) for s, (a, b) in zip(syms, bounds)}
+
+
+def u_box(psi: Psi, variables: Sequence, box: dict, ctx: Context):
+    """Bounds for ``u'`` = (inputs[1:], variables Psi does not mention): an enclosure of the image
+    of the box under ``forward[1:]`` (exact for variables and affine maps; interval arithmetic at
+    the evaluation point otherwise)."""
+    out = []
+    for f in psi.forward[1:]:
+        f = sp.sympify(f)
+        if f in box:
+            out.append(box[f])
+            continue
+        poly = None
+        try:
+            poly = sp.Poly(f, *psi.variables)
+        except sp.PolynomialError:
+            pass
+        if poly is not None and poly.total_degree() <= 1:
+            lo = hi = f.xreplace({x: 0 for x in psi.variables})
+            for x in psi.variables:
+                a = poly.coeff_monomial(x)
+                if a == 0:
+                    continue
+                xl, xh = box[x]
+                if ctx.sign(a) > 0:
+                    lo, hi = lo + a * xl, hi + a * xh
+                else:
+                    lo, hi = lo + a * xh, hi + a * xl
+            out.append((lo, hi))
+            continue
+        out.append(_enclosure(f, psi.variables, box, ctx))
+    for x in variables:
+        if x not in psi.variables:
+            out.append(box[x])
+    return out
+
+
+def _enclosure(f, xs, box: dict, ctx: Context):
+    """Numeric bounds of ``f`` over the box at ``at``: interval arithmetic (AccumBounds), else a
+    padded sample (noted as heuristic)."""
+    num = {k: sp.Float(float(v), 30) for k, v in ctx.at.items()}
+    ranges = {x: [ctx.value(b).real for b in box[x]] for x in xs}
+    try:
+        ab = f.xreplace(num).subs({x: sp.AccumBounds(*[sp.Float(b, 30) for b in ranges[x]]) for x in xs})
+    except Exception:  # noqa: BLE001 - AccumBounds does not support every function
+        ab = None
+    if isinstance(ab, sp.AccumBounds) and ab.min.is_finite and ab.max.is_finite:
+        lo, hi = float(ab.min), float(ab.max)
+        pad = 1e-9 * (1 + hi - lo)
+        ctx.notes.append(f"u-box of {f} from interval arithmetic at the evaluation point")
+    else:
+        fn = sp.lambdify(list(xs), f.xreplace(num), modules=["math"])
+        grid = itertools.product(*[[a + (b - a) * i / 24 for i in range(25)] for a, b in ranges.values()])
+        vals = []
+        for pt in grid:
+            try:
+                vals.append(float(fn(*pt)))
+            except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+                pass
+        if not vals:
+            raise ValueError(f"cannot bound {f} over the box")
+        lo, hi = min(vals), max(vals)
+        pad = 0.25 * (1 + hi - lo)
+        ctx.notes.append(f"u-box of {f} from a padded sample at the evaluation point (heuristic)")
+    return sp.Rational(lo - pad), sp.Rational(hi + pad)
+
+
+def vanishes_identically(expr, syms, ubox, ctx: Context) -> bool:
+    """True when a substituted condition is identically 0 on the zero set (then ``0 ≥ 0``: TRUE,
+    the paper's convention — it is what makes coincident conditions count twice)."""
+    expr = sp.sympify(expr)
+    if expr == 0:
+        return True
+    if expr.is_number:
+        return False
+    for pt in _sample(ctx, syms, ubox):
+        z = ctx.value(expr.xreplace(pt))
+        if abs(z) > 1e-12:
+            return False
+    try:
+        return ctx.deadline.run(lambda: sp.simplify(expr), cap=3.0) == 0
+    except TimeoutError:
+        return True  # numerically zero at random points
+
+
+def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Context, ubox):
+    """The delta piece as regular problems over ``u'`` (:func:`u_prime`, box ``ubox`` from
+    :func:`u_box`): ``[(conds, weight), …]``."""
+    psi = piece.psi
+    uprime = u_prime(psi, variables)
+    u0 = psi.inputs[0]
+    problems = []
+    for b in psi.branches:
+        inv = dict(b.inverse)
+        comps = [inv[x] for x in psi.variables]
+        jac = sp.Matrix([[sp.diff(e, u) for u in psi.inputs] for e in comps]).det()
+        sub = {u0: sp.Integer(0)}
+        xsub = {x: inv[x].xreplace(sub) for x in psi.variables}
+        try:
+            J = ctx.deadline.run(lambda: sp.simplify(jac.xreplace(sub)), cap=3.0)
+        except TimeoutError:
+            J = jac.xreplace(sub)
+        exprs = [sp.sympify(c.expr).xreplace(xsub) for c in piece.conditions]
+        exprs += [sp.sympify(g).xreplace(sub) for g in b.guards]
+        for x in variables:
+            xl, xh = box[x]
+            exprs += [xsub.get(x, x) - xl, xh - xsub.get(x, x)]
+        conds = []
+        for e in exprs:
+            if vanishes_identically(e, uprime, ubox, ctx):
+                continue
+            conds.append(Cond(e))
+        weight = sp.sympify(piece.weight).xreplace(xsub)
+        if not (J.free_symbols & set(uprime)):
+            problems.append((conds, weight * sp.Abs(J)))
+            continue
+        signs = set()
+        for pt in _sample(ctx, uprime, ubox, n=16, seed=1):
+            z = ctx.value(J.xreplace(pt))
+            if abs(z.imag) < 1e-12 and z.real != 0:
+                signs.add(1 if z.real > 0 else -1)
+        if len(signs) == 1:
+            s = signs.pop()
+            ctx.notes.append(f"sign of det DΨ̂⁻¹ = {J} taken as {'+' if s > 0 else '-'} "
+                             "(sampled at the evaluation point; checked by quadrature)")
+            problems.append((conds, weight * s * J))
+        else:
+            problems.append((conds + [Cond(J)], weight * J))
+            problems.append((conds + [Cond(-J)], -weight * J))
+    return problems
+
+
+def u_prime(psi: Psi, variables: Sequence) -> list:
+    """The coordinates of the zero set: ``inputs[1:]`` and the variables Psi does not mention."""
+    return list(psi.inputs[1:]) + [x for x in variables if x not in psi.variables]
