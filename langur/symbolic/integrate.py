@@ -17,7 +17,15 @@ Notes convention (for the CLI): the first note is one of
 ``"closed form valid in the parameter cell containing the evaluation point: C1; C2; …"`` where
 each ``Ci`` is a sympy relation between parameters (decisions taken at the evaluation point while
 ordering bounds, deciding signs or Piecewise branches); with ``" (and with the same real roots)"``
-appended when roots were ordered numerically.  Further notes explain fallbacks and assumptions.
+appended when roots were ordered numerically.  Further notes explain assumptions (e.g. the sign
+of a Jacobian sampled at the evaluation point).  With ``method == "quadrature"`` the notes are
+``"no closed form for k of n pieces; …"``, one reason per piece that fell back, then
+``"exact part (<the cell note above>): <expr>"`` when some pieces had closed forms.
+
+Delta pieces go through :mod:`langur.symbolic.delta` (change of variables, then the same region
+machinery over ``u'``).  Errors: :class:`IntegrationMismatch` (a ``RuntimeError``: an internal
+bug, never the user's fault) and ``ValueError`` when the integrand is undefined (NaN) on part of
+the region or a delta piece's zero set cannot be bounded.
 """
 
 from __future__ import annotations
