@@ -254,7 +254,7 @@ def antiderivative(w, v, ctx: Context):
     # Generic symbols can be wrong at the constants' actual values (a discriminant that vanishes
     # only at √2): every candidate is verified by _derivative_matches below.
     attempts = [
-        lambda: sp.integrate(wa, v, meijerg=False, risch=False, conds="none").xreplace(back),
+        (lambda: sp.integrate(wa, v, meijerg=False, risch=False, conds="none").xreplace(back)) if reps else None,
         lambda: sp.Add(*[sp.integrate(t, v, meijerg=False, risch=False, conds="none")
                          for t in sp.Add.make_args(w)]),
         lambda: sp.integrate(w, v, conds="none"),
@@ -264,6 +264,8 @@ def antiderivative(w, v, ctx: Context):
         attempts.insert(0, attempts.pop())
     reasons = []
     for n, attempt in enumerate(attempts):
+        if attempt is None:
+            continue
         key = (w, v, n)
         if key in _CACHE:
             F = _CACHE[key]
