@@ -91,8 +91,8 @@ def fig1(samples: int, seed: int) -> Experiment:
         d = _exact_deriv(loaded.program, p, "theta")
         # D_θ θ = 1, all of it from the delta at x = θ; standard AD differentiates each sample: 0.
         ex.close(f"⦇p⦈ at θ={theta} (= 1)", d["value"], 1.0)
-        ex.close(f"  boundary part (= 1)", d["boundary"], 1.0)
-        ex.close(f"  standard AD (= 0)", d["standard_ad"], 0.0)
+        ex.close("  boundary part (= 1)", d["boundary"], 1.0)
+        ex.close("  standard AD (= 0)", d["standard_ad"], 0.0)
         ex.mc(f"MC ⟦p⟧ at θ={theta}", operational.estimate_value(loaded, p, samples=samples, seed=seed), theta)
         md = operational.estimate_derivative(loaded, p, {"theta": 1.0}, samples=samples, seed=seed)
         ex.close(f"MC ⦇p⦈ at θ={theta} (one sample on the jump is exact)", md["value"], 1.0, tol=1e-12)

@@ -24,7 +24,7 @@ def _core_text(loaded) -> str:
     for name, d in main.defs.items():
         args = ", ".join(f"{a}: {k}" for a, k in d.args)
         lines.append(f"def {name}({args}) = {printer.print_core(d.body)}")
-    for name, psi in main.diffeos.items():
+    for psi in main.diffeos.values():
         lines.append(printer.print_diffeo(psi))
     if loaded.program is not None:
         lines.append(printer.print_program(loaded.program, defaults=loaded.params))
