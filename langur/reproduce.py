@@ -195,9 +195,9 @@ def renderer(samples: int, seed: int) -> Experiment:
         loaded = frontend.load(str(root / "renderer.lgr"), modules={"shader": str(root / f"{name}.lgr")})
         # Eq. (11): D_c f = ∫∫ ∂_c s·[x + y + c ≥ 0] + ∫ s δ(x + y + c); the delta sits on y = −c − x,
         # |∂_y(x + y + c)| = 1, so the boundary term is ∫₀¹ s(x, −c − x) [0 ≤ −c − x ≤ 1] dx.
-        interior = dblquad(lambda y, x: ds(x, y), 0, 1, lambda x: max(0.0, -c - x), lambda x: 1.0,
+        interior = dblquad(lambda y, x, ds=ds: ds(x, y), 0, 1, lambda x: max(0.0, -c - x), lambda x: 1.0,
                            epsabs=1e-12, epsrel=1e-11)[0]
-        boundary = quad(lambda x: s(x, -c - x), max(0.0, -c - 1), min(1.0, -c), epsabs=1e-13)[0]
+        boundary = quad(lambda x, s=s: s(x, -c - x), max(0.0, -c - 1), min(1.0, -c), epsabs=1e-13)[0]
         expected = interior + boundary
         d = _exact_deriv(loaded.program, {"c": c}, "c")
         ex.close(f"{name}: D_c f exact", d["value"], expected, tol=1e-8)

@@ -9,9 +9,9 @@ import subprocess
 import sys
 
 import pytest
+from paths import DEGENERATE, EXAMPLES
 
 from langur.cli import main
-from paths import DEGENERATE, EXAMPLES
 
 FIG1 = str(EXAMPLES / "fig1.lgr")
 
