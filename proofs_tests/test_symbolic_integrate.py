@@ -336,3 +336,27 @@ def test_random_affine_delta_pieces_agree_with_quadrature(a1, b1, a2, b2, c2, th
                                  {theta: sp.Rational(th.numerator, th.denominator)})
     if res.method == "closed_form":
         assert res.value == pytest.approx(res.check, abs=1e-7)
+
+
+def test_parameter_value_where_sympys_generic_antiderivative_is_singular():
+    # ∫₀² cos(θx) dx = sin(2θ)/θ for θ ≠ 0, and 2 (cos 0 = 1) at θ = 0, where sympy's generic
+    # answer sin(θx)/θ is 0/0: the case θ = 0 must be taken, not the generic one.
+    res = integrate_pieces([Piece((), sp.cos(theta * x))], (x,), ((0, 2),), {theta: 0})
+    assert res.method == "closed_form" and res.value == pytest.approx(2.0, abs=1e-15)
+    res = integrate_pieces([Piece((), sp.cos(theta * x))], (x,), ((0, 2),), {theta: 1})
+    assert res.value == pytest.approx(math.sin(2.0), abs=1e-15)
+
+
+@settings(max_examples=15, deadline=None)
+@given(coef, coef, coef, coef, st.sampled_from(["theta - x", "x - theta/2", "exp(x) - theta - 2", "x**3 - theta"]),
+       st.sampled_from(["1", "x", "exp(-x**2)", "1/(3 + x)", "cos(theta*x)"]),
+       st.fractions(-3, 3, max_denominator=4))
+def test_random_one_dimensional_regions_agree_with_quadrature(a_, b_, c_, d_, e2, w, th):
+    # a quadratic and a monotone condition on [−2, 2]; integrate_pieces raises IntegrationMismatch
+    # when a closed form disagrees with the quadrature
+    ns = {"x": x, "theta": theta}
+    conds = (Condition(a_ * x**2 + b_ * x + c_ * theta + d_), Condition(sp.sympify(e2, locals=ns)))
+    res = integrate_pieces([Piece(conds, sp.sympify(w, locals=ns))], (x,), ((-2, 2),),
+                           {theta: sp.Rational(th.numerator, th.denominator)})
+    if res.method == "closed_form":
+        assert res.value == pytest.approx(res.check, abs=1e-7)

@@ -152,6 +152,8 @@ def _exact_piece(problems, uvars, ubox: dict, ctx: Context, quad: tuple[float, f
     for conds, weight in problems:
         total += regions.integrate_region(conds, weight, uvars, ubox, ctx)
     val = _value(total, ctx)
+    if not math.isfinite(val):
+        raise Unsupported(f"the closed form {total} is singular at the evaluation point")
     if not _agree(val, *quad):
         raise IntegrationMismatch(val, quad[0], quad[1], total, what)
     return total

@@ -225,8 +225,11 @@ def _derivative_matches(F, w, v, ctx: Context) -> bool:
         try:
             dv = complex(d.xreplace(pt).evalf(25))
             wv = complex(sp.sympify(w).xreplace(pt).evalf(25))
+            fv = complex(F.xreplace(pt).evalf(25))
         except (TypeError, ValueError, ZeroDivisionError):
             continue
+        if _finite(wv) and not _finite(fv):
+            return False  # singular at the evaluation point (e.g. sin(θx)/θ at θ = 0)
         if not all(map(_finite, (dv, wv))):
             continue
         if abs(dv) > 1e-9 * (1 + abs(wv)):
@@ -259,6 +262,8 @@ def antiderivative(w, v, ctx: Context):
                          for t in sp.Add.make_args(w)]),
         lambda: sp.integrate(w, v, conds="none"),
         lambda: _gaussian_termwise(w, v),
+        # last: keep sympy's case distinctions (∫cos(θx) = x if θ = 0) and pick the one at `at`
+        lambda: sp.integrate(w, v, conds="piecewise"),
     ]
     if _has_gaussian(w, v):  # sympy's general algorithms are slow and fail on shifted Gaussians
         attempts.insert(0, attempts.pop())
