@@ -132,7 +132,10 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
         except TimeoutError:
             J = jac.xreplace(sub)
         exprs = [sp.sympify(c.expr).xreplace(xsub) for c in piece.conditions]
-        exprs += [sp.sympify(g).xreplace(sub) for g in b.guards]
+        guards = [sp.sympify(g).xreplace(sub) for g in b.guards]
+        if not all(ctx.decide(g) for g in guards if not (g.free_symbols - ctx.params)):
+            continue  # the branch does not meet the zero set here (the cell records the guard)
+        exprs += [g for g in guards if g.free_symbols - ctx.params]
         for x in variables:
             xl, xh = box[x]
             exprs += [xsub.get(x, x) - xl, xh - xsub.get(x, x)]

@@ -163,7 +163,8 @@ def _check_defined(quads, what: str) -> None:
     for i, (q, _) in enumerate(quads):
         if math.isnan(q):
             raise ValueError(f"{what} {i}: the integrand is undefined (NaN) on part of the region at the "
-                             "evaluation point (a primitive applied outside its domain?)")
+                             "evaluation point (a primitive applied outside its domain, or a zero set "
+                             "where the condition's derivative vanishes)")
 
 
 def _exact_pieces(make_problems, n: int, quads, ctx: Context, what: str):

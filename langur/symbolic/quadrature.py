@@ -375,7 +375,7 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
         def weight(*u, xmap=xmap, w_f=w_f):
             x = xmap(*u)
             d = jac_f(*x)
-            return w_f(*x) / abs(d)
+            return w_f(*x) / abs(d) if d != 0 else math.nan  # degenerate: Ψ̂ not invertible here
 
         problems.append(NumProblem(conds, weight, bounds, syms=uprime))
     return problems
