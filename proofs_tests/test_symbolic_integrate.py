@@ -100,6 +100,9 @@ def test_parabola_region_and_its_delta():
     assert d.method == "closed_form"
     assert d.value == pytest.approx(1 / math.sqrt(0.5), rel=1e-14)
     assert sp.simplify(d.expr.subs(a, sp.Rational(1, 4)) - 2) == 0  # 1/√(1/4)
+    # a < 0: no real root, the guard a − u0 ≥ 0 fails at u0 = 0: nothing to sift
+    d = integrate_delta_pieces([DeltaPiece(psi, (), ONE)], (x,), ((-1, 1),), {a: -half})
+    assert d.method == "closed_form" and d.value == 0.0
 
 
 # ---------------------------------------------------------------------------------------------
