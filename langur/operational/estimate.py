@@ -104,6 +104,16 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
     }
 
 
+def _inside(x: dict, box: dict) -> np.ndarray:
+    """Which points lie in the closed box B (widened by 1e-9 of each side's scale)."""
+    inside = None
+    for v, (lo, hi) in box.items():
+        tol = 1e-9 * max(1.0, abs(lo), abs(hi))
+        ok = (x[v] >= lo - tol) & (x[v] <= hi + tol)
+        inside = ok if inside is None else inside & ok
+    return inside
+
+
 def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str) -> tuple[float, float]:
     """Σ_k ∫ E_k δ_k: every live site's zero set sampled through every inverse branch, all sites'
     points scored in ONE vectorized pass of the integrand in DELTA mode."""
@@ -141,8 +151,14 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str)
     site = np.concatenate(ids)
     x = {v: np.concatenate(a) for v, a in xs.items()}
     _, g = linked.fn(_env(linked, x, p, mode=DELTA, site=site, sites=frozenset(k for k, *_ in plan)))
-    # score = [guards ≥ 0] · (D_γπ₀Ψ̂·γ') · G_k · |det DΨ̂_b⁻¹|, all blocks at once
-    score = np.where(np.concatenate(oks), np.concatenate(dps) * _full(g, len(site)) * np.concatenate(ws), 0.0)
+    # score = [guards ≥ 0] · (D_γπ₀Ψ̂·γ') · G_k · |det DΨ̂_b⁻¹|, all blocks at once.  A point of a
+    # zero set outside the box B scores 0: the domain's indicators vanish there, even where the
+    # integrand itself is undefined (0·NaN would be NaN: sqrt(x) at the root −√a of [x² ≤ a] on
+    # [0, 1]).  The box is closed and slightly widened, so points on its faces (the zero sets of
+    # parametric bounds, found up to rounding) are still decided by the indicators themselves.
+    inside = _inside(x, box)
+    score = np.where(np.concatenate(oks) & inside,
+                     np.concatenate(dps) * _full(g, len(site)) * np.concatenate(ws), 0.0)
     starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
     if all(des.method == "exact" for _, des, _, _ in plan):  # one variable: every root once, exactly
         return float(np.sum(np.add.reduceat(score, starts))), 0.0

@@ -138,6 +138,15 @@ def _box(program: Program, params):
     return [(evaluate(lo, {}, params, {})[0], evaluate(hi, {}, params, {})[0]) for lo, hi in program.box]
 
 
+def _inside(x: dict, boxd: dict) -> bool:
+    """x in the closed box B, widened by 1e-9 of each side's scale (as the engine's estimate._inside)."""
+    for v, (lo, hi) in boxd.items():
+        tol = 1e-9 * max(1.0, abs(lo), abs(hi))
+        if not (lo - tol <= x[v] <= hi + tol):
+            return False
+    return True
+
+
 def naive_value(program: Program, params: dict, *, samples=10000, seed=0, method="uniform") -> dict:
     """⟦p⟧ by Monte Carlo, one sample at a time (same design and seed as the vectorized engine)."""
     rng = np.random.default_rng(seed)
@@ -200,6 +209,8 @@ def naive_derivative(program: Program, params: dict, direction: dict, *, samples
                 if any(evaluate(gd, u, params, {})[0] < 0 for gd in br.guards):
                     continue
                 x = {v: evaluate(c, u, params, {})[0] for v, c in zip(variables, br.components)}
+                if not _inside(x, boxd):
+                    continue  # outside B the domain's indicators vanish (even where the integrand is NaN)
                 jac = np.array([[evaluate(c, u, params, {}, TANGENT, dvars={ui: 1.0})[1] for ui in psi.inputs]
                                 for c in br.components])
                 w = abs(float(np.linalg.det(jac))) if len(variables) > 1 else abs(jac[0, 0])

@@ -1,0 +1,44 @@
+"""Regressions found by differential testing (`langur fuzz`, langur/fuzz.py): each program shrunk by
+hand, its true value worked out by hand in the comments, and the engine that was wrong named.
+"""
+
+import math
+
+import pytest
+
+from langur import operational
+from langur.frontend import load_text
+from langur.operational.naive import naive_derivative
+
+
+def test_delta_root_outside_the_box_scores_zero_not_nan_1d():
+    # Operational engine bug (fixed): the root −√a of x² − a lies outside the domain [0, 1]; the
+    # domain's indicator is 0 there but sqrt(x) is NaN, and 0·NaN made the whole derivative NaN.
+    #   ∫₀¹ [x² ≤ a]·√x dx = ∫₀^√a √x dx = (2/3)·a^(3/4),   D_a = (1/2)·a^(-1/4)
+    # (all of it boundary: the delta at x = √a, weight √(√a) / |2√a| = a^(-1/4)/2).
+    a = 0.37
+    loaded = load_text("param a = 0.37\nint ([0, 1]) [x^2 <= a] * sqrt(x) d(x)\n")
+    r = operational.estimate_derivative(loaded, {"a": a}, {"a": 1.0}, samples=1000, seed=0)
+    assert r["boundary"]["value"] == pytest.approx(0.5 * a ** -0.25, rel=1e-12)
+    assert r["boundary"]["stderr"] == 0.0 and r["regular"]["value"] == 0.0
+    n = naive_derivative(loaded.program, {"a": a}, {"a": 1.0}, samples=50)
+    assert n["boundary"] == pytest.approx(0.5 * a ** -0.25, rel=1e-12)
+
+
+def test_delta_points_outside_the_box_score_zero_not_nan_2d():
+    # Same bug on a declared diffeo in two variables: the zero set x + y = a is sampled along
+    # y ∈ [0, 2] (U' = y's interval), x = a − y reaches −1.69 < −1.5 where sqrt(x + 1.5) is NaN.
+    # By hand (a = 0.31): the delta lies on x = a − v, y = v, v ∈ [0, a], |det DΨ̂⁻¹| = 1, and
+    # D_a π₀Ψ̂ = −1, so the boundary part is
+    #   −0.7·∫₀^a ((v + a)³ − √(a − v + 1.5)) dv = −0.7·(15a⁴/4 − (2/3)((1.5 + a)^1.5 − 1.5^1.5)).
+    a = 0.31
+    hand = -0.7 * (15 * a ** 4 / 4 - (2 / 3) * ((1.5 + a) ** 1.5 - 1.5 ** 1.5))
+    assert hand == pytest.approx(0.25481894, abs=1e-7)
+    loaded = load_text(
+        "param a = 0.31\n"
+        "diffeo sh(x, y; c) = (x + y - c, y) inverse (u, v) = (u - v + c, v)\n"
+        "int ([0, 2], [0, 2]) 0.7 * (ifge0 sh(x, y; a) then (y + a)^3 else sqrt(x + 1.5)) d(x, y)\n")
+    r = operational.estimate_derivative(loaded, {"a": a}, {"a": 1.0}, samples=20000, seed=1)
+    b = r["boundary"]
+    assert math.isfinite(b["value"]) and 0 < b["stderr"] < 0.01
+    assert abs(b["value"] - hand) <= 5 * b["stderr"] + 1e-9
