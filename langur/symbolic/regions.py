@@ -266,7 +266,7 @@ def antiderivative(w, v, ctx: Context):
         lambda: sp.integrate(w, v, conds="piecewise"),
     ]
     if _has_gaussian(w, v):  # sympy's general algorithms are slow and fail on shifted Gaussians
-        attempts.insert(0, attempts.pop())
+        attempts.insert(0, attempts.pop(3))
     reasons = []
     for n, attempt in enumerate(attempts):
         if attempt is None:
