@@ -8,9 +8,10 @@ is exercised too), loads them with :func:`langur.frontend.load_text`, and compar
 Public API::
 
     programs(max_summands=3, max_factors=3)        -> hypothesis strategy of FuzzProgram
-    compare_text(text, *, samples=20000, seed=0, timeout=20.0, lint=True) -> ProgramResult
+    compare_text(text, *, samples=20000, seed=0, timeout=20.0, lint=True, method="uniform")
+        -> ProgramResult
     run_fuzz(examples=50, seed=0, samples=20000, timeout=20.0, keep=None, lint=True,
-             progress=None) -> FuzzSummary
+             progress=None, method="uniform") -> FuzzSummary
 
 ``hypothesis`` is a development dependency: it is imported lazily, and :class:`MissingHypothesis`
 is raised (with ``pip install hypothesis`` advice) when it is absent.
@@ -43,6 +44,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import time
 from dataclasses import dataclass, field
 
@@ -109,6 +111,8 @@ class _Ctx:
         self.pvals = dict(pvals)     # name -> float, includes let names
         self.names = list(pvals)     # parameter-like names usable in terms
         self.conds: list[_Cond] = []
+        self.diffeos: dict[str, str] = {}  # declared diffeos used: name -> declaration
+        self.n_smooth = 19                 # how many of _smooth's forms may be used
 
     def pick(self, seq):
         return self.draw(self.st.sampled_from(seq))
@@ -149,6 +153,47 @@ def _affine_cond(ctx: _Ctx) -> _Cond:
     return _Cond(lhs, cmp, rhs, lambda x, y: fx * x + fy * y - c, ((fx, fy, c),), ("lin", cx, cy, p, k))
 
 
+def _scaled_cond(ctx: _Ctx) -> _Cond:
+    """``[P*v CMP k]``: the completed diffeomorphism divides by the parameter (``Diffeo.nonzero``),
+    so the delta's Jacobian 1/|P| is exercised; P's default is positive, never 0."""
+    v = ctx.var()
+    p = ctx.pick(ctx.names)
+    k = ctx.pick(("0.3", "0.15", "-0.2", "0.55"))
+    cmp = ctx.pick(("<=", ">="))
+    pv, kv = ctx.pvals[p], float(k)
+    if v == "x":
+        g, line = (lambda x, y: pv * x - kv), (pv, 0.0, kv)
+    else:
+        g, line = (lambda x, y: pv * y - kv), (0.0, pv, kv)
+    return _Cond(f"{p}*{v}", cmp, k, g, (line,), ("scaled", v, p, k))
+
+
+# Declared diffeomorphisms (LANGUAGE.md §6): Ψ̂ and its inverse; zero set of π₀Ψ̂ at parameter c.
+DIFFEOS = {
+    "sh": ("diffeo sh(x, y; c) = (x + y - c, y) inverse (u, v) = (u - v + c, v)",
+           lambda c: ((1.0, 1.0, c),), lambda c: (lambda x, y: x + y - c)),
+    "rot": ("diffeo rot(x, y; c) = (x - y - c, x + y) inverse (u, v) = ((u + v + c) / 2, (v - u - c) / 2)",
+            lambda c: ((1.0, -1.0, c),), lambda c: (lambda x, y: x - y - c)),
+    "cub": ("diffeo cub(x, y; c) = (y - x^3 - c, x) inverse (u, v) = (v, u + v^3 + c)",
+            lambda c: (), lambda c: (lambda x, y: y - x ** 3 - c)),
+}
+
+
+def _declared_cond(ctx: _Ctx) -> tuple[str, _Cond]:
+    """``NAME(x, y; P)`` for a declared diffeo (two variables only): the condition text of an
+    ``ifge0`` and its zero set."""
+    name = ctx.pick(tuple(DIFFEOS))
+    decl, lines, g = DIFFEOS[name]
+    p = ctx.pick(ctx.names)
+    c = ctx.pvals[p]
+    ctx.diffeos[name] = decl
+    cond = _Cond(name, "", p, g(c), lines(c), ("diffeo", name, p) if name == "cub" else ("lin", name, p))
+    if name == "sh":
+        cond.key = ("lin", "1", "1", p, "0")
+    ctx.conds.append(cond)
+    return f"{name}(x, y; {p})", cond
+
+
 def _nonlinear_cond(ctx: _Ctx) -> _Cond:
     """``[v^2 <= P + k]``, ``[y >= x^2 + P + k]`` or the disk ``[x^2 + y^2 <= P + k]``."""
     shapes = ("square", "parabola", "disk") if len(ctx.variables) == 2 else ("square",)
@@ -174,7 +219,8 @@ def _nonlinear_cond(ctx: _Ctx) -> _Cond:
 
 
 def _cond(ctx: _Ctx) -> _Cond:
-    c = _nonlinear_cond(ctx) if ctx.draw(ctx.st.integers(0, 3)) == 3 else _affine_cond(ctx)
+    kind = ctx.draw(ctx.st.integers(0, 5))
+    c = _nonlinear_cond(ctx) if kind == 3 else _scaled_cond(ctx) if kind == 4 else _affine_cond(ctx)
     ctx.conds.append(c)
     return c
 
@@ -197,12 +243,43 @@ def _smooth(ctx: _Ctx) -> str:
         f"sqrt({v} + 1.5)",
         f"sqrt({v}*{v} + {p})",
         f"{p}",
+        f"log({v} + 2)",
+        f"atan({v}*{w} + {p})",
+        f"tanh({p}*{v})",
+        f"1 / ({v} + {p} + 1.5)",
+        f"({v} + {p})^3",
+        f"({w} + 1.5)^1.5",
+        f"exp(min({v}, {p}))",
+        f"sqrt(max({v}, {p}) + 1.5)",
+        f"abs({v} - {p})",
     )
-    return ctx.pick(forms)
+    return ctx.pick(forms[:ctx.n_smooth])
 
 
 def _factor(ctx: _Ctx) -> str:
-    kind = ctx.draw(ctx.st.integers(0, 5))
+    kind = ctx.draw(ctx.st.integers(0, 9 if len(ctx.variables) == 2 else 8))
+    if kind == 8:  # a conditional on parameters only (ifge0 with a variable-free condition)
+        p, q = ctx.pick(ctx.names), ctx.pick(ctx.names)
+        rhs = ctx.pick(("0.5", q)) if p != q else "0.5"
+        hypothesis_assume(abs(ctx.pvals[p] - (0.5 if rhs == "0.5" else ctx.pvals[q])) > 1e-6)
+        return f"(if {p} >= {rhs} then {_smooth(ctx)} else {ctx.pick(('0', _smooth(ctx)))})"
+    if kind == 9:  # a declared diffeo (two variables)
+        cond, _ = _declared_cond(ctx)
+        return f"(ifge0 {cond} then {_smooth(ctx)} else {ctx.pick(('0', '1', _smooth(ctx)))})"
+    if kind == 6:  # nested conditionals: ifge0 inside a branch (their zero sets multiply)
+        c1, c2 = _cond(ctx), _cond(ctx)
+        inner = f"(if {c2.lhs} {c2.cmp} {c2.rhs} then {_smooth(ctx)} else {ctx.pick(('0', _smooth(ctx)))})"
+        return f"(if {c1.lhs} {c1.cmp} {c1.rhs} then {inner} else {ctx.pick(('1', _smooth(ctx)))})"
+    if kind == 7:  # a chained bracket: a window between two parallel jumps
+        c = _affine_cond(ctx)
+        k = ctx.pick(("0.35", "0.6"))
+        hi = _Cond(c.lhs, "<=", f"{c.rhs} + {k}", None, (), c.key + ("hi", k))
+        fx, fy, cc = c.lines[0]
+        lo_g, dk = c.g, float(k)
+        hi.g = lambda x, y: lo_g(x, y) - dk
+        hi.lines = ((fx, fy, cc + dk),)
+        ctx.conds += [c, hi]
+        return f"[{c.rhs} <= {c.lhs} <= {c.rhs} + {k}]"
     if kind <= 1:
         return _smooth(ctx)
     if kind <= 3:
@@ -246,6 +323,11 @@ def _norm_line(line):
     return cx, cy, c
 
 
+def hypothesis_assume(cond: bool) -> None:
+    hypothesis, _ = _hypothesis()
+    hypothesis.assume(cond)
+
+
 def _generic(ctx: _Ctx, boxes) -> bool:
     """No two zero sets (nor a zero set and a face of the box) coincide at the defaults, and no
     zero set passes through a corner of the box."""
@@ -274,19 +356,47 @@ def _generic(ctx: _Ctx, boxes) -> bool:
     return True
 
 
-def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4):
-    """A hypothesis strategy of :class:`FuzzProgram` (well-typed, transverse at the defaults)."""
+def _extract_def(ctx: _Ctx, terms: list[list[str]], variables, params) -> list[str]:
+    """Move one factor into ``def g(x: var, …, qa: param, …) = …`` and call it there (and maybe
+    once more, in a new summand: two call sites of one def, added, never multiplied), so that
+    elaboration, inlining and the Monte Carlo engine's separately compiled defs are exercised."""
+    cands = [(i, j) for i, fs in enumerate(terms) for j, f in enumerate(fs) if not re.search(r"\bs\b", f)]
+    if not cands:
+        return []
+    i, j = ctx.pick(cands)
+    body = terms[i][j]
+    used = [p for p in params if re.search(rf"\b{p}\b", body)]
+    for p in used:
+        body = re.sub(rf"\b{p}\b", f"q{p}", body)
+    args = ", ".join([f"{v}: var" for v in variables] + [f"q{p}: param" for p in used])
+    call = f"g({', '.join([*variables, *used])})"
+    terms[i][j] = call
+    if ctx.draw(ctx.st.booleans()):
+        terms.append([call, _smooth(ctx)])
+    return [f"def g({args}) = {body}"]
+
+
+def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, max_params: int = 3,
+             light: bool = False):
+    """A hypothesis strategy of :class:`FuzzProgram` (well-typed, transverse at the defaults).
+
+    ``max_conds`` bounds the number of zero sets per program and ``max_params`` the parameters
+    (each one is a derivative to compute): both bound the exact engine's work.  ``light`` keeps
+    to polynomials, exp, sin, cos and sqrt (sympy integrates atan, log and fractional powers over
+    regions slowly: the fast property test uses it)."""
     hypothesis, st = _hypothesis()
 
     @st.composite
     def program(draw):
         nvars = draw(st.integers(1, 2))
         variables = ("x", "y")[:nvars]
-        npar = draw(st.integers(1, 3))
+        npar = draw(st.integers(1, max_params))
         params = list(PARAMS[:npar])
         defaults = draw(st.lists(st.sampled_from(GENERIC), min_size=npar, max_size=npar, unique=True))
         pvals = {p: float(d) for p, d in zip(params, defaults)}
         ctx = _Ctx(draw, st, variables, pvals)
+        if light:
+            ctx.n_smooth = 10
         boxes_txt, boxes = [], []
         for v in variables:
             lo, hi, flo, fhi = _box(ctx, v, params)
@@ -299,11 +409,11 @@ def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4):
             ctx.pvals["s"] = ctx.ev(bound.replace("^", "**"))
             ctx.names.append("s")
             let = bound
-        summands = []
+        terms = []
         for _ in range(draw(st.integers(1, max_summands))):
-            factors = [_factor(ctx) for _ in range(draw(st.integers(1, max_factors)))]
-            coef = ctx.pick(("", "0.7 * ", "-1.3 * ", "2 * "))
-            summands.append(coef + " * ".join(factors))
+            terms.append([_factor(ctx) for _ in range(draw(st.integers(1, max_factors)))])
+        defs = _extract_def(ctx, terms, variables, params) if draw(st.integers(0, 2)) == 2 else []
+        summands = [ctx.pick(("", "0.7 * ", "-1.3 * ", "2 * ")) + " * ".join(fs) for fs in terms]
         body = " + ".join(summands)
         body = body.replace("+ -", "- ")
         hypothesis.assume(len(ctx.conds) <= max_conds)
@@ -311,7 +421,7 @@ def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4):
         if let is not None:
             body = f"let s = {let} in {body}"
         decl = ", ".join(f"{p} = {d}" for p, d in zip(params, defaults))
-        text = (f"param {decl}\n"
+        text = (f"param {decl}\n" + "".join(f"{d}\n" for d in [*ctx.diffeos.values(), *defs]) +
                 f"int ({', '.join(boxes_txt)})\n  {body}\nd({', '.join(variables)})\n")
         return FuzzProgram(text, tuple(zip(params, defaults)))
 
@@ -337,8 +447,8 @@ class Row:
     @property
     def z(self) -> float:
         d = abs(self.mc - self.exact)
-        if d == 0:
-            return 0.0
+        if d <= ABS_SLACK + REL_SLACK * max(abs(self.mc), abs(self.exact)):
+            return 0.0  # equal to rounding (a one-variable delta, a constant integrand)
         return d / self.stderr if self.stderr > 0 else math.inf
 
     def to_json(self) -> dict:
@@ -434,7 +544,7 @@ def _exact_all(program, params, timeout: float):
 
 
 def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: float = 20.0,
-                 lint: bool = True) -> ProgramResult:
+                 lint: bool = True, method: str = "uniform") -> ProgramResult:
     """Load ``text`` and compare the engines on value and every partial derivative (module doc)."""
     from . import operational
     from .diagnostics import LangurError
@@ -473,13 +583,14 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
 
     rows = result.rows
     result.methods.append(ex["method"])
-    mc = operational.estimate_value(loaded, floats, samples=samples, seed=seed)
+    mc = operational.estimate_value(loaded, floats, samples=samples, seed=seed, method=method)
     rows.append(Row("value", None, _f(ex["value"]), err(ex), mc["value"], mc["stderr"], False))
     for i, p in enumerate(params):
         e = exd[p]
         result.methods.append(e["method"])
         d = {q: (1.0 if q == p else 0.0) for q in params}
-        m = operational.estimate_derivative(loaded, floats, d, samples=samples, seed=seed + 1 + i)
+        m = operational.estimate_derivative(loaded, floats, d, samples=samples, seed=seed + 1 + i,
+                                           method=method)
         er = err(e)
         rows.append(Row("derivative", p, _f(e["value"]), er, m["value"], m["stderr"], False))
         rows.append(Row("regular", p, _f(e["regular"]), er, m["regular"]["value"], m["regular"]["stderr"], False))
@@ -541,6 +652,7 @@ class FuzzSummary:
                 "counts": self.counts(), "status": "discrepancy" if self.failed else "agree",
                 "minimal": self.minimal.to_json() if self.minimal else None,
                 "failures": [r.to_json() for r in self.results if r.failed],
+                "results": [{"program": r.text, "status": r.status} for r in self.results],
                 "kept": self.kept}
 
 
@@ -551,7 +663,7 @@ class _Failed(AssertionError):
 
 
 def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: float = 20.0,
-             keep: str | None = None, lint: bool = True, progress=None) -> FuzzSummary:
+             keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform") -> FuzzSummary:
     """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs); on a
     failure hypothesis shrinks it, and the minimal failing program is ``summary.minimal``."""
     hypothesis, _ = _hypothesis()
@@ -568,7 +680,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
         if prog.text in seen:
             res = next(r for r in summary.results if r.text == prog.text)
         else:
-            res = compare_text(prog.text, samples=samples, seed=seed, timeout=timeout, lint=lint)
+            res = compare_text(prog.text, samples=samples, seed=seed, timeout=timeout, lint=lint, method=method)
             seen.add(prog.text)
             summary.results.append(res)
             if progress is not None:

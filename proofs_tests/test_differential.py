@@ -21,13 +21,25 @@ def _row(res, quantity, wrt=None):
     return row
 
 
+STATUSES: list[str] = []
+
+
 @settings(derandomize=True, max_examples=25, deadline=None, database=None,
           suppress_health_check=list(HealthCheck))
-@given(fuzz.programs(max_summands=2, max_factors=2, max_conds=3))
+@given(fuzz.programs(max_summands=2, max_factors=2, max_conds=2, max_params=2, light=True))
 def test_engines_agree_on_random_transverse_programs(prog):
-    res = fuzz.compare_text(prog.text, samples=20000, seed=0, timeout=10.0)
+    res = fuzz.compare_text(prog.text, samples=20000, seed=0, timeout=8.0)
+    STATUSES.append(res.status)
     bad = [r for r in res.rows if not r.ok]
     assert not res.failed, f"{res.status} {res.reason}\n{prog.text}\n{bad}"
+
+
+def test_most_random_programs_were_really_compared():
+    """The property above is not vacuous: most programs reached both engines (not timeouts,
+    not discarded by the linter)."""
+    if not STATUSES:
+        pytest.skip("run together with the property test")
+    assert STATUSES.count("agree") >= len(STATUSES) // 2, STATUSES
 
 
 def test_generated_programs_are_generic_and_load():

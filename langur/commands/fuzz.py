@@ -22,6 +22,8 @@ def add_arguments(p):
                    help="Monte Carlo samples per estimate (default 20000)")
     p.add_argument("--timeout", type=float, default=20.0, metavar="SECONDS",
                    help="time limit of the exact engine per program; slower programs count as timeouts (default 20)")
+    p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
+                   help="Monte Carlo sampling (default uniform)")
     p.add_argument("--no-lint", action="store_true",
                    help="do not run the transversality linter (no program is discarded)")
     p.add_argument("--keep", metavar="DIR", help="write each failing program to DIR as a .lgr file")
@@ -46,7 +48,7 @@ def run(args) -> int:
 
     try:
         summary = fuzz.run_fuzz(args.examples, args.seed, args.samples, args.timeout, keep=args.keep,
-                                lint=not args.no_lint, progress=progress)
+                                lint=not args.no_lint, progress=progress, method=args.method)
     except fuzz.MissingHypothesis as e:
         print(f"langur fuzz: error: {e}", file=sys.stderr)
         return 2
