@@ -221,3 +221,21 @@ def test_sympy_integrate_under_a_deadline_falls_back():
     c = Context({}, Deadline(0.0), frozenset())
     with pytest.raises(Unsupported):
         regions.antiderivative(x * sp.exp(x), x, c)
+
+
+def test_time_limit_survives_a_swallowed_alarm():
+    # the first alarm fires inside a bare ``except:`` that swallows it; the repeated alarm still
+    # ends the call
+    def stubborn():
+        end = time.monotonic() + 0.5
+        while time.monotonic() < end:
+            try:
+                time.sleep(0.01)
+            except BaseException:  # noqa: B036 - deliberately swallows the first alarm
+                break
+        time.sleep(5)
+
+    start = time.monotonic()
+    with pytest.raises(TimeoutError):
+        run_with_timeout(stubborn, 0.1)
+    assert time.monotonic() - start < 2

@@ -55,31 +55,37 @@ def run_with_timeout(fn: Callable[[], T], seconds: float) -> T:
         return result
 
     token = object()
+    state = {"done": False}
     start = time.monotonic()
-    old_remaining, _ = signal.getitimer(signal.ITIMER_REAL)
+    old_remaining, old_interval = signal.getitimer(signal.ITIMER_REAL)
     limit = seconds if old_remaining <= 0 else min(seconds, old_remaining)
 
     def handler(signum, frame):  # noqa: ARG001
-        raise _Expired(token)
+        if not state["done"]:
+            raise _Expired(token)
 
     old_handler = signal.signal(signal.SIGALRM, handler)
-    signal.setitimer(signal.ITIMER_REAL, limit)
+    # The alarm repeats every 50 ms until disarmed: an exception raised where Python swallows it
+    # (a garbage-collector callback, a __del__, a bare ``except:``) does not lose the limit.
+    signal.setitimer(signal.ITIMER_REAL, limit, 0.05)
     try:
         return fn()
     except _Expired as exc:
+        state["done"] = True
         if exc.token is token:
             raise TimeoutError(f"call took longer than {limit:.3g} s") from None
         raise
     finally:
+        state["done"] = True
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, old_handler)
         if old_remaining > 0:
             left = old_remaining - (time.monotonic() - start)
             if left <= 0:
                 # The outer limit expired while we ran: deliver it now to the outer handler.
-                signal.setitimer(signal.ITIMER_REAL, 1e-4)
+                signal.setitimer(signal.ITIMER_REAL, 1e-4, old_interval)
             else:
-                signal.setitimer(signal.ITIMER_REAL, left)
+                signal.setitimer(signal.ITIMER_REAL, left, old_interval)
 
 
 class Deadline:
