@@ -45,6 +45,12 @@ def run(args) -> int:
         if args.verbose:
             print(f"  {res.status:<18} {res.exact_seconds:6.1f}s  "
                   f"{res.text.splitlines()[-2].strip()[:90]}", file=sys.stderr)
+            if res.failed:
+                print("".join(f"    | {line}\n" for line in res.text.splitlines()), end="", file=sys.stderr)
+                for r in res.rows:
+                    if not r.ok:
+                        print(f"    ! {r.quantity}{' wrt ' + r.wrt if r.wrt else ''}: exact {r.exact!r} "
+                              f"(error {r.error:.3g}), mc {r.mc!r} ± {r.stderr:.3g}", file=sys.stderr)
 
     try:
         summary = fuzz.run_fuzz(args.examples, args.seed, args.samples, args.timeout, keep=args.keep,
