@@ -253,7 +253,16 @@ def _smooth(ctx: _Ctx) -> str:
         f"sqrt(max({v}, {p}) + 1.5)",
         f"abs({v} - {p})",
     )
-    return ctx.pick(forms[:ctx.n_smooth])
+    form = ctx.pick(forms[:ctx.n_smooth])
+    if form in forms[16:]:
+        # min, max and abs are conditionals: their zero set v = p counts like any other (a kink
+        # on a jump's zero set is a coincidence of Def. 7.2, even if its delta has zero weight)
+        pv = ctx.pvals[p]
+        line = (1.0, 0.0, pv) if v == "x" else (0.0, 1.0, pv)
+        key = ("lin", "1", "0", p, "0") if v == "x" else ("lin", "0", "1", p, "0")
+        g = (lambda x, y: x - pv) if v == "x" else (lambda x, y: y - pv)
+        ctx.conds.append(_Cond(v, ">=", p, g, (line,), key))
+    return form
 
 
 def _factor(ctx: _Ctx) -> str:

@@ -23,7 +23,8 @@ def add_arguments(p):
     p.add_argument("--timeout", type=float, default=20.0, metavar="SECONDS",
                    help="time limit of the exact engine per program; slower programs count as timeouts (default 20)")
     p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
-                   help="Monte Carlo sampling (default uniform)")
+                   help="Monte Carlo sampling (default uniform; the 5-sigma rule assumes i.i.d. "
+                        "points: stratified/qmc standard errors can be 0 on a jump, so they false-alarm)")
     p.add_argument("--no-lint", action="store_true",
                    help="do not run the transversality linter (no program is discarded)")
     p.add_argument("--keep", metavar="DIR", help="write each failing program to DIR as a .lgr file")
