@@ -7,7 +7,8 @@ is exercised too), loads them with :func:`langur.frontend.load_text`, and compar
 
 Public API::
 
-    programs(max_summands=3, max_factors=3)        -> hypothesis strategy of FuzzProgram
+    programs(max_summands=3, max_factors=3, max_conds=4, max_params=3, light=False)
+        -> hypothesis strategy of FuzzProgram
     compare_text(text, *, samples=20000, seed=0, timeout=20.0, lint=True, method="uniform")
         -> ProgramResult
     run_fuzz(examples=50, seed=0, samples=20000, timeout=20.0, keep=None, lint=True,
@@ -22,7 +23,11 @@ without replacement from irregular decimals); integrands that are sums of produc
 factors (polynomials, ``exp``, ``sin``, ``cos``, ``sqrt`` of affine or quadratic terms, arguments
 of ``sqrt`` kept positive on every box), Iverson brackets whose conditions are affine in the
 variables with parameter offsets or simple nonlinear (``[x^2 <= a + k]``, ``[y >= x^2 + a + k]``,
-a disk), ``if … then … else …``, ``min``/``max`` and ``let``.  Every zero set in a program is
+a disk, ``[a*x <= k]`` whose completion divides by a parameter), windows ``[l <= t <= u]``,
+``if … then … else …`` (nested, or on parameters only), ``min``/``max``/``abs``, ``let``, declared
+diffeos (``diffeo sh(x, y; c) = …``, linear with a non-variable second component, and a cubic),
+and a ``def`` called once or twice (separately compiled by the Monte Carlo engine; inlined by the
+front end for the exact one).  Every zero set in a program is
 distinct, and numerically (at the defaults) no two straight zero sets coincide, none coincides
 with a face of the box, and none passes through a corner of the box.  Optionally (``lint``) the
 program is also run through :func:`langur.transversality.check_loaded` and discarded on any
@@ -37,7 +42,10 @@ covers one-variable deltas, which the Monte Carlo engine evaluates exactly, stan
 Compared separately: value, derivative, its regular part and its boundary (delta) part, standard
 AD = regular in each engine, and Theorem 8.1's check must hold (these programs are transverse).
 An exact engine that takes longer than ``timeout`` seconds on a program is a ``timeout``, not a
-failure; one that cannot evaluate (``ExactUnavailable``) is ``exact_unavailable``.
+failure; one that cannot evaluate (``ExactUnavailable``) is ``exact_unavailable``; any other
+exception of the exact engine (e.g. a closed form that disagrees with its own quadrature) is an
+``exact_error`` and counts as a failure.  The exact engine runs in a forked child process killed
+at the time limit (a SIGALRM-based limit can be lost when it fires inside a gc callback).
 """
 
 from __future__ import annotations
