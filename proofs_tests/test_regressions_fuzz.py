@@ -44,11 +44,13 @@ def test_delta_points_outside_the_box_score_zero_not_nan_2d():
     assert abs(b["value"] - hand) <= 5 * b["stderr"] + 1e-9
 
 
-# Exact (symbolic) engine bug, NOT fixed here (langur/symbolic and langur/ddenote belong to another
-# helper): a jump [x ≤ a] multiplied by min(x, a), whose kink lies on the same zero set x = a,
-# has its delta counted twice.  min(t, s) is ifge0 (t − s) then s else t (LANGUAGE.md §6), whose
-# delta carries the weight ⟦s⟧ − ⟦t⟧ = a − x = 0 on x = a, so by Fig. 8 it adds nothing: the
-# coincidence is harmless (the linter rightly reports nothing, cf. X308), and ⦇p⦈ = D⟦p⟧.
+# Exact (symbolic) engine bug, fixed: a jump [x ≤ a] multiplied by min(x, a), whose kink lies on
+# the same zero set x = a, had its delta counted twice.  min(t, s) is ifge0 (t − s) then s else t
+# (LANGUAGE.md §6), whose delta carries the weight ⟦s⟧ − ⟦t⟧ = a − x = 0 on x = a, so by Fig. 8 it
+# adds nothing: the coincidence is harmless (the linter rightly reports nothing, cf. X308), and
+# ⦇p⦈ = D⟦p⟧.  The cause: the decomposition wrote ifge0 Φ then s else r as [Φ ≥ 0]·s + [−Φ ≥ 0]·r,
+# and on Φ = 0 both branches counted; the complement is now the strict [−Φ > 0] (Fig. 7 takes the
+# then-branch at Φ = 0), which is what the delta restricted to Φ = 0 sees.
 MIN_CASES = [
     # ∫₀² min(x, a)·[x ≤ a] dx = ∫₀^a x dx = a²/2 → D_a = a; ⦇p⦈ = δ(a − x)·min(x, a) = a, all boundary
     ("param a = 0.61\nint ([0, 2]) min(x, a) * [x <= a] d(x)\n", 0.61, 0.0, 0.61),
@@ -66,8 +68,6 @@ def test_min_kink_on_a_jump_monte_carlo(text, total, regular, boundary):
     assert abs(r["regular"]["value"] - regular) <= 5 * r["regular"]["stderr"] + 1e-9
 
 
-@pytest.mark.xfail(strict=True, reason="symbolic engine counts the jump of [x <= a] twice when "
-                   "min(x, a)'s kink lies on the same zero set (found by langur fuzz; gives 2a, not a)")
 @pytest.mark.parametrize("text,total,regular,boundary", MIN_CASES)
 def test_min_kink_on_a_jump_exact(text, total, regular, boundary):
     from langur.symbolic import api

@@ -170,8 +170,9 @@ def condition_of(diffeo: Diffeo, ctx: Ctx, origin: object = None) -> Condition:
 
 
 def complement(c: Condition) -> Condition:
-    """[−Φ ≥ 0]: the complement of [Φ ≥ 0] up to the null set Φ = 0."""
-    return Condition(-c.expr, negate_psi(c.psi) if c.psi is not None else None, c.origin)
+    """[−Φ > 0]: the complement of [Φ ≥ 0] (exactly, also on the zero set Φ = 0, where Fig. 7
+    takes the then-branch; the complement of a strict condition is again non-strict)."""
+    return Condition(-c.expr, negate_psi(c.psi) if c.psi is not None else None, c.origin, not c.strict)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -185,7 +186,9 @@ def leaf(e: sp.Expr) -> list[Piece]:
 def dedupe(conds: Iterable[Condition]) -> tuple[Condition, ...]:
     seen: dict[sp.Expr, Condition] = {}
     for c in conds:
-        seen.setdefault(c.expr, c)
+        prev = seen.get(c.expr)
+        if prev is None or (c.strict and not prev.strict):  # [Φ ≥ 0]·[Φ > 0] = [Φ > 0]
+            seen[c.expr] = c
     return tuple(seen.values())
 
 

@@ -140,10 +140,17 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
             xl, xh = box[x]
             exprs += [xsub.get(x, x) - xl, xh - xsub.get(x, x)]
         conds = []
-        for e in exprs:
+        strict = [c.strict for c in piece.conditions]  # guards and box conditions are non-strict
+        empty = False
+        for k, e in enumerate(exprs):
             if vanishes_identically(e, uprime, ubox, ctx):
-                continue
+                if k < len(strict) and strict[k]:
+                    empty = True  # [0 > 0] is false: this branch of the piece is 0 on the zero set
+                    break
+                continue  # [0 ≥ 0] is true
             conds.append(Cond(e))
+        if empty:
+            continue
         weight = sp.sympify(piece.weight).xreplace(xsub)
         if not (J.free_symbols & set(uprime)):
             problems.append((conds, weight * sp.Abs(J)))

@@ -43,12 +43,18 @@ class Psi:
 
 @dataclass(frozen=True)
 class Condition:
-    """``[expr ≥ 0]``.  ``psi`` (optional) has ``psi.forward[0] == expr``; ``origin`` is an opaque
-    tag for diagnostics (e.g. the core IfDiffeo node's span)."""
+    """``[expr ≥ 0]``, or ``[expr > 0]`` when ``strict``.  ``psi`` (optional) has
+    ``psi.forward[0] == expr``; ``origin`` is an opaque tag for diagnostics (e.g. the core IfDiffeo
+    node's span).
+
+    Strictness is invisible to integrals over ℝⁿ (the zero set is null) but not to a delta
+    restricted to that zero set: ``ifge0 Φ then s else r`` is ``[Φ ≥ 0]·s + [−Φ > 0]·r`` (Fig. 7
+    takes the then-branch at Φ = 0), so on Φ = 0 exactly one branch counts."""
 
     expr: sp.Expr
     psi: Psi | None = None
     origin: object = field(default=None, compare=False)
+    strict: bool = False
 
 
 @dataclass(frozen=True)

@@ -364,12 +364,18 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
         guards_start = len(piece.conditions)
         for i, (lo, hi) in enumerate(box):
             exprs += [variables[i] - lo, hi - variables[i]]
+        empty = False
         for k, e in enumerate(exprs):
             se = e if guards_start <= k < guards_start + len(b.guards) else e.xreplace(dict(zip(variables, xs)))
             if _vanishes(se, uprime, bounds, at):
+                if k < guards_start and piece.conditions[k].strict:
+                    empty = True  # [0 > 0] is FALSE: the piece is 0 on this branch of the zero set
+                    break
                 continue  # vanishes identically on the zero set: 0 >= 0 is TRUE (paper convention)
             lv = _level(se, uprime)
             conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, se.xreplace(_floats(at))))
+        if empty:
+            continue
         w_f = _lambdify(variables, piece.weight, at)
 
         def weight(*u, xmap=xmap, w_f=w_f):
