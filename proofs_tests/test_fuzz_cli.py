@@ -49,7 +49,7 @@ def test_discrepancy_exits_1_prints_and_keeps_the_minimal_program(capsys, tmp_pa
         res.status = "agree" if ok else "discrepancy"
         return res
 
-    monkeypatch.setattr(fuzz, "compare_text", fake)
+    monkeypatch.setattr(fuzz.compare, "compare_text", fake)  # the driver's own reference
     keep = tmp_path / "kept"
     status, out, err = run(capsys, "fuzz", "--examples", "30", "--seed", "2", "--keep", str(keep))
     assert status == 1, err
@@ -68,7 +68,8 @@ def test_missing_hypothesis_says_how_to_install(capsys, monkeypatch):
     def missing():
         raise fuzz.MissingHypothesis("`langur fuzz` needs hypothesis: pip install hypothesis")
 
-    monkeypatch.setattr(fuzz, "_hypothesis", missing)
+    monkeypatch.setattr(fuzz.compare, "_hypothesis", missing)
+    monkeypatch.setattr(fuzz.generate, "_hypothesis", missing)
     status, out, err = run(capsys, "fuzz", "--examples", "1")
     assert status == 2 and "pip install hypothesis" in err and out == ""
 

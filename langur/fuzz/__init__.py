@@ -1,0 +1,55 @@
+"""Differential testing of the two engines (CLI.md, ``langur fuzz``).
+
+The exact symbolic reference (:mod:`langur.symbolic.api`, sympy) and the operational Monte Carlo
+engine (:mod:`langur.operational`, numpy) implement ⟦p⟧ and ⦇p⦈ (LANGUAGE.md §3–§4) independently.
+This module generates random well-typed, *transverse* programs as ``.lgr`` text (so the front end
+is exercised too), loads them with :func:`langur.frontend.load_text`, and compares the engines.
+
+Public API::
+
+    programs(max_summands=3, max_factors=3, max_conds=4, max_params=3, light=False)
+        -> hypothesis strategy of FuzzProgram
+    compare_text(text, *, samples=20000, seed=0, timeout=20.0, lint=True, method="uniform")
+        -> ProgramResult
+    run_fuzz(examples=50, seed=0, samples=20000, timeout=20.0, keep=None, lint=True,
+             progress=None, method="uniform") -> FuzzSummary
+
+``hypothesis`` is a development dependency: it is imported lazily, and :class:`MissingHypothesis`
+is raised (with ``pip install hypothesis`` advice) when it is absent.
+
+Generated programs (transverse by construction, LANGUAGE.md §5): one or two variables on boxes
+with constant or parametric bounds; one to three parameters with *generic* defaults (picked
+without replacement from irregular decimals); integrands that are sums of products of smooth
+factors (polynomials, ``exp``, ``sin``, ``cos``, ``sqrt`` of affine or quadratic terms, arguments
+of ``sqrt`` kept positive on every box), Iverson brackets whose conditions are affine in the
+variables with parameter offsets or simple nonlinear (``[x^2 <= a + k]``, ``[y >= x^2 + a + k]``,
+a disk, ``[a*x <= k]`` whose completion divides by a parameter), windows ``[l <= t <= u]``,
+``if … then … else …`` (nested, or on parameters only), ``min``/``max``/``abs``, ``let``, declared
+diffeos (``diffeo sh(x, y; c) = …``, linear with a non-variable second component, and a cubic),
+and a ``def`` called once or twice (separately compiled by the Monte Carlo engine; inlined by the
+front end for the exact one).  Every zero set in a program is
+distinct, and numerically (at the defaults) no two straight zero sets coincide, none coincides
+with a face of the box, and none passes through a corner of the box.  Optionally (``lint``) the
+program is also run through :func:`langur.transversality.check_loaded` and discarded on any
+X301/X305 finding at the defaults (a cross-test of the linter: such a finding on these programs
+is counted).  X304 ("coincident for *some* parameter values", reported for any two moving jumps
+of one variable on the same side, e.g. ``[x >= a]·[x >= b]``) is recorded but not discarded: the
+defaults are generic, so the program is transverse where it is evaluated.
+
+Comparison (per program, value and the derivative in each parameter): agree iff
+``|mc − exact| ≤ 5·stderr + 1e-9 + exact error bound + 1e-9·max(|mc|, |exact|)`` (the relative term
+covers one-variable deltas, which the Monte Carlo engine evaluates exactly, standard error 0).
+Compared separately: value, derivative, its regular part and its boundary (delta) part, standard
+AD = regular in each engine, and Theorem 8.1's check must hold (these programs are transverse).
+An exact engine that takes longer than ``timeout`` seconds on a program is a ``timeout``, not a
+failure; one that cannot evaluate (``ExactUnavailable``) is ``exact_unavailable``; any other
+exception of the exact engine (e.g. a closed form that disagrees with its own quadrature) is an
+``exact_error`` and counts as a failure.  The exact engine runs in a forked child process killed
+at the time limit (a SIGALRM-based limit can be lost when it fires inside a gc callback).
+"""
+
+from .compare import FuzzSummary, ProgramResult, Row, agree, compare_text, run_fuzz
+from .generate import FuzzProgram, MissingHypothesis, programs
+
+__all__ = ["FuzzProgram", "FuzzSummary", "MissingHypothesis", "ProgramResult", "Row", "agree",
+           "compare_text", "programs", "run_fuzz"]

@@ -1,0 +1,308 @@
+"""Comparing the exact and the Monte Carlo engines on one program, and the driver that
+``langur fuzz`` runs (see :mod:`langur.fuzz` for the agreement rule).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass, field
+
+from .generate import (
+    ABS_SLACK,
+    LINT_DISCARD,
+    REL_SLACK,
+    SIGMA,
+    FuzzProgram,
+    _hypothesis,
+    programs,
+)
+
+# ---------------------------------------------------------------------------------------------
+# Comparison
+# ---------------------------------------------------------------------------------------------
+
+@dataclass
+class Row:
+    """One comparison: ``quantity`` (value, derivative, regular, boundary, standard_ad, theorem)."""
+
+    quantity: str
+    wrt: str | None
+    exact: float
+    error: float
+    mc: float
+    stderr: float
+    ok: bool
+
+    @property
+    def z(self) -> float:
+        d = abs(self.mc - self.exact)
+        if d <= ABS_SLACK + REL_SLACK * max(abs(self.mc), abs(self.exact)):
+            return 0.0  # equal to rounding (a one-variable delta, a constant integrand)
+        return d / self.stderr if self.stderr > 0 else math.inf
+
+    def to_json(self) -> dict:
+        return {"quantity": self.quantity, "wrt": self.wrt, "exact": self.exact, "error": self.error,
+                "mc": self.mc, "stderr": self.stderr, "ok": self.ok}
+
+
+@dataclass
+class ProgramResult:
+    """The outcome for one program: ``status`` is agree, discrepancy, timeout, exact_unavailable,
+    discarded (linter finding), load_error (the front end rejected a generated program) or
+    exact_error (the exact engine failed with an internal error, e.g. a closed form that
+    disagrees with its own quadrature cross-check)."""
+
+    text: str
+    status: str
+    rows: list[Row] = field(default_factory=list)
+    findings: list[str] = field(default_factory=list)
+    reason: str = ""
+    exact_seconds: float = 0.0
+    methods: list[str] = field(default_factory=list)
+
+    @property
+    def failed(self) -> bool:
+        return self.status in ("discrepancy", "load_error", "exact_error")
+
+    def to_json(self) -> dict:
+        return {"program": self.text, "status": self.status, "reason": self.reason,
+                "findings": self.findings, "exact_seconds": round(self.exact_seconds, 3),
+                "methods": self.methods, "rows": [r.to_json() for r in self.rows]}
+
+
+def agree(exact: float, error: float, mc: float, stderr: float) -> bool:
+    """``|mc − exact| ≤ 5·stderr + 1e-9 + error + 1e-9·max(|mc|, |exact|)`` (NaN never agrees)."""
+    vals = (exact, error, mc, stderr)
+    if any(isinstance(v, str) or v is None or (isinstance(v, float) and math.isnan(v)) for v in vals):
+        return False
+    tol = SIGMA * stderr + ABS_SLACK + error + REL_SLACK * max(abs(mc), abs(exact))
+    return abs(mc - exact) <= tol
+
+
+def _f(v) -> float:
+    if isinstance(v, str):
+        return float(v)  # "nan", "inf", "-inf"
+    return float(v)
+
+
+def _exact_child(conn, program, params):
+    """In a forked child: every exact answer, sent back through ``conn``."""
+    import gc
+
+    from ..symbolic import api
+
+    gc.callbacks.clear()  # a time limit firing inside a gc callback would be swallowed there
+    try:
+        ex = api.exact_eval(program, params)
+        exd = {p: api.exact_deriv(program, params, {q: (1 if q == p else 0) for q in params}) for p in params}
+        conn.send(("ok", ex, exd))
+    except api.ExactUnavailable as e:
+        conn.send(("exact_unavailable", str(e), None))
+    except BaseException as e:  # noqa: BLE001 - an internal error of the exact engine is a finding
+        conn.send(("exact_error", f"{type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}", None))
+    finally:
+        conn.close()
+
+
+def _exact_all(program, params, timeout: float):
+    """``(status, ex, exd)`` from the exact engine, run in a forked process that is killed after
+    ``timeout`` seconds (a SIGALRM-based limit inside one process can be lost, e.g. when it fires
+    in a garbage-collector callback; a killed child cannot overrun)."""
+    import multiprocessing as mp
+
+    from .. import ddenote, denote  # noqa: F401 - imported once here, not in every child
+    from ..symbolic import api, theorem  # noqa: F401
+
+    ctx = mp.get_context("fork")
+    parent, child = ctx.Pipe(duplex=False)
+    proc = ctx.Process(target=_exact_child, args=(child, program, params), daemon=True)
+    proc.start()
+    child.close()
+    try:
+        if parent.poll(timeout):
+            try:
+                return parent.recv()
+            except EOFError:
+                return ("exact_error", f"exact engine process died (exit code {proc.exitcode})", None)
+        return ("timeout", f"exact engine took longer than {timeout:g} s", None)
+    finally:
+        if proc.is_alive():
+            proc.kill()
+        proc.join()
+        parent.close()
+
+
+def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: float = 20.0,
+                 lint: bool = True, method: str = "uniform") -> ProgramResult:
+    """Load ``text`` and compare the engines on value and every partial derivative (module doc)."""
+    from .. import operational
+    from ..diagnostics import LangurError
+    from ..frontend import load_text
+
+    try:
+        loaded = load_text(text, path="<fuzz>.lgr")
+    except LangurError as e:
+        return ProgramResult(text, "load_error", reason="; ".join(d.format() for d in e.diagnostics))
+    program = loaded.program
+    params = loaded.param_values({})
+    result = ProgramResult(text, "agree")
+    if lint:
+        from ..transversality import check_loaded
+
+        try:
+            found = check_loaded(loaded, at={k: float(v) for k, v in params.items()},
+                                  sources={"<fuzz>.lgr": text})
+        except Exception as e:  # noqa: BLE001 - a linter crash is recorded, the engines still run
+            found = []
+            result.findings.append(f"linter error: {type(e).__name__}: {e}")
+        result.findings += [f"{f.code} {f.message}" for f in found]
+        if any(f.code in LINT_DISCARD for f in found):
+            result.status = "discarded"
+            return result
+    floats = {k: float(v) for k, v in params.items()}
+    t0 = time.monotonic()
+    status, ex, exd = _exact_all(program, params, timeout)
+    result.exact_seconds = time.monotonic() - t0
+    if status != "ok":
+        result.status, result.reason = status, ex
+        return result
+
+    def err(r):
+        return _f(r.get("error", 0.0)) if r.get("method") != "closed_form" else 0.0
+
+    rows = result.rows
+    result.methods.append(ex["method"])
+    mc = operational.estimate_value(loaded, floats, samples=samples, seed=seed, method=method)
+    rows.append(Row("value", None, _f(ex["value"]), err(ex), mc["value"], mc["stderr"], False))
+    for i, p in enumerate(params):
+        e = exd[p]
+        result.methods.append(e["method"])
+        d = {q: (1.0 if q == p else 0.0) for q in params}
+        m = operational.estimate_derivative(loaded, floats, d, samples=samples, seed=seed + 1 + i,
+                                           method=method)
+        er = err(e)
+        rows.append(Row("derivative", p, _f(e["value"]), er, m["value"], m["stderr"], False))
+        rows.append(Row("regular", p, _f(e["regular"]), er, m["regular"]["value"], m["regular"]["stderr"], False))
+        rows.append(Row("boundary", p, _f(e["boundary"]), er, m["boundary"]["value"],
+                        m["boundary"]["stderr"], False))
+        # standard AD is the regular part in both engines (exact against exact, MC against MC)
+        rows.append(Row("standard_ad=regular (exact)", p, _f(e["regular"]), er, _f(e["standard_ad"]), 0.0, False))
+        rows.append(Row("standard_ad=regular (mc)", p, m["regular"]["value"], 0.0,
+                        m["standard_ad"]["value"], 0.0, False))
+        th = e.get("theorem_8_1")
+        if th is None:
+            result.findings.append(f"Theorem 8.1 not checked for {p}")
+        else:
+            ok = th.get("holds") is True
+            rows.append(Row("theorem_8_1", p, _f(th["d_denotation"]), er, _f(th["derivative_denotation"]),
+                            0.0, ok))
+            if th.get("holds") is None:
+                rows[-1].ok = True
+                result.findings.append(f"Theorem 8.1 undecided for {p}")
+    for r in rows:
+        if r.quantity != "theorem_8_1":
+            r.ok = agree(r.exact, r.error, r.mc, r.stderr)
+    if not all(r.ok for r in rows):
+        result.status = "discrepancy"
+    return result
+
+
+# ---------------------------------------------------------------------------------------------
+# Driver (what `langur fuzz` runs)
+# ---------------------------------------------------------------------------------------------
+
+@dataclass
+class FuzzSummary:
+    examples: int
+    seed: int
+    samples: int
+    results: list[ProgramResult] = field(default_factory=list)
+    minimal: ProgramResult | None = None
+    kept: list[str] = field(default_factory=list)
+
+    def counts(self) -> dict[str, int]:
+        out = {s: 0 for s in ("agree", "discrepancy", "load_error", "exact_error", "timeout",
+                              "exact_unavailable", "discarded")}
+        for r in self.results:
+            out[r.status] = out.get(r.status, 0) + 1
+        return out
+
+    @property
+    def comparisons(self) -> int:
+        return sum(len(r.rows) for r in self.results)
+
+    @property
+    def failed(self) -> bool:
+        return any(r.failed for r in self.results)
+
+    def to_json(self) -> dict:
+        return {"examples": self.examples, "seed": self.seed, "samples": self.samples,
+                "programs": len(self.results), "comparisons": self.comparisons,
+                "counts": self.counts(), "status": "discrepancy" if self.failed else "agree",
+                "minimal": self.minimal.to_json() if self.minimal else None,
+                "failures": [r.to_json() for r in self.results if r.failed],
+                "results": [{"program": r.text, "status": r.status} for r in self.results],
+                "kept": self.kept}
+
+
+class _Failed(AssertionError):
+    def __init__(self, result: ProgramResult):
+        super().__init__(result.status)
+        self.result = result
+
+
+def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: float = 20.0,
+             keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform") -> FuzzSummary:
+    """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs); on a
+    failure hypothesis shrinks it, and the minimal failing program is ``summary.minimal``."""
+    hypothesis, _ = _hypothesis()
+    from hypothesis import HealthCheck, given, settings
+
+    summary = FuzzSummary(examples, seed, samples)
+    seen: set[str] = set()
+
+    @settings(max_examples=examples, deadline=None, database=None, derandomize=False,
+              suppress_health_check=list(HealthCheck), print_blob=False)
+    @hypothesis.seed(seed)
+    @given(programs())
+    def check(prog: FuzzProgram):
+        if prog.text in seen:
+            res = next(r for r in summary.results if r.text == prog.text)
+        else:
+            res = compare_text(prog.text, samples=samples, seed=seed, timeout=timeout, lint=lint, method=method)
+            seen.add(prog.text)
+            summary.results.append(res)
+            if progress is not None:
+                progress(res)
+        if res.failed:
+            raise _Failed(res)
+
+    try:
+        check()
+    except _Failed as e:
+        summary.minimal = e.result
+    if keep:
+        os.makedirs(keep, exist_ok=True)
+        failing = [r for r in summary.results if r.failed]
+        for i, r in enumerate(failing):
+            path = os.path.join(keep, f"fuzz_{seed}_{i:03d}.lgr")
+            with open(path, "w", encoding="utf-8") as fh:
+                fh.write(_annotated(r))
+            summary.kept.append(path)
+        if summary.minimal is not None:
+            path = os.path.join(keep, f"fuzz_{seed}_minimal.lgr")
+            with open(path, "w", encoding="utf-8") as fh:
+                fh.write(_annotated(summary.minimal))
+            summary.kept.append(path)
+    return summary
+
+
+def _annotated(r: ProgramResult) -> str:
+    lines = [f"# langur fuzz: {r.status}" + (f" ({r.reason})" if r.reason else "")]
+    for row in r.rows:
+        if not row.ok:
+            lines.append(f"# {row.quantity}{' wrt ' + row.wrt if row.wrt else ''}: exact {row.exact!r} "
+                         f"(error {row.error:.3g}), mc {row.mc!r} ± {row.stderr:.3g}")
+    return "\n".join(lines) + "\n" + r.text
