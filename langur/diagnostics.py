@@ -38,17 +38,18 @@ class Diagnostic:
         return f"{where}: {self.severity} {self.code} {self.message}"
 
     def to_json(self) -> dict:
-        s = self.span
-        return {
-            "path": s.path if s else None,
-            "line": s.line if s else None,
-            "col": s.col if s else None,
-            "end_line": s.end_line if s else None,
-            "end_col": s.end_col if s else None,
-            "severity": self.severity,
-            "code": self.code,
-            "message": self.message,
-        }
+        return {**span_json(self.span), "severity": self.severity, "code": self.code, "message": self.message}
+
+
+def span_json(s: Span | None) -> dict:
+    """The location fields of CLI.md's JSON diagnostics (all None when the place is unknown)."""
+    return {
+        "path": s.path if s else None,
+        "line": s.line if s else None,
+        "col": s.col if s else None,
+        "end_line": s.end_line if s else None,
+        "end_col": s.end_col if s else None,
+    }
 
 
 class LangurError(Exception):

@@ -15,11 +15,11 @@ from __future__ import annotations
 
 import json
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from urllib.parse import quote
 
-from ..diagnostics import Diagnostic, Span
+from ..diagnostics import Diagnostic, Span, span_json
 
 #: The transversality codes (docs/CODES.md has the long form).
 X_CODES: dict[str, tuple[str, str, str]] = {
@@ -108,36 +108,19 @@ class Report:
         return msg
 
 
-def _span_json(s: Span | None) -> dict:
-    return {
-        "path": s.path if s else None,
-        "line": s.line if s else None,
-        "col": s.col if s else None,
-        "end_line": s.end_line if s else None,
-        "end_col": s.end_col if s else None,
-    }
+def _shown(r: Report) -> Diagnostic:
+    """The diagnostic as reported: its message with the ``--prove`` summary, if any."""
+    return replace(r.diagnostic, message=r.message)
 
 
 def text_lines(reports: list[Report]) -> list[str]:
-    out = []
-    for r in reports:
-        d = r.diagnostic
-        where = str(d.span) if d.span is not None else "<unknown>:1:1"
-        out.append(f"{where}: {d.severity} {d.code} {r.message}")
-    return out
+    return [_shown(r).format() for r in reports]
 
 
 def json_document(reports: list[Report]) -> dict:
     items = []
     for r in reports:
-        d = r.diagnostic
-        item = {
-            **_span_json(d.span),
-            "severity": d.severity,
-            "code": d.code,
-            "message": r.message,
-            "related": [_span_json(s) for s in d.related],
-        }
+        item = {**_shown(r).to_json(), "related": [span_json(s) for s in r.diagnostic.related]}
         if r.prove is not None:
             item["prove"] = r.prove
         items.append(item)
