@@ -46,16 +46,12 @@ def param_values(args, loaded) -> dict[str, Fraction | float]:
     if unknown:
         declared = ", ".join(loaded.params) or "none"
         raise UsageError(f"--at {unknown[0]}: no such parameter (declared: {declared})")
-    values: dict[str, Fraction | float] = {}
-    for name, default in loaded.params.items():
-        if name in at:
-            v = at[name]
-            values[name] = Fraction(str(v)) if math.isfinite(v) else v  # 0.1 stays exactly 1/10
-        elif default is not None:
-            values[name] = default
-        else:
-            raise UsageError(f"parameter {name} has no default: give it with --at {name}=VALUE")
-    return values
+    exact = {k: Fraction(str(v)) if math.isfinite(v) else v for k, v in at.items()}  # 0.1 stays 1/10
+    try:
+        return loaded.param_values(exact)
+    except KeyError as e:
+        name = e.args[0]
+        raise UsageError(f"parameter {name} has no default: give it with --at {name}=VALUE") from None
 
 
 def direction(args, loaded) -> dict[str, float]:
