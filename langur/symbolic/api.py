@@ -11,7 +11,6 @@ a one-line reason (the CLI then prints ``"exact": null`` and the reason on stand
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 
 import sympy as sp
@@ -24,14 +23,10 @@ class ExactUnavailable(Exception):
     """The symbolic engine cannot evaluate this program (the message says why, on one line)."""
 
 
-def _number(v: float):
-    """A JSON-ready float (NaN and infinities as the strings of CLI.md)."""
-    v = float(v)
-    if math.isnan(v):
-        return "nan"
-    if math.isinf(v):
-        return "inf" if v > 0 else "-inf"
-    return v
+def _number(v) -> float:
+    """A plain float (NaN and infinities included, as the operational API returns them; the CLI
+    writes them as CLI.md's strings ``"nan"``, ``"inf"``, ``"-inf"``)."""
+    return float(v)
 
 
 def _expr_text(e: sp.Expr | None) -> str | None:
