@@ -61,14 +61,19 @@ def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, see
     linked, p = prepare(program_or_loaded, params, sites)
     rng = np.random.default_rng(seed)
     with np.errstate(all="ignore"):
-        x, volume, d = _domain(linked, p, rng, samples, method)
-        n = d.points.shape[0]
-        if x is None:
-            mean, se = (0.0, 0.0) if volume == 0.0 else (math.nan, math.nan)
-        else:
-            v, _ = linked.fn(_env(linked, x, p, mode=VALUE))
-            mean, se = d.mean(_full(v, n))
-    return {"value": volume * mean, "stderr": volume * se, "samples": n, "seed": seed, "method": method}
+        value, se, n = _over_domain(linked, p, rng, samples, method, 0, mode=VALUE)
+    return {"value": value, "stderr": se, "samples": n, "seed": seed, "method": method}
+
+
+def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: int, **env):
+    """vol(box) · mean over a design in Program.box of ``linked.fn``'s value (``part`` 0) or tangent
+    (``part`` 1), with its standard error and the number of points: ``(estimate, stderr, n)``."""
+    x, volume, d = _domain(linked, p, rng, samples, method)
+    n = d.points.shape[0]
+    if x is None:  # an empty or undefined box
+        return (0.0, 0.0, n) if volume == 0.0 else (math.nan, math.nan, n)
+    mean, se = d.mean(_full(linked.fn(_env(linked, x, p, **env))[part], n))
+    return volume * mean, volume * se, n
 
 
 def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, samples: int = 10000,
@@ -84,14 +89,7 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
     rng = np.random.default_rng(seed)
     with np.errstate(all="ignore"):
         # regular part: the tangent with every delta dropped (Dˢ), over the domain design
-        x, volume, d = _domain(linked, p, rng, samples, method)
-        n = d.points.shape[0]
-        if x is None:
-            reg, reg_se = (0.0, 0.0) if volume == 0.0 else (math.nan, math.nan)
-        else:
-            _, t = linked.fn(_env(linked, x, p, dparams=dp, mode=TANGENT))
-            reg, reg_se = d.mean(_full(t, n))
-            reg, reg_se = volume * reg, volume * reg_se
+        reg, reg_se, n = _over_domain(linked, p, rng, samples, method, 1, dparams=dp, mode=TANGENT)
         bnd, bnd_var = _boundary(linked, p, dp, rng, samples, method)
     bnd_se = math.sqrt(bnd_var)
     return {
@@ -163,7 +161,7 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str)
     if all(des.method == "exact" for _, des, _, _ in plan):  # one variable: every root once, exactly
         return float(np.sum(np.add.reduceat(score, starts))), 0.0
     total, var = 0.0, 0.0
-    for (k, des, volume, branches), at, c in zip(plan, starts, counts):
+    for (_k, des, volume, branches), at, c in zip(plan, starts, counts):
         # per u'-point, the sum over branches; then the design's mean and standard error
         f = score[at:at + c].reshape(len(branches), des.points.shape[0]).sum(axis=0)
         mean, se = des.mean(f)
