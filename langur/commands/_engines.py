@@ -7,6 +7,22 @@ import sys
 ENGINE_CHOICES = ["both", "exact", "mc"]
 
 
+def add_engine_arguments(p) -> None:
+    """The options eval and deriv share: Monte Carlo sampling and which engines run."""
+    p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
+                   help="Monte Carlo sampling (default uniform)")
+    p.add_argument("--engine", choices=ENGINE_CHOICES, default="both",
+                   help="which engines to run (default both)")
+
+
+def how(exact: dict) -> str:
+    """How the exact value was obtained, for the text output."""
+    if exact.get("method") == "closed_form":
+        return "closed form"
+    error = exact.get("error")
+    return f"quadrature, error ≤ {float(error):.3g}" if error is not None else "quadrature"
+
+
 def run_exact(kind: str, program, params, direction=None, *, theorem: bool = True):
     """The symbolic reference's answer as CLI.md's ``exact`` object, or ``(None, status)``.
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..cli import add_common
 from . import _common as c
-from ._engines import ENGINE_CHOICES, run_exact, run_mc
+from ._engines import add_engine_arguments, how, run_exact, run_mc
 
 
 def add_arguments(p):
@@ -13,10 +13,7 @@ def add_arguments(p):
     p.add_argument("--dir", action="append", metavar="NAME=VALUE",
                    help="a direction γ' instead of --wrt (repeatable, or comma-separated)")
     add_common(p, mc=True)
-    p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
-                   help="Monte Carlo sampling (default uniform)")
-    p.add_argument("--engine", choices=ENGINE_CHOICES, default="both",
-                   help="which engines to run (default both)")
+    add_engine_arguments(p)
     p.add_argument("--no-theorem", action="store_true",
                    help="skip the Theorem 8.1 check (it re-evaluates ⦇p⦈ at nearby parameters when the "
                         "closed form cannot be differentiated symbolically)")
@@ -53,10 +50,8 @@ def run(args) -> int:
         "derivative in direction " + ", ".join(f"{k}'={c.fmt(v)}" for k, v in direction.items() if v)
     print(f"{args.file}: {what} at {c.fmt_params(params)}")
     if exact is not None:
-        how = "closed form" if exact.get("method") == "closed_form" else \
-            f"quadrature, error ≤ {c.fmt(exact.get('error'), 3)}"
         print(f"  exact       : {c.fmt(exact['value'])} = regular {c.fmt(exact['regular'])}"
-              f" + boundary {c.fmt(exact['boundary'])}   ({how}: {exact.get('expr')})")
+              f" + boundary {c.fmt(exact['boundary'])}   ({how(exact)}: {exact.get('expr')})")
         for note in exact.get("notes") or []:
             print(f"                note: {note}")
     if mc is not None:

@@ -6,16 +6,13 @@ import sys
 
 from ..cli import add_common
 from . import _common as c
-from ._engines import ENGINE_CHOICES, run_exact, run_mc
+from ._engines import add_engine_arguments, how, run_exact, run_mc
 
 
 def add_arguments(p):
     p.add_argument("file", metavar="FILE", help="a .lgr file with a program (- reads standard input)")
     add_common(p, mc=True)
-    p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
-                   help="Monte Carlo sampling (default uniform)")
-    p.add_argument("--engine", choices=ENGINE_CHOICES, default="both",
-                   help="which engines to run (default both)")
+    add_engine_arguments(p)
 
 
 def run(args) -> int:
@@ -33,9 +30,7 @@ def run(args) -> int:
         return status
     print(f"{args.file}: value at {c.fmt_params(params)}")
     if exact is not None:
-        how = "closed form" if exact.get("method") == "closed_form" else \
-            f"quadrature, error ≤ {c.fmt(exact.get('error'), 3)}"
-        print(f"  exact : {c.fmt(exact['value'])}   ({how}: {exact.get('expr')})")
+        print(f"  exact : {c.fmt(exact['value'])}   ({how(exact)}: {exact.get('expr')})")
         for note in exact.get("notes") or []:
             print(f"          note: {note}")
     if mc is not None:
