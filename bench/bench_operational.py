@@ -36,8 +36,7 @@ from langur.frontend import load
 from langur.operational import clear_cache, estimate_derivative, estimate_value, link
 from langur.operational.naive import naive_derivative, naive_value
 
-EX = os.path.join(os.environ.get("LANGUR_SHARED", os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                                                "..", "..", "shared")), "examples")
+EX = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")  # the project's own
 
 
 CLOCK = time.process_time  # CPU time of this process: the machine is shared (see RESULTS.md)

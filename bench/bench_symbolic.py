@@ -24,8 +24,7 @@ from langur.core import Add, Diffeo, IfDiffeo, InverseBranch, Mul, Param, Progra
 from langur.ddenote import ddenote, ddenote_program
 from langur.denote import denote_program
 
-EXAMPLES = os.environ.get("LANGUR_SHARED", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
-                                                       "shared")) + "/examples"
+EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")  # the project's own
 
 
 def _indicator(cond, inverse, v="x"):

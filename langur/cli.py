@@ -1,4 +1,4 @@
-"""The ``langur`` command (``../shared/spec/CLI.md``).
+"""The ``langur`` command (the command reference: ``docs/``).
 
 Each subcommand lives in ``langur/commands/<name>.py`` with ``add_arguments(parser)`` and
 ``run(args) -> int``.  This module parses the command line, sets up the common options, and turns

@@ -1,6 +1,6 @@
 """The paper's examples, reproduced with their numbers checked (``langur reproduce``).
 
-Each experiment loads a program from the shared examples, runs both engines, and compares them
+Each experiment loads a program from the project's examples (``examples/``), runs both engines, and compares them
 with values derived by hand (the derivation is in the comment beside each expected value) or, for
 integrals with no elementary hand form, with scipy quadrature of the formula written out here —
 never with the output of the engine under test.
@@ -16,7 +16,6 @@ never with the output of the engine under test.
 from __future__ import annotations
 
 import math
-import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -60,16 +59,13 @@ class Experiment:
 
 
 def examples_dir() -> Path:
-    """``shared/examples`` beside the repository, or ``LANGUR_EXAMPLES``."""
-    env = os.environ.get("LANGUR_EXAMPLES")
-    if env:
-        return Path(env)
-    here = Path(__file__).resolve().parents[1]
-    for base in (Path.cwd(), here):
-        for cand in (base / "../shared/examples", base / "shared/examples"):
-            if cand.is_dir():
-                return cand.resolve()
-    raise FileNotFoundError("cannot find shared/examples: set LANGUR_EXAMPLES")
+    """The project's own example programs: installed beside the package as ``langur/examples``,
+    or, in an editable install, the repository's ``examples/`` folder."""
+    here = Path(__file__).resolve().parent
+    for cand in (here / "examples", here.parent / "examples"):
+        if (cand / "fig1.lgr").is_file():
+            return cand
+    raise FileNotFoundError(f"the example programs are missing from this installation ({here / 'examples'})")
 
 
 def _exact_deriv(program, params, wrt):

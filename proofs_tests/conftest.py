@@ -4,5 +4,5 @@ from paths import EXAMPLES
 
 
 def pytest_configure(config):
-    if not EXAMPLES.is_dir():
-        raise pytest.UsageError(f"the shared examples are not at {EXAMPLES}: set LANGUR_SHARED")
+    if not (EXAMPLES / "fig1.lgr").is_file():
+        raise pytest.UsageError(f"the repository's example programs are missing from {EXAMPLES}")

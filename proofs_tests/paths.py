@@ -1,13 +1,10 @@
-"""Where the shared specification and examples are: ``shared/`` beside the repository.
+"""Where the project's example programs are: ``examples/`` in this repository.
 
-CI runs in a fresh clone with ``shared/`` beside it, so never hard-code an absolute path.
-``LANGUR_SHARED`` overrides the location.
+Nothing here looks outside the repository: a fresh clone has everything the tests need.
 """
 
-import os
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-SHARED = Path(os.environ.get("LANGUR_SHARED", REPO.parent / "shared"))
-EXAMPLES = SHARED / "examples"
+EXAMPLES = REPO / "examples"
 DEGENERATE = EXAMPLES / "degenerate"

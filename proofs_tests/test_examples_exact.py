@@ -1,4 +1,4 @@
-"""Exact values of the paper's examples (/work/shared/examples) at their default parameters:
+"""Exact values of the paper's examples (examples/) at their default parameters:
 ⟦p⟧, ⦇p⦈ = regular + boundary, standard AD (= regular) and the Theorem 8.1 check.
 
 Every expected number is derived by hand in the comments (closed forms evaluated with mpmath).

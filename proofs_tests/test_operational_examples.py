@@ -1,4 +1,4 @@
-"""The Monte Carlo engine on the real example files (shared/examples, see paths.py), via the front end.
+"""The Monte Carlo engine on the real example files (examples/, see paths.py), via the front end.
 
 Every program's value and derivative is compared with a value computed by hand (derivations in
 the comments) within 5 standard errors + 1e-9 (false-alarm rate < 1e-6 at these sample sizes;

@@ -308,24 +308,28 @@ def test_comments():
 
 
 def test_spans_in_renderer():
-    m = parse_module((EXAMPLES / "renderer.lgr").read_text(), "renderer.lgr")
-    # line 7: diffeo half_plane(x, y; c) = (x + y + c, y) inverse (u, v) = (u - v - c, v)
+    text = (EXAMPLES / "renderer.lgr").read_text()
+    m = parse_module(text, "renderer.lgr")
+    lines = text.splitlines()
+    d = 1 + next(i for i, s in enumerate(lines) if s.startswith("diffeo half_plane"))
+    n = 1 + next(i for i, s in enumerate(lines) if s.startswith("int ("))
+    # line d: diffeo half_plane(x, y; c) = (x + y + c, y) inverse (u, v) = (u - v - c, v)
     dif = m.items[2]
-    assert dif.span == Span("renderer.lgr", 7, 1, 7, 76)
-    assert dif.name.span == Span("renderer.lgr", 7, 8, 7, 18)
-    assert dif.forward[0].span == Span("renderer.lgr", 7, 31, 7, 40)
-    # line 8: int ([0, 1], [0, 1]) ifge0 half_plane(x, y; c) then shade(x, y, c) else 0 d(x, y)
+    assert dif.span == Span("renderer.lgr", d, 1, d, 76)
+    assert dif.name.span == Span("renderer.lgr", d, 8, d, 18)
+    assert dif.forward[0].span == Span("renderer.lgr", d, 31, d, 40)
+    # line n: int ([0, 1], [0, 1]) ifge0 half_plane(x, y; c) then shade(x, y, c) else 0 d(x, y)
     p = m.program
-    assert p.span == Span("renderer.lgr", 8, 1, 8, 82)
-    assert p.domain[1].span == Span("renderer.lgr", 8, 14, 8, 20)
+    assert p.span == Span("renderer.lgr", n, 1, n, 82)
+    assert p.domain[1].span == Span("renderer.lgr", n, 14, n, 20)
     body = p.body
-    assert body.span == Span("renderer.lgr", 8, 22, 8, 74)
-    assert body.cond.span == Span("renderer.lgr", 8, 28, 8, 47)
-    assert body.cond.name_span == Span("renderer.lgr", 8, 28, 8, 38)
-    assert body.then.span == Span("renderer.lgr", 8, 53, 8, 67)
-    assert body.then.name_span == Span("renderer.lgr", 8, 53, 8, 58)
-    assert body.orelse.span == Span("renderer.lgr", 8, 73, 8, 74)
-    assert p.variables[1].span == Span("renderer.lgr", 8, 80, 8, 81)
+    assert body.span == Span("renderer.lgr", n, 22, n, 74)
+    assert body.cond.span == Span("renderer.lgr", n, 28, n, 47)
+    assert body.cond.name_span == Span("renderer.lgr", n, 28, n, 38)
+    assert body.then.span == Span("renderer.lgr", n, 53, n, 67)
+    assert body.then.name_span == Span("renderer.lgr", n, 53, n, 58)
+    assert body.orelse.span == Span("renderer.lgr", n, 73, n, 74)
+    assert p.variables[1].span == Span("renderer.lgr", n, 80, n, 81)
 
 
 def test_spans_cover_parentheses_and_lines():

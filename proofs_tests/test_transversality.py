@@ -1,7 +1,7 @@
 """The transversality checker (paper Def. 7.2, §7.3; LANGUAGE.md §5): langur.transversality.
 
 Expected classifications come from the paper and from each degenerate example's own comment
-(``shared/examples/degenerate/*.lgr``); tangency and triple points are computed by hand below.
+(``examples/degenerate/*.lgr``); tangency and triple points are computed by hand below.
 """
 
 from fractions import Fraction
