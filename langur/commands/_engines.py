@@ -23,8 +23,14 @@ def how(exact: dict) -> str:
     return f"quadrature, error ≤ {float(error):.3g}" if error is not None else "quadrature"
 
 
+class Undefined(str):
+    """Why the exact engine says the integral does not exist (divergent, or undefined on part of
+    the domain): an answer, printed as such, with exit status 1."""
+
+
 def run_exact(kind: str, program, params, direction=None, *, theorem: bool = True):
-    """The symbolic reference's answer as CLI.md's ``exact`` object, or ``(None, status)``.
+    """The symbolic reference's answer as CLI.md's ``exact`` object, or ``(None, status)``, or
+    ``(Undefined(reason), 1)`` when the integral does not exist.
 
     ``exact`` is null, with a one-line reason on standard error, only where neither the closed
     form nor quadrature works.  A closed form that disagrees with its quadrature cross-check is
@@ -36,6 +42,8 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
         if kind == "eval":
             return api.exact_eval(program, params), 0
         return api.exact_deriv(program, params, direction, check=theorem), 0
+    except api.ExactUndefined as e:
+        return Undefined(str(e).removeprefix("undefined: ")), 1
     except Exception as e:  # noqa: BLE001 - reported, the other engine still runs
         mismatch = type(e).__name__ == "IntegrationMismatch"
         label = "internal error" if mismatch else "no exact value"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..cli import add_common
 from . import _common as c
-from ._engines import add_engine_arguments, how, run_exact, run_mc
+from ._engines import Undefined, add_engine_arguments, how, run_exact, run_mc
 
 
 def add_arguments(p):
@@ -27,8 +27,11 @@ def run(args) -> int:
     status = 0
     exact = mc = theorem = None
     standard_ad = None
+    undefined = None
     if args.engine in ("both", "exact"):
         result, status = run_exact("deriv", program, params, direction, theorem=not args.no_theorem)
+        if isinstance(result, Undefined):
+            undefined, result = str(result), None
         if result is not None:
             theorem = result.pop("theorem_8_1", None)
             exact_sad = result.pop("standard_ad", None)
@@ -43,12 +46,14 @@ def run(args) -> int:
                 standard_ad = {"value": sad["value"], "stderr": sad["stderr"], "source": "mc"}
     if args.json:
         c.dump_json({"params": params, "direction": direction, "exact": exact, "mc": mc,
-                     "standard_ad": standard_ad, "theorem_8_1": theorem})
+                     "standard_ad": standard_ad, "theorem_8_1": theorem, "undefined": undefined})
         return status
     wrt = [k for k, v in direction.items() if v]
     what = f"d/d{wrt[0]}" if len(wrt) == 1 and direction[wrt[0]] == 1 else \
         "derivative in direction " + ", ".join(f"{k}'={c.fmt(v)}" for k, v in direction.items() if v)
     print(f"{args.file}: {what} at {c.fmt_params(params)}")
+    if undefined is not None:
+        print(f"  exact       : undefined: {undefined}")
     if exact is not None:
         print(f"  exact       : {c.fmt(exact['value'])} = regular {c.fmt(exact['regular'])}"
               f" + boundary {c.fmt(exact['boundary'])}   ({how(exact)}: {exact.get('expr')})")

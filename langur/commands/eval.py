@@ -6,7 +6,7 @@ import sys
 
 from ..cli import add_common
 from . import _common as c
-from ._engines import add_engine_arguments, how, run_exact, run_mc
+from ._engines import Undefined, add_engine_arguments, how, run_exact, run_mc
 
 
 def add_arguments(p):
@@ -21,14 +21,19 @@ def run(args) -> int:
     params = c.param_values(args, loaded)
     status = 0
     exact = mc = None
+    undefined = None
     if args.engine in ("both", "exact"):
         exact, status = run_exact("eval", program, params)
+        if isinstance(exact, Undefined):
+            undefined, exact = str(exact), None
     if args.engine in ("both", "mc"):
         mc = run_mc("eval", loaded, params, args)
     if args.json:
-        c.dump_json({"params": params, "exact": exact, "mc": mc})
+        c.dump_json({"params": params, "exact": exact, "mc": mc, "undefined": undefined})
         return status
     print(f"{args.file}: value at {c.fmt_params(params)}")
+    if undefined is not None:
+        print(f"  exact : undefined: {undefined}")
     if exact is not None:
         print(f"  exact : {c.fmt(exact['value'])}   ({how(exact)}: {exact.get('expr')})")
         for note in exact.get("notes") or []:

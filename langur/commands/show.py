@@ -37,19 +37,23 @@ def run(args) -> int:
     out: dict = {"core": core}
     program = loaded.program
     want_deriv = bool(args.wrt or args.dir)
+    undefined: list[str] = []  # why an integral shown does not exist (then the exit status is 1)
     if program is not None and not args.core:
         from ..symbolic import present
 
         params = c.param_values(args, loaded)
-        out["denotation"] = present.show_denotation(program, latex=args.latex, params=params)
+        out["denotation"] = present.show_denotation(program, latex=args.latex, params=params,
+                                                    undefined=undefined)
         if want_deriv:
             direction = c.direction(args, loaded)
-            out["derivative"] = present.show_derivative(program, direction, latex=args.latex, params=params)
+            out["derivative"] = present.show_derivative(program, direction, latex=args.latex, params=params,
+                                                        undefined=undefined)
     elif want_deriv and program is None:
         c.require_program(loaded, args.file)
+    status = 1 if undefined else 0
     if args.json:
         c.dump_json(out)
-        return 0
+        return status
     print("core:")
     print("  " + core.replace("\n", "\n  "))
     if "denotation" in out:
@@ -58,4 +62,4 @@ def run(args) -> int:
     if "derivative" in out:
         print("derivative ⦇p⦈ (Theorem 7.1 normal form):")
         print("  " + out["derivative"].replace("\n", "\n  "))
-    return 0
+    return status

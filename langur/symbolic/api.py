@@ -6,7 +6,9 @@
 
 Parameter values may be floats or Fractions; exact decimals are used as sympy Rationals (``0.5``
 is 1/2).  When neither a closed form nor quadrature works, :class:`ExactUnavailable` is raised with
-a one-line reason (the CLI then prints ``"exact": null`` and the reason on standard error).
+a one-line reason (the CLI then prints ``"exact": null`` and the reason on standard error);
+:class:`ExactUndefined`, its subclass, when the integral does not exist (divergent, or undefined
+on part of the domain).
 """
 
 from __future__ import annotations
@@ -17,10 +19,16 @@ import sympy as sp
 
 from ..core import Program
 from .pieces import Integral
+from .quadrature import UndefinedIntegral
 
 
 class ExactUnavailable(Exception):
     """The symbolic engine cannot evaluate this program (the message says why, on one line)."""
+
+
+class ExactUndefined(ExactUnavailable):
+    """The integral does not exist (it diverges, or its integrand is undefined on part of the
+    domain): an answer about the program, not a failure of the engine."""
 
 
 def _number(v) -> float:
@@ -44,6 +52,8 @@ def _integral_fields(r: Integral) -> dict:
 def _guard(fn, *args, **kwargs):
     try:
         return fn(*args, **kwargs)
+    except UndefinedIntegral as e:
+        raise ExactUndefined(f"undefined: {e.reason}") from e
     except (NotImplementedError, TypeError, ValueError, ZeroDivisionError, ArithmeticError, TimeoutError) as e:
         reason = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise ExactUnavailable(f"symbolic engine: {reason}") from e

@@ -24,8 +24,11 @@ of a Jacobian sampled at the evaluation point).  With ``method == "quadrature"``
 
 Delta pieces go through :mod:`langur.symbolic.delta` (change of variables, then the same region
 machinery over ``u'``).  Errors: :class:`IntegrationMismatch` (a ``RuntimeError``: an internal
-bug, never the user's fault) and ``ValueError`` when the integrand is undefined (NaN) on part of
-the region or a delta piece's zero set cannot be bounded.
+bug, never the user's fault); :class:`~langur.symbolic.quadrature.UndefinedIntegral` (a
+``ValueError``) when the integral does not exist: quadrature's own diagnostics say it diverges,
+or the integrand is undefined (NaN) on part of the region (the quadrature runs first, so a closed
+form is never returned for such an integral); ``ValueError`` when a delta piece's zero set cannot
+be bounded.
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ import sympy as sp
 
 from langur.symbolic import delta, quadrature, regions
 from langur.symbolic.pieces import DeltaPiece, Integral, Piece
+from langur.symbolic.quadrature import UndefinedIntegral
 from langur.symbolic.regions import Cond, Context, Unsupported
 from langur.symbolic.timebox import Deadline
 
@@ -161,10 +165,10 @@ def _exact_piece(problems, uvars, ubox: dict, ctx: Context, quad: tuple[float, f
 
 def _check_defined(quads, what: str) -> None:
     for i, (q, _) in enumerate(quads):
-        if math.isnan(q):
-            raise ValueError(f"{what} {i}: the integrand is undefined (NaN) on part of the region at the "
-                             "evaluation point (a primitive applied outside its domain, or a zero set "
-                             "where the condition's derivative vanishes)")
+        if not math.isfinite(q):
+            raise UndefinedIntegral(f"{what} {i}: the integrand is undefined ({q}) on part of the region at "
+                                    "the evaluation point (a primitive applied outside its domain, or a "
+                                    "zero set where the condition's derivative vanishes)")
 
 
 def _exact_pieces(make_problems, n: int, quads, ctx: Context, what: str):
@@ -190,7 +194,7 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
     """Σ ∫_box Π[conditions]·weight (regular part of a denotation or derivative denotation)."""
     variables = tuple(variables)
     ctx, boxd = _setup(variables, box, at, timeout)
-    quads = [quadrature.quad_pieces([pc], variables, box, ctx.at) for pc in pieces]
+    quads = [quadrature.quad_pieces([pc], variables, box, ctx.at, ctx.notes) for pc in pieces]
     _check_defined(quads, "piece")
     ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work
 
@@ -215,7 +219,8 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
             uboxes.append(delta.u_box(pc.psi, variables, boxd, ctx))
         except Unsupported as exc:
             raise ValueError(f"delta piece {i}: cannot bound the zero set's coordinates: {exc}") from None
-    quads = [quadrature.quad_delta_pieces([pc], variables, box, ctx.at, [ub]) for pc, ub in zip(pieces, uboxes)]
+    quads = [quadrature.quad_delta_pieces([pc], variables, box, ctx.at, [ub], ctx.notes)
+             for pc, ub in zip(pieces, uboxes)]
     _check_defined(quads, "delta piece")
     ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work
 

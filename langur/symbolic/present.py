@@ -106,8 +106,25 @@ def _box_text(program, latex: bool) -> str:
     return ", ".join(parts)
 
 
-def show_denotation(program, latex: bool = False, params: Mapping[str, object] | None = None) -> str:
-    """⟦p⟧ = ∫ ⟦t⟧ d(x⃗) over the box, then its closed form at ``params`` when found."""
+def _evaluated(fn, *args, undefined: list[str] | None = None):
+    """``(fn(*args), None)``, or ``(None, reason)`` when the integral does not exist (then the
+    reason is also appended to ``undefined``) or the engine cannot evaluate it."""
+    from .quadrature import UndefinedIntegral
+
+    try:
+        return fn(*args), None
+    except UndefinedIntegral as e:
+        if undefined is not None:
+            undefined.append(e.reason)
+        return None, f"undefined: {e.reason}"
+    except (NotImplementedError, TypeError, ValueError, ZeroDivisionError, ArithmeticError, TimeoutError) as e:
+        return None, f"no exact value: {str(e).splitlines()[0] if str(e) else type(e).__name__}"
+
+
+def show_denotation(program, latex: bool = False, params: Mapping[str, object] | None = None, *,
+                    undefined: list[str] | None = None) -> str:
+    """⟦p⟧ = ∫ ⟦t⟧ d(x⃗) over the box, then its closed form at ``params`` when found.  When the
+    integral does not exist the value line says so, and the reason is appended to ``undefined``."""
     at = params
     from ..denote import denote, denote_program
 
@@ -118,7 +135,10 @@ def show_denotation(program, latex: bool = False, params: Mapping[str, object] |
     else:
         lines = [f"⟦p⟧ = int_{{{_box_text(program, False)}}} {integrand} d({xs})"]
     if at is not None:
-        r = denote_program(program, at)
+        r, why = _evaluated(denote_program, program, at, undefined=undefined)
+        if r is None:
+            lines.append(("  " if not latex else "") + f"value at {_at_text(at)}: {why}")
+            return ("\\\\\n" if latex else "\n").join(lines)
         if r.expr is not None and r.method == "closed_form":
             lines.append("= " + _e(r.expr, latex))
         lines.append(("  " if not latex else "") + f"value at {_at_text(at)}: {r.value:.12g}"
@@ -132,10 +152,11 @@ def _at_text(at: Mapping[str, object]) -> str:
 
 
 def show_derivative(program, direction: Mapping[str, object], latex: bool = False,
-                    params: Mapping[str, object] | None = None) -> str:
+                    params: Mapping[str, object] | None = None, *, undefined: list[str] | None = None) -> str:
     """⦇p⦈ in the normal form of Theorem 7.1: regular part, then each delta term with its Ψ̂.
 
-    With ``params``, variable-free conditionals are decided there and the value is appended.
+    With ``params``, variable-free conditionals are decided there and the value is appended (or
+    why there is none; a reason the integral does not exist is also appended to ``undefined``).
     """
     at = params
     from ..ddenote import ddenote, ddenote_program
@@ -162,7 +183,10 @@ def show_derivative(program, direction: Mapping[str, object], latex: bool = Fals
             lines.append(f"    Φ = {_e(d.psi.forward[0], False)};  h = {product_text(d.conditions, d.weight)}")
         lines += [("    " if not latex else "\\quad ") + s for s in psi_text(d.psi, latex)]
     if at is not None:
-        res = ddenote_program(program, at, direction)
+        res, why = _evaluated(ddenote_program, program, at, direction, undefined=undefined)
+        if res is None:
+            lines.append(f"value at {_at_text(at)}: {why}" if not latex else f"\\text{{{why}}}")
+            return nl.join(lines)
         tail = (f"value at {_at_text(at)}: {derivative_result_text(res, latex)}"
                 f"  (regular {res.regular.value:.12g}, boundary {res.boundary.value:.12g})")
         lines.append(tail if not latex else f"\\text{{{_at_text(at)}: }} {derivative_result_text(res, True)}")

@@ -34,6 +34,21 @@ from langur.symbolic.pieces import DeltaPiece, Piece, Psi
 
 GRID = 40
 EPSABS = 1e-11  # innermost level; each outer level is 10x looser
+#: Rounds of splitting an interval at the abscissae where the integrand was found not finite.
+SPLIT_ROUNDS = 3
+#: Sub-intervals narrower than this (relative to the variable's range) are left out: their
+#: integrand cannot be evaluated reliably (at a fold of an inverse branch, where a guard is zero,
+#: the guard's rounding error exceeds its value) and they carry no measurable mass.
+NARROW = 1e-8
+#: More abscissae than this where the integrand is not finite, in one pass of ``quad``: not a few
+#: isolated singular points but a set quadrature keeps hitting (undefined on a set of positive
+#: measure, or an inner integral that diverges as the outer variable tends to a point).
+MAX_BAD = 3
+#: The warnings of scipy's QUADPACK wrapper that mean "no convergence" (ier = 1, 3, 4); ier = 2
+#: (roundoff kept the tolerance from being reached) is harmless at the tight tolerances used here,
+#: and ier = 5 ("probably divergent") means the integral does not exist.
+NOT_CONVERGED = ("maximum number of subdivisions", "bad integrand behavior", "does not converge")
+DIVERGENT = "probably divergent"
 
 
 def _num(expr, at: dict) -> float:
@@ -84,6 +99,17 @@ class NumCond:
     roots: Callable[..., list[float]] | None = None
 
 
+class UndefinedIntegral(ValueError):
+    """The integral does not exist: quadrature's own diagnostics say so (scipy's "probably
+    divergent", no convergence next to a point where the integrand is not finite), or the
+    integrand is undefined (NaN) on a set that sampling keeps hitting (a set of positive measure).
+    The message names the variable and the interval."""
+
+    def __init__(self, reason: str):
+        super().__init__(reason)
+        self.reason = reason
+
+
 @dataclass
 class NumProblem:
     conds: list[NumCond]
@@ -92,6 +118,132 @@ class NumProblem:
     errors: list[float] = field(default_factory=list)
     kinks: dict = field(default_factory=dict)
     syms: list = field(default_factory=list)  # one symbol per level (for polynomial roots)
+    notes: list[str] = field(default_factory=list)  # scipy's warnings that did not stop the result
+
+
+class _Finite:
+    """The integrand as ``quad`` samples it: finite everywhere.  A value that is not finite (a
+    pole, NaN outside a primitive's domain) or an inner integral found undefined at this abscissa
+    is recorded and replaced by 0, so ``quad`` never sees NaN (it can crash the process on one)."""
+
+    def __init__(self, h: Callable[[float], float]):
+        self.h = h
+        self.bad: list[float] = []
+        self.inner: str | None = None  # the first inner integral's reason for being undefined
+
+    def __call__(self, t: float) -> float:
+        try:
+            v = self.h(t)
+        except UndefinedIntegral as exc:
+            self.inner = self.inner or exc.reason
+            return self._bad(t)
+        if not math.isfinite(v):
+            return self._bad(t)
+        return v
+
+    def _bad(self, t: float) -> float:
+        if t not in self.bad:
+            self.bad.append(t)
+        if len(self.bad) > MAX_BAD:
+            raise _TooMany()
+        return 0.0
+
+
+class _TooMany(Exception):
+    """Raised through ``quad`` (which propagates a callback's exception) to stop a pass early."""
+
+
+def _name(p: NumProblem, level: int) -> str:
+    return str(p.syms[level]) if level < len(p.syms) else f"variable {level + 1}"
+
+
+def _quad_once(h, a: float, b: float, eps: float, inside: list[float]):
+    """``quad`` over [a, b] with scipy's IntegrationWarnings recorded (never silenced, never
+    leaked): ``(value, error, [warning texts])``."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", si.IntegrationWarning)
+        val, e = si.quad(h, a, b, epsabs=eps, epsrel=eps, limit=100, points=inside or None)
+    texts = [str(w.message).strip() for w in caught if issubclass(w.category, si.IntegrationWarning)]
+    return val, e, texts
+
+
+#: An end-point growth exponent this close to 1 counts as 1 (``1/x`` measures 1.000).
+GROWTH_SLACK = 0.02
+
+
+def _end_growth(h, c: float, d: float) -> list[tuple[float, float]]:
+    """Where ``quad`` did not converge on [c, d]: at each end e, the exponent α of |h| ~ |t − e|^-α
+    measured at t = e ± (d − c)·10⁻⁴, 10⁻⁶, 10⁻⁸ (both differences must agree within 0.05:
+    an oscillating or logarithmic integrand gives no exponent)."""
+    out = []
+    for end, sign in ((c, 1.0), (d, -1.0)):
+        try:
+            vals = [abs(h(end + sign * (d - c) * 10.0 ** -k)) for k in (4, 6, 8)]
+        except (UndefinedIntegral, ArithmeticError, ValueError):
+            continue
+        if not all(math.isfinite(v) and v > 0 for v in vals):
+            continue
+        a1 = math.log10(vals[1] / vals[0]) / 2
+        a2 = math.log10(vals[2] / vals[1]) / 2
+        if abs(a1 - a2) <= 0.05:
+            out.append((end, a2))
+    return out
+
+
+def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem, level: int):
+    """∫_a^b h by ``quad``, made safe and honest.
+
+    The integrand is made finite where sampled (:class:`_Finite`).  Where it was not finite, the
+    interval is split at those abscissae and integrated again (quad never samples an endpoint), up
+    to :data:`SPLIT_ROUNDS` times: an integrable singularity (``log(x^2)`` at 0) then gets its
+    value; an integrand that keeps being non-finite at new abscissae is undefined on more than a
+    null set.  scipy's "probably divergent" means the integral does not exist, and so does no
+    convergence on an interval that ends at a point where the integrand is not finite."""
+    where = f"{_name(p, level)} in [{a:.6g}, {b:.6g}]"
+    singular: list[float] = []
+    for _ in range(SPLIT_ROUNDS + 1):
+        g = _Finite(h)
+        cuts = sorted({a, b, *singular})
+        total = err = 0.0
+        texts: list[tuple[float, float, str]] = []
+        try:
+            for c, d in zip(cuts, cuts[1:]):
+                if not d > c:
+                    continue
+                val, e, ws = _quad_once(g, c, d, eps, [q for q in inside if c < q < d])
+                total += val
+                err += e
+                texts += [(c, d, w) for w in ws]
+        except _TooMany:
+            break
+        for c, d, w in texts:
+            if DIVERGENT in w:
+                raise UndefinedIntegral(f"quadrature over {where}: scipy says the integral is "
+                                        f"probably divergent (on [{c:.6g}, {d:.6g}])")
+        if not g.bad:
+            for c, d, w in texts:
+                if not any(k in w for k in NOT_CONVERGED):
+                    continue
+                touching = [s for s in singular if s in (c, d)]
+                if touching:
+                    raise UndefinedIntegral(
+                        f"the integrand is not finite at {_name(p, level)} = {touching[0]:.6g} and "
+                        f"quadrature does not converge next to it: the integral is probably divergent")
+                for end, alpha in _end_growth(h, c, d):
+                    if alpha >= 1 - GROWTH_SLACK:
+                        raise UndefinedIntegral(
+                            f"quadrature over {_name(p, level)} in [{c:.6g}, {d:.6g}] does not converge and the "
+                            f"integrand grows like |{_name(p, level)} - {end:.6g}|^-{alpha:.3g} there: the "
+                            "integral is probably divergent")
+                p.notes.append(f"quadrature did not reach its tolerance over {_name(p, level)} "
+                               f"(scipy: {w.splitlines()[0].rstrip('.')}); the error bound may be optimistic")
+            return total, err
+        singular += [t for t in g.bad if t not in singular]
+    if g.inner:
+        raise UndefinedIntegral(f"{g.inner} (for ever more values of {_name(p, level)} in [{a:.6g}, {b:.6g}])")
+    raise UndefinedIntegral(f"quadrature over {where}: the integrand is undefined (NaN) or infinite at ever "
+                            "more points (on a set of positive measure, or near a point where the "
+                            "integral diverges)")
 
 
 def _holds(v: float) -> bool:
@@ -230,7 +382,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     total = 0.0
     err = 0.0
     for a, b in zip(pts, pts[1:]):
-        if b - a <= 1e-15 * max(1.0, abs(a)):
+        if b - a <= NARROW * max(1.0, abs(a), hi - lo):
             continue
         m = 0.5 * (a + b)
         if not all(_holds(c.f(*prefix, m)) for c in here):
@@ -241,10 +393,8 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         else:
             def h(t):
                 return _nested(p, level + 1, prefix + (t,))
-        inside = sorted(q for q in kinks if a < q < b) or None
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            val, e = si.quad(h, a, b, epsabs=eps, epsrel=eps, limit=100, points=inside)
+        inside = sorted(q for q in kinks if a < q < b)
+        val, e = _quad(h, a, b, eps, inside, p, level)
         total += val
         err += e
     if level == 0:
@@ -257,7 +407,10 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
     if any(c.level < 0 and not _holds(c.f()) for c in p.conds):
         return 0.0, 0.0
     if not p.bounds:
-        return p.weight(), 0.0
+        v = p.weight()
+        if not math.isfinite(v):
+            raise UndefinedIntegral(f"the integrand is undefined ({v}) at the evaluation point")
+        return v, 0.0
     p.errors.clear()
     val = _nested(p, 0, ())
     err = sum(p.errors)
@@ -313,13 +466,18 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
     return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds, syms=variables)
 
 
-def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict) -> tuple[float, float]:
-    """Σ ∫_box piece at ``at``: (value, error estimate)."""
+def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict,
+                notes: list[str] | None = None) -> tuple[float, float]:
+    """Σ ∫_box piece at ``at``: (value, error estimate).  scipy's warnings that did not stop the
+    result are appended to ``notes``; :class:`UndefinedIntegral` when the integral does not exist."""
     val = err = 0.0
     for pc in pieces:
-        v, e = integrate_problem(piece_problem(pc, variables, box, at))
+        prob = piece_problem(pc, variables, box, at)
+        v, e = integrate_problem(prob)
         val += v
         err += e
+        if notes is not None:
+            notes.extend(prob.notes)
     return val, err
 
 
@@ -387,12 +545,16 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
     return problems
 
 
-def quad_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at: dict, uboxes) -> tuple[float, float]:
-    """Σ ∫ h δ(π₀Ψ̂) at ``at`` over the box; ``uboxes[i]`` is piece i's ``u'`` box."""
+def quad_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at: dict, uboxes,
+                      notes: list[str] | None = None) -> tuple[float, float]:
+    """Σ ∫ h δ(π₀Ψ̂) at ``at`` over the box; ``uboxes[i]`` is piece i's ``u'`` box (``notes`` and
+    errors as :func:`quad_pieces`)."""
     val = err = 0.0
     for pc, ub in zip(pieces, uboxes):
         for prob in delta_problems(pc, variables, box, at, ub):
             v, e = integrate_problem(prob)
             val += v
             err += e
+            if notes is not None:
+                notes.extend(prob.notes)
     return val, err

@@ -1,0 +1,110 @@
+"""Undefined is an answer, and nothing crashes (issue 9, part B).
+
+An integral that does not exist must be reported as undefined, never as a finite number with a
+small error bound; an integrable singularity keeps its value.  Expected values are by hand.
+"""
+
+import json
+import math
+import subprocess
+import sys
+import warnings
+
+import pytest
+import sympy as sp
+
+from langur.symbolic import quadrature
+from langur.symbolic.pieces import Piece
+from langur.symbolic.quadrature import UndefinedIntegral
+
+x, y = sp.symbols("x y", real=True)
+
+
+def quad(weight, box, variables=(x,)):
+    return quadrature.quad_pieces([Piece((), weight)], list(variables), box, {})
+
+
+# ----------------------------------------------------------------------------------------------
+# Quadrature's own diagnostics (never silenced, never leaked)
+
+
+@pytest.mark.parametrize(
+    "weight, box",
+    [
+        (1 / x**2, [(0, 1)]),  # ∫₀¹ x⁻² = ∞ (scipy used to answer −1)
+        (1 / x, [(0, 1)]),  # no convergence, and the integrand grows like x⁻¹ at 0
+        (1 / x, [(-1, 1)]),  # a pole inside: quad sampled NaN at 0 and crashed the process
+        (1 / x**2, [(-1, 1)]),
+        (1 / x, [(-1, sp.Rational(1, 2))]),  # the principal value −log 2 is not the integral
+        (1 / (x**2 + y**2), [(0, 1), (0, 1)]),  # ∫∫ r⁻² r dr dθ diverges at the corner
+        (1 / (x - y), [(0, 1), (0, 1)]),  # a pole on the diagonal
+    ],
+)
+def test_divergent_integrals_are_undefined(weight, box):
+    variables = (x, y)[: len(box)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing leaks: scipy's warnings are read, not printed
+        with pytest.raises(UndefinedIntegral):
+            quad(weight, box, variables)
+
+
+@pytest.mark.parametrize(
+    "weight, box, value",
+    [
+        # ∫₋₁¹ log(x²) = 2·2·∫₀¹ log x = −4; quad samples x = 0 (the midpoint) where it is −∞
+        (sp.log(x**2), [(-1, 1)], -4.0),
+        (1 / sp.sqrt(x), [(0, 1)], 2.0),  # ∫₀¹ x^(−1/2) = 2
+        (sp.log(x), [(0, 1)], -1.0),  # ∫₀¹ log x = −1
+        # ∫∫_[0,1]² r⁻¹ = 2·∫₀^{π/4} ∫₀^{1/cos θ} dr dθ = 2·log(1 + √2)
+        (1 / sp.sqrt(x**2 + y**2), [(0, 1), (0, 1)], 2 * math.log(1 + math.sqrt(2))),
+    ],
+)
+def test_integrable_singularities_keep_their_value(weight, box, value):
+    variables = (x, y)[: len(box)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        v, err = quad(weight, box, variables)
+    assert abs(v - value) <= 1e-7 + err
+
+
+# ----------------------------------------------------------------------------------------------
+# The command line: never a signal, the other engine's answer still printed
+
+
+def langur(tmp_path, text, *argv):
+    f = tmp_path / "p.lgr"
+    f.write_text(text)
+    return subprocess.run([sys.executable, "-m", "langur", *argv, str(f)], capture_output=True, text=True,
+                          timeout=120)
+
+
+@pytest.mark.parametrize("body", ["1 / x", "1 / x^2", "a / x"])
+@pytest.mark.parametrize("command", ["eval", "deriv"])
+def test_pole_inside_does_not_kill_the_process(tmp_path, body, command):
+    r = langur(tmp_path, f"param a = 1\nint ([-1, 1]) {body} d(x)\n", command, "--samples", "500", "--json")
+    assert r.returncode in (0, 1), r.stderr  # exit 135 (bus error) before
+    assert "Traceback" not in r.stderr
+    out = json.loads(r.stdout)
+    assert out["mc"]["samples"] == 500  # the Monte Carlo answer is still there
+    if command == "eval" or body == "a / x":  # ⦇p⦈ of 1/x in a is 0: see the structural analysis
+        assert r.returncode == 1
+        assert out["exact"] is None and out["undefined"]
+
+
+def test_ball_derivative_by_quadrature_or_closed_form(tmp_path):
+    # d/dr of the volume of the ball's positive octant, πr³/6, is πr²/2 (0 < r < 1)
+    r = langur(tmp_path, "param r = 0.5\nint ([0,1],[0,1],[0,1]) [x^2+y^2+z^2 <= r^2] d(x,y,z)\n",
+               "deriv", "--engine", "exact", "--json")
+    assert r.returncode == 0, r.stderr
+    ex = json.loads(r.stdout)["exact"]
+    assert abs(ex["value"] - math.pi * 0.25 / 2) <= 1e-7 + ex.get("error", 0.0)
+
+
+def test_slowly_convergent_is_not_called_divergent():
+    # ∫₀^½ dx / (x log²x) = [−1/log x]₀^½ = 1/log 2: quad does not converge (its error bound is
+    # optimistic: it says so in a note), but the integrand's growth x⁻¹·log⁻²x is integrable
+    notes = []
+    v, _ = quadrature.quad_pieces([Piece((), 1 / (x * sp.log(x) ** 2))], [x], [(0, sp.Rational(1, 2))], {},
+                                  notes)
+    assert abs(v - 1 / math.log(2)) < 1e-2
+    assert any("did not reach its tolerance" in n for n in notes)
