@@ -51,14 +51,20 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
         return None, 3 if mismatch else 0
 
 
-def run_mc(kind: str, loaded, params, args, direction=None):
+def print_mc_notes(mc: dict, indent: str) -> None:
+    """The Monte Carlo result's notes (no finite variance, a heavy tail, non-finite samples)."""
+    for note in mc.get("notes") or []:
+        print(f"{indent}note: {note}")
+
+
+def run_mc(kind: str, loaded, params, args, direction=None, *, infinite_variance: str | None = None):
     from .. import operational
     from ..cli import UsageError
 
     if args.samples < 1:
         raise UsageError("--samples must be at least 1")
     values = {k: float(v) for k, v in params.items()}
-    kw = dict(samples=args.samples, seed=args.seed, method=args.method)
+    kw = dict(samples=args.samples, seed=args.seed, method=args.method, infinite_variance=infinite_variance)
     if kind == "eval":
         return operational.estimate_value(loaded, values, **kw)
     return operational.estimate_derivative(loaded, values, {k: float(v) for k, v in direction.items()}, **kw)

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from ..cli import add_common
 from . import _common as c
-from ._engines import Undefined, add_engine_arguments, how, run_exact, run_mc
+from . import _defined
+from ._engines import Undefined, add_engine_arguments, how, print_mc_notes, run_exact, run_mc
 
 
 def add_arguments(p):
@@ -27,8 +28,12 @@ def run(args) -> int:
     status = 0
     exact = mc = theorem = None
     standard_ad = None
-    undefined = None
-    if args.engine in ("both", "exact"):
+    defined = _defined.derivative(program, params, direction, args.file)  # X311 / X313
+    defined.report(args.json)
+    undefined = defined.undefined
+    if undefined is not None:
+        status = 1
+    elif args.engine in ("both", "exact"):
         result, status = run_exact("deriv", program, params, direction, theorem=not args.no_theorem)
         if isinstance(result, Undefined):
             undefined, result = str(result), None
@@ -39,14 +44,16 @@ def run(args) -> int:
             if exact_sad is not None:
                 standard_ad = {"value": exact_sad, "stderr": 0.0, "source": "exact"}
     if args.engine in ("both", "mc"):
-        mc = run_mc("deriv", loaded, params, args, direction)
+        mc = run_mc("deriv", loaded, params, args, direction,
+                    infinite_variance=defined.infinite_variance or (undefined and "the derivative does not exist"))
         if mc is not None:
             sad = mc.pop("standard_ad", None)
             if sad is not None:
                 standard_ad = {"value": sad["value"], "stderr": sad["stderr"], "source": "mc"}
     if args.json:
         c.dump_json({"params": params, "direction": direction, "exact": exact, "mc": mc,
-                     "standard_ad": standard_ad, "theorem_8_1": theorem, "undefined": undefined})
+                     "standard_ad": standard_ad, "theorem_8_1": theorem, "undefined": undefined,
+                     "diagnostics": [d.to_json() for d in defined.diagnostics()]})
         return status
     wrt = [k for k, v in direction.items() if v]
     what = f"d/d{wrt[0]}" if len(wrt) == 1 and direction[wrt[0]] == 1 else \
@@ -63,6 +70,7 @@ def run(args) -> int:
         print(f"  MC          : {c.fmt(mc['value'])} ± {c.fmt(mc['stderr'], 3)} = regular "
               f"{c.fmt(mc['regular']['value'])} + boundary {c.fmt(mc['boundary']['value'])}   "
               f"({mc['samples']} samples, {mc.get('method', 'uniform')}, seed {mc['seed']})")
+        print_mc_notes(mc, "                ")
     if standard_ad is not None:
         print(f"  standard AD : {c.fmt(standard_ad['value'])} ± {c.fmt(standard_ad['stderr'], 3)}"
               "   (deltas dropped: what PyTorch or JAX compute on the discretized integral)")

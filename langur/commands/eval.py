@@ -6,7 +6,8 @@ import sys
 
 from ..cli import add_common
 from . import _common as c
-from ._engines import Undefined, add_engine_arguments, how, run_exact, run_mc
+from . import _defined
+from ._engines import Undefined, add_engine_arguments, how, print_mc_notes, run_exact, run_mc
 
 
 def add_arguments(p):
@@ -21,15 +22,21 @@ def run(args) -> int:
     params = c.param_values(args, loaded)
     status = 0
     exact = mc = None
-    undefined = None
-    if args.engine in ("both", "exact"):
+    defined = _defined.value(program, params, args.file)  # X311: does ⟦p⟧ exist?
+    defined.report(args.json)
+    undefined = defined.undefined
+    if undefined is not None:
+        status = 1
+    elif args.engine in ("both", "exact"):
         exact, status = run_exact("eval", program, params)
         if isinstance(exact, Undefined):
             undefined, exact = str(exact), None
     if args.engine in ("both", "mc"):
-        mc = run_mc("eval", loaded, params, args)
+        mc = run_mc("eval", loaded, params, args,
+                    infinite_variance=defined.infinite_variance or (undefined and "the integral does not exist"))
     if args.json:
-        c.dump_json({"params": params, "exact": exact, "mc": mc, "undefined": undefined})
+        c.dump_json({"params": params, "exact": exact, "mc": mc, "undefined": undefined,
+                     "diagnostics": [d.to_json() for d in defined.diagnostics()]})
         return status
     print(f"{args.file}: value at {c.fmt_params(params)}")
     if undefined is not None:
@@ -41,5 +48,6 @@ def run(args) -> int:
     if mc is not None:
         print(f"  MC    : {c.fmt(mc['value'])} ± {c.fmt(mc['stderr'], 3)}   "
               f"({mc['samples']} samples, {mc.get('method', 'uniform')}, seed {mc['seed']})")
+        print_mc_notes(mc, "          ")
     sys.stdout.flush()
     return status

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..cli import add_common
 from . import _common as c
+from . import _defined
 
 
 def add_arguments(p):
@@ -42,12 +43,20 @@ def run(args) -> int:
         from ..symbolic import present
 
         params = c.param_values(args, loaded)
-        out["denotation"] = present.show_denotation(program, latex=args.latex, params=params,
-                                                    undefined=undefined)
+        direction = c.direction(args, loaded) if want_deriv else None
+        defined = (_defined.derivative(program, params, direction, args.file) if want_deriv
+                   else _defined.value(program, params, args.file))  # X311 / X313
+        defined.report(args.json)
+        out["diagnostics"] = [d.to_json() for d in defined.diagnostics()]
+        value_undefined = next((f for f in defined.findings if f.code == "X311" and f.severity == "error"), None)
+        if defined.undefined:
+            undefined.append(defined.undefined)
+        out["denotation"] = present.show_denotation(
+            program, latex=args.latex, params=params, undefined=undefined,
+            known_undefined=defined.undefined if value_undefined else None)
         if want_deriv:
-            direction = c.direction(args, loaded)
             out["derivative"] = present.show_derivative(program, direction, latex=args.latex, params=params,
-                                                        undefined=undefined)
+                                                        undefined=undefined, known_undefined=defined.undefined)
     elif want_deriv and program is None:
         c.require_program(loaded, args.file)
     status = 1 if undefined else 0

@@ -69,6 +69,24 @@ X_CODES: dict[str, tuple[str, str, str]] = {
         "Multiplying conditions with the same zero set that does not move with the parameters: the "
         "deltas have zero weight, the derivative is unaffected (the product is redundant).",
     ),
+    "X311": (
+        "not-integrable",
+        "error",
+        "The integrand is not integrable on the domain at the parameter values in force (a pole whose "
+        "order reaches the codimension of the set it sits on): the integral does not exist.",
+    ),
+    "X312": (
+        "integrability-undecided",
+        "warning",
+        "The integrand blows up on the domain and the analysis cannot decide whether it is integrable "
+        "there; the engines' answers rely on their own diagnostics.",
+    ),
+    "X313": (
+        "derivative-not-integrable",
+        "error",
+        "The derivative denotation in a parameter is not an integral (its regular part is not integrable, "
+        "or a delta term's weight is infinite or undefined on its zero set), although the value exists.",
+    ),
     "X310": (
         "undecided",
         "warning",

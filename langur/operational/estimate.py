@@ -55,32 +55,74 @@ def _env(linked: Linked, x, params, **kw) -> Env:
 _full = full
 
 
+#: One sample carrying more than this share of the sum of squares: the variance estimate rests on
+#: a single point (a heavy tail), so the standard error says nothing.
+DOMINANT = 0.5
+
+
+def tail_notes(f: np.ndarray) -> list[str]:
+    """What the samples themselves say about the estimate's variance (where they can tell)."""
+    n = len(f)
+    bad = int(np.count_nonzero(~np.isfinite(f)))
+    if bad:
+        return [f"{bad} of {n} samples are not finite: the integrand is undefined or infinite there"]
+    sq = np.square(f.astype(float))
+    total = float(np.sum(sq))
+    if n >= 100 and total > 0 and math.isfinite(total) and float(np.max(sq)) > DOMINANT * total:
+        return [f"one sample carries {float(np.max(sq)) / total:.0%} of the sum of squares: the samples have a "
+                "heavy tail, the variance may be infinite and the standard error is not reliable"]
+    return []
+
+
+def _variance(out: dict, notes: list[str], infinite_variance: str | None) -> dict:
+    """``finite_variance`` (False when known infinite, else absent) and ``notes`` of a result."""
+    if infinite_variance:
+        out["finite_variance"] = False
+        notes = [f"no finite variance: {infinite_variance}; the standard error means nothing"] + notes
+    if notes:
+        out["notes"] = notes
+    return out
+
+
 def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, seed: int = 0,
-                   method: str = "uniform", sites: str = "inlined") -> dict:
-    """⟦int t d(x⃗)⟧(γ) ≈ vol(box)·mean ⟦t⟧(ρᵢ, γ) over a design in Program.box."""
+                   method: str = "uniform", sites: str = "inlined", infinite_variance: str | None = None) -> dict:
+    """⟦int t d(x⃗)⟧(γ) ≈ vol(box)·mean ⟦t⟧(ρᵢ, γ) over a design in Program.box.
+
+    ``infinite_variance``: why the integrand is known not to be square-integrable (the caller's
+    analysis; the result then says ``"finite_variance": false``).  The result's ``notes`` also say
+    what the samples show: non-finite values, or one sample dominating the sum of squares."""
     linked, p = prepare(program_or_loaded, params, sites)
     rng = np.random.default_rng(seed)
+    notes: list[str] = []
     with np.errstate(all="ignore"):
-        value, se, n = _over_domain(linked, p, rng, samples, method, 0, mode=VALUE)
-    return {"value": value, "stderr": se, "samples": n, "seed": seed, "method": method}
+        value, se, n = _over_domain(linked, p, rng, samples, method, 0, notes, mode=VALUE)
+    return _variance({"value": value, "stderr": se, "samples": n, "seed": seed, "method": method}, notes,
+                     infinite_variance)
 
 
-def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: int, **env):
+def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: int,
+                 notes: list[str] | None = None, **env):
     """vol(box) · mean over a design in Program.box of ``linked.fn``'s value (``part`` 0) or tangent
-    (``part`` 1), with its standard error and the number of points: ``(estimate, stderr, n)``."""
+    (``part`` 1), with its standard error and the number of points: ``(estimate, stderr, n)``;
+    :func:`tail_notes` of the samples are appended to ``notes``."""
     x, volume, d = _domain(linked, p, rng, samples, method)
     n = d.points.shape[0]
     if x is None:  # an empty or undefined box
         return (0.0, 0.0, n) if volume == 0.0 else (math.nan, math.nan, n)
-    mean, se = d.mean(_full(linked.fn(_env(linked, x, p, **env))[part], n))
+    f = _full(linked.fn(_env(linked, x, p, **env))[part], n)
+    if notes is not None:
+        notes += tail_notes(np.asarray(f))
+    mean, se = d.mean(f)
     return volume * mean, volume * se, n
 
 
 def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, samples: int = 10000,
-                        seed: int = 0, method: str = "uniform", sites: str = "inlined") -> dict:
+                        seed: int = 0, method: str = "uniform", sites: str = "inlined",
+                        infinite_variance: str | None = None) -> dict:
     """⦇int t d(x⃗)⦈(γ, γ') ≈ regular part (standard AD) + one zero-set estimate per site.
 
-    ``sites`` (for a Loaded only): where the zero-set samplers come from, see :func:`.link.link`."""
+    ``sites`` (for a Loaded only): where the zero-set samplers come from, see :func:`.link.link`;
+    ``infinite_variance`` and ``notes``: as :func:`estimate_value` (for the regular part)."""
     linked, p = prepare(program_or_loaded, params, sites)
     unknown = set(direction) - set(p)
     if unknown:
@@ -89,17 +131,18 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
     rng = np.random.default_rng(seed)
     with np.errstate(all="ignore"):
         # regular part: the tangent with every delta dropped (Dˢ), over the domain design
-        reg, reg_se, n = _over_domain(linked, p, rng, samples, method, 1, dparams=dp, mode=TANGENT)
+        notes: list[str] = []
+        reg, reg_se, n = _over_domain(linked, p, rng, samples, method, 1, notes, dparams=dp, mode=TANGENT)
         bnd, bnd_var = _boundary(linked, p, dp, rng, samples, method)
     bnd_se = math.sqrt(bnd_var)
-    return {
+    return _variance({
         "value": reg + bnd,
         "stderr": math.sqrt(reg_se ** 2 + bnd_var),
         "regular": {"value": reg, "stderr": reg_se},
         "boundary": {"value": bnd, "stderr": bnd_se},
         "standard_ad": {"value": reg, "stderr": reg_se},
         "samples": n, "seed": seed, "method": method,
-    }
+    }, notes, infinite_variance)
 
 
 def _inside(x: dict, box: dict) -> np.ndarray:

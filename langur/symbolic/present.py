@@ -122,9 +122,10 @@ def _evaluated(fn, *args, undefined: list[str] | None = None):
 
 
 def show_denotation(program, latex: bool = False, params: Mapping[str, object] | None = None, *,
-                    undefined: list[str] | None = None) -> str:
+                    undefined: list[str] | None = None, known_undefined: str | None = None) -> str:
     """⟦p⟧ = ∫ ⟦t⟧ d(x⃗) over the box, then its closed form at ``params`` when found.  When the
-    integral does not exist the value line says so, and the reason is appended to ``undefined``."""
+    integral does not exist the value line says so, and the reason is appended to ``undefined``;
+    ``known_undefined`` (a reason found before) skips the evaluation."""
     at = params
     from ..denote import denote, denote_program
 
@@ -135,7 +136,8 @@ def show_denotation(program, latex: bool = False, params: Mapping[str, object] |
     else:
         lines = [f"⟦p⟧ = int_{{{_box_text(program, False)}}} {integrand} d({xs})"]
     if at is not None:
-        r, why = _evaluated(denote_program, program, at, undefined=undefined)
+        r, why = (None, f"undefined: {known_undefined}") if known_undefined else \
+            _evaluated(denote_program, program, at, undefined=undefined)
         if r is None:
             lines.append(("  " if not latex else "") + f"value at {_at_text(at)}: {why}")
             return ("\\\\\n" if latex else "\n").join(lines)
@@ -152,7 +154,8 @@ def _at_text(at: Mapping[str, object]) -> str:
 
 
 def show_derivative(program, direction: Mapping[str, object], latex: bool = False,
-                    params: Mapping[str, object] | None = None, *, undefined: list[str] | None = None) -> str:
+                    params: Mapping[str, object] | None = None, *, undefined: list[str] | None = None,
+                    known_undefined: str | None = None) -> str:
     """⦇p⦈ in the normal form of Theorem 7.1: regular part, then each delta term with its Ψ̂.
 
     With ``params``, variable-free conditionals are decided there and the value is appended (or
@@ -183,7 +186,8 @@ def show_derivative(program, direction: Mapping[str, object], latex: bool = Fals
             lines.append(f"    Φ = {_e(d.psi.forward[0], False)};  h = {product_text(d.conditions, d.weight)}")
         lines += [("    " if not latex else "\\quad ") + s for s in psi_text(d.psi, latex)]
     if at is not None:
-        res, why = _evaluated(ddenote_program, program, at, direction, undefined=undefined)
+        res, why = (None, f"undefined: {known_undefined}") if known_undefined else \
+            _evaluated(ddenote_program, program, at, direction, undefined=undefined)
         if res is None:
             lines.append(f"value at {_at_text(at)}: {why}" if not latex else f"\\text{{{why}}}")
             return nl.join(lines)

@@ -1,0 +1,95 @@
+"""Does the integral exist?  ``eval``, ``deriv`` and ``show`` ask before running the engines.
+
+The structural analysis of ``langur.lint.singular`` (X311 for ⟦p⟧, X313 for ⦇p⦈ in the
+direction asked, X312 when undecided) runs at the parameter values of the command.  A finding at
+error severity means the integral does not exist: the command prints it as a diagnostic
+(``PATH:LINE:COL: error X311 …``), reports the exact value as undefined instead of running the
+exact engine, still prints the Monte Carlo number marked as having no finite variance, and exits
+1.  A warning (X312) is printed and the engines run; the exact engine's own diagnostics (a
+divergent quadrature) can still say undefined.  When the integral exists but its square does not
+(``1/sqrt(x)`` on [0, 1]), the Monte Carlo engine is told its estimate has no finite variance.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass, field
+
+from ..diagnostics import Diagnostic
+from ..lint import singular
+from ..lint.blowup import Verdict
+from ..lint.findings import Finding
+
+
+@dataclass
+class Defined:
+    """What the analysis says about one integral the command is about to compute."""
+
+    findings: list[Finding] = field(default_factory=list)
+    undefined: str | None = None  # why the integral does not exist
+    infinite_variance: str | None = None  # why a Monte Carlo estimate of it has no finite variance
+
+    def diagnostics(self) -> list[Diagnostic]:
+        return [f.diagnostic() for f in self.findings]
+
+    def report(self, as_json: bool) -> None:
+        """The findings on standard error (text output; JSON carries them in ``diagnostics``)."""
+        if not as_json:
+            for d in self.diagnostics():
+                print(d.format(), file=sys.stderr)
+
+
+def _sources(path: str | None) -> dict[str, str]:
+    if not path or path == "-":
+        return {}
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            return {path: fh.read()}
+    except OSError:
+        return {}
+
+
+def _short(f: Finding) -> str:
+    """``X311 at 1:14: `1 / x^2` is not integrable on the domain`` (the diagnostic has the rest)."""
+    where = f" at {f.span.line}:{f.span.col}" if f.span is not None else ""
+    return f"{f.message.split(': ', 1)[0]} ({f.code}{where})"
+
+
+def _square(res: singular.Integrability, part: str | None = None) -> str | None:
+    b = res.infinite_variance(part)
+    if b is None or b.alpha is None:
+        return None
+    return (f"the integrand's square grows like dist^-{2 * b.alpha:.3g} near a set of codimension {b.codim}, "
+            "which is not integrable")
+
+
+def value(program, params, path: str | None) -> Defined:
+    """Is ⟦p⟧ an integral at ``params``?"""
+    point = dict(params)
+    sources = _sources(path)
+    res = singular.value_integrability(program, point)
+    out = Defined(singular.findings_of(res, program, point, sources, "X311"))
+    if res.verdict is Verdict.DIVERGENT:
+        out.undefined = _short(out.findings[0])
+        out.infinite_variance = "the integral itself does not exist"
+    else:
+        out.infinite_variance = _square(res)
+    return out
+
+
+def derivative(program, params, direction, path: str | None) -> Defined:
+    """Is ⦇p⦈ in the direction γ' an integral at ``params`` (and is ⟦p⟧)?"""
+    out = value(program, params, path)
+    if out.undefined is not None:
+        out.undefined = "⟦p⟧ does not exist, so neither does its derivative: " + out.undefined
+        return out
+    point = dict(params)
+    res = singular.derivative_integrability(program, point, direction)
+    found = singular.findings_of(res, program, point, _sources(path), "X313")
+    out.findings += found
+    if res.verdict is Verdict.DIVERGENT:
+        out.undefined = _short(found[0])
+        out.infinite_variance = "the derivative denotation is not an integral"
+    else:
+        out.infinite_variance = _square(res, "the regular part")
+    return out
