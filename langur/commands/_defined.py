@@ -1,6 +1,11 @@
 """Does the integral exist?  ``eval``, ``deriv`` and ``show`` ask before running the engines.
 
-The structural analysis of ``langur.lint.singular`` (X311 for ⟦p⟧, X313 for ⦇p⦈ in the
+**Transversality** (``deriv``): where ``langur check`` reports X301 (Def. 7.2 fails on a set of
+positive measure: a jump counted twice) ⦇p⦈ is not the derivative, so ``deriv`` says the
+derivative is not defined for the program as written, shows the transverse rewrite of §7.3.2
+(``langur.lint.rewrite``) and exits 1; ``deriv --rewrite`` differentiates the rewrite instead.
+
+**Integrability.** The structural analysis of ``langur.lint.singular`` (X311 for ⟦p⟧, X313 for ⦇p⦈ in the
 direction asked, X312 when undecided) runs at the parameter values of the command.  A finding at
 error severity means the integral does not exist: the command prints it as a diagnostic
 (``PATH:LINE:COL: error X311 …``), reports the exact value as undefined instead of running the
@@ -61,6 +66,43 @@ def _square(res: singular.Integrability, part: str | None = None) -> str | None:
         return None
     return (f"the integrand's square grows like dist^-{2 * b.alpha:.3g} near a set of codimension {b.codim}, "
             "which is not integrable")
+
+
+@dataclass
+class Transversal:
+    """X301 findings of the program (none: ⦇p⦈ is the derivative) and its rewrite."""
+
+    findings: list[Finding] = field(default_factory=list)
+    rewritten: object = None  # the rewritten core Program
+    shown: str = ""  # the rewrite as a diff of the file (or the whole program)
+
+    def reason(self) -> str:
+        f = self.findings[0]
+        where = f" at {f.span.line}:{f.span.col}" if f.span is not None else ""
+        return ("the program is not transverse (X301" + where + "): Def. 7.2 fails on a set of positive "
+                "measure, ⦇p⦈ counts a jump twice and is not the derivative (paper §7.3)")
+
+
+def transversal(loaded, path: str | None) -> Transversal:
+    """X301: is ⦇p⦈ the derivative of this program?  With the rewrite when it is not."""
+    from ..lint import fix
+    from ..lint.rewrite import transverse
+    from ..syntax.printer import print_program
+    from ..transversality import check_loaded
+
+    sources = _sources(path)
+    found = [f for f in check_loaded(loaded, sources=sources) if f.code == "X301"]
+    if not found:
+        return Transversal()
+    out = Transversal(found, transverse(loaded.program).program)
+    text = sources.get(path or "")
+    try:
+        fixed = fix.fix(text, path, loaded) if text is not None else None
+    except fix.FixError:
+        fixed = None
+    out.shown = fixed.diff(fix.target(path, False)) if fixed is not None else \
+        print_program(out.rewritten, loaded.params) + "\n"
+    return out
 
 
 def value(program, params, path: str | None) -> Defined:

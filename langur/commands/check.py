@@ -61,6 +61,14 @@ def add_arguments(p):
     )
     p.add_argument("--isolated", action="store_true", help="ignore every pyproject.toml configuration")
     p.add_argument(
+        "--fix",
+        action="store_true",
+        help="write the transverse rewrite (paper §7.3.2) of each FILE with X301 findings to "
+        "NAME.fixed.lgr (never over an existing file) and report what remains",
+    )
+    p.add_argument("--in-place", action="store_true", help="with --fix: rewrite FILE itself, keeping FILE.bak")
+    p.add_argument("--diff", action="store_true", help="print the rewrite of --fix as a unified diff; write nothing")
+    p.add_argument(
         "--stdin-filename", metavar="PATH", help="the name standard input is reported (and configured) as"
     )
 
@@ -95,6 +103,22 @@ def _expand(files: list[str]) -> list[str]:
     return out
 
 
+def here_at(at: dict, loaded) -> dict:
+    return {k: v for k, v in at.items() if k in loaded.params}
+
+
+def _fix(fixmod, text, name, loaded, modules, at, sources):
+    """The rewrite of a file with X301 findings (None: nothing to rewrite)."""
+    from ..transversality import check_loaded
+
+    if not any(fd.code == "X301" for fd in check_loaded(loaded, at=at, sources=sources)):
+        return None
+    try:
+        return fixmod.fix(text, name, loaded, modules)
+    except fixmod.FixError as e:
+        raise UsageError(str(e)) from None
+
+
 def run(args) -> int:
     from .. import __version__, frontend
     from ..lint import config as cfgmod
@@ -103,7 +127,11 @@ def run(args) -> int:
     from ..lint.prove import Prover
     from ..transversality import check_library, check_loaded, point_of
 
+    from ..lint import fix as fixmod
+
     fmt = args.format or ("json" if args.json else "text")
+    if args.in_place and not args.fix:
+        raise UsageError("--in-place goes with --fix")
     if args.json and args.format not in (None, "json"):
         raise UsageError(f"--json and --format {args.format} contradict each other")
     at = parse_assignments(args.at, "--at")
@@ -137,6 +165,7 @@ def run(args) -> int:
 
     reports: list[Report] = []
     used_at: set[str] = set()
+    fixes: list = []  # the --fix / --diff rewrites (langur.lint.fix)
     for name, data, cfg in inputs:
         text = data.decode("utf-8", errors="replace")
         sources = {name: text}
@@ -145,6 +174,14 @@ def run(args) -> int:
         except LangurError as e:
             reports.extend(Report(d) for d in e.diagnostics)
             continue
+        if (args.fix or args.diff) and loaded.program is not None:
+            fixed = _fix(fixmod, text, name, loaded, modules, here_at(at, loaded), sources)
+            if fixed is not None:
+                fixes.append(fixed)
+                if args.fix and not args.diff:  # report what remains in the rewritten file
+                    name = STDIN_NAME if name == STDIN_NAME else fixmod.target(name, args.in_place)
+                    text, sources = fixed.after, {name: fixed.after}
+                    loaded = frontend.load_text(text, name, modules=modules)
         here = {k: v for k, v in at.items() if k in loaded.params}
         used_at |= set(here)
         if loaded.program is None:  # a library module: each def on its own
@@ -174,6 +211,25 @@ def run(args) -> int:
     if unknown and not any(r.diagnostic.code[:1] in ("E", "T") for r in reports):
         raise UsageError(f"--at {unknown[0]}: no checked FILE declares this parameter")
 
+    if args.diff:
+        for f in fixes:
+            sys.stdout.write(f.diff(fixmod.target(f.path, args.in_place) if f.path != STDIN_NAME else f.path))
+        return 1 if fixes else 0
+    if args.fix:
+        for f in fixes:
+            if f.path != STDIN_NAME:
+                try:
+                    fixmod.check_writable(f, args.in_place)
+                except fixmod.FixError as e:
+                    raise UsageError(str(e)) from None
+        for f in fixes:
+            if f.path == STDIN_NAME:
+                sys.stdout.write(f.after)
+                continue
+            dest = fixmod.write(f, args.in_place)
+            how = "printed whole, defs inlined" if f.whole else f"{len(f.rewritten.replaced)} subterm(s)"
+            print(f"{f.path}: transverse rewrite (paper §7.3.2, {how}) written to {dest}"
+                  + (f" (backup {f.path}.bak)" if args.in_place else ""), file=sys.stderr)
     out = render(reports, fmt, __version__)
     if out:
         print(out)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from ..cli import add_common
 from . import _common as c
 from . import _defined
@@ -15,6 +17,9 @@ def add_arguments(p):
                    help="a direction γ' instead of --wrt (repeatable, or comma-separated)")
     add_common(p, mc=True)
     add_engine_arguments(p)
+    p.add_argument("--rewrite", action="store_true",
+                   help="differentiate the transverse rewrite (paper §7.3.2) of a program that is not "
+                        "transverse (X301), which has no derivative as written")
     p.add_argument("--no-theorem", action="store_true",
                    help="skip the Theorem 8.1 check (it re-evaluates ⦇p⦈ at nearby parameters when the "
                         "closed form cannot be differentiated symbolically)")
@@ -28,6 +33,13 @@ def run(args) -> int:
     status = 0
     exact = mc = theorem = None
     standard_ad = None
+    gate = _defined.transversal(loaded, args.file)  # X301: is ⦇p⦈ the derivative at all?
+    rewrite = gate.shown if gate.findings else None
+    if gate.findings and not args.rewrite:
+        return _not_transverse(args, gate, params, direction)
+    target = loaded
+    if gate.findings:  # --rewrite: differentiate the transverse program instead
+        program = target = gate.rewritten
     defined = _defined.derivative(program, params, direction, args.file)  # X311 / X313
     defined.report(args.json)
     undefined = defined.undefined
@@ -44,7 +56,7 @@ def run(args) -> int:
             if exact_sad is not None:
                 standard_ad = {"value": exact_sad, "stderr": 0.0, "source": "exact"}
     if args.engine in ("both", "mc"):
-        mc = run_mc("deriv", loaded, params, args, direction,
+        mc = run_mc("deriv", target, params, args, direction,
                     infinite_variance=defined.infinite_variance or (undefined and "the derivative does not exist"))
         if mc is not None:
             sad = mc.pop("standard_ad", None)
@@ -53,12 +65,12 @@ def run(args) -> int:
     if args.json:
         c.dump_json({"params": params, "direction": direction, "exact": exact, "mc": mc,
                      "standard_ad": standard_ad, "theorem_8_1": theorem, "undefined": undefined,
-                     "diagnostics": [d.to_json() for d in defined.diagnostics()]})
+                     "diagnostics": [d.to_json() for d in defined.diagnostics()], "rewrite": rewrite})
         return status
-    wrt = [k for k, v in direction.items() if v]
-    what = f"d/d{wrt[0]}" if len(wrt) == 1 and direction[wrt[0]] == 1 else \
-        "derivative in direction " + ", ".join(f"{k}'={c.fmt(v)}" for k, v in direction.items() if v)
-    print(f"{args.file}: {what} at {c.fmt_params(params)}")
+    print(f"{args.file}: {_what(direction)} at {c.fmt_params(params)}")
+    if rewrite is not None:
+        print("  (of the transverse rewrite, paper §7.3.2; the program as written has no derivative: X301)")
+        print("    " + rewrite.rstrip("\n").replace("\n", "\n    "))
     if undefined is not None:
         print(f"  exact       : undefined: {undefined}")
     if exact is not None:
@@ -80,3 +92,27 @@ def run(args) -> int:
               f"⦇p⦈ = {c.fmt(theorem.get('derivative_denotation'))}"
               + ("" if theorem.get("holds") else "   (run `langur check` for transversality)"))
     return status
+
+
+def _what(direction) -> str:
+    wrt = [k for k, v in direction.items() if v]
+    if len(wrt) == 1 and direction[wrt[0]] == 1:
+        return f"d/d{wrt[0]}"
+    return "derivative in direction " + ", ".join(f"{k}'={c.fmt(v)}" for k, v in direction.items() if v)
+
+
+def _not_transverse(args, gate, params, direction) -> int:
+    """X301: no number is presented as the derivative; the rewrite is shown (Def. 7.2, §7.3)."""
+    if args.json:
+        c.dump_json({"params": params, "direction": direction, "exact": None, "mc": None, "standard_ad": None,
+                     "theorem_8_1": None, "undefined": gate.reason(), "rewrite": gate.shown,
+                     "diagnostics": [f.diagnostic().to_json() for f in gate.findings]})
+        return 1
+    for f in gate.findings:
+        print(f.diagnostic().format(), file=sys.stderr)
+    print(f"{args.file}: {_what(direction)} at {c.fmt_params(params)}")
+    print(f"  exact       : not defined: {gate.reason()}")
+    print("  rewrite     : the transverse program of paper §7.3.2 (same value ⟦p⟧); "
+          "`langur deriv --rewrite` differentiates it, `langur check --fix` writes it:")
+    print("    " + gate.shown.rstrip("\n").replace("\n", "\n    "))
+    return 1

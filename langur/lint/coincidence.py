@@ -57,7 +57,7 @@ class CoincidenceChecks:
             f"rule multiplies its delta by a function that jumps on the same zero set {self.zero_set(c)}, "
             f"{self.every(names)}, so the derivative is wrong (Def. 7.2 fails on a set of positive "
             "measure; paper §7.3.2); rewrite it without the power, e.g. [c]^k as [c] and f([c]) as "
-            "f(0) + (f(1) - f(0))*[c]",
+            "f(0) + (f(1) - f(0))*[c] (`langur check --fix` writes the rewrite)",
             (site,),
             names,
         )
@@ -120,7 +120,8 @@ class CoincidenceChecks:
         else:
             why = (
                 "the delta of one is evaluated on the jump of the other, so the derivative counts the jump "
-                "twice (Def. 7.2 fails on a set of positive measure; paper §7.3.1); use the condition once"
+                "twice (Def. 7.2 fails on a set of positive measure; paper §7.3.1); use the condition once "
+                "(`langur check --fix` writes the rewrite)"
             )
         self.add(
             self.anchor(p),
