@@ -52,6 +52,8 @@ CORPUS = [
      (4 / 3) * 0.5 ** 1.5, False),
     ("vanishing_param", program("a = 0", "[-1, 1]", "1 / (x^2 + a^2)", "x"), "D", None, None, False),
     ("expanded_square", program("a = 0.5", "[0, 1]", "1 / (x^2 - 2*x*a + a^2)", "x"), "D", "D", None, False),
+    # undefined on a set of positive measure: log of a negative number (LANGUAGE.md §1)
+    ("log_negative", program("", "[-1, 1]", "log(x)", "x"), "D", None, None, False),
     # --- two variables -------------------------------------------------------------------------
     ("r2_corner", program("", "[0, 1], [0, 1]", "1 / (x^2 + y^2)", "x, y"), "D", None, None, False),
     ("r1_corner", program("", "[0, 1], [0, 1]", "1 / sqrt(x^2 + y^2)", "x, y"), "I", None, 2 * SQRT2_LOG, True),
@@ -71,7 +73,7 @@ CORPUS = [
     ("moving_circle", program("a = 0.5", "[0, 1], [0, 1]", "1 / (x^2 + y^2 - a^2)", "x, y"), "D", "D", None, False),
     # ∫_{quarter disk of radius a} (a² − r²)^(−1/2) = (π/2)·∫₀^a r (a² − r²)^(−1/2) dr = (π/2)·a
     ("rim_root_pole", program("a = 0.5", "[0, 1], [0, 1]", "[x^2 + y^2 <= a^2] / sqrt(a^2 - x^2 - y^2)", "x, y"),
-     "I", None, math.pi * 0.5 / 2, True),
+     "I", "D", math.pi * 0.5 / 2, True),
     # ∫∫_[0,1]² log(x² + y²) = log 2 + π/2 − 3
     ("log_corner", program("", "[0, 1], [0, 1]", "log(x^2 + y^2)", "x, y"), "I", None,
      math.log(2) + math.pi / 2 - 3, False),
@@ -85,6 +87,7 @@ CORPUS = [
     # Σ_k ∫∫ (xy)^k = Σ 1/(k + 1)² = π²/6: a simple pole at the corner (1, 1) of ℝ²
     ("basel", program("", "[0, 1], [0, 1]", "1 / (1 - x*y)", "x, y"), "I", None, math.pi ** 2 / 6, True),
     ("basel_squared", program("", "[0, 1], [0, 1]", "1 / (1 - x*y)^2", "x, y"), "D", None, None, False),
+    ("sqrt_negative", program("", "[-1, 1], [0, 1]", "sqrt(x - y)", "x, y"), "D", None, None, False),
     # --- three variables -----------------------------------------------------------------------
     # ∫_{octant of the unit ball} r^−2 = (4π/8)·∫₀¹ dr = π/2
     ("ball_r2", program("", "[0, 1], [0, 1], [0, 1]", "[x^2 + y^2 + z^2 <= 1] / (x^2 + y^2 + z^2)", "x, y, z"),

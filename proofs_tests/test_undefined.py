@@ -108,3 +108,40 @@ def test_slowly_convergent_is_not_called_divergent():
                                   notes)
     assert abs(v - 1 / math.log(2)) < 1e-2
     assert any("did not reach its tolerance" in n for n in notes)
+
+
+def test_ball_show_derivative(capsys):
+    # `langur show --wrt r` used to die with "internal error: ValueError" (a NaN at the fold of
+    # the inverse branch z = sqrt(r² − x² − y²)); the value is πr²/2 = π/8 at r = 1/2
+    import io
+    import re
+    import sys as _sys
+
+    from langur.cli import main
+
+    old = _sys.stdin
+    _sys.stdin = io.TextIOWrapper(io.BytesIO(b"param r = 0.5\nint ([0,1],[0,1],[0,1]) [x^2+y^2+z^2 <= r^2] d(x,y,z)\n"))
+    try:
+        status = main(["show", "-", "--wrt", "r"])
+    finally:
+        _sys.stdin = old
+    out = capsys.readouterr().out
+    assert status == 0
+    (value,) = re.findall(r"value at r = 1/2: ([0-9.]+)", out.split("derivative")[1])
+    assert abs(float(value) - math.pi / 8) < 1e-8
+
+
+@pytest.mark.parametrize("name", ["pole2_end", "pole1_end", "pole1_inside", "principal_value", "tan_pole",
+                                  "inverse_log", "expanded_square", "r2_corner", "sum_squared_corner",
+                                  "diagonal", "moving_circle", "tan_line", "basel_squared"])
+def test_exact_engine_alone_never_answers_a_divergent_integral(name):
+    # without the structural analysis of the command layer: quadrature's diagnostics suffice
+    from singular_corpus import CORPUS
+
+    from langur import frontend
+    from langur.symbolic import api
+
+    (text,) = [t for n, t, *_ in CORPUS if n == name]
+    loaded = frontend.load_text(text, f"{name}.lgr")
+    with pytest.raises(api.ExactUndefined):
+        api.exact_eval(loaded.program, loaded.param_values())

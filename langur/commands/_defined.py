@@ -57,7 +57,13 @@ def _sources(path: str | None) -> dict[str, str]:
 def _short(f: Finding) -> str:
     """``X311 at 1:14: `1 / x^2` is not integrable on the domain`` (the diagnostic has the rest)."""
     where = f" at {f.span.line}:{f.span.col}" if f.span is not None else ""
-    return f"{f.message.split(': ', 1)[0]} ({f.code}{where})"
+    depth, cut = 0, len(f.message)
+    for i, ch in enumerate(f.message):  # the first ": " outside parentheses ends the summary
+        depth += {"(": 1, ")": -1}.get(ch, 0)
+        if depth == 0 and f.message.startswith(": ", i):
+            cut = i
+            break
+    return f"{f.message[:cut]} ({f.code}{where})"
 
 
 def _square(res: singular.Integrability, part: str | None = None) -> str | None:

@@ -149,7 +149,10 @@ class Region:
 
 
 def _numpy(e: sp.Expr, xs) -> callable:
-    f = sp.lambdify(list(xs), e, modules="numpy")
+    try:
+        f = sp.lambdify(list(xs), e, modules="numpy")
+    except Exception:  # noqa: BLE001 - sympy cannot print zoo, nan… for numpy: nowhere a number
+        return lambda pts: np.full(pts.shape[0], np.nan)
 
     def call(pts: np.ndarray) -> np.ndarray:
         with np.errstate(all="ignore"):
@@ -435,9 +438,34 @@ def decide(alpha_typ: float, alpha_max: float, codim: int, logarithmic: bool) ->
     return Verdict.UNDECIDED
 
 
+def undefined_part(w: sp.Expr, region: Region) -> Blowup | None:
+    """``w`` undefined (``log`` or ``sqrt`` of a negative number, …) at grid points strictly inside
+    the region: on a set of positive measure (the arguments are continuous), so the integral does
+    not exist.  The example point is returned exactly as sampled."""
+    pts, _ = region.grid()
+    margin = 1e-9 * region.scale
+    inner = np.all((pts > region.lo + margin) & (pts < region.hi - margin), axis=1)
+    for f in region._cfs:
+        with np.errstate(all="ignore"):
+            inner &= np.nan_to_num(f(pts), nan=-1.0) > margin
+    if not inner.any():
+        return None
+    vals = _numpy(w, region.xs)(pts[inner])
+    bad = np.flatnonzero(np.isnan(vals))
+    if len(bad) < 2:  # one grid point may sit exactly on a zero of an argument
+        return None
+    p = tuple(sp.Float(float(v), DIGITS) for v in pts[inner][bad[len(bad) // 2]])
+    if math.isfinite(_value(w, region.xs, p)):
+        return None  # numpy's NaN was a 0·∞ it cannot resolve, not an undefined value
+    return Blowup(w, p, "undefined", None, None, None, Verdict.DIVERGENT, Verdict.DIVERGENT)
+
+
 def blowups(w: sp.Expr, region: Region) -> list[Blowup]:
-    """Every place where ``w`` blows up on R̄, with its verdict."""
+    """Every place where ``w`` blows up on R̄ (or is undefined on part of it), with its verdict."""
     out: list[Blowup] = []
+    bad = undefined_part(w, region)
+    if bad is not None:
+        return [bad]
     for g in pole_bases(w, region.xs):
         try:
             found = sites(g, region)

@@ -146,8 +146,7 @@ def _guarded(what: str, fn) -> Integrability:
         run_with_timeout(lambda: fn(out), TIME_LIMIT)
     except TimeoutError:
         out.note = f"the analysis of {what} took longer than {TIME_LIMIT:g} s"
-    except (Undecidable, ValueError, TypeError, ZeroDivisionError, ArithmeticError, NotImplementedError,
-            RecursionError) as e:
+    except Exception as e:  # noqa: BLE001 - the analysis never stops a command; it claims nothing then
         out.note = f"the analysis of {what} could not run ({type(e).__name__}: {e})"
     return out
 
@@ -222,7 +221,11 @@ def _culprit(program: Program, b: Blowup, at: dict, sources: Mapping[str, str]) 
             e = sp.cos(e) if t.op == "tan" else 1 - e**2
         if b.point and len(b.point) == len(xs):
             v = _num(e.xreplace(dict(zip(xs, b.point))))
-            if not (math.isfinite(v) and abs(v) < 1e-25):
+            if b.shape == "undefined":  # the primitive whose argument is out of its domain there
+                if not (math.isfinite(v) and (v < 0 and (isinstance(t, Prim) and t.op in ("log", "sqrt")
+                                                         or isinstance(t, Pow)))):
+                    continue
+            elif not (math.isfinite(v) and abs(v) < 1e-25):
                 continue
         text = _quote(t.span, sources)
         return t.span, f"`{text}`" if text else "a division"
@@ -245,6 +248,9 @@ def _where(b: Blowup, program: Program) -> str:
         kind = "face" if b.codim == 1 else "edge" if b.codim == len(names) - 1 and len(names) > 2 else "corner" \
             if b.codim == len(names) else "face"
         return f"on the {kind} {face} of the domain (e.g. at {at})"
+    if b.shape == "undefined":
+        return f"undefined on a set of positive measure (e.g. at {at}: a logarithm, root or fractional power " \
+               "of a negative number, or another primitive outside its domain)"
     if b.shape == "condition":
         return f"on the boundary {sp.sstr(b.base)} = 0 of the region (e.g. at {at})"
     if b.shape == "point" and len(names) == 1:
@@ -305,7 +311,11 @@ def findings_of(res: Integrability, program: Program, point, sources, code: str)
         span, what = _culprit(program, b, at, sources)
         where = _where(b, program)
         if b.verdict is Verdict.DIVERGENT:
-            if code == "X311":
+            if code == "X311" and b.shape == "undefined":
+                msg = (f"{what} is {where.replace('positive measure', 'positive measure of the domain', 1)}"
+                       f"{at_text}: the integral of an integrand undefined there does not exist (LANGUAGE.md §1; "
+                       "⟦p⟧ is undefined)")
+            elif code == "X311":
                 msg = (f"{what} is not integrable on the domain{at_text}: it blows up {where}, "
                        f"{_order(b)}: the integral does not exist (⟦p⟧ is undefined, it diverges)")
             else:
