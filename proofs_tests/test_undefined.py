@@ -145,3 +145,20 @@ def test_exact_engine_alone_never_answers_a_divergent_integral(name):
     loaded = frontend.load_text(text, f"{name}.lgr")
     with pytest.raises(api.ExactUndefined):
         api.exact_eval(loaded.program, loaded.param_values())
+
+
+def test_unconverged_quadrature_is_no_error_bound():
+    from langur import frontend
+    from langur.symbolic import api
+
+    # ∫₀^½ dx/(x log x) = [log|log x|]₀^½ diverges (like log log): sympy has no closed form and
+    # quad does not converge, so there is no value whose error bound could be trusted
+    slow = frontend.load_text("int ([0, 0.5]) 1 / (x * log(x)) d(x)\n", "a.lgr")
+    with pytest.raises(api.ExactUnavailable, match="did not converge"):
+        api.exact_eval(slow.program, {})
+    # ∫₀^½ dx/(x log²x) = 1/log 2: the closed form stands, cross-checked only roughly (quad says
+    # 1.4389 ± 1.6e-5, an optimistic bound), and says so
+    ok = frontend.load_text("int ([0, 0.5]) 1 / (x * log(x)^2) d(x)\n", "b.lgr")
+    r = api.exact_eval(ok.program, {})
+    assert r["method"] == "closed_form" and abs(r["value"] - 1 / math.log(2)) < 1e-12
+    assert any("cross-checked only" in n for n in r["notes"])

@@ -221,6 +221,10 @@ def _culprit(program: Program, b: Blowup, at: dict, sources: Mapping[str, str]) 
             e = sp.cos(e) if t.op == "tan" else 1 - e**2
         if b.point and len(b.point) == len(xs):
             v = _num(e.xreplace(dict(zip(xs, b.point))))
+            for eps in (sp.Float("1e-30", 50), sp.Float("-1e-30", 50)):
+                if math.isnan(v):  # 0·∞ at the point itself (x·log x): look right next to it
+                    v = _num(e.xreplace({x: c + eps for x, c in zip(xs, b.point)}))
+                    v = v if abs(v) < 1e-20 else math.nan
             if b.shape == "undefined":  # the primitive whose argument is out of its domain there
                 if not (math.isfinite(v) and (v < 0 and (isinstance(t, Prim) and t.op in ("log", "sqrt")
                                                          or isinstance(t, Pow)))):

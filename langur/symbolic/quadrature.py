@@ -45,11 +45,14 @@ NARROW = 1e-8
 #: isolated singular points but a set quadrature keeps hitting (undefined on a set of positive
 #: measure, or an inner integral that diverges as the outer variable tends to a point).
 MAX_BAD = 3
-#: The warnings of scipy's QUADPACK wrapper that mean "no convergence" (ier = 1, 3, 4); ier = 2
-#: (roundoff kept the tolerance from being reached) is harmless at the tight tolerances used here,
-#: and ier = 5 ("probably divergent") means the integral does not exist.
-NOT_CONVERGED = ("maximum number of subdivisions", "bad integrand behavior", "does not converge")
+#: The warnings of scipy's QUADPACK wrapper that mean "no convergence" (ier = 1: the subdivision
+#: limit, ier = 3: bad integrand behaviour): the error estimate is not to be trusted.  ier = 2 and
+#: ier = 4 (roundoff kept the tolerance from being reached) are harmless at the tight tolerances
+#: used here, and ier = 5 ("probably divergent") means the integral does not exist.
+NOT_CONVERGED = ("maximum number of subdivisions", "bad integrand behavior")
 DIVERGENT = "probably divergent"
+#: How a note about such a warning starts (``langur.symbolic.integrate`` reads it).
+NOT_CONVERGED_NOTE = "quadrature did not reach its tolerance"
 
 
 def _num(expr, at: dict) -> float:
@@ -236,7 +239,7 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
                             f"quadrature over {_name(p, level)} in [{c:.6g}, {d:.6g}] does not converge and the "
                             f"integrand grows like |{_name(p, level)} - {end:.6g}|^-{alpha:.3g} there: the "
                             "integral is probably divergent")
-                p.notes.append(f"quadrature did not reach its tolerance over {_name(p, level)} "
+                p.notes.append(f"{NOT_CONVERGED_NOTE} over {_name(p, level)} "
                                f"(scipy: {w.splitlines()[0].rstrip('.')}); the error bound may be optimistic")
             return total, err
         singular += [t for t in g.bad if t not in singular]
