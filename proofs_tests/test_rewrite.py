@@ -176,3 +176,11 @@ def test_degenerate_examples(langur, tmp_path, example):
     assert r.returncode == 1 and json.loads(r.stdout)["exact"] is None
     r = langur("deriv", DEGENERATE / example, "--rewrite", "--json", cwd=tmp_path)
     assert r.returncode == 0 and json.loads(r.stdout)["exact"]["value"] == -1.0  # D(1 − a)
+
+
+def test_fix_of_standard_input_prints_the_program(langur, monkeypatch):
+    import io
+
+    monkeypatch.setattr("sys.stdin", io.TextIOWrapper(io.BytesIO(b"param a = 0.5\nint ([0, 1]) [x >= a]^2 d(x)\n")))
+    r = langur("check", "-", "--fix")
+    assert r.returncode == 0 and r.stdout == "param a = 0.5\nint ([0, 1]) (ifge0 x - a then 1 else 0) d(x)\n"

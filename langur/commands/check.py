@@ -231,8 +231,8 @@ def run(args) -> int:
             print(f"{f.path}: transverse rewrite (paper §7.3.2, {how}) written to {dest}"
                   + (f" (backup {f.path}.bak)" if args.in_place else ""), file=sys.stderr)
     out = render(reports, fmt, __version__)
-    if out:
-        print(out)
+    if out:  # with --fix of standard input, standard output carries the fixed program
+        print(out, file=sys.stderr if args.fix and any(f.path == STDIN_NAME for f in fixes) else sys.stdout)
     errors = sum(1 for r in reports if r.diagnostic.severity == "error")
     warnings = len(reports) - errors
     if fmt == "text":
