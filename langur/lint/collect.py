@@ -76,6 +76,30 @@ class Product:
 ONE = frozenset({Product(frozenset())})
 
 
+def zero_set_branches(psi: Diffeo, env: dict[str, sp.Expr]) -> tuple[tuple[dict, tuple], ...]:
+    """The zero set of π₀Ψ̂ through each inverse branch at u₀ = 0: ``({x: expr over u′}, guards)``
+    (``psi`` already extended to all the program's variables)."""
+    zero = {**env, psi.inputs[0]: sp.Integer(0)}
+    return tuple(({symbol(x): to_sympy(c, zero) for x, c in zip(psi.variables, b.components)},
+                  tuple(to_sympy(g, zero) for g in b.guards)) for b in psi.branches)
+
+
+def jump_vanishes(jump: sp.Expr, branches, variables) -> bool:
+    """Does ``jump`` (⟦s⟧ − ⟦r⟧ of a conditional) vanish on its zero set (``branches`` as
+    :func:`zero_set_branches`)?  Then the conditional has no delta (``abs``, ``min``, ``max``)."""
+    from .algebra import Undecided, vanishes
+
+    xs = {symbol(x) for x in variables}
+    try:
+        for comps, guards in branches:
+            e = jump.xreplace(comps)
+            if not vanishes(e, tuple(sym for sym in e.free_symbols if sym not in xs), guards):
+                return False
+    except Undecided:
+        return False
+    return True
+
+
 @dataclass
 class Collected:
     occurrences: list[Occurrence]
@@ -97,12 +121,7 @@ class _Collector:
         if set(psi.variables) != set(self.variables):
             psi = extend_diffeo(psi, tuple(self.variables))
         f = to_sympy(psi.forward[0], env)
-        zero = {**env, psi.inputs[0]: sp.Integer(0)}
-        branches = []
-        for b in psi.branches:
-            comps = {symbol(x): to_sympy(c, zero) for x, c in zip(psi.variables, b.components)}
-            guards = tuple(to_sympy(g, zero) for g in b.guards)
-            branches.append((comps, guards))
+        branches = zero_set_branches(psi, env)
         occ = Occurrence(
             index=len(self.occurrences),
             psi=psi,
@@ -119,20 +138,11 @@ class _Collector:
     def continuous(self, occ: "Occurrence", s: Term, r: Term, env: dict[str, sp.Expr]) -> bool:
         """Is ``ifge0 ⌊Ψ⌋ then s else r`` continuous (smooth branches that agree on the zero set)?
         Then its delta has zero weight and it multiplies nothing (``abs``, ``min``, ``max``)."""
-        from .algebra import Undecided, vanishes
-
         try:
             jump = to_sympy(s, env) - to_sympy(r, env)
         except NotSmooth:
             return False
-        xs = {symbol(x) for x in self.variables}
-        try:
-            for comps, guards in occ.branches:
-                e = jump.xreplace(comps)
-                others = tuple(sym for sym in e.free_symbols if sym not in xs)
-                if not vanishes(e, others, guards):
-                    return False
-        except Undecided:
+        if not jump_vanishes(jump, occ.branches, self.variables):
             return False
         occ.continuous = True
         return True

@@ -50,8 +50,8 @@ from ..core import (
     subterms,
 )
 from ..diagnostics import Span
-from ..syntax.sympy_bridge import NotSmooth, symbol, to_sympy
-from .algebra import Undecided, vanishes
+from ..syntax.sympy_bridge import NotSmooth, to_sympy
+from .collect import jump_vanishes, zero_set_branches
 
 ZERO, ONE = Const(Fraction(0)), Const(Fraction(1))
 
@@ -99,18 +99,10 @@ class _Rewriter:
         psi = node.psi
         if set(psi.variables) != set(self.variables):
             psi = extend_diffeo(psi, self.variables)
-        zero = {**env, psi.inputs[0]: sp.Integer(0)}
-        xs = {symbol(x) for x in self.variables}
         try:
-            for b in psi.branches:
-                comps = {symbol(x): to_sympy(c, zero) for x, c in zip(psi.variables, b.components)}
-                guards = tuple(to_sympy(g, zero) for g in b.guards)
-                e = jump.xreplace(comps)
-                if not vanishes(e, tuple(s for s in e.free_symbols if s not in xs), guards):
-                    return True
-        except (Undecided, NotSmooth, KeyError, TypeError):
+            return not jump_vanishes(jump, zero_set_branches(psi, env), self.variables)
+        except (NotSmooth, KeyError, TypeError):
             return True
-        return False
 
     def keys_in(self, t: Term, env: dict) -> set:
         """Zero sets of the jumping conditionals of ``t`` (not looking into let-bound conditions)."""
@@ -125,42 +117,49 @@ class _Rewriter:
     # -- the rewrite: one case per term former (Fig. 6) -------------------------------------------
 
     def go(self, t: Term, env: dict) -> Term:
+        """``t`` rewritten bottom-up: a rewrite happens where Fig. 8 would multiply a delta by a
+        jump on its own zero set (collect.py, ``products``)."""
         match t:
             case Const() | Var() | Param():
+                # Fig. 6, constant, variable, parameter: nothing to rewrite
                 return t
             case Add(a, b):
+                # Fig. 6, sum: summands never multiply
                 return replace(t, left=self.go(a, env), right=self.go(b, env))
             case Mul(a, b):
-                # a product of factors that jump on the same zero set: lift and collapse
+                # Fig. 6, product: factors that jump on the same zero set are lifted and collapsed
                 a2, b2 = self.go(a, env), self.go(b, env)
                 node = replace(t, left=a2, right=b2)
                 if self.keys_in(a2, env) & self.keys_in(b2, env):
                     return self.done(t, tidy(self.collapse(self.hoist(node, env), env, {})))
                 return node
             case Prim(op, a):
-                # f(⟦t⟧) jumps where t does: lift the conditionals out of the primitive
+                # LANGUAGE.md §1, primitive: f(⟦t⟧) jumps where t does, so the conditionals go out
                 a2 = self.go(a, env)
                 if self.keys_in(a2, env):
                     return self.done(t, tidy(self.collapse(self.push(lambda u: Prim(op, u), self.hoist(a2, env)),
                                                             env, {})))
                 return replace(t, arg=a2)
             case Pow(a, k):
-                # t ^ k: the same, unless k is 0 or 1 (no second factor of the jump)
+                # LANGUAGE.md §1, power: the same, unless k is 0 or 1 (no second factor of the jump)
                 a2 = self.go(a, env)
                 if k not in (0, 1) and self.keys_in(a2, env):
                     return self.done(t, tidy(self.collapse(self.push(lambda u: Pow(u, k), self.hoist(a2, env)),
                                                             env, {})))
                 return replace(t, base=a2)
             case IfGe0(c, s, r):
+                # Fig. 6, conditional on a variable-free condition: no delta, the branches are rewritten
                 return replace(t, then=self.go(s, env), orelse=self.go(r, env))
             case IfDiffeo(_, s, r):
-                # a conditional nested in a branch of one with the same zero set: collapse
+                # Fig. 6, diffeomorphic conditional: one nested in a branch of one with the same zero
+                # set is decided by it (collapse)
                 node = replace(t, then=self.go(s, env), orelse=self.go(r, env))
                 k = self.key(node, env)
                 if k is not None and k[0] in (self.keys_in(node.then, env) | self.keys_in(node.orelse, env)):
                     return self.done(t, tidy(self.collapse(node, env, {})))
                 return node
             case Let(name, bound, body):
+                # Fig. 6, let: the body sees the bound value
                 return replace(t, body=self.go(body, {**env, name: to_sympy(bound, env)}))
             case Call():
                 raise ValueError("the transverse rewrite needs the inlined program (no Call nodes)")
