@@ -3,8 +3,12 @@
 Each subcommand lives in ``langur/commands/<name>.py`` with ``add_arguments(parser)`` and
 ``run(args) -> int``.  This module parses the command line, sets up the common options, and turns
 every :class:`~langur.diagnostics.LangurError` into ``PATH:LINE:COL: error CODE message`` lines and
-exit status 1.  Usage errors exit 2.  A traceback is a bug: unexpected exceptions are reported as
-an internal error (set ``LANGUR_DEBUG=1`` to see the traceback).
+exit status 1.  Usage errors exit 2, with one line saying what is wrong: every option is validated
+here or by its command (counts and seeds in range, parameter values finite) before any work is
+done.  Exit statuses are 0, 1 and 2 only (``docs/commands.md``).  A traceback is a bug: an
+unexpected exception is reported in one line as an internal error, status 1 (set
+``LANGUR_DEBUG=1`` to see the traceback).  Numeric warnings (numpy's "divide by zero", scipy's)
+that reach this level are collected and printed as one note, never as raw warning lines.
 """
 
 from __future__ import annotations
@@ -12,8 +16,11 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
+import math
 import os
 import sys
+import warnings
+from collections import Counter
 
 from .diagnostics import LangurError
 
@@ -32,10 +39,42 @@ class UsageError(Exception):
     """Bad command line: exit status 2."""
 
 
+#: Most Monte Carlo samples a command accepts.  Every sample is evaluated in one vectorized numpy
+#: pass, so memory grows as samples × the size of the program: 10⁶ samples of the paper's programs
+#: take 100–200 MB, 10⁷ about 1–2 GB.  Beyond that, average runs with different seeds.
+MAX_SAMPLES = 10_000_000
+#: Seeds are non-negative integers below 2⁶⁴ (numpy's SeedSequence, hypothesis).
+MAX_SEED = 2**64 - 1
+
+
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str):  # argparse's own usage errors: status 2, no traceback
-        self.print_usage(sys.stderr)
-        self.exit(2, f"{self.prog}: error: {message}\n")
+    def error(self, message: str):  # argparse's own usage errors: status 2, one line, no traceback
+        self.exit(2, f"{self.prog}: error: {message} (see `{self.prog} --help`)\n")
+
+
+def count(low: int, high: int, what: str = "a count"):
+    """An argparse type: an integer in [low, high], refused with one line otherwise."""
+
+    def parse(text: str) -> int:
+        try:
+            n = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if not low <= n <= high:
+            raise argparse.ArgumentTypeError(f"{what} must be between {low:,} and {high:,}, got {n:,}")
+        return n
+
+    return parse
+
+
+def samples(low: int = 2):
+    """``--samples N``: at least ``low`` (a standard error needs two samples), at most
+    :data:`MAX_SAMPLES` (refused before anything is allocated)."""
+    return count(low, MAX_SAMPLES, f"the number of samples (a standard error needs {low} or more; "
+                 "memory grows with it)")
+
+
+seed = count(0, MAX_SEED, "a seed")
 
 
 def parse_assignments(values: list[str] | None, what: str) -> dict[str, float]:
@@ -50,9 +89,15 @@ def parse_assignments(values: list[str] | None, what: str) -> dict[str, float]:
             if not eq or not name.strip():
                 raise UsageError(f"{what} expects NAME=VALUE, got {part!r}")
             try:
-                out[name.strip()] = float(num)
+                value = float(num)
             except ValueError:
                 raise UsageError(f"{what} {name.strip()}: {num!r} is not a number") from None
+            if not math.isfinite(value):
+                why = "out of range" if num.strip().lower().lstrip("+-") not in ("inf", "infinity", "nan") else \
+                    "not a finite number"
+                raise UsageError(f"{what} {name.strip()}={num.strip()}: {why} (parameter values and directions "
+                                 "are finite real numbers)")
+            out[name.strip()] = value
     return out
 
 
@@ -74,8 +119,10 @@ def add_common(p: argparse.ArgumentParser, *, params=True, mc=False) -> None:
         p.add_argument("--at", action="append", metavar="NAME=VALUE",
                        help="parameter values (repeatable, or comma-separated)")
     if mc:
-        p.add_argument("--samples", type=int, default=10000, help="Monte Carlo samples (default 10000)")
-        p.add_argument("--seed", type=int, default=0, help="random seed (same seed, same numbers)")
+        p.add_argument("--samples", type=samples(), default=10000, metavar="N",
+                       help=f"Monte Carlo samples, 2 to {MAX_SAMPLES:,} (default 10000)")
+        p.add_argument("--seed", type=seed, default=0, metavar="S",
+                       help="random seed, a non-negative integer (same seed, same numbers)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -106,7 +153,14 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return 2
     try:
-        return int(args._run(args) or 0)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")  # numpy's RuntimeWarnings, scipy's IntegrationWarnings, …
+            for quiet in (DeprecationWarning, PendingDeprecationWarning, FutureWarning):
+                warnings.simplefilter("ignore", quiet)  # about libraries' APIs, not the user's numbers
+            try:
+                return int(args._run(args) or 0)
+            finally:
+                _note_warnings(args.command, caught)
     except UsageError as e:
         print(f"langur {args.command}: error: {e}", file=sys.stderr)
         return 2
@@ -117,12 +171,26 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     except BrokenPipeError:
         return 0
+    except MemoryError:
+        print(f"langur {args.command}: error: out of memory (fewer --samples, or a smaller program)",
+              file=sys.stderr)
+        return 1
     except Exception as e:  # a bug, reported without a traceback unless asked for
         if os.environ.get("LANGUR_DEBUG"):
             raise
         print(f"langur {args.command}: internal error: {type(e).__name__}: {e} "
               "(this is a bug; LANGUR_DEBUG=1 shows the traceback)", file=sys.stderr)
-        return 3
+        return 1
+
+
+def _note_warnings(command: str, caught: list[warnings.WarningMessage]) -> None:
+    """Warnings no engine turned into a note of its own: one line, each message counted once."""
+    if not caught:
+        return
+    counts = Counter(f"{w.category.__name__}: {str(w.message).strip()}" for w in caught)
+    shown = "; ".join(f"{m}" + (f" (×{n})" if n > 1 else "") for m, n in counts.most_common(3))
+    more = f"; and {len(counts) - 3} other kind(s)" if len(counts) > 3 else ""
+    print(f"langur {command}: note: warnings while computing: {shown}{more}", file=sys.stderr)
 
 
 if __name__ == "__main__":

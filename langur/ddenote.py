@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var
+from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, check_values
 from .denote import program_box, zero_integral
 from .symbolic.decompose import (
     Ctx,
@@ -199,9 +199,13 @@ class DerivativeResult:
 
 def ddenote_program(program: Program, at: Mapping[str, object] | None, direction: Mapping[str, object], *,
                     timeout: float = 20.0) -> DerivativeResult:
-    """⦇int t d(x⃗)⦈(γ, γ') = ∫ ⦇t⦈ dρ (Fig. 12) at ``at`` in the direction γ' = ``direction``."""
+    """⦇int t d(x⃗)⦈(γ, γ') = ∫ ⦇t⦈ dρ (Fig. 12) at ``at`` in the direction γ' = ``direction``.
+
+    Raises :class:`~langur.core.ParameterError` when ``at`` does not give every parameter of the
+    program a finite value or ``direction`` names a parameter without one."""
     from .symbolic.integrate import integrate_delta_pieces, integrate_pieces
 
+    check_values(program, at, direction)
     nf = ddenote(program.body, direction, at=at or {}, variables=tuple(program.variables))
     point = at_symbols(at)
     ctx = Ctx(at=point, variables=tuple(program.variables))

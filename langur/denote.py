@@ -17,7 +17,7 @@ from collections.abc import Mapping
 
 import sympy as sp
 
-from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var
+from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, check_values
 from .symbolic.decompose import (
     PRIMITIVES,
     Ctx,
@@ -75,9 +75,11 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
                    timeout: float = 20.0) -> Integral:
     """⟦int t d(x⃗)⟧(γ) (Fig. 12) at the parameter values ``at`` (name → number; exact decimals
     are read as rationals).  The result's ``expr`` is the closed form in the parameters, valid
-    near ``at``, when one was found."""
+    near ``at``, when one was found.  Raises :class:`~langur.core.ParameterError` when ``at`` does
+    not give every parameter of the program a finite value."""
     from .symbolic.integrate import integrate_pieces
 
+    check_values(program, at)
     point = at_symbols(at)
     ctx = Ctx(at=point, variables=tuple(program.variables))
     pieces = decompose(program.body, ctx)

@@ -16,7 +16,9 @@ main program's calls (``langur.syntax.inline``) and type the result again on the
 Modules.  ``from m import f`` finds ``m.lgr`` in the directory of the importing file; ``modules``
 (the CLI's ``--module m=PATH``) overrides by name.  A module's name is its file's stem, or the
 NAME it was given in ``modules``; the main module's name is its file's stem.  Missing modules
-(T218), import cycles (T219) and missing names (T220) are errors at the import.
+(T218), modules whose file cannot be read (T223, with the operating system's reason), import
+cycles (T219) and missing names (T220) are errors at the import.  A main file that cannot be
+read is E109 (T218 when there is no such file).
 
 Caching.  Nothing is cached across loads except ``langur.syntax.diffeo.complete``'s memo of
 completed conditions (a pure function of the condition, the variables and the box).
@@ -50,8 +52,11 @@ def load(path: str, modules: dict[str, str] | None = None) -> Loaded:
     try:
         with open(path, "rb") as f:
             data = f.read()
+    except FileNotFoundError:
+        raise LangurError(ty.diag(Span(path, 1, 1, 1, 1), "T218", f"module not found: no file {path}")) from None
     except OSError as e:
-        raise LangurError(ty.diag(Span(path, 1, 1, 1, 1), "T218", f"cannot read {path}: {e.strerror}")) from None
+        raise LangurError(Diagnostic(Span(path, 1, 1, 1, 1), "error", "E109",
+                                     f"cannot read this file: {e.strerror or type(e).__name__}")) from None
     return load_bytes(data, path, modules)
 
 
@@ -127,12 +132,16 @@ class _Loader:
                                            f"{path}: rename one, or choose one with --module {name}=PATH"))
                 return None
             return self.done[name]
+        where = "given by --module" if name in self.overrides else "beside the importing file"
         try:
             with open(path, "rb") as f:
                 data = f.read()
-        except OSError:
-            where = "given by --module" if name in self.overrides else "beside the importing file"
+        except FileNotFoundError:
             self.errors.append(ty.diag(span, "T218", f"module `{name}` not found: no file {path} ({where})"))
+            return None
+        except OSError as e:
+            self.errors.append(ty.diag(span, "T223", f"module `{name}`: cannot read {path} ({where}): "
+                                       f"{e.strerror or type(e).__name__}"))
             return None
         return self.module(name, path, data, span)
 

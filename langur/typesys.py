@@ -57,6 +57,7 @@ T219    import cycle
 T220    import: the module has no ``def`` or ``diffeo`` of that name
 T221    recursive ``def`` (defs are inlined: Langur is first-order, §4)
 T222    a diffeo's component is not a smooth term (conditionals, calls and ``let`` are not allowed)
+T223    import: the module's file exists but cannot be read (the operating system's reason)
 ======  ==========================================================================================
 """
 
@@ -107,6 +108,7 @@ CODES: dict[str, str] = {
     "T220": "imported name not found",
     "T221": "recursive def",
     "T222": "diffeo component not smooth",
+    "T223": "module unreadable",
 }
 
 

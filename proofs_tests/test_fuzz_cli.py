@@ -74,6 +74,43 @@ def test_missing_hypothesis_says_how_to_install(capsys, monkeypatch):
     assert status == 2 and "pip install hypothesis" in err and out == ""
 
 
-def test_usage_errors(capsys):
-    assert run(capsys, "fuzz", "--examples", "0")[0] == 2
-    assert run(capsys, "fuzz", "--samples", "1")[0] == 2
+def usage(capsys, *argv):
+    """The status and standard error of a command line argparse or the command refuses."""
+    try:
+        status = main(list(argv))
+    except SystemExit as e:  # argparse's own usage errors
+        status = e.code
+    return status, capsys.readouterr().err
+
+
+def test_usage_errors(capsys, tmp_path):
+    for argv, says in [(["--examples", "0"], "--examples"), (["--samples", "1"], "--samples"),
+                       (["--seed", "-1"], "--seed"), (["--timeout", "nan"], "--timeout"),
+                       (["--timeout", "0"], "--timeout"), (["--samples", "10000000000"], "--samples")]:
+        status, err = usage(capsys, "fuzz", *argv)
+        assert status == 2 and says in err and len(err.strip().splitlines()) == 1, (argv, err)
+    mine = tmp_path / "notes.lgr"
+    mine.write_text("# mine\n")
+    status, err = usage(capsys, "fuzz", "--examples", "1", "--keep", str(mine))
+    assert status == 2 and f"--keep {mine}: exists and is not a directory" in err
+    assert mine.read_text() == "# mine\n"
+
+
+def test_keep_never_overwrites_a_file_in_its_directory(capsys, tmp_path, monkeypatch):
+    def fake(text, **kw):  # every program with a bracket "fails" (as in the test above)
+        res = fuzz.ProgramResult(text, "agree")
+        ok = "[" not in text
+        res.rows.append(fuzz.Row("value", None, 1.0, 0.0, 1.0 if ok else 2.0, 0.01, ok))
+        res.status = "agree" if ok else "discrepancy"
+        return res
+
+    monkeypatch.setattr(fuzz.compare, "compare_text", fake)
+    keep = tmp_path / "kept"
+    keep.mkdir()
+    (keep / "fuzz_2_minimal.lgr").write_text("# the user's own file\n")
+    status, out, err = run(capsys, "fuzz", "--examples", "30", "--seed", "2", "--keep", str(keep), "--json")
+    assert status == 1, err
+    assert (keep / "fuzz_2_minimal.lgr").read_text() == "# the user's own file\n"
+    kept = json.loads(out)["kept"]
+    assert str(keep / "fuzz_2_minimal-1.lgr") in kept
+    assert (keep / "fuzz_2_minimal-1.lgr").read_text().startswith("# langur fuzz: discrepancy")

@@ -26,11 +26,16 @@ def load(args, path: str | None = None):
         if loader is not None:
             return loader(data, "<stdin>", modules=modules)
         return frontend.load_text(data.decode("utf-8", errors="replace"), "<stdin>", modules=modules)
-    if not os.path.exists(path):
+    if not os.path.lexists(path):
         raise UsageError(f"{path}: no such file")
     if os.path.isdir(path):
         raise UsageError(f"{path}: is a directory")
-    return frontend.load(path, modules=modules)
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read()
+    except OSError as e:  # as for a missing file: status 2 (langur check reports it as E109)
+        raise UsageError(f"{path}: cannot read this file ({e.strerror or type(e).__name__})") from None
+    return frontend.load_bytes(data, path, modules=modules)
 
 
 def require_program(loaded, path: str):

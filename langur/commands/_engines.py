@@ -34,7 +34,7 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
 
     ``exact`` is null, with a one-line reason on standard error, only where neither the closed
     form nor quadrature works.  A closed form that disagrees with its quadrature cross-check is
-    an internal error (status 3), reported, never silently returned.
+    an internal error (status 1), reported, never silently returned.
     """
     from ..symbolic import api
 
@@ -48,7 +48,7 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
         mismatch = type(e).__name__ == "IntegrationMismatch"
         label = "internal error" if mismatch else "no exact value"
         print(f"langur {kind}: {label}: {type(e).__name__}: {e}", file=sys.stderr)
-        return None, 3 if mismatch else 0
+        return None, 1 if mismatch else 0
 
 
 def print_mc_notes(mc: dict, indent: str) -> None:
@@ -59,10 +59,7 @@ def print_mc_notes(mc: dict, indent: str) -> None:
 
 def run_mc(kind: str, loaded, params, args, direction=None, *, infinite_variance: str | None = None):
     from .. import operational
-    from ..cli import UsageError
 
-    if args.samples < 1:
-        raise UsageError("--samples must be at least 1")
     values = {k: float(v) for k, v in params.items()}
     kw = dict(samples=args.samples, seed=args.seed, method=args.method, infinite_variance=infinite_variance)
     if kind == "eval":

@@ -10,7 +10,10 @@ Theorem 8.1 check at the parameter values in force (``langur.lint.prove``).
 
 Exit status: 0 when nothing at error severity was reported (or ``--exit-zero``), 1 when
 something was (including front-end errors), 2 for usage errors (unknown option, a FILE that is
-missing or unreadable, a malformed ``[tool.langur]``, an ``--at`` name no FILE declares).
+missing, a malformed ``[tool.langur]``, a ``--select``/``--ignore``/configured code prefix that
+matches no code, an ``--at`` name no FILE declares).  A FILE that exists but cannot be read (also
+one found in a directory) is reported where it is, ``PATH:1:1: error E109 …`` with the operating
+system's reason, every other file is still checked, and the status is then 2, the worst.
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ import sys
 from pathlib import Path
 
 from ..cli import UsageError, add_common, parse_assignments, parse_modules
-from ..diagnostics import Diagnostic, LangurError
+from ..diagnostics import Diagnostic, LangurError, Span
 
 FORMATS = ("text", "json", "sarif", "github")
 STDIN_NAME = "<stdin>"
@@ -90,17 +93,32 @@ def _expand(files: list[str]) -> list[str]:
             stdin_seen = True
             out.append(f)
         elif os.path.isdir(f):
-            found = sorted(str(p) for p in Path(f).rglob("*.lgr") if p.is_file())
+            # every *.lgr entry that is not a directory: one that cannot be read (a broken link,
+            # no permission) is reported as E109 with the others, not skipped
+            found = sorted(str(p) for p in Path(f).rglob("*.lgr") if not p.is_dir())
             if not found:
                 raise UsageError(f"{f}: no .lgr files in this directory")
             out.extend(found)
-        elif not os.path.exists(f):
+        elif not os.path.lexists(f):
             raise UsageError(f"{f}: no such file")
-        elif not os.access(f, os.R_OK):
-            raise UsageError(f"{f}: cannot read (permission denied)")
         else:
             out.append(f)
     return out
+
+
+def _check_prefixes(cfg, known, where: str | None = None) -> None:
+    """A code prefix that matches no code is a usage error (it would select or ignore nothing)."""
+    bad = cfg.unknown_prefixes(known)
+    if bad:
+        key, prefix = bad[0]
+        raise UsageError(f"{where or key}: {prefix!r} matches no diagnostic code (codes: E1xx, T2xx, X3xx; "
+                         "docs/CODES.md lists them)")
+
+
+def unreadable(path: str, err: OSError) -> Diagnostic:
+    """E109: the file exists but cannot be read (located at its start, with the OS's reason)."""
+    return Diagnostic(Span(path, 1, 1, 1, 1), "error", "E109",
+                      f"cannot read this file: {err.strerror or type(err).__name__}")
 
 
 def here_at(at: dict, loaded) -> dict:
@@ -122,7 +140,7 @@ def _fix(fixmod, text, name, loaded, modules, at, sources):
 def run(args) -> int:
     from .. import __version__, frontend
     from ..lint import config as cfgmod
-    from ..lint.formats import Report, render
+    from ..lint.formats import Report, known_codes, render
     from ..lint.noqa import suppressed
     from ..lint.prove import Prover
     from ..transversality import check_library, check_loaded, point_of
@@ -141,9 +159,13 @@ def run(args) -> int:
             raise UsageError(f"--module {name}={mpath}: no such file")
     files = _expand(args.files)
     select, ignore = _codes(args.select), _codes(args.ignore)
+    known = known_codes()
+    _check_prefixes(cfgmod.Config(select=tuple(select or ()) or None), known, f"--select {','.join(select or ())}")
+    _check_prefixes(cfgmod.Config(ignore=tuple(ignore or ())), known, f"--ignore {','.join(ignore or ())}")
 
-    # Read everything first: a usage problem (unreadable file, bad config) stops before output.
-    inputs = []
+    # Read everything first: a usage problem (bad config) stops before output; a file that cannot
+    # be read is reported with the others (E109).
+    inputs = []  # (name, data, configuration), or (name, None, the E109 diagnostic)
     for f in files:
         if f == "-":
             name = args.stdin_filename or STDIN_NAME
@@ -155,18 +177,24 @@ def run(args) -> int:
                 with open(f, "rb") as fh:
                     data = fh.read()
             except OSError as e:
-                raise UsageError(f"{f}: cannot read ({e.strerror})") from None
+                inputs.append((f, None, unreadable(f, e)))
+                continue
             where = f
         try:
             cfg = cfgmod.Config() if args.isolated else cfgmod.find_config(where)
         except cfgmod.ConfigError as e:
             raise UsageError(str(e)) from None
+        _check_prefixes(cfg, known)
         inputs.append((name, data, cfg.with_cli(select, ignore)))
 
     reports: list[Report] = []
     used_at: set[str] = set()
     fixes: list = []  # the --fix / --diff rewrites (langur.lint.fix)
+    unread = [name for name, data, _ in inputs if data is None]
     for name, data, cfg in inputs:
+        if data is None:
+            reports.append(Report(cfg))
+            continue
         text = data.decode("utf-8", errors="replace")
         sources = {name: text}
         try:
@@ -236,7 +264,11 @@ def run(args) -> int:
     errors = sum(1 for r in reports if r.diagnostic.severity == "error")
     warnings = len(reports) - errors
     if fmt == "text":
-        checked = f"{len(inputs)} file{'s' if len(inputs) != 1 else ''}"
+        n = len(inputs) - len(unread)
+        checked = f"{n} file{'s' if n != 1 else ''}"
         if reports:
-            print(f"{checked} checked: {errors} error(s), {warnings} warning(s)", file=sys.stderr)
+            print(f"{checked} checked: {errors} error(s), {warnings} warning(s)"
+                  + (f", {len(unread)} file(s) could not be read" if unread else ""), file=sys.stderr)
+    if unread:
+        return 2
     return 0 if args.exit_zero or errors == 0 else 1

@@ -8,18 +8,25 @@ Theorem 8.1 check.  Exit status 0 when every comparison agrees, 1 when a discrep
 
 from __future__ import annotations
 
+import math
+import os
 import sys
 
-from ..cli import UsageError
+from ..cli import MAX_SAMPLES, UsageError, count, samples, seed
 from . import _common as c
+
+#: Most programs one run generates, and the longest time limit per program (a day).
+MAX_EXAMPLES = 1_000_000
+MAX_TIMEOUT = 86400.0
 
 
 def add_arguments(p):
-    p.add_argument("--examples", type=int, default=50, metavar="N",
-                   help="number of random programs (default 50)")
-    p.add_argument("--seed", type=int, default=0, help="random seed: same seed, same programs and numbers")
-    p.add_argument("--samples", type=int, default=20000, metavar="N",
-                   help="Monte Carlo samples per estimate (default 20000)")
+    p.add_argument("--examples", type=count(1, MAX_EXAMPLES, "the number of programs"), default=50, metavar="N",
+                   help=f"number of random programs, 1 to {MAX_EXAMPLES:,} (default 50)")
+    p.add_argument("--seed", type=seed, default=0, metavar="S",
+                   help="random seed, a non-negative integer: same seed, same programs and numbers")
+    p.add_argument("--samples", type=samples(), default=20000, metavar="N",
+                   help=f"Monte Carlo samples per estimate, 2 to {MAX_SAMPLES:,} (default 20000)")
     p.add_argument("--timeout", type=float, default=20.0, metavar="SECONDS",
                    help="time limit of the exact engine per program; slower programs count as timeouts (default 20)")
     p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
@@ -27,7 +34,8 @@ def add_arguments(p):
                         "points: stratified/qmc standard errors can be 0 on a jump, so they false-alarm)")
     p.add_argument("--no-lint", action="store_true",
                    help="do not run the transversality linter (no program is discarded)")
-    p.add_argument("--keep", metavar="DIR", help="write each failing program to DIR as a .lgr file")
+    p.add_argument("--keep", metavar="DIR", help="write each failing program to DIR as a .lgr file "
+                   "(created if missing; files already there are never overwritten)")
     p.add_argument("--json", action="store_true", help="one JSON object on standard output")
     p.add_argument("-v", "--verbose", action="store_true", help="print each program's status as it runs")
 
@@ -35,12 +43,15 @@ def add_arguments(p):
 def run(args) -> int:
     from .. import fuzz
 
-    if args.examples < 1:
-        raise UsageError("--examples must be at least 1")
-    if args.samples < 2:
-        raise UsageError("--samples must be at least 2")
-    if args.timeout <= 0:
-        raise UsageError("--timeout must be positive")
+    if not (math.isfinite(args.timeout) and 0 < args.timeout <= MAX_TIMEOUT):
+        raise UsageError(f"--timeout must be a positive number of seconds, at most {MAX_TIMEOUT:g}")
+    if args.keep is not None and os.path.exists(args.keep) and not os.path.isdir(args.keep):
+        raise UsageError(f"--keep {args.keep}: exists and is not a directory (it is never overwritten)")
+    if args.keep is not None:
+        try:  # before the run, so that a long run never ends unable to keep its programs
+            os.makedirs(args.keep, exist_ok=True)
+        except OSError as e:
+            raise UsageError(f"--keep {args.keep}: cannot create the directory ({e.strerror})") from None
 
     def progress(res):
         if args.verbose:

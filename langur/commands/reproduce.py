@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..cli import UsageError
+from ..cli import MAX_SAMPLES, UsageError, samples, seed
 from . import _common as c
 
 
@@ -11,8 +11,9 @@ def add_arguments(p):
 
     p.add_argument("names", nargs="*", metavar="NAME",
                    help=f"experiments to run (default all): {', '.join(EXPERIMENTS)}")
-    p.add_argument("--samples", type=int, default=100000, help="Monte Carlo samples (default 100000)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--samples", type=samples(100), default=100000, metavar="N",
+                   help=f"Monte Carlo samples, 100 to {MAX_SAMPLES:,} (default 100000)")
+    p.add_argument("--seed", type=seed, default=0, metavar="S", help="random seed, a non-negative integer (default 0)")
     p.add_argument("--json", action="store_true", help="one JSON object on standard output")
 
 
@@ -23,8 +24,6 @@ def run(args) -> int:
     unknown = [n for n in names if n not in reproduce.EXPERIMENTS]
     if unknown:
         raise UsageError(f"no experiment named {unknown[0]} (have: {', '.join(reproduce.EXPERIMENTS)})")
-    if args.samples < 100:
-        raise UsageError("--samples must be at least 100")
     try:
         reproduce.examples_dir()
     except FileNotFoundError as e:

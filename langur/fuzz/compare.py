@@ -281,16 +281,24 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
         os.makedirs(keep, exist_ok=True)
         failing = [r for r in summary.results if r.failed]
         for i, r in enumerate(failing):
-            path = os.path.join(keep, f"fuzz_{seed}_{i:03d}.lgr")
-            with open(path, "w", encoding="utf-8") as fh:
-                fh.write(_annotated(r))
-            summary.kept.append(path)
+            summary.kept.append(_keep(keep, f"fuzz_{seed}_{i:03d}", _annotated(r)))
         if summary.minimal is not None:
-            path = os.path.join(keep, f"fuzz_{seed}_minimal.lgr")
-            with open(path, "w", encoding="utf-8") as fh:
-                fh.write(_annotated(summary.minimal))
-            summary.kept.append(path)
+            summary.kept.append(_keep(keep, f"fuzz_{seed}_minimal", _annotated(summary.minimal)))
     return summary
+
+
+def _keep(directory: str, stem: str, text: str) -> str:
+    """Write ``text`` to a new file ``STEM.lgr`` in ``directory`` (``STEM-1.lgr``, … when taken):
+    a file already there is never overwritten."""
+    for k in range(10_000):
+        path = os.path.join(directory, f"{stem}{f'-{k}' if k else ''}.lgr")
+        try:
+            with open(path, "x", encoding="utf-8") as fh:
+                fh.write(text)
+            return path
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"{directory}: no free name for {stem}.lgr")
 
 
 def _annotated(r: ProgramResult) -> str:

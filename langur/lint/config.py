@@ -49,6 +49,14 @@ class Config:
             self.source,
         )
 
+    def unknown_prefixes(self, known: frozenset[str]) -> list[tuple[str, str]]:
+        """``(where, prefix)`` for each prefix that matches no code in ``known`` (a typo would
+        otherwise select nothing, or ignore nothing, without a word)."""
+        where = f"{self.source}: [tool.langur] " if self.source is not None else ""
+        entries = [("select", p) for p in self.select or ()] + [("ignore", p) for p in self.ignore]
+        entries += [(f"per-file-ignores[{glob!r}]", p) for glob, codes in self.per_file_ignores for p in codes]
+        return [(where + key, p) for key, p in entries if not any(_matches(c, p) for c in known)]
+
     def enabled(self, code: str, path: str | None) -> bool:
         """Is ``code`` reported for a finding in the checked file ``path``?"""
         if code[:1] in ("E", "T"):

@@ -113,6 +113,11 @@ def _front_end_codes() -> dict[str, str]:
     return out
 
 
+def known_codes() -> frozenset[str]:
+    """Every diagnostic code there is (docs/CODES.md): E1xx, T2xx and X3xx."""
+    return frozenset(X_CODES) | frozenset(_front_end_codes())
+
+
 @dataclass
 class Report:
     diagnostic: Diagnostic

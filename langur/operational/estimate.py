@@ -7,29 +7,36 @@ import math
 
 import numpy as np
 
-from ..core import Program
+from ..core import ParameterError, Program, check_values
 from ..modules import Loaded
 from .compile import DELTA, TANGENT, VALUE, Env, full
 from .link import Linked, compile_program, link
 from .sample import design, evaluate_box
 
 
-def prepare(program_or_loaded, params: dict, sites: str = "inlined") -> tuple[Linked, dict]:
-    """Compile (or fetch from the cache) and resolve parameter values to floats."""
+def prepare(program_or_loaded, params: dict, sites: str = "inlined", direction: dict | None = None
+            ) -> tuple[Linked, dict]:
+    """Compile (or fetch from the cache) and resolve parameter values to floats; raises
+    :class:`~langur.core.ParameterError` for a missing or non-finite value, a value for a
+    parameter a Loaded does not declare, or a direction naming a parameter without a value."""
     if isinstance(program_or_loaded, Loaded):
-        values = program_or_loaded.param_values({k: v for k, v in params.items()})
-        unknown = set(params) - set(values)
+        unknown = set(params) - set(program_or_loaded.params)
         if unknown:
-            raise KeyError(f"unknown parameter(s): {', '.join(sorted(unknown))}")
+            raise ParameterError(f"unknown parameter(s) {', '.join(sorted(unknown))} "
+                                 f"(declared: {', '.join(program_or_loaded.params) or 'none'})")
+        try:
+            values = program_or_loaded.param_values({k: v for k, v in params.items()})
+        except KeyError as e:
+            raise ParameterError(f"no value for parameter(s) {e.args[0]} (it has no default)") from None
         linked = link(program_or_loaded, sites)
+        program = program_or_loaded.program
     elif isinstance(program_or_loaded, Program):
         values = dict(params)
         linked = compile_program(program_or_loaded)
+        program = program_or_loaded
     else:
         raise TypeError(f"expected a core Program or a Loaded, got {type(program_or_loaded).__name__}")
-    missing = linked.needs - set(values)
-    if missing:
-        raise KeyError(f"no value for parameter(s): {', '.join(sorted(missing))}")
+    check_values(program, values, direction)
     return linked, {k: float(v) for k, v in values.items()}
 
 
@@ -123,10 +130,7 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
 
     ``sites`` (for a Loaded only): where the zero-set samplers come from, see :func:`.link.link`;
     ``infinite_variance`` and ``notes``: as :func:`estimate_value` (for the regular part)."""
-    linked, p = prepare(program_or_loaded, params, sites)
-    unknown = set(direction) - set(p)
-    if unknown:
-        raise KeyError(f"direction names unknown parameter(s): {', '.join(sorted(unknown))}")
+    linked, p = prepare(program_or_loaded, params, sites, direction)
     dp = {k: float(v) for k, v in direction.items() if float(v) != 0.0}
     rng = np.random.default_rng(seed)
     with np.errstate(all="ignore"):

@@ -78,14 +78,6 @@ class Linked:
     box_fns: list
     sites: list[Site]
     how: str  # "linked" or "inlined"
-    needs: frozenset = frozenset()  # the parameters the program reads
-
-
-def _needs(program: Program) -> frozenset:
-    out = free_params(program.body)
-    for lo, hi in program.box:
-        out |= free_params(lo) | free_params(hi)
-    return out
 
 
 @dataclass
@@ -192,7 +184,7 @@ def compile_program(program: Program) -> Linked:
     unit = _unit(("unit", program.body), program.body, ("program", None, None))
     sites = []
     collect_sites(program.body, {}, {}, program.variables, None, sites)
-    linked = Linked(unit.fn, None, {}, program.variables, _box(program), sites, "inlined", _needs(program))
+    linked = Linked(unit.fn, None, {}, program.variables, _box(program), sites, "inlined")
     _put_linked(key, linked)
     return _memo_put(program, "", linked)
 
@@ -276,7 +268,6 @@ def link(loaded: Loaded, sites: str = "inlined") -> Linked:
         box = loaded.program.box
     linked = Linked(body.fn, offsets, table, main.program.variables,
                     [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in box], found, "linked")
-    # (needs stays empty: Loaded.param_values already names every parameter the program reads)
     _put_linked(link_key, linked)
     return _memo_put(loaded, sites, linked)
 

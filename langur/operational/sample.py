@@ -64,9 +64,11 @@ def design(rng: np.random.Generator, m: int, samples: int, method: str) -> Desig
     """``samples`` points (or the nearest count the method supports) in [0,1]^m."""
     if method not in METHODS:
         raise ValueError(f"unknown Monte Carlo method {method!r} (one of {', '.join(METHODS)})")
+    if int(samples) < 2:
+        raise ValueError(f"samples must be at least 2 (a standard error needs two), got {samples}")
     if m == 0:  # a point: the zero set of a condition in one variable is a set of roots
         return Design(np.zeros((1, 0)), "exact")
-    samples = max(int(samples), 2)
+    samples = int(samples)
     if method == "uniform":
         return Design(rng.random((samples, m)), "uniform")
     if method == "stratified":

@@ -29,6 +29,8 @@ E106    a number literal too long (more than :data:`MAX_DIGITS` digits) or with 
 E107    anything after the program (a second program, or an item after the program)
 E108    source too large: more than :data:`MAX_SIGNIFICANT` characters outside comments and
         white space (a bound that keeps the worst case, a 10 MB file, to a few seconds)
+E109    the file cannot be read (the operating system's reason: permission denied, a directory,
+        a broken link); raised by ``langur.frontend.load`` and ``langur check``, before parsing
 ======  ==========================================================================================
 """
 
