@@ -34,7 +34,8 @@ independent.  Theorem 8.1 assumes that the zero sets of all diffeomorphic condit
 
 Parameter coefficients that stop a condition from being a diffeomorphism (``Diffeo.nonzero``,
 ``[t*x >= 1]`` at ``t = 0``) are X306 (X305 at ``--at``); primitives applied outside their domain
-on the domain of integration are X307 (``langur.lint.domains``); integrands that are not integrable
+on the domain of integration are X307 (``langur.lint.domains``); a domain interval that is empty
+at the parameter values in force is X314 (``langur.lint.emptydomain``); integrands that are not integrable
 on the box (the value, X311, or the derivative denotation in a parameter, X313; X312 when
 undecided) come from ``langur.lint.singular``.  ``docs/CODES.md`` documents every code.
 
@@ -197,8 +198,10 @@ def check_program(
     findings = checker.run()
     from .lint import singular
     from .lint.domains import domain_findings
+    from .lint.emptydomain import empty_domain_findings
 
     findings += domain_findings(program, point, sources or {})
+    findings += empty_domain_findings(program, point, domain_spans)
     findings += singular.findings(program, declared, point, sources or {})
     return _dedupe(findings)
 

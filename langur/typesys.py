@@ -31,9 +31,9 @@ T207    the condition of ``ifge0`` mentions variables and cannot be completed to
         diffeomorphism (Fig. 6, conditional requires ``·;Γ ⊢ t``; diffeomorphic conditional
         requires a C¹ diffeomorphism: none found, e.g. no variable can be isolated, infinitely
         many inverse branches on the domain, or the condition is not smooth)
-T208    nested ``int`` (Fig. 11: a term contains no ``int``).  The grammar cannot express it
-        (``int`` is a keyword that only starts the program), so the parser reports it as E102;
-        :func:`type_program` keeps the code for core programs built by other means.
+T208    nested ``int`` (Fig. 11: a term contains no ``int``; the integral of a program is over
+        a term, and a program is not a term).  The grammar parses ``int … d(…)`` where a term is
+        expected only so that the desugarer can reject it here, located at its text.
 T209    the integrand is not compactly supported (§8.3, Prop. 8.1): no domain and no bounding
         indicator factors bound every variable
 T210    undeclared parameter: a name used where only parameters may occur (a domain bound, a
@@ -174,6 +174,12 @@ def reject_duplicate(span, what: str, name: str, first: Span | None = None) -> D
 
 def reject_var_param_clash(span, name: str, detail: str) -> Diagnostic:
     return diag(span, "T212", f"`{name}` is both a variable and a parameter ({detail}; Vars ∩ Params = ∅, §4)")
+
+
+def reject_nested_int(span) -> Diagnostic:
+    return diag(span, "T208", "no nested integration: `int … d(…)` is a program, not a term, and a program "
+                "integrates a term that contains no `int` (Fig. 11); integrate over all the variables at "
+                "once, `int ([a, b], [c, d]) t d(x, y)`")
 
 
 def reject_exponent(span) -> Diagnostic:

@@ -269,3 +269,47 @@ def test_one_sample_is_refused_by_the_api_too(fig1):
     with pytest.raises(ValueError, match="at least 2"):
         operational.estimate_value(fig1, {"theta": 0.5}, samples=1)
     assert operational.estimate_value(fig1, {"theta": 0.5}, samples=2)["samples"] == 2
+
+
+# -- diagnostics the contract adds: a reversed interval (X314), a nested int (T208) -----------------
+
+def test_a_reversed_interval_is_a_located_warning_and_the_value_is_0(capsys, tmp_path):
+    # int ([1, 0]) x d(x) is int [x >= 1]·[0 >= x]·x d(x) (§6): no x satisfies both, so 0, not −1/2
+    f = tmp_path / "reversed.lgr"
+    f.write_text("# a reversed interval\nint ([1, 0]) x d(x)\n")
+    status, out, _ = run(capsys, "check", f, "--isolated")
+    assert status == 0  # a warning: 0 is the language's answer
+    (line,) = out.splitlines()
+    assert line.startswith(f"{f}:2:7: warning X314 the interval [1, 0] of x is empty")
+    assert "the integral is 0" in line
+    status, out, err = run(capsys, "eval", f, "--json", "--samples", "200")
+    r = json.loads(out)
+    assert status == 0 and r["exact"]["value"] == 0.0 and r["mc"]["value"] == 0.0
+    assert [(d["code"], d["line"], d["col"]) for d in r["diagnostics"]] == [("X314", 2, 7)]
+    status, _, err = run(capsys, "eval", f, "--samples", "200")
+    assert status == 0 and f"{f}:2:7: warning X314 " in err
+
+
+def test_a_parametric_interval_is_judged_at_the_values_in_force(capsys, tmp_path):
+    f = tmp_path / "moving.lgr"
+    f.write_text("param a = 0.5\nint ([0, a]) x d(x)\n")
+    status, out, _ = run(capsys, "check", f, "--isolated")
+    assert status == 0 and out == ""  # [0, 1/2]: nothing to say
+    status, out, _ = run(capsys, "check", f, "--isolated", "--at", "a=-1")
+    assert status == 0 and " X314 the interval [0, a] of x is empty at a = -1 (0 > -1)" in out
+    # the value is 0 there and so is the derivative, in both engines (∫₀^a x dx = a²/2 only for a ≥ 0)
+    status, out, _ = run(capsys, "deriv", f, "--at", "a=-1", "--json", "--samples", "200", "--no-theorem")
+    r = json.loads(out)
+    assert status == 0 and r["exact"]["value"] == 0.0 and r["mc"]["value"] == 0.0
+    assert [d["code"] for d in r["diagnostics"]] == ["X314"]
+
+
+def test_a_nested_int_has_its_own_typing_diagnostic(capsys, tmp_path):
+    f = tmp_path / "nested.lgr"
+    f.write_text("param a = 1\nint ([0, 1]) x * int ([0, a]) y d(y) d(x)\n")
+    status, out, _ = run(capsys, "check", f, "--isolated")
+    assert status == 1
+    assert out.startswith(f"{f}:2:18: error T208 no nested integration")
+    for command in ("eval", "deriv", "show"):
+        status, _, err = run(capsys, command, f)
+        assert status == 1 and err.startswith(f"{f}:2:18: error T208 "), command

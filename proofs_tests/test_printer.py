@@ -257,3 +257,13 @@ def test_program_round_trip(path):
     assert again.program.body == loaded.program.body
     assert again.program.box == loaded.program.box
     assert again.params == loaded.params
+
+
+def test_a_nested_int_prints_back_to_itself():
+    # parsed only to be rejected (T208), but printable like any surface term
+    from langur.syntax.parser import parse_term
+    from langur.syntax.printer import print_term
+
+    for text in ["2 * int ([0, 1]) y d(y)", "int y ^ 2 d(y)", "int ([0, a], [b, 1]) y * z d(y, z) + 1"]:
+        t = parse_term(text)
+        assert parse_term(print_term(t)) == t

@@ -10,7 +10,7 @@ direction asked, X312 when undecided) runs at the parameter values of the comman
 error severity means the integral does not exist: the command prints it as a diagnostic
 (``PATH:LINE:COL: error X311 …``), reports the exact value as undefined instead of running the
 exact engine, still prints the Monte Carlo number marked as having no finite variance, and exits
-1.  A warning (X312) is printed and the engines run; the exact engine's own diagnostics (a
+1.  A warning (X312; X314, an empty domain interval: the value is 0) is printed and the engines run; the exact engine's own diagnostics (a
 divergent quadrature) can still say undefined.  When the integral exists but its square does not
 (``1/sqrt(x)`` on [0, 1]), the Monte Carlo engine is told its estimate has no finite variance.
 """
@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from ..diagnostics import Diagnostic
 from ..lint import singular
 from ..lint.blowup import Verdict
+from ..lint.emptydomain import empty_domain_findings
 from ..lint.findings import Finding
 
 
@@ -116,7 +117,7 @@ def value(program, params, path: str | None) -> Defined:
     point = dict(params)
     sources = _sources(path)
     res = singular.value_integrability(program, point)
-    out = Defined(singular.findings_of(res, program, point, sources, "X311"))
+    out = Defined(empty_domain_findings(program, point) + singular.findings_of(res, program, point, sources, "X311"))
     if res.verdict is Verdict.DIVERGENT:
         out.undefined = _short(out.findings[0])
         out.infinite_variance = "the integral itself does not exist"

@@ -87,6 +87,12 @@ X_CODES: dict[str, tuple[str, str, str]] = {
         "The derivative denotation in a parameter is not an integral (its regular part is not integrable, "
         "or a delta term's weight is infinite or undefined on its zero set), although the value exists.",
     ),
+    "X314": (
+        "empty-domain",
+        "warning",
+        "An interval of the domain is empty at the parameter values in force (lower end above upper end): "
+        "the integrand is 0 there, so the value is 0, not minus the integral as in calculus.",
+    ),
     "X310": (
         "undecided",
         "warning",

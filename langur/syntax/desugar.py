@@ -57,7 +57,7 @@ from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from .diffeo import CompletionError, complete, instantiate
 from .inline import expand_calls, inline
-from .surface import Apply, BinOp, DiffeoApp, IfCmp, IfGe0S, Iverson, LetIn, Name, Neg, Num, STerm
+from .surface import Apply, BinOp, DiffeoApp, IfCmp, IfGe0S, Iverson, LetIn, Name, Neg, NestedInt, Num, STerm
 
 #: Function names that are not primitives but sugar (LANGUAGE.md §6).
 SUGAR_FUNCTIONS = ("abs", "min", "max")
@@ -181,6 +181,9 @@ class Desugarer:
                 # if t CMP s then p else q is ifge0 (t − s) (or s − t) then p else q
                 cond = compare(self.term(left, sc), op, self.term(right, sc))
                 return self.conditional(cond, self.term(then, sc), self.term(orelse, sc), sc, span, join(left, right))
+            case NestedInt():
+                # Fig. 11: a term contains no int (T208)
+                return self.fail(ty.reject_nested_int(span), span)
         raise TypeError(f"not a surface term: {st!r}")
 
     # ------------------------------------------------------------------------------------------

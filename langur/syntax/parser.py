@@ -64,6 +64,7 @@ from .surface import (
     ModuleS,
     Name,
     Neg,
+    NestedInt,
     Num,
     ParamDecl,
     ParamItem,
@@ -241,6 +242,13 @@ class _Builder:
         variables = tuple(c[-2])
         return ProgramS(domain, body.node, variables, self.span(c[0], c[-1]))
 
+    def nested_int(self, c):
+        # INT domain? term D ( names ): a term, rejected by the type system (T208)
+        domain = c[1] if isinstance(c[1], tuple) else None
+        body = c[2] if domain is not None else c[1]
+        variables = tuple(c[-2])
+        return self.term(lambda sp: NestedInt(domain, body.node, variables, sp), c[0], c[-1], (body,))
+
     def domain(self, c):
         return tuple(x for x in c if isinstance(x, Interval))
 
@@ -378,7 +386,7 @@ def _describe_expected(expected: set[str]) -> str:
     words: dict[str, str] = {}
     if all(t in exp for t in _TERM_START):
         words["TERM"] = "a term" if "LET" in exp else "an operand"
-        exp -= {*_TERM_START, "D", "LET", "IF", "IFGE0"}
+        exp -= {*_TERM_START, "D", "LET", "IF", "IFGE0", "INT"}
     elif "NAME" in exp:
         exp.discard("D")
         words["NAME"] = "a name"

@@ -170,6 +170,12 @@ def _surface_rule(t, level: int) -> list:
             )
         case S.DiffeoApp(name, variables, params):
             return [name, "(", *_commas(variables), ";", *([" "] if params else []), *_commas(params), ")"]
+        case S.NestedInt(domain, body, variables):
+            dom: list = []
+            for i, iv in enumerate(domain or ()):
+                dom += ["(" if i == 0 else ", ", "[", (iv.lo, TERM), ", ", (iv.hi, TERM), "]"]
+            dom += [") "] if domain else []
+            return ["int ", *dom, (body, TERM), " d(", _idents(variables), ")"]
     raise TypeError(f"not a surface term: {t!r}")
 
 

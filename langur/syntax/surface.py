@@ -116,7 +116,18 @@ class IfCmp:
     span: Span | None = _span()
 
 
-STerm = Union[Num, Name, BinOp, Neg, Apply, Iverson, LetIn, IfGe0S, IfCmp]
+@dataclass(frozen=True)
+class NestedInt:
+    """``int (domain)? body d(variables)`` where a term is expected.  Parsed only so that the type
+    system can reject it at its text with its own code (T208, Fig. 11: a term contains no ``int``)."""
+
+    domain: tuple["Interval", ...] | None
+    body: "STerm"
+    variables: tuple["Ident", ...]
+    span: Span | None = _span()
+
+
+STerm = Union[Num, Name, BinOp, Neg, Apply, Iverson, LetIn, IfGe0S, IfCmp, NestedInt]
 
 
 # --- declarations and modules -----------------------------------------------------------------
