@@ -46,6 +46,7 @@ from lark import Lark, Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from ..diagnostics import LangurError, Span, error
+from . import tables
 from .surface import (
     Apply,
     BinOp,
@@ -348,19 +349,11 @@ _BUILDER = _Builder()
 
 
 def _parser() -> Lark:
-    global _PARSER
+    """The parser: from the tables shipped with the package (data, never a pickle: SECURITY.md),
+    or built from the grammar when they are missing or stale."""
+    global _PARSER  # called under _LOCK
     if _PARSER is None:
-        grammar = (Path(__file__).with_name("grammar.lark")).read_text(encoding="utf-8")
-        _PARSER = Lark(
-            grammar,
-            parser="lalr",
-            lexer="basic",
-            start=["start", "term"],
-            transformer=_BUILDER,
-            keep_all_tokens=True,
-            maybe_placeholders=False,
-            cache=True,  # lark pickles its LALR tables in the temp dir: ~3x faster start-up
-        )
+        _PARSER = tables.load(_BUILDER) or tables.build(transformer=_BUILDER)
     return _PARSER
 
 
