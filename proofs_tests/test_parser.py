@@ -6,6 +6,7 @@ counted by hand in the source strings (1-based lines and columns, end column exc
 """
 
 import time
+import sys
 from fractions import Fraction
 
 import pytest
@@ -239,16 +240,27 @@ def test_number_edge_cases():
     assert parse_term("007").value == 7
     assert parse_term("12.5e-2").value == Fraction(1, 8)
     assert parse_term("1e" + "0" * 10_000 + "1").value == 10  # long exponent, small value: fine
-    assert parse_term("1e1000").value == 10**1000
     d = err(parse_term, "1e1001")
     assert (d.code, d.span.col, d.span.end_col) == ("E106", 1, 7)
+    # The range of doubles, both ends, exactly at the boundary (sys.float_info.max and .min).
+    assert parse_term("1.7976931348623157e308").value == Fraction("1.7976931348623157e308")
+    assert parse_term("2.2250738585072014e-308").value == Fraction("2.2250738585072014e-308")
+    assert parse_term("0e999").value == 0 and parse_term("0.0").value == 0
+    for text, what in [("1e999", "too large"), ("1.8e308", "too large"), ("1e-400", "too small"),
+                       ("2.2e-308", "too small"), ("9" * 400, "too large")]:
+        d = err(parse_term, text)
+        assert d.code == "E106" and what in d.message and (d.span.col, d.span.end_col) == (1, 1 + len(text)), text
 
 
 @settings(max_examples=100, deadline=None)
 @given(st.from_regex(r"\A(?:[0-9]{1,12}(?:\.[0-9]{0,8})?|\.[0-9]{1,8})(?:[eE][+-]?[0-9]{1,3})?\Z"))
 def test_numbers_agree_with_fractions_parser(text):
-    # Fraction's own decimal parser is the independent oracle
-    assert parse_term(text).value == Fraction(text)
+    # Fraction's own decimal parser is the independent oracle; doubles bound the range (E106)
+    exact = Fraction(text)
+    if exact and not Fraction(sys.float_info.min) <= exact <= Fraction(sys.float_info.max):
+        assert err(parse_term, text).code == "E106"
+    else:
+        assert parse_term(text).value == exact
 
 
 def test_crlf_line_endings():

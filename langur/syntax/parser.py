@@ -24,8 +24,9 @@ E104    a character that starts no token (``@``, ``!``, a non-ASCII letter, …)
 E105    nesting too deep: a term more than :data:`MAX_DEPTH` levels deep (also long chains such
         as ``1+1+…+1``, which nest to the left).  Recursive consumers (desugarer, semantics,
         dataclass equality) stay far from Python's recursion limit.
-E106    a number literal too long (more than :data:`MAX_DIGITS` digits) or with an exponent
-        beyond ±\\ :data:`MAX_EXPONENT`
+E106    a number literal too long (more than :data:`MAX_DIGITS` digits), with an exponent
+        beyond ±\\ :data:`MAX_EXPONENT`, or outside the range of double-precision numbers
+        (``1e999``, ``1e-400``: the Monte Carlo engine computes in doubles)
 E107    anything after the program (a second program, or an item after the program)
 E108    source too large: more than :data:`MAX_SIGNIFICANT` characters outside comments and
         white space (a bound that keeps the worst case, a 10 MB file, to a few seconds)
@@ -38,6 +39,7 @@ from __future__ import annotations
 
 import gc
 import re
+import sys
 import threading
 from fractions import Fraction
 from pathlib import Path
@@ -96,6 +98,14 @@ MAX_DEPTH = 200
 MAX_DIGITS = 1000
 #: Largest absolute decimal exponent of a number literal (E106).
 MAX_EXPONENT = 1000
+
+_FLOAT_MAX = Fraction(sys.float_info.max)
+_FLOAT_MIN = Fraction(sys.float_info.min)  # the smallest normal double: below it precision is lost
+
+
+def _shorten(text: str) -> str:
+    return text if len(text) <= 24 else text[:20] + "..."
+
 
 _CMP = {"<=": "<=", "≤": "<=", ">=": ">=", "≥": ">=", "<": "<", ">": ">"}
 
@@ -175,7 +185,13 @@ class _Builder:
             )
         power = (int(exp_digits) if exp_digits else 0) * (-1 if exp.startswith("-") else 1) - len(frac)
         value = Fraction(int(whole + frac or "0"))
-        return value * 10**power if power >= 0 else value / 10**-power
+        value = value * 10**power if power >= 0 else value / 10**-power
+        if value and not _FLOAT_MIN <= value <= _FLOAT_MAX:
+            what = "too large" if value > _FLOAT_MAX else "too small"
+            raise error(self.tok_span(t), "E106", f"number literal {_shorten(text)} is {what} for a double-precision "
+                        f"number (nonzero magnitudes {sys.float_info.min:.3g} to {sys.float_info.max:.4g}): "
+                        "the Monte Carlo engine computes in doubles")
+        return value
 
     # -- module level --
     def start(self, c):
