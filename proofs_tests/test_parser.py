@@ -5,8 +5,10 @@ Expected ASTs are written by hand from the grammar of LANGUAGE.md §6; expected 
 counted by hand in the source strings (1-based lines and columns, end column exclusive).
 """
 
-import time
+import operator
+import random
 import sys
+import time
 from fractions import Fraction
 
 import pytest
@@ -15,6 +17,7 @@ from hypothesis import strategies as st
 from paths import DEGENERATE, EXAMPLES
 
 from langur.diagnostics import LangurError, Span
+from langur.frontend import load_text
 from langur.syntax.parser import MAX_DEPTH, parse_bytes, parse_module, parse_term
 from langur.syntax.surface import (
     Apply,
@@ -482,3 +485,78 @@ def test_examples_parse_in_milliseconds():
             parse_module(text, path)
     per_file = (time.perf_counter() - t0) / (10 * len(texts))
     assert per_file < 0.02, per_file
+
+
+# -- Long chains: parsed iteratively into balanced trees (E105 counts real nesting only) ---------
+
+
+_OPS = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv}
+
+
+def _value(t):
+    """The surface term's value, by an explicit stack (an oracle that does not recurse)."""
+    out: dict[int, Fraction] = {}
+    stack = [(t, False)]
+    while stack:
+        node, done = stack.pop()
+        if isinstance(node, Num):
+            out[id(node)] = node.value
+        elif isinstance(node, Neg):
+            if done:
+                out[id(node)] = -out[id(node.arg)]
+            else:
+                stack += [(node, True), (node.arg, False)]
+        elif done:
+            a, b = out[id(node.left)], out[id(node.right)]
+            out[id(node)] = _OPS[node.op](a, b)
+        else:
+            stack += [(node, True), (node.left, False), (node.right, False)]
+    return out[id(t)]
+
+
+def _depth(t):
+    best, stack = 0, [(t, 1)]
+    while stack:
+        node, d = stack.pop()
+        best = max(best, d)
+        for child in (getattr(node, "left", None), getattr(node, "right", None), getattr(node, "arg", None)):
+            if child is not None:
+                stack.append((child, d + 1))
+    return best
+
+
+@pytest.mark.parametrize("n", [2, 31, 32, 33, 201, 10_000])
+@pytest.mark.parametrize("level", ["sum", "product"])
+def test_a_long_chain_keeps_its_value_and_balances(n, level):
+    rng = random.Random(n)
+    ops = ["+", "-"] if level == "sum" else ["*", "/"]
+    numbers = [rng.randint(1, 9) for _ in range(n)]
+    chosen = [rng.choice(ops) for _ in range(n - 1)]
+    text = str(numbers[0]) + "".join(f" {o} {v}" for o, v in zip(chosen, numbers[1:]))
+    expected = Fraction(numbers[0])  # left to right, as the grammar reads it
+    for o, v in zip(chosen, numbers[1:]):
+        expected = _OPS[o](expected, v)
+    t = parse_term(text)
+    assert _value(t) == expected
+    if n <= 32:  # short chains keep the grammar's left-nested shape
+        assert _depth(t) == n
+    else:
+        assert _depth(t) <= 2 + 2 * n.bit_length()
+    assert (t.span.col, t.span.end_col) == (1, len(text) + 1)
+
+
+def test_a_balanced_product_never_moves_a_divisor_into_a_numerator():
+    t = parse_term(" * ".join(["x"] * 20) + " / y * z" + " * x" * 20)
+    assert isinstance(t, BinOp) and t.op == "/" and t.right == Name("y")
+
+
+def test_real_nesting_inside_a_long_chain_still_counts():
+    deep = "-" * (MAX_DEPTH - 3) + "x"
+    assert err(parse_term, " + ".join([deep] * 100)).code == "E105"
+    assert parse_term(" + ".join(["-x"] * 100)) is not None
+
+
+def test_a_ten_thousand_term_sum_loads_as_a_program():
+    text = "param a = 0.5\nint ([0, 1]) " + " + ".join(["x * [x <= a]"] * 10_000) + " d(x)\n"
+    p = load_text(text, "sum.lgr")
+    assert p.program.variables == ("x",)

@@ -52,6 +52,11 @@ _FAILURES = (
 )
 
 
+def _same_math(o: Occurrence):
+    """What a check reads of an occurrence, apart from where it is written."""
+    return (o.psi, o.f, o.bound, o.bound_at, o.continuous, o.nonzero)
+
+
 class Checker(CoincidenceChecks, NullSetChecks):
     """The transversality analysis of one program: :meth:`run` returns its findings."""
 
@@ -189,15 +194,24 @@ class Checker(CoincidenceChecks, NullSetChecks):
                     if len(families) >= MAX_FAMILIES:
                         break
         occ = col.occurrences
-        steps = [(self.squared, (occ[i], site)) for i, site in sorted(squared.items())]
-        steps += [(self.pair, (occ[i], occ[j])) for i, j in sorted(pairs)]
-        steps += [(self.report_kinks, ())]
+        key = [_same_math(o) for o in occ]
+        steps = [(self.squared, (occ[i], site), ("squared", key[i])) for i, site in sorted(squared.items())]
+        steps += [(self.pair, (occ[i], occ[j]), ("pair", key[i], key[j])) for i, j in sorted(pairs)]
+        steps += [(self.report_kinks, (), None)]
         steps += [
-            (self.family, ([occ[i] for i in fam],)) for fam in sorted(families, key=lambda f: (len(f), f))
+            (self.family, ([occ[i] for i in fam],), ("family", *(key[i] for i in fam)))
+            for fam in sorted(families, key=lambda f: (len(f), f))
         ]
-        steps += [(self.nonzero, (o,)) for o in occ]
+        steps += [(self.nonzero, (o,), ("nonzero", key[i])) for i, o in enumerate(occ)]
+        # A check whose conditions are, mathematically, ones already checked without a finding
+        # (5000 copies of [x <= a] in one sum) is not repeated; one that found something is, so
+        # that each copy is reported where it is written.
+        clean: set = set()
         deadline = time.monotonic() + BUDGET
-        for k, (step, args) in enumerate(steps):
+        for k, (step, args, same) in enumerate(steps):
+            if same is not None and same in clean:
+                continue
+            before = self._state()
             if time.monotonic() > deadline:
                 self.add(
                     self.program.span,
@@ -217,7 +231,13 @@ class Checker(CoincidenceChecks, NullSetChecks):
                     self.undecided(first, second, why)
                 else:
                     self.add(self.program.span, "warning", "X310", f"could not finish the analysis ({why})")
+            if same is not None and self._state() == before:
+                clean.add(same)
         return self.findings
+
+    def _state(self) -> tuple[int, ...]:
+        return (len(self.findings), len(self.coincident), len(self.degenerate_families),
+                sum(map(len, self.kinks.values())))
 
     def undecided(self, a: Occurrence, b: Occurrence | None, why: str):
         p, o = self.primary(a, b) if b is not None else (a, None)

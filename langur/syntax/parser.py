@@ -21,9 +21,10 @@ E101    the file is not UTF-8 (position of the first undecodable byte)
 E102    unexpected token: says what was found and what was expected there
 E103    unexpected end of input: says what was expected
 E104    a character that starts no token (``@``, ``!``, a non-ASCII letter, …)
-E105    nesting too deep: a term more than :data:`MAX_DEPTH` levels deep (also long chains such
-        as ``1+1+…+1``, which nest to the left).  Recursive consumers (desugarer, semantics,
-        dataclass equality) stay far from Python's recursion limit.
+E105    nesting too deep: a term more than :data:`MAX_DEPTH` levels deep.  Long chains such as
+        ``1+1+…+1`` are regrouped into balanced trees (:class:`_Chain`) and count only their
+        tree's depth.  Recursive consumers (desugarer, semantics, dataclass equality) stay far
+        from Python's recursion limit.
 E106    a number literal too long (more than :data:`MAX_DIGITS` digits), with an exponent
         beyond ±\\ :data:`MAX_EXPONENT`, or outside the range of double-precision numbers
         (``1e999``, ``1e-400``: the Monte Carlo engine computes in doubles)
@@ -127,6 +128,94 @@ class _R:
         self.depth = depth
 
 
+#: Chains of at most this many operands keep the grammar's left-nested shape; longer ones are
+#: regrouped into balanced trees, so that E105 counts real nesting only (``t1 + … + t10000`` is
+#: accepted; its tree is 14 levels deep).
+CHAIN_BALANCE = 32
+
+_LEVEL = {"+": "sum", "-": "sum", "*": "product", "/": "product"}
+
+
+class _Chain(_R):
+    """``t1 op t2 op … tn`` at one precedence level (``+``/``-`` or ``*``/``/``), collected link by
+    link as the LALR parser reduces the grammar's left recursion, and built into a tree when first
+    used (iteratively: no recursion on the chain's length).
+
+    Up to :data:`CHAIN_BALANCE` operands the tree is the grammar's own, left-nested.  Longer sums
+    are split in halves, ``L - (t + u - v)`` for ``L - t - u + v`` (the right half's signs flipped:
+    the same value); longer products become ``(∏ factors) / (∏ divisors)``, each a balanced product
+    (the same value where the original is defined, and defined exactly where it is: a divisor is
+    never moved into a numerator)."""
+
+    __slots__ = ("_depth", "_node", "builder", "items", "level")
+
+    def __init__(self, builder: "_Builder", level: str, first: _R):
+        self.builder = builder
+        self.level = level
+        self.items: list[tuple[str, _R]] = [("+" if level == "sum" else "*", first)]
+        self.line, self.col = first.line, first.col
+        self.end_line, self.end_col = first.end_line, first.end_col
+        self._node = None
+        self._depth = None
+
+    def append(self, op: str, right: _R) -> None:
+        self.items.append((op, right))
+        self.end_line, self.end_col = right.end_line, right.end_col
+        self._node = self._depth = None
+
+    @property
+    def depth(self) -> int:  # type: ignore[override]
+        if self._depth is None:
+            self._build()
+        return self._depth
+
+    @property
+    def node(self):  # type: ignore[override]
+        if self._node is None:
+            self._build()
+            if self._depth > MAX_DEPTH:
+                raise self.builder.too_deep(self.builder.span(self, self))
+        return self._node
+
+    def _span(self, first: _R, last: _R) -> Span:
+        return self.builder.span(first, last)
+
+    def _build(self) -> None:
+        items = self.items
+        if len(items) <= CHAIN_BALANCE:
+            (_, first), *rest = items
+            node, depth = first.node, first.depth
+            for op, r in rest:
+                node = BinOp(op, node, r.node, self._span(first, r))
+                depth = 1 + max(depth, r.depth)
+            self._node, self._depth = node, depth
+        elif self.level == "sum":
+            self._node, self._depth = self._balanced([(op == "-", r) for op, r in items], "+", "-")
+        else:
+            factors = [(False, r) for op, r in items if op == "*"]
+            divisors = [(False, r) for op, r in items if op == "/"]
+            node, depth = self._balanced(factors, "*", "/")
+            if divisors:
+                den, den_depth = self._balanced(divisors, "*", "/")
+                node, depth = BinOp("/", node, den, self._span(self, self)), 1 + max(depth, den_depth)
+            self._node, self._depth = node, depth
+
+    def _balanced(self, items: list[tuple[bool, _R]], plus: str, minus: str):
+        """A balanced tree of ``items`` (inverted?, operand), the first not inverted; recursion
+        depth log₂ of the length."""
+        if len(items) == 1:
+            return items[0][1].node, items[0][1].depth
+        mid = len(items) // 2
+        left, right = items[:mid], items[mid:]
+        inverted = right[0][0]
+        if inverted:  # L - t - u + v = L - (t + u - v)
+            right = [(not inv, r) for inv, r in right]
+        ln, ld = self._balanced(left, plus, minus)
+        rn, rd = self._balanced(right, plus, minus)
+        span = self._span(left[0][1], right[-1][1])
+        return BinOp(minus if inverted else plus, ln, rn, span), 1 + max(ld, rd)
+
+
 def _start(x) -> tuple[int, int]:
     if isinstance(x, Token):
         return x.line, x.column
@@ -162,10 +251,13 @@ class _Builder:
         sp = self.span(first, last)
         depth = 1 + max((s.depth for s in subs), default=0)
         if depth > MAX_DEPTH:
-            raise error(sp, "E105", f"nesting too deep: terms may nest at most {MAX_DEPTH} levels (each operator "
-                        "of a chain like `t1 + t2 + …` is a level: group long sums in parentheses, "
-                        "`(t1 + … + t100) + (t101 + …)`)")
+            raise self.too_deep(sp)
         return _R(make(sp), sp.line, sp.col, sp.end_line, sp.end_col, depth)
+
+    def too_deep(self, sp: Span) -> LangurError:
+        return error(sp, "E105", f"nesting too deep: terms may nest at most {MAX_DEPTH} levels (parentheses, "
+                     "calls, conditionals, lets and powers inside one another; long sums and products "
+                     "count only the depth of their balanced tree)")
 
     def ident(self, t: Token) -> Ident:
         return Ident(str(t), self.tok_span(t))
@@ -294,7 +386,15 @@ class _Builder:
 
     def binop(self, c):
         left, op, right = c
-        return self.term(lambda sp: BinOp(str(op), left.node, right.node, sp), left, right, (left, right))
+        level = _LEVEL.get(str(op))
+        if level is None:  # ^: right-associative and bounded by real nesting
+            return self.term(lambda sp: BinOp(str(op), left.node, right.node, sp), left, right, (left, right))
+        if isinstance(left, _Chain) and left.level == level:  # the grammar's left recursion: one more link
+            left.append(str(op), right)
+            return left
+        chain = _Chain(self, level, left)
+        chain.append(str(op), right)
+        return chain
 
     def neg(self, c):
         arg = c[1]
