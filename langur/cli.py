@@ -23,6 +23,7 @@ import warnings
 from collections import Counter
 
 from .diagnostics import LangurError
+from .symbolic.timebox import run_with_timeout
 
 COMMANDS = {
     "check": "parse, type-check and lint for transversality",
@@ -75,6 +76,31 @@ def samples(low: int = 2):
 
 
 seed = count(0, MAX_SEED, "a seed")
+
+#: Longest ``--timeout`` accepted (a day).
+MAX_TIMEOUT = 86_400.0
+#: The default time budget of ``show``, ``eval`` and ``deriv`` (the whole command) and of
+#: ``check`` (each file: a budget that suits a CI job).
+DEFAULT_TIMEOUT = {"show": 600.0, "eval": 600.0, "deriv": 600.0, "check": 60.0}
+
+
+def seconds(text: str) -> float:
+    """``--timeout SECONDS``: a positive, finite number of seconds, at most a day."""
+    try:
+        t = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not (math.isfinite(t) and 0 < t <= MAX_TIMEOUT):
+        raise argparse.ArgumentTypeError(f"the time limit must be a positive number of seconds, at most "
+                                         f"{MAX_TIMEOUT:g}, got {text}")
+    return t
+
+
+def add_timeout(p: argparse.ArgumentParser, command: str, per: str) -> None:
+    default = DEFAULT_TIMEOUT[command]
+    p.add_argument("--timeout", type=seconds, default=default, metavar="SECONDS",
+                   help=f"time budget {per} (default {default:g}): past it the command stops with a "
+                   "message and exit status 1, never a hang")
 
 
 def parse_assignments(values: list[str] | None, what: str) -> dict[str, float]:
@@ -146,7 +172,13 @@ def print_diagnostics(err: LangurError, as_json: bool) -> None:
         print(d.format(), file=sys.stderr)
 
 
+#: The recursive semantic functions follow the term: up to ``MAX_INLINED_DEPTH`` levels (T230), a
+#: few Python frames each.
+RECURSION_LIMIT = 20_000
+
+
 def main(argv: list[str] | None = None) -> int:
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), RECURSION_LIMIT))
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "_run", None):
@@ -158,7 +190,16 @@ def main(argv: list[str] | None = None) -> int:
             for quiet in (DeprecationWarning, PendingDeprecationWarning, FutureWarning):
                 warnings.simplefilter("ignore", quiet)  # about libraries' APIs, not the user's numbers
             try:
+                if args.command in ("show", "eval", "deriv"):  # one budget for the whole command
+                    return int(run_with_timeout(lambda: args._run(args), args.timeout) or 0)
                 return int(args._run(args) or 0)
+            except TimeoutError:
+                if not hasattr(args, "timeout"):
+                    raise
+                hint = ", fewer --samples or one --engine" if args.command in ("eval", "deriv") else ""
+                print(f"langur {args.command}: error: stopped after {args.timeout:g} s (--timeout {args.timeout:g}): "
+                      f"the computation did not finish in time (a larger --timeout{hint} may help)", file=sys.stderr)
+                return 1
             finally:
                 _note_warnings(args.command, caught)
     except UsageError as e:

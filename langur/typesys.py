@@ -58,6 +58,9 @@ T220    import: the module has no ``def`` or ``diffeo`` of that name
 T221    recursive ``def`` (defs are inlined: Langur is first-order, §4)
 T222    a diffeo's component is not a smooth term (conditionals, calls and ``let`` are not allowed)
 T223    import: the module's file exists but cannot be read (the operating system's reason)
+T230    the program is too large once its definitions are inlined (more than
+        ``langur.syntax.inline.MAX_INLINED_NODES`` nodes: a few lines that double a definition n
+        times expand to 2ⁿ); refused before inlining, at the call that makes it so
 ======  ==========================================================================================
 """
 
@@ -109,6 +112,7 @@ CODES: dict[str, str] = {
     "T221": "recursive def",
     "T222": "diffeo component not smooth",
     "T223": "module unreadable",
+    "T230": "too large once inlined",
 }
 
 
@@ -194,6 +198,10 @@ def reject_diffeo_args(span, name: str, detail: str) -> Diagnostic:
 
 def reject_recursive(span, cycle) -> Diagnostic:
     return diag(span, "T221", "recursive def: " + " -> ".join(cycle) + " (defs are inlined; Langur is first-order)")
+
+
+def reject_too_large(span, detail: str) -> Diagnostic:
+    return diag(span, "T230", f"program too large: {detail}")
 
 
 def reject_not_smooth(span, name: str, detail: str) -> Diagnostic:

@@ -67,7 +67,7 @@ def one_line(err: str) -> str:
     (["check", FIG1, "--at", "theta=nan"], "--at theta=nan: not a finite number"),
     (["check", FIG1, "--select", "ZZZ"], "--select ZZZ: 'ZZZ' matches no diagnostic code"),
     (["check", FIG1, "--ignore", "X301,Q"], "--ignore X301,Q: 'Q' matches no diagnostic code"),
-    (["check", FIG1, "--select", "X399"], "'X399' matches no diagnostic code"),
+    (["check", FIG1, "--select", "X398"], "'X398' matches no diagnostic code"),
 ])
 def test_a_bad_option_is_one_line_and_status_2(capsys, argv, says):
     status, out, err = run(capsys, *argv)

@@ -22,8 +22,9 @@ import os
 import sys
 from pathlib import Path
 
-from ..cli import UsageError, add_common, parse_assignments, parse_modules
+from ..cli import UsageError, add_common, add_timeout, parse_assignments, parse_modules
 from ..diagnostics import Diagnostic, LangurError, Span
+from ..symbolic.timebox import run_with_timeout
 
 FORMATS = ("text", "json", "sarif", "github")
 STDIN_NAME = "<stdin>"
@@ -34,6 +35,7 @@ def add_arguments(p):
         "files", nargs="+", metavar="FILE", help=".lgr files or directories to check (- reads standard input)"
     )
     add_common(p, params=True)
+    add_timeout(p, "check", "for each FILE, in seconds")
     p.add_argument(
         "--format",
         choices=FORMATS,
@@ -137,15 +139,63 @@ def _fix(fixmod, text, name, loaded, modules, at, sources):
         raise UsageError(str(e)) from None
 
 
-def run(args) -> int:
-    from .. import __version__, frontend
-    from ..lint import config as cfgmod
-    from ..lint.formats import Report, known_codes, render
+def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, reports: list) -> None:
+    """Check one FILE's contents (under its --timeout), appending to ``reports``, ``used_at`` and
+    ``fixes``."""
+    from .. import frontend
+    from ..lint import fix as fixmod
+    from ..lint.formats import Report
     from ..lint.noqa import suppressed
     from ..lint.prove import Prover
     from ..transversality import check_library, check_loaded, point_of
 
+    text = data.decode("utf-8", errors="replace")
+    sources = {name: text}
+    try:
+        loaded = frontend.load_bytes(data, name, modules=modules)
+    except LangurError as e:
+        reports.extend(Report(d) for d in e.diagnostics)
+        return
+    if (args.fix or args.diff) and loaded.program is not None:
+        fixed = _fix(fixmod, text, name, loaded, modules, here_at(at, loaded), sources)
+        if fixed is not None:
+            fixes.append(fixed)
+            if args.fix and not args.diff:  # report what remains in the rewritten file
+                name = STDIN_NAME if name == STDIN_NAME else fixmod.target(name, args.in_place)
+                text, sources = fixed.after, {name: fixed.after}
+                loaded = frontend.load_text(text, name, modules=modules)
+    here = {k: v for k, v in at.items() if k in loaded.params}
+    used_at |= set(here)
+    if loaded.program is None:  # a library module: each def on its own
+        findings = check_library(loaded, sources=sources)
+    else:
+        findings = None
+    for m in loaded.modules.values():  # imported modules: quoted in messages, their # noqa honoured
+        if m.path not in sources and os.path.isfile(m.path):
+            try:
+                with open(m.path, encoding="utf-8", errors="replace") as fh:
+                    sources[m.path] = fh.read()
+            except OSError:
+                pass
+    if findings is None:
+        findings = check_loaded(loaded, at=here, sources=sources)
+    prover = (
+        Prover(loaded.program, point_of(loaded.params, here))
+        if args.prove and loaded.program is not None
+        else None
+    )
+    for fd in findings:
+        d: Diagnostic = fd.diagnostic()
+        if not cfg.enabled(d.code, name) or suppressed(d, sources):
+            continue
+        reports.append(Report(d, prover.prove(fd.params) if prover is not None else None))
+
+
+def run(args) -> int:
+    from .. import __version__
+    from ..lint import config as cfgmod
     from ..lint import fix as fixmod
+    from ..lint.formats import Report, known_codes, render
 
     fmt = args.format or ("json" if args.json else "text")
     if args.in_place and not args.fix:
@@ -195,46 +245,14 @@ def run(args) -> int:
         if data is None:
             reports.append(Report(cfg))
             continue
-        text = data.decode("utf-8", errors="replace")
-        sources = {name: text}
         try:
-            loaded = frontend.load_bytes(data, name, modules=modules)
-        except LangurError as e:
-            reports.extend(Report(d) for d in e.diagnostics)
-            continue
-        if (args.fix or args.diff) and loaded.program is not None:
-            fixed = _fix(fixmod, text, name, loaded, modules, here_at(at, loaded), sources)
-            if fixed is not None:
-                fixes.append(fixed)
-                if args.fix and not args.diff:  # report what remains in the rewritten file
-                    name = STDIN_NAME if name == STDIN_NAME else fixmod.target(name, args.in_place)
-                    text, sources = fixed.after, {name: fixed.after}
-                    loaded = frontend.load_text(text, name, modules=modules)
-        here = {k: v for k, v in at.items() if k in loaded.params}
-        used_at |= set(here)
-        if loaded.program is None:  # a library module: each def on its own
-            findings = check_library(loaded, sources=sources)
-        else:
-            findings = None
-        for m in loaded.modules.values():  # imported modules: quoted in messages, their # noqa honoured
-            if m.path not in sources and os.path.isfile(m.path):
-                try:
-                    with open(m.path, encoding="utf-8", errors="replace") as fh:
-                        sources[m.path] = fh.read()
-                except OSError:
-                    pass
-        if findings is None:
-            findings = check_loaded(loaded, at=here, sources=sources)
-        prover = (
-            Prover(loaded.program, point_of(loaded.params, here))
-            if args.prove and loaded.program is not None
-            else None
-        )
-        for fd in findings:
-            d: Diagnostic = fd.diagnostic()
-            if not cfg.enabled(d.code, name) or suppressed(d, sources):
-                continue
-            reports.append(Report(d, prover.prove(fd.params) if prover is not None else None))
+            run_with_timeout(lambda n=name, d=data, c=cfg: _check_one(args, n, d, c, modules, at, used_at, fixes,
+                                                                       reports), args.timeout)
+        except TimeoutError:
+            reports.append(Report(Diagnostic(
+                Span(name, 1, 1, 1, 1), "error", "X399",
+                f"the check did not finish within {args.timeout:g} s (--timeout): what was not reported "
+                "is unchecked")))
     unknown = sorted(set(at) - used_at)
     if unknown and not any(r.diagnostic.code[:1] in ("E", "T") for r in reports):
         raise UsageError(f"--at {unknown[0]}: no checked FILE declares this parameter")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from ..cli import add_common
+from ..cli import add_common, add_timeout
 from . import _common as c
 from . import _defined
 from ._engines import Undefined, add_engine_arguments, how, print_mc_notes, run_exact, run_mc
@@ -16,6 +16,7 @@ def add_arguments(p):
     p.add_argument("--dir", action="append", metavar="NAME=VALUE",
                    help="a direction γ' instead of --wrt (repeatable, or comma-separated)")
     add_common(p, mc=True)
+    add_timeout(p, "deriv", "for the whole command, in seconds")
     add_engine_arguments(p)
     p.add_argument("--rewrite", action="store_true",
                    help="differentiate the transverse rewrite (paper §7.3.2) of a program that is not "

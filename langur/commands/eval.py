@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from ..cli import add_common
+from ..cli import add_common, add_timeout
 from . import _common as c
 from . import _defined
 from ._engines import Undefined, add_engine_arguments, how, print_mc_notes, run_exact, run_mc
@@ -13,6 +13,7 @@ from ._engines import Undefined, add_engine_arguments, how, print_mc_notes, run_
 def add_arguments(p):
     p.add_argument("file", metavar="FILE", help="a .lgr file with a program (- reads standard input)")
     add_common(p, mc=True)
+    add_timeout(p, "eval", "for the whole command, in seconds")
     add_engine_arguments(p)
 
 

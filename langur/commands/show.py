@@ -3,7 +3,7 @@ with ``--wrt``/``--dir`` its derivative ⦇p⦈ in the normal form of Theorem 7.
 
 from __future__ import annotations
 
-from ..cli import add_common
+from ..cli import add_common, add_timeout
 from . import _common as c
 from . import _defined
 
@@ -15,6 +15,7 @@ def add_arguments(p):
     p.add_argument("--latex", action="store_true", help="LaTeX for the denotation and the derivative")
     p.add_argument("--core", action="store_true", help="only the core term (no semantics)")
     add_common(p)
+    add_timeout(p, "show", "for the whole command, in seconds")
 
 
 def _core_text(loaded) -> str:

@@ -93,6 +93,12 @@ X_CODES: dict[str, tuple[str, str, str]] = {
         "An interval of the domain is empty at the parameter values in force (lower end above upper end): "
         "the integrand is 0 there, so the value is 0, not minus the integral as in calculus.",
     ),
+    "X399": (
+        "time-limit",
+        "error",
+        "The check of this file did not finish within its time budget (--timeout, default 60 s): what "
+        "was not reported is unchecked.",
+    ),
     "X310": (
         "undecided",
         "warning",

@@ -42,9 +42,25 @@ from ..modules import ElaboratedModule
 from .diffeo import CompletionError, complete, instantiate
 from .support import numeric_box
 
+#: Most nodes a program may have once its definitions are inlined (T230): about as many as the
+#: largest program that can be written out (E108 allows a million significant characters).
+#: Langur links definitions by inlining (§9) and its engines work on the inlined term, so a file
+#: of a few lines that doubles a definition n times would cost 2ⁿ: it is refused, located, before
+#: any of that is spent.
+MAX_INLINED_NODES = 1_000_000
+#: Deepest nesting of an inlined program (T230): twice what a written term may have (E105), so
+#: that a definition's body may call another's; the recursive semantic functions stay far from
+#: the interpreter's limits (``langur.cli`` raises Python's recursion limit for them).
+MAX_INLINED_DEPTH = 400
+
 
 def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program:
-    """``program`` with every ``Call`` inlined (recursively); raises LangurError (T207, T217, T221)."""
+    """``program`` with every ``Call`` inlined (recursively); raises LangurError (T207, T217, T221,
+    T230)."""
+    lookup = lambda m, n: modules[m].defs.get(n) if m in modules else None  # noqa: E731
+    too_large = _too_large(program, lookup)
+    if too_large:
+        raise LangurError([too_large])
     inl = _Inliner(lambda m, n: modules[m].defs[n], program.variables,
                    numeric_box(program.variables, program.box))
     body = inl.expand(program.body, ())
@@ -147,6 +163,91 @@ class _Subst:
                 return replace(t, psi=new_psi, then=a, orelse=b)
             case _:
                 return map_children(t, lambda c: self.go(c, pmap))
+
+
+def _too_large(program: Program, lookup) -> Diagnostic | None:
+    """T230 when ``program`` would have more than :data:`MAX_INLINED_NODES` nodes, or nest more
+    than :data:`MAX_INLINED_DEPTH` levels, once inlined; located at the outermost call that makes
+    it so (else the program)."""
+    measure = _Size(lookup)
+    terms = [program.body] + [b for pair in program.box for b in pair]
+    sizes = [measure.of(t, {}) for t in terms]
+    total, depth = sum(n for n, _ in sizes), max(d for _, d in sizes)
+    if total <= MAX_INLINED_NODES and depth <= MAX_INLINED_DEPTH:
+        return None
+    culprit, found = None, (total, depth)
+    stack = [program.body]
+    while stack and culprit is None:
+        u = stack.pop()
+        if isinstance(u, Call):
+            n, d = measure.of(u, {})
+            if n > MAX_INLINED_NODES or d > MAX_INLINED_DEPTH:
+                culprit, found = u, (n, d)
+            continue
+        stack.extend(reversed(_children(u)))
+    where = culprit.span if culprit is not None and culprit.span is not None else program.span
+    what = f"`{culprit.name}(…)`" if culprit is not None else "the program"
+    n, d = found
+    if n > MAX_INLINED_NODES:
+        detail = (f"{what} expands to {_about(n)} nodes when its definitions are inlined (at most "
+                  f"{MAX_INLINED_NODES:,}): definitions are inlined (§9), so a definition that calls "
+                  "another k times multiplies its size by k")
+    else:
+        detail = (f"{what} nests {_about(d)} levels deep when its definitions are inlined (at most "
+                  f"{MAX_INLINED_DEPTH}): definitions are inlined (§9), so each call adds the depth of "
+                  "the definition's body")
+    return ty.reject_too_large(where, detail)
+
+
+def _about(n: float) -> str:
+    if n >= 1e300:
+        return "more than 10^300"
+    if n >= 1e7:
+        return f"about {n:.2g}".replace("e+", "e")
+    return f"{int(n):,}"
+
+
+class _Size:
+    """The number of nodes and the depth of a term once its calls are inlined, computed without
+    inlining: memoized per definition and argument measures (floats: the sizes that matter here
+    overflow any bound; they are capped in the memo key), so linear in the definitions' text."""
+
+    CAP = float(MAX_INLINED_NODES + 1)
+
+    def __init__(self, lookup):
+        self.lookup = lookup
+        self.memo: dict[tuple, tuple[float, float]] = {}
+        self.active: set[tuple] = set()
+
+    def of(self, t: Term, env: dict[str, tuple[float, float]]) -> tuple[float, float]:
+        """(nodes, depth) of ``t`` inlined, where a name of ``env`` stands for a term of that
+        measure."""
+        match t:
+            case Var(name) | Param(name):
+                return env.get(name, (1.0, 1.0))
+            case Let(name, bound, body):
+                inner = {k: v for k, v in env.items() if k != name}
+                return self._node([self.of(bound, env), self.of(body, inner)])
+            case IfDiffeo(psi, a, b):
+                cond = self.of(psi.forward[0], env) if psi.name is None else (1.0, 1.0)
+                return self._node([cond, self.of(a, env), self.of(b, env)])
+            case Call(module, name, args):
+                measures = tuple(self.of(a, env) for a in args)
+                d = self.lookup(module, name)
+                key = (module, name, tuple((min(n, self.CAP), min(h, self.CAP)) for n, h in measures))
+                if d is None or key in self.active:  # unknown or recursive: reported elsewhere
+                    return self._node(list(measures))
+                if key not in self.memo:
+                    self.active.add(key)
+                    self.memo[key] = self.of(d.body, {n: m for (n, _), m in zip(d.args, measures)})
+                    self.active.discard(key)
+                return self.memo[key]
+            case _:
+                return self._node([self.of(c, env) for c in _children(t)])
+
+    @staticmethod
+    def _node(children: list[tuple[float, float]]) -> tuple[float, float]:
+        return 1.0 + sum(n for n, _ in children), 1.0 + max((d for _, d in children), default=0.0)
 
 
 def _names(t: Term) -> set[str]:

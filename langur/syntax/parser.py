@@ -43,7 +43,6 @@ import re
 import sys
 import threading
 from fractions import Fraction
-from pathlib import Path
 
 from lark import Lark, Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
