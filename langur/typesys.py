@@ -61,12 +61,17 @@ T223    import: the module's file exists but cannot be read (the operating syste
 T230    the program is too large once its definitions are inlined (more than
         ``langur.syntax.inline.MAX_INLINED_NODES`` nodes: a few lines that double a definition n
         times expand to 2ⁿ); refused before inlining, at the call that makes it so
+T231    a constant subterm whose value is beyond the range of doubles (``10^400``): the numeric
+        engines compute in doubles
 ======  ==========================================================================================
 """
 
 from __future__ import annotations
 
+import sys
 from fractions import Fraction
+
+import mpmath
 
 from .core import (
     ALL_PRIMITIVES,
@@ -85,6 +90,7 @@ from .core import (
     Term,
     Var,
     free_vars,
+    subterms,
 )
 from .diagnostics import Diagnostic, Span
 
@@ -113,6 +119,7 @@ CODES: dict[str, str] = {
     "T222": "diffeo component not smooth",
     "T223": "module unreadable",
     "T230": "too large once inlined",
+    "T231": "constant beyond the range of doubles",
 }
 
 
@@ -326,7 +333,58 @@ def type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
     for lo, hi in p.box:
         type_term(frozenset(), gamma, lo, out)
         type_term(frozenset(), gamma, hi, out)
+    if not out:
+        out += out_of_range(p.body)
     return out
+
+
+def out_of_range(t: Term) -> list[Diagnostic]:
+    """T231 for the first constant subterm (no variable, no parameter) whose exact value lies
+    beyond the range of doubles (``10^400``, ``1e200 * 1e200``): the literals themselves are in
+    range (E106), but the numeric engines compute in doubles and would see ±∞ there."""
+    limit = mpmath.mpf(sys.float_info.max)
+    memo: dict[int, object] = {}
+    for u in subterms(t):
+        v = _constant(u, memo)
+        if v is not None and abs(v) > limit:
+            return [diag(u.span, "T231", f"constant beyond the range of doubles: its value is about "
+                         f"{mpmath.nstr(v, 3)}, more than {sys.float_info.max:.4g} in magnitude; the numeric "
+                         "engines (quadrature, Monte Carlo) compute in doubles and would see an infinity "
+                         "(rescale the program)")]
+    return []
+
+
+def _constant(t: Term, memo: dict[int, object]):
+    """The value of a variable-free, parameter-free term with mpmath (30 digits), or None."""
+    key = id(t)
+    if key in memo:
+        return memo[key]
+    v = None
+    try:
+        with mpmath.workdps(30):
+            match t:
+                case Const(value) if value == "pi":
+                    v = +mpmath.pi
+                case Const(value):
+                    v = mpmath.mpf(value.numerator) / value.denominator
+                case Add(a, b) | Mul(a, b):
+                    x, y = _constant(a, memo), _constant(b, memo)
+                    if x is not None and y is not None:
+                        v = x + y if isinstance(t, Add) else x * y
+                case Pow(a, k):
+                    x = _constant(a, memo)
+                    if x is not None and (x > 0 or k.denominator == 1) and (x != 0 or k > 0):
+                        v = mpmath.power(x, mpmath.mpf(k.numerator) / k.denominator)
+                case Prim(op, a):
+                    x = _constant(a, memo)
+                    f = getattr(mpmath, op, None)
+                    if x is not None and f is not None:
+                        v = f(x)
+                        v = v if isinstance(v, mpmath.mpf) else None
+    except (ValueError, ZeroDivisionError, OverflowError):
+        v = None
+    memo[key] = v
+    return v
 
 
 def _ifdiffeos(t: Term):

@@ -122,6 +122,36 @@ def spot_values(
     return out
 
 
+def _memo(fn):
+    """Remember a pure function of sympy expressions (and tuples of them) with its outcome, the
+    exception included: a program that writes the same condition 10,000 times asks the same
+    questions 10,000 times."""
+    table: dict = {}
+
+    def wrapper(*args):
+        key = tuple(tuple(a) if isinstance(a, (list, tuple)) else a for a in args)
+        try:
+            hit = table.get(key)
+        except TypeError:  # unhashable: not remembered
+            return fn(*args)
+        if hit is None:
+            try:
+                hit = (True, fn(*args))
+            except Undecided as e:
+                hit = (False, e)
+            if len(table) > 100_000:
+                table.clear()
+            table[key] = hit
+        ok, value = hit
+        if not ok:
+            raise value
+        return [dict(v) for v in value] if isinstance(value, list) else value
+
+    wrapper.__doc__, wrapper.__name__, wrapper.__wrapped__ = fn.__doc__, fn.__name__, fn
+    return wrapper
+
+
+@_memo
 def vanishes(
     expr: sp.Expr, symbols: Iterable[sp.Symbol], guards: Iterable[sp.Expr] = (), seed: int = 0
 ) -> bool:
@@ -169,6 +199,7 @@ def _equations(expr: sp.Expr, inner: tuple[sp.Symbol, ...], seed: int) -> list[s
     ]
 
 
+@_memo
 def bad_parameters(
     expr: sp.Expr,
     inner: Iterable[sp.Symbol],

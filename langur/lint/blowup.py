@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import sys
 import statistics
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -167,14 +168,18 @@ def _numpy(e: sp.Expr, xs) -> callable:
 
 
 def _num(e) -> float:
-    """A real value with :data:`DIGITS` digits (NaN when complex, undefined or infinite)."""
+    """A real value with :data:`DIGITS` digits (NaN when complex, undefined or infinite; a finite
+    value beyond the range of doubles, ``10^400 · x``, is clamped to the largest double: it is
+    defined)."""
     try:
-        z = complex(sp.sympify(e).evalf(DIGITS))
-    except (TypeError, ValueError, ZeroDivisionError, OverflowError):
+        re, im = sp.sympify(e).evalf(DIGITS).as_real_imag()
+        if not (re.is_Number and im.is_Number and re.is_finite and im.is_finite):
+            return math.nan
+        if abs(im) > sp.Float("1e-30") * max(1, abs(re)):
+            return math.nan
+        return max(-sys.float_info.max, min(sys.float_info.max, float(re)))
+    except (TypeError, ValueError, ZeroDivisionError, OverflowError, AttributeError):
         return math.nan
-    if abs(z.imag) > 1e-30 * max(1.0, abs(z.real)):
-        return math.nan
-    return z.real
 
 
 def _value(e: sp.Expr, xs, p: Sequence[sp.Expr]) -> float:

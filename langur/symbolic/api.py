@@ -19,7 +19,7 @@ import sympy as sp
 
 from ..core import Program
 from .pieces import Integral
-from .quadrature import UndefinedIntegral
+from .quadrature import UndefinedIntegral, printable
 
 
 class ExactUnavailable(Exception):
@@ -38,7 +38,13 @@ def _number(v) -> float:
 
 
 def _expr_text(e: sp.Expr | None) -> str | None:
-    return None if e is None else sp.sstr(e)
+    """The closed form as text; a rational of more than about 1,200 digits (Python refuses to
+    print more than 4300) is written as a 30-digit float, and the text says so."""
+    if e is None:
+        return None
+    shown = printable(e)
+    return sp.sstr(shown) + ("   [numbers of more than 1,200 digits rounded to 30 digits in this text]"
+                             if shown != e else "")
 
 
 def _integral_fields(r: Integral) -> dict:

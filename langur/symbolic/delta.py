@@ -19,6 +19,7 @@ from typing import Sequence
 import sympy as sp
 
 from langur.symbolic.pieces import DeltaPiece, Psi
+from langur.symbolic.quadrature import printable
 from langur.symbolic.regions import Cond, Context
 
 
@@ -80,7 +81,7 @@ def _enclosure(f, xs, box: dict, ctx: Context):
         pad = 1e-9 * (1 + hi - lo)
         ctx.notes.append(f"u-box of {f} from interval arithmetic at the evaluation point")
     else:
-        fn = sp.lambdify(list(xs), f.xreplace(num), modules=["math"])
+        fn = sp.lambdify(list(xs), printable(f.xreplace(num)), modules=["math"])
         grid = itertools.product(*[[a + (b - a) * i / 24 for i in range(25)] for a, b in ranges.values()])
         vals = []
         for pt in grid:

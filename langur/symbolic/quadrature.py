@@ -63,9 +63,17 @@ def _floats(at: dict) -> dict:
     return {k: sp.Float(float(v), 30) for k, v in at.items()}
 
 
+def printable(e: sp.Expr) -> sp.Expr:
+    """``e`` with rationals of thousands of digits as 30-digit floats: ``lambdify`` prints numbers
+    as text, and Python refuses to print an integer of more than 4300 digits (a product of 10,000
+    exact constants has such a value)."""
+    big = {r: sp.Float(r, 30) for r in e.atoms(sp.Rational) if max(abs(r.p), r.q).bit_length() > 4000}
+    return e.xreplace(big) if big else e
+
+
 def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., float]:
     """A fast scalar function (``math``); NaN where the expression is undefined or complex."""
-    e = sp.sympify(expr).xreplace(_floats(at))
+    e = printable(sp.sympify(expr).xreplace(_floats(at)))
     try:
         f = sp.lambdify(list(symbols), e, modules=["math"])
         f(*[0.5] * len(symbols))  # probe: fails with NameError for functions math lacks
@@ -298,7 +306,7 @@ def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int):
     coeffs = poly.all_coeffs()
     if poly.degree() > 8 or any(v in c.free_symbols for c in coeffs):
         return None
-    fns = [sp.lambdify(list(syms[:level]), c, modules=["numpy"]) for c in coeffs]
+    fns = [sp.lambdify(list(syms[:level]), printable(c), modules=["numpy"]) for c in coeffs]
 
     def roots(*prefix):
         cs = [complex(f(*prefix)) for f in fns]
