@@ -21,6 +21,8 @@ module's definitions with calls into other modules left as links, for separate c
 
 from __future__ import annotations
 
+import functools
+import threading
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Callable, Union
@@ -209,6 +211,95 @@ class Program:
     span: Span | None = _span()
 
 
+# Terms are shared after inlining (a definition called twice is one subterm reached twice, §9): a
+# term is then a DAG, and a recursive hash or equality would visit it once per path.  Each node's
+# hash is computed once and kept; equality compares hashes before fields.  The kept hash is not
+# pickled (string hashes differ between processes).
+
+
+_EQUAL = threading.local()
+
+
+def _sharing(cls):
+    field_hash, field_eq = cls.__hash__, cls.__eq__
+
+    def __hash__(self):
+        try:
+            return self.__dict__["_hash"]
+        except KeyError:
+            h = field_hash(self)
+            object.__setattr__(self, "_hash", h)
+            return h
+
+    def __eq__(self, other):
+        if self is other:
+            return True
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        if hash(self) != hash(other):
+            return False
+        # Two DAGs equal node for node: each pair of nodes is compared once (while the outermost
+        # comparison runs), not once per path.
+        known = getattr(_EQUAL, "pairs", None)
+        outer = known is None
+        if outer:
+            known = _EQUAL.pairs = set()
+        try:
+            pair = (id(self), id(other))
+            if pair in known:
+                return True
+            equal = field_eq(self, other)
+            if equal:
+                known.add(pair)
+            return equal
+        finally:
+            if outer:
+                _EQUAL.pairs = None
+
+    def __getstate__(self):  # the kept hash, variables and parameters are recomputed
+        return {k: v for k, v in self.__dict__.items() if not k.startswith("_")}
+
+    cls.__hash__, cls.__eq__, cls.__getstate__ = __hash__, __eq__, __getstate__
+    return cls
+
+
+for _cls in (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, InverseBranch, Diffeo, Program):
+    _sharing(_cls)
+
+
+_SCOPE = threading.local()
+_MISSING = object()
+
+
+def shared(fn):
+    """Memoize a recursive pass over terms by the identity of its arguments, while any pass so
+    decorated is running (one scope for all of them, opened by the outermost call and dropped when
+    it returns): on a term shared after inlining (a DAG), each distinct node is computed once per
+    context, not once per path.  The pass must be a function of its arguments: a context that
+    changes (a ``let`` binding) is a new argument, never a mutation."""
+
+    @functools.wraps(fn)
+    def wrapper(*args):
+        tables = getattr(_SCOPE, "tables", None)
+        outer = tables is None
+        if outer:
+            tables = _SCOPE.tables = {}
+            _SCOPE.keep = []  # the arguments stay alive, so that their identities stay theirs
+        try:
+            table = tables.setdefault(wrapper, {})
+            key = tuple(map(id, args))
+            hit = table.get(key, _MISSING)
+            if hit is _MISSING:
+                hit = table[key] = fn(*args)
+                _SCOPE.keep.append(args)
+            return hit
+        finally:
+            if outer:
+                _SCOPE.tables = _SCOPE.keep = None
+
+    return wrapper
+
+
 # ----------------------------------------------------------------------------------------------
 # Small constructors and generic traversals.  The semantic functions are written as one `match`
 # each in their own modules; these helpers are structural only.
@@ -251,39 +342,72 @@ def children(t: Term) -> tuple[Term, ...]:
 
 
 def subterms(t: Term):
-    """Pre-order iteration over ``t`` and all its subterms."""
+    """Pre-order iteration over ``t`` and its subterms, each distinct node (by identity) once: a
+    term shared after inlining (a DAG) is visited once, not once per path."""
+    seen: set[int] = set()
     stack = [t]
     while stack:
         u = stack.pop()
+        if id(u) in seen:
+            continue
+        seen.add(id(u))
         yield u
         stack.extend(reversed(children(u)))
 
 
 def free_vars(t: Term) -> frozenset[str]:
-    """Names of variables occurring in ``t`` (including in diffeomorphic conditions)."""
-    out: set[str] = set()
-    for u in subterms(t):
-        if isinstance(u, Var):
-            out.add(u.name)
-        elif isinstance(u, IfDiffeo):
-            out.update(u.psi.variables)
-    return frozenset(out)
+    """Names of variables occurring in ``t`` (including in diffeomorphic conditions); kept on the
+    node, so a shared term costs once."""
+    try:
+        return t.__dict__["_fv"]
+    except KeyError:
+        pass
+    match t:
+        case Var(name):
+            out = frozenset({name})
+        case IfDiffeo(psi, a, b):
+            out = frozenset(psi.variables) | free_vars(a) | free_vars(b)
+        case _:
+            out = frozenset().union(*(free_vars(c) for c in children(t)))
+    object.__setattr__(t, "_fv", out)
+    return out
 
 
 def free_params(t: Term) -> frozenset[str]:
-    """Names of parameters occurring free in ``t`` (``let`` binds its name in its body)."""
+    """Names of parameters occurring free in ``t`` (``let`` binds its name in its body); kept on
+    the node, so a shared term costs once."""
+    try:
+        return t.__dict__["_fp"]
+    except KeyError:
+        pass
     match t:
         case Param(name):
-            return frozenset({name})
+            out = frozenset({name})
         case Let(name, bound, body):
-            return free_params(bound) | (free_params(body) - {name})
+            out = free_params(bound) | (free_params(body) - {name})
         case IfDiffeo(psi, a, b):
-            return diffeo_params(psi) | free_params(a) | free_params(b)
+            out = diffeo_params(psi) | free_params(a) | free_params(b)
         case _:
-            out: frozenset[str] = frozenset()
-            for c in children(t):
-                out |= free_params(c)
-            return out
+            out = frozenset().union(*(free_params(c) for c in children(t)))
+    object.__setattr__(t, "_fp", out)
+    return out
+
+
+def tree_size(t: Term) -> int:
+    """The number of nodes of ``t`` counted once per path (its size written out as a tree),
+    computed once per distinct node."""
+    memo: dict[int, int] = {}
+    stack = [(t, False)]
+    while stack:
+        u, done = stack.pop()
+        if id(u) in memo:
+            continue
+        if done:
+            memo[id(u)] = 1 + sum(memo[id(c)] for c in children(u))
+            continue
+        stack.append((u, True))
+        stack.extend((c, False) for c in children(u) if id(c) not in memo)
+    return memo[id(t)]
 
 
 def program_params(program: Program) -> frozenset[str]:

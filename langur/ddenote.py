@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, check_values
+from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, check_values, shared
 from .denote import program_box, zero_integral
 from .symbolic.decompose import (
     Ctx,
@@ -109,6 +109,7 @@ def _gate_nf(nf: NormalForm, cond: sp.Expr, branch: bool) -> NormalForm:
                       [DeltaPiece(d.psi, d.conditions, gate(d.weight, cond, branch)) for d in nf.deltas])
 
 
+@shared
 def _dd(t: Term, ctx: Ctx, dctx: DCtx) -> NormalForm:
     match t:
         case Const():  # Fig. 8, constant: ⦇c⦈ = 0

@@ -14,10 +14,11 @@ Piecewise), which returns the closed form in the parameters when it finds one, e
 from __future__ import annotations
 
 from collections.abc import Mapping
+from types import MappingProxyType
 
 import sympy as sp
 
-from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, check_values
+from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, check_values, shared
 from .symbolic.decompose import (
     PRIMITIVES,
     Ctx,
@@ -33,9 +34,13 @@ from .symbolic.pieces import Integral
 __all__ = ["denote", "denote_program", "program_box", "symbol"]
 
 
+_NO_ENV: Mapping[str, sp.Expr] = MappingProxyType({})
+
+
+@shared
 def denote(t: Term, env: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
     """⟦t⟧ (Fig. 7) as a sympy expression; ``env`` maps let-bound parameters to their values."""
-    env = env or {}
+    env = _NO_ENV if env is None else env  # the same object down the term: memoized per node
     match t:
         case Const(value):  # Fig. 7, constant: ⟦c⟧ = c
             return const_expr(value)

@@ -58,9 +58,10 @@ T220    import: the module has no ``def`` or ``diffeo`` of that name
 T221    recursive ``def`` (defs are inlined: Langur is first-order, §4)
 T222    a diffeo's component is not a smooth term (conditionals, calls and ``let`` are not allowed)
 T223    import: the module's file exists but cannot be read (the operating system's reason)
-T230    the program is too large once its definitions are inlined (more than
-        ``langur.syntax.inline.MAX_INLINED_NODES`` nodes: a few lines that double a definition n
-        times expand to 2ⁿ); refused before inlining, at the call that makes it so
+T230    the program is too large once its definitions are inlined: it nests more than
+        ``langur.syntax.inline.MAX_INLINED_DEPTH`` levels, or its calls go through thousands of
+        definitions (refused before inlining, at the call that makes it so); or, for the Monte
+        Carlo engine alone, its tree has more than ``langur.operational.MAX_TREE_NODES`` nodes
 T231    a constant subterm whose value is beyond the range of doubles (``10^400``): the numeric
         engines compute in doubles
 ======  ==========================================================================================
@@ -91,6 +92,7 @@ from .core import (
     Var,
     free_vars,
     subterms,
+    shared,
 )
 from .diagnostics import Diagnostic, Span
 
@@ -220,6 +222,7 @@ def reject_not_smooth(span, name: str, detail: str) -> Diagnostic:
 # Fig. 6 and Fig. 11 on the core language.
 
 
+@shared
 def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[Diagnostic]) -> None:
     """``Δ; Γ ⊢ t : real`` (Fig. 6, extended by primitives and constant powers, LANGUAGE.md §1).
 

@@ -46,6 +46,7 @@ D = MAX_DEPTH + 5
 
 CORPUS: dict[str, bytes | str | dict[str, str]] = {
     "doubling-40": _doubling(40),
+    "doubling-40-inside": _doubling(40).replace("= x * a\n", "= x * a * [x <= a]\n", 1).replace(" * [x <= a] d(x)", " d(x)"),
     "doubling-let-40": _let_doubling(40),
     "deep-defs": _deep_defs(60, 150),
     "deep-parens": _program("(" * 20_000 + "x" + ")" * 20_000 + " * [x <= a]"),
@@ -154,7 +155,6 @@ def test_every_command_ends_cleanly(outcomes, name):
 
 # What the corpus must produce, beyond ending cleanly: the bounds SECURITY.md states.
 EXPECTED_CODE = {
-    "doubling-40": "T230",
     "deep-defs": "T230",
     "deep-minus": "E105",
     "deep-calls": "E105",
@@ -181,6 +181,20 @@ def test_the_bound_that_holds_is_named(outcomes, name):
     for command in COMMANDS:
         _, rc, out, err = outcomes[(name, command)]
         assert rc == 1 and f" {EXPECTED_CODE[name]} " in out + err, f"{command}: {rc}\n{out[-800:]}\n{err[-800:]}"
+
+
+@pytest.mark.parametrize("name", ["doubling-40", "doubling-40-inside"])
+def test_a_program_shared_after_inlining_is_computed_exactly(outcomes, name):
+    # f40 = 2^40 copies of x·a (Fig. 7 by hand): ⟦p⟧ = 2^40·a·∫₀^a x dx = 2^39·a³ = 2^36 at a = 1/2,
+    # and d/da = 3·2^39·a² = 3·2^37.  The Monte Carlo engine, which walks the tree path by path,
+    # refuses it with T230 (the exact engine and check work on the shared form).
+    for command in COMMANDS:
+        _, rc, out, err = outcomes[(name, command)]
+        assert rc == 0 and "Traceback" not in err, f"{command}: {rc}\n{out[-800:]}\n{err[-800:]}"
+    _, _, out, err = outcomes[(name, "eval")]
+    assert f"exact : {2**36 / 1e10:.9f}e+10" in out and " T230 " in err and "path by path" in err, out + err
+    _, _, out, err = outcomes[(name, "deriv")]
+    assert f"D⟦p⟧ = {3 * 2**37 / 1e11:.9f}e+11" in out, out + err
 
 
 @pytest.mark.parametrize("name", ["doubling-let-40", "deep-parens", "sum-10000", "sum-2000-conditions",

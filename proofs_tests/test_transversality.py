@@ -160,11 +160,18 @@ def test_the_other_examples_are_clean(name):
 
 
 def test_def_call_sites_are_the_primary_position():
+    # The two calls are one shared subterm once inlined (§9): its condition multiplies itself
+    # through the product, reported at the call, with the def body's condition named.
     text = "def w(x: var, a: param) = [x >= a]\nparam a = 0.5\nint ([0, 1]) w(x, a) * w(x, a) d(x)"
     (f,) = check_text(text)
     assert f.code == "X301"
-    assert (f.span.line, f.span.col) == (3, 24) and (f.related[0].line, f.related[0].col) == (3, 14)
-    assert "1:27" in f.message  # the def body's condition
+    assert (f.span.line, f.span.col) == (3, 14) and (f.related[0].line, f.related[0].col, f.related[0].end_col) == (3, 14, 31)
+    assert "1:27" in f.message and "`w(x, a) * w(x, a)`" in f.message
+
+
+def test_a_def_called_with_other_arguments_is_not_shared():
+    text = "def w(x: var, a: param) = [x >= a]\nparam a = 0.5, b = 0.25\nint ([0, 1]) w(x, a) * w(x, b) d(x)"
+    assert [f.code for f in check_text(text)] == ["X304"]  # two conditions, coincident only when a = b
 
 
 # ---------------------------------------------------------------------------------------------

@@ -59,6 +59,8 @@ def run(args) -> int:
     if args.engine in ("both", "mc"):
         mc = run_mc("deriv", target, params, args, direction,
                     infinite_variance=defined.infinite_variance or (undefined and "the derivative does not exist"))
+        if mc is None and args.engine == "mc":
+            status = 1
         if mc is not None:
             sad = mc.pop("standard_ad", None)
             if sad is not None:

@@ -35,6 +35,8 @@ def run(args) -> int:
     if args.engine in ("both", "mc"):
         mc = run_mc("eval", loaded, params, args,
                     infinite_variance=defined.infinite_variance or (undefined and "the integral does not exist"))
+        if mc is None and args.engine == "mc":
+            status = 1
     if args.json:
         c.dump_json({"params": params, "exact": exact, "mc": mc, "undefined": undefined,
                      "diagnostics": [d.to_json() for d in defined.diagnostics()]})

@@ -4,6 +4,7 @@ with ``--wrt``/``--dir`` its derivative ⦇p⦈ in the normal form of Theorem 7.
 from __future__ import annotations
 
 from ..cli import add_common, add_timeout
+from ..core import tree_size
 from . import _common as c
 from . import _defined
 
@@ -18,6 +19,10 @@ def add_arguments(p):
     add_timeout(p, "show", "for the whole command, in seconds")
 
 
+#: Largest inlined program printed as text (nodes written out as a tree).
+PRINT_LIMIT = 100_000
+
+
 def _core_text(loaded) -> str:
     from ..syntax import printer
 
@@ -29,7 +34,12 @@ def _core_text(loaded) -> str:
     for psi in main.diffeos.values():
         lines.append(printer.print_diffeo(psi))
     if loaded.program is not None:
-        lines.append(printer.print_program(loaded.program, defaults=loaded.params))
+        nodes = tree_size(loaded.program.body)
+        if nodes > PRINT_LIMIT:  # shared after inlining: written out it would not fit anywhere
+            lines.append(f"int … d({', '.join(loaded.program.variables)})   (the inlined integrand has {nodes:,} "
+                         f"nodes written out, more than {PRINT_LIMIT:,}: not printed; its definitions are above)")
+        else:
+            lines.append(printer.print_program(loaded.program, defaults=loaded.params))
     return "\n".join(lines) if lines else "(empty module)"
 
 

@@ -32,6 +32,7 @@ from ..core import (
     Term,
     Var,
     extend_diffeo,
+    shared,
 )
 from ..diagnostics import Span
 from ..syntax.sympy_bridge import NotSmooth, symbol, to_sympy
@@ -160,6 +161,7 @@ class _Collector:
                     return frozenset(out)
         return frozenset(out)
 
+    @shared
     def products(self, t: Term, env: dict[str, sp.Expr]) -> frozenset[Product]:
         """Which conditions multiply in ``t`` (one case per term former of Fig. 6 / Fig. 8)."""
         match t:
@@ -175,7 +177,8 @@ class _Collector:
                 return out
             case Mul(a, b):
                 # Fig. 8, product: ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧: each delta meets the other factor's jumps
-                return self.times(self.products(a, env), self.products(b, env))
+                # (a condition meets itself when both factors share it: a def called twice alike)
+                return self.times(self.products(a, env), self.products(b, env), t.span)
             case Prim(_, a):
                 # chain rule (LANGUAGE.md §1): f'(⟦a⟧)·⦇a⦈, and f'(⟦a⟧) jumps wherever a does
                 A = self.products(a, env)
@@ -216,11 +219,18 @@ def call_sites(loaded) -> list[tuple[Span | None, tuple[Span, ...]]] | None:
         return None
     out: list = []
 
+    visits = [0]
+    inlined: set = set()
+
     def walk(t: Term, stack: tuple[Span, ...], depth: int):
-        if depth > 200:
+        visits[0] += 1
+        if depth > 200 or visits[0] > MAX_SITE_VISITS:  # a program shared after inlining: no sites
             raise RecursionError
         match t:
-            case Call(module, name, _):
+            case Call(module, name, args):
+                if (module, name, args) in inlined:  # inlined once, shared (langur.syntax.inline)
+                    return
+                inlined.add((module, name, args))
                 d = loaded.modules[module].defs[name]
                 walk(d.body, stack + ((t.span,) if t.span is not None else ()), depth + 1)
             case IfDiffeo(_, s, r):
@@ -245,6 +255,12 @@ def call_sites(loaded) -> list[tuple[Span | None, tuple[Span, ...]]] | None:
 
 def _factors(t: Term) -> list[Term]:
     return _factors(t.left) + _factors(t.right) if isinstance(t, Mul) else [t]
+
+
+#: Most nodes :func:`call_sites` visits through the definitions: it walks every path, so a program
+#: whose definitions share subterms (inlined as a DAG) would cost one visit per path; past this
+#: its findings are located without the call sites they were inlined through.
+MAX_SITE_VISITS = 200_000
 
 
 def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] | None = None) -> Collected:

@@ -18,12 +18,14 @@ A sampling check can miss a tiny bad region: it reports what it sees, never clai
 
 from __future__ import annotations
 
+import copy
+
 from collections.abc import Mapping
 from fractions import Fraction
 
 import numpy as np
 
-from ..core import PI, Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var
+from ..core import PI, Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, shared
 
 SAMPLES = 4096
 _FUNCS = {
@@ -66,6 +68,7 @@ class _Eval:
         if self.report and where.any():
             self.bad.append((t, why, where))
 
+    @shared
     def value(self, t: Term, mask: np.ndarray):
         """⟦t⟧ at the sample points (Fig. 7), flagging primitives applied outside their domain on
         the points of ``mask`` (those where this subterm is actually evaluated)."""
@@ -127,15 +130,10 @@ class _Eval:
                 return np.where(c, self.value(s, mask & c), self.value(r, mask & ~c))
             case Let(name, bound, body):
                 # Fig. 7, let
-                saved = self.params.get(name)
-                self.params[name] = float(np.asarray(self.value(bound, mask)).reshape(-1)[0])
-                try:
-                    return self.value(body, mask)
-                finally:
-                    if saved is None:
-                        self.params.pop(name, None)
-                    else:
-                        self.params[name] = saved
+                # a new scope, never a mutation: the pass is memoized per node and evaluator
+                inner = copy.copy(self)
+                inner.params = {**self.params, name: float(np.asarray(self.value(bound, mask)).reshape(-1)[0])}
+                return inner.value(body, mask)
             case Call():
                 raise _Skip("call")
         raise TypeError(f"not a core term: {t!r}")

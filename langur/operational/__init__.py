@@ -88,7 +88,7 @@ Separate compilation: :mod:`.link`.  The naive per-sample pure-Python evaluator 
 benchmark baseline and as a cross-check: :mod:`.naive`.
 """
 
-from .estimate import estimate_derivative, estimate_value
+from .estimate import MAX_TREE_NODES, TooLarge, estimate_derivative, estimate_value
 from .link import cache_stats, clear_cache, compile_program, link, reset_cache_stats
 
 __all__ = [

@@ -7,11 +7,30 @@ import math
 
 import numpy as np
 
-from ..core import ParameterError, Program, check_values
+from ..core import ParameterError, Program, check_values, tree_size
 from ..modules import Loaded
 from .compile import DELTA, TANGENT, VALUE, Env, full
 from .link import Linked, compile_program, link
 from .sample import design, evaluate_box
+
+
+#: Most nodes the program may have written out as a tree: this engine evaluates it path by path
+#: (each call of a definition is a linked instance with its own sampling sites, §9), so a
+#: program whose definitions share subterms (``f1 = f0 + f0``, ``f2 = f1 + f1``, …) costs its
+#: tree's size, which a few lines can make 2⁴⁰.  The exact engine and the linter work on the
+#: shared form.
+MAX_TREE_NODES = 1_000_000
+
+
+class TooLarge(ValueError):
+    """The program, written out as a tree, is larger than :data:`MAX_TREE_NODES` (T230)."""
+
+    def __init__(self, program: Program, nodes: int):
+        self.span, self.nodes = program.span, nodes
+        super().__init__(f"the Monte Carlo engine evaluates the program path by path, and written out as a "
+                         f"tree it has {nodes:.3g} nodes (at most {MAX_TREE_NODES:,}): its definitions share "
+                         "subterms (a definition called twice with the same arguments); the exact engine and "
+                         "`langur check` work on the shared form")
 
 
 def prepare(program_or_loaded, params: dict, sites: str = "inlined", direction: dict | None = None
@@ -19,6 +38,11 @@ def prepare(program_or_loaded, params: dict, sites: str = "inlined", direction: 
     """Compile (or fetch from the cache) and resolve parameter values to floats; raises
     :class:`~langur.core.ParameterError` for a missing or non-finite value, a value for a
     parameter a Loaded does not declare, or a direction naming a parameter without a value."""
+    program = program_or_loaded.program if isinstance(program_or_loaded, Loaded) else program_or_loaded
+    if isinstance(program, Program):
+        nodes = tree_size(program.body)
+        if nodes > MAX_TREE_NODES:
+            raise TooLarge(program, nodes)
     if isinstance(program_or_loaded, Loaded):
         unknown = set(params) - set(program_or_loaded.params)
         if unknown:

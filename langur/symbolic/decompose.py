@@ -47,6 +47,7 @@ from ..core import (
     Term,
     Var,
     extend_diffeo,
+    shared,
 )
 from .pieces import Branch, Condition, Piece, Psi
 
@@ -286,6 +287,7 @@ def _gate_pieces(ps: list[Piece], cond: sp.Expr, branch: bool) -> list[Piece]:
 # The decomposition (Theorem 6.1, one case per term former)
 
 
+@shared
 def decompose(t: Term, ctx: Ctx | None = None) -> list[Piece]:
     """⟦t⟧ as a sum of products of simple discontinuities times smooth weights (Def. 6.2)."""
     ctx = ctx or Ctx()

@@ -42,28 +42,32 @@ from ..modules import ElaboratedModule
 from .diffeo import CompletionError, complete, instantiate
 from .support import numeric_box
 
-#: Most nodes a program may have once its definitions are inlined (T230): about as many as the
-#: largest program that can be written out (E108 allows a million significant characters).
-#: Langur links definitions by inlining (§9) and its engines work on the inlined term, so a file
-#: of a few lines that doubles a definition n times would cost 2ⁿ: it is refused, located, before
-#: any of that is spent.
-MAX_INLINED_NODES = 1_000_000
 #: Deepest nesting of an inlined program (T230): twice what a written term may have (E105), so
 #: that a definition's body may call another's; the recursive semantic functions stay far from
 #: the interpreter's limits (``langur.cli`` raises Python's recursion limit for them).
+#:
+#: Size needs no bound here: a call of a definition with the same arguments as an earlier one is
+#: the same shared subterm (a DAG), so the inlined program has as many distinct nodes as its
+#: definitions' text; the passes that walk it are memoized per distinct node
+#: (``langur.core.shared``), and the one engine that walks it path by path (Monte Carlo) bounds
+#: its tree's size itself.
 MAX_INLINED_DEPTH = 400
 
 
 def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program:
-    """``program`` with every ``Call`` inlined (recursively); raises LangurError (T207, T217, T221,
-    T230)."""
+    """``program`` with every ``Call`` inlined (recursively), a call with the same arguments as an
+    earlier one shared; raises LangurError (T207, T217, T221, T230)."""
     lookup = lambda m, n: modules[m].defs.get(n) if m in modules else None  # noqa: E731
-    too_large = _too_large(program, lookup)
-    if too_large:
-        raise LangurError([too_large])
-    inl = _Inliner(lambda m, n: modules[m].defs[n], program.variables,
-                   numeric_box(program.variables, program.box))
-    body = inl.expand(program.body, ())
+    try:
+        too_large = _too_large(program, lookup)
+        if too_large:
+            raise LangurError([too_large])
+        inl = _Inliner(lambda m, n: modules[m].defs[n], program.variables,
+                       numeric_box(program.variables, program.box))
+        body = inl.expand(program.body, ())
+    except RecursionError:  # calls through thousands of definitions that each add no depth
+        raise LangurError([ty.reject_too_large(program.span, "its calls go through too many definitions, "
+                                               "one inside the next, to be inlined")]) from None
     if inl.errors:
         raise LangurError(inl.errors)
     return replace(program, body=body)
@@ -83,6 +87,7 @@ class _Inliner:
         self.variables = tuple(variables)
         self.box = box
         self.errors: list[Diagnostic] = []
+        self.calls: dict[tuple, Term] = {}
 
     def expand(self, t: Term, stack: tuple) -> Term:
         match t:
@@ -100,8 +105,11 @@ class _Inliner:
                                                            "what it imports)"))
                     return Const(Fraction(0), span=t.span)
                 args = tuple(self.expand(a, stack) for a in args)
-                body = self.instantiate(d, args, t.span)
-                return self.expand(body, stack + (key,))
+                shared = (module, name, args)  # the same call twice is one shared subterm (§9)
+                if shared not in self.calls:
+                    body = self.instantiate(d, args, t.span)
+                    self.calls[shared] = self.expand(body, stack + (key,))
+                return self.calls[shared]
             case IfDiffeo(_, a, b):
                 return replace(t, then=self.expand(a, stack), orelse=self.expand(b, stack))
             case _:
@@ -166,88 +174,63 @@ class _Subst:
 
 
 def _too_large(program: Program, lookup) -> Diagnostic | None:
-    """T230 when ``program`` would have more than :data:`MAX_INLINED_NODES` nodes, or nest more
-    than :data:`MAX_INLINED_DEPTH` levels, once inlined; located at the outermost call that makes
-    it so (else the program)."""
-    measure = _Size(lookup)
-    terms = [program.body] + [b for pair in program.box for b in pair]
-    sizes = [measure.of(t, {}) for t in terms]
-    total, depth = sum(n for n, _ in sizes), max(d for _, d in sizes)
-    if total <= MAX_INLINED_NODES and depth <= MAX_INLINED_DEPTH:
+    """T230 when ``program`` would nest more than :data:`MAX_INLINED_DEPTH` levels once inlined,
+    located at the outermost call that makes it so (else the program); computed from the
+    definitions without inlining, linear in their text."""
+    measure = _Depth(lookup)
+    depth = max(measure.of(t, {}) for t in [program.body] + [b for pair in program.box for b in pair])
+    if depth <= MAX_INLINED_DEPTH:
         return None
-    culprit, found = None, (total, depth)
+    culprit, found = None, depth
     stack = [program.body]
     while stack and culprit is None:
         u = stack.pop()
         if isinstance(u, Call):
-            n, d = measure.of(u, {})
-            if n > MAX_INLINED_NODES or d > MAX_INLINED_DEPTH:
-                culprit, found = u, (n, d)
+            d = measure.of(u, {})
+            if d > MAX_INLINED_DEPTH:
+                culprit, found = u, d
             continue
         stack.extend(reversed(_children(u)))
     where = culprit.span if culprit is not None and culprit.span is not None else program.span
     what = f"`{culprit.name}(…)`" if culprit is not None else "the program"
-    n, d = found
-    if n > MAX_INLINED_NODES:
-        detail = (f"{what} expands to {_about(n)} nodes when its definitions are inlined (at most "
-                  f"{MAX_INLINED_NODES:,}): definitions are inlined (§9), so a definition that calls "
-                  "another k times multiplies its size by k")
-    else:
-        detail = (f"{what} nests {_about(d)} levels deep when its definitions are inlined (at most "
-                  f"{MAX_INLINED_DEPTH}): definitions are inlined (§9), so each call adds the depth of "
-                  "the definition's body")
-    return ty.reject_too_large(where, detail)
+    return ty.reject_too_large(where, f"{what} nests {found:,} levels deep when its definitions are inlined "
+                               f"(at most {MAX_INLINED_DEPTH}): definitions are inlined (§9), so each call "
+                               "adds the depth of the definition's body")
 
 
-def _about(n: float) -> str:
-    if n >= 1e300:
-        return "more than 10^300"
-    if n >= 1e7:
-        return f"about {n:.2g}".replace("e+", "e")
-    return f"{int(n):,}"
-
-
-class _Size:
-    """The number of nodes and the depth of a term once its calls are inlined, computed without
-    inlining: memoized per definition and argument measures (floats: the sizes that matter here
-    overflow any bound; they are capped in the memo key), so linear in the definitions' text."""
-
-    CAP = float(MAX_INLINED_NODES + 1)
+class _Depth:
+    """The depth of a term once its calls are inlined, computed without inlining: memoized per
+    definition and argument depths, so linear in the definitions' text."""
 
     def __init__(self, lookup):
         self.lookup = lookup
-        self.memo: dict[tuple, tuple[float, float]] = {}
+        self.memo: dict[tuple, int] = {}
         self.active: set[tuple] = set()
 
-    def of(self, t: Term, env: dict[str, tuple[float, float]]) -> tuple[float, float]:
-        """(nodes, depth) of ``t`` inlined, where a name of ``env`` stands for a term of that
-        measure."""
+    def of(self, t: Term, env: dict[str, int]) -> int:
+        """Depth of ``t`` inlined, where a name of ``env`` stands for a term that deep."""
         match t:
             case Var(name) | Param(name):
-                return env.get(name, (1.0, 1.0))
+                return env.get(name, 1)
             case Let(name, bound, body):
                 inner = {k: v for k, v in env.items() if k != name}
-                return self._node([self.of(bound, env), self.of(body, inner)])
+                return 1 + max(self.of(bound, env), self.of(body, inner))
             case IfDiffeo(psi, a, b):
-                cond = self.of(psi.forward[0], env) if psi.name is None else (1.0, 1.0)
-                return self._node([cond, self.of(a, env), self.of(b, env)])
+                cond = self.of(psi.forward[0], env) if psi.name is None else 1
+                return 1 + max(cond, self.of(a, env), self.of(b, env))
             case Call(module, name, args):
-                measures = tuple(self.of(a, env) for a in args)
+                depths = tuple(min(self.of(a, env), MAX_INLINED_DEPTH + 1) for a in args)
                 d = self.lookup(module, name)
-                key = (module, name, tuple((min(n, self.CAP), min(h, self.CAP)) for n, h in measures))
+                key = (module, name, depths)
                 if d is None or key in self.active:  # unknown or recursive: reported elsewhere
-                    return self._node(list(measures))
+                    return 1 + max(depths, default=0)
                 if key not in self.memo:
                     self.active.add(key)
-                    self.memo[key] = self.of(d.body, {n: m for (n, _), m in zip(d.args, measures)})
+                    self.memo[key] = self.of(d.body, {n: k for (n, _), k in zip(d.args, depths)})
                     self.active.discard(key)
                 return self.memo[key]
             case _:
-                return self._node([self.of(c, env) for c in _children(t)])
-
-    @staticmethod
-    def _node(children: list[tuple[float, float]]) -> tuple[float, float]:
-        return 1.0 + sum(n for n, _ in children), 1.0 + max((d for _, d in children), default=0.0)
+                return 1 + max((self.of(c, env) for c in _children(t)), default=0)
 
 
 def _names(t: Term) -> set[str]:

@@ -37,6 +37,7 @@ from ..core import (
     Prim,
     Term,
     Var,
+    shared,
 )
 
 T = TypeVar("T")
@@ -73,6 +74,7 @@ def to_sympy(t: Term, env: dict[str, sp.Expr] | None = None) -> sp.Expr:
     """
     env = dict(env or {})
 
+    @shared  # per node and scope: a term shared after inlining is converted once
     def go(u: Term, env: dict[str, sp.Expr]) -> sp.Expr:
         match u:
             case Const(v):
