@@ -22,6 +22,7 @@ import sys
 import warnings
 from collections import Counter
 
+from . import progress
 from .diagnostics import LangurError
 from .symbolic.timebox import run_with_timeout
 
@@ -191,6 +192,7 @@ def main(argv: list[str] | None = None) -> int:
                 warnings.simplefilter("ignore", quiet)  # about libraries' APIs, not the user's numbers
             try:
                 if args.command in ("show", "eval", "deriv"):  # one budget for the whole command
+                    progress.enable(args.command, None if not getattr(args, "json", False) else False)
                     return int(run_with_timeout(lambda: args._run(args), args.timeout) or 0)
                 return int(args._run(args) or 0)
             except TimeoutError:

@@ -8,6 +8,7 @@ import os
 import sys
 from fractions import Fraction
 
+from .. import progress
 from ..cli import UsageError, parse_assignments, parse_modules
 
 
@@ -35,7 +36,8 @@ def load(args, path: str | None = None):
             data = fh.read()
     except OSError as e:  # as for a missing file: status 2 (langur check reports it as E109)
         raise UsageError(f"{path}: cannot read this file ({e.strerror or type(e).__name__})") from None
-    return frontend.load_bytes(data, path, modules=modules)
+    with progress.phase("reading and type-checking"):
+        return frontend.load_bytes(data, path, modules=modules)
 
 
 def require_program(loaded, path: str):

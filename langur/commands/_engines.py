@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 
+from .. import progress
 from .. import typesys as ty
 
 ENGINE_CHOICES = ["both", "exact", "mc"]
@@ -41,9 +42,10 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
     from ..symbolic import api
 
     try:
-        if kind == "eval":
-            return api.exact_eval(program, params), 0
-        return api.exact_deriv(program, params, direction, check=theorem), 0
+        with progress.phase("exact engine (sympy)"):
+            if kind == "eval":
+                return api.exact_eval(program, params), 0
+            return api.exact_deriv(program, params, direction, check=theorem), 0
     except api.ExactUndefined as e:
         return Undefined(str(e).removeprefix("undefined: ")), 1
     except Exception as e:  # noqa: BLE001 - reported, the other engine still runs
@@ -65,9 +67,11 @@ def run_mc(kind: str, loaded, params, args, direction=None, *, infinite_variance
     values = {k: float(v) for k, v in params.items()}
     kw = dict(samples=args.samples, seed=args.seed, method=args.method, infinite_variance=infinite_variance)
     try:
-        if kind == "eval":
-            return operational.estimate_value(loaded, values, **kw)
-        return operational.estimate_derivative(loaded, values, {k: float(v) for k, v in direction.items()}, **kw)
+        with progress.phase(f"Monte Carlo engine ({args.samples:,} samples)"):
+            if kind == "eval":
+                return operational.estimate_value(loaded, values, **kw)
+            return operational.estimate_derivative(loaded, values, {k: float(v) for k, v in direction.items()},
+                                                   **kw)
     except operational.TooLarge as e:  # located, and the exact engine's answer still stands
         print(ty.reject_too_large(e.span, str(e)).format(), file=sys.stderr)
         return None

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..cli import add_common, add_timeout
+from .. import progress
 from . import _common as c
 from . import _defined
 from ._engines import Undefined, add_engine_arguments, how, print_mc_notes, run_exact, run_mc
@@ -41,7 +42,8 @@ def run(args) -> int:
     target = loaded
     if gate.findings:  # --rewrite: differentiate the transverse program instead
         program = target = gate.rewritten
-    defined = _defined.derivative(program, params, direction, args.file)  # X311 / X313
+    with progress.phase("integrability analysis"):
+        defined = _defined.derivative(program, params, direction, args.file)  # X311 / X313
     defined.report(args.json)
     undefined = defined.undefined
     if undefined is not None:

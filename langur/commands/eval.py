@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..cli import add_common, add_timeout
+from .. import progress
 from . import _common as c
 from . import _defined
 from ._engines import Undefined, add_engine_arguments, how, print_mc_notes, run_exact, run_mc
@@ -23,7 +24,8 @@ def run(args) -> int:
     params = c.param_values(args, loaded)
     status = 0
     exact = mc = None
-    defined = _defined.value(program, params, args.file)  # X311: does ⟦p⟧ exist?
+    with progress.phase("integrability analysis"):
+        defined = _defined.value(program, params, args.file)  # X311: does ⟦p⟧ exist?
     defined.report(args.json)
     undefined = defined.undefined
     if undefined is not None:

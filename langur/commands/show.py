@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..cli import add_common, add_timeout
 from ..core import tree_size
+from .. import progress
 from . import _common as c
 from . import _defined
 
@@ -55,19 +56,22 @@ def run(args) -> int:
 
         params = c.param_values(args, loaded)
         direction = c.direction(args, loaded) if want_deriv else None
-        defined = (_defined.derivative(program, params, direction, args.file) if want_deriv
-                   else _defined.value(program, params, args.file))  # X311 / X313
+        with progress.phase("integrability analysis"):
+            defined = (_defined.derivative(program, params, direction, args.file) if want_deriv
+                       else _defined.value(program, params, args.file))  # X311 / X313
         defined.report(args.json)
         out["diagnostics"] = [d.to_json() for d in defined.diagnostics()]
         value_undefined = next((f for f in defined.findings if f.code == "X311" and f.severity == "error"), None)
         if defined.undefined:
             undefined.append(defined.undefined)
-        out["denotation"] = present.show_denotation(
-            program, latex=args.latex, params=params, undefined=undefined,
-            known_undefined=defined.undefined if value_undefined else None)
+        with progress.phase("denotation ⟦p⟧"):
+            out["denotation"] = present.show_denotation(
+                program, latex=args.latex, params=params, undefined=undefined,
+                known_undefined=defined.undefined if value_undefined else None)
         if want_deriv:
-            out["derivative"] = present.show_derivative(program, direction, latex=args.latex, params=params,
-                                                        undefined=undefined, known_undefined=defined.undefined)
+            with progress.phase("derivative ⦇p⦈"):
+                out["derivative"] = present.show_derivative(program, direction, latex=args.latex, params=params,
+                                                            undefined=undefined, known_undefined=defined.undefined)
     elif want_deriv and program is None:
         c.require_program(loaded, args.file)
     status = 1 if undefined else 0
