@@ -355,42 +355,38 @@ def subterms(t: Term):
         stack.extend(reversed(children(u)))
 
 
-def free_vars(t: Term) -> frozenset[str]:
-    """Names of variables occurring in ``t`` (including in diffeomorphic conditions); kept on the
-    node, so a shared term costs once."""
+def _kept(t: Term, name: str, compute: Callable[[], frozenset[str]]) -> frozenset[str]:
+    """``compute()``, kept on the node under ``name``: a shared term costs once."""
     try:
-        return t.__dict__["_fv"]
+        return t.__dict__[name]
     except KeyError:
-        pass
+        out = compute()
+        object.__setattr__(t, name, out)
+        return out
+
+
+def free_vars(t: Term) -> frozenset[str]:
+    """Names of variables occurring in ``t`` (including in diffeomorphic conditions)."""
     match t:
         case Var(name):
-            out = frozenset({name})
+            return frozenset({name})
         case IfDiffeo(psi, a, b):
-            out = frozenset(psi.variables) | free_vars(a) | free_vars(b)
+            return _kept(t, "_fv", lambda: frozenset(psi.variables) | free_vars(a) | free_vars(b))
         case _:
-            out = frozenset().union(*(free_vars(c) for c in children(t)))
-    object.__setattr__(t, "_fv", out)
-    return out
+            return _kept(t, "_fv", lambda: frozenset().union(*(free_vars(c) for c in children(t))))
 
 
 def free_params(t: Term) -> frozenset[str]:
-    """Names of parameters occurring free in ``t`` (``let`` binds its name in its body); kept on
-    the node, so a shared term costs once."""
-    try:
-        return t.__dict__["_fp"]
-    except KeyError:
-        pass
+    """Names of parameters occurring free in ``t`` (``let`` binds its name in its body)."""
     match t:
         case Param(name):
-            out = frozenset({name})
+            return frozenset({name})
         case Let(name, bound, body):
-            out = free_params(bound) | (free_params(body) - {name})
+            return _kept(t, "_fp", lambda: free_params(bound) | (free_params(body) - {name}))
         case IfDiffeo(psi, a, b):
-            out = diffeo_params(psi) | free_params(a) | free_params(b)
+            return _kept(t, "_fp", lambda: diffeo_params(psi) | free_params(a) | free_params(b))
         case _:
-            out = frozenset().union(*(free_params(c) for c in children(t)))
-    object.__setattr__(t, "_fp", out)
-    return out
+            return _kept(t, "_fp", lambda: frozenset().union(*(free_params(c) for c in children(t))))
 
 
 def tree_size(t: Term) -> int:

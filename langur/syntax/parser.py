@@ -49,6 +49,10 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 
 from ..diagnostics import LangurError, Span, error
 from . import tables
+from .chains import LEVEL as _LEVEL
+from .chains import MAX_DEPTH
+from .chains import Chain as _Chain
+from .chains import Reduced as _R
 from .surface import (
     Apply,
     BinOp,
@@ -92,8 +96,6 @@ KEYWORDS: frozenset[str] = frozenset(
 )
 #: Most characters outside comments and white space that a source may have (E108).
 MAX_SIGNIFICANT = 1_000_000
-#: Deepest term nesting accepted (E105).
-MAX_DEPTH = 200
 #: Longest number literal, in digits (E106).
 MAX_DIGITS = 1000
 #: Largest absolute decimal exponent of a number literal (E106).
@@ -113,106 +115,6 @@ _CMP = {"<=": "<=", "≤": "<=", ">=": ">=", "≥": ">=", "<": "<", ">": ">"}
 # ----------------------------------------------------------------------------------------------
 # Positions.  Intermediate results are `_R` (a node with the span of its source text including
 # any parentheses around it, and its depth); tokens carry their own positions.
-
-
-class _R:
-    __slots__ = ("col", "depth", "end_col", "end_line", "line", "node")
-
-    def __init__(self, node, line, col, end_line, end_col, depth):
-        self.node = node
-        self.line = line
-        self.col = col
-        self.end_line = end_line
-        self.end_col = end_col
-        self.depth = depth
-
-
-#: Chains of at most this many operands keep the grammar's left-nested shape; longer ones are
-#: regrouped into balanced trees, so that E105 counts real nesting only (``t1 + … + t10000`` is
-#: accepted; its tree is 14 levels deep).
-CHAIN_BALANCE = 32
-
-_LEVEL = {"+": "sum", "-": "sum", "*": "product", "/": "product"}
-
-
-class _Chain(_R):
-    """``t1 op t2 op … tn`` at one precedence level (``+``/``-`` or ``*``/``/``), collected link by
-    link as the LALR parser reduces the grammar's left recursion, and built into a tree when first
-    used (iteratively: no recursion on the chain's length).
-
-    Up to :data:`CHAIN_BALANCE` operands the tree is the grammar's own, left-nested.  Longer sums
-    are split in halves, ``L - (t + u - v)`` for ``L - t - u + v`` (the right half's signs flipped:
-    the same value); longer products become ``(∏ factors) / (∏ divisors)``, each a balanced product
-    (the same value where the original is defined, and defined exactly where it is: a divisor is
-    never moved into a numerator)."""
-
-    __slots__ = ("_depth", "_node", "builder", "items", "level")
-
-    def __init__(self, builder: "_Builder", level: str, first: _R):
-        self.builder = builder
-        self.level = level
-        self.items: list[tuple[str, _R]] = [("+" if level == "sum" else "*", first)]
-        self.line, self.col = first.line, first.col
-        self.end_line, self.end_col = first.end_line, first.end_col
-        self._node = None
-        self._depth = None
-
-    def append(self, op: str, right: _R) -> None:
-        self.items.append((op, right))
-        self.end_line, self.end_col = right.end_line, right.end_col
-        self._node = self._depth = None
-
-    @property
-    def depth(self) -> int:  # type: ignore[override]
-        if self._depth is None:
-            self._build()
-        return self._depth
-
-    @property
-    def node(self):  # type: ignore[override]
-        if self._node is None:
-            self._build()
-            if self._depth > MAX_DEPTH:
-                raise self.builder.too_deep(self.builder.span(self, self))
-        return self._node
-
-    def _span(self, first: _R, last: _R) -> Span:
-        return self.builder.span(first, last)
-
-    def _build(self) -> None:
-        items = self.items
-        if len(items) <= CHAIN_BALANCE:
-            (_, first), *rest = items
-            node, depth = first.node, first.depth
-            for op, r in rest:
-                node = BinOp(op, node, r.node, self._span(first, r))
-                depth = 1 + max(depth, r.depth)
-            self._node, self._depth = node, depth
-        elif self.level == "sum":
-            self._node, self._depth = self._balanced([(op == "-", r) for op, r in items], "+", "-")
-        else:
-            factors = [(False, r) for op, r in items if op == "*"]
-            divisors = [(False, r) for op, r in items if op == "/"]
-            node, depth = self._balanced(factors, "*", "/")
-            if divisors:
-                den, den_depth = self._balanced(divisors, "*", "/")
-                node, depth = BinOp("/", node, den, self._span(self, self)), 1 + max(depth, den_depth)
-            self._node, self._depth = node, depth
-
-    def _balanced(self, items: list[tuple[bool, _R]], plus: str, minus: str):
-        """A balanced tree of ``items`` (inverted?, operand), the first not inverted; recursion
-        depth log₂ of the length."""
-        if len(items) == 1:
-            return items[0][1].node, items[0][1].depth
-        mid = len(items) // 2
-        left, right = items[:mid], items[mid:]
-        inverted = right[0][0]
-        if inverted:  # L - t - u + v = L - (t + u - v)
-            right = [(not inv, r) for inv, r in right]
-        ln, ld = self._balanced(left, plus, minus)
-        rn, rd = self._balanced(right, plus, minus)
-        span = self._span(left[0][1], right[-1][1])
-        return BinOp(minus if inverted else plus, ln, rn, span), 1 + max(ld, rd)
 
 
 def _start(x) -> tuple[int, int]:
