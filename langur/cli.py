@@ -24,7 +24,7 @@ from collections import Counter
 
 from . import progress
 from .diagnostics import LangurError
-from .symbolic.timebox import run_with_timeout
+from .timebox import run_with_timeout
 
 COMMANDS = {
     "check": "parse, type-check and lint for transversality",

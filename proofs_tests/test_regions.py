@@ -13,7 +13,7 @@ import sympy as sp
 from langur.symbolic import delta, regions
 from langur.symbolic.pieces import Branch, DeltaPiece, Psi
 from langur.symbolic.regions import Cond, Context, Unsupported
-from langur.symbolic.timebox import Deadline, run_with_timeout
+from langur.timebox import Deadline, run_with_timeout
 
 x, y = sp.symbols("x y", real=True)
 theta, a, s, r, k = sp.symbols("theta a s r k", real=True)

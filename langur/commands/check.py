@@ -24,7 +24,7 @@ from pathlib import Path
 
 from ..cli import UsageError, add_common, add_timeout, parse_assignments, parse_modules
 from ..diagnostics import Diagnostic, LangurError, Span
-from ..symbolic.timebox import run_with_timeout
+from ..timebox import run_with_timeout
 
 FORMATS = ("text", "json", "sarif", "github")
 STDIN_NAME = "<stdin>"

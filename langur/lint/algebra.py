@@ -23,12 +23,7 @@ from typing import TypeVar
 
 import sympy as sp
 
-try:  # the symbolic engine's nesting-safe SIGALRM limiter
-    from ..symbolic.timebox import run_with_timeout as _run_with_timeout
-except ImportError:  # pragma: no cover - the engine is always shipped with the package
-
-    def _run_with_timeout(fn, seconds):
-        return fn()
+from ..timebox import run_with_timeout as _run_with_timeout  # nesting-safe SIGALRM limiter
 
 
 T = TypeVar("T")

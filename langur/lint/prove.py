@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+from ..timebox import run_with_timeout
 from .algebra import describe_point
 
 #: Seconds allowed for one derivative + Theorem 8.1 check.
@@ -45,7 +46,6 @@ class Prover:
             return self.cache[name]
         try:
             from ..symbolic.api import exact_deriv
-            from ..symbolic.timebox import run_with_timeout
 
             res = run_with_timeout(lambda: exact_deriv(self.program, self.point, {name: 1}), TIME_LIMIT)
             thm = res.get("theorem_8_1")

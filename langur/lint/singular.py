@@ -35,7 +35,7 @@ import sympy as sp
 from ..core import Pow, Prim, Program, subterms
 from ..diagnostics import Span
 from ..symbolic.decompose import Ctx, at_symbols, decompose, symbol, symbols
-from ..symbolic.timebox import run_with_timeout
+from ..timebox import run_with_timeout
 from .blowup import Blowup, Region, Undecidable, Verdict, blowups
 from .findings import Finding
 

@@ -42,7 +42,7 @@ from langur.symbolic import delta, quadrature, regions
 from langur.symbolic.pieces import DeltaPiece, Integral, Piece
 from langur.symbolic.quadrature import UndefinedIntegral
 from langur.symbolic.regions import Cond, Context, Unsupported
-from langur.symbolic.timebox import Deadline
+from langur.timebox import Deadline
 
 RTOL = 1e-7
 ATOL = 1e-7

@@ -34,7 +34,7 @@ from typing import Sequence
 import sympy as sp
 
 from langur.symbolic.pieces import Psi
-from langur.symbolic.timebox import Deadline
+from langur.timebox import Deadline
 
 
 class Unsupported(Exception):

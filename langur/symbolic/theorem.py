@@ -24,7 +24,7 @@ import sympy as sp
 
 from .decompose import at_symbols, exact_number, symbol
 from .integrate import ALL_PARAMS as EVERYWHERE  # the note of a closed form valid for all parameters
-from .timebox import run_with_timeout
+from ..timebox import run_with_timeout
 
 #: Relative and absolute tolerance of a numeric comparison of two exact values.
 RTOL, ATOL = 1e-7, 1e-9

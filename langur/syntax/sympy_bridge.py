@@ -39,6 +39,7 @@ from ..core import (
     Var,
     shared,
 )
+from ..timebox import run_with_timeout
 
 T = TypeVar("T")
 
@@ -164,13 +165,11 @@ def lambdify(t: Term, names: list[str]):
 def time_limited(f: Callable[[], T], seconds: float) -> T:
     """``f()`` if it finishes within ``seconds``, else :class:`SympyTimeout`.
 
-    In the main thread this is ``langur.symbolic.timebox.run_with_timeout`` (an interval timer
+    In the main thread this is ``langur.timebox.run_with_timeout`` (an interval timer
     that nests correctly with the symbolic engine's own limits); elsewhere ``f`` runs in a daemon
     thread that is abandoned on timeout (it cannot be interrupted, but it never blocks exit).
     """
     if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
-        from ..symbolic.timebox import run_with_timeout
-
         try:
             return run_with_timeout(f, seconds)
         except TimeoutError:

@@ -1,4 +1,4 @@
-"""Time limits for sympy calls that can blow up (solve, integrate, simplify).
+"""Time limits: a command's whole budget (`--timeout`) and the sympy calls that can blow up.
 
 ``run_with_timeout(fn, seconds)`` calls ``fn()`` and raises :class:`TimeoutError` when it takes
 longer than ``seconds``.  On the main thread of the main interpreter this is enforced with
