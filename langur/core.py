@@ -259,11 +259,22 @@ def _sharing(cls):
     def __getstate__(self):  # the kept hash, variables and parameters are recomputed
         return {k: v for k, v in self.__dict__.items() if not k.startswith("_")}
 
-    cls.__hash__, cls.__eq__, cls.__getstate__ = __hash__, __eq__, __getstate__
+    field_repr = cls.__repr__
+
+    def __repr__(self):  # written out, a shared term can have 2^40 nodes
+        if cls in _TERMS and tree_size(self) > REPR_LIMIT:
+            return f"<{cls.__name__}: {tree_size(self):,} nodes written out>"
+        return field_repr(self)
+
+    cls.__hash__, cls.__eq__, cls.__getstate__, cls.__repr__ = __hash__, __eq__, __getstate__, __repr__
     return cls
 
 
-for _cls in (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, InverseBranch, Diffeo, Program):
+#: Largest term ``repr`` writes out (nodes); a larger one is summarized.
+REPR_LIMIT = 10_000
+_TERMS = (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call)
+
+for _cls in (*_TERMS, InverseBranch, Diffeo, Program):
     _sharing(_cls)
 
 

@@ -93,3 +93,11 @@ def test_lets_bound_differently_around_one_shared_call():
             "int ([0, 1]) (let b = 1 in w(x, b)) + (let b = 2 in w(x, b)) d(x)\n")
     p = load_text(text).program
     assert denote_program(p, {}).expr == sp.Rational(3, 2)
+
+
+def test_the_repr_of_a_large_shared_term_is_a_summary():
+    t = Mul(Var("x"), Param("a"))
+    assert repr(t) == "Mul(left=Var(name='x'), right=Param(name='a'))"
+    for _ in range(60):
+        t = Add(t, t)
+    assert repr(t) == f"<Add: {2**62 - 1:,} nodes written out>"
