@@ -22,7 +22,23 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, check_values, shared
+from .core import (
+    Add,
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Program,
+    Term,
+    Var,
+    check_values,
+    shared,
+)
 from .denote import program_box, zero_integral
 from .symbolic.decompose import (
     Ctx,
@@ -46,6 +62,7 @@ from .symbolic.decompose import (
     with_conditions,
 )
 from .symbolic.pieces import Condition, DeltaPiece, Integral, Piece
+from .symbolic.present import derivative_result_text, normal_form_text
 
 __all__ = ["DerivativeResult", "NormalForm", "ddenote", "ddenote_program", "tangent"]
 
@@ -72,11 +89,9 @@ class NormalForm:
                           merge_deltas(DeltaPiece(d.psi, (c,) + d.conditions, d.weight) for d in self.deltas))
 
     def _repr_latex_(self) -> str:
-        from .symbolic.present import normal_form_text
         return "$\\displaystyle " + normal_form_text(self, latex=True) + "$"
 
     def __str__(self) -> str:
-        from .symbolic.present import normal_form_text
         return normal_form_text(self)
 
 
@@ -194,7 +209,6 @@ class DerivativeResult:
         return self.regular.value
 
     def _repr_latex_(self) -> str:
-        from .symbolic.present import derivative_result_text
         return "$\\displaystyle " + derivative_result_text(self, latex=True) + "$"
 
 
@@ -204,7 +218,10 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
 
     Raises :class:`~langur.core.ParameterError` when ``at`` does not give every parameter of the
     program a finite value or ``direction`` names a parameter without one."""
-    from .symbolic.integrate import integrate_delta_pieces, integrate_pieces
+    from .symbolic.integrate import (  # scipy: 0.3 s, only when integrating
+        integrate_delta_pieces,
+        integrate_pieces,
+    )
 
     check_values(program, at, direction)
     nf = ddenote(program.body, direction, at=at or {}, variables=tuple(program.variables))

@@ -18,7 +18,23 @@ from types import MappingProxyType
 
 import sympy as sp
 
-from .core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, check_values, shared
+from .core import (
+    Add,
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Program,
+    Term,
+    Var,
+    check_values,
+    shared,
+)
 from .symbolic.decompose import (
     PRIMITIVES,
     Ctx,
@@ -82,7 +98,7 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
     are read as rationals).  The result's ``expr`` is the closed form in the parameters, valid
     near ``at``, when one was found.  Raises :class:`~langur.core.ParameterError` when ``at`` does
     not give every parameter of the program a finite value."""
-    from .symbolic.integrate import integrate_pieces
+    from .symbolic.integrate import integrate_pieces  # scipy: 0.3 s, only when integrating
 
     check_values(program, at)
     point = at_symbols(at)
