@@ -61,7 +61,7 @@ from .symbolic.decompose import (
     symbols,
     with_conditions,
 )
-from .symbolic.pieces import Condition, DeltaPiece, Integral, Piece
+from .symbolic.pieces import Condition, DeltaPiece, Integral, Method, Piece
 from .symbolic.present import derivative_result_text, normal_form_text
 
 __all__ = ["DerivativeResult", "NormalForm", "ddenote", "ddenote_program", "tangent"]
@@ -232,9 +232,9 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
                if nf.regular else zero_integral())
     boundary = (integrate_delta_pieces(nf.deltas, variables, box, point, timeout=timeout)
                 if nf.deltas else zero_integral())
-    exact = regular.method == "closed_form" and boundary.method == "closed_form"
+    exact = regular.method == Method.CLOSED_FORM and boundary.method == Method.CLOSED_FORM
     expr = regular.expr + boundary.expr if regular.expr is not None and boundary.expr is not None else None
     return DerivativeResult(
         value=regular.value + boundary.value, regular=regular, boundary=boundary, expr=expr,
-        method="closed_form" if exact else "quadrature", error=regular.error + boundary.error,
+        method=Method.CLOSED_FORM if exact else Method.QUADRATURE, error=regular.error + boundary.error,
         normal_form=nf, notes=list(regular.notes) + [n for n in boundary.notes if n not in regular.notes])

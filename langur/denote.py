@@ -45,7 +45,7 @@ from .symbolic.decompose import (
     symbol,
     symbols,
 )
-from .symbolic.pieces import Integral
+from .symbolic.pieces import Integral, Method
 
 __all__ = ["denote", "denote_program", "program_box", "symbol"]
 
@@ -89,7 +89,7 @@ def program_box(program: Program, ctx: Ctx) -> tuple[tuple[sp.Expr, sp.Expr], ..
 
 
 def zero_integral() -> Integral:
-    return Integral(sp.Integer(0), 0.0, "closed_form", 0.0, 0.0)
+    return Integral(sp.Integer(0), 0.0, Method.CLOSED_FORM, 0.0, 0.0)
 
 
 def denote_program(program: Program, at: Mapping[str, object] | None = None, *,

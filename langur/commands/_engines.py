@@ -20,7 +20,9 @@ def add_engine_arguments(p) -> None:
 
 def how(exact: dict) -> str:
     """How the exact value was obtained, for the text output."""
-    if exact.get("method") == "closed_form":
+    from ..symbolic.pieces import Method  # sympy: imported when an exact answer is shown
+
+    if exact.get("method") == Method.CLOSED_FORM:
         return "closed form"
     error = exact.get("error")
     return f"quadrature, error ≤ {float(error):.3g}" if error is not None else "quadrature"
@@ -40,6 +42,7 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
     an internal error (status 1), reported, never silently returned.
     """
     from ..symbolic import api
+    from ..symbolic.integrate import IntegrationMismatch
 
     try:
         with progress.phase("exact engine (sympy)"):
@@ -49,7 +52,7 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
     except api.ExactUndefined as e:
         return Undefined(str(e).removeprefix("undefined: ")), 1
     except Exception as e:  # noqa: BLE001 - reported, the other engine still runs
-        mismatch = type(e).__name__ == "IntegrationMismatch"
+        mismatch = isinstance(e, IntegrationMismatch)
         label = "internal error" if mismatch else "no exact value"
         print(f"langur {kind}: {label}: {type(e).__name__}: {e}", file=sys.stderr)
         return None, 1 if mismatch else 0

@@ -9,6 +9,7 @@ import os
 import time
 from dataclasses import dataclass, field
 
+from ..symbolic.pieces import Method
 from .generate import (
     ABS_SLACK,
     LINT_DISCARD,
@@ -164,7 +165,7 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
         return result
 
     def err(r):
-        return float(r.get("error", 0.0)) if r.get("method") != "closed_form" else 0.0
+        return float(r.get("error", 0.0)) if r.get("method") != Method.CLOSED_FORM else 0.0
 
     rows = result.rows
     result.methods.append(ex["method"])

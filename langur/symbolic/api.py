@@ -18,7 +18,7 @@ from collections.abc import Mapping
 import sympy as sp
 
 from ..core import Program
-from .pieces import Integral
+from .pieces import Integral, Method
 from .quadrature import UndefinedIntegral, printable
 
 
@@ -49,7 +49,7 @@ def _expr_text(e: sp.Expr | None) -> str | None:
 
 def _integral_fields(r: Integral) -> dict:
     out = {"value": _number(r.value), "expr": _expr_text(r.expr), "method": r.method}
-    if r.method != "closed_form":
+    if r.method != Method.CLOSED_FORM:
         out["error"] = _number(r.error)
     out["notes"] = list(r.notes)
     return out
@@ -88,7 +88,7 @@ def exact_deriv(program: Program, params: Mapping[str, float | object], directio
     res = _guard(ddenote_program, program, params, direction)
     out = {"value": _number(res.value), "regular": _number(res.regular.value),
            "boundary": _number(res.boundary.value), "expr": _expr_text(res.expr), "method": res.method}
-    if res.method != "closed_form":
+    if res.method != Method.CLOSED_FORM:
         out["error"] = _number(res.error)
     out["notes"] = list(res.notes)
     out["standard_ad"] = _number(res.standard_ad)

@@ -9,7 +9,7 @@ time-boxed), and every piece is also integrated by the independent adaptive quad
 :mod:`langur.symbolic.quadrature`.  A closed form that disagrees with its quadrature (relative +
 absolute tolerance ~1e-7) raises :class:`IntegrationMismatch`.  A piece without a closed form (no
 elementary antiderivative, unsolvable condition, time limit) falls back to its quadrature: the
-result's ``method`` is then ``"quadrature"``, ``expr`` is None, ``error`` the quadrature's error
+result's ``method`` is then ``Method.QUADRATURE``, ``expr`` is None, ``error`` the quadrature's error
 estimate, and the notes keep the exact part.
 
 Notes convention (for the CLI): the first note is one of
@@ -18,7 +18,7 @@ Notes convention (for the CLI): the first note is one of
 each ``Ci`` is a sympy relation between parameters (decisions taken at the evaluation point while
 ordering bounds, deciding signs or Piecewise branches); with ``" (and with the same real roots)"``
 appended when roots were ordered numerically.  Further notes explain assumptions (e.g. the sign
-of a Jacobian sampled at the evaluation point).  With ``method == "quadrature"`` the notes are
+of a Jacobian sampled at the evaluation point).  With ``Method.QUADRATURE`` the notes are
 ``"no closed form for k of n pieces; …"``, one reason per piece that fell back, then
 ``"exact part (<the cell note above>): <expr>"`` when some pieces had closed forms.
 
@@ -39,7 +39,7 @@ from typing import Sequence
 import sympy as sp
 
 from langur.symbolic import delta, quadrature, regions
-from langur.symbolic.pieces import DeltaPiece, Integral, Piece
+from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
 from langur.symbolic.quadrature import UndefinedIntegral
 from langur.symbolic.regions import Cond, Context, Unsupported
 from langur.timebox import Deadline
@@ -124,7 +124,7 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -
         expr = _tidy(expr, ctx)
         notes.append(first)
         notes.extend(dict.fromkeys(ctx.notes))
-        return Integral(expr, value, "closed_form", 0.0, check if exacts else None, notes)
+        return Integral(expr, value, Method.CLOSED_FORM, 0.0, check if exacts else None, notes)
     value = 0.0
     error = 0.0
     exact_part = []
@@ -141,7 +141,7 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -
     if exact_part:
         notes.append(f"exact part ({first}): {sp.Add(*exact_part)}")
     notes.extend(dict.fromkeys(ctx.notes))
-    return Integral(None, value, "quadrature", error, check, notes)
+    return Integral(None, value, Method.QUADRATURE, error, check, notes)
 
 
 def _setup(variables, box, at, timeout):

@@ -16,6 +16,7 @@ The semantic functions (``langur.denote``, ``langur.ddenote``) produce these; th
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import StrEnum
 
 import sympy as sp
 
@@ -76,12 +77,19 @@ class DeltaPiece:
     weight: sp.Expr
 
 
+class Method(StrEnum):
+    """How an :class:`Integral`'s value was obtained (written as its value in JSON output)."""
+
+    CLOSED_FORM = "closed_form"  # an exact expression, cross-checked by quadrature
+    QUADRATURE = "quadrature"  # numeric, with an error bound
+
+
 @dataclass
 class Integral:
     """The result of integrating pieces over the box.
 
     ``expr``: exact sympy expression in the parameters (None when no closed form was found);
-    ``value``: float at the evaluation point; ``method``: "closed_form" or "quadrature";
+    ``value``: float at the evaluation point; ``method``: a :class:`Method`;
     ``error``: a bound on |value − true value| (0.0 for a closed form that passed the
     cross-check); ``check``: the independent quadrature value used to cross-check a closed form
     (None if it could not be computed); ``notes``: human-readable remarks (e.g. "closed form valid
@@ -90,7 +98,7 @@ class Integral:
 
     expr: sp.Expr | None
     value: float
-    method: str
+    method: Method
     error: float = 0.0
     check: float | None = None
     notes: list[str] = field(default_factory=list)

@@ -16,7 +16,7 @@ from collections.abc import Mapping, Sequence
 import sympy as sp
 
 from .decompose import exact_number, symbol
-from .pieces import Condition, DeltaPiece, Piece, Psi
+from .pieces import Condition, DeltaPiece, Method, Piece, Psi
 
 
 def _e(e: sp.Expr, latex: bool) -> str:
@@ -89,7 +89,7 @@ def normal_form_text(nf, latex: bool = False) -> str:
 
 
 def derivative_result_text(res, latex: bool = False) -> str:
-    value = f"{res.value:.12g}" + ("" if res.method == "closed_form" else f" ± {res.error:.2g}")
+    value = f"{res.value:.12g}" + ("" if res.method == Method.CLOSED_FORM else f" ± {res.error:.2g}")
     if res.expr is not None:
         body = _e(res.expr, latex)
         return f"{body} = {value}" if not latex else f"{body} \\approx {value}"
@@ -141,10 +141,10 @@ def show_denotation(program, latex: bool = False, params: Mapping[str, object] |
         if r is None:
             lines.append(("  " if not latex else "") + f"value at {_at_text(at)}: {why}")
             return ("\\\\\n" if latex else "\n").join(lines)
-        if r.expr is not None and r.method == "closed_form":
+        if r.expr is not None and r.method == Method.CLOSED_FORM:
             lines.append("= " + _e(r.expr, latex))
         lines.append(("  " if not latex else "") + f"value at {_at_text(at)}: {r.value:.12g}"
-                     + ("" if r.method == "closed_form" else f" ± {r.error:.2g} (quadrature)"))
+                     + ("" if r.method == Method.CLOSED_FORM else f" ± {r.error:.2g} (quadrature)"))
         lines += [f"  note: {n}" for n in r.notes] if not latex else []
     return ("\\\\\n" if latex else "\n").join(lines)
 

@@ -22,9 +22,10 @@ from collections.abc import Mapping
 
 import sympy as sp
 
+from ..timebox import run_with_timeout
 from .decompose import at_symbols, exact_number, symbol
 from .integrate import ALL_PARAMS as EVERYWHERE  # the note of a closed form valid for all parameters
-from ..timebox import run_with_timeout
+from .pieces import Method
 
 #: Relative and absolute tolerance of a numeric comparison of two exact values.
 RTOL, ATOL = 1e-7, 1e-9
@@ -143,7 +144,7 @@ def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str,
     at = dict(at)
     den = denotation if denotation is not None else denote_program(program, at, timeout=timeout)
     der = derivative if derivative is not None else ddenote_program(program, at, direction, timeout=timeout)
-    if den.method != "closed_form" or den.expr is None:
+    if den.method != Method.CLOSED_FORM or den.expr is None:
         return _finite_difference(program, at, direction, der, den, timeout,
                                   f"⟦p⟧ known by quadrature only ({den.method})")
 
