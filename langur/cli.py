@@ -22,7 +22,7 @@ import sys
 import warnings
 from collections import Counter
 
-from . import progress
+from . import __version__, progress
 from .diagnostics import LangurError
 from .timebox import run_with_timeout
 
@@ -153,8 +153,6 @@ def add_common(p: argparse.ArgumentParser, *, params=True, mc=False) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import __version__
-
     parser = _Parser(prog="langur", description="Langur: differentiating integrals with parametric discontinuities.")
     parser.add_argument("--version", action="version", version=f"langur {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)

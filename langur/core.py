@@ -25,16 +25,11 @@ import functools
 import threading
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Callable, Union
+from typing import Callable, TypeVar, Union
 
 from .diagnostics import Span
 
-#: Smooth primitives of the surface language (LANGUAGE.md §1).
-PRIMITIVES: tuple[str, ...] = ("exp", "log", "sin", "cos", "tan", "sqrt", "tanh", "atan")
-#: Further smooth primitives that only the front end introduces, inside inverse branches of
-#: automatically completed diffeomorphisms (``sin(x) - t`` is inverted with ``asin``).
-INTERNAL_PRIMITIVES: tuple[str, ...] = ("asin", "acos", "atanh")
-ALL_PRIMITIVES: tuple[str, ...] = PRIMITIVES + INTERNAL_PRIMITIVES
+T = TypeVar("T")
 
 PI = "pi"  # the one named constant: Const(PI) is π
 
@@ -83,7 +78,8 @@ class Mul:
 
 @dataclass(frozen=True)
 class Prim:
-    """A smooth primitive applied to a term: ``op`` in :data:`ALL_PRIMITIVES`."""
+    """A smooth primitive applied to a term: ``op`` names an entry of
+    :data:`langur.primitives.REGISTRY`."""
 
     op: str
     arg: "Term"
@@ -366,7 +362,7 @@ def subterms(t: Term):
         stack.extend(reversed(children(u)))
 
 
-def _kept(t: Term, name: str, compute: Callable[[], frozenset[str]]) -> frozenset[str]:
+def _kept(t: Term, name: str, compute: Callable[[], T]) -> T:
     """``compute()``, kept on the node under ``name``: a shared term costs once."""
     try:
         return t.__dict__[name]
@@ -398,6 +394,17 @@ def free_params(t: Term) -> frozenset[str]:
             return _kept(t, "_fp", lambda: diffeo_params(psi) | free_params(a) | free_params(b))
         case _:
             return _kept(t, "_fp", lambda: frozenset().union(*(free_params(c) for c in children(t))))
+
+
+def smooth(t: Term) -> bool:
+    """No conditional and no call in ``t``: ⟦t⟧ is a smooth expression (where it is defined)."""
+    match t:
+        case IfGe0() | IfDiffeo() | Call():
+            return False
+        case Const() | Var() | Param():
+            return True
+        case _:
+            return _kept(t, "_smooth", lambda: all(smooth(c) for c in children(t)))
 
 
 def tree_size(t: Term) -> int:

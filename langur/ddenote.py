@@ -43,26 +43,22 @@ from .denote import program_box, zero_integral
 from .symbolic.decompose import (
     Ctx,
     apply_smooth,
-    at_symbols,
     collapse,
     complement,
     condition_of,
-    const_expr,
     decompose,
     dedupe,
-    exact_number,
     gate,
     leaf,
     multiply,
     normalize,
-    prim_derivative,
     select,
     smooth_value,
-    symbols,
     with_conditions,
 )
 from .symbolic.pieces import Condition, DeltaPiece, Integral, Method, Piece
-from .symbolic.present import derivative_result_text, normal_form_text
+from .symbolic.text import derivative_result_text, normal_form_text
+from .sympy_bridge import at_symbols, const_expr, derivative_function, exact_number, symbols
 
 __all__ = ["DerivativeResult", "NormalForm", "ddenote", "ddenote_program", "tangent"]
 
@@ -139,7 +135,7 @@ def _dd(t: Term, ctx: Ctx, dctx: DCtx) -> NormalForm:
         case Mul(a, b):  # Fig. 8, product: ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
             return _dd(a, ctx, dctx).times(decompose(b, ctx)) + _dd(b, ctx, dctx).times(decompose(a, ctx))
         case Prim(op, a):  # LANGUAGE.md §1, primitive: chain rule f'(⟦t⟧)·⦇t⦈
-            return _dd(a, ctx, dctx).times(apply_smooth(prim_derivative(op), decompose(a, ctx)))
+            return _dd(a, ctx, dctx).times(apply_smooth(derivative_function(op), decompose(a, ctx)))
         case Pow(a, k):  # LANGUAGE.md §1, constant power: k·⟦t⟧^(k−1)·⦇t⦈
             k = const_expr(k)
             return _dd(a, ctx, dctx).times(apply_smooth(lambda w: k * w ** (k - 1), decompose(a, ctx)))

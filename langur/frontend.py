@@ -42,6 +42,7 @@ from .modules import ElaboratedModule, Loaded
 from .syntax.desugar import Desugarer, DiffeoSig, Env, Scope
 from .syntax.elaborate import elaborate
 from .syntax.inline import inline
+from .syntax.parser import parse_bytes, parse_term
 from .syntax.support import numeric_box
 
 __all__ = ["core_term_from_text", "load", "load_bytes", "load_text"]
@@ -103,8 +104,6 @@ class _Loader:
         self.errors: list[Diagnostic] = []
 
     def module(self, name: str, path: str, data: bytes, span: Span | None) -> ElaboratedModule | None:
-        from .syntax.parser import parse_bytes
-
         try:
             mod = parse_bytes(data, path)
         except LangurError as e:
@@ -154,7 +153,6 @@ def core_term_from_text(text: str, variables=(), params=(), path: str = "<string
     ``box`` (one ``(lo, hi)`` pair of variable-free core terms per variable, as ``Program.box``)
     bounds the variables for completing periodic conditions; ``diffeos`` maps a name to a
     declared ``(Diffeo, parameter names)`` that ``ifge0 NAME(vars; params)`` may apply."""
-    from .syntax.parser import parse_term
 
     st = parse_term(text, path)
     env = Env(module="<term>", diffeos={k: DiffeoSig(d, ps) for k, (d, ps) in (diffeos or {}).items()})

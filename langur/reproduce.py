@@ -20,6 +20,11 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from scipy.integrate import dblquad, quad
+
+from . import exact as api
+from . import frontend, operational
+
 SIGMAS = 5.0  # Monte Carlo agreement: within 5 standard errors plus a tiny absolute slack
 SLACK = 1e-9
 
@@ -69,15 +74,10 @@ def examples_dir() -> Path:
 
 
 def _exact_deriv(program, params, wrt):
-    from .symbolic import api
-
     return api.exact_deriv(program, params, {k: float(k == wrt) for k in params})
 
 
 def fig1(samples: int, seed: int) -> Experiment:
-    from . import frontend, operational
-    from .symbolic import api
-
     ex = Experiment("fig1", "Fig. 1: d/dθ ∫₀¹ [x ≤ θ] dx")
     loaded = frontend.load(str(examples_dir() / "fig1.lgr"))
     for theta in (0.25, 0.5, 0.75):
@@ -101,9 +101,6 @@ def _normal(x, m):
 
 
 def risk(samples: int, seed: int) -> Experiment:
-    from scipy.integrate import quad
-
-    from . import frontend, operational
 
     ex = Experiment("risk", "§2, Fig. 2–3: risk minimization of a truncated normal")
     loaded = frontend.load(str(examples_dir() / "risk.lgr"))
@@ -150,9 +147,6 @@ def risk(samples: int, seed: int) -> Experiment:
 
 
 def fig9(samples: int, seed: int) -> Experiment:
-    from . import frontend, operational
-    from .symbolic import api
-
     ex = Experiment("fig9", "Fig. 9: [y < x + θ](1 + θ + x + y) on [−1, 1]² at θ = 0")
     loaded = frontend.load(str(examples_dir() / "fig9.lgr"))
     p = {"theta": 0.0}
@@ -172,9 +166,6 @@ def fig9(samples: int, seed: int) -> Experiment:
 
 
 def renderer(samples: int, seed: int) -> Experiment:
-    from scipy.integrate import dblquad, quad
-
-    from . import frontend, operational
 
     ex = Experiment("renderer", "§10.1: a pixel lit by a half-plane, three swappable shaders, c = −1")
     root = examples_dir()

@@ -42,7 +42,7 @@ undecided) come from ``langur.lint.singular``.  ``docs/CODES.md`` documents ever
 Layout: :mod:`langur.lint.collect` (what multiplies), :mod:`langur.lint.classify` (the checker
 and its messages) with :mod:`langur.lint.coincidence` (positive-measure failures and parameter
 sets) and :mod:`langur.lint.nullsets` (tangencies, too many zero sets through a point), :mod:`langur.lint.geometry` and :mod:`langur.lint.algebra` (sympy, time-boxed),
-:mod:`langur.lint.domains` (X307), :mod:`langur.lint.prove` (``--prove``).  This module is the
+:mod:`langur.lint.domains` (X307), :mod:`langur.commands._prove` (``--prove``).  This module is the
 entry point: :func:`check_loaded` for a front end's ``Loaded``, :func:`check_library` for a module
 of defs, :func:`check_program` for a bare core program.
 """
@@ -50,13 +50,19 @@ of defs, :func:`check_program` for a bare core program.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 
-from .core import Program
+from .core import Call, Param, Program, Var
 from .diagnostics import LangurError, Span
+from .lint import singular
 from .lint.classify import _FAILURES, BUDGET, MAX_FAMILIES, Checker
 from .lint.collect import MAX_PRODUCTS, Collected, Occurrence, Product, call_sites, collect
+from .lint.domains import domain_findings
+from .lint.emptydomain import empty_domain_findings
 from .lint.findings import Finding
 from .lint.geometry import span_key
+from .syntax.inline import inline
+from .syntax.parser import parse_module
 
 __all__ = [
     "BUDGET",
@@ -105,10 +111,7 @@ def check_library(loaded, *, sources: Mapping[str, str] | None = None) -> list[F
     each body analysed as an integrand over its ``var`` arguments, with its ``param`` arguments
     as parameters without values and no domain: what is degenerate for every argument value
     (X301, X302, X303, X304 for two moving jumps, X306) is reported at the def's text."""
-    from dataclasses import replace
 
-    from .core import Call, Param, Var
-    from .syntax.inline import inline
 
     main = loaded.main
     sources = dict(sources or {})
@@ -130,8 +133,6 @@ def check_library(loaded, *, sources: Mapping[str, str] | None = None) -> list[F
 
 
 def _domain_spans(loaded, sources) -> dict[tuple[int, int], Span]:
-    from .syntax.parser import parse_module
-
     text = sources.get(loaded.main.path)
     if text is None:
         return {}
@@ -196,9 +197,6 @@ def check_program(
             )
         ]
     findings = checker.run()
-    from .lint import singular
-    from .lint.domains import domain_findings
-    from .lint.emptydomain import empty_domain_findings
 
     findings += domain_findings(program, point, sources or {})
     findings += empty_domain_findings(program, point, domain_spans)

@@ -74,8 +74,8 @@ from fractions import Fraction
 
 import mpmath
 
+from .codes import CODES
 from .core import (
-    ALL_PRIMITIVES,
     Add,
     Call,
     Const,
@@ -91,38 +91,11 @@ from .core import (
     Term,
     Var,
     free_vars,
-    subterms,
     shared,
+    subterms,
 )
 from .diagnostics import Diagnostic, Span
-
-CODES: dict[str, str] = {
-    "T201": "unbound name",
-    "T202": "unknown function",
-    "T203": "wrong arity",
-    "T204": "variable-free term for a var argument",
-    "T205": "term with variables for a param argument",
-    "T206": "let-bound term with a variable",
-    "T207": "condition over variables cannot be completed to a diffeomorphism",
-    "T208": "nested int",
-    "T209": "integrand not compactly supported",
-    "T210": "undeclared parameter",
-    "T211": "duplicate declaration",
-    "T212": "name both variable and parameter",
-    "T213": "non-constant exponent",
-    "T214": "diffeo arity",
-    "T215": "diffeo inverse does not invert",
-    "T216": "diffeo Jacobian singular",
-    "T217": "diffeo variable arguments not distinct variables",
-    "T218": "module not found",
-    "T219": "import cycle",
-    "T220": "imported name not found",
-    "T221": "recursive def",
-    "T222": "diffeo component not smooth",
-    "T223": "module unreadable",
-    "T230": "too large once inlined",
-    "T231": "constant beyond the range of doubles",
-}
+from .primitives import ALL_PRIMITIVES
 
 
 def diag(span: Span | None, code: str, message: str, related: tuple[Span, ...] = ()) -> Diagnostic:
@@ -391,8 +364,6 @@ def _constant(t: Term, memo: dict[int, object]):
 
 
 def _ifdiffeos(t: Term):
-    from .core import subterms
-
     for u in subterms(t):
         if isinstance(u, IfDiffeo):
             yield u

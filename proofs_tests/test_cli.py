@@ -72,7 +72,7 @@ def test_theorem_8_1_fails_on_the_coincident_program(capsys):
     # `langur deriv` therefore presents no number (X301, exit 1; test_rewrite.py); the engines'
     # APIs still compute ⦇p⦈ as written, and Theorem 8.1's check shows it is not D⟦p⟧.
     from langur import frontend, operational
-    from langur.symbolic.api import exact_deriv
+    from langur.exact import exact_deriv
 
     status, out, _ = run(capsys, "deriv", str(DEGENERATE / "coincident.lgr"), "--wrt", "a", "--json")
     assert status == 1 and json.loads(out)["exact"] is None

@@ -2,8 +2,21 @@
 
 from fractions import Fraction
 
-from langur.core import (Add, Const, Diffeo, IfDiffeo, InverseBranch, Let, Param, Var, extend_diffeo,
-                         free_params, free_vars, sub, substitute)
+from langur.core import (
+    Add,
+    Const,
+    Diffeo,
+    IfDiffeo,
+    InverseBranch,
+    Let,
+    Param,
+    Var,
+    extend_diffeo,
+    free_params,
+    free_vars,
+    sub,
+    substitute,
+)
 
 
 def shift(a="a"):

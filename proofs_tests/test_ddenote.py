@@ -27,7 +27,7 @@ from langur.core import (
     sub,
 )
 from langur.ddenote import NormalForm, ddenote
-from langur.symbolic.decompose import symbol
+from langur.sympy_bridge import symbol
 
 x = Var("x")
 U0 = symbol("u0")
@@ -165,8 +165,8 @@ def test_show_renders_normal_form_with_inverse_branches():
     from paths import EXAMPLES
 
     from langur.ddenote import ddenote_program
+    from langur.exact import show_denotation, show_derivative
     from langur.frontend import load
-    from langur.symbolic.present import show_denotation, show_derivative
 
     loaded = load(os.path.join(str(EXAMPLES), "fig9.lgr"))
     p, at = loaded.program, loaded.param_values()

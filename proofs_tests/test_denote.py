@@ -29,7 +29,8 @@ from langur.core import (
     sub,
 )
 from langur.denote import denote
-from langur.symbolic.decompose import Ctx, as_expr, complement, decompose, symbol
+from langur.symbolic.decompose import Ctx, as_expr, complement, decompose
+from langur.sympy_bridge import symbol
 
 x, y, u0, u1 = Var("x"), Var("y"), Var("u0"), Var("u1")
 X, Y, U0 = symbol("x"), symbol("y"), symbol("u0")

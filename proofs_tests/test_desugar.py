@@ -28,8 +28,8 @@ from langur.core import (
 )
 from langur.diagnostics import LangurError
 from langur.frontend import core_term_from_text, load_text
+from langur.sympy_bridge import to_sympy
 from langur.syntax.diffeo import complete
-from langur.syntax.sympy_bridge import to_sympy
 
 x, y = Var("x"), Var("y")
 ONE, ZERO = const(1), const(0)

@@ -19,9 +19,9 @@ import pytest
 from scipy.optimize import brentq
 
 from langur.core import Add, Const, IfDiffeo, Mul, Param, Pow, Prim, Var, const, free_params, sub
+from langur.sympy_bridge import lambdify
 from langur.syntax import diffeo as D
 from langur.syntax.diffeo import CompletionError, complete
-from langur.syntax.sympy_bridge import lambdify
 
 x, y = Var("x"), Var("y")
 

@@ -14,8 +14,8 @@ from paths import EXAMPLES
 from langur.ddenote import ddenote_program
 from langur.denote import denote_program
 from langur.frontend import load
-from langur.symbolic.decompose import symbol
-from langur.symbolic.theorem import check_theorem_8_1
+from langur.sympy_bridge import symbol
+from langur.theorem import check_theorem_8_1
 
 
 def example(name, shader=None):

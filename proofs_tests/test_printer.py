@@ -19,6 +19,7 @@ from paths import DEGENERATE, EXAMPLES
 
 from langur import core as C
 from langur.core import Add, Const, Diffeo, IfDiffeo, IfGe0, InverseBranch, Let, Mul, Param, Pow, Prim, Var
+from langur.primitives import PRIMITIVES
 from langur.syntax.parser import parse_module, parse_term
 from langur.syntax.printer import decimal, print_core, print_diffeo, print_program, print_term
 
@@ -208,7 +209,7 @@ def core_terms(draw, depth=4, lets=(), variable_free=False):
     if kind == "neg":
         return C.neg(draw(sub))
     if kind == "prim":
-        return Prim(draw(st.sampled_from(C.PRIMITIVES)), draw(sub))
+        return Prim(draw(st.sampled_from(PRIMITIVES)), draw(sub))
     if kind == "pow":
         exponent = draw(
             st.one_of(terminating, st.sampled_from([Fraction(1, 3), Fraction(-2, 3), Fraction(-1)]))

@@ -13,11 +13,10 @@ from pathlib import Path
 
 import pytest
 from lark.exceptions import UnexpectedInput
+from paths import EXAMPLES
 
 from langur.frontend import load
 from langur.syntax import parser, tables
-
-from paths import EXAMPLES
 
 FIG1 = EXAMPLES / "fig1.lgr"
 

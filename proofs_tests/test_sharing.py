@@ -13,8 +13,8 @@ import time
 import sympy as sp
 
 from langur.core import Add, Mul, Param, Var, shared, subterms, tree_size
-from langur.denote import denote_program
 from langur.ddenote import ddenote_program
+from langur.denote import denote_program
 from langur.frontend import load_text
 
 

@@ -13,8 +13,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from langur.symbolic import regions
-from langur.symbolic.integrate import (ALL_PARAMS, CELL_PREFIX, IntegrationMismatch,
-                                       integrate_delta_pieces, integrate_pieces)
+from langur.symbolic.integrate import (
+    ALL_PARAMS,
+    CELL_PREFIX,
+    IntegrationMismatch,
+    integrate_delta_pieces,
+    integrate_pieces,
+)
 from langur.symbolic.pieces import Branch, Condition, DeltaPiece, Piece, Psi
 
 x, y, z = sp.symbols("x y z", real=True)

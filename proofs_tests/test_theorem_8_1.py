@@ -1,5 +1,5 @@
 """Theorem 8.1 (paper §8.3): ⦇int t d(x⃗)⦈(γ, γ') = D_γ⟦int t d(x⃗)⟧(γ)·γ', checked by
-``langur.symbolic.theorem`` on programs whose values and derivatives are derived by hand below,
+``langur.theorem`` on programs whose values and derivatives are derived by hand below,
 and reported to FAIL where transversality fails (degenerate/coincident.lgr)."""
 
 import math
@@ -12,11 +12,11 @@ from test_examples_exact import close
 
 from langur.ddenote import ddenote_program
 from langur.denote import denote_program
+from langur.exact import exact_deriv, exact_eval
 from langur.frontend import load, load_text
-from langur.symbolic.api import exact_deriv, exact_eval
-from langur.symbolic.decompose import symbol
 from langur.symbolic.pieces import Integral
-from langur.symbolic.theorem import _Tie, check_theorem_8_1, localize
+from langur.sympy_bridge import symbol
+from langur.theorem import _Tie, check_theorem_8_1, localize
 
 # (source, value, derivative, regular part of the derivative): all by hand.
 PROGRAMS = {

@@ -138,8 +138,8 @@ def test_exact_engine_alone_never_answers_a_divergent_integral(name):
     # without the structural analysis of the command layer: quadrature's diagnostics suffice
     from singular_corpus import CORPUS
 
+    from langur import exact as api
     from langur import frontend
-    from langur.symbolic import api
 
     (text,) = [t for n, t, *_ in CORPUS if n == name]
     loaded = frontend.load_text(text, f"{name}.lgr")
@@ -148,8 +148,8 @@ def test_exact_engine_alone_never_answers_a_divergent_integral(name):
 
 
 def test_unconverged_quadrature_is_no_error_bound():
+    from langur import exact as api
     from langur import frontend
-    from langur.symbolic import api
 
     # ∫₀^½ dx/(x log x) = [log|log x|]₀^½ diverges (like log log): sympy has no closed form and
     # quad does not converge, so there is no value whose error bound could be trusted

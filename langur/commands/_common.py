@@ -8,13 +8,12 @@ import os
 import sys
 from fractions import Fraction
 
-from .. import progress
+from .. import frontend, progress
 from ..cli import UsageError, parse_assignments, parse_modules
 
 
 def load(args, path: str | None = None):
     """Load FILE (``-`` is standard input) with the ``--module`` overrides; LangurError propagates."""
-    from .. import frontend
 
     path = path if path is not None else args.file
     modules = parse_modules(getattr(args, "module", None))

@@ -21,10 +21,13 @@ import sys
 from dataclasses import dataclass, field
 
 from ..diagnostics import Diagnostic
-from ..lint import singular
+from ..lint import fix, singular
 from ..lint.blowup import Verdict
 from ..lint.emptydomain import empty_domain_findings
 from ..lint.findings import Finding
+from ..lint.rewrite import transverse
+from ..syntax.printer import print_program
+from ..transversality import check_loaded
 
 
 @dataclass
@@ -92,10 +95,6 @@ class Transversal:
 
 def transversal(loaded, path: str | None) -> Transversal:
     """X301: is ⦇p⦈ the derivative of this program?  With the rewrite when it is not."""
-    from ..lint import fix
-    from ..lint.rewrite import transverse
-    from ..syntax.printer import print_program
-    from ..transversality import check_loaded
 
     sources = _sources(path)
     found = [f for f in check_loaded(loaded, sources=sources) if f.code == "X301"]

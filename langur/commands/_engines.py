@@ -41,7 +41,7 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
     form nor quadrature works.  A closed form that disagrees with its quadrature cross-check is
     an internal error (status 1), reported, never silently returned.
     """
-    from ..symbolic import api
+    from .. import exact as api
     from ..symbolic.integrate import IntegrationMismatch
 
     try:

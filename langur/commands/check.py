@@ -6,7 +6,7 @@ front end; its E1xx/T2xx errors are reported as they are, otherwise the transver
 the configuration (``[tool.langur]`` in the nearest pyproject.toml, ``--select``/``--ignore``;
 ``langur.lint.config``) and ``# noqa`` comments (``langur.lint.noqa``), and are printed in the
 chosen format (``langur.lint.formats``).  With ``--prove`` each finding also carries the
-Theorem 8.1 check at the parameter values in force (``langur.lint.prove``).
+Theorem 8.1 check at the parameter values in force (``langur.commands._prove``).
 
 Exit status: 0 when nothing at error severity was reported (or ``--exit-zero``), 1 when
 something was (including front-end errors), 2 for usage errors (unknown option, a FILE that is
@@ -22,9 +22,16 @@ import os
 import sys
 from pathlib import Path
 
+from .. import __version__, frontend
 from ..cli import UsageError, add_common, add_timeout, parse_assignments, parse_modules
 from ..diagnostics import Diagnostic, LangurError, Span
+from ..lint import config as cfgmod
+from ..lint import fix as fixmod
+from ..lint.formats import Report, known_codes, render
+from ..lint.noqa import suppressed
 from ..timebox import run_with_timeout
+from ..transversality import check_library, check_loaded, point_of
+from ._prove import Prover
 
 FORMATS = ("text", "json", "sarif", "github")
 STDIN_NAME = "<stdin>"
@@ -129,7 +136,6 @@ def here_at(at: dict, loaded) -> dict:
 
 def _fix(fixmod, text, name, loaded, modules, at, sources):
     """The rewrite of a file with X301 findings (None: nothing to rewrite)."""
-    from ..transversality import check_loaded
 
     if not any(fd.code == "X301" for fd in check_loaded(loaded, at=at, sources=sources)):
         return None
@@ -142,12 +148,6 @@ def _fix(fixmod, text, name, loaded, modules, at, sources):
 def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, reports: list) -> None:
     """Check one FILE's contents (under its --timeout), appending to ``reports``, ``used_at`` and
     ``fixes``."""
-    from .. import frontend
-    from ..lint import fix as fixmod
-    from ..lint.formats import Report
-    from ..lint.noqa import suppressed
-    from ..lint.prove import Prover
-    from ..transversality import check_library, check_loaded, point_of
 
     text = data.decode("utf-8", errors="replace")
     sources = {name: text}
@@ -192,11 +192,6 @@ def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, re
 
 
 def run(args) -> int:
-    from .. import __version__
-    from ..lint import config as cfgmod
-    from ..lint import fix as fixmod
-    from ..lint.formats import Report, known_codes, render
-
     fmt = args.format or ("json" if args.json else "text")
     if args.in_place and not args.fix:
         raise UsageError("--in-place goes with --fix")

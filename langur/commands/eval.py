@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import sys
 
-from ..cli import add_common, add_timeout
 from .. import progress
+from ..cli import add_common, add_timeout
 from . import _common as c
 from . import _defined
 from ._engines import Undefined, add_engine_arguments, how, print_mc_notes, run_exact, run_mc

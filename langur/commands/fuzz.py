@@ -12,6 +12,7 @@ import math
 import os
 import sys
 
+from .. import fuzz
 from ..cli import MAX_SAMPLES, UsageError, count, samples, seed
 from . import _common as c
 
@@ -41,8 +42,6 @@ def add_arguments(p):
 
 
 def run(args) -> int:
-    from .. import fuzz
-
     if not (math.isfinite(args.timeout) and 0 < args.timeout <= MAX_TIMEOUT):
         raise UsageError(f"--timeout must be a positive number of seconds, at most {MAX_TIMEOUT:g}")
     if args.keep is not None and os.path.exists(args.keep) and not os.path.isdir(args.keep):

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
+from .. import reproduce
 from ..cli import MAX_SAMPLES, UsageError, samples, seed
+from ..reproduce import EXPERIMENTS
 from . import _common as c
 
 
 def add_arguments(p):
-    from ..reproduce import EXPERIMENTS
-
     p.add_argument("names", nargs="*", metavar="NAME",
                    help=f"experiments to run (default all): {', '.join(EXPERIMENTS)}")
     p.add_argument("--samples", type=samples(100), default=100000, metavar="N",
@@ -18,8 +18,6 @@ def add_arguments(p):
 
 
 def run(args) -> int:
-    from .. import reproduce
-
     names = args.names or list(reproduce.EXPERIMENTS)
     unknown = [n for n in names if n not in reproduce.EXPERIMENTS]
     if unknown:

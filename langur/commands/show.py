@@ -3,9 +3,10 @@ with ``--wrt``/``--dir`` its derivative ⦇p⦈ in the normal form of Theorem 7.
 
 from __future__ import annotations
 
+from .. import exact, progress
 from ..cli import add_common, add_timeout
 from ..core import tree_size
-from .. import progress
+from ..syntax import printer
 from . import _common as c
 from . import _defined
 
@@ -25,8 +26,6 @@ PRINT_LIMIT = 100_000
 
 
 def _core_text(loaded) -> str:
-    from ..syntax import printer
-
     lines = []
     main = loaded.main
     for name, d in main.defs.items():
@@ -52,8 +51,6 @@ def run(args) -> int:
     want_deriv = bool(args.wrt or args.dir)
     undefined: list[str] = []  # why an integral shown does not exist (then the exit status is 1)
     if program is not None and not args.core:
-        from ..symbolic import present
-
         params = c.param_values(args, loaded)
         direction = c.direction(args, loaded) if want_deriv else None
         with progress.phase("integrability analysis"):
@@ -65,12 +62,12 @@ def run(args) -> int:
         if defined.undefined:
             undefined.append(defined.undefined)
         with progress.phase("denotation ⟦p⟧"):
-            out["denotation"] = present.show_denotation(
+            out["denotation"] = exact.show_denotation(
                 program, latex=args.latex, params=params, undefined=undefined,
                 known_undefined=defined.undefined if value_undefined else None)
         if want_deriv:
             with progress.phase("derivative ⦇p⦈"):
-                out["derivative"] = present.show_derivative(program, direction, latex=args.latex, params=params,
+                out["derivative"] = exact.show_derivative(program, direction, latex=args.latex, params=params,
                                                             undefined=undefined, known_undefined=defined.undefined)
     elif want_deriv and program is None:
         c.require_program(loaded, args.file)

@@ -1,6 +1,6 @@
 """Differential testing of the two engines (CLI.md, ``langur fuzz``).
 
-The exact symbolic reference (:mod:`langur.symbolic.api`, sympy) and the operational Monte Carlo
+The exact symbolic reference (:mod:`langur.exact`, sympy) and the operational Monte Carlo
 engine (:mod:`langur.operational`, numpy) implement ⟦p⟧ and ⦇p⦈ (LANGUAGE.md §3–§4) independently.
 This module generates random well-typed, *transverse* programs as ``.lgr`` text (so the front end
 is exercised too), loads them with :func:`langur.frontend.load_text`, and compares the engines.

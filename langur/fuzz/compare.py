@@ -9,7 +9,12 @@ import os
 import time
 from dataclasses import dataclass, field
 
+from .. import exact as api
+from .. import operational
+from ..diagnostics import LangurError
+from ..frontend import load_text
 from ..symbolic.pieces import Method
+from ..transversality import check_loaded
 from .generate import (
     ABS_SLACK,
     LINT_DISCARD,
@@ -86,7 +91,6 @@ def _exact_child(conn, program, params):
     """In a forked child: every exact answer, sent back through ``conn``."""
     import gc
 
-    from ..symbolic import api
 
     gc.callbacks.clear()  # a time limit firing inside a gc callback would be swallowed there
     try:
@@ -107,8 +111,6 @@ def _exact_all(program, params, timeout: float):
     in a garbage-collector callback; a killed child cannot overrun)."""
     import multiprocessing as mp
 
-    from .. import ddenote, denote  # noqa: F401 - imported once here, not in every child
-    from ..symbolic import api, theorem  # noqa: F401
 
     ctx = mp.get_context("fork")
     parent, child = ctx.Pipe(duplex=False)
@@ -132,9 +134,6 @@ def _exact_all(program, params, timeout: float):
 def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: float = 20.0,
                  lint: bool = True, method: str = "uniform") -> ProgramResult:
     """Load ``text`` and compare the engines on value and every partial derivative (module doc)."""
-    from .. import operational
-    from ..diagnostics import LangurError
-    from ..frontend import load_text
 
     try:
         loaded = load_text(text, path="<fuzz>.lgr")
@@ -144,8 +143,6 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
     params = loaded.param_values({})
     result = ProgramResult(text, "agree")
     if lint:
-        from ..transversality import check_loaded
-
         try:
             found = check_loaded(loaded, at={k: float(v) for k, v in params.items()},
                                   sources={"<fuzz>.lgr": text})

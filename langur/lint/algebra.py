@@ -16,15 +16,14 @@ from __future__ import annotations
 
 import math
 import random
-from functools import lru_cache
 from collections.abc import Callable, Iterable, Mapping
 from fractions import Fraction
+from functools import lru_cache
 from typing import TypeVar
 
 import sympy as sp
 
 from ..timebox import run_with_timeout as _run_with_timeout  # nesting-safe SIGALRM limiter
-
 
 T = TypeVar("T")
 

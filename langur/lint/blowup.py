@@ -42,8 +42,8 @@ from __future__ import annotations
 
 import itertools
 import math
-import sys
 import statistics
+import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import Enum

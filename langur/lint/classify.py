@@ -24,7 +24,7 @@ import sympy as sp
 
 from ..core import Program
 from ..diagnostics import Span
-from ..syntax.sympy_bridge import symbol, to_sympy
+from ..sympy_bridge import symbol, to_sympy
 from .algebra import Undecided, bad_parameters, describe_point, exact, vanishes
 from .coincidence import CoincidenceChecks
 from .collect import MAX_PRODUCTS, Occurrence, collect

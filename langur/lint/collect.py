@@ -31,11 +31,13 @@ from ..core import (
     Program,
     Term,
     Var,
+    children,
     extend_diffeo,
     shared,
 )
 from ..diagnostics import Span
-from ..syntax.sympy_bridge import NotSmooth, symbol, to_sympy
+from ..sympy_bridge import NotSmooth, symbol, to_sympy
+from .algebra import Undecided, vanishes
 
 #: At most this many products of conditions are tracked (beyond: X310, analysis incomplete).
 MAX_PRODUCTS = 4000
@@ -88,7 +90,6 @@ def zero_set_branches(psi: Diffeo, env: dict[str, sp.Expr]) -> tuple[tuple[dict,
 def jump_vanishes(jump: sp.Expr, branches, variables) -> bool:
     """Does ``jump`` (⟦s⟧ − ⟦r⟧ of a conditional) vanish on its zero set (``branches`` as
     :func:`zero_set_branches`)?  Then the conditional has no delta (``abs``, ``min``, ``max``)."""
-    from .algebra import Undecided, vanishes
 
     xs = {symbol(x) for x in variables}
     try:
@@ -212,7 +213,6 @@ class _Collector:
 def call_sites(loaded) -> list[tuple[Span | None, tuple[Span, ...]]] | None:
     """Each conditional of the main program in pre-order (as :func:`collect` visits the inlined
     program), with the ``Call`` sites of the elaborated program it was inlined through."""
-    from ..core import children
 
     main = getattr(loaded, "main", None)
     if main is None or main.program is None:

@@ -20,11 +20,10 @@ from __future__ import annotations
 
 import fnmatch
 import os
+import tomllib
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path, PurePosixPath
-
-import tomllib
 
 
 class ConfigError(Exception):

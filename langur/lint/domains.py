@@ -11,7 +11,10 @@ when a set of positive measure is out of the domain:
 * ``sqrt`` and fractional powers ``t ^ (p/q)``: base < 0;
 * division, ``t ^ k`` with k < 0: the base takes both signs (it crosses zero inside the region);
 * ``tan``: ``cos`` of the argument takes both signs (a pole inside the region);
-* ``asin``/``acos``/``atanh`` (inverse branches only): argument outside [-1, 1] (open for atanh).
+* ``asin``/``acos``/``atanh`` (inverse branches only): argument outside [-1, 1].
+
+Each primitive's domain is read from its entry in ``langur.primitives``; the ends of an interval
+are a null set and are not reported.
 
 A sampling check can miss a tiny bad region: it reports what it sees, never claims absence.
 """
@@ -19,28 +22,32 @@ A sampling check can miss a tiny bad region: it reports what it sees, never clai
 from __future__ import annotations
 
 import copy
-
 from collections.abc import Mapping
 from fractions import Fraction
 
 import numpy as np
 
-from ..core import PI, Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, shared
+from ..core import (
+    PI,
+    Add,
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Program,
+    Term,
+    Var,
+    shared,
+)
+from ..primitives import REGISTRY
+from .findings import Finding
 
 SAMPLES = 4096
-_FUNCS = {
-    "exp": np.exp,
-    "log": np.log,
-    "sin": np.sin,
-    "cos": np.cos,
-    "tan": np.tan,
-    "sqrt": np.sqrt,
-    "tanh": np.tanh,
-    "atan": np.arctan,
-    "asin": np.arcsin,
-    "acos": np.arccos,
-    "atanh": np.arctanh,
-}
 
 
 class _Skip(Exception):
@@ -93,17 +100,14 @@ class _Eval:
             case Prim(op, a):
                 # LANGUAGE.md §1, primitive
                 v = self.value(a, mask)
-                if op == "log" or op == "sqrt":
-                    self.flag(t, "its argument is negative", mask & (v < 0))
-                elif op == "tan":
+                domain = REGISTRY[op].domain
+                if domain.poles:  # tan: undefined where cos vanishes
                     c = np.cos(v)
                     if (mask & (c > 0)).any() and (mask & (c < 0)).any():
-                        self.flag(t, "its argument crosses a pole (cos changes sign)", mask & (c < 0))
-                elif op in ("asin", "acos"):
-                    self.flag(t, "its argument lies outside [-1, 1]", mask & (np.abs(v) > 1))
-                elif op == "atanh":
-                    self.flag(t, "its argument lies outside (-1, 1)", mask & (np.abs(v) >= 1))
-                return _FUNCS[op](v)
+                        self.flag(t, domain.why, mask & (c < 0))
+                else:
+                    self.flag(t, domain.why, mask & domain.outside_closure(v))
+                return REGISTRY[op].value(v)
             case Pow(a, k):
                 # LANGUAGE.md §1, constant power (t / s is t · s^-1)
                 v = self.value(a, mask)
@@ -141,7 +145,6 @@ class _Eval:
 
 def domain_findings(program: Program | None, point: Mapping[str, object] | None, sources: Mapping[str, str]):
     """X307 findings of ``program`` at the parameter ``point`` (nothing when a value is missing)."""
-    from .findings import Finding
 
     if program is None or point is None or len(program.box) != len(program.variables):
         return []

@@ -23,8 +23,8 @@ import sympy as sp
 
 from ..core import Program, free_params
 from ..diagnostics import Span
+from ..sympy_bridge import NotSmooth, symbol, to_sympy
 from ..syntax.printer import print_core
-from ..syntax.sympy_bridge import NotSmooth, symbol, to_sympy
 from .findings import Finding
 
 

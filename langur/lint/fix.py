@@ -20,6 +20,7 @@ import os
 import tempfile
 from dataclasses import dataclass
 
+from .. import frontend
 from ..diagnostics import LangurError
 from ..syntax.printer import print_core, print_program
 from .rewrite import Rewritten, transverse
@@ -51,8 +52,6 @@ def _offset(lines: list[str], line: int, col: int) -> int:
 
 
 def _same(text: str, path: str, modules, program) -> bool:
-    from .. import frontend
-
     try:
         again = frontend.load_text(text, path, modules=modules)
     except LangurError:

@@ -14,120 +14,19 @@ Each entry is a :class:`Report`: a diagnostic plus, with ``--prove``, the Theore
 from __future__ import annotations
 
 import json
-import re
 from dataclasses import dataclass, replace
 from pathlib import Path
 from urllib.parse import quote
 
+from ..codes import CODES
 from ..diagnostics import Diagnostic, Span, span_json
 
 #: The transversality codes (docs/CODES.md has the long form).
-X_CODES: dict[str, tuple[str, str, str]] = {
-    "X301": (
-        "coincident-zero-sets",
-        "error",
-        "Two multiplying conditions (or one multiplied by itself through a power or primitive) have the "
-        "same zero set for every parameter value: the derivative counts the jump twice (Def. 7.2).",
-    ),
-    "X302": (
-        "tangent-zero-sets",
-        "warning",
-        "Two multiplying zero sets are tangent at a point (normals linearly dependent): Def. 7.2 fails "
-        "on a null set; Theorem 8.1 no longer applies, the derivative is still likely right.",
-    ),
-    "X303": (
-        "too-many-zero-sets-through-a-point",
-        "warning",
-        "More than n multiplying zero sets pass through one point of R^n: Def. 7.2 fails on a null set.",
-    ),
-    "X304": (
-        "degenerate-for-some-parameters",
-        "warning",
-        "Multiplying zero sets coincide for some parameter values (the set is printed).",
-    ),
-    "X305": (
-        "degenerate-at-given-parameters",
-        "error",
-        "At the parameter values given with --at the zero sets coincide or a condition is not a "
-        "diffeomorphism: the derivative is not defined there.",
-    ),
-    "X306": (
-        "not-a-diffeomorphism-for-some-parameters",
-        "warning",
-        "A parameter coefficient of a condition vanishes for some parameter values: there the condition "
-        "is not a diffeomorphism.",
-    ),
-    "X307": (
-        "primitive-outside-domain",
-        "warning",
-        "A primitive (log, sqrt, division, tan, ...) is applied outside its domain on the domain of "
-        "integration at the parameter values in force.",
-    ),
-    "X308": (
-        "redundant-static-coincidence",
-        "warning",
-        "Multiplying conditions with the same zero set that does not move with the parameters: the "
-        "deltas have zero weight, the derivative is unaffected (the product is redundant).",
-    ),
-    "X311": (
-        "not-integrable",
-        "error",
-        "The integrand is not integrable on the domain at the parameter values in force (a pole whose "
-        "order reaches the codimension of the set it sits on): the integral does not exist.",
-    ),
-    "X312": (
-        "integrability-undecided",
-        "warning",
-        "The integrand blows up on the domain and the analysis cannot decide whether it is integrable "
-        "there; the engines' answers rely on their own diagnostics.",
-    ),
-    "X313": (
-        "derivative-not-integrable",
-        "error",
-        "The derivative denotation in a parameter is not an integral (its regular part is not integrable, "
-        "or a delta term's weight is infinite or undefined on its zero set), although the value exists.",
-    ),
-    "X314": (
-        "empty-domain",
-        "warning",
-        "An interval of the domain is empty at the parameter values in force (lower end above upper end): "
-        "the integrand is 0 there, so the value is 0, not minus the integral as in calculus.",
-    ),
-    "X399": (
-        "time-limit",
-        "error",
-        "The check of this file did not finish within its time budget (--timeout, default 60 s): what "
-        "was not reported is unchecked.",
-    ),
-    "X310": (
-        "undecided",
-        "warning",
-        "The checker could not decide transversality here (a sympy computation timed out or failed).",
-    ),
-}
-
-
-def _front_end_codes() -> dict[str, str]:
-    out: dict[str, str] = {}
-    try:
-        from ..syntax import parser
-
-        for m in re.finditer(r"^(E1\d\d)\s+(.+)$", parser.__doc__ or "", re.MULTILINE):
-            out[m.group(1)] = m.group(2).strip()
-    except ImportError:  # pragma: no cover
-        pass
-    try:
-        from .. import typesys
-
-        out.update(getattr(typesys, "CODES", {}))
-    except ImportError:  # pragma: no cover
-        pass
-    return out
 
 
 def known_codes() -> frozenset[str]:
-    """Every diagnostic code there is (docs/CODES.md): E1xx, T2xx and X3xx."""
-    return frozenset(X_CODES) | frozenset(_front_end_codes())
+    """Every diagnostic code there is (``langur.codes``; docs/CODES.md): E1xx, T2xx and X3xx."""
+    return frozenset(CODES)
 
 
 @dataclass
@@ -183,30 +82,18 @@ def _location(s: Span) -> dict:
 
 
 def sarif_document(reports: list[Report], version: str = "0") -> dict:
-    front = _front_end_codes()
     codes = sorted({r.diagnostic.code for r in reports})
     rules = []
     index = {}
     for code in codes:
         index[code] = len(rules)
-        if code in X_CODES:
-            name, level, text = X_CODES[code]
-            rules.append(
-                {
-                    "id": code,
-                    "name": name,
-                    "shortDescription": {"text": text},
-                    "defaultConfiguration": {"level": level},
-                }
-            )
-        else:
-            rules.append(
-                {
-                    "id": code,
-                    "shortDescription": {"text": front.get(code, code)},
-                    "defaultConfiguration": {"level": "error"},
-                }
-            )
+        entry = CODES.get(code)
+        rule = {"id": code}
+        if entry is not None and entry.name:
+            rule["name"] = entry.name
+        rule["shortDescription"] = {"text": entry.summary if entry is not None else code}
+        rule["defaultConfiguration"] = {"level": entry.severity if entry is not None else "error"}
+        rules.append(rule)
     results = []
     for r in reports:
         d = r.diagnostic

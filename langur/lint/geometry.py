@@ -8,12 +8,13 @@ given parameter values.
 
 from __future__ import annotations
 
+import random
 from collections.abc import Mapping
 
 import sympy as sp
 
 from ..diagnostics import Span
-from ..syntax.sympy_bridge import symbol, to_sympy
+from ..sympy_bridge import symbol, to_sympy
 from . import algebra
 from .algebra import vanishes
 from .collect import Occurrence
@@ -93,7 +94,6 @@ def meets_box(c: Occurrence, branch, box, point, variables, extra_eq: sp.Expr | 
             return False
         return in_box(comps, box, point, variables)
     # Sample the box, map each sample to u′ (the other components of Ψ̂), come back to the zero set.
-    import random
 
     rng = random.Random(3)
     fwd = [to_sympy(t) for t in c.psi.forward[1:]]

@@ -47,10 +47,12 @@ from ..core import (
     Var,
     extend_diffeo,
     free_params,
+    map_children,
     subterms,
 )
 from ..diagnostics import Span
-from ..syntax.sympy_bridge import NotSmooth, to_sympy
+from ..primitives import REGISTRY
+from ..sympy_bridge import NotSmooth, to_sympy
 from .collect import jump_vanishes, zero_set_branches
 
 ZERO, ONE = Const(Fraction(0)), Const(Fraction(1))
@@ -228,7 +230,6 @@ class _Rewriter:
                 return replace(t, body=self.collapse(body, {**env, name: to_sympy(bound, env)}, known))
             case Const() | Var() | Param():
                 return t
-        from ..core import map_children
 
         return map_children(t, lambda c: self.collapse(c, env, known))
 
@@ -251,10 +252,6 @@ def _total(t: Term) -> bool:
                    for u in subterms(t))
 
 
-_PRIM_AT = {("exp", 0): 1, ("log", 1): 0, ("sqrt", 0): 0, ("sqrt", 1): 1, ("sin", 0): 0, ("cos", 0): 1,
-            ("tan", 0): 0, ("tanh", 0): 0, ("atan", 0): 0}
-
-
 def _num(t: Term) -> Fraction | None:
     return t.value if isinstance(t, Const) and not isinstance(t.value, str) else None
 
@@ -262,7 +259,6 @@ def _num(t: Term) -> Fraction | None:
 def tidy(t: Term) -> Term:
     """Fold ``1·t``, ``t·1``, ``t + 0``, rational arithmetic, ``exp(0)``…; ``0·t`` for a total ``t``;
     ``ifge0 Φ then s else s`` is ``s``."""
-    from ..core import map_children
 
     t = map_children(t, tidy)
     span = t.span
@@ -293,8 +289,9 @@ def tidy(t: Term) -> Term:
                 return Const(x, span)
         case Prim(op, a):
             x = _num(a)
-            if x is not None and (op, x) in _PRIM_AT:
-                return Const(Fraction(_PRIM_AT[(op, x)]), span)
+            y = REGISTRY[op].at(x) if x is not None else None
+            if y is not None:
+                return Const(y, span)
         case IfDiffeo(_, s, r) | IfGe0(_, s, r) if s == r:
             return s
     return t

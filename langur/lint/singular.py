@@ -33,8 +33,12 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..core import Pow, Prim, Program, subterms
+from ..ddenote import ddenote
+from ..denote import denote, program_box
 from ..diagnostics import Span
-from ..symbolic.decompose import Ctx, at_symbols, decompose, symbol, symbols
+from ..primitives import REGISTRY, Domain
+from ..symbolic.decompose import Ctx, decompose
+from ..sympy_bridge import at_symbols, symbols
 from ..timebox import run_with_timeout
 from .blowup import Blowup, Region, Undecidable, Verdict, blowups
 from .findings import Finding
@@ -80,8 +84,6 @@ def _point(point: Mapping[str, object]) -> dict[sp.Symbol, sp.Expr]:
 
 
 def _box(program: Program, ctx: Ctx, at: dict) -> list[tuple[sp.Expr, sp.Expr]]:
-    from ..denote import program_box
-
     return [(sp.sympify(lo).xreplace(at), sp.sympify(hi).xreplace(at)) for lo, hi in program_box(program, ctx)]
 
 
@@ -166,7 +168,6 @@ def value_integrability(program: Program, point: Mapping[str, object]) -> Integr
 def derivative_integrability(program: Program, point: Mapping[str, object],
                              direction: Mapping[str, object]) -> Integrability:
     """Is ⦇p⦈ in the direction γ' = ``direction`` an integral at ``point`` (module docstring)?"""
-    from ..ddenote import ddenote
 
     at = _point(point)
     xs = symbols(program.variables)
@@ -197,19 +198,31 @@ def _quote(span: Span | None, sources: Mapping[str, str]) -> str | None:
     return frag if len(frag) <= 60 else frag[:57] + "…"
 
 
+def _edge(domain: Domain, e: sp.Expr) -> sp.Expr:
+    """A quantity that vanishes where ``e`` reaches the edge of a primitive's domain and is
+    negative outside it: cos(e) at tan's poles, (e − lo)·(hi − e) at finite ends."""
+    if domain.poles:
+        return sp.cos(e)
+    out = sp.Integer(1)
+    if math.isfinite(domain.lo):
+        out *= e - sp.nsimplify(domain.lo)
+    if math.isfinite(domain.hi):
+        out *= sp.nsimplify(domain.hi) - e
+    return out
+
+
 def _culprit(program: Program, b: Blowup, at: dict, sources: Mapping[str, str]) -> tuple[Span | None, str]:
     """The subterm of the user's text that is singular at the blow-up point: a division or
     negative power whose base vanishes there, a ``tan`` at a pole, a ``log``, ``sqrt`` or
     fractional power of something vanishing there (what ⦇·⦈ differentiates into a pole); else
     the program."""
-    from ..denote import denote
 
     xs = symbols(program.variables)
     for t in subterms(program.body):
         base = None
         if isinstance(t, Pow) and (t.exponent < 0 or t.exponent.denominator != 1):
             base = t.base
-        elif isinstance(t, Prim) and t.op in ("tan", "atanh", "log", "sqrt"):
+        elif isinstance(t, Prim) and not REGISTRY[t.op].domain.everywhere:
             base = t.arg
         if base is None or t.span is None:
             continue
@@ -217,8 +230,8 @@ def _culprit(program: Program, b: Blowup, at: dict, sources: Mapping[str, str]) 
             e = denote(base).xreplace(at)
         except (TypeError, KeyError):
             continue
-        if isinstance(t, Prim) and t.op in ("tan", "atanh"):
-            e = sp.cos(e) if t.op == "tan" else 1 - e**2
+        if isinstance(t, Prim):
+            e = _edge(REGISTRY[t.op].domain, e)
         if b.point and len(b.point) == len(xs):
             v = _num(e.xreplace(dict(zip(xs, b.point))))
             for eps in (sp.Float("1e-30", 50), sp.Float("-1e-30", 50)):
@@ -226,8 +239,7 @@ def _culprit(program: Program, b: Blowup, at: dict, sources: Mapping[str, str]) 
                     v = _num(e.xreplace({x: c + eps for x, c in zip(xs, b.point)}))
                     v = v if abs(v) < 1e-20 else math.nan
             if b.shape == "undefined":  # the primitive whose argument is out of its domain there
-                if not (math.isfinite(v) and (v < 0 and (isinstance(t, Prim) and t.op in ("log", "sqrt")
-                                                         or isinstance(t, Pow)))):
+                if not (math.isfinite(v) and v < 0 and not (isinstance(t, Prim) and REGISTRY[t.op].domain.poles)):
                     continue
             elif not (math.isfinite(v) and abs(v) < 1e-25):
                 continue
@@ -265,8 +277,6 @@ def _where(b: Blowup, program: Program) -> str:
 
 
 def _at_end(b: Blowup, program: Program) -> bool:
-    from ..denote import denote
-
     try:
         ends = [_num(denote(e)) for e in program.box[0]]
     except (TypeError, KeyError, IndexError):

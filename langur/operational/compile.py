@@ -34,6 +34,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
+from ..primitives import REGISTRY
 
 VALUE, TANGENT, DELTA = 0, 1, 2
 NAN = float("nan")
@@ -110,49 +111,7 @@ class Unit:
     slots: list
 
 
-# -- primitives: value and derivative, NaN outside the domain ------------------------------------
-
-def _log(a):
-    return np.where(a > 0, np.log(np.where(a > 0, a, 1.0)), NAN)
-
-
-def _atanh(a):
-    return np.where(np.abs(a) < 1, np.arctanh(a), NAN)
-
-
-PRIM_VALUE: dict[str, Callable] = {
-    "exp": np.exp, "log": _log, "sin": np.sin, "cos": np.cos, "tan": np.tan, "sqrt": np.sqrt,
-    "tanh": np.tanh, "atan": np.arctan, "asin": np.arcsin, "acos": np.arccos, "atanh": _atanh,
-}
-
-
-def prim_derivative(op: str, a, v):
-    """f'(a) given a and v = f(a) (chain rule, §1's extension by smooth primitives)."""
-    match op:
-        case "exp":
-            return v
-        case "log":
-            return np.where(a > 0, 1.0 / np.asarray(a, dtype=float), NAN)  # numpy division: no exception at 0
-        case "sin":
-            return np.cos(a)
-        case "cos":
-            return -np.sin(a)
-        case "tan":
-            return 1.0 + v * v
-        case "sqrt":
-            return np.where(a > 0, 0.5 / v, NAN)
-        case "tanh":
-            return 1.0 - v * v
-        case "atan":
-            return 1.0 / (1.0 + a * a)
-        case "asin":
-            return np.where(np.abs(a) < 1, 1.0 / np.sqrt(1.0 - a * a), NAN)
-        case "acos":
-            return np.where(np.abs(a) < 1, -1.0 / np.sqrt(1.0 - a * a), NAN)
-        case "atanh":
-            return np.where(np.abs(a) < 1, 1.0 / np.asarray(1.0 - a * a, dtype=float), NAN)
-    raise ValueError(f"unknown primitive {op}")
-
+# -- constant powers: value and derivative, NaN outside the domain (primitives: langur.primitives)
 
 def power(a, k: Fraction):
     """a^k for a constant rational k; NaN where undefined (0 to a negative power, fractional
@@ -325,12 +284,12 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
             return let
         case Prim(op, arg):
             # extension (§1): smooth primitive, chain rule ⦇f(t)⦈ = f'(⟦t⟧)·⦇t⦈
-            f, prim = _compile(arg, ctx), PRIM_VALUE[op]
+            f, prim = _compile(arg, ctx), REGISTRY[op]
 
             def primitive(env):
                 a, da = f(env)
-                v = prim(a)
-                return v, (None if da is None else prim_derivative(op, a, v) * da)
+                v = prim.value(a)
+                return v, (None if da is None else prim.derivative(a, v) * da)
             return primitive
         case Pow(base, k):
             # extension (§1): constant power, ⦇t^k⦈ = k·⟦t⟧^(k−1)·⦇t⦈

@@ -13,7 +13,6 @@ from .compile import DELTA, TANGENT, VALUE, Env, full
 from .link import Linked, compile_program, link
 from .sample import design, evaluate_box
 
-
 #: Most nodes the program may have written out as a tree: this engine evaluates it path by path
 #: (each call of a definition is a linked instance with its own sampling sites, §9), so a
 #: program whose definitions share subterms (``f1 = f0 + f0``, ``f2 = f1 + f1``, …) costs its

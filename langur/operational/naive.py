@@ -2,8 +2,9 @@
 
 A tree-walking interpreter of Fig. 7/8 over floats (``math``), the way a prototype such as
 Potto evaluates a program at each sample.  It is the benchmark baseline (bench/bench_operational.py)
-and an independent cross-check of the vectorized compiler in the tests: same formulas, no numpy,
-no compilation, no linking (it evaluates the inlined program).
+and an independent cross-check of the vectorized compiler in the tests: the same primitive rules
+(``langur.primitives``), but no vectors, no compilation, no linking (it evaluates the inlined
+program).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var
+from ..primitives import REGISTRY
 from .compile import DELTA, TANGENT, VALUE
 from .link import collect_sites
 from .sample import design
@@ -21,46 +23,10 @@ from .sample import design
 NAN = float("nan")
 
 
-def _safe(f):
-    def g(a):
-        try:
-            return f(a)
-        except (ValueError, ZeroDivisionError):
-            return NAN
-        except OverflowError:
-            return math.inf
-    return g
-
-
-_PRIM = {"exp": _safe(math.exp), "log": _safe(lambda a: math.log(a) if a > 0 else NAN), "sin": _safe(math.sin),
-         "cos": _safe(math.cos), "tan": _safe(math.tan), "sqrt": _safe(math.sqrt), "tanh": _safe(math.tanh),
-         "atan": _safe(math.atan), "asin": _safe(math.asin), "acos": _safe(math.acos),
-         "atanh": _safe(lambda a: math.atanh(a) if abs(a) < 1 else NAN)}
-
-
-def _dprim(op, a, v):
-    match op:
-        case "exp":
-            return v
-        case "log":
-            return 1.0 / a if a > 0 else NAN
-        case "sin":
-            return math.cos(a)
-        case "cos":
-            return -math.sin(a)
-        case "tan":
-            return 1.0 + v * v
-        case "sqrt":
-            return 0.5 / v if a > 0 else NAN
-        case "tanh":
-            return 1.0 - v * v
-        case "atan":
-            return 1.0 / (1.0 + a * a)
-        case "asin" | "acos":
-            s = 1.0 / math.sqrt(1.0 - a * a) if abs(a) < 1 else NAN
-            return s if op == "asin" else -s
-        case "atanh":
-            return 1.0 / (1.0 - a * a) if abs(a) < 1 else NAN
+def _derivative(op: str, a: float, v: float) -> float:
+    """f'(a) from the primitive's registry entry, on one float (NaN outside the domain)."""
+    with np.errstate(all="ignore"):
+        return float(REGISTRY[op].derivative(a, v))
 
 
 def _pow(a: float, k: Fraction) -> float:
@@ -121,8 +87,8 @@ def evaluate(t: Term, rho: dict, gamma: dict, dgamma: dict, mode: int = VALUE, s
                 return go(body, {**g, name: v}, {**dg, name: dv})
             case Prim(op, a):
                 x, dx = go(a, g, dg)
-                v = _PRIM[op](x)
-                return v, (_dprim(op, x, v) * dx if dx != 0.0 else 0.0)
+                v = REGISTRY[op].scalar(x)
+                return v, (_derivative(op, x, v) * dx if dx != 0.0 else 0.0)
             case Pow(a, k):
                 x, dx = go(a, g, dg)
                 v = _pow(x, k)

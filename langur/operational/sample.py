@@ -21,6 +21,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..core import Add, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
+from ..primitives import REGISTRY
 from .compile import TANGENT, VALUE, Env, compile_term, const_value, full
 
 METHODS = ("uniform", "stratified", "qmc")
@@ -111,7 +112,7 @@ def enclose(t: Term, box: dict[str, tuple[float, float]], params: dict[str, floa
             lo, hi = enclose(a, box, params)
             return _pow_interval(lo, hi, k)
         case Prim(op, a):
-            return _prim_interval(op, *enclose(a, box, params))
+            return REGISTRY[op].interval(*enclose(a, box, params))
         case IfGe0(c, a, b):
             cl, ch = enclose(c, box, params)
             if cl >= 0:
@@ -146,23 +147,6 @@ def _pow_interval(lo, hi, k: Fraction):
         return -math.inf, math.inf
     a, b = lo ** f, hi ** f
     return min(a, b), max(a, b)
-
-
-_MONOTONE = {"exp": math.exp, "sqrt": math.sqrt, "tanh": math.tanh, "atan": math.atan,
-             "asin": math.asin, "atanh": math.atanh, "log": math.log}
-
-
-def _prim_interval(op, lo, hi):
-    try:
-        if op in _MONOTONE:
-            return _MONOTONE[op](lo), _MONOTONE[op](hi)
-        if op == "acos":
-            return math.acos(hi), math.acos(lo)
-    except (ValueError, OverflowError):
-        return -math.inf, math.inf
-    if op in ("sin", "cos"):
-        return -1.0, 1.0
-    return -math.inf, math.inf  # tan
 
 
 # -- sampling the zero set of one condition -------------------------------------------------------

@@ -7,8 +7,9 @@
 with smooth weights ``g_i``.  It follows the proof of Theorem 6.1 (one case per term former)
 instead of parsing the ``Piecewise`` that ``langur.denote.denote`` returns:
 
-* a diffeomorphic conditional ``ifge0 ⌊Ψ⌋ then s else r`` is ``[π₀Ψ̂ ≥ 0]·⟦s⟧ + [−π₀Ψ̂ ≥ 0]·⟦r⟧``
-  (the two halves overlap on the null set π₀Ψ̂ = 0 only); every condition keeps its Ψ̂ as a
+* a smooth term (no conditional) is one piece, its weight ⟦t⟧ from :func:`langur.sympy_bridge.denote`;
+* a diffeomorphic conditional ``ifge0 ⌊Ψ⌋ then s else r`` is ``[π₀Ψ̂ ≥ 0]·⟦s⟧ + [−π₀Ψ̂ > 0]·⟦r⟧``
+  (exactly Fig. 7: the then-branch holds on the zero set); every condition keeps its Ψ̂ as a
   :class:`~langur.symbolic.pieces.Psi` with all inverse branches, and the complement's Ψ̂ is Ψ̂
   with its first component negated (inverse branches: ``u₀ ↦ −u₀``);
 * a conditional on a variable-free condition is smooth in the variables: it is decided at the
@@ -16,99 +17,37 @@ instead of parsing the ``Piecewise`` that ``langur.denote.denote`` returns:
 * products distribute; a smooth primitive (or power) of a discontinuous argument is split over
   the sign patterns of its argument's conditions.
 
-This module also holds the small core-term → sympy helpers shared by ``denote`` and ``ddenote``:
-one real :class:`sympy.Symbol` per name, constants, primitives, and Diffeo → ``Psi``.
+This module also turns a core Diffeo into a sympy ``Psi`` (all inverse branches), for ``ddenote``.
 """
 
 from __future__ import annotations
 
 import itertools
-import math
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from fractions import Fraction
-from functools import cache
 
 import sympy as sp
 
 from ..core import (
-    PI,
     Add,
     Call,
-    Const,
     Diffeo,
     IfDiffeo,
     IfGe0,
     Let,
     Mul,
-    Param,
     Pow,
     Prim,
     Term,
-    Var,
     extend_diffeo,
     shared,
+    smooth,
 )
+from ..sympy_bridge import FUNCTIONS, const_expr, denote, symbol, symbols
 from .pieces import Branch, Condition, Piece, Psi
-
-#: Smooth primitives as sympy functions (LANGUAGE.md §1; the internal ones come from inverses).
-PRIMITIVES: dict[str, Callable[[sp.Expr], sp.Expr]] = {
-    "exp": sp.exp, "log": sp.log, "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "sqrt": sp.sqrt,
-    "tanh": sp.tanh, "atan": sp.atan, "asin": sp.asin, "acos": sp.acos, "atanh": sp.atanh,
-}
 
 #: Above this many distinct conditions under one primitive, the sign-pattern split is refused.
 MAX_SPLIT_CONDITIONS = 12
-
-
-# ----------------------------------------------------------------------------------------------
-# Symbols and numbers
-
-
-@cache
-def symbol(name: str) -> sp.Symbol:
-    """The real sympy symbol of a variable, parameter or diffeo input: same name, same symbol."""
-    return sp.Symbol(name, real=True)
-
-
-def symbols(names: Iterable[str]) -> tuple[sp.Symbol, ...]:
-    return tuple(symbol(n) for n in names)
-
-
-def const_expr(value: Fraction | str) -> sp.Expr:
-    """A core constant: an exact rational, or π."""
-    if value == PI:
-        return sp.pi
-    f = Fraction(value)
-    return sp.Rational(f.numerator, f.denominator)
-
-
-def exact_number(v) -> sp.Expr:
-    """A parameter value as sympy: Fractions, ints and decimal floats become exact Rationals
-    (``0.5`` → 1/2, ``0.1`` → 1/10 as typed); non-finite floats stay floats."""
-    if isinstance(v, sp.Basic):
-        return v
-    if isinstance(v, Fraction):
-        return sp.Rational(v.numerator, v.denominator)
-    if isinstance(v, bool):
-        return sp.Integer(int(v))
-    if isinstance(v, int):
-        return sp.Integer(v)
-    if isinstance(v, float):
-        return sp.Rational(repr(v)) if math.isfinite(v) else sp.Float(v)
-    return sp.sympify(v)
-
-
-def at_symbols(at: Mapping[str, object] | None) -> dict[sp.Symbol, sp.Expr]:
-    """``{"theta": 0.5}`` → ``{theta: 1/2}`` (symbols and exact numbers)."""
-    return {symbol(k): exact_number(v) for k, v in (at or {}).items()}
-
-
-def prim_derivative(op: str) -> Callable[[sp.Expr], sp.Expr]:
-    """f' for the chain rule (LANGUAGE.md §1)."""
-    y = sp.Dummy("y", real=True)
-    d = sp.diff(PRIMITIVES[op](y), y)
-    return lambda w: d.xreplace({y: w})
 
 
 # ----------------------------------------------------------------------------------------------
@@ -131,10 +70,6 @@ class Ctx:
 
     def bind(self, name: str, value: sp.Expr) -> Ctx:
         return replace(self, env={**self.env, name: value})
-
-
-def parameter(name: str, ctx: Ctx) -> sp.Expr:
-    return ctx.env.get(name, symbol(name))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -291,26 +226,22 @@ def _gate_pieces(ps: list[Piece], cond: sp.Expr, branch: bool) -> list[Piece]:
 def decompose(t: Term, ctx: Ctx | None = None) -> list[Piece]:
     """⟦t⟧ as a sum of products of simple discontinuities times smooth weights (Def. 6.2)."""
     ctx = ctx or Ctx()
+    if smooth(t):  # Theorem 6.1, smooth term: one piece, no condition (constants, variables, ...)
+        return leaf(denote(t, ctx.env))
     match t:
-        case Const(value):  # Fig. 7, constant
-            return leaf(const_expr(value))
-        case Var(name):  # Fig. 7, variable
-            return leaf(symbol(name))
-        case Param(name):  # Fig. 7, parameter
-            return leaf(parameter(name, ctx))
         case Add(a, b):  # Fig. 7, sum
             return normalize(decompose(a, ctx) + decompose(b, ctx))
         case Mul(a, b):  # Fig. 7, product: products distribute
             return multiply(decompose(a, ctx), decompose(b, ctx))
         case Prim(op, a):  # LANGUAGE.md §1, smooth primitive: split over sign patterns
-            return apply_smooth(PRIMITIVES[op], decompose(a, ctx))
+            return apply_smooth(FUNCTIONS[op], decompose(a, ctx))
         case Pow(a, k):  # LANGUAGE.md §1, constant power
             power = const_expr(k)
             return apply_smooth(lambda w: w ** power, decompose(a, ctx))
         case IfGe0(c, a, b):  # Fig. 7, conditional: smooth in the variables
             return normalize(select(smooth_value(c, ctx), decompose(a, ctx), decompose(b, ctx), ctx.at,
                                     _gate_pieces))
-        case IfDiffeo(psi, a, b):  # Fig. 7, diffeomorphic conditional: [Φ ≥ 0]·⟦s⟧ + [−Φ ≥ 0]·⟦r⟧
+        case IfDiffeo(psi, a, b):  # Fig. 7, diffeomorphic conditional: [Φ ≥ 0]·⟦s⟧ + [−Φ > 0]·⟦r⟧
             c = condition_of(psi, ctx, t.span)
             return normalize(with_conditions(decompose(a, ctx), (c,))
                              + with_conditions(decompose(b, ctx), (complement(c),)))

@@ -23,8 +23,6 @@ from langur.symbolic.quadrature import printable
 from langur.symbolic.regions import Cond, Context
 
 
-
-
 def _sample(ctx: Context, syms, ubox, n=5, seed=0):
     rng = random.Random(seed)
     bounds = [(ctx.value(lo).real, ctx.value(hi).real) for lo, hi in ubox]

@@ -32,9 +32,7 @@ from fractions import Fraction
 
 from .. import typesys as ty
 from ..core import (
-    ALL_PRIMITIVES,
     PI,
-    PRIMITIVES,
     Add,
     Call,
     Const,
@@ -55,6 +53,7 @@ from ..core import (
 )
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
+from ..primitives import ALL_PRIMITIVES, PRIMITIVES
 from .diffeo import CompletionError, complete, instantiate
 from .inline import expand_calls, inline
 from .surface import Apply, BinOp, DiffeoApp, IfCmp, IfGe0S, Iverson, LetIn, Name, Neg, NestedInt, Num, STerm

@@ -54,7 +54,17 @@ from ..core import (
     free_vars,
     substitute,
 )
-from .sympy_bridge import NotSmooth, SympyTimeout, from_sympy, symbol, time_limited, to_sympy
+from ..primitives import REGISTRY, Inverse, Periodic, Primitive
+from ..sympy_bridge import (
+    FUNCTIONS,
+    PRIMITIVE_OF,
+    NotSmooth,
+    SympyTimeout,
+    from_sympy,
+    symbol,
+    time_limited,
+    to_sympy,
+)
 
 #: Wall-clock limit (seconds) of one completion / one declaration check.
 TIME_LIMIT = 10.0
@@ -231,19 +241,14 @@ def _peel(a, target, v, variables: set, ranges):
             return _branches(base, [(target ** (1 / k), [target]), (-(-target) ** (1 / k), [-target])],
                              v, variables, ranges)
         return _branches(base, [(target ** (1 / k), [target])], v, variables, ranges)
-    if len(a.args) == 1:
-        arg = a.args[0]
-        f = a.func
-        if f is sp.exp:
-            return _branches(arg, [(sp.log(target), [target])], v, variables, ranges)
-        if f is sp.log:
-            return _branches(arg, [(sp.exp(target), [])], v, variables, ranges)
-        if f is sp.tanh:
-            return _branches(arg, [(sp.atanh(target), [1 - target ** 2])], v, variables, ranges)
-        if f is sp.atan:
-            return _branches(arg, [(sp.tan(target), [sp.pi ** 2 / 4 - target ** 2])], v, variables, ranges)
-        if f in (sp.sin, sp.cos, sp.tan):
-            return _periodic(f, arg, target, v, variables, ranges)
+    if len(a.args) == 1 and a.func in PRIMITIVE_OF:
+        arg, p = a.args[0], REGISTRY[PRIMITIVE_OF[a.func]]
+        match p.inverse:
+            case Inverse(name, guard):  # a monotone f: x = f⁻¹(u) where the guard holds
+                return _branches(arg, [(FUNCTIONS[name](target), [guard(target, sp.pi)] if guard else [])],
+                                 v, variables, ranges)
+            case Periodic():
+                return _periodic(p, arg, target, v, variables, ranges)
     raise _Unpeelable(f"cannot invert {a}")
 
 
@@ -256,34 +261,29 @@ def _branches(inner, steps, v, variables, ranges):
     return out, nonzero
 
 
-def _periodic(f, arg, target, v, variables, ranges):
+def _periodic(p: Primitive, arg, target, v, variables, ranges):
     """Inverse branches of ``f(arg) = target`` whose image meets the range of ``arg`` on the box."""
     lo, hi = _range(arg, ranges)
     if not (math.isfinite(lo) and math.isfinite(hi)):
-        raise _Unpeelable(f"{f.__name__}({arg}) has infinitely many inverse branches unless {arg} "
+        raise _Unpeelable(f"{p.name}({arg}) has infinitely many inverse branches unless {arg} "
                           "ranges over a bounded interval (give the variables a constant bounded domain)")
-    pi = math.pi
+    pi, periodic = math.pi, p.inverse
+    guards = [periodic.guard(target, sp.pi)] if periodic.guard else []
     # (inverse, image lo, image hi, period in units of π, guards)
-    if f is sp.tan:
-        shapes = [(sp.atan(target), -pi / 2, pi / 2, 1, [])]
-    elif f is sp.sin:
-        g = [1 - target ** 2]
-        shapes = [(sp.asin(target), -pi / 2, pi / 2, 2, g), (sp.pi - sp.asin(target), pi / 2, 3 * pi / 2, 2, g)]
-    else:
-        g = [1 - target ** 2]
-        shapes = [(sp.acos(target), 0.0, pi, 2, g), (-sp.acos(target), -pi, 0.0, 2, g)]
+    shapes = [(b.sign * FUNCTIONS[b.inverse](target) + b.offset * sp.pi, float(b.lo) * pi, float(b.hi) * pi,
+               periodic.period, guards) for b in periodic.branches]
     steps = []
     for expr, ilo, ihi, period, guards in shapes:
         first = math.floor((lo - ihi) / (period * pi)) - 1
         last = math.ceil((hi - ilo) / (period * pi)) + 1
         if last - first > 4 * MAX_BRANCHES:
-            raise _Unpeelable(f"more than {MAX_BRANCHES} inverse branches of {f.__name__} on the domain")
+            raise _Unpeelable(f"more than {MAX_BRANCHES} inverse branches of {p.name} on the domain")
         for j in range(first, last + 1):
             a, b = ilo + j * period * pi, ihi + j * period * pi
             if max(a, lo) < min(b, hi) or (lo == hi and a <= lo <= b):
                 steps.append((expr + j * period * sp.pi if j else expr, guards))
     if len(steps) > MAX_BRANCHES:
-        raise _Unpeelable(f"more than {MAX_BRANCHES} inverse branches of {f.__name__} on the domain")
+        raise _Unpeelable(f"more than {MAX_BRANCHES} inverse branches of {p.name} on the domain")
     return _branches(arg, _dedupe(steps), v, variables, ranges)
 
 

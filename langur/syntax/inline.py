@@ -33,6 +33,7 @@ from ..core import (
     Program,
     Term,
     Var,
+    children,
     free_params,
     free_vars,
     map_children,
@@ -245,8 +246,6 @@ def _names(t: Term) -> set[str]:
 
 
 def _children(u):
-    from ..core import children
-
     return children(u)
 
 

@@ -12,28 +12,14 @@ Public API::
     parse_term(text: str, path: str = "<string>") -> STerm
     parse_bytes(data: bytes, path: str = "<bytes>") -> ModuleS
 
-Every syntax error raises :class:`~langur.diagnostics.LangurError` with one diagnostic:
-
-======  ==========================================================================================
-code    meaning
-======  ==========================================================================================
-E101    the file is not UTF-8 (position of the first undecodable byte)
-E102    unexpected token: says what was found and what was expected there
-E103    unexpected end of input: says what was expected
-E104    a character that starts no token (``@``, ``!``, a non-ASCII letter, …)
-E105    nesting too deep: a term more than :data:`MAX_DEPTH` levels deep.  Long chains such as
-        ``1+1+…+1`` are regrouped into balanced trees (:class:`_Chain`) and count only their
-        tree's depth.  Recursive consumers (desugarer, semantics, dataclass equality) stay far
-        from Python's recursion limit.
-E106    a number literal too long (more than :data:`MAX_DIGITS` digits), with an exponent
-        beyond ±\\ :data:`MAX_EXPONENT`, or outside the range of double-precision numbers
-        (``1e999``, ``1e-400``: the Monte Carlo engine computes in doubles)
-E107    anything after the program (a second program, or an item after the program)
-E108    source too large: more than :data:`MAX_SIGNIFICANT` characters outside comments and
-        white space (a bound that keeps the worst case, a 10 MB file, to a few seconds)
-E109    the file cannot be read (the operating system's reason: permission denied, a directory,
-        a broken link); raised by ``langur.frontend.load`` and ``langur check``, before parsing
-======  ==========================================================================================
+Every syntax error raises :class:`~langur.diagnostics.LangurError` with one diagnostic, its code
+E101–E109 from the catalogue :mod:`langur.codes`.  The limits behind them: a term nests at most
+:data:`MAX_DEPTH` levels (E105; long chains such as ``1+1+…+1`` are regrouped into balanced trees
+and count only their tree's depth, so recursive consumers stay far from Python's recursion
+limit); a number literal has at most :data:`MAX_DIGITS` digits, an exponent within
+±\\ :data:`MAX_EXPONENT` and a value within the range of doubles (E106: the Monte Carlo engine
+computes in doubles); a source has at most :data:`MAX_SIGNIFICANT` characters outside comments and
+white space (E108: a 10 MB file costs a few seconds at worst).
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ import math
 import sympy as sp
 
 from ..core import Const, IfDiffeo, Let, Mul, Term, free_params, substitute
-from .sympy_bridge import NotSmooth, from_sympy, symbol, to_sympy
+from ..sympy_bridge import NotSmooth, from_sympy, symbol, to_sympy
 
 Bound = tuple[Term | None, Term | None]
 

@@ -1,7 +1,7 @@
 """``langur check --prove``: is the derivative actually wrong where a finding says Def. 7.2 fails?
 
 Def. 7.2 is sufficient, not necessary (LANGUAGE.md §5).  For each finding this evaluates the
-Theorem 8.1 check of the symbolic engine (``langur.symbolic.api.exact_deriv``: ``D_γ⟦p⟧·γ'``
+Theorem 8.1 check of the symbolic engine (``langur.exact.exact_deriv``: ``D_γ⟦p⟧·γ'``
 against ``⦇p⦈(γ, γ')``) at the parameter values in force (defaults, or ``--at``), in the direction
 of each parameter the finding is about, and summarizes it: ``wrong`` (some direction disagrees),
 ``right`` (every direction agrees) or ``unknown`` (the engine could not decide).  Results are
@@ -13,8 +13,9 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+from ..exact import exact_deriv
+from ..lint.algebra import describe_point
 from ..timebox import run_with_timeout
-from .algebra import describe_point
 
 #: Seconds allowed for one derivative + Theorem 8.1 check.
 TIME_LIMIT = 30.0
@@ -45,8 +46,6 @@ class Prover:
         if name in self.cache:
             return self.cache[name]
         try:
-            from ..symbolic.api import exact_deriv
-
             res = run_with_timeout(lambda: exact_deriv(self.program, self.point, {name: 1}), TIME_LIMIT)
             thm = res.get("theorem_8_1")
             if thm is None:

@@ -22,10 +22,12 @@ from collections.abc import Mapping
 
 import sympy as sp
 
-from ..timebox import run_with_timeout
-from .decompose import at_symbols, exact_number, symbol
-from .integrate import ALL_PARAMS as EVERYWHERE  # the note of a closed form valid for all parameters
-from .pieces import Method
+from .ddenote import ddenote_program
+from .denote import denote_program
+from .symbolic.integrate import ALL_PARAMS as EVERYWHERE  # the note of a closed form valid for all parameters
+from .symbolic.pieces import Method
+from .sympy_bridge import at_symbols, exact_number, symbol
+from .timebox import run_with_timeout
 
 #: Relative and absolute tolerance of a numeric comparison of two exact values.
 RTOL, ATOL = 1e-7, 1e-9
@@ -138,9 +140,6 @@ def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str,
     results at ``at`` (recomputed when None).  Returns ``{"holds", "d_denotation",
     "derivative_denotation", "how", "points", "notes"}`` (plus ``"error"`` for finite differences).
     """
-    from ..ddenote import ddenote_program
-    from ..denote import denote_program
-
     at = dict(at)
     den = denotation if denotation is not None else denote_program(program, at, timeout=timeout)
     der = derivative if derivative is not None else ddenote_program(program, at, direction, timeout=timeout)
@@ -210,8 +209,6 @@ def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, 
 
 def _finite_difference(program, at, direction, der, den, timeout, why: str) -> dict:
     """D⟦p⟧·γ' by central differences of quadratures: steps h and 2h, error bound from both."""
-    from ..denote import denote_program
-
     def shifted(s: float) -> tuple[float, float]:
         q = {k: float(v) + s * float(direction.get(k, 0)) for k, v in at.items()}
         # only values are needed here: a short symbolic budget, quadrature otherwise

@@ -1,0 +1,210 @@
+"""What the command line calls for the exact (symbolic) engine (CLI.md, JSON shapes).
+
+* :func:`exact_eval` → the ``exact`` object of ``langur eval --json``;
+* :func:`exact_deriv` → the ``exact`` object of ``langur deriv --json`` plus ``standard_ad`` (the
+  regular part alone, the paper's Dˢ) and ``theorem_8_1`` (the check of Theorem 8.1);
+* :func:`show_denotation` (``langur show``): ⟦p⟧ as the integral of its (Piecewise) integrand over
+  the box, and its closed form when the integrator finds one at the given parameters;
+* :func:`show_derivative` (``langur show --wrt``): ⦇p⦈ = ∫ f + Σ ∫ δ(Φ)·h — the regular part f as a
+  sum of Iverson products, then each delta term ``δ(Φ)·h`` with its condition Φ, its factor h and
+  the inverse branches of its diffeomorphism (the change of variables that integrates it).
+
+Parameter values may be floats or Fractions; exact decimals are used as sympy Rationals (``0.5``
+is 1/2).  When neither a closed form nor quadrature works, :class:`ExactUnavailable` is raised with
+a one-line reason (the CLI then prints ``"exact": null`` and the reason on standard error);
+:class:`ExactUndefined`, its subclass, when the integral does not exist (divergent, or undefined
+on part of the domain).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import sympy as sp
+
+from .core import Program
+from .ddenote import ddenote, ddenote_program
+from .denote import denote, denote_program
+from .symbolic.pieces import Integral, Method
+from .symbolic.quadrature import UndefinedIntegral, printable
+from .symbolic.text import delta_text, derivative_result_text, expr_text, pieces_text, product_text, psi_text
+from .sympy_bridge import exact_number, symbol
+from .theorem import check_theorem_8_1
+
+
+class ExactUnavailable(Exception):
+    """The symbolic engine cannot evaluate this program (the message says why, on one line;
+    ``reason`` is the engine's own words)."""
+
+    def __init__(self, message: str, reason: str):
+        super().__init__(message)
+        self.reason = reason
+
+
+class ExactUndefined(ExactUnavailable):
+    """The integral does not exist (it diverges, or its integrand is undefined on part of the
+    domain): an answer about the program, not a failure of the engine."""
+
+
+def _number(v) -> float:
+    """A plain float (NaN and infinities included, as the operational API returns them; the CLI
+    writes them as CLI.md's strings ``"nan"``, ``"inf"``, ``"-inf"``)."""
+    return float(v)
+
+
+def _expr_text(e: sp.Expr | None) -> str | None:
+    """The closed form as text; a rational of more than about 1,200 digits (Python refuses to
+    print more than 4300) is written as a 30-digit float, and the text says so."""
+    if e is None:
+        return None
+    shown = printable(e)
+    return sp.sstr(shown) + ("   [numbers of more than 1,200 digits rounded to 30 digits in this text]"
+                             if shown != e else "")
+
+
+def _integral_fields(r: Integral) -> dict:
+    out = {"value": _number(r.value), "expr": _expr_text(r.expr), "method": r.method}
+    if r.method != Method.CLOSED_FORM:
+        out["error"] = _number(r.error)
+    out["notes"] = list(r.notes)
+    return out
+
+
+def _guard(fn, *args, **kwargs):
+    try:
+        return fn(*args, **kwargs)
+    except UndefinedIntegral as e:
+        raise ExactUndefined(f"undefined: {e.reason}", e.reason) from e
+    except (NotImplementedError, TypeError, ValueError, ZeroDivisionError, ArithmeticError, TimeoutError) as e:
+        reason = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise ExactUnavailable(f"symbolic engine: {reason}", reason) from e
+
+
+def exact_eval(program: Program, params: Mapping[str, float | object]) -> dict:
+    """⟦p⟧ at ``params``: ``{"value", "expr", "method", "error" (quadrature only), "notes"}``."""
+    return _integral_fields(_guard(denote_program, program, dict(params)))
+
+
+def exact_deriv(program: Program, params: Mapping[str, float | object], direction: Mapping[str, float | object],
+                *, check: bool = True) -> dict:
+    """⦇p⦈ at ``params`` in the direction γ' = ``direction`` (``--wrt a`` is ``{"a": 1}``).
+
+    Returns ``{"value", "regular", "boundary", "expr", "method", "error" (quadrature only),
+    "notes", "standard_ad", "theorem_8_1"}``; ``regular + boundary = value`` and
+    ``standard_ad = regular``; ``theorem_8_1`` is :func:`~langur.theorem.check_theorem_8_1`'s
+    dict (None when ``check`` is false or the check itself cannot be computed).
+    """
+    params, direction = dict(params), dict(direction)
+    res = _guard(ddenote_program, program, params, direction)
+    out = {"value": _number(res.value), "regular": _number(res.regular.value),
+           "boundary": _number(res.boundary.value), "expr": _expr_text(res.expr), "method": res.method}
+    if res.method != Method.CLOSED_FORM:
+        out["error"] = _number(res.error)
+    out["notes"] = list(res.notes)
+    out["standard_ad"] = _number(res.standard_ad)
+    theorem = None
+    if check:
+        try:
+            theorem = check_theorem_8_1(program, params, direction, derivative=res)
+        except ExactUnavailable:
+            raise
+        except Exception as e:  # noqa: BLE001 - the check is a report, not a reason to lose the derivative
+            out["notes"].append(f"Theorem 8.1 check not computed: {str(e).splitlines()[0] if str(e) else e!r}")
+    if theorem is not None:
+        theorem = {**theorem, "d_denotation": _number(theorem["d_denotation"]),
+                   "derivative_denotation": _number(theorem["derivative_denotation"])}
+    out["theorem_8_1"] = theorem
+    return out
+
+
+def _box_text(program, latex: bool) -> str:
+    parts = []
+    for x, (lo, hi) in zip(program.variables, program.box):
+        lo_s, hi_s = expr_text(denote(lo), latex), expr_text(denote(hi), latex)
+        parts.append(f"{x} \\in [{lo_s}, {hi_s}]" if latex else f"{x} in [{lo_s}, {hi_s}]")
+    return ", ".join(parts)
+
+
+def _evaluated(fn, *args, undefined: list[str] | None = None):
+    """``(fn(*args), None)``, or ``(None, reason)`` when the integral does not exist (then the
+    reason is also appended to ``undefined``) or the engine cannot evaluate it."""
+    try:
+        return _guard(fn, *args), None
+    except ExactUndefined as e:
+        if undefined is not None:
+            undefined.append(e.reason)
+        return None, str(e)
+    except ExactUnavailable as e:
+        return None, f"no exact value: {e.reason}"
+
+
+def show_denotation(program, latex: bool = False, params: Mapping[str, object] | None = None, *,
+                    undefined: list[str] | None = None, known_undefined: str | None = None) -> str:
+    """⟦p⟧ = ∫ ⟦t⟧ d(x⃗) over the box, then its closed form at ``params`` when found.  When the
+    integral does not exist the value line says so, and the reason is appended to ``undefined``;
+    ``known_undefined`` (a reason found before) skips the evaluation."""
+    at = params
+    integrand = expr_text(denote(program.body), latex)
+    xs = ", ".join(program.variables)
+    if latex:
+        lines = [f"[\\![p]\\!] = \\int_{{{_box_text(program, True)}}} {integrand} \\, d({xs})"]
+    else:
+        lines = [f"⟦p⟧ = int_{{{_box_text(program, False)}}} {integrand} d({xs})"]
+    if at is not None:
+        r, why = (None, f"undefined: {known_undefined}") if known_undefined else \
+            _evaluated(denote_program, program, at, undefined=undefined)
+        if r is None:
+            lines.append(("  " if not latex else "") + f"value at {_at_text(at)}: {why}")
+            return ("\\\\\n" if latex else "\n").join(lines)
+        if r.expr is not None and r.method == Method.CLOSED_FORM:
+            lines.append("= " + expr_text(r.expr, latex))
+        lines.append(("  " if not latex else "") + f"value at {_at_text(at)}: {r.value:.12g}"
+                     + ("" if r.method == Method.CLOSED_FORM else f" ± {r.error:.2g} (quadrature)"))
+        lines += [f"  note: {n}" for n in r.notes] if not latex else []
+    return ("\\\\\n" if latex else "\n").join(lines)
+
+
+def _at_text(at: Mapping[str, object]) -> str:
+    return ", ".join(f"{k} = {v}" for k, v in at.items()) or "(no parameters)"
+
+
+def show_derivative(program, direction: Mapping[str, object], latex: bool = False,
+                    params: Mapping[str, object] | None = None, *, undefined: list[str] | None = None,
+                    known_undefined: str | None = None) -> str:
+    """⦇p⦈ in the normal form of Theorem 7.1: regular part, then each delta term with its Ψ̂.
+
+    With ``params``, variable-free conditionals are decided there and the value is appended (or
+    why there is none; a reason the integral does not exist is also appended to ``undefined``).
+    """
+    at = params
+    nf = ddenote(program.body, direction, at=at, variables=tuple(program.variables))
+    xs = ", ".join(program.variables)
+    nl = "\\\\\n" if latex else "\n"
+    gp = ", ".join(f"{expr_text(symbol(k), latex)}' = {expr_text(exact_number(v), latex)}" for k, v in direction.items())
+    lines = []
+    if latex:
+        lines.append(f"(\\!|p|\\!) = \\int f \\, d({xs}) + \\sum_k \\int \\delta(\\Phi_k)\\, h_k \\, d({xs})"
+                     f" \\quad ({gp})")
+        lines.append(f"f = {pieces_text(nf.regular, True)}")
+    else:
+        lines.append(f"⦇p⦈ = ∫ f d({xs}) + Σ_k ∫ δ(Φ_k)·h_k d({xs})   with γ': {gp}")
+        lines.append(f"regular part f = {pieces_text(nf.regular)}")
+    if not nf.deltas:
+        lines.append("no delta terms" if not latex else "\\text{no delta terms}")
+    for k, d in enumerate(nf.deltas, 1):
+        if latex:
+            lines.append(f"\\text{{delta term {k}: }} {delta_text(d, True)}")
+        else:
+            lines.append(f"delta term {k}: {delta_text(d)}")
+            lines.append(f"    Φ = {expr_text(d.psi.forward[0], False)};  h = {product_text(d.conditions, d.weight)}")
+        lines += [("    " if not latex else "\\quad ") + s for s in psi_text(d.psi, latex)]
+    if at is not None:
+        res, why = (None, f"undefined: {known_undefined}") if known_undefined else \
+            _evaluated(ddenote_program, program, at, direction, undefined=undefined)
+        if res is None:
+            lines.append(f"value at {_at_text(at)}: {why}" if not latex else f"\\text{{{why}}}")
+            return nl.join(lines)
+        tail = (f"value at {_at_text(at)}: {derivative_result_text(res, latex)}"
+                f"  (regular {res.regular.value:.12g}, boundary {res.boundary.value:.12g})")
+        lines.append(tail if not latex else f"\\text{{{_at_text(at)}: }} {derivative_result_text(res, True)}")
+    return nl.join(lines)

@@ -1,0 +1,93 @@
+"""Text and LaTeX of the exact engine's objects: Iverson products, Ψ̂ with its inverse branches,
+delta terms, ⦇t⦈ in the normal form of Theorem 7.1 (Eq. 9), derivative results.
+
+Pure formatting (sympy's ``sstr`` and ``latex``): what ``langur show`` prints is assembled from
+these by :mod:`langur.exact`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import sympy as sp
+
+from .pieces import Condition, DeltaPiece, Method, Piece, Psi
+
+
+def expr_text(e: sp.Expr, latex: bool = False) -> str:
+    return sp.latex(e) if latex else sp.sstr(e)
+
+
+def condition_text(c: Condition, latex: bool = False) -> str:
+    """``[Φ >= 0]``, or ``[Φ > 0]`` for a strict condition (the complement of a non-strict one)."""
+    relation = (">" if c.strict else "\\geq") if latex else (">" if c.strict else ">=")
+    return f"[{expr_text(c.expr, latex)} {relation} 0]"
+
+
+def _factor(weight: sp.Expr, latex: bool) -> str:
+    s = expr_text(weight, latex)
+    if isinstance(weight, sp.Add):
+        return f"\\left({s}\\right)" if latex else f"({s})"
+    return s
+
+
+def product_text(conditions: Sequence[Condition], weight: sp.Expr, latex: bool = False,
+                 lead: str = "") -> str:
+    """``c·lead·[Φ1 >= 0]·[Φ2 >= 0]·(g)`` with the rational coefficient c of the weight in front."""
+    dot = " \\cdot " if latex else "·"
+    coeff, rest = sp.sympify(weight).as_coeff_Mul()
+    parts = ([lead] if lead else []) + [condition_text(c, latex) for c in conditions]
+    if rest != 1 or not parts:
+        parts.append(_factor(rest, latex))
+    text = dot.join(parts)
+    if coeff == 1:
+        return text
+    if coeff == -1:
+        return "-" + text
+    return expr_text(coeff, latex) + dot + text
+
+
+def pieces_text(pieces: Sequence[Piece], latex: bool = False) -> str:
+    if not pieces:
+        return "0"
+    return " + ".join(product_text(p.conditions, p.weight, latex) for p in pieces)
+
+
+def psi_text(psi: Psi, latex: bool = False) -> list[str]:
+    """Ψ̂ and its inverse branches, e.g. ``Ψ̂(x) = (theta - x); x = theta - u0``."""
+    ins = ", ".join(expr_text(u, latex) for u in psi.inputs)
+    vs = ", ".join(expr_text(v, latex) for v in psi.variables)
+    fwd = ", ".join(expr_text(f, latex) for f in psi.forward)
+    head = (f"\\hat\\Psi({vs}) = ({fwd})" if latex else f"Psi({vs}) = ({fwd})")
+    lines = [head]
+    for i, b in enumerate(psi.branches):
+        inv = ", ".join(f"{expr_text(v, latex)} = {expr_text(e, latex)}" for v, e in b.inverse)
+        guard = ""
+        if b.guards:
+            sep = " \\wedge " if latex else " and "
+            ge = " \\geq 0" if latex else " >= 0"
+            guard = (" \\text{ where } " if latex else " where ") + sep.join(expr_text(g, latex) + ge for g in b.guards)
+        label = f"\\text{{branch {i + 1} in }} ({ins})" if latex else f"inverse branch {i + 1} in ({ins})"
+        lines.append(f"{label}: {inv}{guard}")
+    return lines
+
+
+def delta_text(d: DeltaPiece, latex: bool = False) -> str:
+    phi = expr_text(d.psi.forward[0], latex)
+    lead = f"\\delta\\left({phi}\\right)" if latex else f"δ({phi})"
+    return product_text(d.conditions, d.weight, latex, lead=lead)
+
+
+def normal_form_text(nf, latex: bool = False) -> str:
+    """⦇t⦈ = f + Σ δ(Φ)·h on one line."""
+    parts = [pieces_text(nf.regular, latex)] if nf.regular else []
+    parts += [delta_text(d, latex) for d in nf.deltas]
+    return " + ".join(parts) if parts else "0"
+
+
+def derivative_result_text(res, latex: bool = False) -> str:
+    value = f"{res.value:.12g}" + ("" if res.method == Method.CLOSED_FORM else f" ± {res.error:.2g}")
+    if res.expr is not None:
+        body = expr_text(res.expr, latex)
+        return f"{body} = {value}" if not latex else f"{body} \\approx {value}"
+    return value

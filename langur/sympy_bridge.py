@@ -1,0 +1,242 @@
+"""Core terms ↔ sympy: the one ⟦·⟧ of Fig. 7 in sympy, under every sympy-using layer.
+
+The front end (diffeomorphism completion, LANGUAGE.md §6), the exact engine and the linter read
+core terms as sympy expressions through this module; the Monte Carlo engine never imports it.
+
+* :func:`denote` is ⟦t⟧ (Fig. 7) as a sympy expression over one real symbol per name: conditionals
+  become ``Piecewise`` (never ``Heaviside``), primitives the sympy functions their registry entries
+  name (:mod:`langur.primitives`), ``pi`` is ``sp.pi``, ``let`` substitutes ⟦bound⟧.
+  :func:`to_sympy` is ⟦t⟧ of a smooth term (no conditional, no call), :class:`NotSmooth` else.
+* :func:`from_sympy` maps such an expression back to a core term; ``Pow(b, 1/2)`` becomes
+  ``Prim('sqrt', b)``.  Sympy keeps its arguments in a canonical order, so the same expression
+  always gives the same term (the completion of a condition is deterministic).
+* :func:`symbol`, :func:`const_expr`, :func:`exact_number`, :func:`at_symbols`: names and numbers.
+* :func:`time_limited` runs a sympy call under a wall-clock limit (``langur.timebox``).
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+import threading
+from collections.abc import Callable, Iterable, Mapping
+from fractions import Fraction
+from functools import cache
+from types import MappingProxyType
+from typing import TypeVar
+
+import sympy as sp
+
+from .core import (
+    PI,
+    Add,
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Term,
+    Var,
+    shared,
+    smooth,
+    subterms,
+)
+from .primitives import REGISTRY
+from .timebox import run_with_timeout
+
+T = TypeVar("T")
+
+
+class NotSmooth(Exception):
+    """The term has a conditional or a call: it is not a smooth function we can hand to sympy."""
+
+
+class SympyTimeout(Exception):
+    """A sympy computation exceeded its time limit."""
+
+
+#: f ↦ its sympy function, for every primitive of the registry.
+FUNCTIONS: dict[str, Callable[[sp.Expr], sp.Expr]] = {p.name: getattr(sp, p.sympy) for p in REGISTRY.values()}
+#: sympy function ↦ the primitive's name.
+PRIMITIVE_OF: dict[type, str] = {f: name for name, f in FUNCTIONS.items()}
+
+
+@cache
+def symbol(name: str) -> sp.Symbol:
+    """The real sympy symbol of a variable, parameter or diffeo input: same name, same symbol."""
+    return sp.Symbol(name, real=True)
+
+
+def symbols(names: Iterable[str]) -> tuple[sp.Symbol, ...]:
+    return tuple(symbol(n) for n in names)
+
+
+def const_expr(value: Fraction | str) -> sp.Expr:
+    """A core constant: an exact rational, or π."""
+    if value == PI:
+        return sp.pi
+    f = Fraction(value)
+    return sp.Rational(f.numerator, f.denominator)
+
+
+def exact_number(v) -> sp.Expr:
+    """A parameter value as sympy: Fractions, ints and decimal floats become exact Rationals
+    (``0.5`` → 1/2, ``0.1`` → 1/10 as typed); non-finite floats stay floats."""
+    if isinstance(v, sp.Basic):
+        return v
+    if isinstance(v, Fraction):
+        return sp.Rational(v.numerator, v.denominator)
+    if isinstance(v, bool):
+        return sp.Integer(int(v))
+    if isinstance(v, int):
+        return sp.Integer(v)
+    if isinstance(v, float):
+        return sp.Rational(repr(v)) if math.isfinite(v) else sp.Float(v)
+    return sp.sympify(v)
+
+
+def at_symbols(at: Mapping[str, object] | None) -> dict[sp.Symbol, sp.Expr]:
+    """``{"theta": 0.5}`` → ``{theta: 1/2}`` (symbols and exact numbers)."""
+    return {symbol(k): exact_number(v) for k, v in (at or {}).items()}
+
+
+def derivative_function(op: str) -> Callable[[sp.Expr], sp.Expr]:
+    """f' as a sympy function, for the chain rule (LANGUAGE.md §1)."""
+    y = sp.Dummy("y", real=True)
+    d = sp.diff(FUNCTIONS[op](y), y)
+    return lambda w: d.xreplace({y: w})
+
+
+_NO_ENV: Mapping[str, sp.Expr] = MappingProxyType({})
+
+
+@shared
+def denote(t: Term, env: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
+    """⟦t⟧ (Fig. 7) as a sympy expression; ``env`` maps names (let-bound parameters, or variables
+    and parameters to replace) to expressions used instead of their symbols."""
+    env = _NO_ENV if env is None else env  # the same object down the term: memoized per node
+    match t:
+        case Const(value):  # Fig. 7, constant: ⟦c⟧ = c
+            return const_expr(value)
+        case Var(name):  # Fig. 7, variable: ⟦x⟧(ρ, γ) = ρ(x)
+            return env.get(name, symbol(name))
+        case Param(name):  # Fig. 7, parameter: ⟦z⟧(ρ, γ) = γ(z)
+            return env.get(name, symbol(name))
+        case Add(a, b):  # Fig. 7, sum
+            return denote(a, env) + denote(b, env)
+        case Mul(a, b):  # Fig. 7, product
+            return denote(a, env) * denote(b, env)
+        case Prim(op, a):  # LANGUAGE.md §1, smooth primitive f(t)
+            return FUNCTIONS[op](denote(a, env))
+        case Pow(a, k):  # LANGUAGE.md §1, constant power t ^ k
+            return denote(a, env) ** const_expr(k)
+        case IfGe0(c, a, b):  # Fig. 7, conditional: ⟦s⟧ if ⟦t⟧(·, γ) ≥ 0 else ⟦r⟧
+            return sp.Piecewise((denote(a, env), denote(c, env) >= 0), (denote(b, env), True))
+        case IfDiffeo(psi, a, b):  # Fig. 7, diffeomorphic conditional: ⟦s⟧ if π₀Ψ̂(ρ, γ) ≥ 0 else ⟦r⟧
+            return sp.Piecewise((denote(a, env), denote(psi.forward[0], env) >= 0), (denote(b, env), True))
+        case Let(name, bound, body):  # Fig. 7, let: ⟦s⟧(ρ, γ[z ↦ ⟦t⟧(·, γ)])
+            return denote(body, {**env, name: denote(bound, env)})
+        case Call(module, name, _):
+            raise TypeError(f"call of {module}.{name} left in a core term: inline it first")
+    raise TypeError(f"not a core term: {t!r}")
+
+
+def to_sympy(t: Term, env: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
+    """⟦t⟧ of the smooth core term ``t`` (no conditional, no call); ``env`` as in :func:`denote`.
+    Raises :class:`NotSmooth` on conditionals and calls."""
+    if not smooth(t):
+        raise NotSmooth("a call" if any(isinstance(u, Call) for u in subterms(t)) else "a conditional")
+    return denote(t, dict(env or {}))
+
+
+def from_sympy(expr: sp.Expr, variables: Iterable[str], params: Iterable[str] = ()) -> Term:
+    """The sympy expression ``expr`` as a core term: symbols named in ``variables`` become ``Var``,
+    those in ``params`` become ``Param``.  Raises ``ValueError`` on anything not expressible
+    (complex numbers, infinities, unknown functions, symbols not listed)."""
+    vs, ps = set(variables), set(params)
+
+    def go(e: sp.Expr) -> Term:
+        if e is sp.pi:
+            return Const(PI)
+        if e.is_Rational:
+            return Const(Fraction(int(e.p), int(e.q)))
+        if e is sp.E:
+            return Prim("exp", Const(Fraction(1)))
+        if e.is_Symbol:
+            if e.name in vs:
+                return Var(e.name)
+            if e.name in ps:
+                return Param(e.name)
+            raise ValueError(f"unexpected symbol {e.name}")
+        if e.is_Add:
+            return _fold(Add, [go(a) for a in e.args])
+        if e.is_Mul:
+            return _fold(Mul, [go(a) for a in e.args])
+        if e.is_Pow:
+            base, ex = e.args
+            if not ex.is_Rational:
+                if ex.is_Symbol or ex.free_symbols:
+                    raise ValueError(f"non-constant exponent in {e}")
+                raise ValueError(f"irrational exponent in {e}")
+            k = Fraction(int(ex.p), int(ex.q))
+            if base is sp.E:
+                return Prim("exp", Const(k))
+            if k == Fraction(1, 2):
+                return Prim("sqrt", go(base))
+            if k == Fraction(-1, 2):
+                return Pow(Prim("sqrt", go(base)), Fraction(-1))
+            return Pow(go(base), k)
+        if isinstance(e, sp.Abs):  # |t| = sqrt(t^2), as sympy writes sqrt(u^2) for real u
+            return Prim("sqrt", Pow(go(e.args[0]), Fraction(2)))
+        op = PRIMITIVE_OF.get(type(e)) or PRIMITIVE_OF.get(e.func)
+        if op is not None and len(e.args) == 1:
+            return Prim(op, go(e.args[0]))
+        raise ValueError(f"cannot express {e} in the core language")
+
+    return go(sp.sympify(expr))
+
+
+def _fold(node, parts: list[Term]) -> Term:
+    out = parts[0]
+    for p in parts[1:]:
+        out = node(out, p)
+    return out
+
+
+def lambdify(t: Term, names: list[str]):
+    """A numpy function of ``names`` (positional) evaluating the smooth term ``t`` (tests, checks)."""
+    return sp.lambdify([symbol(n) for n in names], to_sympy(t), modules="numpy")
+
+
+def time_limited(f: Callable[[], T], seconds: float) -> T:
+    """``f()`` if it finishes within ``seconds``, else :class:`SympyTimeout`.
+
+    In the main thread this is ``langur.timebox.run_with_timeout`` (an interval timer
+    that nests correctly with the symbolic engine's own limits); elsewhere ``f`` runs in a daemon
+    thread that is abandoned on timeout (it cannot be interrupted, but it never blocks exit).
+    """
+    if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
+        try:
+            return run_with_timeout(f, seconds)
+        except TimeoutError:
+            raise SympyTimeout(f"sympy took longer than {seconds}s") from None
+    box: dict[str, object] = {}
+
+    def run():
+        try:
+            box["value"] = f()
+        except BaseException as e:  # noqa: BLE001 - re-raised in the caller's thread
+            box["error"] = e
+
+    th = threading.Thread(target=run, daemon=True)
+    th.start()
+    th.join(seconds)
+    if th.is_alive():
+        raise SympyTimeout(f"sympy took longer than {seconds}s")
+    if "error" in box:
+        raise box["error"]  # type: ignore[misc]
+    return box["value"]  # type: ignore[return-value]
