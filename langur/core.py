@@ -193,18 +193,62 @@ class Diffeo:
 
 
 @dataclass(frozen=True)
-class Program:
-    """``int body d(variables)`` (Fig. 11).
+class Interval:
+    """One interval ``[lo, hi]`` of a program's domain ``int ([l1, u1], …) t d(x⃗)`` (LANGUAGE.md §6).
 
-    ``box`` is a bounding box outside of which ``body`` vanishes: one ``(lo, hi)`` pair of
-    variable-free terms per variable, in order (from the domain, or from bounding indicators).
-    It is what makes the integrand compactly supported (Prop. 8.1) and where samplers sample.
+    ``lo`` and ``hi`` are variable-free terms (parameters allowed); ``lower`` and ``upper`` are the
+    diffeomorphisms of the conditions ``x − lo ≥ 0`` and ``hi − x ≥ 0`` as the front end completed
+    them, whose indicators multiply the integrand (§6 sugar, §8.3); ``span`` is the interval's text.
     """
 
-    body: "Term"
+    variable: str
+    lo: "Term"
+    hi: "Term"
+    lower: Diffeo
+    upper: Diffeo
+    span: Span | None = _span()
+
+    def indicators(self, span: Span | None = None) -> tuple["Term", "Term"]:
+        """``[x − lo ≥ 0]`` and ``[hi − x ≥ 0]``."""
+        one, zero = Const(Fraction(1)), Const(Fraction(0))
+        return IfDiffeo(self.lower, one, zero, span=span), IfDiffeo(self.upper, one, zero, span=span)
+
+
+@dataclass(frozen=True)
+class Program:
+    """``int domain? integrand d(variables)`` (Fig. 11).
+
+    ``domain``: the declared intervals, one per variable in order, or ``()`` when the program has
+    none (then ``integrand`` bounds itself with indicator factors, Prop. 8.1).  ``box`` is a
+    bounding box outside of which the integrand vanishes: one ``(lo, hi)`` pair of variable-free
+    terms per variable (the domain, or read off the bounding indicators); it is what makes the
+    integrand compactly supported (Prop. 8.1) and where samplers sample.  ``body`` is the term the
+    semantics integrate: the domain's indicators times the integrand (§6 sugar).
+    """
+
+    integrand: "Term"
     variables: tuple[str, ...]
     box: tuple[tuple["Term", "Term"], ...]
+    domain: tuple[Interval, ...] = ()
     span: Span | None = _span()
+
+    @functools.cached_property
+    def body(self) -> "Term":
+        """``[x1 ≥ l1]·[u1 ≥ x1]·…·integrand`` (the domain's indicators first, in order)."""
+        if not self.domain:
+            return self.integrand
+        factors = [ind for iv in self.domain for ind in iv.indicators(self.span)]
+        out = factors[0]
+        for f in factors[1:]:
+            out = Mul(out, f, span=self.span)
+        return Mul(out, self.integrand, span=self.span)
+
+    def with_body(self, body: "Term") -> "Program":
+        """This program integrating ``body`` instead (a rewrite of :attr:`body`): the domain stays when
+        ``body`` is still its indicators times an integrand, else it is dropped (the box stays)."""
+        if self.domain and isinstance(body, Mul) and body.left == self.body.left:
+            return replace(self, integrand=body.right)
+        return replace(self, integrand=body, domain=())
 
 
 # Terms are shared after inlining (a definition called twice is one subterm reached twice, §9): a
@@ -270,7 +314,7 @@ def _sharing(cls):
 REPR_LIMIT = 10_000
 _TERMS = (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call)
 
-for _cls in (*_TERMS, InverseBranch, Diffeo, Program):
+for _cls in (*_TERMS, InverseBranch, Diffeo, Interval, Program):
     _sharing(_cls)
 
 

@@ -62,7 +62,6 @@ from .lint.emptydomain import empty_domain_findings
 from .lint.findings import Finding
 from .lint.geometry import span_key
 from .syntax.inline import inline
-from .syntax.parser import parse_module
 
 __all__ = [
     "BUDGET",
@@ -101,7 +100,7 @@ def check_loaded(
         loaded.params,
         at=at,
         sources=sources,
-        domain_spans=_domain_spans(loaded, sources),
+        domain_spans=_domain_spans(loaded.program),
         sites=call_sites(loaded),
     )
 
@@ -132,21 +131,14 @@ def check_library(loaded, *, sources: Mapping[str, str] | None = None) -> list[F
     return _dedupe(out)
 
 
-def _domain_spans(loaded, sources) -> dict[tuple[int, int], Span]:
-    text = sources.get(loaded.main.path)
-    if text is None:
-        return {}
-    try:
-        surface = parse_module(text, loaded.main.path)
-    except LangurError:
-        return {}
+def _domain_spans(program: Program) -> dict[tuple[int, int], Span]:
+    """``(variable index, 0 lower / 1 upper) → span`` of the declared domain's bounds."""
     out = {}
-    if surface.program is not None and surface.program.domain:
-        for i, iv in enumerate(surface.program.domain):
-            for k, end in enumerate((iv.lo, iv.hi)):
-                span = getattr(end, "span", None) or iv.span
-                if span is not None:
-                    out[(i, k)] = span
+    for i, iv in enumerate(program.domain):
+        for k, end in enumerate((iv.lo, iv.hi)):
+            span = end.span or iv.span
+            if span is not None:
+                out[(i, k)] = span
     return out
 
 

@@ -263,6 +263,14 @@ def _factors(t: Term) -> list[Term]:
 MAX_SITE_VISITS = 200_000
 
 
+def _bound_text(x: str, k: int, end: Term) -> str | None:
+    """``x >= lo`` or ``x <= hi``, the bound as the linter's messages name it."""
+    try:
+        return f"{x} {'>=' if k == 0 else '<='} {sp.sstr(to_sympy(end))}"
+    except (NotSmooth, KeyError):
+        return None
+
+
 def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] | None = None) -> Collected:
     """The conditions of ``program`` and the products they form (see the module docstring).
 
@@ -277,25 +285,26 @@ def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] 
     ):
         for (_, stack), o in zip(sites, c.occurrences):
             o.sites = stack
-    # The domain's bounds are the leading factors [x ≥ lo]·[hi ≥ x] of the body (§6, §8.3).
-    bounds = {}
-    for i, (x, (lo, hi)) in enumerate(zip(program.variables, program.box)):
-        xs = symbol(x)
-        try:
-            bounds[x] = (
-                (xs - to_sympy(lo), f"{x} >= {sp.sstr(to_sympy(lo))}", (i, 0)),
-                (to_sympy(hi) - xs, f"{x} <= {sp.sstr(to_sympy(hi))}", (i, 1)),
-            )
-        except (NotSmooth, KeyError):  # a bound that is not a smooth term: nothing to label
-            continue
-    n_top = 0
-    for fac in _factors(program.body):
-        if not isinstance(fac, IfDiffeo):
-            break
-        n_top += 1
-    for occ in c.occurrences[:n_top]:
-        for pair in bounds.values():
-            for expr, text, at in pair:
+    # The domain's bounds [x ≥ lo]·[hi ≥ x] are the body's first conditions (Program.body, §6, §8.3).
+    bounds = [(i, k, x, end) for i, (x, (lo, hi)) in enumerate(zip(program.variables, program.box))
+              for k, end in enumerate((lo, hi))]
+    if program.domain:
+        for occ, (i, k, x, end) in zip(c.occurrences, bounds):
+            text = _bound_text(x, k, end)
+            if text is not None:  # a bound that is not a smooth term: nothing to label
+                occ.bound, occ.bound_at = text, (i, k)
+    else:  # a box read off the integrand's own bounding indicators: label the factors it came from
+        n_top = 0
+        for fac in _factors(program.body):
+            if not isinstance(fac, IfDiffeo):
+                break
+            n_top += 1
+        for i, k, x, end in bounds:
+            try:
+                expr = symbol(x) - to_sympy(end) if k == 0 else to_sympy(end) - symbol(x)
+            except (NotSmooth, KeyError):  # a bound that is not a smooth term: nothing to label
+                continue
+            for occ in c.occurrences[:n_top]:
                 if occ.bound is None and sp.expand(occ.f - expr) == 0:
-                    occ.bound, occ.bound_at = text, at
+                    occ.bound, occ.bound_at = _bound_text(x, k, end), (i, k)
     return Collected(c.occurrences, prods, tuple(program.variables), c.truncated)

@@ -149,7 +149,7 @@ class _Rewriter:
                     return self.done(t, tidy(self.collapse(self.push(lambda u: Pow(u, k), self.hoist(a2, env)),
                                                             env, {})))
                 return replace(t, base=a2)
-            case IfGe0(c, s, r):
+            case IfGe0(_, s, r):
                 # Fig. 6, conditional on a variable-free condition: no delta, the branches are rewritten
                 return replace(t, then=self.go(s, env), orelse=self.go(r, env))
             case IfDiffeo(_, s, r):
@@ -201,7 +201,7 @@ class _Rewriter:
                 return replace(t, body=b2)
             case IfDiffeo(_, s, r) if self.jumps(t, env):
                 return replace(t, then=self.hoist(s, env), orelse=self.hoist(r, env))
-            case IfGe0(c, s, r):
+            case IfGe0(_, s, r):
                 return replace(t, then=self.hoist(s, env), orelse=self.hoist(r, env))
         return t
 
@@ -304,4 +304,4 @@ def transverse(program: Program) -> Rewritten:
     """The §7.3.2 rewrite of a pure core program (see the module docstring)."""
     rw = _Rewriter(tuple(program.variables))
     body = rw.go(program.body, {})
-    return Rewritten(replace(program, body=body), rw.replaced, list(dict.fromkeys(rw.left)))
+    return Rewritten(program.with_body(body), rw.replaced, list(dict.fromkeys(rw.left)))

@@ -15,7 +15,7 @@ from dataclasses import fields, replace
 from fractions import Fraction
 
 from .. import typesys as ty
-from ..core import Call, Const, Diffeo, IfDiffeo, Mul, Program, Var, sub, subterms
+from ..core import Call, Diffeo, Interval, Program, Var, sub, subterms
 from ..diagnostics import Diagnostic, Span
 from ..modules import CoreDef, ElaboratedModule
 from .desugar import RESERVED, DefSig, Desugarer, DiffeoSig, Env, Scope, is_smooth
@@ -227,7 +227,7 @@ def _check_recursion(module: str, defs: dict[str, CoreDef], errors) -> None:
 
 
 def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) -> Program | None:
-    """``int domain? t d(x⃗)``: the body with the domain's indicators, and the box (§8.3)."""
+    """``int domain? t d(x⃗)``: the integrand, the domain as data, and the box (§8.3)."""
     variables: list[str] = []
     seen: dict[str, Span | None] = {}
     n_err = len(errors)
@@ -243,6 +243,7 @@ def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) 
         variables.append(v.name)
     xs = tuple(variables)
     box = None
+    domain: list[Interval] = []
     if p.domain is not None:
         if len(p.domain) != len(xs):
             errors.append(ty.diag(p.domain[0].span if p.domain else p.span, "T203",
@@ -268,21 +269,14 @@ def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) 
             del errors[n_body:]  # a periodic condition may need the box: desugar again with it
             body = ds.term(p.body, replace(sc, box=nb))
     else:
-        # int ([l1, u1], …) t d(x⃗)  is  int [x1 ≥ l1]·[u1 ≥ x1]·…·t d(x⃗)
-        indicators = []
-        for x, (lo, hi) in zip(xs, box):
-            for cond in (sub(Var(x), lo), sub(hi, Var(x))):
-                try:
-                    psi = complete(cond, xs, sc.box)
-                except CompletionError as e:  # cannot happen for an affine condition; be safe
-                    errors.append(ty.reject_condition(p.span, str(e)))
-                    return None
-                indicators.append(IfDiffeo(psi, Const(Fraction(1)), Const(Fraction(0)), span=p.span))
-        out = indicators[0]
-        for f in indicators[1:]:
-            out = Mul(out, f, span=p.span)
-        body = Mul(out, body, span=p.span)
-    if len(errors) > n_err:
-        return None
-    return Program(body=body, variables=xs, box=box, span=p.span)
+        # int ([l1, u1], …) t d(x⃗)  is  int [x1 ≥ l1]·[u1 ≥ x1]·…·t d(x⃗): the domain is kept as
+        # data, its conditions completed here; Program.body builds the indicators
+        for x, (lo, hi), iv in zip(xs, box, p.domain):
+            try:
+                lower, upper = (complete(cond, xs, sc.box) for cond in (sub(Var(x), lo), sub(hi, Var(x))))
+            except CompletionError as e:  # cannot happen for an affine condition; be safe
+                errors.append(ty.reject_condition(p.span, str(e)))
+                return None
+            domain.append(Interval(x, lo, hi, lower, upper, span=iv.span))
+    return Program(integrand=body, variables=xs, box=box, domain=tuple(domain), span=p.span)
 

@@ -65,13 +65,13 @@ def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program
             raise LangurError([too_large])
         inl = _Inliner(lambda m, n: modules[m].defs[n], program.variables,
                        numeric_box(program.variables, program.box))
-        body = inl.expand(program.body, ())
+        integrand = inl.expand(program.integrand, ())  # the domain's bounds call nothing
     except RecursionError:  # calls through thousands of definitions that each add no depth
         raise LangurError([ty.reject_too_large(program.span, "its calls go through too many definitions, "
                                                "one inside the next, to be inlined")]) from None
     if inl.errors:
         raise LangurError(inl.errors)
-    return replace(program, body=body)
+    return replace(program, integrand=integrand)
 
 
 def expand_calls(t: Term, lookup, variables: tuple[str, ...], box) -> tuple[Term, list[Diagnostic]]:
