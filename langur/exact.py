@@ -19,17 +19,18 @@ on part of the domain).
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 import sympy as sp
 
 from .core import Program
 from .ddenote import ddenote, ddenote_program
 from .denote import denote, denote_program
-from .symbolic.pieces import Integral, Method
+from .symbolic.pieces import Method
 from .symbolic.quadrature import UndefinedIntegral, printable
 from .symbolic.text import delta_text, derivative_result_text, expr_text, pieces_text, product_text, psi_text
 from .sympy_bridge import exact_number, symbol
-from .theorem import check_theorem_8_1
+from .theorem import TheoremCheck, check_theorem_8_1
 
 
 class ExactUnavailable(Exception):
@@ -46,12 +47,6 @@ class ExactUndefined(ExactUnavailable):
     domain): an answer about the program, not a failure of the engine."""
 
 
-def _number(v) -> float:
-    """A plain float (NaN and infinities included, as the operational API returns them; the CLI
-    writes them as CLI.md's strings ``"nan"``, ``"inf"``, ``"-inf"``)."""
-    return float(v)
-
-
 def _expr_text(e: sp.Expr | None) -> str | None:
     """The closed form as text; a rational of more than about 1,200 digits (Python refuses to
     print more than 4300) is written as a 30-digit float, and the text says so."""
@@ -60,14 +55,6 @@ def _expr_text(e: sp.Expr | None) -> str | None:
     shown = printable(e)
     return sp.sstr(shown) + ("   [numbers of more than 1,200 digits rounded to 30 digits in this text]"
                              if shown != e else "")
-
-
-def _integral_fields(r: Integral) -> dict:
-    out = {"value": _number(r.value), "expr": _expr_text(r.expr), "method": r.method}
-    if r.method != Method.CLOSED_FORM:
-        out["error"] = _number(r.error)
-    out["notes"] = list(r.notes)
-    return out
 
 
 def _guard(fn, *args, **kwargs):
@@ -80,41 +67,77 @@ def _guard(fn, *args, **kwargs):
         raise ExactUnavailable(f"symbolic engine: {reason}", reason) from e
 
 
-def exact_eval(program: Program, params: Mapping[str, float | object]) -> dict:
-    """⟦p⟧ at ``params``: ``{"value", "expr", "method", "error" (quadrature only), "notes"}``."""
-    return _integral_fields(_guard(denote_program, program, dict(params)))
+@dataclass(frozen=True)
+class ExactValue:
+    """⟦p⟧ at the parameters: ``expr`` the closed form as text (None: quadrature only), ``error``
+    a bound on |value − ⟦p⟧| for quadrature (None for a closed form)."""
+
+    value: float
+    expr: str | None
+    method: Method
+    error: float | None
+    notes: list[str]
+
+    @classmethod
+    def of(cls, r) -> ExactValue:
+        """From an exact-engine result (an Integral or a DerivativeResult)."""
+        return cls(float(r.value), _expr_text(r.expr), r.method,
+                   None if r.method == Method.CLOSED_FORM else float(r.error), list(r.notes))
+
+    def how(self) -> str:
+        """How the value was obtained, for the text output."""
+        if self.method == Method.CLOSED_FORM:
+            return "closed form"
+        return f"quadrature, error ≤ {self.error:.3g}" if self.error is not None else "quadrature"
+
+    def to_json(self) -> dict:
+        """The ``exact`` object of ``langur eval --json`` (CLI.md)."""
+        out = {"value": self.value, "expr": self.expr, "method": self.method}
+        if self.error is not None:
+            out["error"] = self.error
+        out["notes"] = list(self.notes)
+        return out
+
+
+@dataclass(frozen=True)
+class ExactDerivative(ExactValue):
+    """⦇p⦈(γ, γ') = ``regular`` + ``boundary`` (Theorem 7.1's split); ``standard_ad`` is the regular
+    part alone (the paper's Dˢ); ``theorem_8_1`` the check of Theorem 8.1 (None when not asked
+    for or not computable)."""
+
+    regular: float = 0.0
+    boundary: float = 0.0
+    standard_ad: float = 0.0
+    theorem_8_1: TheoremCheck | None = None
+
+    def to_json(self) -> dict:
+        """The ``exact`` object of ``langur deriv --json`` (CLI.md), without ``standard_ad`` and
+        ``theorem_8_1``, which the command reports beside it."""
+        out = super().to_json()
+        return {"value": out.pop("value"), "regular": self.regular, "boundary": self.boundary, **out}
+
+
+def exact_eval(program: Program, params: Mapping[str, float | object]) -> ExactValue:
+    """⟦p⟧ at ``params``."""
+    return ExactValue.of(_guard(denote_program, program, dict(params)))
 
 
 def exact_deriv(program: Program, params: Mapping[str, float | object], direction: Mapping[str, float | object],
-                *, check: bool = True) -> dict:
-    """⦇p⦈ at ``params`` in the direction γ' = ``direction`` (``--wrt a`` is ``{"a": 1}``).
-
-    Returns ``{"value", "regular", "boundary", "expr", "method", "error" (quadrature only),
-    "notes", "standard_ad", "theorem_8_1"}``; ``regular + boundary = value`` and
-    ``standard_ad = regular``; ``theorem_8_1`` is :func:`~langur.theorem.check_theorem_8_1`'s
-    dict (None when ``check`` is false or the check itself cannot be computed).
-    """
+                *, check: bool = True) -> ExactDerivative:
+    """⦇p⦈ at ``params`` in the direction γ' = ``direction`` (``--wrt a`` is ``{"a": 1}``), with the
+    check of Theorem 8.1 unless ``check`` is false."""
     params, direction = dict(params), dict(direction)
     res = _guard(ddenote_program, program, params, direction)
-    out = {"value": _number(res.value), "regular": _number(res.regular.value),
-           "boundary": _number(res.boundary.value), "expr": _expr_text(res.expr), "method": res.method}
-    if res.method != Method.CLOSED_FORM:
-        out["error"] = _number(res.error)
-    out["notes"] = list(res.notes)
-    out["standard_ad"] = _number(res.standard_ad)
-    theorem = None
+    base = ExactValue.of(res)
+    notes, theorem = base.notes, None
     if check:
         try:
             theorem = check_theorem_8_1(program, params, direction, derivative=res)
-        except ExactUnavailable:
-            raise
         except Exception as e:  # noqa: BLE001 - the check is a report, not a reason to lose the derivative
-            out["notes"].append(f"Theorem 8.1 check not computed: {str(e).splitlines()[0] if str(e) else e!r}")
-    if theorem is not None:
-        theorem = {**theorem, "d_denotation": _number(theorem["d_denotation"]),
-                   "derivative_denotation": _number(theorem["derivative_denotation"])}
-    out["theorem_8_1"] = theorem
-    return out
+            notes.append(f"Theorem 8.1 check not computed: {str(e).splitlines()[0] if str(e) else e!r}")
+    return ExactDerivative(base.value, base.expr, base.method, base.error, notes, regular=float(res.regular.value),
+                           boundary=float(res.boundary.value), standard_ad=float(res.standard_ad),
+                           theorem_8_1=theorem)
 
 
 def _box_text(program, latex: bool) -> str:

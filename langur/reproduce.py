@@ -24,6 +24,7 @@ from scipy.integrate import dblquad, quad
 
 from . import exact as api
 from . import frontend, operational
+from .operational.results import Estimate
 
 SIGMAS = 5.0  # Monte Carlo agreement: within 5 standard errors plus a tiny absolute slack
 SLACK = 1e-9
@@ -50,8 +51,8 @@ class Experiment:
         ok = math.isfinite(got) and abs(got - expected) <= tol * max(1.0, abs(expected))
         self.checks.append(Check(what, got, expected, ok, "exact"))
 
-    def mc(self, what: str, est: dict, expected: float) -> None:
-        got, se = est["value"], est["stderr"]
+    def mc(self, what: str, est: Estimate, expected: float) -> None:
+        got, se = est.value, est.stderr
         ok = math.isfinite(got) and abs(got - expected) <= SIGMAS * se + SLACK
         self.checks.append(Check(what, got, expected, ok, f"mc ± {se:.2g}"))
 
@@ -83,16 +84,16 @@ def fig1(samples: int, seed: int) -> Experiment:
     for theta in (0.25, 0.5, 0.75):
         p = {"theta": theta}
         value = api.exact_eval(loaded.program, p)
-        ex.close(f"⟦p⟧ at θ={theta} (= θ)", value["value"], theta)
+        ex.close(f"⟦p⟧ at θ={theta} (= θ)", value.value, theta)
         d = _exact_deriv(loaded.program, p, "theta")
         # D_θ θ = 1, all of it from the delta at x = θ; standard AD differentiates each sample: 0.
-        ex.close(f"⦇p⦈ at θ={theta} (= 1)", d["value"], 1.0)
-        ex.close("  boundary part (= 1)", d["boundary"], 1.0)
-        ex.close("  standard AD (= 0)", d["standard_ad"], 0.0)
+        ex.close(f"⦇p⦈ at θ={theta} (= 1)", d.value, 1.0)
+        ex.close("  boundary part (= 1)", d.boundary, 1.0)
+        ex.close("  standard AD (= 0)", d.standard_ad, 0.0)
         ex.mc(f"MC ⟦p⟧ at θ={theta}", operational.estimate_value(loaded, p, samples=samples, seed=seed), theta)
         md = operational.estimate_derivative(loaded, p, {"theta": 1.0}, samples=samples, seed=seed)
-        ex.close(f"MC ⦇p⦈ at θ={theta} (one sample on the jump is exact)", md["value"], 1.0, tol=1e-12)
-        ex.close("MC standard AD (= 0)", md["standard_ad"]["value"], 0.0)
+        ex.close(f"MC ⦇p⦈ at θ={theta} (one sample on the jump is exact)", md.value, 1.0, tol=1e-12)
+        ex.close("MC standard AD (= 0)", md.standard_ad.value, 0.0)
     return ex
 
 
@@ -117,8 +118,8 @@ def risk(samples: int, seed: int) -> Experiment:
     standard = {"a": 0.0, "b": 0.0, "mu": dmu}  # standard AD misses the two deltas
     for k in ("a", "b", "mu"):
         d = _exact_deriv(loaded.program, p, k)
-        ex.close(f"∂R/∂{k} exact", d["value"], expected[k], tol=1e-8)
-        ex.close(f"  standard AD ∂R/∂{k}", d["standard_ad"], standard[k], tol=1e-8)
+        ex.close(f"∂R/∂{k} exact", d.value, expected[k], tol=1e-8)
+        ex.close(f"  standard AD ∂R/∂{k}", d.standard_ad, standard[k], tol=1e-8)
         md = operational.estimate_derivative(loaded, p, {q: float(q == k) for q in p}, samples=samples, seed=seed)
         ex.mc(f"∂R/∂{k} MC", md, expected[k])
     # Fig. 3: gradient descent from (−1, 4, 1); with the boundary terms the window opens to
@@ -132,7 +133,7 @@ def risk(samples: int, seed: int) -> Experiment:
             for k in q:
                 est = operational.estimate_derivative(loaded, q, {r: float(r == k) for r in q},
                                                       samples=1000, seed=seed + i)
-                g[k] = est["standard_ad"]["value"] if label == "standard AD" else est["value"]
+                g[k] = est.standard_ad.value if label == "standard AD" else est.value
             q = {k: q[k] - rate * g[k] for k in q}
         finals[label] = q
         ex.notes.append(f"{label}: after {steps} steps (rate {rate}) a = {q['a']:.3f}, b = {q['b']:.3f}, "
@@ -153,15 +154,15 @@ def fig9(samples: int, seed: int) -> Experiment:
     # Value: the half-square y < x has area 2, and x + y integrates to 0 on it (the reflection
     # (x, y) ↦ (−y, −x) keeps y < x and negates x + y): ⟦p⟧ = 2.
     # Derivative: regular ∫∫[y < x]·1 = 2; delta ridge along y = x: ∫₋₁¹ (1 + 2x) dx = 2; total 4.
-    ex.close("⟦p⟧ (= 2)", api.exact_eval(loaded.program, p)["value"], 2.0)
+    ex.close("⟦p⟧ (= 2)", api.exact_eval(loaded.program, p).value, 2.0)
     d = _exact_deriv(loaded.program, p, "theta")
-    ex.close("⦇p⦈ (= 4)", d["value"], 4.0)
-    ex.close("  regular = standard AD (= 2)", d["regular"], 2.0)
-    ex.close("  boundary: the ridge (= 2)", d["boundary"], 2.0)
+    ex.close("⦇p⦈ (= 4)", d.value, 4.0)
+    ex.close("  regular = standard AD (= 2)", d.regular, 2.0)
+    ex.close("  boundary: the ridge (= 2)", d.boundary, 2.0)
     ex.mc("MC ⟦p⟧", operational.estimate_value(loaded, p, samples=samples, seed=seed), 2.0)
     md = operational.estimate_derivative(loaded, p, {"theta": 1.0}, samples=samples, seed=seed)
     ex.mc("MC ⦇p⦈", md, 4.0)
-    ex.mc("MC standard AD", md["standard_ad"], 2.0)
+    ex.mc("MC standard AD", md.standard_ad, 2.0)
     return ex
 
 
@@ -187,8 +188,8 @@ def renderer(samples: int, seed: int) -> Experiment:
         boundary = quad(lambda x, s=s: s(x, -c - x), max(0.0, -c - 1), min(1.0, -c), epsabs=1e-13)[0]
         expected = interior + boundary
         d = _exact_deriv(loaded.program, {"c": c}, "c")
-        ex.close(f"{name}: D_c f exact", d["value"], expected, tol=1e-8)
-        ex.close(f"{name}:   boundary part", d["boundary"], boundary, tol=1e-8)
+        ex.close(f"{name}: D_c f exact", d.value, expected, tol=1e-8)
+        ex.close(f"{name}:   boundary part", d.boundary, boundary, tol=1e-8)
         before = len(operational.cache_stats()["compiled"])
         md = operational.estimate_derivative(loaded, {"c": c}, {"c": 1.0}, samples=samples, seed=seed)
         compiled = operational.cache_stats()["compiled"][before:]

@@ -19,15 +19,61 @@ from __future__ import annotations
 import math
 import random
 from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from enum import StrEnum
 
 import sympy as sp
 
 from .ddenote import ddenote_program
 from .denote import denote_program
-from .symbolic.integrate import ALL_PARAMS as EVERYWHERE  # the note of a closed form valid for all parameters
 from .symbolic.pieces import Method
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .timebox import run_with_timeout
+
+
+class How(StrEnum):
+    """How D_γ⟦p⟧·γ' was compared with ⦇p⦈ (written as its value in JSON output)."""
+
+    SYMBOLIC = "symbolic"
+    NUMERIC = "numeric"
+    FINITE_DIFFERENCE = "finite_difference"
+
+
+@dataclass(frozen=True)
+class Point:
+    """Both sides of Theorem 8.1 at one parameter point."""
+
+    params: dict[str, float]
+    d_denotation: float
+    derivative_denotation: float
+
+    def to_json(self) -> dict:
+        return {"params": self.params, "d_denotation": self.d_denotation,
+                "derivative_denotation": self.derivative_denotation}
+
+
+@dataclass(frozen=True)
+class TheoremCheck:
+    """The check's verdict: ``d_denotation`` is D_γ⟦p⟧·γ', ``derivative_denotation`` is ⦇p⦈, at the
+    given parameters; ``points`` every point compared; ``error`` the finite differences' bound."""
+
+    holds: bool
+    d_denotation: float
+    derivative_denotation: float
+    how: How
+    points: tuple[Point, ...]
+    notes: list[str] = field(default_factory=list)
+    error: float | None = None
+
+    def to_json(self) -> dict:
+        out = {"holds": self.holds, "d_denotation": float(self.d_denotation),
+               "derivative_denotation": float(self.derivative_denotation), "how": self.how}
+        if self.error is not None:
+            out["error"] = self.error
+        out["points"] = [p.to_json() for p in self.points]
+        out["notes"] = list(self.notes)
+        return out
+
 
 #: Relative and absolute tolerance of a numeric comparison of two exact values.
 RTOL, ATOL = 1e-7, 1e-9
@@ -133,12 +179,11 @@ def _close(a: float, b: float, slack: float) -> bool:
 
 def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str, object], *,
                       denotation=None, derivative=None, nearby: int = 3, seed: int = 0,
-                      timeout: float = 20.0, simplify_seconds: float = 5.0) -> dict:
+                      timeout: float = 20.0, simplify_seconds: float = 5.0) -> TheoremCheck:
     """Compare D_γ⟦p⟧·γ' with ⦇p⦈(γ, γ') at ``at`` (see the module docstring).
 
     ``denotation`` / ``derivative``: already computed ``denote_program`` / ``ddenote_program``
-    results at ``at`` (recomputed when None).  Returns ``{"holds", "d_denotation",
-    "derivative_denotation", "how", "points", "notes"}`` (plus ``"error"`` for finite differences).
+    results at ``at`` (recomputed when None).
     """
     at = dict(at)
     den = denotation if denotation is not None else denote_program(program, at, timeout=timeout)
@@ -150,15 +195,13 @@ def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str,
     notes: list[str] = []
     # A closed form valid only in the parameter cell of ``at`` must not be differenced across
     # the cell's boundary, nor compared far from ``at``.
-    everywhere = bool(den.notes) and den.notes[0].startswith(EVERYWHERE)
+    everywhere = den.everywhere
     d_value, d_local = _closed_form_derivative(den.expr, at, direction, notes, across=everywhere)
     if d_value is None:
         fd = _finite_difference(program, at, direction, der, den, timeout,
                                 "the closed form of ⟦p⟧ holds in one parameter cell only")
-        fd["notes"] = notes + fd["notes"]
-        return fd
-    point = {"params": {k: float(v) for k, v in at.items()}, "d_denotation": d_value,
-             "derivative_denotation": der.value}
+        return replace(fd, notes=notes + fd.notes)
+    point = Point({k: float(v) for k, v in at.items()}, d_value, der.value)
     if der.expr is not None and d_local is not None:
         try:
             rhs = localize(der.expr, at_symbols(at))
@@ -166,10 +209,9 @@ def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str,
             rhs = None
         diff = symbolic_difference(d_local, rhs, simplify_seconds) if rhs is not None else None
         if diff is not None and diff.is_number:
-            return {"holds": bool(diff == 0), "d_denotation": d_value, "derivative_denotation": der.value,
-                    "how": "symbolic", "points": [point],
-                    "notes": [(f"simplify(D⟦p⟧·γ' − ⦇p⦈) = {sp.sstr(diff)} in a neighbourhood of the "
-                               "parameters (Max/Min/Piecewise replaced by their branch there)")]}
+            return TheoremCheck(bool(diff == 0), d_value, der.value, How.SYMBOLIC, (point,),
+                                [f"simplify(D⟦p⟧·γ' − ⦇p⦈) = {sp.sstr(diff)} in a neighbourhood of the "
+                                 "parameters (Max/Min/Piecewise replaced by their branch there)"])
     points = [point]
     holds = _close(d_value, der.value, der.error + den.error)
     for q in _nearby(at, nearby, seed, 1e-3 if everywhere else 1e-6):
@@ -177,11 +219,10 @@ def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str,
         if dq is None:
             continue
         rq = ddenote_program(program, q, direction, timeout=timeout)
-        points.append({"params": q, "d_denotation": dq, "derivative_denotation": rq.value})
+        points.append(Point(q, dq, rq.value))
         holds = holds and _close(dq, rq.value, rq.error + den.error)
     notes.append("compared numerically at the parameters and nearby points")
-    return {"holds": holds, "d_denotation": d_value, "derivative_denotation": der.value, "how": "numeric",
-            "points": points, "notes": notes}
+    return TheoremCheck(holds, d_value, der.value, How.NUMERIC, tuple(points), notes)
 
 
 def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, notes: list[str],
@@ -207,7 +248,7 @@ def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, 
     return float(sp.N((expr.xreplace(plus) - expr.xreplace(minus)) / (2 * h), 30)), None
 
 
-def _finite_difference(program, at, direction, der, den, timeout, why: str) -> dict:
+def _finite_difference(program, at, direction, der, den, timeout, why: str) -> TheoremCheck:
     """D⟦p⟧·γ' by central differences of quadratures: steps h and 2h, error bound from both."""
     def shifted(s: float) -> tuple[float, float]:
         q = {k: float(v) + s * float(direction.get(k, 0)) for k, v in at.items()}
@@ -223,9 +264,7 @@ def _finite_difference(program, at, direction, der, den, timeout, why: str) -> d
     estimate = (4 * fd1 - fd2) / 3  # Richardson: cancels the h² term
     error = abs(fd1 - fd2) + (e1 + f1) / (2 * h) + (e2 + f2) / (4 * h)
     holds = _close(estimate, der.value, error + der.error)
-    return {"holds": holds, "d_denotation": estimate, "derivative_denotation": der.value,
-            "how": "finite_difference", "error": error,
-            "points": [{"params": {k: float(v) for k, v in at.items()}, "d_denotation": estimate,
-                        "derivative_denotation": der.value}],
-            "notes": [(f"{why}: D⟦p⟧·γ' estimated by central finite differences of ⟦p⟧ "
-                       f"(h = {h:g}) with error bound {error:.2g}")]}
+    return TheoremCheck(holds, estimate, der.value, How.FINITE_DIFFERENCE,
+                        (Point({k: float(v) for k, v in at.items()}, estimate, der.value),),
+                        [f"{why}: D⟦p⟧·γ' estimated by central finite differences of ⟦p⟧ "
+                         f"(h = {h:g}) with error bound {error:.2g}"], error)

@@ -268,7 +268,7 @@ def test_the_api_still_answers_where_values_are_given(fig1):
 def test_one_sample_is_refused_by_the_api_too(fig1):
     with pytest.raises(ValueError, match="at least 2"):
         operational.estimate_value(fig1, {"theta": 0.5}, samples=1)
-    assert operational.estimate_value(fig1, {"theta": 0.5}, samples=2)["samples"] == 2
+    assert operational.estimate_value(fig1, {"theta": 0.5}, samples=2).samples == 2
 
 
 # -- diagnostics the contract adds: a reversed interval (X314), a nested int (T208) -----------------

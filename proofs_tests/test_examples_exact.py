@@ -40,8 +40,8 @@ def check_all(program, at, value, derivs, nearby=1):
             (z, der.regular.value, der.boundary.value)
         assert close(der.value, regular + boundary) and der.standard_ad == der.regular.value
         th = check_theorem_8_1(program, at, direction, denotation=den, derivative=der, nearby=nearby)
-        assert th["holds"], th
-        assert close(th["d_denotation"], regular + boundary, 1e-6)
+        assert th.holds, th
+        assert close(th.d_denotation, regular + boundary, 1e-6)
     return den
 
 
@@ -131,7 +131,7 @@ def test_coincident_fails_theorem_8_1():
     der = ddenote_program(program, at, {"a": 1})
     assert close(der.value, -2.0) and close(der.boundary.value, -2.0)
     th = check_theorem_8_1(program, at, {"a": 1}, denotation=den, derivative=der)
-    assert th["holds"] is False and close(th["d_denotation"], -1.0) and close(th["derivative_denotation"], -2.0)
+    assert th.holds is False and close(th.d_denotation, -1.0) and close(th.derivative_denotation, -2.0)
 
 
 @pytest.mark.parametrize("name", ["nested.lgr"])
@@ -139,4 +139,4 @@ def test_nested_self_conditional_fails_theorem_8_1(name):
     # ifge0 x − a then (ifge0 x − a then 1 else 0) else 0: ⟦p⟧ = 1 − a but ⦇p⦈ = −2 again (§7.3.2)
     program, at = example(os.path.join("degenerate", name))
     th = check_theorem_8_1(program, at, {"a": 1})
-    assert th["holds"] is False and close(th["d_denotation"], -1.0) and close(th["derivative_denotation"], -2.0)
+    assert th.holds is False and close(th.d_denotation, -1.0) and close(th.derivative_denotation, -2.0)

@@ -44,7 +44,6 @@ LAZY: dict[tuple[str, str], str] = {
     ("langur.commands._engines", "langur.exact"): "sympy and scipy (0.8 s): not for --engine mc",
     ("langur.commands._engines", "langur.symbolic.integrate"): "as above",
     ("langur.commands._engines", "langur.operational"): "not for --engine exact",
-    ("langur.commands._engines", "langur.symbolic.pieces"): "sympy: only when an exact answer is shown",
 }
 
 

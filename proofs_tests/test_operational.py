@@ -38,6 +38,7 @@ from langur.core import (
 )
 from langur.operational import estimate_derivative, estimate_value
 from langur.operational.naive import naive_derivative, naive_value
+from langur.operational.results import Estimate
 
 x, y = Var("x"), Var("y")
 u0, u1 = Var("u0"), Var("u1")
@@ -84,7 +85,7 @@ def close(est: dict, expected: float, slack: float = 1e-9, method: str = "unifor
     K = 16 independent randomizations, so its error over that estimate is Student-t with 15
     degrees of freedom: there the bound is the t₁₅ quantile for a two-sided 1e-6 (≈ 7.9)."""
     k = 7.91 if method == "qmc" else 5.0
-    return abs(est["value"] - expected) <= k * est["stderr"] + slack
+    return abs(est.value - expected) <= k * est.stderr + slack
 
 
 # -- Fig. 1 ----------------------------------------------------------------------------------------
@@ -98,18 +99,18 @@ def test_fig1_value_and_exact_derivative():
     # ⟦p⟧ = θ = 0.5; D_θ = 1 from the single delta at x = θ (exact), standard AD 0 (the integrand is
     # piecewise constant, so every sample's tangent is exactly 0)
     v = estimate_value(FIG1, {"theta": 0.5}, samples=20000, seed=1)
-    assert close(v, 0.5) and v["stderr"] > 0
+    assert close(v, 0.5) and v.stderr > 0
     d = estimate_derivative(FIG1, {"theta": 0.5}, {"theta": 1}, samples=20000, seed=1)
-    assert d["value"] == 1.0 and d["stderr"] == 0.0
-    assert d["standard_ad"] == {"value": 0.0, "stderr": 0.0}
-    assert d["boundary"] == {"value": 1.0, "stderr": 0.0}
-    assert d["regular"]["value"] + d["boundary"]["value"] == d["value"]
+    assert d.value == 1.0 and d.stderr == 0.0
+    assert d.standard_ad == Estimate(0.0, 0.0)
+    assert d.boundary == Estimate(1.0, 0.0)
+    assert d.regular.value + d.boundary.value == d.value
 
 
 def test_fig1_outside_the_domain_the_delta_scores_zero():
     # θ = 1.5: the root x = 1.5 lies outside [0,1]; the domain indicator [1 − x ≥ 0] kills it
     d = estimate_derivative(FIG1, {"theta": 1.5}, {"theta": 1}, samples=1000, seed=0)
-    assert d["value"] == 0.0 and d["stderr"] == 0.0
+    assert d.value == 0.0 and d.stderr == 0.0
 
 
 @pytest.mark.parametrize("method", ["uniform", "stratified", "qmc"])
@@ -117,14 +118,14 @@ def test_methods_are_honest_on_fig1(method):
     for th in (0.3, 0.77):
         v = estimate_value(FIG1, {"theta": th}, samples=20000, seed=3, method=method)
         assert close(v, th, method=method), (method, th, v)
-        assert v["method"] == method
+        assert v.method == method
 
 
 def test_same_seed_same_bits_other_seed_other_bits():
     a = estimate_value(FIG9, {"theta": 0.1}, samples=5000, seed=7)
     b = estimate_value(FIG9, {"theta": 0.1}, samples=5000, seed=7)
     c = estimate_value(FIG9, {"theta": 0.1}, samples=5000, seed=8)
-    assert a == b and a["value"] != c["value"]
+    assert a == b and a.value != c.value
     for m in ("stratified", "qmc"):
         d1 = estimate_derivative(FIG9, {"theta": 0.1}, {"theta": 1}, samples=4096, seed=7, method=m)
         d2 = estimate_derivative(FIG9, {"theta": 0.1}, {"theta": 1}, samples=4096, seed=7, method=m)
@@ -147,9 +148,9 @@ def test_fig9(method):
     v = estimate_value(FIG9, {"theta": 0.0}, samples=40000, seed=2, method=method)
     assert close(v, 2.0, method=method)
     d = estimate_derivative(FIG9, {"theta": 0.0}, {"theta": 1}, samples=40000, seed=2, method=method)
-    assert close(d["regular"], 2.0, method=method) and close(d["boundary"], 2.0, method=method)
+    assert close(d.regular, 2.0, method=method) and close(d.boundary, 2.0, method=method)
     assert close(d, 4.0, method=method)
-    assert d["standard_ad"] == d["regular"]
+    assert d.standard_ad == d.regular
 
 
 # -- where Potto's prototype is biased ------------------------------------------------------------
@@ -170,8 +171,8 @@ def test_declared_diffeo_whose_other_coordinate_is_not_a_variable():
     v = estimate_value(prog, {"k": 1.2}, samples=40000, seed=4)
     assert close(v, 307 / 375)
     d = estimate_derivative(prog, {"k": 1.2}, {"k": 1}, samples=40000, seed=4)
-    assert d["regular"] == {"value": 0.0, "stderr": 0.0}
-    assert close(d, 0.48) and d["stderr"] < 0.02
+    assert d.regular == Estimate(0.0, 0.0)
+    assert close(d, 0.48) and d.stderr < 0.02
 
 
 @pytest.mark.parametrize("solved", ["x", "y"])
@@ -187,7 +188,7 @@ def test_delta_solved_for_either_variable(solved):
     th = 0.3
     assert close(estimate_value(prog, {"theta": th}, samples=40000, seed=5), (1 - th ** 3) / 3 - th * (1 - th ** 2) / 2)
     d = estimate_derivative(prog, {"theta": th}, {"theta": 1}, samples=40000, seed=5)
-    assert d["regular"]["value"] == 0.0 and close(d, -(1 - th ** 2) / 2)
+    assert d.regular.value == 0.0 and close(d, -(1 - th ** 2) / 2)
 
 
 def test_several_roots_in_one_variable_are_exact():
@@ -200,11 +201,11 @@ def test_several_roots_in_one_variable_are_exact():
     prog = with_domain(("x",), [(const(-2), const(2))], Mul(ind(psi), Add(x, const(3))))
     for av in (1.0, 0.49):
         d = estimate_derivative(prog, {"a": av}, {"a": 1}, samples=20000, seed=6)
-        assert d["regular"]["value"] == 0.0
-        assert d["boundary"]["stderr"] == 0.0 and abs(d["value"] + 3 / math.sqrt(av)) < 1e-12
+        assert d.regular.value == 0.0
+        assert d.boundary.stderr == 0.0 and abs(d.value + 3 / math.sqrt(av)) < 1e-12
         assert close(estimate_value(prog, {"a": av}, samples=40000, seed=6), 12 - 6 * math.sqrt(av))
     # a < 0: the guard u0 + a ≥ 0 fails, no root, derivative 0 (F = 20 is constant there)
-    assert estimate_derivative(prog, {"a": -0.5}, {"a": 1}, samples=100)["value"] == 0.0
+    assert estimate_derivative(prog, {"a": -0.5}, {"a": 1}, samples=100).value == 0.0
 
 
 def test_several_roots_in_two_variables():
@@ -217,7 +218,7 @@ def test_several_roots_in_two_variables():
     prog = with_domain(("x", "y"), [(const(-1), ONE)] * 2, Mul(ind(psi), Add(ONE, x)))
     assert close(estimate_value(prog, {"a": 0.25}, samples=40000, seed=7), 2.0)
     d = estimate_derivative(prog, {"a": 0.25}, {"a": 1}, samples=40000, seed=7)
-    assert d["regular"]["value"] == 0.0 and close(d, -4.0)
+    assert d.regular.value == 0.0 and close(d, -4.0)
 
 
 def test_parametric_bounds_leibniz():
@@ -226,10 +227,10 @@ def test_parametric_bounds_leibniz():
     a, b = Param("a"), Param("b")
     prog = with_domain(("x",), [(a, b)], Mul(x, x))
     d = estimate_derivative(prog, {"a": 0.5, "b": 2.0}, {"a": 1, "b": 1}, samples=20000, seed=8)
-    assert d["regular"] == {"value": 0.0, "stderr": 0.0}
-    assert abs(d["value"] - (4 - 0.25)) < 1e-12
+    assert d.regular == Estimate(0.0, 0.0)
+    assert abs(d.value - (4 - 0.25)) < 1e-12
     d = estimate_derivative(prog, {"a": 0.5, "b": 2.0}, {"a": 1}, samples=100, seed=8)
-    assert abs(d["value"] + 0.25) < 1e-12
+    assert abs(d.value + 0.25) < 1e-12
     assert close(estimate_value(prog, {"a": 0.5, "b": 2.0}, samples=40000, seed=8), (8 - 0.125) / 3)
 
 
@@ -241,7 +242,7 @@ def test_parametric_bounds_in_two_variables():
     v = estimate_value(prog, {"c": 0.6}, samples=40000, seed=9)
     assert close(v, 0.3 + 0.18)
     d = estimate_derivative(prog, {"c": 0.6}, {"c": 1}, samples=40000, seed=9)
-    assert close(d, 1.1) and d["regular"]["value"] == 0.0
+    assert close(d, 1.1) and d.regular.value == 0.0
 
 
 def test_let_and_parameter_conditionals():
@@ -253,9 +254,9 @@ def test_let_and_parameter_conditionals():
     prog = with_domain(("x",), [(ZERO, ONE)], body)
     assert close(estimate_value(prog, {"theta": 0.25}, samples=40000, seed=10), 0.125)
     d = estimate_derivative(prog, {"theta": 0.25}, {"theta": 1}, samples=1000, seed=10)
-    assert abs(d["value"] - 1.0) < 1e-12 and d["stderr"] == 0.0
+    assert abs(d.value - 1.0) < 1e-12 and d.stderr == 0.0
     # θ < 0: the else branch, constant 0
-    assert estimate_derivative(prog, {"theta": -0.25}, {"theta": 1}, samples=1000)["value"] == 0.0
+    assert estimate_derivative(prog, {"theta": -0.25}, {"theta": 1}, samples=1000).value == 0.0
 
 
 def test_smooth_primitives_tangents():
@@ -263,7 +264,7 @@ def test_smooth_primitives_tangents():
     prog = with_domain(("x",), [(ZERO, ONE)], Prim("exp", Mul(theta, x)))
     th = 0.7
     d = estimate_derivative(prog, {"theta": th}, {"theta": 1}, samples=40000, seed=11)
-    assert close(d, ((th - 1) * math.exp(th) + 1) / th ** 2) and d["boundary"]["value"] == 0.0
+    assert close(d, ((th - 1) * math.exp(th) + 1) / th ** 2) and d.boundary.value == 0.0
     # ∫_1^2 log(θx)/x dx = log θ·log 2 + (log 2)²/2, D_θ = log 2/θ
     prog = with_domain(("x",), [(ONE, const(2))], Mul(Prim("log", Mul(theta, x)), Pow(x, Fraction(-1))))
     assert close(estimate_value(prog, {"theta": th}, samples=40000, seed=11),
@@ -273,9 +274,9 @@ def test_smooth_primitives_tangents():
 
 def test_outside_primitive_domain_is_nan():
     prog = with_domain(("x",), [(ZERO, ONE)], Prim("log", sub(x, const(2))))
-    assert math.isnan(estimate_value(prog, {}, samples=100)["value"])
+    assert math.isnan(estimate_value(prog, {}, samples=100).value)
     prog = with_domain(("x",), [(ZERO, ONE)], Prim("sqrt", Mul(const(-1), Add(x, const(1)))))
-    assert math.isnan(estimate_value(prog, {}, samples=100)["value"])
+    assert math.isnan(estimate_value(prog, {}, samples=100).value)
 
 
 def test_pi_constant():
@@ -294,7 +295,7 @@ def test_coincident_and_nested_jumps_count_twice():
     for body in (Mul(ind(j), ind(j)), IfDiffeo(j, ind(j), ZERO)):
         prog = with_domain(("x",), [(ZERO, ONE)], body)
         d = estimate_derivative(prog, {"a": 0.5}, {"a": 1}, samples=100)
-        assert d["value"] == -2.0
+        assert d.value == -2.0
         assert close(estimate_value(prog, {"a": 0.5}, samples=40000, seed=13), 0.5)
 
 
@@ -333,10 +334,10 @@ def test_naive_estimators_reproduce_the_engine():
         for m in ("uniform", "stratified"):
             fast = estimate_derivative(prog, p, dp, samples=500, seed=3, method=m)
             slow = naive_derivative(prog, p, dp, samples=500, seed=3, method=m)
-            assert abs(fast["value"] - slow["value"]) < 1e-12 and abs(fast["stderr"] - slow["stderr"]) < 1e-12
+            assert abs(fast.value - slow.value) < 1e-12 and abs(fast.stderr - slow.stderr) < 1e-12
             fv, sv = estimate_value(prog, p, samples=500, seed=3, method=m), naive_value(prog, p, samples=500,
                                                                                           seed=3, method=m)
-            assert abs(fv["value"] - sv["value"]) < 1e-12
+            assert abs(fv.value - sv.value) < 1e-12
 
 
 # -- property: compiled and naive evaluators agree on random terms ----------------------------------
@@ -410,4 +411,4 @@ def test_parameter_singularities_are_nan_not_exceptions():
         assert not math.isfinite(float(v)) and math.isnan(float(d))
     prog = with_domain(("x",), [(ZERO, ONE)], Mul(x, Prim("log", a)))
     d = estimate_derivative(prog, {"a": 0.0}, {"a": 1}, samples=100)
-    assert math.isnan(d["value"]) and math.isnan(d["regular"]["value"])
+    assert math.isnan(d.value) and math.isnan(d.regular.value)

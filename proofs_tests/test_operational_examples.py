@@ -23,6 +23,7 @@ from langur.operational import (
     estimate_value,
     reset_cache_stats,
 )
+from langur.operational.results import Estimate
 
 EX = str(EXAMPLES)
 N = 40000
@@ -33,7 +34,7 @@ def ex(name, **mods):
 
 
 def close(est, expected, slack=1e-9):
-    return abs(est["value"] - expected) <= 5 * est["stderr"] + slack
+    return abs(est.value - expected) <= 5 * est.stderr + slack
 
 
 def params_of(loaded, **over):
@@ -51,8 +52,8 @@ def test_fig1():
         v = estimate_value(prog, {"theta": 0.5}, samples=N, seed=1)
         assert close(v, 0.5)
         d = estimate_derivative(prog, {"theta": 0.5}, {"theta": 1}, samples=N, seed=1)
-        assert d["value"] == 1.0 and d["stderr"] == 0.0
-        assert d["standard_ad"] == {"value": 0.0, "stderr": 0.0}
+        assert d.value == 1.0 and d.stderr == 0.0
+        assert d.standard_ad == Estimate(0.0, 0.0)
 
 
 def test_fig9():
@@ -60,7 +61,7 @@ def test_fig9():
     L = ex("fig9.lgr")
     assert close(estimate_value(L, {"theta": 0.0}, samples=N, seed=2), 2.0)
     d = estimate_derivative(L, {"theta": 0.0}, {"theta": 1}, samples=N, seed=2)
-    assert close(d, 4.0) and close(d["regular"], 2.0) and close(d["boundary"], 2.0)
+    assert close(d, 4.0) and close(d.regular, 2.0) and close(d.boundary, 2.0)
 
 
 # -- risk (§2) ------------------------------------------------------------------------------------
@@ -103,12 +104,12 @@ def test_risk(at):
     # the truncation points: regular part exactly 0, the deltas exact (one variable)
     for name, expected in (("a", da), ("b", db)):
         d = estimate_derivative(L, p, {name: 1}, samples=1000, seed=3)
-        assert d["regular"] == {"value": 0.0, "stderr": 0.0} and abs(d["value"] - expected) < 1e-12
+        assert d.regular == Estimate(0.0, 0.0) and abs(d.value - expected) < 1e-12
     d = estimate_derivative(L, p, {"mu": 1}, samples=N, seed=3)
-    assert d["boundary"]["value"] == 0.0 and close(d, dmu)
-    assert d["standard_ad"] == d["regular"]
+    assert d.boundary.value == 0.0 and close(d, dmu)
+    assert d.standard_ad == d.regular
     # standard AD misses the truncation points entirely
-    assert estimate_derivative(L, p, {"a": 1, "b": 1}, samples=1000)["standard_ad"]["value"] == 0.0
+    assert estimate_derivative(L, p, {"a": 1, "b": 1}, samples=1000).standard_ad.value == 0.0
 
 
 # -- the renderer with its three shaders (§10.1) -------------------------------------------------
@@ -137,7 +138,7 @@ def test_renderer(shader):
     L = ex("renderer.lgr", shader=shader)
     assert close(estimate_value(L, {"c": -1.0}, samples=N, seed=4), value)
     d = estimate_derivative(L, {"c": -1.0}, {"c": 1}, samples=N, seed=4)
-    assert close(d["regular"], regular) and close(d["boundary"], boundary) and close(d, regular + boundary)
+    assert close(d.regular, regular) and close(d.boundary, boundary) and close(d, regular + boundary)
 
 
 def test_module_without_program_is_a_clear_error():
@@ -152,19 +153,19 @@ def test_degenerate_examples():
     # boundary.lgr, θ = 1: ∫₀¹[x ≤ 1] = 1 (every sample is 1); the denotation's derivative is 1
     # (the left derivative: at x = 1 the domain's [1 − x ≥ 0] holds at exactly 0)
     L = ex(d + "boundary.lgr")
-    assert estimate_value(L, {"theta": 1.0}, samples=1000) == {"value": 1.0, "stderr": 0.0, "samples": 1000,
-                                                                "seed": 0, "method": "uniform"}
-    assert estimate_derivative(L, {"theta": 1.0}, {"theta": 1}, samples=1000)["value"] == 1.0
+    assert estimate_value(L, {"theta": 1.0}, samples=1000).to_json() == {"value": 1.0, "stderr": 0.0, "samples": 1000,
+                                                                          "seed": 0, "method": "uniform"}
+    assert estimate_derivative(L, {"theta": 1.0}, {"theta": 1}, samples=1000).value == 1.0
     # coincident.lgr, nested.lgr: value 1 − a = ½; the denotation counts the jump twice: −2 (§7.3.1)
     for f in ("coincident.lgr", "nested.lgr"):
         L = ex(d + f)
         assert close(estimate_value(L, {"a": 0.5}, samples=N, seed=5), 0.5)
-        assert estimate_derivative(L, {"a": 0.5}, {"a": 1}, samples=1000)["value"] == -2.0
+        assert estimate_derivative(L, {"a": 0.5}, {"a": 1}, samples=1000).value == -2.0
     # equal_params.lgr, a = 0.3 < b = 0.6: value 1 − max(a, b) = 0.4; D_a = 0, D_b = −1 (exact)
     L = ex(d + "equal_params.lgr")
     assert close(estimate_value(L, {"a": 0.3, "b": 0.6}, samples=N, seed=5), 0.4)
-    assert estimate_derivative(L, {"a": 0.3, "b": 0.6}, {"a": 1}, samples=100)["value"] == 0.0
-    assert estimate_derivative(L, {"a": 0.3, "b": 0.6}, {"b": 1}, samples=100)["value"] == -1.0
+    assert estimate_derivative(L, {"a": 0.3, "b": 0.6}, {"a": 1}, samples=100).value == 0.0
+    assert estimate_derivative(L, {"a": 0.3, "b": 0.6}, {"b": 1}, samples=100).value == -1.0
     # tangent.lgr, a = 0: value ∫_{-1}^{1}(min(2x², 1) − x²) = 2[s³/3 + (1 − s) − (1 − s³)/3], s = 1/√2;
     # D_a = −2 (the lower parabola moves up over all x) + 2s (the upper one, where it is below y = 1)
     s = 1 / math.sqrt(2)
@@ -205,7 +206,7 @@ def test_defs_own_samplers_are_consistent():
     L = ex("risk.lgr")
     _, da, db, _ = risk_by_hand(-1.0, 4.0, 1.0)
     d = estimate_derivative(L, {"a": -1.0, "b": 4.0, "mu": 1.0}, {"a": 1, "b": 2}, samples=100, sites="defs")
-    assert abs(d["value"] - (da + 2 * db)) < 1e-12
+    assert abs(d.value - (da + 2 * db)) < 1e-12
 
 
 def test_swapping_the_shader_recompiles_one_def():
@@ -264,7 +265,7 @@ def test_general_var_argument_falls_back_to_the_inlined_program(tmp_path):
     L = load(str(tmp_path / "main.lgr"))
     d = estimate_derivative(L, {"a": 0.6}, {"a": 1}, samples=100)
     assert cache_stats()["last_link"] == "inlined"
-    assert abs(d["value"] + 0.5) < 1e-12
+    assert abs(d.value + 0.5) < 1e-12
     assert close(estimate_value(L, {"a": 0.6}, samples=N, seed=22), 0.7)
 
 
@@ -286,7 +287,7 @@ def test_three_variables(method):
     t = 0.9
     assert close(estimate_value(L, {"t": t}, samples=N, seed=23, method=method), t ** 3 / 6 + t ** 4 / 24)
     d = estimate_derivative(L, {"t": t}, {"t": 1}, samples=N, seed=23, method=method)
-    assert d["regular"]["value"] == 0.0 and close(d, t ** 2 / 2 + t ** 3 / 6)
+    assert d.regular.value == 0.0 and close(d, t ** 2 / 2 + t ** 3 / 6)
 
 
 def load_text_(text):
@@ -324,8 +325,8 @@ def test_circle_folds_have_finite_variance(method):
     L = load_text_("param r = 0.5\nint ([-1, 1], [-1, 1]) [x^2 + y^2 <= r^2] * (1 + x*y + y) d(x, y)\n")
     k = 7.91 if method == "qmc" else 5.0
     d = estimate_derivative(L, {"r": 0.5}, {"r": 1}, samples=N, seed=25, method=method)
-    assert abs(d["value"] - math.pi) <= k * d["stderr"] + 1e-9 and d["stderr"] < 0.05
-    assert d["regular"]["value"] == 0.0
+    assert abs(d.value - math.pi) <= k * d.stderr + 1e-9 and d.stderr < 0.05
+    assert d.regular.value == 0.0
 
 
 def test_naive_follows_the_fold_map():
@@ -335,4 +336,4 @@ def test_naive_follows_the_fold_map():
     for m in ("uniform", "stratified"):
         a = estimate_derivative(L.program, {"r": 0.5}, {"r": 1}, samples=300, seed=1, method=m)
         b = naive_derivative(L.program, {"r": 0.5}, {"r": 1}, samples=300, seed=1, method=m)
-        assert abs(a["value"] - b["value"]) < 1e-12 and abs(a["stderr"] - b["stderr"]) < 1e-12
+        assert abs(a.value - b.value) < 1e-12 and abs(a.stderr - b.stderr) < 1e-12

@@ -51,13 +51,13 @@ def test_hand_programs(name):
     src, value, deriv, regular = PROGRAMS[name]
     prog, at = program(src)
     e = exact_eval(prog, at)
-    assert e["method"] == "closed_form" and close(e["value"], value), e
+    assert e.method == "closed_form" and close(e.value, value), e
     (z,) = at
     d = exact_deriv(prog, at, {z: 1})
-    assert d["method"] == "closed_form" and close(d["value"], deriv) and close(d["regular"], regular), d
-    assert close(d["boundary"], deriv - regular) and d["standard_ad"] == d["regular"]
-    th = d["theorem_8_1"]
-    assert th["holds"] is True and close(th["d_denotation"], deriv, 1e-6), th
+    assert d.method == "closed_form" and close(d.value, deriv) and close(d.regular, regular), d
+    assert close(d.boundary, deriv - regular) and d.standard_ad == d.regular
+    th = d.theorem_8_1
+    assert th.holds is True and close(th.d_denotation, deriv, 1e-6), th
 
 
 def test_three_variable_simplex():
@@ -70,7 +70,7 @@ def test_three_variable_simplex():
     der = ddenote_program(prog, at, {"s": 1})
     assert close(der.value, 7 / 48) and close(der.regular.value, 0.0)
     th = check_theorem_8_1(prog, at, {"s": 1}, denotation=den, derivative=der, nearby=1)
-    assert th["holds"], th
+    assert th.holds, th
 
 
 def test_finite_differences_when_the_denotation_is_only_quadrature():
@@ -79,8 +79,8 @@ def test_finite_differences_when_the_denotation_is_only_quadrature():
     prog, at = program("param theta = 0.5\nint ([0, 1]) [x <= theta] d(x)")
     quad = Integral(None, 0.5, "quadrature", 1e-12)
     th = check_theorem_8_1(prog, at, {"theta": 1}, denotation=quad)
-    assert th["how"] == "finite_difference" and th["holds"] and close(th["d_denotation"], 1.0, 1e-6)
-    assert th["error"] < 1e-6
+    assert th.how == "finite_difference" and th.holds and close(th.d_denotation, 1.0, 1e-6)
+    assert th.error < 1e-6
 
 
 def test_no_elementary_antiderivative_uses_finite_differences():
@@ -88,21 +88,21 @@ def test_no_elementary_antiderivative_uses_finite_differences():
     # exp(sin a) (one delta at x = a) = exp(sin ½).
     prog, at = program("param a = 0.5\nint ([0, 1]) [x <= a] * exp(sin(x)) d(x)")
     d = exact_deriv(prog, at, {"a": 1})
-    assert close(d["value"], math.exp(math.sin(0.5)))
-    th = d["theorem_8_1"]
-    assert th["how"] == "finite_difference" and th["holds"], th
+    assert close(d.value, math.exp(math.sin(0.5)))
+    th = d.theorem_8_1
+    assert th.how == "finite_difference" and th.holds, th
 
 
 def test_fails_on_coincident_jumps_and_holds_off_the_degenerate_parameters():
     loaded = load(os.path.join(str(DEGENERATE), "coincident.lgr"))
     d = exact_deriv(loaded.program, loaded.param_values(), {"a": 1})
     # ⦇p⦈ = −2 (the jump counted twice), D(1 − a) = −1
-    assert close(d["value"], -2.0) and d["theorem_8_1"]["holds"] is False
-    assert close(d["theorem_8_1"]["d_denotation"], -1.0)
+    assert close(d.value, -2.0) and d.theorem_8_1.holds is False
+    assert close(d.theorem_8_1.d_denotation, -1.0)
     # [x ≥ a]·[x ≥ b] is transverse for a ≠ b: ⟦p⟧ = 1 − max(a, b); ∂/∂b = −1 at (0.3, 0.6)
     loaded = load(os.path.join(str(DEGENERATE), "equal_params.lgr"))
     d = exact_deriv(loaded.program, loaded.param_values(), {"a": 0, "b": 1})
-    assert close(d["value"], -1.0) and d["theorem_8_1"]["holds"] is True
+    assert close(d.value, -1.0) and d.theorem_8_1.holds is True
 
 
 def test_boundary_parameter_is_a_switching_point():
@@ -110,9 +110,9 @@ def test_boundary_parameter_is_a_switching_point():
     # (one-sided 1 and 0); ⦇p⦈ = 1 there.  The check cannot hold and says why.
     loaded = load(os.path.join(str(DEGENERATE), "boundary.lgr"))
     th = check_theorem_8_1(loaded.program, loaded.param_values(), {"theta": 1})
-    assert th["holds"] is False and any("switches" in n for n in th["notes"])
+    assert th.holds is False and any("switches" in n for n in th.notes)
     th = check_theorem_8_1(loaded.program, {"theta": 0.25}, {"theta": 1})
-    assert th["holds"] is True and th["how"] == "symbolic"
+    assert th.holds is True and th.how == "symbolic"
 
 
 def test_localize_picks_branches_and_refuses_ties():

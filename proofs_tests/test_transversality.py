@@ -8,10 +8,10 @@ from fractions import Fraction
 
 import pytest
 import sympy as sp
-from langur.commands._prove import Prover
 from paths import DEGENERATE, EXAMPLES
 
 from langur import transversality as tv
+from langur.commands._prove import Prover
 from langur.core import Add, Diffeo, IfDiffeo, InverseBranch, Mul, Param, Program, Var, const, sub
 from langur.frontend import load, load_text
 from langur.lint import algebra, classify

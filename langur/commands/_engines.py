@@ -18,16 +18,6 @@ def add_engine_arguments(p) -> None:
                    help="which engines to run (default both)")
 
 
-def how(exact: dict) -> str:
-    """How the exact value was obtained, for the text output."""
-    from ..symbolic.pieces import Method  # sympy: imported when an exact answer is shown
-
-    if exact.get("method") == Method.CLOSED_FORM:
-        return "closed form"
-    error = exact.get("error")
-    return f"quadrature, error ≤ {float(error):.3g}" if error is not None else "quadrature"
-
-
 class Undefined(str):
     """Why the exact engine says the integral does not exist (divergent, or undefined on part of
     the domain): an answer, printed as such, with exit status 1."""
@@ -58,9 +48,9 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
         return None, 1 if mismatch else 0
 
 
-def print_mc_notes(mc: dict, indent: str) -> None:
+def print_mc_notes(mc, indent: str) -> None:
     """The Monte Carlo result's notes (no finite variance, a heavy tail, non-finite samples)."""
-    for note in mc.get("notes") or []:
+    for note in mc.notes:
         print(f"{indent}note: {note}")
 
 

@@ -21,12 +21,6 @@ from ..timebox import run_with_timeout
 TIME_LIMIT = 30.0
 
 
-def _value(v):
-    if isinstance(v, str):
-        return float(v)
-    return v
-
-
 def _fmt(v) -> str:
     try:
         return f"{float(v):.6g}"
@@ -47,17 +41,16 @@ class Prover:
             return self.cache[name]
         try:
             res = run_with_timeout(lambda: exact_deriv(self.program, self.point, {name: 1}), TIME_LIMIT)
-            thm = res.get("theorem_8_1")
+            thm = res.theorem_8_1
             if thm is None:
                 out = {"holds": None, "reason": "the Theorem 8.1 check could not be computed"}
             else:
-                d, dd = _value(thm["d_denotation"]), _value(thm["derivative_denotation"])
-                decided = all(isinstance(v, (int, float)) and math.isfinite(v) for v in (d, dd))
+                decided = all(math.isfinite(v) for v in (thm.d_denotation, thm.derivative_denotation))
                 out = {
-                    "holds": bool(thm["holds"]) if decided else None,
-                    "d_denotation": thm["d_denotation"],
-                    "derivative_denotation": thm["derivative_denotation"],
-                    "how": thm.get("how"),
+                    "holds": bool(thm.holds) if decided else None,
+                    "d_denotation": thm.d_denotation,
+                    "derivative_denotation": thm.derivative_denotation,
+                    "how": thm.how,
                 }
                 if not decided:
                     out["reason"] = "D⟦p⟧ is not a finite number here (no derivative, or not computed)"

@@ -8,7 +8,7 @@ from .. import progress
 from ..cli import add_common, add_timeout
 from . import _common as c
 from . import _defined
-from ._engines import Undefined, add_engine_arguments, how, print_mc_notes, run_exact, run_mc
+from ._engines import Undefined, add_engine_arguments, print_mc_notes, run_exact, run_mc
 
 
 def add_arguments(p):
@@ -53,23 +53,20 @@ def run(args) -> int:
         if isinstance(result, Undefined):
             undefined, result = str(result), None
         if result is not None:
-            theorem = result.pop("theorem_8_1", None)
-            exact_sad = result.pop("standard_ad", None)
-            exact = result
-            if exact_sad is not None:
-                standard_ad = {"value": exact_sad, "stderr": 0.0, "source": "exact"}
+            exact, theorem = result, result.theorem_8_1
+            standard_ad = {"value": result.standard_ad, "stderr": 0.0, "source": "exact"}
     if args.engine in ("both", "mc"):
         mc = run_mc("deriv", target, params, args, direction,
                     infinite_variance=defined.infinite_variance or (undefined and "the derivative does not exist"))
         if mc is None and args.engine == "mc":
             status = 1
         if mc is not None:
-            sad = mc.pop("standard_ad", None)
-            if sad is not None:
-                standard_ad = {"value": sad["value"], "stderr": sad["stderr"], "source": "mc"}
+            standard_ad = {**mc.standard_ad.to_json(), "source": "mc"}
     if args.json:
-        c.dump_json({"params": params, "direction": direction, "exact": exact, "mc": mc,
-                     "standard_ad": standard_ad, "theorem_8_1": theorem, "undefined": undefined,
+        c.dump_json({"params": params, "direction": direction, "exact": exact.to_json() if exact else None,
+                     "mc": mc.to_json(standard_ad=False) if mc is not None else None,
+                     "standard_ad": standard_ad, "theorem_8_1": theorem.to_json() if theorem else None,
+                     "undefined": undefined,
                      "diagnostics": [d.to_json() for d in defined.diagnostics()], "rewrite": rewrite})
         return status
     print(f"{args.file}: {_what(direction)} at {c.fmt_params(params)}")
@@ -79,23 +76,23 @@ def run(args) -> int:
     if undefined is not None:
         print(f"  exact       : undefined: {undefined}")
     if exact is not None:
-        print(f"  exact       : {c.fmt(exact['value'])} = regular {c.fmt(exact['regular'])}"
-              f" + boundary {c.fmt(exact['boundary'])}   ({how(exact)}: {exact.get('expr')})")
-        for note in exact.get("notes") or []:
+        print(f"  exact       : {c.fmt(exact.value)} = regular {c.fmt(exact.regular)}"
+              f" + boundary {c.fmt(exact.boundary)}   ({exact.how()}: {exact.expr})")
+        for note in exact.notes:
             print(f"                note: {note}")
     if mc is not None:
-        print(f"  MC          : {c.fmt(mc['value'])} ± {c.fmt(mc['stderr'], 3)} = regular "
-              f"{c.fmt(mc['regular']['value'])} + boundary {c.fmt(mc['boundary']['value'])}   "
-              f"({mc['samples']} samples, {mc.get('method', 'uniform')}, seed {mc['seed']})")
+        print(f"  MC          : {c.fmt(mc.value)} ± {c.fmt(mc.stderr, 3)} = regular "
+              f"{c.fmt(mc.regular.value)} + boundary {c.fmt(mc.boundary.value)}   "
+              f"({mc.samples} samples, {mc.method}, seed {mc.seed})")
         print_mc_notes(mc, "                ")
     if standard_ad is not None:
         print(f"  standard AD : {c.fmt(standard_ad['value'])} ± {c.fmt(standard_ad['stderr'], 3)}"
               "   (deltas dropped: what PyTorch or JAX compute on the discretized integral)")
     if theorem is not None:
-        verdict = "holds" if theorem.get("holds") else "FAILS"
-        print(f"  Theorem 8.1 : {verdict}: D⟦p⟧ = {c.fmt(theorem.get('d_denotation'))}, "
-              f"⦇p⦈ = {c.fmt(theorem.get('derivative_denotation'))}"
-              + ("" if theorem.get("holds") else "   (run `langur check` for transversality)"))
+        verdict = "holds" if theorem.holds else "FAILS"
+        print(f"  Theorem 8.1 : {verdict}: D⟦p⟧ = {c.fmt(theorem.d_denotation)}, "
+              f"⦇p⦈ = {c.fmt(theorem.derivative_denotation)}"
+              + ("" if theorem.holds else "   (run `langur check` for transversality)"))
     return status
 
 

@@ -8,7 +8,7 @@ from .. import progress
 from ..cli import add_common, add_timeout
 from . import _common as c
 from . import _defined
-from ._engines import Undefined, add_engine_arguments, how, print_mc_notes, run_exact, run_mc
+from ._engines import Undefined, add_engine_arguments, print_mc_notes, run_exact, run_mc
 
 
 def add_arguments(p):
@@ -40,19 +40,20 @@ def run(args) -> int:
         if mc is None and args.engine == "mc":
             status = 1
     if args.json:
-        c.dump_json({"params": params, "exact": exact, "mc": mc, "undefined": undefined,
+        c.dump_json({"params": params, "exact": exact.to_json() if exact is not None else None,
+                     "mc": mc.to_json() if mc is not None else None, "undefined": undefined,
                      "diagnostics": [d.to_json() for d in defined.diagnostics()]})
         return status
     print(f"{args.file}: value at {c.fmt_params(params)}")
     if undefined is not None:
         print(f"  exact : undefined: {undefined}")
     if exact is not None:
-        print(f"  exact : {c.fmt(exact['value'])}   ({how(exact)}: {exact.get('expr')})")
-        for note in exact.get("notes") or []:
+        print(f"  exact : {c.fmt(exact.value)}   ({exact.how()}: {exact.expr})")
+        for note in exact.notes:
             print(f"          note: {note}")
     if mc is not None:
-        print(f"  MC    : {c.fmt(mc['value'])} ± {c.fmt(mc['stderr'], 3)}   "
-              f"({mc['samples']} samples, {mc.get('method', 'uniform')}, seed {mc['seed']})")
+        print(f"  MC    : {c.fmt(mc.value)} ± {c.fmt(mc.stderr, 3)}   "
+              f"({mc.samples} samples, {mc.method}, seed {mc.seed})")
         print_mc_notes(mc, "          ")
     sys.stdout.flush()
     return status

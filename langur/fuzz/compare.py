@@ -13,7 +13,6 @@ from .. import exact as api
 from .. import operational
 from ..diagnostics import LangurError
 from ..frontend import load_text
-from ..symbolic.pieces import Method
 from ..transversality import check_loaded
 from .generate import (
     ABS_SLACK,
@@ -162,35 +161,34 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
         return result
 
     def err(r):
-        return float(r.get("error", 0.0)) if r.get("method") != Method.CLOSED_FORM else 0.0
+        return r.error if r.error is not None else 0.0
 
     rows = result.rows
-    result.methods.append(ex["method"])
+    result.methods.append(ex.method)
     mc = operational.estimate_value(loaded, floats, samples=samples, seed=seed, method=method)
-    rows.append(Row("value", None, float(ex["value"]), err(ex), mc["value"], mc["stderr"], False))
+    rows.append(Row("value", None, ex.value, err(ex), mc.value, mc.stderr, False))
     for i, p in enumerate(params):
         e = exd[p]
-        result.methods.append(e["method"])
+        result.methods.append(e.method)
         d = {q: (1.0 if q == p else 0.0) for q in params}
         m = operational.estimate_derivative(loaded, floats, d, samples=samples, seed=seed + 1 + i,
                                            method=method)
         er = err(e)
-        rows.append(Row("derivative", p, float(e["value"]), er, m["value"], m["stderr"], False))
-        rows.append(Row("regular", p, float(e["regular"]), er, m["regular"]["value"], m["regular"]["stderr"], False))
-        rows.append(Row("boundary", p, float(e["boundary"]), er, m["boundary"]["value"],
-                        m["boundary"]["stderr"], False))
+        rows.append(Row("derivative", p, e.value, er, m.value, m.stderr, False))
+        rows.append(Row("regular", p, e.regular, er, m.regular.value, m.regular.stderr, False))
+        rows.append(Row("boundary", p, e.boundary, er, m.boundary.value,
+                        m.boundary.stderr, False))
         # standard AD is the regular part in both engines (exact against exact, MC against MC)
-        rows.append(Row("standard_ad=regular (exact)", p, float(e["regular"]), er, float(e["standard_ad"]), 0.0, False))
-        rows.append(Row("standard_ad=regular (mc)", p, m["regular"]["value"], 0.0,
-                        m["standard_ad"]["value"], 0.0, False))
-        th = e.get("theorem_8_1")
+        rows.append(Row("standard_ad=regular (exact)", p, e.regular, er, e.standard_ad, 0.0, False))
+        rows.append(Row("standard_ad=regular (mc)", p, m.regular.value, 0.0,
+                        m.standard_ad.value, 0.0, False))
+        th = e.theorem_8_1
         if th is None:
             result.findings.append(f"Theorem 8.1 not checked for {p}")
         else:
-            ok = th.get("holds") is True
-            rows.append(Row("theorem_8_1", p, float(th["d_denotation"]), er, float(th["derivative_denotation"]),
-                            0.0, ok))
-            if th.get("holds") is None:
+            ok = th.holds is True
+            rows.append(Row("theorem_8_1", p, th.d_denotation, er, th.derivative_denotation, 0.0, ok))
+            if th.holds is None:
                 rows[-1].ok = True
                 result.findings.append(f"Theorem 8.1 undecided for {p}")
     for r in rows:

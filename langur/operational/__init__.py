@@ -7,12 +7,10 @@ rest of the workbench and never uses sympy.
 API::
 
     estimate_value(program_or_loaded, params, *, samples=10000, seed=0, method="uniform",
-                   sites="inlined")
-        -> {"value", "stderr", "samples", "seed", "method"}
+                   sites="inlined") -> ValueEstimate (value, stderr, samples, seed, method, notes)
     estimate_derivative(program_or_loaded, params, direction, *, samples=10000, seed=0,
                         method="uniform", sites="inlined")
-        -> {"value", "stderr", "regular": {"value", "stderr"}, "boundary": {"value", "stderr"},
-            "standard_ad": {"value", "stderr"}, "samples", "seed", "method"}
+        -> DerivativeEstimate (… and regular, boundary, standard_ad: Estimate(value, stderr))
     cache_stats() -> {"compiled": [(kind, module, name), …], "hits", "units", "last_link"}
     reset_cache_stats(), clear_cache(), link(loaded, sites="inlined"), compile_program(program)
 
@@ -92,6 +90,8 @@ from .estimate import MAX_TREE_NODES, TooLarge, estimate_derivative, estimate_va
 from .link import cache_stats, clear_cache, compile_program, link, reset_cache_stats
 
 __all__ = [
+           "MAX_TREE_NODES",
+           "TooLarge",
            "cache_stats",
            "clear_cache",
            "compile_program",

@@ -11,6 +11,7 @@ from ..core import ParameterError, Program, check_values, tree_size
 from ..modules import Loaded
 from .compile import DELTA, TANGENT, VALUE, Env, full
 from .link import Linked, compile_program, link
+from .results import DerivativeEstimate, Estimate, ValueEstimate
 from .sample import design, evaluate_box
 
 #: Most nodes the program may have written out as a tree: this engine evaluates it path by path
@@ -104,30 +105,27 @@ def tail_notes(f: np.ndarray) -> list[str]:
     return []
 
 
-def _variance(out: dict, notes: list[str], infinite_variance: str | None) -> dict:
-    """``finite_variance`` (False when known infinite, else absent) and ``notes`` of a result."""
+def _variance(notes: list[str], infinite_variance: str | None) -> dict:
+    """``finite_variance`` and ``notes`` of a result (the caller's reason first)."""
     if infinite_variance:
-        out["finite_variance"] = False
         notes = [f"no finite variance: {infinite_variance}; the standard error means nothing"] + notes
-    if notes:
-        out["notes"] = notes
-    return out
+    return {"finite_variance": not infinite_variance, "notes": tuple(notes)}
 
 
 def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, seed: int = 0,
-                   method: str = "uniform", sites: str = "inlined", infinite_variance: str | None = None) -> dict:
+                   method: str = "uniform", sites: str = "inlined", infinite_variance: str | None = None
+                   ) -> ValueEstimate:
     """⟦int t d(x⃗)⟧(γ) ≈ vol(box)·mean ⟦t⟧(ρᵢ, γ) over a design in Program.box.
 
     ``infinite_variance``: why the integrand is known not to be square-integrable (the caller's
-    analysis; the result then says ``"finite_variance": false``).  The result's ``notes`` also say
+    analysis; the result's ``finite_variance`` is then False).  The result's ``notes`` also say
     what the samples show: non-finite values, or one sample dominating the sum of squares."""
     linked, p = prepare(program_or_loaded, params, sites)
     rng = np.random.default_rng(seed)
     notes: list[str] = []
     with np.errstate(all="ignore"):
         value, se, n = _over_domain(linked, p, rng, samples, method, 0, notes, mode=VALUE)
-    return _variance({"value": value, "stderr": se, "samples": n, "seed": seed, "method": method}, notes,
-                     infinite_variance)
+    return ValueEstimate(value, se, n, seed, method, **_variance(notes, infinite_variance))
 
 
 def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: int,
@@ -148,7 +146,7 @@ def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: 
 
 def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, samples: int = 10000,
                         seed: int = 0, method: str = "uniform", sites: str = "inlined",
-                        infinite_variance: str | None = None) -> dict:
+                        infinite_variance: str | None = None) -> DerivativeEstimate:
     """⦇int t d(x⃗)⦈(γ, γ') ≈ regular part (standard AD) + one zero-set estimate per site.
 
     ``sites`` (for a Loaded only): where the zero-set samplers come from, see :func:`.link.link`;
@@ -162,14 +160,9 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
         reg, reg_se, n = _over_domain(linked, p, rng, samples, method, 1, notes, dparams=dp, mode=TANGENT)
         bnd, bnd_var = _boundary(linked, p, dp, rng, samples, method)
     bnd_se = math.sqrt(bnd_var)
-    return _variance({
-        "value": reg + bnd,
-        "stderr": math.sqrt(reg_se ** 2 + bnd_var),
-        "regular": {"value": reg, "stderr": reg_se},
-        "boundary": {"value": bnd, "stderr": bnd_se},
-        "standard_ad": {"value": reg, "stderr": reg_se},
-        "samples": n, "seed": seed, "method": method,
-    }, notes, infinite_variance)
+    return DerivativeEstimate(reg + bnd, math.sqrt(reg_se ** 2 + bnd_var), n, seed, method,
+                              regular=Estimate(reg, reg_se), boundary=Estimate(bnd, bnd_se),
+                              **_variance(notes, infinite_variance))
 
 
 def _inside(x: dict, box: dict) -> np.ndarray:

@@ -10,6 +10,7 @@ program).
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
@@ -18,6 +19,7 @@ from ..core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim
 from ..primitives import REGISTRY
 from .compile import DELTA, TANGENT, VALUE
 from .link import collect_sites
+from .results import Estimate
 from .sample import design
 
 NAN = float("nan")
@@ -100,6 +102,14 @@ def evaluate(t: Term, rho: dict, gamma: dict, dgamma: dict, mode: int = VALUE, s
     return go(t, gamma, dgamma)
 
 
+@dataclass(frozen=True)
+class NaiveDerivative(Estimate):
+    """⦇p⦈ ≈ ``value`` ± ``stderr`` = ``regular`` + ``boundary`` (the two parts' estimates)."""
+
+    regular: float = 0.0
+    boundary: float = 0.0
+
+
 def _box(program: Program, params):
     return [(evaluate(lo, {}, params, {})[0], evaluate(hi, {}, params, {})[0]) for lo, hi in program.box]
 
@@ -113,7 +123,7 @@ def _inside(x: dict, boxd: dict) -> bool:
     return True
 
 
-def naive_value(program: Program, params: dict, *, samples=10000, seed=0, method="uniform") -> dict:
+def naive_value(program: Program, params: dict, *, samples=10000, seed=0, method="uniform") -> Estimate:
     """⟦p⟧ by Monte Carlo, one sample at a time (same design and seed as the vectorized engine)."""
     rng = np.random.default_rng(seed)
     box = _box(program, params)
@@ -124,11 +134,11 @@ def naive_value(program: Program, params: dict, *, samples=10000, seed=0, method
         rho = {x: lo + r * (hi - lo) for x, r, (lo, hi) in zip(program.variables, row, box)}
         f.append(evaluate(program.body, rho, params, {})[0])
     mean, se = d.mean(np.array(f))
-    return {"value": vol * mean, "stderr": vol * se}
+    return Estimate(vol * mean, vol * se)
 
 
 def naive_derivative(program: Program, params: dict, direction: dict, *, samples=10000, seed=0,
-                     method="uniform") -> dict:
+                     method="uniform") -> NaiveDerivative:
     """⦇p⦈ by Monte Carlo, one sample (and, for deltas, one site and one root) at a time."""
     rng = np.random.default_rng(seed)
     box = _box(program, params)
@@ -187,4 +197,4 @@ def naive_derivative(program: Program, params: dict, direction: dict, *, samples
         mean, se = des.mean(np.array(scores))
         bnd += uvol * mean
         bvar += (uvol * se) ** 2
-    return {"value": reg + bnd, "regular": reg, "boundary": bnd, "stderr": math.sqrt(reg_se ** 2 + bvar)}
+    return NaiveDerivative(reg + bnd, math.sqrt(reg_se ** 2 + bvar), reg, bnd)

@@ -124,7 +124,7 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -
         expr = _tidy(expr, ctx)
         notes.append(first)
         notes.extend(dict.fromkeys(ctx.notes))
-        return Integral(expr, value, Method.CLOSED_FORM, 0.0, check if exacts else None, notes)
+        return Integral(expr, value, Method.CLOSED_FORM, 0.0, check if exacts else None, notes, everywhere=not cell)
     value = 0.0
     error = 0.0
     exact_part = []

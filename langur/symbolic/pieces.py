@@ -93,7 +93,8 @@ class Integral:
     ``error``: a bound on |value − true value| (0.0 for a closed form that passed the
     cross-check); ``check``: the independent quadrature value used to cross-check a closed form
     (None if it could not be computed); ``notes``: human-readable remarks (e.g. "closed form valid
-    for parameters near the evaluation point: theta in (0, 1)").
+    for parameters near the evaluation point: theta in (0, 1)"); ``everywhere``: the closed form
+    holds for every parameter value, not only in the evaluation point's cell.
     """
 
     expr: sp.Expr | None
@@ -102,3 +103,4 @@ class Integral:
     error: float = 0.0
     check: float | None = None
     notes: list[str] = field(default_factory=list)
+    everywhere: bool = False
