@@ -47,6 +47,7 @@ from ..core import (
     Term,
     Var,
     free_vars,
+    map_children,
     neg,
     sub,
     subterms,
@@ -113,6 +114,9 @@ class Desugarer:
     def __init__(self, env: Env, errors: list[Diagnostic] | None = None):
         self.env = env
         self.errors: list[Diagnostic] = errors if errors is not None else []
+        #: While a program's box is not known yet (no domain: it is read off the body, §8.3), the
+        #: conditions that cannot be completed without it wait here with their diagnostic.
+        self.pending: list[tuple[Diffeo, Diagnostic]] | None = None
 
     def fail(self, d: Diagnostic, span: Span | None) -> Term:
         self.errors.append(d)
@@ -292,8 +296,32 @@ class Desugarer:
             why = str(e)
             if not sc.in_program and "bounded" in why:
                 why += "; inside a def or diffeo the variables' domain is unknown: write this condition in the program"
-            return self.fail(ty.reject_condition(cond_span or cond.span or span, why), span)
+            diagnostic = ty.reject_condition(cond_span or cond.span or span, why)
+            if self.pending is None:
+                return self.fail(diagnostic, span)
+            psi = Diffeo(sc.variables, (cond,), (), ())  # completed by complete_pending
+            self.pending.append((psi, diagnostic))
         return IfDiffeo(psi, then, orelse, span=span)
+
+    def complete_pending(self, t: Term, variables: tuple[str, ...], box) -> Term:
+        """``t`` with the conditions left pending completed over the program's ``box`` (a periodic
+        condition needs its argument's range); those that still fail are reported (T207)."""
+        pending, self.pending = dict((id(psi), d) for psi, d in self.pending or ()), None
+        if not pending:
+            return t
+
+        def go(u: Term) -> Term:
+            u = map_children(u, go)
+            if not (isinstance(u, IfDiffeo) and id(u.psi) in pending):
+                return u
+            if box:
+                try:
+                    return replace(u, psi=complete(u.psi.forward[0], variables, box))
+                except CompletionError as e:
+                    return self.fail(ty.reject_condition(pending[id(u.psi)].span, str(e)), u.span)
+            return self.fail(pending[id(u.psi)], u.span)
+
+        return go(t)
 
     def diffeo_app(self, app: DiffeoApp, sc: Scope) -> Diffeo | None:
         where = app.name_span or app.span

@@ -255,19 +255,18 @@ def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) 
         return None
     sc = Scope(variables=xs, gamma=module_params - set(xs),
                box=numeric_box(xs, box) if box is not None else ())
-    n_body = len(errors)
+    if box is None:  # the box is read off the body: conditions that need it wait for it
+        ds.pending = []
     body = ds.term(p.body, sc)
     if box is None:
         inferred = infer_box(body, xs)
         missing = [x for x, (lo, hi) in zip(xs, inferred) if lo is None or hi is None]
+        if not missing:
+            box = tuple(inferred)
+        body = ds.complete_pending(body, xs, numeric_box(xs, box) if box is not None else ())
         if missing:
             errors.append(ty.reject_not_compact(p.span, missing))
             return None
-        box = tuple(inferred)
-        nb = numeric_box(xs, box)
-        if any(d.code == "T207" for d in errors[n_body:]) and nb:
-            del errors[n_body:]  # a periodic condition may need the box: desugar again with it
-            body = ds.term(p.body, replace(sc, box=nb))
     else:
         # int ([l1, u1], …) t d(x⃗)  is  int [x1 ≥ l1]·[u1 ≥ x1]·…·t d(x⃗): the domain is kept as
         # data, its conditions completed here; Program.body builds the indicators
