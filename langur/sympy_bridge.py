@@ -11,14 +11,11 @@ core terms as sympy expressions through this module; the Monte Carlo engine neve
   ``Prim('sqrt', b)``.  Sympy keeps its arguments in a canonical order, so the same expression
   always gives the same term (the completion of a condition is deterministic).
 * :func:`symbol`, :func:`const_expr`, :func:`exact_number`, :func:`at_symbols`: names and numbers.
-* :func:`time_limited` runs a sympy call under a wall-clock limit (``langur.timebox``).
 """
 
 from __future__ import annotations
 
 import math
-import signal
-import threading
 from collections.abc import Callable, Iterable, Mapping
 from fractions import Fraction
 from functools import cache
@@ -46,17 +43,12 @@ from .core import (
     subterms,
 )
 from .primitives import REGISTRY
-from .timebox import run_with_timeout
 
 T = TypeVar("T")
 
 
 class NotSmooth(Exception):
     """The term has a conditional or a call: it is not a smooth function we can hand to sympy."""
-
-
-class SympyTimeout(Exception):
-    """A sympy computation exceeded its time limit."""
 
 
 #: f ↦ its sympy function, for every primitive of the registry.
@@ -210,33 +202,3 @@ def _fold(node, parts: list[Term]) -> Term:
 def lambdify(t: Term, names: list[str]):
     """A numpy function of ``names`` (positional) evaluating the smooth term ``t`` (tests, checks)."""
     return sp.lambdify([symbol(n) for n in names], to_sympy(t), modules="numpy")
-
-
-def time_limited(f: Callable[[], T], seconds: float) -> T:
-    """``f()`` if it finishes within ``seconds``, else :class:`SympyTimeout`.
-
-    In the main thread this is ``langur.timebox.run_with_timeout`` (an interval timer
-    that nests correctly with the symbolic engine's own limits); elsewhere ``f`` runs in a daemon
-    thread that is abandoned on timeout (it cannot be interrupted, but it never blocks exit).
-    """
-    if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
-        try:
-            return run_with_timeout(f, seconds)
-        except TimeoutError:
-            raise SympyTimeout(f"sympy took longer than {seconds}s") from None
-    box: dict[str, object] = {}
-
-    def run():
-        try:
-            box["value"] = f()
-        except BaseException as e:  # noqa: BLE001 - re-raised in the caller's thread
-            box["error"] = e
-
-    th = threading.Thread(target=run, daemon=True)
-    th.start()
-    th.join(seconds)
-    if th.is_alive():
-        raise SympyTimeout(f"sympy took longer than {seconds}s")
-    if "error" in box:
-        raise box["error"]  # type: ignore[misc]
-    return box["value"]  # type: ignore[return-value]

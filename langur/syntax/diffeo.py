@@ -1,6 +1,6 @@
 """Diffeomorphisms for diffeomorphic conditionals (paper §4, §5.2; LANGUAGE.md §6).
 
-Two jobs, both with sympy (through :mod:`langur.syntax.sympy_bridge`, every call time-boxed):
+Two jobs, both with sympy (through :mod:`langur.sympy_bridge`, every call time-boxed by :mod:`langur.timebox`):
 
 * :func:`complete`: a condition ``t`` over variables that is not a declared diffeo is completed to
   ``Ψ̂ = (t, the other variables)`` by solving ``t = u₀`` for one variable ``v``.  The candidates
@@ -59,12 +59,11 @@ from ..sympy_bridge import (
     FUNCTIONS,
     PRIMITIVE_OF,
     NotSmooth,
-    SympyTimeout,
     from_sympy,
     symbol,
-    time_limited,
     to_sympy,
 )
+from ..timebox import run_with_timeout
 
 #: Wall-clock limit (seconds) of one completion / one declaration check.
 TIME_LIMIT = 10.0
@@ -127,8 +126,8 @@ def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box) -> Diffeo
     inputs = fresh_inputs(len(variables), set(variables) | set(params) | _symbol_names(expr))
     bounds = {v: (lo, hi) for v, lo, hi in box}
     try:
-        found = time_limited(lambda: _choose(cond, expr, variables, occurring, inputs, params, bounds), TIME_LIMIT)
-    except SympyTimeout:
+        found = run_with_timeout(lambda: _choose(cond, expr, variables, occurring, inputs, params, bounds), TIME_LIMIT)
+    except TimeoutError:
         raise CompletionError(f"sympy could not invert the condition within {TIME_LIMIT:g}s") from None
     if isinstance(found, str):
         raise CompletionError(found)
@@ -361,8 +360,8 @@ def check_declared(name: str, variables: tuple[str, ...], params: tuple[str, ...
         inverse = tuple(substitute(c, {a: Var(b) for a, b in zip(inputs, new)}) for c in inverse)
         inputs = new
     try:
-        nonzero = time_limited(lambda: _check(name, variables, params, forward, inputs, inverse), TIME_LIMIT)
-    except SympyTimeout:
+        nonzero = run_with_timeout(lambda: _check(name, variables, params, forward, inputs, inverse), TIME_LIMIT)
+    except TimeoutError:
         raise DiffeoCheckError("T215", f"diffeo {name}: could not check within {TIME_LIMIT:g}s that the inverse "
                                "inverts Ψ̂ and that its Jacobian is nonsingular (simplify the declaration)") from None
     return Diffeo(variables=tuple(variables), forward=tuple(forward), inputs=tuple(inputs),
@@ -398,9 +397,9 @@ def _numeric_inverse(name, variables, params, inputs, F, G, xs, us):
     there = [f.subs(dict(zip(xs, G)), simultaneous=True) - u for f, u in zip(F, us)]
     back = [g.subs(dict(zip(us, F)), simultaneous=True) - x for g, x in zip(G, xs)]
     try:  # a symbolic proof when sympy finds one quickly; otherwise the numeric check decides
-        if time_limited(lambda: all(sp.simplify(d) == 0 for d in there + back), SYMBOLIC_LIMIT):
+        if run_with_timeout(lambda: all(sp.simplify(d) == 0 for d in there + back), SYMBOLIC_LIMIT):
             return
-    except SympyTimeout:
+    except TimeoutError:
         pass
     rng = random.Random(0)
     checked = 0
