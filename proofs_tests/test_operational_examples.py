@@ -23,6 +23,7 @@ from langur.operational import (
     estimate_value,
     reset_cache_stats,
 )
+from langur.operational.link import CACHE, CompileCache
 from langur.operational.results import Estimate
 
 EX = str(EXAMPLES)
@@ -337,3 +338,17 @@ def test_naive_follows_the_fold_map():
         a = estimate_derivative(L.program, {"r": 0.5}, {"r": 1}, samples=300, seed=1, method=m)
         b = naive_derivative(L.program, {"r": 0.5}, {"r": 1}, samples=300, seed=1, method=m)
         assert abs(a.value - b.value) < 1e-12 and abs(a.stderr - b.stderr) < 1e-12
+
+
+def test_a_caller_owned_cache_compiles_apart_and_gives_the_same_bits():
+    """§9's compiled units live in a CompileCache the caller may own: evaluating through a fresh
+    one compiles the renderer's defs into it (not into the shared one) and draws the same bits."""
+    loaded = ex("renderer.lgr")
+    mine = CompileCache()
+    before = dict(CACHE.units)
+    d = estimate_derivative(loaded, {"c": -0.5}, {"c": 1.0}, samples=2000, seed=5, cache=mine)
+    assert mine.stats()["last_link"] == "linked" and mine.units and CACHE.units == before
+    assert [c[0] for c in mine.stats()["compiled"]].count("def") >= 1
+    assert d == estimate_derivative(loaded, {"c": -0.5}, {"c": 1.0}, samples=2000, seed=5)
+    again = estimate_derivative(loaded, {"c": -0.5}, {"c": 1.0}, samples=2000, seed=5, cache=mine)
+    assert again == d and mine.stats()["hits"] >= 1

@@ -1,8 +1,9 @@
 """The operational semantics of Langur as a Monte Carlo engine (paper §9, Appendix D/E).
 
 The second, independent implementation of ⟦p⟧ and ⦇p⦈ (the symbolic engine is the reference).
-It shares only :mod:`langur.core`, :mod:`langur.modules` and :mod:`langur.diagnostics` with the
-rest of the workbench and never uses sympy.
+It shares only the core layer (:mod:`langur.core`, :mod:`langur.primitives`, :mod:`langur.modules`,
+:mod:`langur.diagnostics`) with the rest of the workbench and never uses sympy
+(``proofs_tests/test_layers.py`` checks both).
 
 API::
 

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 
 import numpy as np
@@ -40,39 +40,38 @@ VALUE, TANGENT, DELTA = 0, 1, 2
 NAN = float("nan")
 
 
-class Env:
-    """Evaluation environment: ρ (``vars``), γ (``params``), γ' (``dparams``), linking state."""
+@dataclass(frozen=True, slots=True)
+class Linking:
+    """Where the unit being evaluated sits in a linked program (§9): the global id of its first
+    site (``base``), its slot → site offset table (``offsets``; None: slot = offset), the linked
+    defs its calls go to (``units``: (module, def) → (fn, offsets, argument names, kinds)), and
+    the program's own γ, γ' (``root_params``, ``root_dparams``) that a def's body reads for its
+    module's declared params."""
 
-    __slots__ = (
-        "_venv",
-        "base",
-        "dparams",
-        "dvars",
-        "mode",
-        "offsets",
-        "params",
-        "root_dparams",
-        "root_params",
-        "site",
-        "sites",
-        "units",
-        "vars",
-    )
+    base: int = 0
+    offsets: list | None = None
+    units: dict | None = None
+    root_params: dict | None = None
+    root_dparams: dict | None = None
+
+
+class Env:
+    """The evaluation point — ρ (``vars``), a direction in the variables ρ' (``dvars``), γ
+    (``params``), γ' (``dparams``), the mode and, in DELTA mode, the site owning each point
+    (``site``, with the ids present in ``sites``) — and the :class:`Linking` of the unit."""
+
+    __slots__ = ("_venv", "dparams", "dvars", "link", "mode", "params", "site", "sites", "vars")
 
     def __init__(self, vars, params, *, dvars=None, dparams=None, mode=VALUE, site=None, sites=None,
-                 base=0, offsets=None, units=None, root_params=None, root_dparams=None):
+                 link: Linking | None = None):
         self.vars = vars
         self.dvars = dvars or {}
         self.params = params
         self.dparams = dparams or {}
         self.mode = mode
-        self.site = site      # DELTA mode: int array, the site id owning each point
-        self.sites = sites or frozenset()  # the site ids present in ``site``
-        self.base = base      # global id of this unit's first site (linking)
-        self.offsets = offsets  # slot -> site offset within the unit (None: slot = offset)
-        self.units = units    # (module, def) -> (fn, offsets) for Call nodes (linking)
-        self.root_params = params if root_params is None else root_params
-        self.root_dparams = self.dparams if root_dparams is None else root_dparams
+        self.site = site
+        self.sites = sites or frozenset()
+        self.link = link if link is not None else Linking(root_params=params, root_dparams=self.dparams)
         self._venv = None
 
     def value_env(self) -> Env:
@@ -80,8 +79,7 @@ class Env:
         if self.mode == VALUE:
             return self
         if self._venv is None:
-            self._venv = Env(self.vars, self.params, units=self.units, root_params=self.root_params,
-                             base=self.base, offsets=self.offsets)
+            self._venv = Env(self.vars, self.params, link=replace(self.link, root_dparams={}))
         return self._venv
 
     def bind(self, name: str, v, d) -> Env:
@@ -93,10 +91,8 @@ class Env:
                 del dp[name]
             else:
                 dp[name] = d
-        e = Env(self.vars, {**self.params, name: v}, dvars=self.dvars, dparams=dp, mode=self.mode,
-                site=self.site, sites=self.sites, base=self.base, offsets=self.offsets, units=self.units,
-                root_params=self.root_params, root_dparams=self.root_dparams)
-        return e
+        return Env(self.vars, {**self.params, name: v}, dvars=self.dvars, dparams=dp, mode=self.mode,
+                   site=self.site, sites=self.sites, link=self.link)
 
 
 Fn = Callable[[Env], tuple]
@@ -191,7 +187,7 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
     """Compile ``t`` once; the result evaluates ⟦t⟧ and ⦇t⦈'s parts on arrays of points.
 
     ``local``: for a def body, its param arguments; any other parameter it reads (its module's
-    declared params) is then looked up among the program's parameters (``env.root_params``), so a
+    declared params) is then looked up among the program's parameters (``env.link.root_params``), so a
     linked call binds only its arguments.  ``None``: every parameter is in ``env.params``."""
     ctx = _Ctx([], local)
     fn = _compile(t, ctx)
@@ -221,7 +217,7 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
         case Param(name):
             # Fig. 7/8, parameter: ⟦z⟧ = γ(z), ⦇z⦈ = γ'(z)
             if ctx.local is not None and name not in ctx.local:
-                return lambda env: (env.root_params[name], env.root_dparams.get(name))
+                return lambda env: (env.link.root_params[name], env.link.root_dparams.get(name))
             return lambda env: (env.params[name], env.dparams.get(name))
         case Add(left, right):
             # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈
@@ -268,7 +264,8 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
                 r, dr = fr(env)
                 d = _select(m, ds, dr)
                 if env.mode == DELTA:
-                    gid = env.base + (slot if env.offsets is None else env.offsets[slot])
+                    link = env.link
+                    gid = link.base + (slot if link.offsets is None else link.offsets[slot])
                     if gid in env.sites:
                         jump = np.where(env.site == gid, s - r, 0.0)
                         d = jump if d is None else d + jump
@@ -319,7 +316,8 @@ def _compile_call(slot: int, module: str, name: str, args, ctx: _Ctx) -> Fn:
             arg_fns.append(("term", _compile(a, ctx)))
 
     def call(env):
-        fn, offsets, arg_names, kinds = env.units[(module, name)]
+        link = env.link
+        fn, offsets, arg_names, kinds = link.units[(module, name)]
         vars_, dvars, params, dparams = {}, {}, {}, {}
         for (how, a), argname, kind in zip(arg_fns, arg_names, kinds):
             if how == "var":
@@ -331,9 +329,7 @@ def _compile_call(slot: int, module: str, name: str, args, ctx: _Ctx) -> Fn:
                 params[argname] = v
                 if d is not None:
                     dparams[argname] = d
-        base = env.base + (slot if env.offsets is None else env.offsets[slot])
-        inner = Env(vars_, params, dvars=dvars, dparams=dparams, mode=env.mode, site=env.site,
-                    sites=env.sites, base=base, offsets=offsets, units=env.units,
-                    root_params=env.root_params, root_dparams=env.root_dparams)
-        return fn(inner)
+        base = link.base + (slot if link.offsets is None else link.offsets[slot])
+        return fn(Env(vars_, params, dvars=dvars, dparams=dparams, mode=env.mode, site=env.site,
+                      sites=env.sites, link=Linking(base, offsets, link.units, link.root_params, link.root_dparams)))
     return call

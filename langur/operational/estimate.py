@@ -9,8 +9,8 @@ import numpy as np
 
 from ..core import ParameterError, Program, check_values, tree_size
 from ..modules import Loaded
-from .compile import DELTA, TANGENT, VALUE, Env, full
-from .link import Linked, compile_program, link
+from .compile import DELTA, TANGENT, VALUE, Env, Linking, full
+from .link import CACHE, CompileCache, Linked, compile_program, link
 from .results import DerivativeEstimate, Estimate, ValueEstimate
 from .sample import design, evaluate_box
 
@@ -33,9 +33,9 @@ class TooLarge(ValueError):
                          "`langur check` work on the shared form")
 
 
-def prepare(program_or_loaded, params: dict, sites: str = "inlined", direction: dict | None = None
-            ) -> tuple[Linked, dict]:
-    """Compile (or fetch from the cache) and resolve parameter values to floats; raises
+def prepare(program_or_loaded, params: dict, sites: str = "inlined", direction: dict | None = None,
+            cache: CompileCache = CACHE) -> tuple[Linked, dict]:
+    """Compile (or fetch from ``cache``) and resolve parameter values to floats; raises
     :class:`~langur.core.ParameterError` for a missing or non-finite value, a value for a
     parameter a Loaded does not declare, or a direction naming a parameter without a value."""
     program = program_or_loaded.program if isinstance(program_or_loaded, Loaded) else program_or_loaded
@@ -52,11 +52,11 @@ def prepare(program_or_loaded, params: dict, sites: str = "inlined", direction: 
             values = program_or_loaded.param_values({k: v for k, v in params.items()})
         except KeyError as e:
             raise ParameterError(f"no value for parameter(s) {e.args[0]} (it has no default)") from None
-        linked = link(program_or_loaded, sites)
+        linked = link(program_or_loaded, sites, cache)
         program = program_or_loaded.program
     elif isinstance(program_or_loaded, Program):
         values = dict(params)
-        linked = compile_program(program_or_loaded)
+        linked = compile_program(program_or_loaded, cache)
         program = program_or_loaded
     else:
         raise TypeError(f"expected a core Program or a Loaded, got {type(program_or_loaded).__name__}")
@@ -80,7 +80,10 @@ def _domain(linked: Linked, params: dict, rng, samples: int, method: str):
 
 
 def _env(linked: Linked, x, params, **kw) -> Env:
-    return Env(x, params, units=linked.units, offsets=linked.offsets, **kw)
+    """The evaluation point ``x`` (and γ, …) at the top of the linked program."""
+    env = Env(x, params, **kw)
+    env.link = Linking(0, linked.offsets, linked.units, params, env.dparams)
+    return env
 
 
 _full = full
@@ -113,14 +116,15 @@ def _variance(notes: list[str], infinite_variance: str | None) -> dict:
 
 
 def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, seed: int = 0,
-                   method: str = "uniform", sites: str = "inlined", infinite_variance: str | None = None
-                   ) -> ValueEstimate:
+                   method: str = "uniform", sites: str = "inlined", infinite_variance: str | None = None,
+                   cache: CompileCache = CACHE) -> ValueEstimate:
     """⟦int t d(x⃗)⟧(γ) ≈ vol(box)·mean ⟦t⟧(ρᵢ, γ) over a design in Program.box.
 
     ``infinite_variance``: why the integrand is known not to be square-integrable (the caller's
     analysis; the result's ``finite_variance`` is then False).  The result's ``notes`` also say
-    what the samples show: non-finite values, or one sample dominating the sum of squares."""
-    linked, p = prepare(program_or_loaded, params, sites)
+    what the samples show: non-finite values, or one sample dominating the sum of squares.
+    ``cache``: where compiled units and linked programs are kept (§9)."""
+    linked, p = prepare(program_or_loaded, params, sites, cache=cache)
     rng = np.random.default_rng(seed)
     notes: list[str] = []
     with np.errstate(all="ignore"):
@@ -146,12 +150,12 @@ def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: 
 
 def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, samples: int = 10000,
                         seed: int = 0, method: str = "uniform", sites: str = "inlined",
-                        infinite_variance: str | None = None) -> DerivativeEstimate:
+                        infinite_variance: str | None = None, cache: CompileCache = CACHE) -> DerivativeEstimate:
     """⦇int t d(x⃗)⦈(γ, γ') ≈ regular part (standard AD) + one zero-set estimate per site.
 
     ``sites`` (for a Loaded only): where the zero-set samplers come from, see :func:`.link.link`;
     ``infinite_variance`` and ``notes``: as :func:`estimate_value` (for the regular part)."""
-    linked, p = prepare(program_or_loaded, params, sites, direction)
+    linked, p = prepare(program_or_loaded, params, sites, direction, cache)
     dp = {k: float(v) for k, v in direction.items() if float(v) != 0.0}
     rng = np.random.default_rng(seed)
     with np.errstate(all="ignore"):

@@ -80,122 +80,129 @@ class Linked:
     how: str  # "linked" or "inlined"
 
 
+SAMPLER_CAPACITY = 4096
+LINKED_CAPACITY = 16  # linked programs kept (each holds its samplers); compiled units are kept
+
+
 @dataclass
 class CompileCache:
+    """Compiled units, linked programs and samplers (§9), owned by whoever evaluates: the public
+    functions of :mod:`langur.operational` share :data:`CACHE`; a caller may pass its own.
+
+    ``units``: compiled unit by its key (a def's key names what its elaborated form depends on);
+    ``linked``: linked programs by link key (bounded); ``seen``: the last programs by identity (a
+    program evaluated again is found without hashing it; the entry holds the object, so its id is
+    not reused meanwhile); ``samplers``: one per canonical Ψ̂ (bounded); ``compiled``, ``hits``,
+    ``last_link``: what :func:`cache_stats` reports."""
+
     units: dict = field(default_factory=dict)
     linked: dict = field(default_factory=dict)
-    by_id: dict = field(default_factory=dict)
+    seen: dict = field(default_factory=dict)
     samplers: dict = field(default_factory=dict)
     compiled: list = field(default_factory=list)  # (kind, module, name) of every compilation
     hits: int = 0
     last_link: str | None = None
 
+    def unit(self, key: tuple, term: Term, label: tuple, local: frozenset[str] | None = None) -> Unit:
+        u = self.units.get(key)
+        if u is None:
+            u = self.units[key] = compile_term(term, local)
+            self.compiled.append(label)
+        else:
+            self.hits += 1
+        return u
 
+    def sampler(self, psi: Diffeo, variables: tuple[str, ...]) -> SiteSampler:
+        """A site's sampler, shared by every program with the same canonical Ψ̂ (a swap does not
+        change the scene's conditions)."""
+        key = (psi, variables)
+        s = self.samplers.get(key)
+        if s is None:
+            s = self.samplers[key] = SiteSampler(psi, variables)
+            if len(self.samplers) > SAMPLER_CAPACITY:
+                self.samplers.pop(next(iter(self.samplers)))
+        return s
+
+    def find(self, obj, sites: str, key) -> Linked | None:
+        """The linked form of ``obj`` seen before (by identity, else by ``key``)."""
+        hit = self.seen.get(id(obj))
+        if hit is not None and hit[0] is obj and hit[1] == sites:
+            self.hits += 1
+            self.last_link = hit[2].how
+            return hit[2]
+        linked = self.linked.get(key)
+        if linked is not None:
+            self.hits += 1
+            return self.keep(obj, sites, key, linked)
+        return None
+
+    def keep(self, obj, sites: str, key, linked: Linked) -> Linked:
+        """Remember ``linked`` under ``key`` and ``obj``'s identity, forgetting the oldest beyond
+        LINKED_CAPACITY (a long session of swaps must not grow the heap without bound)."""
+        self.linked.pop(key, None)
+        self.linked[key] = linked
+        while len(self.linked) > LINKED_CAPACITY:
+            self.linked.pop(next(iter(self.linked)))
+        if len(self.seen) >= LINKED_CAPACITY:
+            self.seen.pop(next(iter(self.seen)))
+        self.seen[id(obj)] = (obj, sites, linked)
+        self.last_link = linked.how
+        return linked
+
+    def stats(self) -> dict:
+        """What was compiled (in order) since the last reset, how many lookups hit, and whether
+        the last program was ``"linked"`` or evaluated ``"inlined"``."""
+        return {"compiled": list(self.compiled), "hits": self.hits, "units": len(self.units),
+                "last_link": self.last_link}
+
+    def reset_stats(self) -> None:
+        self.compiled.clear()
+        self.hits = 0
+
+    def clear(self) -> None:
+        for table in (self.units, self.linked, self.seen, self.samplers):
+            table.clear()
+        self.reset_stats()
+
+
+#: The cache of the public API (``operational.estimate_value`` and friends).
 CACHE = CompileCache()
 
 
 def cache_stats() -> dict:
-    """What the cache compiled (in order) since the last reset, how many lookups hit it, and
-    whether the last program was ``"linked"`` or evaluated ``"inlined"``."""
-    return {"compiled": list(CACHE.compiled), "hits": CACHE.hits, "units": len(CACHE.units),
-            "last_link": CACHE.last_link}
+    return CACHE.stats()
 
 
 def reset_cache_stats() -> None:
-    CACHE.compiled.clear()
-    CACHE.hits = 0
+    CACHE.reset_stats()
 
 
 def clear_cache() -> None:
-    CACHE.units.clear()
-    CACHE.linked.clear()
-    CACHE.by_id.clear()
-    CACHE.samplers.clear()
-    reset_cache_stats()
-
-
-def _unit(key: tuple, term: Term, label: tuple, local: frozenset[str] | None = None) -> Unit:
-    u = CACHE.units.get(key)
-    if u is None:
-        u = compile_term(term, local)
-        CACHE.units[key] = u
-        CACHE.compiled.append(label)
-    else:
-        CACHE.hits += 1
-    return u
-
-
-SAMPLER_CAPACITY = 4096
-
-
-def _sampler(psi: Diffeo, variables: tuple[str, ...]) -> SiteSampler:
-    """A site's sampler, shared by every program with the same canonical Ψ̂ (a swap does not
-    change the scene's conditions)."""
-    key = (psi, variables)
-    s = CACHE.samplers.get(key)
-    if s is None:
-        s = CACHE.samplers[key] = SiteSampler(psi, variables)
-        if len(CACHE.samplers) > SAMPLER_CAPACITY:
-            CACHE.samplers.pop(next(iter(CACHE.samplers)))
-    return s
-
-
-LINKED_CAPACITY = 16  # linked programs kept (each holds its samplers); compiled units are kept
-
-
-def _put_linked(key, linked: Linked) -> None:
-    """Remember a linked program, forgetting the oldest beyond LINKED_CAPACITY (a long session of
-    swaps must not grow the heap without bound: the garbage collector's cost grows with it)."""
-    CACHE.linked.pop(key, None)
-    CACHE.linked[key] = linked
-    while len(CACHE.linked) > LINKED_CAPACITY:
-        CACHE.linked.pop(next(iter(CACHE.linked)))
-
-
-def _memo_get(obj, sites: str):
-    hit = CACHE.by_id.get(id(obj))
-    if hit is not None and hit[0] is obj and hit[1] == sites:
-        CACHE.hits += 1
-        CACHE.last_link = hit[2].how
-        return hit[2]
-    return None
-
-
-def _memo_put(obj, sites: str, linked: Linked) -> Linked:
-    if len(CACHE.by_id) >= LINKED_CAPACITY:
-        CACHE.by_id.pop(next(iter(CACHE.by_id)))
-    CACHE.by_id[id(obj)] = (obj, sites, linked)  # holds obj: its id cannot be reused meanwhile
-    CACHE.last_link = linked.how
-    return linked
+    CACHE.clear()
 
 
 # -- the inlined program ------------------------------------------------------------------------
 
-def compile_program(program: Program) -> Linked:
+def compile_program(program: Program, cache: CompileCache = CACHE) -> Linked:
     """Compile a pure core program (no ``Call``) once; cached by its content."""
-    hit = _memo_get(program, "")
+    key = ("program", program)
+    hit = cache.find(program, "", key)
     if hit is not None:
         return hit
-    key = ("program", program)
-    hit = CACHE.linked.get(key)
-    if hit is not None:
-        CACHE.hits += 1
-        return _memo_put(program, "", hit)
-    unit = _unit(("unit", program.body), program.body, ("program", None, None))
-    sites = []
-    collect_sites(program.body, {}, {}, program.variables, None, sites)
-    linked = Linked(unit.fn, None, {}, program.variables, _box(program), sites, "inlined")
-    _put_linked(key, linked)
-    return _memo_put(program, "", linked)
+    unit = cache.unit(("unit", program.body), program.body, ("program", None, None))
+    sites: list[Site] = []
+    collect_sites(program.body, {}, {}, program.variables, None, sites, cache)
+    return cache.keep(program, "", key, Linked(unit.fn, None, {}, program.variables, _box(program.box), sites,
+                                                "inlined"))
 
 
-def _box(program: Program) -> list:
-    return [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in program.box]
+def _box(box) -> list:
+    return [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in box]
 
 
 # -- linking separately compiled modules --------------------------------------------------------
 
-def link(loaded: Loaded, sites: str = "inlined") -> Linked:
+def link(loaded: Loaded, sites: str = "inlined", cache: CompileCache = CACHE) -> Linked:
     """Link ``loaded``'s main program from its modules' separately compiled defs.
 
     ``sites`` chooses where the zero-set samplers come from: ``"inlined"`` (default) from the
@@ -209,33 +216,52 @@ def link(loaded: Loaded, sites: str = "inlined") -> Linked:
     main = loaded.main
     if main.program is None or loaded.program is None:
         raise ValueError(f"module {main.name} has no program (no `int … d(…)`) to evaluate")
-    hit = _memo_get(loaded, sites)
+    keys = _def_keys(loaded)
+    prog_key = ("program", main.name, main.source_hash, _import_signature(main, loaded))
+    link_key = ("link", sites, prog_key, frozenset(keys.items()))
+    hit = cache.find(loaded, sites, link_key)
     if hit is not None:
         return hit
+    defs = {(m.name, d.name): d for m in loaded.modules.values() for d in m.defs.values()}
+    units = {name: cache.unit(k, defs[name].body, ("def",) + name,
+                              frozenset(a for a, kind in defs[name].args if kind == "param"))
+             for name, k in keys.items()}
+    body = cache.unit(prog_key, main.program.body, ("program", main.name, None))
+    if not _linkable(body, units, defs):
+        return cache.keep(loaded, sites, link_key, compile_program(loaded.program, cache))
+    offsets, table = _site_offsets(body, units, defs)
+    found: list[Site] = []
+    if sites == "inlined":
+        collect_sites(loaded.program.body, {}, {}, loaded.program.variables, None, found, cache)
+        if len(found) != offsets[-1] or loaded.program.variables != main.program.variables:
+            # the inliner changed the structure: evaluate the inlined program
+            return cache.keep(loaded, sites, link_key, compile_program(loaded.program, cache))
+    else:
+        collect_sites(main.program.body, {}, {}, main.program.variables, defs, found, cache)
+    box = main.program.box
+    if any(isinstance(s, Call) for lo, hi in box for t in (lo, hi) for s in subterms(t)):
+        box = loaded.program.box
+    return cache.keep(loaded, sites, link_key,
+                      Linked(body.fn, offsets, table, main.program.variables, _box(box), found, "linked"))
+
+
+def _def_keys(loaded: Loaded) -> dict:
+    """Each def's cache key: what its elaborated form depends on (§9)."""
     keys = {}
     for m in loaded.modules.values():
         sig = _import_signature(m, loaded)
         for d in m.defs.values():
             keys[(m.name, d.name)] = ("def", m.name, m.source_hash, d.name, sig)
-    prog_key = ("program", main.name, main.source_hash, _import_signature(main, loaded))
-    link_key = ("link", sites, prog_key, frozenset(keys.items()))
-    hit = CACHE.linked.get(link_key)
-    if hit is not None:
-        CACHE.hits += 1
-        return _memo_put(loaded, sites, hit)
-    defs = {(m.name, d.name): d for m in loaded.modules.values() for d in m.defs.values()}
-    units = {name: _unit(k, defs[name].body, ("def",) + name,
-                         frozenset(a for a, kind in defs[name].args if kind == "param"))
-             for name, k in keys.items()}
-    body = _unit(prog_key, main.program.body, ("program", main.name, None))
-    if not _linkable(body, units, defs):
-        linked = compile_program(loaded.program)
-        _put_linked(link_key, linked)
-        return _memo_put(loaded, sites, linked)
+    return keys
+
+
+def _site_offsets(body: Unit, units: dict, defs: dict) -> tuple[list, dict]:
+    """Global site numbering (§9: pre-order with calls expanded in place): the offsets of the
+    program body's slots (last: its total) and, per def, ``(fn, its slots' offsets, argument
+    names, argument kinds)`` for the linked calls."""
     counts: dict = {}
 
     def count(unit: Unit) -> list:
-        """Offsets of the unit's slots within its own sites, and (last) its total."""
         offs, n = [], 0
         for kind, target, _ in unit.slots:
             offs.append(n)
@@ -253,23 +279,7 @@ def link(loaded: Loaded, sites: str = "inlined") -> Linked:
         d = defs[name]
         total(name)
         table[name] = (u.fn, counts[name], tuple(a for a, _ in d.args), tuple(k for _, k in d.args))
-    offsets = count(body)
-    found: list[Site] = []
-    if sites == "inlined":
-        collect_sites(loaded.program.body, {}, {}, loaded.program.variables, None, found)
-        if len(found) != offsets[-1] or loaded.program.variables != main.program.variables:
-            linked = compile_program(loaded.program)  # the inliner changed the structure: evaluate it
-            _put_linked(link_key, linked)
-            return _memo_put(loaded, sites, linked)
-    else:
-        collect_sites(main.program.body, {}, {}, main.program.variables, defs, found)
-    box = main.program.box
-    if any(isinstance(s, Call) for lo, hi in box for t in (lo, hi) for s in subterms(t)):
-        box = loaded.program.box
-    linked = Linked(body.fn, offsets, table, main.program.variables,
-                    [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in box], found, "linked")
-    _put_linked(link_key, linked)
-    return _memo_put(loaded, sites, linked)
+    return count(body), table
 
 
 def _import_signature(m, loaded: Loaded) -> tuple:
@@ -305,20 +315,21 @@ def _linkable(body: Unit, units: dict, defs: dict) -> bool:
     return True
 
 
-def collect_sites(t: Term, varmap: dict, parammap: dict, variables: tuple[str, ...], defs, out: list) -> None:
+def collect_sites(t: Term, varmap: dict, parammap: dict, variables: tuple[str, ...], defs, out: list,
+                  cache: CompileCache = CACHE) -> None:
     """Append the canonical site of every diffeomorphic conditional of ``t``, in pre-order."""
     match t:
         case IfDiffeo(psi, then, orelse):
             ren = {v: Var(varmap[v]) for v in psi.variables if v in varmap and varmap[v] != v}
             canon = substitute_diffeo(psi, ren, parammap) if ren or parammap else psi
             canon = extend_diffeo(canon, variables)
-            out.append(Site(_sampler(canon, variables), free_params(canon.forward[0])))
-            collect_sites(then, varmap, parammap, variables, defs, out)
-            collect_sites(orelse, varmap, parammap, variables, defs, out)
+            out.append(Site(cache.sampler(canon, variables), free_params(canon.forward[0])))
+            collect_sites(then, varmap, parammap, variables, defs, out, cache)
+            collect_sites(orelse, varmap, parammap, variables, defs, out, cache)
         case Let(name, bound, body):
-            collect_sites(bound, varmap, parammap, variables, defs, out)
+            collect_sites(bound, varmap, parammap, variables, defs, out, cache)
             inner = {**parammap, name: substitute(bound, {}, parammap) if parammap else bound}
-            collect_sites(body, varmap, inner, variables, defs, out)
+            collect_sites(body, varmap, inner, variables, defs, out, cache)
         case Call(module, name, args):
             d = defs[(module, name)]
             vm, pm = {}, {}
@@ -327,7 +338,7 @@ def collect_sites(t: Term, varmap: dict, parammap: dict, variables: tuple[str, .
                     vm[argname] = varmap.get(a.name, a.name)
                 else:
                     pm[argname] = substitute(a, {}, parammap) if parammap else a
-            collect_sites(d.body, vm, pm, variables, defs, out)
+            collect_sites(d.body, vm, pm, variables, defs, out, cache)
         case _:
             for c in children(t):
-                collect_sites(c, varmap, parammap, variables, defs, out)
+                collect_sites(c, varmap, parammap, variables, defs, out, cache)
