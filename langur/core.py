@@ -15,7 +15,7 @@ structure only.
 
 ``Call`` is not part of the paper's core: it appears only in a module's *elaborated* form (one
 module's definitions with calls into other modules left as links, for separate compilation, §9).
-``langur.syntax.desugar.inline`` removes every ``Call``; the semantic functions ``denote`` and
+``langur.syntax.inline.inline`` removes every ``Call``; the semantic functions ``denote`` and
 ``ddenote`` see pure core terms.
 """
 
@@ -623,7 +623,3 @@ def extend_diffeo(psi: Diffeo, variables: tuple[str, ...]) -> Diffeo:
         branches.append(InverseBranch(tuple(by_name[x] for x in variables), b.guards))
     return replace(psi, variables=variables, forward=forward, inputs=inputs, branches=tuple(branches))
 
-
-def branch_components(psi: Diffeo, branch: InverseBranch) -> dict[str, Term]:
-    """The inverse branch as ``{variable name: term over inputs and parameters}``."""
-    return dict(zip(psi.variables, branch.components))
