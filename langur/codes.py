@@ -65,60 +65,43 @@ CODES: dict[str, Code] = _catalogue(
     Code("T230", "too large once inlined"),
     Code("T231", "constant beyond the range of doubles"),
     # X3xx: transversality and integrability (langur check)
-    Code("X301",
-         "Two multiplying conditions (or one multiplied by itself through a power or primitive) have "
-         "the same zero set for every parameter value: the derivative counts the jump twice (Def. "
-         "7.2).",
+    Code("X301", "Two multiplying conditions (or one multiplied by itself through a power or primitive) have the "
+         "same zero set for every parameter value: the derivative counts the jump twice (Def. 7.2).",
          "error", "coincident-zero-sets"),
-    Code("X302",
-         "Two multiplying zero sets are tangent at a point (normals linearly dependent): Def. 7.2 "
-         "fails on a null set; Theorem 8.1 no longer applies, the derivative is still likely right.",
+    Code("X302", "Two multiplying zero sets are tangent at a point (normals linearly dependent): Def. 7.2 fails on "
+         "a null set; Theorem 8.1 no longer applies, the derivative is still likely right.",
          "warning", "tangent-zero-sets"),
-    Code("X303",
-         "More than n multiplying zero sets pass through one point of R^n: Def. 7.2 fails on a null "
-         "set.",
+    Code("X303", "More than n multiplying zero sets pass through one point of R^n: Def. 7.2 fails on a null set.",
          "warning", "too-many-zero-sets-through-a-point"),
-    Code("X304",
-         "Multiplying zero sets coincide for some parameter values (the set is printed).",
+    Code("X304", "Multiplying zero sets coincide for some parameter values (the set is printed).",
          "warning", "degenerate-for-some-parameters"),
-    Code("X305",
-         "At the parameter values given with --at the zero sets coincide or a condition is not a "
+    Code("X305", "At the parameter values given with --at the zero sets coincide or a condition is not a "
          "diffeomorphism: the derivative is not defined there.",
          "error", "degenerate-at-given-parameters"),
-    Code("X306",
-         "A parameter coefficient of a condition vanishes for some parameter values: there the "
-         "condition is not a diffeomorphism.",
+    Code("X306", "A parameter coefficient of a condition vanishes for some parameter values: there the condition "
+         "is not a diffeomorphism.",
          "warning", "not-a-diffeomorphism-for-some-parameters"),
-    Code("X307",
-         "A primitive (log, sqrt, division, tan, ...) is applied outside its domain on the domain of "
+    Code("X307", "A primitive (log, sqrt, division, tan, ...) is applied outside its domain on the domain of "
          "integration at the parameter values in force.",
          "warning", "primitive-outside-domain"),
-    Code("X308",
-         "Multiplying conditions with the same zero set that does not move with the parameters: the "
-         "deltas have zero weight, the derivative is unaffected (the product is redundant).",
+    Code("X308", "Multiplying conditions with the same zero set that does not move with the parameters: the deltas "
+         "have zero weight, the derivative is unaffected (the product is redundant).",
          "warning", "redundant-static-coincidence"),
-    Code("X310",
-         "The checker could not decide transversality here (a sympy computation timed out or failed).",
+    Code("X310", "The checker could not decide transversality here (a sympy computation timed out or failed).",
          "warning", "undecided"),
-    Code("X311",
-         "The integrand is not integrable on the domain at the parameter values in force (a pole whose "
+    Code("X311", "The integrand is not integrable on the domain at the parameter values in force (a pole whose "
          "order reaches the codimension of the set it sits on): the integral does not exist.",
          "error", "not-integrable"),
-    Code("X312",
-         "The integrand blows up on the domain and the analysis cannot decide whether it is integrable "
+    Code("X312", "The integrand blows up on the domain and the analysis cannot decide whether it is integrable "
          "there; the engines' answers rely on their own diagnostics.",
          "warning", "integrability-undecided"),
-    Code("X313",
-         "The derivative denotation in a parameter is not an integral (its regular part is not "
-         "integrable, or a delta term's weight is infinite or undefined on its zero set), although the "
-         "value exists.",
+    Code("X313", "The derivative denotation in a parameter is not an integral (its regular part is not integrable, "
+         "or a delta term's weight is infinite or undefined on its zero set), although the value exists.",
          "error", "derivative-not-integrable"),
-    Code("X314",
-         "An interval of the domain is empty at the parameter values in force (lower end above upper "
-         "end): the integrand is 0 there, so the value is 0, not minus the integral as in calculus.",
+    Code("X314", "An interval of the domain is empty at the parameter values in force (lower end above upper end): "
+         "the integrand is 0 there, so the value is 0, not minus the integral as in calculus.",
          "warning", "empty-domain"),
-    Code("X399",
-         "The check of this file did not finish within its time budget (--timeout, default 60 s): what "
-         "was not reported is unchecked.",
+    Code("X399", "The check of this file did not finish within its time budget (--timeout, default 60 s): what was "
+         "not reported is unchecked.",
          "error", "time-limit"),
 )

@@ -11,60 +11,8 @@ parameters, disjoint.  Typing happens in two places, with the same rules and cod
   desugarer's output these never fire (they certify it); they also type core terms built by
   other means (tests, fuzzers).
 
-Every rejection is a :class:`~langur.diagnostics.Diagnostic` whose message names the rule.
-
-======  ==========================================================================================
-code    rejection (rule)
-======  ==========================================================================================
-T201    unbound name: not a variable of the enclosing ``int``, a declared ``param``, a ``let``-bound
-        name or an argument of the enclosing ``def`` (Fig. 6, variable / parameter)
-T202    unknown function: not a primitive, ``abs``/``min``/``max``, a ``def`` or a ``diffeo`` in
-        scope; or a ``diffeo`` called like a function / a ``def`` applied as ⌊Ψ⌋
-T203    wrong arity: a primitive, ``def`` or ``diffeo`` applied to the wrong number of arguments;
-        a domain with a different number of intervals than ``d(…)`` has variables
-T204    a ``var`` argument of a ``def`` given a variable-free term (a ``param`` where a ``var`` is
-        required)
-T205    a ``param`` argument of a ``def`` (or a parameter argument of a ``diffeo``) given a term
-        with variables (a ``var`` where a ``param`` is required; Fig. 6 parameters are ·;Γ terms)
-T206    the bound term of ``let`` mentions a variable (Fig. 6, let: ``·;Γ ⊢ t``)
-T207    the condition of ``ifge0`` mentions variables and cannot be completed to a
-        diffeomorphism (Fig. 6, conditional requires ``·;Γ ⊢ t``; diffeomorphic conditional
-        requires a C¹ diffeomorphism: none found, e.g. no variable can be isolated, infinitely
-        many inverse branches on the domain, or the condition is not smooth)
-T208    nested ``int`` (Fig. 11: a term contains no ``int``; the integral of a program is over
-        a term, and a program is not a term).  The grammar parses ``int … d(…)`` where a term is
-        expected only so that the desugarer can reject it here, located at its text.
-T209    the integrand is not compactly supported (§8.3, Prop. 8.1): no domain and no bounding
-        indicator factors bound every variable
-T210    undeclared parameter: a name used where only parameters may occur (a domain bound, a
-        ``let``-bound term, a plain condition, a ``param`` argument) that is not declared
-        (Fig. 6, parameter: ``z:real ∈ Γ``)
-T211    duplicate declaration: a param, def, diffeo or imported name declared twice (or
-        shadowing a primitive / ``pi``), a def argument, diffeo variable/parameter/input or
-        integration variable listed twice
-T212    a name both a variable and a parameter (``Vars ∩ Params = ∅``, §4): an integration
-        variable named like a declared param, a ``let`` binding a variable's name, a def
-        argument that is both, a diffeo variable that is also its parameter
-T213    non-constant exponent in ``t ^ k`` (LANGUAGE.md §1: ``k`` a constant rational)
-T214    declared diffeo: arity (Ψ̂ must map ℝⁿ to ℝⁿ: as many forward and inverse components as
-        variables and inverse inputs)
-T215    declared diffeo: the inverse does not invert (``Ψ̂(Ψ̂⁻¹(u)) ≠ u`` or ``Ψ̂⁻¹(Ψ̂(x)) ≠ x``)
-T216    declared diffeo: singular Jacobian (not a C¹ diffeomorphism, Def. 3.4)
-T217    a diffeo applied to variable arguments that are not distinct integration variables
-        (Fig. 6, diffeomorphic conditional: Ψ's arguments are variables of Δ)
-T218    import: module not found (``m.lgr`` beside the importing file, or ``--module m=PATH``)
-T219    import cycle
-T220    import: the module has no ``def`` or ``diffeo`` of that name
-T221    recursive ``def`` (defs are inlined: Langur is first-order, §4)
-T222    a diffeo's component is not a smooth term (conditionals, calls and ``let`` are not allowed)
-T223    import: the module's file exists but cannot be read (the operating system's reason)
-T230    the program is too large once its definitions are inlined: it nests more than
-        ``langur.syntax.inline.MAX_INLINED_DEPTH`` levels, or its calls go through thousands of
-        definitions (refused before inlining, at the call that makes it so); or, for the Monte
-        Carlo engine alone, its tree has more than ``langur.operational.MAX_TREE_NODES`` nodes
-T231    a constant subterm whose value is beyond the range of doubles (``10^400``): the numeric
-        engines compute in doubles
-======  ==========================================================================================
+Every rejection is a :class:`~langur.diagnostics.Diagnostic` whose message names the rule; its
+code (T201–T231) is one of the catalogue :mod:`langur.codes` (``docs/CODES.md`` explains each).
 """
 
 from __future__ import annotations

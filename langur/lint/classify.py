@@ -28,7 +28,7 @@ from ..sympy_bridge import symbol, to_sympy
 from .algebra import Undecided, bad_parameters, describe_point, exact, vanishes
 from .coincidence import CoincidenceChecks
 from .collect import MAX_PRODUCTS, Occurrence, collect
-from .findings import Finding
+from .findings import Finding, quote
 from .geometry import is_linear, params_of, restrict, span_key, xsyms
 from .nullsets import NullSetChecks
 
@@ -90,17 +90,7 @@ class Checker(CoincidenceChecks, NullSetChecks):
     # -- wording --------------------------------------------------------------------------------
 
     def text(self, span: Span | None) -> str | None:
-        if span is None or span.path not in self.sources:
-            return None
-        lines = self.sources[span.path].splitlines()
-        if not 1 <= span.line <= len(lines):
-            return None
-        line = lines[span.line - 1]
-        end = span.end_col if span.end_line == span.line else len(line) + 1
-        frag = line[span.col - 1 : end - 1].strip()
-        if span.end_line != span.line:
-            frag += " …"
-        return frag if len(frag) <= 60 else frag[:57] + "…"
+        return quote(span, self.sources, multiline=True)
 
     def anchor(self, occ: Occurrence) -> Span | None:
         """Where a finding about ``occ`` points: the outermost call site for a condition inlined

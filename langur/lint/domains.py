@@ -45,7 +45,7 @@ from ..core import (
     shared,
 )
 from ..primitives import REGISTRY
-from .findings import Finding
+from .findings import Finding, quote
 
 SAMPLES = 4096
 
@@ -175,11 +175,7 @@ def domain_findings(program: Program | None, point: Mapping[str, object] | None,
         k = int(np.argmax(where))
         example = ", ".join(f"{x} = {xs[x][k]:.3g}" for x in program.variables)
         span = t.span
-        text = None
-        if span is not None and span.path in sources and span.line == span.end_line:
-            lines = sources[span.path].splitlines()
-            if 1 <= span.line <= len(lines):
-                text = lines[span.line - 1][span.col - 1 : span.end_col - 1].strip()
+        text = quote(span, sources, limit=None)
         what = f"`{text}`" if text else (f"`{t.op}`" if isinstance(t, Prim) else "a power")
         vals = ", ".join(f"{k2} = {v:g}" for k2, v in params.items())
         at = f" (at {vals})" if vals else ""

@@ -41,7 +41,7 @@ from ..symbolic.decompose import Ctx, decompose
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import run_with_timeout
 from .blowup import Blowup, Region, Undecidable, Verdict, blowups
-from .findings import Finding
+from .findings import Finding, quote
 
 #: Seconds for the whole analysis of one integral (beyond: nothing is claimed).
 TIME_LIMIT = 15.0
@@ -188,16 +188,6 @@ def derivative_integrability(program: Program, point: Mapping[str, object],
 # Findings
 
 
-def _quote(span: Span | None, sources: Mapping[str, str]) -> str | None:
-    if span is None or span.path not in sources or span.line != span.end_line:
-        return None
-    lines = sources[span.path].splitlines()
-    if not 1 <= span.line <= len(lines):
-        return None
-    frag = lines[span.line - 1][span.col - 1 : span.end_col - 1].strip()
-    return frag if len(frag) <= 60 else frag[:57] + "…"
-
-
 def _edge(domain: Domain, e: sp.Expr) -> sp.Expr:
     """A quantity that vanishes where ``e`` reaches the edge of a primitive's domain and is
     negative outside it: cos(e) at tan's poles, (e − lo)·(hi − e) at finite ends."""
@@ -243,7 +233,7 @@ def _culprit(program: Program, b: Blowup, at: dict, sources: Mapping[str, str]) 
                     continue
             elif not (math.isfinite(v) and abs(v) < 1e-25):
                 continue
-        text = _quote(t.span, sources)
+        text = quote(t.span, sources)
         return t.span, f"`{text}`" if text else "a division"
     return program.span, "the integrand"
 
