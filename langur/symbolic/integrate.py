@@ -218,8 +218,9 @@ def _quads(quad_one, items, ctx: Context):
     quads, converged = [], []
     for item in items:
         notes: list[str] = []
-        quads.append(quad_one(item, notes))
-        converged.append(not any(n.startswith(quadrature.NOT_CONVERGED_NOTE) for n in notes))
+        problems: list[quadrature.NumProblem] = []
+        quads.append(quad_one(item, notes, problems))
+        converged.append(all(p.converged for p in problems))
         ctx.notes.extend(notes)
     return quads, converged
 
@@ -228,7 +229,7 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
     """Σ ∫_box Π[conditions]·weight (regular part of a denotation or derivative denotation)."""
     variables = tuple(variables)
     ctx, boxd = _setup(variables, box, at, timeout)
-    quads, converged = _quads(lambda pc, notes: quadrature.quad_pieces([pc], variables, box, ctx.at, notes),
+    quads, converged = _quads(lambda pc, *out: quadrature.quad_pieces([pc], variables, box, ctx.at, *out),
                               pieces, ctx)
     _check_defined(quads, "piece")
     ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work
@@ -255,7 +256,7 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
         except Unsupported as exc:
             raise ValueError(f"delta piece {i}: cannot bound the zero set's coordinates: {exc}") from None
     quads, converged = _quads(
-        lambda item, notes: quadrature.quad_delta_pieces([item[0]], variables, box, ctx.at, [item[1]], notes),
+        lambda item, *out: quadrature.quad_delta_pieces([item[0]], variables, box, ctx.at, [item[1]], *out),
         list(zip(pieces, uboxes)), ctx)
     _check_defined(quads, "delta piece")
     ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work

@@ -51,8 +51,6 @@ MAX_BAD = 3
 #: used here, and ier = 5 ("probably divergent") means the integral does not exist.
 NOT_CONVERGED = ("maximum number of subdivisions", "bad integrand behavior")
 DIVERGENT = "probably divergent"
-#: How a note about such a warning starts (``langur.symbolic.integrate`` reads it).
-NOT_CONVERGED_NOTE = "quadrature did not reach its tolerance"
 
 
 def _num(expr, at: dict) -> float:
@@ -131,6 +129,7 @@ class NumProblem:
     kinks: dict = field(default_factory=dict)
     syms: list = field(default_factory=list)  # one symbol per level (for polynomial roots)
     notes: list[str] = field(default_factory=list)  # scipy's warnings that did not stop the result
+    converged: bool = True  # every quad reached its tolerance (else the error bound may be optimistic)
 
 
 class _Finite:
@@ -247,7 +246,8 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
                             f"quadrature over {_name(p, level)} in [{c:.6g}, {d:.6g}] does not converge and the "
                             f"integrand grows like |{_name(p, level)} - {end:.6g}|^-{alpha:.3g} there: the "
                             "integral is probably divergent")
-                p.notes.append(f"{NOT_CONVERGED_NOTE} over {_name(p, level)} "
+                p.converged = False
+                p.notes.append(f"quadrature did not reach its tolerance over {_name(p, level)} "
                                f"(scipy: {w.splitlines()[0].rstrip('.')}); the error bound may be optimistic")
             return total, err
         singular += [t for t in g.bad if t not in singular]
@@ -487,9 +487,10 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
 
 
 def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict,
-                notes: list[str] | None = None) -> tuple[float, float]:
+                notes: list[str] | None = None, problems: list[NumProblem] | None = None) -> tuple[float, float]:
     """Σ ∫_box piece at ``at``: (value, error estimate).  scipy's warnings that did not stop the
-    result are appended to ``notes``; :class:`UndefinedIntegral` when the integral does not exist."""
+    result are appended to ``notes``, the problems integrated to ``problems`` (whether each
+    converged); :class:`UndefinedIntegral` when the integral does not exist."""
     val = err = 0.0
     for pc in pieces:
         prob = piece_problem(pc, variables, box, at)
@@ -498,6 +499,8 @@ def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict,
         err += e
         if notes is not None:
             notes.extend(prob.notes)
+        if problems is not None:
+            problems.append(prob)
     return val, err
 
 
@@ -566,7 +569,8 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
 
 
 def quad_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at: dict, uboxes,
-                      notes: list[str] | None = None) -> tuple[float, float]:
+                      notes: list[str] | None = None, problems: list[NumProblem] | None = None
+                      ) -> tuple[float, float]:
     """Σ ∫ h δ(π₀Ψ̂) at ``at`` over the box; ``uboxes[i]`` is piece i's ``u'`` box (``notes`` and
     errors as :func:`quad_pieces`)."""
     val = err = 0.0
@@ -577,4 +581,6 @@ def quad_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at: dict, ub
             err += e
             if notes is not None:
                 notes.extend(prob.notes)
+            if problems is not None:
+                problems.append(prob)
     return val, err
