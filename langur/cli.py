@@ -82,7 +82,7 @@ seed = count(0, MAX_SEED, "a seed")
 MAX_TIMEOUT = 86_400.0
 #: The default time budget of ``show``, ``eval`` and ``deriv`` (the whole command) and of
 #: ``check`` (each file: a budget that suits a CI job).
-DEFAULT_TIMEOUT = {"show": 600.0, "eval": 600.0, "deriv": 600.0, "check": 60.0}
+DEFAULT_TIMEOUT = {"show": 600.0, "eval": 600.0, "deriv": 600.0, "plot": 600.0, "check": 60.0}
 
 
 def seconds(text: str) -> float:

@@ -18,7 +18,8 @@ PYPROJECT = tomllib.loads((REPO / "pyproject.toml").read_text())
 
 def test_every_package_is_listed():
     listed = set(PYPROJECT["tool"]["setuptools"]["packages"])
-    found = {".".join(p.parent.relative_to(REPO).parts) for p in (REPO / "langur").rglob("__init__.py")}
+    found = {".".join(p.parent.relative_to(REPO).parts) for top in ("langur", "viz")
+             for p in (REPO / top).rglob("__init__.py")}
     assert found <= listed, f"packages missing from pyproject.toml: {sorted(found - listed)}"
     assert PYPROJECT["tool"]["setuptools"]["package-dir"]["langur.examples"] == "examples"
     assert "langur.examples" in listed

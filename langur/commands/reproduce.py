@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from .. import reproduce
+import importlib
+
+from .. import progress, reproduce
 from ..cli import MAX_SAMPLES, UsageError, samples, seed
 from ..reproduce import EXPERIMENTS
 from . import _common as c
@@ -15,6 +17,16 @@ def add_arguments(p):
                    help=f"Monte Carlo samples, 100 to {MAX_SAMPLES:,} (default 100000)")
     p.add_argument("--seed", type=seed, default=0, metavar="S", help="random seed, a non-negative integer (default 0)")
     p.add_argument("--json", action="store_true", help="one JSON object on standard output")
+    p.add_argument("--out", metavar="DIR", help="also write each experiment's pictures (Fig. 1, 2, 3, 9) to DIR "
+                   "(needs the plot extra: pip install -e '.[plot]')")
+
+
+def _painter():
+    """``viz.paper.draw``, from the optional plot extra (a usage error when it is missing)."""
+    try:
+        return importlib.import_module("viz.paper").draw
+    except ImportError as e:
+        raise UsageError(f"--out needs the plot extra ({e.name or e}): pip install -e '.[plot]'") from None
 
 
 def run(args) -> int:
@@ -26,10 +38,14 @@ def run(args) -> int:
         reproduce.examples_dir()
     except FileNotFoundError as e:
         raise UsageError(str(e)) from None
+    draw = _painter() if args.out else None
     results = []
     for name in names:
         (ex,) = reproduce.run([name], args.samples, args.seed)
         results.append(ex)
+        if draw is not None and ex.figures:
+            with progress.phase(f"drawing {name}'s pictures"):
+                ex.notes += [f"picture: {p}" for p in draw(name, ex.figures, args.out)]
         if not args.json:
             print(f"{'PASS' if ex.ok else 'FAIL'}  {ex.name}: {ex.title}   ({ex.seconds:.1f} s)")
             for ch in ex.checks:

@@ -1,0 +1,37 @@
+"""The paper's pictures from ``langur reproduce NAME --out DIR`` (drawn from each experiment's data).
+
+* ``fig1``: Fig. 1 (a)–(d) at θ = 0.5 (:mod:`viz.curves`);
+* ``fig9``: Fig. 9's three surfaces, the view from above and Monte Carlo convergence
+  (:mod:`viz.surfaces`, :mod:`viz.flat`);
+* ``risk``: Fig. 2 and Fig. 3 (:mod:`viz.risk`).
+"""
+
+from __future__ import annotations
+
+import os
+
+from . import curves, flat, geometry, risk, surfaces
+
+
+def _scene(figures: dict) -> geometry.Scene:
+    loaded = figures["loaded"]
+    params = figures["params"]
+    return geometry.scene(loaded.program, params, {k: float(k == figures["wrt"]) for k in loaded.params})
+
+
+def draw(name: str, figures: dict, out: str) -> list[str]:
+    """The pictures of experiment ``name`` in the folder ``out``; their paths."""
+    os.makedirs(out, exist_ok=True)
+    path = lambda what: os.path.join(out, f"{name}_{what}.png")  # noqa: E731
+    if name == "fig1":
+        s = _scene(figures)
+        return [curves.save(s, path("abcd"), "Fig. 1: ∫₀¹ [x ≤ θ] dx at θ = 0.5 and its derivative", "θ")]
+    if name == "fig9":
+        s = _scene(figures)
+        title = "Fig. 9: [y < x + θ](1 + θ + x + y) at θ = 0"
+        return [surfaces.render(s, path("surfaces"), title, "θ"),
+                flat.flat(s, path("flat"), title, "θ"),
+                flat.convergence(s, figures["loaded"], path("convergence"), title + ": Monte Carlo", "θ")]
+    if name == "risk":
+        return [risk.fig2(figures, path("fig2")), risk.fig3(figures, path("fig3"))]
+    return []
