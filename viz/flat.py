@@ -32,8 +32,9 @@ def _image(ax, s: Scene, f, title: str, cmap: str = "coolwarm"):
     gx, gy = np.meshgrid(np.linspace(x0, x1, GRID), np.linspace(y0, y1, GRID))
     z = f(gx, gy)
     vmax = float(np.nanmax(np.abs(z))) or 1.0
+    ratio = (y1 - y0) / (x1 - x0)
     im = ax.imshow(z, origin="lower", extent=(x0, x1, y0, y1), cmap=cmap, vmin=-vmax, vmax=vmax,
-                   interpolation="nearest", aspect="auto")
+                   interpolation="nearest", aspect="equal" if 0.25 < ratio < 4 else "auto")
     ax.set_title(title)
     ax.set_xlabel(s.variables[0])
     ax.set_ylabel(s.variables[1])

@@ -284,7 +284,8 @@ def ridges(s: Scene, points: int = CURVE_POINTS) -> list[Ridge]:
             for run in _runs(keep(u)):
                 uu = _refine_ends(u, run, keep)
                 X, Y, speed = fx(uu), fy(uu), np.hypot(dfx(uu), dfy(uu))
-                dens = _continue(weight(X, Y) * np.abs(det(uu)) / np.where(speed > 0, speed, np.nan))
+                with np.errstate(all="ignore"):  # ∞/∞ at a fold: continued below
+                    dens = _continue(weight(X, Y) * np.abs(det(uu)) / np.where(speed > 0, speed, np.nan))
                 if len(uu) >= 2:
                     out.append(Ridge(np.column_stack([X, Y]), dens, k))
     return out
