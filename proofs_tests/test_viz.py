@@ -142,3 +142,27 @@ def test_reproduce_writes_the_papers_pictures(tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["fig1_abcd.png", "fig9_convergence.png", "fig9_flat.png",
                                             "fig9_surfaces.png", "risk_fig2.png", "risk_fig3.png"]
     assert "a opens to about −9.6" in r.stdout
+
+
+def _examples_of_one_or_two_variables():
+    out = []
+    for path in sorted(EXAMPLES.rglob("*.lgr")):
+        loaded = load(str(path))
+        if loaded.program is not None and len(loaded.program.variables) <= 2:
+            out.extend((path, name) for name in loaded.params)
+    return out
+
+
+@pytest.mark.parametrize("path,wrt", _examples_of_one_or_two_variables(),
+                         ids=lambda v: v.name if hasattr(v, "name") else v)
+def test_what_is_drawn_adds_up_to_the_derivative(path, wrt):
+    # every example: the drawn deltas (spikes, or ridges integrated along their curves) carry the
+    # exact engine's boundary part, and the drawn regular part is standard AD's integrand
+    loaded = load(str(path))
+    s = G.scene(loaded.program, loaded.param_values(), {k: float(k == wrt) for k in loaded.params})
+    if len(s.variables) == 1:
+        drawn = sum(p.weight for p in G.spikes(s))
+    else:
+        drawn = sum(r.integral() for r in G.ridges(s))
+    assert drawn == pytest.approx(s.boundary, rel=1e-3, abs=1e-9)
+    assert s.derivative == pytest.approx(s.standard_ad + s.boundary, rel=1e-9, abs=1e-12)
