@@ -36,7 +36,7 @@ def test_every_example_loads(path):
 
 
 def test_example_count():
-    assert len(ALL) == 14
+    assert len(ALL) == 15  # risk_normalized.lgr (Fig. 2-3 with the normalized density) is the 15th
 
 
 SHADERS = {
