@@ -199,6 +199,7 @@ class DerivativeResult:
     error: float
     normal_form: NormalForm
     notes: list[str] = field(default_factory=list)
+    inconsistent: tuple[str, ...] = ()
 
     @property
     def standard_ad(self) -> float:
@@ -233,4 +234,5 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
     return DerivativeResult(
         value=regular.value + boundary.value, regular=regular, boundary=boundary, expr=expr,
         method=Method.CLOSED_FORM if exact else Method.QUADRATURE, error=regular.error + boundary.error,
-        normal_form=nf, notes=list(regular.notes) + [n for n in boundary.notes if n not in regular.notes])
+        normal_form=nf, notes=list(regular.notes) + [n for n in boundary.notes if n not in regular.notes],
+        inconsistent=regular.inconsistent + boundary.inconsistent)

@@ -77,12 +77,14 @@ class ExactValue:
     method: Method
     error: float | None
     notes: list[str]
+    #: closed forms discarded because their quadrature cross-check failed (an engine bug)
+    inconsistent: tuple[str, ...] = ()
 
     @classmethod
     def of(cls, r) -> ExactValue:
         """From an exact-engine result (an Integral or a DerivativeResult)."""
         return cls(float(r.value), _expr_text(r.expr), r.method,
-                   None if r.method == Method.CLOSED_FORM else float(r.error), list(r.notes))
+                   None if r.method == Method.CLOSED_FORM else float(r.error), list(r.notes), r.inconsistent)
 
     def how(self) -> str:
         """How the value was obtained, for the text output."""
@@ -135,7 +137,8 @@ def exact_deriv(program: Program, params: Mapping[str, float | object], directio
             theorem = check_theorem_8_1(program, params, direction, derivative=res)
         except Exception as e:  # noqa: BLE001 - the check is a report, not a reason to lose the derivative
             notes.append(f"Theorem 8.1 check not computed: {str(e).splitlines()[0] if str(e) else e!r}")
-    return ExactDerivative(base.value, base.expr, base.method, base.error, notes, regular=float(res.regular.value),
+    return ExactDerivative(base.value, base.expr, base.method, base.error, notes, base.inconsistent,
+                           regular=float(res.regular.value),
                            boundary=float(res.boundary.value), standard_ad=float(res.standard_ad),
                            theorem_8_1=theorem)
 

@@ -42,7 +42,6 @@ LAZY: dict[tuple[str, str], str] = {
     ("langur.denote", "langur.symbolic.integrate"): "scipy (0.3 s): only when integrating",
     ("langur.ddenote", "langur.symbolic.integrate"): "scipy (0.3 s): only when integrating",
     ("langur.commands._engines", "langur.exact"): "sympy and scipy (0.8 s): not for --engine mc",
-    ("langur.commands._engines", "langur.symbolic.integrate"): "as above",
     ("langur.commands._engines", "langur.operational"): "not for --engine exact",
 }
 

@@ -7,6 +7,7 @@ import math
 import pytest
 
 from langur import operational
+from langur.exact import exact_deriv
 from langur.frontend import load_text
 from langur.operational.naive import naive_derivative
 
@@ -103,3 +104,22 @@ def test_stratified_and_qmc_standard_errors_cover_the_error(method, text, params
         r = operational.estimate_derivative(loaded, params, {wrt: 1.0}, samples=20000, seed=seed,
                                             method=method).regular
     assert abs(r.value - hand) <= 5 * r.stderr + 1e-9
+
+
+PIXEL = ("param rad = 0.5, xl = -1, xu = 1, yl = -1, yu = 1\n"
+         "int ([xl, xu], [yl, yu]) if x^2 + y^2 < rad^2 then 1 else 0 d(x, y)\n")
+
+
+@pytest.mark.parametrize("sx,sy", [(1, 1), (1, -1), (-1, 1), (-1, -1)])
+def test_a_pixel_of_a_circle_in_every_quadrant(sx, sy):
+    # Exact engine bug (fixed, issue 19): on the lower half the closed form ignored the pixel's
+    # upper y bound (sympy's solve dropped the roots ±√(r² − yu²) of yu + √(r² − x²), whose
+    # existence depends on yu's sign); the cross-check then raised an internal error.
+    # d/dr of the disc's area inside [0.3, 0.7] × [0.2, 0.7] (mirrored into each quadrant) is the
+    # length of the arc inside it, |∂_rΦ|/|∇Φ| = 1 for Φ = r² − x² − y²: the arc from angle
+    # asin(0.2/0.5) to acos(0.3/0.5), so 0.5·(acos(0.6) − asin(0.4)) = 0.2578891860.
+    xs, ys = sorted((0.3 * sx, 0.7 * sx)), sorted((0.2 * sy, 0.7 * sy))
+    at = {"rad": 0.5, "xl": xs[0], "xu": xs[1], "yl": ys[0], "yu": ys[1]}
+    d = exact_deriv(load_text(PIXEL).program, at, {"rad": 1}, check=False)
+    assert d.method == "closed_form" and not d.inconsistent
+    assert d.value == pytest.approx(0.5 * (math.acos(0.6) - math.asin(0.4)), abs=1e-12)

@@ -7,7 +7,8 @@
 (regions from the conditions, sympy only on smooth integrands with plain bounds, every sympy call
 time-boxed), and every piece is also integrated by the independent adaptive quadrature of
 :mod:`langur.symbolic.quadrature`.  A closed form that disagrees with its quadrature (relative +
-absolute tolerance ~1e-7) raises :class:`IntegrationMismatch`.  A piece without a closed form (no
+absolute tolerance ~1e-7) is an internal inconsistency: the quadrature is reported instead, with a
+note, and the result's ``inconsistent`` lists what disagreed.  A piece without a closed form (no
 elementary antiderivative, unsolvable condition, time limit) falls back to its quadrature: the
 result's ``method`` is then ``Method.QUADRATURE``, ``expr`` is None, ``error`` the quadrature's error
 estimate, and the notes keep the exact part.
@@ -23,8 +24,7 @@ of a Jacobian sampled at the evaluation point).  With ``Method.QUADRATURE`` the 
 ``"exact part (<the cell note above>): <expr>"`` when some pieces had closed forms.
 
 Delta pieces go through :mod:`langur.symbolic.delta` (change of variables, then the same region
-machinery over ``u'``).  Errors: :class:`IntegrationMismatch` (a ``RuntimeError``: an internal
-bug, never the user's fault); :class:`~langur.symbolic.quadrature.UndefinedIntegral` (a
+machinery over ``u'``).  Errors: :class:`~langur.symbolic.quadrature.UndefinedIntegral` (a
 ``ValueError``) when the integral does not exist: quadrature's own diagnostics say it diverges,
 or the integrand is undefined (NaN) on part of the region (the quadrature runs first, so a closed
 form is never returned for such an integral); ``ValueError`` when a delta piece's zero set cannot
@@ -120,11 +120,13 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -
         value = _value(expr, ctx) if exacts else 0.0
         err = sum(e for _, e in quads)
         if all(converged or [True]) and not _agree(value, check, err):
-            raise IntegrationMismatch(value, check, err, expr, what)
+            ctx.inconsistent.append(str(IntegrationMismatch(value, check, err, expr, what)))
+            return _quadrature_only(quads, ctx, what)
         expr = _tidy(expr, ctx)
         notes.append(first)
         notes.extend(dict.fromkeys(ctx.notes))
-        return Integral(expr, value, Method.CLOSED_FORM, 0.0, check if exacts else None, notes, everywhere=not cell)
+        return Integral(expr, value, Method.CLOSED_FORM, 0.0, check if exacts else None, notes, everywhere=not cell,
+                        inconsistent=tuple(ctx.inconsistent))
     value = 0.0
     error = 0.0
     exact_part = []
@@ -141,7 +143,16 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -
     if exact_part:
         notes.append(f"exact part ({first}): {sp.Add(*exact_part)}")
     notes.extend(dict.fromkeys(ctx.notes))
-    return Integral(None, value, Method.QUADRATURE, error, check, notes)
+    return Integral(None, value, Method.QUADRATURE, error, check, notes, inconsistent=tuple(ctx.inconsistent))
+
+
+def _quadrature_only(quads, ctx: Context, what: str) -> Integral:
+    """The quadratures alone, when the closed forms' sum disagrees with them (an engine bug)."""
+    value, error = sum(q for q, _ in quads), sum(e for _, e in quads)
+    notes = [f"the closed form of the {what} disagreed with the quadrature cross-check, an internal "
+             "inconsistency of the exact engine (please report it): the quadrature is reported"]
+    return Integral(None, value, Method.QUADRATURE, error, value, notes + list(dict.fromkeys(ctx.notes)),
+                    inconsistent=tuple(ctx.inconsistent))
 
 
 def _setup(variables, box, at, timeout):
@@ -198,8 +209,10 @@ def _exact_pieces(make_problems, n: int, quads, ctx: Context, what: str, converg
             problems, uvars, ubox = make_problems(i)
             exacts.append(_exact_piece(problems, uvars, ubox, ctx, quads[i], f"{what} {i}", converged[i]))
             why.append("")
-        except IntegrationMismatch:
-            raise
+        except IntegrationMismatch as exc:  # an engine bug: the quadrature stands, and says so
+            exacts.append(None)
+            why.append(f"{what} {i}: {exc}")
+            ctx.inconsistent.append(str(exc))
         except (Unsupported, TimeoutError) as exc:
             exacts.append(None)
             why.append(f"{what} {i}: {exc or 'time limit'}")

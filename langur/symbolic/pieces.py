@@ -94,7 +94,8 @@ class Integral:
     cross-check); ``check``: the independent quadrature value used to cross-check a closed form
     (None if it could not be computed); ``notes``: human-readable remarks (e.g. "closed form valid
     for parameters near the evaluation point: theta in (0, 1)"); ``everywhere``: the closed form
-    holds for every parameter value, not only in the evaluation point's cell.
+    holds for every parameter value, not only in the evaluation point's cell; ``inconsistent``:
+    closed forms found and discarded because their quadrature cross-check failed.
     """
 
     expr: sp.Expr | None
@@ -104,3 +105,6 @@ class Integral:
     check: float | None = None
     notes: list[str] = field(default_factory=list)
     everywhere: bool = False
+    #: closed forms that disagreed with the quadrature cross-check (an engine bug; the quadrature
+    #: was reported instead)
+    inconsistent: tuple[str, ...] = ()

@@ -61,6 +61,7 @@ class Context:
     cell: list = field(default_factory=list)
     generic: bool = False  # the generic 1-D path was used (cell also fixes the set of real roots)
     notes: list = field(default_factory=list)
+    inconsistent: list = field(default_factory=list)  # closed forms that failed the cross-check
 
     def value(self, expr) -> complex:
         e = sp.sympify(expr).xreplace({k: sp.Float(float(v), 40) for k, v in self.at.items()})
@@ -455,15 +456,32 @@ def _roots(c: Cond, v, ctx: Context):
             if all(ctx.decide(g.xreplace(sub)) for g in b.guards):
                 out.append(dict(b.inverse)[v].xreplace(sub))
         return out
+    # check=False: sympy's own check drops roots whose validity depends on a parameter's sign
+    # (yu + sqrt(r² − x²) = 0 has the roots ±sqrt(r² − yu²) exactly when yu ≤ 0); each candidate
+    # is checked at the evaluation point instead, which is where the closed form is valid.
     try:
-        sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False), cap=max(2.0, ctx.deadline.seconds / 4))
+        sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False, check=False),
+                                cap=max(2.0, ctx.deadline.seconds / 4))
     except TimeoutError:
         raise Unsupported(f"solving {c.expr} = 0 for {v} timed out") from None
     except (NotImplementedError, ValueError, TypeError) as exc:
         raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {exc}") from None
     if not isinstance(sols, list):
         raise Unsupported(f"infinitely many roots of {c.expr} in {v}")
-    return [s for s in sols if not isinstance(s, (dict, tuple))]
+    return [r for r in sols if not isinstance(r, (dict, tuple)) and _vanishes_at(c.expr, v, r, ctx)]
+
+
+def _vanishes_at(expr, v, root, ctx: Context) -> bool:
+    """``expr`` is zero at ``v = root`` at the evaluation point (a true root there, not one that
+    only an unchecked solution formula gives)."""
+    try:
+        z = ctx.value(root)
+        if abs(z.imag) > 1e-12 * max(1.0, abs(z.real)):
+            return False
+        residual = ctx.value(expr.xreplace({v: sp.Float(z.real, 40)}))
+    except (TypeError, ValueError, ZeroDivisionError):
+        return False
+    return abs(residual) <= 1e-9 * max(1.0, abs(z.real))
 
 
 def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
