@@ -123,3 +123,25 @@ def test_a_pixel_of_a_circle_in_every_quadrant(sx, sy):
     d = exact_deriv(load_text(PIXEL).program, at, {"rad": 1}, check=False)
     assert d.method == "closed_form" and not d.inconsistent
     assert d.value == pytest.approx(0.5 * (math.acos(0.6) - math.asin(0.4)), abs=1e-12)
+
+
+def test_a_thin_zero_set_in_a_wide_box_is_found_not_missed():
+    # MC engine (issue 19): ∫ over [−9999, 9999] × [0, 1]² of [s − x − y − z > 0]; the zero set
+    # z = s − x − y meets the box only for x ∈ [s − 2, s], a sliver of the sampled width 19998.
+    # d/ds = area of {(x, y): 0 ≤ s − x − y ≤ 1, 0 ≤ y ≤ 1} = 1 (for each y, an x-interval of
+    # length 1).  The sampler used to draw x over the whole width and report 0 ± 0 (certain and
+    # wrong); it now encloses where the zero set meets the box first.
+    loaded = load_text("param s = 1\nint ([-9999, 9999], [0, 1], [0, 1]) [s - x - y - z > 0] d(x, y, z)\n")
+    for seed in range(4):
+        r = operational.estimate_derivative(loaded, {"s": 1.0}, {"s": 1.0}, samples=10000, seed=seed)
+        assert 0 < r.stderr < 0.05 and abs(r.value - 1.0) <= 5 * r.stderr + 1e-9
+        assert not any("low hits" in n for n in r.notes)
+
+
+def test_too_few_hits_on_a_zero_set_are_said():
+    # fig9's ridge with 20 samples: every sample lands on it, but 20 cannot back a variance
+    loaded = load_text("param theta = 0\nint ([-1, 1], [-1, 1]) [y < x + theta] * (1 + theta + x + y) d(x, y)\n")
+    few = operational.estimate_derivative(loaded, {"theta": 0.0}, {"theta": 1.0}, samples=20, seed=0)
+    assert any(n.startswith("low hits") for n in few.notes) and "low hits" in str(few.to_json()["notes"])
+    many = operational.estimate_derivative(loaded, {"theta": 0.0}, {"theta": 1.0}, samples=2000, seed=0)
+    assert not any("low hits" in n for n in many.notes)

@@ -92,6 +92,8 @@ _full = full
 #: One sample carrying more than this share of the sum of squares: the variance estimate rests on
 #: a single point (a heavy tail), so the standard error says nothing.
 DOMINANT = 0.5
+#: Fewer nonzero scores than this on a zero set: too few to estimate its variance ("low hits").
+LOW_HITS = 30
 
 
 def tail_notes(f: np.ndarray) -> list[str]:
@@ -162,7 +164,7 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
         # regular part: the tangent with every delta dropped (Dˢ), over the domain design
         notes: list[str] = []
         reg, reg_se, n = _over_domain(linked, p, rng, samples, method, 1, notes, dparams=dp, mode=TANGENT)
-        bnd, bnd_var = _boundary(linked, p, dp, rng, samples, method)
+        bnd, bnd_var = _boundary(linked, p, dp, rng, samples, method, notes)
     bnd_se = math.sqrt(bnd_var)
     return DerivativeEstimate(reg + bnd, math.sqrt(reg_se ** 2 + bnd_var), n, seed, method,
                               regular=Estimate(reg, reg_se), boundary=Estimate(bnd, bnd_se),
@@ -179,9 +181,12 @@ def _inside(x: dict, box: dict) -> np.ndarray:
     return inside
 
 
-def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str) -> tuple[float, float]:
+def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
+              notes: list[str] | None = None) -> tuple[float, float]:
     """Σ_k ∫ E_k δ_k: every live site's zero set sampled through every inverse branch, all sites'
-    points scored in ONE vectorized pass of the integrand in DELTA mode."""
+    points scored in ONE vectorized pass of the integrand in DELTA mode.  A site whose zero set
+    was hit (scored nonzero) by fewer than :data:`LOW_HITS` points says so in ``notes``: its
+    standard error is not backed by enough samples."""
     live = set(dp)
     box = dict(zip(linked.variables, evaluate_box(linked.box_fns, p)))
     m = len(linked.variables) - 1
@@ -195,6 +200,7 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str)
             # no finite box encloses this zero set's coordinates (a pole of Ψ̂'s other components
             # over the domain): no uniform design can sample it, so the estimate is undefined
             return math.nan, math.nan
+        region = site.sampler.shrink(region, box, p)
         if region and any(not (b > a) for a, b in region):
             continue
         volume, branches = site.sampler.points(des.points, region, p)
@@ -231,6 +237,10 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str)
     for (_k, des, volume, branches), at, c in zip(plan, starts, counts):
         # per u'-point, the sum over branches; then the design's mean and standard error
         f = score[at:at + c].reshape(len(branches), des.points.shape[0]).sum(axis=0)
+        hits = int(np.count_nonzero(f))
+        if notes is not None and 0 < hits < LOW_HITS:
+            notes.append(f"low hits: the zero set of delta site {_k} was hit by {hits} of {len(f)} samples; "
+                         "its standard error is not reliable (give more --samples)")
         mean, se = des.mean(f)
         total += volume * mean
         var += (volume * se) ** 2

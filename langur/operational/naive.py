@@ -161,7 +161,7 @@ def naive_derivative(program: Program, params: dict, direction: dict, *, samples
             continue
         sm = site.sampler
         des = design(rng, len(variables) - 1, samples, method)
-        region = sm.region(boxd, params)
+        region = sm.shrink(sm.region(boxd, params), boxd, params)
         if any(not (b > a) for a, b in region):
             continue
         uvol = math.prod(b - a for a, b in region)

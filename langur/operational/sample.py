@@ -14,6 +14,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -151,6 +152,15 @@ def _pow_interval(lo, hi, k: Fraction):
 
 # -- sampling the zero set of one condition -------------------------------------------------------
 
+#: Cells per coordinate of the grid over the u'-box that :meth:`SiteSampler.shrink` encloses
+#: (for one, two, three or more coordinates).
+SHRINK_CELLS = (64, 16, 6)
+#: Rounds of shrinking, while a round still removes more than 1 − SHRINK_ENOUGH of the volume.
+SHRINK_ROUNDS, SHRINK_ENOUGH = 8, 0.8
+#: The narrower box replaces the u'-box only when its volume is at most this fraction of it.
+SHRINK_WORTH = 0.25
+
+
 class SiteSampler:
     """Points on {π₀Ψ̂ = 0} for one site, with weights, compiled once per canonical Ψ̂.
 
@@ -198,6 +208,55 @@ class SiteSampler:
         for _, var, term in self.coords:
             out.append(box[var] if var is not None else enclose(term, box, params))
         return out
+
+    def shrink(self, region, box: dict[str, tuple[float, float]], params: dict) -> list[tuple[float, float]]:
+        """The part of the u'-box whose points can lie on the zero set *inside the program's box*:
+        the hull of the cells of a grid over ``region`` where some inverse branch's enclosure meets
+        the box (and its guards can hold).  Interval enclosures are conservative, so no point of
+        the zero set inside the box is cut away (the estimate stays unbiased); a zero set that
+        crosses a small part of a wide box is then sampled where it is, not missed.  An empty
+        result (every interval of zero width) means the zero set misses the box."""
+        original = region
+        for _ in range(SHRINK_ROUNDS):  # a narrower hull, gridded again, may shrink further
+            smaller = self._shrink_once(region, box, params)
+            if not smaller or any(b <= a for a, b in smaller):
+                return smaller
+            done = math.prod(b - a for a, b in smaller) > SHRINK_ENOUGH * math.prod(b - a for a, b in region)
+            region = smaller
+            if done:
+                break
+        # sample the narrower box only when it is much narrower: the design (and a fold's change of
+        # variables) over the full box is kept where the zero set already fills most of it
+        if math.prod(b - a for a, b in region) > SHRINK_WORTH * math.prod(b - a for a, b in original):
+            return original
+        return region
+
+    def _shrink_once(self, region, box, params) -> list[tuple[float, float]]:
+        m = len(region)
+        if m == 0:
+            return region
+        k = SHRINK_CELLS[min(m, len(SHRINK_CELLS)) - 1]
+        edges = [np.linspace(a, b, k + 1) for a, b in region]
+        lo, hi = [math.inf] * m, [-math.inf] * m
+        for idx in itertools.product(range(k), repeat=m):
+            cell = {self.psi.inputs[0]: (0.0, 0.0)}
+            for j, (u, _, _) in enumerate(self.coords):
+                cell[u] = (float(edges[j][idx[j]]), float(edges[j][idx[j] + 1]))
+            if any(self._meets(b, cell, box, params) for b in self.psi.branches):
+                for j in range(m):
+                    lo[j] = min(lo[j], cell[self.coords[j][0]][0])
+                    hi[j] = max(hi[j], cell[self.coords[j][0]][1])
+        if lo[0] == math.inf:
+            return [(a, a) for a, _ in region]
+        return list(zip(lo, hi))
+
+    def _meets(self, branch, cell, box, params) -> bool:
+        for var, comp in zip(self.psi.variables, branch.components):
+            clo, chi = enclose(comp, cell, params)
+            blo, bhi = box[var]
+            if chi < blo or clo > bhi:
+                return False
+        return not any(enclose(g, cell, params)[1] < 0 for g in branch.guards)  # NaN: keep the cell
 
     def points(self, unit: np.ndarray, region, params: dict):
         """Map unit-cube points to the zero set through every branch.
