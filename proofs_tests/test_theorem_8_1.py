@@ -10,6 +10,7 @@ import sympy as sp
 from paths import DEGENERATE
 from test_examples_exact import close
 
+from langur import theorem as T
 from langur.ddenote import ddenote_program
 from langur.denote import denote_program
 from langur.exact import exact_deriv, exact_eval
@@ -122,3 +123,16 @@ def test_localize_picks_branches_and_refuses_ties():
     assert localize(e, {a: sp.Integer(-1)}) == 0
     with pytest.raises(_Tie):
         localize(e, {a: sp.Integer(1)})
+
+
+def test_two_equal_numbers_are_never_a_failure(monkeypatch):
+    # issue 19: "FAILS: D⟦p⟧ = -0.2146018366, ⦇p⦈ = -0.2146018366".  When the check's own verdict is
+    # a failure but both sides agree at the parameters, the verdict is inconclusive (None), with a
+    # note; a real disagreement (the coincident program: −1 against −2) stays a failure.
+    fake = T.TheoremCheck(False, -0.2146018366, -0.2146018366, T.How.NUMERIC, (), ["nearby point 2 differs"])
+    monkeypatch.setattr(T, "_check", lambda *a, **k: fake)
+    th = T.check_theorem_8_1(None, {}, {})
+    assert th.holds is None and any(n.startswith("inconclusive") for n in th.notes)
+    monkeypatch.undo()
+    loaded = load(os.path.join(str(DEGENERATE), "coincident.lgr"))
+    assert check_theorem_8_1(loaded.program, loaded.param_values(), {"a": 1}).holds is False

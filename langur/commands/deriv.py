@@ -89,10 +89,10 @@ def run(args) -> int:
         print(f"  standard AD : {c.fmt(standard_ad['value'])} ± {c.fmt(standard_ad['stderr'], 3)}"
               "   (deltas dropped: what PyTorch or JAX compute on the discretized integral)")
     if theorem is not None:
-        verdict = "holds" if theorem.holds else "FAILS"
+        verdict = {True: "holds", False: "FAILS", None: "inconclusive"}[theorem.holds]
         print(f"  Theorem 8.1 : {verdict}: D⟦p⟧ = {c.fmt(theorem.d_denotation)}, "
               f"⦇p⦈ = {c.fmt(theorem.derivative_denotation)}"
-              + ("" if theorem.holds else "   (run `langur check` for transversality)"))
+              + ("   (run `langur check` for transversality)" if theorem.holds is False else ""))
     return status
 
 
