@@ -3,9 +3,8 @@
 One :class:`Primitive` per function holds everything an interpreter needs, next to each other
 (the rule-table style of Autodidax, micrograd's op beside its derivative):
 
-* ``name`` as written, and whether users may write it (``surface``) or only the front end
-  introduces it inside inverse branches of completed diffeomorphisms (``asin``, ``acos``,
-  ``atanh``);
+* ``name`` as written, and whether users may write it (``surface``; every primitive is, today) or
+  only the front end introduces it inside inverse branches of completed diffeomorphisms;
 * ``sympy``: the name of the sympy function (the exact engine's ⟦f⟧, looked up by
   ``langur.sympy_bridge``; this module never imports sympy);
 * ``value``: f on numpy arrays, NaN outside the domain (the Monte Carlo engine, the linter);
@@ -155,7 +154,16 @@ def _atanh(a):
     return np.where(np.abs(a) < 1, np.arctanh(a), NAN)
 
 
+_ERF = np.frompyfunc(math.erf, 1, 1)
+
+
+def _erf(a):  # the C library's erf, element by element (numpy has none)
+    out = np.asarray(_ERF(a), dtype=float)
+    return out[()] if out.ndim == 0 else out  # a scalar stays a scalar, as numpy's ufuncs do
+
+
 _HALF = Fraction(1, 2)
+_TWO_OVER_SQRT_PI = 2 / math.sqrt(math.pi)
 _ZERO, _ONE = Fraction(0), Fraction(1)
 _UNIT_CLOSED = Domain(-1.0, 1.0, closed=True, why="its argument lies outside [-1, 1]")
 _UNIT_OPEN = Domain(-1.0, 1.0, why="its argument lies outside (-1, 1)")
@@ -190,13 +198,15 @@ def _entries() -> tuple[Primitive, ...]:
              exact=((_ZERO, _ZERO),), inverse=Inverse("atanh", lambda u, pi: 1 - u ** 2)),
         prim("atan", True, np.arctan, math.atan, lambda a, v: 1.0 / (1.0 + a * a), image=Image.INCREASING,
              exact=((_ZERO, _ZERO),), inverse=Inverse("tan", lambda u, pi: pi ** 2 / 4 - u ** 2)),
-        prim("asin", False, np.arcsin, math.asin,
+        prim("erf", True, _erf, math.erf, lambda a, v: _TWO_OVER_SQRT_PI * np.exp(-a * a), image=Image.INCREASING,
+             exact=((_ZERO, _ZERO),)),
+        prim("asin", True, np.arcsin, math.asin,
              lambda a, v: np.where(np.abs(a) < 1, 1.0 / np.sqrt(1.0 - a * a), NAN), _UNIT_CLOSED,
              image=Image.INCREASING),
-        prim("acos", False, np.arccos, math.acos,
+        prim("acos", True, np.arccos, math.acos,
              lambda a, v: np.where(np.abs(a) < 1, -1.0 / np.sqrt(1.0 - a * a), NAN), _UNIT_CLOSED,
              image=Image.DECREASING),
-        prim("atanh", False, _atanh, math.atanh,
+        prim("atanh", True, _atanh, math.atanh,
              lambda a, v: np.where(np.abs(a) < 1, 1.0 / np.asarray(1.0 - a * a, dtype=float), NAN), _UNIT_OPEN,
              image=Image.INCREASING),
     )

@@ -31,11 +31,11 @@ from langur.sympy_bridge import FUNCTIONS, from_sympy, to_sympy
 from langur.syntax.printer import print_core
 
 #: A point inside each domain, and one outside (None: defined everywhere).
-INSIDE = {"exp": 0.7, "log": 1.7, "sin": 0.7, "cos": 0.7, "tan": 0.7, "sqrt": 1.7, "tanh": 0.7,
+INSIDE = {"erf": 0.7, "exp": 0.7, "log": 1.7, "sin": 0.7, "cos": 0.7, "tan": 0.7, "sqrt": 1.7, "tanh": 0.7,
           "atan": 0.7, "asin": 0.3, "acos": 0.3, "atanh": 0.3}
 OUTSIDE = {"log": -0.5, "sqrt": -0.5, "asin": 1.5, "acos": -1.5, "atanh": 1.5}
 #: f(a) by Python's math module (independent of numpy and sympy).
-MATH = {"exp": math.exp, "log": math.log, "sin": math.sin, "cos": math.cos, "tan": math.tan,
+MATH = {"erf": math.erf, "exp": math.exp, "log": math.log, "sin": math.sin, "cos": math.cos, "tan": math.tan,
         "sqrt": math.sqrt, "tanh": math.tanh, "atan": math.atan, "asin": math.asin, "acos": math.acos,
         "atanh": math.atanh}
 
@@ -50,8 +50,9 @@ def _derivative_by_sympy(op: str, a: float) -> float:
 
 
 def test_the_surface_primitives_are_the_languages():
-    """LANGUAGE.md §1 lists exactly these; the rest only appear inside inverse branches."""
-    assert PRIMITIVES == ("exp", "log", "sin", "cos", "tan", "sqrt", "tanh", "atan")
+    """LANGUAGE.md §1's eight, then those issue 19 adds (each one registry entry): erf, and the
+    inverses asin, acos, atanh that completion already used."""
+    assert PRIMITIVES == ("exp", "log", "sin", "cos", "tan", "sqrt", "tanh", "atan", "erf", "asin", "acos", "atanh")
     assert set(ALL_PRIMITIVES) == set(MATH)
 
 

@@ -48,7 +48,7 @@ REJECT = [
     ("T202", "int ([0, 1]) foo(x) d(x)", (1, 14)),
     ("T202", "diffeo s(x; ) = (x) inverse (u) = (u)\nint ([0, 1]) s(x) d(x)", (2, 14)),  # diffeo as a function
     ("T202", "def f(x: var) = x\nint ([0, 1]) ifge0 f(x; ) then 1 else 0 d(x)", (2, 20)),  # def as ⌊Ψ⌋
-    ("T202", "int ([0, 1]) asin(x) d(x)", (1, 14)),  # internal primitives are not surface syntax
+    ("T202", "int ([0, 1]) asinh(x) d(x)", (1, 14)),  # not a primitive (asin became one: issue 19)
     ("T203", "int ([0, 1]) exp(x, x) d(x)", (1, 14)),
     ("T203", "int ([0, 1]) min(x) d(x)", (1, 14)),
     ("T203", "def f(x: var) = x\nint ([0, 1]) f(x, x) d(x)", (2, 14)),
