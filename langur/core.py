@@ -197,21 +197,17 @@ class Interval:
     """One interval ``[lo, hi]`` of a program's domain ``int ([l1, u1], …) t d(x⃗)`` (LANGUAGE.md §6).
 
     ``lo`` and ``hi`` are variable-free terms (parameters allowed); ``lower`` and ``upper`` are the
-    diffeomorphisms of the conditions ``x − lo ≥ 0`` and ``hi − x ≥ 0`` as the front end completed
-    them, whose indicators multiply the integrand (§6 sugar, §8.3); ``span`` is the interval's text.
+    indicators ``[x − lo ≥ 0]`` and ``[hi − x ≥ 0]`` as the front end completed them (a diffeomorphic
+    conditional; a conditional on the parameters around two of them when a bound is one), which
+    multiply the integrand (§6 sugar, §8.3); ``span`` is the interval's text.
     """
 
     variable: str
     lo: "Term"
     hi: "Term"
-    lower: Diffeo
-    upper: Diffeo
+    lower: "Term"
+    upper: "Term"
     span: Span | None = _span()
-
-    def indicators(self, span: Span | None = None) -> tuple["Term", "Term"]:
-        """``[x − lo ≥ 0]`` and ``[hi − x ≥ 0]``."""
-        one, zero = Const(Fraction(1)), Const(Fraction(0))
-        return IfDiffeo(self.lower, one, zero, span=span), IfDiffeo(self.upper, one, zero, span=span)
 
 
 @dataclass(frozen=True)
@@ -237,7 +233,7 @@ class Program:
         """``[x1 ≥ l1]·[u1 ≥ x1]·…·integrand`` (the domain's indicators first, in order)."""
         if not self.domain:
             return self.integrand
-        factors = [ind for iv in self.domain for ind in iv.indicators(self.span)]
+        factors = [ind for iv in self.domain for ind in (iv.lower, iv.upper)]
         out = factors[0]
         for f in factors[1:]:
             out = Mul(out, f, span=self.span)

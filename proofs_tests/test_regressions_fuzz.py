@@ -7,9 +7,10 @@ import math
 import pytest
 
 from langur import operational
-from langur.exact import exact_deriv
+from langur.exact import exact_deriv, exact_eval
 from langur.frontend import load_text
 from langur.operational.naive import naive_derivative
+from langur.transversality import check_loaded
 
 
 def test_delta_root_outside_the_box_scores_zero_not_nan_1d():
@@ -145,3 +146,31 @@ def test_too_few_hits_on_a_zero_set_are_said():
     assert any(n.startswith("low hits") for n in few.notes) and "low hits" in str(few.to_json()["notes"])
     many = operational.estimate_derivative(loaded, {"theta": 0.0}, {"theta": 1.0}, samples=2000, seed=0)
     assert not any("low hits" in n for n in many.notes)
+
+
+def test_a_parameter_conditional_in_a_bound_is_accepted():
+    # issue 19: `int ([a, if c < 0 then a else b]) t d(t)` was refused (T207, the whole line).  The
+    # upper bound is b for c ≥ 0: ∫_a^b t dt = (b² − a²)/2 = 1/2 at a = 0, b = 1; d/db = b = 1,
+    # d/da = −a = 0; and for c < 0 the interval is [a, a]: 0.  The linter takes the branch the
+    # parameters select (no false X301 between [t ≥ a] and the other branch's [a ≥ t]).
+    text = "param a = 0, b = 1, c = 0.5\nint ([a, if c < 0 then a else b]) t d(t)\n"
+    loaded = load_text(text)
+    assert exact_eval(loaded.program, {"a": 0, "b": 1, "c": 0.5}).value == pytest.approx(0.5, abs=1e-12)
+    assert exact_eval(loaded.program, {"a": 0, "b": 1, "c": -0.5}).value == pytest.approx(0.0, abs=1e-12)
+    d = exact_deriv(loaded.program, {"a": 0, "b": 1, "c": 0.5}, {"b": 1}, check=False)
+    assert d.value == pytest.approx(1.0, abs=1e-12)
+    assert not [f for f in check_loaded(loaded) if f.severity == "error"]
+
+
+@pytest.mark.parametrize("fn,t,t1,dt,dt1", [("min", 0.3, 0.6, 1.0, 0.0), ("min", 0.6, 0.3, 0.0, 1.0),
+                                              ("max", 0.3, 0.6, 0.0, 1.0)])
+def test_min_and_max_of_parameters_in_a_condition(fn, t, t1, dt, dt1):
+    # issue 19: `[x < min(t, t1)]` was refused (T207).  ∫₀¹ [x < m] dx = m for m in [0, 1], so the
+    # derivative in t is 1 where m = t and 0 where m = t1 (both engines).
+    loaded = load_text(f"param t = {t}, t1 = {t1}\nint ([0, 1]) [x < {fn}(t, t1)] d(x)\n")
+    at = {"t": t, "t1": t1}
+    for name, expected in (("t", dt), ("t1", dt1)):
+        direction = {k: float(k == name) for k in at}
+        assert exact_deriv(loaded.program, at, direction, check=False).value == pytest.approx(expected, abs=1e-12)
+        mc = operational.estimate_derivative(loaded, at, direction, samples=1000, seed=0)
+        assert mc.value == pytest.approx(expected, abs=1e-12)

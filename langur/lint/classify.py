@@ -24,7 +24,7 @@ import sympy as sp
 
 from ..core import Program
 from ..diagnostics import Span
-from ..sympy_bridge import symbol, to_sympy
+from ..sympy_bridge import denote, symbol, to_sympy
 from .algebra import Undecided, bad_parameters, describe_point, exact, vanishes
 from .coincidence import CoincidenceChecks
 from .collect import MAX_PRODUCTS, Occurrence, collect
@@ -71,12 +71,12 @@ class Checker(CoincidenceChecks, NullSetChecks):
         sites=None,
     ):
         self.program = program
-        self.col = collect(program, sites)
+        self.col = collect(program, sites, point)
         self.domain_spans = dict(domain_spans or {})
         self.variables = program.variables
         self.xs = xsyms(self.variables)
         self.n = len(self.variables)
-        self.box = [(to_sympy(lo), to_sympy(hi)) for lo, hi in program.box]
+        self.box = [(denote(lo), denote(hi)) for lo, hi in program.box]  # a bound may be piecewise in the parameters
         self.declared = list(declared)
         self.point_values = point
         self.point = {symbol(k): exact(v) for k, v in point.items()} if point is not None else None

@@ -12,6 +12,7 @@ inlined through, so that messages point at the user's text.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import sympy as sp
@@ -34,9 +35,10 @@ from ..core import (
     children,
     extend_diffeo,
     shared,
+    subterms,
 )
 from ..diagnostics import Span
-from ..sympy_bridge import NotSmooth, symbol, to_sympy
+from ..sympy_bridge import NotSmooth, denote, exact_number, symbol, to_sympy
 from .algebra import Undecided, vanishes
 
 #: At most this many products of conditions are tracked (beyond: X310, analysis incomplete).
@@ -111,12 +113,23 @@ class Collected:
 
 
 class _Collector:
-    def __init__(self, program: Program):
+    def __init__(self, program: Program, point: Mapping[str, object] | None = None):
         self.program = program
+        self.point = {symbol(k): exact_number(v) for k, v in (point or {}).items() if v is not None}
         self.variables = program.variables
         self.occurrences: list[Occurrence] = []
         self.top: dict[int, int] = {}  # id(node) of a top-level factor → occurrence index
         self.truncated = False
+
+    def decide(self, c: Term, env: dict[str, sp.Expr]) -> bool | None:
+        """``c ≥ 0`` at the parameter values in force, or None (no values, or not decidable)."""
+        if not self.point:
+            return None
+        try:
+            v = sp.N(denote(c, env).xreplace(self.point), 30)
+            return bool(v >= 0) if v.is_real else None
+        except (TypeError, ValueError):
+            return None
 
     def add(self, node: IfDiffeo, env: dict[str, sp.Expr]) -> int:
         psi = node.psi
@@ -190,8 +203,13 @@ class _Collector:
                     return ONE
                 A = self.products(a, env)
                 return A if k == 1 else self.times(A, A, t.span)
-            case IfGe0(_, s, r):
-                # Fig. 8, conditional on a variable-free condition: no delta in the variables
+            case IfGe0(c, s, r):
+                # Fig. 8, conditional on a variable-free condition: no delta in the variables; at
+                # the parameter values in force only the branch it selects multiplies (a bound
+                # `if c < 0 then a else b` is one interval, not both), else both may
+                chosen = self.decide(c, env)
+                if chosen is not None:
+                    return self.products(s if chosen else r, env)
                 return self.products(s, env) | self.products(r, env)
             case IfDiffeo(_, s, r):
                 # Fig. 8, diffeomorphic conditional: δ(π₀Ψ̂)·(D_γ π₀Ψ̂)·T⟦s⟧−⟦r⟧ plus the branches
@@ -271,12 +289,13 @@ def _bound_text(x: str, k: int, end: Term) -> str | None:
         return None
 
 
-def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] | None = None) -> Collected:
+def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] | None = None,
+            point: Mapping[str, object] | None = None) -> Collected:
     """The conditions of ``program`` and the products they form (see the module docstring).
 
     ``sites`` (from :func:`call_sites`): for each conditional in pre-order, its span and the
     call sites it was inlined through; attached to the occurrences when they line up."""
-    c = _Collector(program)
+    c = _Collector(program, point)
     prods = c.products(program.body, {})
     if (
         sites is not None
@@ -288,11 +307,14 @@ def collect(program: Program, sites: list[tuple[Span | None, tuple[Span, ...]]] 
     # The domain's bounds [x ≥ lo]·[hi ≥ x] are the body's first conditions (Program.body, §6, §8.3).
     bounds = [(i, k, x, end) for i, (x, (lo, hi)) in enumerate(zip(program.variables, program.box))
               for k, end in enumerate((lo, hi))]
-    if program.domain:
-        for occ, (i, k, x, end) in zip(c.occurrences, bounds):
+    if program.domain:  # the domain's indicators come first, each with its diffeomorphic conditionals
+        occurrences = iter(c.occurrences)
+        for (i, k, x, end), indicator in zip(bounds, (ind for iv in program.domain for ind in (iv.lower, iv.upper))):
             text = _bound_text(x, k, end)
-            if text is not None:  # a bound that is not a smooth term: nothing to label
-                occ.bound, occ.bound_at = text, (i, k)
+            for _ in range(sum(isinstance(u, IfDiffeo) for u in subterms(indicator))):
+                occ = next(occurrences, None)
+                if occ is not None and text is not None:  # a bound that is not smooth: no label
+                    occ.bound, occ.bound_at = text, (i, k)
     else:  # a box read off the integrand's own bounding indicators: label the factors it came from
         n_top = 0
         for fac in _factors(program.body):

@@ -108,6 +108,13 @@ class Scope:
         return replace(self, gamma=self.gamma | {name})
 
 
+def _put(t: Term, old: Term, new: Term) -> Term:
+    """``t`` with the subterm ``old`` (by identity) replaced by ``new``."""
+    if t is old:
+        return new
+    return map_children(t, lambda c: _put(c, old, new))
+
+
 class Desugarer:
     """Desugars terms of one module; collects diagnostics instead of stopping at the first."""
 
@@ -284,6 +291,15 @@ class Desugarer:
         IfDiffeo (Fig. 6, conditional / diffeomorphic conditional)."""
         if not free_vars(cond):
             return IfGe0(cond, then, orelse, span=span)
+        inner = next((u for u in subterms(cond) if isinstance(u, IfGe0) and not free_vars(u.cond)), None)
+        if inner is not None:
+            # a conditional on the parameters inside a condition over variables ([x < min(t, s)],
+            # a bound `if c < 0 then a else b`): constant in the variables, it is lifted out —
+            # ifge0 c' then (the condition with its then-branch) else (… with its else-branch)
+            return IfGe0(inner.cond,
+                         self.conditional(_put(cond, inner, inner.then), then, orelse, sc, span, cond_span),
+                         self.conditional(_put(cond, inner, inner.orelse), then, orelse, sc, span, cond_span),
+                         span=span)
         if any(isinstance(u, Call) for u in subterms(cond)):
             # a condition is completed as a whole: expand the defs it calls first
             cond, errs = expand_calls(cond, lambda m, n: self.env.bodies.get((m, n)), sc.variables, sc.box)

@@ -15,11 +15,11 @@ from dataclasses import fields, replace
 from fractions import Fraction
 
 from .. import typesys as ty
-from ..core import Call, Diffeo, Interval, Program, Var, sub, subterms
+from ..core import Call, Const, Diffeo, Interval, Program, Var, sub, subterms
 from ..diagnostics import Diagnostic, Span
 from ..modules import CoreDef, ElaboratedModule
 from .desugar import RESERVED, DefSig, Desugarer, DiffeoSig, Env, Scope, is_smooth
-from .diffeo import CompletionError, DiffeoCheckError, check_declared, complete
+from .diffeo import DiffeoCheckError, check_declared
 from .support import infer_box, numeric_box
 from .surface import Apply, DefDecl, DiffeoDecl, ImportItem, ModuleS, ParamItem, ProgramS
 
@@ -270,12 +270,12 @@ def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) 
     else:
         # int ([l1, u1], …) t d(x⃗)  is  int [x1 ≥ l1]·[u1 ≥ x1]·…·t d(x⃗): the domain is kept as
         # data, its conditions completed here; Program.body builds the indicators
+        one, zero = Const(Fraction(1)), Const(Fraction(0))
         for x, (lo, hi), iv in zip(xs, box, p.domain):
-            try:
-                lower, upper = (complete(cond, xs, sc.box) for cond in (sub(Var(x), lo), sub(hi, Var(x))))
-            except CompletionError as e:  # cannot happen for an affine condition; be safe
-                errors.append(ty.reject_condition(p.span, str(e)))
-                return None
+            lower, upper = (ds.conditional(cond, one, zero, sc, p.span, iv.span)
+                            for cond in (sub(Var(x), lo), sub(hi, Var(x))))
             domain.append(Interval(x, lo, hi, lower, upper, span=iv.span))
+        if len(errors) > n_err:
+            return None
     return Program(integrand=body, variables=xs, box=box, domain=tuple(domain), span=p.span)
 
