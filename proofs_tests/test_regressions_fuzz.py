@@ -174,3 +174,17 @@ def test_min_and_max_of_parameters_in_a_condition(fn, t, t1, dt, dt1):
         assert exact_deriv(loaded.program, at, direction, check=False).value == pytest.approx(expected, abs=1e-12)
         mc = operational.estimate_derivative(loaded, at, direction, samples=1000, seed=0)
         assert mc.value == pytest.approx(expected, abs=1e-12)
+
+
+def test_logical_sugar_in_brackets():
+    # issue 19: [A & B] is [A]·[B], [A | B] is 1 − (1 − [A])(1 − [B]), [not A] is 1 − [A].  On [0, 1]²
+    # at a = 0.3, b = 0.6: the areas are ab = 0.18, a + b − ab = 0.72 and 1 − a = 0.7; in a their
+    # derivatives are b = 0.6, 1 − b = 0.4 and −1 (each one delta on x = a), in b: a, 1 − a, 0.
+    at = {"a": 0.3, "b": 0.6}
+    for body, value, da, db in (("[x <= a & y <= b]", 0.18, 0.6, 0.3), ("[x <= a | y <= b]", 0.72, 0.4, 0.7),
+                                ("[not x <= a]", 0.7, -1.0, 0.0)):
+        loaded = load_text(f"param a = 0.3, b = 0.6\nint ([0, 1], [0, 1]) {body} d(x, y)\n")
+        assert exact_eval(loaded.program, at).value == pytest.approx(value, abs=1e-12), body
+        for name, expected in (("a", da), ("b", db)):
+            d = exact_deriv(loaded.program, at, {k: float(k == name) for k in at}, check=False)
+            assert d.value == pytest.approx(expected, abs=1e-12), (body, name)

@@ -57,7 +57,21 @@ from ..modules import ElaboratedModule
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
 from .diffeo import CompletionError, complete, instantiate
 from .inline import expand_calls, inline
-from .surface import Apply, BinOp, DiffeoApp, IfCmp, IfGe0S, Iverson, LetIn, Name, Neg, NestedInt, Num, STerm
+from .surface import (
+    Apply,
+    BinOp,
+    DiffeoApp,
+    IfCmp,
+    IfGe0S,
+    Iverson,
+    LetIn,
+    Logic,
+    Name,
+    Neg,
+    NestedInt,
+    Num,
+    STerm,
+)
 
 #: Function names that are not primitives but sugar (LANGUAGE.md §6).
 SUGAR_FUNCTIONS = ("abs", "min", "max")
@@ -106,6 +120,13 @@ class Scope:
 
     def with_param(self, name: str) -> Scope:
         return replace(self, gamma=self.gamma | {name})
+
+
+def _product(factors: list[Term], span) -> Term:
+    out = factors[0]
+    for f in factors[1:]:
+        out = Mul(out, f, span=span)
+    return out
 
 
 def _put(t: Term, old: Term, new: Term) -> Term:
@@ -173,6 +194,15 @@ class Desugarer:
                                          Const(Fraction(0)), sc, span, join(terms[i], terms[i + 1]))
                     out = f if out is None else Mul(out, f, span=span)
                 return out
+            case Logic(op, parts):
+                # [A & B] is [A]·[B]; [A | B] is 1 − (1 − [A])·(1 − [B]); [not A] is 1 − [A]
+                one = Const(Fraction(1))
+                brackets = [self.term(p_, sc) for p_ in parts]
+                if op == "and":
+                    return _product(brackets, span)
+                if op == "not":
+                    return sub(one, brackets[0])
+                return sub(one, _product([sub(one, b) for b in brackets], span))
             case LetIn():
                 # let z = t in s, t variable-free (Fig. 6, let)
                 return self.let(st, sc)

@@ -28,6 +28,7 @@ import gc
 import re
 import sys
 import threading
+from dataclasses import dataclass
 from fractions import Fraction
 
 from lark import Lark, Token
@@ -54,6 +55,7 @@ from .surface import (
     Interval,
     Iverson,
     LetIn,
+    Logic,
     ModuleS,
     Name,
     Neg,
@@ -78,7 +80,7 @@ __all__ = [
 
 #: Reserved words (``d`` is only a keyword right after the integrand: see grammar.lark).
 KEYWORDS: frozenset[str] = frozenset(
-    "param diffeo inverse def from import as int d let in ifge0 if then else var".split()  # noqa: SIM905
+    "param diffeo inverse def from import as int d let in ifge0 if then else var not".split()  # noqa: SIM905
 )
 #: Most characters outside comments and white space that a source may have (E108).
 MAX_SIGNIFICANT = 1_000_000
@@ -89,6 +91,14 @@ MAX_EXPONENT = 1000
 
 _FLOAT_MAX = Fraction(sys.float_info.max)
 _FLOAT_MIN = Fraction(sys.float_info.min)  # the smallest normal double: below it precision is lost
+
+
+@dataclass
+class _Comparisons:
+    """A comparison chain inside brackets, before it becomes an Iverson bracket."""
+
+    terms: list
+    ops: tuple[str, ...]
 
 
 def _shorten(text: str) -> str:
@@ -305,10 +315,28 @@ class _Builder:
         (l1, c1), (l2, c2) = _start(c[0]), _end(c[2])
         return _R(inner.node, l1, c1, l2, c2, inner.depth)
 
+    def chain(self, c):
+        """``t0 op0 t1 op1 t2 …``: its terms and comparison operators."""
+        return _Comparisons([x for x in c if isinstance(x, _R)], tuple(_CMP[str(x)] for x in c[1::2]))
+
     def iverson(self, c):
-        terms = [x for x in c if isinstance(x, _R)]
-        ops = tuple(_CMP[str(x)] for x in c[2:-1:2])
-        return self.term(lambda sp: Iverson(tuple(t.node for t in terms), ops, sp), c[0], c[-1], terms)
+        ch = c[1]
+        return self.term(lambda sp: Iverson(tuple(t.node for t in ch.terms), ch.ops, sp), c[0], c[-1], ch.terms)
+
+    def _logic(self, op: str, c):
+        chains = [x for x in c if isinstance(x, _Comparisons)]
+        parts = [self.term(lambda sp, ch=ch: Iverson(tuple(t.node for t in ch.terms), ch.ops, sp),
+                           ch.terms[0], ch.terms[-1], ch.terms) for ch in chains]
+        return self.term(lambda sp: Logic(op, tuple(p.node for p in parts), sp), c[0], c[-1], parts)
+
+    def iverson_and(self, c):
+        return self._logic("and", c)
+
+    def iverson_or(self, c):
+        return self._logic("or", c)
+
+    def iverson_not(self, c):
+        return self._logic("not", c)
 
     def let(self, c):
         name, bound, body = c[1], c[3], c[5]

@@ -126,6 +126,16 @@ def _num_parts(value: Fraction) -> tuple[int, list]:
     return (UNARY, ["-" + text]) if value < 0 else (ATOM, [text])
 
 
+def _chain(terms, ops) -> list:
+    """``t0 op0 t1 op1 t2 …`` (inside an Iverson bracket)."""
+    parts: list = []
+    for i, u in enumerate(terms):
+        if i:
+            parts.append(f" {ops[i - 1]} ")
+        parts.append((u, SUM))
+    return parts
+
+
 def _surface_rule(t, level: int) -> list:
     match t:
         case S.Num(value):
@@ -141,11 +151,14 @@ def _surface_rule(t, level: int) -> list:
         case S.Apply(name, args):
             return [name, "(", *_commas(args), ")"]
         case S.Iverson(terms, ops):
-            parts: list = ["["]
-            for i, u in enumerate(terms):
-                if i:
-                    parts.append(f" {ops[i - 1]} ")
-                parts.append((u, SUM))
+            return ["["] + _chain(terms, ops) + ["]"]
+        case S.Logic(op, chains):
+            if op == "not":
+                return ["[not "] + _chain(chains[0].terms, chains[0].ops) + ["]"]
+            sep = " & " if op == "and" else " | "
+            parts = ["["]
+            for i, c in enumerate(chains):
+                parts += ([sep] if i else []) + _chain(c.terms, c.ops)
             return parts + ["]"]
         case S.LetIn(name, bound, body):
             return _wrap(TERM, level, ["let ", name, " = ", (bound, SUM), " in ", (body, TERM)])

@@ -75,6 +75,15 @@ class Iverson:
 
 
 @dataclass(frozen=True)
+class Logic:
+    """``[A & B & …]``, ``[A | B | …]`` or ``[not A]`` over comparison chains ``parts``."""
+
+    op: str  # "and", "or" or "not"
+    parts: tuple[Iverson, ...]
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
 class LetIn:
     name: str
     bound: "STerm"
@@ -127,7 +136,7 @@ class NestedInt:
     span: Span | None = _span()
 
 
-STerm = Union[Num, Name, BinOp, Neg, Apply, Iverson, LetIn, IfGe0S, IfCmp, NestedInt]
+STerm = Union[Num, Name, BinOp, Neg, Apply, Iverson, Logic, LetIn, IfGe0S, IfCmp, NestedInt]
 
 
 # --- declarations and modules -----------------------------------------------------------------
