@@ -188,3 +188,19 @@ def test_logical_sugar_in_brackets():
         for name, expected in (("a", da), ("b", db)):
             d = exact_deriv(loaded.program, at, {k: float(k == name) for k in at}, check=False)
             assert d.value == pytest.approx(expected, abs=1e-12), (body, name)
+
+
+def test_atan2_carries_its_branch_cut():
+    # issue 19: atan2(y, x) is ifge0 y then acos(x/r) else −acos(x/r): its jump of 2π across
+    # y = 0, x < 0 is a conditional, so it has its delta.  ∫₋₁¹ atan2(t, x) dx = ±π for t ≷ 0
+    # (atan2(t, x) = π/2 − atan(x/t) for t > 0, the atan part odd).  On [−1, 1]², moving the cut
+    # with c (atan2(y − c, x)): d/dc = 0 from the interior (odd in x) − 2π·1 from the cut along
+    # x ∈ [−1, 0) (jump 2π, D_c(y − c) = −1): −2π.  Both engines.
+    one = load_text("param t = 0.5\nint ([-1, 1]) atan2(t, x) d(x)\n")
+    assert exact_eval(one.program, {"t": 0.5}).value == pytest.approx(math.pi, abs=1e-12)
+    assert exact_eval(one.program, {"t": -0.5}).value == pytest.approx(-math.pi, abs=1e-12)
+    two = load_text("param c = 0.2\nint ([-1, 1], [-1, 1]) atan2(y - c, x) d(x, y)\n")
+    d = exact_deriv(two.program, {"c": 0.2}, {"c": 1.0}, check=False)
+    assert d.value == pytest.approx(-2 * math.pi, abs=1e-6) and d.boundary == pytest.approx(-2 * math.pi, abs=1e-6)
+    mc = operational.estimate_derivative(two, {"c": 0.2}, {"c": 1.0}, samples=40000, seed=0)
+    assert abs(mc.value + 2 * math.pi) <= 5 * mc.stderr + 1e-9

@@ -77,7 +77,7 @@ def run(args) -> int:
         print(f"  exact       : undefined: {undefined}")
     if exact is not None:
         print(f"  exact       : {c.fmt(exact.value)} = regular {c.fmt(exact.regular)}"
-              f" + boundary {c.fmt(exact.boundary)}   ({exact.how()}: {exact.expr})")
+              f" + boundary {c.fmt(exact.boundary)}   ({exact.how()}{': ' + exact.expr if exact.expr else ''})")
         for note in exact.notes:
             print(f"                note: {note}")
     if mc is not None:

@@ -48,7 +48,7 @@ def run(args) -> int:
     if undefined is not None:
         print(f"  exact : undefined: {undefined}")
     if exact is not None:
-        print(f"  exact : {c.fmt(exact.value)}   ({exact.how()}: {exact.expr})")
+        print(f"  exact : {c.fmt(exact.value)}   ({exact.how()}{': ' + exact.expr if exact.expr else ''})")
         for note in exact.notes:
             print(f"          note: {note}")
     if mc is not None:

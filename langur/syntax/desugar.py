@@ -74,7 +74,7 @@ from .surface import (
 )
 
 #: Function names that are not primitives but sugar (LANGUAGE.md §6).
-SUGAR_FUNCTIONS = ("abs", "min", "max")
+SUGAR_FUNCTIONS = ("abs", "min", "max", "atan2")
 #: Names a declaration may not take.
 RESERVED = frozenset(PRIMITIVES) | frozenset(ALL_PRIMITIVES) | frozenset(SUGAR_FUNCTIONS) | {"pi"}
 
@@ -274,6 +274,15 @@ class Desugarer:
             # min(t, s) is ifge0 t − s then s else t;  max(t, s) is ifge0 t − s then t else s
             then, orelse = (s, t) if name == "min" else (t, s)
             return self.conditional(sub(t, s), then, orelse, sc, span)
+        if name == "atan2":
+            if len(st.args) != 2:
+                return self.fail(ty.reject_arity(where, "`atan2`", 2, len(st.args)), span)
+            y, x = (self.term(a, sc) for a in st.args)
+            # atan2(y, x) is ifge0 y then acos(x / r) else −acos(x / r), r = sqrt(x² + y²): the
+            # branch cut along y = 0, x < 0 (a jump of 2π) is a conditional, so it carries its delta
+            angle = Prim("acos", Mul(x, Pow(Prim("sqrt", Add(Pow(x, Fraction(2)), Pow(y, Fraction(2)))), Fraction(-1))),
+                         span=span)
+            return self.conditional(y, angle, neg(angle), sc, span)
         if name in self.env.defs:
             sig = self.env.defs[name]
             if len(st.args) != len(sig.args):
