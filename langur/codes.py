@@ -101,6 +101,10 @@ CODES: dict[str, Code] = _catalogue(
     Code("X314", "An interval of the domain is empty at the parameter values in force (lower end above upper end): "
          "the integrand is 0 there, so the value is 0, not minus the integral as in calculus.",
          "warning", "empty-domain"),
+    Code("X315",
+         "A condition's zero set is a double root for every parameter value (its derivative in the solved "
+         "variable vanishes on it): it is not a diffeomorphism anywhere and the derivative is not defined.",
+         "error", "double-root-condition"),
     Code("X399", "The check of this file did not finish within its time budget (--timeout, default 60 s): what was "
          "not reported is unchecked.",
          "error", "time-limit"),

@@ -346,3 +346,14 @@ def test_transcendental_parameter_set_decided_at_the_point():
     assert check_text(text) == []
     (f,) = check_text(text, at={"a": 0.0})
     assert (f.code, f.severity) == ("X305", "error") and "x >= 0" in f.message
+
+
+def test_a_double_root_for_every_parameter_is_an_error():
+    # issue 19: [t²x² − 2tx + 1 > 0] is [(tx − 1)² > 0]: its zero set x = 1/t is a double root for
+    # every t (∂/∂x = 2t(tx − 1) vanishes on it), so no derivative exists: X315, an error (it used
+    # to pass `check` with a warning at t = 0 only).  A condition that changes sign is not flagged.
+    loaded = load_text("param t = 0.7\nint ([-1, 1]) [t^2 * x^2 - 2*t*x + 1 > 0] d(x)\n")
+    codes = {(f.code, f.severity) for f in tv.check_loaded(loaded)}
+    assert ("X315", "error") in codes
+    fine = load_text("param t = 0.7\nint ([-1, 1]) [t^2 * x^2 - 2*t*x + 0.5 > 0] d(x)\n")
+    assert "X315" not in {f.code for f in tv.check_loaded(fine)}

@@ -1,0 +1,61 @@
+"""X315: a condition whose zero set is a double root for every parameter value.
+
+A diffeomorphic conditional needs Ψ̂ to be a diffeomorphism (Def. 3.4, §5.2): on its zero set
+π₀Ψ̂ = 0 the derivative ∂π₀Ψ̂/∂v in the solved-for variable must not vanish, or δ(π₀Ψ̂) is not
+defined there.  ``[t^2 * x^2 - 2*t*x + 1 > 0]`` is ``[(t·x − 1)² > 0]``: its zero set x = 1/t is a
+double root whatever t is, ∂Φ/∂x = 2t(t·x − 1) vanishes on it, and no derivative exists (the
+exact engine has no closed form, the Monte Carlo engine gives NaN).  X306 covers coefficients that
+vanish for *some* parameter values; this is the case where ∂Φ/∂v vanishes on the zero set
+identically.
+
+Decided with sympy (time-boxed): for each inverse branch x_b(u') of a completed condition,
+``simplify(∂Φ/∂v at Ψ̂_b⁻¹(0, u'))`` is 0 for every branch.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ..core import IfDiffeo, Program, subterms
+from ..sympy_bridge import NotSmooth, symbol, to_sympy
+from ..timebox import run_with_timeout
+from .findings import Finding
+
+#: Seconds of sympy per condition.
+TIME_LIMIT = 2.0
+
+
+def double_root_findings(program: Program) -> list[Finding]:
+    """One X315 error per completed condition whose zero set is a double root identically."""
+    out, seen = [], set()
+    for t in subterms(program.body):
+        if not isinstance(t, IfDiffeo) or t.psi.solved_for is None or t.psi in seen:
+            continue
+        seen.add(t.psi)
+        try:
+            degenerate = run_with_timeout(lambda t=t: _double_root(t.psi), TIME_LIMIT)
+        except (TimeoutError, NotSmooth, TypeError, ValueError):
+            continue
+        if degenerate:
+            out.append(Finding(t.span, "error", "X315",
+                               f"the zero set of the condition `{sp.sstr(to_sympy(t.psi.forward[0]))}` is a double root "
+                               f"for every parameter value: ∂/∂{t.psi.solved_for} of the condition vanishes on it, so "
+                               "it is not a diffeomorphism anywhere and the derivative is not defined (Def. 3.4, "
+                               "paper §5.2); write the condition so that it changes sign (e.g. without the square)",
+                               (), tuple(sorted(s.name for s in to_sympy(t.psi.forward[0]).free_symbols
+                                                 if s.name not in t.psi.variables))))
+    return out
+
+
+def _double_root(psi) -> bool:
+    v = symbol(psi.solved_for)
+    phi = to_sympy(psi.forward[0])
+    slope = sp.diff(phi, v)
+    if slope.is_number:
+        return False
+    u0 = symbol(psi.inputs[0])
+    for b in psi.branches:
+        at = {x: to_sympy(c) for x, c in zip((symbol(n) for n in psi.variables), b.components)}
+        if sp.simplify(slope.xreplace(at).xreplace({u0: 0})) != 0:
+            return False
+    return bool(psi.branches)
