@@ -357,3 +357,13 @@ def test_a_double_root_for_every_parameter_is_an_error():
     assert ("X315", "error") in codes
     fine = load_text("param t = 0.7\nint ([-1, 1]) [t^2 * x^2 - 2*t*x + 0.5 > 0] d(x)\n")
     assert "X315" not in {f.code for f in tv.check_loaded(fine)}
+
+
+def test_a_kink_under_a_factor_that_vanishes_there_is_no_kink():
+    # issue 19: [x + k > 0]·[x + l > 0] on [−1, 1] at k = 1, l = 0: the jump of the first sits on the
+    # bound x = −1, but there the second factor [x > 0] is 0 (on a neighbourhood): the integral
+    # is ∫₀¹ 1 dx = 1 for every k > 0, constant near 1, so no X305.  With l = 2 the second factor is 1
+    # at x = −1 and the kink is real (∫ = 1 + min(k, 1) for l ≥ 1: one-sided slopes 1 and 0).
+    loaded = load_text("param k = 1, l = 0\nint ([-1, 1]) [x + k > 0] * [x + l > 0] d(x)\n")
+    assert "X305" not in {f.code for f in tv.check_loaded(loaded, at={"k": 1.0, "l": 0.0})}
+    assert "X305" in {f.code for f in tv.check_loaded(loaded, at={"k": 1.0, "l": 2.0})}

@@ -26,7 +26,12 @@ from ..diagnostics import Span
 from . import algebra
 from .algebra import Undecided, describe_set, vanishes
 from .collect import Occurrence
-from .geometry import meets_box, moving, num, orientation
+from .geometry import meets_box, moving, num, orientation, zero_set_points
+
+
+def _negative(f: sp.Expr, point, at: dict) -> bool:
+    v = num(f.subs(point).subs(at))
+    return v is not None and v < -1e-9
 
 
 class CoincidenceChecks:
@@ -180,10 +185,31 @@ class CoincidenceChecks:
                     names,
                 )
             return
-        # A jump meeting a fixed zero set (the domain's bound) or closing a window: a kink.
+        # A jump meeting a fixed zero set (the domain's bound) or closing a window: a kink — unless
+        # every product they meet in is 0 around the meeting place (another factor vanishes there)
+        if hit and self.zero_around(c, g):
+            return
         mover = c if (moving(c, self.variables) and not c.bound) or g.bound else g
         other = g if mover is c else c
         self.kinks.setdefault(mover.index, []).append((other, relations, hit))
+
+    def zero_around(self, c: Occurrence, g: Occurrence) -> bool:
+        """At the parameter values in force, each product where c and g multiply has another
+        condition negative all along c's zero set in the box: the product, and its derivative, are 0
+        around the place where c and g meet, so their meeting makes no kink (``[x + k > 0]·[x > 0]``
+        at k = 1: the jump sits on the bound x = −1, where ``[x > 0]`` is 0)."""
+        prods = [p for p in self.col.products if c.index in p.ids and g.index in p.ids]
+        if self.point is None or not prods:
+            return False
+        pts = [pt for br in c.branches for pt in zero_set_points(c, br, self.box, self.point, self.variables)]
+        if not pts or any(not pt for pt in pts):
+            return False
+        occ = self.col.occurrences
+        for p in prods:
+            others = [occ[i] for i in p.ids - {c.index, g.index}]
+            if not any(all(_negative(h.f, self.point, pt) for pt in pts) for h in others):
+                return False
+        return True
 
     def report_kinks(self):
         occ = self.col.occurrences

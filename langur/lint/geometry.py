@@ -88,13 +88,22 @@ def in_box(xvals: Mapping[sp.Symbol, sp.Expr], box, point, variables) -> bool:
 
 def meets_box(c: Occurrence, branch, box, point, variables, extra_eq: sp.Expr | None = None) -> bool:
     """Does the branch's piece of c's zero set meet the closed box at the parameter ``point``?"""
+    return next(zero_set_points(c, branch, box, point, variables, extra_eq), None) is not None
+
+
+def zero_set_points(c: Occurrence, branch, box, point, variables, extra_eq: sp.Expr | None = None,
+                    samples: int = 60):
+    """Points ({x: value}) of the branch's piece of c's zero set inside the closed box at the
+    parameter ``point`` (``extra_eq`` also vanishing there); an empty ``{}`` when the box cannot
+    be evaluated (then it may meet it anywhere)."""
     comps, guards = branch
     if not c.uprime:
         if any(num(gd.subs(point)) < 0 for gd in guards if num(gd.subs(point)) is not None):
-            return False
-        return in_box(comps, box, point, variables)
+            return
+        if in_box(comps, box, point, variables):
+            yield {x: e.subs(point) for x, e in comps.items()}
+        return
     # Sample the box, map each sample to u′ (the other components of Ψ̂), come back to the zero set.
-
     rng = random.Random(3)
     fwd = [to_sympy(t) for t in c.psi.forward[1:]]
     xs = xsyms(variables)
@@ -102,9 +111,10 @@ def meets_box(c: Occurrence, branch, box, point, variables, extra_eq: sp.Expr | 
     for lo, hi in box:
         lo_v, hi_v = num(lo.subs(point)), num(hi.subs(point))
         if lo_v is None or hi_v is None:
-            return True
+            yield {}
+            return
         boxv.append((lo_v, hi_v))
-    for _ in range(60):
+    for _ in range(samples):
         xpt = {x: sp.Float(rng.uniform(lo, hi), 12) for x, (lo, hi) in zip(xs, boxv)}
         upt = {u: F.subs(point).subs(xpt) for u, F in zip(c.uprime, fwd)}
         if any(num(gd.subs(point).subs(upt)) is None or num(gd.subs(point).subs(upt)) < 0 for gd in guards):
@@ -115,8 +125,7 @@ def meets_box(c: Occurrence, branch, box, point, variables, extra_eq: sp.Expr | 
             if v is None or abs(v) > 1e-7:
                 continue
         if in_box(image, box, {}, variables):
-            return True
-    return False
+            yield image
 
 
 def num(e) -> float | None:
