@@ -36,7 +36,6 @@ from .core import (
     Program,
     Term,
     Var,
-    check_values,
     shared,
 )
 from .denote import program_box, zero_integral
@@ -59,6 +58,7 @@ from .symbolic.decompose import (
 from .symbolic.pieces import Condition, DeltaPiece, Integral, Method, Piece
 from .symbolic.text import derivative_result_text, normal_form_text
 from .sympy_bridge import at_symbols, const_expr, derivative_function, exact_number, symbols
+from .values import check_values
 
 __all__ = ["DerivativeResult", "NormalForm", "ddenote", "ddenote_program", "tangent"]
 
@@ -213,7 +213,7 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
                     timeout: float = 20.0) -> DerivativeResult:
     """⦇int t d(x⃗)⦈(γ, γ') = ∫ ⦇t⦈ dρ (Fig. 12) at ``at`` in the direction γ' = ``direction``.
 
-    Raises :class:`~langur.core.ParameterError` when ``at`` does not give every parameter of the
+    Raises :class:`~langur.values.ParameterError` when ``at`` does not give every parameter of the
     program a finite value or ``direction`` names a parameter without one."""
     from .symbolic.integrate import (  # scipy: 0.3 s, only when integrating
         integrate_delta_pieces,

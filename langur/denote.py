@@ -14,10 +14,11 @@ from collections.abc import Mapping
 
 import sympy as sp
 
-from .core import Program, check_values
+from .core import Program
 from .symbolic.decompose import Ctx, decompose, smooth_value
 from .symbolic.pieces import Integral, Method
 from .sympy_bridge import at_symbols, denote, symbol, symbols
+from .values import check_values
 
 __all__ = ["denote", "denote_program", "program_box", "symbol"]
 
@@ -35,7 +36,7 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
                    timeout: float = 20.0) -> Integral:
     """⟦int t d(x⃗)⟧(γ) (Fig. 12) at the parameter values ``at`` (name → number; exact decimals
     are read as rationals).  The result's ``expr`` is the closed form in the parameters, valid
-    near ``at``, when one was found.  Raises :class:`~langur.core.ParameterError` when ``at`` does
+    near ``at``, when one was found.  Raises :class:`~langur.values.ParameterError` when ``at`` does
     not give every parameter of the program a finite value."""
     from .symbolic.integrate import integrate_pieces  # scipy: 0.3 s, only when integrating
 

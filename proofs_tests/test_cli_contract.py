@@ -1,7 +1,7 @@
 """The command-line contract (docs/commands.md; issue 9): exit statuses 0, 1, 2 only, never a
 traceback; every option validated up front with a one-line usage error; every readable file
 checked and each unreadable one located; numeric warnings turned into one note; the Python API
-raises a typed error (``langur.core.ParameterError``) where it used to answer 0.0.
+raises a typed error (``langur.values.ParameterError``) where it used to answer 0.0.
 
 Most tests go through ``langur.cli.main`` in process; a few run ``python -m langur`` in a
 subprocess, where a traceback, a signal or a MemoryError would show as they would to a user.
@@ -19,9 +19,9 @@ from paths import EXAMPLES
 
 from langur import cli, frontend, operational
 from langur.cli import main
-from langur.core import ParameterError
 from langur.ddenote import ddenote_program
 from langur.denote import denote_program
+from langur.values import ParameterError
 
 FIG1 = str(EXAMPLES / "fig1.lgr")
 RISK = str(EXAMPLES / "risk.lgr")

@@ -1,6 +1,6 @@
 """The package's layers point one way (README, "Map"), read from the modules' own imports.
 
-    core            langur, codes, diagnostics, core, primitives, timebox, progress, modules
+    core            langur, codes, diagnostics, core, primitives, values, timebox, progress, modules
     sympy bridge    sympy_bridge (⟦·⟧ of Fig. 7 in sympy, names, numbers, time limits)
     front end       syntax/*, typesys, frontend
     exact engine    denote, ddenote, symbolic/*          Monte Carlo engine  operational/*
@@ -25,7 +25,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent / "langur"
 
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("core", ("langur", "langur.codes", "langur.diagnostics", "langur.core", "langur.primitives", "langur.timebox",
+    ("core", ("langur", "langur.codes", "langur.diagnostics", "langur.core", "langur.primitives", "langur.values", "langur.timebox",
               "langur.progress", "langur.modules")),
     ("sympy bridge", ("langur.sympy_bridge",)),
     ("front end", ("langur.syntax", "langur.typesys", "langur.frontend")),

@@ -20,7 +20,7 @@ program) or a :class:`~langur.modules.Loaded` (then *linked* from separately com
 §9; see :mod:`.link`; ``sites`` chooses where its zero-set samplers come from).  ``params``
 may omit parameters with defaults (for a Loaded); ``direction`` (γ') names parameters, the
 others move by 0; a parameter with no value, a non-finite value or a direction naming a parameter
-without a value raises :class:`~langur.core.ParameterError` (a ``KeyError``), as the exact engine does.  ``method`` is ``"uniform"``, ``"stratified"`` or ``"qmc"``.  ``seed``
+without a value raises :class:`~langur.values.ParameterError` (a ``KeyError``), as the exact engine does.  ``method`` is ``"uniform"``, ``"stratified"`` or ``"qmc"``.  ``seed``
 makes the output bit-identical (one ``np.random.default_rng(seed)``, never global state).
 
 The estimator

@@ -7,8 +7,9 @@ import math
 
 import numpy as np
 
-from ..core import ParameterError, Program, check_values, tree_size
+from ..core import Program, tree_size
 from ..modules import Loaded
+from ..values import ParameterError, check_values
 from .compile import DELTA, TANGENT, VALUE, Env, Linking, full
 from .link import CACHE, CompileCache, Linked, compile_program, link
 from .results import DerivativeEstimate, Estimate, ValueEstimate
@@ -36,7 +37,7 @@ class TooLarge(ValueError):
 def prepare(program_or_loaded, params: dict, sites: str = "inlined", direction: dict | None = None,
             cache: CompileCache = CACHE) -> tuple[Linked, dict]:
     """Compile (or fetch from ``cache``) and resolve parameter values to floats; raises
-    :class:`~langur.core.ParameterError` for a missing or non-finite value, a value for a
+    :class:`~langur.values.ParameterError` for a missing or non-finite value, a value for a
     parameter a Loaded does not declare, or a direction naming a parameter without a value."""
     program = program_or_loaded.program if isinstance(program_or_loaded, Loaded) else program_or_loaded
     if isinstance(program, Program):
