@@ -26,7 +26,7 @@ import sympy as sp
 
 from langur.core import Program
 from langur.ddenote import ddenote, ddenote_program
-from langur.denote import denote_program
+from langur.denote import denote_program, program_box
 from langur.symbolic.decompose import Ctx, decompose
 from langur.symbolic.pieces import Condition, DeltaPiece, Method, Piece
 from langur.sympy_bridge import at_symbols, symbols
@@ -148,19 +148,13 @@ def scene(program: Program, params: Mapping[str, float], direction: Mapping[str,
     xs = symbols(program.variables)
     ctx = Ctx(at=at, variables=tuple(program.variables))
     nf = ddenote(program.body, direction, at=params, variables=tuple(program.variables))
-    box = [(float(_numeric(lo_e, [], at)()), float(_numeric(hi_e, [], at)())) for lo_e, hi_e in
-           ((_expr(lo, ctx), _expr(hi, ctx)) for lo, hi in program.box)]
+    box = [(float(_numeric(lo, [], at)()), float(_numeric(hi, [], at)())) for lo, hi in program_box(program, ctx)]
     value = denote_program(program, params, timeout=timeout)
     der = ddenote_program(program, params, direction, timeout=timeout)
     notes = [] if value.method == der.method == Method.CLOSED_FORM else ["values by quadrature"]
     return Scene(program, params, direction, box, _field(decompose(program.body, ctx), xs, at),
                  _field(nf.regular, xs, at), list(nf.deltas), value.value, der.value, der.regular.value,
                  der.boundary.value, notes)
-
-
-def _expr(t, ctx: Ctx) -> sp.Expr:
-    pieces = decompose(t, ctx)
-    return sp.Add(*[p.weight for p in pieces])
 
 
 # ----------------------------------------------------------------------------------------------
