@@ -177,11 +177,14 @@ def _close(a: float, b: float, slack: float) -> bool:
     return abs(a - b) <= RTOL * max(abs(a), abs(b)) + ATOL + slack
 
 
-def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str, object], **kw) -> TheoremCheck:
-    """Compare D_γ⟦p⟧·γ' with ⦇p⦈(γ, γ') at ``at`` (see the module docstring); a failure whose two
-    sides agree at ``at`` itself is inconclusive (``holds`` None), never a failure printed with
-    two equal numbers."""
-    th = _check(program, at, direction, **kw)
+def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str, object], *,
+                      denotation=None, derivative=None, nearby: int = 3, seed: int = 0,
+                      timeout: float = 20.0, simplify_seconds: float = 5.0) -> TheoremCheck:
+    """Compare D_γ⟦p⟧·γ' with ⦇p⦈(γ, γ') at ``at`` (see the module docstring).  ``denotation`` /
+    ``derivative``: already computed ``denote_program`` / ``ddenote_program`` results at ``at``
+    (recomputed when None).  A failure whose two sides agree at ``at`` itself is inconclusive
+    (``holds`` None), never a failure printed with two equal numbers."""
+    th = _check(program, at, direction, denotation, derivative, nearby, seed, timeout, simplify_seconds)
     if th.holds is False and _close(th.d_denotation, th.derivative_denotation, 0.0):
         return replace(th, holds=None, notes=th.notes + [
             "inconclusive: D⟦p⟧·γ' and ⦇p⦈ agree at the parameters, but not everywhere the check "
@@ -189,11 +192,9 @@ def check_theorem_8_1(program, at: Mapping[str, object], direction: Mapping[str,
     return th
 
 
-def _check(program, at: Mapping[str, object], direction: Mapping[str, object], *,
-           denotation=None, derivative=None, nearby: int = 3, seed: int = 0,
-           timeout: float = 20.0, simplify_seconds: float = 5.0) -> TheoremCheck:
-    """The check itself.  ``denotation`` / ``derivative``: already computed ``denote_program`` /
-    ``ddenote_program`` results at ``at`` (recomputed when None)."""
+def _check(program, at: Mapping[str, object], direction: Mapping[str, object], denotation, derivative,
+           nearby: int, seed: int, timeout: float, simplify_seconds: float) -> TheoremCheck:
+    """The check itself, arguments as :func:`check_theorem_8_1`'s."""
     at = dict(at)
     den = denotation if denotation is not None else denote_program(program, at, timeout=timeout)
     der = derivative if derivative is not None else ddenote_program(program, at, direction, timeout=timeout)
