@@ -273,8 +273,28 @@ def _finite_difference(program, at, direction, der, den, timeout, why: str) -> T
     fd1, fd2 = (p1 - m1) / (2 * h), (p2 - m2) / (4 * h)
     estimate = (4 * fd1 - fd2) / 3  # Richardson: cancels the h² term
     error = abs(fd1 - fd2) + (e1 + f1) / (2 * h) + (e2 + f2) / (4 * h)
-    holds = _close(estimate, der.value, error + der.error)
-    return TheoremCheck(holds, estimate, der.value, How.FINITE_DIFFERENCE,
-                        (Point({k: float(v) for k, v in at.items()}, estimate, der.value),),
-                        [f"{why}: D⟦p⟧·γ' estimated by central finite differences of ⟦p⟧ "
-                         f"(h = {h:g}) with error bound {error:.2g}"], error)
+    point = Point({k: float(v) for k, v in at.items()}, estimate, der.value)
+    note = f"{why}: D⟦p⟧·γ' estimated by central finite differences of ⟦p⟧ (h = {h:g}) with error bound {error:.2g}"
+    # One-sided second-order differences on each side, with their own bounds: where they disagree,
+    # ⟦p⟧ switches (a kink, a parameter cell's boundary) within the step, and the central
+    # difference straddles it: only the side that stays in one cell can be compared.
+    f0, e0 = den.value, den.error
+    sides = {"forward": ((-3 * f0 + 4 * p1 - p2) / (2 * h), (p1 - f0) / h, (3 * e0 + 4 * e1 + e2) / (2 * h)),
+             "backward": ((3 * f0 - 4 * m1 + m2) / (2 * h), (f0 - m1) / h, (3 * e0 + 4 * f1 + f2) / (2 * h))}
+    one_sided = {k: (d2, abs(d2 - d1) + q) for k, (d2, d1, q) in sides.items()}
+    (df, ef), (db, eb) = one_sided["forward"], one_sided["backward"]
+    if _close(df, db, ef + eb):
+        return TheoremCheck(_close(estimate, der.value, error + der.error), estimate, der.value,
+                            How.FINITE_DIFFERENCE, (point,), [note], error)
+    agreeing = [k for k, (d, e) in one_sided.items() if _close(d, der.value, e + der.error)]
+    if agreeing:
+        d, e = one_sided[agreeing[0]]
+        return TheoremCheck(True, d, der.value, How.FINITE_DIFFERENCE,
+                            (Point(point.params, d, der.value),),
+                            [f"{why}: ⟦p⟧ switches within {2 * h:g} of the parameters (its one-sided differences "
+                             f"differ: forward {df:.6g}, backward {db:.6g}); the {agreeing[0]} one, which stays in "
+                             f"one parameter cell, is {d:.10g} ± {e:.2g} and agrees"], e)
+    return TheoremCheck(None, estimate, der.value, How.FINITE_DIFFERENCE, (point,),
+                        [note, f"inconclusive: ⟦p⟧ switches within {2 * h:g} of the parameters (one-sided "
+                               f"differences: forward {df:.6g} ± {ef:.2g}, backward {db:.6g} ± {eb:.2g}) and "
+                               "neither side's difference decides"], error)

@@ -136,3 +136,22 @@ def test_two_equal_numbers_are_never_a_failure(monkeypatch):
     monkeypatch.undo()
     loaded = load(os.path.join(str(DEGENERATE), "coincident.lgr"))
     assert check_theorem_8_1(loaded.program, loaded.param_values(), {"a": 1}).holds is False
+
+
+def test_finite_differences_stay_in_one_parameter_cell():
+    # issue 19: ∫₀¹∫₀^v e^{sin x} dy dx = v·C with C = ∫₀¹ e^{sin x} dx (no elementary closed form:
+    # the check differences quadratures).  At v = 1e-7 the central step h = 1e-3 reaches v < 0, where
+    # the domain [0, v] is empty and ⟦p⟧ = 0: the central difference gave C/2 and a false FAILS.  The
+    # backward and forward one-sided differences disagree there, and the forward one (which stays in
+    # v > 0) is C, as ⦇p⦈ is.
+    prog, at = program("param v = 0.0000001\nint ([0, 1], [0, v]) exp(sin(x)) d(x, y)")
+    C = exact_eval(load_text("int ([0, 1]) exp(sin(x)) d(x)\n").program, {}).value
+    th = exact_deriv(prog, at, {"v": 1}).theorem_8_1
+    assert th.holds is True and th.d_denotation == pytest.approx(C, rel=1e-6)
+    assert any("forward one" in n for n in th.notes)
+    # a genuine failure is still one: [x ≥ a] twice counts the jump twice (−2e^{sin a} against the
+    # true −e^{sin a}), smooth on both sides of a = 1/2
+    prog, at = program("param a = 0.5\nint ([0, 1]) [x >= a] * [x >= a] * exp(sin(x)) d(x)")
+    th = exact_deriv(prog, at, {"a": 1}).theorem_8_1
+    assert th.holds is False and th.how == "finite_difference"
+    assert th.d_denotation == pytest.approx(-math.exp(math.sin(0.5)), rel=1e-6)
