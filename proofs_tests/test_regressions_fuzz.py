@@ -204,3 +204,19 @@ def test_atan2_carries_its_branch_cut():
     assert d.value == pytest.approx(-2 * math.pi, abs=1e-6) and d.boundary == pytest.approx(-2 * math.pi, abs=1e-6)
     mc = operational.estimate_derivative(two, {"c": 0.2}, {"c": 1.0}, samples=40000, seed=0)
     assert abs(mc.value + 2 * math.pi) <= 5 * mc.stderr + 1e-9
+
+
+def test_logical_sugar_in_if():
+    # issue 19: if A & B then s else r is if A then (if B then s else r) else r (| and not alike).
+    # On [0, 1]² at a = 0.3, b = 0.6: (if x ≤ a & y ≤ b then 2 else 1) integrates to 1 + ab = 1.18,
+    # its derivative in a is b = 0.6 (the jump 1 along x = a for y ≤ b); (if x ≤ a | y ≤ b then x
+    # else 0) to ∫∫ x·(1 − [x > a][y > b]) = 1/2 − (1 − a²)/2·(1 − b) = 0.318, in a: a·(1 − b) = 0.12;
+    # (if not x ≤ a then 3 else 1) to 1 + 2(1 − a) = 2.4, in a: −2.
+    at = {"a": 0.3, "b": 0.6}
+    for body, value, da in (("if x <= a & y <= b then 2 else 1", 1.18, 0.6),
+                            ("if x <= a | y <= b then x else 0", 0.318, 0.12),
+                            ("if not x <= a then 3 else 1", 2.4, -2.0)):
+        loaded = load_text(f"param a = 0.3, b = 0.6\nint ([0, 1], [0, 1]) {body} d(x, y)\n")
+        assert exact_eval(loaded.program, at).value == pytest.approx(value, abs=1e-12), body
+        d = exact_deriv(loaded.program, at, {"a": 1.0, "b": 0.0}, check=False)
+        assert d.value == pytest.approx(da, abs=1e-12), body

@@ -63,6 +63,7 @@ from .surface import (
     DiffeoApp,
     IfCmp,
     IfGe0S,
+    IfLogic,
     Iverson,
     LetIn,
     Logic,
@@ -217,6 +218,17 @@ class Desugarer:
                 # ifge0 t then s else r: plain if t is variable-free, else completed ⌊Ψ⌋
                 return self.conditional(self.term(c, sc), self.term(then, sc), self.term(orelse, sc), sc, span,
                                         cond_span=getattr(c, "span", None))
+            case IfLogic(Logic(op, parts), then, orelse):
+                # if A & B then s else r is if A then (if B then s else r) else r; with |, if A then s
+                # else (if B then s else r); if not A then s else r is if A then r else s
+                s_, r_ = self.term(then, sc), self.term(orelse, sc)
+                if op == "not":
+                    return self.if_chain(parts[0], r_, s_, sc, span)
+                out = s_ if op == "and" else r_
+                for part in reversed(parts):
+                    out = (self.if_chain(part, out, r_, sc, span) if op == "and"
+                           else self.if_chain(part, s_, out, sc, span))
+                return out
             case IfCmp(left, op, right, then, orelse):
                 # if t CMP s then p else q is ifge0 (t − s) (or s − t) then p else q
                 cond = compare(self.term(left, sc), op, self.term(right, sc))
@@ -324,6 +336,15 @@ class Desugarer:
             self.errors.append(ty.reject_duplicate(where, "name (reserved constant)", "pi"))
         body = self.term(st.body, sc.with_param(st.name))
         return Let(st.name, bound, body, span=st.span)
+
+    def if_chain(self, chain: Iverson, then: Term, orelse: Term, sc: Scope, span) -> Term:
+        """``if t0 op0 t1 op1 t2 … then s else r``: one conditional per comparison, nested."""
+        core = [self.term(u, sc) for u in chain.terms]
+        out = then
+        for i in reversed(range(len(chain.ops))):
+            out = self.conditional(compare(core[i], chain.ops[i], core[i + 1]), out, orelse, sc, span,
+                                   join(chain.terms[i], chain.terms[i + 1]))
+        return out
 
     def conditional(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span=None) -> Term:
         """``ifge0 cond then … else …``: IfGe0 when ``cond`` is variable-free, else the completed

@@ -50,6 +50,7 @@ from .surface import (
     Ident,
     IfCmp,
     IfGe0S,
+    IfLogic,
     ImportItem,
     ImportName,
     Interval,
@@ -328,6 +329,24 @@ class _Builder:
         parts = [self.term(lambda sp, ch=ch: Iverson(tuple(t.node for t in ch.terms), ch.ops, sp),
                            ch.terms[0], ch.terms[-1], ch.terms) for ch in chains]
         return self.term(lambda sp: Logic(op, tuple(p.node for p in parts), sp), c[0], c[-1], parts)
+
+    def _if_logic(self, op: str, c):
+        chains = [x for x in c if isinstance(x, _Comparisons)]
+        then, orelse = [x for x in c if isinstance(x, _R)][-2:]
+        parts = [self.term(lambda sp, ch=ch: Iverson(tuple(t.node for t in ch.terms), ch.ops, sp),
+                           ch.terms[0], ch.terms[-1], ch.terms) for ch in chains]
+        logic = self.term(lambda sp: Logic(op, tuple(p.node for p in parts), sp), parts[0], parts[-1], parts)
+        return self.term(lambda sp: IfLogic(logic.node, then.node, orelse.node, sp), c[0], orelse,
+                         (logic, then, orelse))
+
+    def if_and(self, c):
+        return self._if_logic("and", c)
+
+    def if_or(self, c):
+        return self._if_logic("or", c)
+
+    def if_not(self, c):
+        return self._if_logic("not", c)
 
     def iverson_and(self, c):
         return self._logic("and", c)

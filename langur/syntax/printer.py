@@ -181,6 +181,11 @@ def _surface_rule(t, level: int) -> list:
                     (orelse, TERM),
                 ],
             )
+        case S.IfLogic(S.Logic(op, chains), then, orelse):
+            cond: list = ["not "] + _chain(chains[0].terms, chains[0].ops) if op == "not" else []
+            for i, c in enumerate(chains if op != "not" else ()):
+                cond += ([" & " if op == "and" else " | "] if i else []) + _chain(c.terms, c.ops)
+            return _wrap(TERM, level, ["if ", *cond, " then ", (then, SUM), " else ", (orelse, TERM)])
         case S.DiffeoApp(name, variables, params):
             return [name, "(", *_commas(variables), ";", *([" "] if params else []), *_commas(params), ")"]
         case S.NestedInt(domain, body, variables):

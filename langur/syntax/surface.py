@@ -84,6 +84,16 @@ class Logic:
 
 
 @dataclass(frozen=True)
+class IfLogic:
+    """``if A & B & … then s else r`` (also ``|``, and ``if not A``) over comparison chains."""
+
+    cond: Logic
+    then: "STerm"
+    orelse: "STerm"
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
 class LetIn:
     name: str
     bound: "STerm"
@@ -136,7 +146,7 @@ class NestedInt:
     span: Span | None = _span()
 
 
-STerm = Union[Num, Name, BinOp, Neg, Apply, Iverson, Logic, LetIn, IfGe0S, IfCmp, NestedInt]
+STerm = Union[Num, Name, BinOp, Neg, Apply, Iverson, Logic, LetIn, IfGe0S, IfCmp, IfLogic, NestedInt]
 
 
 # --- declarations and modules -----------------------------------------------------------------
