@@ -302,7 +302,7 @@ def test_coincident_and_nested_jumps_count_twice():
 # -- the naive per-sample evaluator agrees with the compiled one ------------------------------------
 
 def test_naive_and_vectorized_agree_on_the_same_points():
-    from langur.operational.compile import DELTA, TANGENT, VALUE, Env, compile_term
+    from langur.operational.compile import DELTA, TANGENT, UNLINKED, VALUE, Point, compile_term
     from langur.operational.naive import evaluate
 
     a = Param("a")
@@ -317,9 +317,9 @@ def test_naive_and_vectorized_agree_on_the_same_points():
     pts = {"x": rng.uniform(-2, 2, 200), "y": rng.uniform(-2, 2, 200)}
     p, dp = {"a": 0.7, "theta": -0.3}, {"a": 0.4, "theta": 1.0}
     with np.errstate(all="ignore"):
-        v, _ = unit.fn(Env(pts, p, mode=VALUE))
-        _, t = unit.fn(Env(pts, p, dparams=dp, mode=TANGENT))
-        _, g = unit.fn(Env(pts, p, mode=DELTA, site=np.zeros(200, dtype=int), sites=frozenset({0})))
+        v, _ = unit.fn(Point(pts, p, mode=VALUE), UNLINKED)
+        _, t = unit.fn(Point(pts, p, dparams=dp, mode=TANGENT), UNLINKED)
+        _, g = unit.fn(Point(pts, p, mode=DELTA, site=np.zeros(200, dtype=int), sites=frozenset({0})), UNLINKED)
     for i in range(200):
         rho = {"x": pts["x"][i], "y": pts["y"][i]}
         nv = evaluate(body, rho, p, {})[0]
@@ -379,17 +379,17 @@ def _agree(mine, ref, tol=1e-9):
 @settings(max_examples=60, deadline=None)
 @given(_terms(), st.floats(-1.5, 1.5), st.floats(-1.5, 1.5))
 def test_random_terms_compiled_equals_naive(term, av, bv):
-    from langur.operational.compile import DELTA, TANGENT, VALUE, Env, compile_term
+    from langur.operational.compile import DELTA, TANGENT, UNLINKED, VALUE, Point, compile_term
     from langur.operational.naive import evaluate
 
     unit = compile_term(term)
     pts = {"x": np.linspace(-2, 2, 9), "y": np.linspace(1.7, -1.3, 9)}
     p, dp = {"a": av, "b": bv}, {"a": 1.0, "b": -0.5}
     with np.errstate(all="ignore"):
-        v = np.broadcast_to(unit.fn(Env(pts, p, mode=VALUE))[0], (9,))
-        t = unit.fn(Env(pts, p, dparams=dp, mode=TANGENT))[1]
+        v = np.broadcast_to(unit.fn(Point(pts, p, mode=VALUE), UNLINKED)[0], (9,))
+        t = unit.fn(Point(pts, p, dparams=dp, mode=TANGENT), UNLINKED)[1]
         t = np.broadcast_to(0.0 if t is None else t, (9,))
-        g = unit.fn(Env(pts, p, mode=DELTA, site=np.zeros(9, dtype=int), sites=frozenset({0})))[1]
+        g = unit.fn(Point(pts, p, mode=DELTA, site=np.zeros(9, dtype=int), sites=frozenset({0})), UNLINKED)[1]
         g = np.broadcast_to(0.0 if g is None else g, (9,))
     for i in range(9):
         rho = {"x": float(pts["x"][i]), "y": float(pts["y"][i])}
@@ -402,12 +402,12 @@ def test_random_terms_compiled_equals_naive(term, av, bv):
 
 def test_parameter_singularities_are_nan_not_exceptions():
     # found by the property test: d/da log(a) at a = 0 divided a Python float by zero
-    from langur.operational.compile import TANGENT, Env, compile_term
+    from langur.operational.compile import TANGENT, UNLINKED, Point, compile_term
 
     a = Param("a")
     for op, at in (("log", 0.0), ("atanh", 1.0), ("atanh", -1.0), ("log", -2.0)):
         with np.errstate(all="ignore"):  # as the estimators evaluate
-            v, d = compile_term(Prim(op, a)).fn(Env({}, {"a": at}, dparams={"a": 1.0}, mode=TANGENT))
+            v, d = compile_term(Prim(op, a)).fn(Point({}, {"a": at}, dparams={"a": 1.0}, mode=TANGENT), UNLINKED)
         assert not math.isfinite(float(v)) and math.isnan(float(d))
     prog = with_domain(("x",), [(ZERO, ONE)], Mul(x, Prim("log", a)))
     d = estimate_derivative(prog, {"a": 0.0}, {"a": 1}, samples=100)

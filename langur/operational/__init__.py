@@ -8,12 +8,12 @@ It shares only the core layer (:mod:`langur.core`, :mod:`langur.primitives`, :mo
 API::
 
     estimate_value(program_or_loaded, params, *, samples=10000, seed=0, method="uniform",
-                   sites="inlined") -> ValueEstimate (value, stderr, samples, seed, method, notes)
+                   sites="inlined", cache=CACHE) -> ValueEstimate (value, stderr, samples, seed, …)
     estimate_derivative(program_or_loaded, params, direction, *, samples=10000, seed=0,
-                        method="uniform", sites="inlined")
+                        method="uniform", sites="inlined", cache=CACHE)
         -> DerivativeEstimate (… and regular, boundary, standard_ad: Estimate(value, stderr))
-    cache_stats() -> {"compiled": [(kind, module, name), …], "hits", "units", "last_link"}
-    reset_cache_stats(), clear_cache(), link(loaded, sites="inlined"), compile_program(program)
+    cache_stats() -> {"compiled": [(kind, module, name), …], "hits", "units", "last_link"} (of CACHE)
+    reset_cache_stats(), clear_cache(), link(loaded, sites="inlined", cache), compile_program(program, cache)
 
 ``program_or_loaded`` is a core :class:`~langur.core.Program` (evaluated as is: the *inlined*
 program) or a :class:`~langur.modules.Loaded` (then *linked* from separately compiled modules,
@@ -22,6 +22,7 @@ may omit parameters with defaults (for a Loaded); ``direction`` (γ') names para
 others move by 0; a parameter with no value, a non-finite value or a direction naming a parameter
 without a value raises :class:`~langur.values.ParameterError` (a ``KeyError``), as the exact engine does.  ``method`` is ``"uniform"``, ``"stratified"`` or ``"qmc"``.  ``seed``
 makes the output bit-identical (one ``np.random.default_rng(seed)``, never global state).
+``cache``: the :class:`CompileCache` of compiled units and linked programs (§9), CACHE or the caller's.
 
 The estimator
 -------------
@@ -88,10 +89,12 @@ benchmark baseline and as a cross-check: :mod:`.naive`.
 """
 
 from .estimate import MAX_TREE_NODES, TooLarge, estimate_derivative, estimate_value
-from .link import cache_stats, clear_cache, compile_program, link, reset_cache_stats
+from .link import CACHE, CompileCache, cache_stats, clear_cache, compile_program, link, reset_cache_stats
 
 __all__ = [
+           "CACHE",
            "MAX_TREE_NODES",
+           "CompileCache",
            "TooLarge",
            "cache_stats",
            "clear_cache",

@@ -1,18 +1,21 @@
 """Compile a core term once into a vectorized numpy evaluator with forward-mode tangents (§9).
 
-:func:`compile_term` turns a core term into a *unit*: a Python closure ``fn(env) -> (value, d)``
-that evaluates the term on whole arrays of points at once (no Python loop per sample), plus the
-term's *slot table* (its diffeomorphic conditionals and calls in pre-order, for linking).
+:func:`compile_term` turns a core term into a *unit*: a Python closure ``fn(point, linking) ->
+(value, d)`` that evaluates the term on whole arrays of points at once (no Python loop per sample),
+plus the term's *slot table* (its diffeomorphic conditionals and calls in pre-order, for linking).
+Separate compilation (§9) splits what the closure reads: the :class:`Point` it is evaluated at
+(fresh for every evaluation) and its :class:`Linking` (where the unit sits in a linked program,
+fixed when the program is linked; :data:`UNLINKED` for a unit run on its own).
 
 ``d`` is the derivative part of a dual number; ``None`` stands for an exact zero (so terms that do
-not depend on the direction cost nothing).  What ``d`` means depends on the environment's mode:
+not depend on the direction cost nothing).  What ``d`` means depends on the point's mode:
 
 * ``VALUE``   — ``d`` is always ``None``: ⟦t⟧ only (Fig. 7).
-* ``TANGENT`` — forward-mode derivative in the direction given by ``env.dparams`` (γ') and
-  ``env.dvars`` (a direction in the variables, used for Jacobians of inverse branches): the
+* ``TANGENT`` — forward-mode derivative in the direction given by ``point.dparams`` (γ') and
+  ``point.dvars`` (a direction in the variables, used for Jacobians of inverse branches): the
   regular part of ⦇t⦈ with every delta dropped, i.e. standard AD, the paper's Dˢ (Fig. 1d, 2c).
 * ``DELTA``   — ``d`` is G_k(t), the coefficient of δ_k in ⦇t⦈ *per unit* of D_γ π₀Ψ̂_k·γ', where
-  ``k = env.site[i]`` is the site owning point ``i``.  It obeys Fig. 8 with every ⦇z⦈ = 0: sums
+  ``k = point.site[i]`` is the site owning point ``i``.  It obeys Fig. 8 with every ⦇z⦈ = 0: sums
   add, products G(t)·⟦s⟧ + G(s)·⟦t⟧, primitives f'(⟦t⟧)·G(t), conditionals select, and at site k
   itself ``⟦s⟧ − ⟦r⟧`` is added.  (E_k = (D_γ π₀Ψ̂_k·γ')·G_k because E_k is linear in site k's
   seed; the factor is computed from the site's canonical condition by the sampler.)
@@ -28,7 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field
 from fractions import Fraction
 
 import numpy as np
@@ -42,47 +45,43 @@ NAN = float("nan")
 
 @dataclass(frozen=True, slots=True)
 class Linking:
-    """Where the unit being evaluated sits in a linked program (§9): the global id of its first
-    site (``base``), its slot → site offset table (``offsets``; None: slot = offset), the linked
-    defs its calls go to (``units``: (module, def) → (fn, offsets, argument names, kinds)), and
-    the program's own γ, γ' (``root_params``, ``root_dparams``) that a def's body reads for its
-    module's declared params."""
+    """Where a unit sits in a linked program (§9, linking): the global id of its first site
+    (``base``), its slot → site offset table (``offsets``; None: slot = offset) and the linked
+    defs its calls go to (``units``: (module, def) → (fn, offsets, argument names))."""
 
     base: int = 0
     offsets: list | None = None
     units: dict | None = None
-    root_params: dict | None = None
-    root_dparams: dict | None = None
 
 
-class Env:
-    """The evaluation point — ρ (``vars``), a direction in the variables ρ' (``dvars``), γ
-    (``params``), γ' (``dparams``), the mode and, in DELTA mode, the site owning each point
-    (``site``, with the ids present in ``sites``) — and the :class:`Linking` of the unit."""
+#: A unit run on its own: no calls to resolve, its sites numbered by its own slots.
+UNLINKED = Linking()
 
-    __slots__ = ("_venv", "dparams", "dvars", "link", "mode", "params", "site", "sites", "vars")
 
-    def __init__(self, vars, params, *, dvars=None, dparams=None, mode=VALUE, site=None, sites=None,
-                 link: Linking | None = None):
-        self.vars = vars
-        self.dvars = dvars or {}
-        self.params = params
-        self.dparams = dparams or {}
-        self.mode = mode
-        self.site = site
-        self.sites = sites or frozenset()
-        self.link = link if link is not None else Linking(root_params=params, root_dparams=self.dparams)
-        self._venv = None
+@dataclass(frozen=True, slots=True)
+class Point:
+    """The evaluation point (§9: what a separately compiled unit reads when run): ρ (``vars``), a
+    direction in the variables ρ' (``dvars``), γ (``params``), γ' (``dparams``), the mode, in
+    DELTA mode the site owning each point (``site``, with the ids present in ``sites``), and the
+    program's own (γ, γ') (``root``) that a def's body reads for its module's declared params
+    (None at the program's top level, where they are ``params``, ``dparams``)."""
 
-    def value_env(self) -> Env:
+    vars: dict
+    params: dict
+    dvars: dict = field(default_factory=dict)
+    dparams: dict = field(default_factory=dict)
+    mode: int = VALUE
+    site: np.ndarray | None = None
+    sites: frozenset = frozenset()
+    root: tuple | None = None
+
+    def values(self) -> Point:
         """The same point and parameters without any derivative (conditions are values only)."""
         if self.mode == VALUE:
             return self
-        if self._venv is None:
-            self._venv = Env(self.vars, self.params, link=replace(self.link, root_dparams={}))
-        return self._venv
+        return Point(self.vars, self.params, root=self.root and (self.root[0], {}))
 
-    def bind(self, name: str, v, d) -> Env:
+    def bind(self, name: str, v, d) -> Point:
         """``γ[z ↦ v]``, ``γ'[z ↦ d]`` (Fig. 8, let)."""
         dp = self.dparams
         if d is not None or name in dp:
@@ -91,11 +90,11 @@ class Env:
                 del dp[name]
             else:
                 dp[name] = d
-        return Env(self.vars, {**self.params, name: v}, dvars=self.dvars, dparams=dp, mode=self.mode,
-                   site=self.site, sites=self.sites, link=self.link)
+        return Point(self.vars, {**self.params, name: v}, self.dvars, dp, self.mode, self.site, self.sites,
+                     self.root or (self.params, self.dparams))
 
 
-Fn = Callable[[Env], tuple]
+Fn = Callable[[Point, Linking], tuple]
 
 
 @dataclass
@@ -187,8 +186,8 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
     """Compile ``t`` once; the result evaluates ⟦t⟧ and ⦇t⦈'s parts on arrays of points.
 
     ``local``: for a def body, its param arguments; any other parameter it reads (its module's
-    declared params) is then looked up among the program's parameters (``env.link.root_params``), so a
-    linked call binds only its arguments.  ``None``: every parameter is in ``env.params``."""
+    declared params) is then looked up among the program's parameters (``point.root``), so a
+    linked call binds only its arguments.  ``None``: every parameter is in ``point.params``."""
     ctx = _Ctx([], local)
     fn = _compile(t, ctx)
     return Unit(fn, ctx.slots)
@@ -210,43 +209,43 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
         case Const():
             # Fig. 7/8, constant: ⟦c⟧ = c, ⦇c⦈ = 0
             c = const_value(t)
-            return lambda env: (c, None)
+            return lambda pt, lk: (c, None)
         case Var(name):
             # Fig. 7/8, variable: ⟦x⟧ = ρ(x), ⦇x⦈ = 0 (a direction in the variables only for Jacobians)
-            return lambda env: (env.vars[name], env.dvars.get(name))
+            return lambda pt, lk: (pt.vars[name], pt.dvars.get(name))
         case Param(name):
             # Fig. 7/8, parameter: ⟦z⟧ = γ(z), ⦇z⦈ = γ'(z)
             if ctx.local is not None and name not in ctx.local:
-                return lambda env: (env.link.root_params[name], env.link.root_dparams.get(name))
-            return lambda env: (env.params[name], env.dparams.get(name))
+                return lambda pt, lk: (pt.root[0][name], pt.root[1].get(name))
+            return lambda pt, lk: (pt.params[name], pt.dparams.get(name))
         case Add(left, right):
             # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈
             f, g = _compile(left, ctx), _compile(right, ctx)
 
-            def add(env):
-                a, da = f(env)
-                b, db = g(env)
+            def add(pt, lk):
+                a, da = f(pt, lk)
+                b, db = g(pt, lk)
                 return a + b, _dadd(da, db)
             return add
         case Mul(left, right):
             # Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
             f, g = _compile(left, ctx), _compile(right, ctx)
 
-            def mul(env):
-                a, da = f(env)
-                b, db = g(env)
+            def mul(pt, lk):
+                a, da = f(pt, lk)
+                b, db = g(pt, lk)
                 return a * b, _dmul(da, b, db, a)
             return mul
         case IfGe0(cond, then, orelse):
             # Fig. 8, conditional on parameters: ⦇s⦈ if ⟦t⟧(·,γ) ≥ 0 else ⦇r⦈
             fc, fs, fr = _compile(cond, ctx), _compile(then, ctx), _compile(orelse, ctx)
 
-            def ifge0(env):
-                c, _ = fc(env.value_env())
+            def ifge0(pt, lk):
+                c, _ = fc(pt.values(), lk)
                 if np.ndim(c) == 0:
-                    return fs(env) if c >= 0 else fr(env)
-                s, ds = fs(env)
-                r, dr = fr(env)
+                    return fs(pt, lk) if c >= 0 else fr(pt, lk)
+                s, ds = fs(pt, lk)
+                r, dr = fr(pt, lk)
                 m = c >= 0
                 return np.where(m, s, r), _select(m, ds, dr)
             return ifge0
@@ -257,17 +256,16 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
             fc = _compile(psi.forward[0], _Ctx([], ctx.local))
             fs, fr = _compile(then, ctx), _compile(orelse, ctx)
 
-            def ifdiffeo(env):
-                c, _ = fc(env.value_env())
+            def ifdiffeo(pt, lk):
+                c, _ = fc(pt.values(), lk)
                 m = c >= 0
-                s, ds = fs(env)
-                r, dr = fr(env)
+                s, ds = fs(pt, lk)
+                r, dr = fr(pt, lk)
                 d = _select(m, ds, dr)
-                if env.mode == DELTA:
-                    link = env.link
-                    gid = link.base + (slot if link.offsets is None else link.offsets[slot])
-                    if gid in env.sites:
-                        jump = np.where(env.site == gid, s - r, 0.0)
+                if pt.mode == DELTA:
+                    gid = lk.base + (slot if lk.offsets is None else lk.offsets[slot])
+                    if gid in pt.sites:
+                        jump = np.where(pt.site == gid, s - r, 0.0)
                         d = jump if d is None else d + jump
                 return np.where(m, s, r), d
             return ifdiffeo
@@ -275,16 +273,16 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
             # Fig. 8, let: ⦇s⦈(ρ, γ[z ↦ ⟦t⟧], γ'[z ↦ ⦇t⦈])
             fb, fbody = _compile(bound, ctx), _compile(body, ctx.bind(name))
 
-            def let(env):
-                v, d = fb(env)
-                return fbody(env.bind(name, v, d))
+            def let(pt, lk):
+                v, d = fb(pt, lk)
+                return fbody(pt.bind(name, v, d), lk)
             return let
         case Prim(op, arg):
             # extension (§1): smooth primitive, chain rule ⦇f(t)⦈ = f'(⟦t⟧)·⦇t⦈
             f, prim = _compile(arg, ctx), REGISTRY[op]
 
-            def primitive(env):
-                a, da = f(env)
+            def primitive(pt, lk):
+                a, da = f(pt, lk)
                 v = prim.value(a)
                 return v, (None if da is None else prim.derivative(a, v) * da)
             return primitive
@@ -292,8 +290,8 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
             # extension (§1): constant power, ⦇t^k⦈ = k·⟦t⟧^(k−1)·⦇t⦈
             f = _compile(base, ctx)
 
-            def pow_(env):
-                a, da = f(env)
+            def pow_(pt, lk):
+                a, da = f(pt, lk)
                 v = power(a, k)
                 return v, (None if da is None else power_derivative(a, k, v) * da)
             return pow_
@@ -315,21 +313,20 @@ def _compile_call(slot: int, module: str, name: str, args, ctx: _Ctx) -> Fn:
         else:
             arg_fns.append(("term", _compile(a, ctx)))
 
-    def call(env):
-        link = env.link
-        fn, offsets, arg_names, kinds = link.units[(module, name)]
+    def call(pt, lk):
+        fn, offsets, arg_names = lk.units[(module, name)]
         vars_, dvars, params, dparams = {}, {}, {}, {}
-        for (how, a), argname, kind in zip(arg_fns, arg_names, kinds):
+        for (how, a), argname in zip(arg_fns, arg_names):
             if how == "var":
-                vars_[argname] = env.vars[a]
-                if a in env.dvars:
-                    dvars[argname] = env.dvars[a]
+                vars_[argname] = pt.vars[a]
+                if a in pt.dvars:
+                    dvars[argname] = pt.dvars[a]
             else:
-                v, d = a(env)
+                v, d = a(pt, lk)
                 params[argname] = v
                 if d is not None:
                     dparams[argname] = d
-        base = link.base + (slot if link.offsets is None else link.offsets[slot])
-        return fn(Env(vars_, params, dvars=dvars, dparams=dparams, mode=env.mode, site=env.site,
-                      sites=env.sites, link=Linking(base, offsets, link.units, link.root_params, link.root_dparams)))
+        base = lk.base + (slot if lk.offsets is None else lk.offsets[slot])
+        return fn(Point(vars_, params, dvars, dparams, pt.mode, pt.site, pt.sites,
+                        pt.root or (pt.params, pt.dparams)), Linking(base, offsets, lk.units))
     return call

@@ -10,7 +10,7 @@ import numpy as np
 from ..core import Program, tree_size
 from ..modules import Loaded
 from ..values import ParameterError, check_values
-from .compile import DELTA, TANGENT, VALUE, Env, Linking, full
+from .compile import DELTA, TANGENT, VALUE, Point, full
 from .link import CACHE, CompileCache, Linked, compile_program, link
 from .results import DerivativeEstimate, Estimate, ValueEstimate
 from .sample import design, evaluate_box
@@ -80,14 +80,9 @@ def _domain(linked: Linked, params: dict, rng, samples: int, method: str):
     return {x: pts[:, i] for i, x in enumerate(linked.variables)}, float(np.prod(width)), d
 
 
-def _env(linked: Linked, x, params, **kw) -> Env:
-    """The evaluation point ``x`` (and γ, …) at the top of the linked program."""
-    env = Env(x, params, **kw)
-    env.link = Linking(0, linked.offsets, linked.units, params, env.dparams)
-    return env
-
-
-_full = full
+def _run(linked: Linked, x, params, **point) -> tuple:
+    """The linked program run at the :class:`~.compile.Point` (``x``, γ, …) under its linking (§9)."""
+    return linked.fn(Point(x, params, **point), linked.linking)
 
 
 #: One sample carrying more than this share of the sum of squares: the variance estimate rests on
@@ -136,7 +131,7 @@ def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, see
 
 
 def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: int,
-                 notes: list[str] | None = None, **env):
+                 notes: list[str] | None = None, **point):
     """vol(box) · mean over a design in Program.box of ``linked.fn``'s value (``part`` 0) or tangent
     (``part`` 1), with its standard error and the number of points: ``(estimate, stderr, n)``;
     :func:`tail_notes` of the samples are appended to ``notes``."""
@@ -144,7 +139,7 @@ def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: 
     n = d.points.shape[0]
     if x is None:  # an empty or undefined box
         return (0.0, 0.0, n) if volume == 0.0 else (math.nan, math.nan, n)
-    f = _full(linked.fn(_env(linked, x, p, **env))[part], n)
+    f = full(_run(linked, x, p, **point)[part], n)
     if notes is not None:
         notes += tail_notes(np.asarray(f))
     mean, se = d.mean(f)
@@ -222,7 +217,7 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
             dps.append(full(dpsi, nb))
     site = np.concatenate(ids)
     x = {v: np.concatenate(a) for v, a in xs.items()}
-    _, g = linked.fn(_env(linked, x, p, mode=DELTA, site=site, sites=frozenset(k for k, *_ in plan)))
+    _, g = _run(linked, x, p, mode=DELTA, site=site, sites=frozenset(k for k, *_ in plan))
     # score = [guards ≥ 0] · (D_γπ₀Ψ̂·γ') · G_k · |det DΨ̂_b⁻¹|, all blocks at once.  A point of a
     # zero set outside the box B scores 0: the domain's indicators vanish there, even where the
     # integrand itself is undefined (0·NaN would be NaN: sqrt(x) at the root −√a of [x² ≤ a] on
@@ -230,7 +225,7 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
     # parametric bounds, found up to rounding) are still decided by the indicators themselves.
     inside = _inside(x, box)
     score = np.where(np.concatenate(oks) & inside,
-                     np.concatenate(dps) * _full(g, len(site)) * np.concatenate(ws), 0.0)
+                     np.concatenate(dps) * full(g, len(site)) * np.concatenate(ws), 0.0)
     starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
     if all(des.method == "exact" for _, des, _, _ in plan):  # one variable: every root once, exactly
         return float(np.sum(np.add.reduceat(score, starts))), 0.0

@@ -6,12 +6,12 @@ a key made of what determines the def's elaborated form: ``(module name, module 
 def name, import signature)`` — the module's own text and the *signatures* (argument kinds,
 declared diffeos) of what it imports, never the imported bodies (modules.py: "a module's
 elaborated form depends only on its own text and the signatures of what it imports").  A
-program seen again (the same Loaded or Program object) is found by identity first; a pure
-Program by structural equality.  Caches of linked programs and samplers are bounded.
+program seen again is found by the same kind of key (a pure Program by structural equality), in
+a :class:`CompileCache` the caller owns; its tables of linked programs and samplers are bounded.
 
 A program is *linked* from compiled parts: a ``Call`` node evaluates its ``param`` arguments once
 in the caller (value and tangent, exactly as a ``let`` would) and runs the callee's compiled body
-in an environment that binds only those arguments (the callee's other parameters are its module's
+at a point that binds only those arguments (the callee's other parameters are its module's
 declared params, read from the program's parameters) and where its ``var`` arguments are
 renamings of the caller's variables.  Swapping a module (``load(path, modules={"shader": ...})``) changes that module's
 source hash only, so only its defs are recompiled; :func:`cache_stats` says what was compiled.
@@ -55,7 +55,7 @@ from ..core import (
     subterms,
 )
 from ..modules import Loaded
-from .compile import Unit, compile_term
+from .compile import UNLINKED, Linking, Unit, compile_term
 from .sample import SiteSampler
 
 
@@ -69,11 +69,10 @@ class Site:
 
 @dataclass
 class Linked:
-    """A program ready to evaluate: its body's compiled unit and everything it links to."""
+    """A program ready to evaluate (§9): its body's unit, the :class:`Linking` it runs under, and more."""
 
     fn: object
-    offsets: list | None
-    units: dict
+    linking: Linking
     variables: tuple[str, ...]
     box_fns: list
     sites: list[Site]
@@ -86,18 +85,16 @@ LINKED_CAPACITY = 16  # linked programs kept (each holds its samplers); compiled
 
 @dataclass
 class CompileCache:
-    """Compiled units, linked programs and samplers (§9), owned by whoever evaluates: the public
-    functions of :mod:`langur.operational` share :data:`CACHE`; a caller may pass its own.
+    """Compiled units, linked programs and samplers (§9), owned by whoever evaluates: every
+    function here takes one (``cache=``); the public ones default to :data:`CACHE`.
 
     ``units``: compiled unit by its key (a def's key names what its elaborated form depends on);
-    ``linked``: linked programs by link key (bounded); ``seen``: the last programs by identity (a
-    program evaluated again is found without hashing it; the entry holds the object, so its id is
-    not reused meanwhile); ``samplers``: one per canonical Ψ̂ (bounded); ``compiled``, ``hits``,
-    ``last_link``: what :func:`cache_stats` reports."""
+    ``linked``: linked programs by link key (bounded, the least recently used forgotten first);
+    ``samplers``: one per canonical Ψ̂ (bounded); ``compiled``, ``hits``, ``last_link``: what
+    :func:`cache_stats` reports."""
 
     units: dict = field(default_factory=dict)
     linked: dict = field(default_factory=dict)
-    seen: dict = field(default_factory=dict)
     samplers: dict = field(default_factory=dict)
     compiled: list = field(default_factory=list)  # (kind, module, name) of every compilation
     hits: int = 0
@@ -123,29 +120,21 @@ class CompileCache:
                 self.samplers.pop(next(iter(self.samplers)))
         return s
 
-    def find(self, obj, sites: str, key) -> Linked | None:
-        """The linked form of ``obj`` seen before (by identity, else by ``key``)."""
-        hit = self.seen.get(id(obj))
-        if hit is not None and hit[0] is obj and hit[1] == sites:
-            self.hits += 1
-            self.last_link = hit[2].how
-            return hit[2]
+    def find(self, key) -> Linked | None:
+        """The program linked before under ``key`` (§9: what was linked is not linked again)."""
         linked = self.linked.get(key)
         if linked is not None:
             self.hits += 1
-            return self.keep(obj, sites, key, linked)
-        return None
+            self.keep(key, linked)
+        return linked
 
-    def keep(self, obj, sites: str, key, linked: Linked) -> Linked:
-        """Remember ``linked`` under ``key`` and ``obj``'s identity, forgetting the oldest beyond
-        LINKED_CAPACITY (a long session of swaps must not grow the heap without bound)."""
+    def keep(self, key, linked: Linked) -> Linked:
+        """Remember ``linked`` under ``key``, forgetting the oldest beyond LINKED_CAPACITY (a long
+        session of swaps must not grow the heap without bound)."""
         self.linked.pop(key, None)
         self.linked[key] = linked
         while len(self.linked) > LINKED_CAPACITY:
             self.linked.pop(next(iter(self.linked)))
-        if len(self.seen) >= LINKED_CAPACITY:
-            self.seen.pop(next(iter(self.seen)))
-        self.seen[id(obj)] = (obj, sites, linked)
         self.last_link = linked.how
         return linked
 
@@ -160,25 +149,14 @@ class CompileCache:
         self.hits = 0
 
     def clear(self) -> None:
-        for table in (self.units, self.linked, self.seen, self.samplers):
+        for table in (self.units, self.linked, self.samplers):
             table.clear()
         self.reset_stats()
 
 
-#: The cache of the public API (``operational.estimate_value`` and friends).
+#: The cache the public API (``operational.estimate_value`` and friends) uses unless given one.
 CACHE = CompileCache()
-
-
-def cache_stats() -> dict:
-    return CACHE.stats()
-
-
-def reset_cache_stats() -> None:
-    CACHE.reset_stats()
-
-
-def clear_cache() -> None:
-    CACHE.clear()
+cache_stats, reset_cache_stats, clear_cache = CACHE.stats, CACHE.reset_stats, CACHE.clear
 
 
 # -- the inlined program ------------------------------------------------------------------------
@@ -186,24 +164,25 @@ def clear_cache() -> None:
 def compile_program(program: Program, cache: CompileCache = CACHE) -> Linked:
     """Compile a pure core program (no ``Call``) once; cached by its content."""
     key = ("program", program)
-    hit = cache.find(program, "", key)
-    if hit is not None:
-        return hit
+    return cache.find(key) or cache.keep(key, _compile_inlined(program, cache))
+
+
+def _compile_inlined(program: Program, cache: CompileCache) -> Linked:
+    """The whole program as one unit, unlinked (§9: the inlined program Theorem 9.1 compares to)."""
     unit = cache.unit(("unit", program.body), program.body, ("program", None, None))
-    sites: list[Site] = []
-    collect_sites(program.body, {}, {}, program.variables, None, sites, cache)
-    return cache.keep(program, "", key, Linked(unit.fn, None, {}, program.variables, _box(program.box), sites,
-                                                "inlined"))
+    return Linked(unit.fn, UNLINKED, program.variables, _box(program.box),
+                  _canonical_sites(program, None, cache), "inlined")
 
 
 def _box(box) -> list:
+    """The box's bounds, each compiled as a unit of its own (pure core, run unlinked, §9)."""
     return [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in box]
 
 
 # -- linking separately compiled modules --------------------------------------------------------
 
 def link(loaded: Loaded, sites: str = "inlined", cache: CompileCache = CACHE) -> Linked:
-    """Link ``loaded``'s main program from its modules' separately compiled defs.
+    """Link ``loaded``'s main program from its modules' separately compiled defs (§9).
 
     ``sites`` chooses where the zero-set samplers come from: ``"inlined"`` (default) from the
     diffeomorphisms of ``Loaded.program`` matched by pre-order position, so that linked and inlined
@@ -211,38 +190,39 @@ def link(loaded: Loaded, sites: str = "inlined", cache: CompileCache = CACHE) ->
     renamed and extended (fully separate, an equally unbiased but different parametrization of
     the same zero sets: the front end *re-completes* a def's conditions over the program's
     variables and box when it inlines, see langur.syntax.inline)."""
+    _check_linkable(loaded, sites)
+    keys = _def_keys(loaded)
+    prog_key = ("program", loaded.main.name, loaded.main.source_hash, _import_signature(loaded.main, loaded))
+    link_key = ("link", sites, prog_key, frozenset(keys.items()))
+    return cache.find(link_key) or cache.keep(link_key, _link(loaded, sites, keys, prog_key, cache))
+
+
+def _check_linkable(loaded: Loaded, sites: str) -> None:
+    """A request §9's linker can serve: a known source of samplers, a main module with a program."""
     if sites not in ("inlined", "defs"):
         raise ValueError(f"sites must be 'inlined' or 'defs', not {sites!r}")
-    main = loaded.main
-    if main.program is None or loaded.program is None:
-        raise ValueError(f"module {main.name} has no program (no `int … d(…)`) to evaluate")
-    keys = _def_keys(loaded)
-    prog_key = ("program", main.name, main.source_hash, _import_signature(main, loaded))
-    link_key = ("link", sites, prog_key, frozenset(keys.items()))
-    hit = cache.find(loaded, sites, link_key)
-    if hit is not None:
-        return hit
+    if loaded.main.program is None or loaded.program is None:
+        raise ValueError(f"module {loaded.main.name} has no program (no `int … d(…)`) to evaluate")
+
+
+def _link(loaded: Loaded, sites: str, keys: dict, prog_key: tuple, cache: CompileCache) -> Linked:
+    """§9's linker: compile every def and the program body separately (each once per key), number
+    the sites, attach their samplers; the inlined program where linking cannot reproduce it."""
+    main = loaded.main.program
     defs = {(m.name, d.name): d for m in loaded.modules.values() for d in m.defs.values()}
-    units = {name: cache.unit(k, defs[name].body, ("def",) + name,
-                              frozenset(a for a, kind in defs[name].args if kind == "param"))
-             for name, k in keys.items()}
-    body = cache.unit(prog_key, main.program.body, ("program", main.name, None))
+    units = _compile_defs(defs, keys, cache)
+    body = cache.unit(prog_key, main.body, ("program", loaded.main.name, None))
     if not _linkable(body, units, defs):
-        return cache.keep(loaded, sites, link_key, compile_program(loaded.program, cache))
+        return compile_program(loaded.program, cache)
     offsets, table = _site_offsets(body, units, defs)
-    found: list[Site] = []
     if sites == "inlined":
-        collect_sites(loaded.program.body, {}, {}, loaded.program.variables, None, found, cache)
-        if len(found) != offsets[-1] or loaded.program.variables != main.program.variables:
-            # the inliner changed the structure: evaluate the inlined program
-            return cache.keep(loaded, sites, link_key, compile_program(loaded.program, cache))
+        found = _canonical_sites(loaded.program, None, cache)
+        if len(found) != offsets[-1] or loaded.program.variables != main.variables:
+            return compile_program(loaded.program, cache)  # the inliner changed the structure
     else:
-        collect_sites(main.program.body, {}, {}, main.program.variables, defs, found, cache)
-    box = main.program.box
-    if any(isinstance(s, Call) for lo, hi in box for t in (lo, hi) for s in subterms(t)):
-        box = loaded.program.box
-    return cache.keep(loaded, sites, link_key,
-                      Linked(body.fn, offsets, table, main.program.variables, _box(box), found, "linked"))
+        found = _canonical_sites(main, defs, cache)
+    return Linked(body.fn, Linking(0, offsets, table), main.variables, _box(_linked_box(loaded)), found,
+                  "linked")
 
 
 def _def_keys(loaded: Loaded) -> dict:
@@ -255,10 +235,26 @@ def _def_keys(loaded: Loaded) -> dict:
     return keys
 
 
+def _compile_defs(defs: dict, keys: dict, cache: CompileCache) -> dict:
+    """Every def compiled on its own (§9, separate compilation), once per key."""
+    return {name: cache.unit(k, defs[name].body, ("def",) + name,
+                             frozenset(a for a, kind in defs[name].args if kind == "param"))
+            for name, k in keys.items()}
+
+
+def _linked_box(loaded: Loaded) -> tuple:
+    """The box the linked program integrates over (§9): the main program's own, unless a bound
+    calls a def (then the inlined program's, whose bounds are pure core)."""
+    box = loaded.main.program.box
+    if any(isinstance(s, Call) for lo, hi in box for t in (lo, hi) for s in subterms(t)):
+        return loaded.program.box
+    return box
+
+
 def _site_offsets(body: Unit, units: dict, defs: dict) -> tuple[list, dict]:
     """Global site numbering (§9: pre-order with calls expanded in place): the offsets of the
     program body's slots (last: its total) and, per def, ``(fn, its slots' offsets, argument
-    names, argument kinds)`` for the linked calls."""
+    names)`` for the linked calls."""
     counts: dict = {}
 
     def count(unit: Unit) -> list:
@@ -278,13 +274,13 @@ def _site_offsets(body: Unit, units: dict, defs: dict) -> tuple[list, dict]:
     for name, u in units.items():
         d = defs[name]
         total(name)
-        table[name] = (u.fn, counts[name], tuple(a for a, _ in d.args), tuple(k for _, k in d.args))
+        table[name] = (u.fn, counts[name], tuple(a for a, _ in d.args))
     return count(body), table
 
 
 def _import_signature(m, loaded: Loaded) -> tuple:
-    """What a module's elaborated form depends on besides its own text: the signatures of what
-    it imports (a def's argument kinds, a diffeo's definition), never their bodies."""
+    """What a module's elaborated form depends on besides its own text (§9): the signatures of
+    what it imports (a def's argument kinds, a diffeo's definition), never their bodies."""
     out = []
     for local, (mod, name) in sorted(m.imports.items()):
         other = loaded.modules.get(mod)
@@ -298,7 +294,7 @@ def _import_signature(m, loaded: Loaded) -> tuple:
 
 
 def _linkable(body: Unit, units: dict, defs: dict) -> bool:
-    """Every reachable call passes plain variables as its ``var`` arguments (from the slots)."""
+    """Every reachable call passes plain variables as its ``var`` arguments (§9, from the slots)."""
     seen, stack = set(), [body]
     while stack:
         for kind, target, plain in stack.pop().slots:
@@ -315,15 +311,24 @@ def _linkable(body: Unit, units: dict, defs: dict) -> bool:
     return True
 
 
+def _canonical_sites(program: Program, defs: dict | None, cache: CompileCache) -> list[Site]:
+    """Every site of ``program`` in §9's pre-order (calls expanded through ``defs``), with its sampler."""
+    found: list[Site] = []
+    collect_sites(program.body, {}, {}, program.variables, defs, found, cache)
+    return found
+
+
 def collect_sites(t: Term, varmap: dict, parammap: dict, variables: tuple[str, ...], defs, out: list,
-                  cache: CompileCache = CACHE) -> None:
-    """Append the canonical site of every diffeomorphic conditional of ``t``, in pre-order."""
+                  cache: CompileCache | None = None) -> None:
+    """Append the canonical site of every diffeomorphic conditional of ``t``, in pre-order (its
+    sampler from ``cache``; without one, a sampler of its own)."""
     match t:
         case IfDiffeo(psi, then, orelse):
             ren = {v: Var(varmap[v]) for v in psi.variables if v in varmap and varmap[v] != v}
             canon = substitute_diffeo(psi, ren, parammap) if ren or parammap else psi
             canon = extend_diffeo(canon, variables)
-            out.append(Site(cache.sampler(canon, variables), free_params(canon.forward[0])))
+            sampler = SiteSampler(canon, variables) if cache is None else cache.sampler(canon, variables)
+            out.append(Site(sampler, free_params(canon.forward[0])))
             collect_sites(then, varmap, parammap, variables, defs, out, cache)
             collect_sites(orelse, varmap, parammap, variables, defs, out, cache)
         case Let(name, bound, body):

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..core import Add, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
 from ..primitives import REGISTRY
-from .compile import TANGENT, VALUE, Env, compile_term, const_value, full
+from .compile import TANGENT, UNLINKED, VALUE, Point, compile_term, const_value, full
 
 METHODS = ("uniform", "stratified", "qmc")
 QMC_RANDOMIZATIONS = 16
@@ -279,25 +279,25 @@ class SiteSampler:
         out = []
         order = self.psi.inputs
         if len(order) == 1:  # one variable: x = Ψ̂⁻¹(0) and dx/du0 from one forward-mode pass
-            tenv = Env(inputs, params, dvars={order[0]: 1.0}, mode=TANGENT)
+            tenv = Point(inputs, params, dvars={order[0]: 1.0}, mode=TANGENT)
             for comps, guards in self.branches:
                 valid = np.ones(n, dtype=bool)
                 for g in guards:
-                    valid &= np.asarray(g(tenv)[0]) >= 0
-                v, d = comps[0](tenv)
+                    valid &= np.asarray(g(tenv, UNLINKED)[0]) >= 0
+                v, d = comps[0](tenv, UNLINKED)
                 out.append(({self.variables[0]: full(v, n)}, np.abs(full(d, n)), valid))
             return volume, out
         for comps, guards in self.branches:
-            env = Env(inputs, params)
+            env = Point(inputs, params)
             valid = np.ones(n, dtype=bool)
             for g in guards:
-                valid &= np.asarray(g(env)[0]) >= 0
+                valid &= np.asarray(g(env, UNLINKED)[0]) >= 0
             jac = np.empty((n, len(comps), len(order)))
             x = {}
             for i, u in enumerate(order):  # one forward-mode pass per input: column i of DΨ̂_b⁻¹
-                tenv = Env(inputs, params, dvars={u: 1.0}, mode=TANGENT)
+                tenv = Point(inputs, params, dvars={u: 1.0}, mode=TANGENT)
                 for j, c in enumerate(comps):
-                    v, d = c(tenv)
+                    v, d = c(tenv, UNLINKED)
                     jac[:, j, i] = 0.0 if d is None else d
                     if i == 0:
                         x[self.variables[j]] = full(v, n)
@@ -323,7 +323,7 @@ class SiteSampler:
         for _, guards in self.branches:
             for g in guards:
                 def value(u, g=g):
-                    v = g(Env({self.psi.inputs[0]: np.zeros(len(u)), u_name: u}, params))[0]
+                    v = g(Point({self.psi.inputs[0]: np.zeros(len(u)), u_name: u}, params), UNLINKED)[0]
                     return np.broadcast_to(np.asarray(v, dtype=float), u.shape)
 
                 def sign(u, value=value):
@@ -349,11 +349,11 @@ class SiteSampler:
 
     def dpsi(self, x: dict, params: dict, dparams: dict):
         """D_γ π₀Ψ̂ · γ' at the points ``x`` (forward mode in the parameters)."""
-        d = self.condition(Env(x, params, dparams=dparams, mode=TANGENT))[1]
+        d = self.condition(Point(x, params, dparams=dparams, mode=TANGENT), UNLINKED)[1]
         return 0.0 if d is None else d
 
 
 def evaluate_box(box_fns, params: dict) -> list[tuple[float, float]]:
     """Program.box at the parameters (box terms are variable-free)."""
-    env = Env({}, params, mode=VALUE)
-    return [(float(lo(env)[0]), float(hi(env)[0])) for lo, hi in box_fns]
+    env = Point({}, params, mode=VALUE)
+    return [(float(lo(env, UNLINKED)[0]), float(hi(env, UNLINKED)[0])) for lo, hi in box_fns]
