@@ -233,11 +233,7 @@ class Program:
         """``[x1 ≥ l1]·[u1 ≥ x1]·…·integrand`` (the domain's indicators first, in order)."""
         if not self.domain:
             return self.integrand
-        factors = [ind for iv in self.domain for ind in (iv.lower, iv.upper)]
-        out = factors[0]
-        for f in factors[1:]:
-            out = Mul(out, f, span=self.span)
-        return Mul(out, self.integrand, span=self.span)
+        return product([ind for iv in self.domain for ind in (iv.lower, iv.upper)] + [self.integrand], self.span)
 
     def with_body(self, body: "Term") -> "Program":
         """This program integrating ``body`` instead (a rewrite of :attr:`body`): the domain stays when
@@ -358,6 +354,14 @@ def const(v: int | Fraction | str) -> Const:
 
 def neg(t: Term) -> Term:
     return Mul(Const(Fraction(-1)), t)
+
+
+def product(factors: list[Term], span: Span | None = None) -> Term:
+    """``f1·f2·…·fn``, grouped from the left."""
+    out = factors[0]
+    for f in factors[1:]:
+        out = Mul(out, f, span=span)
+    return out
 
 
 def sub(t: Term, s: Term) -> Term:

@@ -49,6 +49,7 @@ from ..core import (
     free_vars,
     map_children,
     neg,
+    product,
     sub,
     subterms,
 )
@@ -123,13 +124,6 @@ class Scope:
         return replace(self, gamma=self.gamma | {name})
 
 
-def _product(factors: list[Term], span) -> Term:
-    out = factors[0]
-    for f in factors[1:]:
-        out = Mul(out, f, span=span)
-    return out
-
-
 def _put(t: Term, old: Term, new: Term) -> Term:
     """``t`` with the subterm ``old`` (by identity) replaced by ``new``."""
     if t is old:
@@ -189,21 +183,18 @@ class Desugarer:
             case Iverson(terms, ops):
                 # [t0 op t1 op t2 …] is the product [t0 op t1]·[t1 op t2]·…
                 core = [self.term(t, sc) for t in terms]
-                out = None
-                for i, op in enumerate(ops):
-                    f = self.conditional(compare(core[i], op, core[i + 1]), Const(Fraction(1)),
-                                         Const(Fraction(0)), sc, span, join(terms[i], terms[i + 1]))
-                    out = f if out is None else Mul(out, f, span=span)
-                return out
+                return product([self.conditional(compare(core[i], op, core[i + 1]), Const(Fraction(1)),
+                                                 Const(Fraction(0)), sc, span, join(terms[i], terms[i + 1]))
+                                for i, op in enumerate(ops)], span)
             case Logic(op, parts):
                 # [A & B] is [A]·[B]; [A | B] is 1 − (1 − [A])·(1 − [B]); [not A] is 1 − [A]
                 one = Const(Fraction(1))
                 brackets = [self.term(p_, sc) for p_ in parts]
                 if op == "and":
-                    return _product(brackets, span)
+                    return product(brackets, span)
                 if op == "not":
                     return sub(one, brackets[0])
-                return sub(one, _product([sub(one, b) for b in brackets], span))
+                return sub(one, product([sub(one, b) for b in brackets], span))
             case LetIn():
                 # let z = t in s, t variable-free (Fig. 6, let)
                 return self.let(st, sc)

@@ -324,18 +324,17 @@ class _Builder:
         ch = c[1]
         return self.term(lambda sp: Iverson(tuple(t.node for t in ch.terms), ch.ops, sp), c[0], c[-1], ch.terms)
 
-    def _logic(self, op: str, c):
-        chains = [x for x in c if isinstance(x, _Comparisons)]
+    def _logic(self, op: str, c, first=None, last=None):
+        """``Logic(op, …)`` over the comparison chains among ``c``, spanning ``first``..``last``
+        (default: the chains themselves)."""
         parts = [self.term(lambda sp, ch=ch: Iverson(tuple(t.node for t in ch.terms), ch.ops, sp),
-                           ch.terms[0], ch.terms[-1], ch.terms) for ch in chains]
-        return self.term(lambda sp: Logic(op, tuple(p.node for p in parts), sp), c[0], c[-1], parts)
+                           ch.terms[0], ch.terms[-1], ch.terms) for ch in c if isinstance(ch, _Comparisons)]
+        return self.term(lambda sp: Logic(op, tuple(p.node for p in parts), sp), first or parts[0],
+                         last or parts[-1], parts)
 
     def _if_logic(self, op: str, c):
-        chains = [x for x in c if isinstance(x, _Comparisons)]
         then, orelse = [x for x in c if isinstance(x, _R)][-2:]
-        parts = [self.term(lambda sp, ch=ch: Iverson(tuple(t.node for t in ch.terms), ch.ops, sp),
-                           ch.terms[0], ch.terms[-1], ch.terms) for ch in chains]
-        logic = self.term(lambda sp: Logic(op, tuple(p.node for p in parts), sp), parts[0], parts[-1], parts)
+        logic = self._logic(op, c)
         return self.term(lambda sp: IfLogic(logic.node, then.node, orelse.node, sp), c[0], orelse,
                          (logic, then, orelse))
 
@@ -349,13 +348,13 @@ class _Builder:
         return self._if_logic("not", c)
 
     def iverson_and(self, c):
-        return self._logic("and", c)
+        return self._logic("and", c, c[0], c[-1])
 
     def iverson_or(self, c):
-        return self._logic("or", c)
+        return self._logic("or", c, c[0], c[-1])
 
     def iverson_not(self, c):
-        return self._logic("not", c)
+        return self._logic("not", c, c[0], c[-1])
 
     def let(self, c):
         name, bound, body = c[1], c[3], c[5]
