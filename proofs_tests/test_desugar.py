@@ -237,3 +237,23 @@ def test_condition_calling_an_imported_def_is_rejected(tmp_path):
         load(str(tmp_path / "main.lgr"))
     (d,) = info.value.diagnostics
     assert d.code == "T207" and "own module" in d.message and (d.span.line, d.span.col) == (3, 16)
+
+
+def test_a_callers_let_does_not_capture_the_callees_module_param(tmp_path):
+    # lib's `k` is the program's param k (module params are shared by name); the caller's
+    # `let k = 2 * k` binds a different k.  By hand at k = 0.3: the call reads
+    # [x <= 0.3] * (x + 0.6) + [x <= 0.6] * 0.3 * x, whose integral over [0, 1] is
+    # (0.045 + 0.18) + 0.3 * 0.18 = 0.279.  Capturing the callee's k would give 0.648.
+    from langur.denote import denote_program
+    from langur.frontend import load
+    from langur.operational import estimate_value
+
+    (tmp_path / "lib.lgr").write_text("param k = 0.3\ndef f(x: var, c: param) = [x <= k] * (x + c) + [x <= c] * k * x\n")
+    (tmp_path / "main.lgr").write_text("from lib import f\nparam k = 0.3\nint ([0, 1]) let k = 2 * k in f(x, k) d(x)\n")
+    loaded = load(str(tmp_path / "main.lgr"))
+    exact = denote_program(loaded.program, {"k": F(3, 10)})
+    assert exact.expr.subs(sp.Symbol("k", real=True), sp.Rational(3, 10)) == sp.Rational(279, 1000)
+    # the Monte Carlo engine links the call instead of inlining it: the same reading
+    linked = estimate_value(loaded, {"k": 0.3}, samples=4000, seed=3)
+    inlined = estimate_value(loaded.program, {"k": 0.3}, samples=4000, seed=3)
+    assert linked == inlined

@@ -37,6 +37,8 @@ from ..core import (
     free_params,
     free_vars,
     map_children,
+    substitute,
+    subterms,
 )
 from ..diagnostics import Diagnostic, LangurError
 from ..modules import ElaboratedModule
@@ -89,6 +91,11 @@ class _Inliner:
         self.box = box
         self.errors: list[Diagnostic] = []
         self.calls: dict[tuple, Term] = {}
+        #: Parameters that the calls expanded so far bring with them (their modules' params, free
+        #: in an inlined body but not in the call's arguments): a caller's ``let`` of one of these
+        #: names must not capture them.
+        self.brought: set[str] = set()
+        self.params_of: dict[tuple[str, str], frozenset[str]] = {}
 
     def expand(self, t: Term, stack: tuple) -> Term:
         match t:
@@ -110,11 +117,44 @@ class _Inliner:
                 if shared not in self.calls:
                     body = self.instantiate(d, args, t.span)
                     self.calls[shared] = self.expand(body, stack + (key,))
+                self.brought |= self.module_params(module, name)
                 return self.calls[shared]
+            case Let(name, bound, body):
+                return self.expand_let(t, stack)
             case IfDiffeo(_, a, b):
                 return replace(t, then=self.expand(a, stack), orelse=self.expand(b, stack))
             case _:
                 return map_children(t, lambda c: self.expand(c, stack))
+
+    def module_params(self, module: str, name: str, active: frozenset = frozenset()) -> frozenset[str]:
+        """The parameters a call of ``module.name`` reads besides its arguments: its module's
+        params free in its body, and those of the defs it calls (memoized per def)."""
+        key = (module, name)
+        if key not in self.params_of:
+            d = self.lookup(module, name)
+            if d is None or key in active:
+                return frozenset()
+            out = free_params(d.body) - {n for n, k in d.args if k == "param"}
+            for u in subterms(d.body):
+                if isinstance(u, Call):
+                    out |= self.module_params(u.module, u.name, active | {key})
+            self.params_of[key] = out
+        return self.params_of[key]
+
+    def expand_let(self, t: Let, stack: tuple) -> Term:
+        """``let x = s in r`` with the calls of ``s`` and ``r`` expanded.  When a call in ``r``
+        brings a module parameter named ``x`` (the callee reads the program's ``x``, not this
+        binder), the binder is renamed apart first, so that inlining does not capture it."""
+        bound = self.expand(t.bound, stack)
+        outer, self.brought = self.brought, set()
+        body = self.expand(t.body, stack)
+        name = t.name
+        if name in self.brought:
+            name = _fresh(t.name, self.brought | _names(t.body) | set(self.variables))
+            renamed = substitute(t.body, params={t.name: Param(name)})
+            body = self.expand(renamed, stack)
+        self.brought |= outer
+        return replace(t, name=name, bound=bound, body=body)
 
     def instantiate(self, d, args: tuple[Term, ...], span) -> Term:
         vmap = {n: a for (n, k), a in zip(d.args, args) if k == "var"}
