@@ -367,3 +367,25 @@ def test_a_kink_under_a_factor_that_vanishes_there_is_no_kink():
     loaded = load_text("param k = 1, l = 0\nint ([-1, 1]) [x + k > 0] * [x + l > 0] d(x)\n")
     assert "X305" not in {f.code for f in tv.check_loaded(loaded, at={"k": 1.0, "l": 0.0})}
     assert "X305" in {f.code for f in tv.check_loaded(loaded, at={"k": 1.0, "l": 2.0})}
+
+
+@pytest.mark.parametrize("weight,vanishes", [
+    ("sqrt(x - theta)", True), ("sin(x - theta)", True), ("(x - theta)^2", True), ("x - theta + 1", False)])
+def test_a_window_closing_where_the_weight_vanishes_is_no_kink(weight, vanishes):
+    # issue 19: ∫_θ^v w(x) dx is 0 for v ≤ θ and W(v) − W(θ) above; its derivative in v jumps at
+    # v = θ by w(θ).  For w = sqrt(x − θ), sin(x − θ), (x − θ)² that is 0 — the integral is
+    # (2/3)(v − θ)^(3/2), 1 − cos(v − θ), (v − θ)³/3, all C¹ — so no X305; for w = x − θ + 1 the
+    # slope jumps from 0 to 1: a kink, X305.  The same in two variables, the window in x and the
+    # weight constant in y.
+    for text in (f"param theta = 0, v = 0\nint ([theta, v]) {weight} d(x)\n",
+                 f"param theta = 0, v = 0\nint ([theta, v], [0, 1]) {weight} d(x, y)\n"):
+        found = {f.code for f in tv.check_loaded(load_text(text), at={"theta": 0.0, "v": 0.0})}
+        assert ("X305" not in found) == vanishes, (text, found)
+
+
+def test_a_bound_meeting_where_the_weight_is_nonzero_is_a_kink():
+    # ∫₀¹ ∫₀^v w dy dx = max(v, 0)·∫₀¹ w dx: a kink at v = 0 unless ∫ w = 0 on the line y = 0
+    loaded = load_text("param theta = 0.5, v = 0\nint ([0, 1], [0, v]) (x - theta)^2 d(x, y)\n")
+    assert "X305" in {f.code for f in tv.check_loaded(loaded, at={"theta": 0.5, "v": 0.0})}
+    loaded = load_text("param theta = 0, v = 0\nint ([0, 1], [0, v]) (y - theta)^2 d(x, y)\n")
+    assert "X305" not in {f.code for f in tv.check_loaded(loaded, at={"theta": 0.0, "v": 0.0})}

@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..core import IfDiffeo, Term, map_children
 from ..diagnostics import Span
+from ..sympy_bridge import denote
 from . import algebra
 from .algebra import Undecided, describe_set, vanishes
 from .collect import Occurrence
@@ -32,6 +34,22 @@ from .geometry import meets_box, moving, num, orientation, zero_set_points
 def _negative(f: sp.Expr, point, at: dict) -> bool:
     v = num(f.subs(point).subs(at))
     return v is not None and v < -1e-9
+
+
+def _forced(t: Term, choice: dict[int, bool]) -> Term:
+    """``t`` with each conditional whose ``id`` is in ``choice`` replaced by its then (True) or
+    else (False) branch; a shared subterm is rebuilt once."""
+    memo: dict[int, Term] = {}
+
+    def go(u: Term) -> Term:
+        if id(u) not in memo:
+            if isinstance(u, IfDiffeo) and id(u) in choice:
+                memo[id(u)] = go(u.then if choice[id(u)] else u.orelse)
+            else:
+                memo[id(u)] = map_children(u, go)
+        return memo[id(u)]
+
+    return go(t)
 
 
 class CoincidenceChecks:
@@ -194,16 +212,43 @@ class CoincidenceChecks:
         self.kinks.setdefault(mover.index, []).append((other, relations, hit))
 
     def zero_around(self, c: Occurrence, g: Occurrence) -> bool:
-        """At the parameter values in force, each product where c and g multiply has another
-        condition negative all along c's zero set in the box: the product, and its derivative, are 0
-        around the place where c and g meet, so their meeting makes no kink (``[x + k > 0]·[x > 0]``
-        at k = 1: the jump sits on the bound x = −1, where ``[x > 0]`` is 0)."""
+        """Does the meeting of c's and g's zero sets make no kink at the parameter values in force?
+
+        The integral's derivative jumps, where the two zero sets cross over, by the integral over
+        the meeting place of the integrand's mixed difference in the two conditions,
+        ⟦t⟧(c, g) − ⟦t⟧(c, ¬g) − ⟦t⟧(¬c, g) + ⟦t⟧(¬c, ¬g).  No kink when it is 0 all along c's
+        zero set in the box: either each product where c and g multiply has another condition
+        negative there (``[x + k > 0]·[x > 0]`` at k = 1: the jump sits on the bound x = −1, where
+        ``[x > 0]`` is 0), or the integrand's weight vanishes there (``sqrt(x - theta)`` over
+        ``[theta, v]`` at theta = v: the integral (2/3)(v − θ)^(3/2) is C¹)."""
         prods = [p for p in self.col.products if c.index in p.ids and g.index in p.ids]
         if self.point is None or not prods:
             return False
         pts = [pt for br in c.branches for pt in zero_set_points(c, br, self.box, self.point, self.variables)]
         if not pts or any(not pt for pt in pts):
             return False
+        return self.others_negative(c, g, prods, pts) or self.weight_vanishes(c, g, pts)
+
+    def weight_vanishes(self, c: Occurrence, g: Occurrence, pts) -> bool:
+        """The mixed difference of the integrand in c and g (see :meth:`zero_around`) is 0 at
+        each of ``pts`` (points of c's zero set), evaluated exactly at the parameter values."""
+        if c.node is None or g.node is None:
+            return False
+        body = self.program.body
+        sides = []
+        for a, b, sign in ((True, True, 1), (True, False, -1), (False, True, -1), (False, False, 1)):
+            sides.append((sign, denote(_forced(body, {id(c.node): a, id(g.node): b})).subs(self.point)))
+        for pt in pts:
+            values = [(sign, num(e.subs(pt))) for sign, e in sides]
+            if any(v is None for _, v in values):
+                return False
+            mixed = sum(sign * v for sign, v in values)
+            if abs(mixed) > 1e-9 * max(1.0, *(abs(v) for _, v in values)):
+                return False
+        return True
+
+    def others_negative(self, c: Occurrence, g: Occurrence, prods, pts) -> bool:
+        """Each product where c and g multiply has another condition negative at all ``pts``."""
         occ = self.col.occurrences
         for p in prods:
             others = [occ[i] for i in p.ids - {c.index, g.index}]

@@ -64,6 +64,7 @@ class Occurrence:
     sites: tuple[Span, ...] = ()  # call sites (outermost first) when it comes from a def's body
     node_span: Span | None = None  # the whole conditional (the condition alone is ``span``)
     continuous: bool = False  # its branches agree on the zero set: no delta (abs, min, max)
+    node: IfDiffeo | None = field(default=None, repr=False, compare=False)  # the conditional itself
     _moving: bool | None = field(default=None, repr=False)
 
 
@@ -144,6 +145,7 @@ class _Collector:
             f=f,
             branches=tuple(branches),
             node_span=node.span,
+            node=node,
             uprime=tuple(symbol(u) for u in psi.inputs[1:]),
             nonzero=tuple(to_sympy(t, env) for t in psi.nonzero),
         )
