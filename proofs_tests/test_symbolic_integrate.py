@@ -372,3 +372,22 @@ def test_random_one_dimensional_regions_agree_with_quadrature(a_, b_, c_, d_, e2
     assert not res.inconsistent, res.inconsistent
     if res.method == "closed_form":
         assert res.value == pytest.approx(res.check, abs=1e-7)
+
+
+@pytest.mark.parametrize("rad", ["0.5001", "0.501", "0.51"])
+def test_quadrature_finds_a_region_that_appears_inside_the_outer_interval(rad):
+    # `sqrt(x² + y²) < rad` has no closed-form solution for y the engine uses, so ⟦p⟧ is integrated
+    # numerically, x outside, y inside.  On the pixel [0.5, 1] × [−0.2, 0.2] the disk shows only a
+    # cap over x ∈ [0.5, rad]: the inner region vanishes at x = rad, where ∂/∂y of the condition
+    # is 0 (y = 0).  Before the quadrature looked for such critical points it sampled x past the
+    # cap and reported 0 ± 2e-10.  The weight 1 + x·y integrates to the cap's area (x·y is odd in
+    # y), r²·acos(d/r) − d·√(r² − d²) with d = 0.5, by hand.
+    from langur.denote import denote_program
+    from langur.frontend import load_text
+
+    loaded = load_text(f"param rad = {rad}\nint ([0.5, 1], [-0.2, 0.2]) [sqrt(x^2 + y^2) < rad] * (1 + x * y) d(x, y)\n")
+    r, d = float(rad), 0.5
+    area = r * r * math.acos(d / r) - d * math.sqrt(r * r - d * d)
+    got = denote_program(loaded.program, {"rad": rad})
+    assert abs(got.value - area) <= got.error + 1e-12 * area
+    assert area > 1e-6

@@ -155,3 +155,18 @@ def test_finite_differences_stay_in_one_parameter_cell():
     th = exact_deriv(prog, at, {"a": 1}).theorem_8_1
     assert th.holds is False and th.how == "finite_difference"
     assert th.d_denotation == pytest.approx(-math.exp(math.sin(0.5)), rel=1e-6)
+
+
+def test_finite_differences_near_a_tangency_decide_with_a_tight_bound():
+    # ⟦p⟧ of a disk's cap on a pixel behaves like (rad − 0.5)^(3/2) above the tangency at 0.5:
+    # at rad = 0.5001 a step of 1e-3 straddles the tangency and its Richardson bound (±0.01)
+    # means nothing.  The check goes down in step until its bound is tight, and compares there.
+    from langur.frontend import load_text
+
+    loaded = load_text("param rad = 0.5001\n"
+                       "int ([0.5, 1], [-0.2, 0.2]) [sqrt(x^2 + y^2) < rad] * exp(x * y) d(x, y)\n")
+    th = check_theorem_8_1(loaded.program, {"rad": "0.5001"}, {"rad": 1})
+    assert th.holds is True
+    assert th.error <= 1e-4
+    # ⦇p⦈ is the arc's length 2·rad·acos(0.5/rad) weighted by exp(x·y) = 1 + O(1e-4) on it, by hand
+    assert abs(th.derivative_denotation - 2 * 0.5001 * math.acos(0.5 / 0.5001)) < 1e-5

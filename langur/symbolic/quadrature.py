@@ -31,6 +31,7 @@ from scipy import integrate as si
 from scipy import optimize as so
 
 from langur.symbolic.pieces import DeltaPiece, Piece, Psi
+from langur.timebox import run_with_timeout
 
 GRID = 40
 EPSABS = 1e-11  # innermost level; each outer level is 10x looser
@@ -41,6 +42,8 @@ SPLIT_ROUNDS = 3
 #: value (at a fold of an inverse branch, z = sqrt(r² − x² − y²) near the rim of a disk), not a
 #: property of the integral.
 NARROW = 1e-8
+#: Seconds sympy may spend on the critical points of one condition (:func:`_critical_points`).
+CRITICAL_SECONDS = 1.0
 #: More abscissae than this where the integrand is not finite, in one pass of ``quad``: not a few
 #: isolated singular points but a set quadrature keeps hitting (undefined on a set of positive
 #: measure, or an inner integral that diverges as the outer variable tends to a point).
@@ -346,19 +349,35 @@ def _kink_functions(p: NumProblem, level: int):
             nxt = []
             for e in exprs:
                 nxt += [e.xreplace({v: sp.Float(b)}) for b in p.bounds[j]]
-                try:
-                    poly = sp.Poly(e, v)
-                    if poly.degree() == 2 and not any(v in k.free_symbols for k in poly.all_coeffs()):
-                        a2, a1, _ = poly.all_coeffs()
-                        nxt.append(e.xreplace({v: -a1 / (2 * a2)}))
-                except (sp.PolynomialError, sp.GeneratorsNeeded):
-                    pass
+                nxt += [e.xreplace({v: r}) for r in _critical_points(e, v)]
             exprs = nxt
         for e in exprs:
             if e.is_number:
                 continue
             out.append((_lambdify(p.syms[: level + 1], e, {}), _poly_roots(e, p.syms, level)))
     return out
+
+
+def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
+    """Where ``∂e/∂v`` vanishes, as expressions in the outer variables: there a region in ``v``
+    appears or vanishes as they move (the top of a circle, ``sqrt(x² + y²) < r`` at y = 0).
+    A quadratic's vertex directly; otherwise sympy's solve on the derivative's numerator within
+    :data:`CRITICAL_SECONDS` (none found: none used, the grid search of :func:`_roots` remains)."""
+    try:
+        poly = sp.Poly(e, v)
+        if poly.degree() == 2 and not any(v in k.free_symbols for k in poly.all_coeffs()):
+            a2, a1, _ = poly.all_coeffs()
+            return [-a1 / (2 * a2)]
+        if poly.degree() <= 1 and not any(v in k.free_symbols for k in poly.all_coeffs()):
+            return []
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        pass
+    try:
+        numerator = sp.numer(sp.together(sp.diff(e, v)))
+        sols = run_with_timeout(lambda: sp.solve(numerator, v), CRITICAL_SECONDS)
+    except (TimeoutError, NotImplementedError, ValueError, TypeError, sp.PolynomialError):
+        return []
+    return [r for r in sols if v not in r.free_symbols and not r.has(sp.I)][:8]
 
 
 def _find(g, roots, prefix, lo, hi):
