@@ -45,6 +45,7 @@ from .symbolic.decompose import (
     collapse,
     complement,
     condition_of,
+    decided_cell,
     decompose,
     dedupe,
     gate,
@@ -225,9 +226,10 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
     point = at_symbols(at)
     ctx = Ctx(at=point, variables=tuple(program.variables))
     variables, box = symbols(program.variables), program_box(program, ctx)
-    regular = (integrate_pieces(nf.regular, variables, box, point, timeout=timeout)
+    cell = decided_cell(program.body, ctx)
+    regular = (integrate_pieces(nf.regular, variables, box, point, timeout=timeout, cell=cell)
                if nf.regular else zero_integral())
-    boundary = (integrate_delta_pieces(nf.deltas, variables, box, point, timeout=timeout)
+    boundary = (integrate_delta_pieces(nf.deltas, variables, box, point, timeout=timeout, cell=cell)
                 if nf.deltas else zero_integral())
     exact = regular.method == Method.CLOSED_FORM and boundary.method == Method.CLOSED_FORM
     expr = regular.expr + boundary.expr if regular.expr is not None and boundary.expr is not None else None

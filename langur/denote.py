@@ -15,7 +15,7 @@ from collections.abc import Mapping
 import sympy as sp
 
 from .core import Program
-from .symbolic.decompose import Ctx, decompose, smooth_value
+from .symbolic.decompose import Ctx, decided_cell, decompose, smooth_value
 from .symbolic.pieces import Integral, Method
 from .sympy_bridge import at_symbols, denote, symbol, symbols
 from .values import check_values
@@ -47,4 +47,4 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
     if not pieces:
         return zero_integral()
     return integrate_pieces(pieces, symbols(program.variables), program_box(program, ctx), point,
-                            timeout=timeout)
+                            timeout=timeout, cell=decided_cell(program.body, ctx))

@@ -181,3 +181,23 @@ def test_call_is_rejected():
     from langur.core import Call
     with pytest.raises(TypeError):
         denote(Call("m", "f", ()))
+
+
+@pytest.mark.parametrize("t,expected_value", [("0.3", "0.045"), ("0.8", "0.18")])
+def test_a_closed_form_built_on_a_parameter_conditional_is_valid_only_in_its_cell(t, expected_value):
+    # [x < min(t, t1)] is a parameter conditional (t < t1) around two jumps: at t = 0.3 the closed
+    # form is t²/2 (by hand ∫₀ᵗ x dx), at t = 0.8 it is t1²/2 = 0.18; neither holds for all t,
+    # so neither may be reported as valid everywhere, and each is valid in its cell.
+    from langur.denote import denote_program
+    from langur.frontend import load_text
+
+    program = load_text("param t = 0.3, t1 = 0.6\nint ([0, 1]) [x < min(t, t1)] * x d(x)\n").program
+    got = denote_program(program, {"t": t, "t1": "0.6"})
+    assert sp.nsimplify(got.value) == sp.Rational(expected_value)
+    assert not got.everywhere
+    assert "valid for all parameter values" not in " ".join(got.notes)
+    T, T1 = sp.Symbol("t", real=True), sp.Symbol("t1", real=True)
+    other = {"0.3": sp.Rational(8, 10), "0.8": sp.Rational(3, 10)}[t]  # a point in the other cell
+    wrong = got.expr.subs({T: other, T1: sp.Rational(6, 10)})
+    right = denote_program(program, {"t": other, "t1": "0.6"}).value
+    assert abs(float(wrong) - right) > 0.01  # the closed form indeed does not extend across

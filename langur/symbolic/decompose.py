@@ -39,6 +39,7 @@ from ..core import (
     Pow,
     Prim,
     Term,
+    children,
     extend_diffeo,
     shared,
     smooth,
@@ -250,6 +251,35 @@ def decompose(t: Term, ctx: Ctx | None = None) -> list[Piece]:
         case Call(module, name, _):
             raise TypeError(f"call of {module}.{name} left in a core term: inline it first")
     raise TypeError(f"not a core term: {t!r}")
+
+
+def decided_cell(t: Term, ctx: Ctx) -> list[sp.Rel]:
+    """The relations on the parameters that :func:`select` decided at ``ctx.at`` while
+    decomposing ``t`` (``t1 - t >= 0`` where ``if t < t1 …`` took its first branch): a closed form
+    built on those decisions is valid only where they hold.  Follows the branches taken, as
+    :func:`decompose` does; each distinct node once per context."""
+    out: list[sp.Rel] = []
+    seen: set[tuple[int, int]] = set()
+    alive = [ctx]  # the contexts stay alive, so that their identities stay theirs
+    stack = [(t, ctx)]
+    while stack:
+        u, c = stack.pop()
+        if (id(u), id(c)) in seen or smooth(u):
+            continue
+        seen.add((id(u), id(c)))
+        match u:
+            case IfGe0(cond, a, b):
+                value = smooth_value(cond, c)
+                chosen = decide(value, c.at)
+                if chosen is not None:
+                    out.append(value >= 0 if chosen else value < 0)
+                stack += [(a, c)] if chosen is True else [(b, c)] if chosen is False else [(a, c), (b, c)]
+            case Let(name, bound, body):
+                alive.append(c.bind(name, smooth_value(bound, c)))
+                stack.append((body, alive[-1]))
+            case _:
+                stack += [(k, c) for k in children(u)]
+    return list(dict.fromkeys(r for r in out if r not in (sp.true, sp.false)))
 
 
 def smooth_value(t: Term, ctx: Ctx | None = None) -> sp.Expr:

@@ -155,9 +155,11 @@ def _quadrature_only(quads, ctx: Context, what: str) -> Integral:
                     inconsistent=tuple(ctx.inconsistent))
 
 
-def _setup(variables, box, at, timeout):
+def _setup(variables, box, at, timeout, cell=()):
     at = _at(dict(at))
     ctx = Context(at, Deadline(timeout), frozenset(at))
+    for rel in cell:  # decisions taken before integrating (parameter-only conditionals)
+        ctx.record_relation(rel)
     boxd = {v: (sp.sympify(lo), sp.sympify(hi)) for v, (lo, hi) in zip(variables, box)}
     return ctx, boxd
 
@@ -238,10 +240,12 @@ def _quads(quad_one, items, ctx: Context):
     return quads, converged
 
 
-def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: float = 20.0) -> Integral:
-    """Σ ∫_box Π[conditions]·weight (regular part of a denotation or derivative denotation)."""
+def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: float = 20.0,
+                     cell: Sequence[sp.Rel] = ()) -> Integral:
+    """Σ ∫_box Π[conditions]·weight (regular part of a denotation or derivative denotation);
+    ``cell``: relations on the parameters the pieces were built on (the closed form holds there)."""
     variables = tuple(variables)
-    ctx, boxd = _setup(variables, box, at, timeout)
+    ctx, boxd = _setup(variables, box, at, timeout, cell)
     quads, converged = _quads(lambda pc, *out: quadrature.quad_pieces([pc], variables, box, ctx.at, *out),
                               pieces, ctx)
     _check_defined(quads, "piece")
@@ -257,11 +261,11 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
 
 
 def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
-                           timeout: float = 20.0) -> Integral:
+                           timeout: float = 20.0, cell: Sequence[sp.Rel] = ()) -> Integral:
     """Σ ∫_box h·δ(π₀Ψ̂) through the change of variables ``u = Ψ̂(x)`` over every inverse branch:
     ∫ h(Ψ̂_b⁻¹(0,u'))·|det DΨ̂_b⁻¹(0,u')| du' on the guards (LANGUAGE.md §4)."""
     variables = tuple(variables)
-    ctx, boxd = _setup(variables, box, at, timeout)
+    ctx, boxd = _setup(variables, box, at, timeout, cell)
     uboxes = []
     for i, pc in enumerate(pieces):
         try:
