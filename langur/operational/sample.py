@@ -8,8 +8,8 @@
 * :class:`SiteSampler` samples the zero set {π₀Ψ̂ = 0} of one diffeomorphic conditional (a *site*)
   through every branch of Ψ̂⁻¹ and weighs each point by |det DΨ̂_b⁻¹(0, u')| computed by the
   engine's own forward mode (see the package docstring for the estimator).
-* :func:`enclose` is a small interval evaluator over core terms: it bounds the coordinates u' of
-  the zero set when Ψ̂'s other components are not plain variables.
+* interval enclosures (:mod:`.interval`) bound the coordinates u' of the zero set when Ψ̂'s
+  other components are not plain variables, and find the part of them the box can meet.
 """
 
 from __future__ import annotations
@@ -17,13 +17,12 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
-from fractions import Fraction
 
 import numpy as np
 
-from ..core import Add, Const, Diffeo, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
-from ..primitives import REGISTRY
-from .compile import TANGENT, UNLINKED, VALUE, Point, compile_term, const_value, full
+from ..core import Diffeo, Var
+from .compile import TANGENT, UNLINKED, VALUE, Point, compile_term, full
+from .interval import enclose
 
 METHODS = ("uniform", "stratified", "qmc")
 QMC_RANDOMIZATIONS = 16
@@ -88,68 +87,6 @@ def design(rng: np.random.Generator, m: int, samples: int, method: str) -> Desig
     return Design(np.concatenate(blocks), "qmc", k)
 
 
-# -- interval enclosure over core terms ---------------------------------------------------------
-
-def enclose(t: Term, box: dict[str, tuple[float, float]], params: dict[str, float]) -> tuple[float, float]:
-    """An interval containing ⟦t⟧ for every point of ``box`` (variables) at ``params``."""
-    match t:
-        case Const():
-            c = const_value(t)
-            return c, c
-        case Var(name):
-            return box[name]
-        case Param(name):
-            v = float(params[name])
-            return v, v
-        case Add(a, b):
-            (al, ah), (bl, bh) = enclose(a, box, params), enclose(b, box, params)
-            return al + bl, ah + bh
-        case Mul(a, b):
-            (al, ah), (bl, bh) = enclose(a, box, params), enclose(b, box, params)
-            ps = [x * y for x in (al, ah) for y in (bl, bh)]
-            ps = [p for p in ps if not math.isnan(p)] or [-math.inf, math.inf]
-            return min(ps), max(ps)
-        case Pow(a, k):
-            lo, hi = enclose(a, box, params)
-            return _pow_interval(lo, hi, k)
-        case Prim(op, a):
-            return REGISTRY[op].interval(*enclose(a, box, params))
-        case IfGe0(c, a, b):
-            cl, ch = enclose(c, box, params)
-            if cl >= 0:
-                return enclose(a, box, params)
-            if ch < 0:
-                return enclose(b, box, params)
-            return _hull(enclose(a, box, params), enclose(b, box, params))
-        case IfDiffeo(_, a, b):
-            return _hull(enclose(a, box, params), enclose(b, box, params))
-        case Let(name, bound, body):
-            lo, hi = enclose(bound, box, params)
-            if lo != hi:
-                return -math.inf, math.inf
-            return enclose(body, box, {**params, name: lo})
-    raise TypeError(f"cannot enclose {t!r}")
-
-
-def _hull(a, b):
-    return min(a[0], b[0]), max(a[1], b[1])
-
-
-def _pow_interval(lo, hi, k: Fraction):
-    f = float(k)
-    if k.denominator == 1 and k > 0:
-        cands = [lo ** f, hi ** f]
-        if int(k) % 2 == 0 and lo < 0 < hi:
-            cands.append(0.0)
-        return min(cands), max(cands)
-    if lo <= 0 <= hi and k < 0:
-        return -math.inf, math.inf
-    if lo < 0 and k.denominator != 1:
-        return -math.inf, math.inf
-    a, b = lo ** f, hi ** f
-    return min(a, b), max(a, b)
-
-
 # -- sampling the zero set of one condition -------------------------------------------------------
 
 #: Cells per coordinate of the grid over the u'-box that :meth:`SiteSampler.shrink` encloses
@@ -204,59 +141,90 @@ class SiteSampler:
 
     def region(self, box: dict[str, tuple[float, float]], params: dict) -> list[tuple[float, float]]:
         """The u'-box: a variable's own interval, or an interval enclosure of Ψ̂'s component."""
-        out = []
+        lo, hi = self.region_many(_column(box), params)
+        return [(float(a), float(b)) for a, b in zip(lo[0], hi[0])]
+
+    def region_many(self, box: dict, params: dict) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`region` at P points: ``box`` maps each variable to (lo, hi) arrays of shape (P,
+        1); ``params`` values are numbers or (P, 1) arrays.  Returns (lo, hi), shape (P, m)."""
+        npts = next(iter(box.values()))[0].shape[0]
+        los, his = [], []
         for _, var, term in self.coords:
-            out.append(box[var] if var is not None else enclose(term, box, params))
-        return out
+            lo, hi = box[var] if var is not None else enclose(term, box, params)
+            los.append(np.broadcast_to(lo, (npts, 1)))
+            his.append(np.broadcast_to(hi, (npts, 1)))
+        if not los:
+            return np.zeros((npts, 0)), np.zeros((npts, 0))
+        return np.concatenate(los, axis=1).astype(float), np.concatenate(his, axis=1).astype(float)
 
     def shrink(self, region, box: dict[str, tuple[float, float]], params: dict) -> list[tuple[float, float]]:
-        """The part of the u'-box whose points can lie on the zero set *inside the program's box*:
-        the hull of the cells of a grid over ``region`` where some inverse branch's enclosure meets
-        the box (and its guards can hold).  Interval enclosures are conservative, so no point of
+        """The part of the u'-box whose points can lie on the zero set *inside the program's box*
+        (see :meth:`shrink_many`); an empty result (every interval of zero width) means the zero
+        set misses the box."""
+        if not region:
+            return region
+        lo = np.array([[a for a, _ in region]], dtype=float)
+        hi = np.array([[b for _, b in region]], dtype=float)
+        lo, hi = self.shrink_many(lo, hi, _column(box), params)
+        return [(float(a), float(b)) for a, b in zip(lo[0], hi[0])]
+
+    def shrink_many(self, lo: np.ndarray, hi: np.ndarray, box: dict, params: dict):
+        """The hull of the cells of a grid over each u'-box (``lo``, ``hi``: shape (P, m)) where
+        some inverse branch's enclosure meets the program's box (``box``: variable → (P, 1)
+        arrays) and its guards can hold.  Interval enclosures are conservative, so no point of
         the zero set inside the box is cut away (the estimate stays unbiased); a zero set that
-        crosses a small part of a wide box is then sampled where it is, not missed.  An empty
-        result (every interval of zero width) means the zero set misses the box."""
-        original = region
+        crosses a small part of a wide box is then sampled where it is, not missed.  Rounds
+        repeat on the narrower hull while a round still removes much; the narrower box is kept
+        only when it is much narrower (else the design over the full box is kept)."""
+        original = (lo, hi)
+        npts = lo.shape[0]
+        active = np.ones(npts, dtype=bool)
+        empty = np.zeros(npts, dtype=bool)
+        lo, hi = lo.copy(), hi.copy()
         for _ in range(SHRINK_ROUNDS):  # a narrower hull, gridded again, may shrink further
-            smaller = self._shrink_once(region, box, params)
-            if not smaller or any(b <= a for a, b in smaller):
-                return smaller
-            done = math.prod(b - a for a, b in smaller) > SHRINK_ENOUGH * math.prod(b - a for a, b in region)
-            region = smaller
-            if done:
+            idx = np.flatnonzero(active)
+            if not len(idx):
                 break
+            sub_box = {v: (a[idx], b[idx]) for v, (a, b) in box.items()}
+            sub_params = {k: (v[idx] if np.ndim(v) == 2 else v) for k, v in params.items()}
+            slo, shi = self._shrink_once(lo[idx], hi[idx], sub_box, sub_params)
+            gone = np.any(shi <= slo, axis=1)
+            done = np.prod(shi - slo, axis=1) > SHRINK_ENOUGH * np.prod(hi[idx] - lo[idx], axis=1)
+            lo[idx], hi[idx] = slo, shi
+            empty[idx[gone]] = True
+            active[idx[gone | done]] = False
         # sample the narrower box only when it is much narrower: the design (and a fold's change of
         # variables) over the full box is kept where the zero set already fills most of it
-        if math.prod(b - a for a, b in region) > SHRINK_WORTH * math.prod(b - a for a, b in original):
-            return original
-        return region
+        keep = ~empty & (np.prod(hi - lo, axis=1) > SHRINK_WORTH * np.prod(original[1] - original[0], axis=1))
+        return np.where(keep[:, None], original[0], lo), np.where(keep[:, None], original[1], hi)
 
-    def _shrink_once(self, region, box, params) -> list[tuple[float, float]]:
-        m = len(region)
-        if m == 0:
-            return region
+    def _shrink_once(self, lo, hi, box, params):
+        npts, m = lo.shape
         k = SHRINK_CELLS[min(m, len(SHRINK_CELLS)) - 1]
-        edges = [np.linspace(a, b, k + 1) for a, b in region]
-        lo, hi = [math.inf] * m, [-math.inf] * m
-        for idx in itertools.product(range(k), repeat=m):
-            cell = {self.psi.inputs[0]: (0.0, 0.0)}
-            for j, (u, _, _) in enumerate(self.coords):
-                cell[u] = (float(edges[j][idx[j]]), float(edges[j][idx[j] + 1]))
-            if any(self._meets(b, cell, box, params) for b in self.psi.branches):
-                for j in range(m):
-                    lo[j] = min(lo[j], cell[self.coords[j][0]][0])
-                    hi[j] = max(hi[j], cell[self.coords[j][0]][1])
-        if lo[0] == math.inf:
-            return [(a, a) for a, _ in region]
-        return list(zip(lo, hi))
+        edges = np.linspace(lo, hi, k + 1, axis=2)  # (P, m, k + 1)
+        cells = np.array(list(itertools.product(range(k), repeat=m)))  # (K, m)
+        cell = {self.psi.inputs[0]: (np.zeros((1, 1)), np.zeros((1, 1)))}
+        for j, (u, _, _) in enumerate(self.coords):
+            cell[u] = (edges[:, j, cells[:, j]], edges[:, j, cells[:, j] + 1])  # (P, K)
+        meets = np.zeros((npts, len(cells)), dtype=bool)
+        for b in self.psi.branches:
+            meets |= self._meets(b, cell, box, params)
+        any_cell = meets.any(axis=1)
+        out_lo = np.stack([np.where(meets, cell[u][0], np.inf).min(axis=1) for u, _, _ in self.coords], axis=1)
+        out_hi = np.stack([np.where(meets, cell[u][1], -np.inf).max(axis=1) for u, _, _ in self.coords], axis=1)
+        # no cell meets the box: the zero set misses it (zero-width intervals)
+        return np.where(any_cell[:, None], out_lo, lo), np.where(any_cell[:, None], out_hi, lo)
 
-    def _meets(self, branch, cell, box, params) -> bool:
+    def _meets(self, branch, cell, box, params) -> np.ndarray:
+        ok = None
         for var, comp in zip(self.psi.variables, branch.components):
             clo, chi = enclose(comp, cell, params)
             blo, bhi = box[var]
-            if chi < blo or clo > bhi:
-                return False
-        return not any(enclose(g, cell, params)[1] < 0 for g in branch.guards)  # NaN: keep the cell
+            here = ~((chi < blo) | (clo > bhi))
+            ok = here if ok is None else ok & here
+        for g in branch.guards:
+            ok = ok & ~(enclose(g, cell, params)[1] < 0)  # NaN: keep the cell
+        return ok
 
     def points(self, unit: np.ndarray, region, params: dict):
         """Map unit-cube points to the zero set through every branch.
@@ -265,17 +233,32 @@ class SiteSampler:
         weight = |det DΨ̂_b⁻¹(0, u')| (forward mode, one pass per input) and valid = all guards ≥ 0.
         """
         n = unit.shape[0]
-        lo = np.array([r[0] for r in region], dtype=float)
-        hi = np.array([r[1] for r in region], dtype=float)
-        width = hi - lo
-        volume = float(np.prod(width)) if len(region) else 1.0
-        inputs = {self.psi.inputs[0]: np.zeros(n)}
-        factor = None
+        lo = np.array([[r[0] for r in region]], dtype=float).reshape(1, len(region))
+        hi = np.array([[r[1] for r in region]], dtype=float).reshape(1, len(region))
         if len(self.coords) == 1 and self.has_guards:
-            inputs[self.coords[0][0]], factor = self.fold_map(unit[:, 0], lo[0], hi[0], params)
-        else:
-            for j, (u, _, _) in enumerate(self.coords):
-                inputs[u] = lo[j] + unit[:, j] * width[j]
+            inputs = {self.psi.inputs[0]: np.zeros(n)}
+            inputs[self.coords[0][0]], factor = self.fold_map(unit[:, 0], lo[0, 0], hi[0, 0], params)
+            volume = float(hi[0, 0] - lo[0, 0])
+            return volume, self._map(inputs, n, params, factor)
+        volume, out = self.points_many(unit, lo, hi, params)
+        return float(volume[0]), out
+
+    def points_many(self, unit: np.ndarray, lo: np.ndarray, hi: np.ndarray, params: dict):
+        """:meth:`points` for P parameter points at once (no fold map): ``lo``, ``hi`` are the
+        u'-boxes, shape (P, m); ``params`` values are scalars or arrays of P·N values (point-major,
+        N = ``unit``'s rows).  Returns the volumes (P,) and, per branch, arrays of P·N values."""
+        n = unit.shape[0]
+        width = hi - lo
+        volume = np.prod(width, axis=1) if width.shape[1] else np.ones(width.shape[0])
+        size = width.shape[0] * n
+        inputs = {self.psi.inputs[0]: np.zeros(size)}
+        for j, (u, _, _) in enumerate(self.coords):
+            inputs[u] = (lo[:, j, None] + unit[None, :, j] * width[:, j, None]).reshape(size)
+        return volume, self._map(inputs, size, params, None)
+
+    def _map(self, inputs: dict, n: int, params: dict, factor):
+        """Each branch's points Ψ̂_b⁻¹(0, u'), weights |det DΨ̂_b⁻¹| (times a fold map's
+        ``factor``) and guards, at the u' points ``inputs``."""
         out = []
         order = self.psi.inputs
         if len(order) == 1:  # one variable: x = Ψ̂⁻¹(0) and dx/du0 from one forward-mode pass
@@ -286,7 +269,7 @@ class SiteSampler:
                     valid &= np.asarray(g(tenv, UNLINKED)[0]) >= 0
                 v, d = comps[0](tenv, UNLINKED)
                 out.append(({self.variables[0]: full(v, n)}, np.abs(full(d, n)), valid))
-            return volume, out
+            return out
         for comps, guards in self.branches:
             env = Point(inputs, params)
             valid = np.ones(n, dtype=bool)
@@ -305,7 +288,7 @@ class SiteSampler:
             if factor is not None:
                 weight = np.where(factor > 0, weight * factor, 0.0)
             out.append((x, weight, valid))
-        return volume, out
+        return out
 
     def fold_map(self, s: np.ndarray, lo: float, hi: float, params: dict, grid: int = 257):
         """Where branches fold, |det DΨ̂_b⁻¹| ~ 1/√(distance to the guard's root): integrable, not
@@ -351,6 +334,11 @@ class SiteSampler:
         """D_γ π₀Ψ̂ · γ' at the points ``x`` (forward mode in the parameters)."""
         d = self.condition(Point(x, params, dparams=dparams, mode=TANGENT), UNLINKED)[1]
         return 0.0 if d is None else d
+
+
+def _column(box: dict[str, tuple[float, float]]) -> dict:
+    """A box of numbers as the (1, 1) arrays :meth:`SiteSampler.region_many` reads."""
+    return {v: (np.array([[float(a)]]), np.array([[float(b)]])) for v, (a, b) in box.items()}
 
 
 def evaluate_box(box_fns, params: dict) -> list[tuple[float, float]]:

@@ -119,7 +119,7 @@ class _Inliner:
                     self.calls[shared] = self.expand(body, stack + (key,))
                 self.brought |= self.module_params(module, name)
                 return self.calls[shared]
-            case Let(name, bound, body):
+            case Let():
                 return self.expand_let(t, stack)
             case IfDiffeo(_, a, b):
                 return replace(t, then=self.expand(a, stack), orelse=self.expand(b, stack))

@@ -1,0 +1,257 @@
+"""Monte Carlo estimates at many parameter points at once: images (§10.1, Fig. 13).
+
+An image is one integral per pixel, the pixel's position among the parameters.
+:func:`estimate_batch` evaluates ⟦p⟧ — and, given a direction γ', ⦇p⦈ split into its regular
+part (standard AD, the paper's Dˢ) and its boundary part — at P parameter points with one
+compiled program: the points are laid out point-major in flat arrays (P·N samples), so each
+compiled closure runs once over all of them (no Python loop per point).  Every point uses the
+design that :func:`~.estimate.estimate_value` / :func:`~.estimate.estimate_derivative` draw from
+``np.random.default_rng(seed)``, so point i of a batch gives the numbers of the per-point API at
+point i with the same seed (``proofs_tests/test_batch.py`` checks it).
+
+The zero-set samplers' boxes (interval enclosures, §9) are found point by point; the mapping of
+the design onto each zero set, its Jacobians and the integrand are evaluated in one pass.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..values import ParameterError
+from .compile import DELTA, TANGENT, VALUE, Point, full
+from .estimate import LOW_HITS, prepare
+from .link import CACHE, CompileCache, Linked
+from .sample import design
+
+#: At most this many samples (points × samples per point) are evaluated in one pass.
+CHUNK = 1_000_000
+
+
+@dataclass(frozen=True)
+class BatchEstimate:
+    """Estimates at P parameter points: arrays of shape (P,).  ``params`` holds each parameter's
+    value per point (broadcast); ``value``/``stderr`` estimate ⟦p⟧.  With a direction,
+    ``derivative``/``derivative_stderr`` estimate ⦇p⦈ = ``regular`` + ``boundary``; ``regular`` is
+    standard AD (deltas dropped).  ``low_hits``: points where a zero set was hit by fewer than
+    :data:`~.estimate.LOW_HITS` samples (their boundary standard error is not reliable)."""
+
+    params: dict[str, np.ndarray]
+    value: np.ndarray
+    stderr: np.ndarray
+    samples: int
+    seed: int
+    method: str
+    direction: dict[str, float] | None = None
+    regular: np.ndarray | None = None
+    regular_stderr: np.ndarray | None = None
+    boundary: np.ndarray | None = None
+    boundary_stderr: np.ndarray | None = None
+    low_hits: np.ndarray | None = None
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def derivative(self) -> np.ndarray | None:
+        return None if self.regular is None else self.regular + self.boundary
+
+    @property
+    def derivative_stderr(self) -> np.ndarray | None:
+        return None if self.regular is None else np.sqrt(self.regular_stderr ** 2 + self.boundary_stderr ** 2)
+
+    @property
+    def standard_ad(self) -> np.ndarray | None:
+        return self.regular
+
+
+def estimate_batch(program_or_loaded, params: dict, *, direction: dict | None = None, samples: int = 10000,
+                   seed: int = 0, method: str = "uniform", sites: str = "inlined",
+                   cache: CompileCache = CACHE) -> BatchEstimate:
+    """⟦p⟧ (and ⦇p⦈ in ``direction``) at every point of ``params``: each value a number or a 1-D
+    array, the arrays of one length P (the points); parameters left out take their defaults
+    (for a Loaded).  Raises :class:`~langur.values.ParameterError` as the per-point API does."""
+    arrays = {k: np.asarray(v, dtype=float) for k, v in params.items()}
+    sizes = {a.shape[0] for a in arrays.values() if a.ndim == 1}
+    if len(sizes) > 1 or any(a.ndim > 1 for a in arrays.values()):
+        raise ValueError("every parameter's values must be a number or a 1-D array, all of one length")
+    npts = sizes.pop() if sizes else 1
+    if npts == 0:
+        raise ValueError("no parameter points")
+    first = {k: float(a[0]) if a.ndim else float(a) for k, a in arrays.items()}
+    linked, p0 = prepare(program_or_loaded, first, sites, direction, cache)
+    bad = [k for k, a in arrays.items() if not np.all(np.isfinite(a))]
+    if bad:
+        raise ParameterError(f"parameter(s) {', '.join(sorted(bad))} have non-finite values")
+    grid = {k: (np.broadcast_to(arrays[k], (npts,)) if k in arrays else np.full(npts, v)) for k, v in p0.items()}
+    dp = {k: float(v) for k, v in (direction or {}).items() if float(v) != 0.0}
+    per = max(1, CHUNK // max(1, int(samples)))
+    parts = [_chunk(linked, {k: v[i:i + per] for k, v in grid.items()}, dp if direction is not None else None,
+                    samples, seed, method) for i in range(0, npts, per)]
+    cat = {name: np.concatenate([part[name] for part in parts]) for name in parts[0]}
+    extra = {}
+    if direction is not None:
+        extra = dict(direction=dp, regular=cat["reg"], regular_stderr=cat["reg_se"], boundary=cat["bnd"],
+                     boundary_stderr=cat["bnd_se"], low_hits=cat["low"])
+    notes = ()
+    if direction is not None and np.any(cat["low"]):
+        notes = (f"low hits: at {int(np.count_nonzero(cat['low']))} of {npts} points a zero set was hit by fewer "
+                 f"than {LOW_HITS} samples; their standard errors are not reliable (give more samples)",)
+    return BatchEstimate({k: np.array(v) for k, v in grid.items()}, cat["value"], cat["se"], int(samples), seed,
+                         method, notes=notes, **extra)
+
+
+def _run(linked: Linked, x, params, **point) -> tuple:
+    return linked.fn(Point(x, params, **point), linked.linking)
+
+
+def _rows_mean(d, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The design's estimate of the mean and its standard error, row by row of ``f`` (P, N)."""
+    if d.method == "uniform" and f.shape[1] > 1:
+        n = f.shape[1]
+        return np.mean(f, axis=1), np.std(f, axis=1, ddof=1) / math.sqrt(n)
+    rows = [d.mean(row) for row in f]
+    return np.array([r[0] for r in rows]), np.array([r[1] for r in rows])
+
+
+def _box(linked: Linked, grid: dict, npts: int) -> tuple[np.ndarray, np.ndarray]:
+    """Program.box at each point: lower and upper ends, shape (P, m)."""
+    env = Point({}, grid, mode=VALUE)
+    lo = [np.broadcast_to(np.asarray(f(env, linked.linking)[0], dtype=float), (npts,)) for f, _ in linked.box_fns]
+    hi = [np.broadcast_to(np.asarray(g(env, linked.linking)[0], dtype=float), (npts,)) for _, g in linked.box_fns]
+    return np.stack(lo, axis=1), np.stack(hi, axis=1)
+
+
+def _chunk(linked: Linked, grid: dict, dp: dict | None, samples: int, seed: int, method: str) -> dict:
+    npts = len(next(iter(grid.values())))
+    rng = np.random.default_rng(seed)
+    m = len(linked.variables)
+    d = design(rng, m, samples, method)
+    n = d.points.shape[0]
+    lo, hi = _box(linked, grid, npts)
+    width = hi - lo
+    undefined = np.any(np.isnan(lo) | np.isnan(hi), axis=1)
+    empty = ~undefined & np.any(~(hi > lo), axis=1)
+    volume = np.prod(np.where(empty[:, None], 1.0, width), axis=1)
+    pts = lo[:, None, :] + d.points[None, :, :] * width[:, None, :]
+    x = {v: pts[:, :, i].reshape(npts * n) for i, v in enumerate(linked.variables)}
+    rep = {k: np.repeat(v, n) for k, v in grid.items()}
+    out = {}
+    with np.errstate(all="ignore"):
+        f = full(_run(linked, x, rep, mode=VALUE)[0], npts * n).reshape(npts, n)
+        mean, se = _rows_mean(d, f)
+        out["value"], out["se"] = _finish(volume * mean, volume * se, empty, undefined)
+        if dp is None:
+            return out
+        g = full(_run(linked, x, rep, dparams=dp, mode=TANGENT)[1], npts * n).reshape(npts, n)
+        mean, se = _rows_mean(d, g)
+        out["reg"], out["reg_se"] = _finish(volume * mean, volume * se, empty, undefined)
+        bnd, var, low = _boundary(linked, grid, dp, rng, samples, method, lo, hi, npts)
+        out["bnd"], out["bnd_se"] = _finish(bnd, np.sqrt(var), empty, undefined)
+        out["low"] = low
+    return out
+
+
+def _finish(est: np.ndarray, se: np.ndarray, empty: np.ndarray, undefined: np.ndarray):
+    """An empty box integrates to 0 exactly; a box outside a primitive's domain to NaN."""
+    est = np.where(empty, 0.0, np.where(undefined, math.nan, est))
+    se = np.where(empty, 0.0, np.where(undefined, math.nan, se))
+    return est, se
+
+
+def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: str, lo, hi, npts: int):
+    """Σ_k ∫ E_k δ_k at every point (see :func:`.estimate._boundary`): the u'-boxes point by
+    point, then every site's points at every parameter point scored in one DELTA pass."""
+    live = set(dp)
+    m = len(linked.variables) - 1
+    total, var = np.zeros(npts), np.zeros(npts)
+    low = np.zeros(npts, dtype=bool)
+    plan = []  # (site id, design, volumes (P,), branches [(x, weight, valid, dpsi)])
+    for k, site in enumerate(linked.sites):
+        if not (site.deps & live):
+            continue
+        des = design(rng, m, samples, method)
+        nb = des.points.shape[0]
+        fold = m == 1 and site.sampler.has_guards
+        skip = np.zeros(npts, dtype=bool)
+        ulo, uhi = np.zeros((npts, m)), np.zeros((npts, m))
+        if m:
+            col = {name: v[:, None] for name, v in grid.items()}
+            box = {v: (lo[:, j, None], hi[:, j, None]) for j, v in enumerate(linked.variables)}
+            ulo, uhi = site.sampler.region_many(box, col)
+            unbounded = np.any(~np.isfinite(ulo) | ~np.isfinite(uhi), axis=1)
+            total[unbounded] = var[unbounded] = math.nan  # no finite box encloses the zero set here
+            skip |= unbounded
+            fine = np.flatnonzero(~unbounded)
+            if len(fine):
+                sub = {v: (a[fine], b[fine]) for v, (a, b) in box.items()}
+                slo, shi = site.sampler.shrink_many(ulo[fine], uhi[fine], sub, {k: v[fine] for k, v in col.items()})
+                ulo[fine], uhi[fine] = slo, shi
+                skip[fine[np.any(~(shi > slo), axis=1)]] = True
+        per_point = []
+        if fold:
+            for i in np.flatnonzero(~skip):
+                p = {name: float(v[i]) for name, v in grid.items()}
+                per_point.append(site.sampler.points(des.points, [(ulo[i, 0], uhi[i, 0])], p))
+        rep = {name: np.repeat(v, nb) for name, v in grid.items()}
+        if fold:
+            volumes = np.zeros(npts)
+            live_pts = [i for i in range(npts) if not skip[i]]
+            nbranch = len(site.sampler.psi.branches)
+            branches = []
+            for b in range(nbranch):
+                xs = {v: np.zeros(npts * nb) for v in linked.variables}
+                w, ok = np.zeros(npts * nb), np.zeros(npts * nb, dtype=bool)
+                for i, (vol, out) in zip(live_pts, per_point):
+                    volumes[i] = vol
+                    sl = slice(i * nb, (i + 1) * nb)
+                    for v in linked.variables:
+                        xs[v][sl] = out[b][0][v]
+                    w[sl], ok[sl] = out[b][1], out[b][2]
+                branches.append((xs, w, ok))
+        else:
+            volumes, branches = site.sampler.points_many(des.points, ulo, uhi, rep)
+        skip_rep = np.repeat(skip, nb)
+        branches = [(xb, w, ok & ~skip_rep, site.sampler.dpsi(xb, rep, dp)) for xb, w, ok in branches]
+        plan.append((k, des, np.where(skip, 0.0, volumes), branches, rep))
+    if not plan:
+        return total, var, low
+    # every (site, branch) block of P·N points one after the other, in one DELTA pass
+    ids, xs, ws, oks, dps, reps, counts, blocks = [], {v: [] for v in linked.variables}, [], [], [], [], [], []
+    for k, des, _, branches, rep in plan:
+        size = npts * des.points.shape[0]
+        counts.append(size * len(branches))
+        for xb, w, ok, dpsi in branches:
+            ids.append(np.full(size, k))
+            for v in linked.variables:
+                xs[v].append(xb[v])
+            ws.append(w)
+            oks.append(ok)
+            dps.append(full(dpsi, size))
+            reps.append(rep)
+            blocks.append((ws[-1],))
+    site_ids = np.concatenate(ids)
+    x = {v: np.concatenate(a) for v, a in xs.items()}
+    params = {name: np.concatenate([r[name] for r in reps]) for name in grid}
+    _, g = _run(linked, x, params, mode=DELTA, site=site_ids, sites=frozenset(k for k, *_ in plan))
+    inside = np.ones(len(site_ids), dtype=bool)
+    for j, v in enumerate(linked.variables):  # the closed box, widened as estimate._inside does
+        blo = np.concatenate([np.repeat(lo[:, j], len(r[0]) // npts) for r in blocks])
+        bhi = np.concatenate([np.repeat(hi[:, j], len(r[0]) // npts) for r in blocks])
+        tol = 1e-9 * np.maximum(1.0, np.maximum(np.abs(blo), np.abs(bhi)))
+        inside &= (x[v] >= blo - tol) & (x[v] <= bhi + tol)
+    score = np.where(np.concatenate(oks) & inside, np.concatenate(dps) * full(g, len(site_ids)) * np.concatenate(ws), 0.0)
+    at = 0
+    for (_k, des, volumes, branches, _), c in zip(plan, counts):
+        nb = des.points.shape[0]
+        f = score[at:at + c].reshape(len(branches), npts, nb).sum(axis=0)
+        at += c
+        if des.method == "exact":
+            total += f.sum(axis=1) if nb > 1 else f[:, 0]
+            continue
+        hits = np.count_nonzero(f, axis=1)
+        low |= (hits > 0) & (hits < LOW_HITS)
+        mean, se = _rows_mean(des, f)
+        total += volumes * mean
+        var += (volumes * se) ** 2
+    return total, var, low

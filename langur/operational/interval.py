@@ -1,0 +1,94 @@
+"""Interval enclosures over core terms, on arrays of boxes at once (the samplers' boxes, §9).
+
+:func:`enclose` bounds ⟦t⟧ over boxes of its variables: each box given by arrays of lower and
+upper ends (any shape that broadcasts with the parameters' arrays), so a whole grid of cells for
+a whole batch of parameter points is enclosed in one pass (no Python recursion per cell).
+Enclosures are conservative: a NaN end (an operation outside its domain) makes the interval
+unbounded, never narrower.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+
+from ..core import Add, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
+from ..primitives import REGISTRY, Image
+from .compile import const_value
+
+INF = np.inf
+
+
+def enclose(t: Term, box: dict, params: dict) -> tuple[np.ndarray, np.ndarray]:
+    """Arrays (lo, hi) containing ⟦t⟧ for every point of each box (``box``: variable → (lo, hi)
+    arrays) at ``params`` (name → number or array, broadcast with the boxes)."""
+    match t:
+        case Const():
+            c = np.float64(const_value(t))
+            return c, c
+        case Var(name):
+            return box[name]
+        case Param(name):
+            v = np.asarray(params[name], dtype=float)
+            return v, v
+        case Add(a, b):
+            (al, ah), (bl, bh) = enclose(a, box, params), enclose(b, box, params)
+            return al + bl, ah + bh
+        case Mul(a, b):
+            (al, ah), (bl, bh) = enclose(a, box, params), enclose(b, box, params)
+            with np.errstate(invalid="ignore"):
+                ps = np.broadcast_arrays(al * bl, al * bh, ah * bl, ah * bh)
+            lo, hi = np.fmin.reduce(ps), np.fmax.reduce(ps)  # NaN products ignored…
+            none = np.isnan(lo)  # …unless all are NaN: then anything
+            return np.where(none, -INF, lo), np.where(none, INF, hi)
+        case Pow(a, k):
+            return _pow(*enclose(a, box, params), k)
+        case Prim(op, a):
+            return _prim(op, *enclose(a, box, params))
+        case IfGe0(c, a, b):
+            (cl, ch), (al, ah), (bl, bh) = enclose(c, box, params), enclose(a, box, params), enclose(b, box, params)
+            lo = np.where(cl >= 0, al, np.where(ch < 0, bl, np.minimum(al, bl)))
+            hi = np.where(cl >= 0, ah, np.where(ch < 0, bh, np.maximum(ah, bh)))
+            return lo, hi
+        case IfDiffeo(_, a, b):
+            (al, ah), (bl, bh) = enclose(a, box, params), enclose(b, box, params)
+            return np.minimum(al, bl), np.maximum(ah, bh)
+        case Let(name, bound, body):
+            lo, hi = enclose(bound, box, params)
+            bl, bh = enclose(body, box, {**params, name: lo})
+            wide = lo != hi  # a let bound to a range: its body is not enclosed per value
+            return np.where(wide, -INF, bl), np.where(wide, INF, bh)
+    raise TypeError(f"cannot enclose {t!r}")
+
+
+def _pow(lo, hi, k: Fraction):
+    f = float(k)
+    with np.errstate(all="ignore"):
+        a, b = np.power(lo, f), np.power(hi, f)
+    if k.denominator == 1 and k > 0:
+        out_lo, out_hi = np.minimum(a, b), np.maximum(a, b)
+        if int(k) % 2 == 0:
+            straddles = (lo < 0) & (hi > 0)
+            out_lo = np.where(straddles, np.minimum(out_lo, 0.0), out_lo)
+        return out_lo, out_hi
+    unbounded = (lo < 0) if k.denominator != 1 else np.zeros(np.shape(lo), dtype=bool)
+    if k < 0:
+        unbounded = unbounded | ((lo <= 0) & (hi >= 0))
+    return np.where(unbounded, -INF, np.minimum(a, b)), np.where(unbounded, INF, np.maximum(a, b))
+
+
+def _prim(op: str, lo, hi):
+    """An interval containing f([lo, hi]) (unbounded where f is undefined on part of it)."""
+    prim = REGISTRY[op]
+    if prim.image in (Image.INCREASING, Image.DECREASING):
+        with np.errstate(all="ignore"):
+            a, b = prim.value(np.asarray(lo, dtype=float)), prim.value(np.asarray(hi, dtype=float))
+        bad = np.isnan(a) | np.isnan(b)
+        if prim.image is Image.DECREASING:
+            a, b = b, a
+        return np.where(bad, -INF, a), np.where(bad, INF, b)
+    if prim.image is Image.BOUNDED:
+        r = prim.range
+        return np.broadcast_to(np.float64(r[0]), np.shape(lo)), np.broadcast_to(np.float64(r[1]), np.shape(lo))
+    return np.broadcast_to(-INF, np.shape(lo)), np.broadcast_to(INF, np.shape(lo))
