@@ -36,7 +36,12 @@ class BatchEstimate:
     value per point (broadcast); ``value``/``stderr`` estimate ⟦p⟧.  With a direction,
     ``derivative``/``derivative_stderr`` estimate ⦇p⦈ = ``regular`` + ``boundary``; ``regular`` is
     standard AD (deltas dropped).  ``low_hits``: points where a zero set was hit by fewer than
-    :data:`~.estimate.LOW_HITS` samples (their boundary standard error is not reliable)."""
+    :data:`~.estimate.LOW_HITS` samples (their boundary standard error is not reliable).
+
+    Every point draws the same design (the per-point API's, for the seed): their errors are
+    correlated (common random numbers: an image's noise is smooth across pixels), so the
+    standard error of a sum over points is at most the sum of the points' standard errors — not
+    the root of the sum of their squares."""
 
     params: dict[str, np.ndarray]
     value: np.ndarray

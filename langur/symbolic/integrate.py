@@ -126,7 +126,7 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -
         notes.append(first)
         notes.extend(dict.fromkeys(ctx.notes))
         return Integral(expr, value, Method.CLOSED_FORM, 0.0, check if exacts else None, notes, everywhere=not cell,
-                        inconsistent=tuple(ctx.inconsistent))
+                        inconsistent=tuple(ctx.inconsistent), cell=tuple(ctx.cell), generic=ctx.generic)
     value = 0.0
     error = 0.0
     exact_part = []

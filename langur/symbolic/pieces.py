@@ -108,3 +108,8 @@ class Integral:
     #: closed forms that disagreed with the quadrature cross-check (an engine bug; the quadrature
     #: was reported instead)
     inconsistent: tuple[str, ...] = ()
+    #: for a closed form: the relations on the parameters that define the cell where it holds
+    #: (empty with ``everywhere``); ``generic``: it also needs the same set of real roots as at
+    #: the evaluation point, which ``cell`` does not say
+    cell: tuple = ()
+    generic: bool = False
