@@ -32,6 +32,7 @@ COMMANDS = {
     "eval": "the program's value: exact (symbolic) and Monte Carlo (operational)",
     "deriv": "the derivative: exact, Monte Carlo, standard AD, and the Theorem 8.1 check",
     "plot": "the integrand and its derivative as a picture",
+    "render": "a program over a grid of two parameters, as an image (value, derivative, standard AD)",
     "fuzz": "differential testing of the two engines on random programs",
     "reproduce": "the paper's examples and figures, each with its numbers checked",
 }
@@ -82,7 +83,7 @@ seed = count(0, MAX_SEED, "a seed")
 MAX_TIMEOUT = 86_400.0
 #: The default time budget of ``show``, ``eval`` and ``deriv`` (the whole command) and of
 #: ``check`` (each file: a budget that suits a CI job).
-DEFAULT_TIMEOUT = {"show": 600.0, "eval": 600.0, "deriv": 600.0, "plot": 600.0, "check": 60.0}
+DEFAULT_TIMEOUT = {"show": 600.0, "eval": 600.0, "deriv": 600.0, "plot": 600.0, "render": 600.0, "check": 60.0}
 
 
 def seconds(text: str) -> float:
@@ -189,7 +190,7 @@ def main(argv: list[str] | None = None) -> int:
             for quiet in (DeprecationWarning, PendingDeprecationWarning, FutureWarning):
                 warnings.simplefilter("ignore", quiet)  # about libraries' APIs, not the user's numbers
             try:
-                if args.command in ("show", "eval", "deriv"):  # one budget for the whole command
+                if args.command in ("show", "eval", "deriv", "render"):  # one budget for the whole command
                     progress.enable(args.command, None if not getattr(args, "json", False) else False)
                     return int(run_with_timeout(lambda: args._run(args), args.timeout) or 0)
                 return int(args._run(args) or 0)

@@ -29,7 +29,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
               "langur.progress", "langur.modules")),
     ("sympy bridge", ("langur.sympy_bridge",)),
     ("front end", ("langur.syntax", "langur.typesys", "langur.frontend")),
-    ("exact engine", ("langur.symbolic", "langur.denote", "langur.ddenote")),
+    ("exact engine", ("langur.symbolic", "langur.denote", "langur.ddenote", "langur.exact_batch")),
     ("linter", ("langur.transversality", "langur.lint")),
     ("top", ("langur.exact", "langur.theorem", "langur.reproduce", "langur.fuzz", "langur.commands",
              "langur.cli", "langur.__main__")),
@@ -43,6 +43,7 @@ LAZY: dict[tuple[str, str], str] = {
     ("langur.ddenote", "langur.symbolic.integrate"): "scipy (0.3 s): only when integrating",
     ("langur.commands._engines", "langur.exact"): "sympy and scipy (0.8 s): not for --engine mc",
     ("langur.commands._engines", "langur.operational"): "not for --engine exact",
+    ("langur.commands.render", "langur.exact_batch"): "sympy (0.8 s): only with --exact",
 }
 
 

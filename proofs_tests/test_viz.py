@@ -166,3 +166,10 @@ def test_what_is_drawn_adds_up_to_the_derivative(path, wrt):
         drawn = sum(r.integral() for r in G.ridges(s))
     assert drawn == pytest.approx(s.boundary, rel=1e-3, abs=1e-9)
     assert s.derivative == pytest.approx(s.standard_ad + s.boundary, rel=1e-9, abs=1e-12)
+
+
+def test_reproduce_renderer_draws_fig13(tmp_path):
+    r = _langur("reproduce", "renderer", "--samples", "2000", "--out", str(tmp_path))
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert os.listdir(tmp_path) == ["renderer_fig13.png"]
+    assert "Σ boundary · h² (exact)" in r.stdout and "MC and exact images agree" in r.stdout

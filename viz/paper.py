@@ -3,14 +3,16 @@
 * ``fig1``: Fig. 1 (a)–(d) at θ = 0.5 (:mod:`viz.curves`);
 * ``fig9``: Fig. 9's three surfaces, the view from above and Monte Carlo convergence
   (:mod:`viz.surfaces`, :mod:`viz.flat`);
-* ``risk``: Fig. 2 and Fig. 3 (:mod:`viz.risk`).
+* ``risk``: Fig. 2 and Fig. 3 (:mod:`viz.risk`);
+* ``renderer``: Fig. 13 (b)–(c), the three shaders' images, their derivative in c and standard AD's
+  on the derivative's scale (:mod:`viz.images`).
 """
 
 from __future__ import annotations
 
 import os
 
-from . import curves, flat, geometry, risk, surfaces
+from . import curves, flat, geometry, images, risk, surfaces
 
 
 def _scene(figures: dict) -> geometry.Scene:
@@ -34,4 +36,24 @@ def draw(name: str, figures: dict, out: str) -> list[str]:
                 flat.convergence(s, figures["loaded"], path("convergence"), title + ": Monte Carlo", "θ")]
     if name == "risk":
         return [risk.fig2(figures, path("fig2")), risk.fig3(figures, path("fig3"))]
+    if name == "renderer" and "fig13" in figures:
+        return [fig13(figures["fig13"], path("fig13"))]
     return []
+
+
+SHADERS = {"shader": "constant shader", "lin_shader": "linear shader", "quad_shader": "quadratic shader"}
+
+
+def fig13(data: dict, out: str) -> str:
+    """Fig. 13: a row of images per quantity (value; D_c; standard AD on D_c's scale, where the
+    line is missing; standard AD on its own scale, the interior derivative ∂_c s of the linear and
+    quadratic shaders), a column per shader."""
+    imgs = data["images"]
+    rows = [[images.Panel(f"{SHADERS.get(k, k)}: value", v["value"], scale=f"v-{k}") for k, v in imgs.items()],
+            [images.Panel(f"{SHADERS.get(k, k)}: d/dc", v["derivative"], True, f"d-{k}") for k, v in imgs.items()],
+            [images.Panel(f"{SHADERS.get(k, k)}: standard AD", v["standard_ad"], True, f"d-{k}")
+             for k, v in imgs.items()],
+            [images.Panel(f"{SHADERS.get(k, k)}: standard AD, own scale", v["standard_ad"], True, f"s-{k}")
+             for k, v in imgs.items()]]
+    return images.save(rows, data["extent"], ("x", "y"), out,
+                       f"Fig. 13: the half-plane x + y + c ≥ 0 at c = {data['c']:g}, 100 × 100 pixels (Monte Carlo)")

@@ -1,0 +1,209 @@
+"""``langur render FILE --grid px=0:0.99:100,py=0:0.99:100 [--wrt NAME]``: a program over a grid of
+two of its parameters, as an image (paper §10.1, Fig. 13).
+
+Each grid point is one evaluation of the program (an image's pixel, its position among the
+parameters): the Monte Carlo engine evaluates all of them in one batch
+(:func:`langur.operational.batch.estimate_batch`); with ``--exact``, the exact engine too, one
+closed form per parameter cell (:func:`langur.exact_batch.exact_batch`), and the two are compared.
+With ``--wrt``, the derivative image stands next to standard AD's: the line standard AD misses is
+the point.  ``--npz`` keeps the arrays; ``-o`` draws them (the ``plot`` extra).
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import os
+import sys
+import time
+
+import numpy as np
+
+from .. import progress
+from ..cli import UsageError, add_common, add_timeout, samples, seed
+from ..operational.batch import estimate_batch
+from ..operational.sample import METHODS
+from . import _common as c
+
+#: Most grid points per axis, and most samples in all (points × samples per point).
+MAX_AXIS = 2000
+MAX_TOTAL = 50_000_000
+
+
+def add_arguments(p):
+    p.add_argument("file", metavar="FILE", help="a .lgr file with a program")
+    p.add_argument("--grid", required=True, metavar="X=START:STOP:N,Y=START:STOP:N",
+                   help="two parameters swept over N evenly spaced values from START to STOP each: "
+                   "the first along the image's columns, the second along its rows (row 0 at the top)")
+    p.add_argument("--wrt", metavar="NAME", help="also the derivative with respect to this parameter")
+    p.add_argument("--dir", action="append", metavar="NAME=VALUE", help="a direction γ' instead of --wrt")
+    p.add_argument("-o", "--out", metavar="OUT.png", help="draw the images (needs the plot extra)")
+    p.add_argument("--npz", metavar="OUT.npz", help="save the arrays (numpy .npz)")
+    p.add_argument("--exact", action="store_true",
+                   help="also the exact engine's image (one closed form per parameter cell), compared")
+    add_common(p)
+    p.add_argument("--samples", type=samples(), default=64, metavar="N",
+                   help="Monte Carlo samples per grid point (default 64)")
+    p.add_argument("--seed", type=seed, default=0, metavar="S", help="random seed (same seed, same image)")
+    p.add_argument("--method", choices=METHODS, default="uniform", help="Monte Carlo design")
+    add_timeout(p, "render", "for the whole command, in seconds")
+
+
+def parse_grid(text: str, declared) -> list[tuple[str, np.ndarray]]:
+    """``px=0:0.99:100,py=0:0.99:100`` → [(name, values)]; exactly two distinct declared params."""
+    axes = []
+    for part in [s.strip() for s in text.split(",") if s.strip()]:
+        name, eq, spec = part.partition("=")
+        bits = spec.split(":")
+        if not eq or len(bits) != 3:
+            raise UsageError(f"--grid expects NAME=START:STOP:N, got {part!r}")
+        name = name.strip()
+        if name not in declared:
+            raise UsageError(f"--grid {name}: no such parameter (declared: {', '.join(declared) or 'none'})")
+        try:
+            start, stop, n = float(bits[0]), float(bits[1]), int(bits[2])
+        except ValueError:
+            raise UsageError(f"--grid {name}: {spec!r} is not START:STOP:N (two numbers, one count)") from None
+        if not (math.isfinite(start) and math.isfinite(stop)):
+            raise UsageError(f"--grid {name}: the ends must be finite numbers")
+        if not 1 <= n <= MAX_AXIS:
+            raise UsageError(f"--grid {name}: N must be between 1 and {MAX_AXIS}, got {n}")
+        axes.append((name, np.linspace(start, stop, n)))
+    if len(axes) != 2 or axes[0][0] == axes[1][0]:
+        raise UsageError("--grid needs two different parameters (an image has two axes)")
+    return axes
+
+
+def _summary(a: np.ndarray) -> dict:
+    finite = a[np.isfinite(a)]
+    if not finite.size:
+        return {"min": None, "max": None, "mean": None, "nan": int(a.size)}
+    return {"min": float(finite.min()), "max": float(finite.max()), "mean": float(finite.mean()),
+            "nan": int(a.size - finite.size)}
+
+
+def _refuse_overwrite(path: str, program: str) -> None:
+    if path.endswith(".lgr") or (program != "-" and os.path.abspath(path) == os.path.abspath(program)):
+        raise UsageError(f"{path}: refusing to write over a program")
+
+
+def run(args) -> int:
+    loaded = c.load(args)
+    c.require_program(loaded, args.file)
+    (xn, xs), (yn, ys) = parse_grid(args.grid, loaded.params)
+    if xs.size * ys.size * args.samples > MAX_TOTAL:
+        raise UsageError(f"{xs.size} × {ys.size} points × {args.samples} samples is more than {MAX_TOTAL:,} "
+                         "samples in all: fewer points or fewer --samples")
+    for path in (args.out, args.npz):
+        if path:
+            _refuse_overwrite(path, args.file)
+    painter = _painter() if args.out else None
+    base = {k: float(v) for k, v in c.param_values(args, loaded).items() if k not in (xn, yn)}
+    direction = c.direction(args, loaded) if (args.wrt or args.dir) else None
+    X, Y = np.meshgrid(xs, ys)  # rows: the second parameter; columns: the first
+    grid = {**base, xn: X.ravel(), yn: Y.ravel()}
+    shape = X.shape
+    t = time.perf_counter()
+    with progress.phase(f"Monte Carlo over {X.size} points"):
+        mc = estimate_batch(loaded, grid, direction=direction, samples=args.samples, seed=args.seed,
+                            method=args.method)
+    mc_seconds = time.perf_counter() - t
+    arrays = {xn: xs, yn: ys, "value": mc.value.reshape(shape), "value_stderr": mc.stderr.reshape(shape)}
+    if direction is not None:
+        arrays.update(derivative=mc.derivative.reshape(shape), derivative_stderr=mc.derivative_stderr.reshape(shape),
+                      standard_ad=mc.regular.reshape(shape), boundary=mc.boundary.reshape(shape))
+    report = {"grid": {xn: [float(xs[0]), float(xs[-1]), int(xs.size)], yn: [float(ys[0]), float(ys[-1]), int(ys.size)]},
+              "at": base, "samples": args.samples, "seed": args.seed, "method": args.method,
+              "mc_seconds": round(mc_seconds, 3), "value": _summary(mc.value)}
+    if direction is not None:
+        report.update(direction={k: v for k, v in direction.items() if v}, derivative=_summary(mc.derivative),
+                      standard_ad=_summary(mc.regular))
+    if mc.notes:
+        report["notes"] = list(mc.notes)
+    if args.exact:
+        report["exact"] = _exact(loaded, grid, direction, mc, shape, arrays)
+    written = []
+    if args.npz:
+        np.savez_compressed(args.npz, **arrays)
+        written.append(args.npz)
+    if painter is not None:
+        with progress.phase("drawing"):
+            written.append(_draw(painter, args, arrays, direction, (xn, yn), xs, ys))
+    report["written"] = written
+    if args.json:
+        c.dump_json(report)
+    else:
+        _print(args, report, X.size)
+    sys.stdout.flush()
+    return 0
+
+
+def _exact(loaded, grid, direction, mc, shape, arrays) -> dict:
+    """The exact engine's image (:mod:`langur.exact_batch`: sympy, imported only when asked) and
+    how far the Monte Carlo image is from it, in standard errors."""
+    from ..exact_batch import exact_batch  # sympy (0.8 s): only with --exact
+    t = time.perf_counter()
+    with progress.phase("exact engine over the grid (sympy)"):
+        ex = exact_batch(loaded.program, grid, direction)
+    out = {"seconds": round(time.perf_counter() - t, 3), "derivations": ex.derivations,
+           "closed_form_points": int(ex.closed.sum()), "missing": ex.missing, "value": _summary(ex.value)}
+    arrays["exact_value"] = ex.value.reshape(shape)
+    pairs = [("value", mc.value, mc.stderr, ex.value)]
+    if direction is not None:
+        arrays["exact_derivative"] = ex.derivative.reshape(shape)
+        out["derivative"] = _summary(ex.derivative)
+        pairs.append(("derivative", mc.derivative, mc.derivative_stderr, ex.derivative))
+    for name, m, se, e in pairs:
+        ok = np.isfinite(m) & np.isfinite(e)
+        z = np.abs(m - e)[ok & (se > 0)] / se[ok & (se > 0)]
+        out[f"{name}_max_z"] = float(z.max()) if z.size else 0.0
+        out[f"{name}_beyond_5se"] = int(np.count_nonzero(z > 5))
+    return out
+
+
+def _painter():
+    try:
+        return importlib.import_module("viz.images")
+    except ImportError as e:
+        raise UsageError(f"-o needs the plot extra ({e.name or e}): pip install -e '.[plot]'") from None
+
+
+def _draw(images, args, arrays, direction, names, xs, ys) -> str:
+    dx = (xs[-1] - xs[0]) / (len(xs) - 1) if len(xs) > 1 else 1.0
+    dy = (ys[-1] - ys[0]) / (len(ys) - 1) if len(ys) > 1 else 1.0
+    extent = (float(xs[0]), float(xs[-1] + dx), float(ys[0]), float(ys[-1] + dy))
+    row = [images.Panel("value (Monte Carlo)", arrays["value"], scale="value")]
+    if "exact_value" in arrays:
+        row.append(images.Panel("value (exact)", arrays["exact_value"], scale="value"))
+    rows = [row]
+    if direction is not None:
+        wrt = ", ".join(k for k, v in direction.items() if v)
+        drow = [images.Panel(f"d/d{wrt} (Monte Carlo)", arrays["derivative"], True, "d"),
+                images.Panel("standard AD (deltas dropped)", arrays["standard_ad"], True, "d")]
+        if "exact_derivative" in arrays:
+            drow.insert(1, images.Panel(f"d/d{wrt} (exact)", arrays["exact_derivative"], True, "d"))
+        rows.append(drow)
+    return images.save(rows, extent, names, args.out, f"{args.file}: {args.samples} samples per point")
+
+
+def _print(args, report: dict, npoints: int) -> None:
+    (xn, gx), (yn, gy) = report["grid"].items()
+    print(f"{args.file}: {npoints} points, {xn} in [{gx[0]:g}, {gx[1]:g}] ({gx[2]}) × {yn} in [{gy[0]:g}, {gy[1]:g}] "
+          f"({gy[2]}), {args.samples} samples each, {report['mc_seconds']:g} s")
+    v = report["value"]
+    print(f"  value       : {c.fmt(v['min'])} to {c.fmt(v['max'])}" if v["min"] is not None else "  value: undefined")
+    if "derivative" in report:
+        d, s = report["derivative"], report["standard_ad"]
+        print(f"  derivative  : {c.fmt(d['min'])} to {c.fmt(d['max'])}")
+        print(f"  standard AD : {c.fmt(s['min'])} to {c.fmt(s['max'])}   (deltas dropped)")
+    if "exact" in report:
+        e = report["exact"]
+        parts = [f"{e['derivations']} derivation(s), {e['closed_form_points']} points by closed form"]
+        for name in ("value", "derivative"):
+            if f"{name}_max_z" in e:
+                parts.append(f"{name}: MC within {e[f'{name}_max_z']:.2g} SE (beyond 5 SE: {e[f'{name}_beyond_5se']})")
+        print(f"  exact       : {'; '.join(parts)}")
+    for note in report.get("notes", []):
+        print(f"  note: {note}")
+    for path in report["written"]:
+        print(path)
