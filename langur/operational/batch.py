@@ -171,13 +171,12 @@ def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: s
     m = len(linked.variables) - 1
     total, var = np.zeros(npts), np.zeros(npts)
     low = np.zeros(npts, dtype=bool)
-    plan = []  # (site id, design, volumes (P,), branches [(x, weight, valid, dpsi)])
+    plan = []  # (site id, design, its points, their volumes, branches [(x, weight, valid, dpsi)], params)
     for k, site in enumerate(linked.sites):
         if not (site.deps & live):
             continue
         des = design(rng, m, samples, method)
         nb = des.points.shape[0]
-        fold = m == 1 and site.sampler.has_guards
         skip = np.zeros(npts, dtype=bool)
         ulo, uhi = np.zeros((npts, m)), np.zeros((npts, m))
         if m:
@@ -193,34 +192,55 @@ def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: s
                 slo, shi = site.sampler.shrink_many(ulo[fine], uhi[fine], sub, {k: v[fine] for k, v in col.items()})
                 ulo[fine], uhi[fine] = slo, shi
                 skip[fine[np.any(~(shi > slo), axis=1)]] = True
-        per_point = []
-        if fold:
-            for i in np.flatnonzero(~skip):
-                p = {name: float(v[i]) for name, v in grid.items()}
-                per_point.append(site.sampler.points(des.points, [(ulo[i, 0], uhi[i, 0])], p))
-        rep = {name: np.repeat(v, nb) for name, v in grid.items()}
-        if fold:
-            volumes = np.zeros(npts)
-            live_pts = [i for i in range(npts) if not skip[i]]
-            nbranch = len(site.sampler.psi.branches)
-            branches = []
-            for b in range(nbranch):
-                xs = {v: np.zeros(npts * nb) for v in linked.variables}
-                w, ok = np.zeros(npts * nb), np.zeros(npts * nb, dtype=bool)
-                for i, (vol, out) in zip(live_pts, per_point):
-                    volumes[i] = vol
-                    sl = slice(i * nb, (i + 1) * nb)
-                    for v in linked.variables:
-                        xs[v][sl] = out[b][0][v]
-                    w[sl], ok[sl] = out[b][1], out[b][2]
-                branches.append((xs, w, ok))
-        else:
-            volumes, branches = site.sampler.points_many(des.points, ulo, uhi, rep)
-        skip_rep = np.repeat(skip, nb)
-        branches = [(xb, w, ok & ~skip_rep, site.sampler.dpsi(xb, rep, dp)) for xb, w, ok in branches]
-        plan.append((k, des, np.where(skip, 0.0, volumes), branches, rep))
+        idx = np.flatnonzero(~skip)  # the points whose box this zero set meets
+        if not len(idx):
+            continue
+        sub = {name: v[idx] for name, v in grid.items()}
+        rep = {name: np.repeat(v, nb) for name, v in sub.items()}
+        volumes, branches = site.sampler.points_many(des.points, ulo[idx], uhi[idx], rep, point_params=sub)
+        branches = [(xb, w, ok, site.sampler.dpsi(xb, rep, dp)) for xb, w, ok in branches]
+        plan.append((k, des, idx, volumes, branches, rep))
     if not plan:
         return total, var, low
+    # every (site, branch) block of its points × N samples one after the other, in one DELTA pass
+    ids, xs, ws, oks, dps, reps, boxes, counts = [], {v: [] for v in linked.variables}, [], [], [], [], [], []
+    for k, des, idx, _, branches, rep in plan:
+        size = len(idx) * des.points.shape[0]
+        counts.append(size * len(branches))
+        for xb, w, ok, dpsi in branches:
+            ids.append(np.full(size, k))
+            for v in linked.variables:
+                xs[v].append(xb[v])
+            ws.append(w)
+            oks.append(ok)
+            dps.append(full(dpsi, size))
+            reps.append(rep)
+            boxes.append(np.repeat(idx, des.points.shape[0]))
+    site_ids = np.concatenate(ids)
+    x = {v: np.concatenate(a) for v, a in xs.items()}
+    params = {name: np.concatenate([r[name] for r in reps]) for name in grid}
+    _, g = _run(linked, x, params, mode=DELTA, site=site_ids, sites=frozenset(k for k, *_ in plan))
+    owner = np.concatenate(boxes)
+    inside = np.ones(len(site_ids), dtype=bool)
+    for j, v in enumerate(linked.variables):  # the closed box, widened as estimate._inside does
+        blo, bhi = lo[owner, j], hi[owner, j]
+        tol = 1e-9 * np.maximum(1.0, np.maximum(np.abs(blo), np.abs(bhi)))
+        inside &= (x[v] >= blo - tol) & (x[v] <= bhi + tol)
+    score = np.where(np.concatenate(oks) & inside, np.concatenate(dps) * full(g, len(site_ids)) * np.concatenate(ws), 0.0)
+    at = 0
+    for (_k, des, idx, volumes, branches, _), c in zip(plan, counts):
+        nb = des.points.shape[0]
+        f = score[at:at + c].reshape(len(branches), len(idx), nb).sum(axis=0)
+        at += c
+        if des.method == "exact":
+            total[idx] += f.sum(axis=1) if nb > 1 else f[:, 0]
+            continue
+        hits = np.count_nonzero(f, axis=1)
+        low[idx] |= (hits > 0) & (hits < LOW_HITS)
+        mean, se = _rows_mean(des, f)
+        total[idx] += volumes * mean
+        var[idx] += (volumes * se) ** 2
+    return total, var, low
     # every (site, branch) block of P·N points one after the other, in one DELTA pass
     ids, xs, ws, oks, dps, reps, counts, blocks = [], {v: [] for v in linked.variables}, [], [], [], [], [], []
     for k, des, _, branches, rep in plan:

@@ -22,44 +22,65 @@ INF = np.inf
 
 def enclose(t: Term, box: dict, params: dict) -> tuple[np.ndarray, np.ndarray]:
     """Arrays (lo, hi) containing ⟦t⟧ for every point of each box (``box``: variable → (lo, hi)
-    arrays) at ``params`` (name → number or array, broadcast with the boxes)."""
-    match t:
-        case Const():
-            c = np.float64(const_value(t))
-            return c, c
-        case Var(name):
-            return box[name]
-        case Param(name):
-            v = np.asarray(params[name], dtype=float)
-            return v, v
-        case Add(a, b):
-            (al, ah), (bl, bh) = enclose(a, box, params), enclose(b, box, params)
-            return al + bl, ah + bh
-        case Mul(a, b):
-            (al, ah), (bl, bh) = enclose(a, box, params), enclose(b, box, params)
-            with np.errstate(invalid="ignore"):
-                ps = np.broadcast_arrays(al * bl, al * bh, ah * bl, ah * bh)
-            lo, hi = np.fmin.reduce(ps), np.fmax.reduce(ps)  # NaN products ignored…
-            none = np.isnan(lo)  # …unless all are NaN: then anything
-            return np.where(none, -INF, lo), np.where(none, INF, hi)
-        case Pow(a, k):
-            return _pow(*enclose(a, box, params), k)
-        case Prim(op, a):
-            return _prim(op, *enclose(a, box, params))
-        case IfGe0(c, a, b):
-            (cl, ch), (al, ah), (bl, bh) = enclose(c, box, params), enclose(a, box, params), enclose(b, box, params)
-            lo = np.where(cl >= 0, al, np.where(ch < 0, bl, np.minimum(al, bl)))
-            hi = np.where(cl >= 0, ah, np.where(ch < 0, bh, np.maximum(ah, bh)))
-            return lo, hi
-        case IfDiffeo(_, a, b):
-            (al, ah), (bl, bh) = enclose(a, box, params), enclose(b, box, params)
-            return np.minimum(al, bl), np.maximum(ah, bh)
-        case Let(name, bound, body):
-            lo, hi = enclose(bound, box, params)
-            bl, bh = enclose(body, box, {**params, name: lo})
-            wide = lo != hi  # a let bound to a range: its body is not enclosed per value
-            return np.where(wide, -INF, bl), np.where(wide, INF, bh)
-    raise TypeError(f"cannot enclose {t!r}")
+    arrays) at ``params`` (name → number or array, broadcast with the boxes).  A subterm shared
+    in ``t`` (substituted lets, inlined calls: a DAG) is enclosed once per parameter scope."""
+    return _Enclose(box).go(t, params)
+
+
+class _Enclose:
+    def __init__(self, box: dict):
+        self.box = box
+        self.memo: dict[tuple[int, int], tuple] = {}
+        self.scopes: list[dict] = []  # the parameter scopes stay alive, so their ids stay theirs
+
+    def go(self, t: Term, params: dict):
+        key = (id(t), id(params))
+        hit = self.memo.get(key)
+        if hit is None:
+            hit = self.memo[key] = self._enclose(t, params)
+        return hit
+
+    def _enclose(self, t: Term, params: dict):
+        box, enclose = self.box, self.go
+        match t:
+            case Const():
+                c = np.float64(const_value(t))
+                return c, c
+            case Var(name):
+                return box[name]
+            case Param(name):
+                v = np.asarray(params[name], dtype=float)
+                return v, v
+            case Add(a, b):
+                (al, ah), (bl, bh) = enclose(a, params), enclose(b, params)
+                return al + bl, ah + bh
+            case Mul(a, b):
+                (al, ah), (bl, bh) = enclose(a, params), enclose(b, params)
+                with np.errstate(invalid="ignore"):
+                    ps = np.broadcast_arrays(al * bl, al * bh, ah * bl, ah * bh)
+                lo, hi = np.fmin.reduce(ps), np.fmax.reduce(ps)  # NaN products ignored…
+                none = np.isnan(lo)  # …unless all are NaN: then anything
+                return np.where(none, -INF, lo), np.where(none, INF, hi)
+            case Pow(a, k):
+                return _pow(*enclose(a, params), k)
+            case Prim(op, a):
+                return _prim(op, *enclose(a, params))
+            case IfGe0(c, a, b):
+                (cl, ch), (al, ah), (bl, bh) = enclose(c, params), enclose(a, params), enclose(b, params)
+                lo = np.where(cl >= 0, al, np.where(ch < 0, bl, np.minimum(al, bl)))
+                hi = np.where(cl >= 0, ah, np.where(ch < 0, bh, np.maximum(ah, bh)))
+                return lo, hi
+            case IfDiffeo(_, a, b):
+                (al, ah), (bl, bh) = enclose(a, params), enclose(b, params)
+                return np.minimum(al, bl), np.maximum(ah, bh)
+            case Let(name, bound, body):
+                lo, hi = enclose(bound, params)
+                scope = {**params, name: lo}
+                self.scopes.append(scope)
+                bl, bh = enclose(body, scope)
+                wide = lo != hi  # a let bound to a range: its body is not enclosed per value
+                return np.where(wide, -INF, bl), np.where(wide, INF, bh)
+        raise TypeError(f"cannot enclose {t!r}")
 
 
 def _pow(lo, hi, k: Fraction):

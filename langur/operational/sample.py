@@ -243,15 +243,26 @@ class SiteSampler:
         volume, out = self.points_many(unit, lo, hi, params)
         return float(volume[0]), out
 
-    def points_many(self, unit: np.ndarray, lo: np.ndarray, hi: np.ndarray, params: dict):
-        """:meth:`points` for P parameter points at once (no fold map): ``lo``, ``hi`` are the
-        u'-boxes, shape (P, m); ``params`` values are scalars or arrays of P·N values (point-major,
-        N = ``unit``'s rows).  Returns the volumes (P,) and, per branch, arrays of P·N values."""
+    @property
+    def folds(self) -> bool:
+        """One coordinate u' and guards: the design goes through :meth:`fold_map`."""
+        return len(self.coords) == 1 and self.has_guards
+
+    def points_many(self, unit: np.ndarray, lo: np.ndarray, hi: np.ndarray, params: dict, point_params=None):
+        """:meth:`points` for P parameter points at once: ``lo``, ``hi`` are the u'-boxes, shape
+        (P, m); ``params`` values are scalars or arrays of P·N values (point-major, N = ``unit``'s
+        rows), ``point_params`` the same per point (P values; needed where the design folds).
+        Returns the volumes (P,) and, per branch, arrays of P·N values."""
         n = unit.shape[0]
         width = hi - lo
         volume = np.prod(width, axis=1) if width.shape[1] else np.ones(width.shape[0])
         size = width.shape[0] * n
         inputs = {self.psi.inputs[0]: np.zeros(size)}
+        factor = None
+        if self.folds:
+            u, factor = self.fold_map_many(unit[:, 0], lo[:, 0], hi[:, 0], point_params)
+            inputs[self.coords[0][0]], factor = u.reshape(size), factor.reshape(size)
+            return volume, self._map(inputs, size, params, factor)
         for j, (u, _, _) in enumerate(self.coords):
             inputs[u] = (lo[:, j, None] + unit[None, :, j] * width[:, j, None]).reshape(size)
         return volume, self._map(inputs, size, params, None)
@@ -299,36 +310,57 @@ class SiteSampler:
         uniform on [0, 1] with vol = hi − lo, so the returned factor is T'(s)/(hi − lo).  Any cut
         points give an exact change of variables (unbiased); good ones only lower the variance.
         Without a root on [lo, hi] (nor at its ends) the map is the identity."""
+        u, factor = self.fold_map_many(s, np.array([lo], dtype=float), np.array([hi], dtype=float), params, grid)
+        return u[0], factor[0]
+
+    def fold_map_many(self, s: np.ndarray, lo: np.ndarray, hi: np.ndarray, params: dict, grid: int = 257):
+        """:meth:`fold_map` for P parameter points at once: ``lo``, ``hi`` shape (P,), ``params``
+        values numbers or arrays (P,); the guards are evaluated on every point's grid, and their
+        roots bisected, in one pass each.  Returns u and the factor, shape (P, N)."""
+        npts = lo.shape[0]
         u_name = self.coords[0][0]
-        cuts = [lo, hi]
-        xs = np.linspace(lo, hi, grid)
-        at_ends = False
+        zero = self.psi.inputs[0]
+        cuts: list[list[float]] = [[float(lo[i]), float(hi[i])] for i in range(npts)]
+        xs = np.linspace(lo, hi, grid, axis=1)  # (P, grid)
+        at_ends = np.zeros(npts, dtype=bool)
+
+        def rows(idx):  # the parameters of the points ``idx`` (one per value to evaluate)
+            return {k: (np.asarray(v)[idx] if np.ndim(v) else v) for k, v in params.items()}
+
         for _, guards in self.branches:
             for g in guards:
-                def value(u, g=g):
-                    v = g(Point({self.psi.inputs[0]: np.zeros(len(u)), u_name: u}, params), UNLINKED)[0]
+                def value(u, idx, g=g):
+                    v = g(Point({zero: np.zeros(len(u)), u_name: u}, rows(idx)), UNLINKED)[0]
                     return np.broadcast_to(np.asarray(v, dtype=float), u.shape)
 
-                def sign(u, value=value):
-                    return value(u) >= 0
-                vals = value(xs)
-                at_ends |= bool(np.any(np.abs(vals[[0, -1]]) <= 1e-9 * (1.0 + np.nanmax(np.abs(vals)))))
+                owner = np.repeat(np.arange(npts), grid)
+                vals = value(xs.reshape(-1), owner).reshape(npts, grid)
+                with np.errstate(all="ignore"):
+                    scale = 1e-9 * (1.0 + np.nanmax(np.abs(vals), axis=1))
+                at_ends |= np.any(np.abs(vals[:, [0, -1]]) <= scale[:, None], axis=1)
                 sg = vals >= 0
-                k = np.nonzero(sg[1:] != sg[:-1])[0]
-                a, b, sa = xs[k], xs[k + 1], sg[k]
+                p, k = np.nonzero(sg[:, 1:] != sg[:, :-1])
+                a, b, sa = xs[p, k], xs[p, k + 1], sg[p, k]
                 for _ in range(60 if len(k) else 0):
                     m = 0.5 * (a + b)
-                    same = sign(m) == sa
+                    same = (value(m, p) >= 0) == sa
                     a, b = np.where(same, m, a), np.where(same, b, m)
-                cuts.extend((0.5 * (a + b)).tolist())
-        if len(cuts) == 2 and not at_ends:  # no fold on [lo, hi]: the plain uniform map
-            return lo + s * (hi - lo), np.ones_like(s)
-        pts = np.array(sorted({c for c in cuts if lo <= c <= hi}))
-        frac = (pts - lo) / (hi - lo)
-        j = np.clip(np.searchsorted(frac, s, side="right") - 1, 0, len(pts) - 2)
-        t = (s - frac[j]) / (frac[j + 1] - frac[j])
-        u = pts[j] + (pts[j + 1] - pts[j]) * (1.0 - np.cos(np.pi * t)) / 2.0
-        return u, (np.pi / 2.0) * np.sin(np.pi * t)
+                for i, c in zip(p.tolist(), (0.5 * (a + b)).tolist()):
+                    cuts[i].append(c)
+        n = s.shape[0]
+        u, factor = np.empty((npts, n)), np.empty((npts, n))
+        for i in range(npts):  # each point's cuts: a piecewise map of its own
+            lo_i, hi_i = float(lo[i]), float(hi[i])
+            if len(cuts[i]) == 2 and not at_ends[i] or not hi_i > lo_i:  # no fold: the plain uniform map
+                u[i], factor[i] = lo_i + s * (hi_i - lo_i), 1.0
+                continue
+            pts = np.array(sorted({c for c in cuts[i] if lo_i <= c <= hi_i}))
+            frac = (pts - lo_i) / (hi_i - lo_i)
+            j = np.clip(np.searchsorted(frac, s, side="right") - 1, 0, len(pts) - 2)
+            t = (s - frac[j]) / (frac[j + 1] - frac[j])
+            u[i] = pts[j] + (pts[j + 1] - pts[j]) * (1.0 - np.cos(np.pi * t)) / 2.0
+            factor[i] = (np.pi / 2.0) * np.sin(np.pi * t)
+        return u, factor
 
     def dpsi(self, x: dict, params: dict, dparams: dict):
         """D_γ π₀Ψ̂ · γ' at the points ``x`` (forward mode in the parameters)."""
