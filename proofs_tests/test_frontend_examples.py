@@ -12,7 +12,7 @@ from langur.diagnostics import LangurError
 from langur.frontend import core_term_from_text, load, load_bytes, load_text
 from langur.modules import Loaded
 
-ALL = sorted(EXAMPLES.glob("*.lgr")) + sorted(DEGENERATE.glob("*.lgr"))
+ALL = sorted(EXAMPLES.glob("*.lgr")) + sorted(DEGENERATE.glob("*.lgr")) + sorted((EXAMPLES / "raytrace").glob("*.lgr"))
 
 
 @pytest.mark.parametrize("path", ALL, ids=[p.name for p in ALL])
@@ -36,7 +36,9 @@ def test_every_example_loads(path):
 
 
 def test_example_count():
-    assert len(ALL) == 15  # risk_normalized.lgr (Fig. 2-3 with the normalized density) is the 15th
+    # risk_normalized.lgr (Fig. 2-3 with the normalized density) is the 15th, scene.lgr (Fig. 13's
+    # pixel) the 16th; raytrace/ holds §10.2's scene and its two shaders
+    assert len(ALL) == 19
 
 
 SHADERS = {

@@ -31,7 +31,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("front end", ("langur.syntax", "langur.typesys", "langur.frontend")),
     ("exact engine", ("langur.symbolic", "langur.denote", "langur.ddenote", "langur.exact_batch")),
     ("linter", ("langur.transversality", "langur.lint")),
-    ("top", ("langur.exact", "langur.theorem", "langur.reproduce", "langur.fuzz", "langur.commands",
+    ("top", ("langur.exact", "langur.theorem", "langur.reproduce", "langur.reference", "langur.fuzz", "langur.commands",
              "langur.cli", "langur.__main__")),
 ]
 #: The Monte Carlo engine sits beside the exact engine but reads the core layer only.

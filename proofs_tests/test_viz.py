@@ -168,8 +168,9 @@ def test_what_is_drawn_adds_up_to_the_derivative(path, wrt):
     assert s.derivative == pytest.approx(s.standard_ad + s.boundary, rel=1e-9, abs=1e-12)
 
 
-def test_reproduce_renderer_draws_fig13(tmp_path):
-    r = _langur("reproduce", "renderer", "--samples", "2000", "--out", str(tmp_path))
+def test_reproduce_renderer_and_raytrace_draw_fig13_and_fig14(tmp_path):
+    r = _langur("reproduce", "renderer", "raytrace", "--samples", "2000", "--out", str(tmp_path))
     assert r.returncode == 0, r.stdout + r.stderr
-    assert os.listdir(tmp_path) == ["renderer_fig13.png"]
+    assert sorted(os.listdir(tmp_path)) == ["raytrace_fig14.png", "renderer_fig13.png"]
     assert "Σ boundary · h² (exact)" in r.stdout and "MC and exact images agree" in r.stdout
+    assert "derivative's pattern = FD's" in r.stdout
