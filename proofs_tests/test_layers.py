@@ -26,12 +26,12 @@ ROOT = Path(__file__).resolve().parent.parent / "langur"
 
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("core", ("langur", "langur.codes", "langur.diagnostics", "langur.core", "langur.primitives", "langur.values", "langur.timebox",
-              "langur.progress", "langur.modules")),
+              "langur.progress", "langur.modules", "langur.core_json")),
     ("sympy bridge", ("langur.sympy_bridge",)),
     ("front end", ("langur.syntax", "langur.typesys", "langur.frontend")),
     ("exact engine", ("langur.symbolic", "langur.denote", "langur.ddenote", "langur.exact_batch")),
     ("linter", ("langur.transversality", "langur.lint")),
-    ("top", ("langur.exact", "langur.theorem", "langur.reproduce", "langur.reference", "langur.fuzz", "langur.commands",
+    ("top", ("langur.exact", "langur.theorem", "langur.reproduce", "langur.reference", "langur.engines", "langur.fuzz", "langur.commands",
              "langur.cli", "langur.__main__")),
 ]
 #: The Monte Carlo engine sits beside the exact engine but reads the core layer only.
@@ -44,6 +44,7 @@ LAZY: dict[tuple[str, str], str] = {
     ("langur.commands._engines", "langur.exact"): "sympy and scipy (0.8 s): not for --engine mc",
     ("langur.commands._engines", "langur.operational"): "not for --engine exact",
     ("langur.commands.render", "langur.exact_batch"): "sympy (0.8 s): only with --exact",
+    ("langur.commands._engines", "langur.engines"): "the exact engine (sympy): only when --engine names another engine",
 }
 
 

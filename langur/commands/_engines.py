@@ -6,6 +6,7 @@ import sys
 
 from .. import progress
 from .. import typesys as ty
+from ..cli import UsageError
 
 ENGINE_CHOICES = ["both", "exact", "mc"]
 
@@ -14,8 +15,65 @@ def add_engine_arguments(p) -> None:
     """The options eval and deriv share: Monte Carlo sampling and which engines run."""
     p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
                    help="Monte Carlo sampling (default uniform)")
-    p.add_argument("--engine", choices=ENGINE_CHOICES, default="both",
-                   help="which engines to run (default both)")
+    p.add_argument("--engine", default="both", metavar="NAME",
+                   help="which engines to run: both (default), exact or mc; or any other engine — "
+                   "standard-ad, module:function, cmd:PROGRAM, an installed plug-in — to compare "
+                   "with the exact engine (docs/engines.md)")
+
+
+def named_engine(args):
+    """The engine ``--engine NAME`` names when it is not one of both/exact/mc (None then)."""
+    if args.engine in ENGINE_CHOICES:
+        return None
+    from ..engines import UnknownEngine, resolve  # the engines (and sympy) only when one is named
+
+    try:
+        return resolve(args.engine, samples=args.samples, seed=args.seed, method=args.method,
+                       timeout=min(float(args.timeout), 600.0))
+    except UnknownEngine as e:
+        raise UsageError(str(e)) from None
+
+
+def compare_named(engine, ask, reference) -> tuple[dict, int]:
+    """Ask ``engine`` (``ask(engine)`` returns its answer) and compare with the exact engine's
+    ``reference`` (an ExactValue/ExactDerivative, or None): the ``engine`` object of the JSON output
+    and the exit status (1 when it disagrees or fails)."""
+    from ..engines import Answer, Declined, EngineFailure, agree, deviation
+
+    out = {"name": engine.name}
+    try:
+        with progress.phase(f"engine {engine.name}"):
+            answer = ask(engine)
+    except EngineFailure as e:
+        return {**out, "failure": str(e)}, 1
+    out["kind"] = str(engine.kind)
+    if isinstance(answer, Declined):
+        return {**out, "declined": answer.reason}, 0
+    out.update(value=answer.value, error=answer.error)
+    if reference is None:
+        return out, 0
+    ref = Answer(reference.value, reference.error or 0.0)
+    ok = agree(engine.kind, ref, answer)
+    out.update(agrees=ok, deviation=deviation(engine.kind, ref, answer))
+    return out, 0 if ok else 1
+
+
+def print_named(report: dict, label_width: int) -> None:
+    name = report["name"]
+    head = f"  {name:<{label_width}}: "
+    if "failure" in report:
+        print(f"{head}FAILED: {report['failure']}")
+    elif "declined" in report:
+        print(f"{head}declined: {report['declined']}")
+    else:
+        unit = {"stochastic": "SE", "bounded": "bounds"}.get(report["kind"], "")
+        err = f" ± {report['error']:.3g}" if report["error"] else ""
+        verdict = ""
+        if "agrees" in report:
+            off = report["deviation"]
+            how = "equal" if off == 0 else (f"{off:.2g} {unit} off" if unit and off != float("inf") else "differs")
+            verdict = f"; {'agrees with' if report['agrees'] else 'DISAGREES with'} exact ({how})"
+        print(f"{head}{report['value']:.10g}{err}   ({report['kind']}{verdict})")
 
 
 class Undefined(str):

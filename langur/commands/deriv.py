@@ -8,7 +8,16 @@ from .. import progress
 from ..cli import add_common, add_timeout
 from . import _common as c
 from . import _defined
-from ._engines import Undefined, add_engine_arguments, print_mc_notes, run_exact, run_mc
+from ._engines import (
+    Undefined,
+    add_engine_arguments,
+    compare_named,
+    named_engine,
+    print_mc_notes,
+    print_named,
+    run_exact,
+    run_mc,
+)
 
 
 def add_arguments(p):
@@ -33,8 +42,9 @@ def run(args) -> int:
     params = c.param_values(args, loaded)
     direction = c.direction(args, loaded)
     status = 0
-    exact = mc = theorem = None
+    exact = mc = theorem = named = None
     standard_ad = None
+    engine = named_engine(args)
     gate = _defined.transversal(loaded, args.file)  # X301: is ⦇p⦈ the derivative at all?
     rewrite = gate.shown if gate.findings else None
     if gate.findings and not args.rewrite:
@@ -48,13 +58,18 @@ def run(args) -> int:
     undefined = defined.undefined
     if undefined is not None:
         status = 1
-    elif args.engine in ("both", "exact"):
+    elif args.engine in ("both", "exact") or engine is not None:
         result, status = run_exact("deriv", program, params, direction, theorem=not args.no_theorem)
         if isinstance(result, Undefined):
             undefined, result = str(result), None
         if result is not None:
             exact, theorem = result, result.theorem_8_1
             standard_ad = {"value": result.standard_ad, "stderr": 0.0, "source": "exact"}
+    if engine is not None:  # another engine, compared with the exact one (docs/engines.md)
+        floats = {k: float(v) for k, v in params.items()}
+        dirs = {k: float(v) for k, v in direction.items()}
+        named, bad = compare_named(engine, lambda e: e.derivative(program, floats, dirs), exact)
+        status = max(status, bad)
     if args.engine in ("both", "mc"):
         mc = run_mc("deriv", target, params, args, direction,
                     infinite_variance=defined.infinite_variance or (undefined and "the derivative does not exist"))
@@ -67,7 +82,8 @@ def run(args) -> int:
                      "mc": mc.to_json(standard_ad=False) if mc is not None else None,
                      "standard_ad": standard_ad, "theorem_8_1": theorem.to_json() if theorem else None,
                      "undefined": undefined,
-                     "diagnostics": [d.to_json() for d in defined.diagnostics()], "rewrite": rewrite})
+                     "diagnostics": [d.to_json() for d in defined.diagnostics()], "rewrite": rewrite,
+                     **({"engine": named} if named is not None else {})})
         return status
     print(f"{args.file}: {_what(direction)} at {c.fmt_params(params)}")
     if rewrite is not None:
@@ -88,6 +104,8 @@ def run(args) -> int:
     if standard_ad is not None:
         print(f"  standard AD : {c.fmt(standard_ad['value'])} ± {c.fmt(standard_ad['stderr'], 3)}"
               "   (deltas dropped: what PyTorch or JAX compute on the discretized integral)")
+    if named is not None:
+        print_named(named, 12)
     if theorem is not None:
         verdict = {True: "holds", False: "FAILS", None: "inconclusive"}[theorem.holds]
         print(f"  Theorem 8.1 : {verdict}: D⟦p⟧ = {c.fmt(theorem.d_denotation)}, "

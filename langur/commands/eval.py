@@ -8,7 +8,16 @@ from .. import progress
 from ..cli import add_common, add_timeout
 from . import _common as c
 from . import _defined
-from ._engines import Undefined, add_engine_arguments, print_mc_notes, run_exact, run_mc
+from ._engines import (
+    Undefined,
+    add_engine_arguments,
+    compare_named,
+    named_engine,
+    print_mc_notes,
+    print_named,
+    run_exact,
+    run_mc,
+)
 
 
 def add_arguments(p):
@@ -23,17 +32,22 @@ def run(args) -> int:
     program = c.require_program(loaded, args.file)
     params = c.param_values(args, loaded)
     status = 0
-    exact = mc = None
+    exact = mc = named = None
+    engine = named_engine(args)
     with progress.phase("integrability analysis"):
         defined = _defined.value(program, params, args.file)  # X311: does ⟦p⟧ exist?
     defined.report(args.json)
     undefined = defined.undefined
     if undefined is not None:
         status = 1
-    elif args.engine in ("both", "exact"):
+    elif args.engine in ("both", "exact") or engine is not None:
         exact, status = run_exact("eval", program, params)
         if isinstance(exact, Undefined):
             undefined, exact = str(exact), None
+    if engine is not None:  # another engine, compared with the exact one (docs/engines.md)
+        floats = {k: float(v) for k, v in params.items()}
+        named, bad = compare_named(engine, lambda e: e.value(program, floats), exact)
+        status = max(status, bad)
     if args.engine in ("both", "mc"):
         mc = run_mc("eval", loaded, params, args,
                     infinite_variance=defined.infinite_variance or (undefined and "the integral does not exist"))
@@ -42,6 +56,7 @@ def run(args) -> int:
     if args.json:
         c.dump_json({"params": params, "exact": exact.to_json() if exact is not None else None,
                      "mc": mc.to_json() if mc is not None else None, "undefined": undefined,
+                     **({"engine": named} if named is not None else {}),
                      "diagnostics": [d.to_json() for d in defined.diagnostics()]})
         return status
     print(f"{args.file}: value at {c.fmt_params(params)}")
@@ -55,5 +70,7 @@ def run(args) -> int:
         print(f"  MC    : {c.fmt(mc.value)} ± {c.fmt(mc.stderr, 3)}   "
               f"({mc.samples} samples, {mc.method}, seed {mc.seed})")
         print_mc_notes(mc, "          ")
+    if named is not None:
+        print_named(named, 6)
     sys.stdout.flush()
     return status

@@ -12,7 +12,7 @@ import math
 import os
 import sys
 
-from .. import fuzz
+from .. import engines, fuzz
 from ..cli import MAX_SAMPLES, UsageError, count, samples, seed
 from . import _common as c
 
@@ -37,6 +37,9 @@ def add_arguments(p):
                    help="do not run the transversality linter (no program is discarded)")
     p.add_argument("--keep", metavar="DIR", help="write each failing program to DIR as a .lgr file "
                    "(created if missing; files already there are never overwritten)")
+    p.add_argument("--engine", metavar="NAME",
+                   help="compare this engine with the exact engine instead of the Monte Carlo engine: "
+                   "standard-ad, module:function, cmd:PROGRAM or an installed plug-in (docs/engines.md)")
     p.add_argument("--json", action="store_true", help="one JSON object on standard output")
     p.add_argument("-v", "--verbose", action="store_true", help="print each program's status as it runs")
 
@@ -61,11 +64,18 @@ def run(args) -> int:
                 for r in res.rows:
                     if not r.ok:
                         print(f"    ! {r.quantity}{' wrt ' + r.wrt if r.wrt else ''}: exact {r.exact!r} "
-                              f"(error {r.error:.3g}), mc {r.mc!r} ± {r.stderr:.3g}", file=sys.stderr)
+                              f"(error {r.error:.3g}), {r.engine} {r.mc!r} ± {r.stderr:.3g}", file=sys.stderr)
 
+    engine = None
+    if args.engine is not None:
+        try:
+            engine = engines.resolve(args.engine, samples=args.samples, seed=args.seed, method=args.method,
+                                     timeout=args.timeout)
+        except engines.UnknownEngine as e:
+            raise UsageError(str(e)) from None
     try:
         summary = fuzz.run_fuzz(args.examples, args.seed, args.samples, args.timeout, keep=args.keep,
-                                lint=not args.no_lint, progress=progress, method=args.method)
+                                lint=not args.no_lint, progress=progress, method=args.method, engine=engine)
     except fuzz.MissingHypothesis as e:
         print(f"langur fuzz: error: {e}", file=sys.stderr)
         return 2
@@ -81,8 +91,9 @@ def run(args) -> int:
         print(f"  {k:<20}{v:>9}")
     worst = max((r for res in summary.results for r in res.rows if r.quantity != "theorem_8_1"
                  and r.stderr > 0), key=lambda r: r.z, default=None)
+    label = engine.name if engine is not None else "mc"
     if worst is not None:
-        print(f"  largest |mc - exact| / stderr: {worst.z:.2f} ({worst.quantity}"
+        print(f"  largest |{label} - exact| / error: {worst.z:.2f} ({worst.quantity}"
               f"{' wrt ' + worst.wrt if worst.wrt else ''})")
     if summary.minimal is not None:
         m = summary.minimal
@@ -91,7 +102,7 @@ def run(args) -> int:
         for r in m.rows:
             if not r.ok:
                 print(f"  {r.quantity}{' wrt ' + r.wrt if r.wrt else ''}: exact {c.fmt(r.exact)}"
-                      f" (error {c.fmt(r.error, 3)}), mc {c.fmt(r.mc)} ± {c.fmt(r.stderr, 3)}")
+                      f" (error {c.fmt(r.error, 3)}), {r.engine} {c.fmt(r.mc)} ± {c.fmt(r.stderr, 3)}")
     for path in summary.kept:
         print(f"  wrote {path}")
     print("all comparisons agree" if not status else "DISCREPANCY found")

@@ -9,8 +9,8 @@ import os
 import time
 from dataclasses import dataclass, field
 
+from .. import engines, operational
 from .. import exact as api
-from .. import operational
 from ..diagnostics import LangurError
 from ..frontend import load_text
 from ..transversality import check_loaded
@@ -39,6 +39,7 @@ class Row:
     mc: float
     stderr: float
     ok: bool
+    engine: str = "mc"  # what was compared with the exact engine (mc, or --engine NAME)
 
     @property
     def z(self) -> float:
@@ -48,6 +49,9 @@ class Row:
         return d / self.stderr if self.stderr > 0 else math.inf
 
     def to_json(self) -> dict:
+        if self.engine != "mc":
+            return {"quantity": self.quantity, "wrt": self.wrt, "exact": self.exact, "error": self.error,
+                    "engine": self.engine, "value": self.mc, "engine_error": self.stderr, "ok": self.ok}
         return {"quantity": self.quantity, "wrt": self.wrt, "exact": self.exact, "error": self.error,
                 "mc": self.mc, "stderr": self.stderr, "ok": self.ok}
 
@@ -55,9 +59,11 @@ class Row:
 @dataclass
 class ProgramResult:
     """The outcome for one program: ``status`` is agree, discrepancy, timeout, exact_unavailable,
-    discarded (linter finding), load_error (the front end rejected a generated program) or
+    discarded (linter finding), load_error (the front end rejected a generated program),
     exact_error (the exact engine failed with an internal error, e.g. a closed form that
-    disagrees with its own quadrature cross-check)."""
+    disagrees with its own quadrature cross-check); against another engine (``--engine``) also
+    declined (it does not support the program: counted apart) and engine_failure (it crashed,
+    hung or answered something malformed)."""
 
     text: str
     status: str
@@ -69,7 +75,7 @@ class ProgramResult:
 
     @property
     def failed(self) -> bool:
-        return self.status in ("discrepancy", "load_error", "exact_error")
+        return self.status in ("discrepancy", "load_error", "exact_error", "engine_failure")
 
     def to_json(self) -> dict:
         return {"program": self.text, "status": self.status, "reason": self.reason,
@@ -108,10 +114,29 @@ def _exact_child(conn, program, params):
         conn.close()
 
 
+#: The exact engine's answers by program text (a campaign that revisits a program, or compares
+#: several engines on the same programs, computes the reference once); at most this many kept.
+REFERENCES = 512
+_reference: dict[tuple, tuple] = {}
+
+
 def _exact_all(program, params, timeout: float):
     """``(status, ex, exd)`` from the exact engine, run in a forked process that is killed after
     ``timeout`` seconds (a SIGALRM-based limit inside one process can be lost, e.g. when it fires
-    in a garbage-collector callback; a killed child cannot overrun)."""
+    in a garbage-collector callback; a killed child cannot overrun); remembered per program and
+    parameters (a timeout only for budgets no longer than the one that ran out)."""
+    key = (program, tuple(sorted((k, str(v)) for k, v in params.items())))
+    known = _reference.get(key)
+    if known is not None and (known[0] != "timeout" or known[2] >= timeout):
+        return known if known[0] != "timeout" else (known[0], known[1], None)
+    out = _exact_fork(program, params, timeout)
+    if len(_reference) >= REFERENCES:
+        _reference.pop(next(iter(_reference)))
+    _reference[key] = out if out[0] != "timeout" else (out[0], out[1], timeout)
+    return out
+
+
+def _exact_fork(program, params, timeout: float):
     import multiprocessing as mp
 
 
@@ -203,6 +228,49 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
     return result
 
 
+def compare_engine(text: str, engine, *, timeout: float = 20.0, lint: bool = True) -> ProgramResult:
+    """Load ``text`` and compare ``engine`` (the protocol of :mod:`langur.engines`) with the exact
+    engine on the value and every partial derivative, with the tolerance its kind asks for."""
+    try:
+        loaded = load_text(text, path="<fuzz>.lgr")
+    except LangurError as e:
+        return ProgramResult(text, "load_error", reason="; ".join(d.format() for d in e.diagnostics))
+    program, params = loaded.program, loaded.param_values({})
+    result = ProgramResult(text, "agree")
+    if lint:
+        found = check_loaded(loaded, at={k: float(v) for k, v in params.items()}, sources={"<fuzz>.lgr": text})
+        result.findings += [f"{f.code} {f.message}" for f in found]
+        if any(f.code in LINT_DISCARD for f in found):
+            result.status = "discarded"
+            return result
+    t0 = time.monotonic()
+    status, ex, exd = _exact_all(program, params, timeout)
+    result.exact_seconds = time.monotonic() - t0
+    if status != "ok":
+        result.status, result.reason = status, ex
+        return result
+    floats = {k: float(v) for k, v in params.items()}
+    asks = [("value", None, ex, lambda: engine.value(program, floats))]
+    for p in params:
+        d = {q: (1.0 if q == p else 0.0) for q in params}
+        asks.append(("derivative", p, exd[p], lambda d=d: engine.derivative(program, floats, d)))
+    for quantity, wrt, reference, ask in asks:
+        try:
+            answer = ask()
+        except engines.EngineFailure as e:
+            result.status, result.reason = "engine_failure", str(e)
+            return result
+        if isinstance(answer, engines.Declined):
+            result.status, result.reason = "declined", answer.reason
+            return result
+        ref = engines.Answer(reference.value, reference.error or 0.0)
+        result.rows.append(Row(quantity, wrt, ref.value, ref.error, answer.value, answer.error,
+                               engines.agree(engine.kind, ref, answer), engine.name))
+    if not all(r.ok for r in result.rows):
+        result.status = "discrepancy"
+    return result
+
+
 # ---------------------------------------------------------------------------------------------
 # Driver (what `langur fuzz` runs)
 # ---------------------------------------------------------------------------------------------
@@ -218,7 +286,7 @@ class FuzzSummary:
 
     def counts(self) -> dict[str, int]:
         out = {s: 0 for s in ("agree", "discrepancy", "load_error", "exact_error", "timeout",
-                              "exact_unavailable", "discarded")}
+                              "exact_unavailable", "discarded", "declined", "engine_failure")}
         for r in self.results:
             out[r.status] = out.get(r.status, 0) + 1
         return out
@@ -248,9 +316,12 @@ class _Failed(AssertionError):
 
 
 def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: float = 20.0,
-             keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform") -> FuzzSummary:
+             keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform",
+             engine=None, light: bool = False) -> FuzzSummary:
     """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs); on a
-    failure hypothesis shrinks it, and the minimal failing program is ``summary.minimal``."""
+    failure hypothesis shrinks it, and the minimal failing program is ``summary.minimal``.
+    ``engine``: compare it (an engine of :mod:`langur.engines`) with the exact engine instead of
+    the Monte Carlo engine; ``light``: programs the exact engine integrates quickly (tests)."""
     hypothesis, _ = _hypothesis()
     from hypothesis import HealthCheck, given, settings
 
@@ -260,12 +331,15 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     @settings(max_examples=examples, deadline=None, database=None, derandomize=False,
               suppress_health_check=list(HealthCheck), print_blob=False)
     @hypothesis.seed(seed)
-    @given(programs())
+    @given(programs(light=light))
     def check(prog: FuzzProgram):
         if prog.text in seen:
             res = next(r for r in summary.results if r.text == prog.text)
         else:
-            res = compare_text(prog.text, samples=samples, seed=seed, timeout=timeout, lint=lint, method=method)
+            if engine is not None:
+                res = compare_engine(prog.text, engine, timeout=timeout, lint=lint)
+            else:
+                res = compare_text(prog.text, samples=samples, seed=seed, timeout=timeout, lint=lint, method=method)
             seen.add(prog.text)
             summary.results.append(res)
             if progress is not None:
@@ -306,5 +380,5 @@ def _annotated(r: ProgramResult) -> str:
     for row in r.rows:
         if not row.ok:
             lines.append(f"# {row.quantity}{' wrt ' + row.wrt if row.wrt else ''}: exact {row.exact!r} "
-                         f"(error {row.error:.3g}), mc {row.mc!r} ± {row.stderr:.3g}")
+                         f"(error {row.error:.3g}), {row.engine} {row.mc!r} ± {row.stderr:.3g}")
     return "\n".join(lines) + "\n" + r.text
