@@ -113,17 +113,24 @@ class Primitive:
     exact: tuple[tuple[Fraction, Fraction], ...] = ()
     inverse: Inverse | Periodic | None = None
 
-    def interval(self, lo: float, hi: float) -> tuple[float, float]:
-        """An interval containing f([lo, hi]) (unbounded when f is undefined on part of it)."""
-        match self.image:
-            case Image.INCREASING | Image.DECREASING:
-                a, b = self.scalar(lo), self.scalar(hi)
-                if math.isnan(a) or math.isnan(b):
-                    return -math.inf, math.inf
-                return (a, b) if self.image is Image.INCREASING else (b, a)
-            case Image.BOUNDED:
-                return self.range
-        return -math.inf, math.inf
+    def interval(self, lo, hi):
+        """An interval containing f([lo, hi]) (unbounded where f is undefined on part of it); ``lo``,
+        ``hi`` numbers or arrays of interval ends (then arrays, elementwise: the Monte Carlo
+        engine's enclosures, :mod:`langur.operational.interval`)."""
+        lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+        if self.image in (Image.INCREASING, Image.DECREASING):
+            with np.errstate(all="ignore"):
+                a, b = self.value(lo), self.value(hi)
+            bad = np.isnan(a) | np.isnan(b)
+            if self.image is Image.DECREASING:
+                a, b = b, a
+            # rounded outward by two units in the last place: libraries' f differ by an ulp or so
+            a = np.nextafter(np.nextafter(a, -math.inf), -math.inf)
+            b = np.nextafter(np.nextafter(b, math.inf), math.inf)
+            return np.where(bad, -math.inf, a), np.where(bad, math.inf, b)
+        if self.image is Image.BOUNDED:
+            return np.broadcast_to(np.float64(self.range[0]), lo.shape), np.broadcast_to(np.float64(self.range[1]), lo.shape)
+        return np.broadcast_to(-math.inf, lo.shape), np.broadcast_to(math.inf, lo.shape)
 
     def at(self, a: Fraction) -> Fraction | None:
         """f(a) when it is a known rational (constant folding), else None."""
