@@ -76,8 +76,21 @@ def langur_mb1(n: int, samples: int = 10):
 # -- Potto (its public API, as its authors' microbenchmarks use it) ---------------------------------
 
 def potto_mb1(n: int, samples: int = 10):
-    from potto import (App, BoundedLebesgue, Const, Function, Heaviside, Int, Shift, Sym, TegVar, Var, VarVal, deriv,
-                       evaluate)
+    from potto import (
+        App,
+        BoundedLebesgue,
+        Const,
+        Function,
+        Heaviside,
+        Int,
+        Shift,
+        Sym,
+        TegVar,
+        Var,
+        VarVal,
+        deriv,
+        evaluate,
+    )
 
     x, f = TegVar("x"), Var("f")
     measure = BoundedLebesgue(-1, 1, x)
@@ -129,12 +142,116 @@ def teg_mb1(n: int, samples: int = 10):
     return c, e, float(value)
 
 
+# -- microbenchmark 2: 90 jumps, n shader swaps ----------------------------------------------------
+
+SCENE = ("from shader import shade\nparam a = 1\n"
+         "int ([-1, 1]) sum i in 10..99: [x + 1/i + a - 1 >= 0] * shade(x, 1/i + a - 1) d(x)\n")
+
+
+def langur_mb2(n: int, folder: str):
+    """The scene loaded and linked with n + 1 shader modules in turn (n swaps to a + x, then
+    a − x, each module a new file: every swap compiles one module), each swap's derivative
+    evaluated with 10 samples; the front end (reading the scene again) is counted."""
+    from langur.frontend import load
+    from langur.operational import clear_cache, estimate_derivative
+
+    scene = os.path.join(folder, "scene.lgr")
+    with open(scene, "w") as fh:
+        fh.write(SCENE)
+    paths = []
+    for k in range(n + 1):
+        path = os.path.join(folder, f"shader_{n}_{k}.lgr")
+        with open(path, "w") as fh:  # a constant term k·0 makes each module's text (and cache key) new
+            op = "+" if k < n else "-"
+            fh.write(f"def shade(x: var, a: param) = a {op} x + {k} * 0\n")
+        paths.append(path)
+
+    def run():
+        clear_cache()
+        total = 0.0
+        for path in paths:
+            loaded = load(scene, modules={"shader": path})
+            total += estimate_derivative(loaded, {"a": 1.0}, {"a": 1.0}, samples=10, seed=0).value
+        return total
+
+    t, _ = median(run, 1)
+    return t
+
+
+def potto_mb2(n: int):
+    from potto import (
+        App,
+        BoundedLebesgue,
+        Const,
+        Function,
+        Heaviside,
+        Int,
+        Shift,
+        Sym,
+        TegVar,
+        Var,
+        VarVal,
+        deriv,
+        evaluate,
+    )
+
+    x, f = TegVar("x"), Var("f")
+
+    def run():
+        big, ctx, vals = Const(0), {}, {}
+        for i in range(10, 100):
+            a = Var(f"a{i}")
+            vals[a.name] = 1 / i
+            big += Heaviside(Shift((a,), (x,), Const(1))) * App(f, (a, x))
+            da = Sym(f"da{i}")
+            ctx[a.name] = da
+            vals[da] = 1
+        x0, a0 = TegVar("x0"), Var("a0")
+        ctx[x0.name], ctx[a0.name] = Sym("x0"), Sym("a0")
+        di = deriv(Function((f,), Int(big, BoundedLebesgue(-1, 1, x))), ctx)  # compiled once
+        total = 0.0
+        for k in range(n + 1):  # each swap: the shader's derivative, applied to the compiled integral
+            s = Function((a0, x0), a0 + x0) if k < n else Function((a0, x0), a0 - x0)
+            total += evaluate(App(di, (s, deriv(s, ctx))), VarVal(vals), 10)
+        return total
+
+    t, _ = median(run, 1)
+    return t
+
+
+def teg_mb2(n: int):
+    from teg import Const, IfElse, Teg, TegVar, Var
+    from teg.derivs.fwd_deriv import fwd_deriv
+    from teg.eval import evaluate
+    from teg.passes.reduce import reduce_to_base
+
+    x = TegVar("x")
+
+    def run():
+        total = 0.0
+        for k in range(n + 1):  # no separate compilation: each swap rebuilds and re-derives the integral
+            shade = (lambda a, x_: a + x_) if k < n else (lambda a, x_: a - x_)
+            big, ctx = Const(0), []
+            for i in range(10, 100):
+                a = Var(f"a{i}", float(1 / i))
+                big += IfElse(x + a > 0, 1, 0) * shade(a, x)
+                ctx.append((a, 1))
+            expr = reduce_to_base(fwd_deriv(Teg(Const(-1), Const(1), big, x), ctx), True)
+            total += evaluate(expr, backend="numpy", num_samples=10)
+        return total
+
+    t, _ = median(run, 1)
+    return t
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--potto", metavar="DIR", help="a checkout of github.com/divicomp/potto")
     ap.add_argument("--teg", metavar="DIR", help="a checkout of github.com/ChezJrk/Teg")
     ap.add_argument("--quick", action="store_true", help="n = 1, 10 only")
+    ap.add_argument("--plot", metavar="OUT.png", help="also draw both microbenchmarks' times against n (matplotlib)")
     args = ap.parse_args()
+    curves: dict[str, dict[str, list]] = {"mb1": {}, "mb2": {}}
     sys.setrecursionlimit(10**6)
     systems = {"langur": langur_mb1}
     for name, path, fn in (("potto", args.potto, potto_mb1), ("teg", args.teg, teg_mb1)):
@@ -154,9 +271,22 @@ def main() -> None:
         for s, fn in systems.items():  # interleaved: each size runs every system before the next size
             c, e, d = fn(n)
             totals[s] = c + e
+            curves["mb1"].setdefault(s, []).append((n, c + e))
             row += [f"{c * 1e3:.1f} ms", f"{e * 1e3:.1f} ms", f"{d:.6g}"]
         ratios = [f"{totals[s] / totals['langur']:.0f}×" for s in systems if s != "langur"]
         print("| " + " | ".join(row + ratios) + " |")
+    print("\nMicrobenchmark 2 (Fig. 17): 90 jumps, n shader swaps (compile and evaluate each), 10 samples; CPU "
+          "seconds in all, one run\n")
+    mb2 = {"langur": lambda n: langur_mb2(n, folder), "potto": potto_mb2, "teg": teg_mb2}
+    print("| swaps | " + " | ".join(systems) + " |" + "".join(f" {s}/langur |" for s in systems if s != "langur"))
+    print("|" + "---|" * (1 + 2 * len(systems) - 1))
+    with tempfile.TemporaryDirectory() as folder:
+        for n in ((1, 5) if args.quick else (1, 5, 10, 25)):
+            times = {s: mb2[s](n) for s in systems}
+            for s_, t_ in times.items():
+                curves["mb2"].setdefault(s_, []).append((n, t_))
+            print(f"| {n} | " + " | ".join(f"{times[s]:.3f} s" for s in systems) + " |"
+                  + "".join(f" {times[s] / times['langur']:.0f}× |" for s in systems if s != "langur"))
     # At 10 samples the regular part (∫ of the aᵢ's own derivative) is a rough estimate in every
     # system; the derivative is checked with many samples instead.
     many = 100_000
@@ -165,8 +295,34 @@ def main() -> None:
     print("|" + "---|" * (2 + len(systems)))
     for n in (1, 10):
         print(f"| {n} | {expected_mb1(n):.6g} | " + " | ".join(f"{fn(n, many)[2]:.6g}" for fn in systems.values()) + " |")
+    if args.plot:
+        plot(curves, args.plot)
+        print(f"\n{args.plot}")
+
+
+def plot(curves: dict, out: str) -> None:
+    """Fig. 16 and 17 as the paper draws them: time against n, one line per system, log scale."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    titles = {"mb1": "Fig. 16: n jumps (2n deltas), compile + evaluate",
+              "mb2": "Fig. 17: 90 jumps, n shader swaps, in all"}
+    for ax, (key, systems) in zip(axes, curves.items()):
+        for name, pts in systems.items():
+            ns, ts = zip(*pts)
+            ax.plot(ns, ts, marker="o", label=name)
+        ax.set_yscale("log")
+        ax.set_xlabel("n")
+        ax.set_ylabel("CPU seconds")
+        ax.set_title(titles[key], fontsize=10)
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
 
 
 if __name__ == "__main__":
-    with tempfile.TemporaryDirectory():
-        main()
+    main()
