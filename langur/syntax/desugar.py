@@ -51,7 +51,6 @@ from ..core import (
     Prim,
     Term,
     Var,
-    free_params,
     free_vars,
     map_children,
     neg,
@@ -84,7 +83,7 @@ from .surface import (
     STerm,
     Vector,
 )
-from .vectors import Vec, VectorError
+from .vectors import Vec, VecName
 
 #: Function names that are not primitives but sugar (LANGUAGE.md §6).
 SUGAR_FUNCTIONS = ("abs", "min", "max", "atan2", "dot", "cross")
@@ -121,16 +120,6 @@ class Env:
 
 
 @dataclass(frozen=True)
-class VecName:
-    """A let-bound vector: its value, the parameters its components mention, and the name of an
-    inner ``let`` that rebinds one of them (then the vector may no longer be used: T233)."""
-
-    vec: Vec
-    params: frozenset[str]
-    shadowed_by: str | None = None
-
-
-@dataclass(frozen=True)
 class Scope:
     """Δ (``variables``, in order), Γ (``gamma``), the numeric box for completion, and where we are."""
 
@@ -141,7 +130,7 @@ class Scope:
     in_program: bool = True  # extend declared diffeos to all variables (program bodies)
     hidden_vars: frozenset[str] = frozenset()  # variables not allowed here (domain bounds)
     consts: Mapping[str, Fraction] = field(default_factory=dict)  # loop indices and their values (§9)
-    vectors: Mapping[str, VecName] = field(default_factory=dict)  # let-bound vectors
+    vectors: Mapping[str, VecName] = field(default_factory=dict)  # let-bound vectors (vectors.VecName)
 
     def with_param(self, name: str) -> Scope:
         """``name`` bound by a real ``let``: it hides an index or vector of that name, and the vectors
@@ -158,9 +147,8 @@ class Scope:
 
     def with_vector(self, name: str, vec: Vec) -> Scope:
         """``name`` bound to the vector ``vec`` by a ``let``."""
-        params = frozenset().union(*(free_params(p) for p in vec.parts))
         consts = {n: v for n, v in self.consts.items() if n != name}
-        return replace(self, consts=consts, vectors={**self.vectors, name: VecName(vec, params)})
+        return replace(self, consts=consts, vectors={**self.vectors, name: VecName.of(vec)})
 
 
 def _put(t: Term, old: Term, new: Term) -> Term:
@@ -193,7 +181,7 @@ class Desugarer:
     def term(self, st: STerm, sc: Scope) -> Term:
         """The core term of the real-valued surface term ``st``; a vector here is T226."""
         t = self.value(st, sc)
-        if t is vectors.POISON:
+        if t == vectors.POISON:
             return Const(Fraction(0), span=getattr(st, "span", None))
         if isinstance(t, Vec):
             span = getattr(st, "span", None)
@@ -309,11 +297,11 @@ class Desugarer:
     def vector_op(self, f, *args) -> Term | Vec:
         """``f(*args)``, one of :mod:`langur.syntax.vectors`' operations; its error is reported, and
         its value is then :data:`~langur.syntax.vectors.POISON` (no cascade of diagnostics)."""
-        if any(a is vectors.POISON or (isinstance(a, list) and vectors.POISON in a) for a in args):
+        if any(a == vectors.POISON or (isinstance(a, list) and vectors.POISON in a) for a in args):
             return vectors.POISON
         try:
             return f(*args)
-        except VectorError as e:
+        except vectors.VectorError as e:
             self.errors.append(e.diagnostic)
             return vectors.POISON
 
@@ -349,10 +337,7 @@ class Desugarer:
             copies.append(self.term(st.body, sc.with_index(st.index, k)))
             if self.too_large:
                 break
-        # the copies' diagnostics are the body's: report each once
-        seen: set = set()
-        self.errors[before:] = [d for d in self.errors[before:]
-                                if (d.code, d.span, d.message) not in seen and not seen.add((d.code, d.span, d.message))]
+        self.errors[before:] = loops.once(self.errors[before:])  # the copies' diagnostics are the body's
         if self.too_large:
             return Const(Fraction(0), span=st.span)
         return loops.balanced(copies, st.op, st.span)
@@ -367,7 +352,8 @@ class Desugarer:
         if n in sc.vectors:
             bound = sc.vectors[n]
             if bound.shadowed_by is not None:
-                return self.fail(ty.reject_vector_capture(span, bound.shadowed_by, n), span)
+                self.errors.append(ty.reject_vector_capture(span, bound.shadowed_by, n))
+                return vectors.POISON
             return bound.vec
         if n in sc.gamma:
             return Param(n, span=span)
@@ -428,9 +414,12 @@ class Desugarer:
             args = []
             ok = True
             for a, (aname, kind) in zip(st.args, sig.args):
+                before = len(self.errors)
                 t = self.term(a, sc if kind == "var" else replace(sc, where=f"param argument `{aname}` of `{name}`"))
                 used = free_vars(t)
-                if kind == "var" and not used:
+                if len(self.errors) > before:  # already refused (a vector argument, …): no cascade
+                    ok = False
+                elif kind == "var" and not used:
                     self.errors.append(ty.reject_var_arg_without_variables(getattr(a, "span", span), name, aname))
                     ok = False
                 elif kind == "param" and used:

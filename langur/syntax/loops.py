@@ -28,8 +28,9 @@ from .surface import BinOp, Name, Neg, Num, STerm
 
 #: Most copies of loop bodies that the loops of one module may write out (T225).
 MAX_COPIES = 100_000
-#: Most surface nodes that the loops of one module may write out, copies times body size (T225).
-MAX_NODES = 2_000_000
+#: Most surface nodes that the loops of one module may write out, copies times body size (T225):
+#: about what a source of MAX_SIGNIFICANT (1,000,000) characters can write out by hand.
+MAX_NODES = 500_000
 #: The largest bound magnitude that is computed at all (T224 beyond: far past MAX_COPIES anyway).
 MAX_BOUND = 10**18
 
@@ -124,6 +125,18 @@ def size(st: STerm) -> int:
         n += 1
         stack.extend(_children(u))
     return n
+
+
+def once(diagnostics: list) -> list:
+    """``diagnostics`` without repetitions (each copy of a loop's body reports the body's errors)."""
+    seen: set = set()
+    out = []
+    for d in diagnostics:
+        key = (d.code, d.span, d.message)
+        if key not in seen:
+            seen.add(key)
+            out.append(d)
+    return out
 
 
 def balanced(terms: list[Term], op: str, span: Span | None = None) -> Term:

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from .. import typesys as ty
-from ..core import Add, Mul, Pow, Term, neg, sub
+from ..core import Add, Mul, Pow, Term, free_params, neg, sub
 from ..diagnostics import Diagnostic, Span
 from .loops import balanced
 
@@ -45,6 +45,20 @@ class Vec:
 
 #: The value of a vector expression whose error has been reported: every use of it is silent.
 POISON = Vec(())
+
+
+@dataclass(frozen=True)
+class VecName:
+    """A let-bound vector: its value, the parameters its components mention, and the name of an
+    inner ``let`` that rebinds one of them (then the vector may no longer be used: T233)."""
+
+    vec: Vec
+    params: frozenset[str]
+    shadowed_by: str | None = None
+
+    @staticmethod
+    def of(vec: Vec) -> VecName:
+        return VecName(vec, frozenset().union(*(free_params(p) for p in vec.parts)))
 
 
 class VectorError(Exception):
