@@ -36,7 +36,8 @@ def test_every_example_loads(path):
 
 
 def test_example_count():
-    assert len(ALL) == 15  # risk_normalized.lgr (Fig. 2-3 with the normalized density) is the 15th
+    assert len(ALL) == 16  # risk_normalized.lgr (Fig. 2-3 with the normalized density) is the 15th, triangle.lgr
+    # (a triangle covering a pixel, written with vectors) the 16th
 
 
 SHADERS = {
