@@ -9,6 +9,7 @@ round trip of the new forms."""
 
 from __future__ import annotations
 
+import math
 import time
 from fractions import Fraction as F
 
@@ -45,9 +46,10 @@ def errors(src: str) -> list[tuple[str, int, int]]:
 
 
 def at(src: str, needle: str, line: int | None = None) -> tuple[int, int]:
-    """(line, col) of the first ``needle`` on line ``line`` of ``src`` (1-based; default the last)."""
+    """(line, col) of the first ``needle`` on line ``line`` of ``src`` (1-based; default: the first
+    line that has it)."""
     lines = src.splitlines()
-    line = line or len(lines)
+    line = line or next(i for i, text in enumerate(lines, 1) if needle in text)
     return line, lines[line - 1].index(needle) + 1
 
 
@@ -234,6 +236,14 @@ def test_a_vector_never_reaches_the_core_language():
     assert deriv(src, "a").value == pytest.approx(5.0, abs=1e-12)
 
 
+def test_a_disc_written_with_dot():
+    # [|p − c|² <= a/16]: the disc of radius √a/4 inside the unit square, area π a/16, d/da = π/16
+    src = ("param a = 1\nint ([0, 1], [0, 1]) let c = (0.5, 0.5) in let p = (x, y) in "
+           "[dot(p - c, p - c) <= a / 16] d(x, y)")
+    assert value(src) == pytest.approx(math.pi / 16, abs=1e-12)
+    assert deriv(src, "a").value == pytest.approx(math.pi / 16, abs=1e-12)
+
+
 # ----------------------------------------------------------------------------------------------
 # Vectors: errors, each at its text.
 
@@ -250,6 +260,7 @@ def test_a_vector_never_reaches_the_core_language():
     ("int ([0, 1]) x * ((1, 2) * (3, 4)).x d(x)", "T226", "(3, 4)"),  # vector times vector
     ("int ([0, 1]) x * (1 / (3, 4)).x d(x)", "T226", "(3, 4)"),  # a real divided by a vector
     ("int ([0, 1]) (let o = (x, 1) in o) d(x)", "T226", "let"),
+    ("def f(x: var) = (x, 1)\nint ([0, 1]) f(x) * 2 d(x)", "T226", "(x, 1)"),  # defs return reals
     # a real where a vector is expected
     ("int ([0, 1]) x * (1 + (x, 2)).x d(x)", "T227", "1 +"),
     ("int ([0, 1]) x * dot(2, (1, 2)) d(x)", "T227", "2,"),

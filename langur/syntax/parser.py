@@ -368,8 +368,7 @@ class _Builder:
 
     def loop(self, c):
         # SUM|PROD name IN term DOTDOT term COLON term (§9, the finite loop)
-        op, name, lo, hi, body = str(c[0]), c[1], c[3], c[5], c[7]
-        nsp = self.tok_span(name)
+        op, name, lo, hi, body, nsp = str(c[0]), c[1], c[3], c[5], c[7], self.tok_span(c[1])
         return self.term(lambda sp: Loop(op, str(name), lo.node, hi.node, body.node, sp, nsp), c[0], body,
                          (lo, hi, body))
 
@@ -380,8 +379,7 @@ class _Builder:
 
     def component(self, c):
         # atom . name
-        base, name = c[0], c[2]
-        nsp = self.tok_span(name)
+        base, name, nsp = c[0], c[2], self.tok_span(c[2])
         return self.term(lambda sp: Component(base.node, str(name), sp, nsp), base, name, (base,))
 
     def ifge0(self, c):
