@@ -162,6 +162,20 @@ def test_a_huge_loop_is_refused_at_once_at_its_range():
     assert time.monotonic() - start < 2
 
 
+@pytest.mark.parametrize("src, code, needle", [
+    ("int ([0, 1]) sum i in 1..10^64: x d(x)", "T225", "1..10^64"),
+    # a bound of 10^262144 is not even computed (more than 4096 bits)
+    ("int ([0, 1]) sum i in 1..((10^64)^64)^64: x d(x)", "T225", "1..("),
+    # the same guard protects exponents, which are constant expressions too: this one would have
+    # 10^16,777,216 as its value, and one more ^64 would never finish
+    ("int ([0, 1]) x ^ ((((10^64)^64)^64)^64) d(x)", "T231", "(((10"),  # the span of the parenthesized term
+])
+def test_huge_constants_are_refused_without_computing_them(src, code, needle):
+    start = time.monotonic()
+    assert errors(src) == [(code, *at(src, needle))]
+    assert time.monotonic() - start < 2
+
+
 def test_nested_loops_past_the_bound_are_refused_once_at_the_inner_loop():
     src = "int ([0, 1]) sum i in 1..1000: sum j in 1..1000: x d(x)"  # 10⁶ copies of x
     start = time.monotonic()

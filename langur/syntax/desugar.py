@@ -164,11 +164,8 @@ class Desugarer:
     def __init__(self, env: Env, errors: list[Diagnostic] | None = None):
         self.env = env
         self.errors: list[Diagnostic] = errors if errors is not None else []
-        #: Copies of loop bodies and surface nodes written out so far by unrolling (T225), and
-        #: whether the bound was hit (then every loop is skipped: one diagnostic, no cascade).
-        self.copies = 0
-        self.nodes = 0
-        self.too_large = False
+        #: What unrolling loops has written out so far (T225).
+        self.budget = loops.Budget()
         #: While a program's box is not known yet (no domain: it is read off the body, §8.3), the
         #: conditions that cannot be completed without it wait here with their diagnostic.
         self.pending: list[tuple[Diffeo, Diagnostic]] | None = None
@@ -309,36 +306,33 @@ class Desugarer:
         """§9's finite loop, unrolled: one copy of the body per value of the index, combined into a
         balanced sum or product (:mod:`langur.syntax.loops`; T224 for a bound that is not an integer
         constant, T225 past the bound on unrolling)."""
-        if self.too_large:
+        if self.budget.exhausted:
             return Const(Fraction(0), span=st.span)
         try:
             lo, hi = loops.bounds(st.lo, st.hi, sc.consts)
         except loops.BoundError as e:
             return self.fail(ty.reject_loop_bound(e.span, e.why), st.span)
+        except loops.TooLarge:
+            self.budget.exhausted = True
+            return self.fail(ty.reject_loop_too_large(join(st.lo, st.hi), f"a bound has more than {loops.MAX_BITS} "
+                                                      "bits"), st.span)
         where = st.name_span or st.span
         if st.index in sc.variables:
             return self.fail(ty.reject_var_param_clash(where, st.index, "a loop's index has the name of a variable"),
                              st.span)
         if st.index == "pi":
             return self.fail(ty.reject_duplicate(where, "name (reserved constant)", "pi"), st.span)
-        count = max(0, hi - lo + 1)
-        nodes = count * loops.size(st.body) if count else 0
-        if self.copies + count > loops.MAX_COPIES or self.nodes + nodes > loops.MAX_NODES:
-            self.too_large = True
-            return self.fail(ty.reject_loop_too_large(
-                join(st.lo, st.hi), f"this loop has {count:,} copies of a body of {loops.size(st.body):,} nodes; "
-                f"the loops of a module may write out at most {loops.MAX_COPIES:,} copies and "
-                f"{loops.MAX_NODES:,} nodes in all (so far {self.copies:,} and {self.nodes:,})"), st.span)
-        self.copies += count
-        self.nodes += nodes
+        refused = self.budget.charge(max(0, hi - lo + 1), loops.size(st.body))
+        if refused:
+            return self.fail(ty.reject_loop_too_large(join(st.lo, st.hi), refused), st.span)
         before = len(self.errors)
         copies = []
         for k in range(lo, hi + 1):
             copies.append(self.term(st.body, sc.with_index(st.index, k)))
-            if self.too_large:
+            if self.budget.exhausted:
                 break
         self.errors[before:] = loops.once(self.errors[before:])  # the copies' diagnostics are the body's
-        if self.too_large:
+        if self.budget.exhausted:
             return Const(Fraction(0), span=st.span)
         return loops.balanced(copies, st.op, st.span)
 
@@ -373,7 +367,11 @@ class Desugarer:
 
     def power(self, st: BinOp, sc: Scope) -> Term:
         base = self.term(st.left, sc)
-        k = constant_value(st.right, sc.consts)
+        try:
+            k = constant_value(st.right, sc.consts)
+        except loops.TooLarge:
+            return self.fail(ty.diag(st.right.span, "T231", "constant beyond the range of doubles: this exponent's "
+                                     f"exact value has more than {loops.MAX_BITS} bits"), st.span)
         if k is None:
             return self.fail(ty.reject_exponent(getattr(st.right, "span", st.span)), st.span)
         return Pow(base, k, span=st.span)

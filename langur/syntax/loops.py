@@ -31,8 +31,14 @@ MAX_COPIES = 100_000
 #: Most surface nodes that the loops of one module may write out, copies times body size (T225):
 #: about what a source of MAX_SIGNIFICANT (1,000,000) characters can write out by hand.
 MAX_NODES = 500_000
-#: The largest bound magnitude that is computed at all (T224 beyond: far past MAX_COPIES anyway).
-MAX_BOUND = 10**18
+#: Constant expressions (loop bounds, exponents) are computed exactly as long as every
+#: intermediate numerator and denominator has at most this many bits; beyond, they are not taken
+#: as constants (``((10^64)^64)^64)^64`` would be 16 million digits, one level more a hang).
+MAX_BITS = 4096
+
+
+class TooLarge(Exception):
+    """A constant expression whose exact value needs more than :data:`MAX_BITS` bits."""
 
 
 class BoundError(Exception):
@@ -44,9 +50,21 @@ class BoundError(Exception):
         self.why = why
 
 
+def _bits(v: Fraction) -> int:
+    return max(v.numerator.bit_length(), v.denominator.bit_length())
+
+
 def constant(st: STerm, consts: Mapping[str, Fraction]) -> Fraction | None:
     """The value of a constant rational surface expression over the loop indices ``consts``
-    (number literals, indices, ``+ - * /`` and ``^`` with a small integer exponent), or None."""
+    (number literals, indices, ``+ - * /`` and ``^`` with a small integer exponent), or None;
+    :class:`TooLarge` when a value would need more than :data:`MAX_BITS` bits."""
+    value = _constant(st, consts)
+    if value is not None and _bits(value) > MAX_BITS:
+        raise TooLarge(getattr(st, "span", None))
+    return value
+
+
+def _constant(st: STerm, consts: Mapping[str, Fraction]) -> Fraction | None:
     match st:
         case Num(v):
             return v
@@ -70,6 +88,8 @@ def constant(st: STerm, consts: Mapping[str, Fraction]) -> Fraction | None:
             if op == "^":
                 if y.denominator != 1 or abs(y) > 64 or (x == 0 and y < 0):
                     return None
+                if _bits(x) * abs(y) > 2 * MAX_BITS:
+                    raise TooLarge(st.span)
                 return x ** int(y)
     return None
 
@@ -86,7 +106,8 @@ def _first_name(st: STerm) -> Name | None:
 
 
 def bounds(lo: STerm, hi: STerm, consts: Mapping[str, Fraction]) -> tuple[int, int]:
-    """The integer values of a loop's bounds (T224 through :class:`BoundError` otherwise)."""
+    """The integer values of a loop's bounds (T224 through :class:`BoundError` otherwise;
+    :class:`TooLarge`, T225, for a value beyond :data:`MAX_BITS` bits)."""
     out = []
     for st in (lo, hi):
         span = getattr(st, "span", None)
@@ -99,8 +120,6 @@ def bounds(lo: STerm, hi: STerm, consts: Mapping[str, Fraction]) -> tuple[int, i
             raise BoundError(span, "not a constant expression of literals and loop indices (or a division by 0)")
         if v.denominator != 1:
             raise BoundError(span, f"its value {v} is not an integer")
-        if abs(v) > MAX_BOUND:
-            raise BoundError(span, f"its value is beyond ±{MAX_BOUND:.0e}")
         out.append(int(v))
     return out[0], out[1]
 
@@ -125,6 +144,29 @@ def size(st: STerm) -> int:
         n += 1
         stack.extend(_children(u))
     return n
+
+
+@dataclasses.dataclass
+class Budget:
+    """What the loops of one module have written out so far (T225); once the bound is hit it is
+    ``exhausted`` and every later loop is skipped (one diagnostic, no cascade)."""
+
+    copies: int = 0
+    nodes: int = 0
+    exhausted: bool = False
+
+    def charge(self, count: int, size: int) -> str | None:
+        """Take ``count`` copies of a body of ``size`` surface nodes: None within the bound, else why
+        not (and the budget is exhausted)."""
+        if self.copies + count <= MAX_COPIES and self.nodes + count * size <= MAX_NODES:
+            self.copies += count
+            self.nodes += count * size
+            return None
+        self.exhausted = True
+        shown = f"{count:,}" if count < 10**15 else "over 10^15"
+        return (f"this loop has {shown} copies of a body of {size:,} nodes; the loops of a module may write out at "
+                f"most {MAX_COPIES:,} copies and {MAX_NODES:,} nodes in all (so far {self.copies:,} and "
+                f"{self.nodes:,})")
 
 
 def once(diagnostics: list) -> list:
