@@ -5,9 +5,10 @@ is one ``match`` with a case per row.  It includes §9's finite loop (``sum i in
 helpers in :mod:`langur.syntax.loops`) and small fixed-size vectors (``(a, b, c)``, ``dot``,
 ``cross``, ``u.x``; helpers in :mod:`langur.syntax.vectors`), which :meth:`Desugarer.value`
 evaluates to a :class:`~langur.syntax.vectors.Vec` of core terms: :meth:`Desugarer.term`, where a
-real is expected, refuses a vector (T226), so no vector reaches the core language.  Typing rules that concern names and sugar (unbound names,
-argument kinds, arity, ``let``, conditions over variables, …) are applied here, on the surface
-AST, through the ``reject_*`` helpers of :mod:`langur.typesys` (which documents every T2xx code).
+real is expected, refuses a vector (T226), so no vector reaches the core language.  Typing rules
+that concern names and sugar (unbound names, argument kinds, arity, ``let``, conditions over
+variables, …) are applied here, on the surface AST, through the ``reject_*`` helpers of
+:mod:`langur.typesys` (which documents every T2xx code).
 
 Scopes (LANGUAGE.md §6, "A name in a term is …"):
 
@@ -435,7 +436,7 @@ class Desugarer:
             return self.fail(ty.reject_unknown_function(where, name, " (an internal primitive, not part of the "
                                                         "surface language)"), span)
         return self.fail(ty.reject_unknown_function(where, name, ": not a primitive (" + ", ".join(PRIMITIVES) +
-                                                    ", abs, min, max) nor a def in scope"), span)
+                                                    ", " + ", ".join(SUGAR_FUNCTIONS) + ") nor a def in scope"), span)
 
     def let(self, st: LetIn, sc: Scope) -> Term | Vec:
         where = st.name_span or st.span
