@@ -62,8 +62,16 @@ CODES: dict[str, Code] = _catalogue(
     Code("T221", "recursive def"),
     Code("T222", "diffeo component not smooth"),
     Code("T223", "module unreadable"),
+    Code("T224", "loop bound not an integer constant"),
+    Code("T225", "loops too large once unrolled"),
+    Code("T226", "vector where a real is expected"),
+    Code("T227", "real where a vector is expected"),
+    Code("T228", "vector sizes differ"),
+    Code("T229", "cross of vectors that are not 3-vectors"),
     Code("T230", "too large once inlined"),
     Code("T231", "constant beyond the range of doubles"),
+    Code("T232", "vector component out of range"),
+    Code("T233", "let shadows a name that a let-bound vector uses"),
     # X3xx: transversality and integrability (langur check)
     Code("X301", "Two multiplying conditions (or one multiplied by itself through a power or primitive) have the "
          "same zero set for every parameter value: the derivative counts the jump twice (Def. 7.2).",

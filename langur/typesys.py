@@ -12,7 +12,7 @@ parameters, disjoint.  Typing happens in two places, with the same rules and cod
   other means (tests, fuzzers).
 
 Every rejection is a :class:`~langur.diagnostics.Diagnostic` whose message names the rule; its
-code (T201–T231) is one of the catalogue :mod:`langur.codes` (``docs/CODES.md`` explains each).
+code (T201–T233) is one of the catalogue :mod:`langur.codes` (``docs/CODES.md`` explains each).
 """
 
 from __future__ import annotations
@@ -132,6 +132,46 @@ def reject_recursive(span, cycle) -> Diagnostic:
 
 def reject_too_large(span, detail: str) -> Diagnostic:
     return diag(span, "T230", f"program too large: {detail}")
+
+
+def reject_loop_bound(span, why: str) -> Diagnostic:
+    return diag(span, "T224", f"loop bound is not an integer constant: {why} (§9: the loop is unrolled before "
+                "anything is evaluated, so its bounds are number literals or arithmetic of them and of the indices "
+                "of enclosing loops, and their values are integers)")
+
+
+def reject_loop_too_large(span, detail: str) -> Diagnostic:
+    return diag(span, "T225", f"loops too large once unrolled: {detail}")
+
+
+def reject_vector(span, size: int, detail: str = "") -> Diagnostic:
+    return diag(span, "T226", f"a vector of {size} components where a real is expected{detail} (vectors live only "
+                "inside terms and are desugared to their components: an integrand, a condition, a bound, an "
+                "argument or body of a def, a loop's body are reals; take dot(u, v), cross(u, v).z or u.x)")
+
+
+def reject_real(span, detail: str) -> Diagnostic:
+    return diag(span, "T227", f"a real where a vector is expected: {detail}")
+
+
+def reject_sizes(span, detail: str) -> Diagnostic:
+    return diag(span, "T228", f"vector sizes differ: {detail}")
+
+
+def reject_cross(span, sizes) -> Diagnostic:
+    return diag(span, "T229", f"cross(u, v) takes two 3-vectors, got vectors of {' and '.join(map(str, sizes))} "
+                "components")
+
+
+def reject_component(span, name: str, size: int, names) -> Diagnostic:
+    return diag(span, "T232", f"no component `.{name}` in a vector of {size} components (its components are "
+                f"{', '.join('.' + n for n in names)})")
+
+
+def reject_vector_capture(span, name: str, vector: str) -> Diagnostic:
+    return diag(span, "T233", f"`{vector}` is used here, inside a let that rebinds `{name}`, which the components of "
+                f"`{vector}` mention: a let-bound vector is substituted where it is used, so it would now mean "
+                f"the inner `{name}`; rename one of them")
 
 
 def reject_not_smooth(span, name: str, detail: str) -> Diagnostic:

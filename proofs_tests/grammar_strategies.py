@@ -29,6 +29,7 @@ from langur.syntax.printer import print_module_surface, print_term
 NAMES = ("x", "y", "z", "a", "b", "c", "theta", "mu", "u0", "x_1", "_t", "d", "pi", "inx", "iff", "dd")
 FUNCS = ("exp", "log", "sin", "cos", "tan", "sqrt", "tanh", "atan", "abs", "min", "max", "f", "shade", "d")
 CMPS = ("<=", ">=", "<", ">")
+COMPONENTS = ("x", "y", "z", "w", "d", "q")  # any name parses after `.`; the desugarer knows x y z w
 
 names = st.sampled_from(NAMES)
 numbers = st.builds(
@@ -52,6 +53,10 @@ def surface_terms(max_leaves: int = 16) -> st.SearchStrategy:
 
     def extend(children):
         tuples = st.lists(children, min_size=1, max_size=3).map(tuple)
+        # loop bounds: mostly small (a loop of 10⁴ copies is legal but slow to fuzz), or a name (T224),
+        # or any term that is not a literal (the printer's parentheses around a bound)
+        bounds = st.one_of(st.integers(0, 3).map(lambda k: S.Num(Fraction(k))), st.builds(S.Name, names),
+                           children.filter(lambda t: not isinstance(t, S.Num)))
         diffeo_app = st.builds(S.DiffeoApp, names, tuples, st.lists(children, max_size=2).map(tuple))
         return st.one_of(
             st.builds(S.BinOp, st.sampled_from("+-*/^"), children, children),
@@ -61,6 +66,9 @@ def surface_terms(max_leaves: int = 16) -> st.SearchStrategy:
             st.builds(S.LetIn, names, children, children),
             st.builds(S.IfGe0S, st.one_of(children, diffeo_app), children, children),
             st.builds(S.IfCmp, children, st.sampled_from(CMPS), children, children, children),
+            st.builds(S.Loop, st.sampled_from(("sum", "prod")), names, bounds, bounds, children),
+            st.builds(S.Vector, st.lists(children, min_size=2, max_size=4).map(tuple)),
+            st.builds(S.Component, children, st.sampled_from(COMPONENTS)),
         )
 
     return st.recursive(leaves, extend, max_leaves=max_leaves)
@@ -138,7 +146,7 @@ def surface_modules() -> st.SearchStrategy:
 # Layout.
 
 TOKEN = re.compile(
-    r"[A-Za-z_][A-Za-z0-9_]*|(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|<=|>=|#[^\n]*|\S"
+    r"[A-Za-z_][A-Za-z0-9_]*|(?:[0-9]+(?:\.(?!\.)[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|\.\.|<=|>=|#[^\n]*|\S"
 )
 _WORDISH = re.compile(r"[A-Za-z0-9_.]")
 

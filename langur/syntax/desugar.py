@@ -1,9 +1,14 @@
 """Desugaring: the surface AST (``langur.syntax.surface``) to the core language (``langur.core``).
 
-This is the ONE place where LANGUAGE.md §6's sugar table is implemented; :meth:`Desugarer.term`
-is one ``match`` with a case per row.  Typing rules that concern names and sugar (unbound names,
-argument kinds, arity, ``let``, conditions over variables, …) are applied here, on the surface
-AST, through the ``reject_*`` helpers of :mod:`langur.typesys` (which documents every T2xx code).
+This is the ONE place where LANGUAGE.md §6's sugar table is implemented; :meth:`Desugarer.value`
+is one ``match`` with a case per row.  It includes §9's finite loop (``sum i in A..B: t``, unrolled;
+helpers in :mod:`langur.syntax.loops`) and small fixed-size vectors (``(a, b, c)``, ``dot``,
+``cross``, ``u.x``; helpers in :mod:`langur.syntax.vectors`), which :meth:`Desugarer.value`
+evaluates to a :class:`~langur.syntax.vectors.Vec` of core terms: :meth:`Desugarer.term`, where a
+real is expected, refuses a vector (T226), so no vector reaches the core language.  Typing rules
+that concern names and sugar (unbound names, argument kinds, arity, ``let``, conditions over
+variables, …) are applied here, on the surface AST, through the ``reject_*`` helpers of
+:mod:`langur.typesys` (which documents every T2xx code).
 
 Scopes (LANGUAGE.md §6, "A name in a term is …"):
 
@@ -27,6 +32,7 @@ Def calls are left as ``Call(module, name, args)`` links (separate compilation, 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
@@ -56,11 +62,13 @@ from ..core import (
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
+from . import loops, vectors
 from .diffeo import CompletionError, complete, instantiate
 from .inline import expand_calls, inline
 from .surface import (
     Apply,
     BinOp,
+    Component,
     DiffeoApp,
     IfCmp,
     IfGe0S,
@@ -68,15 +76,18 @@ from .surface import (
     Iverson,
     LetIn,
     Logic,
+    Loop,
     Name,
     Neg,
     NestedInt,
     Num,
     STerm,
+    Vector,
 )
+from .vectors import Vec, VecName
 
 #: Function names that are not primitives but sugar (LANGUAGE.md §6).
-SUGAR_FUNCTIONS = ("abs", "min", "max", "atan2")
+SUGAR_FUNCTIONS = ("abs", "min", "max", "atan2", "dot", "cross")
 #: Names a declaration may not take.
 RESERVED = frozenset(PRIMITIVES) | frozenset(ALL_PRIMITIVES) | frozenset(SUGAR_FUNCTIONS) | {"pi"}
 
@@ -119,9 +130,26 @@ class Scope:
     where: str = "this term"
     in_program: bool = True  # extend declared diffeos to all variables (program bodies)
     hidden_vars: frozenset[str] = frozenset()  # variables not allowed here (domain bounds)
+    consts: Mapping[str, Fraction] = field(default_factory=dict)  # loop indices and their values (§9)
+    vectors: Mapping[str, VecName] = field(default_factory=dict)  # let-bound vectors (vectors.VecName)
 
     def with_param(self, name: str) -> Scope:
-        return replace(self, gamma=self.gamma | {name})
+        """``name`` bound by a real ``let``: it hides an index or vector of that name, and the vectors
+        whose components mention the outer ``name`` can no longer be substituted here (T233)."""
+        vecs = {n: (replace(b, shadowed_by=name) if name in b.params and b.shadowed_by is None else b)
+                for n, b in self.vectors.items() if n != name}
+        consts = {n: v for n, v in self.consts.items() if n != name}
+        return replace(self, gamma=self.gamma | {name}, consts=consts, vectors=vecs)
+
+    def with_index(self, name: str, value: int) -> Scope:
+        """``name`` the index of a loop, the number ``value`` in this copy of its body (§9)."""
+        vecs = {n: b for n, b in self.vectors.items() if n != name}
+        return replace(self, consts={**self.consts, name: Fraction(value)}, vectors=vecs)
+
+    def with_vector(self, name: str, vec: Vec) -> Scope:
+        """``name`` bound to the vector ``vec`` by a ``let``."""
+        consts = {n: v for n, v in self.consts.items() if n != name}
+        return replace(self, consts=consts, vectors={**self.vectors, name: VecName.of(vec)})
 
 
 def _put(t: Term, old: Term, new: Term) -> Term:
@@ -137,6 +165,8 @@ class Desugarer:
     def __init__(self, env: Env, errors: list[Diagnostic] | None = None):
         self.env = env
         self.errors: list[Diagnostic] = errors if errors is not None else []
+        #: What unrolling loops has written out so far (T225).
+        self.budget = loops.Budget()
         #: While a program's box is not known yet (no domain: it is read off the body, §8.3), the
         #: conditions that cannot be completed without it wait here with their diagnostic.
         self.pending: list[tuple[Diffeo, Diagnostic]] | None = None
@@ -147,7 +177,18 @@ class Desugarer:
 
     # ------------------------------------------------------------------------------------------
     def term(self, st: STerm, sc: Scope) -> Term:
-        """The core term of the surface term ``st`` (LANGUAGE.md §6, the sugar table)."""
+        """The core term of the real-valued surface term ``st``; a vector here is T226."""
+        t = self.value(st, sc)
+        if t == vectors.POISON:
+            return Const(Fraction(0), span=getattr(st, "span", None))
+        if isinstance(t, Vec):
+            span = getattr(st, "span", None)
+            return self.fail(ty.reject_vector(span, len(t.parts)), span)
+        return t
+
+    def value(self, st: STerm, sc: Scope) -> Term | Vec:
+        """The core term of the surface term ``st``, or the vector of core terms it denotes
+        (LANGUAGE.md §6, the sugar table)."""
         span = getattr(st, "span", None)
         match st:
             case Num(v):
@@ -160,14 +201,20 @@ class Desugarer:
                 # a negative literal is Const(-k)
                 return Const(-v, span=span)
             case Neg(a):
-                # unary −t is (−1)·t
-                return Mul(Const(Fraction(-1)), self.term(a, sc), span=span)
+                # unary −t is (−1)·t; −u of a vector is each component's
+                arg = self.value(a, sc)
+                if isinstance(arg, Vec):
+                    return vectors.negate(arg)
+                return Mul(Const(Fraction(-1)), arg, span=span)
             case BinOp("^"):
                 # t ^ k with k a constant rational (T213 otherwise)
                 return self.power(st, sc)
             case BinOp(op, a, b):
-                # t + s;  t − s is t + (−1)·s;  t · s;  t / s is t · s ^ −1
-                left, right = self.term(a, sc), self.term(b, sc)
+                # t + s;  t − s is t + (−1)·s;  t · s;  t / s is t · s ^ −1; with vectors: u ± v,
+                # s·u, u·s, u / s component-wise
+                left, right = self.value(a, sc), self.value(b, sc)
+                if isinstance(left, Vec) or isinstance(right, Vec):
+                    return self.vector_op(vectors.binop, op, left, right, span, (a.span, b.span))
                 if op == "+":
                     return Add(left, right, span=span)
                 if op == "-":
@@ -177,9 +224,24 @@ class Desugarer:
                 if op == "/":
                     return Mul(left, Pow(right, Fraction(-1), span=span), span=span)
                 raise ValueError(f"unknown operator {op}")
+            case Apply("dot" | "cross" as f, args):
+                # dot(u, v) is u1·v1 + … + un·vn; cross(u, v) of 3-vectors
+                if len(args) != 2:
+                    return self.fail(ty.reject_arity(st.name_span or span, f"`{f}`", 2, len(args)), span)
+                return self.vector_op(vectors.dot if f == "dot" else vectors.cross, [self.value(u, sc) for u in args],
+                                      span, tuple(u.span for u in args))
             case Apply():
                 # f(t) primitive; abs/min/max sugar; a def call (left as a Call link)
                 return self.apply(st, sc)
+            case Vector(parts):
+                # (t1, …, tn): the vector of the ti
+                return Vec(tuple(self.term(u, sc) for u in parts))
+            case Component(u, name):
+                # u.x, u.y, u.z, u.w: a component
+                return self.vector_op(vectors.component, self.value(u, sc), name, span, u.span, st.name_span)
+            case Loop():
+                # §9: sum i in A..B: t is t[A/i] + … + t[B/i] (0 when B < A); prod alike (1)
+                return self.loop(st, sc)
             case Iverson(terms, ops):
                 # [t0 op t1 op t2 …] is the product [t0 op t1]·[t1 op t2]·…
                 core = [self.term(t, sc) for t in terms]
@@ -230,10 +292,64 @@ class Desugarer:
         raise TypeError(f"not a surface term: {st!r}")
 
     # ------------------------------------------------------------------------------------------
-    def name(self, st: Name, sc: Scope) -> Term:
+    def vector_op(self, f, *args) -> Term | Vec:
+        """``f(*args)``, one of :mod:`langur.syntax.vectors`' operations; its error is reported, and
+        its value is then :data:`~langur.syntax.vectors.POISON` (no cascade of diagnostics)."""
+        if any(a == vectors.POISON or (isinstance(a, list) and vectors.POISON in a) for a in args):
+            return vectors.POISON
+        try:
+            return f(*args)
+        except vectors.VectorError as e:
+            self.errors.append(e.diagnostic)
+            return vectors.POISON
+
+    def loop(self, st: Loop, sc: Scope) -> Term:
+        """§9's finite loop, unrolled: one copy of the body per value of the index, combined into a
+        balanced sum or product (:mod:`langur.syntax.loops`; T224 for a bound that is not an integer
+        constant, T225 past the bound on unrolling)."""
+        if self.budget.exhausted:
+            return Const(Fraction(0), span=st.span)
+        try:
+            lo, hi = loops.bounds(st.lo, st.hi, sc.consts)
+        except loops.BoundError as e:
+            return self.fail(ty.reject_loop_bound(e.span, e.why), st.span)
+        except loops.TooLarge:
+            self.budget.exhausted = True
+            return self.fail(ty.reject_loop_too_large(join(st.lo, st.hi), f"a bound has more than {loops.MAX_BITS} "
+                                                      "bits"), st.span)
+        where = st.name_span or st.span
+        if st.index in sc.variables:
+            return self.fail(ty.reject_var_param_clash(where, st.index, "a loop's index has the name of a variable"),
+                             st.span)
+        if st.index == "pi":
+            return self.fail(ty.reject_duplicate(where, "name (reserved constant)", "pi"), st.span)
+        refused = self.budget.charge(max(0, hi - lo + 1), loops.size(st.body))
+        if refused:
+            return self.fail(ty.reject_loop_too_large(join(st.lo, st.hi), refused), st.span)
+        before = len(self.errors)
+        copies = []
+        for k in range(lo, hi + 1):
+            copies.append(self.term(st.body, sc.with_index(st.index, k)))
+            if self.budget.exhausted:
+                break
+        self.errors[before:] = loops.once(self.errors[before:])  # the copies' diagnostics are the body's
+        if self.budget.exhausted:
+            return Const(Fraction(0), span=st.span)
+        return loops.balanced(copies, st.op, st.span)
+
+    def name(self, st: Name, sc: Scope) -> Term | Vec:
         n, span = st.name, st.span
         if n in sc.variables:
             return Var(n, span=span)
+        if n in sc.consts:
+            # a loop's index: the number it stands for in this copy of the body (§9)
+            return Const(sc.consts[n], span=span)
+        if n in sc.vectors:
+            bound = sc.vectors[n]
+            if bound.shadowed_by is not None:
+                self.errors.append(ty.reject_vector_capture(span, bound.shadowed_by, n))
+                return vectors.POISON
+            return bound.vec
         if n in sc.gamma:
             return Param(n, span=span)
         if n == "pi":
@@ -252,7 +368,11 @@ class Desugarer:
 
     def power(self, st: BinOp, sc: Scope) -> Term:
         base = self.term(st.left, sc)
-        k = constant_value(st.right)
+        try:
+            k = constant_value(st.right, sc.consts)
+        except loops.TooLarge:
+            return self.fail(ty.diag(st.right.span, "T231", "constant beyond the range of doubles: this exponent's "
+                                     f"exact value has more than {loops.MAX_BITS} bits"), st.span)
         if k is None:
             return self.fail(ty.reject_exponent(getattr(st.right, "span", st.span)), st.span)
         return Pow(base, k, span=st.span)
@@ -293,9 +413,12 @@ class Desugarer:
             args = []
             ok = True
             for a, (aname, kind) in zip(st.args, sig.args):
+                before = len(self.errors)
                 t = self.term(a, sc if kind == "var" else replace(sc, where=f"param argument `{aname}` of `{name}`"))
                 used = free_vars(t)
-                if kind == "var" and not used:
+                if len(self.errors) > before:  # already refused (a vector argument, …): no cascade
+                    ok = False
+                elif kind == "var" and not used:
                     self.errors.append(ty.reject_var_arg_without_variables(getattr(a, "span", span), name, aname))
                     ok = False
                 elif kind == "param" and used:
@@ -313,19 +436,25 @@ class Desugarer:
             return self.fail(ty.reject_unknown_function(where, name, " (an internal primitive, not part of the "
                                                         "surface language)"), span)
         return self.fail(ty.reject_unknown_function(where, name, ": not a primitive (" + ", ".join(PRIMITIVES) +
-                                                    ", abs, min, max) nor a def in scope"), span)
+                                                    ", " + ", ".join(SUGAR_FUNCTIONS) + ") nor a def in scope"), span)
 
-    def let(self, st: LetIn, sc: Scope) -> Term:
+    def let(self, st: LetIn, sc: Scope) -> Term | Vec:
         where = st.name_span or st.span
-        bound = self.term(st.bound, replace(sc, where=f"the term bound to `{st.name}`"))
-        used = free_vars(bound)
-        if used:
-            self.errors.append(ty.reject_let_with_variables(getattr(st.bound, "span", st.span), st.name, used))
+        bound = self.value(st.bound, replace(sc, where=f"the term bound to `{st.name}`"))
         if st.name in sc.variables:
             self.errors.append(ty.reject_var_param_clash(where, st.name, "let binds the name of a variable"))
         elif st.name == "pi":
             self.errors.append(ty.reject_duplicate(where, "name (reserved constant)", "pi"))
-        body = self.term(st.body, sc.with_param(st.name))
+        if isinstance(bound, Vec):
+            # a let-bound vector names its components, substituted where it is used
+            return self.value(st.body, sc.with_vector(st.name, bound))
+        used = free_vars(bound)
+        if used:
+            self.errors.append(ty.reject_let_with_variables(getattr(st.bound, "span", st.span), st.name, used))
+        body = self.value(st.body, sc.with_param(st.name))
+        if isinstance(body, Vec):
+            # let z = t in (vector): the let around each component
+            return Vec(tuple(Let(st.name, bound, b, span=st.span) for b in body.parts))
         return Let(st.name, bound, body, span=st.span)
 
     def if_chain(self, chain: Iverson, then: Term, orelse: Term, sc: Scope, span) -> Term:
@@ -444,31 +573,10 @@ def compare(left: Term, op: str, right: Term) -> Term:
     raise ValueError(f"unknown comparison {op}")
 
 
-def constant_value(st: STerm) -> Fraction | None:
-    """The value of a constant rational surface expression (an exponent), or None."""
-    match st:
-        case Num(v):
-            return v
-        case Neg(a):
-            v = constant_value(a)
-            return None if v is None else -v
-        case BinOp(op, a, b):
-            x, y = constant_value(a), constant_value(b)
-            if x is None or y is None:
-                return None
-            if op == "+":
-                return x + y
-            if op == "-":
-                return x - y
-            if op == "*":
-                return x * y
-            if op == "/":
-                return None if y == 0 else x / y
-            if op == "^":
-                if y.denominator != 1 or abs(y) > 64 or (x == 0 and y < 0):
-                    return None
-                return x ** int(y)
-    return None
+def constant_value(st: STerm, consts: Mapping[str, Fraction] | None = None) -> Fraction | None:
+    """The value of a constant rational surface expression (an exponent), or None; ``consts`` are
+    the loop indices in scope (§9)."""
+    return loops.constant(st, consts or {})
 
 
 def is_smooth(t: Term) -> bool:

@@ -43,6 +43,7 @@ from .chains import Reduced as _R
 from .surface import (
     Apply,
     BinOp,
+    Component,
     DefArg,
     DefDecl,
     DiffeoApp,
@@ -57,6 +58,7 @@ from .surface import (
     Iverson,
     LetIn,
     Logic,
+    Loop,
     ModuleS,
     Name,
     Neg,
@@ -66,6 +68,7 @@ from .surface import (
     ParamItem,
     ProgramS,
     STerm,
+    Vector,
 )
 
 __all__ = [
@@ -81,7 +84,7 @@ __all__ = [
 
 #: Reserved words (``d`` is only a keyword right after the integrand: see grammar.lark).
 KEYWORDS: frozenset[str] = frozenset(
-    "param diffeo inverse def from import as int d let in ifge0 if then else var not".split()  # noqa: SIM905
+    "param diffeo inverse def from import as int d let in ifge0 if then else var not sum prod".split()  # noqa: SIM905
 )
 #: Most characters outside comments and white space that a source may have (E108).
 MAX_SIGNIFICANT = 1_000_000
@@ -363,6 +366,22 @@ class _Builder:
             lambda sp: LetIn(str(name), bound.node, body.node, sp, nsp), c[0], body, (bound, body)
         )
 
+    def loop(self, c):
+        # SUM|PROD name IN term DOTDOT term COLON term (§9, the finite loop)
+        op, name, lo, hi, body, nsp = str(c[0]), c[1], c[3], c[5], c[7], self.tok_span(c[1])
+        return self.term(lambda sp: Loop(op, str(name), lo.node, hi.node, body.node, sp, nsp), c[0], body,
+                         (lo, hi, body))
+
+    def vector(self, c):
+        # ( term , terms ): a vector of at least two components
+        parts = [c[1], *c[3]]
+        return self.term(lambda sp: Vector(tuple(p.node for p in parts), sp), c[0], c[-1], parts)
+
+    def component(self, c):
+        # atom . name
+        base, name, nsp = c[0], c[2], self.tok_span(c[2])
+        return self.term(lambda sp: Component(base.node, str(name), sp, nsp), base, name, (base,))
+
     def ifge0(self, c):
         cond, then, orelse = c[1], c[3], c[5]
         return self.term(
@@ -414,12 +433,14 @@ _OPERATORS = ("PLUS", "MINUS", "STAR", "SLASH", "CARET")
 _CMPS = ("LE", "GE", "LT", "GT")
 _PUNCT = {
     "LPAR": "(", "RPAR": ")", "LSQB": "[", "RSQB": "]", "COMMA": ",", "SEMI": ";", "COLON": ":",
+    "DOT": ".", "DOTDOT": "..",
     "EQUAL": "=", "PLUS": "+", "MINUS": "-", "STAR": "*", "SLASH": "/", "CARET": "^",
     "LE": "<=", "GE": ">=", "LT": "<", "GT": ">",
 }  # fmt: skip
 _ORDER = [
     "TERM", "NAME", "NUMBER", "OPERATOR", "CMP", *_PUNCT, "PARAM", "DIFFEO", "DEF", "FROM", "INT",
-    "D", "LET", "IN", "IFGE0", "IF", "THEN", "ELSE", "INVERSE", "IMPORT", "AS", "VAR", "$END",
+    "D", "LET", "IN", "IFGE0", "IF", "THEN", "ELSE", "INVERSE", "IMPORT", "AS", "VAR", "SUM", "PROD",
+    "$END",
 ]  # fmt: skip
 
 
@@ -428,7 +449,7 @@ def _describe_expected(expected: set[str]) -> str:
     words: dict[str, str] = {}
     if all(t in exp for t in _TERM_START):
         words["TERM"] = "a term" if "LET" in exp else "an operand"
-        exp -= {*_TERM_START, "D", "LET", "IF", "IFGE0", "INT"}
+        exp -= {*_TERM_START, "D", "LET", "IF", "IFGE0", "INT", "SUM", "PROD"}
     elif "NAME" in exp:
         exp.discard("D")
         words["NAME"] = "a name"
@@ -489,8 +510,12 @@ def _convert(exc: UnexpectedInput, path: str) -> LangurError:
         hint = ""
         if tok.type == "SEMI":
             hint = " (NAME(variables; params) applies a declared diffeo only as the condition of ifge0)"
-        elif tok.type in ("LET", "IF", "IFGE0") and "NAME" in expected:
+        elif tok.type in ("LET", "IF", "IFGE0", "SUM", "PROD") and "NAME" in expected and "NUMBER" in expected:
             hint = f" ('{tok}' must be in parentheses inside arithmetic)"
+        elif tok.type == "NUMBER" and str(tok).startswith(".") and "DOT" in expected:
+            hint = " (a vector's components are .x, .y, .z, .w)"
+        elif str(tok) in KEYWORDS and "NAME" in expected:
+            hint = f" ('{tok}' is a reserved word, never a name)"
         return error(
             sp, "E102", f"unexpected {_describe_found(tok)}; expected {_describe_expected(expected)}{hint}"
         )

@@ -8,7 +8,7 @@ Public API::
     print_program(p: core.Program) -> str
     print_diffeo(psi: core.Diffeo) -> str  # one line: forward map, inverse branches with guards
 
-Output uses minimal parentheses for the grammar's precedences (``let``/``if``/``ifge0`` lowest
+Output uses minimal parentheses for the grammar's precedences (``let``/``if``/``ifge0``/loops lowest
 and extending right, then ``+ -``, ``* /``, unary ``-``, ``^``, atoms) plus a few for legibility
 (around ``let``/``if`` in a ``then`` branch or a condition, around a negation under a negation).
 Printing is iterative (an explicit stack), so arbitrarily deep terms never hit Python's recursion
@@ -186,6 +186,14 @@ def _surface_rule(t, level: int) -> list:
             for i, c in enumerate(chains if op != "not" else ()):
                 cond += ([" & " if op == "and" else " | "] if i else []) + _chain(c.terms, c.ops)
             return _wrap(TERM, level, ["if ", *cond, " then ", (then, SUM), " else ", (orelse, TERM)])
+        case S.Loop(op, index, lo, hi, body):
+            return _wrap(TERM, level, [f"{op} {index} in ", (lo, SUM), "..", (hi, SUM), ": ", (body, TERM)])
+        case S.Vector(parts):
+            return ["(", *_commas(parts), ")"]
+        case S.Component(S.Num() as base, name):
+            return ["(", (base, TERM), ").", name]  # `3.x` would lex as the number `3.` and a name
+        case S.Component(base, name):
+            return [(base, ATOM), ".", name]
         case S.DiffeoApp(name, variables, params):
             return [name, "(", *_commas(variables), ";", *([" "] if params else []), *_commas(params), ")"]
         case S.NestedInt(domain, body, variables):

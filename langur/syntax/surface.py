@@ -146,7 +146,42 @@ class NestedInt:
     span: Span | None = _span()
 
 
-STerm = Union[Num, Name, BinOp, Neg, Apply, Iverson, Logic, LetIn, IfGe0S, IfCmp, IfLogic, NestedInt]
+@dataclass(frozen=True)
+class Loop:
+    """``sum i in lo..hi: body`` or ``prod i in lo..hi: body``: the finite loop of §9 ("a finite
+    looping construct that is syntactic sugar and is unrolled"); ``index`` is an integer constant
+    in ``body``."""
+
+    op: str  # "sum" or "prod"
+    index: str
+    lo: "STerm"
+    hi: "STerm"
+    body: "STerm"
+    span: Span | None = _span()
+    name_span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Vector:
+    """``(t1, t2, …)``: a small fixed-size vector of at least two terms (desugared to its
+    components: vectors never reach the core language)."""
+
+    parts: tuple["STerm", ...]
+    span: Span | None = _span()
+
+
+@dataclass(frozen=True)
+class Component:
+    """``v.x``, ``v.y``, ``v.z``, ``v.w``: a component of a vector."""
+
+    vector: "STerm"
+    name: str
+    span: Span | None = _span()
+    name_span: Span | None = _span()
+
+
+STerm = Union[Num, Name, BinOp, Neg, Apply, Iverson, Logic, LetIn, IfGe0S, IfCmp, IfLogic, NestedInt, Loop, Vector,
+              Component]
 
 
 # --- declarations and modules -----------------------------------------------------------------
