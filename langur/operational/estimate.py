@@ -30,8 +30,8 @@ class TooLarge(ValueError):
         self.span, self.nodes = program.span, nodes
         super().__init__(f"the Monte Carlo engine evaluates the program path by path, and written out as a "
                          f"tree it has {nodes:.3g} nodes (at most {MAX_TREE_NODES:,}): its definitions share "
-                         "subterms (a definition called twice with the same arguments); the exact engine and "
-                         "`langur check` work on the shared form")
+                         "subterms (a definition called twice with the same arguments, a let-bound vector used "
+                         "twice); the exact engine and `langur check` work on the shared form")
 
 
 def prepare(program_or_loaded, params: dict, sites: str = "inlined", direction: dict | None = None,

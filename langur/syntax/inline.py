@@ -67,6 +67,8 @@ def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program
             raise LangurError([too_large])
         inl = _Inliner(lambda m, n: modules[m].defs[n], program.variables,
                        numeric_box(program.variables, program.box))
+        if not any(isinstance(u, Call) for u in subterms(program.integrand)):
+            return program  # nothing to inline
         integrand = inl.expand(program.integrand, ())  # the domain's bounds call nothing
     except RecursionError:  # calls through thousands of definitions that each add no depth
         raise LangurError([ty.reject_too_large(program.span, "its calls go through too many definitions, "
@@ -96,8 +98,23 @@ class _Inliner:
         #: names must not capture them.
         self.brought: set[str] = set()
         self.params_of: dict[tuple[str, str], frozenset[str]] = {}
+        #: By node identity: a shared subterm is expanded once — (the term, kept alive so that its
+        #: id stays its own; its expansion; the parameters its calls bring)
+        self.done: dict[tuple, tuple] = {}
 
     def expand(self, t: Term, stack: tuple) -> Term:
+        """``t`` with its calls inlined; a subterm shared before inlining (a let-bound vector's
+        components, substituted where it is used) stays shared, expanded once."""
+        key = (id(t), stack)
+        hit = self.done.get(key)
+        if hit is None:
+            outer, self.brought = self.brought, set()
+            hit = self.done[key] = (t, self._expand(t, stack), frozenset(self.brought))
+            self.brought = outer
+        self.brought |= hit[2]
+        return hit[1]
+
+    def _expand(self, t: Term, stack: tuple) -> Term:
         match t:
             case Call(module, name, args):
                 key = (module, name)
@@ -223,9 +240,12 @@ def _too_large(program: Program, lookup) -> Diagnostic | None:
     if depth <= MAX_INLINED_DEPTH:
         return None
     culprit, found = None, depth
-    stack = [program.body]
+    stack, seen = [program.body], set()
     while stack and culprit is None:
         u = stack.pop()
+        if id(u) in seen:  # a shared subterm is searched once
+            continue
+        seen.add(id(u))
         if isinstance(u, Call):
             d = measure.of(u, {})
             if d > MAX_INLINED_DEPTH:
@@ -234,9 +254,11 @@ def _too_large(program: Program, lookup) -> Diagnostic | None:
         stack.extend(reversed(_children(u)))
     where = culprit.span if culprit is not None and culprit.span is not None else program.span
     what = f"`{culprit.name}(…)`" if culprit is not None else "the program"
+    how = ("definitions are inlined (§9), so each call adds the depth of the definition's body" if culprit else
+           "definitions are inlined (§9) and let-bound vectors substituted, so each call or use adds the depth of "
+           "what it stands for")
     return ty.reject_too_large(where, f"{what} nests {found:,} levels deep when its definitions are inlined "
-                               f"(at most {MAX_INLINED_DEPTH}): definitions are inlined (§9), so each call "
-                               "adds the depth of the definition's body")
+                               f"(at most {MAX_INLINED_DEPTH}): {how}")
 
 
 class _Depth:
@@ -247,9 +269,18 @@ class _Depth:
         self.lookup = lookup
         self.memo: dict[tuple, int] = {}
         self.active: set[tuple] = set()
+        self.nodes: dict = {}  # by node identity and env: a shared subterm is measured once
 
     def of(self, t: Term, env: dict[str, int]) -> int:
-        """Depth of ``t`` inlined, where a name of ``env`` stands for a term that deep."""
+        """Depth of ``t`` inlined, where a name of ``env`` stands for a term that deep.  A term that
+        shares subterms (a let-bound vector's components are substituted where it is used: a DAG
+        even before inlining) is measured in time linear in its distinct nodes."""
+        key = (id(t), tuple(env.items())) if env else id(t)
+        if key not in self.nodes:
+            self.nodes[key] = self._of(t, env)
+        return self.nodes[key]
+
+    def _of(self, t: Term, env: dict[str, int]) -> int:
         match t:
             case Var(name) | Param(name):
                 return env.get(name, 1)
