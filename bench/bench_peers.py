@@ -75,41 +75,40 @@ def langur_mb1(n: int, samples: int = 10):
 
 # -- Potto (its public API, as its authors' microbenchmarks use it) ---------------------------------
 
-def potto_mb1(n: int, samples: int = 10):
-    from potto import (
-        App,
-        BoundedLebesgue,
-        Const,
-        Function,
-        Heaviside,
-        Int,
-        Shift,
-        Sym,
-        TegVar,
-        Var,
-        VarVal,
-        deriv,
-        evaluate,
-    )
+def potto_integral(first: int, last: int):
+    """Potto's ∫₋₁¹ Σᵢ H(x + aᵢ)·f(aᵢ, x) dx for i = first … last as a function of the shader f,
+    differentiated once (separate compilation); returns the derivative, the shader's variables,
+    the derivative context and the values (aᵢ = 1/i, daᵢ = 1)."""
+    from potto import App, BoundedLebesgue, Const, Function, Heaviside, Int, Shift, Sym, TegVar, Var, deriv
 
     x, f = TegVar("x"), Var("f")
-    measure = BoundedLebesgue(-1, 1, x)
+    big, ctx, vals = Const(0), {}, {}
+    for i in range(first, last + 1):
+        a = Var(f"a{i}")
+        vals[a.name] = 1 / i
+        big += Heaviside(Shift((a,), (x,), Const(1))) * App(f, (a, x))
+        da = Sym(f"da{i}")
+        ctx[a.name] = da
+        vals[da] = 1
+    x0, a0 = TegVar("x0"), Var("a0")
+    ctx[x0.name], ctx[a0.name] = Sym("x0"), Sym("a0")
+    return deriv(Function((f,), Int(big, BoundedLebesgue(-1, 1, x))), ctx), (a0, x0), ctx, vals
+
+
+def potto_applied(di, shader, ctx):
+    """The compiled integral's derivative applied to a shader and the shader's derivative."""
+    from potto import App, deriv
+
+    return App(di, (shader, deriv(shader, ctx)))
+
+
+def potto_mb1(n: int, samples: int = 10):
+    from potto import Function, VarVal, evaluate
 
     def build():
-        big, ctx, vals = Const(0), {}, {}
-        for i in range(10, 10 + n):
-            a = Var(f"a{i}")
-            vals[a.name] = 1 / i
-            big += Heaviside(Shift((a,), (x,), Const(1))) * App(f, (a, x))
-            da = Sym(f"da{i}")
-            ctx[a.name] = da
-            vals[da] = 1
-        x0, a0 = TegVar("x0"), Var("a0")
-        ctx[x0.name], ctx[a0.name] = Sym("x0"), Sym("a0")
+        di, (a0, x0), ctx, vals = potto_integral(10, 9 + n)
         s1, s2 = Function((a0, x0), a0 + x0), Function((a0, x0), a0 - x0)
-        integral = Function((f,), Int(big, measure))
-        di = deriv(integral, ctx)
-        return App(di, (s1, deriv(s1, ctx))) + App(di, (s2, deriv(s2, ctx))), VarVal(vals)
+        return potto_applied(di, s1, ctx) + potto_applied(di, s2, ctx), VarVal(vals)
 
     c, (expr, vals) = median(build, 3)
     e, value = median(lambda: evaluate(expr, vals, samples), 3)
@@ -179,40 +178,14 @@ def langur_mb2(n: int, folder: str):
 
 
 def potto_mb2(n: int):
-    from potto import (
-        App,
-        BoundedLebesgue,
-        Const,
-        Function,
-        Heaviside,
-        Int,
-        Shift,
-        Sym,
-        TegVar,
-        Var,
-        VarVal,
-        deriv,
-        evaluate,
-    )
-
-    x, f = TegVar("x"), Var("f")
+    from potto import Function, VarVal, evaluate
 
     def run():
-        big, ctx, vals = Const(0), {}, {}
-        for i in range(10, 100):
-            a = Var(f"a{i}")
-            vals[a.name] = 1 / i
-            big += Heaviside(Shift((a,), (x,), Const(1))) * App(f, (a, x))
-            da = Sym(f"da{i}")
-            ctx[a.name] = da
-            vals[da] = 1
-        x0, a0 = TegVar("x0"), Var("a0")
-        ctx[x0.name], ctx[a0.name] = Sym("x0"), Sym("a0")
-        di = deriv(Function((f,), Int(big, BoundedLebesgue(-1, 1, x))), ctx)  # compiled once
+        di, (a0, x0), ctx, vals = potto_integral(10, 99)  # compiled once
         total = 0.0
         for k in range(n + 1):  # each swap: the shader's derivative, applied to the compiled integral
             s = Function((a0, x0), a0 + x0) if k < n else Function((a0, x0), a0 - x0)
-            total += evaluate(App(di, (s, deriv(s, ctx))), VarVal(vals), 10)
+            total += evaluate(potto_applied(di, s, ctx), VarVal(vals), 10)
         return total
 
     t, _ = median(run, 1)
