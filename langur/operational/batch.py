@@ -22,7 +22,7 @@ import numpy as np
 
 from ..values import ParameterError
 from .compile import DELTA, TANGENT, VALUE, Point, full
-from .estimate import LOW_HITS, prepare
+from .estimate import LOW_HITS, _inside, prepare
 from .link import CACHE, CompileCache, Linked
 from .sample import design
 
@@ -165,8 +165,9 @@ def _finish(est: np.ndarray, se: np.ndarray, empty: np.ndarray, undefined: np.nd
 
 
 def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: str, lo, hi, npts: int):
-    """Σ_k ∫ E_k δ_k at every point (see :func:`.estimate._boundary`): the u'-boxes point by
-    point, then every site's points at every parameter point scored in one DELTA pass."""
+    """Σ_k ∫ E_k δ_k at every point (see :func:`.estimate._boundary`): each site's u'-boxes for all
+    points at once, then every site's points at the parameter points whose box it meets, scored in
+    one DELTA pass."""
     live = set(dp)
     m = len(linked.variables) - 1
     total, var = np.zeros(npts), np.zeros(npts)
@@ -221,11 +222,7 @@ def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: s
     params = {name: np.concatenate([r[name] for r in reps]) for name in grid}
     _, g = _run(linked, x, params, mode=DELTA, site=site_ids, sites=frozenset(k for k, *_ in plan))
     owner = np.concatenate(boxes)
-    inside = np.ones(len(site_ids), dtype=bool)
-    for j, v in enumerate(linked.variables):  # the closed box, widened as estimate._inside does
-        blo, bhi = lo[owner, j], hi[owner, j]
-        tol = 1e-9 * np.maximum(1.0, np.maximum(np.abs(blo), np.abs(bhi)))
-        inside &= (x[v] >= blo - tol) & (x[v] <= bhi + tol)
+    inside = _inside(x, {v: (lo[owner, j], hi[owner, j]) for j, v in enumerate(linked.variables)})
     score = np.where(np.concatenate(oks) & inside, np.concatenate(dps) * full(g, len(site_ids)) * np.concatenate(ws), 0.0)
     at = 0
     for (_k, des, idx, volumes, branches, _), c in zip(plan, counts):
@@ -240,43 +237,4 @@ def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: s
         mean, se = _rows_mean(des, f)
         total[idx] += volumes * mean
         var[idx] += (volumes * se) ** 2
-    return total, var, low
-    # every (site, branch) block of P·N points one after the other, in one DELTA pass
-    ids, xs, ws, oks, dps, reps, counts, blocks = [], {v: [] for v in linked.variables}, [], [], [], [], [], []
-    for k, des, _, branches, rep in plan:
-        size = npts * des.points.shape[0]
-        counts.append(size * len(branches))
-        for xb, w, ok, dpsi in branches:
-            ids.append(np.full(size, k))
-            for v in linked.variables:
-                xs[v].append(xb[v])
-            ws.append(w)
-            oks.append(ok)
-            dps.append(full(dpsi, size))
-            reps.append(rep)
-            blocks.append((ws[-1],))
-    site_ids = np.concatenate(ids)
-    x = {v: np.concatenate(a) for v, a in xs.items()}
-    params = {name: np.concatenate([r[name] for r in reps]) for name in grid}
-    _, g = _run(linked, x, params, mode=DELTA, site=site_ids, sites=frozenset(k for k, *_ in plan))
-    inside = np.ones(len(site_ids), dtype=bool)
-    for j, v in enumerate(linked.variables):  # the closed box, widened as estimate._inside does
-        blo = np.concatenate([np.repeat(lo[:, j], len(r[0]) // npts) for r in blocks])
-        bhi = np.concatenate([np.repeat(hi[:, j], len(r[0]) // npts) for r in blocks])
-        tol = 1e-9 * np.maximum(1.0, np.maximum(np.abs(blo), np.abs(bhi)))
-        inside &= (x[v] >= blo - tol) & (x[v] <= bhi + tol)
-    score = np.where(np.concatenate(oks) & inside, np.concatenate(dps) * full(g, len(site_ids)) * np.concatenate(ws), 0.0)
-    at = 0
-    for (_k, des, volumes, branches, _), c in zip(plan, counts):
-        nb = des.points.shape[0]
-        f = score[at:at + c].reshape(len(branches), npts, nb).sum(axis=0)
-        at += c
-        if des.method == "exact":
-            total += f.sum(axis=1) if nb > 1 else f[:, 0]
-            continue
-        hits = np.count_nonzero(f, axis=1)
-        low |= (hits > 0) & (hits < LOW_HITS)
-        mean, se = _rows_mean(des, f)
-        total += volumes * mean
-        var += (volumes * se) ** 2
     return total, var, low

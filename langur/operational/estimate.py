@@ -168,10 +168,11 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
 
 
 def _inside(x: dict, box: dict) -> np.ndarray:
-    """Which points lie in the closed box B (widened by 1e-9 of each side's scale)."""
+    """Which points lie in the closed box B (widened by 1e-9 of each side's scale); the ends may be
+    numbers or, one per point, arrays (the batch)."""
     inside = None
     for v, (lo, hi) in box.items():
-        tol = 1e-9 * max(1.0, abs(lo), abs(hi))
+        tol = 1e-9 * np.maximum(1.0, np.maximum(np.abs(lo), np.abs(hi)))
         ok = (x[v] >= lo - tol) & (x[v] <= hi + tol)
         inside = ok if inside is None else inside & ok
     return inside
