@@ -159,15 +159,16 @@ def _exact_fork(program, params, timeout: float):
         parent.close()
 
 
-def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: float = 20.0,
-                 lint: bool = True, method: str = "uniform") -> ProgramResult:
-    """Load ``text`` and compare the engines on value and every partial derivative (module doc)."""
-
+def _prepared(text: str, timeout: float, lint: bool):
+    """What every comparison starts from: ``text`` loaded, linted (a program the linter finds not
+    transverse is discarded) and answered by the exact engine.  Returns ``(result, loaded, params,
+    ex, exd)``; ``result.status`` other than agree (load_error, discarded, timeout, …) ends the
+    comparison there."""
     try:
         loaded = load_text(text, path="<fuzz>.lgr")
     except LangurError as e:
-        return ProgramResult(text, "load_error", reason="; ".join(d.format() for d in e.diagnostics))
-    program = loaded.program
+        return ProgramResult(text, "load_error", reason="; ".join(d.format() for d in e.diagnostics)), None, None, \
+            None, None
     params = loaded.param_values({})
     result = ProgramResult(text, "agree")
     if lint:
@@ -180,14 +181,22 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
         result.findings += [f"{f.code} {f.message}" for f in found]
         if any(f.code in LINT_DISCARD for f in found):
             result.status = "discarded"
-            return result
-    floats = {k: float(v) for k, v in params.items()}
+            return result, loaded, params, None, None
     t0 = time.monotonic()
-    status, ex, exd = _exact_all(program, params, timeout)
+    status, ex, exd = _exact_all(loaded.program, params, timeout)
     result.exact_seconds = time.monotonic() - t0
     if status != "ok":
         result.status, result.reason = status, ex
+    return result, loaded, params, ex, exd
+
+
+def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: float = 20.0,
+                 lint: bool = True, method: str = "uniform") -> ProgramResult:
+    """Load ``text`` and compare the engines on value and every partial derivative (module doc)."""
+    result, loaded, params, ex, exd = _prepared(text, timeout, lint)
+    if result.status != "agree":
         return result
+    floats = {k: float(v) for k, v in params.items()}
 
     def err(r):
         return r.error if r.error is not None else 0.0
@@ -231,24 +240,10 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
 def compare_engine(text: str, engine, *, timeout: float = 20.0, lint: bool = True) -> ProgramResult:
     """Load ``text`` and compare ``engine`` (the protocol of :mod:`langur.engines`) with the exact
     engine on the value and every partial derivative, with the tolerance its kind asks for."""
-    try:
-        loaded = load_text(text, path="<fuzz>.lgr")
-    except LangurError as e:
-        return ProgramResult(text, "load_error", reason="; ".join(d.format() for d in e.diagnostics))
-    program, params = loaded.program, loaded.param_values({})
-    result = ProgramResult(text, "agree")
-    if lint:
-        found = check_loaded(loaded, at={k: float(v) for k, v in params.items()}, sources={"<fuzz>.lgr": text})
-        result.findings += [f"{f.code} {f.message}" for f in found]
-        if any(f.code in LINT_DISCARD for f in found):
-            result.status = "discarded"
-            return result
-    t0 = time.monotonic()
-    status, ex, exd = _exact_all(program, params, timeout)
-    result.exact_seconds = time.monotonic() - t0
-    if status != "ok":
-        result.status, result.reason = status, ex
+    result, loaded, params, ex, exd = _prepared(text, timeout, lint)
+    if result.status != "agree":
         return result
+    program = loaded.program
     floats = {k: float(v) for k, v in params.items()}
     asks = [("value", None, ex, lambda: engine.value(program, floats))]
     for p in params:
