@@ -66,6 +66,26 @@ def test_deriv_at_and_dir(capsys):
     assert r["exact"]["value"] == 0.0 and r["mc"]["value"] == 0.0
 
 
+def test_deriv_at_a_degenerate_point_is_undefined(capsys):
+    # ∫₀¹[x ≤ θ] = min(max(θ, 0), 1) has a corner at θ = 1 (the jump lies on the domain's end):
+    # no derivative there (X305), although ⦇p⦈ would say 1 and standard AD 0; at θ = 0.5 it is 1.
+    r = run(capsys, "deriv", str(DEGENERATE / "boundary.lgr"), "--wrt", "theta", "--json")
+    assert r[0] == 1
+    j = json.loads(r[1])
+    assert j["exact"] is None and "does not exist" in j["undefined"] and "X305" in j["undefined"]
+    assert [d["code"] for d in j["diagnostics"]] == ["X305"]
+    r = run_json(capsys, "deriv", str(DEGENERATE / "boundary.lgr"), "--wrt", "theta", "--at", "theta=0.5")
+    assert r["exact"]["value"] == 1.0 and r["undefined"] is None
+    # The triangle abc with a = (ax, 0.1), b = (0.9, 0.3), c = (0.4, 0.8) has area (0.55 − 0.5·ax)/2
+    # for ax < 1.1, and is empty beyond (clockwise): at ax = 1.1 the three vertices are collinear,
+    # the edges' jumps coincide, and the derivative (−1/4 on the left, 0 on the right) does not exist.
+    tri = str(EXAMPLES / "triangle.lgr")
+    status, out, err = run(capsys, "deriv", tri, "--wrt", "ax", "--at", "ax=1.1", "--no-theorem")
+    assert status == 1 and "undefined" in out and "error X305" in err
+    r = run_json(capsys, "deriv", tri, "--wrt", "ax", "--at", "ax=0.5", "--no-theorem")
+    assert abs(r["exact"]["value"] + 0.25) < 1e-9
+
+
 def test_theorem_8_1_fails_on_the_coincident_program(capsys):
     # [x ≥ a]·[x ≥ a] on [0, 1]: ⟦p⟧ = 1 − a so D⟦p⟧ = −1; the product rule counts the jump
     # twice (each factor is 1 at x = a): ⦇p⦈ = −2 (paper §7.3.1, footnote 7).

@@ -5,6 +5,12 @@ positive measure: a jump counted twice) ⦇p⦈ is not the derivative, so ``deri
 derivative is not defined for the program as written, shows the transverse rewrite of §7.3.2
 (``langur.lint.rewrite``) and exits 1; ``deriv --rewrite`` differentiates the rewrite instead.
 
+**At the parameter values** (``deriv``): where ``langur check --at`` reports X305 (the values lie in a
+degenerate set: two jumps meet, a jump sits on the domain's end, a condition stops being a
+diffeomorphism) the integral has a kink there and ⦇p⦈ is not its derivative (Theorem 8.1 holds for
+almost every parameter value, not at these): ``deriv`` reports the derivative as undefined, prints
+the finding, still shows the Monte Carlo number marked as not a derivative, and exits 1.
+
 **Integrability.** The structural analysis of ``langur.lint.singular`` (X311 for ⟦p⟧, X313 for ⦇p⦈ in the
 direction asked, X312 when undecided) runs at the parameter values of the command.  A finding at
 error severity means the integral does not exist: the command prints it as a diagnostic
@@ -85,6 +91,13 @@ class Transversal:
     findings: list[Finding] = field(default_factory=list)
     rewritten: object = None  # the rewritten core Program
     shown: str = ""  # the rewrite as a diff of the file (or the whole program)
+    here: list[Finding] = field(default_factory=list)  # X305 at the parameter values asked
+
+    def undefined_here(self) -> str | None:
+        """Why the derivative does not exist at the parameter values (X305), or None."""
+        if not self.here:
+            return None
+        return "the derivative does not exist at these parameter values: " + _short(self.here[0])
 
     def reason(self) -> str:
         f = self.findings[0]
@@ -93,14 +106,18 @@ class Transversal:
                 "measure, ⦇p⦈ counts a jump twice and is not the derivative (paper §7.3)")
 
 
-def transversal(loaded, path: str | None) -> Transversal:
-    """X301: is ⦇p⦈ the derivative of this program?  With the rewrite when it is not."""
+def transversal(loaded, path: str | None, at=None) -> Transversal:
+    """X301: is ⦇p⦈ the derivative of this program?  With the rewrite when it is not.  With ``at``,
+    also X305: is it the derivative at those parameter values?"""
 
     sources = _sources(path)
-    found = [f for f in check_loaded(loaded, sources=sources) if f.code == "X301"]
+    checked = check_loaded(loaded, at=None if at is None else {k: float(v) for k, v in at.items()},
+                           sources=sources)
+    found = [f for f in checked if f.code == "X301"]
+    here = [f for f in checked if f.code == "X305"]
     if not found:
-        return Transversal()
-    out = Transversal(found, transverse(loaded.program).program)
+        return Transversal(here=here)
+    out = Transversal(found, transverse(loaded.program).program, here=here)
     text = sources.get(path or "")
     try:
         fixed = fix.fix(text, path, loaded) if text is not None else None

@@ -45,7 +45,7 @@ def run(args) -> int:
     exact = mc = theorem = named = None
     standard_ad = None
     engine = named_engine(args)
-    gate = _defined.transversal(loaded, args.file)  # X301: is ⦇p⦈ the derivative at all?
+    gate = _defined.transversal(loaded, args.file, params)  # X301: is ⦇p⦈ the derivative at all? X305: here?
     rewrite = gate.shown if gate.findings else None
     if gate.findings and not args.rewrite:
         return _not_transverse(args, gate, params, direction)
@@ -54,6 +54,9 @@ def run(args) -> int:
         program = target = gate.rewritten
     with progress.phase("integrability analysis"):
         defined = _defined.derivative(program, params, direction, args.file)  # X311 / X313
+    if gate.here and not gate.findings:  # X305: a kink at these parameter values
+        defined.findings = gate.here + defined.findings
+        defined.undefined = defined.undefined or gate.undefined_here()
     defined.report(args.json)
     undefined = defined.undefined
     if undefined is not None:
