@@ -8,6 +8,10 @@ without ``SIGALRM``) the call cannot be interrupted: ``fn`` runs to completion a
 ``TimeoutError`` is raised afterwards when it overran, so callers still fall back consistently.
 
 :class:`Deadline` is a small helper for an overall time budget split over many calls.
+``with budget(seconds):`` bounds every :class:`Deadline` created or used inside it by one shared
+end: the exact engine's symbolic work for a whole request (a value, its partial derivatives and
+their Theorem 8.1 checks) then draws on one budget, and what is not done by its end falls back to
+quadrature instead of each integral starting a fresh limit of its own.
 """
 
 from __future__ import annotations
@@ -15,7 +19,8 @@ from __future__ import annotations
 import signal
 import threading
 import time
-from typing import Callable, TypeVar
+from contextlib import contextmanager
+from typing import Callable, Iterator, TypeVar
 
 T = TypeVar("T")
 
@@ -88,16 +93,34 @@ def run_with_timeout(fn: Callable[[], T], seconds: float) -> T:
                 signal.setitimer(signal.ITIMER_REAL, left, old_interval)
 
 
+#: The ends (``time.monotonic()``) of the enclosing :func:`budget` blocks, innermost last.
+_BUDGETS: list[float] = []
+
+
+@contextmanager
+def budget(seconds: float | None) -> Iterator[None]:
+    """Within the block, no :class:`Deadline` has more than ``seconds`` left from now (None: no
+    bound; nested blocks only shorten)."""
+    if seconds is None:
+        yield
+        return
+    _BUDGETS.append(time.monotonic() + max(0.0, seconds))
+    try:
+        yield
+    finally:
+        _BUDGETS.pop()
+
+
 class Deadline:
     """An overall time budget: ``run(fn, cap)`` runs ``fn`` under the remaining time (at most
-    ``cap`` seconds when given)."""
+    ``cap`` seconds when given, and never past the end of an enclosing :func:`budget`)."""
 
     def __init__(self, seconds: float):
         self.seconds = seconds
         self.end = time.monotonic() + seconds
 
     def remaining(self) -> float:
-        return self.end - time.monotonic()
+        return min([self.end, *_BUDGETS]) - time.monotonic()
 
     def run(self, fn: Callable[[], T], cap: float | None = None) -> T:
         left = self.remaining()

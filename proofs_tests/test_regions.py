@@ -239,3 +239,27 @@ def test_time_limit_survives_a_swallowed_alarm():
     with pytest.raises(TimeoutError):
         run_with_timeout(stubborn, 0.1)
     assert time.monotonic() - start < 2
+
+
+def test_a_shared_budget_bounds_every_deadline_and_the_engine_falls_back_to_quadrature():
+    # `with budget(s)` caps each Deadline made or used inside it (the fuzzer gives the exact engine
+    # one symbolic budget per program).  With nothing left, ∫₀¹ x⁷·e^(x/3) is not looked for in
+    # closed form: the integral is the quadrature, which says so, and agrees with the closed form.
+    from langur import exact as api
+    from langur.frontend import load_text
+    from langur.timebox import Deadline, budget
+
+    d = Deadline(100.0)
+    with budget(1.0):
+        assert 0 < d.remaining() <= 1.0
+        with budget(50.0):  # nesting only shortens
+            assert d.remaining() <= 1.0
+    assert d.remaining() > 50
+    program = load_text("int ([0, 1]) x^7 * exp(x / 3) d(x)\n").program  # a weight no other test has
+    with budget(0.0):
+        with pytest.raises(TimeoutError):
+            Deadline(10.0).run(lambda: 1)
+        r = api.exact_eval(program, {})
+    assert r.method == "quadrature"
+    closed = api.exact_eval(program, {})  # the time-out is remembered with its budget, retried with more
+    assert closed.method == "closed_form" and abs(r.value - closed.value) <= r.error + 1e-12

@@ -13,6 +13,7 @@ from .. import engines, operational
 from .. import exact as api
 from ..diagnostics import LangurError
 from ..frontend import load_text
+from ..timebox import budget
 from ..transversality import check_loaded
 from .generate import (
     ABS_SLACK,
@@ -92,15 +93,23 @@ def agree(exact: float, error: float, mc: float, stderr: float) -> bool:
     return abs(mc - exact) <= tol
 
 
-def _exact_child(conn, program, params):
+#: The share of a program's time limit the exact engine may spend looking for closed forms (all
+#: its sympy integrate attempts together, over the value, every partial derivative and their
+#: Theorem 8.1 checks); the rest is left for the quadratures that stand in for what it did not find.
+SYMBOLIC_SHARE = 0.4
+
+
+def _exact_child(conn, program, params, timeout):
     """In a forked child: every exact answer, sent back through ``conn``."""
     import gc
 
 
     gc.callbacks.clear()  # a time limit firing inside a gc callback would be swallowed there
     try:
-        ex = api.exact_eval(program, params)
-        exd = {p: api.exact_deriv(program, params, {q: (1 if q == p else 0) for q in params}) for p in params}
+        with budget(SYMBOLIC_SHARE * timeout):
+            ex = api.exact_eval(program, params)
+            exd = {p: api.exact_deriv(program, params, {q: (1 if q == p else 0) for q in params})
+                   for p in params}
         bad = [why for r in (ex, *exd.values()) for why in r.inconsistent]
         if bad:  # a closed form failed its cross-check: the engine reported quadrature, the fuzzer a bug
             conn.send(("exact_error", f"inconsistent closed form: {bad[0].splitlines()[0]}", None))
@@ -142,7 +151,7 @@ def _exact_fork(program, params, timeout: float):
 
     ctx = mp.get_context("fork")
     parent, child = ctx.Pipe(duplex=False)
-    proc = ctx.Process(target=_exact_child, args=(child, program, params), daemon=True)
+    proc = ctx.Process(target=_exact_child, args=(child, program, params, timeout), daemon=True)
     proc.start()
     child.close()
     try:
