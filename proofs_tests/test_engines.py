@@ -17,7 +17,7 @@ from pathlib import Path
 import jsonschema
 import pytest
 from hypothesis import HealthCheck, given, settings
-from paths import EXAMPLES, REPO
+from paths import DEGENERATE, EXAMPLES, REPO
 
 from langur import core_json, engines, fuzz
 from langur.engines.builtin import ExactEngine, MonteCarloEngine
@@ -200,3 +200,16 @@ def test_fuzz_cli_takes_an_engine(capsys):
                    "--timeout", "5", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert status == 0 and out["counts"]["declined"] >= 1 and out["counts"]["discrepancy"] == 0
+
+
+def test_a_named_engine_is_still_asked_about_a_program_that_is_not_transverse(capsys):
+    # [x ≥ a]·[x ≥ a] on [0, 1]: ⦇p⦈ is not the derivative (X301), but ⟦p⟧ = 1 − a has one, −1, which
+    # the transverse rewrite [x ≥ a] computes; the engine answers for the program as written
+    # (standard AD: 0) and is compared with −1.
+    from langur.cli import main
+
+    status = main(["deriv", str(DEGENERATE / "coincident.lgr"), "--wrt", "a", "--engine", "standard-ad",
+                   "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert status == 1 and out["exact"] is None and out["rewrite_derivative"] == -1.0
+    assert out["engine"]["value"] == 0.0 and out["engine"]["agrees"] is False

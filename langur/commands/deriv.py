@@ -48,7 +48,7 @@ def run(args) -> int:
     gate = _defined.transversal(loaded, args.file, params)  # X301: is ⦇p⦈ the derivative at all? X305: here?
     rewrite = gate.shown if gate.findings else None
     if gate.findings and not args.rewrite:
-        return _not_transverse(args, gate, params, direction)
+        return _not_transverse(args, gate, params, direction, loaded.program, engine)
     target = loaded
     if gate.findings:  # --rewrite: differentiate the transverse program instead
         program = target = gate.rewritten
@@ -124,12 +124,25 @@ def _what(direction) -> str:
     return "derivative in direction " + ", ".join(f"{k}'={c.fmt(v)}" for k, v in direction.items() if v)
 
 
-def _not_transverse(args, gate, params, direction) -> int:
-    """X301: no number is presented as the derivative; the rewrite is shown (Def. 7.2, §7.3)."""
+def _not_transverse(args, gate, params, direction, program, engine) -> int:
+    """X301: no number is presented as ⦇p⦈; the rewrite is shown (Def. 7.2, §7.3).  A named engine
+    (``--engine``) is still asked about the program as written, and compared with the derivative of
+    ⟦p⟧, which the transverse rewrite has too (same ⟦p⟧): an engine that counts the jump twice, or
+    drops it (Teg's 0 for d/dt ∫₀¹[x<t]²), disagrees."""
+    named = reference = None
+    if engine is not None:
+        reference, _ = run_exact("deriv", gate.rewritten, params, direction, theorem=False)
+        if isinstance(reference, Undefined):
+            reference = None
+        floats = {k: float(v) for k, v in params.items()}
+        dirs = {k: float(v) for k, v in direction.items()}
+        named, _ = compare_named(engine, lambda e: e.derivative(program, floats, dirs), reference)
     if args.json:
         c.dump_json({"params": params, "direction": direction, "exact": None, "mc": None, "standard_ad": None,
                      "theorem_8_1": None, "undefined": gate.reason(), "rewrite": gate.shown,
-                     "diagnostics": [f.diagnostic().to_json() for f in gate.findings]})
+                     "diagnostics": [f.diagnostic().to_json() for f in gate.findings],
+                     **({"engine": named, "rewrite_derivative": reference.value if reference else None}
+                        if named is not None else {})})
         return 1
     for f in gate.findings:
         print(f.diagnostic().format(), file=sys.stderr)
@@ -138,4 +151,9 @@ def _not_transverse(args, gate, params, direction) -> int:
     print("  rewrite     : the transverse program of paper §7.3.2 (same value ⟦p⟧); "
           "`langur deriv --rewrite` differentiates it, `langur check --fix` writes it:")
     print("    " + gate.shown.rstrip("\n").replace("\n", "\n    "))
+    if named is not None:
+        if reference is not None:
+            print(f"  D⟦p⟧        : {c.fmt(reference.value)}   (the rewrite's ⦇p⦈: it has the same ⟦p⟧; "
+                  f"{named['name']} is asked about the program as written)")
+        print_named(named, 12)
     return 1
