@@ -273,19 +273,28 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
         key = (id(t), ctx.local)
         fn = sharing.compiled.get(key)
         if fn is None:
-            fn = sharing.compiled[key] = _shared(_compile_node(t, ctx), next(_KEYS))
+            fn = sharing.compiled[key] = _shared(_compile_node(t, ctx), next(_KEYS), sharing.refs[id(t)])
         return fn
     return _compile_node(t, ctx)
 
 
-def _shared(f: Fn, key: int) -> Fn:
-    """``f`` evaluated once per point: a shared pure subterm reads nothing but the point."""
+def _shared(f: Fn, key: int, uses: int) -> Fn:
+    """``f`` evaluated once per point: a shared pure subterm reads nothing but the point.  Its
+    value is kept for the term's ``uses`` references and then dropped, so a point holds at once
+    only the shared values still to be read (not every one: arrays of a million samples each).
+    A reference not reached (a branch not taken) keeps the value until the point goes; one
+    reached more often than counted evaluates ``f`` again, to the same numbers."""
     def shared(pt, lk):
         memo = pt.memo
         hit = memo.get(key)
         if hit is None:
-            hit = memo[key] = f(pt, lk)
-        return hit
+            out = f(pt, lk)
+            memo[key] = [out, uses - 1]
+            return out
+        hit[1] -= 1
+        if hit[1] <= 0:
+            del memo[key]
+        return hit[0]
     return shared
 
 

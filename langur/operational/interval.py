@@ -24,13 +24,10 @@ def enclose(t: Term, box: dict, params: dict) -> tuple[np.ndarray, np.ndarray]:
     """Arrays (lo, hi) containing ⟦t⟧ for every point of each box (``box``: variable → (lo, hi)
     arrays) at ``params`` (name → number or array, broadcast with the boxes).  A subterm shared
     in ``t`` (substituted lets, inlined calls: a DAG) is enclosed once per parameter scope."""
-    return Enclosures(box).go(t, params)
+    return _Enclose(box).go(t, params)
 
 
-class Enclosures:
-    """Enclosures over one box: terms enclosed through one instance (:meth:`go`) share the
-    enclosures of their common subterms (an inverse branch's components and guards)."""
-
+class _Enclose:
     def __init__(self, box: dict):
         self.box = box
         self.memo: dict[tuple[int, int], tuple] = {}

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..core import Diffeo, Var
 from .compile import TANGENT, UNLINKED, VALUE, Point, compile_term, full
-from .interval import Enclosures, enclose
+from .interval import enclose
 
 METHODS = ("uniform", "stratified", "qmc")
 QMC_RANDOMIZATIONS = 16
@@ -207,24 +207,23 @@ class SiteSampler:
         for j, (u, _, _) in enumerate(self.coords):
             cell[u] = (edges[:, j, cells[:, j]], edges[:, j, cells[:, j] + 1])  # (P, K)
         meets = np.zeros((npts, len(cells)), dtype=bool)
-        encl = Enclosures(cell)  # the branches' components and guards share subterms
         for b in self.psi.branches:
-            meets |= self._meets(b, encl, box, params)
+            meets |= self._meets(b, cell, box, params)
         any_cell = meets.any(axis=1)
         out_lo = np.stack([np.where(meets, cell[u][0], np.inf).min(axis=1) for u, _, _ in self.coords], axis=1)
         out_hi = np.stack([np.where(meets, cell[u][1], -np.inf).max(axis=1) for u, _, _ in self.coords], axis=1)
         # no cell meets the box: the zero set misses it (zero-width intervals)
         return np.where(any_cell[:, None], out_lo, lo), np.where(any_cell[:, None], out_hi, lo)
 
-    def _meets(self, branch, encl: Enclosures, box, params) -> np.ndarray:
+    def _meets(self, branch, cell, box, params) -> np.ndarray:
         ok = None
         for var, comp in zip(self.psi.variables, branch.components):
-            clo, chi = encl.go(comp, params)
+            clo, chi = enclose(comp, cell, params)
             blo, bhi = box[var]
             here = ~((chi < blo) | (clo > bhi))
             ok = here if ok is None else ok & here
         for g in branch.guards:
-            ok = ok & ~(encl.go(g, params)[1] < 0)  # NaN: keep the cell
+            ok = ok & ~(enclose(g, cell, params)[1] < 0)  # NaN: keep the cell
         return ok
 
     def points(self, unit: np.ndarray, region, params: dict):
