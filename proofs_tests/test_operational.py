@@ -412,3 +412,33 @@ def test_parameter_singularities_are_nan_not_exceptions():
     prog = with_domain(("x",), [(ZERO, ONE)], Mul(x, Prim("log", a)))
     d = estimate_derivative(prog, {"a": 0.0}, {"a": 1}, samples=100)
     assert math.isnan(d.value) and math.isnan(d.regular.value)
+
+
+def test_a_shared_subterm_is_evaluated_once_per_point_with_the_same_numbers():
+    # s = (x + a)·(x + 1) shared by one term (a DAG, as substituted lets and vectors make it) is
+    # compiled once and evaluated once per point: x is read twice, not six times; the value and
+    # tangent are bit for bit those of the term written out with separate copies; once its three
+    # references are read, the point no longer holds s's arrays
+    from langur.operational.compile import TANGENT, UNLINKED, Point, compile_term
+
+    class Reads(dict):
+        count = 0
+
+        def __getitem__(self, k):
+            Reads.count += 1
+            return dict.__getitem__(self, k)
+
+    def s():
+        return Mul(Add(Var("x"), Param("a")), Add(Var("x"), const(1)))
+
+    one = s()
+    dag = Add(Mul(one, one), Prim("exp", one))
+    tree = Add(Mul(s(), s()), Prim("exp", s()))
+    x = np.linspace(-1, 1, 7)
+    pt_dag = Point(Reads(x=x), {"a": 0.3}, dparams={"a": 1.0}, mode=TANGENT)
+    v1, d1 = compile_term(dag).fn(pt_dag, UNLINKED)
+    assert Reads.count == 2 and pt_dag.memo == {}
+    pt_tree = Point(Reads(x=x), {"a": 0.3}, dparams={"a": 1.0}, mode=TANGENT)
+    v2, d2 = compile_term(tree).fn(pt_tree, UNLINKED)
+    assert Reads.count == 2 + 6
+    assert np.array_equal(v1, v2) and np.array_equal(d1, d2)

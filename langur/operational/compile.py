@@ -29,6 +29,7 @@ run exactly the same floating-point operations (bit-identical linking, Theorem 9
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -74,6 +75,8 @@ class Point:
     site: np.ndarray | None = None
     sites: frozenset = frozenset()
     root: tuple | None = None
+    #: values of the shared subterms already evaluated at this point (see :func:`_shared`)
+    memo: dict = field(default_factory=dict, compare=False, repr=False)
 
     def values(self) -> Point:
         """The same point and parameters without any derivative (conditions are values only)."""
@@ -188,23 +191,114 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
     ``local``: for a def body, its param arguments; any other parameter it reads (its module's
     declared params) is then looked up among the program's parameters (``point.root``), so a
     linked call binds only its arguments.  ``None``: every parameter is in ``point.params``."""
-    ctx = _Ctx([], local)
+    ctx = _Ctx([], local, _Sharing(t))
     fn = _compile(t, ctx)
     return Unit(fn, ctx.slots)
 
 
 class _Ctx:
-    __slots__ = ("local", "slots")
+    __slots__ = ("local", "slots", "sharing")
 
-    def __init__(self, slots: list, local):
+    def __init__(self, slots: list, local, sharing: _Sharing):
         self.slots = slots
         self.local = local
+        self.sharing = sharing
 
     def bind(self, name: str) -> _Ctx:
-        return self if self.local is None else _Ctx(self.slots, self.local | {name})
+        return self if self.local is None else _Ctx(self.slots, self.local | {name}, self.sharing)
+
+
+#: Keys of shared subterms in :attr:`Point.memo`, unique across every compiled unit (units
+#: compiled apart may be evaluated at one point).
+_KEYS = itertools.count()
+
+
+class _Sharing:
+    """The subterms of a term that occur more than once in it (a DAG: substituted lets, inlined
+    calls and vectors share their subterms; the ray tracer's completed conic has ~10,000 nodes
+    written out and ~900 distinct ones) and contain no site nor call: those are compiled once and
+    evaluated once per :class:`Point` (:func:`_shared`), with the same floating-point operations
+    as written out.  Sites and calls are never shared: each occurrence owns its slot."""
+
+    def __init__(self, t: Term):
+        self.refs: dict[int, int] = {}
+        self.pure: dict[int, bool] = {}
+        self.compiled: dict[tuple, Fn] = {}
+        self.keep = t  # the term stays alive, so the ids above stay its own
+        self._count(t)
+
+    def _count(self, root: Term) -> None:
+        self.refs[id(root)] = 1
+        seen, stack = set(), [(root, False)]
+        while stack:  # depth first, each distinct node expanded once (its references counted)
+            t, done = stack.pop()
+            if done:  # all its children are done (a DAG has no cycle)
+                self.pure[id(t)] = (not isinstance(t, (IfDiffeo, Call))
+                                    and all(self.pure[id(c)] for c in _children(t)))
+                continue
+            if id(t) in seen:
+                continue
+            seen.add(id(t))
+            stack.append((t, True))
+            for c in _children(t):
+                self.refs[id(c)] = self.refs.get(id(c), 0) + 1
+                if id(c) not in seen:
+                    stack.append((c, False))
+
+    def shared(self, t: Term) -> bool:
+        return (self.refs.get(id(t), 0) > 1 and self.pure.get(id(t), False)
+                and not isinstance(t, (Const, Var, Param)))
+
+
+def _children(t: Term) -> tuple:
+    match t:
+        case Add(a, b) | Mul(a, b):
+            return (a, b)
+        case Pow(a, _) | Prim(_, a):
+            return (a,)
+        case IfGe0(c, a, b):
+            return (c, a, b)
+        case IfDiffeo(psi, a, b):
+            return (psi.forward[0], a, b)
+        case Let(_, bound, body):
+            return (bound, body)
+        case Call(_, _, args):
+            return tuple(args)
+    return ()
 
 
 def _compile(t: Term, ctx: _Ctx) -> Fn:
+    sharing = ctx.sharing
+    if sharing.shared(t):
+        key = (id(t), ctx.local)
+        fn = sharing.compiled.get(key)
+        if fn is None:
+            fn = sharing.compiled[key] = _shared(_compile_node(t, ctx), next(_KEYS), sharing.refs[id(t)])
+        return fn
+    return _compile_node(t, ctx)
+
+
+def _shared(f: Fn, key: int, uses: int) -> Fn:
+    """``f`` evaluated once per point: a shared pure subterm reads nothing but the point.  Its
+    value is kept for the term's ``uses`` references and then dropped, so a point holds at once
+    only the shared values still to be read (not every one: arrays of a million samples each).
+    A reference not reached (a branch not taken) keeps the value until the point goes; one
+    reached more often than counted evaluates ``f`` again, to the same numbers."""
+    def shared(pt, lk):
+        memo = pt.memo
+        hit = memo.get(key)
+        if hit is None:
+            out = f(pt, lk)
+            memo[key] = [out, uses - 1]
+            return out
+        hit[1] -= 1
+        if hit[1] <= 0:
+            del memo[key]
+        return hit[0]
+    return shared
+
+
+def _compile_node(t: Term, ctx: _Ctx) -> Fn:
     match t:
         case Const():
             # Fig. 7/8, constant: ⟦c⟧ = c, ⦇c⦈ = 0
@@ -253,7 +347,7 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
             # Fig. 8, diffeomorphic conditional: (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·D_γπ₀Ψ̂·γ'·(⟦s⟧−⟦r⟧)
             slot = len(ctx.slots)
             ctx.slots.append(("site", None, ()))
-            fc = _compile(psi.forward[0], _Ctx([], ctx.local))
+            fc = _compile(psi.forward[0], _Ctx([], ctx.local, ctx.sharing))
             fs, fr = _compile(then, ctx), _compile(orelse, ctx)
 
             def ifdiffeo(pt, lk):

@@ -56,10 +56,17 @@ class _Enclose:
                 return al + bl, ah + bh
             case Mul(a, b):
                 (al, ah), (bl, bh) = enclose(a, params), enclose(b, params)
-                with np.errstate(invalid="ignore"):
-                    ps = np.broadcast_arrays(al * bl, al * bh, ah * bl, ah * bh)
-                lo, hi = np.fmin.reduce(ps), np.fmax.reduce(ps)  # NaN products ignored…
+                with np.errstate(invalid="ignore"):  # a point interval (lo is hi) multiplies once
+                    p0 = al * bl
+                    p1 = p0 if bl is bh else al * bh
+                    p2 = p0 if al is ah else ah * bl
+                    p3 = p2 if bl is bh else (p1 if al is ah else ah * bh)
+                # NaN products ignored… (left to right, as a reduction over the four would)
+                lo = np.fmin(np.fmin(np.fmin(p0, p1), p2), p3)
+                hi = np.fmax(np.fmax(np.fmax(p0, p1), p2), p3)
                 none = np.isnan(lo)  # …unless all are NaN: then anything
+                if not none.any():
+                    return lo, hi
                 return np.where(none, -INF, lo), np.where(none, INF, hi)
             case Pow(a, k):
                 return _pow(*enclose(a, params), k)
