@@ -14,10 +14,14 @@ from __future__ import annotations
 
 import math
 
-import sympy as sp
-
+from .. import lazy
 from ..core import Const, IfDiffeo, Let, Mul, Term, free_params, substitute
-from ..sympy_bridge import NotSmooth, from_sympy, symbol, to_sympy
+from .affine import rational_value
+
+#: sympy, imported when a box is inferred or a bound is not rational (``langur.lazy``): a program
+#: with a rational domain is loaded without it.
+sp = lazy.module("sympy")
+bridge = lazy.module("langur.sympy_bridge")
 
 Bound = tuple[Term | None, Term | None]
 
@@ -45,7 +49,7 @@ def _is_zero(t: Term) -> bool:
 
 def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
     """One ``(lo, hi)`` per variable (``None`` where nothing bounds that side)."""
-    xs = [symbol(x) for x in variables]
+    xs = [bridge.symbol(x) for x in variables]
     constraints = []  # (variable index, "lo"|"hi", {other index: coeff}, param part)
     for f, env in top_factors(body):
         if not isinstance(f, IfDiffeo):
@@ -57,8 +61,8 @@ def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
         else:
             continue
         try:
-            e = sp.expand(sign * to_sympy(substitute(f.psi.forward[0], {}, env)))
-        except NotSmooth:
+            e = sp.expand(sign * bridge.to_sympy(substitute(f.psi.forward[0], {}, env)))
+        except bridge.NotSmooth:
             continue
         coeffs = {}
         affine = True
@@ -109,7 +113,7 @@ def _term(b, params) -> Term | None:
     if b is None:
         return None
     try:
-        return from_sympy(b, (), params)
+        return bridge.from_sympy(b, (), params)
     except ValueError:  # not expressible as a core term: leave this side unbounded
         return None
 
@@ -125,8 +129,11 @@ def numeric_box(variables: tuple[str, ...], box) -> tuple[tuple[str, float, floa
 def _num(t: Term | None, default: float) -> float:
     if t is None or free_params(t):
         return default
+    exact = rational_value(t)  # a rational bound: no sympy
+    if exact is not None:
+        return float(exact)
     try:
-        v = float(to_sympy(t))
-    except (NotSmooth, TypeError, ValueError):
+        v = float(bridge.to_sympy(t))
+    except (bridge.NotSmooth, TypeError, ValueError):
         return default
     return v if math.isfinite(v) else default
