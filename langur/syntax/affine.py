@@ -50,7 +50,21 @@ def fresh_inputs(n: int, taken: set[str]) -> tuple[str, ...]:
 
 
 def linear(t: Term) -> Linear | None:
-    """``t`` as an affine form with rational coefficients, or ``None`` if it is not one."""
+    """``t`` as an affine form with rational coefficients, or ``None`` if it is not one.  A term
+    shared after inlining (a DAG: ``let v = v + v`` forty times) is read once per distinct node."""
+    memo: dict[int, Linear | None] = {}
+
+    def go(u: Term) -> Linear | None:
+        key = id(u)
+        if key not in memo:
+            memo[key] = _linear(u, go)
+        return memo[key]
+
+    return go(t)
+
+
+def _linear(t: Term, linear) -> Linear | None:
+    """One node of :func:`linear` (``linear`` reads the children)."""
     match t:
         case Const(value) if isinstance(value, Fraction):
             return {}, value
