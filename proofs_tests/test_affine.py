@@ -86,3 +86,25 @@ def test_rational_value():
     assert affine.rational_value(Const("pi")) is None
     assert affine.rational_value(Param("a")) is None
     assert affine.rational_value(Pow(Const(Fraction(0)), Fraction(-1))) is None
+
+
+def test_the_box_of_affine_indicators_is_sympys():
+    # support.infer_box's direct path (rational bounds, no sympy) against its sympy path
+    from langur.frontend import core_term_from_text
+    from langur.syntax import support
+
+    cases = [("[0 <= x <= 1] * [x <= y] * [y <= 2] * x", ("x", "y")),
+             ("[0 <= y] * [y <= x] * [x <= 1/3] * [2*x - y >= -1] * y", ("x", "y")),
+             ("[-1 <= x + y] * [x - y <= 2] * [0 <= y <= 1] * [x <= 3/2] * 1", ("x", "y")),
+             ("[x >= 0] * [1 >= x] * (if y > 0 then 1 else 0) * [y <= 1] * [0 <= y]", ("x", "y"))]
+    for text, xs in cases:
+        body = core_term_from_text(text, xs)
+        direct = support._rational_box(body, xs)
+        assert direct is not None
+        original = support._rational_box
+        try:
+            support._rational_box = lambda body, variables: None  # the sympy path
+            reference = support.infer_box(body, xs)
+        finally:
+            support._rational_box = original
+        assert direct == reference

@@ -16,7 +16,7 @@ import math
 
 from .. import lazy
 from ..core import Const, IfDiffeo, Let, Mul, Term, free_params, substitute
-from .affine import rational_value
+from .affine import linear, rational_value
 
 #: sympy, imported when a box is inferred or a bound is not rational (``langur.lazy``): a program
 #: with a rational domain is loaded without it.
@@ -47,8 +47,54 @@ def _is_zero(t: Term) -> bool:
     return isinstance(t, Const) and t.value == 0
 
 
+def _bounding(body: Term):
+    """The bounding indicator factors: ``(sign, condition with the let-bound terms substituted)``."""
+    for f, env in top_factors(body):
+        if isinstance(f, IfDiffeo) and (_is_zero(f.orelse) or _is_zero(f.then)):
+            yield (1 if _is_zero(f.orelse) else -1), substitute(f.psi.forward[0], {}, env)
+
+
+def _rational_box(body: Term, variables: tuple[str, ...]) -> list[Bound] | None:
+    """:func:`infer_box` without sympy when every bounding condition is affine with rational
+    coefficients and no parameter (the bounds are then rationals: the same ``Const`` terms);
+    ``None`` otherwise."""
+    index = {x: i for i, x in enumerate(variables)}
+    constraints = []
+    for sign, cond in _bounding(body):
+        form = linear(cond)
+        if form is None or any(kind == "p" or name not in index for kind, name in form[0]):
+            return None
+        coeffs = dict(sorted((index[name], sign * c) for (_, name), c in form[0].items()))  # sympy's order: xs
+        for i, c in coeffs.items():
+            others = {j: -cj / c for j, cj in coeffs.items() if j != i}
+            constraints.append((i, "lo" if c > 0 else "hi", others, -sign * form[1] / c))
+    box: list[list] = [[None, None] for _ in variables]
+    for _ in range(len(variables) + 1):
+        changed = False
+        for i, side, others, base in constraints:
+            k = 0 if side == "lo" else 1
+            if box[i][k] is not None:
+                continue
+            value = base
+            for j, cj in others.items():
+                b = box[j][1 if (cj > 0) == (side == "hi") else 0]
+                if b is None:
+                    value = None
+                    break
+                value = value + cj * b
+            if value is not None:
+                box[i][k] = value
+                changed = True
+        if not changed:
+            break
+    return [tuple(None if b is None else Const(b) for b in pair) for pair in box]
+
+
 def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
     """One ``(lo, hi)`` per variable (``None`` where nothing bounds that side)."""
+    direct = _rational_box(body, variables)
+    if direct is not None:
+        return direct
     xs = [bridge.symbol(x) for x in variables]
     constraints = []  # (variable index, "lo"|"hi", {other index: coeff}, param part)
     for f, env in top_factors(body):
