@@ -92,7 +92,6 @@ SUGAR_FUNCTIONS = ("abs", "min", "max", "atan2", "dot", "cross")
 RESERVED = frozenset(PRIMITIVES) | frozenset(ALL_PRIMITIVES) | frozenset(SUGAR_FUNCTIONS) | {"pi"}
 
 
-
 @dataclass(frozen=True)
 class DefSig:
     """A def's signature: where it lives and its arguments' kinds (what a call site needs)."""
@@ -553,7 +552,7 @@ class Desugarer:
                 return None
             params.append(t)
         psi = diffeo.instantiate(sig.diffeo, sig.params, tuple(names), tuple(params),
-                          sc.variables if sc.in_program else None)
+                                 sc.variables if sc.in_program else None)
         return replace(psi, span=app.span)
 
 
