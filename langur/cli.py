@@ -153,16 +153,29 @@ def add_common(p: argparse.ArgumentParser, *, params=True, mc=False) -> None:
                        help="random seed, a non-negative integer (same seed, same numbers)")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
+    """The parser; with ``argv``, only the command it names is imported and given its arguments
+    (start-up: ``langur eval`` does not import the modules of ``check``, ``fuzz``, ``reproduce`` …;
+    the others keep their one-line help)."""
+    chosen = _command_of(argv)
     parser = _Parser(prog="langur", description="Langur: differentiating integrals with parametric discontinuities.")
     parser.add_argument("--version", action="version", version=f"langur {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name, help_ in COMMANDS.items():
         p = sub.add_parser(name, help=help_, description=help_)
-        mod = importlib.import_module(f"langur.commands.{name}")
-        mod.add_arguments(p)
-        p.set_defaults(_run=mod.run)
+        if chosen is None or name == chosen:
+            mod = importlib.import_module(f"langur.commands.{name}")
+            mod.add_arguments(p)
+            p.set_defaults(_run=mod.run)
     return parser
+
+
+def _command_of(argv: list[str] | None) -> str | None:
+    """The command ``argv`` names (its first word not an option), if it is one of :data:`COMMANDS`."""
+    if argv is None:
+        return None
+    first = next((a for a in argv if not a.startswith("-")), None)
+    return first if first in COMMANDS else None
 
 
 def print_diagnostics(err: LangurError, as_json: bool) -> None:
@@ -179,7 +192,8 @@ RECURSION_LIMIT = 20_000
 
 def main(argv: list[str] | None = None) -> int:
     sys.setrecursionlimit(max(sys.getrecursionlimit(), RECURSION_LIMIT))
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(argv)
     args = parser.parse_args(argv)
     if not getattr(args, "_run", None):
         parser.print_help(sys.stderr)

@@ -20,8 +20,15 @@ NAME it was given in ``modules``; the main module's name is its file's stem.  Mi
 cycles (T219) and missing names (T220) are errors at the import.  A main file that cannot be
 read is E109 (T218 when there is no such file).
 
-Caching.  Nothing is cached across loads except ``langur.syntax.diffeo.complete``'s memo of
-completed conditions (a pure function of the condition, the variables and the box).
+Incremental loading (the front end's twin of separate compilation, §9).  A module's elaborated
+form depends only on its name, its path, its bytes and the *signatures* of the modules it imports
+(their defs' argument lists and their diffeos: calls stay links), so :data:`CACHE` keeps it under
+exactly these: loading a scene again after a shader swap re-elaborates the new shader only, and a
+module whose imported signatures change (an edited dependency) is elaborated again.  Parsed
+modules are kept by path and content hash.  Only modules elaborated without any diagnostic are
+kept, so every error is reported as on a first load.  :func:`load_stats` says what was
+elaborated and how many modules were reused, as ``operational.cache_stats`` does for compiling.
+``langur.syntax.diffeo.complete`` also keeps its memo of completed conditions.
 
 Parameters.  ``Loaded.params`` are the main module's declared params (defaults as Fraction) in
 declaration order, followed by any declared param of an imported module that an inlined def body
@@ -33,6 +40,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+from dataclasses import dataclass, field
 from fractions import Fraction
 
 from . import typesys as ty
@@ -44,8 +52,50 @@ from .syntax.elaborate import elaborate
 from .syntax.inline import inline
 from .syntax.parser import parse_bytes, parse_term
 from .syntax.support import numeric_box
+from .syntax.surface import ImportItem, ModuleS
 
-__all__ = ["core_term_from_text", "load", "load_bytes", "load_text"]
+__all__ = ["CACHE", "LoadCache", "clear_load_cache", "core_term_from_text", "load", "load_bytes", "load_stats",
+           "load_text", "reset_load_stats"]
+
+#: Elaborated modules kept (the oldest forgotten first beyond this); parsed modules likewise.
+CAPACITY = 512
+
+
+@dataclass
+class LoadCache:
+    """Parsed and elaborated modules kept across loads (module docstring, "Incremental loading").
+
+    ``parsed``: ``ModuleS`` by (path, sha256); ``modules``: elaborated module by (name, path,
+    sha256, the signatures of its imports); ``elaborated``: the names of the modules elaborated
+    since the last reset; ``reused``: how many modules were taken from here instead."""
+
+    parsed: dict = field(default_factory=dict)
+    modules: dict = field(default_factory=dict)
+    elaborated: list = field(default_factory=list)
+    reused: int = 0
+
+    def keep(self, table: dict, key, value) -> None:
+        table[key] = value
+        while len(table) > CAPACITY:
+            table.pop(next(iter(table)))
+
+    def stats(self) -> dict:
+        """The modules elaborated (in order) since the last reset and how many were reused."""
+        return {"elaborated": list(self.elaborated), "reused": self.reused, "modules": len(self.modules)}
+
+    def reset_stats(self) -> None:
+        self.elaborated.clear()
+        self.reused = 0
+
+    def clear(self) -> None:
+        for table in (self.parsed, self.modules):
+            table.clear()
+        self.reset_stats()
+
+
+#: The cache every load uses.
+CACHE = LoadCache()
+load_stats, reset_load_stats, clear_load_cache = CACHE.stats, CACHE.reset_stats, CACHE.clear
 
 
 def load(path: str, modules: dict[str, str] | None = None) -> Loaded:
@@ -102,21 +152,90 @@ class _Loader:
         self.done: dict[str, ElaboratedModule] = {}
         self.stack: list[str] = []
         self.errors: list[Diagnostic] = []
+        self.ok: dict[tuple[str, str], bool] = {}  # (name, path) -> loadable
 
     def module(self, name: str, path: str, data: bytes, span: Span | None) -> ElaboratedModule | None:
+        digest = hashlib.sha256(data).hexdigest()
+        key = self.key(name, path, data, digest) if self.loadable(name, path, data, digest, ()) else None
+        if key is not None and key in CACHE.modules:
+            self.done[name] = CACHE.modules[key]
+            CACHE.reused += 1
+            return self.done[name]
         try:
-            mod = parse_bytes(data, path)
+            mod = self.parse(path, data, digest)
         except LangurError as e:
             self.errors.extend(e.diagnostics)
             return None
         self.stack.append(name)
+        n_errors = len(self.errors)
         try:
-            elab = elaborate(mod, name, path, hashlib.sha256(data).hexdigest(),
-                             lambda m, sp: self.resolve(m, sp, path), self.errors)
+            elab = elaborate(mod, name, path, digest, lambda m, sp: self.resolve(m, sp, path), self.errors)
         finally:
             self.stack.pop()
         self.done[name] = elab
+        CACHE.elaborated.append(name)
+        if key is not None and len(self.errors) == n_errors:
+            CACHE.keep(CACHE.modules, key, elab)
         return elab
+
+    def key(self, name: str, path: str, data: bytes, digest: str) -> tuple | None:
+        """What module ``name``'s elaborated form depends on: its name, path and bytes and the
+        signatures of the modules it imports (their defs' arguments, their diffeos), which are
+        loaded here first, in the order ``elaborate`` would load them.  None (and nothing loaded)
+        when loading them reports anything: then ``elaborate`` reports it in its place."""
+        errors, done = len(self.errors), dict(self.done)
+        sigs = []
+        self.stack.append(name)
+        try:
+            for item in self.parse(path, data, digest).items:
+                if isinstance(item, ImportItem):
+                    dep = self.resolve(item.module.name, item.module.span, path)
+                    sigs.append(dep and _signature(dep, tuple(imp.name.name for imp in item.names)))
+        finally:
+            self.stack.pop()
+        if len(self.errors) > errors or None in sigs:
+            del self.errors[errors:]
+            self.done.clear()
+            self.done.update(done)
+            return None
+        return name, path, digest, tuple(sigs)
+
+    def parse(self, path: str, data: bytes, digest: str) -> ModuleS:
+        key = (path, digest)
+        mod = CACHE.parsed.get(key)
+        if mod is None:
+            mod = parse_bytes(data, path)
+            CACHE.keep(CACHE.parsed, key, mod)
+        return mod
+
+    def loadable(self, name: str, path: str, data: bytes, digest: str, visiting: tuple[str, ...]) -> bool:
+        """Module ``name`` and everything it imports parse, can be read and form no cycle."""
+        key = (name, path)
+        if key in self.ok:
+            return self.ok[key]
+        if name in visiting:
+            return False
+        try:
+            mod = self.parse(path, data, digest)
+        except LangurError:
+            return False
+        ok = True
+        for item in mod.items:
+            if not isinstance(item, ImportItem):
+                continue
+            dep = item.module.name
+            dpath = self.overrides.get(dep) or os.path.join(os.path.dirname(path), dep + ".lgr")
+            try:
+                with open(dpath, "rb") as f:
+                    ddata = f.read()
+            except OSError:
+                ok = False
+                break
+            if not self.loadable(dep, dpath, ddata, hashlib.sha256(ddata).hexdigest(), visiting + (name,)):
+                ok = False
+                break
+        self.ok[key] = ok
+        return ok
 
     def resolve(self, name: str, span: Span | None, importer: str) -> ElaboratedModule | None:
         if name in self.stack:
@@ -143,6 +262,20 @@ class _Loader:
                                        f"{e.strerror or type(e).__name__}"))
             return None
         return self.module(name, path, data, span)
+
+
+def _signature(m: ElaboratedModule, names: tuple[str, ...]) -> tuple:
+    """What ``from m import names`` reads of ``m`` (``elaborate``'s pass 1): each name's def
+    argument list, or its diffeo (with its declaration's span) and parameter names, or nothing."""
+    out = []
+    for n in names:
+        if n in m.defs:
+            out.append(("def", n, m.defs[n].args))
+        elif n in m.diffeos:
+            out.append(("diffeo", n, m.diffeos[n], m.diffeos[n].span, m.diffeo_params.get(n, ())))
+        else:
+            out.append(("none", n))
+    return m.name, tuple(out)
 
 
 def core_term_from_text(text: str, variables=(), params=(), path: str = "<string>", box=None,

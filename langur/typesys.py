@@ -20,8 +20,7 @@ from __future__ import annotations
 import sys
 from fractions import Fraction
 
-import mpmath
-
+from . import lazy
 from .codes import CODES
 from .core import (
     Add,
@@ -38,12 +37,17 @@ from .core import (
     Program,
     Term,
     Var,
+    free_params,
     free_vars,
     shared,
     subterms,
 )
 from .diagnostics import Diagnostic, Span
 from .primitives import ALL_PRIMITIVES
+
+#: 30-digit arithmetic for the range check of constants (T231), imported only when a constant is
+#: not a small rational (``langur.lazy``: start-up of the Monte Carlo path).
+mpmath = lazy.module("mpmath")
 
 
 def diag(span: Span | None, code: str, message: str, related: tuple[Span, ...] = ()) -> Diagnostic:
@@ -306,6 +310,8 @@ def out_of_range(t: Term) -> list[Diagnostic]:
     """T231 for the first constant subterm (no variable, no parameter) whose exact value lies
     beyond the range of doubles (``10^400``, ``1e200 * 1e200``): the literals themselves are in
     range (E106), but the numeric engines compute in doubles and would see ±∞ there."""
+    if _all_rational_and_small(t):
+        return []  # no constant near the range of doubles: decided exactly, without mpmath
     limit = mpmath.mpf(sys.float_info.max)
     memo: dict[int, object] = {}
     for u in subterms(t):
@@ -316,6 +322,52 @@ def out_of_range(t: Term) -> list[Diagnostic]:
                          "engines (quadrature, Monte Carlo) compute in doubles and would see an infinity "
                          "(rescale the program)")]
     return []
+
+
+#: Exact rational constants up to this magnitude are in range, with room to spare (30-digit rounding).
+_SMALL = Fraction(int(sys.float_info.max) // 2**10)
+#: Longest denominator (bits) kept exact: beyond it Fraction arithmetic grows quadratically.
+_BITS = 256
+
+
+def _all_rational_and_small(t: Term) -> bool:
+    """Every constant subterm of ``t`` is a rational of magnitude ≤ :data:`_SMALL` (exact Fraction
+    arithmetic; π, primitives, fractional or large powers of constants: ``False``, mpmath decides)."""
+    memo: dict[int, Fraction | None | bool] = {}  # None: not constant; False: not decided here
+
+    def go(u: Term):
+        key = id(u)
+        if key in memo:
+            return memo[key]
+        match u:
+            case Const(value) if isinstance(value, Fraction):
+                v = value
+            case Add(a, b) | Mul(a, b):
+                x, y = go(a), go(b)
+                if x is False or y is False:
+                    v = False
+                elif x is None or y is None:
+                    v = None
+                else:
+                    v = x + y if isinstance(u, Add) else x * y
+            case Pow(a, k):
+                x = go(a)
+                if x is None or x is False:
+                    v = x
+                elif k.denominator == 1 and abs(k) <= 64 and (x != 0 or k > 0):
+                    v = x ** int(k)
+                else:
+                    v = False
+            case Var() | Param():
+                v = None
+            case _:
+                v = False if not free_vars(u) and not free_params(u) else None
+        if isinstance(v, Fraction) and (abs(v) > _SMALL or v.denominator.bit_length() > _BITS):
+            v = False  # large, or a long exact fraction (a product of 10⁴ factors): mpmath decides
+        memo[key] = v
+        return v
+
+    return all(go(u) is not False for u in subterms(t))
 
 
 def _constant(t: Term, memo: dict[int, object]):

@@ -1,6 +1,6 @@
 """The package's layers point one way (README, "Map"), read from the modules' own imports.
 
-    core            langur, codes, diagnostics, core, primitives, values, timebox, progress, modules
+    core            langur, codes, diagnostics, core, primitives, values, timebox, lazy, progress, modules
     sympy bridge    sympy_bridge (⟦·⟧ of Fig. 7 in sympy, names, numbers, time limits)
     front end       syntax/*, typesys, frontend
     exact engine    denote, ddenote, symbolic/*          Monte Carlo engine  operational/*
@@ -10,7 +10,8 @@
 A module imports only from its own layer or below; the Monte Carlo engine imports only the core
 layer (no sympy, no exact engine: the engines stay independent); there is no import cycle; and a
 module imports another of the package from inside a function only where :data:`LAZY` says why
-(start-up time of commands that never need it), never to dodge a cycle.
+(start-up time of commands that never need it), never to dodge a cycle.  A deferred import
+through ``langur.lazy.module("langur.…")`` counts as an import of that module (layers, cycles).
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent / "langur"
 
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("core", ("langur", "langur.codes", "langur.diagnostics", "langur.core", "langur.primitives", "langur.values", "langur.timebox",
+    ("core", ("langur", "langur.codes", "langur.diagnostics", "langur.core", "langur.primitives", "langur.values", "langur.timebox", "langur.lazy",
               "langur.progress", "langur.modules", "langur.core_json")),
     ("sympy bridge", ("langur.sympy_bridge",)),
     ("front end", ("langur.syntax", "langur.typesys", "langur.frontend")),
@@ -90,10 +91,21 @@ def _imports(name: str) -> list[tuple[str, bool, int]]:
         for child in ast.iter_child_nodes(node):
             if isinstance(child, (ast.Import, ast.ImportFrom)):
                 out.extend((m, inside, child.lineno) for m in _resolve(name, child))
+            elif _lazy_target(child):  # lazy.module("langur.…"): an import, deferred (langur/lazy.py)
+                out.append((_lazy_target(child), inside, child.lineno))
             walk(child, inside or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)))
 
     walk(tree, False)
     return out
+
+
+def _lazy_target(node) -> str | None:
+    """The package module a ``lazy.module("langur.…")`` call names, else None."""
+    if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "module"
+            and isinstance(node.func.value, ast.Name) and node.func.value.id == "lazy" and node.args
+            and isinstance(node.args[0], ast.Constant) and str(node.args[0].value).split(".")[0] == "langur"):
+        return node.args[0].value
+    return None
 
 
 def layer(name: str) -> int:

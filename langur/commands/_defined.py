@@ -26,14 +26,20 @@ from __future__ import annotations
 import sys
 from dataclasses import dataclass, field
 
+from .. import lazy
 from ..diagnostics import Diagnostic
-from ..lint import fix, singular
-from ..lint.blowup import Verdict
-from ..lint.emptydomain import empty_domain_findings
+from ..lint import bounded
 from ..lint.findings import Finding
-from ..lint.rewrite import transverse
 from ..syntax.printer import print_program
-from ..transversality import check_loaded
+
+# The analyses (sympy), imported when a program needs them (``langur.lazy``): an integrand that
+# ``langur.lint.bounded`` shows bounded on a rational box needs none of them.
+blowup = lazy.module("langur.lint.blowup")
+emptydomain = lazy.module("langur.lint.emptydomain")
+fix = lazy.module("langur.lint.fix")
+rewrite = lazy.module("langur.lint.rewrite")
+singular = lazy.module("langur.lint.singular")
+transversality = lazy.module("langur.transversality")
 
 
 @dataclass
@@ -76,7 +82,7 @@ def _short(f: Finding) -> str:
     return f"{f.message[:cut]} ({f.code}{where})"
 
 
-def _square(res: singular.Integrability, part: str | None = None) -> str | None:
+def _square(res: "singular.Integrability", part: str | None = None) -> str | None:
     b = res.infinite_variance(part)
     if b is None or b.alpha is None:
         return None
@@ -111,13 +117,13 @@ def transversal(loaded, path: str | None, at=None) -> Transversal:
     also X305: is it the derivative at those parameter values?"""
 
     sources = _sources(path)
-    checked = check_loaded(loaded, at=None if at is None else {k: float(v) for k, v in at.items()},
+    checked = transversality.check_loaded(loaded, at=None if at is None else {k: float(v) for k, v in at.items()},
                            sources=sources)
     found = [f for f in checked if f.code == "X301"]
     here = [f for f in checked if f.code == "X305"]
     if not found:
         return Transversal(here=here)
-    out = Transversal(found, transverse(loaded.program).program, here=here)
+    out = Transversal(found, rewrite.transverse(loaded.program).program, here=here)
     text = sources.get(path or "")
     try:
         fixed = fix.fix(text, path, loaded) if text is not None else None
@@ -131,10 +137,13 @@ def transversal(loaded, path: str | None, at=None) -> Transversal:
 def value(program, params, path: str | None) -> Defined:
     """Is ⟦p⟧ an integral at ``params``?"""
     point = dict(params)
+    if bounded.nothing_to_find(program, point):  # a bounded integrand: no finding, finite variance
+        return Defined()
     sources = _sources(path)
     res = singular.value_integrability(program, point)
-    out = Defined(empty_domain_findings(program, point) + singular.findings_of(res, program, point, sources, "X311"))
-    if res.verdict is Verdict.DIVERGENT:
+    out = Defined(emptydomain.empty_domain_findings(program, point) +
+                  singular.findings_of(res, program, point, sources, "X311"))
+    if res.verdict is blowup.Verdict.DIVERGENT:
         out.undefined = _short(out.findings[0])
         out.infinite_variance = "the integral itself does not exist"
     else:
@@ -152,7 +161,7 @@ def derivative(program, params, direction, path: str | None) -> Defined:
     res = singular.derivative_integrability(program, point, direction)
     found = singular.findings_of(res, program, point, _sources(path), "X313")
     out.findings += found
-    if res.verdict is Verdict.DIVERGENT:
+    if res.verdict is blowup.Verdict.DIVERGENT:
         out.undefined = _short(found[0])
         out.infinite_variance = "the derivative denotation is not an integral"
     else:

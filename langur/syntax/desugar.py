@@ -63,7 +63,7 @@ from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
 from . import loops, vectors
-from .diffeo import CompletionError, complete, instantiate
+from .completion import complete, diffeo
 from .inline import expand_calls, inline
 from .surface import (
     Apply,
@@ -488,7 +488,7 @@ class Desugarer:
                 return Const(Fraction(0), span=span)
         try:
             psi = complete(cond, sc.variables, sc.box)
-        except CompletionError as e:
+        except diffeo.CompletionError as e:
             why = str(e)
             if not sc.in_program and "bounded" in why:
                 why += "; inside a def or diffeo the variables' domain is unknown: write this condition in the program"
@@ -513,7 +513,7 @@ class Desugarer:
             if box:
                 try:
                     return replace(u, psi=complete(u.psi.forward[0], variables, box))
-                except CompletionError as e:
+                except diffeo.CompletionError as e:
                     return self.fail(ty.reject_condition(pending[id(u.psi)].span, str(e)), u.span)
             return self.fail(pending[id(u.psi)], u.span)
 
@@ -551,8 +551,8 @@ class Desugarer:
                 self.errors.append(ty.reject_param_arg_with_variables(getattr(p, "span", where), app.name, pname, used))
                 return None
             params.append(t)
-        psi = instantiate(sig.diffeo, sig.params, tuple(names), tuple(params),
-                          sc.variables if sc.in_program else None)
+        psi = diffeo.instantiate(sig.diffeo, sig.params, tuple(names), tuple(params),
+                                 sc.variables if sc.in_program else None)
         return replace(psi, span=app.span)
 
 

@@ -64,6 +64,8 @@ from ..sympy_bridge import (
     to_sympy,
 )
 from ..timebox import run_with_timeout
+from . import affine
+from .affine import fresh_inputs
 
 #: Wall-clock limit (seconds) of one completion / one declaration check.
 TIME_LIMIT = 10.0
@@ -87,18 +89,6 @@ class DiffeoCheckError(Exception):
         self.code = code
 
 
-def fresh_inputs(n: int, taken: set[str]) -> tuple[str, ...]:
-    """``u0 … u{n-1}``, or with the first prefix among ``u, u_, w, w_, …`` that clashes with nothing."""
-    for prefix in ("u", "u_", "w", "w_", "v_", "_u"):
-        names = tuple(f"{prefix}{i}" for i in range(n))
-        if not taken.intersection(names):
-            return names
-    k = 0
-    while any(f"_u{k}_{i}" in taken for i in range(n)):
-        k += 1
-    return tuple(f"_u{k}_{i}" for i in range(n))
-
-
 # ----------------------------------------------------------------------------------------------
 # Automatic completion
 
@@ -108,6 +98,9 @@ def complete(cond: Term, variables: tuple[str, ...], box: Box = ()) -> Diffeo:
     diffeomorphism ``Ψ̂ = (cond, the other variables)`` (LANGUAGE.md §6, "Conditions over
     variables").  ``box`` bounds the variables (needed only by periodic inverses).
     Deterministic: equal arguments give equal results.  Raises :class:`CompletionError`."""
+    direct = affine.complete(cond, tuple(variables))  # affine conditions: the same Diffeo, no sympy
+    if direct is not None:
+        return direct
     psi = _complete_cached(cond, tuple(variables), tuple(box))
     return replace(psi, forward=(cond,) + psi.forward[1:], span=getattr(cond, "span", None))
 

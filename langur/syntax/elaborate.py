@@ -14,14 +14,17 @@ from collections.abc import Callable
 from dataclasses import fields, replace
 from fractions import Fraction
 
+from .. import lazy
 from .. import typesys as ty
 from ..core import Call, Const, Diffeo, Interval, Program, Var, sub, subterms
 from ..diagnostics import Diagnostic, Span
 from ..modules import CoreDef, ElaboratedModule
 from .desugar import RESERVED, DefSig, Desugarer, DiffeoSig, Env, Scope, is_smooth
-from .diffeo import DiffeoCheckError, check_declared
 from .support import infer_box, numeric_box
 from .surface import Apply, DefDecl, DiffeoDecl, ImportItem, ModuleS, ParamItem, ProgramS
+
+#: The checker of declared diffeos (sympy), imported when a module declares one (``langur.lazy``).
+diffeo = lazy.module("langur.syntax.diffeo")
 
 #: ``resolve(module name, span of the import) -> Elaborated | None`` (None: already reported).
 Resolver = Callable[[str, Span | None], "ElaboratedModule | None"]
@@ -199,8 +202,8 @@ def _diffeo(item: DiffeoDecl, ds: Desugarer, errors) -> Diffeo | None:
     if len(errors) > n_err:
         return None
     try:
-        psi = check_declared(name, variables, tuple(p.name for p in item.params), forward, inputs, inverse)
-    except DiffeoCheckError as e:
+        psi = diffeo.check_declared(name, variables, tuple(p.name for p in item.params), forward, inputs, inverse)
+    except diffeo.DiffeoCheckError as e:
         errors.append(ty.diag(item.name.span or item.span, e.code, str(e)))
         return None
     return replace(psi, span=item.span)

@@ -42,7 +42,7 @@ from ..core import (
 )
 from ..diagnostics import Diagnostic, LangurError
 from ..modules import ElaboratedModule
-from .diffeo import CompletionError, complete, instantiate
+from .completion import complete, diffeo
 from .support import numeric_box
 
 #: Deepest nesting of an inlined program (T230): twice what a written term may have (E105), so
@@ -210,7 +210,7 @@ class _Subst:
                         return IfGe0(cond, a, b, span=t.span)
                     try:
                         new_psi = complete(cond, self.inl.variables, self.inl.box)
-                    except CompletionError as e:
+                    except diffeo.CompletionError as e:
                         self.inl.errors.append(ty.reject_condition(
                             self.span, f"in the body of `{self.fname}` inlined here: {e}"))
                         return Const(Fraction(0), span=t.span)
@@ -225,7 +225,7 @@ class _Subst:
                         return Const(Fraction(0), span=t.span)
                     names.append(target.name)
                 keys = tuple(pmap)
-                new_psi = instantiate(psi, keys, tuple(names), tuple(pmap[k] for k in keys), self.inl.variables)
+                new_psi = diffeo.instantiate(psi, keys, tuple(names), tuple(pmap[k] for k in keys), self.inl.variables)
                 return replace(t, psi=new_psi, then=a, orelse=b)
             case _:
                 return map_children(t, lambda c: self.go(c, pmap))

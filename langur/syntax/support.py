@@ -14,10 +14,14 @@ from __future__ import annotations
 
 import math
 
-import sympy as sp
-
+from .. import lazy
 from ..core import Const, IfDiffeo, Let, Mul, Term, free_params, substitute
-from ..sympy_bridge import NotSmooth, from_sympy, symbol, to_sympy
+from .affine import linear, rational_value
+
+#: sympy, imported when a box is inferred or a bound is not rational (``langur.lazy``): a program
+#: with a rational domain is loaded without it.
+sp = lazy.module("sympy")
+bridge = lazy.module("langur.sympy_bridge")
 
 Bound = tuple[Term | None, Term | None]
 
@@ -43,9 +47,55 @@ def _is_zero(t: Term) -> bool:
     return isinstance(t, Const) and t.value == 0
 
 
+def _bounding(body: Term):
+    """The bounding indicator factors: ``(sign, condition with the let-bound terms substituted)``."""
+    for f, env in top_factors(body):
+        if isinstance(f, IfDiffeo) and (_is_zero(f.orelse) or _is_zero(f.then)):
+            yield (1 if _is_zero(f.orelse) else -1), substitute(f.psi.forward[0], {}, env)
+
+
+def _rational_box(body: Term, variables: tuple[str, ...]) -> list[Bound] | None:
+    """:func:`infer_box` without sympy when every bounding condition is affine with rational
+    coefficients and no parameter (the bounds are then rationals: the same ``Const`` terms);
+    ``None`` otherwise."""
+    index = {x: i for i, x in enumerate(variables)}
+    constraints = []
+    for sign, cond in _bounding(body):
+        form = linear(cond)
+        if form is None or any(kind == "p" or name not in index for kind, name in form[0]):
+            return None
+        coeffs = dict(sorted((index[name], sign * c) for (_, name), c in form[0].items()))  # sympy's order: xs
+        for i, c in coeffs.items():
+            others = {j: -cj / c for j, cj in coeffs.items() if j != i}
+            constraints.append((i, "lo" if c > 0 else "hi", others, -sign * form[1] / c))
+    box: list[list] = [[None, None] for _ in variables]
+    for _ in range(len(variables) + 1):
+        changed = False
+        for i, side, others, base in constraints:
+            k = 0 if side == "lo" else 1
+            if box[i][k] is not None:
+                continue
+            value = base
+            for j, cj in others.items():
+                b = box[j][1 if (cj > 0) == (side == "hi") else 0]
+                if b is None:
+                    value = None
+                    break
+                value = value + cj * b
+            if value is not None:
+                box[i][k] = value
+                changed = True
+        if not changed:
+            break
+    return [tuple(None if b is None else Const(b) for b in pair) for pair in box]
+
+
 def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
     """One ``(lo, hi)`` per variable (``None`` where nothing bounds that side)."""
-    xs = [symbol(x) for x in variables]
+    direct = _rational_box(body, variables)
+    if direct is not None:
+        return direct
+    xs = [bridge.symbol(x) for x in variables]
     constraints = []  # (variable index, "lo"|"hi", {other index: coeff}, param part)
     for f, env in top_factors(body):
         if not isinstance(f, IfDiffeo):
@@ -57,8 +107,8 @@ def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
         else:
             continue
         try:
-            e = sp.expand(sign * to_sympy(substitute(f.psi.forward[0], {}, env)))
-        except NotSmooth:
+            e = sp.expand(sign * bridge.to_sympy(substitute(f.psi.forward[0], {}, env)))
+        except bridge.NotSmooth:
             continue
         coeffs = {}
         affine = True
@@ -109,7 +159,7 @@ def _term(b, params) -> Term | None:
     if b is None:
         return None
     try:
-        return from_sympy(b, (), params)
+        return bridge.from_sympy(b, (), params)
     except ValueError:  # not expressible as a core term: leave this side unbounded
         return None
 
@@ -125,8 +175,11 @@ def numeric_box(variables: tuple[str, ...], box) -> tuple[tuple[str, float, floa
 def _num(t: Term | None, default: float) -> float:
     if t is None or free_params(t):
         return default
+    exact = rational_value(t)  # a rational bound: no sympy
+    if exact is not None:
+        return float(exact)
     try:
-        v = float(to_sympy(t))
-    except (NotSmooth, TypeError, ValueError):
+        v = float(bridge.to_sympy(t))
+    except (bridge.NotSmooth, TypeError, ValueError):
         return default
     return v if math.isfinite(v) else default

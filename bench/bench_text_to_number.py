@@ -1,0 +1,168 @@
+"""From text to number (issue 15): the front end, compile and evaluate of the §10.3 microbenchmarks,
+one-shot processes and the Monte Carlo path's import time (not a test).
+
+Run:  python bench/bench_text_to_number.py [--plot OUT.png] [--reps K]
+
+* **Microbenchmark 1** at n = 1, 10, 25, 49, 100 (the program of ``bench_peers.langur_text``):
+  ``load`` (text → elaborated, inlined, typed core; the front end's caches emptied first), ``link``
+  (compile, §9) and ``eval`` (the derivative, 10 samples), CPU medians; text to number is their sum.
+* **Microbenchmark 2**: the 90-jump scene with 50 shader swaps (``bench_peers.langur_mb2``: every swap
+  a new module file, loaded, linked and evaluated), total CPU with the incremental front end
+  (``frontend.CACHE``) and with every load from scratch (the cache cleared before each load).
+* **One-shot**: wall and CPU time of ``python -m langur eval examples/fig1.lgr --engine mc`` (medians
+  of K processes; on a loaded machine the CPU time is the fair number), and the CPU time of
+  importing ``langur.frontend`` + ``langur.operational`` beyond numpy's.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from bench_peers import SCENE, langur_text  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SIZES = (1, 10, 25, 49, 100)
+CLOCK = time.process_time
+
+
+def _median(f, reps: int):
+    ts, out = [], None
+    for _ in range(reps):
+        t0 = CLOCK()
+        out = f()
+        ts.append(CLOCK() - t0)
+    return statistics.median(ts), out
+
+
+def mb1(n: int, reps: int) -> dict:
+    from langur import frontend
+    from langur.operational import clear_cache, estimate_derivative, link
+
+    text = langur_text(n)
+
+    def load():
+        frontend.clear_load_cache()
+        return frontend.load_text(text)
+
+    t_load, loaded = _median(load, reps)
+
+    def compile_():
+        clear_cache()
+        return link(loaded)
+
+    t_link, _ = _median(compile_, reps)
+    t_eval, est = _median(lambda: estimate_derivative(loaded, {"a": 1.0}, {"a": 1.0}, samples=10, seed=0), reps)
+    return {"n": n, "load": t_load, "link": t_link, "eval": t_eval, "total": t_load + t_link + t_eval,
+            "value": est.value}
+
+
+def mb2(swaps: int, incremental: bool) -> tuple[float, dict]:
+    from langur import frontend
+    from langur.operational import clear_cache, estimate_derivative
+
+    with tempfile.TemporaryDirectory() as folder:
+        scene = os.path.join(folder, "scene.lgr")
+        with open(scene, "w") as fh:
+            fh.write(SCENE)
+        paths = []
+        for k in range(swaps + 1):
+            path = os.path.join(folder, f"shader_{k}.lgr")
+            with open(path, "w") as fh:
+                fh.write(f"def shade(x: var, a: param) = a {'+' if k < swaps else '-'} x + {k} * 0\n")
+            paths.append(path)
+        clear_cache()
+        frontend.clear_load_cache()
+        elaborated = reused = 0
+        t0 = CLOCK()
+        for path in paths:
+            if not incremental:
+                frontend.clear_load_cache()
+            loaded = frontend.load(scene, modules={"shader": path})
+            stats = frontend.load_stats()
+            elaborated, reused = elaborated + len(stats["elaborated"]), reused + stats["reused"]
+            frontend.reset_load_stats()
+            estimate_derivative(loaded, {"a": 1.0}, {"a": 1.0}, samples=10, seed=0)
+        return CLOCK() - t0, {"elaborated": elaborated, "reused": reused}
+
+
+def one_shot(reps: int) -> tuple[float, float]:
+    """Median wall time and median CPU time (user + system) of the whole process."""
+    env = {**os.environ, "PYTHONPATH": ROOT}
+    walls, cpus = [], []
+    for _ in range(reps):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "langur", "eval", "examples/fig1.lgr", "--engine", "mc"],
+                       cwd=ROOT, env=env, check=True, capture_output=True)
+        walls.append(time.perf_counter() - t0)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpus.append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
+    return statistics.median(walls), statistics.median(cpus)
+
+
+def import_time(reps: int) -> tuple[float, float]:
+    code = ("import time; t0 = time.process_time(); import numpy; t1 = time.process_time(); "
+            "import langur.frontend, langur.operational; t2 = time.process_time(); print(t1 - t0, t2 - t1)")
+    env = {**os.environ, "PYTHONPATH": ROOT}
+    runs = [tuple(map(float, subprocess.run([sys.executable, "-c", code], env=env, cwd=ROOT, check=True,
+                                            capture_output=True, text=True).stdout.split())) for _ in range(reps)]
+    return statistics.median(r[0] for r in runs), statistics.median(r[1] for r in runs)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--reps", type=int, default=5)
+    ap.add_argument("--plot", metavar="OUT.png")
+    args = ap.parse_args()
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; CPU medians of {args.reps}")
+    print("\nMicrobenchmark 1: text to number (ms CPU)")
+    print("|   n | load (front end) | link (compile) | eval (10 samples) | text to number | load / (link + eval) |")
+    print("|----:|-----------------:|---------------:|------------------:|---------------:|---------------------:|")
+    rows = []
+    for n in SIZES:
+        r = mb1(n, args.reps)
+        rows.append(r)
+        print(f"| {n:3d} | {1e3 * r['load']:16.1f} | {1e3 * r['link']:14.1f} | {1e3 * r['eval']:17.1f} | "
+              f"{1e3 * r['total']:14.1f} | {r['load'] / (r['link'] + r['eval']):20.2f} |")
+    print("\nMicrobenchmark 2: 90 jumps, 50 shader swaps (s CPU, load + link + evaluate of each)")
+    for incremental in (True, False):
+        t, stats = mb2(50, incremental)
+        how = "incremental front end" if incremental else "every load from scratch"
+        print(f"  {how:26s}: {t:.3f} s   (modules elaborated: {stats['elaborated']}, reused: {stats['reused']})")
+    print("\nOne-shot process")
+    wall, cpu = one_shot(args.reps)
+    print(f"  langur eval examples/fig1.lgr --engine mc: {wall:.3f} s wall, {cpu:.3f} s CPU (medians of {args.reps})")
+    numpy_s, ours = import_time(args.reps)
+    print(f"  import langur.frontend, langur.operational: {ours:.3f} s CPU beyond numpy's {numpy_s:.3f} s")
+    if args.plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ns = [r["n"] for r in rows]
+        for key, label in (("load", "load (front end)"), ("link", "link (compile)"), ("eval", "evaluate"),
+                           ("total", "text to number")):
+            ax.plot(ns, [1e3 * r[key] for r in rows], marker="o", label=label)
+        ax.set_xlabel("n (jumps; 2n deltas)")
+        ax.set_ylabel("CPU ms (median)")
+        ax.set_title("Microbenchmark 1 in Langur, from text to number")
+        ax.legend()
+        ax.grid(alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(args.plot, dpi=120)
+        print(f"\nplot: {args.plot}")
+
+
+if __name__ == "__main__":
+    main()

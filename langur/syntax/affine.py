@@ -1,0 +1,178 @@
+"""Completing affine conditions without sympy: the direct path of condition completion (§4, §5.2).
+
+A condition ``t`` over variables is completed to ``Ψ̂ = (t, the other variables)`` by solving
+``t = u₀`` for one variable (``langur.syntax.diffeo.complete``, LANGUAGE.md §6).  When ``t`` is
+*affine with rational coefficients* in the variables and parameters (``x - θ``, ``x + 2*y - 3*a + 1``,
+``x/2 - 1/3``), every variable has a constant coefficient (rank 0 of ``diffeo``'s ranking), the last
+one in order is chosen, and its inverse is a linear form: exact rational arithmetic
+(``fractions.Fraction``) solves it in time linear in the size of ``t``, with no sympy.
+
+The result is the *same* :class:`~langur.core.Diffeo` as the sympy path's, term for term: sympy
+writes ``(u₀ − rest)/c`` as an expanded sum, the number first, then the terms in the order of
+``sympy.Basic.compare`` (a bare symbol before ``c·symbol``; ``c·symbol`` by the class of ``c`` —
+``1/2``, ``-1``, other integers, other rationals — then by ``c``'s numerator and denominator, then
+by name), and ``langur.sympy_bridge.from_sympy`` folds it from the left.  :func:`_ordered` copies
+that order; ``proofs_tests/test_affine.py`` checks it against sympy on random conditions.
+
+Anything else (a parametric coefficient, a graph ``y - x^2``, a primitive, π) returns ``None``:
+the sympy path decides (``langur.syntax.diffeo``).  This module never imports sympy, so a program
+whose conditions are affine loads without it (the Monte Carlo path's start-up).
+
+Also here, because both paths need them: :func:`fresh_inputs` (the names ``u0 …`` of Ψ̂⁻¹'s inputs)
+and :func:`rational_value` (a variable-free term's exact value, when it is rational).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from fractions import Fraction
+
+from ..core import Add, Const, Diffeo, InverseBranch, Mul, Param, Pow, Term, Var, free_params, free_vars
+
+#: Largest |exponent| folded exactly (``2^k`` with a constant base): beyond it, the sympy path.
+MAX_EXPONENT = 64
+
+#: A linear form: coefficients by ``("v", name)`` (a variable) or ``("p", name)`` (a parameter),
+#: and the constant term.
+Linear = tuple[dict[tuple[str, str], Fraction], Fraction]
+
+
+def fresh_inputs(n: int, taken: set[str]) -> tuple[str, ...]:
+    """``u0 … u{n-1}``, or with the first prefix among ``u, u_, w, w_, …`` that clashes with nothing."""
+    for prefix in ("u", "u_", "w", "w_", "v_", "_u"):
+        names = tuple(f"{prefix}{i}" for i in range(n))
+        if not taken.intersection(names):
+            return names
+    k = 0
+    while any(f"_u{k}_{i}" in taken for i in range(n)):
+        k += 1
+    return tuple(f"_u{k}_{i}" for i in range(n))
+
+
+def linear(t: Term) -> Linear | None:
+    """``t`` as an affine form with rational coefficients, or ``None`` if it is not one.  A term
+    shared after inlining (a DAG: ``let v = v + v`` forty times) is read once per distinct node."""
+    memo: dict[int, Linear | None] = {}
+
+    def go(u: Term) -> Linear | None:
+        key = id(u)
+        if key not in memo:
+            memo[key] = _linear(u, go)
+        return memo[key]
+
+    return go(t)
+
+
+def _linear(t: Term, linear) -> Linear | None:
+    """One node of :func:`linear` (``linear`` reads the children)."""
+    match t:
+        case Const(value) if isinstance(value, Fraction):
+            return {}, value
+        case Var(name):
+            return {("v", name): Fraction(1)}, Fraction(0)
+        case Param(name):
+            return {("p", name): Fraction(1)}, Fraction(0)
+        case Add(a, b):
+            la, lb = linear(a), linear(b)
+            if la is None or lb is None:
+                return None
+            coeffs = dict(la[0])
+            for k, c in lb[0].items():
+                s = coeffs.get(k, Fraction(0)) + c
+                if s:
+                    coeffs[k] = s
+                else:
+                    coeffs.pop(k, None)
+            return coeffs, la[1] + lb[1]
+        case Mul(a, b):
+            la = linear(a)
+            lb = linear(b) if la is not None else None
+            if la is None or lb is None:
+                return None
+            if la[0] and lb[0]:
+                return None  # a product of two non-constant forms is not affine
+            c, form = (la[1], lb) if not la[0] else (lb[1], la)
+            if not c:
+                return {}, Fraction(0)
+            return {k: c * v for k, v in form[0].items()}, c * form[1]
+        case Pow(base, k):
+            lb = linear(base)
+            if lb is None:
+                return None
+            if k == 1:
+                return lb
+            if lb[0] or k.denominator != 1 or abs(k) > MAX_EXPONENT or (k < 0 and lb[1] == 0):
+                return None
+            return {}, lb[1] ** int(k)
+    return None
+
+
+def rational_value(t: Term) -> Fraction | None:
+    """The exact value of a variable- and parameter-free ``t`` when it is rational, else ``None``."""
+    form = linear(t)
+    if form is None or form[0]:
+        return None
+    return form[1]
+
+
+def complete(cond: Term, variables: tuple[str, ...]) -> Diffeo | None:
+    """The completion of ``cond`` over ``variables`` (as ``diffeo.complete`` gives it), or ``None``
+    when ``cond`` is not affine with rational coefficients (then the sympy path decides)."""
+    form = linear(cond)
+    if form is None:
+        return None
+    coeffs, c0 = form
+    occurring = free_vars(cond)
+    if not occurring or not occurring <= set(variables):
+        return None
+    candidates = [v for v in variables if v in occurring and coeffs.get(("v", v))]
+    if not candidates:
+        return None  # every variable cancels: the sympy path gives the reason
+    v = candidates[-1]  # all have a constant coefficient (rank 0): the last one in order
+    params = free_params(cond)
+    inputs = fresh_inputs(len(variables), set(variables) | set(params) | set(occurring))
+    others = [x for x in variables if x != v]
+    renamed = {x: u for x, u in zip(others, inputs[1:])}
+    a = coeffs[("v", v)]
+    terms: list[tuple[str, str, Fraction]] = [(inputs[0], "v", 1 / a)]
+    for (kind, name), c in coeffs.items():
+        if kind == "p":
+            terms.append((name, "p", -c / a))
+        elif name != v:
+            terms.append((renamed[name], "v", -c / a))
+    solution = _ordered(-c0 / a, terms)
+    components = tuple(solution if x == v else Var(renamed[x]) for x in variables)
+    psi = Diffeo(variables=tuple(variables), forward=(cond,) + tuple(Var(x) for x in others), inputs=inputs,
+                 branches=(InverseBranch(components, ()),), solved_for=v, name=None, nonzero=())
+    return replace(psi, span=getattr(cond, "span", None))
+
+
+# sympy's ordering_of_classes, for the classes a rational coefficient can have
+_CLASS_RANK = {"Half": 2, "NegativeOne": 5, "Integer": 7, "Rational": 8}
+
+
+def _coefficient_class(c: Fraction) -> str:
+    if c == Fraction(1, 2):
+        return "Half"
+    if c == -1:
+        return "NegativeOne"
+    return "Integer" if c.denominator == 1 else "Rational"
+
+
+def _sort_key(term: tuple[str, str, Fraction]):
+    name, _, c = term
+    if c == 1:
+        return (0, name)  # a Symbol comes before any Mul
+    return (1, _CLASS_RANK[_coefficient_class(c)], c.numerator, c.denominator, name)
+
+
+def _ordered(constant: Fraction, terms: list[tuple[str, str, Fraction]]) -> Term:
+    """``constant + Σ c·atom`` as ``from_sympy`` would build it from sympy's canonical sum."""
+    parts: list[Term] = [Const(constant)] if constant else []
+    for name, kind, c in sorted((t for t in terms if t[2]), key=_sort_key):
+        atom: Term = Var(name) if kind == "v" else Param(name)
+        parts.append(atom if c == 1 else Mul(Const(c), atom))
+    out = parts[0]
+    for p in parts[1:]:
+        out = Add(out, p)
+    return out

@@ -1,0 +1,44 @@
+"""Start-up without sympy or scipy on the Monte Carlo path of an affine program (issue 15).
+
+The command runs in a fresh interpreter (sympy must not be imported by anything, including the
+CLI's other commands or the integrability analysis, which ``langur.lint.bounded`` makes
+unnecessary for a bounded integrand); its number is checked against the exact value.
+"""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+SCRIPT = """
+import json, sys
+from langur.cli import main
+status = main(["eval", sys.argv[1], "--engine", "mc", "--json"])
+print(json.dumps({"status": status, "sympy": "sympy" in sys.modules, "scipy": "scipy" in sys.modules}))
+"""
+
+
+def _run(path: str) -> tuple[dict, dict]:
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    out = subprocess.run([sys.executable, "-c", SCRIPT, path], capture_output=True, text=True, env=env,
+                         cwd=ROOT, timeout=120, check=True).stdout.strip().splitlines()
+    return json.loads(out[0]), json.loads(out[1])
+
+
+def test_fig1_monte_carlo_path_imports_neither_sympy_nor_scipy():
+    result, seen = _run("examples/fig1.lgr")
+    assert seen == {"status": 0, "sympy": False, "scipy": False}
+    mc = result["mc"]
+    assert abs(mc["value"] - 0.5) <= 5 * mc["stderr"] + 1e-9  # ∫₀¹ [x ≤ 1/2] dx = 1/2
+
+
+def test_a_nonlinear_condition_still_loads_sympy(tmp_path):
+    src = tmp_path / "disk.lgr"
+    src.write_text("param r = 0.5\nint ([0, 1], [0, 1]) [x^2 + y^2 <= r^2] d(x, y)\n")
+    result, seen = _run(str(src))
+    assert seen["sympy"] and seen["status"] == 0
+    mc = result["mc"]
+    assert abs(mc["value"] - 3.141592653589793 / 16) <= 5 * mc["stderr"] + 1e-9  # a quarter disk of radius 1/2
