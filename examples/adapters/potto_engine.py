@@ -26,6 +26,9 @@ What is translated (the rest is declined, counted apart, never a disagreement):
 Potto estimates by Monte Carlo with numpy's global generator (and Python's ``random`` to pick a
 trace): the answer is the mean of ``BATCHES`` independent estimates, each seeded, and its standard
 error their sample standard deviation over √BATCHES (both generators are restored afterwards).
+``LANGUR_POTTO_BATCHES`` and ``LANGUR_POTTO_SAMPLES`` change the 20 batches of 100 samples: Potto
+is pure Python and samples each nested integral afresh (100 × 100 points per batch in two
+variables), so a campaign over two-variable programs wants fewer.
 """
 
 from __future__ import annotations
@@ -59,8 +62,8 @@ else:
 #: Errors of arithmetic in Potto's evaluation are its failures (its ``Sqrt.deriv`` divides by
 #: ``2*Sqrt(u')``: ZeroDivisionError when u' = 0); any other exception is taken as Potto's refusal.
 ARITHMETIC = (ZeroDivisionError, OverflowError, ValueError)
-BATCHES = 20
-SAMPLES = 100  # per batch
+BATCHES = int(os.environ.get("LANGUR_POTTO_BATCHES", "20"))
+SAMPLES = int(os.environ.get("LANGUR_POTTO_SAMPLES", "100"))  # per batch (and per level of nested integrals)
 SEED = 0
 
 
@@ -258,6 +261,8 @@ class PottoEngine:
                 vals.update({ctx[pv[n].name]: float(direction.get(n, 0.0)) for n in pv})
         except Unsupported as e:
             return Declined(str(e))
+        except Exception as e:  # noqa: BLE001 - Potto's deriv refuses what it cannot do by raising
+            return Declined(f"Potto failed: {type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}")
         rng_state, py_state = np.random.get_state(), random.getstate()
         try:
             estimates = []
@@ -265,6 +270,8 @@ class PottoEngine:
                 np.random.seed(SEED + k)
                 random.seed(SEED + k)
                 estimates.append(float(potto_evaluate(expr, VarVal(vals), SAMPLES)))
+        except Unsupported as e:  # raised from inside Potto, when it asks a diffeomorphism for its inverse
+            return Declined(str(e))
         except ARITHMETIC as e:  # a number Potto computed is wrong: a failure, not a refusal
             raise EngineFailure(f"Potto raised {type(e).__name__}: {e}") from None
         except Exception as e:  # noqa: BLE001 - Potto raises many kinds of errors on what it cannot do
