@@ -114,6 +114,17 @@ def test_pottos_chain_rule_for_sqrt_is_wrong(small_potto):
 
 
 @needs_potto
+def test_potto_weighs_a_condition_on_the_second_variable_by_its_jacobian(small_potto, monkeypatch):
+    # ∫∫_{[0,1]²} [y > b] = 1 − b, derivative −1 at b = 0.61. Potto weighs the delta by
+    # 1/|∂Ψ₀/∂t₀|: the adapter puts y (the variable the condition is solved for) first; with x
+    # first Potto divided by ∂(y − b)/∂x = 0 (a mistake of ours the campaign found).
+    monkeypatch.setattr(potto, "BATCHES", 4)
+    monkeypatch.setattr(potto, "SAMPLES", 8)  # per level: 64 points a batch in two variables
+    program = load_text("param b = 0.61\nint ([0, 1], [0, 1]) [y > b] d(x, y)\n").program
+    assert _agrees(small_potto.derivative(program, {"b": 0.61}, {"b": 1.0}), -1.0, 5)
+
+
+@needs_potto
 def test_potto_declines_what_it_cannot_express(small_potto):
     assert isinstance(small_potto.value(_program("sin_weight"), {"a": 0.5}), Declined)  # no sin in Potto
     # a disk: its inverse branches exist only where a guard holds, in two variables

@@ -173,6 +173,17 @@ def _diffeo(psi: core.Diffeo, s: _Scope):
             raise Unsupported("the condition's inverse branch does not exist at these parameter values "
                               "(Potto would evaluate it anyway)")
 
+    # Potto weighs a sample of the delta by 1/|∂Ψ₀/∂t₀| (reweight_samples_with_diffeo), the Jacobian
+    # only when Ψ̂ = (condition, the other variables) with t₀ the variable the condition is solved
+    # for: so that variable goes first (Langur's order gave 1/|∂(y − x² − a)/∂x| = 1/|2x|: a
+    # heavy-tailed, biased estimate, and 1/0 for a condition on y alone).
+    if len(psi.variables) > 1 and psi.solved_for is None:
+        raise Unsupported("a declared diffeomorphism in several variables (Potto weighs its delta by "
+                          "1/|∂Ψ₀/∂t₀|, the Jacobian only when Ψ̂ = (condition, the other variables))")
+    order = (psi.solved_for, *[v for v in psi.variables if v != psi.solved_for]) if psi.solved_for \
+        else psi.variables
+    position = [psi.variables.index(v) for v in order]
+
     def params_of(vars_):  # the parameters, then the lets in scope, over Potto's vars
         params = dict(zip(names, vars_))
         for n, bound in s.lets:
@@ -180,10 +191,11 @@ def _diffeo(psi: core.Diffeo, s: _Scope):
         return params
 
     def function(self, vars_, tvars_):
-        return tuple(_term(f, _Scope(dict(zip(psi.variables, tvars_)), params_of(vars_))) for f in psi.forward)
+        return tuple(_term(f, _Scope(dict(zip(order, tvars_)), params_of(vars_))) for f in psi.forward)
 
-    def inverse(self, vars_, tvars_):
-        return tuple(_term(c, _Scope(dict(zip(psi.inputs, tvars_)), params_of(vars_))) for c in branch.components)
+    def inverse(self, vars_, tvars_):  # the variables in Potto's order (``order``)
+        return tuple(_term(branch.components[i], _Scope(dict(zip(psi.inputs, tvars_)), params_of(vars_)))
+                     for i in position)
 
     def bounds_transfer(self, lower, upper, env):
         # Ψ̂'s image of the box, from Ψ̂ on a grid of it (Potto's Affine uses the corners)
@@ -197,7 +209,7 @@ def _diffeo(psi: core.Diffeo, s: _Scope):
 
     cls = type("LangurDiffeo", (Diffeomorphism,), {"function": function, "inverse": inverse,
                                                     "bounds_transfer": bounds_transfer})
-    return cls(tuple(s.params[n] for n in names), tuple(s.tvars[x] for x in psi.variables))
+    return cls(tuple(s.params[n] for n in names), tuple(s.tvars[x] for x in order))
 
 
 def _mentions_param(t) -> bool:
