@@ -18,7 +18,9 @@ What is translated (the rest is declined, counted apart, never a disagreement):
   one inverse (its own library writes ``t²x² − 1`` with the one root ``sqrt(y + 1)/t``); a Langur
   condition with several branches (``x² − a``: ±sqrt(u + a)) is given to Potto with its first
   branch, as a Potto user would write it — the campaign then shows what that costs.  Set
-  ``LANGUR_POTTO_SINGLE_BRANCH=decline`` to decline such programs instead;
+  ``LANGUR_POTTO_SINGLE_BRANCH=decline`` to decline such programs instead.  In two variables the
+  variable the condition is solved for is Potto's first tvar (Potto weighs the delta by
+  1/|∂Ψ₀/∂t₀|); a declared diffeomorphism in several variables is declined;
 * integrals in one or two variables (``Int`` of ``BoundedLebesgue``): a declared domain's bounds
   become the measure's (Potto differentiates moving bounds by the Leibniz rule); without a domain,
   the body over its box, which must not move.
