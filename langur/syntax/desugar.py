@@ -159,6 +159,15 @@ def _put(t: Term, old: Term, new: Term) -> Term:
     return map_children(t, lambda c: _put(c, old, new))
 
 
+def _decided(t: Term, cond: Term, holds: bool) -> Term:
+    """``t`` where ``cond ≥ 0`` is known to hold (or not): each conditional over the variables on
+    ``cond`` replaced by its then-branch (else-branch), which it takes there."""
+    t = map_children(t, lambda c: _decided(c, cond, holds))
+    if isinstance(t, IfDiffeo) and t.psi.condition == cond:
+        return t.then if holds else t.orelse
+    return t
+
+
 class Desugarer:
     """Desugars terms of one module; collects diagnostics instead of stopping at the first."""
 
@@ -480,6 +489,19 @@ class Desugarer:
                          self.conditional(_put(cond, inner, inner.then), then, orelse, sc, span, cond_span),
                          self.conditional(_put(cond, inner, inner.orelse), then, orelse, sc, span, cond_span),
                          span=span)
+        kink = next((u for u in subterms(cond) if isinstance(u, IfDiffeo)), None)
+        if kink is not None:
+            # a conditional over the variables inside a condition (abs, min, max: [abs(x - a) <= 0.2])
+            # splits the condition at the kink: ifge0 ⌊Ψ_k⌋ then (the condition with the kink's
+            # then-branch) else (… with its else-branch), each branch completed on its own.  The
+            # split's delta has weight (then − else) at the kink, which is 0 for a continuous
+            # abs/min/max (both branches agree there): the split adds no derivative
+            # (every conditional on the kink's condition in it takes the same branch: no repeated split)
+            c = kink.psi.condition
+            return IfDiffeo(kink.psi,
+                            self.conditional(_decided(cond, c, True), then, orelse, sc, span, cond_span),
+                            self.conditional(_decided(cond, c, False), then, orelse, sc, span, cond_span),
+                            span=span)
         if any(isinstance(u, Call) for u in subterms(cond)):
             # a condition is completed as a whole: expand the defs it calls first
             cond, errs = expand_calls(cond, lambda m, n: self.env.bodies.get((m, n)), sc.variables, sc.box)
