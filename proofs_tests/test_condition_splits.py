@@ -19,6 +19,7 @@ from langur.core import IfDiffeo, children
 from langur.ddenote import ddenote_program
 from langur.operational import estimate_derivative
 from langur.syntax.printer import print_core
+from langur.transversality import check_program
 
 H = 1e-4  # central differences of the quadrature: O(h²) ≈ 1e-8 where the value is smooth
 
@@ -97,3 +98,15 @@ def test_the_split_is_visible_in_the_core_program():
     square_ = _load(CASES[3][1]).program
     assert "ifge0 x then (ifge0 y then (ifge0 x - y then" in print_core(square_.integrand)
     assert not _repeated(square_.integrand)
+
+
+def test_roots_merging_at_the_kink_are_reported_not_differentiated():
+    # [|x − a| ≤ b]: the window's two ends merge at the kink x = a when b = 0, where the value 2b
+    # (b ≥ 0; 0 below) has a corner: the linter reports it and the exact engine says undefined
+    text = "param a = 0.5, b = 0.2\nint ([0, 1]) [abs(x - a) <= b] d(x)\n"
+    loaded = _load(text)
+    assert not [f for f in check_program(loaded.program, loaded.params) if f.severity == "error"]
+    at_zero = check_program(loaded.program, loaded.params, at={"a": 0.5, "b": 0.0})
+    assert "X305" in [f.code for f in at_zero]
+    d = ddenote_program(loaded.program, {"a": 0.5, "b": 0.2}, {"b": 1})
+    assert abs(d.value - 2) < 1e-12
