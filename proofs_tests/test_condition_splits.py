@@ -15,6 +15,7 @@ import pytest
 from scipy.integrate import quad
 
 from langur import frontend
+from langur.diagnostics import LangurError
 from langur.core import IfDiffeo, children
 from langur.ddenote import ddenote_program
 from langur.operational import estimate_derivative
@@ -110,3 +111,14 @@ def test_roots_merging_at_the_kink_are_reported_not_differentiated():
     assert "X305" in [f.code for f in at_zero]
     d = ddenote_program(loaded.program, {"a": 0.5, "b": 0.2}, {"b": 1})
     assert abs(d.value - 2) < 1e-12
+
+
+@pytest.mark.parametrize("cond, says", [
+    ("x^3 - x - a >= 0", "vanishes at x = -sqrt(3)/3, sqrt(3)/3 on [-2, 2]"),  # 3x² − 1 = 0
+    ("exp(x) + x - a >= 0", "it is monotone in x on [-2, 2]"),  # ∂/∂x = eˣ + 1 > 0
+])
+def test_a_refused_condition_says_what_would_make_it_acceptable(cond, says):
+    with pytest.raises(LangurError) as info:
+        frontend.load_text(f"param a = 0.5\nint ([-2, 2]) [{cond}] d(x)\n", "t.lgr")
+    d = info.value.diagnostics[0]
+    assert d.code == "T207" and says in d.message and "declare a `diffeo` with its inverse" in d.message
