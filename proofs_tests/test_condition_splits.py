@@ -15,9 +15,9 @@ import pytest
 from scipy.integrate import quad
 
 from langur import frontend
-from langur.diagnostics import LangurError
 from langur.core import IfDiffeo, children
 from langur.ddenote import ddenote_program
+from langur.diagnostics import LangurError
 from langur.operational import estimate_derivative
 from langur.syntax.printer import print_core
 from langur.transversality import check_program
