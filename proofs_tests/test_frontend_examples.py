@@ -38,8 +38,9 @@ def test_every_example_loads(path):
 def test_example_count():
     # risk_normalized.lgr (Fig. 2-3 with the normalized density) is the 15th, scene.lgr (Fig. 13's
     # pixel) and triangle.lgr (a triangle covering a pixel, written with vectors) the 16th and 17th;
-    # raytrace/ holds §10.2's scene and its two shaders
-    assert len(ALL) == 20
+    # raytrace/ holds §10.2's scene and its two shaders; window.lgr (abs/min/max in conditions,
+    # issue 18) the 21st
+    assert len(ALL) == 21
 
 
 SHADERS = {

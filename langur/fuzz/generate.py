@@ -70,6 +70,7 @@ class _Ctx:
         self.conds: list[_Cond] = []
         self.diffeos: dict[str, str] = {}  # declared diffeos used: name -> declaration
         self.n_smooth = 19                 # how many of _smooth's forms may be used
+        self.kinks = False                 # conditions with abs/min/max inside (issue 18)
 
     def pick(self, seq):
         return self.draw(self.st.sampled_from(seq))
@@ -222,7 +223,40 @@ def _smooth(ctx: _Ctx) -> str:
     return form
 
 
+def _kink_cond(ctx: _Ctx) -> str:
+    """A condition with a kink inside (issue 18; split by the desugarer at the kink): the window
+    ``[abs(v - P) <= k]`` (zero sets v = P and v = P ± k), ``[max(v, c) >= P]`` (v = c and v = P)
+    or, in two variables, ``[min(x, y) >= P]`` (x = y, x = P, y = P).  Each zero set is registered,
+    so the program stays generic (no two coincide, none through a corner)."""
+    p = ctx.pick(ctx.names)
+    pv = ctx.pvals[p]
+    shapes = ("abs", "max", "min") if len(ctx.variables) == 2 else ("abs", "max")
+    shape = ctx.pick(shapes)
+
+    def vertical(v, c, key):
+        line = (1.0, 0.0, c) if v == "x" else (0.0, 1.0, c)
+        g = (lambda x, y: x - c) if v == "x" else (lambda x, y: y - c)
+        ctx.conds.append(_Cond(v, ">=", str(c), g, (line,), key))
+
+    if shape == "abs":
+        v, k = ctx.var(), ctx.pick(("0.2", "0.35"))
+        for c, tag in ((pv, "0"), (pv + float(k), k), (pv - float(k), "-" + k)):
+            vertical(v, c, ("kink", v, p, tag))
+        return f"[abs({v} - {p}) <= {k}]"
+    if shape == "max":
+        v, c = ctx.var(), ctx.pick(("0.45", "0.65"))
+        vertical(v, float(c), ("kink", v, c))
+        vertical(v, pv, ("kink", v, p, "0"))
+        return f"[max({v}, {c}) >= {p}]"
+    ctx.conds.append(_Cond("x", ">=", "y", lambda x, y: x - y, ((1.0, -1.0, 0.0),), ("kink", "diag")))
+    vertical("x", pv, ("kink", "x", p, "0"))
+    vertical("y", pv, ("kink", "y", p, "0"))
+    return f"[min(x, y) >= {p}]"
+
+
 def _factor(ctx: _Ctx) -> str:
+    if ctx.kinks and ctx.draw(ctx.st.integers(0, 3)) == 0:
+        return _kink_cond(ctx)
     kind = ctx.draw(ctx.st.integers(0, 9 if len(ctx.variables) == 2 else 8))
     if kind == 8:  # a conditional on parameters only (ifge0 with a variable-free condition)
         p, q = ctx.pick(ctx.names), ctx.pick(ctx.names)
@@ -343,13 +377,14 @@ def _extract_def(ctx: _Ctx, terms: list[list[str]], variables, params) -> list[s
 
 
 def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, max_params: int = 3,
-             light: bool = False):
+             light: bool = False, kinks: bool = False):
     """A hypothesis strategy of :class:`FuzzProgram` (well-typed, transverse at the defaults).
 
     ``max_conds`` bounds the number of zero sets per program and ``max_params`` the parameters
     (each one is a derivative to compute): both bound the exact engine's work.  ``light`` keeps
     to polynomials, exp, sin, cos and sqrt (sympy integrates atan, log and fractional powers over
-    regions slowly: the fast property test uses it)."""
+    regions slowly: the fast property test uses it).  ``kinks`` adds conditions with ``abs``, ``min``
+    or ``max`` inside (:func:`_kink_cond`); without it the strategy draws exactly as before."""
     hypothesis, st = _hypothesis()
 
     @st.composite
@@ -363,6 +398,7 @@ def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, ma
         ctx = _Ctx(draw, st, variables, pvals)
         if light:
             ctx.n_smooth = 10
+        ctx.kinks = kinks
         boxes_txt, boxes = [], []
         for v in variables:
             lo, hi, flo, fhi = _box(ctx, v, params)

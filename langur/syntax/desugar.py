@@ -58,6 +58,7 @@ from ..core import (
     product,
     sub,
     subterms,
+    tree_size,
 )
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
@@ -88,6 +89,15 @@ from .vectors import Vec, VecName
 
 #: Function names that are not primitives but sugar (LANGUAGE.md §6).
 SUGAR_FUNCTIONS = ("abs", "min", "max", "atan2", "dot", "cross")
+#: The conditions of a module split at their kinks (abs/min/max over the variables) have at most
+#: this many pieces in all (nested kinks double them at each level: the bound keeps the work bounded).
+MAX_PIECES = 128
+#: A condition with kinks is split only when written out as a tree it has at most this many nodes.
+MAX_SPLIT_SIZE = 400
+
+
+class _TooManyPieces(Exception):
+    pass
 #: Names a declaration may not take.
 RESERVED = frozenset(PRIMITIVES) | frozenset(ALL_PRIMITIVES) | frozenset(SUGAR_FUNCTIONS) | {"pi"}
 
@@ -159,6 +169,15 @@ def _put(t: Term, old: Term, new: Term) -> Term:
     return map_children(t, lambda c: _put(c, old, new))
 
 
+def _decided(t: Term, cond: Term, holds: bool) -> Term:
+    """``t`` where ``cond ≥ 0`` is known to hold (or not): each conditional over the variables on
+    ``cond`` replaced by its then-branch (else-branch), which it takes there."""
+    t = map_children(t, lambda c: _decided(c, cond, holds))
+    if isinstance(t, IfDiffeo) and t.psi.condition == cond:
+        return t.then if holds else t.orelse
+    return t
+
+
 class Desugarer:
     """Desugars terms of one module; collects diagnostics instead of stopping at the first."""
 
@@ -170,6 +189,10 @@ class Desugarer:
         #: While a program's box is not known yet (no domain: it is read off the body, §8.3), the
         #: conditions that cannot be completed without it wait here with their diagnostic.
         self.pending: list[tuple[Diffeo, Diagnostic]] | None = None
+        #: How many pieces the conditions split at their kinks have so far (at most MAX_PIECES),
+        #: and whether a split is under way.
+        self.pieces = 0
+        self.splitting = False
 
     def fail(self, d: Diagnostic, span: Span | None) -> Term:
         self.errors.append(d)
@@ -480,6 +503,40 @@ class Desugarer:
                          self.conditional(_put(cond, inner, inner.then), then, orelse, sc, span, cond_span),
                          self.conditional(_put(cond, inner, inner.orelse), then, orelse, sc, span, cond_span),
                          span=span)
+        kink = next((u for u in subterms(cond) if isinstance(u, IfDiffeo)), None)
+        if kink is not None and tree_size(cond) > MAX_SPLIT_SIZE:
+            # nested kinks (abs(abs(…) − c)) double the written-out condition at each level
+            return self.fail(ty.reject_condition(cond_span or cond.span or span, (
+                f"with its kinks (abs, min, max over the variables) written out it has more than {MAX_SPLIT_SIZE} "
+                "nodes: write it as a product or sum of simpler conditions")), span)
+        if kink is not None:
+            # a conditional over the variables inside a condition (abs, min, max: [abs(x - a) <= 0.2])
+            # splits the condition at the kink: ifge0 ⌊Ψ_k⌋ then (the condition with the kink's
+            # then-branch) else (… with its else-branch), each branch completed on its own.  The
+            # split's delta has weight (then − else) at the kink, which is 0 for a continuous
+            # abs/min/max (both branches agree there): the split adds no derivative
+            # (every conditional on the kink's condition in it takes the same branch: no repeated split)
+            # (at most MAX_PIECES pieces in all the module's conditions: each split doubles them)
+            c = kink.psi.condition
+            top, self.splitting = not self.splitting, True
+            try:
+                return IfDiffeo(kink.psi,
+                                self.conditional(_decided(cond, c, True), then, orelse, sc, span, cond_span),
+                                self.conditional(_decided(cond, c, False), then, orelse, sc, span, cond_span),
+                                span=span)
+            except _TooManyPieces:
+                if not top:
+                    raise
+                return self.fail(ty.reject_condition(cond_span or cond.span or span, (
+                    f"split at their kinks (abs, min, max over the variables) the conditions have more than "
+                    f"{MAX_PIECES} pieces in all: write this one as a product or sum of simpler conditions")), span)
+            finally:
+                if top:
+                    self.splitting = False
+        if self.splitting:
+            self.pieces += 1
+            if self.pieces > MAX_PIECES:
+                raise _TooManyPieces
         if any(isinstance(u, Call) for u in subterms(cond)):
             # a condition is completed as a whole: expand the defs it calls first
             cond, errs = expand_calls(cond, lambda m, n: self.env.bodies.get((m, n)), sc.variables, sc.box)

@@ -161,7 +161,7 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds):
         ranges[symbol(v)] = bounds.get(v, (-math.inf, math.inf))
         result = _solve_for(e, symbol(v), symbol(inputs[0]), set(sub.values()), ranges)
         if isinstance(result, str):
-            reasons.append(f"{v}: {result}")
+            reasons.append(f"{v}: {result}{_shape(e, symbol(v), ranges[symbol(v)])}")
             continue
         rank, branches, nonzero = result
         if not branches:
@@ -198,6 +198,39 @@ def _solve_for(e, v, u0, others: set, ranges):
     if quad is not None:
         return 3, quad[0], quad[1]
     return peel_reason
+
+
+#: Limit (seconds) of the search for turning points that explains a refusal.
+SHAPE_LIMIT = 2.0
+
+
+def _shape(e, v, interval) -> str:
+    """Why a condition that cannot be inverted is refused, and what would make it acceptable
+    (issue 18): its turning points in ``v`` on the domain (zeros of ∂e/∂v: each monotone piece
+    between them has one inverse branch), or that it is monotone there with no closed-form inverse.
+    Empty when sympy cannot tell within :data:`SHAPE_LIMIT`."""
+    lo, hi = interval
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+        return ""
+    d = sp.diff(e, v)
+    if d.free_symbols - {v}:
+        return ""  # turning points that move with parameters or other variables: not analysed here
+    dom = sp.Interval(sp.nsimplify(lo), sp.nsimplify(hi))
+    try:
+        zeros = run_with_timeout(lambda: sp.solveset(d, v, dom), SHAPE_LIMIT)
+    except TimeoutError:
+        return ""
+    rewrite = ("; Langur completes a condition only where a variable can be isolated in closed form "
+               "(it occurs once under invertible steps, or in a polynomial of degree ≤ 2): rewrite the "
+               "condition so, or declare a `diffeo` with its inverse")
+    if zeros is sp.S.EmptySet:
+        return (f"; it is monotone in {v} on [{lo:g}, {hi:g}] (∂/∂{v} = {d} does not vanish there), "
+                f"but Langur finds no closed form of its inverse{rewrite}")
+    if isinstance(zeros, sp.FiniteSet) and len(zeros) <= 8:
+        pts = ", ".join(str(z) for z in sorted(zeros, key=lambda z: float(z)))
+        return (f"; it is not monotone in {v}: ∂/∂{v} = {d} vanishes at {v} = {pts} on [{lo:g}, {hi:g}] "
+                f"(turning points: between them it has one inverse branch each, which Langur cannot write in closed form){rewrite}")
+    return ""
 
 
 class _Unpeelable(Exception):
