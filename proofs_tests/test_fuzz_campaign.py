@@ -1,0 +1,65 @@
+"""`langur fuzz` at campaign scale (issue 13): the worker pool (same seed, same programs and
+verdicts whatever the number of workers; a unit past its time limit is killed and counted apart),
+hypothesis's files kept out of the current folder, timing in --json."""
+
+import json
+import os
+import time
+
+from langur import fuzz
+from langur.cli import main
+from langur.fuzz import pool
+
+
+def _verdicts(summary):
+    return [(r.text, r.status, [(w.quantity, w.wrt, w.ok, w.mc, w.exact) for w in r.rows])
+            for r in summary.results]
+
+
+def test_one_and_two_workers_give_the_same_programs_and_verdicts(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    kw = dict(examples=3, seed=6, samples=2000, timeout=60.0, light=True, storage=str(tmp_path / "hyp"))
+    one = fuzz.run_fuzz(workers=1, **kw)
+    two = fuzz.run_fuzz(workers=2, **kw)
+    assert [r.text for r in one.results] == fuzz.generated(3, 6, light=True)
+    assert _verdicts(one) == _verdicts(two)
+    assert all(r.status == "agree" for r in one.results), [(r.status, r.reason) for r in one.results]
+    assert all(r.rows and r.seconds > 0 for r in one.results)  # both engines ran, in a worker
+    assert not (tmp_path / ".hypothesis").exists()  # hypothesis's files went to `storage`
+    assert (tmp_path / "hyp").is_dir()
+
+
+def _slow_or_fast(text):
+    if text.startswith("slow"):
+        time.sleep(60)
+    if text.startswith("crash"):
+        os._exit(3)
+    return fuzz.ProgramResult(text, "agree")
+
+
+def test_a_unit_past_its_time_limit_is_killed_and_reported_apart(monkeypatch):
+    monkeypatch.setattr(pool, "GRACE", 0.0)
+    seen = []
+    t0 = time.monotonic()
+    out = pool.run_units(["fast 1", "slow", "crash", "fast 2"], _slow_or_fast, workers=2, limit=1.0,
+                         on_time_limit=lambda t, why: fuzz.ProgramResult(t, "timeout", reason=why),
+                         on_error=lambda t, why: fuzz.ProgramResult(t, "exact_error", reason=why),
+                         progress=seen.append)
+    assert time.monotonic() - t0 < 30  # the sleeping unit did not run its 60 s
+    assert [(r.text, r.status) for r in out] == [("fast 1", "agree"), ("slow", "timeout"),
+                                                 ("crash", "exact_error"), ("fast 2", "agree")]
+    assert "killed" in out[1].reason and "exit code 3" in out[2].reason
+    assert sorted(r.text for r in seen) == sorted(r.text for r in out)
+
+
+def test_json_keeps_its_shape_and_adds_timing(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    status = main(["fuzz", "--examples", "2", "--seed", "6", "--json", "--samples", "2000", "--workers", "1",
+                   "--hypothesis-dir", str(tmp_path / "h")])
+    r = json.loads(capsys.readouterr().out)
+    assert status == 0
+    assert {"examples", "seed", "samples", "programs", "comparisons", "counts", "status", "minimal",
+            "failures", "results", "kept"} <= set(r)
+    assert r["workers"] == 1 and r["seconds"] > 0 and r["programs_per_minute"] > 0
+    assert all(p["seconds"] >= p["exact_seconds"] > 0 for p in r["results"])
+    assert not (tmp_path / ".hypothesis").exists()
