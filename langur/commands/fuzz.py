@@ -125,6 +125,11 @@ def run(args) -> int:
             if not r.ok:
                 print(f"  {r.quantity}{' wrt ' + r.wrt if r.wrt else ''}: exact {c.fmt(r.exact)}"
                       f" (error {c.fmt(r.error, 3)}), {r.engine} {c.fmt(r.mc)} ± {c.fmt(r.stderr, 3)}")
+    if workers:
+        rows = summary.coverage()
+        print(f"  rule coverage ({sum(1 for *_, n in rows if n)}/{len(rows)} rules fired):")
+        for fig, rule, n in rows:
+            print(f"    {fig:<14}{rule:<44}{n:>9}{'   NEVER' if not n else ''}")
     for path in summary.kept:
         print(f"  wrote {path}")
     print("all comparisons agree" if not status else "DISCREPANCY found")

@@ -15,7 +15,7 @@ from ..diagnostics import LangurError
 from ..frontend import load_text
 from ..timebox import budget
 from ..transversality import check_loaded
-from . import pool
+from . import coverage, pool
 from .generate import (
     ABS_SLACK,
     LINT_DISCARD,
@@ -75,6 +75,7 @@ class ProgramResult:
     reason: str = ""
     exact_seconds: float = 0.0
     seconds: float = 0.0  # the whole unit: load, lint, both engines
+    coverage: dict = field(default_factory=dict)  # (figure, rule) -> applications (langur.fuzz.coverage)
     methods: list[str] = field(default_factory=list)
 
     @property
@@ -325,6 +326,14 @@ class FuzzSummary:
             out[r.status] = out.get(r.status, 0) + 1
         return out
 
+    def coverage(self):
+        """Rule applications over the campaign (:func:`langur.fuzz.coverage.table` rows)."""
+        total: dict = {}
+        for r in self.results:
+            for k, v in r.coverage.items():
+                total[k] = total.get(k, 0) + v
+        return coverage.table(total)
+
     @property
     def comparisons(self) -> int:
         return sum(len(r.rows) for r in self.results)
@@ -341,7 +350,8 @@ class FuzzSummary:
                 "failures": [r.to_json() for r in self.results if r.failed],
                 "results": [{"program": r.text, "status": r.status, "seconds": round(r.seconds, 3),
                              "exact_seconds": round(r.exact_seconds, 3)} for r in self.results],
-                "kept": self.kept, "workers": self.workers, "seconds": round(self.seconds, 3),
+                "kept": self.kept, "workers": self.workers,
+                "coverage": [{"figure": f, "rule": r, "count": n} for f, r, n in self.coverage()], "seconds": round(self.seconds, 3),
                 "programs_per_minute": round(60 * len(self.results) / self.seconds, 2) if self.seconds else None}
 
 
@@ -364,16 +374,17 @@ def _settings(examples: int, seed: int):
     return wrap
 
 
-def generated(examples: int = 50, seed: int = 0, light: bool = False) -> list[str]:
+def generated(examples: int = 50, seed: int = 0, light: bool = False, **shape) -> list[str]:
     """The distinct program texts a campaign of ``examples`` programs with ``seed`` checks, in the
-    order hypothesis generates them (the same seed gives the same list on any machine)."""
+    order hypothesis generates them (the same seed gives the same list on any machine);
+    ``shape``: the bounds of :func:`~.generate.programs` (max_summands, max_factors, …)."""
     _hypothesis()
     from hypothesis import given
 
     texts: dict[str, None] = {}
 
     @_settings(examples, seed)
-    @given(programs(light=light))
+    @given(programs(light=light, **shape))
     def collect(prog: FuzzProgram):
         texts.setdefault(prog.text, None)
 
@@ -412,8 +423,15 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
         return compare_text(text, samples=samples, seed=seed, timeout=timeout, lint=lint, method=method,
                             isolate=isolate)
 
+    def covered(text: str) -> ProgramResult:  # in a worker: both engines run here, every rule is seen
+        coverage.reset()
+        with coverage.recording():
+            res = unit(text, False)
+        res.coverage = dict(coverage.counts())
+        return res
+
     if workers > 0:
-        summary.results = pool.run_units(texts, lambda t: unit(t, False), workers=workers, limit=timeout,
+        summary.results = pool.run_units(texts, covered, workers=workers, limit=timeout,
                                          on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
     else:
         for t in texts:
