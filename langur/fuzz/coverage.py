@@ -2,7 +2,8 @@
 
 How often each rule of the paper's figures fires while a campaign runs: Fig. 6 (typing of terms,
 :func:`langur.typesys.type_term`), Fig. 7 (⟦t⟧ as simply decomposable pieces,
-:func:`langur.symbolic.decompose.decompose`), Fig. 8 (⦇t⦈
+:func:`langur.symbolic.decompose.decompose`, whose smooth pieces are
+:func:`langur.sympy_bridge.denote`), Fig. 8 (⦇t⦈
 in the exact engine, :func:`langur.ddenote._dd`, and in the Monte Carlo engine's compiler,
 :func:`langur.operational.compile._compile`), Fig. 11 (typing of programs,
 :func:`langur.typesys.type_program`), Fig. 12 (⟦p⟧, :func:`langur.denote.denote_program`), and
@@ -20,7 +21,7 @@ from __future__ import annotations
 import contextlib
 from collections import Counter
 
-from .. import ddenote, denote, exact, theorem, typesys
+from .. import ddenote, denote, exact, sympy_bridge, theorem, typesys
 from ..core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Var
 from ..operational import compile as mc_compile
 from ..symbolic import decompose
@@ -31,7 +32,7 @@ TERM_RULES = {Const: "constant", Var: "variable", Param: "parameter", Add: "sum"
               Let: "let", Call: "call"}
 #: The completion kinds of a diffeomorphic conditional (LANGUAGE.md §6).
 COMPLETIONS = ("declared", "completed, one inverse branch", "completed, several inverse branches",
-               "completed, guarded branches", "completed, parameter coefficient (nonzero)")
+               "completed, parameter coefficient (nonzero)")
 _CORE = tuple(r for r in TERM_RULES.values() if r != "call")
 #: The rules counted: a call is met only by the Monte Carlo engine, which compiles defs separately
 #: (§9); the front end inlines them for the exact engine and the type system.
@@ -63,11 +64,11 @@ def reset() -> None:
 
 
 def completion_kind(psi) -> str:
+    """The kind of ``psi``: declared (``diffeo``), or completed (LANGUAGE.md §6) with a parameter
+    coefficient that must not vanish, with several (guarded) inverse branches, or with one."""
     if psi.name is not None:
         return COMPLETIONS[0]
     if psi.nonzero:
-        return COMPLETIONS[4]
-    if any(b.guards for b in psi.branches):
         return COMPLETIONS[3]
     return COMPLETIONS[1] if len(psi.branches) == 1 else COMPLETIONS[2]
 
@@ -94,7 +95,8 @@ def _whole(figure: str, fn):
 def _hooks():
     return [
         (typesys, "type_term", lambda f: _by_term("Fig. 6", f, 2)),
-        (decompose, "decompose", lambda f: _by_term("Fig. 7", f, 0)),
+        (decompose, "decompose", lambda f: _by_term("Fig. 7", f, 0)),  # conditionals: pieces
+        (sympy_bridge, "denote", lambda f: _by_term("Fig. 7", f, 0)),  # smooth terms: one expression
         (ddenote, "_dd", lambda f: _by_term("Fig. 8 exact", f, 0)),
         (mc_compile, "_compile", lambda f: _by_term("Fig. 8 mc", f, 0)),
         (typesys, "type_program", lambda f: _whole("Fig. 11", f)),
