@@ -41,8 +41,9 @@ def add_arguments(p):
     p.add_argument("--no-shrink", action="store_true",
                    help="report the first failing program as found (no hypothesis shrinking)")
     p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
-                   help="Monte Carlo sampling (default uniform; the 5-sigma rule assumes i.i.d. "
-                        "points: stratified/qmc standard errors can be 0 on a jump, so they false-alarm)")
+                   help="Monte Carlo sampling (default uniform; stratified and qmc estimate their standard "
+                        "error from 32 independent randomizations: 5 of them are a t distribution's, "
+                        "false alarm ≈ 2e-5 per comparison)")
     p.add_argument("--no-lint", action="store_true",
                    help="do not run the transversality linter (no program is discarded)")
     p.add_argument("--keep", metavar="DIR", help="write each failing program to DIR as a .lgr file "
