@@ -6,6 +6,8 @@ import json
 import os
 import time
 
+import pytest
+
 from langur import fuzz
 from langur.cli import main
 from langur.fuzz import pool
@@ -63,3 +65,14 @@ def test_json_keeps_its_shape_and_adds_timing(capsys, tmp_path, monkeypatch):
     assert r["workers"] == 1 and r["seconds"] > 0 and r["programs_per_minute"] > 0
     assert all(p["seconds"] >= p["exact_seconds"] > 0 for p in r["results"])
     assert not (tmp_path / ".hypothesis").exists()
+
+
+def test_a_local_dask_cluster_gives_the_same_verdicts_as_one_process(tmp_path):
+    distributed = pytest.importorskip("distributed", reason="the cluster extra (dask.distributed) is not installed")
+    kw = dict(examples=3, seed=6, samples=2000, timeout=60.0, light=True, storage=str(tmp_path))
+    local = fuzz.run_fuzz(workers=1, **kw)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:
+        remote = fuzz.run_fuzz(scheduler=cluster.scheduler_address, **kw)
+    assert _verdicts(remote) == _verdicts(local)
+    assert remote.coverage() == local.coverage()  # coverage gathered from the cluster's units too

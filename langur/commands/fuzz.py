@@ -35,6 +35,9 @@ def add_arguments(p):
     p.add_argument("--workers", type=count(0, 1024, "the number of workers"), default=None, metavar="N",
                    help="worker processes, each running one program (both engines) at a time and killed at "
                         "its time limit; 0 runs in this process (default: the core count)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run the units on the Dask distributed cluster at ADDRESS (e.g. tcp://host:8786) "
+                        "instead of local workers (needs the cluster extra: pip install 'langur-workbench[cluster]')")
     p.add_argument("--hypothesis-dir", metavar="DIR",
                    help="hypothesis's storage folder (default $HYPOTHESIS_STORAGE_DIRECTORY, else "
                         "~/.cache/langur/hypothesis; never the current folder unless asked)")
@@ -97,8 +100,8 @@ def run(args) -> int:
             summary = fuzz.run_fuzz(args.examples, args.seed, args.samples, args.timeout, keep=args.keep,
                                     lint=not args.no_lint, progress=shown, method=args.method, engine=engine,
                                     workers=workers, shrink=not args.no_shrink,
-                                    storage=args.hypothesis_dir)
-    except fuzz.MissingHypothesis as e:
+                                    storage=args.hypothesis_dir, scheduler=args.scheduler)
+    except (fuzz.MissingHypothesis, fuzz.cluster.MissingCluster) as e:
         print(f"langur fuzz: error: {e}", file=sys.stderr)
         return 2
     status = 1 if summary.failed else 0
@@ -126,7 +129,7 @@ def run(args) -> int:
             if not r.ok:
                 print(f"  {r.quantity}{' wrt ' + r.wrt if r.wrt else ''}: exact {c.fmt(r.exact)}"
                       f" (error {c.fmt(r.error, 3)}), {r.engine} {c.fmt(r.mc)} ± {c.fmt(r.stderr, 3)}")
-    if workers:
+    if workers or args.scheduler:
         rows = summary.coverage()
         print(f"  rule coverage ({sum(1 for *_, n in rows if n)}/{len(rows)} rules fired):")
         for fig, rule, n in rows:

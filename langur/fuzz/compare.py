@@ -15,7 +15,7 @@ from ..diagnostics import LangurError
 from ..frontend import load_text
 from ..timebox import budget
 from ..transversality import check_loaded
-from . import coverage, pool
+from . import cluster, coverage, pool
 from .generate import (
     ABS_SLACK,
     LINT_DISCARD,
@@ -403,14 +403,16 @@ def _unit_error(text: str, reason: str) -> ProgramResult:
 def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: float = 20.0,
              keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform",
              engine=None, light: bool = False, workers: int = 0, shrink: bool = True,
-             storage: str | None = None) -> FuzzSummary:
+             storage: str | None = None, scheduler=None) -> FuzzSummary:
     """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs), each a
     unit of :mod:`langur.fuzz.pool` (``workers`` processes; 0: in this process); on a failure
     hypothesis replays the same seed and shrinks it (``shrink``), and the minimal failing program
     is ``summary.minimal``.  ``engine``: compare it (an engine of :mod:`langur.engines`) with the
     exact engine instead of the Monte Carlo engine; ``light``: programs the exact engine
     integrates quickly (tests); ``storage``: hypothesis's folder (:func:`~.generate.default_storage`
-    when None: never the current folder).  A program is time-limited (``timeout``) when it runs past
+    when None: never the current folder); ``scheduler``: a Dask scheduler's address (or a
+    ``distributed.Client``) to run the units on instead (:mod:`~langur.fuzz.cluster`).  A program
+    is time-limited (``timeout``) when it runs past
     ``timeout`` seconds; time-limited programs are counted apart from the verdicts."""
     start = time.monotonic()
     summary = FuzzSummary(examples, seed, samples, workers=workers)
@@ -430,7 +432,10 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
         res.coverage = dict(coverage.counts())
         return res
 
-    if workers > 0:
+    if scheduler is not None:
+        summary.results = cluster.run_units(texts, covered, scheduler=scheduler, limit=timeout,
+                                            on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
+    elif workers > 0:
         summary.results = pool.run_units(texts, covered, workers=workers, limit=timeout,
                                          on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
     else:
