@@ -18,17 +18,33 @@ def _verdicts(summary):
             for r in summary.results]
 
 
-def test_one_and_two_workers_give_the_same_programs_and_verdicts(tmp_path, monkeypatch):
+KW = dict(examples=3, seed=6, samples=2000, timeout=60.0, light=True)
+
+
+@pytest.fixture(scope="module")
+def one_worker(tmp_path_factory):
+    """The tiny campaign run by one worker (shared by the comparisons below), from an empty
+    current folder, which must stay empty (hypothesis's files go to ``storage``)."""
+    cwd, storage = tmp_path_factory.mktemp("cwd"), tmp_path_factory.mktemp("hyp")
+    before = os.getcwd()
+    os.chdir(cwd)
+    try:
+        summary = fuzz.run_fuzz(workers=1, storage=str(storage), **KW)
+    finally:
+        os.chdir(before)
+    assert list(cwd.iterdir()) == []
+    return summary
+
+
+def test_one_and_two_workers_give_the_same_programs_and_verdicts(one_worker, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    kw = dict(examples=3, seed=6, samples=2000, timeout=60.0, light=True, storage=str(tmp_path / "hyp"))
-    one = fuzz.run_fuzz(workers=1, **kw)
-    two = fuzz.run_fuzz(workers=2, **kw)
+    one = one_worker
+    two = fuzz.run_fuzz(workers=2, storage=str(tmp_path / "hyp"), **KW)
     assert [r.text for r in one.results] == fuzz.generated(3, 6, light=True)
     assert _verdicts(one) == _verdicts(two)
     assert all(r.status == "agree" for r in one.results), [(r.status, r.reason) for r in one.results]
     assert all(r.rows and r.seconds > 0 for r in one.results)  # both engines ran, in a worker
     assert not (tmp_path / ".hypothesis").exists()  # hypothesis's files went to `storage`
-    assert (tmp_path / "hyp").is_dir()
 
 
 def _slow_or_fast(text):
@@ -67,12 +83,11 @@ def test_json_keeps_its_shape_and_adds_timing(capsys, tmp_path, monkeypatch):
     assert not (tmp_path / ".hypothesis").exists()
 
 
-def test_a_local_dask_cluster_gives_the_same_verdicts_as_one_process(tmp_path):
+def test_a_local_dask_cluster_gives_the_same_verdicts_as_one_process(one_worker, tmp_path):
     distributed = pytest.importorskip("distributed", reason="the cluster extra (dask.distributed) is not installed")
-    kw = dict(examples=3, seed=6, samples=2000, timeout=60.0, light=True, storage=str(tmp_path))
-    local = fuzz.run_fuzz(workers=1, **kw)
+    local = one_worker
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
                                   dashboard_address=None) as cluster:
-        remote = fuzz.run_fuzz(scheduler=cluster.scheduler_address, **kw)
+        remote = fuzz.run_fuzz(scheduler=cluster.scheduler_address, storage=str(tmp_path), **KW)
     assert _verdicts(remote) == _verdicts(local)
     assert remote.coverage() == local.coverage()  # coverage gathered from the cluster's units too
