@@ -45,8 +45,8 @@ def add_arguments(p):
                    help="report the first failing program as found (no hypothesis shrinking)")
     p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
                    help="Monte Carlo sampling (default uniform; stratified and qmc estimate their standard "
-                        "error from 32 independent randomizations: 5 of them are a t distribution's, "
-                        "false alarm ≈ 2e-5 per comparison)")
+                        "error from 32 independent randomizations, so the 5-sigma rule false-alarms "
+                        "≈ 2e-5 per comparison: a t distribution with 31 degrees of freedom)")
     p.add_argument("--no-lint", action="store_true",
                    help="do not run the transversality linter (no program is discarded)")
     p.add_argument("--keep", metavar="DIR", help="write each failing program to DIR as a .lgr file "
