@@ -79,7 +79,8 @@ def test_json_keeps_its_shape_and_adds_timing(capsys, tmp_path, monkeypatch):
     assert {"examples", "seed", "samples", "programs", "comparisons", "counts", "status", "minimal",
             "failures", "results", "kept"} <= set(r)
     assert r["workers"] == 1 and r["seconds"] > 0 and r["programs_per_minute"] > 0
-    assert all(p["seconds"] >= p["exact_seconds"] > 0 for p in r["results"])
+    # (exact_seconds can be ~0: the exact answers are remembered per program within a process)
+    assert all(p["seconds"] >= p["exact_seconds"] >= 0 and p["seconds"] > 0 for p in r["results"])
     assert not (tmp_path / ".hypothesis").exists()
 
 
