@@ -100,7 +100,8 @@ def run(args) -> int:
             summary = fuzz.run_fuzz(args.examples, args.seed, args.samples, args.timeout, keep=args.keep,
                                     lint=not args.no_lint, progress=shown, method=args.method, engine=engine,
                                     workers=workers, shrink=not args.no_shrink,
-                                    storage=args.hypothesis_dir, scheduler=args.scheduler)
+                                    storage=args.hypothesis_dir, scheduler=args.scheduler,
+                                    planned=bar.plan if bar is not None else None)
     except (fuzz.MissingHypothesis, fuzz.cluster.MissingCluster) as e:
         print(f"langur fuzz: error: {e}", file=sys.stderr)
         return 2
@@ -160,6 +161,10 @@ class _progress_bar:
                                  TimeElapsedColumn(), TextColumn("{task.description}"),
                                  console=Console(stderr=True), transient=True)
         self.task = self.progress.add_task("", total=total)
+
+    def plan(self, n: int):
+        """The campaign has ``n`` distinct programs (hypothesis may repeat one)."""
+        self.progress.update(self.task, total=n)
 
     def advance(self, res):
         self.counts[res.status] = self.counts.get(res.status, 0) + 1

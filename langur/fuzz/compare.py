@@ -403,7 +403,7 @@ def _unit_error(text: str, reason: str) -> ProgramResult:
 def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: float = 20.0,
              keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform",
              engine=None, light: bool = False, workers: int = 0, shrink: bool = True,
-             storage: str | None = None, scheduler=None) -> FuzzSummary:
+             storage: str | None = None, scheduler=None, planned=None) -> FuzzSummary:
     """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs), each a
     unit of :mod:`langur.fuzz.pool` (``workers`` processes; 0: in this process); on a failure
     hypothesis replays the same seed and shrinks it (``shrink``), and the minimal failing program
@@ -411,13 +411,16 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     exact engine instead of the Monte Carlo engine; ``light``: programs the exact engine
     integrates quickly (tests); ``storage``: hypothesis's folder (:func:`~.generate.default_storage`
     when None: never the current folder); ``scheduler``: a Dask scheduler's address (or a
-    ``distributed.Client``) to run the units on instead (:mod:`~langur.fuzz.cluster`).  A program
+    ``distributed.Client``) to run the units on instead (:mod:`~langur.fuzz.cluster`);
+    ``planned(n)``: called once the n distinct programs are generated.  A program
     is time-limited (``timeout``) when it runs past
     ``timeout`` seconds; time-limited programs are counted apart from the verdicts."""
     start = time.monotonic()
     summary = FuzzSummary(examples, seed, samples, workers=workers)
     with hypothesis_home(storage):
         texts = generated(examples, seed, light)
+    if planned is not None:
+        planned(len(texts))
 
     def unit(text: str, isolate: bool) -> ProgramResult:
         if engine is not None:
