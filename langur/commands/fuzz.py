@@ -81,7 +81,7 @@ def run(args) -> int:
                               f"(error {r.error:.3g}), {r.engine} {r.mc!r} ± {r.stderr:.3g}", file=sys.stderr)
 
     workers = fuzz.pool.default_workers() if args.workers is None else args.workers
-    bar = None if (args.json or args.verbose or not sys.stderr.isatty()) else _progress_bar(args.examples)
+    bar = None if (args.json or args.verbose or not sys.stderr.isatty()) else _progress_bar.make(args.examples)
 
     def shown(res):
         progress(res)
@@ -150,7 +150,14 @@ class _nothing:
 
 
 class _progress_bar:
-    """A rich progress bar on standard error with live counts (only on a terminal)."""
+    """A rich progress bar on standard error with live counts (only on a terminal; none without rich)."""
+
+    @classmethod
+    def make(cls, total: int):
+        try:
+            return cls(total)
+        except ImportError:  # rich is optional: the summary still comes at the end
+            return None
 
     def __init__(self, total: int):
         from rich.console import Console
