@@ -29,10 +29,24 @@ def add_arguments(p):
     p.add_argument("--samples", type=samples(), default=20000, metavar="N",
                    help=f"Monte Carlo samples per estimate, 2 to {MAX_SAMPLES:,} (default 20000)")
     p.add_argument("--timeout", type=float, default=20.0, metavar="SECONDS",
-                   help="time limit of the exact engine per program; slower programs count as timeouts (default 20)")
+                   help="time limit per program (the exact engine; the whole unit is killed "
+                        f"{fuzz.pool.GRACE:g} s later); slower programs are counted apart as timeouts, "
+                        "never as verdicts (default 20)")
+    p.add_argument("--workers", type=count(0, 1024, "the number of workers"), default=None, metavar="N",
+                   help="worker processes, each running one program (both engines) at a time and killed at "
+                        "its time limit; 0 runs in this process (default: the core count)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run the units on the Dask distributed cluster at ADDRESS (e.g. tcp://host:8786) "
+                        "instead of local workers (needs the cluster extra: pip install 'langur-workbench[cluster]')")
+    p.add_argument("--hypothesis-dir", metavar="DIR",
+                   help="hypothesis's storage folder (default $HYPOTHESIS_STORAGE_DIRECTORY, else "
+                        "~/.cache/langur/hypothesis; never the current folder unless asked)")
+    p.add_argument("--no-shrink", action="store_true",
+                   help="report the first failing program as found (no hypothesis shrinking)")
     p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
-                   help="Monte Carlo sampling (default uniform; the 5-sigma rule assumes i.i.d. "
-                        "points: stratified/qmc standard errors can be 0 on a jump, so they false-alarm)")
+                   help="Monte Carlo sampling (default uniform; stratified and qmc estimate their standard "
+                        "error from 32 independent randomizations, so the 5-sigma rule false-alarms "
+                        "≈ 2e-5 per comparison: a t distribution with 31 degrees of freedom)")
     p.add_argument("--no-lint", action="store_true",
                    help="do not run the transversality linter (no program is discarded)")
     p.add_argument("--keep", metavar="DIR", help="write each failing program to DIR as a .lgr file "
@@ -66,6 +80,14 @@ def run(args) -> int:
                         print(f"    ! {r.quantity}{' wrt ' + r.wrt if r.wrt else ''}: exact {r.exact!r} "
                               f"(error {r.error:.3g}), {r.engine} {r.mc!r} ± {r.stderr:.3g}", file=sys.stderr)
 
+    workers = fuzz.pool.default_workers() if args.workers is None else args.workers
+    bar = None if (args.json or args.verbose or not sys.stderr.isatty()) else _progress_bar.make(args.examples)
+
+    def shown(res):
+        progress(res)
+        if bar is not None:
+            bar.advance(res)
+
     engine = None
     if args.engine is not None:
         try:
@@ -74,9 +96,13 @@ def run(args) -> int:
         except engines.UnknownEngine as e:
             raise UsageError(str(e)) from None
     try:
-        summary = fuzz.run_fuzz(args.examples, args.seed, args.samples, args.timeout, keep=args.keep,
-                                lint=not args.no_lint, progress=progress, method=args.method, engine=engine)
-    except fuzz.MissingHypothesis as e:
+        with bar if bar is not None else _nothing():
+            summary = fuzz.run_fuzz(args.examples, args.seed, args.samples, args.timeout, keep=args.keep,
+                                    lint=not args.no_lint, progress=shown, method=args.method, engine=engine,
+                                    workers=workers, shrink=not args.no_shrink,
+                                    storage=args.hypothesis_dir, scheduler=args.scheduler,
+                                    planned=bar.plan if bar is not None else None)
+    except (fuzz.MissingHypothesis, fuzz.cluster.MissingCluster) as e:
         print(f"langur fuzz: error: {e}", file=sys.stderr)
         return 2
     status = 1 if summary.failed else 0
@@ -85,7 +111,8 @@ def run(args) -> int:
         return status
     counts = summary.counts()
     print(f"langur fuzz: {len(summary.results)} programs (seed {args.seed}, {args.samples} samples), "
-          f"{summary.comparisons} comparisons")
+          f"{summary.comparisons} comparisons, {summary.seconds:.1f} s with {workers or 'no'} worker"
+          f"{'s' if workers != 1 else ''} ({60 * len(summary.results) / max(summary.seconds, 1e-9):.1f} programs/minute)")
     print(f"  {'status':<20}{'programs':>9}")
     for k, v in counts.items():
         print(f"  {k:<20}{v:>9}")
@@ -103,7 +130,57 @@ def run(args) -> int:
             if not r.ok:
                 print(f"  {r.quantity}{' wrt ' + r.wrt if r.wrt else ''}: exact {c.fmt(r.exact)}"
                       f" (error {c.fmt(r.error, 3)}), {r.engine} {c.fmt(r.mc)} ± {c.fmt(r.stderr, 3)}")
+    if workers or args.scheduler:
+        rows = summary.coverage()
+        print(f"  rule coverage ({sum(1 for *_, n in rows if n)}/{len(rows)} rules fired):")
+        for fig, rule, n in rows:
+            print(f"    {fig:<14}{rule:<44}{n:>9}{'   NEVER' if not n else ''}")
     for path in summary.kept:
         print(f"  wrote {path}")
     print("all comparisons agree" if not status else "DISCREPANCY found")
     return status
+
+
+class _nothing:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+
+class _progress_bar:
+    """A rich progress bar on standard error with live counts (only on a terminal; none without rich)."""
+
+    @classmethod
+    def make(cls, total: int):
+        try:
+            return cls(total)
+        except ImportError:  # rich is optional: the summary still comes at the end
+            return None
+
+    def __init__(self, total: int):
+        from rich.console import Console
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+        self.counts: dict[str, int] = {}
+        self.progress = Progress(TextColumn("langur fuzz"), BarColumn(), MofNCompleteColumn(),
+                                 TimeElapsedColumn(), TextColumn("{task.description}"),
+                                 console=Console(stderr=True), transient=True)
+        self.task = self.progress.add_task("", total=total)
+
+    def plan(self, n: int):
+        """The campaign has ``n`` distinct programs (hypothesis may repeat one)."""
+        self.progress.update(self.task, total=n)
+
+    def advance(self, res):
+        self.counts[res.status] = self.counts.get(res.status, 0) + 1
+        self.progress.update(self.task, advance=1,
+                             description=" ".join(f"{k} {v}" for k, v in sorted(self.counts.items())))
+
+    def __enter__(self):
+        self.progress.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        return self.progress.__exit__(*exc)

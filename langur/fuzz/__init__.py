@@ -48,8 +48,9 @@ exception of the exact engine (e.g. a closed form that disagrees with its own qu
 at the time limit (a SIGALRM-based limit can be lost when it fires inside a gc callback).
 """
 
-from .compare import FuzzSummary, ProgramResult, Row, agree, compare_engine, compare_text, run_fuzz
+from . import cluster, pool
+from .compare import FuzzSummary, ProgramResult, Row, agree, compare_engine, compare_text, generated, run_fuzz
 from .generate import FuzzProgram, MissingHypothesis, programs
 
-__all__ = ["FuzzProgram", "FuzzSummary", "MissingHypothesis", "ProgramResult", "Row", "agree",
+__all__ = ["FuzzProgram", "FuzzSummary", "MissingHypothesis", "ProgramResult", "Row", "agree", "cluster", "generated", "pool",
            "compare_engine", "compare_text", "programs", "run_fuzz"]

@@ -15,6 +15,7 @@ from ..diagnostics import LangurError
 from ..frontend import load_text
 from ..timebox import budget
 from ..transversality import check_loaded
+from . import cluster, coverage, pool
 from .generate import (
     ABS_SLACK,
     LINT_DISCARD,
@@ -22,6 +23,7 @@ from .generate import (
     SIGMA,
     FuzzProgram,
     _hypothesis,
+    hypothesis_home,
     programs,
 )
 
@@ -72,6 +74,8 @@ class ProgramResult:
     findings: list[str] = field(default_factory=list)
     reason: str = ""
     exact_seconds: float = 0.0
+    seconds: float = 0.0  # the whole unit: load, lint, both engines
+    coverage: dict = field(default_factory=dict)  # (figure, rule) -> applications (langur.fuzz.coverage)
     methods: list[str] = field(default_factory=list)
 
     @property
@@ -80,7 +84,7 @@ class ProgramResult:
 
     def to_json(self) -> dict:
         return {"program": self.text, "status": self.status, "reason": self.reason,
-                "findings": self.findings, "exact_seconds": round(self.exact_seconds, 3),
+                "findings": self.findings, "exact_seconds": round(self.exact_seconds, 3), "seconds": round(self.seconds, 3),
                 "methods": self.methods, "rows": [r.to_json() for r in self.rows]}
 
 
@@ -99,12 +103,10 @@ def agree(exact: float, error: float, mc: float, stderr: float) -> bool:
 SYMBOLIC_SHARE = 0.4
 
 
-def _exact_child(conn, program, params, timeout):
-    """In a forked child: every exact answer, sent back through ``conn``."""
-    import gc
-
-
-    gc.callbacks.clear()  # a time limit firing inside a gc callback would be swallowed there
+def _exact_answers(program, params, timeout):
+    """``(status, ex, exd)``: every exact answer (value, each partial derivative) in this process,
+    the search for closed forms bounded by ``SYMBOLIC_SHARE · timeout`` (no hard limit: the caller
+    runs this in a process it kills at the time limit)."""
     try:
         with budget(SYMBOLIC_SHARE * timeout):
             ex = api.exact_eval(program, params)
@@ -112,13 +114,22 @@ def _exact_child(conn, program, params, timeout):
                    for p in params}
         bad = [why for r in (ex, *exd.values()) for why in r.inconsistent]
         if bad:  # a closed form failed its cross-check: the engine reported quadrature, the fuzzer a bug
-            conn.send(("exact_error", f"inconsistent closed form: {bad[0].splitlines()[0]}", None))
-        else:
-            conn.send(("ok", ex, exd))
+            return ("exact_error", f"inconsistent closed form: {bad[0].splitlines()[0]}", None)
+        return ("ok", ex, exd)
     except api.ExactUnavailable as e:
-        conn.send(("exact_unavailable", str(e), None))
+        return ("exact_unavailable", str(e), None)
     except BaseException as e:  # noqa: BLE001 - an internal error of the exact engine is a finding
-        conn.send(("exact_error", f"{type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}", None))
+        return ("exact_error", f"{type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}", None)
+
+
+def _exact_child(conn, program, params, timeout):
+    """In a forked child: every exact answer, sent back through ``conn``."""
+    import gc
+
+
+    gc.callbacks.clear()  # a time limit firing inside a gc callback would be swallowed there
+    try:
+        conn.send(_exact_answers(program, params, timeout))
     finally:
         conn.close()
 
@@ -129,7 +140,7 @@ REFERENCES = 512
 _reference: dict[tuple, tuple] = {}
 
 
-def _exact_all(program, params, timeout: float):
+def _exact_all(program, params, timeout: float, isolate: bool = True):
     """``(status, ex, exd)`` from the exact engine, run in a forked process that is killed after
     ``timeout`` seconds (a SIGALRM-based limit inside one process can be lost, e.g. when it fires
     in a garbage-collector callback; a killed child cannot overrun); remembered per program and
@@ -138,7 +149,7 @@ def _exact_all(program, params, timeout: float):
     known = _reference.get(key)
     if known is not None and (known[0] != "timeout" or known[2] >= timeout):
         return known if known[0] != "timeout" else (known[0], known[1], None)
-    out = _exact_fork(program, params, timeout)
+    out = _exact_fork(program, params, timeout) if isolate else _exact_answers(program, params, timeout)
     if len(_reference) >= REFERENCES:
         _reference.pop(next(iter(_reference)))
     _reference[key] = out if out[0] != "timeout" else (out[0], out[1], timeout)
@@ -168,11 +179,12 @@ def _exact_fork(program, params, timeout: float):
         parent.close()
 
 
-def _prepared(text: str, timeout: float, lint: bool):
+def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
     """What every comparison starts from: ``text`` loaded, linted (a program the linter finds not
     transverse is discarded) and answered by the exact engine.  Returns ``(result, loaded, params,
     ex, exd)``; ``result.status`` other than agree (load_error, discarded, timeout, …) ends the
-    comparison there."""
+    comparison there.  ``isolate``: run the exact engine in a forked child killed at ``timeout``
+    (False: in this process, which a worker pool kills at its time limit)."""
     try:
         loaded = load_text(text, path="<fuzz>.lgr")
     except LangurError as e:
@@ -192,7 +204,7 @@ def _prepared(text: str, timeout: float, lint: bool):
             result.status = "discarded"
             return result, loaded, params, None, None
     t0 = time.monotonic()
-    status, ex, exd = _exact_all(loaded.program, params, timeout)
+    status, ex, exd = _exact_all(loaded.program, params, timeout, isolate)
     result.exact_seconds = time.monotonic() - t0
     if status != "ok":
         result.status, result.reason = status, ex
@@ -200,9 +212,17 @@ def _prepared(text: str, timeout: float, lint: bool):
 
 
 def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: float = 20.0,
-                 lint: bool = True, method: str = "uniform") -> ProgramResult:
+                 lint: bool = True, method: str = "uniform", isolate: bool = True) -> ProgramResult:
     """Load ``text`` and compare the engines on value and every partial derivative (module doc)."""
-    result, loaded, params, ex, exd = _prepared(text, timeout, lint)
+    t0 = time.monotonic()
+    result, loaded, params, ex, exd = _prepared(text, timeout, lint, isolate)
+    try:
+        return _compared(result, loaded, params, ex, exd, samples, seed, method)
+    finally:
+        result.seconds = time.monotonic() - t0
+
+
+def _compared(result, loaded, params, ex, exd, samples, seed, method) -> ProgramResult:
     if result.status != "agree":
         return result
     floats = {k: float(v) for k, v in params.items()}
@@ -246,10 +266,19 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
     return result
 
 
-def compare_engine(text: str, engine, *, timeout: float = 20.0, lint: bool = True) -> ProgramResult:
+def compare_engine(text: str, engine, *, timeout: float = 20.0, lint: bool = True,
+                   isolate: bool = True) -> ProgramResult:
     """Load ``text`` and compare ``engine`` (the protocol of :mod:`langur.engines`) with the exact
     engine on the value and every partial derivative, with the tolerance its kind asks for."""
-    result, loaded, params, ex, exd = _prepared(text, timeout, lint)
+    t0 = time.monotonic()
+    result, loaded, params, ex, exd = _prepared(text, timeout, lint, isolate)
+    try:
+        return _engine_compared(result, loaded, params, ex, exd, engine)
+    finally:
+        result.seconds = time.monotonic() - t0
+
+
+def _engine_compared(result, loaded, params, ex, exd, engine) -> ProgramResult:
     if result.status != "agree":
         return result
     program = loaded.program
@@ -287,6 +316,8 @@ class FuzzSummary:
     results: list[ProgramResult] = field(default_factory=list)
     minimal: ProgramResult | None = None
     kept: list[str] = field(default_factory=list)
+    workers: int = 0
+    seconds: float = 0.0
 
     def counts(self) -> dict[str, int]:
         out = {s: 0 for s in ("agree", "discrepancy", "load_error", "exact_error", "timeout",
@@ -294,6 +325,14 @@ class FuzzSummary:
         for r in self.results:
             out[r.status] = out.get(r.status, 0) + 1
         return out
+
+    def coverage(self):
+        """Rule applications over the campaign (:func:`langur.fuzz.coverage.table` rows)."""
+        total: dict = {}
+        for r in self.results:
+            for k, v in r.coverage.items():
+                total[k] = total.get(k, 0) + v
+        return coverage.table(total)
 
     @property
     def comparisons(self) -> int:
@@ -309,8 +348,11 @@ class FuzzSummary:
                 "counts": self.counts(), "status": "discrepancy" if self.failed else "agree",
                 "minimal": self.minimal.to_json() if self.minimal else None,
                 "failures": [r.to_json() for r in self.results if r.failed],
-                "results": [{"program": r.text, "status": r.status} for r in self.results],
-                "kept": self.kept}
+                "results": [{"program": r.text, "status": r.status, "seconds": round(r.seconds, 3),
+                             "exact_seconds": round(r.exact_seconds, 3)} for r in self.results],
+                "kept": self.kept, "workers": self.workers,
+                "coverage": [{"figure": f, "rule": r, "count": n} for f, r, n in self.coverage()], "seconds": round(self.seconds, 3),
+                "programs_per_minute": round(60 * len(self.results) / self.seconds, 2) if self.seconds else None}
 
 
 class _Failed(AssertionError):
@@ -319,42 +361,95 @@ class _Failed(AssertionError):
         self.result = result
 
 
+def _settings(examples: int, seed: int):
+    """The hypothesis run of a campaign: seeded, no example database (nothing is written to the
+    user's folder), no deadline (time limits are the campaign's own)."""
+    hypothesis, _ = _hypothesis()
+    from hypothesis import HealthCheck, settings
+
+    def wrap(test):
+        return settings(max_examples=examples, deadline=None, database=None, derandomize=False,
+                        suppress_health_check=list(HealthCheck), print_blob=False)(
+            hypothesis.seed(seed)(test))
+    return wrap
+
+
+def generated(examples: int = 50, seed: int = 0, light: bool = False, **shape) -> list[str]:
+    """The distinct program texts a campaign of ``examples`` programs with ``seed`` checks, in the
+    order hypothesis generates them (the same seed gives the same list on any machine);
+    ``shape``: the bounds of :func:`~.generate.programs` (max_summands, max_factors, …)."""
+    _hypothesis()
+    from hypothesis import given
+
+    texts: dict[str, None] = {}
+
+    @_settings(examples, seed)
+    @given(programs(light=light, **shape))
+    def collect(prog: FuzzProgram):
+        texts.setdefault(prog.text, None)
+
+    collect()
+    return list(texts)
+
+
+def _time_limited(text: str, reason: str) -> ProgramResult:
+    return ProgramResult(text, "timeout", reason=reason)
+
+
+def _unit_error(text: str, reason: str) -> ProgramResult:
+    return ProgramResult(text, "exact_error", reason=f"worker: {reason}")
+
+
 def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: float = 20.0,
              keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform",
-             engine=None, light: bool = False) -> FuzzSummary:
-    """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs); on a
-    failure hypothesis shrinks it, and the minimal failing program is ``summary.minimal``.
-    ``engine``: compare it (an engine of :mod:`langur.engines`) with the exact engine instead of
-    the Monte Carlo engine; ``light``: programs the exact engine integrates quickly (tests)."""
-    hypothesis, _ = _hypothesis()
-    from hypothesis import HealthCheck, given, settings
+             engine=None, light: bool = False, workers: int = 0, shrink: bool = True,
+             storage: str | None = None, scheduler=None, planned=None) -> FuzzSummary:
+    """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs), each a
+    unit of :mod:`langur.fuzz.pool` (``workers`` processes; 0: in this process); on a failure
+    hypothesis replays the same seed and shrinks it (``shrink``), and the minimal failing program
+    is ``summary.minimal``.  ``engine``: compare it (an engine of :mod:`langur.engines`) with the
+    exact engine instead of the Monte Carlo engine; ``light``: programs the exact engine
+    integrates quickly (tests); ``storage``: hypothesis's folder (:func:`~.generate.default_storage`
+    when None: never the current folder); ``scheduler``: a Dask scheduler's address (or a
+    ``distributed.Client``) to run the units on instead (:mod:`~langur.fuzz.cluster`);
+    ``planned(n)``: called once the n distinct programs are generated.  A program
+    is time-limited (``timeout``) when it runs past
+    ``timeout`` seconds; time-limited programs are counted apart from the verdicts."""
+    start = time.monotonic()
+    summary = FuzzSummary(examples, seed, samples, workers=workers)
+    with hypothesis_home(storage):
+        texts = generated(examples, seed, light)
+    if planned is not None:
+        planned(len(texts))
 
-    summary = FuzzSummary(examples, seed, samples)
-    seen: set[str] = set()
+    def unit(text: str, isolate: bool) -> ProgramResult:
+        if engine is not None:
+            return compare_engine(text, engine, timeout=timeout, lint=lint, isolate=isolate)
+        return compare_text(text, samples=samples, seed=seed, timeout=timeout, lint=lint, method=method,
+                            isolate=isolate)
 
-    @settings(max_examples=examples, deadline=None, database=None, derandomize=False,
-              suppress_health_check=list(HealthCheck), print_blob=False)
-    @hypothesis.seed(seed)
-    @given(programs(light=light))
-    def check(prog: FuzzProgram):
-        if prog.text in seen:
-            res = next(r for r in summary.results if r.text == prog.text)
-        else:
-            if engine is not None:
-                res = compare_engine(prog.text, engine, timeout=timeout, lint=lint)
-            else:
-                res = compare_text(prog.text, samples=samples, seed=seed, timeout=timeout, lint=lint, method=method)
-            seen.add(prog.text)
-            summary.results.append(res)
+    def covered(text: str) -> ProgramResult:  # in a worker: both engines run here, every rule is seen
+        coverage.reset()
+        with coverage.recording():
+            res = unit(text, False)
+        res.coverage = dict(coverage.counts())
+        return res
+
+    if scheduler is not None:
+        summary.results = cluster.run_units(texts, covered, scheduler=scheduler, limit=timeout,
+                                            on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
+    elif workers > 0:
+        summary.results = pool.run_units(texts, covered, workers=workers, limit=timeout,
+                                         on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
+    else:
+        for t in texts:
+            summary.results.append(unit(t, True))
             if progress is not None:
-                progress(res)
-        if res.failed:
-            raise _Failed(res)
-
-    try:
-        check()
-    except _Failed as e:
-        summary.minimal = e.result
+                progress(summary.results[-1])
+    if shrink and summary.failed:
+        with hypothesis_home(storage):
+            summary.minimal = _shrunk(summary, examples, seed, light, lambda t: unit(t, True))
+    summary.seconds = time.monotonic() - start
     if keep:
         os.makedirs(keep, exist_ok=True)
         failing = [r for r in summary.results if r.failed]
@@ -363,6 +458,30 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
         if summary.minimal is not None:
             summary.kept.append(_keep(keep, f"fuzz_{seed}_minimal", _annotated(summary.minimal)))
     return summary
+
+
+def _shrunk(summary: FuzzSummary, examples: int, seed: int, light: bool, unit) -> ProgramResult:
+    """Hypothesis's minimal failing program: the same seeded run replayed (programs already
+    checked are looked up, not rerun) up to its first failure, which hypothesis then shrinks,
+    checking each smaller candidate in this process."""
+    from hypothesis import given
+
+    known = {r.text: r for r in summary.results}
+
+    @_settings(examples, seed)
+    @given(programs(light=light))
+    def check(prog: FuzzProgram):
+        res = known.get(prog.text)
+        if res is None:
+            res = known[prog.text] = unit(prog.text)
+        if res.failed:
+            raise _Failed(res)
+
+    try:
+        check()
+    except _Failed as e:
+        return e.result
+    return next(r for r in summary.results if r.failed)  # not reproduced (a time limit): the first
 
 
 def _keep(directory: str, stem: str, text: str) -> str:

@@ -4,7 +4,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 import re
 from dataclasses import dataclass
 
@@ -30,6 +32,33 @@ def _hypothesis():
         raise MissingHypothesis("`langur fuzz` needs hypothesis: pip install hypothesis "
                                 "(or pip install -e '.[dev]')") from None
     return hypothesis, st
+
+
+def default_storage() -> str:
+    """Where a campaign lets hypothesis keep its files (its cache of source constants; campaigns
+    keep no example database): ``$HYPOTHESIS_STORAGE_DIRECTORY`` when set, else the user's cache
+    folder (``$XDG_CACHE_HOME/langur/hypothesis``, ``~/.cache/langur/hypothesis``), never the
+    current folder."""
+    where = os.environ.get("HYPOTHESIS_STORAGE_DIRECTORY")
+    if where:
+        return where
+    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(cache, "langur", "hypothesis")
+
+
+@contextlib.contextmanager
+def hypothesis_home(directory: str | None):
+    """Hypothesis's storage folder is ``directory`` (``default_storage()`` when None) while the
+    block runs, and what it was before afterwards."""
+    _hypothesis()
+    from hypothesis import configuration
+
+    before = getattr(configuration, "__hypothesis_home_directory", None)
+    configuration.set_hypothesis_home_dir(directory or default_storage())
+    try:
+        yield
+    finally:
+        configuration.set_hypothesis_home_dir(before)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1,0 +1,99 @@
+"""The campaign's unit of work run in worker processes (``langur fuzz --workers N``).
+
+A *unit* is one generated program: load it, run both engines on it, give a verdict
+(:class:`~langur.fuzz.compare.ProgramResult`).  :func:`run_units` runs a list of units in forked
+worker processes, at most ``workers`` at a time, one process per unit, and kills a unit that runs
+past its time limit: a killed unit is reported as ``timeout`` (time-limited, never a verdict).
+Every unit is a pure function of its program text and the campaign's options (the Monte Carlo
+seed is the campaign's, not the unit's position), so the verdicts do not depend on the number of
+workers nor on the order in which units finish; results are returned in the programs' order.
+
+``workers=0`` runs the units in this process, one after the other (what the hypothesis shrinker
+and the tests of a single comparison use); the exact engine then runs in a forked child killed
+at the time limit (:func:`langur.fuzz.compare._exact_fork`).
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+import pickle
+import time
+from collections.abc import Callable, Sequence
+from multiprocessing.connection import wait
+
+#: Seconds a unit may run past its time limit before it is killed (the process's own start-up,
+#: the Monte Carlo estimates after an exact engine that used its whole budget).
+GRACE = 5.0
+
+
+def default_workers() -> int:
+    """The core count this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def _child(conn, work, text):
+    """In a forked worker: ``work(text)`` sent back through ``conn`` (pickled), or the error."""
+    import gc
+
+    gc.callbacks.clear()  # a time limit firing inside a gc callback would be swallowed there
+    try:
+        out = ("ok", work(text))
+    except BaseException as e:  # noqa: BLE001 - reported as the unit's failure
+        out = ("error", f"{type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}")
+    try:
+        conn.send_bytes(pickle.dumps(out))
+    finally:
+        conn.close()
+
+
+def run_units(texts: Sequence[str], work: Callable[[str], object], *, workers: int, limit: float,
+              on_time_limit: Callable[[str, str], object], on_error: Callable[[str, str], object],
+              progress: Callable[[object], None] | None = None) -> list:
+    """``[work(t) for t in texts]``, each in its own forked process, ``workers`` at a time; a unit
+    still running ``limit + GRACE`` seconds after it started is killed and replaced by
+    ``on_time_limit(text, reason)``, one whose process died or raised by ``on_error(text, why)``.
+    ``progress(result)`` is called as results arrive (in completion order)."""
+    ctx = mp.get_context("fork")
+    results: list = [None] * len(texts)
+    running: dict = {}  # reader -> (index, process, deadline)
+    pending = list(range(len(texts)))[::-1]
+    cap = limit + GRACE
+
+    def finish(i, res):
+        results[i] = res
+        if progress is not None:
+            progress(res)
+
+    while pending or running:
+        while pending and len(running) < max(1, workers):
+            i = pending.pop()
+            reader, writer = ctx.Pipe(duplex=False)
+            proc = ctx.Process(target=_child, args=(writer, work, texts[i]), daemon=True)
+            proc.start()
+            writer.close()
+            running[reader] = (i, proc, time.monotonic() + cap)
+        now = time.monotonic()
+        ready = wait(list(running), timeout=max(0.0, min(d for _, _, d in running.values()) - now))
+        for reader in ready:
+            i, proc, _ = running.pop(reader)
+            try:
+                status, payload = pickle.loads(reader.recv_bytes())
+            except (EOFError, OSError):
+                proc.join()
+                status, payload = "error", f"worker process died (exit code {proc.exitcode})"
+            reader.close()
+            proc.join()
+            finish(i, payload if status == "ok" else on_error(texts[i], payload))
+        now = time.monotonic()
+        for reader, (i, proc, deadline) in list(running.items()):
+            if now >= deadline and reader not in ready:
+                proc.kill()
+                proc.join()
+                reader.close()
+                del running[reader]
+                finish(i, on_time_limit(texts[i], f"the program took longer than {cap:g} s (killed)"))
+    return results
