@@ -1,5 +1,8 @@
 """``langur show FILE``: the core term after desugaring (§4), its denotation ⟦p⟧ (Fig. 7, 12), and
-with ``--wrt``/``--dir`` its derivative ⦇p⦈ in the normal form of Theorem 7.1."""
+with ``--wrt``/``--dir`` its derivative ⦇p⦈ in the normal form of Theorem 7.1.
+
+Closed forms are shown in readable cases (``langur.symbolic.readable``; ``--raw`` for the engine's
+own form).  ``--latex`` prints one complete LaTeX document, ``--latex-fragment`` its body."""
 
 from __future__ import annotations
 
@@ -15,7 +18,9 @@ def add_arguments(p):
     p.add_argument("file", metavar="FILE", help="a .lgr file (- reads standard input)")
     p.add_argument("--wrt", metavar="NAME", help="also show the derivative in this parameter")
     p.add_argument("--dir", action="append", metavar="NAME=VALUE", help="a direction γ' instead of --wrt")
-    p.add_argument("--latex", action="store_true", help="LaTeX for the denotation and the derivative")
+    p.add_argument("--latex", action="store_true", help="one complete LaTeX document (pdflatex)")
+    p.add_argument("--latex-fragment", action="store_true", help="LaTeX without the preamble, to paste")
+    p.add_argument("--raw", action="store_true", help="closed forms as the engine found them (no cases)")
     p.add_argument("--core", action="store_true", help="only the core term (no semantics)")
     add_common(p)
     add_timeout(p, "show", "for the whole command, in seconds")
@@ -43,12 +48,33 @@ def _core_text(loaded) -> str:
     return "\n".join(lines) if lines else "(empty module)"
 
 
+PREAMBLE = ("\\documentclass{article}\n\\usepackage{amsmath}\n\\usepackage{amssymb}\n"
+            "\\allowdisplaybreaks\n\\begin{document}\n")
+
+
+def _ascii(s: str) -> str:
+    """The core term for ``verbatim`` under pdflatex: the few non-ASCII characters spelled out."""
+    return "".join({"…": "...", "γ": "gamma", "′": "'"}.get(ch, ch if ord(ch) < 128 else "?") for ch in s)
+
+
+def _math_block(body: str) -> str:
+    """Lines of LaTeX math joined by ``\\\\`` as one ``gather*`` display."""
+    return "\\begin{gather*}\n" + body + "\n\\end{gather*}\n"
+
+
+def latex_document(sections: list[tuple[str, str]], fragment: bool = False) -> str:
+    """``sections``: (heading as LaTeX, body as LaTeX) in order; a complete document unless ``fragment``."""
+    body = "".join(f"\\section*{{{head}}}\n{text}" for head, text in sections)
+    return body if fragment else PREAMBLE + body + "\\end{document}\n"
+
+
 def run(args) -> int:
     loaded = c.load(args)
     core = _core_text(loaded)
     out: dict = {"core": core}
     program = loaded.program
     want_deriv = bool(args.wrt or args.dir)
+    latex = args.latex or args.latex_fragment
     undefined: list[str] = []  # why an integral shown does not exist (then the exit status is 1)
     if program is not None and not args.core:
         params = c.param_values(args, loaded)
@@ -63,17 +89,26 @@ def run(args) -> int:
             undefined.append(defined.undefined)
         with progress.phase("denotation ⟦p⟧"):
             out["denotation"] = exact.show_denotation(
-                program, latex=args.latex, params=params, undefined=undefined,
-                known_undefined=defined.undefined if value_undefined else None)
+                program, latex=latex, params=params, undefined=undefined,
+                known_undefined=defined.undefined if value_undefined else None, raw=args.raw)
         if want_deriv:
             with progress.phase("derivative ⦇p⦈"):
-                out["derivative"] = exact.show_derivative(program, direction, latex=args.latex, params=params,
-                                                            undefined=undefined, known_undefined=defined.undefined)
+                out["derivative"] = exact.show_derivative(program, direction, latex=latex, params=params,
+                                                            undefined=undefined, known_undefined=defined.undefined,
+                                                            raw=args.raw)
     elif want_deriv and program is None:
         c.require_program(loaded, args.file)
     status = 1 if undefined else 0
     if args.json:
         c.dump_json(out)
+        return status
+    if latex:
+        sections = [("Core term", "\\begin{verbatim}\n" + _ascii(core) + "\n\\end{verbatim}\n")]
+        if "denotation" in out:
+            sections.append(("Denotation $[\\![p]\\!]$ (Fig.~7, 12)", _math_block(out["denotation"])))
+        if "derivative" in out:
+            sections.append(("Derivative $(\\!|p|\\!)$ (Theorem~7.1 normal form)", _math_block(out["derivative"])))
+        print(latex_document(sections, fragment=args.latex_fragment), end="")
         return status
     print("core:")
     print("  " + core.replace("\n", "\n  "))

@@ -15,7 +15,9 @@ from .pieces import Condition, DeltaPiece, Method, Piece, Psi
 
 
 def expr_text(e: sp.Expr, latex: bool = False) -> str:
-    return sp.latex(e) if latex else sp.sstr(e)
+    """sympy's LaTeX, or its text with powers written ``^`` as in Langur's own syntax (one notation
+    beside the core term; the JSON output keeps sympy's ``**``, which ``sympify`` reads)."""
+    return sp.latex(e) if latex else sp.sstr(e).replace("**", "^")
 
 
 def condition_text(c: Condition, latex: bool = False) -> str:
