@@ -58,6 +58,7 @@ from .symbolic.decompose import (
     with_conditions,
 )
 from .symbolic.pieces import Condition, DeltaPiece, Integral, Method, Piece
+from .symbolic.readable import readable
 from .symbolic.text import derivative_result_text, normal_form_text
 from .sympy_bridge import at_symbols, const_expr, derivative_function, exact_number, symbols
 from .values import check_values
@@ -213,13 +214,28 @@ class DerivativeResult:
     normal_form: NormalForm
     notes: list[str] = field(default_factory=list)
     inconsistent: tuple[str, ...] = ()
+    #: the evaluation point (parameter symbols → exact values), for presenting ``expr``
+    at: dict = field(default_factory=dict)
 
     @property
     def standard_ad(self) -> float:
         return self.regular.value
 
     def _repr_latex_(self) -> str:
-        return "$\\displaystyle " + derivative_result_text(self, latex=True) + "$"
+        """In a notebook: ⦇p⦈ in readable cases when its closed form has them, and its value."""
+        rd = None
+        if self.expr is not None and self.method == Method.CLOSED_FORM:
+            try:
+                rd = readable(self.expr, self.at, cell=tuple(self.regular.cell) + tuple(self.boundary.cell),
+                              everywhere=self.regular.everywhere and self.boundary.everywhere,
+                              generic=self.regular.generic or self.boundary.generic)
+            except Exception:  # noqa: BLE001 - presentation only: fall back to the engine's form
+                rd = None
+        if rd is None:
+            return "$\\displaystyle (\\!|p|\\!) = " + derivative_result_text(self, latex=True) + "$"
+        return (f"$\\displaystyle (\\!|p|\\!) = {rd.text(latex=True)}"
+                f" \\quad (= {self.value:.12g} \\text{{ here; regular }} {self.regular.value:.12g}"
+                f" \\text{{, boundary }} {self.boundary.value:.12g})$")
 
 
 def ddenote_program(program: Program, at: Mapping[str, object] | None, direction: Mapping[str, object], *,
@@ -249,4 +265,4 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
         value=regular.value + boundary.value, regular=regular, boundary=boundary, expr=expr,
         method=Method.CLOSED_FORM if exact else Method.QUADRATURE, error=regular.error + boundary.error,
         normal_form=nf, notes=list(regular.notes) + [n for n in boundary.notes if n not in regular.notes],
-        inconsistent=regular.inconsistent + boundary.inconsistent)
+        inconsistent=regular.inconsistent + boundary.inconsistent, at=dict(point))

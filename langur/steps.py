@@ -13,6 +13,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 import sympy as sp
 
@@ -187,3 +188,31 @@ def sifting(program: Program, nf: NormalForm, at: Mapping[str, object], latex: b
             lines.append(f"    = {rd.text() if rd else e(r.expr)}")
         lines.append(f"    value of delta term {k} at {where}: {value}")
     return lines
+
+
+@dataclass(frozen=True)
+class Derivation:
+    """``show --steps`` as a value for the Python API: the rules (Fig. 8), the normal form they
+    produced (Theorem 7.1) and the sifting of its deltas; prints as text, renders as LaTeX in a
+    notebook (``_repr_latex_``)."""
+
+    steps: tuple[observe.Step, ...]
+    normal_form: NormalForm
+    sifting_text: tuple[str, ...]
+    sifting_latex: tuple[str, ...]
+
+    def __str__(self) -> str:
+        return "\n".join([*steps_text(list(self.steps)), "normal form (Theorem 7.1): " + str(self.normal_form),
+                          *self.sifting_text])
+
+    def _repr_latex_(self) -> str:
+        rows = [*steps_text(list(self.steps), latex=True),
+                "\\text{normal form (Theorem 7.1): } " + normal_form_text(self.normal_form, latex=True),
+                *self.sifting_latex]
+        return "$\\begin{array}{l}\n" + " \\\\\n".join(rows) + "\n\\end{array}$"
+
+
+def derivation(program: Program, direction: Mapping[str, object], at: Mapping[str, object]) -> Derivation:
+    """The derivation of ⦇t⦈ for ``program`` at ``at`` in the direction ``direction``, sifted."""
+    trace, nf = derivative_steps(program, direction, at)
+    return Derivation(tuple(trace), nf, tuple(sifting(program, nf, at)), tuple(sifting(program, nf, at, latex=True)))
