@@ -8,7 +8,7 @@ import shutil
 import subprocess
 
 import pytest
-from paths import DEGENERATE, EXAMPLES
+from paths import EXAMPLES
 
 from langur.cli import main
 
@@ -16,7 +16,6 @@ CASES = [
     (EXAMPLES / "fig1.lgr", ["--wrt", "theta"]),
     (EXAMPLES / "fig9.lgr", ["--wrt", "theta"]),
     (EXAMPLES / "risk.lgr", ["--wrt", "a"]),
-    (DEGENERATE / "tangent.lgr", ["--wrt", "a"]),
     (EXAMPLES / "densities.lgr", []),
 ]
 
