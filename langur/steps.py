@@ -30,6 +30,8 @@ from .syntax import printer
 
 #: Longest subterm or result written on a step line (the rest is elided with "…").
 WIDTH = 90
+#: Most steps written out (a program inlined from many definitions has one per node).
+MAX_STEPS = 600
 
 _LATEX = {"⦇": "(\\!|", "⦈": "|\\!)", "⟦": "[\\![", "⟧": "]\\!]", "γ": "\\gamma ", "Γ": "\\Gamma ",
           "Δ": "\\Delta ", "⊢": "\\vdash ", "≥": "\\geq ", "∈": "\\in ", "↦": "\\mapsto ", "π₀": "\\pi_0 ",
@@ -79,9 +81,13 @@ def _collapsible(steps: list[observe.Step], i: int) -> int:
 def steps_text(steps: list[observe.Step], latex: bool = False, full: bool = False) -> list[str]:
     """One line per step, indented by depth: the rule, the subterm, and what it produced.  Unless
     ``full``, a subtree whose derivative is 0, or typed by arithmetic rules only, is one line."""
-    lines = []
+    lines: list[str] = []
     i = 0
     while i < len(steps):
+        if len(lines) >= MAX_STEPS:
+            more = f"… {len(steps) - i} more steps not written out (more than {MAX_STEPS} lines)"
+            lines.append(f"\\text{{{latex_text(more)}}}" if latex else more)
+            break
         s = steps[i]
         skip = 0 if full else _collapsible(steps, i)
         i += 1 + skip

@@ -91,3 +91,16 @@ def test_latex_compiles_with_pdflatex(capsys, tmp_path, path, extra):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stdout[-2000:]
     assert (tmp_path / "show.pdf").exists()
+
+
+def test_indicators_print_as_brackets_and_other_piecewise_as_sympy():
+    import sympy as sp
+
+    from langur.symbolic.text import expr_text
+
+    x = sp.Symbol("x", real=True)
+    ind = sp.Piecewise((1, x >= 0), (0, True))
+    other = sp.Piecewise((x**2, x >= 0), (-x, True))
+    assert expr_text(2 * ind) == "2*[x >= 0]" and expr_text(other) == "Piecewise((x^2, x >= 0), (-x, True))"
+    assert expr_text(x * ind, latex=True) == "x \\left[x \\geq 0\\right]"
+    assert "\\begin{cases}" in expr_text(other, latex=True)

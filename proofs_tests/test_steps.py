@@ -92,3 +92,11 @@ def test_steps_latex_is_well_formed(capsys):
     assert main(["show", str(EXAMPLES / "fig9.lgr"), "--wrt", "theta", "--steps", "--typing", "--latex"]) == 0
     tex = capsys.readouterr().out
     assert well_formed(tex) == [] and "\\text{Fig. 8, diffeomorphic conditional: }" in tex
+
+
+def test_a_long_derivation_is_cut_and_says_so(monkeypatch):
+    loaded = load(str(EXAMPLES / "fig9.lgr"))
+    trace, _ = steps.derivative_steps(loaded.program, {"theta": 1}, loaded.param_values())
+    monkeypatch.setattr(steps, "MAX_STEPS", 3)
+    lines = steps.steps_text(trace, full=True)
+    assert len(lines) == 4 and lines[-1] == f"… {len(trace) - 3} more steps not written out (more than 3 lines)"

@@ -348,7 +348,7 @@ def _cond_text(c: Case, p, latex: bool) -> str:
     if latex:
         return sp.latex(c.condition)
     parts = c.condition.args if isinstance(c.condition, sp.And) else (c.condition,)
-    return " and ".join(sp.sstr(a) for a in parts)
+    return " and ".join(_e(a, False) for a in parts)
 
 
 def _e(e, latex):

@@ -29,7 +29,7 @@ class _TextPrinter(StrPrinter):
     def _print_Piecewise(self, e):
         if _iverson(e):
             return f"[{self._print(e.args[0].cond)}]"
-        return super()._print_Piecewise(e)
+        return self._print_Basic(e)
 
 
 class _LatexPrinter(LatexPrinter):
