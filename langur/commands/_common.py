@@ -166,9 +166,9 @@ def agreement(exact_value, exact_error, mc_value, mc_stderr) -> str:
     if se <= 0:
         ok = diff <= slack
         return (f"engines {'agree' if ok else 'DISAGREE'}: |exact − MC| = {diff:.2g} "
-                f"(MC standard error 0{', exact error ' + format(float(exact_error), '.2g') if exact_error else ''})")
+                f"(MC SE = 0{', exact ± ' + format(float(exact_error), '.2g') if exact_error else ''})")
     k = max(0.0, diff - slack) / se
     ok = k <= AGREE_SE
     return (f"engines {'agree' if ok else 'DISAGREE'}: |exact − MC| = {diff / se:.1f} SE"
             + ("" if ok else f" (more than {AGREE_SE:g})")
-            + (f"; exact error ≤ {float(exact_error):.2g}" if exact_error else ""))
+            + (f"; exact ± {float(exact_error):.2g}" if exact_error else ""))
