@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from . import observe
 from .core import (
     Add,
     Call,
@@ -57,6 +58,7 @@ from .symbolic.decompose import (
     with_conditions,
 )
 from .symbolic.pieces import Condition, DeltaPiece, Integral, Method, Piece
+from .symbolic.readable import readable
 from .symbolic.text import derivative_result_text, normal_form_text
 from .sympy_bridge import at_symbols, const_expr, derivative_function, exact_number, symbols
 from .values import check_values
@@ -122,28 +124,38 @@ def _gate_nf(nf: NormalForm, cond: sp.Expr, branch: bool) -> NormalForm:
 
 
 @shared
+@observe.nested
 def _dd(t: Term, ctx: Ctx, dctx: DCtx) -> NormalForm:
     match t:
         case Const():  # Fig. 8, constant: ⦇c⦈ = 0
+            observe.rule("Fig. 8, constant: ⦇c⦈ = 0", t)
             return NormalForm()
         case Var():  # Fig. 8, variable: ⦇x⦈ = 0
+            observe.rule("Fig. 8, variable: ⦇x⦈ = 0", t)
             return NormalForm()
         case Param(name):  # Fig. 8, parameter: ⦇z⦈ = γ'(z)
+            observe.rule("Fig. 8, parameter: ⦇z⦈ = γ'(z)", t)
             g = dctx.tangents[name] if name in dctx.tangents else dctx.direction.get(name, sp.Integer(0))
             return NormalForm(leaf(g))
         case Add(a, b):  # Fig. 8, sum: ⦇t⦈ + ⦇s⦈
+            observe.rule("Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈", t)
             return _dd(a, ctx, dctx) + _dd(b, ctx, dctx)
         case Mul(a, b):  # Fig. 8, product: ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
+            observe.rule("Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧", t)
             return _dd(a, ctx, dctx).times(decompose(b, ctx)) + _dd(b, ctx, dctx).times(decompose(a, ctx))
         case Prim(op, a):  # LANGUAGE.md §1, primitive: chain rule f'(⟦t⟧)·⦇t⦈
+            observe.rule("LANGUAGE.md §1, primitive: ⦇f(t)⦈ = f'(⟦t⟧)·⦇t⦈", t)
             return _dd(a, ctx, dctx).times(apply_smooth(derivative_function(op), decompose(a, ctx)))
         case Pow(a, k):  # LANGUAGE.md §1, constant power: k·⟦t⟧^(k−1)·⦇t⦈
+            observe.rule("LANGUAGE.md §1, constant power: ⦇t^k⦈ = k·⟦t⟧^(k−1)·⦇t⦈", t)
             k = const_expr(k)
             return _dd(a, ctx, dctx).times(apply_smooth(lambda w: k * w ** (k - 1), decompose(a, ctx)))
         case IfGe0(c, a, b):  # Fig. 8, conditional: ⦇s⦈ if ⟦t⟧(·, γ) ≥ 0 else ⦇r⦈
+            observe.rule("Fig. 8, conditional: ⦇s⦈ if ⟦t⟧(·, γ) ≥ 0 else ⦇r⦈", t)
             return select(smooth_value(c, ctx), _dd(a, ctx, dctx), _dd(b, ctx, dctx), ctx.at, _gate_nf)
         case IfDiffeo(psi, a, b):  # Fig. 8, diffeomorphic conditional:
             # (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·(D_γ π₀Ψ̂ · γ')·T⟦s⟧−⟦r⟧
+            observe.rule("Fig. 8, diffeomorphic conditional: (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·⦇π₀Ψ̂⦈·(⟦s⟧ − ⟦r⟧)", t)
             c = condition_of(psi, ctx, t.span)
             f = _dd(a, ctx, dctx).under(c) + _dd(b, ctx, dctx).under(complement(c))
             speed = tangent(psi.forward[0], ctx, dctx)  # D_γ π₀Ψ̂ · γ' = ⦇π₀Ψ̂⦈
@@ -152,6 +164,7 @@ def _dd(t: Term, ctx: Ctx, dctx: DCtx) -> NormalForm:
             jump = normalize(decompose(a, ctx) + [Piece(p.conditions, -p.weight) for p in decompose(b, ctx)])
             return f + NormalForm([], [DeltaPiece(c.psi, p.conditions, speed * p.weight) for p in jump])
         case Let(name, bound, body):  # Fig. 8, let: ⦇s⦈(ρ, γ[z ↦ ⟦t⟧], γ'[z ↦ ⦇t⦈])
+            observe.rule("Fig. 8, let: ⦇s⦈(ρ, γ[z ↦ ⟦t⟧], γ'[z ↦ ⦇t⦈])", t)
             return _dd(body, ctx.bind(name, smooth_value(bound, ctx)),
                        DCtx(dctx.direction, {**dctx.tangents, name: tangent(bound, ctx, dctx)}))
         case Call(module, name, _):
@@ -201,13 +214,28 @@ class DerivativeResult:
     normal_form: NormalForm
     notes: list[str] = field(default_factory=list)
     inconsistent: tuple[str, ...] = ()
+    #: the evaluation point (parameter symbols → exact values), for presenting ``expr``
+    at: dict = field(default_factory=dict)
 
     @property
     def standard_ad(self) -> float:
         return self.regular.value
 
     def _repr_latex_(self) -> str:
-        return "$\\displaystyle " + derivative_result_text(self, latex=True) + "$"
+        """In a notebook: ⦇p⦈ in readable cases when its closed form has them, and its value."""
+        rd = None
+        if self.expr is not None and self.method == Method.CLOSED_FORM:
+            try:
+                rd = readable(self.expr, self.at, cell=tuple(self.regular.cell) + tuple(self.boundary.cell),
+                              everywhere=self.regular.everywhere and self.boundary.everywhere,
+                              generic=self.regular.generic or self.boundary.generic)
+            except Exception:  # noqa: BLE001 - presentation only: fall back to the engine's form
+                rd = None
+        if rd is None:
+            return "$\\displaystyle (\\!|p|\\!) = " + derivative_result_text(self, latex=True) + "$"
+        return (f"$\\displaystyle (\\!|p|\\!) = {rd.text(latex=True)}"
+                f" \\quad (= {self.value:.12g} \\text{{ here; regular }} {self.regular.value:.12g}"
+                f" \\text{{, boundary }} {self.boundary.value:.12g})$")
 
 
 def ddenote_program(program: Program, at: Mapping[str, object] | None, direction: Mapping[str, object], *,
@@ -237,4 +265,4 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
         value=regular.value + boundary.value, regular=regular, boundary=boundary, expr=expr,
         method=Method.CLOSED_FORM if exact else Method.QUADRATURE, error=regular.error + boundary.error,
         normal_form=nf, notes=list(regular.notes) + [n for n in boundary.notes if n not in regular.notes],
-        inconsistent=regular.inconsistent + boundary.inconsistent)
+        inconsistent=regular.inconsistent + boundary.inconsistent, at=dict(point))

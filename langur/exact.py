@@ -28,8 +28,9 @@ from .ddenote import ddenote, ddenote_program
 from .denote import denote, denote_program
 from .symbolic.pieces import Method
 from .symbolic.quadrature import UndefinedIntegral, printable
+from .symbolic.readable import Readable, readable
 from .symbolic.text import delta_text, derivative_result_text, expr_text, pieces_text, product_text, psi_text
-from .sympy_bridge import exact_number, symbol
+from .sympy_bridge import at_symbols, exact_number, symbol
 from .theorem import TheoremCheck, check_theorem_8_1
 
 
@@ -143,6 +144,36 @@ def exact_deriv(program: Program, params: Mapping[str, float | object], directio
                            theorem_8_1=theorem)
 
 
+def readable_of(expr: sp.Expr | None, at: Mapping[str, object] | None, parts=()) -> Readable | None:
+    """The closed form ``expr`` of ⟦p⟧ or ⦇p⦈ in readable cases (langur.symbolic.readable), valid on
+    the intersection of the cells of ``parts`` (the Integrals it was summed from); None when no
+    case split was found (then the engine's form is shown)."""
+    if expr is None:
+        return None
+    cell = tuple(rel for r in parts for rel in r.cell)
+    everywhere = all(r.everywhere for r in parts)
+    generic = any(r.generic for r in parts)
+    try:
+        return readable(expr, at_symbols(at) if at is not None else None, cell=cell,
+                        everywhere=everywhere, generic=generic)
+    except Exception:  # noqa: BLE001 - presentation only: the engine's form is always there to show
+        return None
+
+
+def _closed_form_lines(expr, rd: Readable | None, latex: bool, lead: str) -> list[str]:
+    """``lead = expr`` (the engine's form) or, when readable, the cases (text: one per line)."""
+    if rd is None:
+        return [f"{lead} = {expr_text(expr, latex)}"]
+    body = rd.text(latex)
+    if latex:
+        return [f"{lead} = {body}"]
+    head = f"{lead} = " + (f"piecewise in {rd.parameter}:" if rd.parameter is not None and len(rd.cases) > 1
+                           else "" if rd.complete else "near the evaluation point:")
+    if "\n" not in body and rd.complete and len(rd.cases) == 1:
+        return [f"{lead} = {body}"]
+    return [head.rstrip()] + ["    " + line for line in body.splitlines()]
+
+
 def _box_text(program, latex: bool) -> str:
     parts = []
     for x, (lo, hi) in zip(program.variables, program.box):
@@ -165,10 +196,13 @@ def _evaluated(fn, *args, undefined: list[str] | None = None):
 
 
 def show_denotation(program, latex: bool = False, params: Mapping[str, object] | None = None, *,
-                    undefined: list[str] | None = None, known_undefined: str | None = None) -> str:
+                    undefined: list[str] | None = None, known_undefined: str | None = None,
+                    raw: bool = False) -> str:
     """⟦p⟧ = ∫ ⟦t⟧ d(x⃗) over the box, then its closed form at ``params`` when found.  When the
     integral does not exist the value line says so, and the reason is appended to ``undefined``;
-    ``known_undefined`` (a reason found before) skips the evaluation."""
+    ``known_undefined`` (a reason found before) skips the evaluation.  The closed form is shown in
+    readable cases (:func:`readable_of`) unless ``raw`` (then as the engine found it).
+    With ``latex`` every line is LaTeX math (joined by ``\\\\``)."""
     at = params
     integrand = expr_text(denote(program.body), latex)
     xs = ", ".join(program.variables)
@@ -180,13 +214,20 @@ def show_denotation(program, latex: bool = False, params: Mapping[str, object] |
         r, why = (None, f"undefined: {known_undefined}") if known_undefined else \
             _evaluated(denote_program, program, at, undefined=undefined)
         if r is None:
-            lines.append(("  " if not latex else "") + f"value at {_at_text(at)}: {why}")
+            lines.append(f"\\text{{at }} {_at_latex(at)}:\\ \\text{{{latex_text(why)}}}" if latex
+                         else f"  value at {_at_text(at)}: {why}")
             return ("\\\\\n" if latex else "\n").join(lines)
         if r.expr is not None and r.method == Method.CLOSED_FORM:
-            lines.append("= " + expr_text(r.expr, latex))
-        lines.append(("  " if not latex else "") + f"value at {_at_text(at)}: {r.value:.12g}"
-                     + ("" if r.method == Method.CLOSED_FORM else f" ± {r.error:.2g} (quadrature)"))
-        lines += [f"  note: {n}" for n in r.notes] if not latex else []
+            rd = None if raw else readable_of(r.expr, at, (r,))
+            lines += _closed_form_lines(r.expr, rd, latex, "[\\![p]\\!]" if latex else "⟦p⟧")
+        if latex:
+            how = "" if r.method == Method.CLOSED_FORM else f" \\pm {r.error:.2g} \\text{{ (quadrature)}}"
+            lines.append(f"\\text{{at }} {_at_latex(at)}:\\ [\\![p]\\!] = {r.value:.12g}{how}")
+            lines += [f"\\text{{note: {latex_text(n)}}}" for n in r.notes]
+        else:
+            lines.append(f"  value at {_at_text(at)}: {r.value:.12g}"
+                         + ("" if r.method == Method.CLOSED_FORM else f" ± {r.error:.2g} (quadrature)"))
+            lines += [f"  note: {n}" for n in r.notes]
     return ("\\\\\n" if latex else "\n").join(lines)
 
 
@@ -194,9 +235,41 @@ def _at_text(at: Mapping[str, object]) -> str:
     return ", ".join(f"{k} = {v}" for k, v in at.items()) or "(no parameters)"
 
 
+def _at_latex(at: Mapping[str, object]) -> str:
+    return ", ".join(f"{expr_text(symbol(k), True)} = {expr_text(exact_number(v), True)}" for k, v in at.items()) \
+        or "\\text{(no parameters)}"
+
+
+#: Non-ASCII characters of the engine's notes and reasons, as LaTeX text-mode ASCII.
+_TEXT_MAP = {"⟦": "[[", "⟧": "]]", "⦇": "(|", "⦈": "|)", "≤": "<=", "≥": ">=", "≠": "!=", "±": "+/-",
+             "…": "...", "—": "--", "–": "-", "·": "*", "γ": "gamma", "θ": "theta", "δ": "delta",
+             "Φ": "Phi", "Ψ": "Psi", "̂": "", "∫": "int", "Σ": "sum", "×": "x", "→": "->", "′": "'",
+             "²": "^2", "ρ": "rho", "≈": "~", "∞": "inf"}
+
+
+def latex_text(s: str) -> str:
+    """``s`` safe inside ``\\text{…}`` for pdflatex: special characters escaped, non-ASCII spelled out."""
+    s = "".join(_TEXT_MAP.get(ch, ch if ord(ch) < 128 else "?") for ch in s)
+    out = []
+    for ch in s:
+        if ch in "&%$#_{}":
+            out.append("\\" + ch)
+        elif ch == "\\":
+            out.append("\\textbackslash{}")
+        elif ch == "^":
+            out.append("\\^{}")
+        elif ch == "~":
+            out.append("\\~{}")
+        elif ch in "<>|":
+            out.append(f"\\ensuremath{{{ch}}}")
+        else:
+            out.append(ch)
+    return "".join(out)
+
+
 def show_derivative(program, direction: Mapping[str, object], latex: bool = False,
                     params: Mapping[str, object] | None = None, *, undefined: list[str] | None = None,
-                    known_undefined: str | None = None) -> str:
+                    known_undefined: str | None = None, raw: bool = False) -> str:
     """⦇p⦈ in the normal form of Theorem 7.1: regular part, then each delta term with its Ψ̂.
 
     With ``params``, variable-free conditionals are decided there and the value is appended (or
@@ -228,9 +301,18 @@ def show_derivative(program, direction: Mapping[str, object], latex: bool = Fals
         res, why = (None, f"undefined: {known_undefined}") if known_undefined else \
             _evaluated(ddenote_program, program, at, direction, undefined=undefined)
         if res is None:
-            lines.append(f"value at {_at_text(at)}: {why}" if not latex else f"\\text{{{why}}}")
+            lines.append(f"value at {_at_text(at)}: {why}" if not latex
+                         else f"\\text{{at }} {_at_latex(at)}:\\ \\text{{{latex_text(why)}}}")
             return nl.join(lines)
-        tail = (f"value at {_at_text(at)}: {derivative_result_text(res, latex)}"
-                f"  (regular {res.regular.value:.12g}, boundary {res.boundary.value:.12g})")
-        lines.append(tail if not latex else f"\\text{{{_at_text(at)}: }} {derivative_result_text(res, True)}")
+        rd = None if raw or res.expr is None else readable_of(res.expr, at, (res.regular, res.boundary))
+        split = f"(regular {res.regular.value:.12g}, boundary {res.boundary.value:.12g})"
+        if rd is None:
+            tail = f"value at {_at_text(at)}: {derivative_result_text(res, latex)}  {split}"
+            lines.append(tail if not latex else
+                         f"\\text{{at }} {_at_latex(at)}:\\ {derivative_result_text(res, True)}")
+        else:
+            lines += _closed_form_lines(res.expr, rd, latex, "(\\!|p|\\!)" if latex else "⦇p⦈")
+            value = f"{res.value:.12g}" + ("" if res.method == Method.CLOSED_FORM else f" ± {res.error:.2g}")
+            lines.append(f"\\text{{at }} {_at_latex(at)}:\\ (\\!|p|\\!) = {value}" if latex
+                         else f"value at {_at_text(at)}: {value}  {split}")
     return nl.join(lines)

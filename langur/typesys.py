@@ -20,7 +20,7 @@ from __future__ import annotations
 import sys
 from fractions import Fraction
 
-from . import lazy
+from . import lazy, observe
 from .codes import CODES
 from .core import (
     Add,
@@ -188,6 +188,7 @@ def reject_not_smooth(span, name: str, detail: str) -> Diagnostic:
 
 
 @shared
+@observe.nested
 def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[Diagnostic]) -> None:
     """``Δ; Γ ⊢ t : real`` (Fig. 6, extended by primitives and constant powers, LANGUAGE.md §1).
 
@@ -197,9 +198,11 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
     match t:
         case Const():
             # Fig. 6, constant: Δ;Γ ⊢ c : real
+            observe.rule("Fig. 6, constant: Δ;Γ ⊢ c : real", t, delta=delta, gamma=gamma)
             return
         case Var(x):
             # Fig. 6, variable: x:real ∈ Δ
+            observe.rule("Fig. 6, variable: x:real ∈ Δ ⟹ Δ;Γ ⊢ x : real", t, delta=delta, gamma=gamma)
             if x not in delta:
                 if x in gamma:
                     out.append(reject_var_param_clash(t.span, x, "used as a variable but bound as a parameter"))
@@ -207,24 +210,29 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
                     out.append(reject_unbound(t.span, x, " (not a variable of Δ)"))
         case Param(z):
             # Fig. 6, parameter: z:real ∈ Γ
+            observe.rule("Fig. 6, parameter: z:real ∈ Γ ⟹ Δ;Γ ⊢ z : real", t, delta=delta, gamma=gamma)
             if z not in gamma:
                 out.append(reject_undeclared_param(t.span, z, "this term"))
         case Add(a, b) | Mul(a, b):
             # Fig. 6, sum / product
+            observe.rule("Fig. 6, sum / product: Δ;Γ ⊢ t, Δ;Γ ⊢ s ⟹ Δ;Γ ⊢ t ∘ s", t, delta=delta, gamma=gamma)
             type_term(delta, gamma, a, out)
             type_term(delta, gamma, b, out)
         case Prim(op, a):
             # LANGUAGE.md §1, smooth primitive f(t)
+            observe.rule("LANGUAGE.md §1, smooth primitive: Δ;Γ ⊢ t ⟹ Δ;Γ ⊢ f(t)", t, delta=delta, gamma=gamma)
             if op not in ALL_PRIMITIVES:
                 out.append(reject_unknown_function(t.span, op))
             type_term(delta, gamma, a, out)
         case Pow(a, k):
             # LANGUAGE.md §1, constant power t ^ k
+            observe.rule("LANGUAGE.md §1, constant power: Δ;Γ ⊢ t, k constant ⟹ Δ;Γ ⊢ t ^ k", t, delta=delta, gamma=gamma)
             if not isinstance(k, Fraction):
                 out.append(reject_exponent(t.span))
             type_term(delta, gamma, a, out)
         case IfGe0(c, a, b):
             # Fig. 6, conditional: ·;Γ ⊢ t, Δ;Γ ⊢ s, Δ;Γ ⊢ r
+            observe.rule("Fig. 6, conditional: ·;Γ ⊢ t, Δ;Γ ⊢ s, Δ;Γ ⊢ r ⟹ Δ;Γ ⊢ ifge0 t then s else r", t, delta=delta, gamma=gamma)
             used = free_vars(c)
             if used:
                 out.append(reject_condition(t.span, "a plain ifge0 condition must be variable-free, but it "
@@ -234,11 +242,13 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
             type_term(delta, gamma, b, out)
         case IfDiffeo(psi, a, b):
             # Fig. 6, diffeomorphic conditional: Ψ over variables of Δ and params of Γ
+            observe.rule("Fig. 6, diffeomorphic conditional: Ψ̂ a diffeomorphism over Δ, Γ; Δ;Γ ⊢ s, r", t, delta=delta, gamma=gamma)
             type_diffeo(delta, gamma, psi, out, t.span)
             type_term(delta, gamma, a, out)
             type_term(delta, gamma, b, out)
         case Let(z, bound, body):
             # Fig. 6, let: ·;Γ ⊢ t and Δ; Γ, z ⊢ s
+            observe.rule("Fig. 6, let: ·;Γ ⊢ t, Δ;Γ,z ⊢ s ⟹ Δ;Γ ⊢ let z = t in s", t, delta=delta, gamma=gamma)
             used = free_vars(bound)
             if used:
                 out.append(reject_let_with_variables(t.span, z, used))
@@ -248,6 +258,7 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
             type_term(delta, gamma | {z}, body, out)
         case Call(_, _, args):
             # elaborated modules only: the arguments are terms of the caller's context
+            observe.rule("call (elaborated modules): the arguments typed in the caller's context", t, delta=delta, gamma=gamma)
             for a in args:
                 type_term(delta, gamma, a, out)
         case _:
@@ -289,6 +300,8 @@ def type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
             out.append(reject_var_param_clash(p.span, x, "integration variable and declared param"))
     # Fig. 11: x1:real, …, xn:real; Γ ⊢ t : real  (a term contains no int: T208 cannot arise here,
     # since a core Term has no program node)
+    observe.rule("Fig. 11, program: x1:real, …, xn:real; Γ ⊢ t ⟹ ·;Γ ⊢ int t d(x1, …, xn)", p,
+                 delta=frozenset(p.variables), gamma=gamma)
     type_term(frozenset(p.variables), gamma, p.body, out)
     # after inlining every diffeomorphic condition is over all the program's variables
     for u in _ifdiffeos(p.body):

@@ -174,7 +174,7 @@ def test_show_renders_normal_form_with_inverse_branches():
     # Fig. 9: ⦇p⦈ = [y < x] + δ(x − y)·(1 + x + y) at θ = 0; one delta term with one inverse branch
     assert "regular part f = [theta + x - y >= 0]" in text
     assert "delta term 1: δ(theta + x - y)" in text and "delta term 2" not in text
-    assert "inverse branch 1 in (u0, u1)" in text and "= 4" in text
+    assert "inverse branch 1 in (u0, u1)" in text and "value at theta = 0: 4  (regular 2, boundary 2)" in text
     assert "\\delta\\left(" in show_derivative(p, {"theta": 1}, latex=True)
     den = show_denotation(loaded.program, params=at)
     assert den.startswith("⟦p⟧ = int_{x in [-1, 1], y in [-1, 1]}") and "value at theta = 0: 2" in den

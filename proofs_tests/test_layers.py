@@ -1,6 +1,6 @@
 """The package's layers point one way (README, "Map"), read from the modules' own imports.
 
-    core            langur, codes, diagnostics, core, primitives, values, timebox, lazy, progress, modules
+    core            langur, codes, diagnostics, core, primitives, values, timebox, lazy, progress, modules, core_json, observe
     sympy bridge    sympy_bridge (⟦·⟧ of Fig. 7 in sympy, names, numbers, time limits)
     front end       syntax/*, typesys, frontend
     exact engine    denote, ddenote, symbolic/*          Monte Carlo engine  operational/*
@@ -27,12 +27,12 @@ ROOT = Path(__file__).resolve().parent.parent / "langur"
 
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("core", ("langur", "langur.codes", "langur.diagnostics", "langur.core", "langur.primitives", "langur.values", "langur.timebox", "langur.lazy",
-              "langur.progress", "langur.modules", "langur.core_json")),
+              "langur.progress", "langur.modules", "langur.core_json", "langur.observe")),
     ("sympy bridge", ("langur.sympy_bridge",)),
     ("front end", ("langur.syntax", "langur.typesys", "langur.frontend")),
     ("exact engine", ("langur.symbolic", "langur.denote", "langur.ddenote", "langur.exact_batch")),
     ("linter", ("langur.transversality", "langur.lint")),
-    ("top", ("langur.exact", "langur.theorem", "langur.reproduce", "langur.reference", "langur.engines", "langur.fuzz", "langur.commands",
+    ("top", ("langur.exact", "langur.steps", "langur.theorem", "langur.reproduce", "langur.reference", "langur.engines", "langur.fuzz", "langur.commands",
              "langur.cli", "langur.__main__")),
 ]
 #: The Monte Carlo engine sits beside the exact engine but reads the core layer only.
@@ -42,6 +42,7 @@ MONTE_CARLO = "langur.operational"
 LAZY: dict[tuple[str, str], str] = {
     ("langur.denote", "langur.symbolic.integrate"): "scipy (0.3 s): only when integrating",
     ("langur.ddenote", "langur.symbolic.integrate"): "scipy (0.3 s): only when integrating",
+    ("langur.steps", "langur.symbolic.integrate"): "scipy (0.3 s): only when integrating (show --steps)",
     ("langur.commands._engines", "langur.exact"): "sympy and scipy (0.8 s): not for --engine mc",
     ("langur.commands._engines", "langur.operational"): "not for --engine exact",
     ("langur.commands.render", "langur.exact_batch"): "sympy (0.8 s): only with --exact",

@@ -120,3 +120,55 @@ def fmt(v, digits: int = 10) -> str:
 
 def fmt_params(values: dict) -> str:
     return ", ".join(f"{k} = {fmt(v)}" for k, v in values.items()) or "no parameters"
+
+
+def mc_decimals(stderr) -> int | None:
+    """Decimal places that show a Monte Carlo estimate to its precision: its standard error to two
+    significant digits (None when the error is 0 or not finite: then the value is exact or unknown)."""
+    try:
+        se = float(stderr)
+    except (TypeError, ValueError):
+        return None
+    if not math.isfinite(se) or se <= 0:
+        return None
+    return max(0, 1 - math.floor(math.log10(se)))
+
+
+def fmt_mc(value, stderr, decimals: int | None = None) -> str:
+    """``value`` rounded to the place of its standard error's second significant digit
+    (``3.992 ± 0.031``, not ``3.992450112 ± 0.0305``)."""
+    d = mc_decimals(stderr) if decimals is None else decimals
+    if d is None:
+        return fmt(value)
+    try:
+        f = float(value)
+    except (TypeError, ValueError):
+        return str(value)
+    return f"{f:.{d}f}" if math.isfinite(f) else str(f)
+
+
+def fmt_se(stderr) -> str:
+    d = mc_decimals(stderr)
+    return fmt(stderr, 3) if d is None else f"{float(stderr):.{d}f}"
+
+
+#: Engines agree when the Monte Carlo estimate is within this many standard errors of the exact value.
+AGREE_SE = 5.0
+
+
+def agreement(exact_value, exact_error, mc_value, mc_stderr) -> str:
+    """One line: do the exact and Monte Carlo engines agree, and by how many standard errors."""
+    diff = abs(float(exact_value) - float(mc_value))
+    slack = float(exact_error or 0.0) + 1e-12 * (1 + abs(float(exact_value)))
+    se = float(mc_stderr)
+    if not math.isfinite(diff) or not math.isfinite(se):
+        return "engines not compared (a value is not finite)"
+    if se <= 0:
+        ok = diff <= slack
+        return (f"engines {'agree' if ok else 'DISAGREE'}: |exact − MC| = {diff:.2g} "
+                f"(MC SE = 0{', exact ± ' + format(float(exact_error), '.2g') if exact_error else ''})")
+    k = max(0.0, diff - slack) / se
+    ok = k <= AGREE_SE
+    return (f"engines {'agree' if ok else 'DISAGREE'}: |exact − MC| = {diff / se:.1f} SE"
+            + ("" if ok else f" (more than {AGREE_SE:g})")
+            + (f"; exact ± {float(exact_error):.2g}" if exact_error else ""))

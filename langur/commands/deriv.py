@@ -100,12 +100,16 @@ def run(args) -> int:
         for note in exact.notes:
             print(f"                note: {note}")
     if mc is not None:
-        print(f"  MC          : {c.fmt(mc.value)} ± {c.fmt(mc.stderr, 3)} = regular "
-              f"{c.fmt(mc.regular.value)} + boundary {c.fmt(mc.boundary.value)}   "
+        d = c.mc_decimals(mc.stderr)
+        print(f"  MC          : {c.fmt_mc(mc.value, mc.stderr)} ± {c.fmt_se(mc.stderr)} = regular "
+              f"{c.fmt_mc(mc.regular.value, mc.stderr, d)} + boundary {c.fmt_mc(mc.boundary.value, mc.stderr, d)}   "
               f"({mc.samples} samples, {mc.method}, seed {mc.seed})")
         print_mc_notes(mc, "                ")
+    if exact is not None and mc is not None:
+        print("  agree       : " + c.agreement(exact.value, exact.error, mc.value, mc.stderr))
     if standard_ad is not None:
-        print(f"  standard AD : {c.fmt(standard_ad['value'])} ± {c.fmt(standard_ad['stderr'], 3)}"
+        print(f"  standard AD : {c.fmt_mc(standard_ad['value'], standard_ad['stderr'])} ± "
+              f"{c.fmt_se(standard_ad['stderr'])}"
               "   (deltas dropped: what PyTorch or JAX compute on the discretized integral)")
     if named is not None:
         print_named(named, 12)

@@ -67,9 +67,11 @@ def run(args) -> int:
         for note in exact.notes:
             print(f"          note: {note}")
     if mc is not None:
-        print(f"  MC    : {c.fmt(mc.value)} ± {c.fmt(mc.stderr, 3)}   "
+        print(f"  MC    : {c.fmt_mc(mc.value, mc.stderr)} ± {c.fmt_se(mc.stderr)}   "
               f"({mc.samples} samples, {mc.method}, seed {mc.seed})")
         print_mc_notes(mc, "          ")
+    if exact is not None and mc is not None:
+        print("  agree : " + c.agreement(exact.value, exact.error, mc.value, mc.stderr))
     if named is not None:
         print_named(named, 6)
     sys.stdout.flush()

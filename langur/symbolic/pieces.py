@@ -20,6 +20,8 @@ from enum import StrEnum
 
 import sympy as sp
 
+from .readable import readable
+
 
 @dataclass(frozen=True)
 class Branch:
@@ -113,3 +115,15 @@ class Integral:
     #: the evaluation point, which ``cell`` does not say
     cell: tuple = ()
     generic: bool = False
+
+    def _repr_latex_(self) -> str:
+        """In a notebook: the closed form in readable cases when it has them (else the engine's
+        form) and the value, or the value with its error bound."""
+        if self.expr is not None and self.method == Method.CLOSED_FORM:
+            try:
+                rd = readable(self.expr, None, cell=self.cell, everywhere=self.everywhere, generic=self.generic)
+            except Exception:  # noqa: BLE001 - presentation only: fall back to the engine's form
+                rd = None
+            shown = rd.text(latex=True) if rd is not None else sp.latex(self.expr)
+            return f"$\\displaystyle {shown} \\quad (= {self.value:.12g} \\text{{ here}})$"
+        return f"$\\displaystyle {self.value:.12g} \\pm {self.error:.2g} \\text{{ (quadrature)}}$"

@@ -7,15 +7,45 @@ these by :mod:`langur.exact`.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 
 import sympy as sp
+from sympy.printing.latex import LatexPrinter
+from sympy.printing.str import StrPrinter
 
 from .pieces import Condition, DeltaPiece, Method, Piece, Psi
 
 
+def _iverson(e):
+    """``Piecewise((1, c), (0, True))`` → ``[c]`` (the Iverson bracket of the paper) for display."""
+    if isinstance(e, sp.Piecewise) and len(e.args) == 2 and e.args[0].expr == 1 and e.args[1].expr == 0 \
+            and e.args[1].cond == sp.true:
+        return True
+    return False
+
+
+class _TextPrinter(StrPrinter):
+    def _print_Piecewise(self, e):
+        if _iverson(e):
+            return f"[{self._print(e.args[0].cond)}]"
+        return self._print_Basic(e)
+
+
+class _LatexPrinter(LatexPrinter):
+    def _print_Piecewise(self, e):
+        if _iverson(e):
+            return f"\\left[{self._print(e.args[0].cond)}\\right]"
+        return super()._print_Piecewise(e)
+
+
 def expr_text(e: sp.Expr, latex: bool = False) -> str:
-    return sp.latex(e) if latex else sp.sstr(e)
+    """sympy's LaTeX, or its text with powers written ``^`` as in Langur's own syntax (one notation
+    beside the core term; the JSON output keeps sympy's ``**``, which ``sympify`` reads); an
+    indicator ``Piecewise((1, c), (0, True))`` is written as the Iverson bracket ``[c]``."""
+    if latex:  # sympy parenthesizes a Piecewise factor; a bracket needs none
+        return re.sub(r"\\left\(\\left\[(.*?)\\right\]\\right\)", r"\\left[\1\\right]", _LatexPrinter().doprint(e))
+    return _TextPrinter().doprint(e).replace("**", "^")
 
 
 def condition_text(c: Condition, latex: bool = False) -> str:

@@ -1,0 +1,68 @@
+"""An optional observer of the semantic functions' rules: ``langur show --steps`` / ``--typing``.
+
+The derivation of ⦇t⦈ (Fig. 8) and the typing derivation (Fig. 6, 11) are byproducts of the one
+semantics: each case of ``ddenote._dd`` and ``typesys.type_term`` calls :func:`rule` with the name
+of its rule and the term it applies to; a recursive pass decorated with :func:`nested` records the
+depth and, for a case that returns one, the result.  Nothing is recorded (and almost nothing done)
+unless a caller opened :func:`observing`.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+
+_STATE: dict = {"steps": None, "depth": 0}
+
+
+@dataclass
+class Step:
+    """One rule applied: ``rule`` (e.g. ``"Fig. 8, product"``) to ``term`` at nesting ``depth``;
+    ``result`` what the case returned (when it returns something)."""
+
+    rule: str
+    term: object
+    depth: int
+    result: object = None
+    context: dict = field(default_factory=dict)
+
+
+def rule(name: str, term, **context) -> None:
+    """Tell the observer, if any, that rule ``name`` applies to ``term``."""
+    steps = _STATE["steps"]
+    if steps is not None:
+        steps.append(Step(name, term, _STATE["depth"], None, context))
+
+
+def nested(fn):
+    """Record the depth of the recursion of ``fn`` and the result of each rule it applies."""
+
+    @functools.wraps(fn)
+    def wrapper(*args):
+        steps = _STATE["steps"]
+        if steps is None:
+            return fn(*args)
+        first = len(steps)
+        _STATE["depth"] += 1
+        try:
+            result = fn(*args)
+        finally:
+            _STATE["depth"] -= 1
+        if len(steps) > first:
+            steps[first].result = result
+        return result
+
+    return wrapper
+
+
+@contextmanager
+def observing() -> Iterator[list[Step]]:
+    """Record the rules applied inside the ``with`` block into the list it yields."""
+    saved = dict(_STATE)
+    _STATE.update(steps=[], depth=0)
+    try:
+        yield _STATE["steps"]
+    finally:
+        _STATE.update(saved)

@@ -1,0 +1,376 @@
+"""Readable closed forms: the exact engine's ⟦p⟧ and ⦇p⦈ (§6, §7) as a function of the parameters
+in cases, ``Min``/``Max``/``Piecewise``/``Heaviside`` resolved on each case and every case simplified.
+
+The integrator's closed forms are right but nested (``Max(-1, -theta - 1, Min(1, 1 - theta))``):
+its bounds of integration are clipped to the box by ``Min``/``Max``.  Here:
+
+* **one parameter** p: the *switching functions* (differences of the arguments of every
+  ``Min``/``Max``, the sides of every ``Piecewise`` relation, the argument of every ``Heaviside``,
+  the relations of the closed form's parameter cell) have finitely many real roots, the
+  breakpoints; between two breakpoints none of them changes sign, so each ``Min``/``Max``/
+  ``Piecewise`` is one of its arguments there: it is resolved at an interior point and the piece
+  simplified.  Each breakpoint is attached to the neighbouring piece that equals the closed form
+  there; equal neighbours are merged.  The result is a list of disjoint intervals covering the set
+  where the closed form holds (everywhere, or the cell of the evaluation point).
+* **several parameters**: the case that contains the evaluation point (the signs of the
+  switching functions there), the rest left in the engine's form.
+
+Every case is an exact sympy expression (no floats are introduced); :func:`readable` gives up
+(returns None) when a breakpoint cannot be found exactly.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import sympy as sp
+
+#: Largest expression (sympy ``count_ops``) handed to ``sp.simplify``; bigger ones are only expanded.
+SIMPLIFY_LIMIT = 400
+
+
+@dataclass(frozen=True)
+class Case:
+    """``expr`` where ``condition`` holds (a sympy Boolean in the parameters).  For one parameter
+    ``interval`` is the set as a sympy Interval (or FiniteSet for an isolated point)."""
+
+    condition: sp.Basic
+    expr: sp.Expr
+    interval: sp.Set | None = None
+
+
+@dataclass(frozen=True)
+class Readable:
+    """A closed form in cases.  ``complete``: the cases cover the whole set where the closed form
+    holds (``domain``); otherwise only the case of the evaluation point is given and ``rest`` is
+    the engine's form for the others."""
+
+    cases: tuple[Case, ...]
+    parameter: sp.Symbol | None
+    domain: sp.Set | None
+    complete: bool
+    rest: sp.Expr | None = None
+    #: intervals of the one parameter where the closed form is not real (it does not apply there)
+    excluded: tuple[sp.Set, ...] = ()
+    #: the engine established the closed form only near the evaluation point (its real roots there)
+    near: bool = False
+
+    def text(self, latex: bool = False) -> str:
+        return readable_text(self, latex)
+
+    def _repr_latex_(self) -> str:
+        return "$\\displaystyle " + readable_text(self, latex=True) + "$"
+
+
+def _switching(expr: sp.Expr) -> list[sp.Expr]:
+    """The functions of the parameters whose sign decides every Min/Max/Piecewise/Heaviside."""
+    out: list[sp.Expr] = []
+    for node in sp.preorder_traversal(expr):
+        if isinstance(node, (sp.Min, sp.Max)):
+            args = node.args
+            out += [args[i] - args[j] for i in range(len(args)) for j in range(i + 1, len(args))]
+        elif isinstance(node, sp.Piecewise):
+            for _, cond in node.args:
+                out += [r.lhs - r.rhs for r in cond.atoms(sp.core.relational.Relational)]
+        elif isinstance(node, (sp.Heaviside, sp.sign, sp.Abs)):
+            out.append(node.args[0])
+    return out
+
+
+def _variants(e: sp.Expr, limit: int = 64) -> list[sp.Expr]:
+    """``e`` with each inner Min/Max replaced by each of its arguments in turn: the functions one of
+    which ``e`` is wherever the inner ones do not switch (their own roots are cuts already)."""
+    out, todo = [], [e]
+    while todo and len(out) + len(todo) <= limit:
+        f = todo.pop()
+        inner = next((n for n in sp.preorder_traversal(f) if isinstance(n, (sp.Min, sp.Max))), None)
+        if inner is None:
+            out.append(f)
+        else:
+            todo += [f.xreplace({inner: arg}) for arg in inner.args]
+    if todo:
+        raise ValueError("too many nested Min/Max")
+    return out
+
+
+def _num(e: sp.Expr) -> float:
+    return float(sp.N(e, 30))
+
+
+def _decide(cond, subs) -> bool:
+    v = cond.subs(subs)
+    if v in (sp.true, sp.false):
+        return bool(v)
+    return bool(v.xreplace({r: sp.true if _num(r.lhs - r.rhs) == 0 and r.rel_op in ("<=", ">=", "==")
+                            else sp.true if r.func(_num(r.lhs), _num(r.rhs)) else sp.false
+                            for r in v.atoms(sp.core.relational.Relational)}))
+
+
+def resolve(expr: sp.Expr, subs: Mapping[sp.Symbol, sp.Expr]) -> sp.Expr:
+    """``expr`` with every Min/Max/Piecewise/Heaviside replaced by the branch it takes at ``subs``
+    (innermost first).  Valid on the whole set where no switching function changes sign."""
+    if expr.is_Atom:
+        return expr
+    if isinstance(expr, sp.Piecewise):
+        for e, cond in expr.args:
+            if _decide(resolve_bool(cond, subs), subs):
+                return resolve(e, subs)
+        return sp.nan
+    args = [resolve(a, subs) for a in expr.args]
+    if isinstance(expr, (sp.Min, sp.Max)):
+        vals = [_num(a.subs(subs)) for a in args]
+        pick = min if isinstance(expr, sp.Min) else max
+        return args[vals.index(pick(vals))]
+    if isinstance(expr, sp.Heaviside):
+        v = _num(args[0].subs(subs))
+        return sp.Integer(1) if v > 0 else sp.Integer(0) if v < 0 else expr.func(*args)
+    if isinstance(expr, sp.sign):
+        v = _num(args[0].subs(subs))
+        return sp.Integer(1) if v > 0 else sp.Integer(-1) if v < 0 else sp.Integer(0)
+    if isinstance(expr, sp.Abs):
+        v = _num(args[0].subs(subs))
+        return args[0] if v >= 0 else -args[0]
+    return expr.func(*args)
+
+
+def resolve_bool(cond, subs):
+    if isinstance(cond, sp.core.relational.Relational):
+        return cond.func(resolve(cond.lhs, subs), resolve(cond.rhs, subs))
+    if cond in (sp.true, sp.false):
+        return cond
+    return cond.func(*[resolve_bool(a, subs) for a in cond.args])
+
+
+def tidy(e: sp.Expr) -> sp.Expr:
+    """The shortest of a few exact simplifications of a Min/Max-free expression."""
+    cands = [e, sp.expand(e)]
+    try:
+        cands.append(sp.factor(cands[1]))
+        if sp.count_ops(e) <= SIMPLIFY_LIMIT:
+            cands.append(sp.simplify(e))
+    except (NotImplementedError, TypeError, ValueError, sp.PolynomialError):
+        pass
+    return min(cands, key=lambda c: (len(sp.sstr(c)), sp.count_ops(c)))
+
+
+def _roots(s: sp.Expr, p: sp.Symbol) -> list[sp.Expr] | None:
+    """Real roots of ``s`` in p (None when not found exactly as a finite set)."""
+    if p not in s.free_symbols:
+        return []
+    try:
+        sol = sp.solveset(s, p, sp.S.Reals)
+    except (NotImplementedError, TypeError, ValueError):
+        return None
+    if sol is sp.S.Reals:  # identically zero: never switches
+        return []
+    if not isinstance(sol, sp.FiniteSet):
+        try:
+            found = sp.solve(s, p)
+        except (NotImplementedError, TypeError, ValueError):
+            return None
+        return [r for r in found if r.is_real]
+    return list(sol)
+
+
+def _cell_set(cell, p: sp.Symbol) -> sp.Set | None:
+    dom: sp.Set = sp.S.Reals
+    for rel in cell:
+        try:
+            dom = dom.intersect(sp.solveset(rel, p, sp.S.Reals))
+        except (NotImplementedError, TypeError, ValueError):
+            return None
+    return dom
+
+
+def _inner_point(lo, hi) -> sp.Expr:
+    if lo is sp.S.NegativeInfinity and hi is sp.S.Infinity:
+        return sp.Integer(0)
+    if lo is sp.S.NegativeInfinity:
+        return sp.floor(hi) - 1
+    if hi is sp.S.Infinity:
+        return sp.ceiling(lo) + 1
+    return (lo + hi) / 2
+
+
+def _same(a: sp.Expr, b: sp.Expr) -> bool:
+    return a == b or sp.expand(a - b) == 0
+
+
+def _one_parameter(expr, p, cell, everywhere) -> Readable | None:
+    cuts: set = set()
+    try:
+        switching = [v for s in _switching(expr) for v in _variants(s)]
+    except ValueError:
+        return None
+    for s in dict.fromkeys(switching + [r.lhs - r.rhs for r in cell]):
+        roots = _roots(s, p)
+        if roots is None:
+            return None
+        cuts.update(r for r in roots if r.is_real)
+    domain = sp.S.Reals if everywhere or not cell else _cell_set(cell, p)
+    if domain is None:
+        return None
+    points = sorted(cuts, key=_num)
+    edges = [sp.S.NegativeInfinity, *points, sp.S.Infinity]
+    cases: list[Case] = []
+    excluded: list[sp.Set] = []
+    for lo, hi in zip(edges, edges[1:]):
+        x0 = _inner_point(lo, hi)
+        if not domain.contains(x0) == sp.true:
+            continue
+        try:
+            piece = tidy(resolve(expr, {p: x0}))
+        except TypeError:  # not real there (e.g. a square root of a negative number)
+            excluded.append(sp.Interval.open(lo, hi))
+            continue
+        cases.append(Case(True, piece, sp.Interval.open(lo, hi)))
+    # attach each breakpoint to a neighbour equal to the closed form there, merge equal neighbours
+    merged: list[Case] = []
+    for c in cases:
+        if merged and _same(merged[-1].expr, c.expr) and merged[-1].interval.sup == c.interval.inf:
+            b = c.interval.inf
+            if domain.contains(b) == sp.true:
+                merged[-1] = Case(True, merged[-1].expr, merged[-1].interval.union(c.interval))
+                continue
+        merged.append(c)
+    final = list(merged)
+    for b in points:
+        if domain.contains(b) != sp.true or any(c.interval.contains(b) == sp.true for c in final):
+            continue
+        try:
+            at_b = resolve(expr, {p: b}).subs(p, b)
+            _num(at_b)
+        except TypeError:
+            continue
+        for i, c in enumerate(final):
+            if c.interval.sup == b or c.interval.inf == b:
+                if _num(c.expr.subs(p, b) - at_b) == 0 and _num(sp.simplify(c.expr.subs(p, b) - at_b)) == 0:
+                    final[i] = Case(True, c.expr, c.interval.union(sp.FiniteSet(b)))
+                    break
+        else:
+            final.append(Case(True, tidy(at_b), sp.FiniteSet(b)))
+    final.sort(key=lambda c: _num(c.interval.inf) if c.interval.inf.is_finite else -1e300)
+    out = tuple(Case(c.interval.as_relational(p), c.expr, c.interval) for c in final)
+    if not out:
+        return None
+    return Readable(out, p, domain, True, excluded=tuple(excluded))
+
+
+def readable(expr: sp.Expr, at: Mapping[sp.Symbol, sp.Expr] | None = None, *, cell=(),
+             everywhere: bool = True, generic: bool = False) -> Readable | None:
+    """``expr`` (a closed form in the parameters) in readable cases, or None when no exact case
+    split was found.  ``at`` (parameter symbol → value) is the evaluation point; ``cell`` the
+    relations that bound where ``expr`` holds (empty with ``everywhere``); ``generic``: it also
+    needs the real roots seen at ``at`` (then only the case of ``at`` is given)."""
+    free = sorted(expr.free_symbols, key=str)
+    if not free:
+        return Readable((Case(sp.true, tidy(expr)),), None, None, True)
+    if len(free) == 1:
+        r = _one_parameter(expr, free[0], tuple(cell), everywhere)
+        if r is not None:
+            return dataclasses.replace(r, near=generic)
+    if at is None or any(s not in at for s in free):
+        return None
+    return _local(expr, at, cell)
+
+
+def _local(expr, at, cell) -> Readable | None:
+    """The case containing the evaluation point: signs of the switching functions there."""
+    conds = []
+    for s in dict.fromkeys(resolve(s, at) for s in _switching(expr)):
+        if not s.free_symbols:
+            continue
+        v = _num(s.subs(at))
+        if v == 0:
+            return None
+        rel = _solved(sp.Gt(s, 0) if v > 0 else sp.Lt(s, 0))
+        if rel not in (sp.true,) and rel not in conds:
+            conds.append(rel)
+    conds += [r for r in cell if r not in conds]
+    conds = _tightest(conds)
+    piece = tidy(resolve(expr, at))
+    if not conds and piece == expr:
+        return None
+    return Readable((Case(sp.And(*conds), piece),), None, None, not conds, rest=expr if conds else None)
+
+
+def _solved(rel):
+    """``s > 0`` with s linear in its one parameter as ``p > c`` / ``p < c``; else as it is."""
+    s = rel.lhs - rel.rhs
+    if len(s.free_symbols) != 1:
+        return rel
+    (p,) = s.free_symbols
+    try:
+        poly = sp.Poly(s, p)
+    except sp.PolynomialError:
+        return rel
+    if poly.degree() != 1:
+        return rel
+    a, b = poly.all_coeffs()
+    c = -b / a
+    up = (rel.func in (sp.Gt, sp.Ge)) == bool(a > 0)
+    strict = rel.func in (sp.Gt, sp.Lt)
+    return (sp.Gt if strict else sp.Ge)(p, c) if up else (sp.Lt if strict else sp.Le)(p, c)
+
+
+def _tightest(conds):
+    """Drop a bound ``p > c`` implied by a tighter one on the same parameter."""
+    out = []
+    for r in conds:
+        if isinstance(r.lhs, sp.Symbol) and r.rhs.is_number:
+            same = [q for q in conds if q.lhs == r.lhs and q.rhs.is_number and q.func == r.func and q is not r]
+            lower = r.func in (sp.Gt, sp.Ge)
+            if any((_num(q.rhs) > _num(r.rhs)) if lower else (_num(q.rhs) < _num(r.rhs)) for q in same):
+                continue
+        out.append(r)
+    return out
+
+
+def _cond_text(c: Case, p, latex: bool) -> str:
+    if c.condition is sp.true:
+        return "\\text{for all parameters}" if latex else "for all parameters"
+    iv = c.interval
+    if isinstance(iv, sp.Interval) and p is not None:
+        lo, hi = iv.inf, iv.sup
+        le = "\\leq" if latex else "<="
+        ps = sp.latex(p) if latex else str(p)
+        if lo is sp.S.NegativeInfinity and hi is sp.S.Infinity:
+            return "\\text{for all } " + ps if latex else f"for all {ps}"
+        if hi is sp.S.Infinity:
+            ge = "\\geq" if latex else ">="
+            return f"{ps} {'>' if iv.left_open else ge} {_e(lo, latex)}"
+        left = "" if lo is sp.S.NegativeInfinity else f"{_e(lo, latex)} {le if not iv.left_open else '<'} "
+        return f"{left}{ps} {le if not iv.right_open else '<'} {_e(hi, latex)}"
+    if isinstance(iv, sp.FiniteSet) and p is not None:
+        return (f"{sp.latex(p)} = " if latex else f"{p} = ") + ", ".join(_e(v, latex) for v in iv)
+    if latex:
+        return sp.latex(c.condition)
+    parts = c.condition.args if isinstance(c.condition, sp.And) else (c.condition,)
+    return " and ".join(_e(a, False) for a in parts)
+
+
+def _e(e, latex):
+    return sp.latex(e) if latex else sp.sstr(e).replace("**", "^")
+
+
+def readable_text(r: Readable, latex: bool = False) -> str:
+    """Text: one line per case (``theta <= -2 : 0``); LaTeX: a ``cases`` environment."""
+    if len(r.cases) == 1 and r.cases[0].condition is sp.true and r.complete and not r.near:
+        return _e(r.cases[0].expr, latex)
+    rows = [(_e(c.expr, latex), _cond_text(c, r.parameter, latex)) for c in r.cases]
+    if latex:
+        body = " \\\\ ".join(f"{e} & {c}" for e, c in rows)
+        if not r.complete:
+            body += " \\\\ \\text{(other cases: see the full form)} & "
+        return "\\begin{cases} " + body + " \\end{cases}"
+    width = max(len(c) for _, c in rows)
+    lines = [f"{c:<{width}} : {e}" for e, c in rows]
+    for iv in r.excluded:
+        lines.append(f"({_e(iv.as_relational(r.parameter), latex)}: the closed form is not real there, it does not apply)")
+    if r.near:
+        lines.append("(the engine's closed form is established near the evaluation point only)")
+    if not r.complete:
+        lines.append("(the case of the evaluation point; the other cases: `langur show --raw`)")
+    return "\n".join(lines)
