@@ -146,9 +146,11 @@ def test_reproduce_writes_the_papers_pictures(tmp_path):
 
 def _examples_of_one_or_two_variables():
     # (the ray tracer's scene, examples/raytrace/, is checked against its numpy model in
-    # test_raytrace.py: its exact derivative takes ~20 s per parameter)
+    # test_raytrace.py: its exact derivative takes ~20 s per parameter; the stylization kernels,
+    # examples/stylize/, against a numpy clipping of the triangle in test_stylize.py: 15 and 24
+    # parameters, each an exact derivative of a triangle's quadratic shading)
     out = []
-    for path in sorted(p for p in EXAMPLES.rglob("*.lgr") if p.parent.name != "raytrace"):
+    for path in sorted(p for p in EXAMPLES.rglob("*.lgr") if p.parent.name not in ("raytrace", "stylize")):
         loaded = load(str(path))
         if loaded.program is not None and len(loaded.program.variables) <= 2:
             out.extend((path, name) for name in loaded.params)

@@ -45,7 +45,7 @@ def _ifdiffeo(jump_sign: float):
             return _COMPILE(t, ctx)
         slot = len(ctx.slots)
         ctx.slots.append(("site", None, ()))
-        fc = comp._compile(t.psi.forward[0], comp._Ctx([], ctx.local))
+        fc = comp._compile(t.psi.forward[0], comp._Ctx([], ctx.local, ctx.sharing))
         fs, fr = comp._compile(t.then, ctx), comp._compile(t.orelse, ctx)
 
         def ifdiffeo(pt, lk):
