@@ -68,8 +68,17 @@ def _rational_box(body: Term, variables: tuple[str, ...]) -> list[Bound] | None:
         for i, c in coeffs.items():
             others = {j: -cj / c for j, cj in coeffs.items() if j != i}
             constraints.append((i, "lo" if c > 0 else "hi", others, -sign * form[1] / c))
-    box: list[list] = [[None, None] for _ in variables]
-    for _ in range(len(variables) + 1):
+    box = _propagate(constraints, len(variables))
+    return [tuple(None if b is None else Const(b) for b in pair) for pair in box]
+
+
+def _propagate(constraints, n: int, tidy=lambda v: v) -> list[list]:
+    """The box the constraints ``(i, "lo"|"hi", {j: c_j}, base)`` — x_i ≥ (or ≤) base + Σ c_j·x_j —
+    give, each side found once the other variables' sides it needs are known (widened over x_j's
+    box: the minimum of c_j·x_j for a lower bound, the maximum for an upper one); ``tidy`` maps each
+    bound found."""
+    box: list[list] = [[None, None] for _ in range(n)]
+    for _ in range(n + 1):
         changed = False
         for i, side, others, base in constraints:
             k = 0 if side == "lo" else 1
@@ -83,11 +92,11 @@ def _rational_box(body: Term, variables: tuple[str, ...]) -> list[Bound] | None:
                     break
                 value = value + cj * b
             if value is not None:
-                box[i][k] = value
+                box[i][k] = tidy(value)
                 changed = True
         if not changed:
             break
-    return [tuple(None if b is None else Const(b) for b in pair) for pair in box]
+    return box
 
 
 def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
@@ -97,17 +106,9 @@ def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
         return direct
     xs = [bridge.symbol(x) for x in variables]
     constraints = []  # (variable index, "lo"|"hi", {other index: coeff}, param part)
-    for f, env in top_factors(body):
-        if not isinstance(f, IfDiffeo):
-            continue
-        if _is_zero(f.orelse):
-            sign = 1
-        elif _is_zero(f.then):
-            sign = -1
-        else:
-            continue
+    for sign, cond in _bounding(body):
         try:
-            e = sp.expand(sign * bridge.to_sympy(substitute(f.psi.forward[0], {}, env)))
+            e = sp.expand(sign * bridge.to_sympy(cond))
         except bridge.NotSmooth:
             continue
         coeffs = {}
@@ -128,27 +129,7 @@ def infer_box(body: Term, variables: tuple[str, ...]) -> list[Bound]:
             # c·x_i + Σ c_j x_j + rest ≥ 0  ⇒  x_i ≥ (−rest − Σ c_j x_j)/c  (c > 0), ≤ when c < 0
             others = {j: -cj / c for j, cj in coeffs.items() if j != i}
             constraints.append((i, "lo" if c > 0 else "hi", others, -rest / c))
-    box: list[list] = [[None, None] for _ in variables]
-    for _ in range(len(variables) + 1):
-        changed = False
-        for i, side, others, base in constraints:
-            k = 0 if side == "lo" else 1
-            if box[i][k] is not None:
-                continue
-            value = base
-            for j, cj in others.items():
-                # widen over x_j's box: the minimum (lo side) or maximum (hi side) of cj·x_j
-                want_hi = (cj > 0) == (side == "hi")
-                b = box[j][1 if want_hi else 0]
-                if b is None:
-                    value = None
-                    break
-                value = value + cj * b
-            if value is not None:
-                box[i][k] = sp.nsimplify(value) if value.is_Float else value
-                changed = True
-        if not changed:
-            break
+    box = _propagate(constraints, len(variables), lambda v: sp.nsimplify(v) if v.is_Float else v)
     params = set()
     for _, _, _, base in constraints:
         params |= {s.name for s in base.free_symbols}
