@@ -69,9 +69,7 @@ def run(args) -> int:
             exact, theorem = result, result.theorem_8_1
             standard_ad = {"value": result.standard_ad, "stderr": 0.0, "source": "exact"}
     if engine is not None:  # another engine, compared with the exact one (docs/engines.md)
-        floats = {k: float(v) for k, v in params.items()}
-        dirs = {k: float(v) for k, v in direction.items()}
-        named, bad = compare_named(engine, lambda e: e.derivative(program, floats, dirs), exact)
+        named, bad = _ask(engine, program, params, direction, exact)
         status = max(status, bad)
     if args.engine in ("both", "mc"):
         mc = run_mc("deriv", target, params, args, direction,
@@ -121,6 +119,13 @@ def run(args) -> int:
     return status
 
 
+def _ask(engine, program, params, direction, reference):
+    """The named engine's derivative of ``program``, compared with ``reference`` (docs/engines.md)."""
+    floats = {k: float(v) for k, v in params.items()}
+    dirs = {k: float(v) for k, v in direction.items()}
+    return compare_named(engine, lambda e: e.derivative(program, floats, dirs), reference)
+
+
 def _what(direction) -> str:
     wrt = [k for k, v in direction.items() if v]
     if len(wrt) == 1 and direction[wrt[0]] == 1:
@@ -138,9 +143,7 @@ def _not_transverse(args, gate, params, direction, program, engine) -> int:
         reference, _ = run_exact("deriv", gate.rewritten, params, direction, theorem=False)
         if isinstance(reference, Undefined):
             reference = None
-        floats = {k: float(v) for k, v in params.items()}
-        dirs = {k: float(v) for k, v in direction.items()}
-        named, _ = compare_named(engine, lambda e: e.derivative(program, floats, dirs), reference)
+        named, _ = _ask(engine, program, params, direction, reference)
     if args.json:
         c.dump_json({"params": params, "direction": direction, "exact": None, "mc": None, "standard_ad": None,
                      "theorem_8_1": None, "undefined": gate.reason(), "rewrite": gate.shown,
