@@ -219,6 +219,13 @@ _TIMED_OUT: dict = {}
 ATTEMPT_CAP = 5.0
 
 
+def _remember(cache: dict, key, value, size: int = 2048) -> None:
+    """``cache[key] = value``, the oldest entry dropped beyond ``size``."""
+    if len(cache) >= size:
+        cache.pop(next(iter(cache)))
+    cache[key] = value
+
+
 def _derivative_matches(F, w, v, ctx: Context) -> bool:
     """d/dv F = w at a few pseudo-random points (parameters at ``at``): sympy's integrate has
     returned wrong antiderivatives (even 0) for symbolic constants; catch that early."""
@@ -297,15 +304,11 @@ def antiderivative(w, v, ctx: Context):
             except TimeoutError:
                 reasons.append("sympy integrate timed out")
                 timed_out = True
-                if len(_TIMED_OUT) >= 2048:
-                    _TIMED_OUT.pop(next(iter(_TIMED_OUT)))
-                _TIMED_OUT[key] = cap
+                _remember(_TIMED_OUT, key, cap)
                 continue
             except Exception as exc:  # sympy raises all sorts of errors on hard inputs
                 F = f"sympy integrate failed: {type(exc).__name__}"
-            if len(_CACHE) >= 2048:
-                _CACHE.pop(next(iter(_CACHE)))
-            _CACHE[key] = F
+            _remember(_CACHE, key, F)
         if isinstance(F, str):
             reasons.append(F)
             continue
