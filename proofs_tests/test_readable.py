@@ -5,6 +5,7 @@ the case, and the case of the evaluation point gives the engine's (quadrature-ch
 from __future__ import annotations
 
 import math
+import random
 
 import mpmath
 import pytest
@@ -33,6 +34,17 @@ def _points(case, rd, at):
         return [{rd.parameter: lo + (hi - lo) * sp.Rational(k, 6)} for k in range(1, 6)]
     base = at_symbols(at)
     pts = []
+    if case.point is not None:  # several parameters: around the case's inner point, near and far
+        rng = random.Random(len(str(case.condition)))
+        for _ in range(400):
+            scale = rng.choice((sp.Rational(1, 100), sp.Rational(1, 2), 3, 40))
+            pt = {**base, **{s: v + scale * sp.Rational(rng.randint(-1000, 1000), 1000)
+                             for s, v in case.point.items()}}
+            if case.condition.subs(pt) == sp.true:
+                pts.append(pt)
+            if len(pts) == 5:
+                return pts
+        return pts
     for k in range(1, 40):
         pt = {s: v + sp.Rational((-1) ** (k + i) * ((k * (i + 3)) % 7), 1000) for i, (s, v) in enumerate(base.items())}
         if case.condition.subs(pt) == sp.true:
@@ -106,3 +118,44 @@ def test_fig1_and_fig9_read_as_the_hand_computed_cases():
         loaded = load(str(EXAMPLES / "fig9.lgr"))
         assert math.isclose(float(c.expr.subs(t, mid)), denote_program(loaded.program, {"theta": mid}).value,
                             rel_tol=1e-9)
+
+
+def _risk_by_quadrature(a, b, mu):
+    """R(a, b, mu) of §2, Eq. (2), by mpmath quadrature split at the window's ends (independent of
+    the engine): ∫_{-10}^{10} N(x; mu)·[a ≤ x ≤ b]·(N(x; mu) − 2 N(x; 2)) + N(x; 2)² dx."""
+    def n(x, m):
+        return mpmath.exp(-0.5 * ((x - m) / 5) ** 2)
+    lo, hi = max(a, -10), min(b, 10)
+    window = mpmath.quad(lambda x: n(x, mu) * (n(x, mu) - 2 * n(x, 2)), [lo, hi]) if lo < hi else 0
+    return window + mpmath.quad(lambda x: n(x, 2) ** 2, [-10, 10])
+
+
+def test_risk_reads_as_the_clipped_window_cases():
+    """Three parameters (issue 14): one case per way the window [a, b] meets [-10, 10], the empty
+    window "otherwise"; each case's formula against quadrature of the program at two points."""
+    a, b, mu = symbol("a"), symbol("b"), symbol("mu")
+    rd = _cases("risk.lgr")
+    assert rd.complete and len(rd.cases) == 5 and rd.cases[-1].otherwise
+    assert not rd.cases[-1].expr.free_symbols  # an empty window: ∫ g² alone
+    text = rd.text()
+    assert "a <= -10 and -10 <= b <= 10" in text and "-10 <= a <= 10 and b >= 10" in text
+    mpmath.mp.dps = 20
+    for case in rd.cases:
+        for pt in _points(case, rd, {"a": -1, "b": 4, "mu": 1})[:2]:
+            want = _risk_by_quadrature(*(mpmath.mpf(sp.Rational(pt[s]).p) / sp.Rational(pt[s]).q
+                                         for s in (a, b, mu)))
+            assert math.isclose(float(sp.N(case.expr.subs(pt), 20)), float(want), rel_tol=1e-12), (case, pt)
+
+
+def test_risk_derivative_reads_as_one_case_and_zero():
+    """∂R/∂a = −N(a; mu)(N(a; mu) − 2N(a; 2)) where a is an end of a nonempty window inside the box,
+    0 elsewhere (by hand: the fundamental theorem of calculus on Eq. (2))."""
+    a, mu = symbol("a"), symbol("mu")
+    loaded = load(str(EXAMPLES / "risk.lgr"))
+    at = loaded.param_values()
+    res = ddenote_program(loaded.program, at, {k: int(k == "a") for k in at})
+    rd = readable_of(res.expr, at, (res.regular, res.boundary))
+    assert len(rd.cases) == 2 and rd.cases[1].otherwise and rd.cases[1].expr == 0
+    assert rd.text().splitlines()[0].startswith("-10 < a < 10 and b > a")
+    n = lambda m: sp.exp(-sp.Rational(1, 2) * ((a - m) / 5) ** 2)  # noqa: E731
+    assert sp.simplify(rd.cases[0].expr + n(mu) * (n(mu) - 2 * n(2))) == 0

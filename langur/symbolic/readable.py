@@ -12,8 +12,12 @@ its bounds of integration are clipped to the box by ``Min``/``Max``.  Here:
   simplified.  Each breakpoint is attached to the neighbouring piece that equals the closed form
   there; equal neighbours are merged.  The result is a list of disjoint intervals covering the set
   where the closed form holds (everywhere, or the cell of the evaluation point).
-* **several parameters**: the case that contains the evaluation point (the signs of the
-  switching functions there), the rest left in the engine's form.
+* **several parameters**: when every switching function is affine in the parameters (box bounds,
+  window ends), their zero sets cut the parameter space into convex cells
+  (:mod:`langur.symbolic.arrangement`); on each the closed form is resolved at an exact inner point
+  and simplified, neighbouring cells with the same expression are joined and each case is stated by
+  its essential bounding relations.  Otherwise: the case that contains the evaluation point (the
+  signs of the switching functions there), the rest left in the engine's form.
 
 Every case is an exact sympy expression (no floats are introduced); :func:`readable` gives up
 (returns None) when a breakpoint cannot be found exactly.
@@ -27,6 +31,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from . import arrangement
+
 #: Largest expression (sympy ``count_ops``) handed to ``sp.simplify``; bigger ones are only expanded.
 SIMPLIFY_LIMIT = 400
 
@@ -39,6 +45,12 @@ class Case:
     condition: sp.Basic
     expr: sp.Expr
     interval: sp.Set | None = None
+    #: several parameters: an exact point inside the case (parameter symbol → value)
+    point: Mapping[sp.Symbol, sp.Expr] | None = None
+    #: several parameters: the bounding relations, in the order they are printed
+    relations: tuple = ()
+    #: the case is "everywhere else" (``condition`` is the negation of the other cases')
+    otherwise: bool = False
 
 
 @dataclass(frozen=True)
@@ -56,6 +68,8 @@ class Readable:
     excluded: tuple[sp.Set, ...] = ()
     #: the engine established the closed form only near the evaluation point (its real roots there)
     near: bool = False
+    #: several parameters: the closed form jumps between cases, whose boundaries are left out
+    boundaries_open: bool = False
 
     def text(self, latex: bool = False) -> str:
         return readable_text(self, latex)
@@ -148,11 +162,19 @@ def tidy(e: sp.Expr) -> sp.Expr:
     cands = [e, sp.expand(e)]
     try:
         cands.append(sp.factor(cands[1]))
+        cands.append(_exp_collected(cands[1]))
         if sp.count_ops(e) <= SIMPLIFY_LIMIT:
             cands.append(sp.simplify(e))
     except (NotImplementedError, TypeError, ValueError, sp.PolynomialError):
         pass
     return min(cands, key=lambda c: (len(sp.sstr(c)), sp.count_ops(c)))
+
+
+def _exp_collected(e: sp.Expr) -> sp.Expr:
+    """Exponentials merged and factored (``exp(-(mu - 2)^2/100)``) and the terms collected on them."""
+    e = sp.powsimp(e)
+    e = e.replace(lambda n: isinstance(n, sp.exp), lambda n: sp.exp(sp.factor(n.args[0])))
+    return sp.factor_terms(sp.collect(e, list(e.atoms(sp.exp))))
 
 
 def _roots(s: sp.Expr, p: sp.Symbol) -> list[sp.Expr] | None:
@@ -271,9 +293,96 @@ def readable(expr: sp.Expr, at: Mapping[sp.Symbol, sp.Expr] | None = None, *, ce
         r = _one_parameter(expr, free[0], tuple(cell), everywhere)
         if r is not None:
             return dataclasses.replace(r, near=generic)
+    else:
+        r = _several_parameters(expr, free, at, tuple(cell), everywhere)
+        if r is not None:
+            return dataclasses.replace(r, near=generic)
     if at is None or any(s not in at for s in free):
         return None
     return _local(expr, at, cell)
+
+
+def _several_parameters(expr, free, at, cell, everywhere) -> Readable | None:
+    """Cases over the cells of the arrangement of affine switching functions (module docstring)."""
+    try:
+        switching = [v for s in _switching(expr) for v in _variants(s)]
+    except ValueError:
+        return None
+    switching += [r.lhs - r.rhs for r in cell]
+    switching = [s for s in dict.fromkeys(switching) if s.free_symbols]
+    params = sorted({p for s in switching for p in s.free_symbols}, key=str)
+    planes = [arrangement.plane(s, params) for s in switching]
+    if not params or any(pl is None for pl in planes):
+        return None
+    try:
+        found = arrangement.cells(planes, len(params))
+    except ArithmeticError:
+        return None
+    if found is None:
+        return None
+    fixed = {p: (at or {}).get(p, sp.Rational(1, 3)) for p in free if p not in params}
+    pieces = []
+    for c in found:
+        point = {**fixed, **{p: sp.Rational(v.numerator, v.denominator) for p, v in zip(params, c.point)}}
+        if not everywhere and not all(_decide(rel, point) for rel in cell):
+            continue
+        try:
+            pieces.append((tidy(resolve(expr, point)), c))
+        except TypeError:  # not real there: the closed form does not apply (left to the full form)
+            return None
+    if not pieces:
+        return None
+    continuous = not any(isinstance(n, (sp.Piecewise, sp.Heaviside, sp.sign))
+                         for n in sp.preorder_traversal(expr))
+    # the cell where the closed form holds (not everywhere): its relations hold in every case and
+    # are stated once, by the caller's note, not in each case
+    some = pieces[0][1].point
+    given = tuple(dict.fromkeys((pl, 1 if pl.value(some) > 0 else -1)
+                                for pl in (arrangement.plane(r.lhs - r.rhs, params) for r in cell)))
+    within = [_isolated(pl, sgn, params, strict=True) for pl, sgn in given]
+    try:
+        joined = arrangement.merged(pieces, _same)
+        cases = []
+        for e, c in joined:
+            rels = sorted((_isolated(pl, sgn, params, strict=not continuous)
+                           for pl, sgn in arrangement.essential(c, len(params), given)),
+                          key=lambda r: (params.index(r.lhs), r.func in (sp.Lt, sp.Le)))
+            point = {p: sp.Rational(v.numerator, v.denominator) for p, v in zip(params, c.point)}
+            cases.append(Case(sp.And(*rels, *within), e, None, point, tuple(rels)))
+    except ArithmeticError:
+        return None
+    cases.sort(key=lambda c: [float(c.point[p]) for p in params])
+    cases = _with_otherwise(cases, within)
+    return Readable(tuple(cases), None, None, True, boundaries_open=not continuous)
+
+
+def _with_otherwise(cases: list[Case], within=()) -> list[Case]:
+    """The expression most cases share (the shortest among equals) stated once, last, as
+    "otherwise" when it takes two cases or more."""
+    groups: list[list[Case]] = []
+    for c in cases:
+        g = next((g for g in groups if _same(g[0].expr, c.expr)), None)
+        if g is None:
+            groups.append([c])
+        else:
+            g.append(c)
+    big = max(groups, key=lambda g: (len(g), -len(sp.sstr(g[0].expr))))
+    if len(big) < 2 or len(big) == len(cases):
+        return cases
+    rest = [c for c in cases if not any(c is b for b in big)]
+    other = sp.And(*within, *[sp.Not(sp.And(*c.relations)) for c in rest])
+    return [*rest, Case(other, big[0].expr, None, big[0].point, (), True)]
+
+
+def _isolated(pl, sign: int, params, strict: bool):
+    """``sign · plane > 0`` with its last parameter isolated (``b > a``, ``a <= -10``)."""
+    k = max(i for i, c in enumerate(pl.coeffs) if c != 0)
+    p, c = params[k], pl.coeffs[k]
+    rest = (pl.expr(params) - c * p) / -c
+    up = (sign > 0) == (c > 0)
+    if strict:
+        return sp.Gt(p, rest) if up else sp.Lt(p, rest)
+    return sp.Ge(p, rest) if up else sp.Le(p, rest)
 
 
 def _local(expr, at, cell) -> Readable | None:
@@ -328,7 +437,27 @@ def _tightest(conds):
     return out
 
 
+def _relations_text(c: Case, latex: bool) -> str:
+    """``a <= -10 and -10 <= b <= 10``: two bounds of one parameter as a chain."""
+    if c.otherwise:
+        return "\\text{otherwise}" if latex else "otherwise"
+    parts, rels = [], list(c.relations)
+    while rels:
+        r = rels.pop(0)
+        up = next((q for q in rels if q.lhs == r.lhs and q.func in (sp.Lt, sp.Le)), None)
+        if r.func in (sp.Gt, sp.Ge) and up is not None:
+            rels.remove(up)
+            op = {sp.Ge: "\\leq" if latex else "<=", sp.Gt: "<"}
+            ops = {sp.Le: "\\leq" if latex else "<=", sp.Lt: "<"}
+            parts.append(f"{_e(r.rhs, latex)} {op[r.func]} {_e(r.lhs, latex)} {ops[up.func]} {_e(up.rhs, latex)}")
+        else:
+            parts.append(_e(r, latex))
+    return (" \\text{ and } " if latex else " and ").join(parts)
+
+
 def _cond_text(c: Case, p, latex: bool) -> str:
+    if c.relations or c.otherwise:
+        return _relations_text(c, latex)
     if c.condition is sp.true:
         return "\\text{for all parameters}" if latex else "for all parameters"
     iv = c.interval
@@ -369,6 +498,8 @@ def readable_text(r: Readable, latex: bool = False) -> str:
     lines = [f"{c:<{width}} : {e}" for e, c in rows]
     for iv in r.excluded:
         lines.append(f"({_e(iv.as_relational(r.parameter), latex)}: the closed form is not real there, it does not apply)")
+    if r.boundaries_open:
+        lines.append("(on the boundaries between the cases: the full form, `langur show --raw`)")
     if r.near:
         lines.append("(the engine's closed form is established near the evaluation point only)")
     if not r.complete:
