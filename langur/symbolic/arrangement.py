@@ -22,8 +22,9 @@ import numpy as np
 import sympy as sp
 from scipy.optimize import linprog
 
-#: More cells than this: no case split (the engine's form is shown instead).
+#: More cells or planes than this: no case split (the engine's form is shown instead).
 MAX_CELLS = 48
+MAX_PLANES = 24
 
 
 @dataclass(frozen=True)
@@ -94,8 +95,11 @@ def _point(signs, n: int) -> tuple[Fraction, ...] | None:
 
 
 def cells(planes: list[Plane], n: int) -> list[Cell] | None:
-    """Every nonempty open cell of the arrangement (None past :data:`MAX_CELLS`)."""
+    """Every nonempty open cell of the arrangement (None past :data:`MAX_CELLS` or
+    :data:`MAX_PLANES`)."""
     found = [Cell((), tuple(Fraction(0) for _ in range(n)))]
+    if len(set(planes)) > MAX_PLANES:
+        return None
     for pl in dict.fromkeys(planes):
         nxt = []
         for c in found:
