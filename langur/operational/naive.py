@@ -26,9 +26,11 @@ NAN = float("nan")
 
 
 def _derivative(op: str, a: float, v: float) -> float:
-    """f'(a) from the primitive's registry entry, on one float (NaN outside the domain)."""
+    """f'(a) from the primitive's registry entry, on one float (NaN outside the domain).  The
+    registry's derivatives are numpy expressions: given numpy floats, a division by zero in the
+    branch ``np.where`` discards is inf, not Python's ZeroDivisionError (sqrt at 0)."""
     with np.errstate(all="ignore"):
-        return float(REGISTRY[op].derivative(a, v))
+        return float(REGISTRY[op].derivative(np.float64(a), np.float64(v)))
 
 
 def _pow(a: float, k: Fraction) -> float:
