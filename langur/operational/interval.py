@@ -136,14 +136,16 @@ def _mul(box, params, _, a, b):
         if not nan.any():
             return p, p
         return np.where(nan, -INF, p), np.where(nan, INF, p)
-    with np.errstate(invalid="ignore"):  # a point interval (lo is hi) multiplies once
-        p0 = al * bl
-        p1 = p0 if bl is bh else al * bh
-        p2 = p0 if al is ah else ah * bl
-        p3 = p2 if bl is bh else (p1 if al is ah else ah * bh)
-    # NaN products ignored… (left to right, as a reduction over the four would)
-    lo = np.fmin(np.fmin(np.fmin(p0, p1), p2), p3)
-    hi = np.fmax(np.fmax(np.fmax(p0, p1), p2), p3)
+    with np.errstate(invalid="ignore"):
+        if al is ah or bl is bh:  # a point times an interval: two products
+            p0, p1 = (al * bl, al * bh) if al is ah else (al * bl, ah * bl)
+            # NaN products ignored… (fmin/fmax keep their first argument on a tie, so these are
+            # the four-product reductions below with the repeated products left out)
+            lo, hi = np.fmin(p0, p1), np.fmax(p0, p1)
+        else:
+            p0, p1, p2, p3 = al * bl, al * bh, ah * bl, ah * bh
+            lo = np.fmin(np.fmin(np.fmin(p0, p1), p2), p3)  # left to right, as a reduction would
+            hi = np.fmax(np.fmax(np.fmax(p0, p1), p2), p3)
     none = np.isnan(lo)  # …unless all are NaN: then anything
     if not none.any():
         return lo, hi
