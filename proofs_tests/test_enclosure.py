@@ -15,7 +15,7 @@ from langur.core import Add, Const, IfGe0, Let, Mul, Param, Pow, Prim, Var
 from langur.frontend import load
 from langur.operational import batch
 from langur.operational.batch import estimate_batch
-from langur.operational.interval import _tape, enclose
+from langur.operational.interval import _tape, enclose, enclose_all, tape_of
 from langur.operational.sample import SiteSampler
 
 
@@ -130,3 +130,20 @@ def _counting(calls, name):
         return orig(self, *args, **kwargs)
 
     return wrapped
+
+
+def test_one_tape_for_several_terms_gives_each_terms_enclosure():
+    terms = [_term(), Pow(_xy(), Fraction(2)), Mul(Prim("exp", _xy()), Var("x"))]
+    tape = tape_of(terms)
+    # the let's a, a·a and itself (its body is a tape of its own: another scope); x, y, x·y, 1,
+    # x·y + 1, its square; exp of it and the product with x — x·y + 1 once for the last two terms
+    assert [len(_tape(t).steps) for t in terms] == [3, 6, 7]
+    assert len(tape.steps) == 3 + 6 + 2
+    rng = np.random.default_rng(4)
+    lo = rng.uniform(-1.0, 1.0, size=(3, 4, 2))
+    hi = lo + rng.uniform(0.0, 0.5, size=(3, 4, 2))
+    box = {"x": (lo[..., 0], hi[..., 0]), "y": (lo[..., 1], hi[..., 1])}
+    params = {"a": np.array([[0.2], [0.7], [1.1]])}
+    for (elo, ehi), t in zip(enclose_all(tape, box, params), terms):
+        alo, ahi = enclose(t, box, params)
+        assert np.array_equal(elo, alo) and np.array_equal(ehi, ahi)

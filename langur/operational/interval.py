@@ -26,25 +26,38 @@ def enclose(t: Term, box: dict, params: dict) -> tuple[np.ndarray, np.ndarray]:
     arrays) at ``params`` (name → number or array, broadcast with the boxes).  A subterm that
     occurs more than once in ``t`` — shared (substituted lets, inlined calls: a DAG) or merely
     equal (the same expression written out twice) — is enclosed once per parameter scope."""
-    return _tape(t).run(box, params)
+    return _tape(t).run(box, params)[0]
+
+
+def enclose_all(tape: "_Tape", box: dict, params: dict) -> list[tuple[np.ndarray, np.ndarray]]:
+    """:func:`enclose` of each term of ``tape`` (:func:`tape_of`), their shared and equal
+    subterms enclosed once for all of them."""
+    return tape.run(box, params)
+
+
+def tape_of(terms) -> "_Tape":
+    """One tape for several terms (e.g. every inverse branch's components and guards of a zero
+    set, which share most of their subterms); the caller keeps it."""
+    return _build(tuple(terms))
 
 
 @dataclass(frozen=True, eq=False)
 class _Tape:
-    """``t`` as a straight line: one step per structurally distinct subterm (children first), each
-    step a rule below applied to the enclosures of earlier steps; ``drop[i]``: the steps whose
-    last reader is step i (their arrays are let go there).  The last step is ``t``."""
+    """Terms as a straight line: one step per structurally distinct subterm (children first),
+    each step a rule below applied to the enclosures of earlier steps; ``drop[i]``: the steps
+    whose last reader is step i (their arrays are let go there); ``roots``: the terms' steps."""
 
     steps: tuple[tuple, ...]
     drop: tuple[tuple[int, ...], ...]
+    roots: tuple[int, ...]
 
-    def run(self, box: dict, params: dict):
+    def run(self, box: dict, params: dict) -> list:
         out: list = [None] * len(self.steps)
         for i, (rule, kids, data) in enumerate(self.steps):
             out[i] = rule(box, params, data, *[out[k] for k in kids])
             for k in self.drop[i]:
                 out[k] = None
-        return out[-1]
+        return [out[i] for i in self.roots]
 
 
 def _tape(t: Term) -> _Tape:
@@ -52,12 +65,12 @@ def _tape(t: Term) -> _Tape:
     try:
         return t.__dict__["_enclosure_tape"]
     except KeyError:
-        tape = _build(t)
+        tape = _build((t,))
         object.__setattr__(t, "_enclosure_tape", tape)
         return tape
 
 
-def _build(root: Term) -> _Tape:
+def _build(terms: tuple[Term, ...]) -> _Tape:
     steps: list[tuple] = []
     index: dict = {}  # (rule, kids, data) → step: equal subterms are one step
     seen: dict[int, int] = {}  # id(node) → step: a shared node is looked at once
@@ -96,12 +109,14 @@ def _build(root: Term) -> _Tape:
         seen[id(t)] = i
         return i
 
-    step(root)
+    roots = tuple(step(t) for t in terms)
     last = {k: i for i, (_, kids, _) in enumerate(steps) for k in kids}
+    for k in roots:  # a term's enclosure is kept to the end
+        last.pop(k, None)
     drop = [[] for _ in steps]
     for k, i in last.items():
         drop[i].append(k)
-    return _Tape(tuple(steps), tuple(tuple(d) for d in drop))
+    return _Tape(tuple(steps), tuple(tuple(d) for d in drop), roots)
 
 
 # -- the rules: each takes (box, params, the step's data, its children's enclosures) ------------
@@ -167,7 +182,7 @@ def _ifdiffeo(box, params, _, a, b):
 def _let(box, params, data, bound):
     name, body = data
     lo, hi = bound
-    bl, bh = body.run(box, {**params, name: lo})
+    [(bl, bh)] = body.run(box, {**params, name: lo})
     wide = lo != hi  # a let bound to a range: its body is not enclosed per value
     return np.where(wide, -INF, bl), np.where(wide, INF, bh)
 
