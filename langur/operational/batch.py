@@ -9,8 +9,11 @@ design that :func:`~.estimate.estimate_value` / :func:`~.estimate.estimate_deriv
 ``np.random.default_rng(seed)``, so point i of a batch gives the numbers of the per-point API at
 point i with the same seed (``proofs_tests/test_batch.py`` checks it).
 
-The zero-set samplers' boxes (interval enclosures, §9) are found point by point; the mapping of
-the design onto each zero set, its Jacobians and the integrand are evaluated in one pass.
+The zero-set samplers' boxes (interval enclosures, §9) are found for all points at once; the
+mapping of the design onto each zero set, its Jacobians and the integrand are evaluated in one
+pass.  A zero set's work depends only on the parameters its condition reads, so it is kept
+(:func:`_geometry`) for the next image of the same scene — another colour channel, another
+shader — and reused array for array: the numbers are those of computing it again.
 """
 
 from __future__ import annotations
