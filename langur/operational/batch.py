@@ -9,17 +9,23 @@ design that :func:`~.estimate.estimate_value` / :func:`~.estimate.estimate_deriv
 ``np.random.default_rng(seed)``, so point i of a batch gives the numbers of the per-point API at
 point i with the same seed (``proofs_tests/test_batch.py`` checks it).
 
-The zero-set samplers' boxes (interval enclosures, §9) are found point by point; the mapping of
-the design onto each zero set, its Jacobians and the integrand are evaluated in one pass.
+The zero-set samplers' boxes (interval enclosures, §9) are found for all points at once; the
+mapping of the design onto each zero set, its Jacobians and the integrand are evaluated in one
+pass.  A zero set's work depends only on the parameters its condition reads, so it is kept
+(:func:`_geometry`) for the next image of the same scene — another colour channel, another
+shader — and reused array for array: the numbers are those of computing it again.
 """
 
 from __future__ import annotations
 
 import math
+import weakref
+from collections import OrderedDict
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core import diffeo_params, free_params
 from ..values import ParameterError
 from .compile import DELTA, TANGENT, VALUE, Point, full
 from .estimate import LOW_HITS, _inside, prepare
@@ -177,29 +183,11 @@ def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: s
         if not (site.deps & live):
             continue
         des = design(rng, m, samples, method)
-        nb = des.points.shape[0]
-        skip = np.zeros(npts, dtype=bool)
-        ulo, uhi = np.zeros((npts, m)), np.zeros((npts, m))
-        if m:
-            col = {name: v[:, None] for name, v in grid.items()}
-            box = {v: (lo[:, j, None], hi[:, j, None]) for j, v in enumerate(linked.variables)}
-            ulo, uhi = site.sampler.region_many(box, col)
-            unbounded = np.any(~np.isfinite(ulo) | ~np.isfinite(uhi), axis=1)
-            total[unbounded] = var[unbounded] = math.nan  # no finite box encloses the zero set here
-            skip |= unbounded
-            fine = np.flatnonzero(~unbounded)
-            if len(fine):
-                sub = {v: (a[fine], b[fine]) for v, (a, b) in box.items()}
-                slo, shi = site.sampler.shrink_many(ulo[fine], uhi[fine], sub, {k: v[fine] for k, v in col.items()})
-                ulo[fine], uhi[fine] = slo, shi
-                skip[fine[np.any(~(shi > slo), axis=1)]] = True
-        idx = np.flatnonzero(~skip)  # the points whose box this zero set meets
+        unbounded, idx, volumes, branches = _geometry(site.sampler, des, grid, dp, lo, hi, npts, m)
+        total[unbounded] = var[unbounded] = math.nan  # no finite box encloses the zero set here
         if not len(idx):
             continue
-        sub = {name: v[idx] for name, v in grid.items()}
-        rep = {name: np.repeat(v, nb) for name, v in sub.items()}
-        volumes, branches = site.sampler.points_many(des.points, ulo[idx], uhi[idx], rep, point_params=sub)
-        branches = [(xb, w, ok, site.sampler.dpsi(xb, rep, dp)) for xb, w, ok in branches]
+        rep = {name: np.repeat(v[idx], des.points.shape[0]) for name, v in grid.items()}
         plan.append((k, des, idx, volumes, branches, rep))
     if not plan:
         return total, var, low
@@ -238,3 +226,56 @@ def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: s
         total[idx] += volumes * mean
         var[idx] += (volumes * se) ** 2
     return total, var, low
+
+
+#: Recent sites' zero-set work (:func:`_geometry`), most recent last, at most GEOMETRY_BYTES of arrays.
+_GEOMETRY: OrderedDict = OrderedDict()
+GEOMETRY_BYTES = 96 * 2 ** 20
+
+
+def _geometry(sampler, des, grid: dict, dp: dict, lo, hi, npts: int, m: int):
+    """One site's zero set at every point: where no finite box encloses it (``unbounded``), the
+    points whose box it meets (``idx``), and there the volumes of their u'-boxes and each
+    branch's points, weights, guards and D_γ π₀Ψ̂ · γ' (:meth:`SiteSampler.points_many`).
+
+    All of it depends only on the design, the program's boxes, γ' and the parameters Ψ̂ reads —
+    not on the integrand's other parameters — so it is kept (:data:`_GEOMETRY`) and reused,
+    array for array, when the same zero set is asked again: another colour channel of an image,
+    another shader over the same scene (§10.2: the geometry is the shader's argument)."""
+    psi = sampler.psi
+    reads = diffeo_params(psi).union(*(free_params(t) for b in psi.branches for t in (*b.components, *b.guards)))
+    key = (id(sampler), des.method, des.points.tobytes(), lo.tobytes(), hi.tobytes(), tuple(sorted(dp.items())),
+           tuple((name, grid[name].tobytes()) for name in sorted(reads) if name in grid))
+    hit = _GEOMETRY.get(key)
+    if hit is not None and hit[0]() is sampler:
+        _GEOMETRY.move_to_end(key)
+        return hit[1]
+    skip = np.zeros(npts, dtype=bool)
+    unbounded = np.zeros(npts, dtype=bool)
+    ulo, uhi = np.zeros((npts, m)), np.zeros((npts, m))
+    if m:
+        col = {name: v[:, None] for name, v in grid.items()}
+        box = {v: (lo[:, j, None], hi[:, j, None]) for j, v in enumerate(sampler.variables)}
+        ulo, uhi = sampler.region_many(box, col)
+        unbounded = np.any(~np.isfinite(ulo) | ~np.isfinite(uhi), axis=1)
+        skip |= unbounded
+        fine = np.flatnonzero(~unbounded)
+        if len(fine):
+            sub = {v: (a[fine], b[fine]) for v, (a, b) in box.items()}
+            slo, shi = sampler.shrink_many(ulo[fine], uhi[fine], sub, {k: v[fine] for k, v in col.items()})
+            ulo[fine], uhi[fine] = slo, shi
+            skip[fine[np.any(~(shi > slo), axis=1)]] = True
+    idx = np.flatnonzero(~skip)  # the points whose box this zero set meets
+    volumes, branches = None, []
+    if len(idx):
+        sub = {name: v[idx] for name, v in grid.items()}
+        rep = {name: np.repeat(v, des.points.shape[0]) for name, v in sub.items()}
+        volumes, branches = sampler.points_many(des.points, ulo[idx], uhi[idx], rep, point_params=sub)
+        branches = [(xb, w, ok, sampler.dpsi(xb, rep, dp)) for xb, w, ok in branches]
+    out = (unbounded, idx, volumes, branches)
+    size = sum(a.nbytes for xb, w, ok, d in branches for a in (*xb.values(), w, ok, np.asarray(d)))
+    if size <= GEOMETRY_BYTES:
+        _GEOMETRY[key] = (weakref.ref(sampler), out, size)
+        while sum(v[2] for v in _GEOMETRY.values()) > GEOMETRY_BYTES:
+            _GEOMETRY.popitem(last=False)
+    return out

@@ -9,6 +9,7 @@ unbounded, never narrower.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
@@ -22,76 +23,189 @@ INF = np.inf
 
 def enclose(t: Term, box: dict, params: dict) -> tuple[np.ndarray, np.ndarray]:
     """Arrays (lo, hi) containing ⟦t⟧ for every point of each box (``box``: variable → (lo, hi)
-    arrays) at ``params`` (name → number or array, broadcast with the boxes).  A subterm shared
-    in ``t`` (substituted lets, inlined calls: a DAG) is enclosed once per parameter scope."""
-    return _Enclose(box).go(t, params)
+    arrays) at ``params`` (name → number or array, broadcast with the boxes).  A subterm that
+    occurs more than once in ``t`` — shared (substituted lets, inlined calls: a DAG) or merely
+    equal (the same expression written out twice) — is enclosed once per parameter scope."""
+    return _tape(t).run(box, params)[0]
 
 
-class _Enclose:
-    def __init__(self, box: dict):
-        self.box = box
-        self.memo: dict[tuple[int, int], tuple] = {}
-        self.scopes: list[dict] = []  # the parameter scopes stay alive, so their ids stay theirs
+def enclose_all(tape: "_Tape", box: dict, params: dict) -> list[tuple[np.ndarray, np.ndarray]]:
+    """:func:`enclose` of each term of ``tape`` (:func:`tape_of`), their shared and equal
+    subterms enclosed once for all of them."""
+    return tape.run(box, params)
 
-    def go(self, t: Term, params: dict):
-        key = (id(t), id(params))
-        hit = self.memo.get(key)
-        if hit is None:
-            hit = self.memo[key] = self._enclose(t, params)
-        return hit
 
-    def _enclose(self, t: Term, params: dict):
-        box, enclose = self.box, self.go
+def tape_of(terms) -> "_Tape":
+    """One tape for several terms (e.g. every inverse branch's components and guards of a zero
+    set, which share most of their subterms); the caller keeps it."""
+    return _build(tuple(terms))
+
+
+@dataclass(frozen=True, eq=False)
+class _Tape:
+    """Terms as a straight line: one step per structurally distinct subterm (children first),
+    each step a rule below applied to the enclosures of earlier steps; ``drop[i]``: the steps
+    whose last reader is step i (their arrays are let go there); ``roots``: the terms' steps."""
+
+    steps: tuple[tuple, ...]
+    drop: tuple[tuple[int, ...], ...]
+    roots: tuple[int, ...]
+
+    def run(self, box: dict, params: dict) -> list:
+        out: list = [None] * len(self.steps)
+        for i, (rule, kids, data) in enumerate(self.steps):
+            out[i] = rule(box, params, data, *[out[k] for k in kids])
+            for k in self.drop[i]:
+                out[k] = None
+        return [out[i] for i in self.roots]
+
+
+def _tape(t: Term) -> _Tape:
+    """The tape of ``t``, built once and kept on the node (as core's derived facts are)."""
+    try:
+        return t.__dict__["_enclosure_tape"]
+    except KeyError:
+        tape = _build((t,))
+        object.__setattr__(t, "_enclosure_tape", tape)
+        return tape
+
+
+def _build(terms: tuple[Term, ...]) -> _Tape:
+    steps: list[tuple] = []
+    index: dict = {}  # (rule, kids, data) → step: equal subterms are one step
+    seen: dict[int, int] = {}  # id(node) → step: a shared node is looked at once
+
+    def step(t: Term) -> int:
+        hit = seen.get(id(t))
+        if hit is not None:
+            return hit
         match t:
             case Const():
-                c = np.float64(const_value(t))
-                return c, c
+                key = (_const, (), np.float64(const_value(t)))
             case Var(name):
-                return box[name]
+                key = (_var, (), name)
             case Param(name):
-                v = np.asarray(params[name], dtype=float)
-                return v, v
+                key = (_param, (), name)
             case Add(a, b):
-                (al, ah), (bl, bh) = enclose(a, params), enclose(b, params)
-                return al + bl, ah + bh
+                key = (_add, (step(a), step(b)), None)
             case Mul(a, b):
-                (al, ah), (bl, bh) = enclose(a, params), enclose(b, params)
-                with np.errstate(invalid="ignore"):  # a point interval (lo is hi) multiplies once
-                    p0 = al * bl
-                    p1 = p0 if bl is bh else al * bh
-                    p2 = p0 if al is ah else ah * bl
-                    p3 = p2 if bl is bh else (p1 if al is ah else ah * bh)
-                # NaN products ignored… (left to right, as a reduction over the four would)
-                lo = np.fmin(np.fmin(np.fmin(p0, p1), p2), p3)
-                hi = np.fmax(np.fmax(np.fmax(p0, p1), p2), p3)
-                none = np.isnan(lo)  # …unless all are NaN: then anything
-                if not none.any():
-                    return lo, hi
-                return np.where(none, -INF, lo), np.where(none, INF, hi)
+                key = (_mul, (step(a), step(b)), None)
             case Pow(a, k):
-                return _pow(*enclose(a, params), k)
+                key = (_pow, (step(a),), k)
             case Prim(op, a):
-                return _prim(op, *enclose(a, params))
+                key = (_prim, (step(a),), op)
             case IfGe0(c, a, b):
-                (cl, ch), (al, ah), (bl, bh) = enclose(c, params), enclose(a, params), enclose(b, params)
-                lo = np.where(cl >= 0, al, np.where(ch < 0, bl, np.minimum(al, bl)))
-                hi = np.where(cl >= 0, ah, np.where(ch < 0, bh, np.maximum(ah, bh)))
-                return lo, hi
+                key = (_ifge0, (step(c), step(a), step(b)), None)
             case IfDiffeo(_, a, b):
-                (al, ah), (bl, bh) = enclose(a, params), enclose(b, params)
-                return np.minimum(al, bl), np.maximum(ah, bh)
-            case Let(name, bound, body):
-                lo, hi = enclose(bound, params)
-                scope = {**params, name: lo}
-                self.scopes.append(scope)
-                bl, bh = enclose(body, scope)
-                wide = lo != hi  # a let bound to a range: its body is not enclosed per value
-                return np.where(wide, -INF, bl), np.where(wide, INF, bh)
-        raise TypeError(f"cannot enclose {t!r}")
+                key = (_ifdiffeo, (step(a), step(b)), None)
+            case Let(name, bound, body):  # the body under its own scope: a tape of its own
+                key = (_let, (step(bound),), (name, _tape(body)))
+            case _:
+                raise TypeError(f"cannot enclose {t!r}")
+        i = index.get(key)
+        if i is None:
+            i = index[key] = len(steps)
+            steps.append(key)
+        seen[id(t)] = i
+        return i
+
+    roots = tuple(step(t) for t in terms)
+    last = {k: i for i, (_, kids, _) in enumerate(steps) for k in kids}
+    for k in roots:  # a term's enclosure is kept to the end
+        last.pop(k, None)
+    drop = [[] for _ in steps]
+    for k, i in last.items():
+        drop[i].append(k)
+    return _Tape(tuple(steps), tuple(tuple(d) for d in drop), roots)
 
 
-def _pow(lo, hi, k: Fraction):
+# -- the rules: each takes (box, params, the step's data, its children's enclosures) ------------
+
+def _const(box, params, c):
+    return c, c
+
+
+def _var(box, params, name):
+    return box[name]
+
+
+def _param(box, params, name):
+    v = np.asarray(params[name], dtype=float)
+    return v, v
+
+
+def _add(box, params, _, a, b):
+    (al, ah), (bl, bh) = a, b
+    if al is ah and bl is bh:  # a point stays a point (the one sum is both ends)
+        s = al + bl
+        return s, s
+    return al + bl, ah + bh
+
+
+def _mul(box, params, _, a, b):
+    (al, ah), (bl, bh) = a, b
+    if al is ah and bl is bh:  # a point times a point: one product, still a point
+        with np.errstate(invalid="ignore"):
+            p = al * bl
+        nan = np.isnan(p)
+        if not nan.any():
+            return p, p
+        return np.where(nan, -INF, p), np.where(nan, INF, p)
+    with np.errstate(invalid="ignore"):
+        if al is ah or bl is bh:  # a point times an interval: two products
+            p0, p1 = (al * bl, al * bh) if al is ah else (al * bl, ah * bl)
+            # NaN products ignored… (fmin/fmax keep their first argument on a tie, so these are
+            # the four-product reductions below with the repeated products left out)
+            lo, hi = np.fmin(p0, p1), np.fmax(p0, p1)
+        else:
+            p0, p1, p2, p3 = al * bl, al * bh, ah * bl, ah * bh
+            lo = np.fmin(np.fmin(np.fmin(p0, p1), p2), p3)  # left to right, as a reduction would
+            hi = np.fmax(np.fmax(np.fmax(p0, p1), p2), p3)
+    none = np.isnan(lo)  # …unless all are NaN: then anything
+    if not none.any():
+        return lo, hi
+    return np.where(none, -INF, lo), np.where(none, INF, hi)
+
+
+def _ifge0(box, params, _, c, a, b):
+    (cl, ch), (al, ah), (bl, bh) = c, a, b
+    lo = np.where(cl >= 0, al, np.where(ch < 0, bl, np.minimum(al, bl)))
+    hi = np.where(cl >= 0, ah, np.where(ch < 0, bh, np.maximum(ah, bh)))
+    return lo, hi
+
+
+def _ifdiffeo(box, params, _, a, b):
+    (al, ah), (bl, bh) = a, b
+    return np.minimum(al, bl), np.maximum(ah, bh)
+
+
+def _let(box, params, data, bound):
+    name, body = data
+    lo, hi = bound
+    [(bl, bh)] = body.run(box, {**params, name: lo})
+    wide = lo != hi  # a let bound to a range: its body is not enclosed per value
+    return np.where(wide, -INF, bl), np.where(wide, INF, bh)
+
+
+def _prim(box, params, op: str, a):
+    """An interval containing f([lo, hi]): the primitive registry's own rule (one declaration)."""
+    return REGISTRY[op].interval(*a)
+
+
+def _pow(box, params, k: Fraction, a):
+    lo, hi = a
     f = float(k)
+    if lo is hi:  # a point: one power, still a point where it is bounded
+        with np.errstate(all="ignore"):
+            p = np.power(lo, f)
+        if k.denominator == 1 and k > 0:
+            return p, p
+        unbounded = (lo < 0) if k.denominator != 1 else np.zeros(np.shape(lo), dtype=bool)
+        if k < 0:
+            unbounded = unbounded | (lo == 0)
+        if not unbounded.any():
+            return p, p
+        return np.where(unbounded, -INF, p), np.where(unbounded, INF, p)
     with np.errstate(all="ignore"):
         a, b = np.power(lo, f), np.power(hi, f)
     if k.denominator == 1 and k > 0:
@@ -105,7 +219,3 @@ def _pow(lo, hi, k: Fraction):
         unbounded = unbounded | ((lo <= 0) & (hi >= 0))
     return np.where(unbounded, -INF, np.minimum(a, b)), np.where(unbounded, INF, np.maximum(a, b))
 
-
-def _prim(op: str, lo, hi):
-    """An interval containing f([lo, hi]): the primitive registry's own rule (one declaration)."""
-    return REGISTRY[op].interval(lo, hi)

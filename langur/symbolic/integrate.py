@@ -76,7 +76,7 @@ def _at(at: dict) -> dict:
 
 
 def _value(expr, ctx: Context) -> float:
-    z = ctx.value(expr)
+    z = ctx.exact_value(expr)
     if abs(z.imag) > 1e-9 * max(1.0, abs(z.real)):
         raise Unsupported(f"closed form is not real at the evaluation point: {z}")
     return z.real
