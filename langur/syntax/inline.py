@@ -231,7 +231,7 @@ class _Subst:
                 new_psi = diffeo.instantiate(psi, keys, tuple(names), tuple(pmap[k] for k in keys), self.inl.variables)
                 return replace(t, psi=new_psi, then=a, orelse=b)
             case _:
-                return map_children(t, lambda c: self.go(c, pmap))
+                return _rebuilt(t, lambda c: self.go(c, pmap))
 
 
 def _too_large(program: Program, lookup) -> Diagnostic | None:
