@@ -199,6 +199,17 @@ _TYPED = "_typed"
 _LEAVES = (Const, Var, Param)
 
 
+#: One object per distinct set of contexts (or of variable lists) kept on nodes: thousands of
+#: nodes keep the same one, and the cyclic collector has fewer objects to traverse.
+_INTERNED: dict[frozenset, frozenset] = {}
+
+
+def _interned(s: frozenset) -> frozenset:
+    if len(_INTERNED) > 4096:
+        _INTERNED.clear()
+    return _INTERNED.setdefault(s, s)
+
+
 def _remembered(fn):
     """While :func:`type_program` runs (and no observer records the derivation: ``show --typing``
     sees every rule), ``Δ; Γ ⊢ t`` is checked once per distinct node and context, as
@@ -337,7 +348,8 @@ def type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
         if not out and visited:
             for t, delta, gamma_ in visited.values():
                 if not isinstance(t, _LEAVES):
-                    t.__dict__.setdefault(_TYPED, set()).add((delta, gamma_))
+                    d = t.__dict__
+                    d[_TYPED] = _interned(d.get(_TYPED, frozenset()) | {(delta, gamma_)})
     finally:
         _CHECKING.visited = outer
     return out
@@ -486,7 +498,7 @@ def _diffeo_variables(t: Term) -> frozenset[tuple[str, ...]]:
         found = frozenset().union(*map(_diffeo_variables, children(t)))
         if isinstance(t, IfDiffeo):
             found |= {t.psi.variables}
-        d["_psi_vars"] = found
+        found = d["_psi_vars"] = _interned(found)
     return found
 
 
