@@ -137,3 +137,23 @@ def test_inlining_a_program_without_calls_returns_it_and_depth_is_checked_every_
 def _walk(t):
     from langur.core import subterms
     return list(subterms(t))
+
+
+def test_loading_restores_the_cyclic_collector_as_it_found_it(tmp_path):
+    import gc
+
+    from langur.diagnostics import LangurError
+
+    (tmp_path / "ok.lgr").write_text("param a = 1\nint ([0, 1]) [x - a/2 >= 0] d(x)\n")
+    (tmp_path / "bad.lgr").write_text("int ([0, 1]) [x - nope >= 0] d(x)\n")
+    was = gc.isenabled()
+    try:
+        for enabled in (True, False):
+            (gc.enable if enabled else gc.disable)()
+            frontend.load(str(tmp_path / "ok.lgr"))
+            assert gc.isenabled() is enabled
+            with pytest.raises(LangurError):
+                frontend.load(str(tmp_path / "bad.lgr"))
+            assert gc.isenabled() is enabled
+    finally:
+        (gc.enable if was else gc.disable)()

@@ -24,11 +24,13 @@ from fractions import Fraction
 
 from .. import typesys as ty
 from ..core import (
+    Add,
     Call,
     Const,
     IfDiffeo,
     IfGe0,
     Let,
+    Mul,
     Param,
     Program,
     Term,
@@ -341,6 +343,8 @@ def _rebuilt(t: Term, f) -> Term:
     new = tuple(f(c) for c in old)
     if all(n is o for n, o in zip(new, old)):
         return t
+    if type(t) in (Add, Mul):  # the most frequent nodes, built directly (``replace`` is slower)
+        return type(t)(new[0], new[1], span=t.span)
     it = iter(new)
     return map_children(t, lambda _: next(it))
 
