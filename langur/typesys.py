@@ -346,10 +346,17 @@ def type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
     try:
         out = _type_program(p, gamma)
         if not out and visited:
+            alone: dict[tuple, frozenset] = {}  # (id Δ, id Γ) -> the interned {(Δ, Γ)}
             for t, delta, gamma_ in visited.values():
-                if not isinstance(t, _LEAVES):
-                    d = t.__dict__
-                    d[_TYPED] = _interned(d.get(_TYPED, frozenset()) | {(delta, gamma_)})
+                if isinstance(t, _LEAVES):
+                    continue
+                key = (id(delta), id(gamma_))
+                single = alone.get(key)
+                if single is None:
+                    single = alone[key] = _interned(frozenset({(delta, gamma_)}))
+                d = t.__dict__
+                known = d.get(_TYPED)
+                d[_TYPED] = single if known is None or known is single else _interned(known | single)
     finally:
         _CHECKING.visited = outer
     return out
@@ -417,7 +424,12 @@ def _all_rational_and_small(t: Term) -> bool:
     d = t.__dict__
     ok = d.get("_small_all")
     if ok is None:
-        ok = _small_value(t) is not False and all(_all_rational_and_small(c) for c in children(t))
+        ok = _small_value(t) is not False
+        if ok:
+            for c in children(t):
+                if not _all_rational_and_small(c):
+                    ok = False
+                    break
         d["_small_all"] = ok
     return ok
 
@@ -495,11 +507,18 @@ def _diffeo_variables(t: Term) -> frozenset[tuple[str, ...]]:
     d = t.__dict__
     found = d.get("_psi_vars")
     if found is None:
-        found = frozenset().union(*map(_diffeo_variables, children(t)))
-        if isinstance(t, IfDiffeo):
-            found |= {t.psi.variables}
-        found = d["_psi_vars"] = _interned(found)
+        found = _NONE
+        for c in children(t):
+            more = _diffeo_variables(c)
+            if more is not found and more:
+                found = _interned(found | more) if found else more
+        if isinstance(t, IfDiffeo) and t.psi.variables not in found:
+            found = _interned(found | {t.psi.variables})
+        d["_psi_vars"] = found
     return found
+
+
+_NONE: frozenset = frozenset()
 
 
 def _ifdiffeos(t: Term):
