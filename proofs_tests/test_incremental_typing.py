@@ -157,3 +157,19 @@ def test_loading_restores_the_cyclic_collector_as_it_found_it(tmp_path):
             assert gc.isenabled() is enabled
     finally:
         (gc.enable if was else gc.disable)()
+
+
+@pytest.mark.parametrize("name", ["fig1", "fig9", "risk", "triangle", "window", "scene"])
+def test_the_depth_of_a_program_without_calls_is_the_measures_own(name):
+    import os
+
+    from langur.syntax import inline as inline_module
+
+    path = os.path.join(os.path.dirname(__file__), "..", "examples", f"{name}.lgr")
+    loaded = frontend.load(path)
+    body = loaded.program.body
+    # the general measure on a copy that knows nothing about its calls, against the kept one
+    general = inline_module._Depth(lambda m, n: None).of(_fresh(body), {})
+    own = _fresh(body)
+    assert not inline_module.has_calls(own)
+    assert inline_module._own_depth(own) == general > 3
