@@ -11,7 +11,9 @@ Run:  python bench/bench_text_to_number.py [--plot OUT.png] [--reps K]
   (``frontend.CACHE``) and with every load from scratch (the cache cleared before each load).
 * **One-shot**: wall and CPU time of ``python -m langur eval examples/fig1.lgr --engine mc`` (medians
   of K processes; on a loaded machine the CPU time is the fair number), and the CPU time of
-  importing ``langur.frontend`` + ``langur.operational`` beyond numpy's.
+  importing ``langur.frontend`` + ``langur.operational`` beyond numpy's; each with Python's
+  compiled modules kept (as an installed package has them) and with every module compiled from
+  source at start (``PYTHONDONTWRITEBYTECODE=1`` without a ``__pycache__``).
 """
 
 from __future__ import annotations
@@ -94,9 +96,27 @@ def mb2(swaps: int, incremental: bool) -> tuple[float, dict]:
         return CLOCK() - t0, {"elaborated": elaborated, "reused": reused}
 
 
-def one_shot(reps: int) -> tuple[float, float]:
-    """Median wall time and median CPU time (user + system) of the whole process."""
+def _env(bytecode: str | None) -> dict:
+    """The subprocesses' environment: with ``bytecode`` a folder, Python's compiled modules are
+    kept there (``PYTHONPYCACHEPREFIX``), as an installed package has them (pip compiles them at
+    install); with ``None``, every module is compiled from source at each start, as in a process
+    run with ``PYTHONDONTWRITEBYTECODE=1`` on a tree that has no ``__pycache__``."""
     env = {**os.environ, "PYTHONPATH": ROOT}
+    if bytecode is None:
+        env["PYTHONDONTWRITEBYTECODE"] = "1"
+        env.pop("PYTHONPYCACHEPREFIX", None)
+    else:
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
+        env["PYTHONPYCACHEPREFIX"] = bytecode
+    return env
+
+
+def one_shot(reps: int, bytecode: str | None = None) -> tuple[float, float]:
+    """Median wall time and median CPU time (user + system) of the whole process."""
+    env = _env(bytecode)
+    if bytecode is not None:  # one run first, which writes the compiled modules
+        subprocess.run([sys.executable, "-m", "langur", "eval", "examples/fig1.lgr", "--engine", "mc"],
+                       cwd=ROOT, env=env, check=True, capture_output=True)
     walls, cpus = [], []
     for _ in range(reps):
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -109,10 +129,12 @@ def one_shot(reps: int) -> tuple[float, float]:
     return statistics.median(walls), statistics.median(cpus)
 
 
-def import_time(reps: int) -> tuple[float, float]:
+def import_time(reps: int, bytecode: str | None = None) -> tuple[float, float]:
     code = ("import time; t0 = time.process_time(); import numpy; t1 = time.process_time(); "
             "import langur.frontend, langur.operational; t2 = time.process_time(); print(t1 - t0, t2 - t1)")
-    env = {**os.environ, "PYTHONPATH": ROOT}
+    env = _env(bytecode)
+    if bytecode is not None:
+        subprocess.run([sys.executable, "-c", code], env=env, cwd=ROOT, check=True, capture_output=True)
     runs = [tuple(map(float, subprocess.run([sys.executable, "-c", code], env=env, cwd=ROOT, check=True,
                                             capture_output=True, text=True).stdout.split())) for _ in range(reps)]
     return statistics.median(r[0] for r in runs), statistics.median(r[1] for r in runs)
@@ -139,10 +161,15 @@ def main() -> None:
         how = "incremental front end" if incremental else "every load from scratch"
         print(f"  {how:26s}: {t:.3f} s   (modules elaborated: {stats['elaborated']}, reused: {stats['reused']})")
     print("\nOne-shot process")
-    wall, cpu = one_shot(args.reps)
-    print(f"  langur eval examples/fig1.lgr --engine mc: {wall:.3f} s wall, {cpu:.3f} s CPU (medians of {args.reps})")
-    numpy_s, ours = import_time(args.reps)
-    print(f"  import langur.frontend, langur.operational: {ours:.3f} s CPU beyond numpy's {numpy_s:.3f} s")
+    with tempfile.TemporaryDirectory() as cache:
+        for bytecode, how in ((cache, "compiled modules kept (as installed)"),
+                              (None, "every module compiled from source")):
+            wall, cpu = one_shot(args.reps, bytecode)
+            print(f"  langur eval examples/fig1.lgr --engine mc, {how}: {wall:.3f} s wall, {cpu:.3f} s CPU "
+                  f"(medians of {args.reps})")
+            numpy_s, ours = import_time(args.reps, bytecode)
+            print(f"  import langur.frontend, langur.operational, {how}: {ours:.3f} s CPU beyond numpy's "
+                  f"{numpy_s:.3f} s")
     if args.plot:
         import matplotlib
 

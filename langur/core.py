@@ -453,19 +453,19 @@ def smooth(t: Term) -> bool:
 
 def tree_size(t: Term) -> int:
     """The number of nodes of ``t`` counted once per path (its size written out as a tree),
-    computed once per distinct node."""
-    memo: dict[int, int] = {}
+    computed once per distinct node and kept on it (a subterm shared with an earlier program
+    costs nothing)."""
     stack = [(t, False)]
     while stack:
         u, done = stack.pop()
-        if id(u) in memo:
+        if "_size" in u.__dict__:
             continue
         if done:
-            memo[id(u)] = 1 + sum(memo[id(c)] for c in children(u))
+            u.__dict__["_size"] = 1 + sum(c.__dict__["_size"] for c in children(u))
             continue
         stack.append((u, True))
-        stack.extend((c, False) for c in children(u) if id(c) not in memo)
-    return memo[id(t)]
+        stack.extend((c, False) for c in children(u) if "_size" not in c.__dict__)
+    return t.__dict__["_size"]
 
 
 def diffeo_params(psi: Diffeo) -> frozenset[str]:

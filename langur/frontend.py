@@ -43,6 +43,7 @@ import os
 from dataclasses import dataclass, field
 from fractions import Fraction
 
+from . import gcpause
 from . import typesys as ty
 from .core import Diffeo, Term, free_params
 from .diagnostics import Diagnostic, LangurError, Span
@@ -118,6 +119,11 @@ def load_text(text: str, path: str = "<string>", modules: dict[str, str] | None 
 
 def load_bytes(data: bytes, path: str = "<bytes>", modules: dict[str, str] | None = None) -> Loaded:
     """Load a module given as bytes (UTF-8; a decoding error is the parser's E101)."""
+    with gcpause.paused():  # loading builds many small objects and no cycles
+        return _load_bytes(data, path, modules)
+
+
+def _load_bytes(data: bytes, path: str, modules: dict[str, str] | None) -> Loaded:
     loader = _Loader(modules or {})
     main = loader.module(_module_name(path), path, data, None)
     if loader.errors or main is None:

@@ -36,6 +36,11 @@ def rule(name: str, term, **context) -> None:
         steps.append(Step(name, term, _STATE["depth"], None, context))
 
 
+def active() -> bool:
+    """Whether an observer is recording (a pass that skips work it has done before must not)."""
+    return _STATE["steps"] is not None
+
+
 def nested(fn):
     """Record the depth of the recursion of ``fn`` and the result of each rule it applies."""
 

@@ -17,7 +17,10 @@ code (T201–T233) is one of the catalogue :mod:`langur.codes` (``docs/CODES.md`
 
 from __future__ import annotations
 
+import functools
+import inspect
 import sys
+import threading
 from fractions import Fraction
 
 from . import lazy, observe
@@ -37,6 +40,7 @@ from .core import (
     Program,
     Term,
     Var,
+    children,
     free_params,
     free_vars,
     shared,
@@ -187,6 +191,53 @@ def reject_not_smooth(span, name: str, detail: str) -> Diagnostic:
 # Fig. 6 and Fig. 11 on the core language.
 
 
+#: While :func:`type_program` runs: its judgements checked so far, by the identities of
+#: ``(t, Δ, Γ, out)`` (the objects kept alive with them, so that an identity stays theirs).
+_CHECKING = threading.local()
+#: The attribute under which a node keeps the contexts (Δ, Γ) it was found well typed in.
+_TYPED = "_typed"
+_LEAVES = (Const, Var, Param)
+
+
+#: One object per distinct set of contexts (or of variable lists) kept on nodes: thousands of
+#: nodes keep the same one, and the cyclic collector has fewer objects to traverse.
+_INTERNED: dict[frozenset, frozenset] = {}
+
+
+def _interned(s: frozenset) -> frozenset:
+    if len(_INTERNED) > 4096:
+        _INTERNED.clear()
+    return _INTERNED.setdefault(s, s)
+
+
+def _remembered(fn):
+    """While :func:`type_program` runs (and no observer records the derivation: ``show --typing``
+    sees every rule), ``Δ; Γ ⊢ t`` is checked once per distinct node and context, as
+    :func:`~langur.core.shared` would, by the rules themselves without the other layers; and it is
+    skipped when a program found well typed (no diagnostic at all) already contained ``t`` in the
+    same ``Δ; Γ`` — the judgement is a function of ``(Δ, Γ, t)`` and terms are immutable, so it
+    holds again.  Loading a scene again after a shader swap re-types the inlined calls only, not
+    the scene's conditions (issue 15)."""
+    rules = inspect.unwrap(fn)
+
+    @functools.wraps(fn)
+    def wrapper(delta, gamma, t, out):
+        visited = getattr(_CHECKING, "visited", None)
+        if visited is None:
+            return fn(delta, gamma, t, out)
+        key = (id(t), id(delta), id(gamma))
+        if key in visited:
+            return None
+        known = t.__dict__.get(_TYPED)
+        if known is not None and (delta, gamma) in known:
+            return None
+        visited[key] = (t, delta, gamma)
+        return rules(delta, gamma, t, out)
+
+    return wrapper
+
+
+@_remembered
 @shared
 @observe.nested
 def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[Diagnostic]) -> None:
@@ -290,6 +341,28 @@ def type_diffeo(delta: frozenset[str], gamma: frozenset[str], psi: Diffeo, out: 
 def type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
     """``·; Γ ⊢ int t d(x1, …, xn) : real`` (Fig. 11) and compact support (§8.3): the program's
     diagnostics (empty when it is well typed)."""
+    outer = getattr(_CHECKING, "visited", None)
+    _CHECKING.visited = visited = None if observe.active() else {}
+    try:
+        out = _type_program(p, gamma)
+        if not out and visited:
+            alone: dict[tuple, frozenset] = {}  # (id Δ, id Γ) -> the interned {(Δ, Γ)}
+            for t, delta, gamma_ in visited.values():
+                if isinstance(t, _LEAVES):
+                    continue
+                key = (id(delta), id(gamma_))
+                single = alone.get(key)
+                if single is None:
+                    single = alone[key] = _interned(frozenset({(delta, gamma_)}))
+                d = t.__dict__
+                known = d.get(_TYPED)
+                d[_TYPED] = single if known is None or known is single else _interned(known | single)
+    finally:
+        _CHECKING.visited = outer
+    return out
+
+
+def _type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
     out: list[Diagnostic] = []
     seen: set[str] = set()
     for x in p.variables:
@@ -304,7 +377,7 @@ def type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
                  delta=frozenset(p.variables), gamma=gamma)
     type_term(frozenset(p.variables), gamma, p.body, out)
     # after inlining every diffeomorphic condition is over all the program's variables
-    for u in _ifdiffeos(p.body):
+    for u in _ifdiffeos(p.body) if _diffeo_variables(p.body) - {p.variables} else ():
         if u.psi.variables != p.variables:
             out.append(reject_diffeo_args(u.span, u.psi.name or "(completed)",
                                           f"over {u.psi.variables}, not the program's variables {p.variables}"))
@@ -345,42 +418,55 @@ _BITS = 256
 
 def _all_rational_and_small(t: Term) -> bool:
     """Every constant subterm of ``t`` is a rational of magnitude ≤ :data:`_SMALL` (exact Fraction
-    arithmetic; π, primitives, fractional or large powers of constants: ``False``, mpmath decides)."""
-    memo: dict[int, Fraction | None | bool] = {}  # None: not constant; False: not decided here
+    arithmetic; π, primitives, fractional or large powers of constants: ``False``, mpmath decides).
+    Both answers are kept on the nodes (a pure function of the term): a subterm shared with an
+    earlier program (the scene of a shader swap) costs nothing the second time."""
+    d = t.__dict__
+    ok = d.get("_small_all")
+    if ok is None:
+        ok = _small_value(t) is not False
+        if ok:
+            for c in children(t):
+                if not _all_rational_and_small(c):
+                    ok = False
+                    break
+        d["_small_all"] = ok
+    return ok
 
-    def go(u: Term):
-        key = id(u)
-        if key in memo:
-            return memo[key]
-        match u:
-            case Const(value) if isinstance(value, Fraction):
-                v = value
-            case Add(a, b) | Mul(a, b):
-                x, y = go(a), go(b)
-                if x is False or y is False:
-                    v = False
-                elif x is None or y is None:
-                    v = None
-                else:
-                    v = x + y if isinstance(u, Add) else x * y
-            case Pow(a, k):
-                x = go(a)
-                if x is None or x is False:
-                    v = x
-                elif k.denominator == 1 and abs(k) <= 64 and (x != 0 or k > 0):
-                    v = x ** int(k)
-                else:
-                    v = False
-            case Var() | Param():
+
+def _small_value(u: Term):
+    """The exact value of the constant term ``u`` when it is a small rational; ``None`` when ``u``
+    is not constant; ``False`` when it is but not decided here (kept on the node)."""
+    d = u.__dict__
+    if "_small" in d:
+        return d["_small"]
+    match u:
+        case Const(value) if type(value) is Fraction:
+            v = value
+        case Add(a, b) | Mul(a, b):
+            x, y = _small_value(a), _small_value(b)
+            if x is False or y is False:
+                v = False
+            elif x is None or y is None:
                 v = None
-            case _:
-                v = False if not free_vars(u) and not free_params(u) else None
-        if isinstance(v, Fraction) and (abs(v) > _SMALL or v.denominator.bit_length() > _BITS):
-            v = False  # large, or a long exact fraction (a product of 10⁴ factors): mpmath decides
-        memo[key] = v
-        return v
-
-    return all(go(u) is not False for u in subterms(t))
+            else:
+                v = x + y if isinstance(u, Add) else x * y
+        case Pow(a, k):
+            x = _small_value(a)
+            if x is None or x is False:
+                v = x
+            elif k.denominator == 1 and abs(k) <= 64 and (x != 0 or k > 0):
+                v = x ** int(k)
+            else:
+                v = False
+        case Var() | Param():
+            v = None
+        case _:
+            v = False if not free_vars(u) and not free_params(u) else None
+    if type(v) is Fraction and (abs(v) > _SMALL or v.denominator.bit_length() > _BITS):
+        v = False  # large, or a long exact fraction (a product of 10⁴ factors): mpmath decides
+    d["_small"] = v
+    return v
 
 
 def _constant(t: Term, memo: dict[int, object]):
@@ -414,6 +500,25 @@ def _constant(t: Term, memo: dict[int, object]):
         v = None
     memo[key] = v
     return v
+
+
+def _diffeo_variables(t: Term) -> frozenset[tuple[str, ...]]:
+    """The variable lists of the diffeomorphic conditionals in ``t`` (kept on the nodes)."""
+    d = t.__dict__
+    found = d.get("_psi_vars")
+    if found is None:
+        found = _NONE
+        for c in children(t):
+            more = _diffeo_variables(c)
+            if more is not found and more:
+                found = _interned(found | more) if found else more
+        if isinstance(t, IfDiffeo) and t.psi.variables not in found:
+            found = _interned(found | {t.psi.variables})
+        d["_psi_vars"] = found
+    return found
+
+
+_NONE: frozenset = frozenset()
 
 
 def _ifdiffeos(t: Term):

@@ -50,6 +50,7 @@ from ..core import (
     children,
     extend_diffeo,
     free_params,
+    smooth,
     substitute,
     substitute_diffeo,
     subterms,
@@ -344,6 +345,8 @@ def collect_sites(t: Term, varmap: dict, parammap: dict, variables: tuple[str, .
                 else:
                     pm[argname] = substitute(a, {}, parammap) if parammap else a
             collect_sites(d.body, vm, pm, variables, defs, out, cache)
+        case _ if smooth(t):
+            return  # no conditional and no call: no site below
         case _:
             for c in children(t):
                 collect_sites(c, varmap, parammap, variables, defs, out, cache)

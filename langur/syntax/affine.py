@@ -24,7 +24,6 @@ and :func:`rational_value` (a variable-free term's exact value, when it is ratio
 
 from __future__ import annotations
 
-from dataclasses import replace
 from fractions import Fraction
 
 from ..core import Add, Const, Diffeo, InverseBranch, Mul, Param, Pow, Term, Var, free_params, free_vars
@@ -142,17 +141,20 @@ def complete(cond: Term, variables: tuple[str, ...]) -> Diffeo | None:
             terms.append((renamed[name], "v", -c / a))
     solution = _ordered(-c0 / a, terms)
     components = tuple(solution if x == v else Var(renamed[x]) for x in variables)
-    psi = Diffeo(variables=tuple(variables), forward=(cond,) + tuple(Var(x) for x in others), inputs=inputs,
-                 branches=(InverseBranch(components, ()),), solved_for=v, name=None, nonzero=())
-    return replace(psi, span=getattr(cond, "span", None))
+    return Diffeo(variables=tuple(variables), forward=(cond,) + tuple(Var(x) for x in others), inputs=inputs,
+                  branches=(InverseBranch(components, ()),), solved_for=v, name=None, nonzero=(),
+                  span=getattr(cond, "span", None))
 
 
 # sympy's ordering_of_classes, for the classes a rational coefficient can have
 _CLASS_RANK = {"Half": 2, "NegativeOne": 5, "Integer": 7, "Rational": 8}
 
 
+_HALF = Fraction(1, 2)
+
+
 def _coefficient_class(c: Fraction) -> str:
-    if c == Fraction(1, 2):
+    if c == _HALF:
         return "Half"
     if c == -1:
         return "NegativeOne"

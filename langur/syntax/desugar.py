@@ -56,6 +56,7 @@ from ..core import (
     map_children,
     neg,
     product,
+    smooth,
     sub,
     subterms,
     tree_size,
@@ -494,6 +495,9 @@ class Desugarer:
         IfDiffeo (Fig. 6, conditional / diffeomorphic conditional)."""
         if not free_vars(cond):
             return IfGe0(cond, then, orelse, span=span)
+        if smooth(cond):  # no conditional and no call inside: completed as it is
+            self.count_piece()
+            return self.completed(cond, then, orelse, sc, span, cond_span)
         inner = next((u for u in subterms(cond) if isinstance(u, IfGe0) and not free_vars(u.cond)), None)
         if inner is not None:
             # a conditional on the parameters inside a condition over variables ([x < min(t, s)],
@@ -533,16 +537,25 @@ class Desugarer:
             finally:
                 if top:
                     self.splitting = False
-        if self.splitting:
-            self.pieces += 1
-            if self.pieces > MAX_PIECES:
-                raise _TooManyPieces
+        self.count_piece()
         if any(isinstance(u, Call) for u in subterms(cond)):
             # a condition is completed as a whole: expand the defs it calls first
             cond, errs = expand_calls(cond, lambda m, n: self.env.bodies.get((m, n)), sc.variables, sc.box)
             if errs:
                 self.errors.extend(errs)
                 return Const(Fraction(0), span=span)
+        return self.completed(cond, then, orelse, sc, span, cond_span)
+
+    def count_piece(self) -> None:
+        """One more piece of a condition split at its kinks (at most MAX_PIECES in all)."""
+        if self.splitting:
+            self.pieces += 1
+            if self.pieces > MAX_PIECES:
+                raise _TooManyPieces
+
+    def completed(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span) -> Term:
+        """``ifge0 ⌊Ψ⌋ then … else …`` with Ψ the completion of ``cond`` over the variables (a
+        pending one while the program's box is not known yet)."""
         try:
             psi = complete(cond, sc.variables, sc.box)
         except diffeo.CompletionError as e:

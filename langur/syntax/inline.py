@@ -24,11 +24,13 @@ from fractions import Fraction
 
 from .. import typesys as ty
 from ..core import (
+    Add,
     Call,
     Const,
     IfDiffeo,
     IfGe0,
     Let,
+    Mul,
     Param,
     Program,
     Term,
@@ -61,13 +63,14 @@ def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program
     """``program`` with every ``Call`` inlined (recursively), a call with the same arguments as an
     earlier one shared; raises LangurError (T207, T217, T221, T230)."""
     lookup = lambda m, n: modules[m].defs.get(n) if m in modules else None  # noqa: E731
+    has_calls(program.integrand)  # what calls nothing is then measured by _own_depth
     try:
         too_large = _too_large(program, lookup)
         if too_large:
             raise LangurError([too_large])
         inl = _Inliner(lambda m, n: modules[m].defs[n], program.variables,
                        numeric_box(program.variables, program.box))
-        if not any(isinstance(u, Call) for u in subterms(program.integrand)):
+        if not has_calls(program.integrand):
             return program  # nothing to inline
         integrand = inl.expand(program.integrand, ())  # the domain's bounds call nothing
     except RecursionError:  # calls through thousands of definitions that each add no depth
@@ -104,7 +107,10 @@ class _Inliner:
 
     def expand(self, t: Term, stack: tuple) -> Term:
         """``t`` with its calls inlined; a subterm shared before inlining (a let-bound vector's
-        components, substituted where it is used) stays shared, expanded once."""
+        components, substituted where it is used) stays shared, expanded once; a subterm without
+        calls is itself."""
+        if not has_calls(t):
+            return t
         key = (id(t), stack)
         hit = self.done.get(key)
         if hit is None:
@@ -138,10 +144,8 @@ class _Inliner:
                 return self.calls[shared]
             case Let():
                 return self.expand_let(t, stack)
-            case IfDiffeo(_, a, b):
-                return replace(t, then=self.expand(a, stack), orelse=self.expand(b, stack))
             case _:
-                return map_children(t, lambda c: self.expand(c, stack))
+                return _rebuilt(t, lambda c: self.expand(c, stack))
 
     def module_params(self, module: str, name: str, active: frozenset = frozenset()) -> frozenset[str]:
         """The parameters a call of ``module.name`` reads besides its arguments: its module's
@@ -171,6 +175,8 @@ class _Inliner:
             renamed = substitute(t.body, params={t.name: Param(name)})
             body = self.expand(renamed, stack)
         self.brought |= outer
+        if name == t.name and bound is t.bound and body is t.body:
+            return t
         return replace(t, name=name, bound=bound, body=body)
 
     def instantiate(self, d, args: tuple[Term, ...], span) -> Term:
@@ -228,7 +234,7 @@ class _Subst:
                 new_psi = diffeo.instantiate(psi, keys, tuple(names), tuple(pmap[k] for k in keys), self.inl.variables)
                 return replace(t, psi=new_psi, then=a, orelse=b)
             case _:
-                return map_children(t, lambda c: self.go(c, pmap))
+                return _rebuilt(t, lambda c: self.go(c, pmap))
 
 
 def _too_large(program: Program, lookup) -> Diagnostic | None:
@@ -274,11 +280,16 @@ class _Depth:
     def of(self, t: Term, env: dict[str, int]) -> int:
         """Depth of ``t`` inlined, where a name of ``env`` stands for a term that deep.  A term that
         shares subterms (a let-bound vector's components are substituted where it is used: a DAG
-        even before inlining) is measured in time linear in its distinct nodes."""
+        even before inlining) is measured in time linear in its distinct nodes.  A term known to
+        call nothing (:func:`has_calls`), where no name stands for anything, has its own depth
+        (:func:`_own_depth`, kept on its nodes: the scene of a shader swap is measured once)."""
+        if not env and t.__dict__.get("_calls") is False:  # known to call nothing (has_calls)
+            return _own_depth(t)
         key = (id(t), tuple(env.items())) if env else id(t)
-        if key not in self.nodes:
-            self.nodes[key] = self._of(t, env)
-        return self.nodes[key]
+        k = self.nodes.get(key)
+        if k is None:
+            k = self.nodes[key] = self._of(t, env)
+        return k
 
     def _of(self, t: Term, env: dict[str, int]) -> int:
         match t:
@@ -303,6 +314,54 @@ class _Depth:
                 return self.memo[key]
             case _:
                 return 1 + max((self.of(c, env) for c in _children(t)), default=0)
+
+
+def _own_depth(t: Term) -> int:
+    """The depth of a term that calls nothing (a completed condition counts, as in
+    :meth:`_Depth._of`), kept on its nodes; one frame per level."""
+    d = t.__dict__
+    k = d.get("_depth")
+    if k is None:
+        k = 0
+        for c in children(t):
+            kc = _own_depth(c)
+            if kc > k:
+                k = kc
+        if isinstance(t, IfDiffeo):
+            kc = _own_depth(t.psi.forward[0]) if t.psi.name is None else 1
+            if kc > k:
+                k = kc
+        k = d["_depth"] = k + 1
+    return k
+
+
+def has_calls(t: Term) -> bool:
+    """Whether ``t`` contains a ``Call`` (kept on the node: a shared subterm is searched once)."""
+    d = t.__dict__
+    found = d.get("_calls")
+    if found is None:
+        found = isinstance(t, Call)
+        if not found:
+            for c in children(t):
+                if has_calls(c):
+                    found = True
+                    break
+        d["_calls"] = found
+    return found
+
+
+def _rebuilt(t: Term, f) -> Term:
+    """``map_children(t, f)``, but ``t`` itself when ``f`` changes no child: what inlining leaves
+    alone stays the same node, so that the passes that keep their results on nodes (typing, the
+    range check, the depth) do not redo the scene after a shader swap."""
+    old = children(t)
+    new = tuple(f(c) for c in old)
+    if all(n is o for n, o in zip(new, old)):
+        return t
+    if type(t) in (Add, Mul):  # the most frequent nodes, built directly (``replace`` is slower)
+        return type(t)(new[0], new[1], span=t.span)
+    it = iter(new)
+    return map_children(t, lambda _: next(it))
 
 
 def _names(t: Term) -> set[str]:

@@ -24,7 +24,6 @@ white space (E108: a 10 MB file costs a few seconds at worst).
 
 from __future__ import annotations
 
-import gc
 import re
 import sys
 import threading
@@ -34,6 +33,7 @@ from fractions import Fraction
 from lark import Lark, Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
+from .. import gcpause
 from ..diagnostics import LangurError, Span, error
 from . import tables
 from .chains import LEVEL as _LEVEL
@@ -553,15 +553,11 @@ def _run(text: str, path: str, start: str):
         _BUILDER.path = path
         # The parse allocates many small objects and no cycles: pausing the cyclic collector
         # makes big inputs several times faster.
-        gc_was_enabled = gc.isenabled()
-        gc.disable()
         try:
-            return text, parser.parse(text, start=start)
+            with gcpause.paused():
+                return text, parser.parse(text, start=start)
         except UnexpectedInput as exc:
             raise _convert(exc, path) from None
-        finally:
-            if gc_was_enabled:
-                gc.enable()
 
 
 def _end_position(text: str) -> tuple[int, int]:
