@@ -142,7 +142,29 @@ class Call:
     span: Span | None = _span()
 
 
-Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call]
+@dataclass(frozen=True)
+class ImplicitRoot:
+    """The implicit root ``x*``: the one ``x`` in ``[lo, hi]`` with ``equation(x) = target``
+    (issue 18: an inverse branch with no closed form).
+
+    It occurs only in an :class:`InverseBranch`'s components: ``equation`` is a smooth term over
+    ``Var(variable)`` (bound here) and parameters, strictly monotone on ``[lo, hi]`` (the branch's
+    piece between two turning points, where ∂equation/∂x does not vanish); ``target`` is a term over
+    Ψ̂⁻¹'s inputs and parameters; ``lo`` and ``hi`` are variable-free.  The branch's guard says that
+    ``target`` lies between ``equation(lo)`` and ``equation(hi)``, so the root exists and is unique;
+    outside it the root is undefined (NaN).  Its derivative is the implicit function theorem's:
+    ``∂x* = (∂target − ∂equation/∂θ · ∂θ) / ∂equation/∂x`` at ``x*``.
+    """
+
+    equation: "Term"
+    variable: str
+    target: "Term"
+    lo: "Term"
+    hi: "Term"
+    span: Span | None = _span()
+
+
+Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot]
 
 
 @dataclass(frozen=True)
@@ -304,7 +326,7 @@ def _sharing(cls):
 
 #: Largest term ``repr`` writes out (nodes); a larger one is summarized.
 REPR_LIMIT = 10_000
-_TERMS = (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call)
+_TERMS = (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot)
 
 for _cls in (*_TERMS, InverseBranch, Diffeo, Interval, Program):
     _sharing(_cls)
@@ -389,6 +411,8 @@ def children(t: Term) -> tuple[Term, ...]:
             return (a, b)
         case Call(_, _, args):
             return tuple(args)
+        case ImplicitRoot(eq, _, target, lo, hi):
+            return (eq, target, lo, hi)
     raise TypeError(f"not a core term: {t!r}")
 
 
@@ -423,6 +447,8 @@ def free_vars(t: Term) -> frozenset[str]:
             return frozenset({name})
         case IfDiffeo(psi, a, b):
             return _kept(t, "_fv", lambda: frozenset(psi.variables) | free_vars(a) | free_vars(b))
+        case ImplicitRoot(eq, x, target, lo, hi):  # binds its variable in its equation
+            return _kept(t, "_fv", lambda: (free_vars(eq) - {x}) | free_vars(target) | free_vars(lo) | free_vars(hi))
         case _:
             return _kept(t, "_fv", lambda: frozenset().union(*(free_vars(c) for c in children(t))))
 
@@ -502,6 +528,10 @@ def substitute(
                 return replace(u, bound=go(bound, ps), body=go(body, inner))
             case IfDiffeo(psi, a, b):
                 return replace(u, psi=substitute_diffeo(psi, variables, ps), then=go(a, ps), orelse=go(b, ps))
+            case ImplicitRoot(eq, x, target, lo, hi):  # its variable is bound in its equation
+                inner = {k: v for k, v in variables.items() if k != x}
+                return replace(u, equation=substitute(eq, inner, ps), target=go(target, ps), lo=go(lo, ps),
+                               hi=go(hi, ps))
             case _:
                 return map_children(u, lambda c: go(c, ps))
 
@@ -529,6 +559,8 @@ def map_children(t: Term, f: Callable[[Term], Term]) -> Term:
             return replace(t, bound=f(a), body=f(b))
         case Call(_, _, args):
             return replace(t, args=tuple(f(a) for a in args))
+        case ImplicitRoot(eq, _, target, lo, hi):
+            return replace(t, equation=f(eq), target=f(target), lo=f(lo), hi=f(hi))
     raise TypeError(f"not a core term: {t!r}")
 
 

@@ -37,7 +37,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
+from ..core import Add, Call, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var
 from ..primitives import REGISTRY
 
 VALUE, TANGENT, DELTA = 0, 1, 2
@@ -264,6 +264,8 @@ def _children(t: Term) -> tuple:
             return (bound, body)
         case Call(_, _, args):
             return tuple(args)
+        case ImplicitRoot(eq, _, target, lo, hi):
+            return (eq, target, lo, hi)
     return ()
 
 
@@ -394,7 +396,47 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             slot = len(ctx.slots)
             ctx.slots.append(("call", (module, name), tuple(isinstance(a, Var) for a in args)))
             return _compile_call(slot, module, name, args, ctx)
+        case ImplicitRoot(equation, variable, target, lo, hi):
+            # issue 18, implicit root (a Ψ̂⁻¹ component): x* in [lo, hi] with f(x*) = ⟦target⟧;
+            # ⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ') / ∂f/∂x at x* (implicit function theorem)
+            return _compile_root(_compile(equation, ctx), variable, _compile(target, ctx), _compile(lo, ctx),
+                                 _compile(hi, ctx))
     raise TypeError(f"not a core term: {t!r}")
+
+
+#: Halvings of an implicit root's bracket: past double precision for brackets up to 2^10 wide.
+ROOT_HALVINGS = 64 + 10
+
+
+def _compile_root(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn) -> Fn:
+    """The implicit root, vectorized: bisection of ``f − target`` on each point's bracket (``f`` is
+    monotone there and changes sign when the branch's guard holds; NaN where it does not)."""
+    def root(pt, lk):
+        vals = pt.values()
+        t, dt = ft(pt, lk)
+        lo, hi = flo(vals, lk)[0], fhi(vals, lk)[0]
+
+        def f(at, point=vals):
+            return fe(Point({x: at}, point.params, root=point.root), lk)[0]
+
+        t, a, b = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (t, lo, hi)))
+        a0, b0 = a, b
+        a, b = a.copy(), b.copy()
+        fa, fb = f(a) - t, f(b) - t
+        rising = fa < fb
+        ok = (np.sign(fa) * np.sign(fb) <= 0) & ~np.isnan(fa) & ~np.isnan(fb)
+        for _ in range(ROOT_HALVINGS):
+            m = 0.5 * (a + b)
+            below = (f(m) - t < 0) == rising
+            a, b = np.where(below, m, a), np.where(below, b, m)
+        value = np.where(ok, np.where(fa == 0, a0, np.where(fb == 0, b0, 0.5 * (a + b))), NAN)
+        if pt.mode == VALUE:
+            return value, None
+        fx = fe(Point({x: value}, vals.params, dvars={x: 1.0}, mode=TANGENT, root=vals.root), lk)[1]
+        ftheta = fe(Point({x: value}, pt.params, dparams=pt.dparams, mode=TANGENT, root=pt.root), lk)[1]
+        num = _dadd(dt, None if ftheta is None else -ftheta)
+        return value, (None if num is None else num / fx)
+    return root
 
 
 def _compile_call(slot: int, module: str, name: str, args, ctx: _Ctx) -> Fn:

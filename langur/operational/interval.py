@@ -13,7 +13,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..core import Add, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
+from ..core import Add, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var
 from ..primitives import REGISTRY
 from .compile import const_value
 
@@ -87,6 +87,8 @@ class _Enclose:
                 bl, bh = enclose(body, scope)
                 wide = lo != hi  # a let bound to a range: its body is not enclosed per value
                 return np.where(wide, -INF, bl), np.where(wide, INF, bh)
+            case ImplicitRoot(_, _, _, lo, hi):  # issue 18: the root lies in its bracket
+                return enclose(lo, params)[0], enclose(hi, params)[1]
         raise TypeError(f"cannot enclose {t!r}")
 
 

@@ -64,7 +64,7 @@ from ..sympy_bridge import (
     to_sympy,
 )
 from ..timebox import run_with_timeout
-from . import affine
+from . import affine, turning
 from .affine import fresh_inputs
 
 #: Wall-clock limit (seconds) of one completion / one declaration check.
@@ -173,6 +173,13 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds):
             return _to_diffeo(cond, variables, inputs, params, v, branches, nonzero)
         except ValueError as e:
             reasons.append(f"{v}: {e}")
+    if len(occurring) == 1:  # no closed form: implicit roots on the monotone pieces (issue 18)
+        (v,) = occurring
+        pieces = turning.complete_by_pieces(cond, expr, symbol(v), variables, inputs,
+                                            bounds.get(v, (-math.inf, math.inf)))
+        if isinstance(pieces, Diffeo):
+            return pieces
+        reasons.append(f"{v}: {pieces}")
     return "no variable can be isolated (" + "; ".join(reasons) + ")"
 
 

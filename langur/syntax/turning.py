@@ -1,0 +1,125 @@
+"""Completing a smooth condition in one variable that has no closed-form inverse (issue 18).
+
+A condition ``f(x; θ) ≥ 0`` over one variable ``x`` that sympy cannot invert in closed form
+(``x^3 − x − a``: three roots; ``x^51 + x − a``, ``exp(x) + x − a``: monotone, no closed form) is
+still the condition of a piecewise diffeomorphism on the variable's interval ``[lo, hi]``
+(paper §4, §5.2): split ``[lo, hi]`` at the *turning points* of ``f`` (the zeros of ``∂f/∂x``
+where it changes sign), ``f`` is strictly monotone on each piece, so ``f = u₀`` has at most one
+root there.  Each piece ``[c_i, c_{i+1}]`` is one inverse branch of Ψ̂ = f:
+
+    x = ImplicitRoot(f, x, u₀, c_i, c_{i+1})    where (u₀ − f(c_i)) · (f(c_{i+1}) − u₀) ≥ 0,
+
+the guard saying that u₀ lies between the piece's end values (so the root exists).  The branches'
+images partition ``[lo, hi]``, exactly like the two branches of a quadratic: the delta of the
+condition is the sum over the roots ``Σ h(x*)/|f'(x*)|``, and no split point is a discontinuity
+of the program (the split lives in Ψ̂⁻¹ only), so the split adds no delta.
+
+Turning points are found exactly (``sympy.solveset`` of ``∂f/∂x`` on the interval, time-boxed);
+one that has no closed form (a root of a quintic) is itself an implicit root of ``∂f/∂x`` in a
+rational bracket on which ``∂f/∂x`` changes sign (checked exactly), so every bracket is certified.
+A tangent root (``f = ∂f/∂x = 0`` at a turning point) lies at the common end of two branches: the
+linter reports it (``langur check``: the double root, X-codes of :mod:`langur.lint.doubleroot`).
+
+Turning points that move with the parameters (``sin(a·x) − 0.5``, ``x^3 − a·x``) are not handled
+here: the number of pieces then depends on θ, which the front end does not know (``--at``).
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import sympy as sp
+
+from ..core import Add, Const, Diffeo, ImplicitRoot, InverseBranch, Mul, Term, Var, neg, substitute
+from ..sympy_bridge import from_sympy
+from ..timebox import run_with_timeout
+
+#: Wall-clock limit (seconds) of the search for turning points.
+TURNING_LIMIT = 4.0
+#: More monotone pieces than this: refused (each is one inverse branch).
+MAX_PIECES = 32
+
+
+def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...], inputs: tuple[str, ...],
+                       interval: tuple[float, float]) -> Diffeo | str:
+    """The Diffeo of ``cond`` (sympy ``e``, over ``v`` and parameters only) with one implicit-root
+    branch per monotone piece of ``[lo, hi]``, or the reason it cannot be built."""
+    lo, hi = interval
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+        return "its implicit inverse needs a bounded interval of the variable (give it a constant domain)"
+    d = sp.diff(e, v)
+    if d.free_symbols - {v}:
+        return ("its turning points (zeros of ∂/∂" f"{v} = {d}) move with the parameters, which Langur "
+                "cannot split at yet")
+    L, R = _rational(lo), _rational(hi)
+    try:
+        zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.Interval(L, R)), TURNING_LIMIT)
+    except TimeoutError:
+        return f"sympy could not find its turning points (zeros of ∂/∂{v} = {d}) within {TURNING_LIMIT:g}s"
+    if zeros is sp.S.EmptySet:
+        points = []
+    elif isinstance(zeros, sp.FiniteSet) and len(zeros) <= MAX_PIECES and all(z.is_real for z in zeros):
+        points = sorted(zeros, key=lambda z: float(z))
+    else:
+        return f"sympy finds no finite list of its turning points (zeros of ∂/∂{v} = {d}): {zeros}"
+    cuts = _sign_changes(d, v, [L] + [z for z in points if L < z < R] + [R])
+    if isinstance(cuts, str):
+        return cuts
+    x = v.name
+    try:
+        ends = [_point(c, d, v, x) for c in cuts]
+    except ValueError as err:
+        return str(err)
+    u0 = Var(inputs[0])
+    others = [y for y in variables if y != x]
+    by_other = {y: Var(u) for y, u in zip(others, inputs[1:])}
+    branches = []
+    for a, b in zip(ends, ends[1:]):
+        root = ImplicitRoot(cond, x, u0, a, b)
+        fa, fb = substitute(cond, {x: a}), substitute(cond, {x: b})
+        guard = Mul(Add(u0, neg(fa)), Add(fb, neg(u0)))  # u0 between f(a) and f(b)
+        branches.append(InverseBranch(tuple(root if y == x else by_other[y] for y in variables), (guard,)))
+    return Diffeo(variables=variables, forward=(cond,) + tuple(Var(y) for y in others), inputs=inputs,
+                  branches=tuple(branches), solved_for=x, name=None)
+
+
+def _rational(f: float) -> sp.Rational:
+    """The box end as a rational: the short one that prints as ``f`` (``0.1`` is 1/10), else exact."""
+    short = Fraction(f).limit_denominator(10**12)
+    return sp.Rational(short if float(short) == f else Fraction(f))
+
+
+def _sign_changes(d, v, cuts):
+    """The cuts where ``∂f/∂x`` changes sign (the ends always kept): a zero where it keeps its
+    sign (``x^3`` at 0) is no turning point; a piece where it vanishes identically is refused."""
+    keep = [cuts[0]]
+    signs = []
+    for a, b in zip(cuts, cuts[1:]):
+        mid = d.subs(v, (a + b) / 2).evalf(30)
+        if not mid.is_real or mid == 0:
+            return f"∂/∂{v} = {d} vanishes or is undefined between {a} and {b}"
+        signs.append(1 if mid > 0 else -1)
+    for k, c in enumerate(cuts[1:-1]):
+        if signs[k] != signs[k + 1]:
+            keep.append(c)
+    keep.append(cuts[-1])
+    return keep
+
+
+def _point(c: sp.Expr, d: sp.Expr, v: sp.Symbol, x: str) -> Term:
+    """A turning point (or an end) as a core term: its closed form, else the root of ``∂f/∂x``
+    in a rational bracket on which ``∂f/∂x`` changes sign (checked exactly)."""
+    try:
+        return from_sympy(c, (), ())
+    except ValueError:
+        pass
+    value = sp.Float(c.evalf(40), 40)
+    for width in (sp.Rational(1, 10**6), sp.Rational(1, 10**9), sp.Rational(1, 10**12)):
+        a = sp.Rational(sp.nsimplify(value - width, rational=True))
+        b = sp.Rational(sp.nsimplify(value + width, rational=True))
+        da, db = d.subs(v, a), d.subs(v, b)
+        if da.is_real and db.is_real and (da > 0) != (db > 0) and da != 0 and db != 0:
+            term_a, term_b = (from_sympy(w, (), ()) for w in (a, b))
+            return ImplicitRoot(from_sympy(d, (x,), ()), x, Const(Fraction(0)), term_a, term_b)
+    raise ValueError(f"cannot bracket the turning point {c}")
