@@ -59,6 +59,7 @@ from .lint.classify import _FAILURES, BUDGET, MAX_FAMILIES, Checker
 from .lint.collect import MAX_PRODUCTS, Collected, Occurrence, Product, call_sites, collect
 from .lint.domains import domain_findings
 from .lint.doubleroot import double_root_findings
+from .lint.tangent import tangent_findings
 from .lint.emptydomain import empty_domain_findings
 from .lint.findings import Finding
 from .lint.geometry import span_key
@@ -193,6 +194,7 @@ def check_program(
 
     findings += domain_findings(program, point, sources or {})
     findings += double_root_findings(program)
+    findings += tangent_findings(program, point, bool(at))
     findings += empty_domain_findings(program, point, domain_spans)
     findings += singular.findings(program, declared, point, sources or {})
     return _dedupe(findings)

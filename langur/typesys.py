@@ -264,7 +264,7 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
                 type_term(delta, gamma, a, out)
         case ImplicitRoot(eq, x, target, lo, hi):
             # issue 18, an inverse branch's implicit root: x ⊢ eq smooth, target over Δ, bracket over Γ
-            observe.rule("issue 18, implicit root: x;Γ ⊢ f, Δ;Γ ⊢ target, ·;Γ ⊢ lo, hi ⟹ Δ;Γ ⊢ root", t, delta=delta, gamma=gamma)
+            observe.rule("LANGUAGE.md §1 (issue 18), implicit root: x;Γ ⊢ f, Δ;Γ ⊢ target, ·;Γ ⊢ lo, hi ⟹ Δ;Γ ⊢ root", t, delta=delta, gamma=gamma)
             type_term(frozenset({x}), gamma, eq, out)
             type_term(delta, gamma, target, out)
             type_term(frozenset(), gamma, lo, out)
