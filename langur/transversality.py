@@ -59,10 +59,10 @@ from .lint.classify import _FAILURES, BUDGET, MAX_FAMILIES, Checker
 from .lint.collect import MAX_PRODUCTS, Collected, Occurrence, Product, call_sites, collect
 from .lint.domains import domain_findings
 from .lint.doubleroot import double_root_findings
-from .lint.tangent import tangent_findings
 from .lint.emptydomain import empty_domain_findings
 from .lint.findings import Finding
 from .lint.geometry import span_key
+from .lint.tangent import tangent_findings
 from .syntax.inline import inline
 
 __all__ = [
