@@ -144,16 +144,23 @@ class Call:
 
 @dataclass(frozen=True)
 class ImplicitRoot:
-    """The implicit root ``x*``: the one ``x`` in ``[lo, hi]`` with ``equation(x) = target``
-    (issue 18: an inverse branch with no closed form).
+    """An implicit root (issue 18: an inverse branch with no closed form).
 
-    It occurs only in an :class:`InverseBranch`'s components: ``equation`` is a smooth term over
-    ``Var(variable)`` (bound here) and parameters, strictly monotone on ``[lo, hi]`` (the branch's
-    piece between two turning points, where ∂equation/∂x does not vanish); ``target`` is a term over
-    Ψ̂⁻¹'s inputs and parameters; ``lo`` and ``hi`` are variable-free.  The branch's guard says that
-    ``target`` lies between ``equation(lo)`` and ``equation(hi)``, so the root exists and is unique;
-    outside it the root is undefined (NaN).  Its derivative is the implicit function theorem's:
-    ``∂x* = (∂target − ∂equation/∂θ · ∂θ) / ∂equation/∂x`` at ``x*``.
+    It occurs only in an :class:`InverseBranch`'s components and guards: ``equation`` is a smooth
+    term over ``Var(variable)`` (bound here) and parameters, ``target`` a term over Ψ̂⁻¹'s inputs
+    and parameters, ``lo`` and ``hi`` variable-free.
+
+    * ``index`` is None: the one ``x`` in ``[lo, hi]`` with ``equation(x) = target``, where
+      ``equation`` is strictly monotone on ``[lo, hi]`` (a piece between two turning points).  The
+      branch's guard says that ``target`` lies between ``equation(lo)`` and ``equation(hi)``, so the
+      root exists; outside it the root is undefined (NaN).
+    * ``index`` is k: the k-th (from 0, increasing) of the points of ``[lo, hi]`` where
+      ``equation − target`` changes sign, ``hi`` when there are only k or fewer; there must be at
+      most ``of`` of them, or the term is undefined and evaluating it raises :class:`TooManyRoots`
+      (a turning point that moves with the parameters, ``equation`` = ∂f/∂x).
+
+    Its derivative is the implicit function theorem's: ``∂x* = (∂target − ∂equation/∂θ · ∂θ) /
+    ∂equation/∂x`` at ``x*``.
     """
 
     equation: "Term"
@@ -161,7 +168,14 @@ class ImplicitRoot:
     target: "Term"
     lo: "Term"
     hi: "Term"
+    index: int | None = None
+    of: int = 0
     span: Span | None = _span()
+
+
+class TooManyRoots(Exception):
+    """An indexed :class:`ImplicitRoot` met more sign changes than its ``of`` (the completion
+    split the domain into that many pieces at most)."""
 
 
 Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot]

@@ -130,9 +130,10 @@ class _Writer:
                 return {"op": "let", "name": name, "bound": ix[bound], "body": ix[body]}
             case Call(module, name, _):
                 raise ValueError(f"call of {module}.{name}: only inlined programs are written (no Call nodes)")
-            case ImplicitRoot(eq, x, target, lo, hi):
-                return {"op": "root", "equation": ix[eq], "variable": x, "target": ix[target], "lo": ix[lo],
+            case ImplicitRoot(eq, x, target, lo, hi, index, of):
+                node = {"op": "root", "equation": ix[eq], "variable": x, "target": ix[target], "lo": ix[lo],
                         "hi": ix[hi]}
+                return node if index is None else {**node, "index": index, "of": of}
         raise TypeError(f"not a core term: {u!r}")
 
     def diffeo(self, psi: Diffeo) -> int:
@@ -256,9 +257,13 @@ class _Reader:
                 return Let(_name(n.get("name"), f"{where}.name"), r(n.get("bound"), f"{where}.bound"),
                            r(n.get("body"), f"{where}.body"))
             case "root":
+                index, of = n.get("index"), n.get("of", 0)
+                for key, v in (("index", index), ("of", of)):
+                    if v is not None and (not isinstance(v, int) or isinstance(v, bool) or not 0 <= v <= 1000):
+                        raise FormatError(f"{where}.{key}", "expected an integer from 0 to 1000")
                 return ImplicitRoot(r(n.get("equation"), f"{where}.equation"),
                                     _name(n.get("variable"), f"{where}.variable"), r(n.get("target"), f"{where}.target"),
-                                    r(n.get("lo"), f"{where}.lo"), r(n.get("hi"), f"{where}.hi"))
+                                    r(n.get("lo"), f"{where}.lo"), r(n.get("hi"), f"{where}.hi"), index, of)
         raise FormatError(f"{where}.op", f"unknown op {op!r}")
 
     def diffeo(self, k, where: str) -> Diffeo:

@@ -1,26 +1,32 @@
 """The implicit root ``x*`` of :class:`langur.core.ImplicitRoot` as a sympy function (issue 18).
 
-``ImplicitRootFn(Lambda(x, f), target, lo, hi)`` is the one ``x`` in ``[lo, hi]`` with
+``ImplicitRootFn(Lambda(x, f), target, lo, hi, -1, 0)`` is the one ``x`` in ``[lo, hi]`` with
 ``f(x) = target``, ``f`` strictly monotone on ``[lo, hi]`` (an inverse branch of a condition
-between two of its turning points, :mod:`langur.syntax.turning`).  It stays symbolic in the
-exact engine's closed forms; its derivative is the implicit function theorem's,
+between two of its turning points, :mod:`langur.syntax.turning`); with an index k ≥ 0 and a
+bound n it is the k-th sign change of ``f − target`` on ``[lo, hi]`` (a turning point that moves
+with the parameters).  It stays symbolic in the exact engine's closed forms; its derivative is
+the implicit function theorem's,
 
     ∂x*/∂s = (∂target/∂s − ∂f/∂s(x*)) / ∂f/∂x(x*),
 
 so every derivative (and the Jacobian dx*/du₀ = 1/f'(x*) of the delta's change of variables) is
 exact in terms of ``x*``; ``evalf`` finds ``x*`` to the requested precision by bisection with
-mpmath (the bracket is certified: ``f − target`` changes sign on it and is monotone), and
-``lambdify`` calls :func:`bracketed_root` on the compiled ``f``.  The Monte Carlo engine has its
-own vectorized solver (no sympy there: ``langur.operational.compile``).
+mpmath (on a bracket where ``f − target`` changes sign: for the unique root, the whole piece;
+for the k-th sign change, the cell of a grid where it is seen), and ``lambdify`` calls the same
+solver on the compiled ``f``.  The Monte Carlo engine has its own vectorized solver (no sympy
+there: ``langur.operational.compile``).
 """
 
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import mpmath
 import numpy as np
 import sympy as sp
+
+from .core import TooManyRoots
 
 
 def bracketed_root(f, target, lo, hi, bits: int = 53):
@@ -53,10 +59,44 @@ def bracketed_root(f, target, lo, hi, bits: int = 53):
     return (a + b) / 2
 
 
-class ImplicitRootFn(sp.Function):
-    """``x*(target; θ)``: the root of ``f(x; θ) = target`` in ``[lo, hi]`` (module docstring)."""
+#: Cells of the grid on which an indexed root's sign changes are found (each then bisected).
+GRID = 512
 
-    nargs = 4
+
+def sign_changes(f, target, lo, hi, bits: int = 53, grid: int = GRID) -> list:
+    """The points of ``[lo, hi]`` where ``f − target`` changes sign, increasing: found on a grid of
+    ``grid`` cells (a sign change certifies a point in its cell; two in one cell are not seen) and
+    each bisected to ``bits`` bits."""
+    xs = [lo + (hi - lo) * i / grid for i in range(grid + 1)]
+    vals = []
+    for x in xs:
+        try:
+            vals.append(f(x) - target >= 0)
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            vals.append(None)
+    out = []
+    for i in range(grid):
+        if vals[i] is not None and vals[i + 1] is not None and vals[i] != vals[i + 1]:
+            out.append(bracketed_root(f, target, xs[i], xs[i + 1], bits))
+    return out
+
+
+def indexed_root(f, target, lo, hi, index: int, of: int, bits: int = 53):
+    """The ``index``-th sign change of ``f − target`` on ``[lo, hi]`` (``hi`` when there are
+    fewer); :class:`~langur.core.TooManyRoots` when there are more than ``of``."""
+    found = sign_changes(f, target, lo, hi, bits)
+    if len(found) > of:
+        raise TooManyRoots(f"{len(found)} turning points on [{float(lo):g}, {float(hi):g}] at these parameter values, "
+                           f"more than the {of} the condition was split for: Langur cannot differentiate it here")
+    return found[index] if index < len(found) else hi
+
+
+class ImplicitRootFn(sp.Function):
+    """``x*(target; θ)``: ``ImplicitRootFn(Lambda(x, f), target, lo, hi, index, of)`` is the root of
+    ``f(x; θ) = target`` in ``[lo, hi]`` (``index`` = −1, ``f`` monotone there), or the ``index``-th
+    sign change of ``f − target`` there (:class:`langur.core.ImplicitRoot`)."""
+
+    nargs = 6
     is_real = True
 
     @property
@@ -64,56 +104,70 @@ class ImplicitRootFn(sp.Function):
         return not self.free_symbols
 
     @classmethod
-    def eval(cls, lam, target, lo, hi):
+    def eval(cls, lam, target, lo, hi, index, of):
         return None  # stays symbolic: it has no closed form (that is why it exists)
 
     def _eval_derivative(self, s):
-        lam, target, _, _ = self.args
+        lam, target = self.args[:2]
         (x,), f = lam.variables, lam.expr
         at = {x: self}
         return (sp.diff(target, s) - sp.diff(f, s).xreplace(at)) / sp.diff(f, x).xreplace(at)
 
     def _eval_evalf(self, prec):
-        lam, target, lo, hi = self.args
-        (x,), f = lam.variables, lam.expr
-        if (f.free_symbols - {x}) or target.free_symbols or lo.free_symbols or hi.free_symbols:
+        if self.free_symbols:
             return None
-        dps = mpmath.libmp.prec_to_dps(prec) + 5
-        with mpmath.workdps(dps):
-            fn = sp.lambdify(x, f, modules="mpmath")
-            t, a, b = (mpmath.mpf(sp.Float(v.evalf(dps), dps)) for v in (target, lo, hi))
-            r = bracketed_root(fn, t, a, b, bits=prec + 10)
-            if isinstance(r, float) and math.isnan(r):
-                return sp.nan
-            return sp.Float(r, dps)
+        return _evalf(self.args, prec)
 
     @staticmethod
-    def _imp_(fn, target, lo, hi):
+    def _imp_(fn, target, lo, hi, index, of):
         """``lambdify``'s implementation: ``fn`` is ``f`` compiled by lambdify (module namespace);
         arrays (the numpy module) are solved element by element."""
         if any(np.ndim(v) for v in (target, lo, hi)):
             t, a, b = np.broadcast_arrays(target, lo, hi)
-            return np.array([bracketed_root(fn, ti, ai, bi) for ti, ai, bi in zip(t.flat, a.flat, b.flat)],
+            return np.array([_solve(fn, ti, ai, bi, index, of) for ti, ai, bi in zip(t.flat, a.flat, b.flat)],
                             dtype=float).reshape(t.shape)
-        return bracketed_root(fn, target, lo, hi)
+        return _solve(fn, target, lo, hi, index, of)
 
     def _code(self, printer):
         """``lambdify``'s text: the equation as a Python ``lambda`` in the printer's module."""
-        lam, target, lo, hi = self.args
+        lam, target, lo, hi, index, of = self.args
         (x,), f = lam.variables, lam.expr
         args = ", ".join(printer._print(a) for a in (target, lo, hi))
-        return f"ImplicitRootFn((lambda {printer._print(x)}: {printer._print(f)}), {args})"
+        return f"ImplicitRootFn((lambda {printer._print(x)}: {printer._print(f)}), {args}, {int(index)}, {int(of)})"
 
     _pythoncode = _mpmathcode = _numpycode = _lambdacode = _code
 
     def _sympystr(self, printer):
-        lam, target, lo, hi = self.args
+        lam, target, lo, hi, index, of = self.args
         (x,), f = lam.variables, lam.expr
-        return (f"root({printer.doprint(x)}: {printer.doprint(f)} = {printer.doprint(target)} "
+        which = "root" if index < 0 else f"sign change {int(index)} of ≤ {int(of)}"
+        return (f"{which}({printer.doprint(x)}: {printer.doprint(f)} = {printer.doprint(target)} "
                 f"in [{printer.doprint(lo)}, {printer.doprint(hi)}])")
 
 
-def implicit_root(equation: sp.Expr, variable: sp.Symbol, target: sp.Expr, lo: sp.Expr, hi: sp.Expr) -> sp.Expr:
+def _solve(fn, target, lo, hi, index, of, bits: int = 53):
+    if index < 0:
+        return bracketed_root(fn, target, lo, hi, bits)
+    return indexed_root(fn, target, lo, hi, int(index), int(of), bits)
+
+
+@lru_cache(maxsize=4096)
+def _evalf(args, prec):
+    lam, target, lo, hi, index, of = args
+    (x,), f = lam.variables, lam.expr
+    dps = mpmath.libmp.prec_to_dps(prec) + 5
+    with mpmath.workdps(dps):
+        fn = sp.lambdify(x, f, modules="mpmath")
+        t, a, b = (mpmath.mpf(sp.Float(v.evalf(dps), dps)) for v in (target, lo, hi))
+        r = _solve(fn, t, a, b, int(index), int(of), bits=prec + 10)
+        if isinstance(r, float) and math.isnan(r):
+            return sp.nan
+        return sp.Float(r, dps)
+
+
+def implicit_root(equation: sp.Expr, variable: sp.Symbol, target: sp.Expr, lo: sp.Expr, hi: sp.Expr,
+                  index: int | None = None, of: int = 0) -> sp.Expr:
     """``ImplicitRootFn`` of ``equation`` in ``variable`` (bound: replaced by a dummy)."""
     x = sp.Dummy(variable.name, real=True)
-    return ImplicitRootFn(sp.Lambda(x, equation.xreplace({variable: x})), target, lo, hi)
+    return ImplicitRootFn(sp.Lambda(x, equation.xreplace({variable: x})), target, lo, hi,
+                          sp.Integer(-1 if index is None else index), sp.Integer(of))

@@ -136,9 +136,10 @@ def denote(t: Term, env: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
             return denote(body, {**env, name: denote(bound, env)})
         case Call(module, name, _):
             raise TypeError(f"call of {module}.{name} left in a core term: inline it first")
-        case ImplicitRoot(eq, x, target, lo, hi):  # issue 18, an inverse branch with no closed form
+        case ImplicitRoot(eq, x, target, lo, hi, index, of):  # issue 18, an inverse branch with no closed form
             inner = {k: v for k, v in env.items() if k != x}
-            return implicit_root(denote(eq, inner), symbol(x), denote(target, env), denote(lo, env), denote(hi, env))
+            return implicit_root(denote(eq, inner), symbol(x), denote(target, env), denote(lo, env), denote(hi, env),
+                                 index, of)
     raise TypeError(f"not a core term: {t!r}")
 
 

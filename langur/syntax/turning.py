@@ -37,8 +37,12 @@ from ..timebox import run_with_timeout
 
 #: Wall-clock limit (seconds) of the search for turning points.
 TURNING_LIMIT = 4.0
-#: More monotone pieces than this: refused (each is one inverse branch).
+#: More monotone pieces than this from exact turning points: found numerically instead.
 MAX_PIECES = 32
+#: Monotone pieces (inverse branches) of a condition whose turning points move with the parameters
+#: (or have no closed form): at most MOVING_PIECES − 1 turning points on the domain where it is
+#: evaluated (more: :class:`~langur.core.TooManyRoots`).
+MOVING_PIECES = 8
 
 
 def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...], inputs: tuple[str, ...],
@@ -48,29 +52,21 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
     lo, hi = interval
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
         return "its implicit inverse needs a bounded interval of the variable (give it a constant domain)"
-    d = sp.diff(e, v)
-    if d.free_symbols - {v}:
-        return ("its turning points (zeros of ∂/∂" f"{v} = {d}) move with the parameters, which Langur "
-                "cannot split at yet")
-    L, R = _rational(lo), _rational(hi)
-    try:
-        zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.Interval(L, R)), TURNING_LIMIT)
-    except TimeoutError:
-        return f"sympy could not find its turning points (zeros of ∂/∂{v} = {d}) within {TURNING_LIMIT:g}s"
-    if zeros is sp.S.EmptySet:
-        points = []
-    elif isinstance(zeros, sp.FiniteSet) and len(zeros) <= MAX_PIECES and all(z.is_real for z in zeros):
-        points = sorted(zeros, key=lambda z: float(z))
-    else:
-        return f"sympy finds no finite list of its turning points (zeros of ∂/∂{v} = {d}): {zeros}"
-    cuts = _sign_changes(d, v, [L] + [z for z in points if L < z < R] + [R])
-    if isinstance(cuts, str):
-        return cuts
     x = v.name
-    try:
-        ends = [_point(c, d, v, x) for c in cuts]
-    except ValueError as err:
-        return str(err)
+    d = sp.diff(e, v)
+    L, R = _rational(lo), _rational(hi)
+    ends = _exact_ends(d, v, L, R) if not (d.free_symbols - {v}) else None
+    if isinstance(ends, str):
+        return ends
+    if ends is None:  # moving (or no closed form): the k-th sign change of ∂f/∂x, found where evaluated
+        try:
+            slope = from_sympy(d, (x,), sorted(s.name for s in d.free_symbols - {v}))
+        except ValueError as err:
+            return f"∂/∂{x} = {d} is not a core term ({err})"
+        cuts = MOVING_PIECES - 1
+        lo_t, hi_t = from_sympy(L, (), ()), from_sympy(R, (), ())
+        ends = ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts) for k in range(cuts)]
+                + [hi_t])
     u0 = Var(inputs[0])
     others = [y for y in variables if y != x]
     by_other = {y: Var(u) for y, u in zip(others, inputs[1:])}
@@ -82,6 +78,28 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
         branches.append(InverseBranch(tuple(root if y == x else by_other[y] for y in variables), (guard,)))
     return Diffeo(variables=variables, forward=(cond,) + tuple(Var(y) for y in others), inputs=inputs,
                   branches=tuple(branches), solved_for=x, name=None)
+
+
+def _exact_ends(d, v, L, R) -> list[Term] | str | None:
+    """The ends of the monotone pieces from the exact zeros of ``d`` = ∂f/∂x (no parameters) on
+    ``[L, R]``; None when sympy gives no finite list of them (then they are found numerically)."""
+    try:
+        zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.Interval(L, R)), TURNING_LIMIT)
+    except TimeoutError:
+        return None
+    if zeros is sp.S.EmptySet:
+        points = []
+    elif isinstance(zeros, sp.FiniteSet) and len(zeros) < MAX_PIECES and all(z.is_real for z in zeros):
+        points = sorted(zeros, key=lambda z: float(z))
+    else:
+        return None
+    cuts = _sign_changes(d, v, [L] + [z for z in points if L < z < R] + [R])
+    if isinstance(cuts, str):
+        return cuts
+    try:
+        return [_point(c, d, v, v.name) for c in cuts]
+    except ValueError as err:
+        return str(err)
 
 
 def _rational(f: float) -> sp.Rational:
