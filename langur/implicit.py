@@ -67,18 +67,8 @@ def sign_changes(f, target, lo, hi, bits: int = 53, grid: int = GRID) -> list:
     """The points of ``[lo, hi]`` where ``f − target`` changes sign, increasing: found on a grid of
     ``grid`` cells (a sign change certifies a point in its cell; two in one cell are not seen) and
     each bisected to ``bits`` bits."""
-    xs = [lo + (hi - lo) * i / grid for i in range(grid + 1)]
-    vals = []
-    for x in xs:
-        try:
-            vals.append(f(x) - target >= 0)
-        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
-            vals.append(None)
-    out = []
-    for i in range(grid):
-        if vals[i] is not None and vals[i + 1] is not None and vals[i] != vals[i + 1]:
-            out.append(bracketed_root(f, target, xs[i], xs[i + 1], bits))
-    return out
+    cells = _cells(f, target, lo, hi, grid)
+    return [bracketed_root(f, target, lo + (hi - lo) * i / grid, lo + (hi - lo) * (i + 1) / grid, bits) for i in cells]
 
 
 def indexed_root(f, target, lo, hi, index: int, of: int, bits: int = 53):
@@ -140,9 +130,10 @@ class ImplicitRootFn(sp.Function):
     def _sympystr(self, printer):
         lam, target, lo, hi, index, of = self.args
         (x,), f = lam.variables, lam.expr
-        which = "root" if index < 0 else f"sign change {int(index)} of ≤ {int(of)}"
+        which = "root" if index < 0 else f"sign_change_{int(index)}"
+        bound = "" if index < 0 else f"; at most {int(of)}"
         return (f"{which}({printer.doprint(x)}: {printer.doprint(f)} = {printer.doprint(target)} "
-                f"in [{printer.doprint(lo)}, {printer.doprint(hi)}])")
+                f"in [{printer.doprint(lo)}, {printer.doprint(hi)}]{bound})")
 
 
 def _solve(fn, target, lo, hi, index, of, bits: int = 53):
@@ -159,10 +150,31 @@ def _evalf(args, prec):
     with mpmath.workdps(dps):
         fn = sp.lambdify(x, f, modules="mpmath")
         t, a, b = (mpmath.mpf(sp.Float(v.evalf(dps), dps)) for v in (target, lo, hi))
-        r = _solve(fn, t, a, b, int(index), int(of), bits=prec + 10)
+        if index >= 0:  # the cell of the index-th sign change, on a grid in doubles; then bisected
+            cells = _cells(sp.lambdify(x, f, modules="math"), float(t), float(a), float(b))
+            if len(cells) > of:
+                raise TooManyRoots(f"{len(cells)} turning points on [{float(a):g}, {float(b):g}] at these parameter "
+                                   f"values, more than the {int(of)} the condition was split for: Langur cannot "
+                                   "differentiate it here")
+            if index >= len(cells):
+                return sp.Float(b, dps)
+            c = cells[int(index)]
+            a, b = a + (b - a) * c / GRID, a + (b - a) * (c + 1) / GRID
+        r = bracketed_root(fn, t, a, b, bits=prec + 10)
         if isinstance(r, float) and math.isnan(r):
             return sp.nan
         return sp.Float(r, dps)
+
+
+def _cells(f, target: float, lo: float, hi: float, grid: int = GRID) -> list[int]:
+    """The cells of a ``grid``-cell grid of ``[lo, hi]`` where ``f − target`` changes sign."""
+    signs = []
+    for i in range(grid + 1):
+        try:
+            signs.append(f(lo + (hi - lo) * i / grid) - target >= 0)
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            signs.append(None)
+    return [i for i in range(grid) if None not in (signs[i], signs[i + 1]) and signs[i] != signs[i + 1]]
 
 
 def implicit_root(equation: sp.Expr, variable: sp.Symbol, target: sp.Expr, lo: sp.Expr, hi: sp.Expr,

@@ -53,6 +53,24 @@ def expx(a):  # ∫₋₂² [eˣ + x − a ≥ 0]·x² dx
     return _quad(lambda x: float(f(x) >= 0) * x * x, -2, 2, roots)
 
 
+def _grid_roots(f, lo, hi, n=20001):
+    """Roots of ``f`` on [lo, hi]: sign changes on a fine grid, refined by brentq (independent of
+    the engines' solvers)."""
+    xs = np.linspace(lo, hi, n)
+    vs = np.array([f(x) for x in xs])
+    return [brentq(f, xs[i], xs[i + 1], xtol=1e-15) for i in range(n - 1) if (vs[i] >= 0) != (vs[i + 1] >= 0)]
+
+
+def sine(a):  # ∫₋₂² [sin(a·x) − 0.5 ≥ 0]·(1 + x) dx
+    f = lambda x: math.sin(a * x) - 0.5  # noqa: E731
+    return _quad(lambda x: float(f(x) >= 0) * (1 + x), -2, 2, _grid_roots(f, -2, 2))
+
+
+def moving_cubic(a):  # ∫₋₂² [x³ − a·x − 0.2 ≥ 0]·e^{x/2} dx
+    return _quad(lambda x: float(x**3 - a * x - 0.2 >= 0) * math.exp(x / 2), -2, 2,
+                 _real_roots([1, 0, -a, -0.2], -2, 2))
+
+
 CASES = [
     # (name, program, value by quadrature, parameters: 3 roots, 1 root, none in the domain …)
     ("cubic", "param a = 0.2\nint ([-2, 2]) [x^3 - x - a >= 0] * exp(x / 2) d(x)\n", cubic,
@@ -60,6 +78,10 @@ CASES = [
     ("power51", "param a = 0.5\nint ([-1, 1.05]) [x^51 + x - a >= 0] * (1 + x^2) d(x)\n", power51,
      [0.5, 1.5, 20.0, -3.0]),
     ("exp", "param a = 0.5\nint ([-2, 2]) [exp(x) + x - a >= 0] * x^2 d(x)\n", expx, [0.5, 3.0, 12.0, -3.0]),
+    # turning points that move with a: x = (π/2 + kπ)/a, ±sqrt(a/3) (none for a < 0)
+    ("sine", "param a = 2\nint ([-2, 2]) [sin(a * x) - 0.5 >= 0] * (1 + x) d(x)\n", sine, [2.0, 0.3, 0.2, -2.5, 5.0]),
+    ("moving_cubic", "param a = 1\nint ([-2, 2]) [x^3 - a * x - 0.2 >= 0] * exp(x / 2) d(x)\n", moving_cubic,
+     [1.0, 0.5, -1.0, 2.0]),
 ]
 
 
@@ -102,6 +124,38 @@ def test_the_cubic_has_one_branch_per_monotone_piece_and_no_split_delta():
     assert abs(exact.value - by_hand) < 1e-12
     mc = estimate_derivative(program, {"a": 0.2}, {"a": 1}, samples=500, seed=0)
     assert abs(mc.boundary.value - by_hand) < 1e-9 and mc.regular.value == 0
+
+
+def test_more_turning_points_than_pieces_is_reported_by_both_engines():
+    # sin(7x) has 8 turning points on [-2, 2], more than the MOVING_PIECES − 1 = 7 the condition
+    # was split for: neither engine returns a number
+    from langur.core import TooManyRoots
+    from langur.syntax.turning import MOVING_PIECES
+
+    assert MOVING_PIECES - 1 < 8
+    program = _load(CASES[3][1]).program
+    with pytest.raises(TooManyRoots):
+        ddenote_program(program, {"a": 7.0}, {"a": 1})
+    with pytest.raises(TooManyRoots):
+        estimate_derivative(program, {"a": 7.0}, {"a": 1}, samples=100, seed=0)
+
+
+def test_roots_merging_at_a_turning_point_are_reported_not_differentiated():
+    # x³ − x − a: two roots merge at x = ∓1/√3 when a = ±2/(3√3) (the value has a square-root corner)
+    from langur.transversality import check_program
+
+    loaded = _load(CASES[0][1])
+    warnings = check_program(loaded.program, loaded.params)
+    assert sorted(f.code for f in warnings) == ["X306", "X306"]
+    assert any("a = 2*sqrt(3)/9" in f.message for f in warnings)
+    tangent = 2 / (3 * math.sqrt(3))
+    here = [f for f in check_program(loaded.program, loaded.params, at={"a": tangent}) if f.severity == "error"]
+    assert [f.code for f in here] == ["X305"] and "turning point x = -sqrt(3)/3" in here[0].message
+    # a moving turning point: x³ − a·x − 0.2 is tangent at x = −sqrt(a/3) when a = (0.3·√3)^(2/3)
+    moving = _load(CASES[4][1])
+    a = (0.3 * math.sqrt(3)) ** (2 / 3)
+    assert [f.code for f in check_program(moving.program, moving.params, at={"a": a})] == ["X305"]
+    assert not check_program(moving.program, moving.params, at={"a": 1.0})
 
 
 def test_the_exact_root_has_full_precision():
