@@ -30,6 +30,7 @@ import math
 from fractions import Fraction
 
 import sympy as sp
+from sympy.calculus.util import continuous_domain
 
 from ..core import Add, Const, Diffeo, ImplicitRoot, InverseBranch, Mul, Term, Var, neg, substitute
 from ..sympy_bridge import from_sympy
@@ -55,6 +56,15 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
     x = v.name
     d = sp.diff(e, v)
     L, R = _rational(lo), _rational(hi)
+    try:
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT)
+    except TimeoutError:
+        return f"sympy could not find where it is continuous within {TURNING_LIMIT:g}s"
+    except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
+        return f"sympy could not find where it is continuous ({type(err).__name__})"
+    if not (isinstance(dom, sp.Interval) and dom.start.is_number and dom.end.is_number and dom.start < dom.end):
+        return f"it is continuous on {dom} only, not on one interval of the domain [{lo:g}, {hi:g}]"
+    L, R = sp.nsimplify(dom.start, rational=True), sp.nsimplify(dom.end, rational=True)  # where it is defined
     ends = _exact_ends(d, v, L, R) if not (d.free_symbols - {v}) else None
     if isinstance(ends, str):
         return ends
@@ -82,17 +92,22 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
 
 def _exact_ends(d, v, L, R) -> list[Term] | str | None:
     """The ends of the monotone pieces from the exact zeros of ``d`` = ∂f/∂x (no parameters) on
-    ``[L, R]``; None when sympy gives no finite list of them (then they are found numerically)."""
+    ``[L, R]``; None when sympy cannot solve ``d = 0`` (then they are found numerically where the
+    condition is evaluated); a reason when there are too many or infinitely many."""
     try:
         zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.Interval(L, R)), TURNING_LIMIT)
     except TimeoutError:
         return None
     if zeros is sp.S.EmptySet:
         points = []
-    elif isinstance(zeros, sp.FiniteSet) and len(zeros) < MAX_PIECES and all(z.is_real for z in zeros):
+    elif isinstance(zeros, sp.FiniteSet) and all(z.is_real for z in zeros):
+        if len(zeros) >= MAX_PIECES:
+            return f"it has {len(zeros)} turning points (zeros of ∂/∂{v} = {d}) on the domain, more than {MAX_PIECES - 1}"
         points = sorted(zeros, key=lambda z: float(z))
+    elif isinstance(zeros, sp.ConditionSet):
+        return None  # sympy cannot solve ∂f/∂x = 0: the turning points are found numerically
     else:
-        return None
+        return f"it has infinitely many turning points (zeros of ∂/∂{v} = {d}) on the domain: {zeros}"
     cuts = _sign_changes(d, v, [L] + [z for z in points if L < z < R] + [R])
     if isinstance(cuts, str):
         return cuts
