@@ -148,9 +148,10 @@ def _point(c: sp.Expr, d: sp.Expr, v: sp.Symbol, x: str) -> Term:
     except ValueError:
         pass
     value = sp.Float(c.evalf(40), 40)
-    for width in (sp.Rational(1, 10**6), sp.Rational(1, 10**9), sp.Rational(1, 10**12)):
-        a = sp.Rational(sp.nsimplify(value - width, rational=True))
-        b = sp.Rational(sp.nsimplify(value + width, rational=True))
+    for digits in (6, 9, 12):  # decimals around the value: the first bracket with a sign change
+        scale = 10**digits
+        a = sp.Rational(sp.floor(value * scale) - 1, scale)
+        b = sp.Rational(sp.ceiling(value * scale) + 1, scale)
         da, db = d.subs(v, a), d.subs(v, b)
         if da.is_real and db.is_real and (da > 0) != (db > 0) and da != 0 and db != 0:
             term_a, term_b = (from_sympy(w, (), ()) for w in (a, b))
