@@ -127,6 +127,14 @@ class ImplicitRootFn(sp.Function):
 
     _pythoncode = _mpmathcode = _numpycode = _lambdacode = _code
 
+    def _latex(self, printer, exp=None):
+        lam, target, lo, hi, index, of = self.args
+        (x,), f = lam.variables, lam.expr
+        which = r"\operatorname{root}" if index < 0 else rf"\operatorname{{sign\,change}}_{{{int(index)}}}"
+        out = (rf"{which}_{{{printer.doprint(x)} \in [{printer.doprint(lo)}, {printer.doprint(hi)}]}}"
+               rf"\left({printer.doprint(f)} = {printer.doprint(target)}\right)")
+        return out if exp is None else rf"\left({out}\right)^{{{exp}}}"
+
     def _sympystr(self, printer):
         lam, target, lo, hi, index, of = self.args
         (x,), f = lam.variables, lam.expr

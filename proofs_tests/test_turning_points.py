@@ -71,6 +71,10 @@ def moving_cubic(a):  # ∫₋₂² [x³ − a·x − 0.2 ≥ 0]·e^{x/2} dx
                  _real_roots([1, 0, -a, -0.2], -2, 2))
 
 
+def sextic(a):  # ∫₋₁¹ [x⁶ + x² − x − a ≥ 0]·(1 + x) dx: its turning point is a root of a quintic
+    return _quad(lambda x: float(x**6 + x**2 - x - a >= 0) * (1 + x), -1, 1, _real_roots([1, 0, 0, 0, 1, -1, -a], -1, 1))
+
+
 CASES = [
     # (name, program, value by quadrature, parameters: 3 roots, 1 root, none in the domain …)
     ("cubic", "param a = 0.2\nint ([-2, 2]) [x^3 - x - a >= 0] * exp(x / 2) d(x)\n", cubic,
@@ -80,6 +84,7 @@ CASES = [
     ("exp", "param a = 0.5\nint ([-2, 2]) [exp(x) + x - a >= 0] * x^2 d(x)\n", expx, [0.5, 3.0, 12.0, -3.0]),
     # turning points that move with a: x = (π/2 + kπ)/a, ±sqrt(a/3) (none for a < 0)
     ("sine", "param a = 2\nint ([-2, 2]) [sin(a * x) - 0.5 >= 0] * (1 + x) d(x)\n", sine, [2.0, 0.3, 0.2, -2.5, 5.0]),
+    ("sextic", "param a = 0.1\nint ([-1, 1]) [x^6 + x^2 - x - a >= 0] * (1 + x) d(x)\n", sextic, [0.1, 1.5]),
     ("moving_cubic", "param a = 1\nint ([-2, 2]) [x^3 - a * x - 0.2 >= 0] * exp(x / 2) d(x)\n", moving_cubic,
      [1.0, 0.5, -1.0, 2.0]),
 ]
@@ -152,7 +157,7 @@ def test_roots_merging_at_a_turning_point_are_reported_not_differentiated():
     here = [f for f in check_program(loaded.program, loaded.params, at={"a": tangent}) if f.severity == "error"]
     assert [f.code for f in here] == ["X305"] and "turning point x = -sqrt(3)/3" in here[0].message
     # a moving turning point: x³ − a·x − 0.2 is tangent at x = −sqrt(a/3) when a = (0.3·√3)^(2/3)
-    moving = _load(CASES[4][1])
+    moving = _load(CASES[5][1])
     a = (0.3 * math.sqrt(3)) ** (2 / 3)
     assert [f.code for f in check_program(moving.program, moving.params, at={"a": a})] == ["X305"]
     assert not check_program(moving.program, moving.params, at={"a": 1.0})
