@@ -131,6 +131,19 @@ def test_the_cubic_has_one_branch_per_monotone_piece_and_no_split_delta():
     assert abs(mc.boundary.value - by_hand) < 1e-9 and mc.regular.value == 0
 
 
+@pytest.mark.parametrize("k", [0, 3])  # fixed and moving turning points
+def test_the_naive_evaluator_finds_the_same_roots(k):
+    # the one-sample-at-a-time interpreter (operational/naive.py) solves the implicit roots on its own
+    from langur.operational.naive import naive_derivative
+
+    name, text, _, points = CASES[k]
+    program = _load(text).program
+    a = points[0]
+    slow = naive_derivative(program, {"a": a}, {"a": 1.0}, samples=20, seed=1)
+    fast = estimate_derivative(program, {"a": a}, {"a": 1.0}, samples=20, seed=1)
+    assert abs(slow.value - fast.value) < 1e-9 * (1 + abs(fast.value))
+
+
 def test_more_turning_points_than_pieces_is_reported_by_both_engines():
     # sin(7x) has 8 turning points on [-2, 2], more than the MOVING_PIECES − 1 = 7 the condition
     # was split for: neither engine returns a number
