@@ -131,6 +131,21 @@ def test_the_cubic_has_one_branch_per_monotone_piece_and_no_split_delta():
     assert abs(mc.boundary.value - by_hand) < 1e-9 and mc.regular.value == 0
 
 
+def test_just_before_and_after_two_roots_merge():
+    # a₀ = 2/(3√3) ≈ 0.3849: at a₀ − 0.005 three roots (two of them 0.08 apart, D ≈ −8), at
+    # a₀ + 0.005 one; both engines agree with finite differences (a smaller step: the value has a
+    # square-root corner at a₀, so its third derivative is large nearby)
+    program = _load(CASES[0][1]).program
+    a0, h = 2 / (3 * math.sqrt(3)), 1e-6
+    for a in (a0 - 0.005, a0 + 0.005):
+        fd = (cubic(a + h) - cubic(a - h)) / (2 * h)
+        exact = ddenote_program(program, {"a": a}, {"a": 1})
+        mc = estimate_derivative(program, {"a": a}, {"a": 1}, samples=500, seed=2)
+        assert len(_real_roots([1, 0, -1, -a], -2, 2)) == (3 if a < a0 else 1)
+        assert abs(exact.value - fd) <= 1e-5 * (1 + abs(fd)), (a, exact.value, fd)
+        assert abs(mc.value - exact.value) <= 5 * mc.stderr + 1e-9 * (1 + abs(fd)), (a, mc.value, exact.value)
+
+
 @pytest.mark.parametrize("k", [0, 3])  # fixed and moving turning points
 def test_the_naive_evaluator_finds_the_same_roots(k):
     # the one-sample-at-a-time interpreter (operational/naive.py) solves the implicit roots on its own
