@@ -159,6 +159,19 @@ def test_the_naive_evaluator_finds_the_same_roots(k):
     assert abs(slow.value - fast.value) < 1e-9 * (1 + abs(fast.value))
 
 
+def test_a_batch_of_parameter_points_solves_each_point_with_its_own_turning_points():
+    # estimate_batch evaluates all points in one pass: the moving turning points (a different
+    # number at each a) are found per point
+    from langur.operational.batch import estimate_batch
+
+    program = _load(CASES[3][1]).program
+    points = [2.0, 0.3, -2.5]
+    batch = estimate_batch(program, {"a": np.array(points)}, direction={"a": 1.0}, samples=100, seed=1)
+    for i, a in enumerate(points):
+        one = estimate_derivative(program, {"a": a}, {"a": 1.0}, samples=100, seed=1)
+        assert abs(batch.boundary[i] - one.boundary.value) < 1e-9 * (1 + abs(one.value))
+
+
 def test_more_turning_points_than_pieces_is_reported_by_both_engines():
     # sin(7x) has 8 turning points on [-2, 2], more than the MOVING_PIECES − 1 = 7 the condition
     # was split for: neither engine returns a number
