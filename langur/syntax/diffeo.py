@@ -22,6 +22,9 @@ Two jobs, both with sympy (through :mod:`langur.sympy_bridge`, every call time-b
      such as ``x/(1+x) - a``): its roots, two branches with guard ``discriminant ≥ 0`` for
      degree 2.
 
+  4. none of these, ``t`` mentions one variable only and its interval is bounded: one implicit-root
+     branch per monotone piece between turning points (:mod:`langur.syntax.turning`, issue 18).
+
   Inverse branches are solved with these bounded strategies only (no open-ended
   ``sympy.solve``, whose solution sets for transcendental equations can be incomplete: a missed
   root would silently drop part of the derivative).
