@@ -20,8 +20,7 @@ Two jobs, both with sympy (through :mod:`langur.sympy_bridge`, every call time-b
      vanishes only on a null set, where Ψ̂ is not invertible (like a tangency, measure zero);
   3. the numerator of ``t - u₀`` is a polynomial of degree ≤ 2 in ``v`` (rational conditions
      such as ``x/(1+x) - a``): its roots, two branches with guard ``discriminant ≥ 0`` for
-     degree 2.
-
+     degree 2;
   4. none of these, ``t`` mentions one variable only and its interval is bounded: one implicit-root
      branch per monotone piece between turning points (:mod:`langur.syntax.turning`, issue 18).
 
