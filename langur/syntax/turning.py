@@ -14,14 +14,20 @@ images partition ``[lo, hi]``, exactly like the two branches of a quadratic: the
 condition is the sum over the roots ``Σ h(x*)/|f'(x*)|``, and no split point is a discontinuity
 of the program (the split lives in Ψ̂⁻¹ only), so the split adds no delta.
 
-Turning points are found exactly (``sympy.solveset`` of ``∂f/∂x`` on the interval, time-boxed);
-one that has no closed form (a root of a quintic) is itself an implicit root of ``∂f/∂x`` in a
-rational bracket on which ``∂f/∂x`` changes sign (checked exactly), so every bracket is certified.
-A tangent root (``f = ∂f/∂x = 0`` at a turning point) lies at the common end of two branches: the
-linter reports it (``langur check``: the double root, X-codes of :mod:`langur.lint.doubleroot`).
+The condition must be continuous on one interval of ``[lo, hi]`` (``sympy``'s
+``continuous_domain``; the brackets are limited to it: ``sqrt(x)`` on ``[-1, 1]`` uses ``[0, 1]``).
+Turning points are found exactly when ``∂f/∂x`` has no parameters and ``sympy.solveset`` solves it
+on the interval (time-boxed); one that has no closed form (a root of a quintic) is itself an
+implicit root of ``∂f/∂x`` in a rational bracket on which ``∂f/∂x`` changes sign (checked
+exactly).  Infinitely many, or more than :data:`MAX_PIECES` − 1, are refused.  When they move
+with the parameters (``sin(a·x) − 0.5``: ``x = (π/2 + kπ)/a``; ``x^3 − a·x``) or sympy cannot
+solve for them, their number depends on θ, which the front end does not know (``--at``): the
+completion has :data:`MOVING_PIECES` branches whose ends are the k-th sign changes of ``∂f/∂x``
+(indexed implicit roots, ``hi`` past the last one), found by the engines where they evaluate; a
+point with more raises :class:`~langur.core.TooManyRoots` there.
 
-Turning points that move with the parameters (``sin(a·x) − 0.5``, ``x^3 − a·x``) are not handled
-here: the number of pieces then depends on θ, which the front end does not know (``--at``).
+A root on a turning point (``f = ∂f/∂x = 0``: two roots merge) lies at the common end of two
+branches: the linter reports it (X306/X305, :mod:`langur.lint.tangent`).
 """
 
 from __future__ import annotations
