@@ -493,9 +493,8 @@ def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, o
         has = counts > index
         if has.any():
             r, k = np.nonzero(change & (np.cumsum(change, axis=1) == index + 1))  # the (index+1)-th change
-            sub = {name: (v[r] if np.ndim(v) else v) for name, v in params.items()}
-            value_rows[r] = _bisect(lambda at: fe(Point({x: at}, {n_: (v[:, 0] if np.ndim(v) else v)
-                                                                  for n_, v in sub.items()}, root=vals.root), lk)[0],
+            at_rows = {name: (v[r, 0] if np.ndim(v) else v) for name, v in params.items()}  # one per cell
+            value_rows[r] = _bisect(lambda at: fe(Point({x: at}, at_rows, root=vals.root), lk)[0],
                                     tr[r, 0], grid[r, k], grid[r, k + 1])
         value = value_rows[back] if n > 1 or np.ndim(t) or np.ndim(lo) or np.ndim(hi) else value_rows[0]
         if pt.mode == VALUE:
