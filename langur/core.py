@@ -142,7 +142,43 @@ class Call:
     span: Span | None = _span()
 
 
-Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call]
+@dataclass(frozen=True)
+class ImplicitRoot:
+    """An implicit root (issue 18: an inverse branch with no closed form).
+
+    It occurs only in an :class:`InverseBranch`'s components and guards: ``equation`` is a smooth
+    term over ``Var(variable)`` (bound here) and parameters, ``target`` a term over Ψ̂⁻¹'s inputs
+    and parameters, ``lo`` and ``hi`` variable-free.
+
+    * ``index`` is None: the one ``x`` in ``[lo, hi]`` with ``equation(x) = target``, where
+      ``equation`` is strictly monotone on ``[lo, hi]`` (a piece between two turning points).  The
+      branch's guard says that ``target`` lies between ``equation(lo)`` and ``equation(hi)``, so the
+      root exists; outside it the root is undefined (NaN).
+    * ``index`` is k: the k-th (from 0, increasing) of the points of ``[lo, hi]`` where
+      ``equation − target`` changes sign, ``hi`` when there are only k or fewer; there must be at
+      most ``of`` of them, or the term is undefined and evaluating it raises :class:`TooManyRoots`
+      (a turning point that moves with the parameters, ``equation`` = ∂f/∂x).
+
+    Its derivative is the implicit function theorem's: ``∂x* = (∂target − ∂equation/∂θ · ∂θ) /
+    ∂equation/∂x`` at ``x*``.
+    """
+
+    equation: "Term"
+    variable: str
+    target: "Term"
+    lo: "Term"
+    hi: "Term"
+    index: int | None = None
+    of: int = 0
+    span: Span | None = _span()
+
+
+class TooManyRoots(Exception):
+    """An indexed :class:`ImplicitRoot` met more sign changes than its ``of`` (the completion
+    split the domain into that many pieces at most)."""
+
+
+Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot]
 
 
 @dataclass(frozen=True)
@@ -304,7 +340,7 @@ def _sharing(cls):
 
 #: Largest term ``repr`` writes out (nodes); a larger one is summarized.
 REPR_LIMIT = 10_000
-_TERMS = (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call)
+_TERMS = (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot)
 
 for _cls in (*_TERMS, InverseBranch, Diffeo, Interval, Program):
     _sharing(_cls)
@@ -389,6 +425,8 @@ def children(t: Term) -> tuple[Term, ...]:
             return (a, b)
         case Call(_, _, args):
             return tuple(args)
+        case ImplicitRoot(eq, _, target, lo, hi):
+            return (eq, target, lo, hi)
     raise TypeError(f"not a core term: {t!r}")
 
 
@@ -423,6 +461,8 @@ def free_vars(t: Term) -> frozenset[str]:
             return frozenset({name})
         case IfDiffeo(psi, a, b):
             return _kept(t, "_fv", lambda: frozenset(psi.variables) | free_vars(a) | free_vars(b))
+        case ImplicitRoot(eq, x, target, lo, hi):  # binds its variable in its equation
+            return _kept(t, "_fv", lambda: (free_vars(eq) - {x}) | free_vars(target) | free_vars(lo) | free_vars(hi))
         case _:
             return _kept(t, "_fv", lambda: frozenset().union(*(free_vars(c) for c in children(t))))
 
@@ -502,6 +542,10 @@ def substitute(
                 return replace(u, bound=go(bound, ps), body=go(body, inner))
             case IfDiffeo(psi, a, b):
                 return replace(u, psi=substitute_diffeo(psi, variables, ps), then=go(a, ps), orelse=go(b, ps))
+            case ImplicitRoot(eq, x, target, lo, hi):  # its variable is bound in its equation
+                inner = {k: v for k, v in variables.items() if k != x}
+                return replace(u, equation=substitute(eq, inner, ps), target=go(target, ps), lo=go(lo, ps),
+                               hi=go(hi, ps))
             case _:
                 return map_children(u, lambda c: go(c, ps))
 
@@ -529,6 +573,8 @@ def map_children(t: Term, f: Callable[[Term], Term]) -> Term:
             return replace(t, bound=f(a), body=f(b))
         case Call(_, _, args):
             return replace(t, args=tuple(f(a) for a in args))
+        case ImplicitRoot(eq, _, target, lo, hi):
+            return replace(t, equation=f(eq), target=f(target), lo=f(lo), hi=f(hi))
     raise TypeError(f"not a core term: {t!r}")
 
 

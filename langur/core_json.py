@@ -16,7 +16,8 @@ earlier one: the format is acyclic by construction, and a subterm shared after i
 one node however often it is reached, so the JSON is never larger than the term's distinct nodes.
 Numbers are exact: a rational as ``"p/q"`` (or ``"p"``), π as ``"pi"``.  One op per core term
 former (Fig. 6 with the conditional on a diffeomorphism, §4): ``const``, ``var``, ``param``,
-``add``, ``mul``, ``prim``, ``pow``, ``ifge0``, ``ifdiffeo``, ``let``.  Calls never appear: the
+``add``, ``mul``, ``prim``, ``pow``, ``ifge0``, ``ifdiffeo``, ``let``, and ``root`` (an implicit
+root, :class:`~langur.core.ImplicitRoot`, only in inverse branches).  Calls never appear: the
 program is the inlined one.
 
 :func:`dumps`/:func:`to_json` write a :class:`~langur.core.Program`; :func:`loads`/:func:`from_json`
@@ -37,6 +38,7 @@ from .core import (
     Diffeo,
     IfDiffeo,
     IfGe0,
+    ImplicitRoot,
     Interval,
     InverseBranch,
     Let,
@@ -128,6 +130,10 @@ class _Writer:
                 return {"op": "let", "name": name, "bound": ix[bound], "body": ix[body]}
             case Call(module, name, _):
                 raise ValueError(f"call of {module}.{name}: only inlined programs are written (no Call nodes)")
+            case ImplicitRoot(eq, x, target, lo, hi, index, of):
+                node = {"op": "root", "equation": ix[eq], "variable": x, "target": ix[target], "lo": ix[lo],
+                        "hi": ix[hi]}
+                return node if index is None else {**node, "index": index, "of": of}
         raise TypeError(f"not a core term: {u!r}")
 
     def diffeo(self, psi: Diffeo) -> int:
@@ -250,6 +256,14 @@ class _Reader:
             case "let":
                 return Let(_name(n.get("name"), f"{where}.name"), r(n.get("bound"), f"{where}.bound"),
                            r(n.get("body"), f"{where}.body"))
+            case "root":
+                index, of = n.get("index"), n.get("of", 0)
+                for key, v in (("index", index), ("of", of)):
+                    if v is not None and (not isinstance(v, int) or isinstance(v, bool) or not 0 <= v <= 1000):
+                        raise FormatError(f"{where}.{key}", "expected an integer from 0 to 1000")
+                return ImplicitRoot(r(n.get("equation"), f"{where}.equation"),
+                                    _name(n.get("variable"), f"{where}.variable"), r(n.get("target"), f"{where}.target"),
+                                    r(n.get("lo"), f"{where}.lo"), r(n.get("hi"), f"{where}.hi"), index, of)
         raise FormatError(f"{where}.op", f"unknown op {op!r}")
 
     def diffeo(self, k, where: str) -> Diffeo:

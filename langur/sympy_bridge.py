@@ -31,6 +31,7 @@ from .core import (
     Const,
     IfDiffeo,
     IfGe0,
+    ImplicitRoot,
     Let,
     Mul,
     Param,
@@ -42,6 +43,7 @@ from .core import (
     smooth,
     subterms,
 )
+from .implicit import implicit_root
 from .primitives import REGISTRY
 
 T = TypeVar("T")
@@ -134,6 +136,10 @@ def denote(t: Term, env: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
             return denote(body, {**env, name: denote(bound, env)})
         case Call(module, name, _):
             raise TypeError(f"call of {module}.{name} left in a core term: inline it first")
+        case ImplicitRoot(eq, x, target, lo, hi, index, of):  # issue 18, an inverse branch with no closed form
+            inner = {k: v for k, v in env.items() if k != x}
+            return implicit_root(denote(eq, inner), symbol(x), denote(target, env), denote(lo, env), denote(hi, env),
+                                 index, of)
     raise TypeError(f"not a core term: {t!r}")
 
 

@@ -62,6 +62,7 @@ from .lint.doubleroot import double_root_findings
 from .lint.emptydomain import empty_domain_findings
 from .lint.findings import Finding
 from .lint.geometry import span_key
+from .lint.tangent import tangent_findings
 from .syntax.inline import inline
 
 __all__ = [
@@ -193,6 +194,7 @@ def check_program(
 
     findings += domain_findings(program, point, sources or {})
     findings += double_root_findings(program)
+    findings += tangent_findings(program, point, bool(at))
     findings += empty_domain_findings(program, point, domain_spans)
     findings += singular.findings(program, declared, point, sources or {})
     return _dedupe(findings)

@@ -32,6 +32,7 @@ from .core import (
     Diffeo,
     IfDiffeo,
     IfGe0,
+    ImplicitRoot,
     Let,
     Mul,
     Param,
@@ -312,6 +313,13 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
             observe.rule("call (elaborated modules): the arguments typed in the caller's context", t, delta=delta, gamma=gamma)
             for a in args:
                 type_term(delta, gamma, a, out)
+        case ImplicitRoot(eq, x, target, lo, hi):
+            # issue 18, an inverse branch's implicit root: x ⊢ eq smooth, target over Δ, bracket over Γ
+            observe.rule("LANGUAGE.md §1 (issue 18), implicit root: x;Γ ⊢ f, Δ;Γ ⊢ target, ·;Γ ⊢ lo, hi ⟹ Δ;Γ ⊢ root", t, delta=delta, gamma=gamma)
+            type_term(frozenset({x}), gamma, eq, out)
+            type_term(delta, gamma, target, out)
+            type_term(frozenset(), gamma, lo, out)
+            type_term(frozenset(), gamma, hi, out)
         case _:
             raise TypeError(f"not a core term: {t!r}")
 

@@ -7,6 +7,7 @@ import sys
 from .. import progress
 from .. import typesys as ty
 from ..cli import UsageError
+from ..core import TooManyRoots
 
 ENGINE_CHOICES = ["both", "exact", "mc"]
 
@@ -122,4 +123,7 @@ def run_mc(kind: str, loaded, params, args, direction=None, *, infinite_variance
                                                    **kw)
     except operational.TooLarge as e:  # located, and the exact engine's answer still stands
         print(ty.reject_too_large(e.span, str(e)).format(), file=sys.stderr)
+        return None
+    except TooManyRoots as e:  # a condition split for fewer turning points than it has here (issue 18)
+        print(f"langur {kind}: no Monte Carlo value: {e}", file=sys.stderr)
         return None

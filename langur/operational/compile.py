@@ -37,7 +37,22 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
+from ..core import (
+    Add,
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    ImplicitRoot,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Term,
+    TooManyRoots,
+    Var,
+)
 from ..primitives import REGISTRY
 
 VALUE, TANGENT, DELTA = 0, 1, 2
@@ -264,6 +279,8 @@ def _children(t: Term) -> tuple:
             return (bound, body)
         case Call(_, _, args):
             return tuple(args)
+        case ImplicitRoot(eq, _, target, lo, hi):
+            return (eq, target, lo, hi)
     return ()
 
 
@@ -394,7 +411,100 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             slot = len(ctx.slots)
             ctx.slots.append(("call", (module, name), tuple(isinstance(a, Var) for a in args)))
             return _compile_call(slot, module, name, args, ctx)
+        case ImplicitRoot(equation, variable, target, lo, hi, index, of):
+            # issue 18, implicit root (a Ψ̂⁻¹ component): x* in [lo, hi] with f(x*) = ⟦target⟧;
+            # ⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ') / ∂f/∂x at x* (implicit function theorem)
+            parts = (_compile(equation, ctx), variable, _compile(target, ctx), _compile(lo, ctx), _compile(hi, ctx))
+            return _compile_root(*parts) if index is None else _compile_sign_change(*parts, index, of)
     raise TypeError(f"not a core term: {t!r}")
+
+
+#: Halvings of an implicit root's bracket: past double precision for brackets up to 2^10 wide.
+ROOT_HALVINGS = 64 + 10
+#: Cells of the grid on which an indexed implicit root's sign changes are found.
+ROOT_GRID = 512
+
+
+def _bisect(f, t, a, b):
+    """Vectorized bisection of ``f − t`` on brackets ``[a, b]`` where it changes sign (NaN where it
+    does not)."""
+    a0, b0 = a, b
+    a, b = a.copy(), b.copy()
+    fa, fb = f(a) - t, f(b) - t
+    rising = fa < fb
+    ok = (np.sign(fa) * np.sign(fb) <= 0) & ~np.isnan(fa) & ~np.isnan(fb)
+    for _ in range(ROOT_HALVINGS):
+        m = 0.5 * (a + b)
+        below = (f(m) - t < 0) == rising
+        a, b = np.where(below, m, a), np.where(below, b, m)
+    return np.where(ok, np.where(fa == 0, a0, np.where(fb == 0, b0, 0.5 * (a + b))), NAN)
+
+
+def _root_tangent(fe: Fn, x: str, value, dt, pt: Point, lk: Linking):
+    """⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ') / ∂f/∂x at x* (implicit function theorem)."""
+    vals = pt.values()
+    fx = fe(Point({x: value}, vals.params, dvars={x: 1.0}, mode=TANGENT, root=vals.root), lk)[1]
+    ftheta = fe(Point({x: value}, pt.params, dparams=pt.dparams, mode=TANGENT, root=pt.root), lk)[1]
+    num = _dadd(dt, None if ftheta is None else -ftheta)
+    return None if num is None else num / fx
+
+
+def _compile_root(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn) -> Fn:
+    """The implicit root, vectorized: bisection of ``f − target`` on each point's bracket (``f`` is
+    monotone there and changes sign when the branch's guard holds; NaN where it does not)."""
+    def root(pt, lk):
+        vals = pt.values()
+        t, dt = ft(pt, lk)
+        lo, hi = flo(vals, lk)[0], fhi(vals, lk)[0]
+        t, a, b = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (t, lo, hi)))
+        value = _bisect(lambda at: fe(Point({x: at}, vals.params, root=vals.root), lk)[0], t, a, b)
+        return value, (None if pt.mode == VALUE else _root_tangent(fe, x, value, dt, pt, lk))
+    return root
+
+
+def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of: int) -> Fn:
+    """The ``index``-th sign change of ``f − target`` on ``[lo, hi]`` (``hi`` when there are
+    fewer; :class:`~langur.core.TooManyRoots` when more than ``of``): found on a grid of
+    :data:`ROOT_GRID` cells, once per distinct parameter point, and bisected in its cell."""
+    def sign_change(pt, lk):
+        vals = pt.values()
+        t, dt = ft(pt, lk)
+        (lo, _), (hi, dhi) = flo(vals, lk), fhi(pt, lk)
+        columns = [t, lo, hi] + [v for v in vals.params.values() if np.ndim(v)]
+        n = max([np.size(c) for c in columns])
+        table = np.stack([np.broadcast_to(np.asarray(c, dtype=float).reshape(-1), (n,)) if np.size(c) > 1
+                          else np.full(n, float(np.asarray(c).reshape(-1)[0])) for c in columns], axis=1)
+        rows, back = np.unique(table, axis=0, return_inverse=True)
+        back = back.reshape(-1)
+        first = np.unique(back, return_index=True)[1]  # one sample row per distinct point
+        params = {k: (np.broadcast_to(np.asarray(v, dtype=float).reshape(-1), (n,))[first][:, None]
+                      if np.ndim(v) else v) for k, v in vals.params.items()}
+        tr, lor, hir = rows[:, 0:1], rows[:, 1:2], rows[:, 2:3]
+        grid = lor + (hir - lor) * np.linspace(0.0, 1.0, ROOT_GRID + 1)[None, :]  # (m, G + 1)
+        g = fe(Point({x: grid}, params, root=vals.root), lk)[0] - tr
+        sg = np.broadcast_to(g, grid.shape) >= 0
+        bad = np.isnan(np.broadcast_to(g, grid.shape))
+        change = (sg[:, 1:] != sg[:, :-1]) & ~bad[:, 1:] & ~bad[:, :-1]
+        counts = change.sum(axis=1)
+        if np.any(counts > of):
+            raise TooManyRoots(f"{int(counts.max())} turning points on the domain at these parameter values, more "
+                               f"than the {of} the condition was split for: Langur cannot differentiate it here")
+        value_rows = hir[:, 0].copy()
+        has = counts > index
+        if has.any():
+            r, k = np.nonzero(change & (np.cumsum(change, axis=1) == index + 1))  # the (index+1)-th change
+            at_rows = {name: (v[r, 0] if np.ndim(v) else v) for name, v in params.items()}  # one per cell
+            value_rows[r] = _bisect(lambda at: fe(Point({x: at}, at_rows, root=vals.root), lk)[0],
+                                    tr[r, 0], grid[r, k], grid[r, k + 1])
+        value = value_rows[back] if n > 1 or np.ndim(t) or np.ndim(lo) or np.ndim(hi) else value_rows[0]
+        if pt.mode == VALUE:
+            return value, None
+        inside = has[back] if np.ndim(value) else bool(has[0])
+        d = _root_tangent(fe, x, value, dt, pt, lk)
+        if d is None and dhi is None:
+            return value, None
+        return value, np.where(inside, 0.0 if d is None else d, 0.0 if dhi is None else dhi)
+    return sign_change
 
 
 def _compile_call(slot: int, module: str, name: str, args, ctx: _Ctx) -> Fn:

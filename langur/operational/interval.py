@@ -14,7 +14,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..core import Add, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Term, Var
+from ..core import Add, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var
 from ..primitives import REGISTRY
 from .compile import const_value
 
@@ -100,6 +100,8 @@ def _build(terms: tuple[Term, ...]) -> _Tape:
                 key = (_ifdiffeo, (step(a), step(b)), None)
             case Let(name, bound, body):  # the body under its own scope: a tape of its own
                 key = (_let, (step(bound),), (name, _tape(body)))
+            case ImplicitRoot(_, _, _, lo, hi):  # issue 18: the root lies in its bracket
+                key = (_bracket, (step(lo), step(hi)), None)
             case _:
                 raise TypeError(f"cannot enclose {t!r}")
         i = index.get(key)
@@ -185,6 +187,10 @@ def _let(box, params, data, bound):
     [(bl, bh)] = body.run(box, {**params, name: lo})
     wide = lo != hi  # a let bound to a range: its body is not enclosed per value
     return np.where(wide, -INF, bl), np.where(wide, INF, bh)
+
+
+def _bracket(box, params, _, lo, hi):
+    return lo[0], hi[1]
 
 
 def _prim(box, params, op: str, a):

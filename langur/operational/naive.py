@@ -15,9 +15,25 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var
+from ..core import (
+    Add,
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    ImplicitRoot,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Program,
+    Term,
+    TooManyRoots,
+    Var,
+)
 from ..primitives import REGISTRY
-from .compile import DELTA, TANGENT, VALUE
+from .compile import DELTA, ROOT_GRID, ROOT_HALVINGS, TANGENT, VALUE
 from .link import collect_sites
 from .results import Estimate
 from .sample import design
@@ -42,6 +58,34 @@ def _pow(a: float, k: Fraction) -> float:
         return a ** float(k)
     except (OverflowError, ZeroDivisionError):
         return math.inf
+
+
+def _root(f, a: float, b: float, index: int | None, of: int) -> float:
+    """The sign change of ``f`` in ``[a, b]`` (``index`` None: the one of a monotone ``f``, NaN
+    if none) or its ``index``-th one on a grid of ``ROOT_GRID`` cells (``b`` if there are fewer;
+    :class:`~langur.core.TooManyRoots` if more than ``of``), bisected."""
+    if index is not None:
+        xs = [a + (b - a) * i / ROOT_GRID for i in range(ROOT_GRID + 1)]
+        signs = [f(t) >= 0 for t in xs]
+        cells = [i for i in range(ROOT_GRID) if signs[i] != signs[i + 1]]
+        if len(cells) > of:
+            raise TooManyRoots(f"{len(cells)} turning points on the domain at these parameter values, more than "
+                               f"the {of} the condition was split for: Langur cannot differentiate it here")
+        if index >= len(cells):
+            return b
+        a, b = xs[cells[index]], xs[cells[index] + 1]
+    fa, fb = f(a), f(b)
+    if fa == 0 or fb == 0:
+        return a if fa == 0 else b
+    if not (fa < 0) ^ (fb < 0):
+        return NAN
+    for _ in range(ROOT_HALVINGS):
+        m = 0.5 * (a + b)
+        if (f(m) < 0) == (fa < 0):
+            a = m
+        else:
+            b = m
+    return 0.5 * (a + b)
 
 
 class _Counter:
@@ -99,6 +143,15 @@ def evaluate(t: Term, rho: dict, gamma: dict, dgamma: dict, mode: int = VALUE, s
                 return v, (float(k) * _pow(x, k - 1) * dx if dx != 0.0 else 0.0)
             case Call():
                 raise ValueError("the naive evaluator runs inlined programs only")
+            case ImplicitRoot(eq, x, target, lo, hi, index, of):
+                # issue 18, implicit root (a Ψ̂⁻¹ component): bisection; ⦇x*⦈ by the implicit function theorem
+                (tv, dt), (a, _), (b, db) = go(target, g, dg), go(lo, g, dg), go(hi, g, dg)
+                r = _root(lambda at: evaluate(eq, {x: at}, g, {})[0] - tv, a, b, index, of)
+                if index is not None and r == b:
+                    return r, db  # no index-th sign change: the bracket's end
+                fx = evaluate(eq, {x: r}, g, {}, TANGENT, dvars={x: 1.0})[1]
+                ft = evaluate(eq, {x: r}, g, dg, TANGENT)[1] if mode == TANGENT else 0.0
+                return r, (dt - ft) / fx if fx else NAN
         raise TypeError(f"not a core term: {u!r}")
 
     return go(t, gamma, dgamma)

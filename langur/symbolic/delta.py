@@ -18,6 +18,7 @@ from typing import Sequence
 
 import sympy as sp
 
+from langur.implicit import ImplicitRootFn
 from langur.symbolic.pieces import DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
 from langur.symbolic.regions import Cond, Context
@@ -126,8 +127,9 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
         jac = sp.Matrix([[sp.diff(e, u) for u in psi.inputs] for e in comps]).det()
         sub = {u0: sp.Integer(0)}
         xsub = {x: inv[x].xreplace(sub) for x in psi.variables}
-        try:
-            J = ctx.deadline.run(lambda: sp.simplify(jac.xreplace(sub)), cap=3.0)
+        try:  # (an implicit root's Jacobian 1/f'(x*) has nothing to simplify, and costs seconds to try)
+            J = (jac.xreplace(sub) if jac.has(ImplicitRootFn)
+                 else ctx.deadline.run(lambda: sp.simplify(jac.xreplace(sub)), cap=3.0))
         except TimeoutError:
             J = jac.xreplace(sub)
         exprs = [sp.sympify(c.expr).xreplace(xsub) for c in piece.conditions]

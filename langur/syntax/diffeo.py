@@ -20,7 +20,9 @@ Two jobs, both with sympy (through :mod:`langur.sympy_bridge`, every call time-b
      vanishes only on a null set, where Ψ̂ is not invertible (like a tangency, measure zero);
   3. the numerator of ``t - u₀`` is a polynomial of degree ≤ 2 in ``v`` (rational conditions
      such as ``x/(1+x) - a``): its roots, two branches with guard ``discriminant ≥ 0`` for
-     degree 2.
+     degree 2;
+  4. none of these, ``t`` mentions one variable only and its interval is bounded: one implicit-root
+     branch per monotone piece between turning points (:mod:`langur.syntax.turning`, issue 18).
 
   Inverse branches are solved with these bounded strategies only (no open-ended
   ``sympy.solve``, whose solution sets for transcendental equations can be incomplete: a missed
@@ -64,7 +66,7 @@ from ..sympy_bridge import (
     to_sympy,
 )
 from ..timebox import run_with_timeout
-from . import affine
+from . import affine, turning
 from .affine import fresh_inputs
 
 #: Wall-clock limit (seconds) of one completion / one declaration check.
@@ -173,6 +175,13 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds):
             return _to_diffeo(cond, variables, inputs, params, v, branches, nonzero)
         except ValueError as e:
             reasons.append(f"{v}: {e}")
+    if len(occurring) == 1:  # no closed form: implicit roots on the monotone pieces (issue 18)
+        (v,) = occurring
+        pieces = turning.complete_by_pieces(cond, expr, symbol(v), variables, inputs,
+                                            bounds.get(v, (-math.inf, math.inf)))
+        if isinstance(pieces, Diffeo):
+            return pieces
+        reasons.append(f"{v}: {pieces}")
     return "no variable can be isolated (" + "; ".join(reasons) + ")"
 
 

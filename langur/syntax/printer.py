@@ -34,7 +34,9 @@ printed text gives the same core term:
   parameters = the instance's free parameters in sorted order, the single inverse branch), and
   prints the conditional as ``ifge0 NAME(vars; params) then …``, which desugars back to the same
   instance.  Multi-branch or guarded diffeos cannot be declared in `.lgr`; they print as their
-  condition.  :func:`print_diffeo` shows everything about one diffeo.
+  condition.  :func:`print_diffeo` shows everything about one diffeo, including an implicit root
+  of an inverse branch (``root(x: x ^ 3 - x - a = u0 in [-2, 2])``, not `.lgr` syntax: it never
+  occurs in a program's terms).
 """
 
 from __future__ import annotations
@@ -315,6 +317,12 @@ class _CoreRule:
                 return _wrap(TERM, level, ["let ", name, " = ", (bound, SUM), " in ", (body, TERM)])
             case C.Call(module, name, args):
                 return [f"{module}.{name}" if module else name, "(", *_commas(args), ")"]
+            case C.ImplicitRoot(eq, x, target, lo, hi, index, of):
+                # only in a diffeo's inverse branches (print_diffeo): not `.lgr` syntax
+                head = "root(" if index is None else f"sign_change_{index}("
+                tail = ")" if index is None else f"; at most {of})"
+                return [head, x, ": ", (eq, SUM), " = ", (target, SUM), " in [", (lo, TERM), ", ", (hi, TERM),
+                        "]", tail]
         raise TypeError(f"not a core term: {t!r}")
 
     def condition(self, psi: C.Diffeo) -> list:

@@ -1,0 +1,109 @@
+"""X305/X306 for conditions completed on monotone pieces: roots that merge at a turning point.
+
+A condition in one variable with no closed-form inverse is completed on the pieces between its
+turning points c (zeros of ∂f/∂x; :mod:`langur.syntax.turning`), one implicit-root branch each.
+Where ``f(c; θ) = 0`` a root sits on a turning point: two roots merge (or appear, or vanish) as
+θ moves, ``∂f/∂x = 0`` on the zero set, Ψ̂ is not a diffeomorphism there (Def. 3.4, §5.2) and the
+derivative does not exist (``∫ [x³ − x − a ≥ 0]`` has a square-root corner in ``a`` at
+``a = ±2/(3√3)``).  Like a vanishing coefficient (X306/X305 in :mod:`langur.lint.coincidence`):
+the set of parameter values where it happens is a warning (X306), and the parameter values given
+with ``--at`` lying in it an error (X305), so the engines' numbers there are not taken as a
+derivative.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ..core import IfDiffeo, ImplicitRoot, Program, TooManyRoots, subterms
+from ..sympy_bridge import NotSmooth, symbol, to_sympy
+from ..timebox import run_with_timeout
+from .findings import Finding
+
+#: Seconds of sympy per condition.
+TIME_LIMIT = 2.0
+#: |f(c)| below this (relative to the scale of f) at the parameters in force: a tangent root.
+TOLERANCE = 1e-9
+
+
+def tangent_findings(program: Program, point: dict | None, explicit: bool) -> list[Finding]:
+    """One finding per turning point of an implicitly completed condition on which a root can
+    sit (X306), or sits at the parameter values in force (X305 with ``--at``, else X306)."""
+    out, seen = [], set()
+    for t in subterms(program.body):
+        if not isinstance(t, IfDiffeo) or t.psi in seen:
+            continue
+        seen.add(t.psi)
+        roots = [c for b in t.psi.branches for c in b.components if isinstance(c, ImplicitRoot)]
+        if not roots:
+            continue
+        try:
+            out += run_with_timeout(lambda t=t, roots=roots: _findings(t, roots, point, explicit), TIME_LIMIT)
+        except (TimeoutError, NotSmooth, TypeError, ValueError, TooManyRoots):
+            continue
+    return out
+
+
+def _findings(site: IfDiffeo, roots: list[ImplicitRoot], point, explicit) -> list[Finding]:
+    v = symbol(roots[0].variable)
+    f = to_sympy(site.psi.forward[0])
+    text = sp.sstr(f)
+    out = []
+    # the pieces are consecutive: their inner ends are the turning points (closed forms, or the k-th
+    # sign change of ∂f/∂x when they move with the parameters)
+    for end in (r.hi for r in roots[:-1]):
+        c = to_sympy(end)
+        moving = isinstance(end, ImplicitRoot)
+        value = f.xreplace({v: c})
+        params = sorted(value.free_symbols, key=str)
+        if not params:
+            continue
+        names = tuple(p.name for p in params)
+        where = f"the turning point {v} = {sp.sstr(c)}" if not moving else f"turning point {end.index} (from the left)"
+        hit = (point is not None and all(n in point for n in names)
+               and _on_turning_point(f, v, c, end, roots, {p: sp.Float(float(point[p.name]), 30) for p in params}))
+        shown = ", ".join(f"{n} = {float(point[n]):g}" for n in names) if hit else ""
+        if hit and explicit:
+            out.append(Finding(site.span, "error", "X305",
+                               f"at {shown} a root of the condition `{text}` sits on {where} (∂/∂{v} = 0 there): "
+                               "two roots merge, the condition is not a diffeomorphism and the derivative is not "
+                               "defined here", (), names))
+            continue
+        note = f"; the default values {shown} lie in this set" if hit else ""
+        if moving:  # the set where a root sits on a moving turning point is not computed: only the point
+            if hit:
+                out.append(Finding(site.span, "warning", "X306",
+                                   f"a root of the condition `{text}` sits on {where} (its turning points move with "
+                                   f"the parameters; ∂/∂{v} = 0 on the zero set): two roots merge, it stops being a "
+                                   f"diffeomorphism and the derivative is not defined{note}", (), names))
+            continue
+        sols = _solve(value, params)
+        the_set = " or ".join(", ".join(f"{k} = {sp.sstr(e)}" for k, e in s.items()) for s in sols) \
+            or f"{sp.sstr(value)} = 0"
+        out.append(Finding(site.span, "warning", "X306",
+                           f"the condition `{text}` has a root on {where} when {the_set}: there two roots merge "
+                           f"(∂/∂{v} = 0 on the zero set), it stops being a diffeomorphism and the derivative is not "
+                           f"defined{note}", (), names))
+    return out
+
+
+def _on_turning_point(f, v, c, end, roots, at) -> bool:
+    """Does a root of ``f`` sit on the turning point ``c`` at the parameter values ``at``?"""
+    try:
+        here = sp.Float(c.xreplace(at).evalf(30), 30)
+        lo, hi = (sp.Float(to_sympy(t).xreplace(at).evalf(30), 30) for t in (roots[0].lo, roots[-1].hi))
+    except (TypeError, ValueError, TooManyRoots):  # more turning points than pieces: the engines say so
+        return False
+    if isinstance(end, ImplicitRoot) and here == hi:
+        return False  # a moving slot past the last turning point is the domain's end
+    fx = f.xreplace(at)
+    scale = 1 + max(abs(complex(fx.xreplace({v: lo}).evalf(20))), abs(complex(fx.xreplace({v: hi}).evalf(20))))
+    return abs(complex(fx.xreplace({v: here}).evalf(30))) <= TOLERANCE * scale
+
+
+def _solve(value, params) -> list[dict]:
+    try:
+        sols = sp.solve(value, params, dict=True)
+    except NotImplementedError:
+        return []
+    return [s for s in sols if not any(e.has(sp.I) for e in s.values())]

@@ -1,0 +1,165 @@
+"""Completing a smooth condition in one variable that has no closed-form inverse (issue 18).
+
+A condition ``f(x; θ) ≥ 0`` over one variable ``x`` that sympy cannot invert in closed form
+(``x^3 − x − a``: three roots; ``x^51 + x − a``, ``exp(x) + x − a``: monotone, no closed form) is
+still the condition of a piecewise diffeomorphism on the variable's interval ``[lo, hi]``
+(paper §4, §5.2): split ``[lo, hi]`` at the *turning points* of ``f`` (the zeros of ``∂f/∂x``
+where it changes sign), ``f`` is strictly monotone on each piece, so ``f = u₀`` has at most one
+root there.  Each piece ``[c_i, c_{i+1}]`` is one inverse branch of Ψ̂ = f:
+
+    x = ImplicitRoot(f, x, u₀, c_i, c_{i+1})    where (u₀ − f(c_i)) · (f(c_{i+1}) − u₀) ≥ 0,
+
+the guard saying that u₀ lies between the piece's end values (so the root exists).  The branches'
+images partition ``[lo, hi]``, exactly like the two branches of a quadratic: the delta of the
+condition is the sum over the roots ``Σ h(x*)/|f'(x*)|``, and no split point is a discontinuity
+of the program (the split lives in Ψ̂⁻¹ only), so the split adds no delta.
+
+The condition must be continuous on one interval of ``[lo, hi]`` (``sympy``'s
+``continuous_domain``; the brackets are limited to it: ``sqrt(x)`` on ``[-1, 1]`` uses ``[0, 1]``).
+Turning points are found exactly when ``∂f/∂x`` has no parameters and ``sympy.solveset`` solves it
+on the interval (time-boxed); one that has no closed form (a root of a quintic) is itself an
+implicit root of ``∂f/∂x`` in a rational bracket on which ``∂f/∂x`` changes sign (checked
+exactly).  Infinitely many, or more than :data:`MAX_PIECES` − 1, are refused.  When they move
+with the parameters (``sin(a·x) − 0.5``: ``x = (π/2 + kπ)/a``; ``x^3 − a·x``) or sympy cannot
+solve for them, their number depends on θ, which the front end does not know (``--at``): the
+completion has :data:`MOVING_PIECES` branches whose ends are the k-th sign changes of ``∂f/∂x``
+(indexed implicit roots, ``hi`` past the last one), found by the engines where they evaluate; a
+point with more raises :class:`~langur.core.TooManyRoots` there.
+
+A root on a turning point (``f = ∂f/∂x = 0``: two roots merge) lies at the common end of two
+branches: the linter reports it (X306/X305, :mod:`langur.lint.tangent`).
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import sympy as sp
+from sympy.calculus.util import continuous_domain
+
+from ..core import Add, Const, Diffeo, ImplicitRoot, InverseBranch, Mul, Term, Var, neg, substitute
+from ..sympy_bridge import from_sympy
+from ..timebox import run_with_timeout
+
+#: Wall-clock limit (seconds) of the search for turning points.
+TURNING_LIMIT = 4.0
+#: More monotone pieces than this from exact turning points: found numerically instead.
+MAX_PIECES = 32
+#: Monotone pieces (inverse branches) of a condition whose turning points move with the parameters
+#: (or have no closed form): at most MOVING_PIECES − 1 turning points on the domain where it is
+#: evaluated (more: :class:`~langur.core.TooManyRoots`).
+MOVING_PIECES = 8
+
+
+def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...], inputs: tuple[str, ...],
+                       interval: tuple[float, float]) -> Diffeo | str:
+    """The Diffeo of ``cond`` (sympy ``e``, over ``v`` and parameters only) with one implicit-root
+    branch per monotone piece of ``[lo, hi]``, or the reason it cannot be built."""
+    lo, hi = interval
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+        return "its implicit inverse needs a bounded interval of the variable (give it a constant domain)"
+    x = v.name
+    d = sp.diff(e, v)
+    L, R = _rational(lo), _rational(hi)
+    try:
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT)
+    except TimeoutError:
+        return f"sympy could not find where it is continuous within {TURNING_LIMIT:g}s"
+    except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
+        return f"sympy could not find where it is continuous ({type(err).__name__})"
+    if not (isinstance(dom, sp.Interval) and dom.start.is_number and dom.end.is_number and dom.start < dom.end):
+        return f"it is continuous on {dom} only, not on one interval of the domain [{lo:g}, {hi:g}]"
+    L, R = sp.nsimplify(dom.start, rational=True), sp.nsimplify(dom.end, rational=True)  # where it is defined
+    ends = _exact_ends(d, v, L, R) if not (d.free_symbols - {v}) else None
+    if isinstance(ends, str):
+        return ends
+    if ends is None:  # moving (or no closed form): the k-th sign change of ∂f/∂x, found where evaluated
+        try:
+            slope = from_sympy(d, (x,), sorted(s.name for s in d.free_symbols - {v}))
+        except ValueError as err:
+            return f"∂/∂{x} = {d} is not a core term ({err})"
+        cuts = MOVING_PIECES - 1
+        lo_t, hi_t = from_sympy(L, (), ()), from_sympy(R, (), ())
+        ends = ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts) for k in range(cuts)]
+                + [hi_t])
+    u0 = Var(inputs[0])
+    others = [y for y in variables if y != x]
+    by_other = {y: Var(u) for y, u in zip(others, inputs[1:])}
+    branches = []
+    for a, b in zip(ends, ends[1:]):
+        root = ImplicitRoot(cond, x, u0, a, b)
+        fa, fb = substitute(cond, {x: a}), substitute(cond, {x: b})
+        guard = Mul(Add(u0, neg(fa)), Add(fb, neg(u0)))  # u0 between f(a) and f(b)
+        branches.append(InverseBranch(tuple(root if y == x else by_other[y] for y in variables), (guard,)))
+    return Diffeo(variables=variables, forward=(cond,) + tuple(Var(y) for y in others), inputs=inputs,
+                  branches=tuple(branches), solved_for=x, name=None)
+
+
+def _exact_ends(d, v, L, R) -> list[Term] | str | None:
+    """The ends of the monotone pieces from the exact zeros of ``d`` = ∂f/∂x (no parameters) on
+    ``[L, R]``; None when sympy cannot solve ``d = 0`` (then they are found numerically where the
+    condition is evaluated); a reason when there are too many or infinitely many."""
+    try:
+        zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.Interval(L, R)), TURNING_LIMIT)
+    except TimeoutError:
+        return None
+    if zeros is sp.S.EmptySet:
+        points = []
+    elif isinstance(zeros, sp.FiniteSet) and all(z.is_real for z in zeros):
+        if len(zeros) >= MAX_PIECES:
+            return f"it has {len(zeros)} turning points (zeros of ∂/∂{v} = {d}) on the domain, more than {MAX_PIECES - 1}"
+        points = sorted(zeros, key=lambda z: float(z))
+    elif isinstance(zeros, sp.ConditionSet):
+        return None  # sympy cannot solve ∂f/∂x = 0: the turning points are found numerically
+    else:
+        return f"it has infinitely many turning points (zeros of ∂/∂{v} = {d}) on the domain: {zeros}"
+    cuts = _sign_changes(d, v, [L] + [z for z in points if L < z < R] + [R])
+    if isinstance(cuts, str):
+        return cuts
+    try:
+        return [_point(c, d, v, v.name) for c in cuts]
+    except ValueError as err:
+        return str(err)
+
+
+def _rational(f: float) -> sp.Rational:
+    """The box end as a rational: the short one that prints as ``f`` (``0.1`` is 1/10), else exact."""
+    short = Fraction(f).limit_denominator(10**12)
+    return sp.Rational(short if float(short) == f else Fraction(f))
+
+
+def _sign_changes(d, v, cuts):
+    """The cuts where ``∂f/∂x`` changes sign (the ends always kept): a zero where it keeps its
+    sign (``x^3`` at 0) is no turning point; a piece where it vanishes identically is refused."""
+    keep = [cuts[0]]
+    signs = []
+    for a, b in zip(cuts, cuts[1:]):
+        mid = d.subs(v, (a + b) / 2).evalf(30)
+        if not mid.is_real or mid == 0:
+            return f"∂/∂{v} = {d} vanishes or is undefined between {a} and {b}"
+        signs.append(1 if mid > 0 else -1)
+    for k, c in enumerate(cuts[1:-1]):
+        if signs[k] != signs[k + 1]:
+            keep.append(c)
+    keep.append(cuts[-1])
+    return keep
+
+
+def _point(c: sp.Expr, d: sp.Expr, v: sp.Symbol, x: str) -> Term:
+    """A turning point (or an end) as a core term: its closed form, else the root of ``∂f/∂x``
+    in a rational bracket on which ``∂f/∂x`` changes sign (checked exactly)."""
+    try:
+        return from_sympy(c, (), ())
+    except ValueError:
+        pass
+    value = sp.Float(c.evalf(40), 40)
+    for digits in (6, 9, 12):  # decimals around the value: the first bracket with a sign change
+        scale = 10**digits
+        a = sp.Rational(sp.floor(value * scale) - 1, scale)
+        b = sp.Rational(sp.ceiling(value * scale) + 1, scale)
+        da, db = d.subs(v, a), d.subs(v, b)
+        if da.is_real and db.is_real and (da > 0) != (db > 0) and da != 0 and db != 0:
+            term_a, term_b = (from_sympy(w, (), ()) for w in (a, b))
+            return ImplicitRoot(from_sympy(d, (x,), ()), x, Const(Fraction(0)), term_a, term_b)
+    raise ValueError(f"cannot bracket the turning point {c}")
