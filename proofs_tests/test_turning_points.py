@@ -11,6 +11,8 @@ roots in the domain differs (three, one, none).
 """
 
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -230,3 +232,15 @@ def test_cli_eval_deriv_show(capsys, tmp_path):
     assert "engines agree" in out and f"{fd:.6f}"[:8] in out.replace(" ", "")
     assert main(["show", str(path)]) == 0
     assert "ifge0 x ^ 3 - x - a" in capsys.readouterr().out
+
+
+def test_too_many_turning_points_is_an_error_exit(tmp_path):
+    """More moving turning points than the condition was split for: neither engine gives a number,
+    and `deriv` says so with exit status 1 (CLI.md: not a success)."""
+    f = tmp_path / "s7.lgr"
+    f.write_text("param a = 1\nint ([-2, 2]) (ifge0 sin(7 * a * x) - 0.5 then 1 else 0) d(x)\n")
+    r = subprocess.run([sys.executable, "-m", "langur", "deriv", str(f), "--wrt", "a", "--no-theorem"],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 1, r
+    assert "no exact value" in r.stderr and "no Monte Carlo value" in r.stderr
+    assert "Traceback" not in r.stderr

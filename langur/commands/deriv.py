@@ -78,6 +78,8 @@ def run(args) -> int:
             status = 1
         if mc is not None:
             standard_ad = {**mc.standard_ad.to_json(), "source": "mc"}
+    if undefined is None and exact is None and mc is None and named is None:  # no engine asked for gave a number
+        status = 1
     if args.json:
         c.dump_json({"params": params, "direction": direction, "exact": exact.to_json() if exact else None,
                      "mc": mc.to_json(standard_ad=False) if mc is not None else None,

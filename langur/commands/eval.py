@@ -53,6 +53,8 @@ def run(args) -> int:
                     infinite_variance=defined.infinite_variance or (undefined and "the integral does not exist"))
         if mc is None and args.engine == "mc":
             status = 1
+    if undefined is None and exact is None and mc is None and named is None:  # no engine asked for gave a number
+        status = 1
     if args.json:
         c.dump_json({"params": params, "exact": exact.to_json() if exact is not None else None,
                      "mc": mc.to_json() if mc is not None else None, "undefined": undefined,
