@@ -26,6 +26,7 @@ from ..core import Program
 from ..diagnostics import Span
 from ..sympy_bridge import denote, symbol, to_sympy
 from .algebra import Undecided, bad_parameters, describe_point, exact, vanishes
+from .ancestry import ancestry
 from .coincidence import CoincidenceChecks
 from .collect import MAX_PRODUCTS, Occurrence, collect
 from .findings import Finding, quote
@@ -72,6 +73,7 @@ class Checker(CoincidenceChecks, NullSetChecks):
     ):
         self.program = program
         self.col = collect(program, sites, point)
+        self.ancestry = ancestry(program.body, self.col.occurrences)
         self.domain_spans = dict(domain_spans or {})
         self.variables = program.variables
         self.xs = xsyms(self.variables)

@@ -28,7 +28,7 @@ from ..sympy_bridge import denote
 from . import algebra
 from .algebra import Undecided, describe_set, vanishes
 from .collect import Occurrence
-from .geometry import meets_box, moving, num, orientation, zero_set_points
+from .geometry import moving, num, orientation, zero_set_points
 
 
 def _negative(f: sp.Expr, point, at: dict) -> bool:
@@ -94,7 +94,7 @@ class CoincidenceChecks:
             return self.undecided(c, g, why)
         if self.point is None:
             return
-        hit = any(self.in_set(c, (None, br, e)) for br, e, _ in unsolved)
+        hit = any(self.in_set(c, (None, br, e), g) for br, e, _ in unsolved)
         if not hit:
             return
         self.coincident.add(frozenset({c.index, g.index}))
@@ -156,8 +156,9 @@ class CoincidenceChecks:
             names,
         )
 
-    def in_set(self, c: Occurrence, rel) -> bool:
-        """Is the parameter point in this relation's set, with the common zero set inside the box?"""
+    def in_set(self, c: Occurrence, rel, g: Occurrence | None = None) -> bool:
+        """Is the parameter point in this relation's set, with the common zero set inside the box
+        at a point where c (and g) are in force?"""
         if self.point is None:
             return False
         _, br, e = rel
@@ -168,12 +169,14 @@ class CoincidenceChecks:
                 return False
         except Undecided:
             return False
-        return meets_box(c, br, self.box, self.point, self.variables)
+        # the meeting must be where both are in force (a kink split's piece ends at its kink)
+        return any(self._in_force([c] + ([g] if g is not None else []), pt)
+                   for pt in zero_set_points(c, br, self.box, self.point, self.variables))
 
     def parametric(self, c: Occurrence, g: Occurrence, relations, names):
         both = moving(c, self.variables) and moving(g, self.variables)
         sides = {orientation(c, g, br, self.variables, fixed=sol) for sol, br, _ in relations}
-        hit = any(self.in_set(c, r) for r in relations)
+        hit = any(self.in_set(c, r, g) for r in relations)
         if hit:  # coincident at the values in force: families through them say nothing more
             self.coincident.add(frozenset({c.index, g.index}))
         the_set = describe_set([sol for sol, _, _ in relations])
