@@ -63,7 +63,7 @@ from ..core import (
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
-from . import loops, vectors
+from . import kinks, loops, vectors
 from .completion import complete, diffeo
 from .inline import expand_calls, inline
 from .surface import (
@@ -92,8 +92,9 @@ SUGAR_FUNCTIONS = ("abs", "min", "max", "atan2", "dot", "cross")
 #: The conditions of a module split at their kinks (abs/min/max over the variables) have at most
 #: this many pieces in all (nested kinks double them at each level: the bound keeps the work bounded).
 MAX_PIECES = 128
-#: A condition with kinks is split only when written out as a tree it has at most this many nodes.
-MAX_SPLIT_SIZE = 400
+#: A condition with kinks is split only when written out as a tree it has at most this many nodes
+#: (the cube [max(max(abs(x), abs(y)), abs(z)) <= a] has 867; four nested abs over 10000).
+MAX_SPLIT_SIZE = 1000
 
 
 class _TooManyPieces(Exception):
@@ -492,6 +493,7 @@ class Desugarer:
     def conditional(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span=None) -> Term:
         """``ifge0 cond then … else …``: IfGe0 when ``cond`` is variable-free, else the completed
         IfDiffeo (Fig. 6, conditional / diffeomorphic conditional)."""
+        cond = kinks.cancelled(cond) if self.splitting else cond  # a kink split's flat piece
         if not free_vars(cond):
             return IfGe0(cond, then, orelse, span=span)
         inner = next((u for u in subterms(cond) if isinstance(u, IfGe0) and not free_vars(u.cond)), None)
