@@ -251,13 +251,23 @@ class CoincidenceChecks:
         return True
 
     def others_negative(self, c: Occurrence, g: Occurrence, prods, pts) -> bool:
-        """Each product where c and g multiply has another condition negative at all ``pts``."""
+        """Each product where c and g multiply has another condition on its zero side at all
+        ``pts``: negative for a factor or a conditional c and g are in the then-branch of, positive
+        for one they are in the else-branch of (a kink split's piece, ``langur.lint.ancestry``)."""
         occ = self.col.occurrences
         for p in prods:
             others = [occ[i] for i in p.ids - {c.index, g.index}]
-            if not any(all(_negative(h.f, self.point, pt) for pt in pts) for h in others):
+            if not any(all(self._off(h, c, g, pt) for pt in pts) for h in others):
                 return False
         return True
+
+    def _off(self, h: Occurrence, c: Occurrence, g: Occurrence, pt) -> bool:
+        """Is h strictly on the side that does not select c and g at ``pt``?"""
+        sides = {side for o in (c, g) for path in (self.ancestry.get(o.index) or ())
+                 for i, side in path if i == h.index}
+        if sides == {-1}:  # c or g is in h's else-branch: h selects it where h < 0
+            return _negative(-h.f, self.point, pt)
+        return not sides - {1} and _negative(h.f, self.point, pt)
 
     def report_kinks(self):
         occ = self.col.occurrences
