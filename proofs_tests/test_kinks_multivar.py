@@ -133,3 +133,18 @@ def test_the_reported_square_has_a_corner_in_its_value():
     left = ddenote_program(program, {"a": 1 - 1e-3}, {"a": 1}).value
     right = ddenote_program(program, {"a": 1 + 1e-3}, {"a": 1}).value
     assert abs(left - 8 * (1 - 1e-3)) < 1e-9 and right == 0  # the one-sided derivatives differ
+
+
+def test_two_kinks_meeting_are_no_coincidence():
+    # |x − a| + |x + a| = max(2|x|, 2|a|): its kinks x = ±a meet at a = 0, but neither carries a
+    # delta (the split's branches agree there), so nothing is counted twice: the value
+    # ∫_{−0.75}^{0.75} eˣ dx does not depend on a for |a| < 0.75, and at a = 0 there is no finding
+    loaded = _load("param a = 0.3\nint ([-1, 1]) [abs(x - a) + abs(x + a) <= 1.5] * exp(x) d(x)\n")
+    for a in (0.0, 0.3):
+        assert not check_program(loaded.program, loaded.params, at={"a": a})
+        exact = ddenote_program(loaded.program, {"a": a}, {"a": 1})
+        assert abs(exact.value) <= 1e-9 + exact.error
+        mc = estimate_derivative(loaded.program, {"a": a}, {"a": 1}, samples=2000, seed=1)
+        assert abs(mc.value) <= 5 * mc.stderr + 1e-9
+    # where the flat part |x| ≤ |a| reaches the level 1.5 the set vanishes at once: reported
+    assert "X305" in [f.code for f in check_program(loaded.program, loaded.params, at={"a": 0.75})]

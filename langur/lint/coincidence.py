@@ -174,7 +174,10 @@ class CoincidenceChecks:
                    for pt in zero_set_points(c, br, self.box, self.point, self.variables))
 
     def parametric(self, c: Occurrence, g: Occurrence, relations, names):
-        both = moving(c, self.variables) and moving(g, self.variables)
+        if c.continuous and g.continuous:
+            return  # two kinks (abs(x - a) + abs(x + a) at a = 0): neither has a delta to count twice
+        # a kink (no delta) meeting a jump is where roots merge at the kink: a kink of the integral
+        both = moving(c, self.variables) and moving(g, self.variables) and not (c.continuous or g.continuous)
         sides = {orientation(c, g, br, self.variables, fixed=sol) for sol, br, _ in relations}
         hit = any(self.in_set(c, r, g) for r in relations)
         if hit:  # coincident at the values in force: families through them say nothing more
@@ -210,7 +213,8 @@ class CoincidenceChecks:
         # every product they meet in is 0 around the meeting place (another factor vanishes there)
         if hit and self.zero_around(c, g):
             return
-        mover = c if (moving(c, self.variables) and not c.bound) or g.bound else g
+        # the one whose jump moves: a piece rather than a kink (no delta) or the domain's bound
+        mover = c if (moving(c, self.variables) and not c.bound and not c.continuous) or g.bound or g.continuous else g
         other = g if mover is c else c
         self.kinks.setdefault(mover.index, []).append((other, relations, hit))
 

@@ -297,15 +297,14 @@ def _differences(s: Term, r: Term) -> list[tuple[Term, Term]] | None:
     alike); None when their shapes differ."""
     if s == r:
         return []
+    if isinstance(s, (IfDiffeo, IfGe0)) and isinstance(r, (IfDiffeo, IfGe0)):
+        # two conditionals (a piece whose variables cancelled is an ifge0 on the parameters)
+        a, b = _differences(s.then, r.then), _differences(s.orelse, r.orelse)
+        if a is None or b is None:
+            return None
+        cs, cr = _condition(s), _condition(r)
+        return ([] if cs == cr else [(cs, cr)]) + a + b
     match s, r:
-        case IfDiffeo(p1, s1, r1), IfDiffeo(p2, s2, r2):
-            a, b = _differences(s1, s2), _differences(r1, r2)
-            if a is None or b is None:
-                return None
-            return [(p1.forward[0], p2.forward[0])] + a + b
-        case IfGe0(c1, s1, r1), IfGe0(c2, s2, r2) if c1 == c2:
-            a, b = _differences(s1, s2), _differences(r1, r2)
-            return None if a is None or b is None else a + b
         case (Add(a1, b1), Add(a2, b2)) | (Mul(a1, b1), Mul(a2, b2)):
             a, b = _differences(a1, a2), _differences(b1, b2)
             return None if a is None or b is None else a + b
@@ -316,6 +315,10 @@ def _differences(s: Term, r: Term) -> list[tuple[Term, Term]] | None:
     if any(isinstance(u, (IfDiffeo, IfGe0)) for u in (*subterms(s), *subterms(r))):
         return None
     return [(s, r)]
+
+
+def _condition(t: IfDiffeo | IfGe0) -> Term:
+    return t.psi.forward[0] if isinstance(t, IfDiffeo) else t.cond
 
 
 def _factors(t: Term) -> list[Term]:
