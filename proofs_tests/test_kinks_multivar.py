@@ -148,3 +148,35 @@ def test_two_kinks_meeting_are_no_coincidence():
         assert abs(mc.value) <= 5 * mc.stderr + 1e-9
     # where the flat part |x| ≤ |a| reaches the level 1.5 the set vanishes at once: reported
     assert "X305" in [f.code for f in check_program(loaded.program, loaded.params, at={"a": 0.75})]
+
+
+def _nested(n):
+    t = "x - a"
+    for _ in range(n):
+        t = f"abs({t}) - 0.1"
+    return f"param a = 0.3\nint ([-1, 1]) [{t} <= 0.05] d(x)\n"
+
+
+def test_a_condition_too_large_to_split_is_a_product_of_brackets():
+    # four nested abs: written out at its kinks the condition has over 10000 nodes (refused before);
+    # as brackets, [abs(t) - 0.1 <= 0.05] is [t <= 0.15 & -t <= 0.15] and so on down: the set is
+    # |x − a| ≤ 0.05 + 4·0.1 (each level's lower bound holds everywhere), so on [−1, 1] the value
+    # is 0.9 while the window is inside (a = 0.3) and 1 − (a − 0.45) once it leaves (a = 0.7)
+    loaded = _load(_nested(4))
+    for a, want in ((0.3, 0.0), (0.7, -1.0)):
+        exact = ddenote_program(loaded.program, {"a": a}, {"a": 1})
+        assert abs(exact.value - want) <= 1e-9 + exact.error
+        mc = estimate_derivative(loaded.program, {"a": a}, {"a": 1}, samples=2000, seed=2)
+        assert abs(mc.value - want) <= 5 * mc.stderr + 1e-9
+        # the brackets' pieces whose zero sets lie where they are not in force are no coincidence
+        assert not check_program(loaded.program, loaded.params, at={"a": a})
+
+
+def test_the_four_cube():
+    # [max(max(|x|, |y|), max(|z|, |w|)) <= a]: a product of 8 affine brackets, volume (2a)⁴, so
+    # d/da = 64a³ (Monte Carlo here; the exact engine agrees, 8 at a = 0.5, in ~25 s)
+    loaded = _load("param a = 0.5\nint ([-1, 1], [-1, 1], [-1, 1], [-1, 1]) "
+                   "[max(max(abs(x), abs(y)), max(abs(z), abs(w))) <= a] d(x, y, z, w)\n")
+    for a in (0.5, 0.8):
+        mc = estimate_derivative(loaded.program, {"a": a}, {"a": 1}, samples=3000, seed=5)
+        assert abs(mc.value - 64 * a ** 3) <= 5 * mc.stderr

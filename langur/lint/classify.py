@@ -257,6 +257,8 @@ class Checker(CoincidenceChecks, NullSetChecks):
         for br in c.branches:
             e = restrict(g.f, br)
             if vanishes(e, c.uprime + tuple(params), br[1]):
+                if not self.meet_in_force(c, g, br):
+                    return  # the common zero set lies where one of them is not in force (a piece)
                 return self.always(c, g, br, names)
             try:
                 relations += [(sol, br, e) for sol in bad_parameters(e, c.uprime, params, br[1])]

@@ -57,6 +57,8 @@ class CoincidenceChecks:
 
     def squared(self, c: Occurrence, site: Span | None):
         """A condition multiplied by itself through a power or a primitive (paper §7.3.2)."""
+        if c.continuous:
+            return  # a kink split (abs, min, max): no delta, so nothing is counted twice
         names = self.param_names(c)
         self.coincident.add(frozenset({c.index}))
         what = self.text(site) if site is not None else None
@@ -119,6 +121,8 @@ class CoincidenceChecks:
 
     def always(self, c: Occurrence, g: Occurrence, br, names):
         self.coincident.add(frozenset({c.index, g.index}))
+        if c.continuous and g.continuous:
+            return  # two kink splits on one zero set: neither has a delta to count twice
         p, o = self.primary(c, g)
         where = self.where(self.anchor(o), self.anchor(p))
         if not (moving(c, self.variables) or moving(g, self.variables)):
@@ -155,6 +159,15 @@ class CoincidenceChecks:
             (self.anchor(o),),
             names,
         )
+
+    def meet_in_force(self, c: Occurrence, g: Occurrence, br) -> bool:
+        """Is the common zero set of c and g (through c's branch ``br``) in the box, at the
+        parameter values in force, somewhere both are in force?  Only nested conditions (a kink
+        split's pieces) can fail this; without parameter values it is assumed."""
+        if self.point is None or not (self.ancestry.get(c.index) or self.ancestry.get(g.index)):
+            return True
+        return any(self._in_force([c, g], pt)
+                   for pt in zero_set_points(c, br, self.box, self.point, self.variables))
 
     def in_set(self, c: Occurrence, rel, g: Occurrence | None = None) -> bool:
         """Is the parameter point in this relation's set, with the common zero set inside the box

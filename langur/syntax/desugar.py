@@ -268,10 +268,18 @@ class Desugarer:
                 return self.loop(st, sc)
             case Iverson(terms, ops):
                 # [t0 op t1 op t2 …] is the product [t0 op t1]·[t1 op t2]·…
+                errors, pieces = len(self.errors), self.pieces
                 core = [self.term(t, sc) for t in terms]
-                return product([self.conditional(compare(core[i], op, core[i + 1]), Const(Fraction(1)),
-                                                 Const(Fraction(0)), sc, span, join(terms[i], terms[i + 1]))
-                                for i, op in enumerate(ops)], span)
+                out = product([self.conditional(compare(core[i], op, core[i + 1]), Const(Fraction(1)),
+                                                Const(Fraction(0)), sc, span, join(terms[i], terms[i + 1]))
+                               for i, op in enumerate(ops)], span)
+                if len(self.errors) > errors and all(kinks.TOO_LARGE in d.message for d in self.errors[errors:]) \
+                        and (alt := kinks.lattice(st)) is not None:
+                    # too large to split at its kinks: [max(A, B) <= s] is [A <= s & B <= s] (syntax/kinks.py)
+                    del self.errors[errors:]
+                    self.pieces = pieces
+                    return self.term(alt, sc)
+                return out
             case Logic(op, parts):
                 # [A & B] is [A]·[B]; [A | B] is 1 − (1 − [A])·(1 − [B]); [not A] is 1 − [A]
                 one = Const(Fraction(1))

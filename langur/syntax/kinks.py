@@ -8,6 +8,9 @@ plain conditional on the parameters (Fig. 6, conditional): :func:`cancelled` wri
 variables, so that it is desugared to ``ifge0`` like any condition over the parameters.  Only
 affine pieces with rational coefficients are recognised (:func:`langur.syntax.affine.linear`, no
 sympy), which is what splitting affine arguments of ``abs``/``min``/``max`` gives.
+
+Also here, :func:`lattice`: a bracket on a ``min``, ``max`` or ``abs`` as a product or a disjunction
+of two simpler brackets, for conditions too large to split at their kinks.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from fractions import Fraction
 
 from ..core import Add, Const, Mul, Param, Term, free_vars
 from . import affine
+from .surface import Apply, BinOp, Iverson, Logic, Neg, STerm
 
 
 def cancelled(cond: Term) -> Term:
@@ -32,3 +36,65 @@ def cancelled(cond: Term) -> Term:
     for (_, name), c in sorted(coeffs.items()):  # parameters only: the variables cancelled
         out = Add(out, Param(name) if c == 1 else Mul(Const(c), Param(name)))
     return replace(out, span=getattr(cond, "span", None))
+
+
+#: The words of the desugarer's refusal of a condition too large to split at its kinks (T207).
+TOO_LARGE = "written out it has more than"
+
+
+def lattice(st: Iverson) -> STerm | None:
+    """``[max(A, B) <= s]`` as ``[A <= s & B <= s]``, and alike (or None): a bracket comparing a
+    ``min``, ``max`` or ``abs`` with a term, as the conjunction or disjunction of two brackets.
+
+    Pointwise ``max(A, B) ≤ s ⇔ A ≤ s ∧ B ≤ s``, ``min(A, B) ≤ s ⇔ A ≤ s ∨ B ≤ s`` (and ``≥``
+    dually), ``abs(t) = max(t, −t)``: ⟦p⟧ is unchanged, and no conditional on the kink's own sign is
+    left (the split of ``Desugarer.conditional`` doubles the written-out condition at each nested
+    kink: the 4-cube ``[max(max(abs(x), abs(y)), max(abs(z), abs(w))) <= a]`` is a product of 8
+    affine conditions instead).  Strict and non-strict comparisons alike (they differ on null sets)."""
+    if len(st.ops) != 1:
+        return None
+    left, right = st.terms
+    op = st.ops[0]
+    flipped = {"<=": ">=", "<": ">", ">=": "<=", ">": "<", "≤": "≥", "≥": "≤"}
+    for side, other, o in ((left, right, op), (right, left, flipped.get(op, op))):
+        # a min/max/abs under sums, differences and minus signs is brought alone to one side:
+        # [abs(t) - 0.1 <= 0.05] is [abs(t) <= 0.05 + 0.1]
+        while _arguments(side) is None:
+            if isinstance(side, Neg):
+                side, other, o = side.arg, Neg(other, span=other.span), flipped.get(o, o)
+            elif isinstance(side, BinOp) and side.op in ("+", "-") and _reaches(side.left):
+                side, other = side.left, BinOp("-" if side.op == "+" else "+", other, side.right, span=other.span)
+            elif isinstance(side, BinOp) and side.op == "+" and _reaches(side.right):
+                side, other = side.right, BinOp("-", other, side.left, span=other.span)
+            elif isinstance(side, BinOp) and side.op == "-" and _reaches(side.right):
+                side, other, o = side.right, BinOp("-", side.left, other, span=other.span), flipped.get(o, o)
+            else:
+                break
+        parts = _arguments(side)
+        if parts is None:
+            continue
+        name, a, b = parts
+        upper = o in ("<=", "<", "≤")  # side ≤ other
+        # max ≤ s and min ≥ s are conjunctions; max ≥ s and min ≤ s disjunctions
+        both = (name == "max") == upper
+        brackets = tuple(Iverson((u, other), (o,), span=st.span) for u in (a, b))
+        return Logic("and" if both else "or", brackets, span=st.span)
+    return None
+
+
+def _reaches(t: STerm) -> bool:
+    """Does a min/max/abs stand in ``t`` under sums, differences and minus signs only?"""
+    if _arguments(t) is not None:
+        return True
+    if isinstance(t, Neg):
+        return _reaches(t.arg)
+    return isinstance(t, BinOp) and t.op in ("+", "-") and (_reaches(t.left) or _reaches(t.right))
+
+
+def _arguments(t: STerm) -> tuple[str, STerm, STerm] | None:
+    """``("max", A, B)`` for ``max(A, B)`` and ``abs(A)`` (``max(A, −A)``), ``("min", A, B)``."""
+    if isinstance(t, Apply) and t.name in ("min", "max") and len(t.args) == 2:
+        return t.name, t.args[0], t.args[1]
+    if isinstance(t, Apply) and t.name == "abs" and len(t.args) == 1:
+        return "max", t.args[0], Neg(t.args[0], span=t.span)
+    return None
