@@ -18,6 +18,8 @@ from scipy.integrate import quad
 
 from langur import frontend
 from langur.ddenote import ddenote_program
+from langur.diagnostics import LangurError
+from langur.lint.fix import fix
 from langur.operational import estimate_derivative
 from langur.syntax.printer import print_core
 from langur.transversality import check_program
@@ -180,3 +182,29 @@ def test_the_four_cube():
     for a in (0.5, 0.8):
         mc = estimate_derivative(loaded.program, {"a": a}, {"a": 1}, samples=3000, seed=5)
         assert abs(mc.value - 64 * a ** 3) <= 5 * mc.stderr
+
+
+def test_a_refused_piece_says_which_piece_it_is():
+    # |x| + x³ − a: on x ≥ 0 it is x³ + x − a, monotone without a closed-form inverse; the T207 says
+    # which piece of the split it is and what would make it acceptable
+    with pytest.raises(LangurError) as info:
+        _load("param a = 0.5\nint ([-1, 1]) [abs(x) + x^3 - a >= 0] d(x)\n")
+    messages = [d.message for d in info.value.diagnostics]
+    assert any("on its piece where x >= 0" in m and "monotone in x" in m and "declare a `diffeo`" in m
+               for m in messages), messages
+
+
+def test_check_fix_writes_the_kink_split_where_it_is_a_rewrite():
+    # [abs(x − a) <= 0.2]² multiplies the window's ends by themselves (X301, true: ⦇p⦈ counts them
+    # twice); --fix writes the transverse rewrite, which is the split written out, and the result
+    # is clean and has the window's derivative e^{a+0.2} − e^{a−0.2}
+    text = "param a = 0.5\nint ([0, 1]) [abs(x - a) <= 0.2]^2 * exp(x) d(x)\n"
+    loaded = _load(text)
+    before = [f.code for f in check_program(loaded.program, loaded.params)]
+    assert before.count("X301") == 2  # the two ends; the kink x = a itself has no delta
+    fixed = fix(text, "case.lgr", loaded)
+    assert fixed is not None and "ifge0 x - a then (ifge0 0.2 - (x - a) then 1 else 0)" in fixed.after
+    again = _load(fixed.after)
+    assert not check_program(again.program, again.params)
+    d = ddenote_program(again.program, {"a": 0.5}, {"a": 1})
+    assert abs(d.value - (math.exp(0.7) - math.exp(0.3))) < 1e-12

@@ -194,6 +194,8 @@ class Desugarer:
         #: and whether a split is under way.
         self.pieces = 0
         self.splitting = False
+        #: The kinks decided on the way to the piece being completed: (kink's condition, ≥ 0?).
+        self.sides: list[tuple[Term, bool]] = []
 
     def fail(self, d: Diagnostic, span: Span | None) -> Term:
         self.errors.append(d)
@@ -529,11 +531,12 @@ class Desugarer:
             # (at most MAX_PIECES pieces in all the module's conditions: each split doubles them)
             c = kink.psi.condition
             top, self.splitting = not self.splitting, True
+            self.sides.append((c, True))  # which piece: for the messages of a piece refused (T207)
             try:
-                return IfDiffeo(kink.psi,
-                                self.conditional(_decided(cond, c, True), then, orelse, sc, span, cond_span),
-                                self.conditional(_decided(cond, c, False), then, orelse, sc, span, cond_span),
-                                span=span)
+                yes = self.conditional(_decided(cond, c, True), then, orelse, sc, span, cond_span)
+                self.sides[-1] = (c, False)
+                no = self.conditional(_decided(cond, c, False), then, orelse, sc, span, cond_span)
+                return IfDiffeo(kink.psi, yes, no, span=span)
             except _TooManyPieces:
                 if not top:
                     raise
@@ -541,6 +544,7 @@ class Desugarer:
                     f"split at their kinks (abs, min, max over the variables) the conditions have more than "
                     f"{MAX_PIECES} pieces in all: write this one as a product or sum of simpler conditions")), span)
             finally:
+                self.sides.pop()
                 if top:
                     self.splitting = False
         if self.splitting:
@@ -556,7 +560,7 @@ class Desugarer:
         try:
             psi = complete(cond, sc.variables, sc.box)
         except diffeo.CompletionError as e:
-            why = str(e)
+            why = kinks.on_piece(str(e), self.sides)
             if not sc.in_program and "bounded" in why:
                 why += "; inside a def or diffeo the variables' domain is unknown: write this condition in the program"
             diagnostic = ty.reject_condition(cond_span or cond.span or span, why)

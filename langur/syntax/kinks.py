@@ -20,6 +20,7 @@ from fractions import Fraction
 
 from ..core import Add, Const, Mul, Param, Term, free_vars
 from . import affine
+from .printer import print_core
 from .surface import Apply, BinOp, Iverson, Logic, Neg, STerm
 
 
@@ -98,3 +99,12 @@ def _arguments(t: STerm) -> tuple[str, STerm, STerm] | None:
     if isinstance(t, Apply) and t.name == "abs" and len(t.args) == 1:
         return "max", t.args[0], Neg(t.args[0], span=t.span)
     return None
+
+
+def on_piece(why: str, sides: list[tuple[Term, bool]]) -> str:
+    """The reason a piece of a split condition cannot be completed, saying which piece it is."""
+    if not sides:
+        return why
+    where = " and ".join(f"{print_core(c)} {'>=' if holds else '<'} 0" for c, holds in sides)
+    return (f"on its piece where {where} (abs, min and max split the condition at their kinks, and "
+            f"each piece must be completed on its own): {why}")
