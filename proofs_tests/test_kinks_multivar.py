@@ -67,6 +67,9 @@ CASES = [
     ("diamond", "param a = 0.5\nint ([-1, 1], [-1, 1]) [abs(x) + abs(y) <= a] * exp(x) d(x, y)\n",
      # inside the box: 4·(cosh a − 1), so 4·sinh a; past a = 1 the box cuts it: quadrature
      lambda a: 4 * math.sinh(a) if 0 < a <= 1 else _d(diamond_value)(a), [0.5, 1.5, -0.3, 2.5]),
+    # the kinks x = 0 and y = 0 lie on the domain's bounds (no finding: a kink has no delta)
+    ("diamond-quadrant", "param a = 0.5\nint ([0, 1], [0, 1]) [abs(x) + abs(y) <= a] d(x, y)\n",
+     lambda a: a if 0 < a < 1 else (2 - a if 1 < a < 2 else 0.0), [0.5, 1.5, -0.3, 2.5]),
 ]
 
 

@@ -126,6 +126,8 @@ class CoincidenceChecks:
         p, o = self.primary(c, g)
         where = self.where(self.anchor(o), self.anchor(p))
         if not (moving(c, self.variables) or moving(g, self.variables)):
+            if c.continuous or g.continuous:
+                return  # a kink on a fixed zero set ([abs(x) <= a] on [0, 1]): no delta on either side
             self.add(
                 self.anchor(p),
                 "warning",
