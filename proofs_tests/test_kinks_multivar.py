@@ -122,6 +122,8 @@ def test_pieces_meet_the_box_only_where_they_are_in_force():
     ("param a = 1.2\nint ([-1, 2]) [abs(x) + abs(x - 1) <= a] * exp(x) d(x)\n", {"a": 1.0}, "X305"),
     # two ends of the nested window meet at the kink x = 0 when a = 0.2
     ("param a = 0.5\nint ([-1, 1]) [abs(abs(x) - a) <= 0.2] * exp(x) d(x)\n", {"a": 0.2}, "X305"),
+    # the square's right edge written twice: the same moving zero set x = a in two factors
+    ("param a = 0.5\nint ([-1, 1], [-1, 1]) [max(abs(x), abs(y)) <= a] * [x <= a] d(x, y)\n", None, "X301"),
     # the inscribed disc is tangent to the square's edges at a = 0.5
     ("param a = 0.5\nint ([-1, 1], [-1, 1]) [max(abs(x), abs(y)) <= a] * [x^2 + y^2 <= 0.25] d(x, y)\n",
      {"a": 0.5}, "X302"),

@@ -165,8 +165,10 @@ class CoincidenceChecks:
     def meet_in_force(self, c: Occurrence, g: Occurrence, br) -> bool:
         """Is the common zero set of c and g (through c's branch ``br``) in the box, at the
         parameter values in force, somewhere both are in force?  Only nested conditions (a kink
-        split's pieces) can fail this; without parameter values it is assumed."""
-        if self.point is None or not (self.ancestry.get(c.index) or self.ancestry.get(g.index)):
+        split's pieces) can fail this; without parameter values it is assumed, and so it is for a
+        zero set of dimension ≥ 1 (its points would be sampled: a short stretch where both are in
+        force could be missed, and a missed X301 is worse than a redundant one)."""
+        if self.point is None or c.uprime or not (self.ancestry.get(c.index) or self.ancestry.get(g.index)):
             return True
         return any(self._in_force([c, g], pt)
                    for pt in zero_set_points(c, br, self.box, self.point, self.variables))
