@@ -213,3 +213,17 @@ def test_check_fix_writes_the_kink_split_where_it_is_a_rewrite():
     assert not check_program(again.program, again.params)
     d = ddenote_program(again.program, {"a": 0.5}, {"a": 1})
     assert abs(d.value - (math.exp(0.7) - math.exp(0.3))) < 1e-12
+
+
+def test_the_degenerate_set_lists_only_meetings_within_the_pieces():
+    # [||x| − 0.3| <= a] on [−1, 1]: its value has corners at a = 0 (the windows open), 0.3 (they
+    # merge at the kink x = 0) and 0.7 (they reach the box); the pieces' lines extended past their
+    # kinks would also meet x = 0 at a = −0.3 and the box at a = −1.3, where nothing happens
+    loaded = _load("param a = 0\nint ([-1, 1]) [abs(abs(x) - 0.3) <= a] * exp(x) d(x)\n")
+    found = check_program(loaded.program, loaded.params)
+    assert found and all(f.code == "X304" for f in found)
+    text = " ".join(f.message for f in found)
+    assert "a = 3/10" in text and "a = 7/10" in text and "-3/10" not in text and "-13/10" not in text
+    # [|x| − a >= 0] at a = −1: the whole box, a constant value: nothing to report
+    loaded = _load("param a = -1\nint ([-1, 1]) [abs(x) - a >= 0] * exp(x) d(x)\n")
+    assert not check_program(loaded.program, loaded.params)

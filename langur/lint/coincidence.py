@@ -28,7 +28,8 @@ from ..sympy_bridge import denote
 from . import algebra
 from .algebra import Undecided, describe_set, vanishes
 from .collect import Occurrence
-from .geometry import moving, num, orientation, zero_set_points
+from .ancestry import in_force
+from .geometry import moving, num, orientation, params_of, zero_set_points
 
 
 def _negative(f: sp.Expr, point, at: dict) -> bool:
@@ -168,7 +169,7 @@ class CoincidenceChecks:
         split's pieces) can fail this; without parameter values it is assumed, and so it is for a
         zero set of dimension ≥ 1 (its points would be sampled: a short stretch where both are in
         force could be missed, and a missed X301 is worse than a redundant one)."""
-        if self.point is None or c.uprime or not (self.ancestry.get(c.index) or self.ancestry.get(g.index)):
+        if self.point is None or c.uprime or not (self.nested(c) or self.nested(g)):
             return True
         return any(self._in_force([c, g], pt)
                    for pt in zero_set_points(c, br, self.box, self.point, self.variables))
@@ -190,9 +191,31 @@ class CoincidenceChecks:
         return any(self._in_force([c] + ([g] if g is not None else []), pt)
                    for pt in zero_set_points(c, br, self.box, self.point, self.variables))
 
+    def nested(self, o: Occurrence) -> bool:
+        """Is o written in a branch of another conditional (a kink split's piece)?"""
+        return any(path for path in self.ancestry.get(o.index) or ())
+
+    def possible(self, c: Occurrence, g: Occurrence, rel) -> bool:
+        """Can the relation's parameter values make c and g meet where both are in force?  Decided
+        only for nested conditions in one variable when the relation fixes every parameter (``a =
+        -13/10``): then their meeting point is computed there; otherwise assumed."""
+        sol, br, _ = rel
+        if c.uprime or not (self.nested(c) or self.nested(g)):
+            return True
+        point = {**(self.point or {}), **{k: v for k, v in sol.items() if getattr(v, "is_number", False)}}
+        if any(s not in point for s in params_of(c, g, variables=self.variables)):
+            return True
+        return any(all(in_force(o, pt, point, self.col.occurrences, self.ancestry) for o in (c, g))
+                   for pt in zero_set_points(c, br, self.box, point, self.variables))
+
     def parametric(self, c: Occurrence, g: Occurrence, relations, names):
         if c.continuous and g.continuous:
             return  # two kinks (abs(x - a) + abs(x + a) at a = 0): neither has a delta to count twice
+        # only parameter values where the zero sets meet where both are in force (a kink split's
+        # pieces end at their kinks: [abs(x) - a >= 0]'s piece x - a never reaches x = -1)
+        relations = [r for r in relations if self.possible(c, g, r)]
+        if not relations:
+            return
         # a kink (no delta) meeting a jump is where roots merge at the kink: a kink of the integral
         both = moving(c, self.variables) and moving(g, self.variables) and not (c.continuous or g.continuous)
         sides = {orientation(c, g, br, self.variables, fixed=sol) for sol, br, _ in relations}
