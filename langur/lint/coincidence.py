@@ -27,8 +27,8 @@ from ..diagnostics import Span
 from ..sympy_bridge import denote
 from . import algebra
 from .algebra import Undecided, describe_set, vanishes
-from .collect import Occurrence
 from .ancestry import in_force
+from .collect import Occurrence
 from .geometry import moving, num, orientation, params_of, zero_set_points
 
 
