@@ -227,3 +227,20 @@ def test_the_degenerate_set_lists_only_meetings_within_the_pieces():
     # [|x| − a >= 0] at a = −1: the whole box, a constant value: nothing to report
     loaded = _load("param a = -1\nint ([-1, 1]) [abs(x) - a >= 0] * exp(x) d(x)\n")
     assert not check_program(loaded.program, loaded.params)
+
+
+def test_a_scaled_bracket_too_large_to_split():
+    # 2·abs(…) <= 0.05 is abs(…) <= 0.025 before the bracket form applies; the value's derivative by
+    # finite differences of the measure of the set on a fine grid (numpy, independent of Langur)
+    import numpy as np
+
+    def measure(a):
+        xs = np.linspace(-1, 1, 400_001)
+        inside = 2 * np.abs(np.abs(np.abs(np.abs(xs - a) - 0.1) - 0.1) - 0.1) <= 0.05
+        return 2 * float(np.mean(inside))
+
+    loaded = _load("param a = 0.5\nint ([-1, 1]) [2 * abs(abs(abs(abs(x - a) - 0.1) - 0.1) - 0.1) <= 0.05] d(x)\n")
+    for a in (0.3, 0.9):
+        fd = (measure(a + 1e-3) - measure(a - 1e-3)) / 2e-3
+        mc = estimate_derivative(loaded.program, {"a": a}, {"a": 1}, samples=2000, seed=2)
+        assert abs(mc.value - fd) <= 5 * mc.stderr + 1e-3, (a, mc.value, fd)

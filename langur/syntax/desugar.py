@@ -520,7 +520,9 @@ class Desugarer:
             # nested kinks (abs(abs(…) − c)) double the written-out condition at each level
             return self.fail(ty.reject_condition(cond_span or cond.span or span, (
                 f"with its kinks (abs, min, max over the variables) written out it has more than {MAX_SPLIT_SIZE} "
-                "nodes: write it as a product or sum of simpler conditions")), span)
+                "nodes: write it as a product or sum of simpler conditions ([max(A, B) <= s] is "
+                "[A <= s & B <= s], [min(A, B) <= s] is [A <= s | B <= s]: brackets that compare a min, max "
+                "or abs with a term are rewritten so by themselves)")), span)
         if kink is not None:
             # a conditional over the variables inside a condition (abs, min, max: [abs(x - a) <= 0.2])
             # splits the condition at the kink: ifge0 ⌊Ψ_k⌋ then (the condition with the kink's

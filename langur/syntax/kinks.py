@@ -21,7 +21,7 @@ from fractions import Fraction
 from ..core import Add, Const, Mul, Param, Term, free_vars
 from . import affine
 from .printer import print_core
-from .surface import Apply, BinOp, Iverson, Logic, Neg, STerm
+from .surface import Apply, BinOp, Iverson, Logic, Neg, Num, STerm
 
 
 def cancelled(cond: Term) -> Term:
@@ -69,6 +69,9 @@ def lattice(st: Iverson) -> STerm | None:
                 side, other = side.right, BinOp("-", other, side.left, span=other.span)
             elif isinstance(side, BinOp) and side.op == "-" and _reaches(side.right):
                 side, other, o = side.right, BinOp("-", side.left, other, span=other.span), flipped.get(o, o)
+            elif (k := _scaled(side)) is not None:  # 2 * abs(t) <= s is abs(t) <= s / 2
+                c, side = k
+                other, o = BinOp("/", other, Num(c, span=other.span), span=other.span), o if c > 0 else flipped.get(o, o)
             else:
                 break
         parts = _arguments(side)
@@ -84,12 +87,26 @@ def lattice(st: Iverson) -> STerm | None:
 
 
 def _reaches(t: STerm) -> bool:
-    """Does a min/max/abs stand in ``t`` under sums, differences and minus signs only?"""
+    """Does a min/max/abs stand in ``t`` under sums, differences, minus signs and nonzero
+    constant factors only?"""
     if _arguments(t) is not None:
         return True
     if isinstance(t, Neg):
         return _reaches(t.arg)
+    if (k := _scaled(t)) is not None:
+        return _reaches(k[1])
     return isinstance(t, BinOp) and t.op in ("+", "-") and (_reaches(t.left) or _reaches(t.right))
+
+
+def _scaled(t: STerm) -> tuple[Fraction, STerm] | None:
+    """``(c, u)`` for ``c * u``, ``u * c`` or ``u / c`` with a nonzero number ``c``."""
+    if isinstance(t, BinOp) and t.op == "*" and isinstance(t.left, Num) and t.left.value:
+        return Fraction(t.left.value), t.right
+    if isinstance(t, BinOp) and t.op == "*" and isinstance(t.right, Num) and t.right.value:
+        return Fraction(t.right.value), t.left
+    if isinstance(t, BinOp) and t.op == "/" and isinstance(t.right, Num) and t.right.value:
+        return 1 / Fraction(t.right.value), t.left
+    return None
 
 
 def _arguments(t: STerm) -> tuple[str, STerm, STerm] | None:
