@@ -13,6 +13,7 @@ of width 0, a square whose edges lie on the box, a tangent disc) are still repor
 
 import math
 
+import numpy as np
 import pytest
 from scipy.integrate import quad
 
@@ -232,8 +233,6 @@ def test_the_degenerate_set_lists_only_meetings_within_the_pieces():
 def test_a_scaled_bracket_too_large_to_split():
     # 2·abs(…) <= 0.05 is abs(…) <= 0.025 before the bracket form applies; the value's derivative by
     # finite differences of the measure of the set on a fine grid (numpy, independent of Langur)
-    import numpy as np
-
     def measure(a):
         xs = np.linspace(-1, 1, 400_001)
         inside = 2 * np.abs(np.abs(np.abs(np.abs(xs - a) - 0.1) - 0.1) - 0.1) <= 0.05
