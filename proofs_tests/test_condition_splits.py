@@ -22,7 +22,7 @@ from langur.diagnostics import LangurError
 from langur.fuzz.compare import compare_text
 from langur.fuzz.generate import programs
 from langur.operational import estimate_derivative
-from langur.syntax.desugar import MAX_SPLIT_SIZE
+from langur.syntax.desugar import MAX_PIECES
 from langur.syntax.printer import print_core
 from langur.transversality import check_program
 
@@ -148,11 +148,13 @@ def test_random_programs_with_kinks_in_conditions_agree():
 
 
 def test_too_many_kinks_in_one_condition_are_refused_not_split():
-    # nested kinks double the written-out condition at each level: past MAX_SPLIT_SIZE it is refused (T207)
+    # nested kinks double the written-out condition at each level: past MAX_SPLIT_SIZE it is written
+    # as a product of brackets instead (syntax/kinks.py, test_kinks_multivar.py), and past MAX_PIECES
+    # pieces in all it is refused (T207)
     t = "x - a"
-    for _ in range(6):
+    for _ in range(8):
         t = f"abs({t}) - 0.1"
     with pytest.raises(LangurError) as info:
         frontend.load_text(f"param a = 0.3\nint ([-1, 1]) [{t} <= 0.05] d(x)\n", "t.lgr")
     d = info.value.diagnostics[0]
-    assert d.code == "T207" and f"more than {MAX_SPLIT_SIZE} nodes" in d.message
+    assert d.code == "T207" and f"more than {MAX_PIECES} pieces" in d.message

@@ -26,6 +26,7 @@ from ..core import Program
 from ..diagnostics import Span
 from ..sympy_bridge import denote, symbol, to_sympy
 from .algebra import Undecided, bad_parameters, describe_point, exact, vanishes
+from .ancestry import ancestry
 from .coincidence import CoincidenceChecks
 from .collect import MAX_PRODUCTS, Occurrence, collect
 from .findings import Finding, quote
@@ -72,6 +73,7 @@ class Checker(CoincidenceChecks, NullSetChecks):
     ):
         self.program = program
         self.col = collect(program, sites, point)
+        self.ancestry = ancestry(program.body, self.col.occurrences)
         self.domain_spans = dict(domain_spans or {})
         self.variables = program.variables
         self.xs = xsyms(self.variables)
@@ -255,6 +257,8 @@ class Checker(CoincidenceChecks, NullSetChecks):
         for br in c.branches:
             e = restrict(g.f, br)
             if vanishes(e, c.uprime + tuple(params), br[1]):
+                if not self.meet_in_force(c, g, br):
+                    return  # the common zero set lies where one of them is not in force (a piece)
                 return self.always(c, g, br, names)
             try:
                 relations += [(sol, br, e) for sol in bad_parameters(e, c.uprime, params, br[1])]

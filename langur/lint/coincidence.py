@@ -27,8 +27,9 @@ from ..diagnostics import Span
 from ..sympy_bridge import denote
 from . import algebra
 from .algebra import Undecided, describe_set, vanishes
+from .ancestry import in_force
 from .collect import Occurrence
-from .geometry import meets_box, moving, num, orientation, zero_set_points
+from .geometry import moving, num, orientation, params_of, zero_set_points
 
 
 def _negative(f: sp.Expr, point, at: dict) -> bool:
@@ -57,6 +58,8 @@ class CoincidenceChecks:
 
     def squared(self, c: Occurrence, site: Span | None):
         """A condition multiplied by itself through a power or a primitive (paper §7.3.2)."""
+        if c.continuous:
+            return  # a kink split (abs, min, max): no delta, so nothing is counted twice
         names = self.param_names(c)
         self.coincident.add(frozenset({c.index}))
         what = self.text(site) if site is not None else None
@@ -94,7 +97,7 @@ class CoincidenceChecks:
             return self.undecided(c, g, why)
         if self.point is None:
             return
-        hit = any(self.in_set(c, (None, br, e)) for br, e, _ in unsolved)
+        hit = any(self.in_set(c, (None, br, e), g) for br, e, _ in unsolved)
         if not hit:
             return
         self.coincident.add(frozenset({c.index, g.index}))
@@ -119,9 +122,13 @@ class CoincidenceChecks:
 
     def always(self, c: Occurrence, g: Occurrence, br, names):
         self.coincident.add(frozenset({c.index, g.index}))
+        if c.continuous and g.continuous:
+            return  # two kink splits on one zero set: neither has a delta to count twice
         p, o = self.primary(c, g)
         where = self.where(self.anchor(o), self.anchor(p))
         if not (moving(c, self.variables) or moving(g, self.variables)):
+            if c.continuous or g.continuous:
+                return  # a kink on a fixed zero set ([abs(x) <= a] on [0, 1]): no delta on either side
             self.add(
                 self.anchor(p),
                 "warning",
@@ -156,8 +163,20 @@ class CoincidenceChecks:
             names,
         )
 
-    def in_set(self, c: Occurrence, rel) -> bool:
-        """Is the parameter point in this relation's set, with the common zero set inside the box?"""
+    def meet_in_force(self, c: Occurrence, g: Occurrence, br) -> bool:
+        """Is the common zero set of c and g (through c's branch ``br``) in the box, at the
+        parameter values in force, somewhere both are in force?  Only nested conditions (a kink
+        split's pieces) can fail this; without parameter values it is assumed, and so it is for a
+        zero set of dimension ≥ 1 (its points would be sampled: a short stretch where both are in
+        force could be missed, and a missed X301 is worse than a redundant one)."""
+        if self.point is None or c.uprime or not (self.nested(c) or self.nested(g)):
+            return True
+        return any(self._in_force([c, g], pt)
+                   for pt in zero_set_points(c, br, self.box, self.point, self.variables))
+
+    def in_set(self, c: Occurrence, rel, g: Occurrence | None = None) -> bool:
+        """Is the parameter point in this relation's set, with the common zero set inside the box
+        at a point where c (and g) are in force?"""
         if self.point is None:
             return False
         _, br, e = rel
@@ -168,12 +187,39 @@ class CoincidenceChecks:
                 return False
         except Undecided:
             return False
-        return meets_box(c, br, self.box, self.point, self.variables)
+        # the meeting must be where both are in force (a kink split's piece ends at its kink)
+        return any(self._in_force([c] + ([g] if g is not None else []), pt)
+                   for pt in zero_set_points(c, br, self.box, self.point, self.variables))
+
+    def nested(self, o: Occurrence) -> bool:
+        """Is o written in a branch of another conditional (a kink split's piece)?"""
+        return any(path for path in self.ancestry.get(o.index) or ())
+
+    def possible(self, c: Occurrence, g: Occurrence, rel) -> bool:
+        """Can the relation's parameter values make c and g meet where both are in force?  Decided
+        only for nested conditions in one variable when the relation fixes every parameter (``a =
+        -13/10``): then their meeting point is computed there; otherwise assumed."""
+        sol, br, _ = rel
+        if c.uprime or not (self.nested(c) or self.nested(g)):
+            return True
+        point = {**(self.point or {}), **{k: v for k, v in sol.items() if getattr(v, "is_number", False)}}
+        if any(s not in point for s in params_of(c, g, variables=self.variables)):
+            return True
+        return any(all(in_force(o, pt, point, self.col.occurrences, self.ancestry) for o in (c, g))
+                   for pt in zero_set_points(c, br, self.box, point, self.variables))
 
     def parametric(self, c: Occurrence, g: Occurrence, relations, names):
-        both = moving(c, self.variables) and moving(g, self.variables)
+        if c.continuous and g.continuous:
+            return  # two kinks (abs(x - a) + abs(x + a) at a = 0): neither has a delta to count twice
+        # only parameter values where the zero sets meet where both are in force (a kink split's
+        # pieces end at their kinks: [abs(x) - a >= 0]'s piece x - a never reaches x = -1)
+        relations = [r for r in relations if self.possible(c, g, r)]
+        if not relations:
+            return
+        # a kink (no delta) meeting a jump is where roots merge at the kink: a kink of the integral
+        both = moving(c, self.variables) and moving(g, self.variables) and not (c.continuous or g.continuous)
         sides = {orientation(c, g, br, self.variables, fixed=sol) for sol, br, _ in relations}
-        hit = any(self.in_set(c, r) for r in relations)
+        hit = any(self.in_set(c, r, g) for r in relations)
         if hit:  # coincident at the values in force: families through them say nothing more
             self.coincident.add(frozenset({c.index, g.index}))
         the_set = describe_set([sol for sol, _, _ in relations])
@@ -207,7 +253,8 @@ class CoincidenceChecks:
         # every product they meet in is 0 around the meeting place (another factor vanishes there)
         if hit and self.zero_around(c, g):
             return
-        mover = c if (moving(c, self.variables) and not c.bound) or g.bound else g
+        # the one whose jump moves: a piece rather than a kink (no delta) or the domain's bound
+        mover = c if (moving(c, self.variables) and not c.bound and not c.continuous) or g.bound or g.continuous else g
         other = g if mover is c else c
         self.kinks.setdefault(mover.index, []).append((other, relations, hit))
 
@@ -248,13 +295,23 @@ class CoincidenceChecks:
         return True
 
     def others_negative(self, c: Occurrence, g: Occurrence, prods, pts) -> bool:
-        """Each product where c and g multiply has another condition negative at all ``pts``."""
+        """Each product where c and g multiply has another condition on its zero side at all
+        ``pts``: negative for a factor or a conditional c and g are in the then-branch of, positive
+        for one they are in the else-branch of (a kink split's piece, ``langur.lint.ancestry``)."""
         occ = self.col.occurrences
         for p in prods:
             others = [occ[i] for i in p.ids - {c.index, g.index}]
-            if not any(all(_negative(h.f, self.point, pt) for pt in pts) for h in others):
+            if not any(all(self._off(h, c, g, pt) for pt in pts) for h in others):
                 return False
         return True
+
+    def _off(self, h: Occurrence, c: Occurrence, g: Occurrence, pt) -> bool:
+        """Is h strictly on the side that does not select c and g at ``pt``?"""
+        sides = {side for o in (c, g) for path in (self.ancestry.get(o.index) or ())
+                 for i, side in path if i == h.index}
+        if sides == {-1}:  # c or g is in h's else-branch: h selects it where h < 0
+            return _negative(-h.f, self.point, pt)
+        return not sides - {1} and _negative(h.f, self.point, pt)
 
     def report_kinks(self):
         occ = self.col.occurrences

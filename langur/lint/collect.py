@@ -164,6 +164,23 @@ class _Collector:
         occ.continuous = True
         return True
 
+    def kink(self, occ: "Occurrence", s: Term, r: Term, env: dict[str, sp.Expr]) -> bool:
+        """Is ``ifge0 ⌊Ψ⌋ then s else r`` a kink split (``[abs(x - a) <= 0.2]`` split at x = a by
+        the desugarer): branches of the same shape whose conditions and smooth parts agree on
+        the zero set, so that ⟦s⟧ − ⟦r⟧ vanishes there?  Then its delta has zero weight (it is
+        ``continuous``), but its indicator still multiplies the conditions of its branches."""
+        diffs = _differences(s, r)
+        if diffs is None:
+            return False
+        try:
+            jumps = [to_sympy(a, env) - to_sympy(b, env) for a, b in diffs]
+        except NotSmooth:
+            return False
+        if not all(jump_vanishes(j, occ.branches, self.variables) for j in jumps):
+            return False
+        occ.continuous = True
+        return True
+
     def times(
         self, A: frozenset[Product], B: frozenset[Product], site: Span | None = None
     ) -> frozenset[Product]:
@@ -221,6 +238,7 @@ class _Collector:
                 both = self.products(s, env) | self.products(r, env)
                 if self.continuous(self.occurrences[i], s, r, env):
                     return both
+                self.kink(self.occurrences[i], s, r, env)  # no delta, but [π₀Ψ̂ ≥ 0] multiplies
                 return frozenset(Product(m.ids | {i}, m.squared) for m in both)
             case Let(name, bound, body):
                 # Fig. 8, let: ⦇s⦈ with z ↦ ⟦t⟧; conditions in s see the bound value
@@ -271,6 +289,36 @@ def call_sites(loaded) -> list[tuple[Span | None, tuple[Span, ...]]] | None:
     except (KeyError, RecursionError):
         return None
     return out
+
+
+def _differences(s: Term, r: Term) -> list[tuple[Term, Term]] | None:
+    """The pairs of smooth terms (conditions and leaves) that must agree for ``s`` and ``r`` to be
+    equal, when they have the same shape (conditionals, sums, products, primitives and powers
+    alike); None when their shapes differ."""
+    if s == r:
+        return []
+    if isinstance(s, (IfDiffeo, IfGe0)) and isinstance(r, (IfDiffeo, IfGe0)):
+        # two conditionals (a piece whose variables cancelled is an ifge0 on the parameters)
+        a, b = _differences(s.then, r.then), _differences(s.orelse, r.orelse)
+        if a is None or b is None:
+            return None
+        cs, cr = _condition(s), _condition(r)
+        return ([] if cs == cr else [(cs, cr)]) + a + b
+    match s, r:
+        case (Add(a1, b1), Add(a2, b2)) | (Mul(a1, b1), Mul(a2, b2)):
+            a, b = _differences(a1, a2), _differences(b1, b2)
+            return None if a is None or b is None else a + b
+        case Prim(f1, a1), Prim(f2, a2) if f1 == f2:
+            return _differences(a1, a2)
+        case Pow(a1, k1), Pow(a2, k2) if k1 == k2:
+            return _differences(a1, a2)
+    if any(isinstance(u, (IfDiffeo, IfGe0)) for u in (*subterms(s), *subterms(r))):
+        return None
+    return [(s, r)]
+
+
+def _condition(t: IfDiffeo | IfGe0) -> Term:
+    return t.psi.forward[0] if isinstance(t, IfDiffeo) else t.cond
 
 
 def _factors(t: Term) -> list[Term]:

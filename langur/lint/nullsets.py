@@ -23,6 +23,7 @@ from collections.abc import Callable, Mapping
 import sympy as sp
 
 from .algebra import Undecided, solve_points
+from .ancestry import in_force
 from .collect import Occurrence
 from .geometry import in_box, moving, num, span_key
 
@@ -55,18 +56,25 @@ class NullSetChecks:
             return True
         return any(self._inside(sol) for sol in solve_points([e.subs(self.point) for e in eqs], self.xs))
 
-    def _witness(self, eqs, retry_at_point: bool):
-        """A common solution of ``eqs`` inside the box, as ``(solution, False)`` when it holds
-        with the parameters left symbolic; failing that, with ``retry_at_point`` and ``--at`` values,
-        ``(solution, True)`` for a solution at those values; else None.  Raises Undecided."""
+    def _in_force(self, fam: list[Occurrence], sol) -> bool:
+        """Are all of ``fam`` in force at ``sol`` (no enclosing conditional selects the other
+        branch there, ``langur.lint.ancestry``)?  A meeting point where one of them is not is no
+        meeting of the program's zero sets: the kink split's pieces end at their kinks."""
+        return all(in_force(o, sol, self.point, self.col.occurrences, self.ancestry) for o in fam)
+
+    def _witness(self, eqs, retry_at_point: bool, fam: list[Occurrence] = ()):
+        """A common solution of ``eqs`` inside the box where every member of ``fam`` is in force,
+        as ``(solution, False)`` when it holds with the parameters left symbolic; failing that, with
+        ``retry_at_point`` and ``--at`` values, ``(solution, True)`` for a solution at those values;
+        else None.  Raises Undecided."""
         if not self._possible_at_point(eqs):
             return None
         for sol in solve_points(eqs, self.xs):
-            if self._inside(sol):
+            if self._inside(sol) and self._in_force(fam, sol):
                 return sol, False
         if retry_at_point and self.explicit and self.point is not None:
             for sol in solve_points([e.subs(self.point) for e in eqs], self.xs):
-                if self._inside(sol):
+                if self._inside(sol) and self._in_force(fam, sol):
                     return sol, True
         return None
 
@@ -82,7 +90,7 @@ class NullSetChecks:
             df[i] * dg[j] - df[j] * dg[i] for i, j in itertools.combinations(range(self.n), 2)
         ]
         try:
-            found = self._witness(eqs, retry_at_point=True)
+            found = self._witness(eqs, retry_at_point=True, fam=[c, g])
             if found is None:
                 return
             sol, fixed = found
@@ -115,6 +123,11 @@ class NullSetChecks:
             return  # a coincident pair is reported as such (X301/X304/X305)
         if not any(moving(o, self.variables) for o in fam):
             return  # nothing moves: no delta carries weight
+        if any(o.continuous for o in fam):
+            # a kink split's own zero set (abs, min, max) is no jump: its branches agree there, so
+            # its delta has zero weight and other zero sets meeting on it meet no discontinuity of
+            # the program as written (a piece ending on it is checked pair by pair: X301/X304/X305)
+            return
         if len(fam) <= self.n:
             return self.dependent(fam)
         return self.too_many(fam)
@@ -178,7 +191,7 @@ class NullSetChecks:
             + [f"{self.label(o)} at {self.where(self.anchor(o), self.anchor(p))}" for o in others]
         )
         try:
-            found = self._witness(eqs, retry_at_point=message_at_point is not None)
+            found = self._witness(eqs, retry_at_point=message_at_point is not None, fam=fam)
             if found is None:
                 return
             sol, fixed = found

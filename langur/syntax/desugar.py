@@ -64,7 +64,7 @@ from ..core import (
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
-from . import loops, vectors
+from . import kinks, loops, vectors
 from .completion import complete, diffeo
 from .inline import expand_calls, inline
 from .surface import (
@@ -93,8 +93,9 @@ SUGAR_FUNCTIONS = ("abs", "min", "max", "atan2", "dot", "cross")
 #: The conditions of a module split at their kinks (abs/min/max over the variables) have at most
 #: this many pieces in all (nested kinks double them at each level: the bound keeps the work bounded).
 MAX_PIECES = 128
-#: A condition with kinks is split only when written out as a tree it has at most this many nodes.
-MAX_SPLIT_SIZE = 400
+#: A condition with kinks is split only when written out as a tree it has at most this many nodes
+#: (the cube [max(max(abs(x), abs(y)), abs(z)) <= a] has 867; four nested abs over 10000).
+MAX_SPLIT_SIZE = 1000
 
 
 class _TooManyPieces(Exception):
@@ -194,6 +195,8 @@ class Desugarer:
         #: and whether a split is under way.
         self.pieces = 0
         self.splitting = False
+        #: The kinks decided on the way to the piece being completed: (kink's condition, ≥ 0?).
+        self.sides: list[tuple[Term, bool]] = []
 
     def fail(self, d: Diagnostic, span: Span | None) -> Term:
         self.errors.append(d)
@@ -268,10 +271,18 @@ class Desugarer:
                 return self.loop(st, sc)
             case Iverson(terms, ops):
                 # [t0 op t1 op t2 …] is the product [t0 op t1]·[t1 op t2]·…
+                errors, pieces = len(self.errors), self.pieces
                 core = [self.term(t, sc) for t in terms]
-                return product([self.conditional(compare(core[i], op, core[i + 1]), Const(Fraction(1)),
-                                                 Const(Fraction(0)), sc, span, join(terms[i], terms[i + 1]))
-                                for i, op in enumerate(ops)], span)
+                out = product([self.conditional(compare(core[i], op, core[i + 1]), Const(Fraction(1)),
+                                                Const(Fraction(0)), sc, span, join(terms[i], terms[i + 1]))
+                               for i, op in enumerate(ops)], span)
+                if len(self.errors) > errors and all(kinks.TOO_LARGE in d.message for d in self.errors[errors:]) \
+                        and (alt := kinks.lattice(st)) is not None:
+                    # too large to split at its kinks: [max(A, B) <= s] is [A <= s & B <= s] (syntax/kinks.py)
+                    del self.errors[errors:]
+                    self.pieces = pieces
+                    return self.term(alt, sc)
+                return out
             case Logic(op, parts):
                 # [A & B] is [A]·[B]; [A | B] is 1 − (1 − [A])·(1 − [B]); [not A] is 1 − [A]
                 one = Const(Fraction(1))
@@ -493,6 +504,7 @@ class Desugarer:
     def conditional(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span=None) -> Term:
         """``ifge0 cond then … else …``: IfGe0 when ``cond`` is variable-free, else the completed
         IfDiffeo (Fig. 6, conditional / diffeomorphic conditional)."""
+        cond = kinks.cancelled(cond) if self.splitting else cond  # a kink split's flat piece
         if not free_vars(cond):
             return IfGe0(cond, then, orelse, span=span)
         if smooth(cond):  # no conditional and no call inside: completed as it is
@@ -512,7 +524,9 @@ class Desugarer:
             # nested kinks (abs(abs(…) − c)) double the written-out condition at each level
             return self.fail(ty.reject_condition(cond_span or cond.span or span, (
                 f"with its kinks (abs, min, max over the variables) written out it has more than {MAX_SPLIT_SIZE} "
-                "nodes: write it as a product or sum of simpler conditions")), span)
+                "nodes: write it as a product or sum of simpler conditions ([max(A, B) <= s] is "
+                "[A <= s & B <= s], [min(A, B) <= s] is [A <= s | B <= s]: brackets that compare a min, max "
+                "or abs with a term are rewritten so by themselves)")), span)
         if kink is not None:
             # a conditional over the variables inside a condition (abs, min, max: [abs(x - a) <= 0.2])
             # splits the condition at the kink: ifge0 ⌊Ψ_k⌋ then (the condition with the kink's
@@ -523,11 +537,12 @@ class Desugarer:
             # (at most MAX_PIECES pieces in all the module's conditions: each split doubles them)
             c = kink.psi.condition
             top, self.splitting = not self.splitting, True
+            self.sides.append((c, True))  # which piece: for the messages of a piece refused (T207)
             try:
-                return IfDiffeo(kink.psi,
-                                self.conditional(_decided(cond, c, True), then, orelse, sc, span, cond_span),
-                                self.conditional(_decided(cond, c, False), then, orelse, sc, span, cond_span),
-                                span=span)
+                yes = self.conditional(_decided(cond, c, True), then, orelse, sc, span, cond_span)
+                self.sides[-1] = (c, False)
+                no = self.conditional(_decided(cond, c, False), then, orelse, sc, span, cond_span)
+                return IfDiffeo(kink.psi, yes, no, span=span)
             except _TooManyPieces:
                 if not top:
                     raise
@@ -535,6 +550,7 @@ class Desugarer:
                     f"split at their kinks (abs, min, max over the variables) the conditions have more than "
                     f"{MAX_PIECES} pieces in all: write this one as a product or sum of simpler conditions")), span)
             finally:
+                self.sides.pop()
                 if top:
                     self.splitting = False
         self.count_piece()
@@ -559,7 +575,7 @@ class Desugarer:
         try:
             psi = complete(cond, sc.variables, sc.box)
         except diffeo.CompletionError as e:
-            why = str(e)
+            why = kinks.on_piece(str(e), self.sides)
             if not sc.in_program and "bounded" in why:
                 why += "; inside a def or diffeo the variables' domain is unknown: write this condition in the program"
             diagnostic = ty.reject_condition(cond_span or cond.span or span, why)
