@@ -51,7 +51,7 @@ def test_programs_with_modules_load_from_their_files(g, tmp_path_factory):
         assert parse_module(ls.render(m), f"{name}.lgr").items == m.items
 
 
-def _sample(n=300, sd=1, **shape):
+def _sample(n=300, sd=4, **shape):
     """The first ``n`` programs hypothesis draws with seed ``sd``."""
     out = []
 
@@ -131,7 +131,7 @@ FEATURES = {"1 variables", "2 variables", "3 variables", "parameter coefficient"
 
 def test_each_listed_feature_is_generated():
     counts = Counter(f for g in _sample(500, modules=True) for f in _features(g))
-    # (seed 1: every feature at least 4 times; seed 2 draws two of them never)
+    # (seed 4: every feature at least 3 times; seed 2 never draws tanh: the threshold is not slack)
     rare = {f: counts[f] for f in FEATURES if counts[f] < 2}
     assert not rare, f"features drawn fewer than twice in 500 programs: {rare}\n{counts}"
 
@@ -190,3 +190,16 @@ def test_without_hypothesis_the_import_says_how_to_install_it_and_the_core_never
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     assert "langur.strategies needs hypothesis" in r.stdout and "pip install hypothesis" in r.stdout
+
+
+def test_the_documented_example_runs():
+    # docs/strategies.md points at this file as the runnable example for other test suites
+    import importlib.util
+
+    from paths import EXAMPLES
+
+    spec = importlib.util.spec_from_file_location("strategies_example", EXAMPLES / "strategies_example.py")
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    example.test_core_json_gives_every_program_back()
+    example.test_the_estimate_is_finite()

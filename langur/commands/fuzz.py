@@ -42,7 +42,8 @@ def add_arguments(p):
                    help="hypothesis's storage folder (default $HYPOTHESIS_STORAGE_DIRECTORY, else "
                         "~/.cache/langur/hypothesis; never the current folder unless asked)")
     p.add_argument("--no-shrink", action="store_true",
-                   help="report the first failing program as found (no hypothesis shrinking)")
+                   help="report the first failing program as found (no hypothesis shrinking; the files of --out are "
+                        "still shrunk, at most 40 candidates each)")
     p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
                    help="Monte Carlo sampling (default uniform; stratified and qmc estimate their standard "
                         "error from 32 independent randomizations, so the 5-sigma rule false-alarms "

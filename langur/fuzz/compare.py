@@ -454,7 +454,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
         os.makedirs(keep, exist_ok=True)
         failing = [r for r in summary.results if r.failed]
         for i, r in enumerate(failing):
-            small = counterexamples.shrink(r, lambda t: unit(t, True)) if shrink else r
+            small = counterexamples.shrink(r, lambda t: unit(t, True))  # bounded: even with --no-shrink
             summary.kept.append(counterexamples.write(keep, f"fuzz_{seed}_{i:03d}", counterexamples.annotated(small, r)))
         if summary.minimal is not None:
             summary.kept.append(counterexamples.write(keep, f"fuzz_{seed}_minimal",

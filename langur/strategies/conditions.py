@@ -60,14 +60,14 @@ class Scope:
         """The zero sets of the condition ``term ≥ 0`` (or of a kink): every smooth piece of
         ``term`` (``abs``, ``min``, ``max`` are conditionals, split by the front end) and every
         kink inside it."""
+        found: list[T.ZeroSet] = []
         for piece in _pieces(term):
-            self._add(T.zero_set(piece, self.variables, self.env, key=key if piece is term else None))
+            found.append(T.zero_set(piece, self.variables, self.env, key=key if piece is term else None))
         for k in _kinks(term):
-            self._add(T.zero_set(k, self.variables, self.env))
-
-    def _add(self, z: T.ZeroSet) -> None:
-        if all(z.key != other.key for other in self.zero_sets):
-            self.zero_sets.append(z)
+            found.append(T.zero_set(k, self.variables, self.env))
+        # one zero set met twice inside one term is one set; met again in another term it is a
+        # coincidence, which :func:`~.terms.generic` rejects
+        self.zero_sets += list({z.key: z for z in found}.values())
 
 
 def _pieces(t: S.STerm) -> list[S.STerm]:
@@ -277,8 +277,7 @@ def smooth(scope: Scope) -> S.STerm:
         lambda: call("abs", sub(v, p)),
     )
     term = forms[scope.index(10 if scope.light else len(forms))]()
-    for kink in _kinks(term):
-        scope._add(T.zero_set(kink, scope.variables, scope.env))
+    scope.zero_sets += [T.zero_set(kink, scope.variables, scope.env) for kink in _kinks(term)]
     return term
 
 

@@ -112,6 +112,11 @@ _PRIMS: dict[str, Callable[..., float]] = {
     "sqrt": math.sqrt, "atan": math.atan, "tanh": math.tanh, "abs": abs, "min": min, "max": max,
 }
 
+_BINOPS: dict[str, Callable[[float, float], float]] = {
+    "+": lambda x, y: x + y, "-": lambda x, y: x - y, "*": lambda x, y: x * y, "/": lambda x, y: x / y,
+    "^": lambda x, y: x ** y,
+}
+
 
 def evaluate(t: S.STerm, env: dict[str, float]) -> float:
     """The float value of the surface term ``t`` (no ``let``, conditionals or calls) at ``env``."""
@@ -126,8 +131,7 @@ def evaluate(t: S.STerm, env: dict[str, float]) -> float:
             return -evaluate(a, env)
         case S.BinOp(op, a, b):
             x, y = evaluate(a, env), evaluate(b, env)
-            return {"+": x + y, "-": x - y, "*": x * y}.get(op) if op in "+-*" else (
-                x / y if op == "/" else x ** y)
+            return _BINOPS[op](x, y)
         case S.Apply(f, args):
             return _PRIMS[f](*(evaluate(a, env) for a in args))
     raise TypeError(f"cannot evaluate {t!r}")
