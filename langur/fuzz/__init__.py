@@ -8,7 +8,7 @@ is exercised too), loads them with :func:`langur.frontend.load_text`, and compar
 Public API::
 
     programs(max_summands=3, max_factors=3, max_conds=4, max_params=3, light=False, kinks=False,
-             max_variables=3)
+             max_variables=None)   # None: 3, or 2 for light programs
         -> hypothesis strategy of FuzzProgram
     compare_text(text, *, samples=20000, seed=0, timeout=20.0, lint=True, method="uniform")
         -> ProgramResult
