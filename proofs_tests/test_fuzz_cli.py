@@ -92,7 +92,7 @@ def test_usage_errors(capsys, tmp_path):
     mine = tmp_path / "notes.lgr"
     mine.write_text("# mine\n")
     status, err = usage(capsys, "fuzz", "--examples", "1", "--keep", str(mine))
-    assert status == 2 and f"--keep {mine}: exists and is not a directory" in err
+    assert status == 2 and f"--out {mine}: exists and is not a directory" in err
     assert mine.read_text() == "# mine\n"
 
 

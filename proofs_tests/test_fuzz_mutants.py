@@ -12,9 +12,10 @@ from langur.fuzz.compare import compare_engine
 
 SEED, SAMPLES = 8, 4000
 SHAPE = dict(light=True, max_summands=1, max_factors=2, max_params=1)
-#: The bounded campaign: the first 7 programs of seed 8 and the first 5 of seed 7 (small programs:
-#: one parameter, one summand of at most two factors).
-CAMPAIGN = (8, 7), (7, 5)
+#: The bounded campaign: the first 8 programs of seed 8 (small programs: one parameter, one summand
+#: of at most two factors, at most two variables; the eighth has the `let` whose chain rule
+#: `drop_let_chain` drops).
+CAMPAIGN = ((8, 8),)
 
 
 @pytest.fixture(scope="module")

@@ -42,15 +42,18 @@ def add_arguments(p):
                    help="hypothesis's storage folder (default $HYPOTHESIS_STORAGE_DIRECTORY, else "
                         "~/.cache/langur/hypothesis; never the current folder unless asked)")
     p.add_argument("--no-shrink", action="store_true",
-                   help="report the first failing program as found (no hypothesis shrinking)")
+                   help="report the first failing program as found (no hypothesis shrinking; the files of --out are "
+                        "still shrunk, at most 40 candidates each)")
     p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
                    help="Monte Carlo sampling (default uniform; stratified and qmc estimate their standard "
                         "error from 32 independent randomizations, so the 5-sigma rule false-alarms "
                         "≈ 2e-5 per comparison: a t distribution with 31 degrees of freedom)")
     p.add_argument("--no-lint", action="store_true",
                    help="do not run the transversality linter (no program is discarded)")
-    p.add_argument("--keep", metavar="DIR", help="write each failing program to DIR as a .lgr file "
-                   "(created if missing; files already there are never overwritten)")
+    p.add_argument("--out", "--keep", dest="out", metavar="DIR",
+                   help="write each failing program to DIR as a shrunk .lgr file whose comment header holds "
+                   "both engines' numbers (created if missing; files already there are never overwritten; "
+                   "--keep is the old name)")
     p.add_argument("--engine", metavar="NAME",
                    help="compare this engine with the exact engine instead of the Monte Carlo engine: "
                    "standard-ad, module:function, cmd:PROGRAM or an installed plug-in (docs/engines.md)")
@@ -61,13 +64,13 @@ def add_arguments(p):
 def run(args) -> int:
     if not (math.isfinite(args.timeout) and 0 < args.timeout <= MAX_TIMEOUT):
         raise UsageError(f"--timeout must be a positive number of seconds, at most {MAX_TIMEOUT:g}")
-    if args.keep is not None and os.path.exists(args.keep) and not os.path.isdir(args.keep):
-        raise UsageError(f"--keep {args.keep}: exists and is not a directory (it is never overwritten)")
-    if args.keep is not None:
+    if args.out is not None and os.path.exists(args.out) and not os.path.isdir(args.out):
+        raise UsageError(f"--out {args.out}: exists and is not a directory (it is never overwritten)")
+    if args.out is not None:
         try:  # before the run, so that a long run never ends unable to keep its programs
-            os.makedirs(args.keep, exist_ok=True)
+            os.makedirs(args.out, exist_ok=True)
         except OSError as e:
-            raise UsageError(f"--keep {args.keep}: cannot create the directory ({e.strerror})") from None
+            raise UsageError(f"--out {args.out}: cannot create the directory ({e.strerror})") from None
 
     def progress(res):
         if args.verbose:
@@ -97,7 +100,7 @@ def run(args) -> int:
             raise UsageError(str(e)) from None
     try:
         with bar if bar is not None else _nothing():
-            summary = fuzz.run_fuzz(args.examples, args.seed, args.samples, args.timeout, keep=args.keep,
+            summary = fuzz.run_fuzz(args.examples, args.seed, args.samples, args.timeout, keep=args.out,
                                     lint=not args.no_lint, progress=shown, method=args.method, engine=engine,
                                     workers=workers, shrink=not args.no_shrink,
                                     storage=args.hypothesis_dir, scheduler=args.scheduler,

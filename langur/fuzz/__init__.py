@@ -7,7 +7,8 @@ is exercised too), loads them with :func:`langur.frontend.load_text`, and compar
 
 Public API::
 
-    programs(max_summands=3, max_factors=3, max_conds=4, max_params=3, light=False)
+    programs(max_summands=3, max_factors=3, max_conds=4, max_params=3, light=False, kinks=False,
+             max_variables=None)   # None: 3, or 2 for light programs
         -> hypothesis strategy of FuzzProgram
     compare_text(text, *, samples=20000, seed=0, timeout=20.0, lint=True, method="uniform")
         -> ProgramResult
@@ -17,24 +18,16 @@ Public API::
 ``hypothesis`` is a development dependency: it is imported lazily, and :class:`MissingHypothesis`
 is raised (with ``pip install hypothesis`` advice) when it is absent.
 
-Generated programs (transverse by construction, LANGUAGE.md §5): one or two variables on boxes
-with constant or parametric bounds; one to three parameters with *generic* defaults (picked
-without replacement from irregular decimals); integrands that are sums of products of smooth
-factors (polynomials, ``exp``, ``sin``, ``cos``, ``sqrt`` of affine or quadratic terms, arguments
-of ``sqrt`` kept positive on every box), Iverson brackets whose conditions are affine in the
-variables with parameter offsets or simple nonlinear (``[x^2 <= a + k]``, ``[y >= x^2 + a + k]``,
-a disk, ``[a*x <= k]`` whose completion divides by a parameter), windows ``[l <= t <= u]``,
-``if … then … else …`` (nested, or on parameters only), ``min``/``max``/``abs``, ``let``, declared
-diffeos (``diffeo sh(x, y; c) = …``, linear with a non-variable second component, and a cubic),
-and a ``def`` called once or twice (separately compiled by the Monte Carlo engine; inlined by the
-front end for the exact one).  Every zero set in a program is
-distinct, and numerically (at the defaults) no two straight zero sets coincide, none coincides
-with a face of the box, and none passes through a corner of the box.  Optionally (``lint``) the
+Generated programs (transverse by construction, LANGUAGE.md §5) are those of the public strategies
+:func:`langur.strategies.programs` (one to three variables, see docs/strategies.md), printed; at
+the defaults no two zero sets coincide, none coincides with a face of the box, and none passes
+through a corner of the box.  Optionally (``lint``) the
 program is also run through :func:`langur.transversality.check_loaded` and discarded on any
 X301/X305 finding at the defaults (a cross-test of the linter: such a finding on these programs
 is counted).  X304 ("coincident for *some* parameter values", reported for any two moving jumps
 of one variable on the same side, e.g. ``[x >= a]·[x >= b]``) is recorded but not discarded: the
-defaults are generic, so the program is transverse where it is evaluated.
+defaults are generic, so the program is transverse where it is evaluated.  A failing program is
+shrunk and written with both engines' numbers by :mod:`langur.fuzz.counterexamples` (``--out``).
 
 Comparison (per program, value and the derivative in each parameter): agree iff
 ``|mc − exact| ≤ 5·stderr + 1e-9 + exact error bound + 1e-9·max(|mc|, |exact|)`` (the relative term

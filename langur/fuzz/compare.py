@@ -15,7 +15,7 @@ from ..diagnostics import LangurError
 from ..frontend import load_text
 from ..timebox import budget
 from ..transversality import check_loaded
-from . import cluster, coverage, pool
+from . import cluster, counterexamples, coverage, pool
 from .generate import (
     ABS_SLACK,
     LINT_DISCARD,
@@ -450,13 +450,16 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
         with hypothesis_home(storage):
             summary.minimal = _shrunk(summary, examples, seed, light, lambda t: unit(t, True))
     summary.seconds = time.monotonic() - start
-    if keep:
+    if keep:  # --out: each failure shrunk (langur.fuzz.counterexamples) and written with its numbers
         os.makedirs(keep, exist_ok=True)
         failing = [r for r in summary.results if r.failed]
         for i, r in enumerate(failing):
-            summary.kept.append(_keep(keep, f"fuzz_{seed}_{i:03d}", _annotated(r)))
+            small = counterexamples.shrink(r, lambda t: unit(t, True))  # bounded: even with --no-shrink
+            summary.kept.append(counterexamples.write(keep, f"fuzz_{seed}_{i:03d}", counterexamples.annotated(small, r)))
         if summary.minimal is not None:
-            summary.kept.append(_keep(keep, f"fuzz_{seed}_minimal", _annotated(summary.minimal)))
+            summary.kept.append(counterexamples.write(keep, f"fuzz_{seed}_minimal",
+                                                      counterexamples.annotated(summary.minimal)))
+        summary.seconds = time.monotonic() - start
     return summary
 
 
@@ -483,25 +486,3 @@ def _shrunk(summary: FuzzSummary, examples: int, seed: int, light: bool, unit) -
         return e.result
     return next(r for r in summary.results if r.failed)  # not reproduced (a time limit): the first
 
-
-def _keep(directory: str, stem: str, text: str) -> str:
-    """Write ``text`` to a new file ``STEM.lgr`` in ``directory`` (``STEM-1.lgr``, … when taken):
-    a file already there is never overwritten."""
-    for k in range(10_000):
-        path = os.path.join(directory, f"{stem}{f'-{k}' if k else ''}.lgr")
-        try:
-            with open(path, "x", encoding="utf-8") as fh:
-                fh.write(text)
-            return path
-        except FileExistsError:
-            continue
-    raise FileExistsError(f"{directory}: no free name for {stem}.lgr")
-
-
-def _annotated(r: ProgramResult) -> str:
-    lines = [f"# langur fuzz: {r.status}" + (f" ({r.reason})" if r.reason else "")]
-    for row in r.rows:
-        if not row.ok:
-            lines.append(f"# {row.quantity}{' wrt ' + row.wrt if row.wrt else ''}: exact {row.exact!r} "
-                         f"(error {row.error:.3g}), {row.engine} {row.mc!r} ± {row.stderr:.3g}")
-    return "\n".join(lines) + "\n" + r.text
