@@ -244,3 +244,20 @@ def test_too_many_turning_points_is_an_error_exit(tmp_path):
     assert r.returncode == 1, r
     assert "no exact value" in r.stderr and "no Monte Carlo value" in r.stderr
     assert "Traceback" not in r.stderr
+
+
+def test_random_programs_with_implicit_roots_agree():
+    """The strategies' ``turning`` conditions (x^3 - x, exp(x) + x, x^5 + x, sin(3x) against a
+    parameter term; issue 18): a small seeded campaign, both engines agree on each (5 SE)."""
+    from langur.fuzz.compare import compare_text, generated
+
+    marks = ("^ 3 - ", ") + x", ") + y", "^ 5 + ", "sin(3 * ")
+    texts = [t for t in generated(30, 3, True, turning=True, max_summands=1, max_factors=2)
+             if any(m in t for m in marks)][:3]
+    assert texts, "the strategy drew no condition with implicit roots"
+    statuses = []
+    for t in texts:
+        r = compare_text(t, samples=4000, seed=0, timeout=60)
+        assert not r.failed and r.status in ("agree", "timeout"), (t, r.status, r.reason)
+        statuses.append(r.status)
+    assert "agree" in statuses, statuses

@@ -57,6 +57,11 @@ def add_arguments(p):
     p.add_argument("--engine", metavar="NAME",
                    help="compare this engine with the exact engine instead of the Monte Carlo engine: "
                    "standard-ad, module:function, cmd:PROGRAM or an installed plug-in (docs/engines.md)")
+    p.add_argument("--kinks", action="store_true",
+                   help="also draw conditions with abs, min or max inside (split at their kinks)")
+    p.add_argument("--turning", action="store_true",
+                   help="also draw conditions in one variable with no closed-form inverse "
+                        "(x^3 - x, exp(x) + x: implicit roots between turning points)")
     p.add_argument("--json", action="store_true", help="one JSON object on standard output")
     p.add_argument("-v", "--verbose", action="store_true", help="print each program's status as it runs")
 
@@ -104,7 +109,8 @@ def run(args) -> int:
                                     lint=not args.no_lint, progress=shown, method=args.method, engine=engine,
                                     workers=workers, shrink=not args.no_shrink,
                                     storage=args.hypothesis_dir, scheduler=args.scheduler,
-                                    planned=bar.plan if bar is not None else None)
+                                    planned=bar.plan if bar is not None else None,
+                                    kinks=args.kinks, turning=args.turning)
     except (fuzz.MissingHypothesis, fuzz.cluster.MissingCluster) as e:
         print(f"langur fuzz: error: {e}", file=sys.stderr)
         return 2

@@ -403,7 +403,8 @@ def _unit_error(text: str, reason: str) -> ProgramResult:
 def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: float = 20.0,
              keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform",
              engine=None, light: bool = False, workers: int = 0, shrink: bool = True,
-             storage: str | None = None, scheduler=None, planned=None) -> FuzzSummary:
+             storage: str | None = None, scheduler=None, planned=None, kinks: bool = False,
+             turning: bool = False) -> FuzzSummary:
     """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs), each a
     unit of :mod:`langur.fuzz.pool` (``workers`` processes; 0: in this process); on a failure
     hypothesis replays the same seed and shrinks it (``shrink``), and the minimal failing program
@@ -412,13 +413,15 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     integrates quickly (tests); ``storage``: hypothesis's folder (:func:`~.generate.default_storage`
     when None: never the current folder); ``scheduler``: a Dask scheduler's address (or a
     ``distributed.Client``) to run the units on instead (:mod:`~langur.fuzz.cluster`);
-    ``planned(n)``: called once the n distinct programs are generated.  A program
+    ``planned(n)``: called once the n distinct programs are generated; ``kinks``, ``turning``:
+    also conditions with ``abs``/``min``/``max`` inside, or with no closed-form inverse (issue
+    18; :func:`~.generate.programs`).  A program
     is time-limited (``timeout``) when it runs past
     ``timeout`` seconds; time-limited programs are counted apart from the verdicts."""
     start = time.monotonic()
     summary = FuzzSummary(examples, seed, samples, workers=workers)
     with hypothesis_home(storage):
-        texts = generated(examples, seed, light)
+        texts = generated(examples, seed, light, kinks=kinks, turning=turning)
     if planned is not None:
         planned(len(texts))
 
@@ -448,7 +451,8 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
                 progress(summary.results[-1])
     if shrink and summary.failed:
         with hypothesis_home(storage):
-            summary.minimal = _shrunk(summary, examples, seed, light, lambda t: unit(t, True))
+            summary.minimal = _shrunk(summary, examples, seed, light, lambda t: unit(t, True),
+                                      kinks=kinks, turning=turning)
     summary.seconds = time.monotonic() - start
     if keep:  # --out: each failure shrunk (langur.fuzz.counterexamples) and written with its numbers
         os.makedirs(keep, exist_ok=True)
@@ -463,7 +467,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     return summary
 
 
-def _shrunk(summary: FuzzSummary, examples: int, seed: int, light: bool, unit) -> ProgramResult:
+def _shrunk(summary: FuzzSummary, examples: int, seed: int, light: bool, unit, **shape) -> ProgramResult:
     """Hypothesis's minimal failing program: the same seeded run replayed (programs already
     checked are looked up, not rerun) up to its first failure, which hypothesis then shrinks,
     checking each smaller candidate in this process."""
@@ -472,7 +476,7 @@ def _shrunk(summary: FuzzSummary, examples: int, seed: int, light: bool, unit) -
     known = {r.text: r for r in summary.results}
 
     @_settings(examples, seed)
-    @given(programs(light=light))
+    @given(programs(light=light, **shape))
     def check(prog: FuzzProgram):
         res = known.get(prog.text)
         if res is None:

@@ -14,8 +14,8 @@ Like ``hypothesis-jsonschema`` for JSON Schema, this package turns the language 
 Public API::
 
     programs(*, min_variables=1, max_variables=3, max_summands=3, max_factors=3, max_conds=4,
-             max_params=3, light=False, kinks=True, lets=True, defs=True, modules=False,
-             generic=True) -> strategy of Generated
+             max_params=3, light=False, kinks=True, turning=False, lets=True, defs=True,
+             modules=False, generic=True) -> strategy of Generated
     texts(**shape) -> strategy of str          # the printed main module
     cores(**shape) -> strategy of Loaded       # through the front end (langur.frontend)
     Generated(module, params, libraries): .text, .files(), .load(directory=None)
@@ -27,7 +27,8 @@ domains on every box, conditions only in the forms the front end completes to di
 (§5): affine with literal or parameter coefficients, two-root quadratics, monotone primitives
 (``exp``, ``sqrt``, ``log``, ``atan``, ``tanh``), graphs ``y − g(x)``, circles and balls,
 declared diffeomorphisms (a shear, a rotation, a cubic graph), conditions with ``abs``/``min``/
-``max`` inside (split at their kinks by the front end), windows, nested conditionals and
+``max`` inside (split at their kinks by the front end), with ``turning=True`` conditions in one
+variable with no closed-form inverse (implicit roots), windows, nested conditionals and
 conditionals on parameters alone; boxes with constant or parametric bounds; ``let`` of a
 parameter term; a factor moved into a ``def`` (``modules=True``: into an imported module).  Each
 program is generic at its parameter defaults (:func:`langur.strategies.terms.generic`), so both

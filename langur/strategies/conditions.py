@@ -37,6 +37,9 @@ class Scope:
     names: list[str]                       # parameter-kind names usable in terms
     light: bool = False
     kinks: bool = False
+    turning: bool = False
+    #: the variables whose domain bounds are constants (an implicit root needs a fixed bracket)
+    fixed: tuple[str, ...] = ()
     zero_sets: list[T.ZeroSet] = field(default_factory=list)
     diffeos: dict[str, S.DiffeoDecl] = field(default_factory=dict)
 
@@ -229,6 +232,29 @@ def kink_condition(scope: Scope) -> S.Iverson:
     else:
         a, b = scope.two_vars()
         lhs, cmp, rhs = call("min", name(a), name(b)), ">=", scope.param()
+    scope.register(sub(lhs, rhs), key=(lhs, rhs))
+    return S.Iverson((lhs, rhs), (cmp,))
+
+
+def turning_condition(scope: Scope) -> S.Iverson:
+    """A condition in one variable with no closed-form inverse, completed on its monotone pieces by
+    implicit roots (issue 18, :mod:`langur.syntax.turning`): the cubic ``v^3 - v`` (two turning
+    points, up to three roots), ``exp(v) + v`` and ``v^5 + v`` (monotone, no inverse in closed
+    form), ``sin(3*v)`` (turning points inside the box) against a parameter term; ``v`` a variable
+    with constant bounds (else an ordinary condition)."""
+    if not scope.fixed:
+        lhs, cmp, rhs = condition(scope)
+        return S.Iverson((lhs, rhs), (cmp,))
+    v = name(scope.pick(scope.fixed))
+    forms = (
+        lambda: sub(power(v, 3), v),
+        lambda: T.add(call("exp", v), v),
+        lambda: T.add(power(v, 5), v),
+        lambda: call("sin", mul(num(3), v)),
+    )
+    lhs = forms[scope.index(len(forms))]()
+    cmp = scope.pick(("<=", ">="))
+    rhs = shifted_param(scope, (F(0), F(-1, 5), F(3, 20), F(-9, 20)))
     scope.register(sub(lhs, rhs), key=(lhs, rhs))
     return S.Iverson((lhs, rhs), (cmp,))
 

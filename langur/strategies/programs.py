@@ -98,9 +98,12 @@ def factor(scope: C.Scope) -> S.STerm:
     """One factor of a summand, by kind (the first, a smooth factor, is what shrinking aims at):
     smooth, ``[cond]``, ``if cond then … else …``, nested conditionals, a window, ``min``/``max``
     of two affine terms, a conditional on parameters only, a declared diffeo's ``ifge0``, and with
-    ``scope.kinks`` a condition with ``abs``/``min``/``max`` inside."""
+    ``scope.kinks`` a condition with ``abs``/``min``/``max`` inside, with ``scope.turning`` one
+    with no closed-form inverse (implicit roots)."""
     if scope.kinks and scope.index(4) == 3:
         return C.kink_condition(scope)
+    if scope.turning and scope.index(4) == 3:
+        return C.turning_condition(scope)
     kind = scope.index(11)
     if kind <= 1:
         return C.smooth(scope)
@@ -199,7 +202,7 @@ def _sum(scope: C.Scope, summands: list[list[S.STerm]]) -> S.STerm:
 
 def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: int = 3, max_factors: int = 3,
              max_conds: int = 4, max_params: int = 3, light: bool = False, kinks: bool = True,
-             lets: bool = True, defs: bool = True, modules: bool = False, generic: bool = True):
+             turning: bool = False, lets: bool = True, defs: bool = True, modules: bool = False, generic: bool = True):
     """A hypothesis strategy of :class:`Generated`: well-typed programs in ``min_variables`` to
     ``max_variables`` (≤ 3) variables, one to ``max_params`` parameters with generic defaults,
     sums of at most ``max_summands`` products of at most ``max_factors`` factors (:func:`factor`),
@@ -208,7 +211,8 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
     (``modules``: then :meth:`Generated.load` writes the files).  At most ``max_conds`` zero sets;
     ``generic``: transverse at the defaults as far as :func:`~.terms.generic` sees (the rest is the
     linter's to find); ``light``: forms the exact engine integrates quickly; ``kinks``: conditions
-    with ``abs``/``min``/``max`` inside.  Shrinks towards one variable, one parameter, one smooth
+    with ``abs``/``min``/``max`` inside; ``turning``: conditions in one variable with no closed-form
+    inverse (``v^3 - v``, ``exp(v) + v``: implicit roots, issue 18).  Shrinks towards one variable, one parameter, one smooth
     factor."""
     if not 1 <= min_variables <= max_variables <= 3:
         raise ValueError("variables: 1 <= min_variables <= max_variables <= 3")
@@ -222,7 +226,9 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
         variables = VARIABLES[:draw(st.integers(min_variables, max_variables))]
         domain = tuple(draw(_interval(tuple(params))) for _ in variables)
         env = {p: float(d) for p, d in zip(params, defaults)}
-        scope = C.Scope(draw, variables, env, list(params), light=light, kinks=kinks)
+        scope = C.Scope(draw, variables, env, list(params), light=light, kinks=kinks,
+                         turning=turning, fixed=tuple(v for v, i in zip(variables, domain)
+                                                      if not T.names_in(i.lo) | T.names_in(i.hi)))
         box = [(T.evaluate(i.lo, env), T.evaluate(i.hi, env)) for i in domain]
         let = None
         if lets and scope.index(4) == 3:  # let s = <positive parameter term> in …
