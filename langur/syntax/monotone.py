@@ -76,8 +76,8 @@ def certify(f: sp.Expr, v: sp.Symbol, box: dict[sp.Symbol, tuple[float, float]])
             break
         split = _split(b)
         if split is None or count + 1 > MAX_BOXES:
-            return (f"Langur could not prove that ∂/∂{v} = {d} keeps one sign on the box and that the "
-                    f"(interval enclosures over {MAX_BOXES} sub-boxes)")
+            return (f"Langur could not prove that ∂/∂{v} = {d} keeps one strict sign on the box (interval "
+                    f"enclosures over {MAX_BOXES} sub-boxes; a zero on the box's boundary is not excluded)")
         boxes.extend(split)
         count += 1
     if len(seen) > 1 or len(signs) > 1:
