@@ -20,7 +20,7 @@ from scipy.optimize import brentq
 
 from langur import frontend
 from langur.cli import main
-from langur.core import IfDiffeo, ImplicitRoot, subterms
+from langur.core import IfDiffeo, ImplicitRoot, Var, free_vars, subterms
 from langur.ddenote import ddenote_program
 from langur.diagnostics import LangurError
 from langur.operational import estimate_derivative
@@ -185,6 +185,15 @@ def test_a_condition_monotone_in_no_variable_is_refused(cond, says):
         _load(f"param a = 0.5\nint ([-1, 1], [-1, 1]) [{cond}] d(x, y)\n")
     (d,) = info.value.diagnostics
     assert d.code == "T207" and all(s in d.message for s in says), d.message
+
+
+def test_monotone_in_every_variable_is_completed_by_the_last():
+    # eˣ + x + eʸ + y − a: ∂/∂x = eˣ + 1 and ∂/∂y = eʸ + 1 are proved positive on the box; y is taken
+    site = _site(_load("param a = 0.5\nint ([-2, 2], [-2, 2]) [exp(x) + x + exp(y) + y - a >= 0] d(x, y)\n").program)
+    (branch,) = site.psi.branches
+    assert site.psi.solved_for == "y" and branch.components[0] == Var(site.psi.inputs[1])
+    root = branch.components[1]
+    assert isinstance(root, ImplicitRoot) and site.psi.inputs[1] in free_vars(root.equation)
 
 
 def test_the_naive_evaluator_solves_the_same_roots():
