@@ -18,6 +18,7 @@ mentions one is not certified.
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from dataclasses import dataclass
@@ -56,6 +57,8 @@ def certify(f: sp.Expr, v: sp.Symbol, box: dict[sp.Symbol, tuple[float, float]])
         return "the condition does not depend on it"
     start = {s: (rational(lo) if math.isfinite(lo) else -sp.oo, rational(hi) if math.isfinite(hi) else sp.oo)
              for s, (lo, hi) in box.items() if s in free}
+    if _both_signs_on_grid(d, start):
+        return f"it is not monotone in {v}: ∂/∂{v} = {d} takes both signs on the box"
     boxes, signs, seen = [start], set(), {}
     deadline = time.monotonic() + CERTIFY_LIMIT
     count = 1
@@ -83,6 +86,37 @@ def certify(f: sp.Expr, v: sp.Symbol, box: dict[sp.Symbol, tuple[float, float]])
     if len(seen) > 1 or len(signs) > 1:
         return f"it is not monotone in {v}: ∂/∂{v} = {d} takes both signs on the box"
     return Monotone(signs.pop())
+
+
+#: Points per side of the grid on which ∂f/∂v is first sampled (a sign change there refutes).
+GRID = 9
+
+
+def _both_signs_on_grid(d: sp.Expr, b: dict) -> bool:
+    """``d`` is seen > 0 and < 0 at points of a grid over the bounded sides of ``b`` (each sign
+    confirmed at 30 digits): a proof that it is not monotone, found before any enclosure."""
+    syms = [s for s, (lo, hi) in b.items() if lo.is_finite and hi.is_finite]
+    if len(syms) != len(b) or len(syms) > 3:
+        return False
+    try:
+        fn = sp.lambdify(syms, d, modules="math")
+    except (TypeError, ValueError, SyntaxError):
+        return False
+    axes = [[float(lo + (hi - lo) * sp.Rational(i, GRID - 1)) for i in range(GRID)] for lo, hi in (b[s] for s in syms)]
+    found: dict[int, tuple] = {}
+    for point in itertools.product(*axes):
+        try:
+            value = fn(*point)
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            continue
+        if isinstance(value, float) and math.isfinite(value) and value != 0:
+            found.setdefault(1 if value > 0 else -1, point)
+            if len(found) > 1:
+                break
+    if len(found) < 2:
+        return False
+    at = [d.subs(dict(zip(syms, map(sp.Rational, p)))).evalf(30) for p in found.values()]
+    return all(x.is_real for x in at) and (at[0] > 0) != (at[1] > 0) and all(x != 0 for x in at)
 
 
 def _bounds(b: dict) -> dict:
