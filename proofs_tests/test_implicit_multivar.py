@@ -30,15 +30,12 @@ EPS = dict(epsabs=1e-12, epsrel=1e-12, limit=200)
 
 
 def _inner(f, h, lo, hi):
-    """∫_lo^hi [f(v) ≥ 0]·h(v) dv for f increasing in v: split at its root (brentq)."""
+    """∫_lo^hi [f(v) ≥ 0]·h(v) dv for f monotone in v: split at its root (brentq)."""
     flo, fhi = f(lo), f(hi)
-    if flo >= 0:
-        start = lo
-    elif fhi < 0:
-        return 0.0
-    else:
-        start = brentq(f, lo, hi, xtol=1e-15)
-    return quad(h, start, hi, **EPS)[0]
+    if (flo >= 0) == (fhi >= 0):
+        return quad(h, lo, hi, **EPS)[0] if flo >= 0 else 0.0
+    r = brentq(f, lo, hi, xtol=1e-15)
+    return quad(h, r, hi, **EPS)[0] if fhi >= 0 else quad(h, lo, r, **EPS)[0]
 
 
 def _kinks(g, lo, hi):
@@ -87,6 +84,12 @@ def quintic(a):  # ∫∫_{[-1,1]²} [x⁵ + xy² + x + y³ − a ≥ 0]·e^{y �
     return _outer(inner, -1, 1, pts)
 
 
+def falling(a):  # ∫∫_{[-1,1]²} [a − g(x) − g(y) − xy/2 ≥ 0]·(1 + x) d(x, y): decreasing in y
+    f = lambda x, y: a - g3(x) - g3(y) - x * y / 2  # noqa: E731
+    inner = lambda x: _inner(lambda y: f(x, y), lambda y: 1 + x, -1, 1)  # noqa: E731
+    return _outer(inner, -1, 1, _kinks(lambda x: f(x, -1), -1, 1) + _kinks(lambda x: f(x, 1), -1, 1))
+
+
 def cubic3(a):  # ∫∫∫_{[-1,1]×[-1,1]×[0,1]} [g(x) + g(y) + g(z) − a ≥ 0]·(1 + xz), innermost over z
     def middle(x):
         inner = lambda y: _inner(lambda z: g3(x) + g3(y) + g3(z) - a, lambda z: 1 + x * z, 0, 1)  # noqa: E731
@@ -104,6 +107,8 @@ CASES = [
      wiggle, "y", [0.3, 2.2, 3.0]),
     ("expcubic", "param a = 2\nint ([0, 1], [0, 1]) [exp(x) + x + y^3 + y - a >= 0] * (1 + x * y) d(x, y)\n",
      expcubic, "y", [2.0, 5.0, 7.0]),
+    ("falling", "param a = 0.5\nint ([-1, 1], [-1, 1]) [a - x^3 - x - y^3 - y - x * y / 2 >= 0] * (1 + x) d(x, y)\n",
+     falling, "y", [0.5, 3.5, 6.0]),
     ("quintic", "param a = 0.5\nint ([-1, 1], [-1, 1]) [x^5 + x * y^2 + x + y^3 - a >= 0] * exp(y - x / 2) d(x, y)\n",
      quintic, "x", [0.5, 3.5, 5.0]),
 ]
@@ -218,3 +223,17 @@ def test_cli_on_the_example(capsys):
     out = capsys.readouterr().out
     fd = (cubic2(0.5 + H) - cubic2(0.5 - H)) / (2 * H)
     assert "engines agree" in out and f"{fd:.6f}"[:8] in out.replace(" ", "")
+
+
+def test_the_certificate_splits_the_box_where_one_enclosure_is_not_enough():
+    import sympy as sp
+
+    from langur.syntax.monotone import Monotone, certify
+
+    x, y = sp.symbols("x y", real=True)
+    f = x**3 - x**2 + x + x * y  # ∂/∂x = 3x² − 2x + 1 + y ≥ 2/3 on [-1, 1] × [0, 1] (minimum at x = 1/3)
+    assert (3 * x**2 - 2 * x + 1).subs(x, sp.AccumBounds(-1, 1)).min < 0  # one enclosure straddles 0
+    assert certify(f, x, {x: (-1.0, 1.0), y: (0.0, 1.0)}) == Monotone(1)
+    assert certify(-f, x, {x: (-1.0, 1.0), y: (0.0, 1.0)}) == Monotone(-1)
+    # with y down to −1 the slope 3x² − 2x + 1 + y is −1/3 at (1/3, −1) and positive at (1, 0)
+    assert "takes both signs" in certify(f, x, {x: (-1.0, 1.0), y: (-1.0, 1.0)})
