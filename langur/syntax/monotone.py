@@ -27,9 +27,9 @@ from fractions import Fraction
 import sympy as sp
 
 #: Most sub-boxes the enclosure of ∂f/∂v is split into before giving up.
-MAX_BOXES = 512
+MAX_BOXES = 256
 #: Seconds the certification may take.
-CERTIFY_LIMIT = 3.0
+CERTIFY_LIMIT = 2.0
 
 
 @dataclass(frozen=True)
