@@ -147,8 +147,9 @@ class ImplicitRoot:
     """An implicit root (issue 18: an inverse branch with no closed form).
 
     It occurs only in an :class:`InverseBranch`'s components and guards: ``equation`` is a smooth
-    term over ``Var(variable)`` (bound here) and parameters, ``target`` a term over Ψ̂⁻¹'s inputs
-    and parameters, ``lo`` and ``hi`` variable-free.
+    term over ``Var(variable)`` (bound here), parameters and, for a condition in several variables,
+    Ψ̂⁻¹'s other inputs (the other variables' values), ``target`` a term over Ψ̂⁻¹'s inputs and
+    parameters, ``lo`` and ``hi`` variable-free.
 
     * ``index`` is None: the one ``x`` in ``[lo, hi]`` with ``equation(x) = target``, where
       ``equation`` is strictly monotone on ``[lo, hi]`` (a piece between two turning points).  The

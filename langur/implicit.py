@@ -109,21 +109,29 @@ class ImplicitRootFn(sp.Function):
         return _evalf(self.args, prec)
 
     @staticmethod
-    def _imp_(fn, target, lo, hi, index, of):
-        """``lambdify``'s implementation: ``fn`` is ``f`` compiled by lambdify (module namespace);
-        arrays (the numpy module) are solved element by element."""
-        if any(np.ndim(v) for v in (target, lo, hi)):
-            t, a, b = np.broadcast_arrays(target, lo, hi)
-            return np.array([_solve(fn, ti, ai, bi, index, of) for ti, ai, bi in zip(t.flat, a.flat, b.flat)],
+    def _imp_(fn, target, lo, hi, index, of, *free):
+        """``lambdify``'s implementation: ``fn`` is ``f`` compiled by lambdify (module namespace),
+        called as ``fn(x, *free)`` with the values of the equation's other symbols (the other inputs
+        of a condition in several variables, the parameters); arrays (the numpy module) are solved
+        element by element."""
+        if any(np.ndim(v) for v in (target, lo, hi, *free)):
+            t, a, b, *rest = np.broadcast_arrays(target, lo, hi, *free)
+            return np.array([_solve(lambda x, r=r: fn(x, *r), ti, ai, bi, index, of)
+                             for ti, ai, bi, *r in zip(t.flat, a.flat, b.flat, *(c.flat for c in rest))],
                             dtype=float).reshape(t.shape)
-        return _solve(fn, target, lo, hi, index, of)
+        return _solve(lambda x: fn(x, *free), target, lo, hi, index, of)
 
     def _code(self, printer):
-        """``lambdify``'s text: the equation as a Python ``lambda`` in the printer's module."""
+        """``lambdify``'s text: the equation as a Python ``lambda`` of the root's variable and the
+        equation's other symbols, whose values follow the bracket."""
         lam, target, lo, hi, index, of = self.args
         (x,), f = lam.variables, lam.expr
+        free = sorted(f.free_symbols - {x}, key=str)
+        params = ", ".join(printer._print(s) for s in (x, *free))
         args = ", ".join(printer._print(a) for a in (target, lo, hi))
-        return f"ImplicitRootFn((lambda {printer._print(x)}: {printer._print(f)}), {args}, {int(index)}, {int(of)})"
+        values = "".join(f", {printer._print(s)}" for s in free)
+        return (f"ImplicitRootFn((lambda {params}: {printer._print(f)}), {args}, {int(index)}, {int(of)}"
+                f"{values})")
 
     _pythoncode = _mpmathcode = _numpycode = _lambdacode = _code
 

@@ -314,9 +314,10 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
             for a in args:
                 type_term(delta, gamma, a, out)
         case ImplicitRoot(eq, x, target, lo, hi):
-            # issue 18, an inverse branch's implicit root: x ⊢ eq smooth, target over Δ, bracket over Γ
-            observe.rule("LANGUAGE.md §1 (issue 18), implicit root: x;Γ ⊢ f, Δ;Γ ⊢ target, ·;Γ ⊢ lo, hi ⟹ Δ;Γ ⊢ root", t, delta=delta, gamma=gamma)
-            type_term(frozenset({x}), gamma, eq, out)
+            # issue 18, an inverse branch's implicit root: x, Δ ⊢ eq smooth (Δ: Ψ̂⁻¹'s inputs, the
+            # other variables of a condition in several), target over Δ, bracket over Γ
+            observe.rule("LANGUAGE.md §1 (issue 18), implicit root: x,Δ;Γ ⊢ f, Δ;Γ ⊢ target, ·;Γ ⊢ lo, hi ⟹ Δ;Γ ⊢ root", t, delta=delta, gamma=gamma)
+            type_term(delta | {x}, gamma, eq, out)
             type_term(delta, gamma, target, out)
             type_term(frozenset(), gamma, lo, out)
             type_term(frozenset(), gamma, hi, out)

@@ -441,10 +441,13 @@ def _bisect(f, t, a, b):
 
 
 def _root_tangent(fe: Fn, x: str, value, dt, pt: Point, lk: Linking):
-    """⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ') / ∂f/∂x at x* (implicit function theorem)."""
+    """⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ' − ∂f/∂u·u') / ∂f/∂x at x* (implicit function theorem; u: the
+    other inputs of Ψ̂⁻¹ the equation mentions, for a condition in several variables)."""
     vals = pt.values()
-    fx = fe(Point({x: value}, vals.params, dvars={x: 1.0}, mode=TANGENT, root=vals.root), lk)[1]
-    ftheta = fe(Point({x: value}, pt.params, dparams=pt.dparams, mode=TANGENT, root=pt.root), lk)[1]
+    at = {**vals.vars, x: value}
+    fx = fe(Point(at, vals.params, dvars={x: 1.0}, mode=TANGENT, root=vals.root), lk)[1]
+    others = {k: d for k, d in pt.dvars.items() if k != x}
+    ftheta = fe(Point(at, pt.params, dvars=others, dparams=pt.dparams, mode=TANGENT, root=pt.root), lk)[1]
     num = _dadd(dt, None if ftheta is None else -ftheta)
     return None if num is None else num / fx
 
@@ -457,7 +460,7 @@ def _compile_root(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn) -> Fn:
         t, dt = ft(pt, lk)
         lo, hi = flo(vals, lk)[0], fhi(vals, lk)[0]
         t, a, b = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (t, lo, hi)))
-        value = _bisect(lambda at: fe(Point({x: at}, vals.params, root=vals.root), lk)[0], t, a, b)
+        value = _bisect(lambda at: fe(Point({**vals.vars, x: at}, vals.params, root=vals.root), lk)[0], t, a, b)
         return value, (None if pt.mode == VALUE else _root_tangent(fe, x, value, dt, pt, lk))
     return root
 

@@ -146,11 +146,13 @@ def evaluate(t: Term, rho: dict, gamma: dict, dgamma: dict, mode: int = VALUE, s
             case ImplicitRoot(eq, x, target, lo, hi, index, of):
                 # issue 18, implicit root (a Ψ̂⁻¹ component): bisection; ⦇x*⦈ by the implicit function theorem
                 (tv, dt), (a, _), (b, db) = go(target, g, dg), go(lo, g, dg), go(hi, g, dg)
-                r = _root(lambda at: evaluate(eq, {x: at}, g, {})[0] - tv, a, b, index, of)
+                # the equation may mention Ψ̂⁻¹'s other inputs (a condition in several variables)
+                r = _root(lambda at: evaluate(eq, {**rho, x: at}, g, {})[0] - tv, a, b, index, of)
                 if index is not None and r == b:
                     return r, db  # no index-th sign change: the bracket's end
-                fx = evaluate(eq, {x: r}, g, {}, TANGENT, dvars={x: 1.0})[1]
-                ft = evaluate(eq, {x: r}, g, dg, TANGENT)[1] if mode == TANGENT else 0.0
+                fx = evaluate(eq, {**rho, x: r}, g, {}, TANGENT, dvars={x: 1.0})[1]
+                others = {k: d for k, d in dvars.items() if k != x}
+                ft = evaluate(eq, {**rho, x: r}, g, dg, TANGENT, dvars=others)[1] if mode == TANGENT else 0.0
                 return r, (dt - ft) / fx if fx else NAN
         raise TypeError(f"not a core term: {u!r}")
 

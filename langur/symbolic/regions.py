@@ -496,7 +496,7 @@ def _roots(c: Cond, v, ctx: Context):
     except TimeoutError:
         raise Unsupported(f"solving {c.expr} = 0 for {v} timed out") from None
     except (NotImplementedError, ValueError, TypeError) as exc:
-        raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {exc}") from None
+        raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {' '.join(str(exc).split())}") from None
     if not isinstance(sols, list):
         raise Unsupported(f"infinitely many roots of {c.expr} in {v}")
     return [r for r in sols if not isinstance(r, (dict, tuple)) and _vanishes_at(c.expr, v, r, ctx)]

@@ -22,7 +22,10 @@ Two jobs, both with sympy (through :mod:`langur.sympy_bridge`, every call time-b
      such as ``x/(1+x) - a``): its roots, two branches with guard ``discriminant ≥ 0`` for
      degree 2;
   4. none of these, ``t`` mentions one variable only and its interval is bounded: one implicit-root
-     branch per monotone piece between turning points (:mod:`langur.syntax.turning`, issue 18).
+     branch per monotone piece between turning points (:mod:`langur.syntax.turning`, issue 18);
+  5. none of these, ``t`` mentions several variables: solved for the last variable with a bounded
+     interval in which ``t`` is *proved* strictly monotone on the box (interval enclosures of
+     ``∂t/∂v``, :mod:`langur.syntax.monotone`), by one implicit-root branch.
 
   Inverse branches are solved with these bounded strategies only (no open-ended
   ``sympy.solve``, whose solution sets for transcendental equations can be incomplete: a missed
@@ -182,6 +185,12 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds):
         if isinstance(pieces, Diffeo):
             return pieces
         reasons.append(f"{v}: {pieces}")
+    else:  # several variables: an implicit root in one the condition is proved monotone in (issue 18)
+        for v in reversed(occurring):
+            psi = turning.complete_by_monotone(cond, expr, symbol(v), variables, inputs, bounds)
+            if isinstance(psi, Diffeo):
+                return psi
+            reasons.append(f"{v} (implicitly): {psi}")
     return "no variable can be isolated (" + "; ".join(reasons) + ")"
 
 

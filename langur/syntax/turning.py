@@ -38,9 +38,10 @@ from fractions import Fraction
 import sympy as sp
 from sympy.calculus.util import continuous_domain
 
-from ..core import Add, Const, Diffeo, ImplicitRoot, InverseBranch, Mul, Term, Var, neg, substitute
+from ..core import Add, Const, Diffeo, ImplicitRoot, InverseBranch, Mul, Term, Var, free_vars, neg, substitute
 from ..sympy_bridge import from_sympy
 from ..timebox import run_with_timeout
+from .monotone import certify, rational
 
 #: Wall-clock limit (seconds) of the search for turning points.
 TURNING_LIMIT = 4.0
@@ -61,7 +62,7 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
         return "its implicit inverse needs a bounded interval of the variable (give it a constant domain)"
     x = v.name
     d = sp.diff(e, v)
-    L, R = _rational(lo), _rational(hi)
+    L, R = rational(lo), rational(hi)
     try:
         dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT)
     except TimeoutError:
@@ -83,13 +84,40 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
         lo_t, hi_t = from_sympy(L, (), ()), from_sympy(R, (), ())
         ends = ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts) for k in range(cuts)]
                 + [hi_t])
+    return _by_roots(cond, x, variables, inputs, ends)
+
+
+def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...],
+                         inputs: tuple[str, ...], bounds: dict[str, tuple[float, float]]) -> Diffeo | str:
+    """The Diffeo of ``cond`` (sympy ``e``, over several variables) solved for ``v`` by one implicit
+    root on ``v``'s interval, when ``e`` is proved strictly monotone in ``v`` on the box
+    (:func:`langur.syntax.monotone.certify`); else the reason it cannot be built.
+
+    Ψ̂ = (f, the other variables); Ψ̂⁻¹(u₀, u₁, …) has one branch: the other variables are their
+    inputs, ``v = ImplicitRoot(f[other variables := u₁, …], v, u₀, lo, hi)``, guarded by
+    ``(u₀ − f(v=lo)) · (f(v=hi) − u₀) ≥ 0`` (the root lies in the bracket)."""
+    lo, hi = bounds.get(v.name, (-math.inf, math.inf))
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+        return "its implicit inverse needs a bounded interval of the variable (give it a constant domain)"
+    box = {s: bounds.get(s.name, (-math.inf, math.inf)) for s in e.free_symbols if s.name in variables}
+    proved = certify(e, v, box)
+    if isinstance(proved, str):
+        return proved
+    ends = [from_sympy(rational(lo), (), ()), from_sympy(rational(hi), (), ())]
+    return _by_roots(cond, v.name, variables, inputs, ends)
+
+
+def _by_roots(cond: Term, x: str, variables: tuple[str, ...], inputs: tuple[str, ...], ends: list[Term]) -> Diffeo:
+    """Ψ̂ = (cond, the other variables) with one implicit-root branch of ``x`` per piece between
+    consecutive ``ends``; the other variables are Ψ̂⁻¹'s inputs u₁, … (also in the root's equation)."""
     u0 = Var(inputs[0])
     others = [y for y in variables if y != x]
     by_other = {y: Var(u) for y, u in zip(others, inputs[1:])}
+    equation = substitute(cond, by_other) if any(y in free_vars(cond) for y in others) else cond
     branches = []
     for a, b in zip(ends, ends[1:]):
-        root = ImplicitRoot(cond, x, u0, a, b)
-        fa, fb = substitute(cond, {x: a}), substitute(cond, {x: b})
+        root = ImplicitRoot(equation, x, u0, a, b)
+        fa, fb = substitute(equation, {x: a}), substitute(equation, {x: b})
         guard = Mul(Add(u0, neg(fa)), Add(fb, neg(u0)))  # u0 between f(a) and f(b)
         branches.append(InverseBranch(tuple(root if y == x else by_other[y] for y in variables), (guard,)))
     return Diffeo(variables=variables, forward=(cond,) + tuple(Var(y) for y in others), inputs=inputs,
@@ -121,12 +149,6 @@ def _exact_ends(d, v, L, R) -> list[Term] | str | None:
         return [_point(c, d, v, v.name) for c in cuts]
     except ValueError as err:
         return str(err)
-
-
-def _rational(f: float) -> sp.Rational:
-    """The box end as a rational: the short one that prints as ``f`` (``0.1`` is 1/10), else exact."""
-    short = Fraction(f).limit_denominator(10**12)
-    return sp.Rational(short if float(short) == f else Fraction(f))
 
 
 def _sign_changes(d, v, cuts):
