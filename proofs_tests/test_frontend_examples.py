@@ -39,8 +39,9 @@ def test_example_count():
     # risk_normalized.lgr (Fig. 2-3 with the normalized density) is the 15th, scene.lgr (Fig. 13's
     # pixel) and triangle.lgr (a triangle covering a pixel, written with vectors) the 16th and 17th;
     # raytrace/ holds §10.2's scene and its two shaders; window.lgr (abs/min/max in conditions,
-    # issue 18) the 21st; turning.lgr (a condition with no closed-form inverse, issue 18) the 22nd
-    assert len(ALL) == 22
+    # issue 18) the 21st; turning.lgr (a condition with no closed-form inverse, issue 18) the 22nd;
+    # implicit2d.lgr (the same in two variables, monotone in one) the 23rd
+    assert len(ALL) == 23
 
 
 SHADERS = {
