@@ -10,13 +10,24 @@ hand-derived closed form
 (the regular part ∫_{−a_i}^{1} 1 dx = 1 + a_i, the boundary δ(x + a_i)·1·(a_i + x) vanishes at the root).
 Also times the risk program's full exact gradient (paper §2).
 
+``--examples``: instead, the exact ``deriv`` of every example (``examples/**/*.lgr``) in each of its
+parameters, as ``langur deriv FILE --wrt P --engine exact`` computes it (``langur.exact.exact_deriv``:
+⦇p⦈ and its Theorem 8.1 check), each example in a fresh process (no cache from another example),
+CPU seconds (``time.process_time``) per partial derivative, the method and the value.
+
 Run:  python bench/bench_symbolic.py  [--max 64]
+      python bench/bench_symbolic.py --examples
 """
 
 from __future__ import annotations
 
 import argparse
+import glob
+import json
 import os
+import statistics
+import subprocess
+import sys
 import time
 from fractions import Fraction
 
@@ -82,10 +93,56 @@ def bench_risk() -> dict | None:
     return {"seconds": time.perf_counter() - t0, "gradient": grads}
 
 
+_ONE = """
+import json, sys, time
+from langur.exact import exact_deriv
+from langur.frontend import load
+loaded = load(sys.argv[1])
+at = loaded.param_values()
+out = []
+for p in at:
+    t0 = time.process_time()
+    r = exact_deriv(loaded.program, at, {q: int(q == p) for q in at})
+    out.append({"wrt": p, "cpu": time.process_time() - t0, "method": str(r.method), "value": r.value,
+                "theorem": None if r.theorem_8_1 is None else r.theorem_8_1.holds})
+print(json.dumps(out))
+"""
+
+
+def bench_examples() -> list[dict]:
+    """Every example's exact deriv per parameter, each example in a fresh process (module doc)."""
+    rows = []
+    for path in sorted(glob.glob(os.path.join(EXAMPLES, "**", "*.lgr"), recursive=True)):
+        name = os.path.relpath(path, EXAMPLES)
+        proc = subprocess.run([sys.executable, "-c", _ONE, path], capture_output=True, text=True,
+                              cwd=os.path.dirname(path))
+        if proc.returncode != 0:
+            rows.append({"example": name, "wrt": None, "error": (proc.stderr.strip().splitlines() or ["?"])[-1]})
+            continue
+        rows += [{"example": name, **r} for r in json.loads(proc.stdout)]
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--max", type=int, default=64)
+    ap.add_argument("--examples", action="store_true", help="time every example's exact deriv instead")
     args = ap.parse_args()
+    if args.examples:
+        rows = bench_examples()
+        print("| example | wrt | CPU s | method | value | Theorem 8.1 |")
+        print("|---|---|---:|---|---:|---|")
+        for r in rows:
+            if r.get("wrt") is None:
+                print(f"| {r['example']} | — | — | not loaded: {r.get('error', 'no parameters')} | | |")
+                continue
+            print(f"| {r['example']} | {r['wrt']} | {r['cpu']:.2f} | {r['method']} | {r['value']:.10g} "
+                  f"| {r['theorem']} |")
+        cpu = [r["cpu"] for r in rows if r.get("wrt") is not None]
+        if cpu:
+            print(f"\n{len(cpu)} partial derivatives: median {statistics.median(cpu):.2f} s, max {max(cpu):.2f} s, "
+                  f"{sum(c > 1.0 for c in cpu)} over 1 s")
+        return
     print("| jumps n | regular pieces | delta terms | ⟦p⟧ s | ⦇t⦈ normal form s | ⦇p⦈ s | method | values ok |")
     print("|---:|---:|---:|---:|---:|---:|---|---|")
     for r in bench_jumps(args.max):
