@@ -109,35 +109,44 @@ print(json.dumps(out))
 """
 
 
-def bench_examples() -> list[dict]:
-    """Every example's exact deriv per parameter, each example in a fresh process (module doc)."""
-    rows = []
+#: CPU seconds one example's process may take (all its partial derivatives together).
+EXAMPLE_LIMIT = 300.0
+
+
+def bench_examples(limit: float = EXAMPLE_LIMIT):
+    """Every example's exact deriv per parameter, each example in a fresh process (module doc);
+    yields rows as they are measured."""
     for path in sorted(glob.glob(os.path.join(EXAMPLES, "**", "*.lgr"), recursive=True)):
         name = os.path.relpath(path, EXAMPLES)
-        proc = subprocess.run([sys.executable, "-c", _ONE, path], capture_output=True, text=True,
+        code = f"import resource; resource.setrlimit(resource.RLIMIT_CPU, ({int(limit)}, {int(limit) + 5}))\n" + _ONE
+        proc = subprocess.run([sys.executable, "-c", code, path], capture_output=True, text=True,
                               cwd=os.path.dirname(path))
         if proc.returncode != 0:
-            rows.append({"example": name, "wrt": None, "error": (proc.stderr.strip().splitlines() or ["?"])[-1]})
+            why = (proc.stderr.strip().splitlines() or [f"killed after {limit:g} CPU seconds"])[-1]
+            yield {"example": name, "wrt": None, "error": why}
             continue
-        rows += [{"example": name, **r} for r in json.loads(proc.stdout)]
-    return rows
+        for r in json.loads(proc.stdout):
+            yield {"example": name, **r}
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--max", type=int, default=64)
     ap.add_argument("--examples", action="store_true", help="time every example's exact deriv instead")
+    ap.add_argument("--limit", type=float, default=EXAMPLE_LIMIT,
+                    help="CPU seconds per example process (default %(default)s)")
     args = ap.parse_args()
     if args.examples:
-        rows = bench_examples()
+        rows = []
         print("| example | wrt | CPU s | method | value | Theorem 8.1 |")
         print("|---|---|---:|---|---:|---|")
-        for r in rows:
+        for r in bench_examples(args.limit):
+            rows.append(r)
             if r.get("wrt") is None:
-                print(f"| {r['example']} | — | — | not loaded: {r.get('error', 'no parameters')} | | |")
+                print(f"| {r['example']} | — | — | {r.get('error', 'no parameters')} | | |", flush=True)
                 continue
             print(f"| {r['example']} | {r['wrt']} | {r['cpu']:.2f} | {r['method']} | {r['value']:.10g} "
-                  f"| {r['theorem']} |")
+                  f"| {r['theorem']} |", flush=True)
         cpu = [r["cpu"] for r in rows if r.get("wrt") is not None]
         if cpu:
             print(f"\n{len(cpu)} partial derivatives: median {statistics.median(cpu):.2f} s, max {max(cpu):.2f} s, "

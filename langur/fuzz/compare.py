@@ -13,7 +13,7 @@ from .. import engines, operational
 from .. import exact as api
 from ..diagnostics import LangurError
 from ..frontend import load_text
-from ..symbolic import integrate
+from ..symbolic import integrate, regions
 from ..timebox import budget
 from ..transversality import check_loaded
 from . import cluster, coverage, pool
@@ -80,6 +80,8 @@ class ProgramResult:
     methods: list[str] = field(default_factory=list)
     #: where the unit's time went, seconds per phase (:data:`PHASES`; ``langur fuzz --profile``)
     timing: dict[str, float] = field(default_factory=dict)
+    #: sympy's antiderivatives this unit found in its worker (handed to the units forked after it)
+    learned: dict = field(default_factory=dict, repr=False)
 
     @property
     def failed(self) -> bool:
@@ -468,17 +470,25 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
 
     def covered(text: str) -> ProgramResult:  # in a worker: both engines run here, every rule is seen
         coverage.reset()
+        known = regions.antiderivatives_known()
         with coverage.recording():
             res = unit(text, False)
         res.coverage = dict(coverage.counts())
+        res.learned = regions.antiderivatives_since(known)
         return res
+
+    def arrived(res: ProgramResult) -> None:  # in this process: later units are forked knowing them
+        regions.learn_antiderivatives(res.learned)
+        res.learned = {}
+        if progress is not None:
+            progress(res)
 
     if scheduler is not None:
         summary.results = cluster.run_units(texts, covered, scheduler=scheduler, limit=timeout,
                                             on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
     elif workers > 0:
         summary.results = pool.run_units(texts, covered, workers=workers, limit=timeout,
-                                         on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
+                                         on_time_limit=_time_limited, on_error=_unit_error, progress=arrived)
     else:
         for t in texts:
             summary.results.append(unit(t, True))

@@ -220,6 +220,23 @@ _TIMED_OUT: dict = {}
 ATTEMPT_CAP = 5.0
 
 
+def antiderivatives_known() -> set:
+    """The keys of the antiderivatives (and definite failures) this process remembers."""
+    return set(_CACHE)
+
+
+def antiderivatives_since(known: set) -> dict:
+    """What this process has learned since :func:`antiderivatives_known` returned ``known``:
+    ``langur fuzz``'s workers hand it back, so that the units forked after them do not ask sympy
+    again (time-outs are not handed on: they depend on the machine's load)."""
+    return {k: v for k, v in _CACHE.items() if k not in known}
+
+
+def learn_antiderivatives(entries: dict) -> None:
+    for k, v in entries.items():
+        _remember(_CACHE, k, v)
+
+
 def _remember(cache: dict, key, value, size: int = 2048) -> None:
     """``cache[key] = value``, the oldest entry dropped beyond ``size``."""
     if len(cache) >= size:
