@@ -98,6 +98,9 @@ import json, sys, time
 from langur.exact import exact_deriv
 from langur.frontend import load
 loaded = load(sys.argv[1])
+if loaded.program is None:  # a module of definitions (a shader), not a program
+    print("[]")
+    sys.exit(0)
 at = loaded.param_values()
 out = []
 for p in at:

@@ -142,13 +142,15 @@ def hopeless(w, v) -> str:
 def polynomial_antiderivative(w, v):
     """The antiderivative of ``w`` in ``v`` when ``w`` is a polynomial in ``v`` (coefficients in
     the parameters and outer variables), by the power rule; None otherwise."""
-    try:
-        p = sp.Poly(w, v)
-    except (sp.PolynomialError, sp.GeneratorsNeeded):
+    if not w.is_polynomial(v):
         return None
-    if any(v in c.free_symbols for c in p.coeffs()):
-        return None
-    return p.integrate().as_expr()
+    total = sp.Integer(0)
+    for t in sp.Add.make_args(sp.expand(w)):
+        c, e = t.as_coeff_exponent(v)
+        if v in c.free_symbols or not (e.is_Integer and e >= 0):
+            return None
+        total += c * v ** (e + 1) / (e + 1)
+    return total
 
 
 def _affine(e, v):
@@ -169,12 +171,13 @@ _CYCLE = {sp.sin: (lambda a: -sp.cos(a), lambda a: -sp.sin(a), sp.cos, sp.sin),
           sp.sinh: (sp.cosh, sp.sinh), sp.cosh: (sp.sinh, sp.cosh), sp.exp: (sp.exp,)}
 
 
-def exponential_antiderivative(w, v):
+def exponential_antiderivative(w, v, divisors: list | None = None):
     """The antiderivative of ``w`` in ``v`` when every term of ``w`` is a polynomial in ``v`` times
     at most one of ``exp``, ``sin``, ``cos``, ``sinh``, ``cosh`` of an affine function ``k·v + c``
     (repeated integration by parts: ∫P·f = Σⱼ (−1)ʲ P⁽ʲ⁾ F₍ⱼ₊₁₎ with F₍ₙ₎ the n-th iterate of f,
     F₍ₙ₎ = f₍ₙ₎(k·v + c)/kⁿ); None otherwise.  The form is the generic one (``k ≠ 0``), like
-    sympy's with ``conds="none"``; callers verify it at the evaluation point."""
+    sympy's with ``conds="none"``: each ``k`` is appended to ``divisors`` for callers to check at
+    the evaluation point."""
     if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS:
         return None
     total = sp.Integer(0)
@@ -201,6 +204,8 @@ def exponential_antiderivative(w, v):
             return None
         if any(v in c.free_symbols for c in p.all_coeffs()):
             return None
+        if divisors is not None:
+            divisors.append(k)
         cycle = _CYCLE[type(f)]
         derivative = p.as_expr()
         for j in range(p.degree() + 1):
@@ -210,11 +215,12 @@ def exponential_antiderivative(w, v):
     return total
 
 
-def affine_power_antiderivative(w, v):
+def affine_power_antiderivative(w, v, divisors: list | None = None):
     """The antiderivative of ``w`` in ``v`` when every term of ``w`` is a polynomial in ``v`` times
     at most one power ``(k·v + c)^r`` (``r`` rational, not an integer): with ``u = k·v + c`` the
-    term is a sum of powers of ``u`` (``v = (u − c)/k``), integrated by the power rule (``r ≠ −1``
-    for every power met, else None); None for other shapes."""
+    term is a sum of powers of ``u`` (``v = (u − c)/k``), integrated by the power rule (the powers
+    are never −1: ``r`` is not an integer); None for other shapes.  Each ``k`` is appended to
+    ``divisors`` (the form needs ``k ≠ 0``)."""
     if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS:
         return None
     u = sp.Dummy("u")
@@ -235,6 +241,8 @@ def affine_power_antiderivative(w, v):
         if kc is None:
             return None
         k, c = kc
+        if divisors is not None:
+            divisors.append(k)
         rest = sp.Mul(*[g for g in sp.Mul.make_args(t) if g is not f])
         try:
             p = sp.Poly(sp.expand(rest.xreplace({v: (u - c) / k})), u)

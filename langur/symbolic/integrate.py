@@ -102,10 +102,16 @@ _TIDIED: dict = {}
 _TIDYING: ContextVar[bool] = ContextVar("tidying", default=True)
 
 
+def for_reading() -> bool:
+    """Whether closed forms are wanted in a form for people (False within :func:`untidied`)."""
+    return _TIDYING.get()
+
+
 @contextmanager
 def untidied() -> Iterator[None]:
-    """Within the block closed forms are not simplified for reading (``langur fuzz`` compares
-    values: sympy's simplify would cost it up to :data:`TIDY_SECONDS` per closed form)."""
+    """Within the block closed forms are neither simplified nor printed for reading (``langur
+    fuzz`` compares values: sympy's simplify would cost it up to :data:`TIDY_SECONDS` per closed
+    form, printing a large one seconds)."""
     token = _TIDYING.set(False)
     try:
         yield

@@ -275,6 +275,18 @@ def _derivative_matches(F, w, v, ctx: Context) -> bool:
     return True
 
 
+def _nonzero_here(k, ctx: Context) -> bool:
+    """``k`` (a coefficient free of the integration variable) is not zero at the evaluation point,
+    or it depends on outer variables (then, as for sympy's generic antiderivatives, only on a null
+    set); :func:`_derivative_matches` makes the same test by sampling."""
+    if k.free_symbols - set(ctx.at):
+        return True
+    try:
+        return ctx.value(k) != 0
+    except (TypeError, ValueError, ZeroDivisionError):
+        return False
+
+
 def _finite(z: complex) -> bool:
     return z == z and abs(z) != float("inf")
 
@@ -289,8 +301,10 @@ def antiderivative(w, v, ctx: Context):
     quick = elementary.polynomial_antiderivative(w, v)
     if quick is not None:  # exact, in microseconds: never waits for sympy nor for the budget
         return quick
-    for quick in (elementary.exponential_antiderivative(w, v), elementary.affine_power_antiderivative(w, v)):
-        if quick is not None and _derivative_matches(quick, w, v, ctx):
+    for by_parts in (elementary.exponential_antiderivative, elementary.affine_power_antiderivative):
+        divisors: list = []
+        quick = by_parts(w, v, divisors)  # correct by construction where no divisor vanishes
+        if quick is not None and all(_nonzero_here(k, ctx) for k in divisors):
             return quick
     why = elementary.hopeless(w, v)
     if why:  # decided early: one short look by sympy's heuristics, then the piece's quadrature
