@@ -15,8 +15,14 @@ parameters, as ``langur deriv FILE --wrt P --engine exact`` computes it (``langu
 ⦇p⦈ and its Theorem 8.1 check), each example in a fresh process (no cache from another example),
 CPU seconds (``time.process_time``) per partial derivative, the method and the value.
 
+``--campaign N --seed S``: instead, the exact engine's answers to each distinct program of a
+seeded ``langur fuzz --examples N --seed S`` campaign (the value and every partial derivative with
+its Theorem 8.1 check, as a campaign's unit asks them: ``langur.fuzz.compare._exact_answers``),
+CPU seconds per program in this one process, and how many answers are closed forms.
+
 Run:  python bench/bench_symbolic.py  [--max 64]
       python bench/bench_symbolic.py --examples
+      python bench/bench_symbolic.py --campaign 30 --seed 1
 """
 
 from __future__ import annotations
@@ -132,13 +138,43 @@ def bench_examples(limit: float = EXAMPLE_LIMIT):
             yield {"example": name, **r}
 
 
+def bench_campaign(examples: int, seed: int) -> list[dict]:
+    """The exact engine's answers per program of a seeded campaign (module doc), CPU seconds."""
+    from langur.frontend import load_text
+    from langur.fuzz import compare
+    from langur.fuzz.generate import hypothesis_home
+
+    with hypothesis_home(None):
+        texts = compare.generated(examples, seed)
+    rows = []
+    for t in texts:
+        loaded = load_text(t, path="<fuzz>.lgr")
+        c0 = time.process_time()
+        res = compare._exact_answers(loaded.program, loaded.param_values({}), 20.0)
+        methods = [str(r.method) for r in [res[1], *res[2].values()]] if res[0] == "ok" else []
+        rows.append({"cpu": time.process_time() - c0, "status": res[0], "methods": methods})
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--max", type=int, default=64)
     ap.add_argument("--examples", action="store_true", help="time every example's exact deriv instead")
     ap.add_argument("--limit", type=float, default=EXAMPLE_LIMIT,
                     help="CPU seconds per example process (default %(default)s)")
+    ap.add_argument("--campaign", type=int, metavar="N", help="time the exact engine on a campaign's programs")
+    ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
+    if args.campaign:
+        rows = bench_campaign(args.campaign, args.seed)
+        cpu = [r["cpu"] for r in rows]
+        closed = sum(m == "closed_form" for r in rows for m in r["methods"])
+        print(f"{len(rows)} programs (--examples {args.campaign} --seed {args.seed}): CPU median "
+              f"{statistics.median(cpu):.2f} s, mean {statistics.mean(cpu):.2f} s, max {max(cpu):.2f} s, total "
+              f"{sum(cpu):.1f} s, {sum(c > 1 for c in cpu)} over 1 s; closed forms {closed} of "
+              f"{sum(len(r['methods']) for r in rows)} answers; statuses "
+              f"{ {s: sum(r['status'] == s for r in rows) for s in sorted({r['status'] for r in rows})} }")
+        return
     if args.examples:
         rows = []
         print("| example | wrt | CPU s | method | value | Theorem 8.1 |")

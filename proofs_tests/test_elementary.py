@@ -14,6 +14,7 @@ import sympy as sp
 from langur.symbolic.elementary import (
     affine_power_antiderivative,
     exponential_antiderivative,
+    gaussian_antiderivative,
     hopeless,
     polynomial_antiderivative,
 )
@@ -122,3 +123,21 @@ def test_antiderivatives_learned_in_one_process_are_handed_on(monkeypatch):
     # with no time at all, the learned answer is still there (sympy is not asked again)
     again = regions.antiderivative(w, x, regions.Context({}, Deadline(0.0), frozenset()))
     assert sp.simplify(again - F) == 0 and sp.simplify(sp.diff(F, x) - w) == 0
+
+
+def test_gaussian_antiderivative_differentiates_back():
+    # risk.lgr's weights: a polynomial times a product of normal densities in x (completing the
+    # square; erf for the even part), for every value of the mean
+    mu = sp.Symbol("mu")
+    w = ((x - mu) / 25 * sp.exp(-(x - mu) ** 2 / 50) * sp.exp(-(x - 2) ** 2 / 50) / (50 * sp.pi)
+         + x**2 * sp.exp(-x**2 / 3 + x))
+    F = gaussian_antiderivative(w, x)
+    assert F is not None and F.has(sp.erf)
+    d = sp.diff(F, x) - w
+    for px, pmu in [(0.3, 1.7), (-2.5, 0.1), (4.0, -1.2)]:
+        assert abs(complex(sp.N(d.subs({x: px, mu: pmu}), 30))) < 1e-13
+    at = {mu: 1}
+    exact = float((F.subs(x, 3) - F.subs(x, -3)).subs(at))
+    f = sp.lambdify(x, w.subs(at), "mpmath")
+    assert exact == pytest.approx(float(mpmath.quad(f, [-3, 3])), rel=1e-12)
+    assert gaussian_antiderivative(sp.exp(a * x**2), x) is None  # the sign of A depends on a parameter

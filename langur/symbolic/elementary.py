@@ -25,8 +25,15 @@ rational factor (``√x·eˣ`` is erf, ``eˣ/x`` is Ei), two *other* factors (``
 ``atan(x)/x`` is a dilogarithm), a transcendental function of a non-affine argument
 (``sin(x²)`` is Fresnel, ``exp(x³)``), a root of a polynomial of degree three or more (elliptic) —
 is reported hopeless, with the reason.  The test is conservative about what it calls hopeless
-(only these shapes), never about closed forms: a weight it lets through is still verified by
-differentiation (:func:`~langur.symbolic.regions._derivative_matches`).
+(only these shapes; a factor it does not classify leaves the term to sympy), never about closed
+forms: a weight it lets through is still verified by differentiation
+(:func:`~langur.symbolic.regions._derivative_matches`).
+
+Three classical shapes are integrated here without sympy's ``integrate`` (milliseconds, and
+within no time budget): a polynomial times ``exp``/``sin``/``cos``/``sinh``/``cosh`` of an affine
+argument (:func:`exponential_antiderivative`, by parts), a polynomial times a rational power of an
+affine function (:func:`affine_power_antiderivative`, substitution), and a polynomial times a
+normal density (:func:`gaussian_antiderivative`, completing the square: ``erf``).
 """
 
 from __future__ import annotations
@@ -253,4 +260,53 @@ def affine_power_antiderivative(w, v, divisors: list | None = None):
         for (n,), coeff in p.terms():
             e = f.exp + n + 1
             total += coeff * f.base ** e / (e * k)
+    return total
+
+
+def gaussian_antiderivative(w, v):
+    """The antiderivative of ``w`` in ``v`` when every term of ``w`` is a polynomial in ``v`` times
+    ``exp`` of a quadratic ``A·v² + B·v + C`` whose ``A`` is a negative number (a normal density:
+    ``A`` free of the parameters, so the form holds for all of them), else None.  With
+    ``s = v + B/(2A)`` and ``α = −A``: ``∫ P·e^q = e^(C − B²/4A) Σ cₙ Jₙ(s)`` where
+    ``P = Σ cₙ sⁿ``, ``J₀ = √π/(2√α)·erf(√α s)``, ``J₁ = −e^(−α s²)/(2α)`` and
+    ``Jₙ = −s^(n−1) e^(−α s²)/(2α) + (n − 1)/(2α)·Jₙ₋₂`` (integration by parts)."""
+    if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS:
+        return None
+    total = sp.Integer(0)
+    for t in sp.Add.make_args(sp.expand(sp.powsimp(sp.expand(w), combine="exp"), power_exp=False, log=False)):
+        t = sp.powsimp(t, combine="exp")
+        exps = [f for f in sp.Mul.make_args(t) if isinstance(f, sp.exp) and v in f.free_symbols]
+        if not exps:
+            plain = polynomial_antiderivative(t, v)
+            if plain is None:
+                return None
+            total += plain
+            continue
+        if len(exps) != 1:
+            return None
+        try:
+            q = sp.Poly(sp.expand(exps[0].args[0]), v)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            return None
+        if q.degree() != 2 or any(v in c.free_symbols for c in q.all_coeffs()):
+            return None
+        A, B, C = q.all_coeffs()
+        if not (A.is_number and A.is_negative):
+            return None
+        rest = sp.Mul(*[f for f in sp.Mul.make_args(t) if f is not exps[0]])
+        s = sp.Dummy("s")
+        shift = B / (2 * A)
+        try:
+            p = sp.Poly(sp.expand(rest.xreplace({v: s - shift})), s)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            return None
+        if any(v in c.free_symbols or s in c.free_symbols for c in p.all_coeffs()):
+            return None
+        alpha = -A
+        g = sp.exp(-alpha * s**2)
+        J = [sp.sqrt(sp.pi) / (2 * sp.sqrt(alpha)) * sp.erf(sp.sqrt(alpha) * s), -g / (2 * alpha)]
+        for n in range(2, p.degree() + 1):
+            J.append(-s ** (n - 1) * g / (2 * alpha) + (n - 1) / (2 * alpha) * J[n - 2])
+        inner = sp.Add(*[coeff * J[n] for (n,), coeff in p.terms()])
+        total += sp.exp(C - B**2 / (4 * A)) * inner.xreplace({s: v + shift})
     return total

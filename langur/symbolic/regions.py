@@ -306,6 +306,10 @@ def antiderivative(w, v, ctx: Context):
         quick = by_parts(w, v, divisors)  # correct by construction where no divisor vanishes
         if quick is not None and all(_nonzero_here(k, ctx) for k in divisors):
             return quick
+    if _has_gaussian(w, v):
+        quick = elementary.gaussian_antiderivative(w, v)  # valid for all parameter values
+        if quick is not None:
+            return quick
     why = elementary.hopeless(w, v)
     if why:  # decided early: one short look by sympy's heuristics, then the piece's quadrature
         return _last_look(w, v, ctx, why)
