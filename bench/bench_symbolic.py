@@ -10,13 +10,30 @@ hand-derived closed form
 (the regular part ∫_{−a_i}^{1} 1 dx = 1 + a_i, the boundary δ(x + a_i)·1·(a_i + x) vanishes at the root).
 Also times the risk program's full exact gradient (paper §2).
 
+``--examples``: instead, the exact ``deriv`` of every example (``examples/**/*.lgr``) in each of its
+parameters, as ``langur deriv FILE --wrt P --engine exact`` computes it (``langur.exact.exact_deriv``:
+⦇p⦈ and its Theorem 8.1 check), each example in a fresh process (no cache from another example),
+CPU seconds (``time.process_time``) per partial derivative, the method and the value.
+
+``--campaign N --seed S``: instead, the exact engine's answers to each distinct program of a
+seeded ``langur fuzz --examples N --seed S`` campaign (the value and every partial derivative with
+its Theorem 8.1 check, as a campaign's unit asks them: ``langur.fuzz.compare._exact_answers``),
+CPU seconds per program in this one process, and how many answers are closed forms.
+
 Run:  python bench/bench_symbolic.py  [--max 64]
+      python bench/bench_symbolic.py --examples
+      python bench/bench_symbolic.py --campaign 30 --seed 1
 """
 
 from __future__ import annotations
 
 import argparse
+import glob
+import json
 import os
+import statistics
+import subprocess
+import sys
 import time
 from fractions import Fraction
 
@@ -82,10 +99,98 @@ def bench_risk() -> dict | None:
     return {"seconds": time.perf_counter() - t0, "gradient": grads}
 
 
+_ONE = """
+import json, sys, time
+from langur.exact import exact_deriv
+from langur.frontend import load
+loaded = load(sys.argv[1])
+if loaded.program is None:  # a module of definitions (a shader), not a program
+    print("[]")
+    sys.exit(0)
+at = loaded.param_values()
+out = []
+for p in at:
+    t0 = time.process_time()
+    r = exact_deriv(loaded.program, at, {q: int(q == p) for q in at})
+    out.append({"wrt": p, "cpu": time.process_time() - t0, "method": str(r.method), "value": r.value,
+                "theorem": None if r.theorem_8_1 is None else r.theorem_8_1.holds})
+print(json.dumps(out))
+"""
+
+
+#: CPU seconds one example's process may take (all its partial derivatives together).
+EXAMPLE_LIMIT = 300.0
+
+
+def bench_examples(limit: float = EXAMPLE_LIMIT):
+    """Every example's exact deriv per parameter, each example in a fresh process (module doc);
+    yields rows as they are measured."""
+    for path in sorted(glob.glob(os.path.join(EXAMPLES, "**", "*.lgr"), recursive=True)):
+        name = os.path.relpath(path, EXAMPLES)
+        code = f"import resource; resource.setrlimit(resource.RLIMIT_CPU, ({int(limit)}, {int(limit) + 5}))\n" + _ONE
+        proc = subprocess.run([sys.executable, "-c", code, path], capture_output=True, text=True,
+                              cwd=os.path.dirname(path))
+        if proc.returncode != 0:
+            why = (proc.stderr.strip().splitlines() or [f"killed after {limit:g} CPU seconds"])[-1]
+            yield {"example": name, "wrt": None, "error": why}
+            continue
+        for r in json.loads(proc.stdout):
+            yield {"example": name, **r}
+
+
+def bench_campaign(examples: int, seed: int) -> list[dict]:
+    """The exact engine's answers per program of a seeded campaign (module doc), CPU seconds."""
+    from langur.frontend import load_text
+    from langur.fuzz import compare
+    from langur.fuzz.generate import hypothesis_home
+
+    with hypothesis_home(None):
+        texts = compare.generated(examples, seed)
+    rows = []
+    for t in texts:
+        loaded = load_text(t, path="<fuzz>.lgr")
+        c0 = time.process_time()
+        res = compare._exact_answers(loaded.program, loaded.param_values({}), 20.0)
+        methods = [str(r.method) for r in [res[1], *res[2].values()]] if res[0] == "ok" else []
+        rows.append({"cpu": time.process_time() - c0, "status": res[0], "methods": methods})
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--max", type=int, default=64)
+    ap.add_argument("--examples", action="store_true", help="time every example's exact deriv instead")
+    ap.add_argument("--limit", type=float, default=EXAMPLE_LIMIT,
+                    help="CPU seconds per example process (default %(default)s)")
+    ap.add_argument("--campaign", type=int, metavar="N", help="time the exact engine on a campaign's programs")
+    ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
+    if args.campaign:
+        rows = bench_campaign(args.campaign, args.seed)
+        cpu = [r["cpu"] for r in rows]
+        closed = sum(m == "closed_form" for r in rows for m in r["methods"])
+        print(f"{len(rows)} programs (--examples {args.campaign} --seed {args.seed}): CPU median "
+              f"{statistics.median(cpu):.2f} s, mean {statistics.mean(cpu):.2f} s, max {max(cpu):.2f} s, total "
+              f"{sum(cpu):.1f} s, {sum(c > 1 for c in cpu)} over 1 s; closed forms {closed} of "
+              f"{sum(len(r['methods']) for r in rows)} answers; statuses "
+              f"{ {s: sum(r['status'] == s for r in rows) for s in sorted({r['status'] for r in rows})} }")
+        return
+    if args.examples:
+        rows = []
+        print("| example | wrt | CPU s | method | value | Theorem 8.1 |")
+        print("|---|---|---:|---|---:|---|")
+        for r in bench_examples(args.limit):
+            rows.append(r)
+            if r.get("wrt") is None:
+                print(f"| {r['example']} | — | — | {r.get('error', 'no parameters')} | | |", flush=True)
+                continue
+            print(f"| {r['example']} | {r['wrt']} | {r['cpu']:.2f} | {r['method']} | {r['value']:.10g} "
+                  f"| {r['theorem']} |", flush=True)
+        cpu = [r["cpu"] for r in rows if r.get("wrt") is not None]
+        if cpu:
+            print(f"\n{len(cpu)} partial derivatives: median {statistics.median(cpu):.2f} s, max {max(cpu):.2f} s, "
+                  f"{sum(c > 1.0 for c in cpu)} over 1 s")
+        return
     print("| jumps n | regular pieces | delta terms | ⟦p⟧ s | ⦇t⦈ normal form s | ⦇p⦈ s | method | values ok |")
     print("|---:|---:|---:|---:|---:|---:|---|---|")
     for r in bench_jumps(args.max):

@@ -239,8 +239,9 @@ class DerivativeResult:
 
 
 def ddenote_program(program: Program, at: Mapping[str, object] | None, direction: Mapping[str, object], *,
-                    timeout: float = 20.0) -> DerivativeResult:
-    """⦇int t d(x⃗)⦈(γ, γ') = ∫ ⦇t⦈ dρ (Fig. 12) at ``at`` in the direction γ' = ``direction``.
+                    timeout: float = 20.0, symbolic: bool = True) -> DerivativeResult:
+    """⦇int t d(x⃗)⦈(γ, γ') = ∫ ⦇t⦈ dρ (Fig. 12) at ``at`` in the direction γ' = ``direction``
+    (without ``symbolic``: the value by quadrature, as :func:`~langur.denote.denote_program`'s).
 
     Raises :class:`~langur.values.ParameterError` when ``at`` does not give every parameter of the
     program a finite value or ``direction`` names a parameter without one."""
@@ -255,9 +256,10 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
     ctx = Ctx(at=point, variables=tuple(program.variables))
     variables, box = symbols(program.variables), program_box(program, ctx)
     cell = decided_cell(program.body, ctx)
-    regular = (integrate_pieces(nf.regular, variables, box, point, timeout=timeout, cell=cell)
+    regular = (integrate_pieces(nf.regular, variables, box, point, timeout=timeout, cell=cell, symbolic=symbolic)
                if nf.regular else zero_integral())
-    boundary = (integrate_delta_pieces(nf.deltas, variables, box, point, timeout=timeout, cell=cell)
+    boundary = (integrate_delta_pieces(nf.deltas, variables, box, point, timeout=timeout, cell=cell,
+                                       symbolic=symbolic)
                 if nf.deltas else zero_integral())
     exact = regular.method == Method.CLOSED_FORM and boundary.method == Method.CLOSED_FORM
     expr = regular.expr + boundary.expr if regular.expr is not None and boundary.expr is not None else None

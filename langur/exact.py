@@ -26,6 +26,7 @@ import sympy as sp
 from .core import Program
 from .ddenote import ddenote, ddenote_program
 from .denote import denote, denote_program
+from .symbolic.integrate import for_reading
 from .symbolic.pieces import Method
 from .symbolic.quadrature import UndefinedIntegral, printable
 from .symbolic.readable import Readable, readable
@@ -50,8 +51,9 @@ class ExactUndefined(ExactUnavailable):
 
 def _expr_text(e: sp.Expr | None) -> str | None:
     """The closed form as text; a rational of more than about 1,200 digits (Python refuses to
-    print more than 4300) is written as a 30-digit float, and the text says so."""
-    if e is None:
+    print more than 4300) is written as a 30-digit float, and the text says so.  None when no
+    text is wanted (:func:`~langur.symbolic.integrate.untidied`: ``langur fuzz`` compares values)."""
+    if e is None or not for_reading():
         return None
     shown = printable(e)
     return sp.sstr(shown) + ("   [numbers of more than 1,200 digits rounded to 30 digits in this text]"
@@ -70,7 +72,8 @@ def _guard(fn, *args, **kwargs):
 
 @dataclass(frozen=True)
 class ExactValue:
-    """⟦p⟧ at the parameters: ``expr`` the closed form as text (None: quadrature only), ``error``
+    """⟦p⟧ at the parameters: ``expr`` the closed form as text (None: quadrature only, or no text
+    wanted: ``integrate.untidied``), ``error``
     a bound on |value − ⟦p⟧| for quadrature (None for a closed form)."""
 
     value: float

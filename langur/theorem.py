@@ -165,8 +165,11 @@ def localize(expr: sp.Expr, at: Mapping[sp.Symbol, sp.Expr], eps: float = 1e-12)
 
 def symbolic_difference(lhs: sp.Expr, rhs: sp.Expr, seconds: float = 5.0) -> sp.Expr | None:
     """``simplify(lhs − rhs)`` within ``seconds``, or None when it does not finish."""
+    difference = sp.expand(lhs - rhs)
+    if difference == 0:  # the common case, without simplify's seconds
+        return difference
     try:
-        return run_with_timeout(lambda: sp.simplify(lhs - rhs), seconds)
+        return run_with_timeout(lambda: sp.simplify(difference), seconds)
     except (TimeoutError, RecursionError):
         return None
 
@@ -232,7 +235,7 @@ def _check(program, at: Mapping[str, object], direction: Mapping[str, object], d
         dq, _ = _closed_form_derivative(den.expr, q, direction, [], across=everywhere)
         if dq is None:
             continue
-        rq = ddenote_program(program, q, direction, timeout=timeout)
+        rq = ddenote_program(program, q, direction, timeout=timeout, symbolic=False)  # a value is enough
         points.append(Point(q, dq, rq.value))
         holds = holds and _close(dq, rq.value, rq.error + den.error)
     notes.append("compared numerically at the parameters and nearby points")
@@ -288,8 +291,9 @@ def _difference_at(program, at, direction, der, den, timeout, why: str, h: float
     one-sided differences where the central one straddles a switch."""
     def shifted(s: float) -> tuple[float, float]:
         q = {k: float(v) + s * float(direction.get(k, 0)) for k, v in at.items()}
-        # only values are needed here: a short symbolic budget, quadrature otherwise
-        r = denote_program(program, q, timeout=min(timeout, SHIFTED_TIMEOUT))
+        # only values are needed here: quadrature with its error bound (symbolic only where it
+        # does not converge, within a short budget)
+        r = denote_program(program, q, timeout=min(timeout, SHIFTED_TIMEOUT), symbolic=False)
         return r.value, r.error
 
     (p1, e1), (m1, f1) = shifted(h), shifted(-h)

@@ -22,6 +22,25 @@ def test_fuzz_json_exits_0_when_engines_agree(capsys):
     assert sum(r["counts"].values()) == r["programs"]
 
 
+def test_json_timing_and_profile_say_where_the_time_went(capsys):
+    # each program's phases (front end, lint, exact symbolic / quadrature / rest, Monte Carlo) are
+    # parts of its unit's time, and the campaign's timing is their sum over the programs
+    status, out, err = run(capsys, "fuzz", "--examples", "1", "--seed", "1", "--json", "--profile",
+                           "--samples", "2000", "--workers", "0")
+    assert status == 0, err
+    r = json.loads(out)
+    phases = fuzz.compare.PHASES
+    assert set(r["timing"]) == set(phases)
+    for res in r["results"]:
+        t = res["timing"]
+        assert set(t) == set(phases) and all(v >= 0 for v in t.values())
+        assert sum(t.values()) <= res["seconds"] + 0.01
+        assert t["exact_symbolic"] + t["exact_quadrature"] + t["exact_other"] <= res["exact_seconds"] + 0.01
+    for k in phases:
+        assert abs(r["timing"][k] - sum(res["timing"][k] for res in r["results"])) <= 0.002 * len(r["results"])
+    assert "time per phase" in err and all(k in err for k in phases)  # --profile, on stderr with --json
+
+
 def test_fuzz_is_reproducible(capsys):
     # same seed, same programs (statuses may differ only by the exact engine's time limit)
     argv = ("fuzz", "--examples", "2", "--seed", "5", "--json", "--samples", "2000", "--timeout", "3")

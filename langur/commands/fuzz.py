@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import os
+import statistics
 import sys
 
 from .. import engines, fuzz
@@ -62,6 +63,9 @@ def add_arguments(p):
     p.add_argument("--turning", action="store_true",
                    help="also draw conditions in one variable with no closed-form inverse "
                         "(x^3 - x, exp(x) + x: implicit roots between turning points)")
+    p.add_argument("--profile", action="store_true",
+                   help="print where the programs' time went: front end, linter, the exact engine's "
+                        "symbolic search, its quadratures and the rest of it, the Monte Carlo engine")
     p.add_argument("--json", action="store_true", help="one JSON object on standard output")
     p.add_argument("-v", "--verbose", action="store_true", help="print each program's status as it runs")
 
@@ -117,6 +121,8 @@ def run(args) -> int:
     status = 1 if summary.failed else 0
     if args.json:
         c.dump_json(summary.to_json())
+        if args.profile:
+            print(profile_text(summary), file=sys.stderr)
         return status
     counts = summary.counts()
     print(f"langur fuzz: {len(summary.results)} programs (seed {args.seed}, {args.samples} samples), "
@@ -144,10 +150,40 @@ def run(args) -> int:
         print(f"  rule coverage ({sum(1 for *_, n in rows if n)}/{len(rows)} rules fired):")
         for fig, rule, n in rows:
             print(f"    {fig:<14}{rule:<44}{n:>9}{'   NEVER' if not n else ''}")
+    if args.profile:
+        print(profile_text(summary))
     for path in summary.kept:
         print(f"  wrote {path}")
     print("all comparisons agree" if not status else "DISCREPANCY found")
     return status
+
+
+def profile_text(summary) -> str:
+    """Where the per-program budget went (``--profile``): each phase's total, share, median and
+    largest time per program, then the slowest programs with their split."""
+    phases = fuzz.compare.PHASES
+    results = summary.results
+    total = summary.timing()
+    whole = sum(total.values()) or 1e-9
+    lines = [f"  time per phase over {len(results)} programs (wall seconds; time-limited programs, killed, "
+             f"count only as {fuzz.pool.GRACE:g} s past the limit in the campaign's time):",
+             f"    {'phase':<18}{'total':>9}{'share':>8}{'median':>9}{'max':>9}"]
+    for k in phases:
+        per = sorted(r.timing.get(k, 0.0) for r in results) or [0.0]
+        lines.append(f"    {k:<18}{total[k]:>9.1f}{100 * total[k] / whole:>7.0f}%{statistics.median(per):>9.3f}"
+                     f"{per[-1]:>9.2f}")
+    exact = sorted(r.exact_seconds for r in results) or [0.0]
+    lines.append(f"    exact engine per program: median {statistics.median(exact):.3f} s, "
+                 f"{sum(e > 1.0 for e in exact)} of {len(results)} over 1 s")
+    slow = sorted(results, key=lambda r: -r.seconds)[:5]
+    if slow:
+        lines.append("  slowest programs:")
+    for r in slow:
+        split = ", ".join(f"{k} {r.timing.get(k, 0.0):.2f}" for k in phases if r.timing.get(k, 0.0) >= 0.01)
+        body = r.text.strip().splitlines()
+        lines.append(f"    {r.seconds:6.2f} s {r.status:<10} {split or '(killed: no split)'}")
+        lines.append(f"             {(body[-2] if len(body) > 1 else body[-1]).strip()[:100]}")
+    return "\n".join(lines)
 
 
 class _nothing:

@@ -13,6 +13,7 @@ from .. import engines, operational
 from .. import exact as api
 from ..diagnostics import LangurError
 from ..frontend import load_text
+from ..symbolic import integrate, regions
 from ..timebox import budget
 from ..transversality import check_loaded
 from . import cluster, counterexamples, coverage, pool
@@ -77,6 +78,10 @@ class ProgramResult:
     seconds: float = 0.0  # the whole unit: load, lint, both engines
     coverage: dict = field(default_factory=dict)  # (figure, rule) -> applications (langur.fuzz.coverage)
     methods: list[str] = field(default_factory=list)
+    #: where the unit's time went, seconds per phase (:data:`PHASES`; ``langur fuzz --profile``)
+    timing: dict[str, float] = field(default_factory=dict)
+    #: sympy's antiderivatives this unit found in its worker (handed to the units forked after it)
+    learned: dict = field(default_factory=dict, repr=False)
 
     @property
     def failed(self) -> bool:
@@ -85,7 +90,19 @@ class ProgramResult:
     def to_json(self) -> dict:
         return {"program": self.text, "status": self.status, "reason": self.reason,
                 "findings": self.findings, "exact_seconds": round(self.exact_seconds, 3), "seconds": round(self.seconds, 3),
-                "methods": self.methods, "rows": [r.to_json() for r in self.rows]}
+                "timing": self.timing_json(), "methods": self.methods, "rows": [r.to_json() for r in self.rows]}
+
+    def timing_json(self) -> dict[str, float]:
+        return {k: round(self.timing.get(k, 0.0), 3) for k in PHASES}
+
+
+#: The phases of a unit's time (``timing``): loading the text (front end), the transversality
+#: linter, the exact engine's search for closed forms (symbolic: regions, sympy's antiderivatives)
+#: and its quadratures (the cross-check and the fallback), the rest of the exact engine
+#: (decomposition, Fig. 8's normal form, Theorem 8.1's bookkeeping, its process), the other
+#: engine (Monte Carlo, or ``--engine``).
+PHASES = ("front_end", "lint", "exact_symbolic", "exact_quadrature", "exact_other", "mc")
+
 
 
 def agree(exact: float, error: float, mc: float, stderr: float) -> bool:
@@ -104,22 +121,28 @@ SYMBOLIC_SHARE = 0.4
 
 
 def _exact_answers(program, params, timeout):
-    """``(status, ex, exd)``: every exact answer (value, each partial derivative) in this process,
-    the search for closed forms bounded by ``SYMBOLIC_SHARE · timeout`` (no hard limit: the caller
-    runs this in a process it kills at the time limit)."""
+    """``(status, ex, exd, spent)``: every exact answer (value, each partial derivative) in this
+    process, the search for closed forms bounded by ``SYMBOLIC_SHARE · timeout`` (no hard limit:
+    the caller runs this in a process it kills at the time limit); ``spent``: seconds in the
+    symbolic search and in quadrature."""
+    before = dict(integrate.SPENT)
+
+    def spent():
+        return {f"exact_{k}": integrate.SPENT[k] - before[k] for k in before}
+
     try:
-        with budget(SYMBOLIC_SHARE * timeout):
+        with budget(SYMBOLIC_SHARE * timeout), integrate.untidied():  # values are compared, not looks
             ex = api.exact_eval(program, params)
             exd = {p: api.exact_deriv(program, params, {q: (1 if q == p else 0) for q in params})
                    for p in params}
         bad = [why for r in (ex, *exd.values()) for why in r.inconsistent]
         if bad:  # a closed form failed its cross-check: the engine reported quadrature, the fuzzer a bug
-            return ("exact_error", f"inconsistent closed form: {bad[0].splitlines()[0]}", None)
-        return ("ok", ex, exd)
+            return ("exact_error", f"inconsistent closed form: {bad[0].splitlines()[0]}", None, spent())
+        return ("ok", ex, exd, spent())
     except api.ExactUnavailable as e:
-        return ("exact_unavailable", str(e), None)
+        return ("exact_unavailable", str(e), None, spent())
     except BaseException as e:  # noqa: BLE001 - an internal error of the exact engine is a finding
-        return ("exact_error", f"{type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}", None)
+        return ("exact_error", f"{type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}", None, spent())
 
 
 def _exact_child(conn, program, params, timeout):
@@ -141,14 +164,14 @@ _reference: dict[tuple, tuple] = {}
 
 
 def _exact_all(program, params, timeout: float, isolate: bool = True):
-    """``(status, ex, exd)`` from the exact engine, run in a forked process that is killed after
+    """``(status, ex, exd, spent)`` from the exact engine, run in a forked process that is killed after
     ``timeout`` seconds (a SIGALRM-based limit inside one process can be lost, e.g. when it fires
     in a garbage-collector callback; a killed child cannot overrun); remembered per program and
     parameters (a timeout only for budgets no longer than the one that ran out)."""
     key = (program, tuple(sorted((k, str(v)) for k, v in params.items())))
     known = _reference.get(key)
     if known is not None and (known[0] != "timeout" or known[2] >= timeout):
-        return known if known[0] != "timeout" else (known[0], known[1], None)
+        return (*known[:3], {}) if known[0] != "timeout" else (known[0], known[1], None, {})  # nothing spent
     out = _exact_fork(program, params, timeout) if isolate else _exact_answers(program, params, timeout)
     if len(_reference) >= REFERENCES:
         _reference.pop(next(iter(_reference)))
@@ -170,8 +193,8 @@ def _exact_fork(program, params, timeout: float):
             try:
                 return parent.recv()
             except EOFError:
-                return ("exact_error", f"exact engine process died (exit code {proc.exitcode})", None)
-        return ("timeout", f"exact engine took longer than {timeout:g} s", None)
+                return ("exact_error", f"exact engine process died (exit code {proc.exitcode})", None, {})
+        return ("timeout", f"exact engine took longer than {timeout:g} s", None, {})
     finally:
         if proc.is_alive():
             proc.kill()
@@ -185,13 +208,15 @@ def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
     ex, exd)``; ``result.status`` other than agree (load_error, discarded, timeout, …) ends the
     comparison there.  ``isolate``: run the exact engine in a forked child killed at ``timeout``
     (False: in this process, which a worker pool kills at its time limit)."""
+    t0 = time.monotonic()
     try:
         loaded = load_text(text, path="<fuzz>.lgr")
     except LangurError as e:
-        return ProgramResult(text, "load_error", reason="; ".join(d.format() for d in e.diagnostics)), None, None, \
-            None, None
+        return ProgramResult(text, "load_error", reason="; ".join(d.format() for d in e.diagnostics),
+                             timing={"front_end": time.monotonic() - t0}), None, None, None, None
     params = loaded.param_values({})
-    result = ProgramResult(text, "agree")
+    result = ProgramResult(text, "agree", timing={"front_end": time.monotonic() - t0})
+    t0 = time.monotonic()
     if lint:
         try:
             found = check_loaded(loaded, at={k: float(v) for k, v in params.items()},
@@ -202,10 +227,14 @@ def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
         result.findings += [f"{f.code} {f.message}" for f in found]
         if any(f.code in LINT_DISCARD for f in found):
             result.status = "discarded"
+            result.timing["lint"] = time.monotonic() - t0
             return result, loaded, params, None, None
+    result.timing["lint"] = time.monotonic() - t0
     t0 = time.monotonic()
-    status, ex, exd = _exact_all(loaded.program, params, timeout, isolate)
+    status, ex, exd, spent = _exact_all(loaded.program, params, timeout, isolate)
     result.exact_seconds = time.monotonic() - t0
+    result.timing.update(spent)
+    result.timing["exact_other"] = max(0.0, result.exact_seconds - sum(spent.values()))
     if status != "ok":
         result.status, result.reason = status, ex
     return result, loaded, params, ex, exd
@@ -216,9 +245,11 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
     """Load ``text`` and compare the engines on value and every partial derivative (module doc)."""
     t0 = time.monotonic()
     result, loaded, params, ex, exd = _prepared(text, timeout, lint, isolate)
+    t1 = time.monotonic()
     try:
         return _compared(result, loaded, params, ex, exd, samples, seed, method)
     finally:
+        result.timing["mc"] = time.monotonic() - t1
         result.seconds = time.monotonic() - t0
 
 
@@ -272,9 +303,11 @@ def compare_engine(text: str, engine, *, timeout: float = 20.0, lint: bool = Tru
     engine on the value and every partial derivative, with the tolerance its kind asks for."""
     t0 = time.monotonic()
     result, loaded, params, ex, exd = _prepared(text, timeout, lint, isolate)
+    t1 = time.monotonic()
     try:
         return _engine_compared(result, loaded, params, ex, exd, engine)
     finally:
+        result.timing["mc"] = time.monotonic() - t1
         result.seconds = time.monotonic() - t0
 
 
@@ -334,6 +367,11 @@ class FuzzSummary:
                 total[k] = total.get(k, 0) + v
         return coverage.table(total)
 
+    def timing(self) -> dict[str, float]:
+        """Seconds per phase (:data:`PHASES`) summed over the programs (time-limited units, killed
+        before they could report, count nothing)."""
+        return {k: sum(r.timing.get(k, 0.0) for r in self.results) for k in PHASES}
+
     @property
     def comparisons(self) -> int:
         return sum(len(r.rows) for r in self.results)
@@ -349,7 +387,9 @@ class FuzzSummary:
                 "minimal": self.minimal.to_json() if self.minimal else None,
                 "failures": [r.to_json() for r in self.results if r.failed],
                 "results": [{"program": r.text, "status": r.status, "seconds": round(r.seconds, 3),
-                             "exact_seconds": round(r.exact_seconds, 3)} for r in self.results],
+                             "exact_seconds": round(r.exact_seconds, 3), "timing": r.timing_json()}
+                            for r in self.results],
+                "timing": {k: round(v, 3) for k, v in self.timing().items()},
                 "kept": self.kept, "workers": self.workers,
                 "coverage": [{"figure": f, "rule": r, "count": n} for f, r, n in self.coverage()], "seconds": round(self.seconds, 3),
                 "programs_per_minute": round(60 * len(self.results) / self.seconds, 2) if self.seconds else None}
@@ -433,17 +473,25 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
 
     def covered(text: str) -> ProgramResult:  # in a worker: both engines run here, every rule is seen
         coverage.reset()
+        known = regions.antiderivatives_known()
         with coverage.recording():
             res = unit(text, False)
         res.coverage = dict(coverage.counts())
+        res.learned = regions.antiderivatives_since(known)
         return res
+
+    def arrived(res: ProgramResult) -> None:  # in this process: later units are forked knowing them
+        regions.learn_antiderivatives(res.learned)
+        res.learned = {}
+        if progress is not None:
+            progress(res)
 
     if scheduler is not None:
         summary.results = cluster.run_units(texts, covered, scheduler=scheduler, limit=timeout,
                                             on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
     elif workers > 0:
         summary.results = pool.run_units(texts, covered, workers=workers, limit=timeout,
-                                         on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
+                                         on_time_limit=_time_limited, on_error=_unit_error, progress=arrived)
     else:
         for t in texts:
             summary.results.append(unit(t, True))

@@ -34,7 +34,10 @@ be bounded.
 from __future__ import annotations
 
 import math
-from typing import Sequence
+import time
+from contextlib import contextmanager
+from contextvars import ContextVar
+from typing import Iterator, Sequence
 
 import sympy as sp
 
@@ -89,14 +92,44 @@ def _agree(closed: float, quad: float, err: float) -> bool:
     return abs(closed - quad) <= tol
 
 
+#: Seconds sympy's simplify may spend on a closed form (cosmetic: the form found is kept).
+TIDY_SECONDS = 1.0
+#: Simplified forms by closed form (the same one comes back for the value and the checks).
+_TIDIED: dict = {}
+
+
+#: Whether closed forms are simplified for people to read (:func:`untidied` turns it off).
+_TIDYING: ContextVar[bool] = ContextVar("tidying", default=True)
+
+
+def for_reading() -> bool:
+    """Whether closed forms are wanted in a form for people (False within :func:`untidied`)."""
+    return _TIDYING.get()
+
+
+@contextmanager
+def untidied() -> Iterator[None]:
+    """Within the block closed forms are neither simplified nor printed for reading (``langur
+    fuzz`` compares values: sympy's simplify would cost it up to :data:`TIDY_SECONDS` per closed
+    form, printing a large one seconds)."""
+    token = _TIDYING.set(False)
+    try:
+        yield
+    finally:
+        _TIDYING.reset(token)
+
+
 def _tidy(expr, ctx: Context):
     """A simpler equal form when sympy finds one quickly (checked at the evaluation point)."""
-    if sp.count_ops(expr) > 300 or len(expr.atoms(sp.Max, sp.Min)) > 2:
+    if not _TIDYING.get() or sp.count_ops(expr) > 300 or len(expr.atoms(sp.Max, sp.Min)) > 2:
         return expr  # sympy's simplify is slow on Max/Min and rarely helps there
-    try:
-        s = ctx.deadline.run(lambda: sp.simplify(expr), cap=2.0)
-    except Exception:  # noqa: BLE001 - simplification is cosmetic; TimeoutError included
-        return expr
+    s = _TIDIED.get(expr)
+    if s is None:
+        try:
+            s = ctx.deadline.run(lambda: sp.simplify(expr), cap=TIDY_SECONDS)
+        except Exception:  # noqa: BLE001 - simplification is cosmetic; TimeoutError included
+            return expr
+        regions._remember(_TIDIED, expr, s, 512)
     try:
         a, b = _value(expr, ctx), _value(s, ctx)
     except (Unsupported, TypeError, ValueError):
@@ -201,12 +234,44 @@ def _check_defined(quads, what: str) -> None:
                                     "zero set where the condition's derivative vanishes)")
 
 
-def _exact_pieces(make_problems, n: int, quads, ctx: Context, what: str, converged=None):
+#: Seconds (wall clock) this process has spent looking for closed forms (``symbolic``: regions,
+#: sympy's antiderivatives, the cross-check) and in the independent quadrature (``quadrature``);
+#: ``langur fuzz --profile`` reads them per program.
+SPENT = {"symbolic": 0.0, "quadrature": 0.0}
+
+
+@contextmanager
+def _spending(what: str) -> Iterator[None]:
+    start = time.monotonic()
+    try:
+        yield
+    finally:
+        SPENT[what] += time.monotonic() - start
+
+
+#: Why a piece has no closed form when only its value was asked for (``symbolic=False``).
+VALUE_ONLY = "value only: quadrature (no closed form sought)"
+
+
+def _exact_pieces(*args, **kwargs):
+    """:func:`_closed_forms`, its time added to ``SPENT["symbolic"]``."""
+    with _spending("symbolic"):
+        return _closed_forms(*args, **kwargs)
+
+
+def _closed_forms(make_problems, n: int, quads, ctx: Context, what: str, converged=None,
+                  symbolic: bool = True):
     """Closed forms per piece (None where there is none) and the reasons for the fallbacks; a piece
-    whose quadrature did not converge must have a closed form (:class:`QuadratureUnreliable`)."""
+    whose quadrature did not converge must have a closed form (:class:`QuadratureUnreliable`).
+    Without ``symbolic`` only such pieces are integrated symbolically (a value is all that is
+    wanted, and a converged quadrature gives it with its error bound)."""
     exacts, why = [], []
     converged = converged or [True] * n
     for i in range(n):
+        if not symbolic and converged[i]:
+            exacts.append(None)
+            why.append(f"{what} {i}: {VALUE_ONLY}")
+            continue
         try:
             problems, uvars, ubox = make_problems(i)
             exacts.append(_exact_piece(problems, uvars, ubox, ctx, quads[i], f"{what} {i}", converged[i]))
@@ -229,7 +294,13 @@ def _exact_pieces(make_problems, n: int, quads, ctx: Context, what: str, converg
 
 
 def _quads(quad_one, items, ctx: Context):
-    """Each piece's quadrature ``(value, error)`` and whether it converged (its notes go to ctx)."""
+    """Each piece's quadrature ``(value, error)`` and whether it converged (its notes go to ctx);
+    its time is added to ``SPENT["quadrature"]``."""
+    with _spending("quadrature"):
+        return _quadratures(quad_one, items, ctx)
+
+
+def _quadratures(quad_one, items, ctx: Context):
     quads, converged = [], []
     for item in items:
         notes: list[str] = []
@@ -241,9 +312,10 @@ def _quads(quad_one, items, ctx: Context):
 
 
 def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: float = 20.0,
-                     cell: Sequence[sp.Rel] = ()) -> Integral:
+                     cell: Sequence[sp.Rel] = (), symbolic: bool = True) -> Integral:
     """Σ ∫_box Π[conditions]·weight (regular part of a denotation or derivative denotation);
-    ``cell``: relations on the parameters the pieces were built on (the closed form holds there)."""
+    ``cell``: relations on the parameters the pieces were built on (the closed form holds there);
+    without ``symbolic``, the value by quadrature (closed forms only where it did not converge)."""
     variables = tuple(variables)
     ctx, boxd = _setup(variables, box, at, timeout, cell)
     quads, converged = _quads(lambda pc, *out: quadrature.quad_pieces([pc], variables, box, ctx.at, *out),
@@ -256,14 +328,15 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
         conds = [Cond(sp.sympify(c.expr), psi=c.psi) for c in pc.conditions]
         return [(conds, sp.sympify(pc.weight))], list(variables), boxd
 
-    exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "piece", converged)
+    exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "piece", converged, symbolic)
     return _finish(exacts, quads, why, ctx, "pieces", converged)
 
 
 def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
-                           timeout: float = 20.0, cell: Sequence[sp.Rel] = ()) -> Integral:
+                           timeout: float = 20.0, cell: Sequence[sp.Rel] = (), symbolic: bool = True) -> Integral:
     """Σ ∫_box h·δ(π₀Ψ̂) through the change of variables ``u = Ψ̂(x)`` over every inverse branch:
-    ∫ h(Ψ̂_b⁻¹(0,u'))·|det DΨ̂_b⁻¹(0,u')| du' on the guards (LANGUAGE.md §4)."""
+    ∫ h(Ψ̂_b⁻¹(0,u'))·|det DΨ̂_b⁻¹(0,u')| du' on the guards (LANGUAGE.md §4); ``symbolic`` as
+    :func:`integrate_pieces`'s."""
     variables = tuple(variables)
     ctx, boxd = _setup(variables, box, at, timeout, cell)
     uboxes = []
@@ -283,5 +356,5 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
         probs = delta.delta_to_regular(pieces[i], variables, boxd, ctx, uboxes[i])
         return probs, uvars, dict(zip(uvars, uboxes[i]))
 
-    exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "delta piece", converged)
+    exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "delta piece", converged, symbolic)
     return _finish(exacts, quads, why, ctx, "delta pieces", converged)

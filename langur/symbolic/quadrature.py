@@ -72,28 +72,56 @@ def printable(e: sp.Expr) -> sp.Expr:
     return e.xreplace(big) if big else e
 
 
-def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., float]:
-    """A fast scalar function (``math``); NaN where the expression is undefined or complex."""
-    e = printable(sp.sympify(expr).xreplace(_floats(at)))
+#: Compiled integrands by (arguments, expression): the same conditions and weights come back at
+#: other parameter values (the value, each partial derivative, Theorem 8.1's shifted and nearby
+#: points), and ``lambdify`` costs milliseconds per call; at most this many kept.
+COMPILED = 4096
+_COMPILED: dict = {}
+
+
+def _compile(args: tuple, e) -> tuple[Callable | None, Callable | None]:
+    """``(math function, None)`` or, for a function ``math`` lacks, ``(None, mpmath function)``."""
+    key = (args, e)
+    hit = _COMPILED.get(key)
+    if hit is not None:
+        return hit
     try:
-        f = sp.lambdify(list(symbols), e, modules=["math"])
-        f(*[0.5] * len(symbols))  # probe: fails with NameError for functions math lacks
+        f = sp.lambdify(list(args), e, modules=["math"])
+        f(*[0.5] * len(args))  # probe: fails with NameError for functions math lacks
+        out = (f, None)
     except NameError:
-        f = None
+        out = (None, sp.lambdify(list(args), e, modules=["mpmath"]))
     except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
-        f = sp.lambdify(list(symbols), e, modules=["math"])
+        out = (sp.lambdify(list(args), e, modules=["math"]), None)
+    if len(_COMPILED) >= COMPILED:
+        _COMPILED.pop(next(iter(_COMPILED)))
+    _COMPILED[key] = out
+    return out
+
+
+def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., float]:
+    """A fast scalar function of ``symbols`` (``math``); NaN where the expression is undefined or
+    complex.  The parameters ``at`` are passed as trailing arguments of a compiled function cached
+    by expression (:data:`COMPILED`), so other parameter values reuse it; an expression ``math``
+    cannot evaluate with symbolic parameters is compiled with their values substituted."""
+    e = printable(sp.sympify(expr))
+    params = tuple(k for k in at if k in e.free_symbols)
+    f, g = _compile(tuple(symbols) + params, e)
+    extra = tuple(float(at[k]) for k in params)
+    if f is None and params:  # e.g. Heaviside of a parameter: decided once its value is known
+        f, g = _compile(tuple(symbols), printable(e.xreplace(_floats(at))))
+        extra = ()
     if f is not None:
         def call(*vals):
             try:
-                return float(f(*vals))
+                return float(f(*vals, *extra))
             except (ValueError, ZeroDivisionError, OverflowError, TypeError):
                 return math.nan
         return call
-    g = sp.lambdify(list(symbols), e, modules=["mpmath"])
 
     def slow(*vals):
         try:
-            v = complex(g(*vals))
+            v = complex(g(*vals, *extra))
         except (ValueError, ZeroDivisionError, OverflowError, TypeError):
             return math.nan
         return v.real if abs(v.imag) <= 1e-12 * max(1.0, abs(v.real)) else math.nan
@@ -299,17 +327,35 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
     return out
 
 
-def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int):
-    """``prefix ↦ real roots in syms[level]`` when ``expr`` is a polynomial in it (numpy), else None."""
+_COEFFICIENTS: dict = {}
+
+
+def _coefficients(expr, syms: tuple, level: int):
+    """The coefficients of ``expr`` as a polynomial in ``syms[level]`` (of degree ≤ 8), compiled as
+    functions of ``syms[:level]`` (cached like :data:`_COMPILED`), or None."""
+    key = (expr, syms[: level + 1])
+    if key in _COEFFICIENTS:
+        return _COEFFICIENTS[key]
     v = syms[level]
+    fns = None
     try:
         poly = sp.Poly(expr, v)
+        coeffs = poly.all_coeffs()
+        if poly.degree() <= 8 and not any(v in c.free_symbols for c in coeffs):
+            fns = [sp.lambdify(list(syms[:level]), printable(c), modules=["numpy"]) for c in coeffs]
     except (sp.PolynomialError, sp.GeneratorsNeeded):
+        pass
+    if len(_COEFFICIENTS) >= COMPILED:
+        _COEFFICIENTS.pop(next(iter(_COEFFICIENTS)))
+    _COEFFICIENTS[key] = fns
+    return fns
+
+
+def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int):
+    """``prefix ↦ real roots in syms[level]`` when ``expr`` is a polynomial in it (numpy), else None."""
+    fns = _coefficients(expr, tuple(syms), level)
+    if fns is None:
         return None
-    coeffs = poly.all_coeffs()
-    if poly.degree() > 8 or any(v in c.free_symbols for c in coeffs):
-        return None
-    fns = [sp.lambdify(list(syms[:level]), printable(c), modules=["numpy"]) for c in coeffs]
 
     def roots(*prefix):
         cs = [complex(f(*prefix)) for f in fns]

@@ -33,6 +33,7 @@ from typing import Sequence
 
 import sympy as sp
 
+from langur.symbolic import elementary
 from langur.symbolic.pieces import Psi
 from langur.timebox import Deadline
 
@@ -227,6 +228,23 @@ _TIMED_OUT: dict = {}
 ATTEMPT_CAP = 5.0
 
 
+def antiderivatives_known() -> set:
+    """The keys of the antiderivatives (and definite failures) this process remembers."""
+    return set(_CACHE)
+
+
+def antiderivatives_since(known: set) -> dict:
+    """What this process has learned since :func:`antiderivatives_known` returned ``known``:
+    ``langur fuzz``'s workers hand it back, so that the units forked after them do not ask sympy
+    again (time-outs are not handed on: they depend on the machine's load)."""
+    return {k: v for k, v in _CACHE.items() if k not in known}
+
+
+def learn_antiderivatives(entries: dict) -> None:
+    for k, v in entries.items():
+        _remember(_CACHE, k, v)
+
+
 def _remember(cache: dict, key, value, size: int = 2048) -> None:
     """``cache[key] = value``, the oldest entry dropped beyond ``size``."""
     if len(cache) >= size:
@@ -265,6 +283,18 @@ def _derivative_matches(F, w, v, ctx: Context) -> bool:
     return True
 
 
+def _nonzero_here(k, ctx: Context) -> bool:
+    """``k`` (a coefficient free of the integration variable) is not zero at the evaluation point,
+    or it depends on outer variables (then, as for sympy's generic antiderivatives, only on a null
+    set); :func:`_derivative_matches` makes the same test by sampling."""
+    if k.free_symbols - set(ctx.at):
+        return True
+    try:
+        return ctx.value(k) != 0
+    except (TypeError, ValueError, ZeroDivisionError):
+        return False
+
+
 def _finite(z: complex) -> bool:
     return z == z and abs(z) != float("inf")
 
@@ -276,6 +306,21 @@ def antiderivative(w, v, ctx: Context):
         return w * v
     if _mentions_bad(w, v):
         raise Unsupported(f"weight {w} is not smooth in {v}")
+    quick = elementary.polynomial_antiderivative(w, v)
+    if quick is not None:  # exact, in microseconds: never waits for sympy nor for the budget
+        return quick
+    for by_parts in (elementary.exponential_antiderivative, elementary.affine_power_antiderivative):
+        divisors: list = []
+        quick = by_parts(w, v, divisors)  # correct by construction where no divisor vanishes
+        if quick is not None and all(_nonzero_here(k, ctx) for k in divisors):
+            return quick
+    if _has_gaussian(w, v):
+        quick = elementary.gaussian_antiderivative(w, v)  # valid for all parameter values
+        if quick is not None:
+            return quick
+    why = elementary.hopeless(w, v)
+    if why:  # decided early: one short look by sympy's heuristics, then the piece's quadrature
+        return _last_look(w, v, ctx, why)
     reps = _constant_symbols(w)
     back = {d: c for c, d in reps.items()}
     wa = w.xreplace(reps)  # algebraic constants as positive symbols: sympy is much faster on them
@@ -333,6 +378,33 @@ def antiderivative(w, v, ctx: Context):
             continue
         return F
     raise Unsupported("; ".join(dict.fromkeys(reasons)) or f"no antiderivative of {w}")
+
+
+#: Seconds sympy's heuristics may spend on a weight :func:`elementary.hopeless` gave up on: a sum
+#: of non-elementary terms can still have an elementary antiderivative (eˣ/x − eˣ/x² = (eˣ/x)'),
+#: which sympy finds quickly when it does.
+LAST_LOOK = 0.25
+
+
+def _last_look(w, v, ctx: Context, why: str):
+    key = (w, v, "last look")
+    F = _CACHE.get(key)
+    if F is None:
+        cap = min(LAST_LOOK, max(0.0, ctx.deadline.remaining()))
+        if _TIMED_OUT.get(key, -1.0) >= cap:
+            raise Unsupported(why)
+        try:
+            F = ctx.deadline.run(lambda: sp.integrate(w, v, risch=False, meijerg=False, conds="none"), cap=cap)
+            _remember(_CACHE, key, F)
+        except TimeoutError:  # remembered with the time it had, like every attempt's
+            _remember(_TIMED_OUT, key, cap)
+            raise Unsupported(why) from None
+        except Exception:  # noqa: BLE001 - sympy raises all sorts of errors on hard inputs
+            F = why
+            _remember(_CACHE, key, F)
+    if isinstance(F, str) or _mentions_bad(F, v) or F.has(sp.zoo, sp.nan) or not _derivative_matches(F, w, v, ctx):
+        raise Unsupported(why)
+    return F
 
 
 # ------------------------------------------------------------------------------------------
@@ -453,6 +525,22 @@ def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
     return total
 
 
+#: sympy's Max/Min of symbolic bounds by their arguments: building one compares every pair of
+#: arguments (seconds on a campaign's program), and the same bounds come back for the value, each
+#: partial derivative and the checks.
+_EXTREMA: dict = {}
+
+
+def _extremum(fn, args):
+    """``fn(*args)`` (``sp.Max`` or ``sp.Min``), remembered."""
+    key = (fn, tuple(args))
+    out = _EXTREMA.get(key)
+    if out is None:
+        out = fn(*args)
+        _remember(_EXTREMA, key, out)
+    return out
+
+
 def _outermost(conds, weight, v, lo, hi, ctx: Context):
     """Last variable: ``F(Max(A, B)) − F(A)`` per alternative, else the generic 1-D method."""
     sub = Context(ctx.at, ctx.deadline, ctx.params)
@@ -464,9 +552,9 @@ def _outermost(conds, weight, v, lo, hi, ctx: Context):
             extra = _prefilter([x for alt in combo for x in alt.extra], sub)
             if extra is None:
                 continue
-            A = sp.Max(*_dedupe([lo] + [b for alt in combo for b in alt.lowers]))
-            B = sp.Min(*_dedupe([hi] + [b for alt in combo for b in alt.uppers]))
-            top = sp.Max(A, B)
+            A = _extremum(sp.Max, _dedupe([lo] + [b for alt in combo for b in alt.lowers]))
+            B = _extremum(sp.Min, _dedupe([hi] + [b for alt in combo for b in alt.uppers]))
+            top = _extremum(sp.Max, (A, B))
             if top == A:
                 continue  # empty for every parameter value
             if F is None:

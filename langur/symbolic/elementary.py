@@ -1,0 +1,312 @@
+"""Deciding early that sympy will not find an antiderivative (issue 15, the exact engine's time).
+
+The exact engine asks sympy for antiderivatives of smooth weights in one variable
+(:func:`langur.symbolic.regions.antiderivative`).  When there is none in elementary terms, sympy's
+algorithms (heuristic Risch, full Risch, Meijer G) do not say so quickly: they run until their
+time limit, seconds per weight, and the piece then falls back to quadrature anyway.
+:func:`hopeless` recognises the commonest shapes of such weights from their structure alone, so
+that the engine goes straight to its rigorous quadrature (regions and delta sites still come from
+the denotational side, so the answer stays independent of the Monte Carlo engine).
+
+The weight is expanded into terms (sympy integrates term by term); each term is a product of
+factors, classified in the variable ``v``:
+
+* *polynomial*: a polynomial in ``v`` (a constant included);
+* *exponential*: ``exp``, ``sin``, ``cos``, ``sinh``, ``cosh`` of an affine function of ``v`` (and
+  ``exp`` of a quadratic: a Gaussian, integrated by completing the square);
+* *other*: anything else (powers of non-polynomials, ``1/q(v)``, ``log``, ``atan``, compositions).
+
+A term is integrable in elementary terms in the classical cases: polynomial × products of
+exponentials (repeated integration by parts); polynomial × one *other* factor that is itself
+elementary to integrate against a polynomial — ``log``/``atan``/``asin``/``acos`` of a polynomial
+or rational function, a power of a polynomial of degree at most two (``√(a + x²)``,
+``(x + 1)^(3/2)``), a rational function.  Everything else — an exponential times an algebraic or
+rational factor (``√x·eˣ`` is erf, ``eˣ/x`` is Ei), two *other* factors (``√(1 + x²)·atan(x²)``,
+``atan(x)/x`` is a dilogarithm), a transcendental function of a non-affine argument
+(``sin(x²)`` is Fresnel, ``exp(x³)``), a root of a polynomial of degree three or more (elliptic) —
+is reported hopeless, with the reason.  The test is conservative about what it calls hopeless
+(only these shapes; a factor it does not classify leaves the term to sympy), never about closed
+forms: a weight it lets through is still verified by differentiation
+(:func:`~langur.symbolic.regions._derivative_matches`).
+
+Three classical shapes are integrated here without sympy's ``integrate`` (milliseconds, and
+within no time budget): a polynomial times ``exp``/``sin``/``cos``/``sinh``/``cosh`` of an affine
+argument (:func:`exponential_antiderivative`, by parts), a polynomial times a rational power of an
+affine function (:func:`affine_power_antiderivative`, substitution), and a polynomial times a
+normal density (:func:`gaussian_antiderivative`, completing the square: ``erf``).
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+#: Functions that are exponentials of an affine argument for this purpose (their products with
+#: polynomials integrate by parts in elementary terms).
+EXPONENTIAL = (sp.exp, sp.sin, sp.cos, sp.sinh, sp.cosh)
+#: Functions whose product with a polynomial of the variable integrates in elementary terms when
+#: their argument is a polynomial or rational function of it (integration by parts leaves a
+#: rational or algebraic integrand).
+BY_PARTS = (sp.log, sp.atan, sp.asin, sp.acos, sp.asinh, sp.acosh, sp.atanh)
+#: Weights larger than this (operations) are not classified (the expansion itself would cost).
+MAX_OPS = 400
+
+
+def _degree(e, v) -> int | None:
+    """The degree of ``e`` as a polynomial in ``v`` (None when it is not one)."""
+    if v not in e.free_symbols:
+        return 0
+    try:
+        p = sp.Poly(e, v)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return None
+    if any(v in c.free_symbols for c in p.all_coeffs()):
+        return None
+    return p.degree()
+
+
+def _rational(e, v) -> bool:
+    n, d = sp.fraction(sp.together(e))
+    return _degree(n, v) is not None and _degree(d, v) is not None
+
+
+def _kind(f, v) -> tuple[str, str]:
+    """``(kind, reason)`` of one factor: polynomial, exponential, gaussian, alone (an *other*
+    factor that integrates against a polynomial), elliptic (a root of a square-free polynomial of
+    degree ≥ 3), hopeless, or unknown (a shape not classified: sympy is asked)."""
+    if v not in f.free_symbols:
+        return "polynomial", ""
+    if _degree(f, v) is not None:
+        return "polynomial", ""
+    if isinstance(f, EXPONENTIAL):
+        d = _degree(f.args[0], v)
+        if d is not None and d <= 1:
+            return "exponential", ""
+        if isinstance(f, sp.exp) and d == 2:
+            return "gaussian", ""
+        if d is not None:
+            return "hopeless", f"{f.func.__name__} of a polynomial of degree {d}"
+        return "unknown", ""
+    if isinstance(f, BY_PARTS):
+        return ("alone", "") if _rational(f.args[0], v) else ("unknown", "")
+    if isinstance(f, sp.Pow):
+        base, ex = f.args
+        if v in ex.free_symbols or not ex.is_Rational:
+            return "unknown", ""
+        d = _degree(base, v)
+        if d is not None and (ex.is_Integer or d <= 2):
+            return "alone", ""  # 1/q(v)^k: partial fractions; (a + b·x + c·x²)^(p/q): Euler
+        if d is not None and sp.degree(sp.sqf_part(base, v), v) >= 3:
+            return "elliptic", f"a root of a polynomial of degree {d}"
+        if d is None and ex.is_Integer and _rational(base, v):
+            return "alone", ""
+    return "unknown", ""
+
+
+def _term(t, v) -> str:
+    """Why the term ``t`` has no elementary antiderivative in ``v`` that sympy will find (empty:
+    it may have one)."""
+    factors = [f for f in sp.Mul.make_args(t) if v in f.free_symbols]
+    kinds = [_kind(f, v) for f in factors]
+    for k, why in kinds:
+        if k == "hopeless":
+            return why
+    names = [k for k, _ in kinds]
+    if "unknown" in names:
+        return ""
+    if names == ["elliptic"]:
+        return kinds[0][1] + " (an elliptic integral)"
+    if "elliptic" in names:
+        return ""  # x²·√(x³ + 1) is elementary (substitution): let sympy look
+    others = names.count("alone")
+    transcendental = names.count("exponential") + names.count("gaussian")
+    if others and transcendental:
+        return "an exponential or trigonometric factor times an algebraic, rational or logarithmic one"
+    if others > 1:
+        rest = sp.Mul(*[f for f, k in zip(factors, names) if k == "alone"])
+        if _rational(rest, v):
+            return ""  # a rational function after all (partial fractions)
+        return "a product of two non-polynomial factors"
+    return ""
+
+
+def hopeless(w, v) -> str:
+    """Why sympy will not find an elementary antiderivative of the smooth weight ``w`` in ``v``
+    (one of the shapes of the module docstring), or the empty string when it may."""
+    w = sp.sympify(w)
+    if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS:
+        return ""
+    try:
+        terms = sp.Add.make_args(sp.expand(sp.powsimp(w), power_exp=False, log=False, multinomial=False))
+    except Exception:  # noqa: BLE001 - classification is an optimisation: let sympy try
+        return ""
+    for t in terms:
+        why = _term(t, v)
+        if why:
+            return f"no elementary antiderivative expected in {v} ({why}: {t})"
+    return ""
+
+
+def polynomial_antiderivative(w, v):
+    """The antiderivative of ``w`` in ``v`` when ``w`` is a polynomial in ``v`` (coefficients in
+    the parameters and outer variables), by the power rule; None otherwise."""
+    if not w.is_polynomial(v):
+        return None
+    total = sp.Integer(0)
+    for t in sp.Add.make_args(sp.expand(w)):
+        c, e = t.as_coeff_exponent(v)
+        if v in c.free_symbols or not (e.is_Integer and e >= 0):
+            return None
+        total += c * v ** (e + 1) / (e + 1)
+    return total
+
+
+def _affine(e, v):
+    """``(k, c)`` with ``e = k·v + c`` and ``k`` free of ``v`` and non-zero, else None."""
+    try:
+        p = sp.Poly(e, v)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return None
+    if p.degree() != 1 or any(v in c.free_symbols for c in p.all_coeffs()):
+        return None
+    k, c = p.all_coeffs()
+    return k, c
+
+
+#: The n-th iterated antiderivative of f(k·v + c) for the functions whose iterates cycle.
+_CYCLE = {sp.sin: (lambda a: -sp.cos(a), lambda a: -sp.sin(a), sp.cos, sp.sin),
+          sp.cos: (sp.sin, lambda a: -sp.cos(a), lambda a: -sp.sin(a), sp.cos),
+          sp.sinh: (sp.cosh, sp.sinh), sp.cosh: (sp.sinh, sp.cosh), sp.exp: (sp.exp,)}
+
+
+def exponential_antiderivative(w, v, divisors: list | None = None):
+    """The antiderivative of ``w`` in ``v`` when every term of ``w`` is a polynomial in ``v`` times
+    at most one of ``exp``, ``sin``, ``cos``, ``sinh``, ``cosh`` of an affine function ``k·v + c``
+    (repeated integration by parts: ∫P·f = Σⱼ (−1)ʲ P⁽ʲ⁾ F₍ⱼ₊₁₎ with F₍ₙ₎ the n-th iterate of f,
+    F₍ₙ₎ = f₍ₙ₎(k·v + c)/kⁿ); None otherwise.  The form is the generic one (``k ≠ 0``), like
+    sympy's with ``conds="none"``: each ``k`` is appended to ``divisors`` for callers to check at
+    the evaluation point."""
+    if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS:
+        return None
+    total = sp.Integer(0)
+    for t in sp.Add.make_args(sp.expand(w, power_exp=False, log=False)):
+        fs = [f for f in sp.Mul.make_args(t) if v in f.free_symbols]
+        special = [f for f in fs if isinstance(f, tuple(_CYCLE))]
+        if not special:
+            plain = polynomial_antiderivative(t, v)
+            if plain is None:
+                return None
+            total += plain
+            continue
+        if len(special) != 1:
+            return None
+        f = special[0]
+        kc = _affine(f.args[0], v)
+        if kc is None:
+            return None
+        k, _ = kc
+        rest = sp.Mul(*[g for g in sp.Mul.make_args(t) if g is not f])
+        try:
+            p = sp.Poly(rest, v)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            return None
+        if any(v in c.free_symbols for c in p.all_coeffs()):
+            return None
+        if divisors is not None:
+            divisors.append(k)
+        cycle = _CYCLE[type(f)]
+        derivative = p.as_expr()
+        for j in range(p.degree() + 1):
+            iterate = cycle[j % len(cycle)](f.args[0]) / k ** (j + 1)
+            total += (-1) ** j * derivative * iterate
+            derivative = sp.diff(derivative, v)
+    return total
+
+
+def affine_power_antiderivative(w, v, divisors: list | None = None):
+    """The antiderivative of ``w`` in ``v`` when every term of ``w`` is a polynomial in ``v`` times
+    at most one power ``(k·v + c)^r`` (``r`` rational, not an integer): with ``u = k·v + c`` the
+    term is a sum of powers of ``u`` (``v = (u − c)/k``), integrated by the power rule (the powers
+    are never −1: ``r`` is not an integer); None for other shapes.  Each ``k`` is appended to
+    ``divisors`` (the form needs ``k ≠ 0``)."""
+    if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS:
+        return None
+    u = sp.Dummy("u")
+    total = sp.Integer(0)
+    for t in sp.Add.make_args(sp.expand(w, power_exp=False, log=False)):
+        powers = [f for f in sp.Mul.make_args(t) if isinstance(f, sp.Pow) and v in f.free_symbols
+                  and f.exp.is_Rational and not f.exp.is_Integer]
+        if not powers:
+            plain = polynomial_antiderivative(t, v)
+            if plain is None:
+                return None
+            total += plain
+            continue
+        if len(powers) != 1:
+            return None
+        f = powers[0]
+        kc = _affine(f.base, v)
+        if kc is None:
+            return None
+        k, c = kc
+        if divisors is not None:
+            divisors.append(k)
+        rest = sp.Mul(*[g for g in sp.Mul.make_args(t) if g is not f])
+        try:
+            p = sp.Poly(sp.expand(rest.xreplace({v: (u - c) / k})), u)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            return None
+        if any(u in coeff.free_symbols or v in coeff.free_symbols for coeff in p.all_coeffs()):
+            return None
+        for (n,), coeff in p.terms():
+            e = f.exp + n + 1
+            total += coeff * f.base ** e / (e * k)
+    return total
+
+
+def gaussian_antiderivative(w, v):
+    """The antiderivative of ``w`` in ``v`` when every term of ``w`` is a polynomial in ``v`` times
+    ``exp`` of a quadratic ``A·v² + B·v + C`` whose ``A`` is a negative number (a normal density:
+    ``A`` free of the parameters, so the form holds for all of them), else None.  With
+    ``s = v + B/(2A)`` and ``α = −A``: ``∫ P·e^q = e^(C − B²/4A) Σ cₙ Jₙ(s)`` where
+    ``P = Σ cₙ sⁿ``, ``J₀ = √π/(2√α)·erf(√α s)``, ``J₁ = −e^(−α s²)/(2α)`` and
+    ``Jₙ = −s^(n−1) e^(−α s²)/(2α) + (n − 1)/(2α)·Jₙ₋₂`` (integration by parts)."""
+    if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS:
+        return None
+    total = sp.Integer(0)
+    for t in sp.Add.make_args(sp.expand(sp.powsimp(sp.expand(w), combine="exp"), power_exp=False, log=False)):
+        t = sp.powsimp(t, combine="exp")
+        exps = [f for f in sp.Mul.make_args(t) if isinstance(f, sp.exp) and v in f.free_symbols]
+        if not exps:
+            plain = polynomial_antiderivative(t, v)
+            if plain is None:
+                return None
+            total += plain
+            continue
+        if len(exps) != 1:
+            return None
+        try:
+            q = sp.Poly(sp.expand(exps[0].args[0]), v)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            return None
+        if q.degree() != 2 or any(v in c.free_symbols for c in q.all_coeffs()):
+            return None
+        A, B, C = q.all_coeffs()
+        if not (A.is_number and A.is_negative):
+            return None
+        rest = sp.Mul(*[f for f in sp.Mul.make_args(t) if f is not exps[0]])
+        s = sp.Dummy("s")
+        shift = B / (2 * A)
+        try:
+            p = sp.Poly(sp.expand(rest.xreplace({v: s - shift})), s)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            return None
+        if any(v in c.free_symbols or s in c.free_symbols for c in p.all_coeffs()):
+            return None
+        alpha = -A
+        g = sp.exp(-alpha * s**2)
+        J = [sp.sqrt(sp.pi) / (2 * sp.sqrt(alpha)) * sp.erf(sp.sqrt(alpha) * s), -g / (2 * alpha)]
+        for n in range(2, p.degree() + 1):
+            J.append(-s ** (n - 1) * g / (2 * alpha) + (n - 1) / (2 * alpha) * J[n - 2])
+        inner = sp.Add(*[coeff * J[n] for (n,), coeff in p.terms()])
+        total += sp.exp(C - B**2 / (4 * A)) * inner.xreplace({s: v + shift})
+    return total
