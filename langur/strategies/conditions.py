@@ -40,6 +40,9 @@ class Scope:
     turning: bool = False
     #: the variables whose domain bounds are constants (an implicit root needs a fixed bracket)
     fixed: tuple[str, ...] = ()
+    #: the conditions drawn by :func:`turning_condition` (they stay in the program: in a ``def``
+    #: the variables' domain, which their implicit roots need, is unknown)
+    implicit: list = field(default_factory=list)
     zero_sets: list[T.ZeroSet] = field(default_factory=list)
     diffeos: dict[str, S.DiffeoDecl] = field(default_factory=dict)
 
@@ -256,7 +259,9 @@ def turning_condition(scope: Scope) -> S.Iverson:
     cmp = scope.pick(("<=", ">="))
     rhs = shifted_param(scope, (F(0), F(-1, 5), F(3, 20), F(-9, 20)))
     scope.register(sub(lhs, rhs), key=(lhs, rhs))
-    return S.Iverson((lhs, rhs), (cmp,))
+    out = S.Iverson((lhs, rhs), (cmp,))
+    scope.implicit.append(out)
+    return out
 
 
 def window(scope: Scope) -> S.Iverson:

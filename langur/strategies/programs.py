@@ -161,9 +161,11 @@ def _extract_def(scope: C.Scope, summands: list[list[S.STerm]], params: list[str
     """Move one factor into ``def g(x: var, …, qa: param, …) = …`` and call it there (and maybe once
     more, in a new summand: two call sites of one def, added), so that elaboration, inlining and
     the Monte Carlo engine's separately compiled defs are exercised.  Factors under a ``let`` name
-    or a declared diffeo stay where they are."""
+    or a declared diffeo stay where they are, and so do conditions completed by implicit roots
+    (they need the variables' domain, which a def does not know)."""
     cands = [(i, j) for i, fs in enumerate(summands) for j, f in enumerate(fs)
-             if LET_NAME not in T.names_in(f) and not (T.names_in(f) & set(scope.diffeos))]
+             if LET_NAME not in T.names_in(f) and not (T.names_in(f) & set(scope.diffeos))
+             and not any(f is c for c in scope.implicit)]
     if not cands:
         return None
     i, j = scope.pick(cands)
