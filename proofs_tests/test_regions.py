@@ -267,3 +267,21 @@ def test_a_shared_budget_bounds_every_deadline_and_the_engine_falls_back_to_quad
     assert r.method == "quadrature"
     closed = api.exact_eval(program, {})  # the time-out is remembered with its budget, retried with more
     assert closed.method == "closed_form" and abs(r.value - closed.value) <= r.error + 1e-12
+
+
+def test_an_equation_sympy_cannot_solve_is_not_read_as_having_no_root():
+    """sympy's solve returns [] for y^5 + y - a = 0 (a quintic with a parameter); the delta of the
+    domain's parametric bound x = a + 1 integrates [y^5 + y >= a] over y, which gave the closed form
+    1 (no root, condition true at the midpoint) instead of 1 - y*.  Found by `langur fuzz --turning`.
+    By hand: d/da ∫_0^{a+1} ∫_0^1 [y^5 + y >= a] dy dx = (1 - y*) - (a + 1)/(5 y*^4 + 1)."""
+    from scipy.optimize import brentq
+
+    from langur.exact import exact_deriv
+    from langur.frontend import load_text
+
+    a = 0.29
+    loaded = load_text(f"param a = {a}\nint ([0, a + 1], [0, 1]) [y ^ 5 + y >= a] d(x, y)\n", "q.lgr")
+    r = exact_deriv(loaded.program, {"a": sp.Rational(29, 100)}, {"a": 1}, check=False)
+    ys = brentq(lambda y: y ** 5 + y - a, 0, 1, xtol=1e-15)
+    assert not r.inconsistent, r.notes
+    assert abs(r.value - ((1 - ys) - (a + 1) / (5 * ys ** 4 + 1))) <= 1e-8 + (r.error or 0)

@@ -603,6 +603,30 @@ def _vanishes_at(expr, v, root, ctx: Context) -> bool:
     return abs(residual) <= 1e-9 * max(1.0, abs(z.real))
 
 
+#: Points per sub-interval at which :func:`_no_missed_root` looks for a sign change.
+MISSED_ROOT_PROBES = 8
+
+
+def _no_missed_root(conds, v, a: float, b: float, ctx: Context) -> None:
+    """No condition changes sign strictly between two consecutive roots ``a < b`` (at the
+    evaluation point): sympy's ``solve`` returns ``[]`` for equations it cannot solve (a quintic
+    with a parameter: ``y^5 + y - a``), which would otherwise read as "no root" and give a wrong
+    closed form.  Raises :class:`Unsupported` (the piece goes to quadrature)."""
+    for c in conds:
+        signs = set()
+        for k in range(1, MISSED_ROOT_PROBES + 1):
+            m = a + (b - a) * k / (MISSED_ROOT_PROBES + 1)
+            try:
+                z = ctx.value(c.expr.xreplace({v: sp.Float(m, 40)}))
+            except (TypeError, ValueError, ZeroDivisionError):
+                continue
+            if abs(z.imag) <= 1e-20 and z.real != 0:
+                signs.add(z.real > 0)
+        if len(signs) == 2:
+            raise Unsupported(f"{c.expr} changes sign between {a:.6g} and {b:.6g} in {v}, where sympy "
+                              "found no root")
+
+
 def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     """Roots of all conditions, ordered at ``at``; conditions decided per sub-interval at ``at``."""
     lo_v, hi_v = ctx.value(lo).real, ctx.value(hi).real
@@ -622,6 +646,7 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         if not (eb - ea).is_number:
             ctx.record(">", eb - ea)
+        _no_missed_root(conds, v, a, b, ctx)
     ctx.generic = True
     total = sp.Integer(0)
     start = None
