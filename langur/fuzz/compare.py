@@ -4,8 +4,10 @@
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
+import sys
 import time
 from dataclasses import dataclass, field
 
@@ -82,6 +84,9 @@ class ProgramResult:
     timing: dict[str, float] = field(default_factory=dict)
     #: sympy's antiderivatives this unit found in its worker (handed to the units forked after it)
     learned: dict = field(default_factory=dict, repr=False)
+    #: the modules this unit's worker imported on first use (imported by the campaign's process,
+    #: so that the units forked after it do not import them again)
+    imported: list = field(default_factory=list, repr=False)
 
     @property
     def failed(self) -> bool:
@@ -414,10 +419,21 @@ def _settings(examples: int, seed: int):
     return wrap
 
 
-def generated(examples: int = 50, seed: int = 0, light: bool = False, **shape) -> list[str]:
+class _Stop(BaseException):
+    """Carries an exception raised while a campaign handled a generated program out of
+    hypothesis's test function (a BaseException: hypothesis neither catches nor shrinks it)."""
+
+    def __init__(self, error: BaseException):
+        super().__init__(repr(error))
+        self.error = error
+
+
+def generated(examples: int = 50, seed: int = 0, light: bool = False, each=None, **shape) -> list[str]:
     """The distinct program texts a campaign of ``examples`` programs with ``seed`` checks, in the
     order hypothesis generates them (the same seed gives the same list on any machine);
-    ``shape``: the bounds of :func:`~.generate.programs` (max_summands, max_factors, …)."""
+    ``each(text)``: called for each new text as soon as it is generated (a campaign starts
+    checking it then, while the next ones are generated); ``shape``: the bounds of
+    :func:`~.generate.programs` (max_summands, max_factors, …)."""
     _hypothesis()
     from hypothesis import given
 
@@ -426,10 +442,57 @@ def generated(examples: int = 50, seed: int = 0, light: bool = False, **shape) -
     @_settings(examples, seed)
     @given(programs(light=light, **shape))
     def collect(prog: FuzzProgram):
-        texts.setdefault(prog.text, None)
+        if prog.text in texts:
+            return
+        texts[prog.text] = None
+        if each is not None:
+            try:
+                each(prog.text)
+            except Exception as e:  # not the program's failure: out of hypothesis, unshrunk
+                raise _Stop(e) from e
 
-    collect()
+    try:
+        collect()
+    except _Stop as stop:
+        raise stop.error from None
     return list(texts)
+
+
+#: A small program loaded and linted once in the campaign's process before its workers are forked:
+#: the parser's tables and the modules the front end and the linter import on first use (sympy's
+#: solvers, its combinatorics and units, ...) are then loaded once, not again in every unit.
+WARM_UP = """param a = 0.3, b = 0.6
+int ([0, 1], [0, 1])
+  exp(x) * [x + y <= a + 0.5] + sin(b * y) * [y >= x * x]
+d(x, y)
+"""
+
+#: Where the modules a unit imported on first use, and that its campaign's process then imports
+#: before forking the next units, come from (never anything a program names).
+WARM_MODULES = ("sympy", "scipy", "mpmath", "numpy", "langur")
+
+
+def _warm_up(lint: bool) -> None:
+    """Load (and lint) :data:`WARM_UP` in this process; the result is not kept."""
+    try:
+        loaded = load_text(WARM_UP, path="<warm-up>.lgr")
+        if lint:
+            check_loaded(loaded, at={k: float(v) for k, v in loaded.param_values({}).items()})
+    except Exception:  # noqa: BLE001 - only a head start: the units do the same work anyway
+        pass
+
+
+def _modules_since(known: set) -> list[str]:
+    return sorted(m for m in set(sys.modules) - known if m.split(".")[0] in WARM_MODULES)
+
+
+def _import_all(names) -> None:
+    for name in names:
+        if name not in sys.modules:
+            try:
+                importlib.import_module(name)
+            except Exception:  # noqa: BLE001 - a module that imports only in context: the units load it
+                pass
 
 
 def _time_limited(text: str, reason: str) -> ProgramResult:
@@ -460,10 +523,6 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     ``timeout`` seconds; time-limited programs are counted apart from the verdicts."""
     start = time.monotonic()
     summary = FuzzSummary(examples, seed, samples, workers=workers)
-    with hypothesis_home(storage):
-        texts = generated(examples, seed, light, kinks=kinks, turning=turning)
-    if planned is not None:
-        planned(len(texts))
 
     def unit(text: str, isolate: bool) -> ProgramResult:
         if engine is not None:
@@ -474,29 +533,45 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     def covered(text: str) -> ProgramResult:  # in a worker: both engines run here, every rule is seen
         coverage.reset()
         known = regions.antiderivatives_known()
+        modules = set(sys.modules)
         with coverage.recording():
             res = unit(text, False)
         res.coverage = dict(coverage.counts())
         res.learned = regions.antiderivatives_since(known)
+        res.imported = _modules_since(modules)
         return res
 
     def arrived(res: ProgramResult) -> None:  # in this process: later units are forked knowing them
         regions.learn_antiderivatives(res.learned)
-        res.learned = {}
+        _import_all(res.imported)
+        res.learned, res.imported = {}, []
         if progress is not None:
             progress(res)
 
+    def generate(each=None) -> list[str]:
+        with hypothesis_home(storage):
+            texts = generated(examples, seed, light, each=each, kinks=kinks, turning=turning)
+        if planned is not None:
+            planned(len(texts))
+        return texts
+
     if scheduler is not None:
+        texts = generate()
         summary.results = cluster.run_units(texts, covered, scheduler=scheduler, limit=timeout,
                                             on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
-    elif workers > 0:
-        summary.results = pool.run_units(texts, covered, workers=workers, limit=timeout,
-                                         on_time_limit=_time_limited, on_error=_unit_error, progress=arrived)
+    elif workers > 0:  # units start as the programs are generated
+        _warm_up(lint)
+        workers_pool = pool.Pool(covered, workers=workers, limit=timeout, on_time_limit=_time_limited,
+                                 on_error=_unit_error, progress=arrived)
+        generate(workers_pool.submit)
+        summary.results = workers_pool.finish()
     else:
-        for t in texts:
+        def checked(t: str) -> None:
             summary.results.append(unit(t, True))
             if progress is not None:
                 progress(summary.results[-1])
+
+        generate(checked)
     if shrink and summary.failed:
         with hypothesis_home(storage):
             summary.minimal = _shrunk(summary, examples, seed, light, lambda t: unit(t, True),

@@ -1,9 +1,11 @@
 """The campaign's unit of work run in worker processes (``langur fuzz --workers N``).
 
 A *unit* is one generated program: load it, run both engines on it, give a verdict
-(:class:`~langur.fuzz.compare.ProgramResult`).  :func:`run_units` runs a list of units in forked
-worker processes, at most ``workers`` at a time, one process per unit, and kills a unit that runs
-past its time limit: a killed unit is reported as ``timeout`` (time-limited, never a verdict).
+(:class:`~langur.fuzz.compare.ProgramResult`).  :class:`Pool` runs units in forked worker
+processes, at most ``workers`` at a time, one process per unit, and kills a unit that runs past
+its time limit: a killed unit is reported as ``timeout`` (time-limited, never a verdict).  Units
+are submitted one at a time as the programs are generated (:meth:`Pool.submit` waits only for a
+free worker), so checking starts with the first program; :func:`run_units` runs a list.
 Every unit is a pure function of its program text and the campaign's options (the Monte Carlo
 seed is the campaign's, not the unit's position), so the verdicts do not depend on the number of
 workers nor on the order in which units finish; results are returned in the programs' order.
@@ -19,7 +21,7 @@ import multiprocessing as mp
 import os
 import pickle
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable
 from multiprocessing.connection import wait
 
 #: Seconds a unit may run past its time limit before it is killed (the process's own start-up,
@@ -50,32 +52,49 @@ def _child(conn, work, text):
         conn.close()
 
 
-def run_units(texts: Sequence[str], work: Callable[[str], object], *, workers: int, limit: float,
-              on_time_limit: Callable[[str, str], object], on_error: Callable[[str, str], object],
-              progress: Callable[[object], None] | None = None) -> list:
-    """``[work(t) for t in texts]``, each in its own forked process, ``workers`` at a time; a unit
-    still running ``limit + GRACE`` seconds after it started is killed and replaced by
-    ``on_time_limit(text, reason)``, one whose process died or raised by ``on_error(text, why)``.
+class Pool:
+    """Units ``work(text)`` in forked processes, ``workers`` at a time (module doc): a unit still
+    running ``limit + GRACE`` seconds after it started is killed and replaced by
+    ``on_time_limit(text, reason)``, one whose process died or raised by ``on_error(text, why)``;
     ``progress(result)`` is called as results arrive (in completion order)."""
-    ctx = mp.get_context("fork")
-    results: list = [None] * len(texts)
-    running: dict = {}  # reader -> (index, process, deadline)
-    pending = list(range(len(texts)))[::-1]
-    cap = limit + GRACE
 
-    def finish(i, res):
-        results[i] = res
-        if progress is not None:
-            progress(res)
+    def __init__(self, work: Callable[[str], object], *, workers: int, limit: float,
+                 on_time_limit: Callable[[str, str], object], on_error: Callable[[str, str], object],
+                 progress: Callable[[object], None] | None = None):
+        self.work, self.workers, self.cap = work, max(1, workers), limit + GRACE
+        self.on_time_limit, self.on_error, self.progress = on_time_limit, on_error, progress
+        self.ctx = mp.get_context("fork")
+        self.texts: list[str] = []
+        self.results: list = []
+        self.running: dict = {}  # reader -> (index, process, deadline)
 
-    while pending or running:
-        while pending and len(running) < max(1, workers):
-            i = pending.pop()
-            reader, writer = ctx.Pipe(duplex=False)
-            proc = ctx.Process(target=_child, args=(writer, work, texts[i]), daemon=True)
-            proc.start()
-            writer.close()
-            running[reader] = (i, proc, time.monotonic() + cap)
+    def submit(self, text: str) -> None:
+        """Start ``work(text)`` as soon as a worker is free (waiting for one if need be)."""
+        while len(self.running) >= self.workers:
+            self._collect()
+        i = len(self.texts)
+        self.texts.append(text)
+        self.results.append(None)
+        reader, writer = self.ctx.Pipe(duplex=False)
+        proc = self.ctx.Process(target=_child, args=(writer, self.work, text), daemon=True)
+        proc.start()
+        writer.close()
+        self.running[reader] = (i, proc, time.monotonic() + self.cap)
+
+    def finish(self) -> list:
+        """Every submitted unit's result, in the order they were submitted."""
+        while self.running:
+            self._collect()
+        return self.results
+
+    def _done(self, i: int, res) -> None:
+        self.results[i] = res
+        if self.progress is not None:
+            self.progress(res)
+
+    def _collect(self) -> None:
+        """Wait for a unit to end or to reach its deadline; record what ended, kill what is late."""
+        running = self.running
         now = time.monotonic()
         ready = wait(list(running), timeout=max(0.0, min(d for _, _, d in running.values()) - now))
         for reader in ready:
@@ -87,7 +106,7 @@ def run_units(texts: Sequence[str], work: Callable[[str], object], *, workers: i
                 status, payload = "error", f"worker process died (exit code {proc.exitcode})"
             reader.close()
             proc.join()
-            finish(i, payload if status == "ok" else on_error(texts[i], payload))
+            self._done(i, payload if status == "ok" else self.on_error(self.texts[i], payload))
         now = time.monotonic()
         for reader, (i, proc, deadline) in list(running.items()):
             if now >= deadline and reader not in ready:
@@ -95,5 +114,16 @@ def run_units(texts: Sequence[str], work: Callable[[str], object], *, workers: i
                 proc.join()
                 reader.close()
                 del running[reader]
-                finish(i, on_time_limit(texts[i], f"the program took longer than {cap:g} s (killed)"))
-    return results
+                self._done(i, self.on_time_limit(self.texts[i], f"the program took longer than {self.cap:g} s (killed)"))
+
+
+def run_units(texts: Iterable[str], work: Callable[[str], object], *, workers: int, limit: float,
+              on_time_limit: Callable[[str, str], object], on_error: Callable[[str, str], object],
+              progress: Callable[[object], None] | None = None) -> list:
+    """``[work(t) for t in texts]``, each in its own forked process, ``workers`` at a time
+    (:class:`Pool`)."""
+    pool = Pool(work, workers=workers, limit=limit, on_time_limit=on_time_limit, on_error=on_error,
+                progress=progress)
+    for t in texts:
+        pool.submit(t)
+    return pool.finish()

@@ -244,6 +244,9 @@ def _solve_points(eqs: list[sp.Expr], unknowns: Iterable[sp.Symbol]) -> list[dic
     eqs = [e for e in eqs if e != 0]
     if not eqs:
         return []
+    decided = _affine_solution(eqs, unknowns)
+    if decided is not None:
+        return decided
     sols = timed(lambda: sp.solve(eqs, unknowns, dict=True))
     others = set().union(*(e.free_symbols for e in eqs)) - set(unknowns)
     out = []
@@ -254,6 +257,53 @@ def _solve_points(eqs: list[sp.Expr], unknowns: Iterable[sp.Symbol]) -> list[dic
         if all(vanishes(e.subs(sol), others | free) for e in eqs):
             out.append(sol)
     return out
+
+
+def _affine_solution(eqs: list[sp.Expr], unknowns: tuple[sp.Symbol, ...]) -> list[dict] | None:
+    """What :func:`_solve_points` finds, without ``sp.solve``, for equations affine in the unknowns
+    with rational coefficients and no other symbol (the conditions at the parameter values in
+    force, most zero sets of generated programs): ``[]`` when they have no common zero,
+    ``[{x: value, …}]`` (exact rationals) when exactly one; None when they leave an unknown free
+    or are not of that kind (``sp.solve`` decides, and words its curve of solutions)."""
+    rows = []
+    names = set(unknowns)
+    for e in eqs:
+        if not e.free_symbols <= names:
+            return None
+        try:
+            poly = sp.Poly(e, *unknowns)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            return None
+        if poly.domain not in (sp.ZZ, sp.QQ) or poly.total_degree() > 1:
+            return None
+        row = [Fraction(0)] * (len(unknowns) + 1)
+        for monomial, c in poly.terms():
+            c = Fraction(int(c.numerator), int(c.denominator))
+            if sum(monomial) == 0:
+                row[-1] = -c
+            else:
+                row[monomial.index(1)] = c
+        rows.append(row)
+    n = len(unknowns)
+    rank, free = 0, False
+    for col in range(n):  # Gauss-Jordan elimination in exact rationals
+        pivot = next((r for r in range(rank, len(rows)) if rows[r][col] != 0), None)
+        if pivot is None:
+            free = True  # this unknown is left free (unless the system has no solution at all)
+            continue
+        rows[rank], rows[pivot] = rows[pivot], rows[rank]
+        p = rows[rank][col]
+        rows[rank] = [v / p for v in rows[rank]]
+        for r in range(len(rows)):
+            if r != rank and rows[r][col] != 0:
+                k = rows[r][col]
+                rows[r] = [a - k * b for a, b in zip(rows[r], rows[rank])]
+        rank += 1
+    if any(row[-1] != 0 for row in rows[rank:]):
+        return []  # inconsistent
+    if free:
+        return None  # a line or plane of solutions: sympy words it
+    return [{x: sp.Rational(rows[i][-1].numerator, rows[i][-1].denominator) for i, x in enumerate(unknowns)}]
 
 
 def _text(e: sp.Expr) -> str:
