@@ -4,6 +4,7 @@ generated programs are the same with and without it, and a campaign's programs a
 they are generated (same programs, same order)."""
 
 import random
+import time
 
 import pytest
 import sympy as sp
@@ -100,3 +101,21 @@ def test_a_campaign_checks_each_program_as_it_is_generated():
     with pytest.raises(Boom) as e:  # not caught and shrunk by hypothesis: raised as it is
         fuzz.generated(5, 2, light=True, each=fail)
     assert str(e.value) == seen[0]
+
+
+def test_a_unit_killed_at_its_time_limit_says_in_which_phase(monkeypatch):
+    from langur.fuzz import compare, pool
+
+    def hangs(*args, **kwargs):  # computes forever: killed at its limit in CPU seconds
+        while True:
+            pass
+
+    monkeypatch.setattr(compare, "_exact_all", hangs)
+    monkeypatch.setattr(pool, "GRACE", 0.0)
+    text = "param a = 0.37\nint ([0, 1])\n  x + a\nd(x)\n"
+    t0 = time.monotonic()
+    (res,) = pool.run_units([text], lambda t: compare.compare_text(t, isolate=False), workers=1, limit=1.5,
+                            on_time_limit=compare._time_limited, on_error=compare._unit_error)
+    assert time.monotonic() - t0 < 30
+    assert res.status == "timeout" and res.killed_in == "exact" and "in its exact phase" in res.reason
+    assert set(res.timing) == {"front_end", "lint"}  # the phases it finished, with their seconds

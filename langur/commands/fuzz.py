@@ -30,8 +30,8 @@ def add_arguments(p):
     p.add_argument("--samples", type=samples(), default=20000, metavar="N",
                    help=f"Monte Carlo samples per estimate, 2 to {MAX_SAMPLES:,} (default 20000)")
     p.add_argument("--timeout", type=float, default=20.0, metavar="SECONDS",
-                   help="time limit per program (the exact engine; the whole unit is killed "
-                        f"{fuzz.pool.GRACE:g} s later); slower programs are counted apart as timeouts, "
+                   help="time limit per program (the exact engine; the whole unit is killed when it has used "
+                        f"{fuzz.pool.GRACE:g} CPU seconds more); slower programs are counted apart as timeouts, "
                         "never as verdicts (default 20)")
     p.add_argument("--workers", type=count(0, 1024, "the number of workers"), default=None, metavar="N",
                    help="worker processes, each running one program (both engines) at a time and killed at "
@@ -165,13 +165,20 @@ def profile_text(summary) -> str:
     results = summary.results
     total = summary.timing()
     whole = sum(total.values()) or 1e-9
-    lines = [f"  time per phase over {len(results)} programs (wall seconds; time-limited programs, killed, "
-             f"count only as {fuzz.pool.GRACE:g} s past the limit in the campaign's time):",
+    lines = [f"  time per phase over {len(results)} programs (wall seconds; a unit killed at its time limit counts the "
+             "phases it finished):",
              f"    {'phase':<18}{'total':>9}{'share':>8}{'median':>9}{'max':>9}"]
     for k in phases:
         per = sorted(r.timing.get(k, 0.0) for r in results) or [0.0]
         lines.append(f"    {k:<18}{total[k]:>9.1f}{100 * total[k] / whole:>7.0f}%{statistics.median(per):>9.3f}"
                      f"{per[-1]:>9.2f}")
+    killed = [r for r in results if r.status == "timeout"]
+    if killed:
+        where = {}
+        for r in killed:
+            where[r.killed_in or "unknown"] = where.get(r.killed_in or "unknown", 0) + 1
+        lines.append(f"    killed at the time limit: {len(killed)} ("
+                     + ", ".join(f"{n} in {k}" for k, n in sorted(where.items(), key=lambda kv: -kv[1])) + ")")
     exact = sorted(r.exact_seconds for r in results) or [0.0]
     lines.append(f"    exact engine per program: median {statistics.median(exact):.3f} s, "
                  f"{sum(e > 1.0 for e in exact)} of {len(results)} over 1 s")

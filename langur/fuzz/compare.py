@@ -84,6 +84,8 @@ class ProgramResult:
     timing: dict[str, float] = field(default_factory=dict)
     #: sympy's antiderivatives this unit found in its worker (handed to the units forked after it)
     learned: dict = field(default_factory=dict, repr=False)
+    #: the phase a unit killed at its time limit was in (front_end, lint, exact or mc)
+    killed_in: str = ""
     #: the modules this unit's worker imported on first use (imported by the campaign's process,
     #: so that the units forked after it do not import them again)
     imported: list = field(default_factory=list, repr=False)
@@ -223,6 +225,7 @@ def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
     result = ProgramResult(text, "agree", timing={"front_end": time.monotonic() - t0})
     t0 = time.monotonic()
     if lint:
+        _phase("lint", result)
         try:
             found = check_loaded(loaded, at={k: float(v) for k, v in params.items()},
                                   sources={"<fuzz>.lgr": text})
@@ -236,6 +239,7 @@ def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
             return result, loaded, params, None, None
     result.timing["lint"] = time.monotonic() - t0
     t0 = time.monotonic()
+    _phase("exact", result)
     status, ex, exd, spent = _exact_all(loaded.program, params, timeout, isolate)
     result.exact_seconds = time.monotonic() - t0
     result.timing.update(spent)
@@ -251,6 +255,8 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
     t0 = time.monotonic()
     result, loaded, params, ex, exd = _prepared(text, timeout, lint, isolate)
     t1 = time.monotonic()
+    if result.status == "agree":
+        _phase("mc", result)
     try:
         return _compared(result, loaded, params, ex, exd, samples, seed, method)
     finally:
@@ -309,6 +315,8 @@ def compare_engine(text: str, engine, *, timeout: float = 20.0, lint: bool = Tru
     t0 = time.monotonic()
     result, loaded, params, ex, exd = _prepared(text, timeout, lint, isolate)
     t1 = time.monotonic()
+    if result.status == "agree":
+        _phase("mc", result)
     try:
         return _engine_compared(result, loaded, params, ex, exd, engine)
     finally:
@@ -392,7 +400,8 @@ class FuzzSummary:
                 "minimal": self.minimal.to_json() if self.minimal else None,
                 "failures": [r.to_json() for r in self.results if r.failed],
                 "results": [{"program": r.text, "status": r.status, "seconds": round(r.seconds, 3),
-                             "exact_seconds": round(r.exact_seconds, 3), "timing": r.timing_json()}
+                             "exact_seconds": round(r.exact_seconds, 3), "timing": r.timing_json(),
+                             **({"killed_in": r.killed_in} if r.killed_in else {})}
                             for r in self.results],
                 "timing": {k: round(v, 3) for k, v in self.timing().items()},
                 "kept": self.kept, "workers": self.workers,
@@ -495,8 +504,20 @@ def _import_all(names) -> None:
                 pass
 
 
-def _time_limited(text: str, reason: str) -> ProgramResult:
-    return ProgramResult(text, "timeout", reason=reason)
+def _time_limited(text: str, reason: str, last: dict | None = None) -> ProgramResult:
+    """A unit killed at its time limit; ``last``: its last :func:`_phase` note (the phase it was
+    in, the seconds of those it had finished), kept in ``timing`` and ``killed_in``."""
+    res = ProgramResult(text, "timeout", reason=reason)
+    if last is not None:
+        res.timing = dict(last["timing"])
+        res.killed_in = last["phase"]
+        res.reason += f" in its {last['phase']} phase"
+    return res
+
+
+def _phase(name: str, result: ProgramResult) -> None:
+    """In a worker: the unit starts phase ``name`` (``front_end``, ``lint``, ``exact``, ``mc``)."""
+    pool.note({"phase": name, "timing": dict(result.timing)})
 
 
 def _unit_error(text: str, reason: str) -> ProgramResult:

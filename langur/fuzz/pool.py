@@ -3,7 +3,8 @@
 A *unit* is one generated program: load it, run both engines on it, give a verdict
 (:class:`~langur.fuzz.compare.ProgramResult`).  :class:`Pool` runs units in forked worker
 processes, at most ``workers`` at a time, one process per unit, and kills a unit that runs past
-its time limit: a killed unit is reported as ``timeout`` (time-limited, never a verdict).  Units
+its time limit, counted in CPU seconds of its process (:data:`BACKSTOP`): a killed unit is
+reported as ``timeout`` (time-limited, never a verdict).  Units
 are submitted one at a time as the programs are generated (:meth:`Pool.submit` waits only for a
 free worker), so checking starts with the first program; :func:`run_units` runs a list.
 Every unit is a pure function of its program text and the campaign's options (the Monte Carlo
@@ -28,6 +29,25 @@ from multiprocessing.connection import wait
 #: the Monte Carlo estimates after an exact engine that used its whole budget).
 GRACE = 5.0
 
+#: A unit's limit is CPU seconds of its process (on Linux, read from ``/proc``), so that a busy
+#: machine, which gives each process a fraction of a core, does not turn programs into timeouts;
+#: a unit is also killed after ``BACKSTOP · (limit + GRACE) + 10`` wall seconds (one that waits
+#: without computing).  Without ``/proc`` the limit is wall seconds.
+BACKSTOP = 4.0
+#: Seconds between two looks at the running units' CPU times.
+POLL = 0.2
+_TICKS = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") and "SC_CLK_TCK" in os.sysconf_names else 100
+
+
+def cpu_seconds(pid: int) -> float | None:
+    """User + system CPU seconds of process ``pid`` so far (None when ``/proc`` cannot tell)."""
+    try:
+        with open(f"/proc/{pid}/stat", encoding="ascii", errors="replace") as fh:
+            fields = fh.read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / _TICKS  # utime, stime (fields 14, 15)
+    except (OSError, IndexError, ValueError):
+        return None
+
 
 def default_workers() -> int:
     """The core count this process may use."""
@@ -37,10 +57,24 @@ def default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+#: In a worker: how :func:`note` reaches the campaign's process (None elsewhere).
+_NOTE = None
+
+
+def note(payload) -> None:
+    """In a worker, tell the campaign's process where the unit is (``payload``, small and
+    picklable: e.g. the phase it starts); kept for the unit's ``on_time_limit`` should it be
+    killed.  Does nothing outside a worker."""
+    if _NOTE is not None:
+        _NOTE(payload)
+
+
 def _child(conn, work, text):
     """In a forked worker: ``work(text)`` sent back through ``conn`` (pickled), or the error."""
     import gc
 
+    global _NOTE
+    _NOTE = lambda payload: conn.send_bytes(pickle.dumps(("note", payload)))  # noqa: E731
     gc.callbacks.clear()  # a time limit firing inside a gc callback would be swallowed there
     try:
         out = ("ok", work(text))
@@ -53,10 +87,12 @@ def _child(conn, work, text):
 
 
 class Pool:
-    """Units ``work(text)`` in forked processes, ``workers`` at a time (module doc): a unit still
-    running ``limit + GRACE`` seconds after it started is killed and replaced by
-    ``on_time_limit(text, reason)``, one whose process died or raised by ``on_error(text, why)``;
-    ``progress(result)`` is called as results arrive (in completion order)."""
+    """Units ``work(text)`` in forked processes, ``workers`` at a time (module doc): a unit that
+    has used ``limit + GRACE`` CPU seconds (:data:`BACKSTOP`) is killed and replaced by
+    ``on_time_limit(text, reason)``, or ``on_time_limit(text, reason, last)`` after the unit's
+    :func:`note` ``last``,
+    one whose process died or raised by ``on_error(text, why)``; ``progress(result)`` is called as
+    results arrive (in completion order)."""
 
     def __init__(self, work: Callable[[str], object], *, workers: int, limit: float,
                  on_time_limit: Callable[[str, str], object], on_error: Callable[[str, str], object],
@@ -66,7 +102,8 @@ class Pool:
         self.ctx = mp.get_context("fork")
         self.texts: list[str] = []
         self.results: list = []
-        self.running: dict = {}  # reader -> (index, process, deadline)
+        self.running: dict = {}  # reader -> (index, process, start)
+        self.notes: dict = {}  # reader -> the unit's last note
 
     def submit(self, text: str) -> None:
         """Start ``work(text)`` as soon as a worker is free (waiting for one if need be)."""
@@ -79,7 +116,8 @@ class Pool:
         proc = self.ctx.Process(target=_child, args=(writer, self.work, text), daemon=True)
         proc.start()
         writer.close()
-        self.running[reader] = (i, proc, time.monotonic() + self.cap)
+        start = time.monotonic()
+        self.running[reader] = (i, proc, start)
 
     def finish(self) -> list:
         """Every submitted unit's result, in the order they were submitted."""
@@ -92,29 +130,51 @@ class Pool:
         if self.progress is not None:
             self.progress(res)
 
+    def _late(self, proc, start: float, now: float) -> str | None:
+        """Why the unit in ``proc`` (started at ``start``) is past its limit, or None."""
+        cpu = cpu_seconds(proc.pid)
+        if cpu is None:
+            if now - start >= self.cap:
+                return f"the program took longer than {self.cap:g} s (killed)"
+            return None
+        if cpu >= self.cap:
+            return f"the program took longer than {self.cap:g} CPU seconds (killed)"
+        if now - start >= BACKSTOP * self.cap + 10:
+            return (f"the program ran {BACKSTOP * self.cap + 10:g} s (wall clock) with {cpu:.1f} CPU seconds "
+                    "(killed)")
+        return None
+
     def _collect(self) -> None:
-        """Wait for a unit to end or to reach its deadline; record what ended, kill what is late."""
+        """Wait for a unit to end or to reach its limit; record what ended, kill what is late."""
         running = self.running
-        now = time.monotonic()
-        ready = wait(list(running), timeout=max(0.0, min(d for _, _, d in running.values()) - now))
+        ready = wait(list(running), timeout=POLL)
         for reader in ready:
-            i, proc, _ = running.pop(reader)
             try:
                 status, payload = pickle.loads(reader.recv_bytes())
             except (EOFError, OSError):
+                status, payload = "error", None
+            if status == "note":
+                self.notes[reader] = payload
+                continue
+            i, proc, _ = running.pop(reader)
+            self.notes.pop(reader, None)
+            if payload is None and status == "error":
                 proc.join()
-                status, payload = "error", f"worker process died (exit code {proc.exitcode})"
+                payload = f"worker process died (exit code {proc.exitcode})"
             reader.close()
             proc.join()
             self._done(i, payload if status == "ok" else self.on_error(self.texts[i], payload))
         now = time.monotonic()
-        for reader, (i, proc, deadline) in list(running.items()):
-            if now >= deadline and reader not in ready:
+        for reader, (i, proc, start) in list(running.items()):
+            why = self._late(proc, start, now) if reader not in ready else None
+            if why is not None:
                 proc.kill()
                 proc.join()
                 reader.close()
                 del running[reader]
-                self._done(i, self.on_time_limit(self.texts[i], f"the program took longer than {self.cap:g} s (killed)"))
+                last = self.notes.pop(reader, None)
+                self._done(i, self.on_time_limit(self.texts[i], why) if last is None
+                           else self.on_time_limit(self.texts[i], why, last))
 
 
 def run_units(texts: Iterable[str], work: Callable[[str], object], *, workers: int, limit: float,

@@ -149,10 +149,22 @@ class Region:
         return all(_num(c.xreplace(sub)) >= -1e-40 for c in self.conds)
 
 
+#: Compiled expressions by (expression, variables): one condition bounds many regions.
+_COMPILED: dict = {}
+
+
 def _numpy(e: sp.Expr, xs) -> callable:
-    try:
-        f = sp.lambdify(list(xs), e, modules="numpy")
-    except Exception:  # noqa: BLE001 - sympy cannot print zoo, nan… for numpy: nowhere a number
+    key = (e, tuple(xs))
+    f = _COMPILED.get(key)
+    if f is None:
+        try:
+            f = sp.lambdify(list(xs), e, modules="numpy")
+        except Exception:  # noqa: BLE001 - sympy cannot print zoo, nan… for numpy: nowhere a number
+            f = False
+        if len(_COMPILED) >= 4096:
+            _COMPILED.pop(next(iter(_COMPILED)))
+        _COMPILED[key] = f
+    if f is False:
         return lambda pts: np.full(pts.shape[0], np.nan)
 
     def call(pts: np.ndarray) -> np.ndarray:
