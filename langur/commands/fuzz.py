@@ -179,6 +179,11 @@ def profile_text(summary) -> str:
             where[r.killed_in or "unknown"] = where.get(r.killed_in or "unknown", 0) + 1
         lines.append(f"    killed at the time limit: {len(killed)} ("
                      + ", ".join(f"{n} in {k}" for k, n in sorted(where.items(), key=lambda kv: -kv[1])) + ")")
+    cpu = sorted(r.cpu_seconds for r in results if r.cpu_seconds > 0)
+    if cpu:
+        lines.append(f"    CPU seconds per program (in its worker; the machine may be shared): median "
+                     f"{statistics.median(cpu):.3f}, mean {sum(cpu) / len(cpu):.3f}, total {sum(cpu):.1f} "
+                     f"over the {len(cpu)} that finished")
     exact = sorted(r.exact_seconds for r in results) or [0.0]
     lines.append(f"    exact engine per program: median {statistics.median(exact):.3f} s, "
                  f"{sum(e > 1.0 for e in exact)} of {len(results)} over 1 s")

@@ -78,6 +78,7 @@ class ProgramResult:
     reason: str = ""
     exact_seconds: float = 0.0
     seconds: float = 0.0  # the whole unit: load, lint, both engines
+    cpu_seconds: float = 0.0  # the same in CPU seconds of its worker (0 outside a worker pool)
     coverage: dict = field(default_factory=dict)  # (figure, rule) -> applications (langur.fuzz.coverage)
     methods: list[str] = field(default_factory=list)
     #: where the unit's time went, seconds per phase (:data:`PHASES`; ``langur fuzz --profile``)
@@ -401,7 +402,7 @@ class FuzzSummary:
                 "failures": [r.to_json() for r in self.results if r.failed],
                 "results": [{"program": r.text, "status": r.status, "seconds": round(r.seconds, 3),
                              "exact_seconds": round(r.exact_seconds, 3), "timing": r.timing_json(),
-                             **({"killed_in": r.killed_in} if r.killed_in else {})}
+                             "cpu_seconds": round(r.cpu_seconds, 3), **({"killed_in": r.killed_in} if r.killed_in else {})}
                             for r in self.results],
                 "timing": {k: round(v, 3) for k, v in self.timing().items()},
                 "kept": self.kept, "workers": self.workers,
@@ -555,8 +556,10 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
         coverage.reset()
         known = regions.antiderivatives_known()
         modules = set(sys.modules)
+        cpu = time.process_time()
         with coverage.recording():
             res = unit(text, False)
+        res.cpu_seconds = time.process_time() - cpu
         res.coverage = dict(coverage.counts())
         res.learned = regions.antiderivatives_since(known)
         res.imported = _modules_since(modules)
