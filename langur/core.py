@@ -22,6 +22,7 @@ module's definitions with calls into other modules left as links, for separate c
 from __future__ import annotations
 
 import functools
+import sys
 import threading
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
@@ -45,6 +46,12 @@ class Const:
     value: Fraction | str
     span: Span | None = _span()
 
+    def __init__(self, value, span=None):
+        d = self.__dict__
+        d["value"], d["span"] = value, span
+        d.update(_CONST_ATTRS)
+        d["_small"] = _in_range(value) if type(value) is Fraction else False
+
 
 @dataclass(frozen=True)
 class Var:
@@ -52,6 +59,12 @@ class Var:
 
     name: str
     span: Span | None = _span()
+
+    def __init__(self, name, span=None):
+        d = self.__dict__
+        d["name"], d["span"] = name, span
+        d.update(_LEAF_ATTRS)
+        d["_fv"] = _names(name)
 
 
 @dataclass(frozen=True)
@@ -61,6 +74,12 @@ class Param:
     name: str
     span: Span | None = _span()
 
+    def __init__(self, name, span=None):
+        d = self.__dict__
+        d["name"], d["span"] = name, span
+        d.update(_LEAF_ATTRS)
+        d["_fp"] = _names(name)
+
 
 @dataclass(frozen=True)
 class Add:
@@ -68,12 +87,22 @@ class Add:
     right: "Term"
     span: Span | None = _span()
 
+    def __init__(self, left, right, span=None):
+        d = self.__dict__
+        d["left"], d["right"], d["span"] = left, right, span
+        _binary(d, left.__dict__, right.__dict__, False)
+
 
 @dataclass(frozen=True)
 class Mul:
     left: "Term"
     right: "Term"
     span: Span | None = _span()
+
+    def __init__(self, left, right, span=None):
+        d = self.__dict__
+        d["left"], d["right"], d["span"] = left, right, span
+        _binary(d, left.__dict__, right.__dict__, True)
 
 
 @dataclass(frozen=True)
@@ -85,6 +114,12 @@ class Prim:
     arg: "Term"
     span: Span | None = _span()
 
+    def __init__(self, op, arg, span=None):
+        d = self.__dict__
+        d["op"], d["arg"], d["span"] = op, arg, span
+        a = arg.__dict__
+        _unary(d, a, False if a["_small"] is not None else None)
+
 
 @dataclass(frozen=True)
 class Pow:
@@ -93,6 +128,12 @@ class Pow:
     base: "Term"
     exponent: Fraction
     span: Span | None = _span()
+
+    def __init__(self, base, exponent, span=None):
+        d = self.__dict__
+        d["base"], d["exponent"], d["span"] = base, exponent, span
+        a = base.__dict__
+        _unary(d, a, _small_power(a["_small"], exponent))
 
 
 @dataclass(frozen=True)
@@ -103,6 +144,11 @@ class IfGe0:
     then: "Term"
     orelse: "Term"
     span: Span | None = _span()
+
+    def __init__(self, cond, then, orelse, span=None):
+        d = self.__dict__
+        d["cond"], d["then"], d["orelse"], d["span"] = cond, then, orelse, span
+        _annotate(self)
 
 
 @dataclass(frozen=True)
@@ -117,6 +163,11 @@ class IfDiffeo:
     orelse: "Term"
     span: Span | None = _span()
 
+    def __init__(self, psi, then, orelse, span=None):
+        d = self.__dict__
+        d["psi"], d["then"], d["orelse"], d["span"] = psi, then, orelse, span
+        _annotate(self)
+
 
 @dataclass(frozen=True)
 class Let:
@@ -126,6 +177,11 @@ class Let:
     bound: "Term"
     body: "Term"
     span: Span | None = _span()
+
+    def __init__(self, name, bound, body, span=None):
+        d = self.__dict__
+        d["name"], d["bound"], d["body"], d["span"] = name, bound, body, span
+        _annotate(self)
 
 
 @dataclass(frozen=True)
@@ -140,6 +196,11 @@ class Call:
     name: str
     args: tuple["Term", ...]
     span: Span | None = _span()
+
+    def __init__(self, module, name, args, span=None):
+        d = self.__dict__
+        d["module"], d["name"], d["args"], d["span"] = module, name, args, span
+        _annotate(self)
 
 
 @dataclass(frozen=True)
@@ -172,6 +233,12 @@ class ImplicitRoot:
     index: int | None = None
     of: int = 0
     span: Span | None = _span()
+
+    def __init__(self, equation, variable, target, lo, hi, index=None, of=0, span=None):
+        d = self.__dict__
+        d["equation"], d["variable"], d["target"], d["lo"], d["hi"] = equation, variable, target, lo, hi
+        d["index"], d["of"], d["span"] = index, of, span
+        _annotate(self)
 
 
 class TooManyRoots(Exception):
@@ -347,6 +414,159 @@ for _cls in (*_TERMS, InverseBranch, Diffeo, Interval, Program):
     _sharing(_cls)
 
 
+# ----------------------------------------------------------------------------------------------
+# Per-node attributes (issue 15).  Every pass of the front end asks the same questions of a term —
+# its free variables and parameters, whether it is smooth or calls a def, its size and depth, its
+# exact value when it is a constant — and a walk per question per pass costs Python's price per
+# node each time.  A term is immutable, so each answer is computed once, bottom-up, when the node
+# is built (its children already carry theirs) and kept in its ``__dict__`` under a name starting
+# with ``_`` (never compared, hashed nor pickled: unpickling recomputes them, ``__setstate__``).
+# The functions below (``free_vars``, ``free_params``, ``smooth``, ``has_calls``, ``tree_size``,
+# ``depth``, ``small_value``, ``all_small``, ``diffeo_variables``) read them.
+
+#: Exact rational constants up to this magnitude count as small (the range check of constants,
+#: T231, is then decided exactly: room to spare below the largest double).
+SMALL = Fraction(int(sys.float_info.max) // 2**10)
+#: Longest denominator (bits) kept exact: beyond it Fraction arithmetic grows quadratically.
+SMALL_BITS = 256
+#: Largest |exponent| of a constant power folded exactly.
+SMALL_EXPONENT = 64
+
+_EMPTY: frozenset = frozenset()
+_SINGLE: dict[str, frozenset] = {}
+
+
+def _names(name: str) -> frozenset:
+    """``frozenset({name})``, one object per name (so that unions of equal sets are no-ops)."""
+    s = _SINGLE.get(name)
+    if s is None:
+        if len(_SINGLE) > 4096:
+            _SINGLE.clear()
+        s = _SINGLE[name] = frozenset((name,))
+    return s
+
+
+def _join(a: frozenset, b: frozenset) -> frozenset:
+    if not b or a is b:
+        return a
+    if not a:
+        return b
+    return a if b <= a else a | b
+
+
+def _in_range(v: Fraction):
+    """``v`` when it is a small rational (``SMALL``, ``SMALL_BITS``), else ``False``."""
+    return v if abs(v) <= SMALL and v.denominator.bit_length() <= SMALL_BITS else False
+
+
+_LEAF_ATTRS = {"_fv": _EMPTY, "_fp": _EMPTY, "_smooth": True, "_calls": False, "_size": 1, "_depth": 1,
+               "_small": None, "_small_all": True, "_psi_vars": _EMPTY}
+_CONST_ATTRS = dict(_LEAF_ATTRS)
+
+
+def _binary(d: dict, a: dict, b: dict, mul: bool) -> None:
+    """The attributes of ``t + s`` or ``t · s`` (``d``) from those of ``t`` (``a``) and ``s`` (``b``)."""
+    x, y = a["_fv"], b["_fv"]
+    d["_fv"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_fp"], b["_fp"]
+    d["_fp"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    d["_smooth"] = a["_smooth"] and b["_smooth"]
+    d["_calls"] = a["_calls"] or b["_calls"]
+    d["_size"] = 1 + a["_size"] + b["_size"]
+    x, y = a["_depth"], b["_depth"]
+    d["_depth"] = 1 + (x if x > y else y)
+    x, y = a["_small"], b["_small"]
+    if x is None or y is None:
+        v = False if x is False or y is False else None
+    elif x is False or y is False:
+        v = False
+    else:
+        v = _in_range(x * y if mul else x + y)
+    d["_small"] = v
+    d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
+    x, y = a["_psi_vars"], b["_psi_vars"]
+    d["_psi_vars"] = x if (not y or x is y) else (y if not x else _join(x, y))
+
+
+def _small_power(x, k):
+    """The small value of ``t ^ k`` from ``t``'s (``x``)."""
+    if x is None or x is False:
+        return x
+    if isinstance(k, (int, Fraction)) and k.denominator == 1 and abs(k) <= SMALL_EXPONENT and (x != 0 or k > 0):
+        return _in_range(x ** int(k))
+    return False
+
+
+def _unary(d: dict, a: dict, small) -> None:
+    """The attributes of ``f(t)`` or ``t ^ k`` (``d``) from those of ``t`` (``a``), with its small value."""
+    d["_fv"], d["_fp"], d["_psi_vars"] = a["_fv"], a["_fp"], a["_psi_vars"]
+    d["_smooth"], d["_calls"], d["_size"], d["_depth"] = a["_smooth"], a["_calls"], a["_size"] + 1, a["_depth"] + 1
+    d["_small"] = small
+    d["_small_all"] = small is not False and a["_small_all"]
+
+
+def _annotate(t: "Term") -> None:
+    """Compute and keep ``t``'s attributes from its children's (see above)."""
+    d = t.__dict__
+    kids = children(t)
+    fv = fp = pv = _EMPTY
+    for c in kids:
+        fv, fp, pv = _join(fv, c._fv), _join(fp, c._fp), _join(pv, c._psi_vars)
+    size, deep = 1, 0
+    for c in kids:
+        size += c._size
+        if c._depth > deep:
+            deep = c._depth
+    match t:
+        case Var(name):
+            fv = _names(name)
+        case Param(name):
+            fp = _names(name)
+        case Let(name, bound, body):
+            fp = _join(bound._fp, body._fp - {name} if name in body._fp else body._fp)
+        case IfDiffeo(psi, _, _):
+            for f in psi.forward:
+                fp = _join(fp, f._fp)
+            fv = _join(fv, frozenset(psi.variables))
+            pv = _join(pv, frozenset((psi.variables,)))
+            cond = psi.forward[0]._depth if psi.name is None else 1
+            deep = cond if cond > deep else deep
+        case ImplicitRoot(eq, x, target, lo, hi):  # binds its variable in its equation
+            fv = _join(_join(eq._fv - {x} if x in eq._fv else eq._fv, target._fv), _join(lo._fv, hi._fv))
+    d["_fv"], d["_fp"], d["_psi_vars"], d["_size"], d["_depth"] = fv, fp, pv, size, deep + 1
+    d["_smooth"] = not isinstance(t, (IfGe0, IfDiffeo, Call)) and all(c._smooth for c in kids)
+    d["_calls"] = isinstance(t, Call) or any(c._calls for c in kids)
+    match t:
+        case Const(value):
+            v = _in_range(value) if type(value) is Fraction else False
+        case Var() | Param():
+            v = None
+        case Add(a, b) | Mul(a, b):
+            x, y = a._small, b._small
+            if x is False or y is False:
+                v = False
+            elif x is None or y is None:
+                v = None
+            else:
+                v = _in_range(x + y if isinstance(t, Add) else x * y)
+        case Pow(a, k):
+            v = _small_power(a._small, k)
+        case _:
+            v = False if not fv and not fp else None
+    d["_small"] = v
+    d["_small_all"] = v is not False and all(c._small_all for c in kids)
+
+
+def _setstate(self, state: dict) -> None:  # unpickled: the attributes computed again
+    self.__dict__.update(state)
+    if type(self) in _TERMS:
+        _annotate(self)
+
+
+for _cls in _TERMS:
+    _cls.__setstate__ = _setstate
+
+
 _SCOPE = threading.local()
 _MISSING = object()
 
@@ -445,68 +665,57 @@ def subterms(t: Term):
         stack.extend(reversed(children(u)))
 
 
-def _kept(t: Term, name: str, compute: Callable[[], T]) -> T:
-    """``compute()``, kept on the node under ``name``: a shared term costs once."""
-    try:
-        return t.__dict__[name]
-    except KeyError:
-        out = compute()
-        object.__setattr__(t, name, out)
-        return out
-
-
 def free_vars(t: Term) -> frozenset[str]:
-    """Names of variables occurring in ``t`` (including in diffeomorphic conditions)."""
-    match t:
-        case Var(name):
-            return frozenset({name})
-        case IfDiffeo(psi, a, b):
-            return _kept(t, "_fv", lambda: frozenset(psi.variables) | free_vars(a) | free_vars(b))
-        case ImplicitRoot(eq, x, target, lo, hi):  # binds its variable in its equation
-            return _kept(t, "_fv", lambda: (free_vars(eq) - {x}) | free_vars(target) | free_vars(lo) | free_vars(hi))
-        case _:
-            return _kept(t, "_fv", lambda: frozenset().union(*(free_vars(c) for c in children(t))))
+    """Names of variables occurring in ``t`` (including in diffeomorphic conditions; an implicit
+    root binds its variable in its equation)."""
+    return t._fv
 
 
 def free_params(t: Term) -> frozenset[str]:
-    """Names of parameters occurring free in ``t`` (``let`` binds its name in its body)."""
-    match t:
-        case Param(name):
-            return frozenset({name})
-        case Let(name, bound, body):
-            return _kept(t, "_fp", lambda: free_params(bound) | (free_params(body) - {name}))
-        case IfDiffeo(psi, a, b):
-            return _kept(t, "_fp", lambda: diffeo_params(psi) | free_params(a) | free_params(b))
-        case _:
-            return _kept(t, "_fp", lambda: frozenset().union(*(free_params(c) for c in children(t))))
+    """Names of parameters occurring free in ``t`` (``let`` binds its name in its body; a
+    diffeomorphic conditional's include its condition's)."""
+    return t._fp
 
 
 def smooth(t: Term) -> bool:
     """No conditional and no call in ``t``: ⟦t⟧ is a smooth expression (where it is defined)."""
-    match t:
-        case IfGe0() | IfDiffeo() | Call():
-            return False
-        case Const() | Var() | Param():
-            return True
-        case _:
-            return _kept(t, "_smooth", lambda: all(smooth(c) for c in children(t)))
+    return t._smooth
+
+
+def has_calls(t: Term) -> bool:
+    """Whether ``t`` contains a ``Call``."""
+    return t._calls
 
 
 def tree_size(t: Term) -> int:
-    """The number of nodes of ``t`` counted once per path (its size written out as a tree),
-    computed once per distinct node and kept on it (a subterm shared with an earlier program
-    costs nothing)."""
-    stack = [(t, False)]
-    while stack:
-        u, done = stack.pop()
-        if "_size" in u.__dict__:
-            continue
-        if done:
-            u.__dict__["_size"] = 1 + sum(c.__dict__["_size"] for c in children(u))
-            continue
-        stack.append((u, True))
-        stack.extend((c, False) for c in children(u) if "_size" not in c.__dict__)
-    return t.__dict__["_size"]
+    """The number of nodes of ``t`` counted once per path (its size written out as a tree)."""
+    return t._size
+
+
+def depth(t: Term) -> int:
+    """The nesting depth of ``t`` (a leaf is 1); a completed condition (``Diffeo.name`` None)
+    counts as a child of its conditional, a declared diffeo as a leaf: what the inlined program's
+    depth limit (T230, ``langur.syntax.inline``) measures."""
+    return t._depth
+
+
+def small_value(t: Term):
+    """The exact value of the constant (variable-free, parameter-free) term ``t`` when rational
+    arithmetic on small numbers decides it (every constant a rational of magnitude ≤ ``SMALL``
+    with a denominator of at most ``SMALL_BITS`` bits, integer powers up to ``SMALL_EXPONENT``);
+    ``None`` when ``t`` is not constant; ``False`` when it is but not decided so (π, primitives,
+    fractional powers, large values)."""
+    return t._small
+
+
+def all_small(t: Term) -> bool:
+    """Every subterm of ``t`` has a :func:`small_value` that is not ``False``."""
+    return t._small_all
+
+
+def diffeo_variables(t: Term) -> frozenset[tuple[str, ...]]:
+    """The variable lists of the diffeomorphic conditionals in ``t``."""
+    return t._psi_vars
 
 
 def diffeo_params(psi: Diffeo) -> frozenset[str]:
