@@ -118,7 +118,7 @@ class Prim:
         d = self.__dict__
         d["op"], d["arg"], d["span"] = op, arg, span
         a = arg.__dict__
-        _unary(d, a, False if a["_small"] is not None else None)
+        _unary(d, a, False if a["_small"] is not None else None, True, op)
 
 
 @dataclass(frozen=True)
@@ -133,7 +133,7 @@ class Pow:
         d = self.__dict__
         d["base"], d["exponent"], d["span"] = base, exponent, span
         a = base.__dict__
-        _unary(d, a, _small_power(a["_small"], exponent))
+        _unary(d, a, _small_power(a["_small"], exponent), isinstance(exponent, Fraction), None)
 
 
 @dataclass(frozen=True)
@@ -423,6 +423,13 @@ for _cls in (*_TERMS, InverseBranch, Diffeo, Interval, Program):
 # with ``_`` (never compared, hashed nor pickled: unpickling recomputes them, ``__setstate__``).
 # The functions below (``free_vars``, ``free_params``, ``smooth``, ``has_calls``, ``tree_size``,
 # ``depth``, ``small_value``, ``all_small``, ``diffeo_variables``) read them.
+#
+# Also kept, for typing (``langur.typesys.well_typed``): the premises of Fig. 6's rules that do not
+# depend on the context Δ; Γ (``_scoped``: conditions of ``ifge0``, bounds of ``let``, a diffeo's
+# own terms are where they must be, exponents are rational), the primitives used (``_ops``), the
+# names ``let`` binds (``_binders``) and the parameters of the diffeos' inverse branches, guards and
+# ``nonzero`` terms (``_dfp``, beside ``free_params``): then ``Δ; Γ ⊢ t`` holds when these and the
+# free variables and parameters fit the context, without a walk.
 
 #: Exact rational constants up to this magnitude count as small (the range check of constants,
 #: T231, is then decided exactly: room to spare below the largest double).
@@ -460,7 +467,8 @@ def _in_range(v: Fraction):
 
 
 _LEAF_ATTRS = {"_fv": _EMPTY, "_fp": _EMPTY, "_smooth": True, "_calls": False, "_size": 1, "_depth": 1,
-               "_small": None, "_small_all": True, "_psi_vars": _EMPTY}
+               "_small": None, "_small_all": True, "_psi_vars": _EMPTY,
+               "_scoped": True, "_ops": _EMPTY, "_binders": _EMPTY, "_dfp": _EMPTY}
 _CONST_ATTRS = dict(_LEAF_ATTRS)
 
 
@@ -486,6 +494,13 @@ def _binary(d: dict, a: dict, b: dict, mul: bool) -> None:
     d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
     x, y = a["_psi_vars"], b["_psi_vars"]
     d["_psi_vars"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    d["_scoped"] = a["_scoped"] and b["_scoped"]
+    x, y = a["_ops"], b["_ops"]
+    d["_ops"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_binders"], b["_binders"]
+    d["_binders"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_dfp"], b["_dfp"]
+    d["_dfp"] = x if (not y or x is y) else (y if not x else _join(x, y))
 
 
 def _small_power(x, k):
@@ -497,12 +512,16 @@ def _small_power(x, k):
     return False
 
 
-def _unary(d: dict, a: dict, small) -> None:
-    """The attributes of ``f(t)`` or ``t ^ k`` (``d``) from those of ``t`` (``a``), with its small value."""
+def _unary(d: dict, a: dict, small, scoped: bool, op: str | None) -> None:
+    """The attributes of ``f(t)`` or ``t ^ k`` (``d``) from those of ``t`` (``a``), with its small
+    value, whether its own premise holds (a rational exponent) and its primitive."""
     d["_fv"], d["_fp"], d["_psi_vars"] = a["_fv"], a["_fp"], a["_psi_vars"]
     d["_smooth"], d["_calls"], d["_size"], d["_depth"] = a["_smooth"], a["_calls"], a["_size"] + 1, a["_depth"] + 1
     d["_small"] = small
     d["_small_all"] = small is not False and a["_small_all"]
+    d["_scoped"] = scoped and a["_scoped"]
+    d["_ops"] = a["_ops"] if op is None else _join(a["_ops"], _names(op))
+    d["_binders"], d["_dfp"] = a["_binders"], a["_dfp"]
 
 
 def _annotate(t: "Term") -> None:
@@ -555,6 +574,44 @@ def _annotate(t: "Term") -> None:
             v = False if not fv and not fp else None
     d["_small"] = v
     d["_small_all"] = v is not False and all(c._small_all for c in kids)
+    scoped = all(c._scoped for c in kids)
+    ops = binders = dfp = _EMPTY
+    for c in kids:
+        ops, binders, dfp = _join(ops, c._ops), _join(binders, c._binders), _join(dfp, c._dfp)
+    match t:
+        case Prim(op, _):
+            ops = _join(ops, _names(op))
+        case Pow(_, k):
+            scoped = scoped and isinstance(k, Fraction)
+        case IfGe0(c, _, _):
+            scoped = scoped and not c._fv
+        case Let(name, bound, body):
+            scoped = scoped and not bound._fv
+            binders = _join(binders, _names(name))
+            dfp = _join(bound._dfp, body._dfp - {name} if name in body._dfp else body._dfp)
+        case IfDiffeo(psi, _, _):
+            scoped = scoped and _diffeo_scoped(psi)
+            for u in psi.forward + psi.nonzero + tuple(c for b in psi.branches for c in b.components + b.guards):
+                ops, dfp = _join(ops, u._ops), _join(dfp, _join(u._fp, u._dfp))
+        case ImplicitRoot(eq, _, _, lo, hi):
+            scoped = scoped and not lo._fv and not hi._fv and not eq._binders
+    d["_scoped"], d["_ops"], d["_binders"], d["_dfp"] = scoped, ops, binders, dfp
+
+
+def _diffeo_scoped(psi: "Diffeo") -> bool:
+    """The premises of Fig. 6's diffeomorphic conditional that do not depend on the context (see
+    ``typesys.type_diffeo``): distinct variables, as many components and inputs as variables,
+    components over the variables, inverse branches (and guards) over the inputs, ``nonzero``
+    terms variable-free, each of these terms itself scoped and binding no name."""
+    xs, us, n = frozenset(psi.variables), frozenset(psi.inputs), len(psi.variables)
+    if len(xs) != n or len(psi.forward) != n or len(psi.inputs) != n:
+        return False
+    if not all(f._scoped and not f._binders and f._fv <= xs for f in psi.forward):
+        return False
+    if not all(z._scoped and not z._binders and not z._fv for z in psi.nonzero):
+        return False
+    return all(len(b.components) == n and all(c._scoped and not c._binders and c._fv <= us
+                                              for c in b.components + b.guards) for b in psi.branches)
 
 
 def _setstate(self, state: dict) -> None:  # unpickled: the attributes computed again

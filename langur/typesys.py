@@ -211,6 +211,25 @@ def _interned(s: frozenset) -> frozenset:
     return _INTERNED.setdefault(s, s)
 
 
+_KNOWN_PRIMITIVES = frozenset(ALL_PRIMITIVES)
+
+
+def well_typed(delta: frozenset[str], gamma: frozenset[str], t: Term) -> bool:
+    """Whether ``Δ; Γ ⊢ t`` holds, read off the attributes ``t`` keeps (``langur.core``, "per-node
+    attributes"): the premises of Fig. 6's rules that do not depend on the context hold everywhere
+    in ``t`` (``_scoped``), its free variables — with those of its diffeomorphic conditions — are
+    in Δ (variable, diffeomorphic conditional), its parameters — with its diffeos' — in Γ
+    (parameter), no ``let`` binds a variable of Δ (let) and every primitive is known.  A
+    sufficient condition, checked in constant time: when it fails, :func:`type_term` applies the
+    rules one by one and reports what they find (it finds nothing when this holds:
+    ``proofs_tests/test_typing_attributes.py`` compares the two)."""
+    try:
+        return (t._scoped and t._fv <= delta and t._fp <= gamma and t._dfp <= gamma
+                and t._ops <= _KNOWN_PRIMITIVES and t._binders.isdisjoint(delta))
+    except AttributeError:  # not a core term: the rules say why
+        return False
+
+
 def _remembered(fn):
     """While :func:`type_program` runs (and no observer records the derivation: ``show --typing``
     sees every rule), ``Δ; Γ ⊢ t`` is checked once per distinct node and context, as
@@ -223,6 +242,8 @@ def _remembered(fn):
 
     @functools.wraps(fn)
     def wrapper(delta, gamma, t, out):
+        if not observe.active() and well_typed(delta, gamma, t):
+            return None  # every rule's premises hold: the rules would add no diagnostic
         visited = getattr(_CHECKING, "visited", None)
         if visited is None:
             return fn(delta, gamma, t, out)
