@@ -49,8 +49,14 @@ class Const:
     def __init__(self, value, span=None):
         d = self.__dict__
         d["value"], d["span"] = value, span
-        d.update(_CONST_ATTRS)
-        d["_small"] = _in_range(value) if type(value) is Fraction else False
+        d.update(_LEAF_ATTRS)
+        if type(value) is not Fraction:
+            d["_small"] = d["_small_all"] = False
+        elif value.denominator.bit_length() > SMALL_BITS or value.numerator.bit_length() >= 1000:
+            d["_small"] = v = _in_range(value)
+            d["_small_all"] = v is not False
+        else:
+            d["_small"] = value
 
 
 @dataclass(frozen=True)
@@ -117,8 +123,7 @@ class Prim:
     def __init__(self, op, arg, span=None):
         d = self.__dict__
         d["op"], d["arg"], d["span"] = op, arg, span
-        a = arg.__dict__
-        _unary(d, a, False if a["_small"] is not None else None, True, op)
+        _unary(d, arg, False if arg._small is not None else None, True, op)
 
 
 @dataclass(frozen=True)
@@ -132,8 +137,8 @@ class Pow:
     def __init__(self, base, exponent, span=None):
         d = self.__dict__
         d["base"], d["exponent"], d["span"] = base, exponent, span
-        a = base.__dict__
-        _unary(d, a, _small_power(a["_small"], exponent), isinstance(exponent, Fraction), None)
+        _unary(d, base, _small_power(base._small, exponent),
+               type(exponent) is Fraction or isinstance(exponent, Fraction), None)
 
 
 @dataclass(frozen=True)
@@ -461,15 +466,24 @@ def _join(a: frozenset, b: frozenset) -> frozenset:
     return a if b <= a else a | b
 
 
+_SMALL_INT = int(SMALL)
+_MINUS_ONE = Fraction(-1)
+
+
 def _in_range(v: Fraction):
-    """``v`` when it is a small rational (``SMALL``, ``SMALL_BITS``), else ``False``."""
-    return v if abs(v) <= SMALL and v.denominator.bit_length() <= SMALL_BITS else False
+    """``v`` when it is a small rational (``SMALL``, ``SMALL_BITS``), else ``False`` (integer
+    arithmetic: ``|n/d| ≤ SMALL`` is ``|n| ≤ SMALL·d``)."""
+    n, d = v.numerator, v.denominator
+    if d.bit_length() > SMALL_BITS:
+        return False
+    if n.bit_length() < 1000 or abs(n) <= _SMALL_INT * d:  # 2^1000 < SMALL
+        return v
+    return False
 
 
 _LEAF_ATTRS = {"_fv": _EMPTY, "_fp": _EMPTY, "_smooth": True, "_calls": False, "_size": 1, "_depth": 1,
                "_small": None, "_small_all": True, "_psi_vars": _EMPTY,
                "_scoped": True, "_ops": _EMPTY, "_binders": _EMPTY, "_dfp": _EMPTY}
-_CONST_ATTRS = dict(_LEAF_ATTRS)
 
 
 def _binary(d: dict, a: dict, b: dict, mul: bool) -> None:
@@ -507,21 +521,21 @@ def _small_power(x, k):
     """The small value of ``t ^ k`` from ``t``'s (``x``)."""
     if x is None or x is False:
         return x
-    if isinstance(k, (int, Fraction)) and k.denominator == 1 and abs(k) <= SMALL_EXPONENT and (x != 0 or k > 0):
+    if (type(k) is Fraction or isinstance(k, (int, Fraction))) and k.denominator == 1 and abs(k) <= SMALL_EXPONENT and (x != 0 or k > 0):
         return _in_range(x ** int(k))
     return False
 
 
-def _unary(d: dict, a: dict, small, scoped: bool, op: str | None) -> None:
+def _unary(d: dict, a: "Term", small, scoped: bool, op: str | None) -> None:
     """The attributes of ``f(t)`` or ``t ^ k`` (``d``) from those of ``t`` (``a``), with its small
     value, whether its own premise holds (a rational exponent) and its primitive."""
-    d["_fv"], d["_fp"], d["_psi_vars"] = a["_fv"], a["_fp"], a["_psi_vars"]
-    d["_smooth"], d["_calls"], d["_size"], d["_depth"] = a["_smooth"], a["_calls"], a["_size"] + 1, a["_depth"] + 1
+    d["_fv"], d["_fp"], d["_psi_vars"] = a._fv, a._fp, a._psi_vars
+    d["_smooth"], d["_calls"], d["_size"], d["_depth"] = a._smooth, a._calls, a._size + 1, a._depth + 1
     d["_small"] = small
-    d["_small_all"] = small is not False and a["_small_all"]
-    d["_scoped"] = scoped and a["_scoped"]
-    d["_ops"] = a["_ops"] if op is None else _join(a["_ops"], _names(op))
-    d["_binders"], d["_dfp"] = a["_binders"], a["_dfp"]
+    d["_small_all"] = small is not False and a._small_all
+    d["_scoped"] = scoped and a._scoped
+    d["_ops"] = a._ops if op is None else _join(a._ops, _names(op))
+    d["_binders"], d["_dfp"] = a._binders, a._dfp
 
 
 def _annotate(t: "Term") -> None:
@@ -582,7 +596,7 @@ def _annotate(t: "Term") -> None:
         case Prim(op, _):
             ops = _join(ops, _names(op))
         case Pow(_, k):
-            scoped = scoped and isinstance(k, Fraction)
+            scoped = scoped and (type(k) is Fraction or isinstance(k, Fraction))
         case IfGe0(c, _, _):
             scoped = scoped and not c._fv
         case Let(name, bound, body):
@@ -616,7 +630,9 @@ def _diffeo_scoped(psi: "Diffeo") -> bool:
 
 def _setstate(self, state: dict) -> None:  # unpickled: the attributes computed again
     self.__dict__.update(state)
-    if type(self) in _TERMS:
+    if type(self) in (Const, Var, Param):
+        self.__init__(**state)
+    elif type(self) in _TERMS:
         _annotate(self)
 
 
@@ -667,7 +683,7 @@ def const(v: int | Fraction | str) -> Const:
 
 
 def neg(t: Term) -> Term:
-    return Mul(Const(Fraction(-1)), t)
+    return Mul(Const(_MINUS_ONE), t)
 
 
 def product(factors: list[Term], span: Span | None = None) -> Term:
@@ -683,7 +699,7 @@ def sub(t: Term, s: Term) -> Term:
 
 
 def div(t: Term, s: Term) -> Term:
-    return Mul(t, Pow(s, Fraction(-1)))
+    return Mul(t, Pow(s, _MINUS_ONE))
 
 
 def children(t: Term) -> tuple[Term, ...]:

@@ -237,32 +237,31 @@ class _Sharing:
 
     def __init__(self, t: Term):
         self.refs: dict[int, int] = {}
-        self.pure: dict[int, bool] = {}
         self.compiled: dict[tuple, Fn] = {}
         self.keep = t  # the term stays alive, so the ids above stay its own
         self._count(t)
 
     def _count(self, root: Term) -> None:
-        self.refs[id(root)] = 1
-        seen, stack = set(), [(root, False)]
-        while stack:  # depth first, each distinct node expanded once (its references counted)
-            t, done = stack.pop()
-            if done:  # all its children are done (a DAG has no cycle)
-                self.pure[id(t)] = (not isinstance(t, (IfDiffeo, Call))
-                                    and all(self.pure[id(c)] for c in _children(t)))
-                continue
-            if id(t) in seen:
-                continue
-            seen.add(id(t))
-            stack.append((t, True))
-            for c in _children(t):
-                self.refs[id(c)] = self.refs.get(id(c), 0) + 1
-                if id(c) not in seen:
-                    stack.append((c, False))
+        refs = self.refs
+        refs[id(root)] = 1
+        stack = [root]
+        while stack:  # each distinct node expanded once (its children's references counted)
+            for c in _children(stack.pop()):
+                if type(c) in _LEAVES:
+                    continue  # never shared
+                n = refs.get(id(c))
+                if n is None:
+                    refs[id(c)] = 1
+                    stack.append(c)
+                else:
+                    refs[id(c)] = n + 1
 
     def shared(self, t: Term) -> bool:
-        return (self.refs.get(id(t), 0) > 1 and self.pure.get(id(t), False)
-                and not isinstance(t, (Const, Var, Param)))
+        # pure: no site nor call below (the kept attributes: no diffeomorphic conditional, no call)
+        return self.refs.get(id(t), 0) > 1 and not t._psi_vars and not t._calls
+
+
+_LEAVES = (Const, Var, Param)
 
 
 def _children(t: Term) -> tuple:
@@ -285,6 +284,12 @@ def _children(t: Term) -> tuple:
 
 
 def _compile(t: Term, ctx: _Ctx) -> Fn:
+    if not t._fv and not t._fp and not t._calls and type(t) is not Const:
+        with np.errstate(all="ignore"):
+            c = _fold(t)
+        if c is not None:
+            # a constant: its value computed now, by the same operations its closures would run
+            return lambda pt, lk: (c, None)
     sharing = ctx.sharing
     if sharing.shared(t):
         key = (id(t), ctx.local)
@@ -293,6 +298,32 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
             fn = sharing.compiled[key] = _shared(_compile_node(t, ctx), next(_KEYS), sharing.refs[id(t)])
         return fn
     return _compile_node(t, ctx)
+
+
+def _fold(t: Term):
+    """The value of a constant term (no variable, parameter or call) built of constants, sums,
+    products, powers and primitives, computed by exactly the floating-point operations of the
+    closures :func:`_compile_node` would build for it (so evaluating it once at compile time gives
+    the very numbers every evaluation would: a variable-free subterm evaluates to a scalar); None
+    for any other term."""
+    match t:
+        case Const():
+            return const_value(t)
+        case Add(a, b) | Mul(a, b):
+            x = _fold(a)
+            if x is None:
+                return None
+            y = _fold(b)
+            if y is None:
+                return None
+            return x + y if type(t) is Add else x * y
+        case Pow(a, k):
+            x = _fold(a)
+            return None if x is None else power(x, k)
+        case Prim(op, a):
+            x = _fold(a)
+            return None if x is None else REGISTRY[op].value(x)
+    return None
 
 
 def _shared(f: Fn, key: int, uses: int) -> Fn:

@@ -26,7 +26,20 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from ..core import Add, Const, Diffeo, InverseBranch, Mul, Param, Pow, Term, Var, free_params, free_vars
+from ..core import (
+    Add,
+    Const,
+    Diffeo,
+    InverseBranch,
+    Mul,
+    Param,
+    Pow,
+    Term,
+    Var,
+    free_params,
+    free_vars,
+    small_value,
+)
 
 #: Largest |exponent| folded exactly (``2^k`` with a constant base): beyond it, the sympy path.
 MAX_EXPONENT = 64
@@ -62,22 +75,28 @@ def linear(t: Term) -> Linear | None:
     return go(t)
 
 
+_ZERO, _ONE = Fraction(0), Fraction(1)
+
+
 def _linear(t: Term, linear) -> Linear | None:
     """One node of :func:`linear` (``linear`` reads the children)."""
+    v = small_value(t)
+    if v is not None and v is not False:
+        return {}, v  # a constant whose exact value the node keeps: the same rational, no walk
     match t:
-        case Const(value) if isinstance(value, Fraction):
+        case Const(value) if type(value) is Fraction or isinstance(value, Fraction):
             return {}, value
         case Var(name):
-            return {("v", name): Fraction(1)}, Fraction(0)
+            return {("v", name): _ONE}, _ZERO
         case Param(name):
-            return {("p", name): Fraction(1)}, Fraction(0)
+            return {("p", name): _ONE}, _ZERO
         case Add(a, b):
             la, lb = linear(a), linear(b)
             if la is None or lb is None:
                 return None
             coeffs = dict(la[0])
             for k, c in lb[0].items():
-                s = coeffs.get(k, Fraction(0)) + c
+                s = coeffs.get(k, _ZERO) + c
                 if s:
                     coeffs[k] = s
                 else:
@@ -92,7 +111,7 @@ def _linear(t: Term, linear) -> Linear | None:
                 return None  # a product of two non-constant forms is not affine
             c, form = (la[1], lb) if not la[0] else (lb[1], la)
             if not c:
-                return {}, Fraction(0)
+                return {}, _ZERO
             return {k: c * v for k, v in form[0].items()}, c * form[1]
         case Pow(base, k):
             lb = linear(base)
