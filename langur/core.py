@@ -171,7 +171,7 @@ class IfDiffeo:
     def __init__(self, psi, then, orelse, span=None):
         d = self.__dict__
         d["psi"], d["then"], d["orelse"], d["span"] = psi, then, orelse, span
-        _annotate(self)
+        _ifdiffeo(d, psi, then.__dict__, orelse.__dict__)
 
 
 @dataclass(frozen=True)
@@ -363,6 +363,7 @@ _EQUAL = threading.local()
 
 def _sharing(cls):
     field_hash, field_eq = cls.__hash__, cls.__eq__
+    leaf = cls.__name__ in ("Const", "Var", "Param")
 
     def __hash__(self):
         try:
@@ -377,6 +378,8 @@ def _sharing(cls):
             return True
         if other.__class__ is not self.__class__:
             return NotImplemented
+        if leaf:  # one field to compare: no DAG to guard against
+            return field_eq(self, other)
         if hash(self) != hash(other):
             return False
         # Two DAGs equal node for node: each pair of nodes is compared once (while the outermost
@@ -538,9 +541,61 @@ def _unary(d: dict, a: "Term", small, scoped: bool, op: str | None) -> None:
     d["_binders"], d["_dfp"] = a._binders, a._dfp
 
 
+_INTERNED_SETS: dict = {}
+
+
+def _interned_set(items: tuple) -> frozenset:
+    s = _INTERNED_SETS.get(items)
+    if s is None:
+        if len(_INTERNED_SETS) > 4096:
+            _INTERNED_SETS.clear()
+        s = _INTERNED_SETS[items] = frozenset(items)
+    return s
+
+
+def _diffeo_summary(psi: "Diffeo") -> tuple:
+    """What a diffeomorphic conditional's attributes take from its Ψ̂ (kept on the Diffeo, which
+    several conditionals may share): its condition's parameters, its variables (as a set, and as
+    the one variable list of ``diffeo_variables``), the depth its condition counts for, whether
+    its own premises hold (``_diffeo_scoped``), the primitives and parameters of all its terms."""
+    d = psi.__dict__
+    found = d.get("_summary")
+    if found is None:
+        fp = ops = dfp = _EMPTY
+        for f in psi.forward:
+            fp = _join(fp, f._fp)
+        for u in psi.forward + psi.nonzero + tuple(c for b in psi.branches for c in b.components + b.guards):
+            ops, dfp = _join(ops, u._ops), _join(dfp, _join(u._fp, u._dfp))
+        found = d["_summary"] = (fp, _interned_set(psi.variables), _interned_set((psi.variables,)),
+                                 psi.forward[0]._depth if psi.name is None else 1, _diffeo_scoped(psi), ops, dfp)
+    return found
+
+
+def _ifdiffeo(d: dict, psi: "Diffeo", a: dict, b: dict) -> None:
+    """The attributes of ``ifge0 ⌊Ψ⌋ then s else r`` (``d``) from Ψ's and those of ``s`` (``a``)
+    and ``r`` (``b``)."""
+    fp, xs, pv, cond, scoped, ops, dfp = _diffeo_summary(psi)
+    d["_fv"] = fv = _join(_join(a["_fv"], b["_fv"]), xs)
+    d["_fp"] = fp = _join(_join(a["_fp"], b["_fp"]), fp)
+    d["_psi_vars"] = _join(_join(a["_psi_vars"], b["_psi_vars"]), pv)
+    d["_smooth"] = False
+    d["_calls"] = a["_calls"] or b["_calls"]
+    d["_size"] = 1 + a["_size"] + b["_size"]
+    d["_depth"] = 1 + max(a["_depth"], b["_depth"], cond)
+    d["_small"] = v = False if not fv and not fp else None
+    d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
+    d["_scoped"] = scoped and a["_scoped"] and b["_scoped"]
+    d["_ops"] = _join(_join(a["_ops"], b["_ops"]), ops)
+    d["_binders"] = _join(a["_binders"], b["_binders"])
+    d["_dfp"] = _join(_join(a["_dfp"], b["_dfp"]), dfp)
+
+
 def _annotate(t: "Term") -> None:
     """Compute and keep ``t``'s attributes from its children's (see above)."""
     d = t.__dict__
+    if type(t) is IfDiffeo:
+        _ifdiffeo(d, t.psi, t.then.__dict__, t.orelse.__dict__)
+        return
     kids = children(t)
     fv = fp = pv = _EMPTY
     for c in kids:
@@ -557,17 +612,10 @@ def _annotate(t: "Term") -> None:
             fp = _names(name)
         case Let(name, bound, body):
             fp = _join(bound._fp, body._fp - {name} if name in body._fp else body._fp)
-        case IfDiffeo(psi, _, _):
-            for f in psi.forward:
-                fp = _join(fp, f._fp)
-            fv = _join(fv, frozenset(psi.variables))
-            pv = _join(pv, frozenset((psi.variables,)))
-            cond = psi.forward[0]._depth if psi.name is None else 1
-            deep = cond if cond > deep else deep
         case ImplicitRoot(eq, x, target, lo, hi):  # binds its variable in its equation
             fv = _join(_join(eq._fv - {x} if x in eq._fv else eq._fv, target._fv), _join(lo._fv, hi._fv))
     d["_fv"], d["_fp"], d["_psi_vars"], d["_size"], d["_depth"] = fv, fp, pv, size, deep + 1
-    d["_smooth"] = not isinstance(t, (IfGe0, IfDiffeo, Call)) and all(c._smooth for c in kids)
+    d["_smooth"] = not isinstance(t, (IfGe0, Call)) and all(c._smooth for c in kids)
     d["_calls"] = isinstance(t, Call) or any(c._calls for c in kids)
     match t:
         case Const(value):
@@ -603,10 +651,6 @@ def _annotate(t: "Term") -> None:
             scoped = scoped and not bound._fv
             binders = _join(binders, _names(name))
             dfp = _join(bound._dfp, body._dfp - {name} if name in body._dfp else body._dfp)
-        case IfDiffeo(psi, _, _):
-            scoped = scoped and _diffeo_scoped(psi)
-            for u in psi.forward + psi.nonzero + tuple(c for b in psi.branches for c in b.components + b.guards):
-                ops, dfp = _join(ops, u._ops), _join(dfp, _join(u._fp, u._dfp))
         case ImplicitRoot(eq, _, _, lo, hi):
             scoped = scoped and not lo._fv and not hi._fv and not eq._binders
     d["_scoped"], d["_ops"], d["_binders"], d["_dfp"] = scoped, ops, binders, dfp

@@ -207,7 +207,8 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
     declared params) is then looked up among the program's parameters (``point.root``), so a
     linked call binds only its arguments.  ``None``: every parameter is in ``point.params``."""
     ctx = _Ctx([], local, _Sharing(t))
-    fn = _compile(t, ctx)
+    with np.errstate(all="ignore"):  # constants are folded now (a NaN is a value, as when evaluated)
+        fn = _compile(t, ctx)
     return Unit(fn, ctx.slots)
 
 
@@ -285,8 +286,7 @@ def _children(t: Term) -> tuple:
 
 def _compile(t: Term, ctx: _Ctx) -> Fn:
     if not t._fv and not t._fp and not t._calls and type(t) is not Const:
-        with np.errstate(all="ignore"):
-            c = _fold(t)
+        c = _fold(t)
         if c is not None:
             # a constant: its value computed now, by the same operations its closures would run
             return lambda pt, lk: (c, None)

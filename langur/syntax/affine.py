@@ -94,14 +94,21 @@ def _linear(t: Term, linear) -> Linear | None:
             la, lb = linear(a), linear(b)
             if la is None or lb is None:
                 return None
+            ca, cb = la[1], lb[1]
+            constant = cb if not ca else (ca if not cb else ca + cb)
+            if not lb[0] or not la[0]:  # (forms are never changed once built: they may be shared)
+                return (la[0] or lb[0]), constant
             coeffs = dict(la[0])
             for k, c in lb[0].items():
-                s = coeffs.get(k, _ZERO) + c
+                if k not in coeffs:
+                    coeffs[k] = c
+                    continue
+                s = coeffs[k] + c
                 if s:
                     coeffs[k] = s
                 else:
-                    coeffs.pop(k, None)
-            return coeffs, la[1] + lb[1]
+                    del coeffs[k]
+            return coeffs, constant
         case Mul(a, b):
             la = linear(a)
             lb = linear(b) if la is not None else None
@@ -112,6 +119,8 @@ def _linear(t: Term, linear) -> Linear | None:
             c, form = (la[1], lb) if not la[0] else (lb[1], la)
             if not c:
                 return {}, _ZERO
+            if c == 1:
+                return form
             return {k: c * v for k, v in form[0].items()}, c * form[1]
         case Pow(base, k):
             lb = linear(base)
@@ -152,13 +161,14 @@ def complete(cond: Term, variables: tuple[str, ...]) -> Diffeo | None:
     others = [x for x in variables if x != v]
     renamed = {x: u for x, u in zip(others, inputs[1:])}
     a = coeffs[("v", v)]
+    over = (lambda c: -c) if a == 1 else (lambda c: -c / a)  # −c/a
     terms: list[tuple[str, str, Fraction]] = [(inputs[0], "v", 1 / a)]
     for (kind, name), c in coeffs.items():
         if kind == "p":
-            terms.append((name, "p", -c / a))
+            terms.append((name, "p", over(c)))
         elif name != v:
-            terms.append((renamed[name], "v", -c / a))
-    solution = _ordered(-c0 / a, terms)
+            terms.append((renamed[name], "v", over(c)))
+    solution = _ordered(over(c0), terms)
     components = tuple(solution if x == v else Var(renamed[x]) for x in variables)
     return Diffeo(variables=tuple(variables), forward=(cond,) + tuple(Var(x) for x in others), inputs=inputs,
                   branches=(InverseBranch(components, ()),), solved_for=v, name=None, nonzero=(),

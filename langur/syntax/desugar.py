@@ -245,7 +245,7 @@ class Desugarer:
                 if op == "+":
                     return Add(left, right, span=span)
                 if op == "-":
-                    return replace(sub(left, right), span=span)
+                    return Add(left, neg(right), span=span)
                 if op == "*":
                     return Mul(left, right, span=span)
                 if op == "/":
