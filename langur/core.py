@@ -505,8 +505,10 @@ def _binary(d: dict, a: dict, b: dict, mul: bool) -> None:
         v = False if x is False or y is False else None
     elif x is False or y is False:
         v = False
+    elif mul:  # (x, y small: a product by 1 or a sum with 0 is the other, already in range)
+        v = y if x.numerator == x.denominator else (x if y.numerator == y.denominator else _in_range(x * y))
     else:
-        v = _in_range(x * y if mul else x + y)
+        v = y if not x else (x if not y else _in_range(x + y))
     d["_small"] = v
     d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
     x, y = a["_psi_vars"], b["_psi_vars"]

@@ -285,8 +285,8 @@ def _children(t: Term) -> tuple:
 
 
 def _compile(t: Term, ctx: _Ctx) -> Fn:
-    if not t._fv and not t._fp and not t._calls and type(t) is not Const:
-        c = _fold(t)
+    if type(t) is not Const:
+        c = _constant(t)
         if c is not None:
             # a constant: its value computed now, by the same operations its closures would run
             return lambda pt, lk: (c, None)
@@ -298,6 +298,21 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
             fn = sharing.compiled[key] = _shared(_compile_node(t, ctx), next(_KEYS), sharing.refs[id(t)])
         return fn
     return _compile_node(t, ctx)
+
+
+_NOT_YET = object()
+
+
+def _constant(t: Term):
+    """:func:`_fold` of ``t`` when it has no variable, parameter or call (kept on the node: a
+    number that only depends on the term), else None."""
+    if t._fv or t._fp or t._calls:
+        return None
+    d = t.__dict__
+    v = d.get("_folded", _NOT_YET)
+    if v is _NOT_YET:
+        v = d["_folded"] = _fold(t)
+    return v
 
 
 def _fold(t: Term):
@@ -363,6 +378,17 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
         case Add(left, right):
             # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈
             f, g = _compile(left, ctx), _compile(right, ctx)
+            cl, cr = _constant(left), _constant(right)
+            if cr is not None:  # t + c (⦇c⦈ = 0): the same operation, one call fewer
+                def add_constant(pt, lk):
+                    a, da = f(pt, lk)
+                    return a + cr, da
+                return add_constant
+            if cl is not None:
+                def constant_add(pt, lk):
+                    b, db = g(pt, lk)
+                    return cl + b, db
+                return constant_add
 
             def add(pt, lk):
                 a, da = f(pt, lk)
@@ -372,6 +398,17 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
         case Mul(left, right):
             # Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
             f, g = _compile(left, ctx), _compile(right, ctx)
+            cl, cr = _constant(left), _constant(right)
+            if cr is not None:  # t · c (⦇c⦈ = 0): ⦇t⦈·c
+                def mul_constant(pt, lk):
+                    a, da = f(pt, lk)
+                    return a * cr, (None if da is None else da * cr)
+                return mul_constant
+            if cl is not None:
+                def constant_mul(pt, lk):
+                    b, db = g(pt, lk)
+                    return cl * b, (None if db is None else db * cl)
+                return constant_mul
 
             def mul(pt, lk):
                 a, da = f(pt, lk)
