@@ -269,6 +269,10 @@ class InverseBranch:
     components: tuple["Term", ...]
     guards: tuple["Term", ...] = ()
 
+    def __init__(self, components, guards=()):  # (frozen: the fields written directly, faster)
+        d = self.__dict__
+        d["components"], d["guards"] = components, guards
+
 
 @dataclass(frozen=True)
 class Diffeo:
@@ -294,6 +298,11 @@ class Diffeo:
     name: str | None = None
     nonzero: tuple["Term", ...] = ()
     span: Span | None = _span()
+
+    def __init__(self, variables, forward, inputs, branches, solved_for=None, name=None, nonzero=(), span=None):
+        d = self.__dict__  # (frozen: the fields written directly, faster)
+        d["variables"], d["forward"], d["inputs"], d["branches"] = variables, forward, inputs, branches
+        d["solved_for"], d["name"], d["nonzero"], d["span"] = solved_for, name, nonzero, span
 
     @property
     def condition(self) -> "Term":
