@@ -97,7 +97,10 @@ class Point:
         """The same point and parameters without any derivative (conditions are values only)."""
         if self.mode == VALUE:
             return self
-        return Point(self.vars, self.params, root=self.root and (self.root[0], {}))
+        found = self.memo.get(_VALUES)  # made once per point (every condition reads it)
+        if found is None:
+            found = self.memo[_VALUES] = Point(self.vars, self.params, root=self.root and (self.root[0], {}))
+        return found
 
     def bind(self, name: str, v, d) -> Point:
         """``γ[z ↦ v]``, ``γ'[z ↦ d]`` (Fig. 8, let)."""
@@ -111,6 +114,9 @@ class Point:
         return Point(self.vars, {**self.params, name: v}, self.dvars, dp, self.mode, self.site, self.sites,
                      self.root or (self.params, self.dparams))
 
+
+#: The key of :meth:`Point.values`'s point in :attr:`Point.memo` (the shared subterms' keys are ints).
+_VALUES = "values"
 
 Fn = Callable[[Point, Linking], tuple]
 
