@@ -391,6 +391,8 @@ def _sharing(cls):
             return field_eq(self, other)
         if hash(self) != hash(other):
             return False
+        if self.__dict__.get("_size", REPR_LIMIT) < 64:  # small written out: compared as a tree
+            return field_eq(self, other)
         # Two DAGs equal node for node: each pair of nodes is compared once (while the outermost
         # comparison runs), not once per path.
         known = getattr(_EQUAL, "pairs", None)
