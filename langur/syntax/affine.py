@@ -39,6 +39,7 @@ from ..core import (
     free_params,
     free_vars,
     small_value,
+    tree_size,
 )
 
 #: Largest |exponent| folded exactly (``2^k`` with a constant base): beyond it, the sympy path.
@@ -63,7 +64,10 @@ def fresh_inputs(n: int, taken: set[str]) -> tuple[str, ...]:
 
 def linear(t: Term) -> Linear | None:
     """``t`` as an affine form with rational coefficients, or ``None`` if it is not one.  A term
-    shared after inlining (a DAG: ``let v = v + v`` forty times) is read once per distinct node."""
+    shared after inlining (a DAG: ``let v = v + v`` forty times) is read once per distinct node
+    (a small term, under 64 nodes written out, is read as a tree)."""
+    if tree_size(t) < 64:
+        return _tree_linear(t)
     memo: dict[int, Linear | None] = {}
 
     def go(u: Term) -> Linear | None:
@@ -73,6 +77,10 @@ def linear(t: Term) -> Linear | None:
         return memo[key]
 
     return go(t)
+
+
+def _tree_linear(t: Term) -> Linear | None:
+    return _linear(t, _tree_linear)
 
 
 _ZERO, _ONE = Fraction(0), Fraction(1)
