@@ -242,7 +242,7 @@ def _remembered(fn):
 
     @functools.wraps(fn)
     def wrapper(delta, gamma, t, out):
-        if not observe.active() and well_typed(delta, gamma, t):
+        if not _watched() and well_typed(delta, gamma, t):
             return None  # every rule's premises hold: the rules would add no diagnostic
         visited = getattr(_CHECKING, "visited", None)
         if visited is None:
@@ -344,6 +344,16 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
             type_term(frozenset(), gamma, hi, out)
         case _:
             raise TypeError(f"not a core term: {t!r}")
+
+
+_TYPE_TERM = type_term
+
+
+def _watched() -> bool:
+    """Whether the rules are watched one by one: an observer records them (``show --typing``), or
+    :func:`type_term` was replaced by a wrapper that sees each of its calls (the campaigns' rule
+    coverage, ``langur.fuzz.coverage``).  Then typing is not read off the kept attributes."""
+    return observe.active() or type_term is not _TYPE_TERM
 
 
 def type_diffeo(delta: frozenset[str], gamma: frozenset[str], psi: Diffeo, out: list[Diagnostic], span=None) -> None:
