@@ -37,8 +37,12 @@ CLOCK = time.process_time
 
 
 def _median(f, reps: int):
+    """Median CPU time of ``f()`` over ``reps`` calls, and its last result; the previous call's
+    result is dropped before the clock starts (freeing a whole loaded program is not the next
+    load's work)."""
     ts, out = [], None
     for _ in range(reps):
+        out = None
         t0 = CLOCK()
         out = f()
         ts.append(CLOCK() - t0)

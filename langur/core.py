@@ -22,6 +22,7 @@ module's definitions with calls into other modules left as links, for separate c
 from __future__ import annotations
 
 import functools
+import sys
 import threading
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
@@ -45,6 +46,18 @@ class Const:
     value: Fraction | str
     span: Span | None = _span()
 
+    def __init__(self, value, span=None):
+        d = self.__dict__
+        d["value"], d["span"] = value, span
+        d.update(_LEAF_ATTRS)
+        if type(value) is not Fraction:
+            d["_small"] = d["_small_all"] = False
+        elif value.denominator.bit_length() > SMALL_BITS or value.numerator.bit_length() >= 1000:
+            d["_small"] = v = _in_range(value)
+            d["_small_all"] = v is not False
+        else:
+            d["_small"] = value
+
 
 @dataclass(frozen=True)
 class Var:
@@ -52,6 +65,12 @@ class Var:
 
     name: str
     span: Span | None = _span()
+
+    def __init__(self, name, span=None):
+        d = self.__dict__
+        d["name"], d["span"] = name, span
+        d.update(_LEAF_ATTRS)
+        d["_fv"] = _names(name)
 
 
 @dataclass(frozen=True)
@@ -61,6 +80,12 @@ class Param:
     name: str
     span: Span | None = _span()
 
+    def __init__(self, name, span=None):
+        d = self.__dict__
+        d["name"], d["span"] = name, span
+        d.update(_LEAF_ATTRS)
+        d["_fp"] = _names(name)
+
 
 @dataclass(frozen=True)
 class Add:
@@ -68,12 +93,22 @@ class Add:
     right: "Term"
     span: Span | None = _span()
 
+    def __init__(self, left, right, span=None):
+        d = self.__dict__
+        d["left"], d["right"], d["span"] = left, right, span
+        _binary(d, left.__dict__, right.__dict__, False)
+
 
 @dataclass(frozen=True)
 class Mul:
     left: "Term"
     right: "Term"
     span: Span | None = _span()
+
+    def __init__(self, left, right, span=None):
+        d = self.__dict__
+        d["left"], d["right"], d["span"] = left, right, span
+        _binary(d, left.__dict__, right.__dict__, True)
 
 
 @dataclass(frozen=True)
@@ -85,6 +120,11 @@ class Prim:
     arg: "Term"
     span: Span | None = _span()
 
+    def __init__(self, op, arg, span=None):
+        d = self.__dict__
+        d["op"], d["arg"], d["span"] = op, arg, span
+        _unary(d, arg, False if arg._small is not None else None, True, op)
+
 
 @dataclass(frozen=True)
 class Pow:
@@ -93,6 +133,12 @@ class Pow:
     base: "Term"
     exponent: Fraction
     span: Span | None = _span()
+
+    def __init__(self, base, exponent, span=None):
+        d = self.__dict__
+        d["base"], d["exponent"], d["span"] = base, exponent, span
+        _unary(d, base, _small_power(base._small, exponent),
+               type(exponent) is Fraction or isinstance(exponent, Fraction), None)
 
 
 @dataclass(frozen=True)
@@ -103,6 +149,11 @@ class IfGe0:
     then: "Term"
     orelse: "Term"
     span: Span | None = _span()
+
+    def __init__(self, cond, then, orelse, span=None):
+        d = self.__dict__
+        d["cond"], d["then"], d["orelse"], d["span"] = cond, then, orelse, span
+        _annotate(self)
 
 
 @dataclass(frozen=True)
@@ -117,6 +168,11 @@ class IfDiffeo:
     orelse: "Term"
     span: Span | None = _span()
 
+    def __init__(self, psi, then, orelse, span=None):
+        d = self.__dict__
+        d["psi"], d["then"], d["orelse"], d["span"] = psi, then, orelse, span
+        _ifdiffeo(d, psi, then.__dict__, orelse.__dict__)
+
 
 @dataclass(frozen=True)
 class Let:
@@ -126,6 +182,11 @@ class Let:
     bound: "Term"
     body: "Term"
     span: Span | None = _span()
+
+    def __init__(self, name, bound, body, span=None):
+        d = self.__dict__
+        d["name"], d["bound"], d["body"], d["span"] = name, bound, body, span
+        _annotate(self)
 
 
 @dataclass(frozen=True)
@@ -140,6 +201,11 @@ class Call:
     name: str
     args: tuple["Term", ...]
     span: Span | None = _span()
+
+    def __init__(self, module, name, args, span=None):
+        d = self.__dict__
+        d["module"], d["name"], d["args"], d["span"] = module, name, args, span
+        _annotate(self)
 
 
 @dataclass(frozen=True)
@@ -173,6 +239,12 @@ class ImplicitRoot:
     of: int = 0
     span: Span | None = _span()
 
+    def __init__(self, equation, variable, target, lo, hi, index=None, of=0, span=None):
+        d = self.__dict__
+        d["equation"], d["variable"], d["target"], d["lo"], d["hi"] = equation, variable, target, lo, hi
+        d["index"], d["of"], d["span"] = index, of, span
+        _annotate(self)
+
 
 class TooManyRoots(Exception):
     """An indexed :class:`ImplicitRoot` met more sign changes than its ``of`` (the completion
@@ -196,6 +268,10 @@ class InverseBranch:
 
     components: tuple["Term", ...]
     guards: tuple["Term", ...] = ()
+
+    def __init__(self, components, guards=()):  # (frozen: the fields written directly, faster)
+        d = self.__dict__
+        d["components"], d["guards"] = components, guards
 
 
 @dataclass(frozen=True)
@@ -222,6 +298,11 @@ class Diffeo:
     name: str | None = None
     nonzero: tuple["Term", ...] = ()
     span: Span | None = _span()
+
+    def __init__(self, variables, forward, inputs, branches, solved_for=None, name=None, nonzero=(), span=None):
+        d = self.__dict__  # (frozen: the fields written directly, faster)
+        d["variables"], d["forward"], d["inputs"], d["branches"] = variables, forward, inputs, branches
+        d["solved_for"], d["name"], d["nonzero"], d["span"] = solved_for, name, nonzero, span
 
     @property
     def condition(self) -> "Term":
@@ -291,6 +372,7 @@ _EQUAL = threading.local()
 
 def _sharing(cls):
     field_hash, field_eq = cls.__hash__, cls.__eq__
+    leaf = cls.__name__ in ("Const", "Var", "Param")
 
     def __hash__(self):
         try:
@@ -305,8 +387,12 @@ def _sharing(cls):
             return True
         if other.__class__ is not self.__class__:
             return NotImplemented
+        if leaf:  # one field to compare: no DAG to guard against
+            return field_eq(self, other)
         if hash(self) != hash(other):
             return False
+        if self.__dict__.get("_size", REPR_LIMIT) < 64:  # small written out: compared as a tree
+            return field_eq(self, other)
         # Two DAGs equal node for node: each pair of nodes is compared once (while the outermost
         # comparison runs), not once per path.
         known = getattr(_EQUAL, "pairs", None)
@@ -345,6 +431,270 @@ _TERMS = (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, Im
 
 for _cls in (*_TERMS, InverseBranch, Diffeo, Interval, Program):
     _sharing(_cls)
+
+
+# ----------------------------------------------------------------------------------------------
+# Per-node attributes (issue 15).  Every pass of the front end asks the same questions of a term —
+# its free variables and parameters, whether it is smooth or calls a def, its size and depth, its
+# exact value when it is a constant — and a walk per question per pass costs Python's price per
+# node each time.  A term is immutable, so each answer is computed once, bottom-up, when the node
+# is built (its children already carry theirs) and kept in its ``__dict__`` under a name starting
+# with ``_`` (never compared, hashed nor pickled: unpickling recomputes them, ``__setstate__``).
+# The functions below (``free_vars``, ``free_params``, ``smooth``, ``has_calls``, ``tree_size``,
+# ``depth``, ``small_value``, ``all_small``, ``diffeo_variables``) read them.
+#
+# Also kept, for typing (``langur.typesys.well_typed``): the premises of Fig. 6's rules that do not
+# depend on the context Δ; Γ (``_scoped``: conditions of ``ifge0``, bounds of ``let``, a diffeo's
+# own terms are where they must be, exponents are rational), the primitives used (``_ops``), the
+# names ``let`` binds (``_binders``) and the parameters of the diffeos' inverse branches, guards and
+# ``nonzero`` terms (``_dfp``, beside ``free_params``): then ``Δ; Γ ⊢ t`` holds when these and the
+# free variables and parameters fit the context, without a walk.
+
+#: Exact rational constants up to this magnitude count as small (the range check of constants,
+#: T231, is then decided exactly: room to spare below the largest double).
+SMALL = Fraction(int(sys.float_info.max) // 2**10)
+#: Longest denominator (bits) kept exact: beyond it Fraction arithmetic grows quadratically.
+SMALL_BITS = 256
+#: Largest |exponent| of a constant power folded exactly.
+SMALL_EXPONENT = 64
+
+_EMPTY: frozenset = frozenset()
+_SINGLE: dict[str, frozenset] = {}
+
+
+def _names(name: str) -> frozenset:
+    """``frozenset({name})``, one object per name (so that unions of equal sets are no-ops)."""
+    s = _SINGLE.get(name)
+    if s is None:
+        if len(_SINGLE) > 4096:
+            _SINGLE.clear()
+        s = _SINGLE[name] = frozenset((name,))
+    return s
+
+
+def _join(a: frozenset, b: frozenset) -> frozenset:
+    if not b or a is b:
+        return a
+    if not a:
+        return b
+    return a if b <= a else a | b
+
+
+_SMALL_INT = int(SMALL)
+_MINUS_ONE = Fraction(-1)
+
+
+def _in_range(v: Fraction):
+    """``v`` when it is a small rational (``SMALL``, ``SMALL_BITS``), else ``False`` (integer
+    arithmetic: ``|n/d| ≤ SMALL`` is ``|n| ≤ SMALL·d``)."""
+    n, d = v.numerator, v.denominator
+    if d.bit_length() > SMALL_BITS:
+        return False
+    if n.bit_length() < 1000 or abs(n) <= _SMALL_INT * d:  # 2^1000 < SMALL
+        return v
+    return False
+
+
+_LEAF_ATTRS = {"_fv": _EMPTY, "_fp": _EMPTY, "_smooth": True, "_calls": False, "_size": 1, "_depth": 1,
+               "_small": None, "_small_all": True, "_psi_vars": _EMPTY,
+               "_scoped": True, "_ops": _EMPTY, "_binders": _EMPTY, "_dfp": _EMPTY}
+
+
+def _binary(d: dict, a: dict, b: dict, mul: bool) -> None:
+    """The attributes of ``t + s`` or ``t · s`` (``d``) from those of ``t`` (``a``) and ``s`` (``b``)."""
+    x, y = a["_fv"], b["_fv"]
+    d["_fv"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_fp"], b["_fp"]
+    d["_fp"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    d["_smooth"] = a["_smooth"] and b["_smooth"]
+    d["_calls"] = a["_calls"] or b["_calls"]
+    d["_size"] = 1 + a["_size"] + b["_size"]
+    x, y = a["_depth"], b["_depth"]
+    d["_depth"] = 1 + (x if x > y else y)
+    x, y = a["_small"], b["_small"]
+    if x is None or y is None:
+        v = False if x is False or y is False else None
+    elif x is False or y is False:
+        v = False
+    elif mul:  # (x, y small: a product by 1 or a sum with 0 is the other, already in range)
+        v = y if x.numerator == x.denominator else (x if y.numerator == y.denominator else _in_range(x * y))
+    else:
+        v = y if not x else (x if not y else _in_range(x + y))
+    d["_small"] = v
+    d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
+    x, y = a["_psi_vars"], b["_psi_vars"]
+    d["_psi_vars"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    d["_scoped"] = a["_scoped"] and b["_scoped"]
+    x, y = a["_ops"], b["_ops"]
+    d["_ops"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_binders"], b["_binders"]
+    d["_binders"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_dfp"], b["_dfp"]
+    d["_dfp"] = x if (not y or x is y) else (y if not x else _join(x, y))
+
+
+def _small_power(x, k):
+    """The small value of ``t ^ k`` from ``t``'s (``x``)."""
+    if x is None or x is False:
+        return x
+    if (type(k) is Fraction or isinstance(k, (int, Fraction))) and k.denominator == 1 and abs(k) <= SMALL_EXPONENT and (x != 0 or k > 0):
+        return _in_range(x ** int(k))
+    return False
+
+
+def _unary(d: dict, a: "Term", small, scoped: bool, op: str | None) -> None:
+    """The attributes of ``f(t)`` or ``t ^ k`` (``d``) from those of ``t`` (``a``), with its small
+    value, whether its own premise holds (a rational exponent) and its primitive."""
+    d["_fv"], d["_fp"], d["_psi_vars"] = a._fv, a._fp, a._psi_vars
+    d["_smooth"], d["_calls"], d["_size"], d["_depth"] = a._smooth, a._calls, a._size + 1, a._depth + 1
+    d["_small"] = small
+    d["_small_all"] = small is not False and a._small_all
+    d["_scoped"] = scoped and a._scoped
+    d["_ops"] = a._ops if op is None else _join(a._ops, _names(op))
+    d["_binders"], d["_dfp"] = a._binders, a._dfp
+
+
+_INTERNED_SETS: dict = {}
+
+
+def _interned_set(items: tuple) -> frozenset:
+    s = _INTERNED_SETS.get(items)
+    if s is None:
+        if len(_INTERNED_SETS) > 4096:
+            _INTERNED_SETS.clear()
+        s = _INTERNED_SETS[items] = frozenset(items)
+    return s
+
+
+def _diffeo_summary(psi: "Diffeo") -> tuple:
+    """What a diffeomorphic conditional's attributes take from its Ψ̂ (kept on the Diffeo, which
+    several conditionals may share): its condition's parameters, its variables (as a set, and as
+    the one variable list of ``diffeo_variables``), the depth its condition counts for, whether
+    its own premises hold (``_diffeo_scoped``), the primitives and parameters of all its terms."""
+    d = psi.__dict__
+    found = d.get("_summary")
+    if found is None:
+        fp = ops = dfp = _EMPTY
+        for f in psi.forward:
+            fp = _join(fp, f._fp)
+        for u in psi.forward + psi.nonzero + tuple(c for b in psi.branches for c in b.components + b.guards):
+            ops, dfp = _join(ops, u._ops), _join(dfp, _join(u._fp, u._dfp))
+        found = d["_summary"] = (fp, _interned_set(psi.variables), _interned_set((psi.variables,)),
+                                 psi.forward[0]._depth if psi.name is None else 1, _diffeo_scoped(psi), ops, dfp)
+    return found
+
+
+def _ifdiffeo(d: dict, psi: "Diffeo", a: dict, b: dict) -> None:
+    """The attributes of ``ifge0 ⌊Ψ⌋ then s else r`` (``d``) from Ψ's and those of ``s`` (``a``)
+    and ``r`` (``b``)."""
+    fp, xs, pv, cond, scoped, ops, dfp = _diffeo_summary(psi)
+    d["_fv"] = fv = _join(_join(a["_fv"], b["_fv"]), xs)
+    d["_fp"] = fp = _join(_join(a["_fp"], b["_fp"]), fp)
+    d["_psi_vars"] = _join(_join(a["_psi_vars"], b["_psi_vars"]), pv)
+    d["_smooth"] = False
+    d["_calls"] = a["_calls"] or b["_calls"]
+    d["_size"] = 1 + a["_size"] + b["_size"]
+    d["_depth"] = 1 + max(a["_depth"], b["_depth"], cond)
+    d["_small"] = v = False if not fv and not fp else None
+    d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
+    d["_scoped"] = scoped and a["_scoped"] and b["_scoped"]
+    d["_ops"] = _join(_join(a["_ops"], b["_ops"]), ops)
+    d["_binders"] = _join(a["_binders"], b["_binders"])
+    d["_dfp"] = _join(_join(a["_dfp"], b["_dfp"]), dfp)
+
+
+def _annotate(t: "Term") -> None:
+    """Compute and keep ``t``'s attributes from its children's (see above)."""
+    d = t.__dict__
+    if type(t) is IfDiffeo:
+        _ifdiffeo(d, t.psi, t.then.__dict__, t.orelse.__dict__)
+        return
+    kids = children(t)
+    fv = fp = pv = _EMPTY
+    for c in kids:
+        fv, fp, pv = _join(fv, c._fv), _join(fp, c._fp), _join(pv, c._psi_vars)
+    size, deep = 1, 0
+    for c in kids:
+        size += c._size
+        if c._depth > deep:
+            deep = c._depth
+    match t:
+        case Var(name):
+            fv = _names(name)
+        case Param(name):
+            fp = _names(name)
+        case Let(name, bound, body):
+            fp = _join(bound._fp, body._fp - {name} if name in body._fp else body._fp)
+        case ImplicitRoot(eq, x, target, lo, hi):  # binds its variable in its equation
+            fv = _join(_join(eq._fv - {x} if x in eq._fv else eq._fv, target._fv), _join(lo._fv, hi._fv))
+    d["_fv"], d["_fp"], d["_psi_vars"], d["_size"], d["_depth"] = fv, fp, pv, size, deep + 1
+    d["_smooth"] = not isinstance(t, (IfGe0, Call)) and all(c._smooth for c in kids)
+    d["_calls"] = isinstance(t, Call) or any(c._calls for c in kids)
+    match t:
+        case Const(value):
+            v = _in_range(value) if type(value) is Fraction else False
+        case Var() | Param():
+            v = None
+        case Add(a, b) | Mul(a, b):
+            x, y = a._small, b._small
+            if x is False or y is False:
+                v = False
+            elif x is None or y is None:
+                v = None
+            else:
+                v = _in_range(x + y if isinstance(t, Add) else x * y)
+        case Pow(a, k):
+            v = _small_power(a._small, k)
+        case _:
+            v = False if not fv and not fp else None
+    d["_small"] = v
+    d["_small_all"] = v is not False and all(c._small_all for c in kids)
+    scoped = all(c._scoped for c in kids)
+    ops = binders = dfp = _EMPTY
+    for c in kids:
+        ops, binders, dfp = _join(ops, c._ops), _join(binders, c._binders), _join(dfp, c._dfp)
+    match t:
+        case Prim(op, _):
+            ops = _join(ops, _names(op))
+        case Pow(_, k):
+            scoped = scoped and (type(k) is Fraction or isinstance(k, Fraction))
+        case IfGe0(c, _, _):
+            scoped = scoped and not c._fv
+        case Let(name, bound, body):
+            scoped = scoped and not bound._fv
+            binders = _join(binders, _names(name))
+            dfp = _join(bound._dfp, body._dfp - {name} if name in body._dfp else body._dfp)
+        case ImplicitRoot(eq, _, _, lo, hi):
+            scoped = scoped and not lo._fv and not hi._fv and not eq._binders
+    d["_scoped"], d["_ops"], d["_binders"], d["_dfp"] = scoped, ops, binders, dfp
+
+
+def _diffeo_scoped(psi: "Diffeo") -> bool:
+    """The premises of Fig. 6's diffeomorphic conditional that do not depend on the context (see
+    ``typesys.type_diffeo``): distinct variables, as many components and inputs as variables,
+    components over the variables, inverse branches (and guards) over the inputs, ``nonzero``
+    terms variable-free, each of these terms itself scoped and binding no name."""
+    xs, us, n = frozenset(psi.variables), frozenset(psi.inputs), len(psi.variables)
+    if len(xs) != n or len(psi.forward) != n or len(psi.inputs) != n:
+        return False
+    if not all(f._scoped and not f._binders and f._fv <= xs for f in psi.forward):
+        return False
+    if not all(z._scoped and not z._binders and not z._fv for z in psi.nonzero):
+        return False
+    return all(len(b.components) == n and all(c._scoped and not c._binders and c._fv <= us
+                                              for c in b.components + b.guards) for b in psi.branches)
+
+
+def _setstate(self, state: dict) -> None:  # unpickled: the attributes computed again
+    self.__dict__.update(state)
+    if type(self) in (Const, Var, Param):
+        self.__init__(**state)
+    elif type(self) in _TERMS:
+        _annotate(self)
+
+
+for _cls in _TERMS:
+    _cls.__setstate__ = _setstate
 
 
 _SCOPE = threading.local()
@@ -390,7 +740,7 @@ def const(v: int | Fraction | str) -> Const:
 
 
 def neg(t: Term) -> Term:
-    return Mul(Const(Fraction(-1)), t)
+    return Mul(Const(_MINUS_ONE), t)
 
 
 def product(factors: list[Term], span: Span | None = None) -> Term:
@@ -406,7 +756,7 @@ def sub(t: Term, s: Term) -> Term:
 
 
 def div(t: Term, s: Term) -> Term:
-    return Mul(t, Pow(s, Fraction(-1)))
+    return Mul(t, Pow(s, _MINUS_ONE))
 
 
 def children(t: Term) -> tuple[Term, ...]:
@@ -445,68 +795,57 @@ def subterms(t: Term):
         stack.extend(reversed(children(u)))
 
 
-def _kept(t: Term, name: str, compute: Callable[[], T]) -> T:
-    """``compute()``, kept on the node under ``name``: a shared term costs once."""
-    try:
-        return t.__dict__[name]
-    except KeyError:
-        out = compute()
-        object.__setattr__(t, name, out)
-        return out
-
-
 def free_vars(t: Term) -> frozenset[str]:
-    """Names of variables occurring in ``t`` (including in diffeomorphic conditions)."""
-    match t:
-        case Var(name):
-            return frozenset({name})
-        case IfDiffeo(psi, a, b):
-            return _kept(t, "_fv", lambda: frozenset(psi.variables) | free_vars(a) | free_vars(b))
-        case ImplicitRoot(eq, x, target, lo, hi):  # binds its variable in its equation
-            return _kept(t, "_fv", lambda: (free_vars(eq) - {x}) | free_vars(target) | free_vars(lo) | free_vars(hi))
-        case _:
-            return _kept(t, "_fv", lambda: frozenset().union(*(free_vars(c) for c in children(t))))
+    """Names of variables occurring in ``t`` (including in diffeomorphic conditions; an implicit
+    root binds its variable in its equation)."""
+    return t._fv
 
 
 def free_params(t: Term) -> frozenset[str]:
-    """Names of parameters occurring free in ``t`` (``let`` binds its name in its body)."""
-    match t:
-        case Param(name):
-            return frozenset({name})
-        case Let(name, bound, body):
-            return _kept(t, "_fp", lambda: free_params(bound) | (free_params(body) - {name}))
-        case IfDiffeo(psi, a, b):
-            return _kept(t, "_fp", lambda: diffeo_params(psi) | free_params(a) | free_params(b))
-        case _:
-            return _kept(t, "_fp", lambda: frozenset().union(*(free_params(c) for c in children(t))))
+    """Names of parameters occurring free in ``t`` (``let`` binds its name in its body; a
+    diffeomorphic conditional's include its condition's)."""
+    return t._fp
 
 
 def smooth(t: Term) -> bool:
     """No conditional and no call in ``t``: ⟦t⟧ is a smooth expression (where it is defined)."""
-    match t:
-        case IfGe0() | IfDiffeo() | Call():
-            return False
-        case Const() | Var() | Param():
-            return True
-        case _:
-            return _kept(t, "_smooth", lambda: all(smooth(c) for c in children(t)))
+    return t._smooth
+
+
+def has_calls(t: Term) -> bool:
+    """Whether ``t`` contains a ``Call``."""
+    return t._calls
 
 
 def tree_size(t: Term) -> int:
-    """The number of nodes of ``t`` counted once per path (its size written out as a tree),
-    computed once per distinct node and kept on it (a subterm shared with an earlier program
-    costs nothing)."""
-    stack = [(t, False)]
-    while stack:
-        u, done = stack.pop()
-        if "_size" in u.__dict__:
-            continue
-        if done:
-            u.__dict__["_size"] = 1 + sum(c.__dict__["_size"] for c in children(u))
-            continue
-        stack.append((u, True))
-        stack.extend((c, False) for c in children(u) if "_size" not in c.__dict__)
-    return t.__dict__["_size"]
+    """The number of nodes of ``t`` counted once per path (its size written out as a tree)."""
+    return t._size
+
+
+def depth(t: Term) -> int:
+    """The nesting depth of ``t`` (a leaf is 1); a completed condition (``Diffeo.name`` None)
+    counts as a child of its conditional, a declared diffeo as a leaf: what the inlined program's
+    depth limit (T230, ``langur.syntax.inline``) measures."""
+    return t._depth
+
+
+def small_value(t: Term):
+    """The exact value of the constant (variable-free, parameter-free) term ``t`` when rational
+    arithmetic on small numbers decides it (every constant a rational of magnitude ≤ ``SMALL``
+    with a denominator of at most ``SMALL_BITS`` bits, integer powers up to ``SMALL_EXPONENT``);
+    ``None`` when ``t`` is not constant; ``False`` when it is but not decided so (π, primitives,
+    fractional powers, large values)."""
+    return t._small
+
+
+def all_small(t: Term) -> bool:
+    """Every subterm of ``t`` has a :func:`small_value` that is not ``False``."""
+    return t._small_all
+
+
+def diffeo_variables(t: Term) -> frozenset[tuple[str, ...]]:
+    """The variable lists of the diffeomorphic conditionals in ``t``."""
+    return t._psi_vars
 
 
 def diffeo_params(psi: Diffeo) -> frozenset[str]:

@@ -41,8 +41,8 @@ from .core import (
     Program,
     Term,
     Var,
-    children,
-    free_params,
+    all_small,
+    diffeo_variables,
     free_vars,
     shared,
     subterms,
@@ -211,6 +211,25 @@ def _interned(s: frozenset) -> frozenset:
     return _INTERNED.setdefault(s, s)
 
 
+_KNOWN_PRIMITIVES = frozenset(ALL_PRIMITIVES)
+
+
+def well_typed(delta: frozenset[str], gamma: frozenset[str], t: Term) -> bool:
+    """Whether ``Δ; Γ ⊢ t`` holds, read off the attributes ``t`` keeps (``langur.core``, "per-node
+    attributes"): the premises of Fig. 6's rules that do not depend on the context hold everywhere
+    in ``t`` (``_scoped``), its free variables — with those of its diffeomorphic conditions — are
+    in Δ (variable, diffeomorphic conditional), its parameters — with its diffeos' — in Γ
+    (parameter), no ``let`` binds a variable of Δ (let) and every primitive is known.  A
+    sufficient condition, checked in constant time: when it fails, :func:`type_term` applies the
+    rules one by one and reports what they find (it finds nothing when this holds:
+    ``proofs_tests/test_typing_attributes.py`` compares the two)."""
+    try:
+        return (t._scoped and t._fv <= delta and t._fp <= gamma and t._dfp <= gamma
+                and t._ops <= _KNOWN_PRIMITIVES and t._binders.isdisjoint(delta))
+    except AttributeError:  # not a core term: the rules say why
+        return False
+
+
 def _remembered(fn):
     """While :func:`type_program` runs (and no observer records the derivation: ``show --typing``
     sees every rule), ``Δ; Γ ⊢ t`` is checked once per distinct node and context, as
@@ -223,6 +242,8 @@ def _remembered(fn):
 
     @functools.wraps(fn)
     def wrapper(delta, gamma, t, out):
+        if not _watched() and well_typed(delta, gamma, t):
+            return None  # every rule's premises hold: the rules would add no diagnostic
         visited = getattr(_CHECKING, "visited", None)
         if visited is None:
             return fn(delta, gamma, t, out)
@@ -325,6 +346,16 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
             raise TypeError(f"not a core term: {t!r}")
 
 
+_TYPE_TERM = type_term
+
+
+def _watched() -> bool:
+    """Whether the rules are watched one by one: an observer records them (``show --typing``), or
+    :func:`type_term` was replaced by a wrapper that sees each of its calls (the campaigns' rule
+    coverage, ``langur.fuzz.coverage``).  Then typing is not read off the kept attributes."""
+    return observe.active() or type_term is not _TYPE_TERM
+
+
 def type_diffeo(delta: frozenset[str], gamma: frozenset[str], psi: Diffeo, out: list[Diagnostic], span=None) -> None:
     """The premise of Fig. 6's diffeomorphic conditional: Ψ̂'s inputs are variables of Δ, its
     components terms over them and Γ; the inverse's branches terms over its inputs and Γ.  That
@@ -386,7 +417,7 @@ def _type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
                  delta=frozenset(p.variables), gamma=gamma)
     type_term(frozenset(p.variables), gamma, p.body, out)
     # after inlining every diffeomorphic condition is over all the program's variables
-    for u in _ifdiffeos(p.body) if _diffeo_variables(p.body) - {p.variables} else ():
+    for u in _ifdiffeos(p.body) if diffeo_variables(p.body) - {p.variables} else ():
         if u.psi.variables != p.variables:
             out.append(reject_diffeo_args(u.span, u.psi.name or "(completed)",
                                           f"over {u.psi.variables}, not the program's variables {p.variables}"))
@@ -405,7 +436,7 @@ def out_of_range(t: Term) -> list[Diagnostic]:
     """T231 for the first constant subterm (no variable, no parameter) whose exact value lies
     beyond the range of doubles (``10^400``, ``1e200 * 1e200``): the literals themselves are in
     range (E106), but the numeric engines compute in doubles and would see ±∞ there."""
-    if _all_rational_and_small(t):
+    if all_small(t):
         return []  # no constant near the range of doubles: decided exactly, without mpmath
     limit = mpmath.mpf(sys.float_info.max)
     memo: dict[int, object] = {}
@@ -417,65 +448,6 @@ def out_of_range(t: Term) -> list[Diagnostic]:
                          "engines (quadrature, Monte Carlo) compute in doubles and would see an infinity "
                          "(rescale the program)")]
     return []
-
-
-#: Exact rational constants up to this magnitude are in range, with room to spare (30-digit rounding).
-_SMALL = Fraction(int(sys.float_info.max) // 2**10)
-#: Longest denominator (bits) kept exact: beyond it Fraction arithmetic grows quadratically.
-_BITS = 256
-
-
-def _all_rational_and_small(t: Term) -> bool:
-    """Every constant subterm of ``t`` is a rational of magnitude ≤ :data:`_SMALL` (exact Fraction
-    arithmetic; π, primitives, fractional or large powers of constants: ``False``, mpmath decides).
-    Both answers are kept on the nodes (a pure function of the term): a subterm shared with an
-    earlier program (the scene of a shader swap) costs nothing the second time."""
-    d = t.__dict__
-    ok = d.get("_small_all")
-    if ok is None:
-        ok = _small_value(t) is not False
-        if ok:
-            for c in children(t):
-                if not _all_rational_and_small(c):
-                    ok = False
-                    break
-        d["_small_all"] = ok
-    return ok
-
-
-def _small_value(u: Term):
-    """The exact value of the constant term ``u`` when it is a small rational; ``None`` when ``u``
-    is not constant; ``False`` when it is but not decided here (kept on the node)."""
-    d = u.__dict__
-    if "_small" in d:
-        return d["_small"]
-    match u:
-        case Const(value) if type(value) is Fraction:
-            v = value
-        case Add(a, b) | Mul(a, b):
-            x, y = _small_value(a), _small_value(b)
-            if x is False or y is False:
-                v = False
-            elif x is None or y is None:
-                v = None
-            else:
-                v = x + y if isinstance(u, Add) else x * y
-        case Pow(a, k):
-            x = _small_value(a)
-            if x is None or x is False:
-                v = x
-            elif k.denominator == 1 and abs(k) <= 64 and (x != 0 or k > 0):
-                v = x ** int(k)
-            else:
-                v = False
-        case Var() | Param():
-            v = None
-        case _:
-            v = False if not free_vars(u) and not free_params(u) else None
-    if type(v) is Fraction and (abs(v) > _SMALL or v.denominator.bit_length() > _BITS):
-        v = False  # large, or a long exact fraction (a product of 10⁴ factors): mpmath decides
-    d["_small"] = v
-    return v
 
 
 def _constant(t: Term, memo: dict[int, object]):
@@ -511,23 +483,6 @@ def _constant(t: Term, memo: dict[int, object]):
     return v
 
 
-def _diffeo_variables(t: Term) -> frozenset[tuple[str, ...]]:
-    """The variable lists of the diffeomorphic conditionals in ``t`` (kept on the nodes)."""
-    d = t.__dict__
-    found = d.get("_psi_vars")
-    if found is None:
-        found = _NONE
-        for c in children(t):
-            more = _diffeo_variables(c)
-            if more is not found and more:
-                found = _interned(found | more) if found else more
-        if isinstance(t, IfDiffeo) and t.psi.variables not in found:
-            found = _interned(found | {t.psi.variables})
-        d["_psi_vars"] = found
-    return found
-
-
-_NONE: frozenset = frozenset()
 
 
 def _ifdiffeos(t: Term):

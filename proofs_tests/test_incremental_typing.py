@@ -168,8 +168,16 @@ def test_the_depth_of_a_program_without_calls_is_the_measures_own(name):
     path = os.path.join(os.path.dirname(__file__), "..", "examples", f"{name}.lgr")
     loaded = frontend.load(path)
     body = loaded.program.body
-    # the general measure on a copy that knows nothing about its calls, against the kept one
-    general = inline_module._Depth(lambda m, n: None).of(_fresh(body), {})
+    # the depth kept on the nodes (computed bottom-up when they were built, and again when
+    # unpickled), against a measure written out here: a leaf is 1, a completed condition a child
+    from langur.core import IfDiffeo, children, depth
+
+    def measured(t):
+        below = [measured(c) for c in children(t)]
+        if isinstance(t, IfDiffeo):
+            below.append(measured(t.psi.forward[0]) if t.psi.name is None else 1)
+        return 1 + max(below, default=0)
+
     own = _fresh(body)
     assert not inline_module.has_calls(own)
-    assert inline_module._own_depth(own) == general > 3
+    assert depth(own) == depth(body) == inline_module._Depth(lambda m, n: None).of(own, {}) == measured(body) > 3

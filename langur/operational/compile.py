@@ -97,7 +97,10 @@ class Point:
         """The same point and parameters without any derivative (conditions are values only)."""
         if self.mode == VALUE:
             return self
-        return Point(self.vars, self.params, root=self.root and (self.root[0], {}))
+        found = self.memo.get(_VALUES)  # made once per point (every condition reads it)
+        if found is None:
+            found = self.memo[_VALUES] = Point(self.vars, self.params, root=self.root and (self.root[0], {}))
+        return found
 
     def bind(self, name: str, v, d) -> Point:
         """``γ[z ↦ v]``, ``γ'[z ↦ d]`` (Fig. 8, let)."""
@@ -111,6 +114,9 @@ class Point:
         return Point(self.vars, {**self.params, name: v}, self.dvars, dp, self.mode, self.site, self.sites,
                      self.root or (self.params, self.dparams))
 
+
+#: The key of :meth:`Point.values`'s point in :attr:`Point.memo` (the shared subterms' keys are ints).
+_VALUES = "values"
 
 Fn = Callable[[Point, Linking], tuple]
 
@@ -207,7 +213,8 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
     declared params) is then looked up among the program's parameters (``point.root``), so a
     linked call binds only its arguments.  ``None``: every parameter is in ``point.params``."""
     ctx = _Ctx([], local, _Sharing(t))
-    fn = _compile(t, ctx)
+    with np.errstate(all="ignore"):  # constants are folded now (a NaN is a value, as when evaluated)
+        fn = _compile(t, ctx)
     return Unit(fn, ctx.slots)
 
 
@@ -237,32 +244,31 @@ class _Sharing:
 
     def __init__(self, t: Term):
         self.refs: dict[int, int] = {}
-        self.pure: dict[int, bool] = {}
         self.compiled: dict[tuple, Fn] = {}
         self.keep = t  # the term stays alive, so the ids above stay its own
         self._count(t)
 
     def _count(self, root: Term) -> None:
-        self.refs[id(root)] = 1
-        seen, stack = set(), [(root, False)]
-        while stack:  # depth first, each distinct node expanded once (its references counted)
-            t, done = stack.pop()
-            if done:  # all its children are done (a DAG has no cycle)
-                self.pure[id(t)] = (not isinstance(t, (IfDiffeo, Call))
-                                    and all(self.pure[id(c)] for c in _children(t)))
-                continue
-            if id(t) in seen:
-                continue
-            seen.add(id(t))
-            stack.append((t, True))
-            for c in _children(t):
-                self.refs[id(c)] = self.refs.get(id(c), 0) + 1
-                if id(c) not in seen:
-                    stack.append((c, False))
+        refs = self.refs
+        refs[id(root)] = 1
+        stack = [root]
+        while stack:  # each distinct node expanded once (its children's references counted)
+            for c in _children(stack.pop()):
+                if type(c) in _LEAVES:
+                    continue  # never shared
+                n = refs.get(id(c))
+                if n is None:
+                    refs[id(c)] = 1
+                    stack.append(c)
+                else:
+                    refs[id(c)] = n + 1
 
     def shared(self, t: Term) -> bool:
-        return (self.refs.get(id(t), 0) > 1 and self.pure.get(id(t), False)
-                and not isinstance(t, (Const, Var, Param)))
+        # pure: no site nor call below (the kept attributes: no diffeomorphic conditional, no call)
+        return self.refs.get(id(t), 0) > 1 and not t._psi_vars and not t._calls
+
+
+_LEAVES = (Const, Var, Param)
 
 
 def _children(t: Term) -> tuple:
@@ -285,6 +291,11 @@ def _children(t: Term) -> tuple:
 
 
 def _compile(t: Term, ctx: _Ctx) -> Fn:
+    if type(t) is not Const:
+        c = _constant(t)
+        if c is not None:
+            # a constant: its value computed now, by the same operations its closures would run
+            return lambda pt, lk: (c, None)
     sharing = ctx.sharing
     if sharing.shared(t):
         key = (id(t), ctx.local)
@@ -293,6 +304,47 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
             fn = sharing.compiled[key] = _shared(_compile_node(t, ctx), next(_KEYS), sharing.refs[id(t)])
         return fn
     return _compile_node(t, ctx)
+
+
+_NOT_YET = object()
+
+
+def _constant(t: Term):
+    """:func:`_fold` of ``t`` when it has no variable, parameter or call (kept on the node: a
+    number that only depends on the term), else None."""
+    if t._fv or t._fp or t._calls:
+        return None
+    d = t.__dict__
+    v = d.get("_folded", _NOT_YET)
+    if v is _NOT_YET:
+        v = d["_folded"] = _fold(t)
+    return v
+
+
+def _fold(t: Term):
+    """The value of a constant term (no variable, parameter or call) built of constants, sums,
+    products, powers and primitives, computed by exactly the floating-point operations of the
+    closures :func:`_compile_node` would build for it (so evaluating it once at compile time gives
+    the very numbers every evaluation would: a variable-free subterm evaluates to a scalar); None
+    for any other term."""
+    match t:
+        case Const():
+            return const_value(t)
+        case Add(a, b) | Mul(a, b):
+            x = _fold(a)
+            if x is None:
+                return None
+            y = _fold(b)
+            if y is None:
+                return None
+            return x + y if type(t) is Add else x * y
+        case Pow(a, k):
+            x = _fold(a)
+            return None if x is None else power(x, k)
+        case Prim(op, a):
+            x = _fold(a)
+            return None if x is None else REGISTRY[op].value(x)
+    return None
 
 
 def _shared(f: Fn, key: int, uses: int) -> Fn:
@@ -332,6 +384,17 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
         case Add(left, right):
             # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈
             f, g = _compile(left, ctx), _compile(right, ctx)
+            cl, cr = _constant(left), _constant(right)
+            if cr is not None:  # t + c (⦇c⦈ = 0): the same operation, one call fewer
+                def add_constant(pt, lk):
+                    a, da = f(pt, lk)
+                    return a + cr, da
+                return add_constant
+            if cl is not None:
+                def constant_add(pt, lk):
+                    b, db = g(pt, lk)
+                    return cl + b, db
+                return constant_add
 
             def add(pt, lk):
                 a, da = f(pt, lk)
@@ -341,6 +404,17 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
         case Mul(left, right):
             # Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
             f, g = _compile(left, ctx), _compile(right, ctx)
+            cl, cr = _constant(left), _constant(right)
+            if cr is not None:  # t · c (⦇c⦈ = 0): ⦇t⦈·c
+                def mul_constant(pt, lk):
+                    a, da = f(pt, lk)
+                    return a * cr, (None if da is None else da * cr)
+                return mul_constant
+            if cl is not None:
+                def constant_mul(pt, lk):
+                    b, db = g(pt, lk)
+                    return cl * b, (None if db is None else db * cl)
+                return constant_mul
 
             def mul(pt, lk):
                 a, da = f(pt, lk)

@@ -247,6 +247,8 @@ class SiteSampler:
         weight = |det DΨ̂_b⁻¹(0, u')| (forward mode, one pass per input) and valid = all guards ≥ 0.
         """
         n = unit.shape[0]
+        if not region and not self.coords:  # one variable: the zero set is points, u' has no coordinate
+            return 1.0, self._map({self.psi.inputs[0]: np.zeros(n)}, n, params, None)
         lo = np.array([[r[0] for r in region]], dtype=float).reshape(1, len(region))
         hi = np.array([[r[1] for r in region]], dtype=float).reshape(1, len(region))
         if len(self.coords) == 1 and self.has_guards:

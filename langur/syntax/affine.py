@@ -26,7 +26,21 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from ..core import Add, Const, Diffeo, InverseBranch, Mul, Param, Pow, Term, Var, free_params, free_vars
+from ..core import (
+    Add,
+    Const,
+    Diffeo,
+    InverseBranch,
+    Mul,
+    Param,
+    Pow,
+    Term,
+    Var,
+    free_params,
+    free_vars,
+    small_value,
+    tree_size,
+)
 
 #: Largest |exponent| folded exactly (``2^k`` with a constant base): beyond it, the sympy path.
 MAX_EXPONENT = 64
@@ -50,7 +64,10 @@ def fresh_inputs(n: int, taken: set[str]) -> tuple[str, ...]:
 
 def linear(t: Term) -> Linear | None:
     """``t`` as an affine form with rational coefficients, or ``None`` if it is not one.  A term
-    shared after inlining (a DAG: ``let v = v + v`` forty times) is read once per distinct node."""
+    shared after inlining (a DAG: ``let v = v + v`` forty times) is read once per distinct node
+    (a small term, under 64 nodes written out, is read as a tree)."""
+    if tree_size(t) < 64:
+        return _tree_linear(t)
     memo: dict[int, Linear | None] = {}
 
     def go(u: Term) -> Linear | None:
@@ -62,27 +79,44 @@ def linear(t: Term) -> Linear | None:
     return go(t)
 
 
+def _tree_linear(t: Term) -> Linear | None:
+    return _linear(t, _tree_linear)
+
+
+_ZERO, _ONE = Fraction(0), Fraction(1)
+
+
 def _linear(t: Term, linear) -> Linear | None:
     """One node of :func:`linear` (``linear`` reads the children)."""
+    v = small_value(t)
+    if v is not None and v is not False:
+        return {}, v  # a constant whose exact value the node keeps: the same rational, no walk
     match t:
-        case Const(value) if isinstance(value, Fraction):
+        case Const(value) if type(value) is Fraction or isinstance(value, Fraction):
             return {}, value
         case Var(name):
-            return {("v", name): Fraction(1)}, Fraction(0)
+            return {("v", name): _ONE}, _ZERO
         case Param(name):
-            return {("p", name): Fraction(1)}, Fraction(0)
+            return {("p", name): _ONE}, _ZERO
         case Add(a, b):
             la, lb = linear(a), linear(b)
             if la is None or lb is None:
                 return None
+            ca, cb = la[1], lb[1]
+            constant = cb if not ca else (ca if not cb else ca + cb)
+            if not lb[0] or not la[0]:  # (forms are never changed once built: they may be shared)
+                return (la[0] or lb[0]), constant
             coeffs = dict(la[0])
             for k, c in lb[0].items():
-                s = coeffs.get(k, Fraction(0)) + c
+                if k not in coeffs:
+                    coeffs[k] = c
+                    continue
+                s = coeffs[k] + c
                 if s:
                     coeffs[k] = s
                 else:
-                    coeffs.pop(k, None)
-            return coeffs, la[1] + lb[1]
+                    del coeffs[k]
+            return coeffs, constant
         case Mul(a, b):
             la = linear(a)
             lb = linear(b) if la is not None else None
@@ -92,7 +126,9 @@ def _linear(t: Term, linear) -> Linear | None:
                 return None  # a product of two non-constant forms is not affine
             c, form = (la[1], lb) if not la[0] else (lb[1], la)
             if not c:
-                return {}, Fraction(0)
+                return {}, _ZERO
+            if c == 1:
+                return form
             return {k: c * v for k, v in form[0].items()}, c * form[1]
         case Pow(base, k):
             lb = linear(base)
@@ -133,13 +169,14 @@ def complete(cond: Term, variables: tuple[str, ...]) -> Diffeo | None:
     others = [x for x in variables if x != v]
     renamed = {x: u for x, u in zip(others, inputs[1:])}
     a = coeffs[("v", v)]
+    over = (lambda c: -c) if a == 1 else (lambda c: -c / a)  # −c/a
     terms: list[tuple[str, str, Fraction]] = [(inputs[0], "v", 1 / a)]
     for (kind, name), c in coeffs.items():
         if kind == "p":
-            terms.append((name, "p", -c / a))
+            terms.append((name, "p", over(c)))
         elif name != v:
-            terms.append((renamed[name], "v", -c / a))
-    solution = _ordered(-c0 / a, terms)
+            terms.append((renamed[name], "v", over(c)))
+    solution = _ordered(over(c0), terms)
     components = tuple(solution if x == v else Var(renamed[x]) for x in variables)
     return Diffeo(variables=tuple(variables), forward=(cond,) + tuple(Var(x) for x in others), inputs=inputs,
                   branches=(InverseBranch(components, ()),), solved_for=v, name=None, nonzero=(),

@@ -217,22 +217,10 @@ class Desugarer:
         """The core term of the surface term ``st``, or the vector of core terms it denotes
         (LANGUAGE.md §6, the sugar table)."""
         span = getattr(st, "span", None)
-        match st:
-            case Num(v):
-                # a decimal literal, read exactly
-                return Const(v, span=span)
+        match st:  # (the most frequent forms first: each case is a class test)
             case Name():
                 # a variable, parameter, let-bound name, def argument, or pi
                 return self.name(st, sc)
-            case Neg(Num(v)):
-                # a negative literal is Const(-k)
-                return Const(-v, span=span)
-            case Neg(a):
-                # unary −t is (−1)·t; −u of a vector is each component's
-                arg = self.value(a, sc)
-                if isinstance(arg, Vec):
-                    return vectors.negate(arg)
-                return Mul(Const(Fraction(-1)), arg, span=span)
             case BinOp("^"):
                 # t ^ k with k a constant rational (T213 otherwise)
                 return self.power(st, sc)
@@ -245,12 +233,24 @@ class Desugarer:
                 if op == "+":
                     return Add(left, right, span=span)
                 if op == "-":
-                    return replace(sub(left, right), span=span)
+                    return Add(left, neg(right), span=span)
                 if op == "*":
                     return Mul(left, right, span=span)
                 if op == "/":
                     return Mul(left, Pow(right, Fraction(-1), span=span), span=span)
                 raise ValueError(f"unknown operator {op}")
+            case Num(v):
+                # a decimal literal, read exactly
+                return Const(v, span=span)
+            case Neg(Num(v)):
+                # a negative literal is Const(-k)
+                return Const(-v, span=span)
+            case Neg(a):
+                # unary −t is (−1)·t; −u of a vector is each component's
+                arg = self.value(a, sc)
+                if isinstance(arg, Vec):
+                    return vectors.negate(arg)
+                return Mul(Const(Fraction(-1)), arg, span=span)
             case Apply("dot" | "cross" as f, args):
                 # dot(u, v) is u1·v1 + … + un·vn; cross(u, v) of 3-vectors
                 if len(args) != 2:

@@ -36,8 +36,10 @@ from ..core import (
     Term,
     Var,
     children,
+    depth,
     free_params,
     free_vars,
+    has_calls,
     map_children,
     substitute,
     subterms,
@@ -63,7 +65,6 @@ def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program
     """``program`` with every ``Call`` inlined (recursively), a call with the same arguments as an
     earlier one shared; raises LangurError (T207, T217, T221, T230)."""
     lookup = lambda m, n: modules[m].defs.get(n) if m in modules else None  # noqa: E731
-    has_calls(program.integrand)  # what calls nothing is then measured by _own_depth
     try:
         too_large = _too_large(program, lookup)
         if too_large:
@@ -281,10 +282,10 @@ class _Depth:
         """Depth of ``t`` inlined, where a name of ``env`` stands for a term that deep.  A term that
         shares subterms (a let-bound vector's components are substituted where it is used: a DAG
         even before inlining) is measured in time linear in its distinct nodes.  A term known to
-        call nothing (:func:`has_calls`), where no name stands for anything, has its own depth
-        (:func:`_own_depth`, kept on its nodes: the scene of a shader swap is measured once)."""
-        if not env and t.__dict__.get("_calls") is False:  # known to call nothing (has_calls)
-            return _own_depth(t)
+        call nothing, where no name stands for anything, has its own depth (:func:`langur.core.depth`,
+        kept on its nodes)."""
+        if not env and not has_calls(t):
+            return depth(t)
         key = (id(t), tuple(env.items())) if env else id(t)
         k = self.nodes.get(key)
         if k is None:
@@ -314,40 +315,6 @@ class _Depth:
                 return self.memo[key]
             case _:
                 return 1 + max((self.of(c, env) for c in _children(t)), default=0)
-
-
-def _own_depth(t: Term) -> int:
-    """The depth of a term that calls nothing (a completed condition counts, as in
-    :meth:`_Depth._of`), kept on its nodes; one frame per level."""
-    d = t.__dict__
-    k = d.get("_depth")
-    if k is None:
-        k = 0
-        for c in children(t):
-            kc = _own_depth(c)
-            if kc > k:
-                k = kc
-        if isinstance(t, IfDiffeo):
-            kc = _own_depth(t.psi.forward[0]) if t.psi.name is None else 1
-            if kc > k:
-                k = kc
-        k = d["_depth"] = k + 1
-    return k
-
-
-def has_calls(t: Term) -> bool:
-    """Whether ``t`` contains a ``Call`` (kept on the node: a shared subterm is searched once)."""
-    d = t.__dict__
-    found = d.get("_calls")
-    if found is None:
-        found = isinstance(t, Call)
-        if not found:
-            for c in children(t):
-                if has_calls(c):
-                    found = True
-                    break
-        d["_calls"] = found
-    return found
 
 
 def _rebuilt(t: Term, f) -> Term:
