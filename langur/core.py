@@ -158,7 +158,10 @@ class ImplicitRoot:
     * ``index`` is k: the k-th (from 0, increasing) of the points of ``[lo, hi]`` where
       ``equation − target`` changes sign, ``hi`` when there are only k or fewer; there must be at
       most ``of`` of them, or the term is undefined and evaluating it raises :class:`TooManyRoots`
-      (a turning point that moves with the parameters, ``equation`` = ∂f/∂x).
+      (a turning point that moves with the parameters, ``equation`` = ∂f/∂x).  ``slope`` is then
+      ∂equation/∂variable as a term (over the same names): where an interval enclosure of it
+      excludes 0 on a cell, ``equation`` has at most one zero there, so the engines certify that
+      they miss no sign change (issue 18); without it they refuse to evaluate the term.
 
     Its derivative is the implicit function theorem's: ``∂x* = (∂target − ∂equation/∂θ · ∂θ) /
     ∂equation/∂x`` at ``x*``.
@@ -171,12 +174,18 @@ class ImplicitRoot:
     hi: "Term"
     index: int | None = None
     of: int = 0
+    slope: "Term | None" = None
     span: Span | None = _span()
 
 
 class TooManyRoots(Exception):
     """An indexed :class:`ImplicitRoot` met more sign changes than its ``of`` (the completion
-    split the domain into that many pieces at most)."""
+    split the domain into that many pieces at most), or sign changes it cannot certify it counted
+    all of; ``span``: the condition's place in the source (issue 18)."""
+
+    def __init__(self, message: str, span: Span | None = None):
+        super().__init__(message)
+        self.span = span
 
 
 Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot]
@@ -426,8 +435,8 @@ def children(t: Term) -> tuple[Term, ...]:
             return (a, b)
         case Call(_, _, args):
             return tuple(args)
-        case ImplicitRoot(eq, _, target, lo, hi):
-            return (eq, target, lo, hi)
+        case ImplicitRoot(eq, _, target, lo, hi, slope=slope):
+            return (eq, target, lo, hi) if slope is None else (eq, target, lo, hi, slope)
     raise TypeError(f"not a core term: {t!r}")
 
 
@@ -462,8 +471,9 @@ def free_vars(t: Term) -> frozenset[str]:
             return frozenset({name})
         case IfDiffeo(psi, a, b):
             return _kept(t, "_fv", lambda: frozenset(psi.variables) | free_vars(a) | free_vars(b))
-        case ImplicitRoot(eq, x, target, lo, hi):  # binds its variable in its equation
-            return _kept(t, "_fv", lambda: (free_vars(eq) - {x}) | free_vars(target) | free_vars(lo) | free_vars(hi))
+        case ImplicitRoot(eq, x, target, lo, hi, slope=slope):  # binds its variable in its equation (and slope)
+            return _kept(t, "_fv", lambda: ((free_vars(eq) | (free_vars(slope) if slope is not None else frozenset()))
+                                            - {x}) | free_vars(target) | free_vars(lo) | free_vars(hi))
         case _:
             return _kept(t, "_fv", lambda: frozenset().union(*(free_vars(c) for c in children(t))))
 
@@ -543,10 +553,10 @@ def substitute(
                 return replace(u, bound=go(bound, ps), body=go(body, inner))
             case IfDiffeo(psi, a, b):
                 return replace(u, psi=substitute_diffeo(psi, variables, ps), then=go(a, ps), orelse=go(b, ps))
-            case ImplicitRoot(eq, x, target, lo, hi):  # its variable is bound in its equation
+            case ImplicitRoot(eq, x, target, lo, hi, slope=slope):  # its variable is bound in its equation
                 inner = {k: v for k, v in variables.items() if k != x}
                 return replace(u, equation=substitute(eq, inner, ps), target=go(target, ps), lo=go(lo, ps),
-                               hi=go(hi, ps))
+                               hi=go(hi, ps), slope=None if slope is None else substitute(slope, inner, ps))
             case _:
                 return map_children(u, lambda c: go(c, ps))
 
@@ -574,8 +584,9 @@ def map_children(t: Term, f: Callable[[Term], Term]) -> Term:
             return replace(t, bound=f(a), body=f(b))
         case Call(_, _, args):
             return replace(t, args=tuple(f(a) for a in args))
-        case ImplicitRoot(eq, _, target, lo, hi):
-            return replace(t, equation=f(eq), target=f(target), lo=f(lo), hi=f(hi))
+        case ImplicitRoot(eq, _, target, lo, hi, slope=slope):
+            return replace(t, equation=f(eq), target=f(target), lo=f(lo), hi=f(hi),
+                           slope=None if slope is None else f(slope))
     raise TypeError(f"not a core term: {t!r}")
 
 

@@ -80,10 +80,14 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
             slope = from_sympy(d, (x,), sorted(s.name for s in d.free_symbols - {v}))
         except ValueError as err:
             return f"∂/∂{x} = {d} is not a core term ({err})"
+        try:  # ∂²f/∂x²: where its enclosure excludes 0, ∂f/∂x has at most one zero (certified count)
+            bend = from_sympy(sp.diff(d, v), (x,), sorted(s.name for s in d.free_symbols - {v}))
+        except ValueError as err:
+            return f"∂²/∂{x}² = {sp.diff(d, v)} is not a core term ({err})"
         cuts = MOVING_PIECES - 1
         lo_t, hi_t = from_sympy(L, (), ()), from_sympy(R, (), ())
-        ends = ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts) for k in range(cuts)]
-                + [hi_t])
+        ends = ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts, bend, span=cond.span)
+                          for k in range(cuts)] + [hi_t])
     return _by_roots(cond, x, variables, inputs, ends)
 
 
