@@ -141,7 +141,7 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
             continue
         if d == depth:
             raise TooManyRoots(f"cannot certify the turning points (sign changes of {what}) near x in "
-                               f"[{float(a):.9g}, {float(b):.9g}] at these parameter values: there it and its "
+                               f"[{float(a):.12g}, {float(b):.12g}] at these parameter values: there it and its "
                                "derivative both vanish (a degenerate turning point) or their interval enclosures "
                                "stay too wide; Langur refuses rather than miss one")
         m = (a + b) / 2
@@ -243,7 +243,7 @@ def _evalf(args, prec):
             if len(brackets) > of:
                 raise TooManyRoots(f"{len(brackets)} turning points on [{float(a):g}, {float(b):g}] at these "
                                    f"parameter values, more than the {int(of)} the condition was split for: Langur "
-                                   "cannot differentiate it here")
+                                   "cannot differentiate it here", _SPANS.get(x))
             if index >= len(brackets):
                 return sp.Float(b, dps)
             a, b = brackets[int(index)]
@@ -265,7 +265,10 @@ def _brackets_at(x, f, t: float, a: float, b: float) -> tuple:
     with mpmath.workprec(53):
         fn = sp.lambdify(x, f, modules="mpmath")
         g_iv, dg_iv = _interval_fn(x, f), _interval_fn(x, sp.diff(f, x))
-        return tuple((float(p), float(q)) for p, q in certified_brackets(fn, g_iv, dg_iv, t, a, b, what=f"{f}"))
+        try:
+            return tuple((float(p), float(q)) for p, q in certified_brackets(fn, g_iv, dg_iv, t, a, b, what=f"{f}"))
+        except TooManyRoots as err:
+            raise TooManyRoots(str(err), _SPANS.get(x)) from None
 
 
 #: The equations of indexed roots lambdify printed (by a key: ``lambdify``'s code calls back with
@@ -292,8 +295,16 @@ def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
 
 
 def implicit_root(equation: sp.Expr, variable: sp.Symbol, target: sp.Expr, lo: sp.Expr, hi: sp.Expr,
-                  index: int | None = None, of: int = 0) -> sp.Expr:
-    """``ImplicitRootFn`` of ``equation`` in ``variable`` (bound: replaced by a dummy)."""
+                  index: int | None = None, of: int = 0, span=None) -> sp.Expr:
+    """``ImplicitRootFn`` of ``equation`` in ``variable`` (bound: replaced by a dummy); ``span``:
+    the condition's place in the source, named when evaluating it is refused."""
     x = sp.Dummy(variable.name, real=True)
-    return ImplicitRootFn(sp.Lambda(x, equation.xreplace({variable: x})), target, lo, hi,
-                          sp.Integer(-1 if index is None else index), sp.Integer(of))
+    lam = sp.Lambda(x, equation.xreplace({variable: x}))
+    if span is not None:
+        _SPANS[x] = span
+    return ImplicitRootFn(lam, target, lo, hi, sp.Integer(-1 if index is None else index), sp.Integer(of))
+
+
+#: The source place of a root's equation (sympy terms carry none), by its bound variable (a
+#: Dummy of its own, kept when parameter values are put in the equation).
+_SPANS: dict = {}

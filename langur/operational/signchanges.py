@@ -65,7 +65,7 @@ def certified_brackets(value, tape, x: str, target: np.ndarray, lo: np.ndarray, 
             k = int(np.argmax(rest))
             raise TooManyRoots(
                 f"cannot certify the turning points (sign changes of {what}) near {x} in "
-                f"[{a[k]:.9g}, {b[k]:.9g}] at these parameter values: there {what} and its derivative both "
+                f"[{a[k]:.12g}, {b[k]:.12g}] at these parameter values: there {what} and its derivative both "
                 f"vanish (a degenerate turning point) or their interval enclosures stay too wide; Langur "
                 f"refuses rather than miss one", span)
         rows, a, b = rows[rest], a[rest], b[rest]
