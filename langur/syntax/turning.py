@@ -54,10 +54,14 @@ MOVING_PIECES = 8
 
 
 def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...], inputs: tuple[str, ...],
-                       interval: tuple[float, float]) -> Diffeo | str:
+                       interval: tuple[float | Term, float | Term]) -> Diffeo | str:
     """The Diffeo of ``cond`` (sympy ``e``, over ``v`` and parameters only) with one implicit-root
-    branch per monotone piece of ``[lo, hi]``, or the reason it cannot be built."""
+    branch per monotone piece of ``[lo, hi]``, or the reason it cannot be built.  An end that
+    depends on the parameters (a term) is the bracket's end as it is: then ``e`` must be monotone
+    on the whole line (:func:`_monotone_on_the_line`), one branch."""
     lo, hi = interval
+    if not (isinstance(lo, float | int) and isinstance(hi, float | int)):
+        return _parametric(cond, e, v, variables, inputs, lo, hi)
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
         return "its implicit inverse needs a bounded interval of the variable (give it a constant domain)"
     x = v.name
@@ -92,15 +96,25 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
 
 
 def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...],
-                         inputs: tuple[str, ...], bounds: dict[str, tuple[float, float]]) -> Diffeo | str:
+                         inputs: tuple[str, ...], bounds: dict[str, tuple[float, float]],
+                         ends: dict | None = None) -> Diffeo | str:
     """The Diffeo of ``cond`` (sympy ``e``, over several variables) solved for ``v`` by one implicit
     root on ``v``'s interval, when ``e`` is proved strictly monotone in ``v`` on the box
     (:func:`langur.syntax.monotone.certify`); else the reason it cannot be built.
 
     Ψ̂ = (f, the other variables); Ψ̂⁻¹(u₀, u₁, …) has one branch: the other variables are their
     inputs, ``v = ImplicitRoot(f[other variables := u₁, …], v, u₀, lo, hi)``, guarded by
-    ``(u₀ − f(v=lo)) · (f(v=hi) − u₀) ≥ 0`` (the root lies in the bracket)."""
+    ``(u₀ − f(v=lo)) · (f(v=hi) − u₀) ≥ 0`` (the root lies in the bracket).  ``ends``: the box
+    with its parametric bounds as terms: a bracket may follow one (then monotone is proved on the
+    whole line in ``v``)."""
     lo, hi = bounds.get(v.name, (-math.inf, math.inf))
+    term_lo, term_hi = (ends or {}).get(v.name, (lo, hi))
+    if not (isinstance(term_lo, float | int) and isinstance(term_hi, float | int)):
+        box = {s: bounds.get(s.name, (-math.inf, math.inf)) for s in e.free_symbols if s.name in variables}
+        proved = certify(e, v, box)  # v's own interval: the whole line (its bound moves)
+        if isinstance(proved, str):
+            return proved
+        return _by_roots(cond, v.name, variables, inputs, [_end(term_lo), _end(term_hi)])
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
         return "its implicit inverse needs a bounded interval of the variable (give it a constant domain)"
     box = {s: bounds.get(s.name, (-math.inf, math.inf)) for s in e.free_symbols if s.name in variables}
@@ -109,6 +123,56 @@ def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[
         return proved
     ends = [from_sympy(rational(lo), (), ()), from_sympy(rational(hi), (), ())]
     return _by_roots(cond, v.name, variables, inputs, ends)
+
+
+def _end(end: float | Term | None) -> Term | None:
+    """A bracket end as a core term (None: unbounded)."""
+    if isinstance(end, float | int):
+        return from_sympy(rational(float(end)), (), ()) if math.isfinite(end) else None
+    return end
+
+
+def _parametric(cond: Term, e: sp.Expr, v: sp.Symbol, variables, inputs, lo, hi) -> Diffeo | str:
+    """One implicit-root branch on ``[lo, hi]``, an end of which moves with the parameters: the
+    pieces between turning points would have to be clamped to the moving interval, so only a
+    condition with no turning point on the whole line is completed this way."""
+    a, b = _end(lo), _end(hi)
+    if a is None or b is None:
+        return "its implicit inverse needs a bounded interval of the variable (give it a domain)"
+    why = _monotone_on_the_line(e, v)
+    if why is not None:
+        return f"{why}; with a domain bound that moves with the parameters only a condition monotone on the " \
+               "whole line is completed (give the variable a constant domain)"
+    return _by_roots(cond, v.name, variables, inputs, [a, b])
+
+
+def _monotone_on_the_line(e: sp.Expr, v: sp.Symbol) -> str | None:
+    """None when ``e`` is continuous on ℝ and ``∂e/∂v`` (free of parameters) keeps its sign on ℝ
+    (zeros where it does not change sign allowed: ``x³``); else the reason."""
+    d = sp.diff(e, v)
+    if d.free_symbols - {v}:
+        return f"∂/∂{v} = {d} depends on the parameters"
+    try:
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.S.Reals), TURNING_LIMIT)
+        zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.S.Reals), TURNING_LIMIT)
+    except TimeoutError:
+        return f"sympy could not decide within {TURNING_LIMIT:g}s where ∂/∂{v} = {d} vanishes"
+    except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
+        return f"sympy could not decide where ∂/∂{v} = {d} vanishes ({type(err).__name__})"
+    if dom != sp.S.Reals:
+        return f"it is continuous on {dom} only"
+    if zeros is sp.S.EmptySet:
+        points = []
+    elif isinstance(zeros, sp.FiniteSet) and all(z.is_real for z in zeros) and len(zeros) < MAX_PIECES:
+        points = sorted(zeros, key=lambda z: float(z))
+    else:
+        return f"the zeros of ∂/∂{v} = {d} on the line are {zeros}"
+    probes = ([points[0] - 1] + [(p + q) / 2 for p, q in zip(points, points[1:])] + [points[-1] + 1]
+              if points else [sp.Integer(0)])
+    signs = {bool(d.subs(v, p).evalf(30) > 0) for p in probes}
+    if len(signs) > 1:
+        return f"it has turning points (∂/∂{v} = {d} changes sign at {', '.join(map(str, points))})"
+    return None
 
 
 def _by_roots(cond: Term, x: str, variables: tuple[str, ...], inputs: tuple[str, ...], ends: list[Term]) -> Diffeo:
