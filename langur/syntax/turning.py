@@ -23,8 +23,15 @@ exactly).  Infinitely many, or more than :data:`MAX_PIECES` − 1, are refused. 
 with the parameters (``sin(a·x) − 0.5``: ``x = (π/2 + kπ)/a``; ``x^3 − a·x``) or sympy cannot
 solve for them, their number depends on θ, which the front end does not know (``--at``): the
 completion has :data:`MOVING_PIECES` branches whose ends are the k-th sign changes of ``∂f/∂x``
-(indexed implicit roots, ``hi`` past the last one), found by the engines where they evaluate; a
-point with more raises :class:`~langur.core.TooManyRoots` there.
+(indexed implicit roots, ``hi`` past the last one, each carrying ``∂²f/∂x²`` as its ``slope``),
+found by the engines where they evaluate, each sign change *certified* (an interval enclosure of
+``∂f/∂x`` or of ``∂²f/∂x²`` that excludes 0 on every cell: :mod:`langur.operational.signchanges`,
+:func:`langur.implicit.certified_brackets`); a point with more, or with a cell neither enclosure
+certifies (a degenerate turning point), raises :class:`~langur.core.TooManyRoots` there (X316).
+
+An end of the interval that moves with the parameters (``int ([0, a + 1]) …``) is the bracket's
+end as a term, for a condition with no turning point on the whole line (one branch); one with
+turning points is refused (clamping its pieces to the moving interval is not done).
 
 A root on a turning point (``f = ∂f/∂x = 0``: two roots merge) lies at the common end of two
 branches: the linter reports it (X306/X305, :mod:`langur.lint.tangent`).
