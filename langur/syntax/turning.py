@@ -45,7 +45,19 @@ from fractions import Fraction
 import sympy as sp
 from sympy.calculus.util import continuous_domain
 
-from ..core import Add, Const, Diffeo, ImplicitRoot, InverseBranch, Mul, Term, Var, free_vars, neg, substitute
+from ..core import (
+    Add,
+    Const,
+    Diffeo,
+    ImplicitRoot,
+    InverseBranch,
+    Mul,
+    Term,
+    Var,
+    free_vars,
+    neg,
+    substitute,
+)
 from ..sympy_bridge import from_sympy
 from ..timebox import run_with_timeout
 from .monotone import certify, rational
@@ -71,8 +83,17 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
         return _parametric(cond, e, v, variables, inputs, lo, hi)
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
         return "its implicit inverse needs a bounded interval of the variable (give it a constant domain)"
+    ends = _piece_ends(cond, e, sp.diff(e, v), v, lo, hi)
+    if isinstance(ends, str):
+        return ends
+    return _by_roots(cond, v.name, variables, inputs, ends)
+
+
+def _piece_ends(cond: Term, e: sp.Expr, d: sp.Expr, v: sp.Symbol, lo: float, hi: float) -> list[Term] | str:
+    """The ends of the pieces of ``[lo, hi]`` on which ``e`` is strictly monotone in ``v`` (``d`` =
+    ∂e/∂v, over ``v`` and parameters only): the interval where ``e`` is continuous cut at the
+    turning points, exact or (moving, no closed form) the k-th certified sign changes of ``d``."""
     x = v.name
-    d = sp.diff(e, v)
     L, R = rational(lo), rational(hi)
     try:
         dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT)
@@ -99,7 +120,7 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
         lo_t, hi_t = from_sympy(L, (), ()), from_sympy(R, (), ())
         ends = ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts, bend, span=cond.span)
                           for k in range(cuts)] + [hi_t])
-    return _by_roots(cond, x, variables, inputs, ends)
+    return ends
 
 
 def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...],
@@ -127,9 +148,27 @@ def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[
     box = {s: bounds.get(s.name, (-math.inf, math.inf)) for s in e.free_symbols if s.name in variables}
     proved = certify(e, v, box)
     if isinstance(proved, str):
-        return proved
+        return _split_along(cond, e, v, variables, inputs, lo, hi, proved)
     ends = [from_sympy(rational(lo), (), ()), from_sympy(rational(hi), (), ())]
     return _by_roots(cond, v.name, variables, inputs, ends)
+
+
+def _split_along(cond: Term, e: sp.Expr, v: sp.Symbol, variables, inputs, lo: float, hi: float,
+                 why: str) -> Diffeo | str:
+    """Not monotone in ``v`` on the box (``why``), but ``∂e/∂v`` depends on ``v`` only
+    (``x^3 - x + y^3 - y``): split ``v``'s interval at its turning points, which are then the same
+    for every value of the other variables, so ``e`` is strictly monotone in ``v`` on each piece
+    times the rest of the box: one implicit-root branch per piece.  Turning points that move with
+    a parameter are not split at here: the exact engine's quadrature over the other inputs of
+    such a delta met the fold (a root meeting a moving turning point) as "probably divergent"."""
+    d = sp.diff(e, v)
+    if d.free_symbols - {v}:  # other variables: pieces that move with them; parameters: not done (below)
+        return why
+    ends = _piece_ends(cond, e, d, v, lo, hi)
+    if isinstance(ends, str):
+        return f"{why}; split along {v} at its turning points: {ends}"
+    return _by_roots(cond, v.name, variables, inputs, ends)
+
 
 
 def _end(end: float | Term | None) -> Term | None:
