@@ -194,6 +194,12 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds, ends=None)
             if isinstance(psi, Diffeo):
                 return psi
             reasons.append(f"{v} (implicitly): {psi}")
+        for v in reversed(occurring):  # else split along a variable at its turning points
+            psi = turning.split_along(cond, expr, symbol(v), variables, inputs, bounds)
+            if isinstance(psi, Diffeo):
+                return psi
+            if psi is not None:
+                reasons.append(f"{v} (split): {psi}")
     return "no variable can be isolated (" + "; ".join(reasons) + ")"
 
 

@@ -148,25 +148,28 @@ def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[
     box = {s: bounds.get(s.name, (-math.inf, math.inf)) for s in e.free_symbols if s.name in variables}
     proved = certify(e, v, box)
     if isinstance(proved, str):
-        return _split_along(cond, e, v, variables, inputs, lo, hi, proved)
+        return proved
     ends = [from_sympy(rational(lo), (), ()), from_sympy(rational(hi), (), ())]
     return _by_roots(cond, v.name, variables, inputs, ends)
 
 
-def _split_along(cond: Term, e: sp.Expr, v: sp.Symbol, variables, inputs, lo: float, hi: float,
-                 why: str) -> Diffeo | str:
-    """Not monotone in ``v`` on the box (``why``), but ``∂e/∂v`` depends on ``v`` only
+def split_along(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...], inputs: tuple[str, ...],
+                bounds: dict[str, tuple[float, float]]) -> Diffeo | str | None:
+    """For a condition monotone in no variable on the box (tried first): ``∂e/∂v`` depends on ``v`` only
     (``x^3 - x + y^3 - y``): split ``v``'s interval at its turning points, which are then the same
     for every value of the other variables, so ``e`` is strictly monotone in ``v`` on each piece
-    times the rest of the box: one implicit-root branch per piece.  Turning points that move with
-    a parameter are not split at here: the exact engine's quadrature over the other inputs of
-    such a delta met the fold (a root meeting a moving turning point) as "probably divergent"."""
+    times the rest of the box: one implicit-root branch per piece (None: ``∂e/∂v`` depends on
+    something else, or ``v``'s interval is not constant; a string: why the split failed).  Turning
+    points that move with a parameter are not split at here: the exact engine's quadrature over
+    the other inputs of such a delta met the fold (a root meeting a moving turning point) as
+    "probably divergent"."""
+    lo, hi = bounds.get(v.name, (-math.inf, math.inf))
     d = sp.diff(e, v)
-    if d.free_symbols - {v}:  # other variables: pieces that move with them; parameters: not done (below)
-        return why
+    if d.free_symbols - {v} or not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+        return None  # other variables: pieces that move with them; parameters: not done (below)
     ends = _piece_ends(cond, e, d, v, lo, hi)
     if isinstance(ends, str):
-        return f"{why}; split along {v} at its turning points: {ends}"
+        return f"at the turning points of ∂/∂{v} = {d}: {ends}"
     return _by_roots(cond, v.name, variables, inputs, ends)
 
 
