@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pytest
 from scipy.integrate import quad
+from scipy.optimize import brentq
 
 from langur import frontend
 from langur.core import IfDiffeo, ImplicitRoot, subterms
@@ -89,3 +90,38 @@ def test_still_refused_when_no_variable_splits():
     with pytest.raises(LangurError, match="T207"):
         frontend.load_text("param a = 0.1\nint ([-1, 1], [-1, 1]) [sin(3*x) + sin(3*y) + x*y - a >= 0] d(x, y)\n",
                            "no.lgr")
+
+
+def test_the_linter_does_not_report_the_folds_as_merging_roots():
+    # a root reaching a strip's end (y = ±1/√3) happens along a curve of x: a fold, not two roots
+    # merging for a parameter value (the derivative exists, the tests above compute it)
+    from langur.transversality import check_program
+
+    loaded = frontend.load_text(FIXED, "split.lgr")
+    assert not [f for f in check_program(loaded.program, loaded.params) if f.code in ("X305", "X306")]
+
+
+def sine_sum(a):
+    """∫∫_{[0,1]²} [x + sin 3x + y + sin 3y ≥ a]: h(t) = t + sin 3t rises to its turning point
+    acos(−1/3)/3 and falls after it; the measure of {y : h(y) ≥ c} from the two roots (brentq)."""
+    h = lambda t: t + math.sin(3 * t)  # noqa: E731
+    tp = math.acos(-1 / 3) / 3
+
+    def measure(c):
+        if h(tp) < c:
+            return 0.0
+        lo = 0.0 if h(0) >= c else brentq(lambda t: h(t) - c, 0, tp, xtol=1e-15)
+        hi = 1.0 if h(1) >= c else brentq(lambda t: h(t) - c, tp, 1, xtol=1e-15)
+        return hi - lo
+    return quad(lambda x: measure(a - h(x)), 0, 1, points=[tp], epsabs=1e-13, epsrel=1e-13, limit=500)[0]
+
+
+def test_a_sum_of_two_non_monotone_functions_is_split_along_y():
+    # T207 before (monotone in neither x nor y on [0, 1]²); ∂/∂y = 1 + 3cos 3y depends on y only
+    program = frontend.load_text("param a = 0.5\nint ([0, 1], [0, 1]) [x + sin(3 * x) + y + sin(3 * y) >= a] d(x, y)\n",
+                                 "sines.lgr").program
+    fd = richardson(sine_sum, 0.5)
+    exact = ddenote_program(program, {"a": 0.5}, {"a": 1})
+    assert abs(exact.value - fd) <= 1e-6 * (1 + abs(fd)) + exact.error, (exact.value, fd)
+    mc = estimate_derivative(program, {"a": 0.5}, {"a": 1}, samples=4000, seed=2)
+    assert abs(mc.value - fd) <= 5 * mc.stderr + 1e-6 * (1 + abs(fd)), (mc.value, mc.stderr, fd)
