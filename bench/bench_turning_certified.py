@@ -3,7 +3,8 @@
 Runs each program with this checkout and with a baseline checkout (``--baseline DIR``, e.g. a
 worktree of main) in the same run, each as a fresh process (``python -m langur deriv FILE --wrt a
 --no-theorem``, ``PYTHONPATH`` set to the checkout), and reports the CPU time (user + sys of the
-child), the median of ``--repeat`` runs, and the derivative each engine printed.
+child), the median of ``--repeat`` runs, and the derivative each engine printed (each run in the checkout's directory:
+``python -m`` puts the working directory before ``PYTHONPATH``).
 
     python bench/bench_turning_certified.py --baseline /work/main
 """
@@ -38,7 +39,8 @@ def run(checkout: Path, text: str) -> tuple[float, str]:
         f.write(text)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     r = subprocess.run([sys.executable, "-m", "langur", "deriv", f.name, "--wrt", "a", "--no-theorem"],
-                       capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(checkout)}, timeout=600)
+                       capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(checkout)}, timeout=600,
+                       cwd=checkout)  # -m puts the working directory first on sys.path
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     os.unlink(f.name)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
