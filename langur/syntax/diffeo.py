@@ -200,6 +200,8 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds, ends=None)
                 return psi
             if psi is not None:
                 reasons.append(f"{v} (split): {psi}")
+        reasons.append("it is split along a variable only where its derivative in that variable depends on that "
+                       "variable alone: write it so, or declare a `diffeo` with its inverse")
     return "no variable can be isolated (" + "; ".join(reasons) + ")"
 
 
