@@ -109,6 +109,11 @@ CODES: dict[str, Code] = _catalogue(
     Code("X314", "An interval of the domain is empty at the parameter values in force (lower end above upper end): "
          "the integrand is 0 there, so the value is 0, not minus the integral as in calculus.",
          "warning", "empty-domain"),
+    Code("X316",
+         "A condition split at turning points that move with the parameters cannot be evaluated at these parameter "
+         "values: it has more turning points on the domain than it was split for, or they cannot be certified "
+         "(a degenerate turning point).",
+         "error", "turning-points-beyond-the-split"),
     Code("X315",
          "A condition's zero set is a double root for every parameter value (its derivative in the solved "
          "variable vanishes on it): it is not a diffeomorphism anywhere and the derivative is not defined.",

@@ -224,7 +224,10 @@ class ImplicitRoot:
     * ``index`` is k: the k-th (from 0, increasing) of the points of ``[lo, hi]`` where
       ``equation − target`` changes sign, ``hi`` when there are only k or fewer; there must be at
       most ``of`` of them, or the term is undefined and evaluating it raises :class:`TooManyRoots`
-      (a turning point that moves with the parameters, ``equation`` = ∂f/∂x).
+      (a turning point that moves with the parameters, ``equation`` = ∂f/∂x).  ``slope`` is then
+      ∂equation/∂variable as a term (over the same names): where an interval enclosure of it
+      excludes 0 on a cell, ``equation`` has at most one zero there, so the engines certify that
+      they miss no sign change (issue 18); without it they refuse to evaluate the term.
 
     Its derivative is the implicit function theorem's: ``∂x* = (∂target − ∂equation/∂θ · ∂θ) /
     ∂equation/∂x`` at ``x*``.
@@ -237,18 +240,24 @@ class ImplicitRoot:
     hi: "Term"
     index: int | None = None
     of: int = 0
+    slope: "Term | None" = None
     span: Span | None = _span()
 
-    def __init__(self, equation, variable, target, lo, hi, index=None, of=0, span=None):
+    def __init__(self, equation, variable, target, lo, hi, index=None, of=0, slope=None, span=None):
         d = self.__dict__
         d["equation"], d["variable"], d["target"], d["lo"], d["hi"] = equation, variable, target, lo, hi
-        d["index"], d["of"], d["span"] = index, of, span
+        d["index"], d["of"], d["slope"], d["span"] = index, of, slope, span
         _annotate(self)
 
 
 class TooManyRoots(Exception):
     """An indexed :class:`ImplicitRoot` met more sign changes than its ``of`` (the completion
-    split the domain into that many pieces at most)."""
+    split the domain into that many pieces at most), or sign changes it cannot certify it counted
+    all of; ``span``: the condition's place in the source (issue 18)."""
+
+    def __init__(self, message: str, span: Span | None = None):
+        super().__init__(message)
+        self.span = span
 
 
 Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot]
@@ -625,8 +634,9 @@ def _annotate(t: "Term") -> None:
             fp = _names(name)
         case Let(name, bound, body):
             fp = _join(bound._fp, body._fp - {name} if name in body._fp else body._fp)
-        case ImplicitRoot(eq, x, target, lo, hi):  # binds its variable in its equation
-            fv = _join(_join(eq._fv - {x} if x in eq._fv else eq._fv, target._fv), _join(lo._fv, hi._fv))
+        case ImplicitRoot(eq, x, target, lo, hi, slope=slope):  # binds its variable in its equation (and slope)
+            own = eq._fv if slope is None else _join(eq._fv, slope._fv)
+            fv = _join(_join(own - {x} if x in own else own, target._fv), _join(lo._fv, hi._fv))
     d["_fv"], d["_fp"], d["_psi_vars"], d["_size"], d["_depth"] = fv, fp, pv, size, deep + 1
     d["_smooth"] = not isinstance(t, (IfGe0, Call)) and all(c._smooth for c in kids)
     d["_calls"] = isinstance(t, Call) or any(c._calls for c in kids)
@@ -664,8 +674,9 @@ def _annotate(t: "Term") -> None:
             scoped = scoped and not bound._fv
             binders = _join(binders, _names(name))
             dfp = _join(bound._dfp, body._dfp - {name} if name in body._dfp else body._dfp)
-        case ImplicitRoot(eq, _, _, lo, hi):
-            scoped = scoped and not lo._fv and not hi._fv and not eq._binders
+        case ImplicitRoot(eq, _, _, lo, hi, slope=slope):
+            scoped = (scoped and not lo._fv and not hi._fv and not eq._binders
+                      and (slope is None or not slope._binders))
     d["_scoped"], d["_ops"], d["_binders"], d["_dfp"] = scoped, ops, binders, dfp
 
 
@@ -776,8 +787,8 @@ def children(t: Term) -> tuple[Term, ...]:
             return (a, b)
         case Call(_, _, args):
             return tuple(args)
-        case ImplicitRoot(eq, _, target, lo, hi):
-            return (eq, target, lo, hi)
+        case ImplicitRoot(eq, _, target, lo, hi, slope=slope):
+            return (eq, target, lo, hi) if slope is None else (eq, target, lo, hi, slope)
     raise TypeError(f"not a core term: {t!r}")
 
 
@@ -882,10 +893,10 @@ def substitute(
                 return replace(u, bound=go(bound, ps), body=go(body, inner))
             case IfDiffeo(psi, a, b):
                 return replace(u, psi=substitute_diffeo(psi, variables, ps), then=go(a, ps), orelse=go(b, ps))
-            case ImplicitRoot(eq, x, target, lo, hi):  # its variable is bound in its equation
+            case ImplicitRoot(eq, x, target, lo, hi, slope=slope):  # its variable is bound in its equation
                 inner = {k: v for k, v in variables.items() if k != x}
                 return replace(u, equation=substitute(eq, inner, ps), target=go(target, ps), lo=go(lo, ps),
-                               hi=go(hi, ps))
+                               hi=go(hi, ps), slope=None if slope is None else substitute(slope, inner, ps))
             case _:
                 return map_children(u, lambda c: go(c, ps))
 
@@ -913,8 +924,9 @@ def map_children(t: Term, f: Callable[[Term], Term]) -> Term:
             return replace(t, bound=f(a), body=f(b))
         case Call(_, _, args):
             return replace(t, args=tuple(f(a) for a in args))
-        case ImplicitRoot(eq, _, target, lo, hi):
-            return replace(t, equation=f(eq), target=f(target), lo=f(lo), hi=f(hi))
+        case ImplicitRoot(eq, _, target, lo, hi, slope=slope):
+            return replace(t, equation=f(eq), target=f(target), lo=f(lo), hi=f(hi),
+                           slope=None if slope is None else f(slope))
     raise TypeError(f"not a core term: {t!r}")
 
 

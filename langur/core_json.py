@@ -130,9 +130,11 @@ class _Writer:
                 return {"op": "let", "name": name, "bound": ix[bound], "body": ix[body]}
             case Call(module, name, _):
                 raise ValueError(f"call of {module}.{name}: only inlined programs are written (no Call nodes)")
-            case ImplicitRoot(eq, x, target, lo, hi, index, of):
+            case ImplicitRoot(eq, x, target, lo, hi, index, of, slope):
                 node = {"op": "root", "equation": ix[eq], "variable": x, "target": ix[target], "lo": ix[lo],
                         "hi": ix[hi]}
+                if slope is not None:  # ∂equation/∂variable: the engines certify the sign changes with it
+                    node["slope"] = ix[slope]
                 return node if index is None else {**node, "index": index, "of": of}
         raise TypeError(f"not a core term: {u!r}")
 
@@ -263,7 +265,8 @@ class _Reader:
                         raise FormatError(f"{where}.{key}", "expected an integer from 0 to 1000")
                 return ImplicitRoot(r(n.get("equation"), f"{where}.equation"),
                                     _name(n.get("variable"), f"{where}.variable"), r(n.get("target"), f"{where}.target"),
-                                    r(n.get("lo"), f"{where}.lo"), r(n.get("hi"), f"{where}.hi"), index, of)
+                                    r(n.get("lo"), f"{where}.lo"), r(n.get("hi"), f"{where}.hi"), index, of,
+                                    None if n.get("slope") is None else r(n.get("slope"), f"{where}.slope"))
         raise FormatError(f"{where}.op", f"unknown op {op!r}")
 
     def diffeo(self, k, where: str) -> Diffeo:

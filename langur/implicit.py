@@ -12,8 +12,8 @@ the implicit function theorem's,
 so every derivative (and the Jacobian dx*/du₀ = 1/f'(x*) of the delta's change of variables) is
 exact in terms of ``x*``; ``evalf`` finds ``x*`` to the requested precision by bisection with
 mpmath (on a bracket where ``f − target`` changes sign: for the unique root, the whole piece;
-for the k-th sign change, the cell of a grid where it is seen), and ``lambdify`` calls the same
-solver on the compiled ``f``.  The Monte Carlo engine has its own vectorized solver (no sympy
+for the k-th sign change, a bracket certified to hold exactly one, :func:`certified_brackets`),
+and ``lambdify`` calls the same solver on the compiled ``f``.  The Monte Carlo engine has its own vectorized solver (no sympy
 there: ``langur.operational.compile``).
 """
 
@@ -59,26 +59,95 @@ def bracketed_root(f, target, lo, hi, bits: int = 53):
     return (a + b) / 2
 
 
-#: Cells of the grid on which an indexed root's sign changes are found (each then bisected).
-GRID = 512
+#: Cells of the grid of ``[lo, hi]`` on which an indexed root's sign changes are certified.
+GRID = 16
+#: Halvings of a cell that neither enclosure certifies before the root is refused.
+DEPTH = 30
 
 
-def sign_changes(f, target, lo, hi, bits: int = 53, grid: int = GRID) -> list:
-    """The points of ``[lo, hi]`` where ``f − target`` changes sign, increasing: found on a grid of
-    ``grid`` cells (a sign change certifies a point in its cell; two in one cell are not seen) and
-    each bisected to ``bits`` bits."""
-    cells = _cells(f, target, lo, hi, grid)
-    return [bracketed_root(f, target, lo + (hi - lo) * i / grid, lo + (hi - lo) * (i + 1) / grid, bits) for i in cells]
+def _monotone_iv(fn, increasing: bool = True):
+    """An mpmath interval version of a monotone function mpmath's ``iv`` lacks (``atan``, ``tanh``,
+    ``erf``, …): its values at the ends, a few bits more precise, widened outward; anything
+    where it is undefined at an end."""
+    def f(X):
+        X = mpmath.iv.mpf(X)
+        try:
+            with mpmath.workprec(mpmath.iv.prec + 16):
+                a, b = fn(mpmath.mpf(X.a)), fn(mpmath.mpf(X.b))
+            if not (isinstance(a, mpmath.mpf) and isinstance(b, mpmath.mpf)):
+                raise ValueError
+        except (ValueError, ZeroDivisionError, TypeError):
+            return mpmath.iv.mpf([-mpmath.inf, mpmath.inf])
+        if not increasing:
+            a, b = b, a
+        slack = (abs(a) + abs(b)) * mpmath.mpf(2) ** (2 - mpmath.iv.prec) + mpmath.mpf(2) ** -1000
+        return mpmath.iv.mpf([a - slack, b + slack])
+    return f
 
 
-def indexed_root(f, target, lo, hi, index: int, of: int, bits: int = 53):
-    """The ``index``-th sign change of ``f − target`` on ``[lo, hi]`` (``hi`` when there are
-    fewer); :class:`~langur.core.TooManyRoots` when there are more than ``of``."""
-    found = sign_changes(f, target, lo, hi, bits)
-    if len(found) > of:
-        raise TooManyRoots(f"{len(found)} turning points on [{float(lo):g}, {float(hi):g}] at these parameter values, "
-                           f"more than the {of} the condition was split for: Langur cannot differentiate it here")
-    return found[index] if index < len(found) else hi
+#: lambdify's names for the interval versions (the rest from ``mpmath.iv``).
+_IV = {"atan": _monotone_iv(mpmath.atan), "tanh": _monotone_iv(mpmath.tanh), "erf": _monotone_iv(mpmath.erf),
+       "asin": _monotone_iv(mpmath.asin), "acos": _monotone_iv(mpmath.acos, increasing=False),
+       "atanh": _monotone_iv(mpmath.atanh)}
+
+
+def _interval_fn(x: sp.Symbol, e: sp.Expr):
+    """``e`` (in ``x`` only) on mpmath intervals: ``X ↦`` an interval containing ``e(X)``, the
+    whole line where it cannot be enclosed."""
+    fn = sp.lambdify(x, e, modules=[_IV, mpmath.iv])
+
+    def enclose(X):
+        try:
+            out = fn(X)
+            out = out if isinstance(out, mpmath.iv.mpf) else mpmath.iv.mpf(out)
+        except (ValueError, ZeroDivisionError, TypeError, OverflowError, mpmath.libmp.NoConvergence):
+            return None
+        return None if (mpmath.isnan(out.a) or mpmath.isnan(out.b)) else out
+    return enclose
+
+
+def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: int = DEPTH,
+                       what: str = "the equation") -> list[tuple]:
+    """The brackets, increasing, each holding exactly one sign change of ``g − target`` on
+    ``[lo, hi]``, all of them: each cell of a ``grid``-cell grid is certified, by an interval
+    enclosure of ``g − target`` that excludes 0 (no zero there) or one of ``g'`` that excludes 0
+    (``g`` monotone: a zero iff a sign change between the ends); a cell certified by neither is
+    halved, at most ``depth`` times, then refused (:class:`~langur.core.TooManyRoots`, naming the
+    piece).  ``g``: a function of a number; ``g_iv``, ``dg_iv``: of an mpmath interval (None: no
+    enclosure).  The Monte Carlo engine certifies the same way on its own
+    (:mod:`langur.operational.signchanges`)."""
+    iv = mpmath.iv
+    lo, hi = mpmath.mpf(lo), mpmath.mpf(hi)
+    t = iv.mpf(target)
+    stack = [(hi if i == grid - 1 else lo + (hi - lo) * (i + 1) / grid, lo + (hi - lo) * i / grid, 0)
+             for i in range(grid)][::-1]
+    out = []
+    while stack:
+        b, a, d = stack.pop()
+        X = iv.mpf([a, b])
+        G = g_iv(X)
+        if G is not None:
+            G = G - t
+            if G.a > 0 or G.b < 0:
+                continue  # no zero in the cell
+        D = dg_iv(X)
+        if D is not None and (D.a > 0 or D.b < 0):  # monotone: at most one zero
+            try:
+                ga, gb = g(a) - target, g(b) - target
+            except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+                ga = gb = mpmath.nan
+            if not (mpmath.isnan(ga) or mpmath.isnan(gb)) and (ga >= 0) != (gb >= 0):
+                out.append((a, b))
+            continue
+        if d == depth:
+            raise TooManyRoots(f"cannot certify the turning points (sign changes of {what}) near x in "
+                               f"[{float(a):.12g}, {float(b):.12g}] at these parameter values: there it and its "
+                               "derivative both vanish (a degenerate turning point) or their interval enclosures "
+                               "stay too wide; Langur refuses rather than miss one")
+        m = (a + b) / 2
+        stack.append((b, m, d + 1))
+        stack.append((m, a, d + 1))
+    return out
 
 
 class ImplicitRootFn(sp.Function):
@@ -112,14 +181,15 @@ class ImplicitRootFn(sp.Function):
     def _imp_(fn, target, lo, hi, index, of, *free):
         """``lambdify``'s implementation: ``fn`` is ``f`` compiled by lambdify (module namespace),
         called as ``fn(x, *free)`` with the values of the equation's other symbols (the other inputs
-        of a condition in several variables, the parameters); arrays (the numpy module) are solved
-        element by element."""
+        of a condition in several variables, the parameters), or for an indexed root the key of its
+        equation (certified by :func:`certified_brackets`, as ``evalf``); arrays (the numpy module)
+        are solved element by element."""
         if any(np.ndim(v) for v in (target, lo, hi, *free)):
             t, a, b, *rest = np.broadcast_arrays(target, lo, hi, *free)
-            return np.array([_solve(lambda x, r=r: fn(x, *r), ti, ai, bi, index, of)
+            return np.array([_solve(fn, ti, ai, bi, index, of, *r)
                              for ti, ai, bi, *r in zip(t.flat, a.flat, b.flat, *(c.flat for c in rest))],
                             dtype=float).reshape(t.shape)
-        return _solve(lambda x: fn(x, *free), target, lo, hi, index, of)
+        return _solve(fn, target, lo, hi, index, of, *free)
 
     def _code(self, printer):
         """``lambdify``'s text: the equation as a Python ``lambda`` of the root's variable and the
@@ -130,6 +200,8 @@ class ImplicitRootFn(sp.Function):
         params = ", ".join(printer._print(s) for s in (x, *free))
         args = ", ".join(printer._print(a) for a in (target, lo, hi))
         values = "".join(f", {printer._print(s)}" for s in free)
+        if index >= 0:  # certified by the exact engine's own enclosures: the equation named by a key
+            return f"ImplicitRootFn({_indexed_key(lam, free)!r}, {args}, {int(index)}, {int(of)}{values})"
         return (f"ImplicitRootFn((lambda {params}: {printer._print(f)}), {args}, {int(index)}, {int(of)}"
                 f"{values})")
 
@@ -152,10 +224,10 @@ class ImplicitRootFn(sp.Function):
                 f"in [{printer.doprint(lo)}, {printer.doprint(hi)}]{bound})")
 
 
-def _solve(fn, target, lo, hi, index, of, bits: int = 53):
-    if index < 0:
-        return bracketed_root(fn, target, lo, hi, bits)
-    return indexed_root(fn, target, lo, hi, int(index), int(of), bits)
+def _solve(fn, target, lo, hi, index, of, *values):
+    if isinstance(fn, str):  # an indexed root: certified as evalf certifies it
+        return _indexed_at(fn, target, lo, hi, int(index), int(of), *values)
+    return bracketed_root(lambda x: fn(x, *values), target, lo, hi)
 
 
 @lru_cache(maxsize=4096)
@@ -166,36 +238,73 @@ def _evalf(args, prec):
     with mpmath.workdps(dps):
         fn = sp.lambdify(x, f, modules="mpmath")
         t, a, b = (mpmath.mpf(sp.Float(v.evalf(dps), dps)) for v in (target, lo, hi))
-        if index >= 0:  # the cell of the index-th sign change, on a grid in doubles; then bisected
-            cells = _cells(sp.lambdify(x, f, modules="math"), float(t), float(a), float(b))
-            if len(cells) > of:
-                raise TooManyRoots(f"{len(cells)} turning points on [{float(a):g}, {float(b):g}] at these parameter "
-                                   f"values, more than the {int(of)} the condition was split for: Langur cannot "
-                                   "differentiate it here")
-            if index >= len(cells):
+        if index >= 0:  # the index-th of the certified brackets of the sign changes, then bisected
+            brackets = _brackets(x, f, fn, t, a, b)
+            if len(brackets) > of:
+                raise TooManyRoots(f"{len(brackets)} turning points on [{float(a):g}, {float(b):g}] at these "
+                                   f"parameter values, more than the {int(of)} the condition was split for: Langur "
+                                   "cannot differentiate it here", _SPANS.get(x))
+            if index >= len(brackets):
                 return sp.Float(b, dps)
-            c = cells[int(index)]
-            a, b = a + (b - a) * c / GRID, a + (b - a) * (c + 1) / GRID
+            a, b = brackets[int(index)]
         r = bracketed_root(fn, t, a, b, bits=prec + 10)
         if isinstance(r, float) and math.isnan(r):
             return sp.nan
         return sp.Float(r, dps)
 
 
-def _cells(f, target: float, lo: float, hi: float, grid: int = GRID) -> list[int]:
-    """The cells of a ``grid``-cell grid of ``[lo, hi]`` where ``f − target`` changes sign."""
-    signs = []
-    for i in range(grid + 1):
+def _brackets(x, f, fn, t, a, b) -> list[tuple]:
+    """The certified brackets of the sign changes of ``f − t`` (``f`` in ``x`` only) on ``[a, b]``
+    (``fn``: ``f`` on mpmath numbers), found once for every index and precision: in double
+    precision, since the certificate does not depend on the precision the root is wanted in."""
+    return [(mpmath.mpf(p), mpmath.mpf(q)) for p, q in _brackets_at(x, f, float(t), float(a), float(b))]
+
+
+@lru_cache(maxsize=1024)
+def _brackets_at(x, f, t: float, a: float, b: float) -> tuple:
+    with mpmath.workprec(53):
+        fn = sp.lambdify(x, f, modules="mpmath")
+        g_iv, dg_iv = _interval_fn(x, f), _interval_fn(x, sp.diff(f, x))
         try:
-            signs.append(f(lo + (hi - lo) * i / grid) - target >= 0)
-        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
-            signs.append(None)
-    return [i for i in range(grid) if None not in (signs[i], signs[i + 1]) and signs[i] != signs[i + 1]]
+            return tuple((float(p), float(q)) for p, q in certified_brackets(fn, g_iv, dg_iv, t, a, b, what=f"{f}"))
+        except TooManyRoots as err:
+            raise TooManyRoots(str(err), _SPANS.get(x)) from None
+
+
+#: The equations of indexed roots lambdify printed (by a key: ``lambdify``'s code calls back with
+#: it and the values of their other symbols, and the root is found as ``evalf`` finds it).
+_INDEXED: dict[str, tuple] = {}
+_KEYS: dict = {}
+
+
+def _indexed_key(lam, free) -> str:
+    key = _KEYS.get((lam, tuple(free)))
+    if key is None:
+        key = _KEYS[(lam, tuple(free))] = f"indexed root {len(_KEYS)}"
+        _INDEXED[key] = (lam, tuple(free))
+    return key
+
+
+def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
+    lam, free = _INDEXED[key]
+    (x,), f = lam.variables, lam.expr
+    at = {s: sp.Float(float(v), 30) for s, v in zip(free, values)}
+    args = (sp.Lambda(x, f.xreplace(at)), *(sp.Float(float(v), 30) for v in (target, lo, hi)),
+            sp.Integer(index), sp.Integer(of))
+    return float(_evalf(args, 53))
 
 
 def implicit_root(equation: sp.Expr, variable: sp.Symbol, target: sp.Expr, lo: sp.Expr, hi: sp.Expr,
-                  index: int | None = None, of: int = 0) -> sp.Expr:
-    """``ImplicitRootFn`` of ``equation`` in ``variable`` (bound: replaced by a dummy)."""
+                  index: int | None = None, of: int = 0, span=None) -> sp.Expr:
+    """``ImplicitRootFn`` of ``equation`` in ``variable`` (bound: replaced by a dummy); ``span``:
+    the condition's place in the source, named when evaluating it is refused."""
     x = sp.Dummy(variable.name, real=True)
-    return ImplicitRootFn(sp.Lambda(x, equation.xreplace({variable: x})), target, lo, hi,
-                          sp.Integer(-1 if index is None else index), sp.Integer(of))
+    lam = sp.Lambda(x, equation.xreplace({variable: x}))
+    if span is not None:
+        _SPANS[x] = span
+    return ImplicitRootFn(lam, target, lo, hi, sp.Integer(-1 if index is None else index), sp.Integer(of))
+
+
+#: The source place of a root's equation (sympy terms carry none), by its bound variable (a
+#: Dummy of its own, kept when parameter values are put in the equation).
+_SPANS: dict = {}

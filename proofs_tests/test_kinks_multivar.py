@@ -191,11 +191,13 @@ def test_the_four_cube():
 
 
 def test_a_refused_piece_says_which_piece_it_is():
-    # |x| + x³ − 2x + y³ − y − a: on x ≥ 0 it is x³ − x + y³ − y − a, monotone in neither variable
-    # (a piece monotone in one would be completed by an implicit root, test_implicit_multivar.py);
-    # the T207 says which piece of the split it is and what would make it acceptable
+    # |x| + x³ − 2x + y³ − y + xy − a: on x ≥ 0 it is x³ − x + y³ − y + xy − a, monotone in neither
+    # variable and split along neither (each partial derivative depends on the other variable; a
+    # piece monotone in one would be completed by an implicit root, test_implicit_multivar.py, and
+    # x³ − x + y³ − y − a is split along y, test_split_along.py); the T207 says which piece of the
+    # split it is and what would make it acceptable
     with pytest.raises(LangurError) as info:
-        _load("param a = 0.5\nint ([-1, 1], [-1, 1]) [abs(x) + x^3 - 2*x + y^3 - y - a >= 0] d(x, y)\n")
+        _load("param a = 0.5\nint ([-1, 1], [-1, 1]) [abs(x) + x^3 - 2*x + y^3 - y + x*y - a >= 0] d(x, y)\n")
     messages = [d.message for d in info.value.diagnostics]
     assert any("on its piece where x >= 0" in m and "monotone in x" in m and "declare a `diffeo`" in m
                for m in messages), messages

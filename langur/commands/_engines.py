@@ -7,7 +7,7 @@ import sys
 from .. import progress
 from .. import typesys as ty
 from ..cli import UsageError
-from ..core import TooManyRoots
+from ..core import Const, IfDiffeo, ImplicitRoot, TooManyRoots, subterms
 
 ENGINE_CHOICES = ["both", "exact", "mc"]
 
@@ -99,6 +99,9 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
             return api.exact_deriv(program, params, direction, check=theorem), 0
     except api.ExactUndefined as e:
         return Undefined(str(e).removeprefix("undefined: ")), 1
+    except TooManyRoots as e:  # moving turning points beyond the split, or not certified (issue 18)
+        print(_too_many_roots(kind, "exact", e, program), file=sys.stderr)
+        return None, 0
     except Exception as e:  # noqa: BLE001 - reported, the other engine still runs
         print(f"langur {kind}: no exact value: {type(e).__name__}: {e}", file=sys.stderr)
         return None, 0
@@ -125,5 +128,21 @@ def run_mc(kind: str, loaded, params, args, direction=None, *, infinite_variance
         print(ty.reject_too_large(e.span, str(e)).format(), file=sys.stderr)
         return None
     except TooManyRoots as e:  # a condition split for fewer turning points than it has here (issue 18)
-        print(f"langur {kind}: no Monte Carlo value: {e}", file=sys.stderr)
+        print(_too_many_roots(kind, "Monte Carlo", e, getattr(loaded, "program", loaded)), file=sys.stderr)
         return None
+
+
+def _too_many_roots(kind: str, engine: str, e: TooManyRoots, program) -> str:
+    """X316 at the condition (where the engine says, else the first condition split at moving
+    turning points), else the command's own line."""
+    span = e.span or next((t.span for t in subterms(getattr(program, "body", None) or Const(0))
+                           if isinstance(t, IfDiffeo) and _moving(t.psi)), None)
+    if span is None:
+        return f"langur {kind}: no {engine} value: {e}"
+    return ty.diag(span, "X316", f"no {engine} value: {e}").format()
+
+
+def _moving(psi) -> bool:
+    """Is ``psi`` split at turning points that move with the parameters (indexed implicit roots)?"""
+    return any(isinstance(u, ImplicitRoot) and u.index is not None
+               for b in psi.branches for c in b.components for u in subterms(c))

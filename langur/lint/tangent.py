@@ -5,7 +5,10 @@ turning points c (zeros of ∂f/∂x; :mod:`langur.syntax.turning`), one implici
 Where ``f(c; θ) = 0`` a root sits on a turning point: two roots merge (or appear, or vanish) as
 θ moves, ``∂f/∂x = 0`` on the zero set, Ψ̂ is not a diffeomorphism there (Def. 3.4, §5.2) and the
 derivative does not exist (``∫ [x³ − x − a ≥ 0]`` has a square-root corner in ``a`` at
-``a = ±2/(3√3)``).  Like a vanishing coefficient (X306/X305 in :mod:`langur.lint.coincidence`):
+``a = ±2/(3√3)``).  A condition in several variables split along one of them at its turning
+points (:func:`langur.syntax.turning.split_along`) is not reported: there a root reaches a strip's
+end along a curve of the other variables (a fold of the zero set), where the delta's integral
+has an integrable inverse-square-root singularity and the derivative exists.  Like a vanishing coefficient (X306/X305 in :mod:`langur.lint.coincidence`):
 the set of parameter values where it happens is a warning (X306), and the parameter values given
 with ``--at`` lying in it an error (X305), so the engines' numbers there are not taken as a
 derivative.
@@ -56,8 +59,8 @@ def _findings(site: IfDiffeo, roots: list[ImplicitRoot], point, explicit) -> lis
         moving = isinstance(end, ImplicitRoot)
         value = f.xreplace({v: c})
         params = sorted(value.free_symbols, key=str)
-        if not params:
-            continue
+        if not params or any(p.name in site.psi.variables for p in params):
+            continue  # split along v (several variables): a root on a strip's end is a fold, not a merge
         names = tuple(p.name for p in params)
         where = f"the turning point {v} = {sp.sstr(c)}" if not moving else f"turning point {end.index} (from the left)"
         hit = (point is not None and all(n in point for n in names)

@@ -30,7 +30,6 @@ run exactly the same floating-point operations (bit-identical linking, Theorem 9
 from __future__ import annotations
 
 import itertools
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -54,6 +53,9 @@ from ..core import (
     Var,
 )
 from ..primitives import REGISTRY
+from .consts import const_value
+from .interval import tape_of
+from .signchanges import certified_brackets
 
 VALUE, TANGENT, DELTA = 0, 1, 2
 NAN = float("nan")
@@ -168,15 +170,6 @@ def full(v, n: int) -> np.ndarray:
     if type(v) is np.ndarray and v.shape == (n,):
         return v
     return np.full(n, 0.0 if v is None else v, dtype=float)
-
-
-def const_value(c: Const) -> float:
-    v = c.value
-    if isinstance(v, str):
-        return math.pi
-    if isinstance(v, float):
-        return v
-    return v.numerator / v.denominator  # = float(Fraction): int / int is correctly rounded
 
 
 # -- dual-number helpers ------------------------------------------------------------------------
@@ -485,20 +478,19 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             slot = len(ctx.slots)
             ctx.slots.append(("call", (module, name), tuple(isinstance(a, Var) for a in args)))
             return _compile_call(slot, module, name, args, ctx)
-        case ImplicitRoot(equation, variable, target, lo, hi, index, of):
+        case ImplicitRoot(equation, variable, target, lo, hi, index, of, slope):
             # issue 18, implicit root (a Ψ̂⁻¹ component): x* in [lo, hi] with f(x*) = ⟦target⟧;
             # ⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ') / ∂f/∂x at x* (implicit function theorem)
             parts = (_compile(equation, ctx), variable, _compile(target, ctx), _compile(lo, ctx), _compile(hi, ctx))
-            return _compile_root(*parts) if index is None else _compile_sign_change(*parts, index, of)
+            if index is None:
+                return _compile_root(*parts)
+            return _compile_sign_change(*parts, index, of, None if slope is None else tape_of([equation, slope], True),
+                                        t.span)
     raise TypeError(f"not a core term: {t!r}")
 
 
 #: Halvings of an implicit root's bracket: past double precision for brackets up to 2^10 wide.
 ROOT_HALVINGS = 64 + 10
-#: Cells of the grid on which an indexed implicit root's sign changes are found.
-ROOT_GRID = 512
-
-
 def _bisect(f, t, a, b):
     """Vectorized bisection of ``f − t`` on brackets ``[a, b]`` where it changes sign (NaN where it
     does not)."""
@@ -539,12 +531,16 @@ def _compile_root(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn) -> Fn:
     return root
 
 
-def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of: int) -> Fn:
+def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of: int, tape, span) -> Fn:
     """The ``index``-th sign change of ``f − target`` on ``[lo, hi]`` (``hi`` when there are
-    fewer; :class:`~langur.core.TooManyRoots` when more than ``of``): found on a grid of
-    :data:`ROOT_GRID` cells, once per distinct parameter point, and bisected in its cell."""
+    fewer; :class:`~langur.core.TooManyRoots` when more than ``of``, or when they cannot be
+    certified): each sign change certified in a bracket (:mod:`langur.operational.signchanges`,
+    ``tape`` encloses f and ∂f/∂x), once per distinct parameter point, and bisected there."""
     def sign_change(pt, lk):
         vals = pt.values()
+        if tape is None:
+            raise TooManyRoots("a turning point that moves with the parameters has no ∂²/∂x² to certify that none "
+                               "is missed (an implicit root without its slope): Langur cannot evaluate it", span)
         t, dt = ft(pt, lk)
         (lo, _), (hi, dhi) = flo(vals, lk), fhi(pt, lk)
         columns = [t, lo, hi] + [v for v in vals.params.values() if np.ndim(v)]
@@ -554,25 +550,29 @@ def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, o
         rows, back = np.unique(table, axis=0, return_inverse=True)
         back = back.reshape(-1)
         first = np.unique(back, return_index=True)[1]  # one sample row per distinct point
-        params = {k: (np.broadcast_to(np.asarray(v, dtype=float).reshape(-1), (n,))[first][:, None]
-                      if np.ndim(v) else v) for k, v in vals.params.items()}
-        tr, lor, hir = rows[:, 0:1], rows[:, 1:2], rows[:, 2:3]
-        grid = lor + (hir - lor) * np.linspace(0.0, 1.0, ROOT_GRID + 1)[None, :]  # (m, G + 1)
-        g = fe(Point({x: grid}, params, root=vals.root), lk)[0] - tr
-        sg = np.broadcast_to(g, grid.shape) >= 0
-        bad = np.isnan(np.broadcast_to(g, grid.shape))
-        change = (sg[:, 1:] != sg[:, :-1]) & ~bad[:, 1:] & ~bad[:, :-1]
-        counts = change.sum(axis=1)
+        params = {k: (np.broadcast_to(np.asarray(v, dtype=float).reshape(-1), (n,))[first] if np.ndim(v) else v)
+                  for k, v in vals.params.items()}
+        tr, lor, hir = rows[:, 0], rows[:, 1], rows[:, 2]
+
+        def at_rows(r):
+            return {k: (v[r] if np.ndim(v) else v) for k, v in params.items()}
+
+        def value(at, r):
+            return np.broadcast_to(fe(Point({x: at}, at_rows(r), root=vals.root), lk)[0], np.shape(at))
+
+        r, a, b = certified_brackets(value, tape, x, tr, lor, hir, params, span, what=f"∂/∂{x}")
+        counts = np.bincount(r, minlength=len(tr))
         if np.any(counts > of):
             raise TooManyRoots(f"{int(counts.max())} turning points on the domain at these parameter values, more "
-                               f"than the {of} the condition was split for: Langur cannot differentiate it here")
-        value_rows = hir[:, 0].copy()
+                               f"than the {of} the condition was split for: Langur cannot differentiate it here",
+                               span)
+        value_rows = hir.copy()
         has = counts > index
         if has.any():
-            r, k = np.nonzero(change & (np.cumsum(change, axis=1) == index + 1))  # the (index+1)-th change
-            at_rows = {name: (v[r, 0] if np.ndim(v) else v) for name, v in params.items()}  # one per cell
-            value_rows[r] = _bisect(lambda at: fe(Point({x: at}, at_rows, root=vals.root), lk)[0],
-                                    tr[r, 0], grid[r, k], grid[r, k + 1])
+            start = np.concatenate([[0], np.cumsum(counts)[:-1]])
+            pick = start[has] + index  # the (index+1)-th bracket of each row that has one
+            rr = r[pick]
+            value_rows[rr] = _bisect(lambda at: value(at, rr), tr[rr], a[pick], b[pick])
         value = value_rows[back] if n > 1 or np.ndim(t) or np.ndim(lo) or np.ndim(hi) else value_rows[0]
         if pt.mode == VALUE:
             return value, None

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..core import Add, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var
 from ..primitives import REGISTRY
-from .compile import const_value
+from .consts import const_value
 
 INF = np.inf
 
@@ -35,10 +35,12 @@ def enclose_all(tape: "_Tape", box: dict, params: dict) -> list[tuple[np.ndarray
     return tape.run(box, params)
 
 
-def tape_of(terms) -> "_Tape":
+def tape_of(terms, tight: bool = False) -> "_Tape":
     """One tape for several terms (e.g. every inverse branch's components and guards of a zero
-    set, which share most of their subterms); the caller keeps it."""
-    return _build(tuple(terms))
+    set, which share most of their subterms); the caller keeps it.  ``tight``: ``sin`` and
+    ``cos`` enclosed by where their extrema lie (:func:`_periodic`), not by their range (the
+    certified sign changes of issue 18, which need enclosures that shrink with the cell)."""
+    return _build(tuple(terms), tight)
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,7 +72,7 @@ def _tape(t: Term) -> _Tape:
         return tape
 
 
-def _build(terms: tuple[Term, ...]) -> _Tape:
+def _build(terms: tuple[Term, ...], tight: bool = False) -> _Tape:
     steps: list[tuple] = []
     index: dict = {}  # (rule, kids, data) → step: equal subterms are one step
     seen: dict[int, int] = {}  # id(node) → step: a shared node is looked at once
@@ -93,7 +95,7 @@ def _build(terms: tuple[Term, ...]) -> _Tape:
             case Pow(a, k):
                 key = (_pow, (step(a),), k)
             case Prim(op, a):
-                key = (_prim, (step(a),), op)
+                key = ((_periodic if tight and op in _PHASE else _prim), (step(a),), op)
             case IfGe0(c, a, b):
                 key = (_ifge0, (step(c), step(a), step(b)), None)
             case IfDiffeo(_, a, b):
@@ -196,6 +198,29 @@ def _bracket(box, params, _, lo, hi):
 def _prim(box, params, op: str, a):
     """An interval containing f([lo, hi]): the primitive registry's own rule (one declaration)."""
     return REGISTRY[op].interval(*a)
+
+
+#: sin(x) = sin(x + 0), cos(x) = sin(x + π/2): the phase that makes each a sine.
+_PHASE = {"sin": 0.0, "cos": np.pi / 2}
+#: Outward slack of a tight sine enclosure (the library's sin and the phase's rounding).
+_SLACK = 1e-12
+
+
+def _periodic(box, params, op: str, a):
+    """An interval containing sin or cos of ``[lo, hi]``: [−1, 1] where it is 2π wide or more,
+    else the ends' values widened to ±1 where a maximum (π/2 + 2kπ) or minimum (−π/2 + 2kπ)
+    lies inside, rounded outward."""
+    lo, hi = (np.asarray(v, dtype=float) + _PHASE[op] for v in a)
+    with np.errstate(all="ignore"):
+        sl, sh = np.sin(lo), np.sin(hi)
+        k_max = np.ceil((lo - np.pi / 2) / (2 * np.pi))
+        k_min = np.ceil((lo + np.pi / 2) / (2 * np.pi))
+        has_max = np.pi / 2 + 2 * np.pi * k_max <= hi + _SLACK
+        has_min = -np.pi / 2 + 2 * np.pi * k_min <= hi + _SLACK
+    wide = ~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo >= 2 * np.pi)
+    out_lo = np.where(wide | has_min, -1.0, np.maximum(np.minimum(sl, sh) - _SLACK, -1.0))
+    out_hi = np.where(wide | has_max, 1.0, np.minimum(np.maximum(sl, sh) + _SLACK, 1.0))
+    return out_lo, out_hi
 
 
 def _pow(box, params, k: Fraction, a):

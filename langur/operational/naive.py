@@ -33,10 +33,12 @@ from ..core import (
     Var,
 )
 from ..primitives import REGISTRY
-from .compile import DELTA, ROOT_GRID, ROOT_HALVINGS, TANGENT, VALUE
+from .compile import DELTA, ROOT_HALVINGS, TANGENT, VALUE
+from .interval import tape_of
 from .link import collect_sites
 from .results import Estimate
 from .sample import design
+from .signchanges import certified_brackets
 
 NAN = float("nan")
 
@@ -60,20 +62,22 @@ def _pow(a: float, k: Fraction) -> float:
         return math.inf
 
 
-def _root(f, a: float, b: float, index: int | None, of: int) -> float:
+def _root(f, a: float, b: float, index: int | None, of: int, certify=None, span=None) -> float:
     """The sign change of ``f`` in ``[a, b]`` (``index`` None: the one of a monotone ``f``, NaN
-    if none) or its ``index``-th one on a grid of ``ROOT_GRID`` cells (``b`` if there are fewer;
-    :class:`~langur.core.TooManyRoots` if more than ``of``), bisected."""
+    if none) or its ``index``-th one (``b`` if there are fewer; :class:`~langur.core.TooManyRoots`
+    if more than ``of``), bisected: ``certify`` gives the brackets, each certified to hold one
+    (:mod:`langur.operational.signchanges`)."""
     if index is not None:
-        xs = [a + (b - a) * i / ROOT_GRID for i in range(ROOT_GRID + 1)]
-        signs = [f(t) >= 0 for t in xs]
-        cells = [i for i in range(ROOT_GRID) if signs[i] != signs[i + 1]]
-        if len(cells) > of:
-            raise TooManyRoots(f"{len(cells)} turning points on the domain at these parameter values, more than "
-                               f"the {of} the condition was split for: Langur cannot differentiate it here")
-        if index >= len(cells):
+        if certify is None:
+            raise TooManyRoots("a turning point that moves with the parameters has no ∂²/∂x² to certify that none "
+                               "is missed: Langur cannot evaluate it", span)
+        brackets = certify(a, b)
+        if len(brackets) > of:
+            raise TooManyRoots(f"{len(brackets)} turning points on the domain at these parameter values, more than "
+                               f"the {of} the condition was split for: Langur cannot differentiate it here", span)
+        if index >= len(brackets):
             return b
-        a, b = xs[cells[index]], xs[cells[index] + 1]
+        a, b = brackets[index]
     fa, fb = f(a), f(b)
     if fa == 0 or fb == 0:
         return a if fa == 0 else b
@@ -86,6 +90,16 @@ def _root(f, a: float, b: float, index: int | None, of: int) -> float:
         else:
             b = m
     return 0.5 * (a + b)
+
+
+def _brackets(f, target: float, tape, x: str, lo: float, hi: float, params: dict, span) -> list[tuple[float, float]]:
+    """The certified brackets of the sign changes of ``f`` (= equation − target) on ``[lo, hi]``,
+    one point at a time (``f`` evaluated point by point, the enclosures by the shared tape)."""
+    def value(at, rows):
+        return np.array([f(float(p)) + target for p in at])
+    _, a, b = certified_brackets(value, tape, x, np.array([float(target)]), np.array([float(lo)]),
+                                 np.array([float(hi)]), params, span, what=f"∂/∂{x}")
+    return list(zip(a.tolist(), b.tolist()))
 
 
 class _Counter:
@@ -143,11 +157,14 @@ def evaluate(t: Term, rho: dict, gamma: dict, dgamma: dict, mode: int = VALUE, s
                 return v, (float(k) * _pow(x, k - 1) * dx if dx != 0.0 else 0.0)
             case Call():
                 raise ValueError("the naive evaluator runs inlined programs only")
-            case ImplicitRoot(eq, x, target, lo, hi, index, of):
+            case ImplicitRoot(eq, x, target, lo, hi, index, of, slope):
                 # issue 18, implicit root (a Ψ̂⁻¹ component): bisection; ⦇x*⦈ by the implicit function theorem
                 (tv, dt), (a, _), (b, db) = go(target, g, dg), go(lo, g, dg), go(hi, g, dg)
                 # the equation may mention Ψ̂⁻¹'s other inputs (a condition in several variables)
-                r = _root(lambda at: evaluate(eq, {**rho, x: at}, g, {})[0] - tv, a, b, index, of)
+                f = lambda at: evaluate(eq, {**rho, x: at}, g, {})[0] - tv  # noqa: E731
+                certify = None if slope is None else (
+                    lambda lo, hi: _brackets(f, tv, tape_of([eq, slope], True), x, lo, hi, g, u.span))
+                r = _root(f, a, b, index, of, certify, u.span)
                 if index is not None and r == b:
                     return r, db  # no index-th sign change: the bracket's end
                 fx = evaluate(eq, {**rho, x: r}, g, {}, TANGENT, dvars={x: 1.0})[1]

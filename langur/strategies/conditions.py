@@ -243,19 +243,29 @@ def turning_condition(scope: Scope) -> S.Iverson:
     """A condition in one variable with no closed-form inverse, completed on its monotone pieces by
     implicit roots (issue 18, :mod:`langur.syntax.turning`): the cubic ``v^3 - v`` (two turning
     points, up to three roots), ``exp(v) + v`` and ``v^5 + v`` (monotone, no inverse in closed
-    form), ``sin(3*v)`` (turning points inside the box) against a parameter term; ``v`` a variable
-    with constant bounds (else an ordinary condition)."""
-    if not scope.fixed:
+    form), ``sin(3*v)`` (turning points inside the box), and turning points that move with a
+    parameter ``P`` (``sin(3*P*v)``, ``v^3 - P*v``: counted certified by the engines), against a
+    parameter term; ``v`` a variable with constant bounds, or for the monotone forms one whose
+    bound moves with the parameters (the implicit root's bracket follows it)."""
+    moving = tuple(v for v in scope.variables if v not in scope.fixed)
+    if not scope.fixed and not moving:
         lhs, cmp, rhs = condition(scope)
         return S.Iverson((lhs, rhs), (cmp,))
-    v = name(scope.pick(scope.fixed))
-    forms = (
-        lambda: sub(power(v, 3), v),
-        lambda: T.add(call("exp", v), v),
-        lambda: T.add(power(v, 5), v),
-        lambda: call("sin", mul(num(3), v)),
+    monotone = (
+        lambda v: T.add(call("exp", v), v),
+        lambda v: T.add(power(v, 5), v),
     )
-    lhs = forms[scope.index(len(forms))]()
+    if scope.fixed and (not moving or scope.index(3) != 0):
+        v = name(scope.pick(scope.fixed))
+        forms = monotone + (
+            lambda v: sub(power(v, 3), v),
+            lambda v: call("sin", mul(num(3), v)),
+            lambda v: call("sin", mul(num(3), mul(scope.param(), v))),
+            lambda v: sub(power(v, 3), mul(scope.param(), v)),
+        )
+    else:  # a bound that moves: only a condition monotone on the whole line
+        v, forms = name(scope.pick(moving)), monotone
+    lhs = forms[scope.index(len(forms))](v)
     cmp = scope.pick(("<=", ">="))
     rhs = shifted_param(scope, (F(0), F(-1, 5), F(3, 20), F(-9, 20)))
     scope.register(sub(lhs, rhs), key=(lhs, rhs))

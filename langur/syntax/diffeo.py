@@ -71,6 +71,7 @@ from ..sympy_bridge import (
 from ..timebox import run_with_timeout
 from . import affine, turning
 from .affine import fresh_inputs
+from .support import float_bounds
 
 #: Wall-clock limit (seconds) of one completion / one declaration check.
 TIME_LIMIT = 10.0
@@ -122,9 +123,11 @@ def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box) -> Diffeo
                               "can be completed to a diffeomorphism") from None
     params = tuple(sorted(free_params(cond)))
     inputs = fresh_inputs(len(variables), set(variables) | set(params) | _symbol_names(expr))
-    bounds = {v: (lo, hi) for v, lo, hi in box}
+    bounds = float_bounds(box)  # a parametric bound is unbounded here …
+    ends = {v: (lo, hi) for v, lo, hi in box}  # … but an implicit root's bracket may follow it (issue 18)
     try:
-        found = run_with_timeout(lambda: _choose(cond, expr, variables, occurring, inputs, params, bounds), TIME_LIMIT)
+        found = run_with_timeout(lambda: _choose(cond, expr, variables, occurring, inputs, params, bounds, ends),
+                                 TIME_LIMIT)
     except TimeoutError:
         raise CompletionError(f"sympy could not invert the condition within {TIME_LIMIT:g}s") from None
     if isinstance(found, str):
@@ -154,7 +157,7 @@ def _symbol_names(expr: sp.Expr) -> set[str]:
     return {s.name for s in expr.free_symbols}
 
 
-def _choose(cond, expr, variables, occurring, inputs, params, bounds):
+def _choose(cond, expr, variables, occurring, inputs, params, bounds, ends=None):
     """The Diffeo for the best-ranked variable (ties: the last one), or a reason string."""
     found = []
     reasons = []
@@ -181,16 +184,24 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds):
     if len(occurring) == 1:  # no closed form: implicit roots on the monotone pieces (issue 18)
         (v,) = occurring
         pieces = turning.complete_by_pieces(cond, expr, symbol(v), variables, inputs,
-                                            bounds.get(v, (-math.inf, math.inf)))
+                                            (ends or bounds).get(v, (-math.inf, math.inf)))
         if isinstance(pieces, Diffeo):
             return pieces
         reasons.append(f"{v}: {pieces}")
     else:  # several variables: an implicit root in one the condition is proved monotone in (issue 18)
         for v in reversed(occurring):
-            psi = turning.complete_by_monotone(cond, expr, symbol(v), variables, inputs, bounds)
+            psi = turning.complete_by_monotone(cond, expr, symbol(v), variables, inputs, bounds, ends)
             if isinstance(psi, Diffeo):
                 return psi
             reasons.append(f"{v} (implicitly): {psi}")
+        for v in reversed(occurring):  # else split along a variable at its turning points
+            psi = turning.split_along(cond, expr, symbol(v), variables, inputs, bounds)
+            if isinstance(psi, Diffeo):
+                return psi
+            if psi is not None:
+                reasons.append(f"{v} (split): {psi}")
+        reasons.append("it is split along a variable only where its derivative in that variable depends on that "
+                       "variable alone: write it so, or declare a `diffeo` with its inverse")
     return "no variable can be isolated (" + "; ".join(reasons) + ")"
 
 

@@ -145,17 +145,27 @@ def _term(b, params) -> Term | None:
         return None
 
 
-def numeric_box(variables: tuple[str, ...], box) -> tuple[tuple[str, float, float], ...]:
-    """The box's constant bounds as floats (parametric or missing bounds: ±∞), for completion."""
+def numeric_box(variables: tuple[str, ...], box) -> tuple[tuple[str, float | Term, float | Term], ...]:
+    """The box's constant bounds as floats (missing bounds: ±∞), for completion; a bound that
+    depends on the parameters is kept as its term (an implicit root's bracket may follow it, issue
+    18: everything else reads it as ±∞, :func:`float_bounds`)."""
     out = []
     for x, (lo, hi) in zip(variables, box):
         out.append((x, _num(lo, -math.inf), _num(hi, math.inf)))
     return tuple(out)
 
 
-def _num(t: Term | None, default: float) -> float:
-    if t is None or free_params(t):
+def float_bounds(box) -> dict[str, tuple[float, float]]:
+    """The box as floats per variable: a parametric bound (a term) is unbounded."""
+    return {v: (lo if isinstance(lo, float) else -math.inf, hi if isinstance(hi, float) else math.inf)
+            for v, lo, hi in box}
+
+
+def _num(t: Term | None, default: float) -> float | Term:
+    if t is None:
         return default
+    if free_params(t):
+        return t
     exact = rational_value(t)  # a rational bound: no sympy
     if exact is not None:
         return float(exact)

@@ -23,8 +23,15 @@ exactly).  Infinitely many, or more than :data:`MAX_PIECES` − 1, are refused. 
 with the parameters (``sin(a·x) − 0.5``: ``x = (π/2 + kπ)/a``; ``x^3 − a·x``) or sympy cannot
 solve for them, their number depends on θ, which the front end does not know (``--at``): the
 completion has :data:`MOVING_PIECES` branches whose ends are the k-th sign changes of ``∂f/∂x``
-(indexed implicit roots, ``hi`` past the last one), found by the engines where they evaluate; a
-point with more raises :class:`~langur.core.TooManyRoots` there.
+(indexed implicit roots, ``hi`` past the last one, each carrying ``∂²f/∂x²`` as its ``slope``),
+found by the engines where they evaluate, each sign change *certified* (an interval enclosure of
+``∂f/∂x`` or of ``∂²f/∂x²`` that excludes 0 on every cell: :mod:`langur.operational.signchanges`,
+:func:`langur.implicit.certified_brackets`); a point with more, or with a cell neither enclosure
+certifies (a degenerate turning point), raises :class:`~langur.core.TooManyRoots` there (X316).
+
+An end of the interval that moves with the parameters (``int ([0, a + 1]) …``) is the bracket's
+end as a term, for a condition with no turning point on the whole line (one branch); one with
+turning points is refused (clamping its pieces to the moving interval is not done).
 
 A root on a turning point (``f = ∂f/∂x = 0``: two roots merge) lies at the common end of two
 branches: the linter reports it (X306/X305, :mod:`langur.lint.tangent`).
@@ -38,7 +45,19 @@ from fractions import Fraction
 import sympy as sp
 from sympy.calculus.util import continuous_domain
 
-from ..core import Add, Const, Diffeo, ImplicitRoot, InverseBranch, Mul, Term, Var, free_vars, neg, substitute
+from ..core import (
+    Add,
+    Const,
+    Diffeo,
+    ImplicitRoot,
+    InverseBranch,
+    Mul,
+    Term,
+    Var,
+    free_vars,
+    neg,
+    substitute,
+)
 from ..sympy_bridge import from_sympy
 from ..timebox import run_with_timeout
 from .monotone import certify, rational
@@ -54,14 +73,27 @@ MOVING_PIECES = 8
 
 
 def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...], inputs: tuple[str, ...],
-                       interval: tuple[float, float]) -> Diffeo | str:
+                       interval: tuple[float | Term, float | Term]) -> Diffeo | str:
     """The Diffeo of ``cond`` (sympy ``e``, over ``v`` and parameters only) with one implicit-root
-    branch per monotone piece of ``[lo, hi]``, or the reason it cannot be built."""
+    branch per monotone piece of ``[lo, hi]``, or the reason it cannot be built.  An end that
+    depends on the parameters (a term) is the bracket's end as it is: then ``e`` must be monotone
+    on the whole line (:func:`_monotone_on_the_line`), one branch."""
     lo, hi = interval
+    if not (isinstance(lo, float | int) and isinstance(hi, float | int)):
+        return _parametric(cond, e, v, variables, inputs, lo, hi)
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
         return "its implicit inverse needs a bounded interval of the variable (give it a constant domain)"
+    ends = _piece_ends(cond, e, sp.diff(e, v), v, lo, hi)
+    if isinstance(ends, str):
+        return ends
+    return _by_roots(cond, v.name, variables, inputs, ends)
+
+
+def _piece_ends(cond: Term, e: sp.Expr, d: sp.Expr, v: sp.Symbol, lo: float, hi: float) -> list[Term] | str:
+    """The ends of the pieces of ``[lo, hi]`` on which ``e`` is strictly monotone in ``v`` (``d`` =
+    ∂e/∂v, over ``v`` and parameters only): the interval where ``e`` is continuous cut at the
+    turning points, exact or (moving, no closed form) the k-th certified sign changes of ``d``."""
     x = v.name
-    d = sp.diff(e, v)
     L, R = rational(lo), rational(hi)
     try:
         dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT)
@@ -80,23 +112,37 @@ def complete_by_pieces(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[st
             slope = from_sympy(d, (x,), sorted(s.name for s in d.free_symbols - {v}))
         except ValueError as err:
             return f"∂/∂{x} = {d} is not a core term ({err})"
+        try:  # ∂²f/∂x²: where its enclosure excludes 0, ∂f/∂x has at most one zero (certified count)
+            bend = from_sympy(sp.diff(d, v), (x,), sorted(s.name for s in d.free_symbols - {v}))
+        except ValueError as err:
+            return f"∂²/∂{x}² = {sp.diff(d, v)} is not a core term ({err})"
         cuts = MOVING_PIECES - 1
         lo_t, hi_t = from_sympy(L, (), ()), from_sympy(R, (), ())
-        ends = ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts) for k in range(cuts)]
-                + [hi_t])
-    return _by_roots(cond, x, variables, inputs, ends)
+        ends = ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts, bend, span=cond.span)
+                          for k in range(cuts)] + [hi_t])
+    return ends
 
 
 def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...],
-                         inputs: tuple[str, ...], bounds: dict[str, tuple[float, float]]) -> Diffeo | str:
+                         inputs: tuple[str, ...], bounds: dict[str, tuple[float, float]],
+                         ends: dict | None = None) -> Diffeo | str:
     """The Diffeo of ``cond`` (sympy ``e``, over several variables) solved for ``v`` by one implicit
     root on ``v``'s interval, when ``e`` is proved strictly monotone in ``v`` on the box
     (:func:`langur.syntax.monotone.certify`); else the reason it cannot be built.
 
     Ψ̂ = (f, the other variables); Ψ̂⁻¹(u₀, u₁, …) has one branch: the other variables are their
     inputs, ``v = ImplicitRoot(f[other variables := u₁, …], v, u₀, lo, hi)``, guarded by
-    ``(u₀ − f(v=lo)) · (f(v=hi) − u₀) ≥ 0`` (the root lies in the bracket)."""
+    ``(u₀ − f(v=lo)) · (f(v=hi) − u₀) ≥ 0`` (the root lies in the bracket).  ``ends``: the box
+    with its parametric bounds as terms: a bracket may follow one (then monotone is proved on the
+    whole line in ``v``)."""
     lo, hi = bounds.get(v.name, (-math.inf, math.inf))
+    term_lo, term_hi = (ends or {}).get(v.name, (lo, hi))
+    if not (isinstance(term_lo, float | int) and isinstance(term_hi, float | int)):
+        box = {s: bounds.get(s.name, (-math.inf, math.inf)) for s in e.free_symbols if s.name in variables}
+        proved = certify(e, v, box)  # v's own interval: the whole line (its bound moves)
+        if isinstance(proved, str):
+            return proved
+        return _by_roots(cond, v.name, variables, inputs, [_end(term_lo), _end(term_hi)])
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
         return "its implicit inverse needs a bounded interval of the variable (give it a constant domain)"
     box = {s: bounds.get(s.name, (-math.inf, math.inf)) for s in e.free_symbols if s.name in variables}
@@ -105,6 +151,77 @@ def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[
         return proved
     ends = [from_sympy(rational(lo), (), ()), from_sympy(rational(hi), (), ())]
     return _by_roots(cond, v.name, variables, inputs, ends)
+
+
+def split_along(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...], inputs: tuple[str, ...],
+                bounds: dict[str, tuple[float, float]]) -> Diffeo | str | None:
+    """For a condition monotone in no variable on the box (tried first): ``∂e/∂v`` depends on ``v`` only
+    (``x^3 - x + y^3 - y``): split ``v``'s interval at its turning points, which are then the same
+    for every value of the other variables, so ``e`` is strictly monotone in ``v`` on each piece
+    times the rest of the box: one implicit-root branch per piece (None: ``∂e/∂v`` depends on
+    something else, or ``v``'s interval is not constant; a string: why the split failed).  Turning
+    points that move with a parameter are not split at here: the exact engine's quadrature over
+    the other inputs of such a delta met the fold (a root meeting a moving turning point) as
+    "probably divergent"."""
+    lo, hi = bounds.get(v.name, (-math.inf, math.inf))
+    d = sp.diff(e, v)
+    if d.free_symbols - {v} or not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+        return None  # other variables: pieces that move with them; parameters: not done (below)
+    ends = _piece_ends(cond, e, d, v, lo, hi)
+    if isinstance(ends, str):
+        return f"at the turning points of ∂/∂{v} = {d}: {ends}"
+    return _by_roots(cond, v.name, variables, inputs, ends)
+
+
+
+def _end(end: float | Term | None) -> Term | None:
+    """A bracket end as a core term (None: unbounded)."""
+    if isinstance(end, float | int):
+        return from_sympy(rational(float(end)), (), ()) if math.isfinite(end) else None
+    return end
+
+
+def _parametric(cond: Term, e: sp.Expr, v: sp.Symbol, variables, inputs, lo, hi) -> Diffeo | str:
+    """One implicit-root branch on ``[lo, hi]``, an end of which moves with the parameters: the
+    pieces between turning points would have to be clamped to the moving interval, so only a
+    condition with no turning point on the whole line is completed this way."""
+    a, b = _end(lo), _end(hi)
+    if a is None or b is None:
+        return "its implicit inverse needs a bounded interval of the variable (give it a domain)"
+    why = _monotone_on_the_line(e, v)
+    if why is not None:
+        return f"{why}; with a domain bound that moves with the parameters only a condition monotone on the " \
+               "whole line is completed (give the variable a constant domain)"
+    return _by_roots(cond, v.name, variables, inputs, [a, b])
+
+
+def _monotone_on_the_line(e: sp.Expr, v: sp.Symbol) -> str | None:
+    """None when ``e`` is continuous on ℝ and ``∂e/∂v`` (free of parameters) keeps its sign on ℝ
+    (zeros where it does not change sign allowed: ``x³``); else the reason."""
+    d = sp.diff(e, v)
+    if d.free_symbols - {v}:
+        return f"∂/∂{v} = {d} depends on the parameters"
+    try:
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.S.Reals), TURNING_LIMIT)
+        zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.S.Reals), TURNING_LIMIT)
+    except TimeoutError:
+        return f"sympy could not decide within {TURNING_LIMIT:g}s where ∂/∂{v} = {d} vanishes"
+    except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
+        return f"sympy could not decide where ∂/∂{v} = {d} vanishes ({type(err).__name__})"
+    if dom != sp.S.Reals:
+        return f"it is continuous on {dom} only"
+    if zeros is sp.S.EmptySet:
+        points = []
+    elif isinstance(zeros, sp.FiniteSet) and all(z.is_real for z in zeros) and len(zeros) < MAX_PIECES:
+        points = sorted(zeros, key=lambda z: float(z))
+    else:
+        return f"the zeros of ∂/∂{v} = {d} on the line are {zeros}"
+    probes = ([points[0] - 1] + [(p + q) / 2 for p, q in zip(points, points[1:])] + [points[-1] + 1]
+              if points else [sp.Integer(0)])
+    signs = {bool(d.subs(v, p).evalf(30) > 0) for p in probes}
+    if len(signs) > 1:
+        return f"it has turning points (∂/∂{v} = {d} changes sign at {', '.join(map(str, points))})"
+    return None
 
 
 def _by_roots(cond: Term, x: str, variables: tuple[str, ...], inputs: tuple[str, ...], ends: list[Term]) -> Diffeo:
