@@ -125,6 +125,9 @@ class Region:
             raise Undecidable("the box is empty or unbounded")
         self.scale = float(np.max(self.hi - self.lo))
         self.conds = [c for c in conds if c.free_symbols & set(self.xs)]
+        # a condition constant on the box (a guard of an inverse branch that does not apply at
+        # these parameters) that is negative empties the region: nothing there can blow up
+        self.empty = any(_num(c) < 0 for c in conds if not c.free_symbols & set(self.xs))
         self._cfs = [_numpy(c, self.xs) for c in self.conds]
 
     def grid(self) -> np.ndarray:
@@ -480,6 +483,8 @@ def undefined_part(w: sp.Expr, region: Region) -> Blowup | None:
 def blowups(w: sp.Expr, region: Region) -> list[Blowup]:
     """Every place where ``w`` blows up on R̄ (or is undefined on part of it), with its verdict."""
     out: list[Blowup] = []
+    if region.empty:
+        return out
     bad = undefined_part(w, region)
     if bad is not None:
         return [bad]
