@@ -27,6 +27,7 @@ from .core import Program
 from .ddenote import ddenote, ddenote_program
 from .denote import denote, denote_program
 from .symbolic.integrate import for_reading
+from .symbolic.local import size
 from .symbolic.pieces import Method
 from .symbolic.quadrature import UndefinedIntegral, printable
 from .symbolic.readable import Readable, readable
@@ -49,6 +50,10 @@ class ExactUndefined(ExactUnavailable):
     domain): an answer about the program, not a failure of the engine."""
 
 
+#: Operation count beyond which a closed form is printed without sorting its terms.
+LARGE_TEXT_OPS = 2000
+
+
 def _expr_text(e: sp.Expr | None) -> str | None:
     """The closed form as text; a rational of more than about 1,200 digits (Python refuses to
     print more than 4300) is written as a 30-digit float, and the text says so.  None when no
@@ -56,7 +61,10 @@ def _expr_text(e: sp.Expr | None) -> str | None:
     if e is None or not for_reading():
         return None
     shown = printable(e)
-    return sp.sstr(shown) + ("   [numbers of more than 1,200 digits rounded to 30 digits in this text]"
+    # a large closed form (thousands of operations) printed in sympy's canonical term order costs
+    # seconds of sorting; printed as it is built instead
+    order = "none" if size(shown, LARGE_TEXT_OPS) >= LARGE_TEXT_OPS else None
+    return sp.sstr(shown, order=order) + ("   [numbers of more than 1,200 digits rounded to 30 digits in this text]"
                              if shown != e else "")
 
 

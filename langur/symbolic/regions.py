@@ -33,7 +33,7 @@ from typing import Sequence
 
 import sympy as sp
 
-from langur.symbolic import elementary
+from langur.symbolic import elementary, local
 from langur.symbolic.pieces import Psi
 from langur.timebox import Deadline
 
@@ -542,7 +542,10 @@ def _extremum(fn, args):
 
 
 def _outermost(conds, weight, v, lo, hi, ctx: Context):
-    """Last variable: ``F(Max(A, B)) − F(A)`` per alternative, else the generic 1-D method."""
+    """Last variable: ``F(Max(A, B)) − F(A)`` per alternative, else the generic 1-D method (at
+    once for large conditions: their Max/Min nests cost minutes, :mod:`langur.symbolic.local`)."""
+    if local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params):
+        return _generic_1d(conds, weight, v, lo, hi, ctx)
     sub = Context(ctx.at, ctx.deadline, ctx.params)
     try:
         alts = [alternatives(c, v, [], sub) for c in conds]
@@ -590,6 +593,19 @@ def _roots(c: Cond, v, ctx: Context):
     return [r for r in sols if not isinstance(r, (dict, tuple)) and _vanishes_at(c.expr, v, r, ctx)]
 
 
+def _closed_roots(c: Cond, v, ctx: Context):
+    """The roots, and the poles, of a large condition whose numerator and denominator are of
+    degree ≤ 2 in ``v`` (:func:`local.closed_roots`), the roots checked at the evaluation point;
+    None when it is small (sympy's solve is quick there) or not of that shape."""
+    if c.psi is not None or not local.is_large([c.expr], ctx.params):
+        return None
+    found = local.closed_roots(c.expr, v, ctx.value)
+    if found is None:
+        return None
+    roots, poles = found
+    return [r for r in roots if _vanishes_at(c.expr, v, r, ctx)] + list(poles)
+
+
 def _vanishes_at(expr, v, root, ctx: Context) -> bool:
     """``expr`` is zero at ``v = root`` at the evaluation point (a true root there, not one that
     only an unchecked solution formula gives)."""
@@ -631,8 +647,13 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     """Roots of all conditions, ordered at ``at``; conditions decided per sub-interval at ``at``."""
     lo_v, hi_v = ctx.value(lo).real, ctx.value(hi).real
     pts = [(lo_v, lo), (hi_v, hi)]
+    unsure = []  # conditions whose roots sympy solved (it may miss some): sign changes looked for
     for c in conds:
-        for r in _roots(c, v, ctx):
+        rs = _closed_roots(c, v, ctx)
+        if rs is None:
+            rs = _roots(c, v, ctx)
+            unsure.append(c)
+        for r in rs:
             z = ctx.value(r)
             if abs(z.imag) > 1e-12 * max(1.0, abs(z.real)) or not (lo_v < z.real < hi_v):
                 continue
@@ -643,14 +664,29 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
         if uniq and abs(p[0] - uniq[-1][0]) < 1e-13 * max(1.0, abs(p[0])):
             continue
         uniq.append(p)
+    large = local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params)
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         if not (eb - ea).is_number:
-            ctx.record(">", eb - ea)
-        _no_missed_root(conds, v, a, b, ctx)
+            if large:  # (expanding the difference of two large bounds costs seconds)
+                rel = sp.StrictGreaterThan(eb - ea, 0)
+                if rel not in ctx.cell:
+                    ctx.cell.append(rel)
+            else:
+                ctx.record(">", eb - ea)
+        _no_missed_root(unsure, v, a, b, ctx)
     ctx.generic = True
     total = sp.Integer(0)
     start = None
     F = None
+    deg = local.degree(sp.sympify(weight), frozenset((v,))) if large else None
+    if deg is not None and deg <= local.MAX_DEGREE:  # a large polynomial: never expanded
+        def definite(a, b):
+            return local.newton_cotes(sp.sympify(weight), v, a, b, deg)
+    else:
+        def definite(a, b):
+            nonlocal F
+            F = F if F is not None else antiderivative(weight, v, ctx)
+            return F.xreplace({v: b}) - F.xreplace({v: a})
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         m = (a + b) / 2
         ok = True
@@ -662,12 +698,10 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
         if ok and start is None:
             start = ea
         if not ok and start is not None:
-            F = F if F is not None else antiderivative(weight, v, ctx)
-            total += F.xreplace({v: ea}) - F.xreplace({v: start})
+            total += definite(start, ea)
             start = None
     if start is not None:
-        F = F if F is not None else antiderivative(weight, v, ctx)
-        total += F.xreplace({v: uniq[-1][1]}) - F.xreplace({v: start})
+        total += definite(start, uniq[-1][1])
     return total
 
 
@@ -687,6 +721,13 @@ def integrate_region(conds: Sequence[Cond], weight, variables: Sequence, box: di
                 return sp.Integer(0)
         else:
             top.append(e > 0 if c.strict else e >= 0)
+    if len(variables) == 2 and local.is_large([c.expr for c in others] + [sp.sympify(weight)], ctx.params):
+        # a convex polygon decided at the point (large affine regions: Max/Min nests cost minutes)
+        sub = Context(ctx.at, ctx.deadline, ctx.params)
+        val = local.polygon_integral(others, sp.sympify(weight), *variables, box, sub)
+        if val is not None:
+            ctx.cell.extend(r for r in sub.cell if r not in ctx.cell)
+            return sp.Piecewise((val, sp.And(*top)), (0, True)) if top else val
     failures = []
     orders = list(itertools.permutations(variables))
     orders.sort(key=lambda o: o != tuple(variables))
