@@ -52,6 +52,9 @@ class ExactUndefined(ExactUnavailable):
 
 #: Operation count beyond which a closed form is printed without sorting its terms.
 LARGE_TEXT_OPS = 2000
+#: Size (tree nodes) beyond which a closed form is not printed at all (megabytes of text, a minute
+#: of sympy's printer: the stylization kernel's quadratic shader, §10.3.1); a note says so.
+UNPRINTED_OPS = 100_000
 
 
 def _expr_text(e: sp.Expr | None) -> str | None:
@@ -59,6 +62,8 @@ def _expr_text(e: sp.Expr | None) -> str | None:
     print more than 4300) is written as a 30-digit float, and the text says so.  None when no
     text is wanted (:func:`~langur.symbolic.integrate.untidied`: ``langur fuzz`` compares values)."""
     if e is None or not for_reading():
+        return None
+    if size(e, UNPRINTED_OPS) >= UNPRINTED_OPS:
         return None
     shown = printable(e)
     # a large closed form (thousands of operations) printed in sympy's canonical term order costs
@@ -95,8 +100,12 @@ class ExactValue:
     @classmethod
     def of(cls, r) -> ExactValue:
         """From an exact-engine result (an Integral or a DerivativeResult)."""
-        return cls(float(r.value), _expr_text(r.expr), r.method,
-                   None if r.method == Method.CLOSED_FORM else float(r.error), list(r.notes), r.inconsistent)
+        text = _expr_text(r.expr)
+        notes = list(r.notes)
+        if text is None and r.expr is not None and for_reading():
+            notes.append(f"closed form of more than {UNPRINTED_OPS:,} nodes: not printed")
+        return cls(float(r.value), text, r.method,
+                   None if r.method == Method.CLOSED_FORM else float(r.error), notes, r.inconsistent)
 
     def how(self) -> str:
         """How the value was obtained, for the text output."""

@@ -314,6 +314,11 @@ def closed_roots(expr, v, value) -> tuple[list, list] | None:
             return None
         rs, lead = _poly_roots(p)
         if value(lead.xreplace(back)) == 0:
+            # a linear part whose slope vanishes at the point: its root is at infinity there, so
+            # outside the box near the point (unless the part vanishes identically there: a tie)
+            if p.degree() == 1 and value(p.all_coeffs()[1].xreplace(back)) != 0:
+                out.append([])
+                continue
             return None
         out.append([r.xreplace(back) for r in rs])
     return out[0], out[1]
@@ -323,11 +328,22 @@ def closed_roots(expr, v, value) -> tuple[list, list] | None:
 # Exact directional derivatives of large rational closed forms.
 
 
+def rational_value(expr, point: dict):
+    """``expr`` at ``point`` (symbols → Rationals) as an exact Fraction, for forms built from
+    rationals, symbols, +, ·, integer powers and ``Abs``; None otherwise (or on a division by 0)."""
+    return _dual(expr, point, {}, 0)
+
+
 def dual_derivative(expr, point: dict, tangent: dict):
     """``d/ds expr(point + s·tangent)`` at s = 0 as an exact Fraction, by dual numbers over the
     rationals (one pass over the tree, shared subtrees once): for closed forms built from
     rationals, symbols, +, ·, integer powers and ``Abs`` (away from 0); None otherwise (or where
     it is not differentiable: a division by 0, ``Abs`` at 0)."""
+    return _dual(expr, point, tangent, 1)
+
+
+def _dual(expr, point: dict, tangent: dict, part: int):
+    """Value (``part`` 0) or derivative (1) by dual numbers over Fractions (see dual_derivative)."""
     memo: dict = {}
 
     def go(e):
@@ -368,8 +384,8 @@ def dual_derivative(expr, point: dict, tangent: dict):
         return out
 
     try:
-        return go(sp.sympify(expr))[1]
-    except _NotRational:
+        return go(sp.sympify(expr))[part]
+    except (_NotRational, ZeroDivisionError):
         return None
 
 

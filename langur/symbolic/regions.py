@@ -77,7 +77,12 @@ class Context:
         form that is exactly 0 there came out as cancellation noise (Fig. 14's pixel at the
         origin: −2⁻¹²⁶ ≈ −1.17549435082e-38)."""
         exact = {k: v for k, v in self.at.items() if isinstance(v, sp.Rational)}
-        return self.value(sp.sympify(expr).xreplace(exact) if exact else expr)
+        expr = sp.sympify(expr)
+        if exact and local.size(expr, local.LARGE_OPS) >= local.LARGE_OPS:
+            q = local.rational_value(expr, exact)  # a large rational form: Fractions, not sympy's nodes
+            if q is not None:
+                return complex(q)
+        return self.value(expr.xreplace(exact) if exact else expr)
 
     def record(self, rel_kind: str, expr) -> None:
         """Add ``expr > 0`` / ``expr >= 0`` / ``expr = 0`` to the cell, canonically (positive
@@ -594,10 +599,10 @@ def _roots(c: Cond, v, ctx: Context):
 
 
 def _closed_roots(c: Cond, v, ctx: Context):
-    """The roots, and the poles, of a large condition whose numerator and denominator are of
-    degree ≤ 2 in ``v`` (:func:`local.closed_roots`), the roots checked at the evaluation point;
-    None when it is small (sympy's solve is quick there) or not of that shape."""
-    if c.psi is not None or not local.is_large([c.expr], ctx.params):
+    """The roots, and the poles, of a condition (one of a large problem's) whose numerator and
+    denominator are of degree ≤ 2 in ``v`` (:func:`local.closed_roots`), the roots checked at the
+    evaluation point; None when it is not of that shape."""
+    if c.psi is not None:
         return None
     found = local.closed_roots(c.expr, v, ctx.value)
     if found is None:
@@ -647,9 +652,10 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     """Roots of all conditions, ordered at ``at``; conditions decided per sub-interval at ``at``."""
     lo_v, hi_v = ctx.value(lo).real, ctx.value(hi).real
     pts = [(lo_v, lo), (hi_v, hi)]
+    large = local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params)
     unsure = []  # conditions whose roots sympy solved (it may miss some): sign changes looked for
     for c in conds:
-        rs = _closed_roots(c, v, ctx)
+        rs = _closed_roots(c, v, ctx) if large else None
         if rs is None:
             rs = _roots(c, v, ctx)
             unsure.append(c)
@@ -664,7 +670,6 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
         if uniq and abs(p[0] - uniq[-1][0]) < 1e-13 * max(1.0, abs(p[0])):
             continue
         uniq.append(p)
-    large = local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params)
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         if not (eb - ea).is_number:
             if large:  # (expanding the difference of two large bounds costs seconds)
