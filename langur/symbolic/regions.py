@@ -574,6 +574,11 @@ def _outermost(conds, weight, v, lo, hi, ctx: Context):
         return _generic_1d(conds, weight, v, lo, hi, ctx)
 
 
+#: sympy's solutions (unchecked: each call checks them at its own evaluation point) per condition
+#: and variable.
+_SOLVED: dict = {}
+
+
 def _roots(c: Cond, v, ctx: Context):
     psi = c.psi
     if psi is not None and psi.solved_for == v and psi.branches:
@@ -586,13 +591,17 @@ def _roots(c: Cond, v, ctx: Context):
     # check=False: sympy's own check drops roots whose validity depends on a parameter's sign
     # (yu + sqrt(r² − x²) = 0 has the roots ±sqrt(r² − yu²) exactly when yu ≤ 0); each candidate
     # is checked at the evaluation point instead, which is where the closed form is valid.
-    try:
-        sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False, check=False),
-                                cap=max(2.0, ctx.deadline.seconds / 4))
-    except TimeoutError:
-        raise Unsupported(f"solving {c.expr} = 0 for {v} timed out") from None
-    except (NotImplementedError, ValueError, TypeError) as exc:
-        raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {' '.join(str(exc).split())}") from None
+    key = (c.expr, v)
+    sols = _SOLVED.get(key)  # the same conditions come back for ⟦p⟧, each ⦇p⦈ and the checks
+    if sols is None:
+        try:
+            sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False, check=False),
+                                    cap=max(2.0, ctx.deadline.seconds / 4))
+        except TimeoutError:
+            raise Unsupported(f"solving {c.expr} = 0 for {v} timed out") from None
+        except (NotImplementedError, ValueError, TypeError) as exc:
+            raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {' '.join(str(exc).split())}") from None
+        _remember(_SOLVED, key, sols)
     if not isinstance(sols, list):
         raise Unsupported(f"infinitely many roots of {c.expr} in {v}")
     return [r for r in sols if not isinstance(r, (dict, tuple)) and _vanishes_at(c.expr, v, r, ctx)]
