@@ -297,14 +297,42 @@ def closed_roots(expr, v, value) -> tuple[list, list] | None:
     of degree ≤ 2 in ``v`` whose leading coefficients do not vanish at the point (``value``: the
     point's numeric evaluation of a parameter-only expression); the candidates are to be checked at
     the point (complex or spurious ones dropped).  None otherwise."""
+    parts = _ROOT_FORMULAS.get((expr, v), False)
+    if parts is False:
+        parts = _root_formulas(sp.sympify(expr), v)
+        if len(_ROOT_FORMULAS) >= 2048:
+            _ROOT_FORMULAS.pop(next(iter(_ROOT_FORMULAS)))
+        _ROOT_FORMULAS[(expr, v)] = parts
+    if parts is None:
+        return None
+    out = []
+    for rs, coeffs in parts:
+        if coeffs and value(coeffs[0]) == 0:
+            # a linear part whose slope vanishes at the point: its root is at infinity there, so
+            # outside the box near the point (unless the part vanishes identically there: a tie)
+            if len(coeffs) == 2 and value(coeffs[1]) != 0:
+                out.append([])
+                continue
+            return None
+        out.append(rs)
+    return out[0], out[1]
+
+
+#: The root formulas of conditions by (condition, variable): they do not depend on the point.
+_ROOT_FORMULAS: dict = {}
+
+
+def _root_formulas(expr, v):
+    """For the numerator and the denominator of ``expr``: its roots in ``v`` by formula and its
+    coefficients (the leading one first), or None when either is not of degree ≤ 2."""
     table: dict = {}
-    e = _abstract(sp.sympify(expr), v, table, {})
+    e = _abstract(expr, v, table, {})
     back = {k: s for s, k in table.items()}
     num, den = sp.fraction(sp.together(e))
     out = []
     for part in (num, den):
         if v not in part.free_symbols:
-            out.append([])
+            out.append(([], ()))
             continue
         try:
             p = sp.Poly(part, v)
@@ -312,16 +340,9 @@ def closed_roots(expr, v, value) -> tuple[list, list] | None:
             return None
         if p.degree() > 2 or any(v in c.free_symbols for c in p.all_coeffs()):
             return None
-        rs, lead = _poly_roots(p)
-        if value(lead.xreplace(back)) == 0:
-            # a linear part whose slope vanishes at the point: its root is at infinity there, so
-            # outside the box near the point (unless the part vanishes identically there: a tie)
-            if p.degree() == 1 and value(p.all_coeffs()[1].xreplace(back)) != 0:
-                out.append([])
-                continue
-            return None
-        out.append([r.xreplace(back) for r in rs])
-    return out[0], out[1]
+        rs, _ = _poly_roots(p)
+        out.append(([r.xreplace(back) for r in rs], tuple(c.xreplace(back) for c in p.all_coeffs())))
+    return out
 
 
 # ------------------------------------------------------------------------------------------
