@@ -30,8 +30,10 @@ from functools import lru_cache
 
 import sympy as sp
 
-#: Conditions (plus weight) at least this large (sympy operation count) take the local path.
-LARGE_OPS = 150
+#: Conditions (plus weight) at least this large (tree nodes) take the local path (the ray-traced
+#: triangle's are 500–2,000; the renderer's quad_shader, 150, keeps its closed form for all
+#: parameter values, which `render --exact` evaluates over the whole image).
+LARGE_OPS = 400
 #: ... or mention at least this many parameters.
 MANY_PARAMS = 5
 #: Highest degree of a polynomial weight integrated by a lattice or Newton–Cotes rule.
