@@ -21,7 +21,7 @@ its Theorem 8.1 check, as a campaign's unit asks them: ``langur.fuzz.compare._ex
 CPU seconds per program in this one process, and how many answers are closed forms.
 
 Run:  python bench/bench_symbolic.py  [--max 64]
-      python bench/bench_symbolic.py --examples
+      python bench/bench_symbolic.py --examples [--baseline DIR] [--only TEXT] [--limit SECONDS]
       python bench/bench_symbolic.py --campaign 30 --seed 1
 """
 
@@ -122,18 +122,35 @@ print(json.dumps(out))
 EXAMPLE_LIMIT = 300.0
 
 
-def bench_examples(limit: float = EXAMPLE_LIMIT):
+def bench_examples(limit: float = EXAMPLE_LIMIT, baseline: str | None = None, only: str | None = None):
     """Every example's exact deriv per parameter, each example in a fresh process (module doc);
-    yields rows as they are measured."""
+    yields rows as they are measured.  With ``baseline`` (a directory holding another version's
+    ``langur`` package, e.g. ``git archive main | tar -x -C DIR``), each example is measured with
+    that version too, just before (rows with ``"version": "baseline"``); ``only``: a substring of
+    the examples' paths to keep."""
     for path in sorted(glob.glob(os.path.join(EXAMPLES, "**", "*.lgr"), recursive=True)):
         name = os.path.relpath(path, EXAMPLES)
+        if only and only not in name:
+            continue
+        if baseline:
+            for r in _one_example(path, name, limit, baseline):
+                yield {**r, "version": "baseline"}
+        for r in _one_example(path, name, limit, None):
+            yield {**r, "version": "this"}
+
+
+def _one_example(path: str, name: str, limit: float, pythonpath: str | None):
+    env = dict(os.environ)
+    if pythonpath:
+        env["PYTHONPATH"] = os.path.abspath(pythonpath) + os.pathsep + env.get("PYTHONPATH", "")
+    if True:
         code = f"import resource; resource.setrlimit(resource.RLIMIT_CPU, ({int(limit)}, {int(limit) + 5}))\n" + _ONE
         proc = subprocess.run([sys.executable, "-c", code, path], capture_output=True, text=True,
-                              cwd=os.path.dirname(path))
+                              cwd=os.path.dirname(path), env=env)
         if proc.returncode != 0:
             why = (proc.stderr.strip().splitlines() or [f"killed after {limit:g} CPU seconds"])[-1]
             yield {"example": name, "wrt": None, "error": why}
-            continue
+            return
         for r in json.loads(proc.stdout):
             yield {"example": name, **r}
 
@@ -162,6 +179,10 @@ def main() -> None:
     ap.add_argument("--examples", action="store_true", help="time every example's exact deriv instead")
     ap.add_argument("--limit", type=float, default=EXAMPLE_LIMIT,
                     help="CPU seconds per example process (default %(default)s)")
+    ap.add_argument("--baseline", metavar="DIR",
+                    help="with --examples: also time the langur package in DIR (another version), "
+                         "example by example in the same run")
+    ap.add_argument("--only", metavar="TEXT", help="with --examples: only the examples whose path contains TEXT")
     ap.add_argument("--campaign", type=int, metavar="N", help="time the exact engine on a campaign's programs")
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
@@ -177,19 +198,29 @@ def main() -> None:
         return
     if args.examples:
         rows = []
-        print("| example | wrt | CPU s | method | value | Theorem 8.1 |")
-        print("|---|---|---:|---|---:|---|")
-        for r in bench_examples(args.limit):
+        print("| example | version | wrt | CPU s | method | value | Theorem 8.1 |")
+        print("|---|---|---|---:|---|---:|---|")
+        for r in bench_examples(args.limit, args.baseline, args.only):
             rows.append(r)
             if r.get("wrt") is None:
-                print(f"| {r['example']} | — | — | {r.get('error', 'no parameters')} | | |", flush=True)
+                print(f"| {r['example']} | {r['version']} | — | — | {r.get('error', 'no parameters')} | | |", flush=True)
                 continue
-            print(f"| {r['example']} | {r['wrt']} | {r['cpu']:.2f} | {r['method']} | {r['value']:.10g} "
-                  f"| {r['theorem']} |", flush=True)
-        cpu = [r["cpu"] for r in rows if r.get("wrt") is not None]
-        if cpu:
-            print(f"\n{len(cpu)} partial derivatives: median {statistics.median(cpu):.2f} s, max {max(cpu):.2f} s, "
-                  f"{sum(c > 1.0 for c in cpu)} over 1 s")
+            print(f"| {r['example']} | {r['version']} | {r['wrt']} | {r['cpu']:.2f} | {r['method']} "
+                  f"| {r['value']!r} | {r['theorem']} |", flush=True)
+        for version in ("baseline", "this"):
+            cpu = [r["cpu"] for r in rows if r.get("wrt") is not None and r["version"] == version]
+            failed = [r["example"] for r in rows if r.get("wrt") is None and r["version"] == version
+                      and "error" in r]
+            if cpu or failed:
+                print(f"\n{version}: {len(cpu)} partial derivatives: median {statistics.median(cpu or [0]):.2f} s, "
+                      f"max {max(cpu or [0]):.2f} s, {sum(c > 1.0 for c in cpu)} over 1 s; "
+                      f"examples not finished: {failed or 'none'}")
+        base = {(r["example"], r["wrt"]): r for r in rows if r.get("wrt") and r["version"] == "baseline"}
+        for r in rows:
+            b = base.get((r["example"], r.get("wrt")))
+            if r["version"] == "this" and b is not None and abs(r["value"] - b["value"]) > 1e-9 * max(1, abs(b["value"])):
+                print(f"values differ: {r['example']} d/d{r['wrt']}: baseline {b['value']!r} ({b['method']}), "
+                      f"this {r['value']!r} ({r['method']})")
         return
     print("| jumps n | regular pieces | delta terms | ⟦p⟧ s | ⦇t⦈ normal form s | ⦇p⦈ s | method | values ok |")
     print("|---:|---:|---:|---:|---:|---:|---|---|")

@@ -27,6 +27,7 @@ from .core import Program
 from .ddenote import ddenote, ddenote_program
 from .denote import denote, denote_program
 from .symbolic.integrate import for_reading
+from .symbolic.local import size
 from .symbolic.pieces import Method
 from .symbolic.quadrature import UndefinedIntegral, printable
 from .symbolic.readable import Readable, readable
@@ -49,14 +50,26 @@ class ExactUndefined(ExactUnavailable):
     domain): an answer about the program, not a failure of the engine."""
 
 
+#: Operation count beyond which a closed form is printed without sorting its terms.
+LARGE_TEXT_OPS = 2000
+#: Size (tree nodes) beyond which a closed form is not printed at all (megabytes of text, a minute
+#: of sympy's printer: the stylization kernel's quadratic shader, §10.3.1); a note says so.
+UNPRINTED_OPS = 100_000
+
+
 def _expr_text(e: sp.Expr | None) -> str | None:
     """The closed form as text; a rational of more than about 1,200 digits (Python refuses to
     print more than 4300) is written as a 30-digit float, and the text says so.  None when no
     text is wanted (:func:`~langur.symbolic.integrate.untidied`: ``langur fuzz`` compares values)."""
     if e is None or not for_reading():
         return None
+    if size(e, UNPRINTED_OPS) >= UNPRINTED_OPS:
+        return None
     shown = printable(e)
-    return sp.sstr(shown) + ("   [numbers of more than 1,200 digits rounded to 30 digits in this text]"
+    # a large closed form (thousands of operations) printed in sympy's canonical term order costs
+    # seconds of sorting; printed as it is built instead
+    order = "none" if size(shown, LARGE_TEXT_OPS) >= LARGE_TEXT_OPS else None
+    return sp.sstr(shown, order=order) + ("   [numbers of more than 1,200 digits rounded to 30 digits in this text]"
                              if shown != e else "")
 
 
@@ -87,8 +100,12 @@ class ExactValue:
     @classmethod
     def of(cls, r) -> ExactValue:
         """From an exact-engine result (an Integral or a DerivativeResult)."""
-        return cls(float(r.value), _expr_text(r.expr), r.method,
-                   None if r.method == Method.CLOSED_FORM else float(r.error), list(r.notes), r.inconsistent)
+        text = _expr_text(r.expr)
+        notes = list(r.notes)
+        if text is None and r.expr is not None and for_reading():
+            notes.append(f"closed form of more than {UNPRINTED_OPS:,} nodes: not printed")
+        return cls(float(r.value), text, r.method,
+                   None if r.method == Method.CLOSED_FORM else float(r.error), notes, r.inconsistent)
 
     def how(self) -> str:
         """How the value was obtained, for the text output."""

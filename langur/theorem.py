@@ -26,6 +26,7 @@ import sympy as sp
 
 from .ddenote import ddenote_program
 from .denote import denote_program
+from .symbolic.local import dual_derivative, size
 from .symbolic.pieces import Method
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .timebox import run_with_timeout
@@ -126,6 +127,9 @@ def localize(expr: sp.Expr, at: Mapping[sp.Symbol, sp.Expr], eps: float = 1e-12)
             return bool(cond.func(d, 0))
         raise _Tie()
 
+    if not expr.has(sp.Max, sp.Min, sp.Heaviside, sp.DiracDelta, sp.Piecewise):
+        return expr  # nothing to resolve (and a large closed form is not rebuilt node by node)
+
     def go(e):
         if not e.args or not (e.free_symbols & set(at)):
             return e
@@ -163,12 +167,21 @@ def localize(expr: sp.Expr, at: Mapping[sp.Symbol, sp.Expr], eps: float = 1e-12)
     return go(expr)
 
 
+#: Operation count beyond which the symbolic difference is not attempted: expanding the difference
+#: of two closed forms of ~10⁴ operations (the stylization kernel, §10.3.1) takes minutes; the
+#: comparison is then numeric.
+SYMBOLIC_OPS = 3000
+
+
 def symbolic_difference(lhs: sp.Expr, rhs: sp.Expr, seconds: float = 5.0) -> sp.Expr | None:
-    """``simplify(lhs − rhs)`` within ``seconds``, or None when it does not finish."""
-    difference = sp.expand(lhs - rhs)
-    if difference == 0:  # the common case, without simplify's seconds
-        return difference
+    """``simplify(lhs − rhs)`` within ``seconds`` (the expansion too), or None when it does not
+    finish or the two sides are too large to try (:data:`SYMBOLIC_OPS`)."""
+    if size(lhs, SYMBOLIC_OPS) + size(rhs, SYMBOLIC_OPS) >= SYMBOLIC_OPS:
+        return None
     try:
+        difference = run_with_timeout(lambda: sp.expand(lhs - rhs), seconds)
+        if difference == 0:  # the common case, without simplify's seconds
+            return difference
         return run_with_timeout(lambda: sp.simplify(difference), seconds)
     except (TimeoutError, RecursionError):
         return None
@@ -249,7 +262,10 @@ def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, 
     closed form evaluated with 30 digits (h = 1e-8: error O(h²) where it is differentiable) when
     the form holds on both sides (``across``); else ``(None, None)``."""
     try:
-        local = directional(localize(expr, at_symbols(at)), direction)
+        local_form = localize(expr, at_symbols(at))
+        if size(local_form, SYMBOLIC_OPS) >= SYMBOLIC_OPS:  # large: differentiated along the line only
+            return _line_derivative(local_form, at, direction), None
+        local = directional(local_form, direction)
         value = _float(local, at)
         if math.isfinite(value):
             return value, local
@@ -263,6 +279,20 @@ def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, 
     plus = {k: v + h * exact_number(direction.get(k.name, 0)) for k, v in pt.items()}
     minus = {k: v - h * exact_number(direction.get(k.name, 0)) for k, v in pt.items()}
     return float(sp.N((expr.xreplace(plus) - expr.xreplace(minus)) / (2 * h), 30)), None
+
+
+def _line_derivative(expr: sp.Expr, at: Mapping[str, object], direction) -> float:
+    """D_γ expr · γ' at ``at``, exactly: ``d/ds expr(at + s·γ')`` at s = 0, the point's values
+    substituted first (a large closed form becomes one in s alone, much smaller to differentiate
+    than ``expr`` in all its parameters)."""
+    point = at_symbols(at)
+    tangent = {k: exact_number(direction.get(k.name, 0)) for k in point}
+    exact = dual_derivative(expr, point, tangent)  # rational arithmetic with dual numbers
+    if exact is not None:
+        return float(exact)
+    s = sp.Dummy("s")
+    line = {k: v + s * tangent[k] for k, v in point.items()}
+    return _float(sp.diff(expr.xreplace(line), s).xreplace({s: sp.Integer(0)}), {})
 
 
 def _finite_difference(program, at, direction, der, den, timeout, why: str) -> TheoremCheck:

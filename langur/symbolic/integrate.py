@@ -41,7 +41,7 @@ from typing import Iterator, Sequence
 
 import sympy as sp
 
-from langur.symbolic import delta, quadrature, regions
+from langur.symbolic import delta, local, quadrature, regions
 from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
 from langur.symbolic.quadrature import UndefinedIntegral
 from langur.symbolic.regions import Cond, Context, Unsupported
@@ -121,7 +121,8 @@ def untidied() -> Iterator[None]:
 
 def _tidy(expr, ctx: Context):
     """A simpler equal form when sympy finds one quickly (checked at the evaluation point)."""
-    if not _TIDYING.get() or sp.count_ops(expr) > 300 or len(expr.atoms(sp.Max, sp.Min)) > 2:
+    if not _TIDYING.get() or local.size(expr, 1000) >= 1000 or sp.count_ops(expr) > 300 \
+            or len(expr.atoms(sp.Max, sp.Min)) > 2:  # (size first: count_ops takes seconds on a large form)
         return expr  # sympy's simplify is slow on Max/Min and rarely helps there
     s = _TIDIED.get(expr)
     if s is None:

@@ -33,7 +33,7 @@ from typing import Sequence
 
 import sympy as sp
 
-from langur.symbolic import elementary
+from langur.symbolic import elementary, local
 from langur.symbolic.pieces import Psi
 from langur.timebox import Deadline
 
@@ -77,7 +77,12 @@ class Context:
         form that is exactly 0 there came out as cancellation noise (Fig. 14's pixel at the
         origin: −2⁻¹²⁶ ≈ −1.17549435082e-38)."""
         exact = {k: v for k, v in self.at.items() if isinstance(v, sp.Rational)}
-        return self.value(sp.sympify(expr).xreplace(exact) if exact else expr)
+        expr = sp.sympify(expr)
+        if exact and local.size(expr, local.LARGE_OPS) >= local.LARGE_OPS:
+            q = local.rational_value(expr, exact)  # a large rational form: Fractions, not sympy's nodes
+            if q is not None:
+                return complex(q)
+        return self.value(expr.xreplace(exact) if exact else expr)
 
     def record(self, rel_kind: str, expr) -> None:
         """Add ``expr > 0`` / ``expr >= 0`` / ``expr = 0`` to the cell, canonically (positive
@@ -542,7 +547,10 @@ def _extremum(fn, args):
 
 
 def _outermost(conds, weight, v, lo, hi, ctx: Context):
-    """Last variable: ``F(Max(A, B)) − F(A)`` per alternative, else the generic 1-D method."""
+    """Last variable: ``F(Max(A, B)) − F(A)`` per alternative, else the generic 1-D method (at
+    once for large conditions: their Max/Min nests cost minutes, :mod:`langur.symbolic.local`)."""
+    if local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params):
+        return _generic_1d(conds, weight, v, lo, hi, ctx)
     sub = Context(ctx.at, ctx.deadline, ctx.params)
     try:
         alts = [alternatives(c, v, [], sub) for c in conds]
@@ -566,6 +574,11 @@ def _outermost(conds, weight, v, lo, hi, ctx: Context):
         return _generic_1d(conds, weight, v, lo, hi, ctx)
 
 
+#: sympy's solutions (unchecked: each call checks them at its own evaluation point) per condition
+#: and variable.
+_SOLVED: dict = {}
+
+
 def _roots(c: Cond, v, ctx: Context):
     psi = c.psi
     if psi is not None and psi.solved_for == v and psi.branches:
@@ -578,16 +591,33 @@ def _roots(c: Cond, v, ctx: Context):
     # check=False: sympy's own check drops roots whose validity depends on a parameter's sign
     # (yu + sqrt(r² − x²) = 0 has the roots ±sqrt(r² − yu²) exactly when yu ≤ 0); each candidate
     # is checked at the evaluation point instead, which is where the closed form is valid.
-    try:
-        sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False, check=False),
-                                cap=max(2.0, ctx.deadline.seconds / 4))
-    except TimeoutError:
-        raise Unsupported(f"solving {c.expr} = 0 for {v} timed out") from None
-    except (NotImplementedError, ValueError, TypeError) as exc:
-        raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {' '.join(str(exc).split())}") from None
+    key = (c.expr, v)
+    sols = _SOLVED.get(key)  # the same conditions come back for ⟦p⟧, each ⦇p⦈ and the checks
+    if sols is None:
+        try:
+            sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False, check=False),
+                                    cap=max(2.0, ctx.deadline.seconds / 4))
+        except TimeoutError:
+            raise Unsupported(f"solving {c.expr} = 0 for {v} timed out") from None
+        except (NotImplementedError, ValueError, TypeError) as exc:
+            raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {' '.join(str(exc).split())}") from None
+        _remember(_SOLVED, key, sols)
     if not isinstance(sols, list):
         raise Unsupported(f"infinitely many roots of {c.expr} in {v}")
     return [r for r in sols if not isinstance(r, (dict, tuple)) and _vanishes_at(c.expr, v, r, ctx)]
+
+
+def _closed_roots(c: Cond, v, ctx: Context):
+    """The roots, and the poles, of a condition (one of a large problem's) whose numerator and
+    denominator are of degree ≤ 2 in ``v`` (:func:`local.closed_roots`), the roots checked at the
+    evaluation point; None when it is not of that shape."""
+    if c.psi is not None:
+        return None
+    found = local.closed_roots(c.expr, v, ctx.value)
+    if found is None:
+        return None
+    roots, poles = found
+    return [r for r in roots if _vanishes_at(c.expr, v, r, ctx)] + list(poles)
 
 
 def _vanishes_at(expr, v, root, ctx: Context) -> bool:
@@ -631,8 +661,14 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     """Roots of all conditions, ordered at ``at``; conditions decided per sub-interval at ``at``."""
     lo_v, hi_v = ctx.value(lo).real, ctx.value(hi).real
     pts = [(lo_v, lo), (hi_v, hi)]
+    large = local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params)
+    unsure = []  # conditions whose roots sympy solved (it may miss some): sign changes looked for
     for c in conds:
-        for r in _roots(c, v, ctx):
+        rs = _closed_roots(c, v, ctx) if large else None
+        if rs is None:
+            rs = _roots(c, v, ctx)
+            unsure.append(c)
+        for r in rs:
             z = ctx.value(r)
             if abs(z.imag) > 1e-12 * max(1.0, abs(z.real)) or not (lo_v < z.real < hi_v):
                 continue
@@ -645,12 +681,26 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
         uniq.append(p)
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         if not (eb - ea).is_number:
-            ctx.record(">", eb - ea)
-        _no_missed_root(conds, v, a, b, ctx)
+            if large:  # (expanding the difference of two large bounds costs seconds)
+                rel = sp.StrictGreaterThan(eb - ea, 0)
+                if rel not in ctx.cell:
+                    ctx.cell.append(rel)
+            else:
+                ctx.record(">", eb - ea)
+        _no_missed_root(unsure, v, a, b, ctx)
     ctx.generic = True
     total = sp.Integer(0)
     start = None
     F = None
+    deg = local.degree(sp.sympify(weight), frozenset((v,))) if large else None
+    if deg is not None and deg <= local.MAX_DEGREE:  # a large polynomial: never expanded
+        def definite(a, b):
+            return local.newton_cotes(sp.sympify(weight), v, a, b, deg)
+    else:
+        def definite(a, b):
+            nonlocal F
+            F = F if F is not None else antiderivative(weight, v, ctx)
+            return F.xreplace({v: b}) - F.xreplace({v: a})
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         m = (a + b) / 2
         ok = True
@@ -662,12 +712,10 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
         if ok and start is None:
             start = ea
         if not ok and start is not None:
-            F = F if F is not None else antiderivative(weight, v, ctx)
-            total += F.xreplace({v: ea}) - F.xreplace({v: start})
+            total += definite(start, ea)
             start = None
     if start is not None:
-        F = F if F is not None else antiderivative(weight, v, ctx)
-        total += F.xreplace({v: uniq[-1][1]}) - F.xreplace({v: start})
+        total += definite(start, uniq[-1][1])
     return total
 
 
@@ -687,6 +735,13 @@ def integrate_region(conds: Sequence[Cond], weight, variables: Sequence, box: di
                 return sp.Integer(0)
         else:
             top.append(e > 0 if c.strict else e >= 0)
+    if len(variables) == 2 and local.is_large([c.expr for c in others] + [sp.sympify(weight)], ctx.params):
+        # a convex polygon decided at the point (large affine regions: Max/Min nests cost minutes)
+        sub = Context(ctx.at, ctx.deadline, ctx.params)
+        val = local.polygon_integral(others, sp.sympify(weight), *variables, box, sub)
+        if val is not None:
+            ctx.cell.extend(r for r in sub.cell if r not in ctx.cell)
+            return sp.Piecewise((val, sp.And(*top)), (0, True)) if top else val
     failures = []
     orders = list(itertools.permutations(variables))
     orders.sort(key=lambda o: o != tuple(variables))

@@ -1,0 +1,416 @@
+"""Closed forms decided at the evaluation point, for large parametric regions (paper §6.3,
+Def. 6.2; issue 15: exact ``deriv`` of every example in a second).
+
+:mod:`langur.symbolic.regions` builds closed forms valid for all parameter values where it can
+(``Max``/``Min`` nests of the bounds).  When the conditions' coefficients are large expressions in
+many parameters (the stylization kernel's triangle, §10.3.1; the ray-traced triangle, §10.2),
+building those nests (sympy compares every pair of symbolic arguments) and expanding the weight
+take minutes.  This module builds instead the closed form valid in the parameter cell of the
+evaluation point, from the combinatorial structure decided there:
+
+* :func:`polygon_integral`: ∫∫ over the box of Π [affine condition ≥ 0] · polynomial — the region
+  is a convex polygon; which lines bound it and in which order is decided at the point by clipping
+  the box with exact rationals (Sutherland–Hodgman).  Each vertex is the intersection of two of the
+  lines (Cramer's rule, symbolically); the integral is a sum over the fan of triangles of the
+  polygon of a lattice quadrature rule exact for the weight's degree (rational weights: the closed
+  form is exact, the weight is never expanded).  It is valid wherever every vertex stays strictly
+  inside every other half-plane: those relations are the cell (a line can only enter or leave the
+  polygon by cutting one of its vertices).
+* :func:`newton_cotes`: ∫ₐᵇ of a polynomial of degree d by the closed Newton–Cotes rule with d + 1
+  points (exact for degree ≤ d, rational weights).
+* :func:`closed_roots`: the real roots and poles of a condition whose numerator and denominator
+  are of degree ≤ 2 in the variable, by formula (the parameter-only parts of the condition held as
+  opaque symbols, so nothing is expanded), and whether that is all of its sign changes.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from functools import lru_cache
+
+import sympy as sp
+
+#: Conditions (plus weight) at least this large (tree nodes) take the local path (the ray-traced
+#: triangle's are 500–2,000; the renderer's quad_shader, 150, keeps its closed form for all
+#: parameter values, which `render --exact` evaluates over the whole image).
+LARGE_OPS = 400
+#: ... or mention at least this many parameters.
+MANY_PARAMS = 5
+#: Highest degree of a polynomial weight integrated by a lattice or Newton–Cotes rule.
+MAX_DEGREE = 8
+
+
+def degree(e, vs: frozenset, memo: dict | None = None) -> int | None:
+    """Total degree of ``e`` as a polynomial in the symbols ``vs`` (coefficients any expressions
+    free of them), or None when it is not one.  Linear in the size of the tree (memoized)."""
+    memo = {} if memo is None else memo
+    if e in memo:
+        return memo[e]
+    if not e.args:
+        out = 1 if e in vs else 0
+    elif not (e.free_symbols & vs):
+        out = 0
+    elif isinstance(e, sp.Add):
+        ds = [degree(a, vs, memo) for a in e.args]
+        out = None if None in ds else max(ds)
+    elif isinstance(e, sp.Mul):
+        ds = [degree(a, vs, memo) for a in e.args]
+        out = None if None in ds else sum(ds)
+    elif isinstance(e, sp.Pow) and e.exp.is_Integer and e.exp >= 0:
+        d = degree(e.base, vs, memo)
+        out = None if d is None else d * int(e.exp)
+    else:
+        out = None
+    memo[e] = out
+    return out
+
+
+def size(e, limit: int) -> int:
+    """Number of nodes of the tree ``e``, counted up to ``limit`` (cheaper than ``count_ops``)."""
+    n, stack = 0, [e]
+    while stack and n < limit:
+        node = stack.pop()
+        n += 1
+        stack.extend(node.args)
+    return n
+
+
+def is_large(exprs, params) -> bool:
+    """Whether ``exprs`` (conditions and weight) are large enough for the local path: together
+    at least :data:`LARGE_OPS` nodes, or mentioning :data:`MANY_PARAMS` parameters."""
+    exprs = [sp.sympify(e) for e in exprs]
+    if sum(size(e, LARGE_OPS) for e in exprs) >= LARGE_OPS:
+        return True
+    return len(set().union(*[e.free_symbols for e in exprs]) & set(params)) >= MANY_PARAMS
+
+
+# ------------------------------------------------------------------------------------------
+# Exact values at the evaluation point.
+
+
+def exact_at(e, at: dict):
+    """``e`` at the point as a Fraction when it is rational there, else None."""
+    z = sp.sympify(e).xreplace(at)
+    if isinstance(z, sp.Rational):
+        return Fraction(int(z.p), int(z.q))
+    return None
+
+
+# ------------------------------------------------------------------------------------------
+# Quadrature rules with rational weights, exact for polynomials of a given degree.
+
+
+def _solve(rows: list[list[Fraction]], rhs: list[Fraction]) -> list[Fraction]:
+    n = len(rhs)
+    m = [row[:] + [b] for row, b in zip(rows, rhs)]
+    for c in range(n):
+        p = next(r for r in range(c, n) if m[r][c] != 0)
+        m[c], m[p] = m[p], m[c]
+        for r in range(n):
+            if r != c and m[r][c] != 0:
+                f = m[r][c] / m[c][c]
+                m[r] = [a - f * b for a, b in zip(m[r], m[c])]
+    return [m[i][n] / m[i][i] for i in range(n)]
+
+
+@lru_cache(maxsize=None)
+def line_rule(d: int) -> tuple[tuple[Fraction, Fraction], ...]:
+    """Closed Newton–Cotes on [0, 1]: points k/d, weights summing to 1; exact for degree ≤ d."""
+    d = max(d, 1)
+    pts = [Fraction(k, d) for k in range(d + 1)]
+    ws = _solve([[p ** j for p in pts] for j in range(d + 1)], [Fraction(1, j + 1) for j in range(d + 1)])
+    return tuple(zip(pts, ws))
+
+
+@lru_cache(maxsize=None)
+def triangle_rule(d: int) -> tuple[tuple[Fraction, Fraction, Fraction], ...]:
+    """The lattice rule on the reference triangle {s, t ≥ 0, s + t ≤ 1}: points (i/d, j/d),
+    weights summing to 1 (times the area); exact for degree ≤ d (the lattice is unisolvent)."""
+    d = max(d, 1)
+    pts = [(Fraction(i, d), Fraction(j, d)) for i in range(d + 1) for j in range(d + 1 - i)]
+    monos = [(a, b) for a in range(d + 1) for b in range(d + 1 - a)]
+    fact = [1]
+    for k in range(1, 2 * d + 3):
+        fact.append(fact[-1] * k)
+    # ∫ s^a t^b over the triangle = a! b! / (a + b + 2)!; divided by its area 1/2
+    rhs = [Fraction(2 * fact[a] * fact[b], fact[a + b + 2]) for a, b in monos]
+    ws = _solve([[s ** a * t ** b for s, t in pts] for a, b in monos], rhs)
+    return tuple((s, t, w) for (s, t), w in zip(pts, ws) if w != 0)
+
+
+def _q(f: Fraction) -> sp.Rational:
+    return sp.Rational(f.numerator, f.denominator)
+
+
+def newton_cotes(w, v, a, b, d: int):
+    """∫ₐᵇ w dv for ``w`` a polynomial of degree ≤ ``d`` in ``v`` (exact, unexpanded)."""
+    return (b - a) * sp.Add(*[_q(c) * w.xreplace({v: a + _q(p) * (b - a)}) for p, c in line_rule(d)])
+
+
+# ------------------------------------------------------------------------------------------
+# Convex polygons cut from the box by affine conditions.
+
+
+class _Tie(Exception):
+    """The evaluation point is on a switching set of the polygon's structure (or a line is
+    degenerate there): no local closed form by this method."""
+
+
+def _affine(e, x, y, memo):
+    """``(a, b, c)`` with ``e = a·x + b·y + c`` (each free of x, y), or None."""
+    if degree(e, frozenset((x, y)), memo) not in (0, 1):
+        return None
+    a, b = sp.diff(e, x), sp.diff(e, y)
+    if (a.free_symbols | b.free_symbols) & {x, y}:
+        return None
+    return a, b, e.xreplace({x: sp.Integer(0), y: sp.Integer(0)})
+
+
+def polygon_integral(conds, weight, x, y, box: dict, ctx):
+    """∫∫_box Π [c ≥ 0] · weight d(x, y) for affine conditions and a polynomial weight, valid in
+    the parameter cell of ``ctx.at`` (recorded in ``ctx.cell``); None when this method does not
+    apply (not affine, not polynomial, not rational at the point, or a tie there)."""
+    memo: dict = {}
+    d = degree(sp.sympify(weight), frozenset((x, y)), memo)
+    if d is None or d > MAX_DEGREE:
+        return None
+    (xl, xh), (yl, yh) = box[x], box[y]
+    lines = [(sp.Integer(1), sp.Integer(0), -xl), (sp.Integer(-1), sp.Integer(0), xh),
+             (sp.Integer(0), sp.Integer(1), -yl), (sp.Integer(0), sp.Integer(-1), yh)]
+    for c in conds:
+        abc = _affine(sp.sympify(c.expr), x, y, memo)
+        if abc is None:
+            return None
+        if abc not in lines:  # the box's own conditions come back as conditions
+            lines.append(abc)
+    num = []
+    for abc in lines:
+        vals = [exact_at(k, ctx.at) for k in abc]
+        if None in vals:
+            return None
+        num.append(vals)
+    try:
+        poly = _clip(num)
+    except _Tie:
+        return None
+    cell = []
+    if len(poly) < 3:  # empty at the point: only a tie-free emptiness is decided here
+        return None
+    verts = {}
+    for key in {k for _, k in poly}:
+        i, j = sorted(key)
+        (ai, bi, ci), (aj, bj, cj) = lines[i], lines[j]
+        det = ai * bj - aj * bi
+        verts[key] = ((bi * cj - bj * ci) / det, (aj * ci - ai * cj) / det)
+    for _, key in poly:
+        X, Y = verts[key]
+        for k, (a, b, c) in enumerate(lines):
+            if k not in key:
+                rel = a * X + b * Y + c
+                if not rel.is_number:
+                    cell.append(sp.StrictGreaterThan(rel, 0))
+    rule = triangle_rule(d)
+    total = []
+    (x0, y0) = verts[poly[0][1]]
+    for (_, k1), (_, k2) in zip(poly[1:], poly[2:]):
+        (x1, y1), (x2, y2) = verts[k1], verts[k2]
+        jac = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)  # twice the area: positive (counter-clockwise)
+        total.append(jac / 2 * sp.Add(*[_q(w) * weight.xreplace({x: x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0),
+                                                              y: y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0)})
+                                    for s, t, w in rule]))
+    for rel in cell:
+        if rel not in ctx.cell:
+            ctx.cell.append(rel)
+    return sp.Add(*total)
+
+
+def _clip(lines):
+    """The box (lines 0–3) clipped by the half-planes a·x + b·y + c ≥ 0 of ``lines[4:]``, all
+    exact rationals: the counter-clockwise vertices as ``(point, frozenset of its two lines)``.
+    Raises :class:`_Tie` when a vertex lies on a line or a line is degenerate."""
+
+    def meet(i, j):
+        (ai, bi, ci), (aj, bj, cj) = lines[i], lines[j]
+        det = ai * bj - aj * bi
+        if det == 0:
+            raise _Tie()
+        return ((bi * cj - bj * ci) / det, (aj * ci - ai * cj) / det)
+
+    poly = [(meet(0, 2), frozenset((0, 2))), (meet(1, 2), frozenset((1, 2))),
+            (meet(1, 3), frozenset((1, 3))), (meet(0, 3), frozenset((0, 3)))]
+    if not (poly[0][0][0] < poly[1][0][0] and poly[0][0][1] < poly[3][0][1]):
+        raise _Tie()  # an empty or degenerate box
+    for k in range(4, len(lines)):
+        a, b, c = lines[k]
+        if a == 0 and b == 0:
+            raise _Tie()
+        out = []
+        n = len(poly)
+        for idx in range(n):
+            (p, kp), (q, kq) = poly[idx], poly[(idx + 1) % n]
+            sp_ = a * p[0] + b * p[1] + c
+            sq = a * q[0] + b * q[1] + c
+            if sp_ == 0 or sq == 0:
+                raise _Tie()
+            if sp_ > 0:
+                out.append((p, kp))
+            if (sp_ > 0) != (sq > 0):
+                edge = kp & kq
+                if len(edge) != 1:
+                    raise _Tie()
+                (e,) = edge
+                out.append((meet(e, k), frozenset((e, k))))
+        poly = out
+        if len(poly) < 3:
+            return []
+    return poly
+
+
+# ------------------------------------------------------------------------------------------
+# Roots of a condition in one variable by formula.
+
+
+def _abstract(e, v, table: dict, memo: dict):
+    """``e`` with its maximal non-atomic subterms free of ``v`` replaced by dummies (``table``)."""
+    if e in memo:
+        return memo[e]
+    if not e.args:
+        out = e
+    elif v not in e.free_symbols:
+        out = table.setdefault(e, sp.Dummy("k"))
+    else:
+        out = e.func(*[_abstract(a, v, table, memo) for a in e.args])
+    memo[e] = out
+    return out
+
+
+def _poly_roots(p: sp.Poly):
+    cs = p.all_coeffs()
+    if p.degree() == 1:
+        a, b = cs
+        return [-b / a], a
+    a, b, c = cs
+    s = sp.sqrt(b ** 2 - 4 * a * c)
+    return [(-b - s) / (2 * a), (-b + s) / (2 * a)], a
+
+
+def closed_roots(expr, v, value) -> tuple[list, list] | None:
+    """``(roots, poles)`` of ``expr`` in ``v`` when its numerator and denominator are polynomials
+    of degree ≤ 2 in ``v`` whose leading coefficients do not vanish at the point (``value``: the
+    point's numeric evaluation of a parameter-only expression); the candidates are to be checked at
+    the point (complex or spurious ones dropped).  None otherwise."""
+    parts = _ROOT_FORMULAS.get((expr, v), False)
+    if parts is False:
+        parts = _root_formulas(sp.sympify(expr), v)
+        if len(_ROOT_FORMULAS) >= 2048:
+            _ROOT_FORMULAS.pop(next(iter(_ROOT_FORMULAS)))
+        _ROOT_FORMULAS[(expr, v)] = parts
+    if parts is None:
+        return None
+    out = []
+    for rs, coeffs in parts:
+        if coeffs and value(coeffs[0]) == 0:
+            # a linear part whose slope vanishes at the point: its root is at infinity there, so
+            # outside the box near the point (unless the part vanishes identically there: a tie)
+            if len(coeffs) == 2 and value(coeffs[1]) != 0:
+                out.append([])
+                continue
+            return None
+        out.append(rs)
+    return out[0], out[1]
+
+
+#: The root formulas of conditions by (condition, variable): they do not depend on the point.
+_ROOT_FORMULAS: dict = {}
+
+
+def _root_formulas(expr, v):
+    """For the numerator and the denominator of ``expr``: its roots in ``v`` by formula and its
+    coefficients (the leading one first), or None when either is not of degree ≤ 2."""
+    table: dict = {}
+    e = _abstract(expr, v, table, {})
+    back = {k: s for s, k in table.items()}
+    num, den = sp.fraction(sp.together(e))
+    out = []
+    for part in (num, den):
+        if v not in part.free_symbols:
+            out.append(([], ()))
+            continue
+        try:
+            p = sp.Poly(part, v)
+        except sp.PolynomialError:
+            return None
+        if p.degree() > 2 or any(v in c.free_symbols for c in p.all_coeffs()):
+            return None
+        rs, _ = _poly_roots(p)
+        out.append(([r.xreplace(back) for r in rs], tuple(c.xreplace(back) for c in p.all_coeffs())))
+    return out
+
+
+# ------------------------------------------------------------------------------------------
+# Exact directional derivatives of large rational closed forms.
+
+
+def rational_value(expr, point: dict):
+    """``expr`` at ``point`` (symbols → Rationals) as an exact Fraction, for forms built from
+    rationals, symbols, +, ·, integer powers and ``Abs``; None otherwise (or on a division by 0)."""
+    return _dual(expr, point, {}, 0)
+
+
+def dual_derivative(expr, point: dict, tangent: dict):
+    """``d/ds expr(point + s·tangent)`` at s = 0 as an exact Fraction, by dual numbers over the
+    rationals (one pass over the tree, shared subtrees once): for closed forms built from
+    rationals, symbols, +, ·, integer powers and ``Abs`` (away from 0); None otherwise (or where
+    it is not differentiable: a division by 0, ``Abs`` at 0)."""
+    return _dual(expr, point, tangent, 1)
+
+
+def _dual(expr, point: dict, tangent: dict, part: int):
+    """Value (``part`` 0) or derivative (1) by dual numbers over Fractions (see dual_derivative)."""
+    memo: dict = {}
+
+    def go(e):
+        if e in memo:
+            return memo[e]
+        if isinstance(e, sp.Rational):
+            out = (Fraction(int(e.p), int(e.q)), Fraction(0))
+        elif isinstance(e, sp.Symbol):
+            if e not in point or not isinstance(point[e], sp.Rational):
+                raise _NotRational()
+            p, t = point[e], sp.sympify(tangent.get(e, 0))
+            if not isinstance(t, sp.Rational):
+                raise _NotRational()
+            out = (Fraction(int(p.p), int(p.q)), Fraction(int(t.p), int(t.q)))
+        elif isinstance(e, sp.Add):
+            vs = [go(a) for a in e.args]
+            out = (sum(v for v, _ in vs), sum(d for _, d in vs))
+        elif isinstance(e, sp.Mul):
+            v, d = Fraction(1), Fraction(0)
+            for a in e.args:
+                av, ad = go(a)
+                v, d = v * av, d * av + v * ad
+            out = (v, d)
+        elif isinstance(e, sp.Pow) and e.exp.is_Integer:
+            bv, bd = go(e.base)
+            k = int(e.exp)
+            if bv == 0 and k < 1:
+                raise _NotRational()
+            out = (bv ** k, k * bv ** (k - 1) * bd)
+        elif isinstance(e, sp.Abs):
+            av, ad = go(e.args[0])
+            if av == 0:
+                raise _NotRational()
+            out = (abs(av), ad if av > 0 else -ad)
+        else:
+            raise _NotRational()
+        memo[e] = out
+        return out
+
+    try:
+        return go(sp.sympify(expr))[part]
+    except (_NotRational, ZeroDivisionError):
+        return None
+
+
+class _NotRational(Exception):
+    pass
