@@ -70,7 +70,7 @@ def test_discrepancy_exits_1_prints_and_keeps_the_minimal_program(capsys, tmp_pa
 
     monkeypatch.setattr(fuzz.compare, "compare_text", fake)  # the driver's own reference
     keep = tmp_path / "kept"
-    status, out, err = run(capsys, "fuzz", "--examples", "30", "--seed", "2", "--keep", str(keep))
+    status, out, err = run(capsys, "fuzz", "--examples", "10", "--seed", "2", "--keep", str(keep))
     assert status == 1, err
     assert "minimal failing program (discrepancy)" in out and "DISCREPANCY" in out
     files = sorted(keep.iterdir())
@@ -127,7 +127,7 @@ def test_keep_never_overwrites_a_file_in_its_directory(capsys, tmp_path, monkeyp
     keep = tmp_path / "kept"
     keep.mkdir()
     (keep / "fuzz_2_minimal.lgr").write_text("# the user's own file\n")
-    status, out, err = run(capsys, "fuzz", "--examples", "30", "--seed", "2", "--keep", str(keep), "--json")
+    status, out, err = run(capsys, "fuzz", "--examples", "10", "--seed", "2", "--keep", str(keep), "--json")
     assert status == 1, err
     assert (keep / "fuzz_2_minimal.lgr").read_text() == "# the user's own file\n"
     kept = json.loads(out)["kept"]
