@@ -13,6 +13,7 @@ import pytest
 import sympy as sp
 from paths import EXAMPLES
 from scipy import integrate as si
+from test_stylize import clip
 
 from langur.exact import exact_deriv
 from langur.frontend import load, load_text
@@ -138,20 +139,9 @@ def test_dual_derivative_is_sympys_derivative():
 
 
 def _clipped_area(tri, lo=Fraction(0), hi=Fraction(1)):
-    """Exact area of a triangle cut to [lo, hi]² (Sutherland–Hodgman in Fractions, shoelace)."""
-    poly = tri
-    for axis, bound, keep_le in ((0, hi, True), (0, lo, False), (1, hi, True), (1, lo, False)):
-        out = []
-        for i, p in enumerate(poly):
-            q = poly[i - 1]
-            pin = p[axis] <= bound if keep_le else p[axis] >= bound
-            qin = q[axis] <= bound if keep_le else q[axis] >= bound
-            if pin != qin:
-                t = (bound - q[axis]) / (p[axis] - q[axis])
-                out.append((q[0] + t * (p[0] - q[0]), q[1] + t * (p[1] - q[1])))
-            if pin:
-                out.append(p)
-        poly = out
+    """Exact area of a triangle cut to [lo, hi]² (test_stylize's Sutherland–Hodgman, here on
+    Fractions, and the shoelace formula)."""
+    poly = clip(list(tri), (lo, lo), (hi, hi))
     return abs(sum(p[0] * q[1] - q[0] * p[1] for p, q in zip(poly, poly[1:] + poly[:1]))) / 2
 
 
