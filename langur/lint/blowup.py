@@ -40,6 +40,7 @@ honestly undecided.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import statistics
@@ -152,21 +153,17 @@ class Region:
         return all(_num(c.xreplace(sub)) >= -1e-40 for c in self.conds)
 
 
-#: Compiled expressions by (expression, variables): one condition bounds many regions.
-_COMPILED: dict = {}
+@functools.lru_cache(maxsize=4096)  # one condition bounds many regions
+def _lambdified(e: sp.Expr, xs: tuple):
+    """``e`` compiled for numpy over ``xs``, or False where sympy cannot print it (zoo, nan…)."""
+    try:
+        return sp.lambdify(list(xs), e, modules="numpy")
+    except Exception:  # noqa: BLE001 - sympy cannot print zoo, nan… for numpy: nowhere a number
+        return False
 
 
 def _numpy(e: sp.Expr, xs) -> callable:
-    key = (e, tuple(xs))
-    f = _COMPILED.get(key)
-    if f is None:
-        try:
-            f = sp.lambdify(list(xs), e, modules="numpy")
-        except Exception:  # noqa: BLE001 - sympy cannot print zoo, nan… for numpy: nowhere a number
-            f = False
-        if len(_COMPILED) >= 4096:
-            _COMPILED.pop(next(iter(_COMPILED)))
-        _COMPILED[key] = f
+    f = _lambdified(e, tuple(xs))
     if f is False:
         return lambda pts: np.full(pts.shape[0], np.nan)
 

@@ -299,12 +299,7 @@ def closed_roots(expr, v, value) -> tuple[list, list] | None:
     of degree ≤ 2 in ``v`` whose leading coefficients do not vanish at the point (``value``: the
     point's numeric evaluation of a parameter-only expression); the candidates are to be checked at
     the point (complex or spurious ones dropped).  None otherwise."""
-    parts = _ROOT_FORMULAS.get((expr, v), False)
-    if parts is False:
-        parts = _root_formulas(sp.sympify(expr), v)
-        if len(_ROOT_FORMULAS) >= 2048:
-            _ROOT_FORMULAS.pop(next(iter(_ROOT_FORMULAS)))
-        _ROOT_FORMULAS[(expr, v)] = parts
+    parts = _root_formulas(sp.sympify(expr), v)
     if parts is None:
         return None
     out = []
@@ -320,10 +315,7 @@ def closed_roots(expr, v, value) -> tuple[list, list] | None:
     return out[0], out[1]
 
 
-#: The root formulas of conditions by (condition, variable): they do not depend on the point.
-_ROOT_FORMULAS: dict = {}
-
-
+@lru_cache(maxsize=2048)  # by (condition, variable): the formulas do not depend on the point
 def _root_formulas(expr, v):
     """For the numerator and the denominator of ``expr``: its roots in ``v`` by formula and its
     coefficients (the leading one first), or None when either is not of degree ≤ 2."""
