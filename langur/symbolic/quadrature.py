@@ -129,6 +129,101 @@ def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., flo
     return slow
 
 
+_VECTORIZED: dict = {}
+
+
+def _vectorize(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable | None:
+    """``expr`` as a numpy function of ``symbols`` (the last one an array), the parameters ``at``
+    passed like :func:`_lambdify`'s; None when numpy cannot evaluate it (then the scalar path
+    alone integrates it)."""
+    e = printable(sp.sympify(expr))
+    params = tuple(k for k in at if k in e.free_symbols)
+    key = (tuple(symbols) + params, e)
+    f = _VECTORIZED.get(key, 0)
+    if f == 0:
+        try:
+            f = sp.lambdify(list(key[0]), e, modules=["numpy"])
+            with np.errstate(all="ignore"):
+                f(*[0.5] * (len(key[0]) - 1), np.linspace(0.1, 0.9, 3))  # probe: numpy has every function
+        except NameError:
+            f = None
+        except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
+            pass
+        if len(_VECTORIZED) >= COMPILED:
+            _VECTORIZED.pop(next(iter(_VECTORIZED)))
+        _VECTORIZED[key] = f
+    if f is None:
+        return None
+    extra = tuple(float(at[k]) for k in params)
+    return lambda *vals: f(*vals, *extra)
+
+
+#: QUADPACK's 21-point Gauss–Kronrod rule (``dqk21``): the Kronrod abscissae on [0, 1] (the
+#: 10-point Gauss rule's at odd positions, 0 last), their weights, and the Gauss weights.
+XGK = (0.995657163025808080735527280689003, 0.973906528517171720077964012084452,
+       0.930157491355708226001207180059508, 0.865063366688984510732096688423493,
+       0.780817726586416897063717578345042, 0.679409568299024406234327365114874,
+       0.562757134668604683339000099272694, 0.433395394129247190799265943165784,
+       0.294392862701460198131126603103866, 0.148874338981631210884826001129720, 0.0)
+WGK = (0.011694638867371874278064396062192, 0.032558162307964727478818972459390,
+       0.054755896574351996031381300244580, 0.075039674810919952767043140916190,
+       0.093125454583697605535065465083366, 0.109387158802297641899210590325805,
+       0.123491976262065851077958109831074, 0.134709217311473325928054001771707,
+       0.142775938577060080797094273138717, 0.147739104901338491374841515972068,
+       0.149445554002916905664936468389821)
+WG = (0.066671344308688137593568809893332, 0.149451349150580593145776339657697,
+      0.219086362515982043995534934228163, 0.269266719309996355091226921569469,
+      0.295524224714752870173892994651338)
+_X = np.array(XGK[:10])
+_WK_PAIR = np.array(WGK[:10])
+_WG_PAIR = np.array([0.0, WG[0], 0.0, WG[1], 0.0, WG[2], 0.0, WG[3], 0.0, WG[4]])
+_EPMACH = float(np.finfo(float).eps)
+_UFLOW = float(np.finfo(float).tiny)
+
+
+def gauss_kronrod_21(y_minus, y_plus, y_centre, half: float):
+    """QUADPACK's ``dqk21`` on values already computed: ``y_minus[j]``/``y_plus[j]`` at
+    centre ∓ half·XGK[j] (j < 10), ``y_centre`` at the centre.  Returns ``(result, abserr,
+    resabs, resasc)`` as ``dqk21`` defines them (the error estimate rescaled as QUADPACK does)."""
+    fsum = y_minus + y_plus
+    resk = WGK[10] * y_centre + float(_WK_PAIR @ fsum)
+    resg = float(_WG_PAIR @ fsum)
+    resabs = WGK[10] * abs(y_centre) + float(_WK_PAIR @ (np.abs(y_minus) + np.abs(y_plus)))
+    reskh = 0.5 * resk
+    resasc = WGK[10] * abs(y_centre - reskh) + float(_WK_PAIR @ (np.abs(y_minus - reskh) + np.abs(y_plus - reskh)))
+    dh = abs(half)
+    result, resabs, resasc = resk * half, resabs * dh, resasc * dh
+    abserr = abs((resk - resg) * half)
+    if resasc != 0.0 and abserr != 0.0:
+        abserr = resasc * min(1.0, (200.0 * abserr / resasc) ** 1.5)
+    if resabs > _UFLOW / (50.0 * _EPMACH):
+        abserr = max(_EPMACH * 50.0 * resabs, abserr)
+    return result, abserr, resabs, resasc
+
+
+def _first_panel(vw: Callable, prefix: tuple, a: float, b: float, eps: float):
+    """``(value, error)`` of ∫_a^b when QUADPACK's ``dqagse`` (scipy's ``quad``) would stop after
+    its first 21-point panel — the panel's error estimate within ``max(eps, eps·|value|)`` and not
+    saturated, every value finite — computed with the weight vectorized (one numpy call instead
+    of 21 Python calls); None otherwise (then ``quad`` integrates it as before)."""
+    centre, half = 0.5 * (a + b), 0.5 * (b - a)
+    absc = half * _X
+    t = np.concatenate((centre - absc, centre + absc, [centre]))
+    try:
+        with np.errstate(all="ignore"):
+            y = np.asarray(vw(*prefix, t), dtype=float)
+    except (ValueError, TypeError, ZeroDivisionError, OverflowError, AttributeError):
+        return None
+    if y.shape != t.shape:
+        y = np.broadcast_to(y, t.shape)  # a weight constant in the innermost variable
+    if not np.all(np.isfinite(y)):
+        return None
+    result, abserr, _, resasc = gauss_kronrod_21(y[:10], y[10:20], float(y[20]), half)
+    if (abserr <= max(eps, eps * abs(result)) and abserr != resasc) or abserr == 0.0:
+        return float(result), float(abserr)
+    return None
+
+
 @dataclass
 class NumCond:
     """``f(*vals) >= 0`` where ``vals`` are the values of the first ``level + 1`` variables."""
@@ -161,6 +256,17 @@ class NumProblem:
     syms: list = field(default_factory=list)  # one symbol per level (for polynomial roots)
     notes: list[str] = field(default_factory=list)  # scipy's warnings that did not stop the result
     converged: bool = True  # every quad reached its tolerance (else the error bound may be optimistic)
+    #: the weight vectorized over the innermost variable (``prefix..., array``), or None: the
+    #: innermost integrals first try one 21-point Gauss–Kronrod panel on it (:func:`_first_panel`)
+    vweight: Callable | None = None
+    _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
+
+    def here(self, level: int) -> list[NumCond]:
+        """The conditions whose last variable is ``level``'s."""
+        out = self._here.get(level)
+        if out is None:
+            out = self._here[level] = [c for c in self.conds if c.level == level]
+        return out
 
 
 class _Finite:
@@ -331,42 +437,81 @@ _COEFFICIENTS: dict = {}
 
 
 def _coefficients(expr, syms: tuple, level: int):
-    """The coefficients of ``expr`` as a polynomial in ``syms[level]`` (of degree ≤ 8), compiled as
-    functions of ``syms[:level]`` (cached like :data:`_COMPILED`), or None."""
+    """The coefficients of ``expr`` as a polynomial in ``syms[level]`` (of degree ≤ 8), highest
+    first, compiled as one function of ``syms[:level]`` returning them all (``math``; ``numpy``
+    for what ``math`` lacks), cached like :data:`_COMPILED`; or None."""
     key = (expr, syms[: level + 1])
     if key in _COEFFICIENTS:
         return _COEFFICIENTS[key]
     v = syms[level]
-    fns = None
+    fn = None
     try:
         poly = sp.Poly(expr, v)
         coeffs = poly.all_coeffs()
         if poly.degree() <= 8 and not any(v in c.free_symbols for c in coeffs):
-            fns = [sp.lambdify(list(syms[:level]), printable(c), modules=["numpy"]) for c in coeffs]
+            args, body = list(syms[:level]), [printable(c) for c in coeffs]
+            fn = sp.lambdify(args, body, modules=["math"])
+            try:
+                fn(*[0.5] * level)  # probe: NameError for functions math lacks
+            except NameError:
+                fn = sp.lambdify(args, body, modules=["numpy"])
+            except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
+                pass
     except (sp.PolynomialError, sp.GeneratorsNeeded):
         pass
     if len(_COEFFICIENTS) >= COMPILED:
         _COEFFICIENTS.pop(next(iter(_COEFFICIENTS)))
-    _COEFFICIENTS[key] = fns
-    return fns
+    _COEFFICIENTS[key] = fn
+    return fn
+
+
+#: A complex root counts as real (a double root perturbed by rounding) when its imaginary part is
+#: at most this times 1 + its modulus.
+REAL_SLACK = 1e-9
+
+
+def polynomial_roots(cs: Sequence[float]) -> list[float]:
+    """The real roots of ``cs[0]·tᵈ + … + cs[d]`` (highest first, leading exact zeros ignored):
+    linear and quadratic in closed form (the quadratic formula in its cancellation-free form),
+    higher degrees by ``numpy.roots``; a complex pair whose imaginary part is below
+    :data:`REAL_SLACK` counts as a double real root.  Empty for a constant or non-finite
+    coefficients."""
+    if not all(math.isfinite(c) for c in cs):
+        return []
+    k = 0
+    while k < len(cs) and cs[k] == 0.0:
+        k += 1
+    cs = cs[k:]
+    if len(cs) <= 1:
+        return []
+    if len(cs) == 2:
+        return [-cs[1] / cs[0]]
+    if len(cs) == 3:
+        a, b, c = cs
+        disc = b * b - 4.0 * a * c
+        if disc < 0.0:
+            re, im = -b / (2.0 * a), math.sqrt(-disc) / (2.0 * abs(a))
+            return [re, re] if im <= REAL_SLACK * (1.0 + math.hypot(re, im)) else []
+        q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
+        return [q / a, c / q] if q != 0.0 else [0.0, 0.0]
+    out = np.roots(np.array(cs, dtype=float))
+    return [float(r.real) for r in out if abs(r.imag) <= REAL_SLACK * (1 + abs(r))]
 
 
 def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int):
-    """``prefix ↦ real roots in syms[level]`` when ``expr`` is a polynomial in it (numpy), else None."""
-    fns = _coefficients(expr, tuple(syms), level)
-    if fns is None:
+    """``prefix ↦ real roots in syms[level]`` when ``expr`` is a polynomial in it, else None."""
+    fn = _coefficients(expr, tuple(syms), level)
+    if fn is None:
         return None
 
     def roots(*prefix):
-        cs = [complex(f(*prefix)) for f in fns]
+        try:
+            cs = [complex(c) for c in fn(*prefix)]
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            return []  # a coefficient undefined here (math raises where numpy gave NaN)
         if not all(math.isfinite(c.real) and math.isfinite(c.imag) for c in cs):
             return []
-        cs = np.array([c.real for c in cs])
-        nz = np.flatnonzero(cs)
-        if len(nz) == 0:
-            return []
-        out = np.roots(cs[nz[0]:])
-        return [float(r.real) for r in out if abs(r.imag) <= 1e-9 * (1 + abs(r))]
+        return polynomial_roots([c.real for c in cs])
 
     return roots
 
@@ -377,30 +522,109 @@ def _finder(c: NumCond, syms, level: int):
     return c.roots or None
 
 
+#: The kink expressions of :func:`_kink_functions` by (conditions, variables, bounds, level): the
+#: same problem comes back (a value, its cross-check, a derivative's regular part at the same
+#: point), and the critical points and crossings are sympy work; at most :data:`COMPILED` kept.
+_KINKS: dict = {}
+
+
 def _kink_functions(p: NumProblem, level: int):
     """Where the inner integral's region changes shape (kinks of this level's integrand): roots of
     the deeper conditions with each deeper variable at a box end or, for a condition quadratic in
-    it, at its critical point (where a region in that variable appears or vanishes)."""
+    it, at its critical point (where a region in that variable appears or vanishes), and where two
+    conditions of the next level cross (:func:`_crossings`)."""
     out = []
+    symbolic = [c for c in p.conds if c.level > level and c.expr is not None] if p.syms else []
     for c in p.conds:
-        if c.level <= level:
-            continue
-        if c.expr is None or not p.syms:
+        if c.level > level and c not in symbolic:
             for corner in itertools.product(*[p.bounds[j] for j in range(level + 1, c.level + 1)]):
                 out.append((lambda *a, c=c, corner=corner: c.f(*a, *corner), None))
+    if not symbolic:
+        return out
+    key = (tuple((c.expr, c.level) for c in symbolic), tuple(p.syms), tuple(p.bounds), level)
+    exprs = _KINKS.get(key)
+    if exprs is None:
+        exprs = []
+        for c in symbolic:
+            es = [c.expr]
+            for j in range(c.level, level, -1):
+                v = p.syms[j]
+                nxt = []
+                for e in es:
+                    nxt += [e.xreplace({v: sp.Float(b)}) for b in p.bounds[j]]
+                    nxt += [e.xreplace({v: r}) for r in _critical_points(e, v)]
+                es = nxt
+            exprs += [e for e in es if not e.is_number]
+        if level + 1 < len(p.syms):
+            exprs += _crossings(p, level)
+            exprs += _at_levels(p, level)
+        if len(_KINKS) >= COMPILED:
+            _KINKS.pop(next(iter(_KINKS)))
+        _KINKS[key] = exprs
+    for e in exprs:
+        out.append((_lambdify(p.syms[: level + 1], e, {}), _poly_roots(e, p.syms, level)))
+    return out
+
+
+#: Seconds sympy may spend on the resultant of two conditions (:func:`_crossings`).
+RESULTANT_SECONDS = 0.5
+#: Degree (in the next variable) up to which two conditions' crossings are computed.
+RESULTANT_DEGREE = 4
+
+
+def _at_levels(p: NumProblem, level: int) -> list[sp.Expr]:
+    """Where a condition of the next level meets a condition on the next variable alone
+    (``sqrt(y + 2) <= 1.71``: y = 0.9241): the first with the next variable at the second's roots,
+    as box ends are substituted in :func:`_kink_functions` (found on a grid refined by ``brentq``
+    when it is not a polynomial)."""
+    v, (lo, hi) = p.syms[level + 1], p.bounds[level + 1]
+    if not hi > lo:
+        return []
+    here = [c for c in p.here(level + 1) if c.expr is not None]
+    flat = [c for c in here if c.expr.free_symbols <= {v}]
+    if not flat:
+        return []
+    roots = set()
+    for c in flat:
+        poly = _poly_roots(c.expr, p.syms, level + 1)
+        prefix = [0.0] * (level + 1)  # unused: the condition depends on the next variable alone
+        found = poly(*prefix) if poly is not None else _roots(lambda t, c=c, z=prefix: c.f(*z, t), lo, hi)
+        roots |= {r for r in found if lo < r < hi}
+    out = []
+    for c in here:
+        if c in flat:
             continue
-        exprs = [c.expr]
-        for j in range(c.level, level, -1):
-            v = p.syms[j]
-            nxt = []
-            for e in exprs:
-                nxt += [e.xreplace({v: sp.Float(b)}) for b in p.bounds[j]]
-                nxt += [e.xreplace({v: r}) for r in _critical_points(e, v)]
-            exprs = nxt
-        for e in exprs:
-            if e.is_number:
-                continue
-            out.append((_lambdify(p.syms[: level + 1], e, {}), _poly_roots(e, p.syms, level)))
+        out += [e for r in sorted(roots) if not (e := c.expr.xreplace({v: sp.Float(r)})).is_number]
+    return out
+
+
+def _crossings(p: NumProblem, level: int) -> list[sp.Expr]:
+    """Where two conditions of the next level cross (kinks of this level's integrand: there the
+    inner integral's region changes shape too): the resultant of the two polynomials in the next
+    variable, a polynomial in this level's variables whose roots include every crossing (a
+    superset: extra breakpoints only split ``quad``'s intervals).  Pairs that are not polynomials
+    of degree ≤ :data:`RESULTANT_DEGREE` in it, or whose resultant takes longer than
+    :data:`RESULTANT_SECONDS`, are left to ``quad``'s subdivision as before."""
+    v = p.syms[level + 1]
+    polys = []
+    for c in p.here(level + 1):
+        if c.expr is None:
+            continue
+        try:
+            poly = sp.Poly(c.expr, v)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            continue
+        if 1 <= poly.degree() <= RESULTANT_DEGREE and not any(v in k.free_symbols for k in poly.all_coeffs()):
+            polys.append(c.expr)
+    out = []
+    for e1, e2 in itertools.combinations(polys, 2):
+        try:
+            r = run_with_timeout(lambda e1=e1, e2=e2: sp.resultant(e1, e2, v), RESULTANT_SECONDS)
+        except (TimeoutError, sp.PolynomialError, NotImplementedError, ValueError, TypeError, ZeroDivisionError):
+            continue
+        r = sp.sympify(r)
+        if not r.is_number and p.syms[level] in r.free_symbols and r.free_symbols <= set(p.syms[: level + 1]):
+            out.append(r)
     return out
 
 
@@ -436,7 +660,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     lo, hi = p.bounds[level]
     if not hi > lo:
         return 0.0
-    here = [c for c in p.conds if c.level == level]
+    here = p.here(level)
     pts = {lo, hi}
     for c in here:
         def g(t, c=c):
@@ -464,13 +688,19 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         m = 0.5 * (a + b)
         if not all(_holds(c.f(*prefix, m)) for c in here):
             continue
+        inside = sorted(q for q in kinks if a < q < b)
         if last:
+            quick = _first_panel(p.vweight, prefix, a, b, eps) if p.vweight is not None and not inside else None
+            if quick is not None:
+                total += quick[0]
+                err += quick[1]
+                continue
+
             def h(t):
                 return p.weight(*prefix, t)
         else:
             def h(t):
                 return _nested(p, level + 1, prefix + (t,))
-        inside = sorted(q for q in kinks if a < q < b)
         try:
             val, e = _quad(h, a, b, eps, inside, p, level)
         except UndefinedIntegral:
@@ -548,18 +778,61 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
         conds.append(NumCond(_lambdify(variables[: lv + 1], c.expr, at), lv, hints,
                              sp.sympify(c.expr).xreplace(_floats(at))))
     bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in box]
-    return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds, syms=variables)
+    return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds, syms=variables,
+                      vweight=_vectorize(variables, piece.weight, at) if variables else None)
+
+
+#: Each piece's quadrature ``(value, error, problem)`` by the piece, the variables, the box and the
+#: values of the parameters the piece and the box depend on (at most :data:`DONE` kept).  Theorem
+#: 8.1's finite differences evaluate ⟦p⟧ at points shifted along one parameter: the pieces that do
+#: not depend on it are the same integrals there, and the same deterministic computation would
+#: give the same numbers, so they are taken from here instead of being integrated again.
+DONE = 256
+_DONE: dict = {}
+
+
+def _symbols_of(obj) -> set:
+    """The free symbols of a piece (its conditions, their diffeomorphisms' forward and inverse
+    maps and guards, its weight), of a box, or of any tuple of those."""
+    if isinstance(obj, sp.Basic):
+        return set(obj.free_symbols)
+    if isinstance(obj, (tuple, list)):
+        return set().union(*[_symbols_of(o) for o in obj]) if obj else set()
+    if hasattr(obj, "__dataclass_fields__"):
+        return set().union(*[_symbols_of(getattr(obj, f)) for f in obj.__dataclass_fields__ if f != "origin"])
+    return set()
+
+
+def _piece_key(piece: Piece, variables, box, at: dict):
+    box = tuple((sp.sympify(lo), sp.sympify(hi)) for lo, hi in box)
+    used = (_symbols_of(piece) | _symbols_of(box)) - set(variables)
+    return (piece, tuple(variables), box,
+            tuple(sorted(((str(k), at[k]) for k in at if k in used), key=lambda kv: kv[0])))
 
 
 def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict,
                 notes: list[str] | None = None, problems: list[NumProblem] | None = None) -> tuple[float, float]:
     """Σ ∫_box piece at ``at``: (value, error estimate).  scipy's warnings that did not stop the
     result are appended to ``notes``, the problems integrated to ``problems`` (whether each
-    converged); :class:`UndefinedIntegral` when the integral does not exist."""
+    converged); :class:`UndefinedIntegral` when the integral does not exist.  A piece already
+    integrated with the same values of the parameters it depends on is not integrated again
+    (:data:`DONE`)."""
     val = err = 0.0
     for pc in pieces:
-        prob = piece_problem(pc, variables, box, at)
-        v, e = integrate_problem(prob)
+        try:
+            key = _piece_key(pc, variables, box, at)
+            hit = _DONE.get(key)
+        except TypeError:  # something unhashable: integrated, not remembered
+            key, hit = None, None
+        if hit is None:
+            prob = piece_problem(pc, variables, box, at)
+            v, e = integrate_problem(prob)
+            if key is not None:
+                if len(_DONE) >= DONE:
+                    _DONE.pop(next(iter(_DONE)))
+                _DONE[key] = (v, e, prob)
+        else:
+            v, e, prob = hit
         val += v
         err += e
         if notes is not None:
