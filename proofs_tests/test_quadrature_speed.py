@@ -188,3 +188,23 @@ def test_conditions_meeting_a_level_are_breakpoints():
         return 0.5 * (r2 * math.asin(h / math.sqrt(r2)) + h * math.sqrt(r2 - h * h)) + math.pi * r2 / 4
     ref = below(level - 0.7) - below(0.0 - 0.7) if 0.7 ** 2 < 0.3 else below(level - 0.7)
     assert abs(val - ref) <= err + 1e-12
+
+
+def test_a_resultant_sympy_cannot_compute_leaves_the_pair_to_quad():
+    # sympy's resultant of (x − 0.83)² + y² − 0.3 and (y − 1.66)² − 0.25 with float coefficients
+    # raised PolynomialDivisionFailed (the mutation campaign's eighth program of seed 8): the pair
+    # is then only quad's to subdivide, and the value still matches mpmath's.
+    x, y = sp.symbols("x y")
+    circle, band = (x - 0.83) ** 2 + y ** 2 - 0.3, (y - 1.66) ** 2 - 0.25
+    piece = Piece((Condition(circle), Condition(band)), sp.cos(1.66 * x - 2))
+    q._DONE.clear()
+    q._KINKS.clear()
+    val, err = q.quad_pieces([piece], [x, y], [(-0.17, 1), (-1, 1)], {})
+    # outside the disc (the band's condition holds for every y ≤ 1 since (y − 1.66)² ≥ 0.4356):
+    # ∫ cos(1.66x − 2)·(2 − chord(x)) dx, chord = 2√(0.3 − (x − 0.83)²) where it is real
+    mpmath.mp.dps = 30
+    r = mpmath.sqrt(mpmath.mpf("0.3"))
+    full = mpmath.quad(lambda t: 2 * mpmath.cos(mpmath.mpf("1.66") * t - 2), [-0.17, 1])
+    disc = mpmath.quad(lambda t: mpmath.cos(mpmath.mpf("1.66") * t - 2) * 2 * mpmath.sqrt(r ** 2 - (t - mpmath.mpf("0.83")) ** 2),
+                       [mpmath.mpf("0.83") - r, 1])
+    assert abs(val - float(full - disc)) <= err + 1e-10
