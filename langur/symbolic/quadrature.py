@@ -201,11 +201,16 @@ def gauss_kronrod_21(y_minus, y_plus, y_centre, half: float):
     return result, abserr, resabs, resasc
 
 
+#: :func:`_first_panel`'s answer when the vectorized weight cannot be evaluated at all.
+UNVECTORIZABLE = "unvectorizable"
+
+
 def _first_panel(vw: Callable, prefix: tuple, a: float, b: float, eps: float):
     """``(value, error)`` of ∫_a^b when QUADPACK's ``dqagse`` (scipy's ``quad``) would stop after
     its first 21-point panel — the panel's error estimate within ``max(eps, eps·|value|)`` and not
     saturated, every value finite — computed with the weight vectorized (one numpy call instead
-    of 21 Python calls); None otherwise (then ``quad`` integrates it as before)."""
+    of 21 Python calls); None otherwise (then ``quad`` integrates it as before), and
+    :data:`UNVECTORIZABLE` when the vectorized weight raises (its problem stops trying)."""
     centre, half = 0.5 * (a + b), 0.5 * (b - a)
     absc = half * _X
     t = np.concatenate((centre - absc, centre + absc, [centre]))
@@ -213,7 +218,7 @@ def _first_panel(vw: Callable, prefix: tuple, a: float, b: float, eps: float):
         with np.errstate(all="ignore"):
             y = np.asarray(vw(*prefix, t), dtype=float)
     except (ValueError, TypeError, ZeroDivisionError, OverflowError, AttributeError):
-        return None
+        return UNVECTORIZABLE  # e.g. numpy's amin of an array and a number: quad from now on
     if y.shape != t.shape:
         y = np.broadcast_to(y, t.shape)  # a weight constant in the innermost variable
     if not np.all(np.isfinite(y)):
@@ -691,6 +696,8 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         inside = sorted(q for q in kinks if a < q < b)
         if last:
             quick = _first_panel(p.vweight, prefix, a, b, eps) if p.vweight is not None and not inside else None
+            if quick is UNVECTORIZABLE:
+                p.vweight, quick = None, None
             if quick is not None:
                 total += quick[0]
                 err += quick[1]
