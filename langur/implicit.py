@@ -142,6 +142,8 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     (:mod:`langur.operational.signchanges`)."""
     iv = mpmath.iv
     lo, hi = mpmath.mpf(lo), mpmath.mpf(hi)
+    if not hi > lo:  # an empty interval (a moving end past the other): no sign change
+        return []
     t = iv.mpf(target)
     stack = [(hi if i == grid - 1 else lo + (hi - lo) * (i + 1) / grid, lo + (hi - lo) * i / grid, 0)
              for i in range(grid)][::-1]

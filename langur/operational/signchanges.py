@@ -44,10 +44,10 @@ def certified_brackets(value, tape, x: str, target: np.ndarray, lo: np.ndarray, 
 
     ``value(at, rows)``: ``g`` at the points ``at`` for the parameter rows ``rows`` (1-D arrays);
     ``tape``: ``tape_of([g, g'], certified=True)``; ``target``, ``lo``, ``hi``: one value per row;
-    ``params``: name → number or one value per row."""
-    m = np.size(target)
-    rows = np.repeat(np.arange(m), GRID)
-    cell = np.tile(np.arange(GRID), m)
+    ``params``: name → number or one value per row; a row whose ``hi`` ≤ ``lo`` has none."""
+    ok = np.flatnonzero(hi > lo)  # an empty interval (a moving end past the other) has none
+    rows = np.repeat(ok, GRID)
+    cell = np.tile(np.arange(GRID), len(ok))
     width = hi - lo
     a = lo[rows] + width[rows] * (cell / GRID)
     b = np.where(cell == GRID - 1, hi[rows], lo[rows] + width[rows] * ((cell + 1) / GRID))

@@ -30,8 +30,10 @@ found by the engines where they evaluate, each sign change *certified* (an inter
 certifies (a degenerate turning point), raises :class:`~langur.core.TooManyRoots` there (X316).
 
 An end of the interval that moves with the parameters (``int ([0, a + 1]) …``) is the bracket's
-end as a term, for a condition with no turning point on the whole line (one branch); one with
-turning points is refused (clamping its pieces to the moving interval is not done).
+end as a term: one branch for a condition with no turning point on the whole line; for one with
+turning points (fixed or moving) and continuous on the line, the pieces' ends are the k-th
+certified sign changes of ``∂f/∂x`` on the moving interval itself, as for moving turning points,
+so turning points enter and leave the domain as the parameters move.
 
 A root on a turning point (``f = ∂f/∂x = 0``: two roots merge) lies at the common end of two
 branches: the linter reports it (X306/X305, :mod:`langur.lint.tangent`).
@@ -108,19 +110,28 @@ def _piece_ends(cond: Term, e: sp.Expr, d: sp.Expr, v: sp.Symbol, lo: float, hi:
     if isinstance(ends, str):
         return ends
     if ends is None:  # moving (or no closed form): the k-th sign change of ∂f/∂x, found where evaluated
-        try:
-            slope = from_sympy(d, (x,), sorted(s.name for s in d.free_symbols - {v}))
-        except ValueError as err:
-            return f"∂/∂{x} = {d} is not a core term ({err})"
-        try:  # ∂²f/∂x²: where its enclosure excludes 0, ∂f/∂x has at most one zero (certified count)
-            bend = from_sympy(sp.diff(d, v), (x,), sorted(s.name for s in d.free_symbols - {v}))
-        except ValueError as err:
-            return f"∂²/∂{x}² = {sp.diff(d, v)} is not a core term ({err})"
-        cuts = MOVING_PIECES - 1
-        lo_t, hi_t = from_sympy(L, (), ()), from_sympy(R, (), ())
-        ends = ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts, bend, span=cond.span)
-                          for k in range(cuts)] + [hi_t])
+        ends = _moving_ends(cond, d, v, from_sympy(L, (), ()), from_sympy(R, (), ()))
     return ends
+
+
+def _moving_ends(cond: Term, d: sp.Expr, v: sp.Symbol, lo_t: Term, hi_t: Term) -> list[Term] | str:
+    """``lo_t``, the k-th sign changes of ``d`` = ∂f/∂x on ``[lo_t, hi_t]`` for k < MOVING_PIECES − 1
+    (indexed implicit roots, each ``hi_t`` where there are fewer, certified where evaluated), and
+    ``hi_t``: the ends of the monotone pieces whatever the parameters (the interval's ends may be
+    terms that move with them)."""
+    x = v.name
+    names = sorted(s.name for s in d.free_symbols - {v})
+    try:
+        slope = from_sympy(d, (x,), names)
+    except ValueError as err:
+        return f"∂/∂{x} = {d} is not a core term ({err})"
+    try:  # ∂²f/∂x²: where its enclosure excludes 0, ∂f/∂x has at most one zero (certified count)
+        bend = from_sympy(sp.diff(d, v), (x,), names)
+    except ValueError as err:
+        return f"∂²/∂{x}² = {sp.diff(d, v)} is not a core term ({err})"
+    cuts = MOVING_PIECES - 1
+    return ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts, bend, span=cond.span)
+                      for k in range(cuts)] + [hi_t])
 
 
 def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...],
@@ -182,17 +193,30 @@ def _end(end: float | Term | None) -> Term | None:
 
 
 def _parametric(cond: Term, e: sp.Expr, v: sp.Symbol, variables, inputs, lo, hi) -> Diffeo | str:
-    """One implicit-root branch on ``[lo, hi]``, an end of which moves with the parameters: the
-    pieces between turning points would have to be clamped to the moving interval, so only a
-    condition with no turning point on the whole line is completed this way."""
+    """The implicit-root branches on ``[lo, hi]``, an end of which moves with the parameters: one
+    branch when ``e`` is monotone on the whole line; else (turning points, fixed or moving) one
+    per piece between the k-th certified sign changes of ``∂e/∂v`` on the moving interval itself
+    (:func:`_moving_ends`: no piece needs clamping to it), when ``e`` is continuous on the line."""
     a, b = _end(lo), _end(hi)
     if a is None or b is None:
         return "its implicit inverse needs a bounded interval of the variable (give it a domain)"
     why = _monotone_on_the_line(e, v)
-    if why is not None:
-        return f"{why}; with a domain bound that moves with the parameters only a condition monotone on the " \
-               "whole line is completed (give the variable a constant domain)"
-    return _by_roots(cond, v.name, variables, inputs, [a, b])
+    if why is None:
+        return _by_roots(cond, v.name, variables, inputs, [a, b])
+    try:
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.S.Reals), TURNING_LIMIT)
+    except TimeoutError:
+        dom = f"an unknown set (sympy did not decide within {TURNING_LIMIT:g}s)"
+    except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
+        dom = f"an unknown set ({type(err).__name__})"
+    if dom != sp.S.Reals:
+        return f"{why}; it is continuous on {dom}, and with a domain bound that moves with the parameters a " \
+               "condition with turning points must be continuous on the whole line (give the variable a " \
+               "constant domain)"
+    ends = _moving_ends(cond, sp.diff(e, v), v, a, b)
+    if isinstance(ends, str):
+        return ends
+    return _by_roots(cond, v.name, variables, inputs, ends)
 
 
 def _monotone_on_the_line(e: sp.Expr, v: sp.Symbol) -> str | None:
