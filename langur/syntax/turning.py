@@ -95,7 +95,6 @@ def _piece_ends(cond: Term, e: sp.Expr, d: sp.Expr, v: sp.Symbol, lo: float, hi:
     """The ends of the pieces of ``[lo, hi]`` on which ``e`` is strictly monotone in ``v`` (``d`` =
     ∂e/∂v, over ``v`` and parameters only): the interval where ``e`` is continuous cut at the
     turning points, exact or (moving, no closed form) the k-th certified sign changes of ``d``."""
-    x = v.name
     L, R = rational(lo), rational(hi)
     try:
         dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT)
