@@ -164,19 +164,22 @@ def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[
 
 
 def split_along(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...], inputs: tuple[str, ...],
-                bounds: dict[str, tuple[float, float]]) -> Diffeo | str | None:
-    """For a condition monotone in no variable on the box (tried first): ``∂e/∂v`` depends on ``v`` only
-    (``x^3 - x + y^3 - y``): split ``v``'s interval at its turning points, which are then the same
-    for every value of the other variables, so ``e`` is strictly monotone in ``v`` on each piece
-    times the rest of the box: one implicit-root branch per piece (None: ``∂e/∂v`` depends on
-    something else, or ``v``'s interval is not constant; a string: why the split failed).  Turning
-    points that move with a parameter are not split at here: the exact engine's quadrature over
-    the other inputs of such a delta met the fold (a root meeting a moving turning point) as
-    "probably divergent"."""
+                bounds: dict[str, tuple[float, float]], moving: bool = False) -> Diffeo | str | None:
+    """For a condition monotone in no variable on the box (tried first): ``∂e/∂v`` depends on ``v``
+    and (``moving``) the parameters only (``x^3 - x + y^3 - y``; ``x^3 - a*x + y^3 - a*y``): split
+    ``v``'s interval at its turning points, which are then the same for every value of the other
+    variables, so ``e`` is strictly monotone in ``v`` on each piece times the rest of the box: one
+    implicit-root branch per piece (None: ``∂e/∂v`` depends on something else, or ``v``'s interval
+    is not constant; a string: why the split failed).  Turning points that move with a parameter
+    are the k-th certified sign changes of ``∂e/∂v`` (as in one variable); the caller tries fixed
+    ones in every variable first.  Pieces that move with the other variables (``x*y - a``) are not
+    done."""
     lo, hi = bounds.get(v.name, (-math.inf, math.inf))
     d = sp.diff(e, v)
-    if d.free_symbols - {v} or not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
-        return None  # other variables: pieces that move with them; parameters: not done (below)
+    others = {s.name for s in d.free_symbols - {v}}
+    if (others & set(variables)) or (others and not moving) or not (math.isfinite(lo) and math.isfinite(hi)) \
+            or lo >= hi:
+        return None  # other variables: pieces that move with them (not done); parameters: when asked
     ends = _piece_ends(cond, e, d, v, lo, hi)
     if isinstance(ends, str):
         return f"at the turning points of ∂/∂{v} = {d}: {ends}"
