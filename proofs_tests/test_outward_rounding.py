@@ -175,3 +175,13 @@ def test_the_exact_engines_interval_functions_contain_mpmath_values():
                     for p in (lo, lo + w, lo + w / 2):
                         v = sp.N(e.subs(x, sp.Float(float(p), 60)), 60)
                         assert mpmath.mpf(out.a) <= mpmath.mpf(str(v)) <= mpmath.mpf(out.b)
+
+
+def test_a_let_bound_to_a_range_is_enclosed_over_it():
+    from langur.core import Let
+    # let z = a + 1/3 in z·x: the bound is a range once rounded outward; its body is enclosed over it
+    t = Let("z", Add(Param("a"), Const(Fraction(1, 3))), Mul(Param("z"), Var("x")))
+    [(lo, hi)] = enclose_all(tape_of([t], certified=True), {"x": (np.array([0.5]), np.array([2.0]))}, {"a": 0.1})
+    exact = [(Fraction(0.1) + Fraction(1, 3)) * Fraction(x) for x in (0.5, 2.0)]
+    assert Fraction(float(lo[0])) <= min(exact) and max(exact) <= Fraction(float(hi[0]))
+    assert hi[0] - lo[0] < 1e-12 + (max(exact) - min(exact))
