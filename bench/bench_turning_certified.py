@@ -31,6 +31,10 @@ PROGRAMS = {
         "param a = 0.002\nint ([-1, 1]) [x - a * atan((x - 0.0019) / 0.001) - 0.0019 >= 0] * (1 + x) d(x)\n",
     "x^3 - a*x - 0.2 on [-2, 2], a = 1":
         "param a = 1\nint ([-2, 2]) [x^3 - a * x - 0.2 >= 0] * exp(x / 2) d(x)\n",
+    "x^3 - x - a on [0, a + 1], a = 0.5 (moving bound, roots4)":
+        "param a = 0.5\nint ([0, a + 1]) [x^3 - x - a >= 0] * (1 + x) d(x)\n",
+    "x^3 - a*x + y^3 - a*y - 0.1, split along y, a = 1 (roots4)":
+        "param a = 1\nint ([-2, 2], [-1.5, 1.5]) [x^3 - a * x + y^3 - a * y - 0.1 >= 0] * (1 + x * y) d(x, y)\n",
 }
 
 

@@ -25,6 +25,7 @@ from functools import lru_cache
 import mpmath
 import numpy as np
 import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
 
 from .core import TooManyRoots
 
@@ -85,16 +86,35 @@ def _monotone_iv(fn, increasing: bool = True):
     return f
 
 
-#: lambdify's names for the interval versions (the rest from ``mpmath.iv``).
-_IV = {"atan": _monotone_iv(mpmath.atan), "tanh": _monotone_iv(mpmath.tanh), "erf": _monotone_iv(mpmath.erf),
+#: lambdify's names for the interval versions (the rest from ``mpmath.iv``; ``log`` is a method of
+#: its class, which lambdify would otherwise take from ``math``).
+_IV = {"log": mpmath.iv.log, "mpf": mpmath.iv.mpf, "atan": _monotone_iv(mpmath.atan), "tanh": _monotone_iv(mpmath.tanh), "erf": _monotone_iv(mpmath.erf),
        "asin": _monotone_iv(mpmath.asin), "acos": _monotone_iv(mpmath.acos, increasing=False),
        "atanh": _monotone_iv(mpmath.atanh)}
 
 
+class _IntervalPrinter(PythonCodePrinter):
+    """lambdify's text for mpmath intervals: a rational constant as the interval quotient of its
+    numerator and denominator (``1/3`` would be the double 0.333…, ``x**(1/3)`` a double power),
+    a float as the interval of its decimal digits."""
+
+    def _print_Rational(self, e):
+        return f"(mpf({e.p})/mpf({e.q}))"
+
+    def _print_Half(self, e):
+        return self._print_Rational(e)
+
+    def _print_Float(self, e):
+        return f"mpf({str(sp.Float(e, e._prec)).strip()!r})"
+
+
 def _interval_fn(x: sp.Symbol, e: sp.Expr):
     """``e`` (in ``x`` only) on mpmath intervals: ``X ↦`` an interval containing ``e(X)``, the
-    whole line where it cannot be enclosed."""
-    fn = sp.lambdify(x, e, modules=[_IV, mpmath.iv])
+    whole line where it cannot be enclosed.  Every operation is mpmath's interval arithmetic
+    (rounded outward), constants included (:class:`_IntervalPrinter`)."""
+    printer = _IntervalPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
+                                "user_functions": {k: k for k in _IV}})  # lambdify's own settings
+    fn = sp.lambdify(x, e, modules=[_IV, mpmath.iv], printer=printer)
 
     def enclose(X):
         try:
@@ -113,15 +133,21 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     enclosure of ``g − target`` that excludes 0 (no zero there) or one of ``g'`` that excludes 0
     (``g`` monotone: a zero iff a sign change between the ends); a cell certified by neither is
     halved, at most ``depth`` times, then refused (:class:`~langur.core.TooManyRoots`, naming the
-    piece).  ``g``: a function of a number; ``g_iv``, ``dg_iv``: of an mpmath interval (None: no
+    piece).  The signs at the cells' ends are those of ``g_iv`` at the point (mpmath's interval
+    arithmetic rounds outward: a proof); a point where that enclosure contains 0 joins the two
+    monotone cells around it when ``g`` rises (or falls) on both, else the piece is refused (an
+    extremum of ``g`` that is 0 within rounding); at ``lo`` and ``hi`` such a sign is ``g``'s value's.
+    ``g``: a function of a number; ``g_iv``, ``dg_iv``: of an mpmath interval (None: no
     enclosure).  The Monte Carlo engine certifies the same way on its own
     (:mod:`langur.operational.signchanges`)."""
     iv = mpmath.iv
     lo, hi = mpmath.mpf(lo), mpmath.mpf(hi)
+    if not hi > lo:  # an empty interval (a moving end past the other): no sign change
+        return []
     t = iv.mpf(target)
     stack = [(hi if i == grid - 1 else lo + (hi - lo) * (i + 1) / grid, lo + (hi - lo) * i / grid, 0)
              for i in range(grid)][::-1]
-    out = []
+    cells = []  # (a, b, direction), increasing; direction 0: no zero in the cell
     while stack:
         b, a, d = stack.pop()
         X = iv.mpf([a, b])
@@ -129,25 +155,48 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
         if G is not None:
             G = G - t
             if G.a > 0 or G.b < 0:
-                continue  # no zero in the cell
+                cells.append((a, b, 0))  # no zero in the cell
+                continue
         D = dg_iv(X)
         if D is not None and (D.a > 0 or D.b < 0):  # monotone: at most one zero
-            try:
-                ga, gb = g(a) - target, g(b) - target
-            except (ValueError, ZeroDivisionError, OverflowError, TypeError):
-                ga = gb = mpmath.nan
-            if not (mpmath.isnan(ga) or mpmath.isnan(gb)) and (ga >= 0) != (gb >= 0):
-                out.append((a, b))
+            cells.append((a, b, 1 if D.a > 0 else -1))
             continue
         if d == depth:
-            raise TooManyRoots(f"cannot certify the turning points (sign changes of {what}) near x in "
-                               f"[{float(a):.12g}, {float(b):.12g}] at these parameter values: there it and its "
-                               "derivative both vanish (a degenerate turning point) or their interval enclosures "
-                               "stay too wide; Langur refuses rather than miss one")
+            raise _uncertified(what, a, b)
         m = (a + b) / 2
         stack.append((b, m, d + 1))
         stack.append((m, a, d + 1))
-    return out
+    return _sign_changes(g, g_iv, t, target, cells, what)
+
+
+def _uncertified(what, a, b) -> TooManyRoots:
+    return TooManyRoots(f"cannot certify the turning points (sign changes of {what}) near x in "
+                        f"[{float(a):.12g}, {float(b):.12g}] at these parameter values: there it and its "
+                        "derivative both vanish (a degenerate turning point) or their interval enclosures "
+                        "stay too wide; Langur refuses rather than miss one")
+
+
+def _sign_changes(g, g_iv, t, target, cells, what) -> list[tuple]:
+    """The brackets between consecutive points of known sign (cells' ends) where the sign differs."""
+    points = [c[0] for c in cells] + [cells[-1][1]]
+    signs = []
+    for i, p in enumerate(points):
+        G = g_iv(mpmath.iv.mpf([p, p]))
+        G = None if G is None else G - t
+        s = 0 if G is None else (1 if G.a > 0 else (-1 if G.b < 0 else 0))
+        if s == 0 and i in (0, len(points) - 1):  # within rounding of an end of the domain
+            try:
+                v = g(p) - target
+                s = -1 if mpmath.isnan(v) or v < 0 else 1
+            except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+                s = -1
+        elif s == 0:  # inside: the cells around it must be monotone the same way
+            before, after = cells[i - 1][2], cells[i][2]
+            if before == 0 or before != after:
+                raise _uncertified(what, cells[i - 1][0], cells[i][1])
+        signs.append(s)
+    known = [(p, s) for p, s in zip(points, signs) if s != 0]
+    return [(p, q) for (p, s), (q, r) in zip(known, known[1:]) if s != r]
 
 
 class ImplicitRootFn(sp.Function):

@@ -66,10 +66,17 @@ def test_the_bracket_is_the_moving_interval():
     assert any(isinstance(u, Param) for u in subterms(roots[0].hi))
 
 
-def test_turning_points_with_a_moving_bound_are_refused_with_the_reason():
-    # x⁵ − x − a turns at ±5^(-1/4): its pieces would have to be clamped to [0, a + 1]
-    with pytest.raises(LangurError) as info:
-        frontend.load_text("param a = 0.5\nint ([0, a + 1]) [x^5 - x - a >= 0] d(x)\n", "turns.lgr")
-    text = str(info.value)
-    assert "turns.lgr:2:19: error T207" in text
-    assert "turning points" in text and "moves with the parameters" in text
+def test_turning_points_with_a_moving_bound_split_at_sign_changes_on_the_moving_interval():
+    # x⁵ − x − a turns at ±5^(-1/4): its pieces end at the k-th sign changes of 5x⁴ − 1 on [0, a + 1]
+    # itself (no clamping; test_turning_moving_bound checks the numbers)
+    from langur.core import IfDiffeo, ImplicitRoot, free_params, subterms
+
+    program = frontend.load_text("param a = 0.5\nint ([0, a + 1]) [x^5 - x - a >= 0] d(x)\n", "turns.lgr").program
+    roots = [c for t in subterms(program.integrand) if isinstance(t, IfDiffeo)
+             for b in t.psi.branches for c in b.components if isinstance(c, ImplicitRoot)]
+    ends = [r.hi for r in roots[:-1]]
+    assert ends and all(isinstance(e, ImplicitRoot) and e.index == k for k, e in enumerate(ends))
+    assert all(free_params(e.hi) == {"a"} for e in ends)
+    with pytest.raises(LangurError) as info:  # not continuous on the line: refused, with the reason
+        frontend.load_text("param a = 0.5\nint ([1, a + 2]) [x^5 - x - log(x) - a >= 0] d(x)\n", "turns.lgr")
+    assert "turns.lgr:2:19: error T207" in str(info.value) and "continuous" in str(info.value)

@@ -53,10 +53,14 @@ def _findings(site: IfDiffeo, roots: list[ImplicitRoot], point, explicit) -> lis
     text = sp.sstr(f)
     out = []
     # the pieces are consecutive: their inner ends are the turning points (closed forms, or the k-th
-    # sign change of ∂f/∂x when they move with the parameters)
-    for end in (r.hi for r in roots[:-1]):
-        c = to_sympy(end)
-        moving = isinstance(end, ImplicitRoot)
+    # sign change of ∂f/∂x when they move with the parameters, or with a domain end that moves)
+    ends = [(r.hi, to_sympy(r.hi), isinstance(r.hi, ImplicitRoot)) for r in roots[:-1]]
+    fixed = _fixed_turning_points(ends, v)
+    if fixed is not None:  # ∂f/∂x free of parameters: the slots are its zeros on the line that can be in the domain
+        lo, hi = (to_sympy(t) for t in (roots[0].lo, roots[-1].hi))
+        ends = [(c, c, False) for c in fixed
+                if not (lo.is_number and c < lo) and not (hi.is_number and c > hi)]
+    for end, c, moving in ends:
         value = f.xreplace({v: c})
         params = sorted(value.free_symbols, key=str)
         if not params or any(p.name in site.psi.variables for p in params):
@@ -99,9 +103,29 @@ def _on_turning_point(f, v, c, end, roots, at) -> bool:
         return False
     if isinstance(end, ImplicitRoot) and here == hi:
         return False  # a moving slot past the last turning point is the domain's end
+    if not lo <= here <= hi:
+        return False  # a turning point outside the domain (whose end moves) at these values
     fx = f.xreplace(at)
     scale = 1 + max(abs(complex(fx.xreplace({v: lo}).evalf(20))), abs(complex(fx.xreplace({v: hi}).evalf(20))))
     return abs(complex(fx.xreplace({v: here}).evalf(30))) <= TOLERANCE * scale
+
+
+def _fixed_turning_points(ends, v) -> list | None:
+    """The zeros of ∂f/∂x on the line where it changes sign, when the pieces' ends are its k-th sign
+    changes on a domain whose end moves but ∂f/∂x has no parameters (so the turning points are
+    fixed, only which of them lie in the domain moves); else None."""
+    if not ends or not all(moving for _, _, moving in ends):
+        return None
+    slope = to_sympy(ends[0][0].equation)
+    if slope.free_symbols - {v}:
+        return None
+    zeros = sp.solveset(slope, v, sp.S.Reals)
+    if not isinstance(zeros, sp.FiniteSet) or not all(z.is_real for z in zeros):
+        return None
+    points = sorted(zeros, key=lambda z: float(z))
+    probes = [points[0] - 1] + [(p + q) / 2 for p, q in zip(points, points[1:])] + [points[-1] + 1] if points else []
+    signs = [bool(slope.xreplace({v: p}).evalf(30) > 0) for p in probes]
+    return [c for k, c in enumerate(points) if signs[k] != signs[k + 1]]
 
 
 def _solve(value, params) -> list[dict]:

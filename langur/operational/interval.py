@@ -5,6 +5,20 @@ upper ends (any shape that broadcasts with the parameters' arrays), so a whole g
 a whole batch of parameter points is enclosed in one pass (no Python recursion per cell).
 Enclosures are conservative: a NaN end (an operation outside its domain) makes the interval
 unbounded, never narrower.
+
+Two kinds of tape (:func:`tape_of`).  The samplers' tapes compute each end in round-to-nearest
+doubles: a cell cut away by a rounding error loses a sliver of width ~1e-16 of the zero set, which
+no estimate can see.  A *certified* tape (``certified=True``: the sign changes of issue 18, where
+an enclosure that excludes 0 is a proof) rounds every operation's ends outward: a sum's or a
+product's lower end one double down (``np.nextafter``), its upper end one double up (a correctly
+rounded result is within half a unit in the last place of the exact one, so one step suffices,
+also at a power of two); a constant that is not a double is the two doubles around it; a power,
+whose library ``pow`` is not correctly rounded, and a monotone primitive (the registry's rule)
+two units; ``sin``/``cos`` by where their extrema lie, with a slack relative to the argument's
+size; a ``let`` bound to a range encloses its body over that range.  So an interval enclosure
+of a certified tape contains the exact real value of the term over the box, up to the one
+assumption that the C library's ``exp``, ``log``, ``pow``, … err by less than two units in the
+last place (glibc's: less than one).
 """
 
 from __future__ import annotations
@@ -35,12 +49,13 @@ def enclose_all(tape: "_Tape", box: dict, params: dict) -> list[tuple[np.ndarray
     return tape.run(box, params)
 
 
-def tape_of(terms, tight: bool = False) -> "_Tape":
+def tape_of(terms, certified: bool = False) -> "_Tape":
     """One tape for several terms (e.g. every inverse branch's components and guards of a zero
-    set, which share most of their subterms); the caller keeps it.  ``tight``: ``sin`` and
-    ``cos`` enclosed by where their extrema lie (:func:`_periodic`), not by their range (the
-    certified sign changes of issue 18, which need enclosures that shrink with the cell)."""
-    return _build(tuple(terms), tight)
+    set, which share most of their subterms); the caller keeps it.  ``certified``: every end
+    rounded outward (see the module's docstring) and ``sin``/``cos`` enclosed by where their
+    extrema lie (:func:`_periodic`), not by their range (the certified sign changes of issue 18,
+    which need enclosures that shrink with the cell and are proofs)."""
+    return _build(tuple(terms), certified)
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,17 +77,19 @@ class _Tape:
         return [out[i] for i in self.roots]
 
 
-def _tape(t: Term) -> _Tape:
+def _tape(t: Term, certified: bool = False) -> _Tape:
     """The tape of ``t``, built once and kept on the node (as core's derived facts are)."""
+    slot = "_certified_tape" if certified else "_enclosure_tape"
     try:
-        return t.__dict__["_enclosure_tape"]
+        return t.__dict__[slot]
     except KeyError:
-        tape = _build((t,))
-        object.__setattr__(t, "_enclosure_tape", tape)
+        tape = _build((t,), certified)
+        object.__setattr__(t, slot, tape)
         return tape
 
 
-def _build(terms: tuple[Term, ...], tight: bool = False) -> _Tape:
+def _build(terms: tuple[Term, ...], certified: bool = False) -> _Tape:
+    rule = _OUTWARD if certified else _NEAREST
     steps: list[tuple] = []
     index: dict = {}  # (rule, kids, data) → step: equal subterms are one step
     seen: dict[int, int] = {}  # id(node) → step: a shared node is looked at once
@@ -83,25 +100,25 @@ def _build(terms: tuple[Term, ...], tight: bool = False) -> _Tape:
             return hit
         match t:
             case Const():
-                key = (_const, (), np.float64(const_value(t)))
+                key = (rule["const"], (), _const_ends(t) if certified else np.float64(const_value(t)))
             case Var(name):
                 key = (_var, (), name)
             case Param(name):
                 key = (_param, (), name)
             case Add(a, b):
-                key = (_add, (step(a), step(b)), None)
+                key = (rule["add"], (step(a), step(b)), None)
             case Mul(a, b):
-                key = (_mul, (step(a), step(b)), None)
+                key = (rule["mul"], (step(a), step(b)), None)
             case Pow(a, k):
-                key = (_pow, (step(a),), k)
+                key = (rule["pow"], (step(a),), k)
             case Prim(op, a):
-                key = ((_periodic if tight and op in _PHASE else _prim), (step(a),), op)
+                key = ((_periodic if certified and op in _PHASE else _prim), (step(a),), op)
             case IfGe0(c, a, b):
                 key = (_ifge0, (step(c), step(a), step(b)), None)
             case IfDiffeo(_, a, b):
                 key = (_ifdiffeo, (step(a), step(b)), None)
             case Let(name, bound, body):  # the body under its own scope: a tape of its own
-                key = (_let, (step(bound),), (name, _tape(body)))
+                key = (rule["let"], (step(bound),), (name, _tape(body, certified)))
             case ImplicitRoot(_, _, _, lo, hi):  # issue 18: the root lies in its bracket
                 key = (_bracket, (step(lo), step(hi)), None)
             case _:
@@ -134,7 +151,10 @@ def _var(box, params, name):
 
 
 def _param(box, params, name):
-    v = np.asarray(params[name], dtype=float)
+    v = params[name]
+    if isinstance(v, tuple):  # a certified let's name bound to a range (:func:`_let_out`)
+        return v
+    v = np.asarray(v, dtype=float)
     return v, v
 
 
@@ -191,6 +211,12 @@ def _let(box, params, data, bound):
     return np.where(wide, -INF, bl), np.where(wide, INF, bh)
 
 
+def _let_out(box, params, data, bound):
+    name, body = data
+    [out] = body.run(box, {**params, name: bound})  # the body over the bound's whole range
+    return out
+
+
 def _bracket(box, params, _, lo, hi):
     return lo[0], hi[1]
 
@@ -202,7 +228,8 @@ def _prim(box, params, op: str, a):
 
 #: sin(x) = sin(x + 0), cos(x) = sin(x + π/2): the phase that makes each a sine.
 _PHASE = {"sin": 0.0, "cos": np.pi / 2}
-#: Outward slack of a tight sine enclosure (the library's sin and the phase's rounding).
+#: Outward slack of a tight sine enclosure per unit of the argument's size (the phase's and the
+#: extrema's rounding, which grow with it; sin is 1-Lipschitz) and of the library's sin.
 _SLACK = 1e-12
 
 
@@ -212,14 +239,18 @@ def _periodic(box, params, op: str, a):
     lies inside, rounded outward."""
     lo, hi = (np.asarray(v, dtype=float) + _PHASE[op] for v in a)
     with np.errstate(all="ignore"):
+        slack = _SLACK * (1.0 + np.abs(lo) + np.abs(hi))
         sl, sh = np.sin(lo), np.sin(hi)
         k_max = np.ceil((lo - np.pi / 2) / (2 * np.pi))
         k_min = np.ceil((lo + np.pi / 2) / (2 * np.pi))
-        has_max = np.pi / 2 + 2 * np.pi * k_max <= hi + _SLACK
-        has_min = -np.pi / 2 + 2 * np.pi * k_min <= hi + _SLACK
+        has_max = np.pi / 2 + 2 * np.pi * k_max <= hi + slack
+        has_min = -np.pi / 2 + 2 * np.pi * k_min <= hi + slack
+        # a lower k whose extremum the rounding of k may have skipped, still within the slack
+        has_max |= np.pi / 2 + 2 * np.pi * (k_max - 1) >= lo - slack
+        has_min |= -np.pi / 2 + 2 * np.pi * (k_min - 1) >= lo - slack
     wide = ~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo >= 2 * np.pi)
-    out_lo = np.where(wide | has_min, -1.0, np.maximum(np.minimum(sl, sh) - _SLACK, -1.0))
-    out_hi = np.where(wide | has_max, 1.0, np.minimum(np.maximum(sl, sh) + _SLACK, 1.0))
+    out_lo = np.where(wide | has_min, -1.0, np.maximum(np.minimum(sl, sh) - slack, -1.0))
+    out_hi = np.where(wide | has_max, 1.0, np.minimum(np.maximum(sl, sh) + slack, 1.0))
     return out_lo, out_hi
 
 
@@ -250,3 +281,61 @@ def _pow(box, params, k: Fraction, a):
         unbounded = unbounded | ((lo <= 0) & (hi >= 0))
     return np.where(unbounded, -INF, np.minimum(a, b)), np.where(unbounded, INF, np.maximum(a, b))
 
+
+
+# -- outward rounding (certified tapes) -----------------------------------------------------------
+
+def _down(v, steps: int = 1):
+    """``v`` moved ``steps`` doubles towards −∞ (+∞ and NaN stay: +∞ becomes the largest double)."""
+    for _ in range(steps):
+        v = np.nextafter(v, -INF)
+    return v
+
+
+def _up(v, steps: int = 1):
+    for _ in range(steps):
+        v = np.nextafter(v, INF)
+    return v
+
+
+def _const_ends(c: Const) -> tuple[np.float64, np.float64]:
+    """The doubles around a constant: itself when it is one, else the two it lies between (π, 1/3)."""
+    v = np.float64(const_value(c))
+    exact = c.value if not isinstance(c.value, str) else None
+    if exact is not None and (isinstance(exact, float) or Fraction(float(v)) == exact):
+        return v, v
+    return _down(v), _up(v)
+
+
+def _const_out(box, params, ends):
+    return ends
+
+
+def _unbounded_nan(lo, hi):
+    """NaN ends (∞ − ∞, 0·∞ with nothing else) made unbounded."""
+    lo_nan, hi_nan = np.isnan(lo), np.isnan(hi)
+    if lo_nan.any() or hi_nan.any():
+        bad = lo_nan | hi_nan
+        return np.where(bad, -INF, lo), np.where(bad, INF, hi)
+    return lo, hi
+
+
+def _add_out(box, params, _, a, b):
+    (al, ah), (bl, bh) = a, b
+    with np.errstate(invalid="ignore", over="ignore"):
+        return _unbounded_nan(_down(al + bl), _up(ah + bh))
+
+
+def _mul_out(box, params, _, a, b):
+    lo, hi = _mul(box, params, _, a, b)  # the exact products' hull, each end rounded to nearest…
+    return _down(lo), _up(hi)  # …then one double outward
+
+
+def _pow_out(box, params, k, a):
+    lo, hi = _pow(box, params, k, a)
+    return _down(lo, 2), _up(hi, 2)  # the C library's pow: within two units of the exact power
+
+
+#: Each mode's rules for the arithmetic that rounds: to nearest (the samplers) or outward.
+_NEAREST = {"const": _const, "add": _add, "mul": _mul, "pow": _pow, "let": _let}
+_OUTWARD = {"const": _const_out, "add": _add_out, "mul": _mul_out, "pow": _pow_out, "let": _let_out}

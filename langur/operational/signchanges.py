@@ -11,10 +11,17 @@ neither is halved, at most :data:`DEPTH` times; a piece still uncertified then (
 both vanish there: a degenerate turning point, or an enclosure too wide) is refused with
 :class:`~langur.core.TooManyRoots`, located at the condition and at the piece.
 
-Enclosures are those of :mod:`langur.operational.interval` (tight ``sin``/``cos``), in doubles:
-certified up to the rounding of ``+`` and ``×`` (not directed), which the enclosures of monotone
-primitives already widen by two units in the last place.  The exact engine certifies the same
-way on its own, with mpmath's interval arithmetic (:mod:`langur.implicit`).
+Every enclosure is that of a *certified* tape of :mod:`langur.operational.interval` (ends rounded
+outward, tight ``sin``/``cos``), so "excludes 0" is a proof, and so is the sign of ``g − target``
+at a cell's end: it is read from the enclosure of ``g`` at that point, not from ``g`` evaluated
+in doubles.  Where that point enclosure contains 0 (a sign change within rounding of the point),
+the sign is unknown: the cells on its two sides are monotone (neither excludes 0), and when ``g``
+rises (or falls) on both they are one monotone piece, whose sign change is decided by its outer
+ends; when it rises on one and falls on the other (``g`` has an extremum there that is 0 within
+rounding: a degenerate turning point) the piece is refused.  At the ends of ``[lo, hi]`` an
+unknown sign is ``g``'s double value's (a sign change within rounding of an end of the domain
+cuts off a piece of that width, which no integral sees).  The exact engine certifies the same way
+on its own, with mpmath's interval arithmetic (:mod:`langur.implicit`).
 """
 
 from __future__ import annotations
@@ -36,44 +43,90 @@ def certified_brackets(value, tape, x: str, target: np.ndarray, lo: np.ndarray, 
     sign change of ``g − target`` for the parameter point ``row``, all of them on ``[lo, hi]``.
 
     ``value(at, rows)``: ``g`` at the points ``at`` for the parameter rows ``rows`` (1-D arrays);
-    ``tape``: ``tape_of([g, g'], tight=True)``; ``target``, ``lo``, ``hi``: one value per row;
-    ``params``: name → number or one value per row."""
-    m = np.size(target)
-    rows = np.repeat(np.arange(m), GRID)
-    cell = np.tile(np.arange(GRID), m)
+    ``tape``: ``tape_of([g, g'], certified=True)``; ``target``, ``lo``, ``hi``: one value per row;
+    ``params``: name → number or one value per row; a row whose ``hi`` ≤ ``lo`` has none."""
+    ok = np.flatnonzero(hi > lo)  # an empty interval (a moving end past the other) has none
+    rows = np.repeat(ok, GRID)
+    cell = np.tile(np.arange(GRID), len(ok))
     width = hi - lo
     a = lo[rows] + width[rows] * (cell / GRID)
     b = np.where(cell == GRID - 1, hi[rows], lo[rows] + width[rows] * ((cell + 1) / GRID))
-    found: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+    kept: list[tuple] = []  # certified cells: (row, a, b, direction) with direction 0 = no zero in it
     for depth in range(DEPTH + 1):
-        at = {k: (np.asarray(v, dtype=float)[rows] if np.ndim(v) else v) for k, v in params.items()}
+        at = _at_rows(params, rows)
         t = target[rows]
         with np.errstate(all="ignore"):
             (gl, gh), (dl, dh) = enclose_all(tape, {x: (a, b)}, at)
             gl, gh, dl, dh = (np.broadcast_to(v, a.shape) for v in (gl, gh, dl, dh))
-            free = (gl - t > 0) | (gh - t < 0)  # no zero in the cell
-            monotone = ~free & ((dl > 0) | (dh < 0))  # at most one
-        if monotone.any():
-            r, ca, cb, tm = rows[monotone], a[monotone], b[monotone], t[monotone]
-            ga, gb = value(ca, r) - tm, value(cb, r) - tm
-            change = ((ga >= 0) != (gb >= 0)) & ~np.isnan(ga) & ~np.isnan(gb)
-            found.append((r[change], ca[change], cb[change]))
-        rest = ~free & ~monotone
+            free = (gl > t) | (gh < t)  # no zero in the cell (ends rounded outward: a proof)
+            rising, falling = ~free & (dl > 0), ~free & ~(dl > 0) & (dh < 0)  # at most one
+        done = free | rising | falling
+        kept.append((rows[done], a[done], b[done], np.where(rising, 1, np.where(falling, -1, 0))[done]))
+        rest = ~done
         if not rest.any():
             break
         if depth == DEPTH:
             k = int(np.argmax(rest))
-            raise TooManyRoots(
-                f"cannot certify the turning points (sign changes of {what}) near {x} in "
-                f"[{a[k]:.12g}, {b[k]:.12g}] at these parameter values: there {what} and its derivative both "
-                f"vanish (a degenerate turning point) or their interval enclosures stay too wide; Langur "
-                f"refuses rather than miss one", span)
+            raise _uncertified(what, x, a[k], b[k], span)
         rows, a, b = rows[rest], a[rest], b[rest]
         mid = 0.5 * (a + b)
         rows, a, b = np.concatenate([rows, rows]), np.concatenate([a, mid]), np.concatenate([mid, b])
-    if not found:
+    r, ca, cb, direction = (np.concatenate(c) for c in zip(*kept))
+    order = np.lexsort((ca, r))
+    r, ca, cb, direction = r[order], ca[order], cb[order], direction[order]
+    return _sign_changes(value, tape, x, target, params, r, ca, cb, direction, span, what)
+
+
+def _at_rows(params: dict, rows: np.ndarray) -> dict:
+    return {k: (np.asarray(v, dtype=float)[rows] if np.ndim(v) else v) for k, v in params.items()}
+
+
+def _uncertified(what, x, a, b, span) -> TooManyRoots:
+    return TooManyRoots(
+        f"cannot certify the turning points (sign changes of {what}) near {x} in "
+        f"[{a:.12g}, {b:.12g}] at these parameter values: there {what} and its derivative both "
+        f"vanish (a degenerate turning point) or their interval enclosures stay too wide; Langur "
+        f"refuses rather than miss one", span)
+
+
+def _sign_changes(value, tape, x, target, params, r, a, b, direction, span, what):
+    """The brackets of the sign changes over the certified cells (sorted by row, then ``a``; they
+    tile each row's ``[lo, hi]``): the sign of ``g − target`` at each cell's start and at each
+    row's end, from point enclosures; a point of unknown sign joins the monotone cells on its two
+    sides (the same direction, else refused); a bracket runs between consecutive points of known
+    sign that differ."""
+    n = len(r)
+    if n == 0:
         empty = np.zeros(0)
         return empty.astype(int), empty, empty
-    r, ca, cb = (np.concatenate(c) for c in zip(*found))
-    order = np.lexsort((ca, r))
-    return r[order], ca[order], cb[order]
+    last = np.r_[r[1:] != r[:-1], True]  # the last cell of its row
+    pts = np.concatenate([a, b[last]])  # every cell's start, then each row's end
+    prow = np.concatenate([r, r[last]])
+    t = target[prow]
+    with np.errstate(all="ignore"):
+        (pl, ph), _ = enclose_all(tape, {x: (pts, pts)}, _at_rows(params, prow))
+        pl, ph = np.broadcast_to(pl, pts.shape), np.broadcast_to(ph, pts.shape)
+        sign = np.where(pl > t, 1, np.where(ph < t, -1, 0))
+    # the order along each row: the cells' starts, the row's end after its last cell
+    where_end = np.flatnonzero(last)
+    order = np.concatenate([np.arange(n), where_end + 0.5])
+    seq = np.argsort(order, kind="stable")
+    pts, prow, sign = pts[seq], prow[seq], sign[seq]
+    ends = np.r_[True, prow[1:] != prow[:-1]] | np.r_[prow[1:] != prow[:-1], True]  # lo and hi of a row
+    unknown_end = ends & (sign == 0)
+    if unknown_end.any():  # within rounding of the domain's end: the double value's sign
+        with np.errstate(all="ignore"):
+            v = value(pts[unknown_end], prow[unknown_end]) - target[prow[unknown_end]]
+        sign[unknown_end] = np.where(v >= 0, 1, -1)
+    inner = (sign == 0)  # an interior point: its cells (before, after) are monotone the same way
+    if inner.any():
+        k = np.flatnonzero(inner)  # in ``seq`` order; point k starts cell k (cells come first)
+        before, after = direction[seq[k] - 1], direction[seq[k]]
+        bad = (before == 0) | (before != after)
+        if bad.any():
+            j = k[int(np.argmax(bad))]
+            raise _uncertified(what, x, pts[j - 1], pts[j + 1], span)
+    known = ~inner
+    pts, prow, sign = pts[known], prow[known], sign[known]
+    change = (prow[1:] == prow[:-1]) & (sign[1:] != sign[:-1])
+    return prow[:-1][change], pts[:-1][change], pts[1:][change]

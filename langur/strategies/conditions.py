@@ -245,8 +245,9 @@ def turning_condition(scope: Scope) -> S.Iverson:
     points, up to three roots), ``exp(v) + v`` and ``v^5 + v`` (monotone, no inverse in closed
     form), ``sin(3*v)`` (turning points inside the box), and turning points that move with a
     parameter ``P`` (``sin(3*P*v)``, ``v^3 - P*v``: counted certified by the engines), against a
-    parameter term; ``v`` a variable with constant bounds, or for the monotone forms one whose
-    bound moves with the parameters (the implicit root's bracket follows it)."""
+    parameter term; ``v`` a variable with constant bounds, or one whose bound moves with the
+    parameters (the implicit root's bracket follows it; the cubics' pieces end at the certified
+    sign changes of their derivative on the moving interval)."""
     moving = tuple(v for v in scope.variables if v not in scope.fixed)
     if not scope.fixed and not moving:
         lhs, cmp, rhs = condition(scope)
@@ -263,8 +264,12 @@ def turning_condition(scope: Scope) -> S.Iverson:
             lambda v: call("sin", mul(num(3), mul(scope.param(), v))),
             lambda v: sub(power(v, 3), mul(scope.param(), v)),
         )
-    else:  # a bound that moves: only a condition monotone on the whole line
-        v, forms = name(scope.pick(moving)), monotone
+    else:  # a bound that moves: monotone on the whole line, or turning points (fixed or moving) split
+        v = name(scope.pick(moving))  # at their certified sign changes on the moving interval
+        forms = monotone + (
+            lambda v: sub(power(v, 3), v),
+            lambda v: sub(power(v, 3), mul(scope.param(), v)),
+        )
     lhs = forms[scope.index(len(forms))](v)
     cmp = scope.pick(("<=", ">="))
     rhs = shifted_param(scope, (F(0), F(-1, 5), F(3, 20), F(-9, 20)))

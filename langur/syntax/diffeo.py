@@ -194,14 +194,15 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds, ends=None)
             if isinstance(psi, Diffeo):
                 return psi
             reasons.append(f"{v} (implicitly): {psi}")
-        for v in reversed(occurring):  # else split along a variable at its turning points
-            psi = turning.split_along(cond, expr, symbol(v), variables, inputs, bounds)
-            if isinstance(psi, Diffeo):
-                return psi
-            if psi is not None:
-                reasons.append(f"{v} (split): {psi}")
+        for moving in (False, True):  # else split along a variable at its turning points (fixed ones first)
+            for v in reversed(occurring):
+                psi = turning.split_along(cond, expr, symbol(v), variables, inputs, bounds, moving)
+                if isinstance(psi, Diffeo):
+                    return psi
+                if psi is not None:
+                    reasons.append(f"{v} (split): {psi}")
         reasons.append("it is split along a variable only where its derivative in that variable depends on that "
-                       "variable alone: write it so, or declare a `diffeo` with its inverse")
+                       "variable and the parameters alone: write it so, or declare a `diffeo` with its inverse")
     return "no variable can be isolated (" + "; ".join(reasons) + ")"
 
 

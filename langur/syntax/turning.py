@@ -30,8 +30,10 @@ found by the engines where they evaluate, each sign change *certified* (an inter
 certifies (a degenerate turning point), raises :class:`~langur.core.TooManyRoots` there (X316).
 
 An end of the interval that moves with the parameters (``int ([0, a + 1]) …``) is the bracket's
-end as a term, for a condition with no turning point on the whole line (one branch); one with
-turning points is refused (clamping its pieces to the moving interval is not done).
+end as a term: one branch for a condition with no turning point on the whole line; for one with
+turning points (fixed or moving) and continuous on the line, the pieces' ends are the k-th
+certified sign changes of ``∂f/∂x`` on the moving interval itself, as for moving turning points,
+so turning points enter and leave the domain as the parameters move.
 
 A root on a turning point (``f = ∂f/∂x = 0``: two roots merge) lies at the common end of two
 branches: the linter reports it (X306/X305, :mod:`langur.lint.tangent`).
@@ -93,7 +95,6 @@ def _piece_ends(cond: Term, e: sp.Expr, d: sp.Expr, v: sp.Symbol, lo: float, hi:
     """The ends of the pieces of ``[lo, hi]`` on which ``e`` is strictly monotone in ``v`` (``d`` =
     ∂e/∂v, over ``v`` and parameters only): the interval where ``e`` is continuous cut at the
     turning points, exact or (moving, no closed form) the k-th certified sign changes of ``d``."""
-    x = v.name
     L, R = rational(lo), rational(hi)
     try:
         dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT)
@@ -108,19 +109,28 @@ def _piece_ends(cond: Term, e: sp.Expr, d: sp.Expr, v: sp.Symbol, lo: float, hi:
     if isinstance(ends, str):
         return ends
     if ends is None:  # moving (or no closed form): the k-th sign change of ∂f/∂x, found where evaluated
-        try:
-            slope = from_sympy(d, (x,), sorted(s.name for s in d.free_symbols - {v}))
-        except ValueError as err:
-            return f"∂/∂{x} = {d} is not a core term ({err})"
-        try:  # ∂²f/∂x²: where its enclosure excludes 0, ∂f/∂x has at most one zero (certified count)
-            bend = from_sympy(sp.diff(d, v), (x,), sorted(s.name for s in d.free_symbols - {v}))
-        except ValueError as err:
-            return f"∂²/∂{x}² = {sp.diff(d, v)} is not a core term ({err})"
-        cuts = MOVING_PIECES - 1
-        lo_t, hi_t = from_sympy(L, (), ()), from_sympy(R, (), ())
-        ends = ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts, bend, span=cond.span)
-                          for k in range(cuts)] + [hi_t])
+        ends = _moving_ends(cond, d, v, from_sympy(L, (), ()), from_sympy(R, (), ()))
     return ends
+
+
+def _moving_ends(cond: Term, d: sp.Expr, v: sp.Symbol, lo_t: Term, hi_t: Term) -> list[Term] | str:
+    """``lo_t``, the k-th sign changes of ``d`` = ∂f/∂x on ``[lo_t, hi_t]`` for k < MOVING_PIECES − 1
+    (indexed implicit roots, each ``hi_t`` where there are fewer, certified where evaluated), and
+    ``hi_t``: the ends of the monotone pieces whatever the parameters (the interval's ends may be
+    terms that move with them)."""
+    x = v.name
+    names = sorted(s.name for s in d.free_symbols - {v})
+    try:
+        slope = from_sympy(d, (x,), names)
+    except ValueError as err:
+        return f"∂/∂{x} = {d} is not a core term ({err})"
+    try:  # ∂²f/∂x²: where its enclosure excludes 0, ∂f/∂x has at most one zero (certified count)
+        bend = from_sympy(sp.diff(d, v), (x,), names)
+    except ValueError as err:
+        return f"∂²/∂{x}² = {sp.diff(d, v)} is not a core term ({err})"
+    cuts = MOVING_PIECES - 1
+    return ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts, bend, span=cond.span)
+                      for k in range(cuts)] + [hi_t])
 
 
 def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...],
@@ -154,19 +164,22 @@ def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[
 
 
 def split_along(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...], inputs: tuple[str, ...],
-                bounds: dict[str, tuple[float, float]]) -> Diffeo | str | None:
-    """For a condition monotone in no variable on the box (tried first): ``∂e/∂v`` depends on ``v`` only
-    (``x^3 - x + y^3 - y``): split ``v``'s interval at its turning points, which are then the same
-    for every value of the other variables, so ``e`` is strictly monotone in ``v`` on each piece
-    times the rest of the box: one implicit-root branch per piece (None: ``∂e/∂v`` depends on
-    something else, or ``v``'s interval is not constant; a string: why the split failed).  Turning
-    points that move with a parameter are not split at here: the exact engine's quadrature over
-    the other inputs of such a delta met the fold (a root meeting a moving turning point) as
-    "probably divergent"."""
+                bounds: dict[str, tuple[float, float]], moving: bool = False) -> Diffeo | str | None:
+    """For a condition monotone in no variable on the box (tried first): ``∂e/∂v`` depends on ``v``
+    and (``moving``) the parameters only (``x^3 - x + y^3 - y``; ``x^3 - a*x + y^3 - a*y``): split
+    ``v``'s interval at its turning points, which are then the same for every value of the other
+    variables, so ``e`` is strictly monotone in ``v`` on each piece times the rest of the box: one
+    implicit-root branch per piece (None: ``∂e/∂v`` depends on something else, or ``v``'s interval
+    is not constant; a string: why the split failed).  Turning points that move with a parameter
+    are the k-th certified sign changes of ``∂e/∂v`` (as in one variable); the caller tries fixed
+    ones in every variable first.  Pieces that move with the other variables (``x*y - a``) are not
+    done."""
     lo, hi = bounds.get(v.name, (-math.inf, math.inf))
     d = sp.diff(e, v)
-    if d.free_symbols - {v} or not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
-        return None  # other variables: pieces that move with them; parameters: not done (below)
+    others = {s.name for s in d.free_symbols - {v}}
+    if (others & set(variables)) or (others and not moving) or not (math.isfinite(lo) and math.isfinite(hi)) \
+            or lo >= hi:
+        return None  # other variables: pieces that move with them (not done); parameters: when asked
     ends = _piece_ends(cond, e, d, v, lo, hi)
     if isinstance(ends, str):
         return f"at the turning points of ∂/∂{v} = {d}: {ends}"
@@ -182,17 +195,30 @@ def _end(end: float | Term | None) -> Term | None:
 
 
 def _parametric(cond: Term, e: sp.Expr, v: sp.Symbol, variables, inputs, lo, hi) -> Diffeo | str:
-    """One implicit-root branch on ``[lo, hi]``, an end of which moves with the parameters: the
-    pieces between turning points would have to be clamped to the moving interval, so only a
-    condition with no turning point on the whole line is completed this way."""
+    """The implicit-root branches on ``[lo, hi]``, an end of which moves with the parameters: one
+    branch when ``e`` is monotone on the whole line; else (turning points, fixed or moving) one
+    per piece between the k-th certified sign changes of ``∂e/∂v`` on the moving interval itself
+    (:func:`_moving_ends`: no piece needs clamping to it), when ``e`` is continuous on the line."""
     a, b = _end(lo), _end(hi)
     if a is None or b is None:
         return "its implicit inverse needs a bounded interval of the variable (give it a domain)"
     why = _monotone_on_the_line(e, v)
-    if why is not None:
-        return f"{why}; with a domain bound that moves with the parameters only a condition monotone on the " \
-               "whole line is completed (give the variable a constant domain)"
-    return _by_roots(cond, v.name, variables, inputs, [a, b])
+    if why is None:
+        return _by_roots(cond, v.name, variables, inputs, [a, b])
+    try:
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.S.Reals), TURNING_LIMIT)
+    except TimeoutError:
+        dom = f"an unknown set (sympy did not decide within {TURNING_LIMIT:g}s)"
+    except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
+        dom = f"an unknown set ({type(err).__name__})"
+    if dom != sp.S.Reals:
+        return f"{why}; it is continuous on {dom}, and with a domain bound that moves with the parameters a " \
+               "condition with turning points must be continuous on the whole line (give the variable a " \
+               "constant domain)"
+    ends = _moving_ends(cond, sp.diff(e, v), v, a, b)
+    if isinstance(ends, str):
+        return ends
+    return _by_roots(cond, v.name, variables, inputs, ends)
 
 
 def _monotone_on_the_line(e: sp.Expr, v: sp.Symbol) -> str | None:
