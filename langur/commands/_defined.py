@@ -11,6 +11,12 @@ diffeomorphism) the integral has a kink there and ⦇p⦈ is not its derivative 
 almost every parameter value, not at these): ``deriv`` reports the derivative as undefined, prints
 the finding, still shows the Monte Carlo number marked as not a derivative, and exits 1.
 
+**A completion that degenerates at the values** (``eval``, ``deriv``): a condition completed by
+isolating a variable whose coefficient vanishes at the parameter values (a triangle's edge that is
+vertical there) is given a completion by another variable when one does not degenerate
+(:mod:`langur.lint.recomplete`: same ⟦p⟧, and the same ⦇p⦈ as the program's wherever both are
+diffeomorphisms); the command says so in a note (``recompleted`` in JSON).
+
 **Integrability.** The structural analysis of ``langur.lint.singular`` (X311 for ⟦p⟧, X313 for ⦇p⦈ in the
 direction asked, X312 when undecided) runs at the parameter values of the command.  A finding at
 error severity means the integral does not exist: the command prints it as a diagnostic
@@ -27,6 +33,7 @@ import sys
 from dataclasses import dataclass, field
 
 from .. import lazy
+from ..core import IfDiffeo, subterms
 from ..diagnostics import Diagnostic
 from ..lint import bounded
 from ..lint.findings import Finding
@@ -37,6 +44,7 @@ from ..syntax.printer import print_program
 blowup = lazy.module("langur.lint.blowup")
 emptydomain = lazy.module("langur.lint.emptydomain")
 fix = lazy.module("langur.lint.fix")
+recomplete = lazy.module("langur.lint.recomplete")
 rewrite = lazy.module("langur.lint.rewrite")
 singular = lazy.module("langur.lint.singular")
 transversality = lazy.module("langur.transversality")
@@ -88,6 +96,16 @@ def _square(res: "singular.Integrability", part: str | None = None) -> str | Non
         return None
     return (f"the integrand's square grows like dist^-{2 * b.alpha:.3g} near a set of codimension {b.codim}, "
             "which is not integrable")
+
+
+def completed_here(program, params) -> tuple[object, tuple[str, ...]]:
+    """``program`` with each completion that degenerates at ``params`` replaced by one that does not
+    (:mod:`langur.lint.recomplete`), and a note per replacement.  A program none of whose
+    completions divides by a parameter coefficient is returned as it is, without sympy."""
+    if not any(isinstance(u, IfDiffeo) and u.psi.nonzero for u in subterms(program.integrand)):
+        return program, ()
+    changed, done = recomplete.at_values(program, params)
+    return changed, tuple(r.note() for r in done)
 
 
 @dataclass
