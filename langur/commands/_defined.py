@@ -31,9 +31,10 @@ from __future__ import annotations
 
 import sys
 from dataclasses import dataclass, field
+from fractions import Fraction
 
 from .. import lazy
-from ..core import IfDiffeo, subterms
+from ..core import IfDiffeo, const, small_value, substitute, subterms
 from ..diagnostics import Diagnostic
 from ..lint import bounded
 from ..lint.findings import Finding
@@ -98,11 +99,25 @@ def _square(res: "singular.Integrability", part: str | None = None) -> str | Non
             "which is not integrable")
 
 
+def _may_vanish(psi, params) -> bool:
+    """Whether a coefficient in ``psi.nonzero`` may vanish at ``params``: exact rational arithmetic
+    when it decides (``core.small_value``), else yes (sympy then decides)."""
+    if not psi.nonzero:
+        return False
+    consts = {k: const(v if isinstance(v, (int, Fraction)) else Fraction(v)) for k, v in params.items()}
+    for n in psi.nonzero:
+        v = small_value(substitute(n, {}, consts))
+        if v is False or (v is not None and v == 0):
+            return True
+    return False
+
+
 def completed_here(program, params) -> tuple[object, tuple[str, ...]]:
     """``program`` with each completion that degenerates at ``params`` replaced by one that does not
     (:mod:`langur.lint.recomplete`), and a note per replacement.  A program none of whose
-    completions divides by a parameter coefficient is returned as it is, without sympy."""
-    if not any(isinstance(u, IfDiffeo) and u.psi.nonzero for u in subterms(program.integrand)):
+    completions divides by a parameter coefficient that may vanish at ``params`` is returned as it
+    is, without sympy."""
+    if not any(isinstance(u, IfDiffeo) and _may_vanish(u.psi, params) for u in subterms(program.integrand)):
         return program, ()
     changed, done = recomplete.at_values(program, params)
     return changed, tuple(r.note() for r in done)
