@@ -11,6 +11,12 @@ diffeomorphism) the integral has a kink there and ⦇p⦈ is not its derivative 
 almost every parameter value, not at these): ``deriv`` reports the derivative as undefined, prints
 the finding, still shows the Monte Carlo number marked as not a derivative, and exits 1.
 
+**A completion that degenerates at the values** (``eval``, ``deriv``): a condition completed by
+isolating a variable whose coefficient vanishes at the parameter values (a triangle's edge that is
+vertical there) is given a completion by another variable when one does not degenerate
+(:mod:`langur.lint.recomplete`: same ⟦p⟧, and the same ⦇p⦈ as the program's wherever both are
+diffeomorphisms); the command says so in a note (``recompleted`` in JSON).
+
 **Integrability.** The structural analysis of ``langur.lint.singular`` (X311 for ⟦p⟧, X313 for ⦇p⦈ in the
 direction asked, X312 when undecided) runs at the parameter values of the command.  A finding at
 error severity means the integral does not exist: the command prints it as a diagnostic
@@ -25,8 +31,10 @@ from __future__ import annotations
 
 import sys
 from dataclasses import dataclass, field
+from fractions import Fraction
 
 from .. import lazy
+from ..core import IfDiffeo, const, small_value, substitute, subterms
 from ..diagnostics import Diagnostic
 from ..lint import bounded
 from ..lint.findings import Finding
@@ -37,6 +45,7 @@ from ..syntax.printer import print_program
 blowup = lazy.module("langur.lint.blowup")
 emptydomain = lazy.module("langur.lint.emptydomain")
 fix = lazy.module("langur.lint.fix")
+recomplete = lazy.module("langur.lint.recomplete")
 rewrite = lazy.module("langur.lint.rewrite")
 singular = lazy.module("langur.lint.singular")
 transversality = lazy.module("langur.transversality")
@@ -88,6 +97,30 @@ def _square(res: "singular.Integrability", part: str | None = None) -> str | Non
         return None
     return (f"the integrand's square grows like dist^-{2 * b.alpha:.3g} near a set of codimension {b.codim}, "
             "which is not integrable")
+
+
+def _may_vanish(psi, params) -> bool:
+    """Whether a coefficient in ``psi.nonzero`` may vanish at ``params``: exact rational arithmetic
+    when it decides (``core.small_value``), else yes (sympy then decides)."""
+    if not psi.nonzero:
+        return False
+    consts = {k: const(v if isinstance(v, (int, Fraction)) else Fraction(v)) for k, v in params.items()}
+    for n in psi.nonzero:
+        v = small_value(substitute(n, {}, consts))
+        if v is False or (v is not None and v == 0):
+            return True
+    return False
+
+
+def completed_here(program, params) -> tuple[object, tuple[str, ...]]:
+    """``program`` with each completion that degenerates at ``params`` replaced by one that does not
+    (:mod:`langur.lint.recomplete`), and a note per replacement.  A program none of whose
+    completions divides by a parameter coefficient that may vanish at ``params`` is returned as it
+    is, without sympy."""
+    if not any(isinstance(u, IfDiffeo) and _may_vanish(u.psi, params) for u in subterms(program.integrand)):
+        return program, ()
+    changed, done = recomplete.at_values(program, params)
+    return changed, tuple(r.note() for r in done)
 
 
 @dataclass

@@ -52,6 +52,9 @@ def run(args) -> int:
     target = loaded
     if gate.findings:  # --rewrite: differentiate the transverse program instead
         program = target = gate.rewritten
+    program, recompleted = _defined.completed_here(program, params)  # a completion degenerate here
+    if recompleted:
+        target = program
     with progress.phase("integrability analysis"):
         defined = _defined.derivative(program, params, direction, args.file)  # X311 / X313
     if gate.here and not gate.findings:  # X305: a kink at these parameter values
@@ -86,12 +89,15 @@ def run(args) -> int:
                      "standard_ad": standard_ad, "theorem_8_1": theorem.to_json() if theorem else None,
                      "undefined": undefined,
                      "diagnostics": [d.to_json() for d in defined.diagnostics()], "rewrite": rewrite,
+                     "recompleted": list(recompleted),
                      **({"engine": named} if named is not None else {})})
         return status
     print(f"{args.file}: {_what(direction)} at {c.fmt_params(params)}")
     if rewrite is not None:
         print("  (of the transverse rewrite, paper §7.3.2; the program as written has no derivative: X301)")
         print("    " + rewrite.rstrip("\n").replace("\n", "\n    "))
+    for note in recompleted:
+        print(f"  note        : {note}")
     if undefined is not None:
         print(f"  exact       : undefined: {undefined}")
     if exact is not None:

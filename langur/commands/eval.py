@@ -34,6 +34,8 @@ def run(args) -> int:
     status = 0
     exact = mc = named = None
     engine = named_engine(args)
+    program, recompleted = _defined.completed_here(program, params)  # a completion degenerate here
+    target = program if recompleted else loaded
     with progress.phase("integrability analysis"):
         defined = _defined.value(program, params, args.file)  # X311: does ⟦p⟧ exist?
     defined.report(args.json)
@@ -49,7 +51,7 @@ def run(args) -> int:
         named, bad = compare_named(engine, lambda e: e.value(program, floats), exact)
         status = max(status, bad)
     if args.engine in ("both", "mc"):
-        mc = run_mc("eval", loaded, params, args,
+        mc = run_mc("eval", target, params, args,
                     infinite_variance=defined.infinite_variance or (undefined and "the integral does not exist"))
         if mc is None and args.engine == "mc":
             status = 1
@@ -58,10 +60,12 @@ def run(args) -> int:
     if args.json:
         c.dump_json({"params": params, "exact": exact.to_json() if exact is not None else None,
                      "mc": mc.to_json() if mc is not None else None, "undefined": undefined,
-                     **({"engine": named} if named is not None else {}),
+                     **({"engine": named} if named is not None else {}), "recompleted": list(recompleted),
                      "diagnostics": [d.to_json() for d in defined.diagnostics()]})
         return status
     print(f"{args.file}: value at {c.fmt_params(params)}")
+    for note in recompleted:
+        print(f"  note  : {note}")
     if undefined is not None:
         print(f"  exact : undefined: {undefined}")
     if exact is not None:

@@ -20,12 +20,16 @@ wording (``label``, ``anchor``, ``where``, ``zero_set``, ``every``, ``at_point``
 
 from __future__ import annotations
 
+import itertools
+import math
+
 import sympy as sp
 
-from ..core import IfDiffeo, Term, map_children
+from ..core import IfDiffeo, Term, free_vars, map_children
 from ..diagnostics import Span
 from ..sympy_bridge import denote
-from . import algebra
+from ..syntax.support import numeric_box
+from . import algebra, recomplete
 from .algebra import Undecided, describe_set, vanishes
 from .ancestry import in_force
 from .collect import Occurrence
@@ -51,6 +55,27 @@ def _forced(t: Term, choice: dict[int, bool]) -> Term:
         return memo[id(u)]
 
     return go(t)
+
+
+def _common_zeros(system: list, params: list) -> list[dict]:
+    """The common zeros of ``system`` (products of factors) as solution dicts: ``sympy.solve`` of a
+    product system misses components (``k·ny = k·nx = 0`` gives only ``nx = ny = 0``, not ``k = 0``),
+    so each choice of one factor per product is solved, and solutions inside another dropped."""
+    if len(system) == 1:
+        return sp.solve(system[0], params, dict=True)
+    factors = [[f for f, _ in sp.factor_list(e)[1]] or [e] for e in system]
+    if math.prod(len(f) for f in factors) > 64:
+        return sp.solve(system, params, dict=True)
+    found: list[dict] = []
+    for choice in itertools.product(*factors):
+        for s in sp.solve(list(choice), params, dict=True):
+            if s not in found:
+                found.append(s)
+
+    def inside(a: dict, b: dict) -> bool:  # the solutions a describes all satisfy b
+        return a is not b and all(sp.simplify((k - v).subs(a)) == 0 for k, v in b.items())
+
+    return [a for a in found if not any(inside(a, b) for b in found)]
 
 
 class CoincidenceChecks:
@@ -355,40 +380,62 @@ class CoincidenceChecks:
                 )
 
     def nonzero(self, c: Occurrence):
-        """Parameter coefficients that must not vanish for Ψ̂ to be a diffeomorphism (X306/X305)."""
+        """Parameter coefficients that must not vanish for Ψ̂ to be a diffeomorphism (X306/X305).
+        Where the completion's coefficient vanishes but a completion solved for another variable
+        does not degenerate (:mod:`langur.lint.recomplete`), the engines use that one: what is
+        reported is where every completion degenerates."""
         if c.continuous:  # no delta: a degenerate coefficient changes nothing in the derivative
             return
-        for t in c.nonzero:
-            params = sorted(t.free_symbols, key=str)
-            names = tuple(s.name for s in params)
-            try:
-                sols = (
-                    algebra.timed(lambda t=t, params=params: sp.solve(t, params, dict=True)) if params else []
-                )
-            except Undecided as u:
-                self.undecided(c, None, str(u))
-                continue
-            sols = [s for s in sols if not any(v.has(sp.I) for v in s.values())]
-            the_set = describe_set(sols) if sols else f"{sp.sstr(t)} = 0"
-            hit = self.point is not None and num(t.subs(self.point)) == 0
-            if hit and self.explicit:
-                self.add(
-                    self.anchor(c),
-                    "error",
-                    "X305",
-                    f"at {self.at_point(names)} {self.label(c)} is not a diffeomorphism ({sp.sstr(t)} = 0): its "
-                    "zero set degenerates and the derivative is not defined here",
-                    (),
-                    names,
-                )
-            elif sols or hit:
-                note = f"; the default values {self.at_point(names)} lie in this set" if hit else ""
-                self.add(
-                    self.anchor(c),
-                    "warning",
-                    "X306",
-                    f"{self.label(c)} stops being a diffeomorphism when {the_set} (its coefficient "
-                    f"{sp.sstr(t)} vanishes): there the derivative is not defined{note}",
-                    (),
-                    names,
-                )
+        closed = c.psi.solved_for is not None and free_vars(c.psi.condition) <= set(c.psi.variables)
+        chain = None
+        if closed and c.nonzero:
+            box = numeric_box(self.program.variables, self.program.box)
+            chain = recomplete.degenerate_set(c.psi, box)
+            if not chain:
+                return  # a completion by another variable never degenerates
+            if len(chain) == 1:
+                chain = None  # no other completion: each coefficient on its own, as below
+        if chain is None:
+            for t in c.nonzero:
+                hit = self.point is not None and num(t.subs(self.point)) == 0
+                self.degenerate(c, [t], f"{sp.sstr(t)} = 0", f"its coefficient {sp.sstr(t)} vanishes", hit)
+            return
+        hit = (self.point is not None and bool(recomplete.vanishing(c.psi, self.point))
+               and recomplete.alternative(c.psi, self.point, box) is None)
+        self.degenerate(c, chain, f"{sp.sstr(chain[0])} = 0 and so are the other completions' coefficients",
+                        f"its completion divides by {sp.sstr(chain[0])}, and every completion by another "
+                        "variable degenerates there too", hit)
+
+    def degenerate(self, c: Occurrence, system: list, vanish: str, why: str, hit: bool):
+        """X306 for the parameter values where ``system`` vanishes (or X305 with ``--at`` values
+        among them, ``hit``)."""
+        params = sorted(set().union(*(e.free_symbols for e in system)), key=str)
+        names = tuple(s.name for s in params)
+        try:
+            sols = algebra.timed(lambda: _common_zeros(system, params)) if params else []
+        except Undecided as u:
+            self.undecided(c, None, str(u))
+            return
+        sols = [s for s in sols if not any(v.has(sp.I) for v in s.values())]
+        the_set = describe_set(sols) if sols else vanish
+        if hit and self.explicit:
+            self.add(
+                self.anchor(c),
+                "error",
+                "X305",
+                f"at {self.at_point(names)} {self.label(c)} is not a diffeomorphism ({vanish}): its "
+                "zero set degenerates and the derivative is not defined here",
+                (),
+                names,
+            )
+        elif sols or hit:
+            note = f"; the default values {self.at_point(names)} lie in this set" if hit else ""
+            self.add(
+                self.anchor(c),
+                "warning",
+                "X306",
+                f"{self.label(c)} stops being a diffeomorphism when {the_set} ({why}): "
+                f"there the derivative is not defined{note}",
+                (),
+                names,
+            )

@@ -150,9 +150,10 @@ def rational_value(t: Term) -> Fraction | None:
     return form[1]
 
 
-def complete(cond: Term, variables: tuple[str, ...]) -> Diffeo | None:
-    """The completion of ``cond`` over ``variables`` (as ``diffeo.complete`` gives it), or ``None``
-    when ``cond`` is not affine with rational coefficients (then the sympy path decides)."""
+def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = frozenset()) -> Diffeo | None:
+    """The completion of ``cond`` over ``variables`` (as ``diffeo.complete`` gives it), isolating none
+    of the variables in ``avoid``, or ``None`` when ``cond`` is not affine with rational coefficients
+    (then the sympy path decides)."""
     form = linear(cond)
     if form is None:
         return None
@@ -160,7 +161,7 @@ def complete(cond: Term, variables: tuple[str, ...]) -> Diffeo | None:
     occurring = free_vars(cond)
     if not occurring or not occurring <= set(variables):
         return None
-    candidates = [v for v in variables if v in occurring and coeffs.get(("v", v))]
+    candidates = [v for v in variables if v in occurring and v not in avoid and coeffs.get(("v", v))]
     if not candidates:
         return None  # every variable cancels: the sympy path gives the reason
     v = candidates[-1]  # all have a constant coefficient (rank 0): the last one in order

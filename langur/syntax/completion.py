@@ -17,7 +17,9 @@ from . import affine
 diffeo = lazy.module("langur.syntax.diffeo")
 
 
-def complete(cond: Term, variables: tuple[str, ...], box=()) -> Diffeo:
-    """``cond`` completed over ``variables``; raises ``diffeo.CompletionError``."""
-    direct = affine.complete(cond, tuple(variables))
-    return direct if direct is not None else diffeo.complete(cond, variables, box)
+def complete(cond: Term, variables: tuple[str, ...], box=(), avoid: frozenset[str] = frozenset()) -> Diffeo:
+    """``cond`` completed over ``variables``, isolating none of the variables in ``avoid`` (a
+    completion that degenerates at some parameter values is replaced there by one solved for another
+    variable: :mod:`langur.lint.recomplete`); raises ``diffeo.CompletionError``."""
+    direct = affine.complete(cond, tuple(variables), avoid)
+    return direct if direct is not None else diffeo.complete(cond, variables, box, avoid)

@@ -99,23 +99,26 @@ class DiffeoCheckError(Exception):
 # Automatic completion
 
 
-def complete(cond: Term, variables: tuple[str, ...], box: Box = ()) -> Diffeo:
+def complete(cond: Term, variables: tuple[str, ...], box: Box = (), avoid: frozenset[str] = frozenset()) -> Diffeo:
     """Complete the condition ``cond`` (a smooth term over ``variables`` and parameters) to a
     diffeomorphism ``Ψ̂ = (cond, the other variables)`` (LANGUAGE.md §6, "Conditions over
     variables").  ``box`` bounds the variables (needed only by periodic inverses).
+    ``avoid``: variables not to isolate (:mod:`langur.lint.recomplete`).
     Deterministic: equal arguments give equal results.  Raises :class:`CompletionError`."""
-    direct = affine.complete(cond, tuple(variables))  # affine conditions: the same Diffeo, no sympy
+    direct = affine.complete(cond, tuple(variables), avoid)  # affine conditions: the same Diffeo, no sympy
     if direct is not None:
         return direct
-    psi = _complete_cached(cond, tuple(variables), tuple(box))
+    psi = _complete_cached(cond, tuple(variables), tuple(box), frozenset(avoid))
     return replace(psi, forward=(cond,) + psi.forward[1:], span=getattr(cond, "span", None))
 
 
 @lru_cache(maxsize=4096)
-def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box) -> Diffeo:
+def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box, avoid: frozenset[str]) -> Diffeo:
     occurring = [v for v in variables if v in free_vars(cond)]
     if not occurring:
         raise CompletionError("the condition has no variables (it is a plain ifge0)")
+    if not set(occurring) - avoid:
+        raise CompletionError("every variable it depends on is excluded")
     try:
         expr = to_sympy(cond)
     except NotSmooth as e:
@@ -126,7 +129,7 @@ def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box) -> Diffeo
     bounds = float_bounds(box)  # a parametric bound is unbounded here …
     ends = {v: (lo, hi) for v, lo, hi in box}  # … but an implicit root's bracket may follow it (issue 18)
     try:
-        found = run_with_timeout(lambda: _choose(cond, expr, variables, occurring, inputs, params, bounds, ends),
+        found = run_with_timeout(lambda: _choose(cond, expr, variables, occurring, inputs, params, bounds, ends, avoid),
                                  TIME_LIMIT)
     except TimeoutError:
         raise CompletionError(f"sympy could not invert the condition within {TIME_LIMIT:g}s") from None
@@ -157,11 +160,12 @@ def _symbol_names(expr: sp.Expr) -> set[str]:
     return {s.name for s in expr.free_symbols}
 
 
-def _choose(cond, expr, variables, occurring, inputs, params, bounds, ends=None):
-    """The Diffeo for the best-ranked variable (ties: the last one), or a reason string."""
+def _choose(cond, expr, variables, occurring, inputs, params, bounds, ends=None, avoid=frozenset()):
+    """The Diffeo for the best-ranked variable not in ``avoid`` (ties: the last one), or a reason string."""
     found = []
     reasons = []
-    for v in occurring:
+    allowed = [v for v in occurring if v not in avoid]
+    for v in allowed:
         others = [x for x in variables if x != v]
         sub = {symbol(x): symbol(u) for x, u in zip(others, inputs[1:])}
         e = expr.subs(sub, simultaneous=True)
@@ -181,21 +185,21 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds, ends=None)
             return _to_diffeo(cond, variables, inputs, params, v, branches, nonzero)
         except ValueError as e:
             reasons.append(f"{v}: {e}")
-    if len(occurring) == 1:  # no closed form: implicit roots on the monotone pieces (issue 18)
+    if len(occurring) == 1 and allowed:  # no closed form: implicit roots on the monotone pieces (issue 18)
         (v,) = occurring
         pieces = turning.complete_by_pieces(cond, expr, symbol(v), variables, inputs,
                                             (ends or bounds).get(v, (-math.inf, math.inf)))
         if isinstance(pieces, Diffeo):
             return pieces
         reasons.append(f"{v}: {pieces}")
-    else:  # several variables: an implicit root in one the condition is proved monotone in (issue 18)
-        for v in reversed(occurring):
+    elif len(occurring) > 1:  # several variables: an implicit root in one it is proved monotone in (issue 18)
+        for v in reversed(allowed):
             psi = turning.complete_by_monotone(cond, expr, symbol(v), variables, inputs, bounds, ends)
             if isinstance(psi, Diffeo):
                 return psi
             reasons.append(f"{v} (implicitly): {psi}")
         for moving in (False, True):  # else split along a variable at its turning points (fixed ones first)
-            for v in reversed(occurring):
+            for v in reversed(allowed):
                 psi = turning.split_along(cond, expr, symbol(v), variables, inputs, bounds, moving)
                 if isinstance(psi, Diffeo):
                     return psi
