@@ -285,13 +285,112 @@ def _abstract(e, v, table: dict, memo: dict):
 
 
 def _poly_roots(p: sp.Poly):
-    cs = p.all_coeffs()
-    if p.degree() == 1:
+    return _formula_roots(p.all_coeffs())
+
+
+def _formula_roots(cs):
+    """The roots of the polynomial with coefficients ``cs`` (leading first, degree 1 or 2)."""
+    if len(cs) == 2:
         a, b = cs
         return [-b / a], a
     a, b, c = cs
     s = sp.sqrt(b ** 2 - 4 * a * c)
     return [(-b - s) / (2 * a), (-b + s) / (2 * a)], a
+
+
+class _NotLow(Exception):
+    """Not a rational function of low degree in the variable (:func:`_ratfun`)."""
+
+
+#: Highest degree kept while building a rational function by :func:`_ratfun`.
+_RATFUN_DEGREE = 4
+
+
+def _trim(cs: list) -> list:
+    while len(cs) > 1 and cs[-1] == 0:
+        cs.pop()
+    if len(cs) > _RATFUN_DEGREE + 1:
+        raise _NotLow()
+    return cs
+
+
+def _padd(p: list, q: list) -> list:
+    n = max(len(p), len(q))
+    return _trim([(p[i] if i < len(p) else 0) + (q[i] if i < len(q) else 0) for i in range(n)])
+
+
+def _pmul(p: list, q: list) -> list:
+    if len(p) + len(q) - 2 > _RATFUN_DEGREE:
+        raise _NotLow()
+    out = [sp.Integer(0)] * (len(p) + len(q) - 1)
+    for i, a in enumerate(p):
+        if a == 0:
+            continue
+        for j, b in enumerate(q):
+            out[i + j] += a * b
+    return _trim(out)
+
+
+def _rnorm(num: list, den: list):
+    if len(den) == 1 and den[0] != 1:  # a denominator free of v: into the coefficients
+        return _trim([c / den[0] for c in num]), [sp.Integer(1)]
+    return num, den
+
+
+def _ratfun(e, v, memo: dict):
+    """``e`` as ``(numerator, denominator)`` coefficient lists in ``v`` (lowest degree first; the
+    coefficients are expressions free of ``v``, never expanded), or :class:`_NotLow`."""
+    if e in memo:
+        return memo[e]
+    if v not in e.free_symbols:
+        out = ([e], [sp.Integer(1)])
+    elif e == v:
+        out = ([sp.Integer(0), sp.Integer(1)], [sp.Integer(1)])
+    elif isinstance(e, sp.Add):
+        n, d = _ratfun(e.args[0], v, memo)
+        for a in e.args[1:]:
+            n2, d2 = _ratfun(a, v, memo)
+            n, d = (_padd(n, n2), d) if d == d2 else (_padd(_pmul(n, d2), _pmul(n2, d)), _pmul(d, d2))
+        out = _rnorm(n, d)
+    elif isinstance(e, sp.Mul):
+        n, d = [sp.Integer(1)], [sp.Integer(1)]
+        for a in e.args:
+            n2, d2 = _ratfun(a, v, memo)
+            n, d = _rnorm(_pmul(n, n2), _pmul(d, d2))
+        out = (n, d)
+    elif isinstance(e, sp.Pow) and e.exp.is_Integer and e.exp != 0:
+        bn, bd = _ratfun(e.base, v, memo)
+        if e.exp < 0:
+            bn, bd = bd, bn
+        n, d = [sp.Integer(1)], [sp.Integer(1)]
+        for _ in range(abs(int(e.exp))):
+            n, d = _pmul(n, bn), _pmul(d, bd)
+        out = _rnorm(n, d)
+    else:
+        raise _NotLow()
+    memo[e] = out
+    return out
+
+
+def _direct_formulas(e, v):
+    """:func:`_root_formulas` by rational arithmetic on coefficient lists (no ``together``, no
+    ``Poly``: linear in the size of ``e``), or None when a part is not of degree ≤ 2 this way
+    (common factors are not cancelled: then ``together`` decides)."""
+    try:
+        num, den = _ratfun(e, v, {})
+    except _NotLow:
+        return None
+    out = []
+    for part in (num, den):
+        if len(part) > 3:
+            return None
+        if len(part) == 1:
+            out.append(([], ()))
+            continue
+        cs = list(reversed(part))
+        rs, _ = _formula_roots(cs)
+        out.append((rs, tuple(cs)))
+    return out
 
 
 def closed_roots(expr, v, value) -> tuple[list, list] | None:
@@ -322,6 +421,9 @@ def _root_formulas(expr, v):
     table: dict = {}
     e = _abstract(expr, v, table, {})
     back = {k: s for s, k in table.items()}
+    direct = _direct_formulas(e, v)
+    if direct is not None:
+        return [([r.xreplace(back) for r in rs], tuple(c.xreplace(back) for c in cs)) for rs, cs in direct]
     num, den = sp.fraction(sp.together(e))
     out = []
     for part in (num, den):
