@@ -88,6 +88,29 @@ def is_large(exprs, params) -> bool:
 # Exact values at the evaluation point.
 
 
+def shared_xreplace(e, rule: dict):
+    """``e.xreplace(rule)``, the same expression, each distinct subtree rebuilt once (sympy's
+    ``xreplace`` rebuilds a subtree every time it occurs: a weight substituted at every point of a
+    lattice rule is a tree of thousands of nodes over a few hundred distinct ones)."""
+    memo: dict = {}
+
+    def go(node):
+        if not node.args:  # (atoms are not memoized: equal Floats of other precisions stay as they are)
+            return rule.get(node, node)
+        hit = memo.get(node)
+        if hit is not None:
+            return hit
+        if node in rule:
+            out = rule[node]
+        else:
+            args = tuple(go(a) if isinstance(a, sp.Basic) else a for a in node.args)
+            out = node.func(*args) if any(a is not b for a, b in zip(args, node.args)) else node
+        memo[node] = out
+        return out
+
+    return go(sp.sympify(e))
+
+
 def exact_at(e, at: dict):
     """``e`` at the point as a Fraction when it is rational there, else None."""
     z = sp.sympify(e).xreplace(at)
@@ -122,8 +145,57 @@ def line_rule(d: int) -> tuple[tuple[Fraction, Fraction], ...]:
     return tuple(zip(pts, ws))
 
 
+def _moments_exact(rule, d: int) -> bool:
+    """Whether ``rule`` ((s, t, w), weights summing to 1) integrates every monomial sᵃtᵇ of degree
+    ≤ d over the reference triangle exactly (∫ sᵃ tᵇ = a! b! / (a + b + 2)!, divided by the area ½)."""
+    fact = [1]
+    for k in range(1, 2 * d + 3):
+        fact.append(fact[-1] * k)
+    return all(sum(w * s ** a * t ** b for s, t, w in rule) == Fraction(2 * fact[a] * fact[b], fact[a + b + 2])
+               for a in range(d + 1) for b in range(d + 1 - a))
+
+
+@lru_cache(maxsize=None)
+def grundmann_moeller(k: int) -> tuple[tuple[Fraction, Fraction, Fraction], ...]:
+    """The Grundmann–Möller rule of degree 2k + 1 on the reference triangle (SIAM J. Numer. Anal.
+    15(2), 1978): rational points and weights (some negative), (k + 1)(k + 2)(k + 3)/6 points —
+    fewer than the lattice rule of the same degree.  Points in barycentric coordinates
+    ((2β₀ + 1)/m, (2β₁ + 1)/m, (2β₂ + 1)/m) with |β| = k − i and m = 2k + 3 − 2i, weight ∝
+    (−1)ⁱ m^(2k+1) / (i! (2k + 3 − i)!); normalized to sum 1 and verified exact (by
+    :func:`_moments_exact`, in rationals) before use."""
+    d = 2 * k + 1
+    fact = [1]
+    for j in range(1, d + 4):
+        fact.append(fact[-1] * j)
+    out = []
+    for i in range(k + 1):
+        m = d + 2 - 2 * i
+        c = Fraction((-1) ** i * m ** d, fact[i] * fact[d + 2 - i])
+        for b1 in range(k - i + 1):
+            for b2 in range(k - i + 1 - b1):
+                out.append((Fraction(2 * b1 + 1, m), Fraction(2 * b2 + 1, m), c))
+    total = sum(w for _, _, w in out)
+    rule = tuple((s, t, w / total) for s, t, w in out)
+    if not _moments_exact(rule, d):  # pragma: no cover - the construction above is exact
+        raise AssertionError(f"Grundmann–Möller rule of degree {d} is not exact")
+    return rule
+
+
 @lru_cache(maxsize=None)
 def triangle_rule(d: int) -> tuple[tuple[Fraction, Fraction, Fraction], ...]:
+    """A rule on the reference triangle {s, t ≥ 0, s + t ≤ 1} with rational points and weights
+    summing to 1 (times the area), exact for degree ≤ d: the Grundmann–Möller rule of the
+    smallest odd degree ≥ d when it has fewer points than the lattice rule (the closed form is a
+    copy of the weight per point), else the lattice rule."""
+    d = max(d, 1)
+    k = d // 2  # degree 2k + 1 ≥ d
+    if (k + 1) * (k + 2) * (k + 3) // 6 < (d + 1) * (d + 2) // 2:
+        return grundmann_moeller(k)
+    return lattice_rule(d)
+
+
+@lru_cache(maxsize=None)
+def lattice_rule(d: int) -> tuple[tuple[Fraction, Fraction, Fraction], ...]:
     """The lattice rule on the reference triangle {s, t ≥ 0, s + t ≤ 1}: points (i/d, j/d),
     weights summing to 1 (times the area); exact for degree ≤ d (the lattice is unisolvent)."""
     d = max(d, 1)
@@ -144,7 +216,7 @@ def _q(f: Fraction) -> sp.Rational:
 
 def newton_cotes(w, v, a, b, d: int):
     """∫ₐᵇ w dv for ``w`` a polynomial of degree ≤ ``d`` in ``v`` (exact, unexpanded)."""
-    return (b - a) * sp.Add(*[_q(c) * w.xreplace({v: a + _q(p) * (b - a)}) for p, c in line_rule(d)])
+    return (b - a) * sp.Add(*[_q(c) * shared_xreplace(w, {v: a + _q(p) * (b - a)}) for p, c in line_rule(d)])
 
 
 # ------------------------------------------------------------------------------------------
@@ -208,15 +280,17 @@ def polygon_integral(conds, weight, x, y, box: dict, ctx):
             if k not in key:
                 rel = a * X + b * Y + c
                 if not rel.is_number:
-                    cell.append(sp.StrictGreaterThan(rel, 0))
+                    # (unevaluated: sympy cannot decide the sign of such a form, and spends
+                    # a tenth of a second per relation trying)
+                    cell.append(sp.StrictGreaterThan(rel, 0, evaluate=False))
     rule = triangle_rule(d)
     total = []
     (x0, y0) = verts[poly[0][1]]
     for (_, k1), (_, k2) in zip(poly[1:], poly[2:]):
         (x1, y1), (x2, y2) = verts[k1], verts[k2]
         jac = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)  # twice the area: positive (counter-clockwise)
-        total.append(jac / 2 * sp.Add(*[_q(w) * weight.xreplace({x: x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0),
-                                                              y: y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0)})
+        total.append(jac / 2 * sp.Add(*[_q(w) * shared_xreplace(weight, {x: x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0),
+                                                                         y: y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0)})
                                     for s, t, w in rule]))
     for rel in cell:
         if rel not in ctx.cell:

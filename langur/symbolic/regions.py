@@ -722,7 +722,7 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         if not (eb - ea).is_number:
             if large:  # (expanding the difference of two large bounds costs seconds)
-                rel = sp.StrictGreaterThan(eb - ea, 0)
+                rel = sp.StrictGreaterThan(eb - ea, 0, evaluate=False)  # (undecidable: not tried)
                 if rel not in ctx.cell:
                     ctx.cell.append(rel)
             else:
