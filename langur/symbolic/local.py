@@ -25,6 +25,7 @@ evaluation point, from the combinatorial structure decided there:
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 from functools import lru_cache
 
@@ -533,49 +534,95 @@ def dual_derivative(expr, point: dict, tangent: dict):
     return _dual(expr, point, tangent, 1)
 
 
+#: Bits beyond which an unreduced rational (numerator, denominator) of :func:`_dual` is reduced.
+_REDUCE_BITS = 512
+
+
+def _red(n: int, d: int) -> tuple[int, int]:
+    """``n/d`` (``d > 0``), reduced only when large: Fraction's gcd at every operation was most of
+    the time of evaluating a large closed form exactly."""
+    if d.bit_length() > _REDUCE_BITS or n.bit_length() > _REDUCE_BITS:
+        g = math.gcd(n, d)
+        if g > 1:
+            return n // g, d // g
+    return n, d
+
+
+def _qadd(x, y):
+    if x[1] == y[1]:
+        return _red(x[0] + y[0], x[1])
+    return _red(x[0] * y[1] + y[0] * x[1], x[1] * y[1])
+
+
+def _qmul(x, y):
+    return _red(x[0] * y[0], x[1] * y[1])
+
+
+def _qpow(x, k: int):
+    n, d = (x[0] ** k, x[1] ** k) if k >= 0 else (x[1] ** -k, x[0] ** -k)
+    return (-n, -d) if d < 0 else (n, d)
+
+
+_ZERO, _ONE = (0, 1), (1, 1)
+
+
 def _dual(expr, point: dict, tangent: dict, part: int):
-    """Value (``part`` 0) or derivative (1) by dual numbers over Fractions (see dual_derivative)."""
+    """Value (``part`` 0) or derivative (1) by dual numbers over the rationals (see
+    dual_derivative); rationals as unreduced integer pairs (:func:`_red`), the derivative not
+    computed when only the value is asked for."""
     memo: dict = {}
+    deriv = part == 1
+
+    def rational(z):
+        z = sp.sympify(z)
+        if not isinstance(z, sp.Rational):
+            raise _NotRational()
+        return int(z.p), int(z.q)
 
     def go(e):
         if e in memo:
             return memo[e]
         if isinstance(e, sp.Rational):
-            out = (Fraction(int(e.p), int(e.q)), Fraction(0))
+            out = ((int(e.p), int(e.q)), _ZERO)
         elif isinstance(e, sp.Symbol):
-            if e not in point or not isinstance(point[e], sp.Rational):
+            if e not in point:
                 raise _NotRational()
-            p, t = point[e], sp.sympify(tangent.get(e, 0))
-            if not isinstance(t, sp.Rational):
-                raise _NotRational()
-            out = (Fraction(int(p.p), int(p.q)), Fraction(int(t.p), int(t.q)))
+            out = (rational(point[e]), rational(tangent.get(e, 0)) if deriv else _ZERO)
         elif isinstance(e, sp.Add):
-            vs = [go(a) for a in e.args]
-            out = (sum(v for v, _ in vs), sum(d for _, d in vs))
-        elif isinstance(e, sp.Mul):
-            v, d = Fraction(1), Fraction(0)
+            v, d = _ZERO, _ZERO
             for a in e.args:
                 av, ad = go(a)
-                v, d = v * av, d * av + v * ad
+                v = _qadd(v, av)
+                if deriv:
+                    d = _qadd(d, ad)
+            out = (v, d)
+        elif isinstance(e, sp.Mul):
+            v, d = _ONE, _ZERO
+            for a in e.args:
+                av, ad = go(a)
+                if deriv:
+                    d = _qadd(_qmul(d, av), _qmul(v, ad))
+                v = _qmul(v, av)
             out = (v, d)
         elif isinstance(e, sp.Pow) and e.exp.is_Integer:
             bv, bd = go(e.base)
             k = int(e.exp)
-            if bv == 0 and k < 1:
+            if bv[0] == 0 and k < 1:
                 raise _NotRational()
-            out = (bv ** k, k * bv ** (k - 1) * bd)
+            out = (_qpow(bv, k), _qmul(_qmul((k, 1), _qpow(bv, k - 1)), bd) if deriv else _ZERO)
         elif isinstance(e, sp.Abs):
             av, ad = go(e.args[0])
-            if av == 0:
+            if av[0] == 0:
                 raise _NotRational()
-            out = (abs(av), ad if av > 0 else -ad)
+            out = ((abs(av[0]), av[1]), (ad if av[0] > 0 else (-ad[0], ad[1])))
         else:
             raise _NotRational()
         memo[e] = out
         return out
 
     try:
-        return go(sp.sympify(expr))[part]
+        n, d = go(sp.sympify(expr))[part]
+        return Fraction(n, d)
     except (_NotRational, ZeroDivisionError):
         return None
 
