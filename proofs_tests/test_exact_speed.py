@@ -171,3 +171,16 @@ def test_exact_values_and_dual_derivatives_by_integer_pairs_match_sympys_rationa
         assert local.dual_derivative(e, pt, tg) == slope
         checked += 1
     assert checked >= 50
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_monomials_of_a_polynomial_weight_sum_back_to_it(seed):
+    rng = random.Random(seed)
+    pool = [x, y, a, b * x - c, (a + 1) / (b**2 + 1), x * y - a]
+    for _ in range(8):
+        p, q = rng.choice(pool), rng.choice(pool)
+        pool.append([p + q, p * q, (p - q) ** 2][rng.randrange(3)])
+    w = pool[-1] + pool[-2]
+    coeffs = local.monomials(w, x, y)
+    assert sp.expand(sum(co * x**i * y**j for (i, j), co in coeffs.items()) - w) == 0
+    assert all(not (co.free_symbols & {x, y}) for co in coeffs.values())

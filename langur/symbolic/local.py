@@ -285,18 +285,77 @@ def polygon_integral(conds, weight, x, y, box: dict, ctx):
                     # a tenth of a second per relation trying)
                     cell.append(sp.StrictGreaterThan(rel, 0, evaluate=False))
     rule = triangle_rule(d)
+    coeffs = monomials(sp.sympify(weight), x, y)  # w = Σ c_ab xᵃ yᵇ, the c_ab never expanded
     total = []
     (x0, y0) = verts[poly[0][1]]
     for (_, k1), (_, k2) in zip(poly[1:], poly[2:]):
         (x1, y1), (x2, y2) = verts[k1], verts[k2]
         jac = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)  # twice the area: positive (counter-clockwise)
-        total.append(jac / 2 * sp.Add(*[_q(w) * shared_xreplace(weight, {x: x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0),
-                                                                         y: y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0)})
+        total.append(jac / 2 * sp.Add(*[_q(w) * _at_point(coeffs, x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0),
+                                                          y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0))
                                     for s, t, w in rule]))
     for rel in cell:
         if rel not in ctx.cell:
             ctx.cell.append(rel)
     return sp.Add(*total)
+
+
+def monomials(w, x, y) -> dict:
+    """The polynomial ``w`` in ``x``, ``y`` as ``{(a, b): c_ab}`` (``w = Σ c_ab xᵃ yᵇ``), the
+    coefficients built from ``w``'s own subterms free of x and y by + and · (not expanded: one pass
+    over the distinct subtrees of ``w``).  The weight at a quadrature point is then a short sum over
+    these shared coefficients instead of a rebuilt copy of the whole weight."""
+    memo: dict = {}
+
+    def mul(p: dict, q: dict) -> dict:
+        out: dict = {}
+        for (a1, b1), c1 in p.items():
+            for (a2, b2), c2 in q.items():
+                k = (a1 + a2, b1 + b2)
+                out[k] = out[k] + c1 * c2 if k in out else c1 * c2
+        return {k: c for k, c in out.items() if c != 0}
+
+    def go(e) -> dict:
+        if e in memo:
+            return memo[e]
+        if not (e.free_symbols & {x, y}):
+            out = {(0, 0): e} if e != 0 else {}
+        elif e == x:
+            out = {(1, 0): sp.Integer(1)}
+        elif e == y:
+            out = {(0, 1): sp.Integer(1)}
+        elif isinstance(e, sp.Add):
+            out = {}
+            for a in e.args:
+                for k, c in go(a).items():
+                    out[k] = out[k] + c if k in out else c
+            out = {k: c for k, c in out.items() if c != 0}
+        elif isinstance(e, sp.Mul):
+            out = {(0, 0): sp.Integer(1)}
+            for a in e.args:
+                out = mul(out, go(a))
+        elif isinstance(e, sp.Pow) and e.exp.is_Integer and e.exp >= 0:
+            base, out = go(e.base), {(0, 0): sp.Integer(1)}
+            for _ in range(int(e.exp)):
+                out = mul(out, base)
+        else:  # pragma: no cover - degree() accepted only these
+            raise ValueError(f"not a polynomial in {x}, {y}: {e}")
+        memo[e] = out
+        return out
+
+    return go(w)
+
+
+def _at_point(coeffs: dict, X, Y):
+    """Σ c_ab Xᵃ Yᵇ."""
+    powers: dict = {}
+
+    def pw(base, k, tag):
+        if (tag, k) not in powers:
+            powers[(tag, k)] = base ** k
+        return powers[(tag, k)]
+
+    return sp.Add(*[c * pw(X, a, "x") * pw(Y, b, "y") for (a, b), c in sorted(coeffs.items())])
 
 
 def _clip(lines):
