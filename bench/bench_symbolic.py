@@ -126,33 +126,37 @@ def bench_examples(limit: float = EXAMPLE_LIMIT, baseline: str | None = None, on
     """Every example's exact deriv per parameter, each example in a fresh process (module doc);
     yields rows as they are measured.  With ``baseline`` (a directory holding another version's
     ``langur`` package, e.g. ``git archive main | tar -x -C DIR``), each example is measured with
-    that version too, just before (rows with ``"version": "baseline"``); ``only``: a substring of
-    the examples' paths to keep."""
+    that version too, at the same time in a second process (rows with ``"version": "baseline"``):
+    both under the same load; ``only``: a substring of the examples' paths to keep."""
     for path in sorted(glob.glob(os.path.join(EXAMPLES, "**", "*.lgr"), recursive=True)):
         name = os.path.relpath(path, EXAMPLES)
         if only and only not in name:
             continue
-        if baseline:
-            for r in _one_example(path, name, limit, baseline):
-                yield {**r, "version": "baseline"}
-        for r in _one_example(path, name, limit, None):
-            yield {**r, "version": "this"}
+        # both versions at once, in two processes: each example is measured under the same load
+        runs = [("baseline", _start(path, limit, baseline))] if baseline else []
+        runs.append(("this", _start(path, limit, None)))
+        for version, proc in runs:
+            for r in _finish(proc, name, limit):
+                yield {**r, "version": version}
 
 
-def _one_example(path: str, name: str, limit: float, pythonpath: str | None):
+def _start(path: str, limit: float, pythonpath: str | None) -> subprocess.Popen:
     env = dict(os.environ)
     if pythonpath:
         env["PYTHONPATH"] = os.path.abspath(pythonpath) + os.pathsep + env.get("PYTHONPATH", "")
-    if True:
-        code = f"import resource; resource.setrlimit(resource.RLIMIT_CPU, ({int(limit)}, {int(limit) + 5}))\n" + _ONE
-        proc = subprocess.run([sys.executable, "-c", code, path], capture_output=True, text=True,
-                              cwd=os.path.dirname(path), env=env)
-        if proc.returncode != 0:
-            why = (proc.stderr.strip().splitlines() or [f"killed after {limit:g} CPU seconds"])[-1]
-            yield {"example": name, "wrt": None, "error": why}
-            return
-        for r in json.loads(proc.stdout):
-            yield {"example": name, **r}
+    code = f"import resource; resource.setrlimit(resource.RLIMIT_CPU, ({int(limit)}, {int(limit) + 5}))\n" + _ONE
+    return subprocess.Popen([sys.executable, "-c", code, path], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, cwd=os.path.dirname(path), env=env)
+
+
+def _finish(proc: subprocess.Popen, name: str, limit: float):
+    out, err = proc.communicate()
+    if proc.returncode != 0:
+        why = (err.strip().splitlines() or [f"killed after {limit:g} CPU seconds"])[-1]
+        yield {"example": name, "wrt": None, "error": why}
+        return
+    for r in json.loads(out):
+        yield {"example": name, **r}
 
 
 def bench_campaign(examples: int, seed: int) -> list[dict]:

@@ -31,7 +31,15 @@ from .symbolic.local import size
 from .symbolic.pieces import Method
 from .symbolic.quadrature import UndefinedIntegral, printable
 from .symbolic.readable import Readable, readable
-from .symbolic.text import delta_text, derivative_result_text, expr_text, pieces_text, product_text, psi_text
+from .symbolic.text import (
+    delta_text,
+    derivative_result_text,
+    expr_text,
+    pieces_text,
+    product_text,
+    psi_text,
+    shared_sstr,
+)
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .theorem import TheoremCheck, check_theorem_8_1
 
@@ -69,7 +77,7 @@ def _expr_text(e: sp.Expr | None) -> str | None:
     # a large closed form (thousands of operations) printed in sympy's canonical term order costs
     # seconds of sorting; printed as it is built instead
     order = "none" if size(shown, LARGE_TEXT_OPS) >= LARGE_TEXT_OPS else None
-    return sp.sstr(shown, order=order) + ("   [numbers of more than 1,200 digits rounded to 30 digits in this text]"
+    return shared_sstr(shown, order=order) + ("   [numbers of more than 1,200 digits rounded to 30 digits in this text]"
                              if shown != e else "")
 
 

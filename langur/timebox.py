@@ -12,6 +12,16 @@ without ``SIGALRM``) the call cannot be interrupted: ``fn`` runs to completion a
 end: the exact engine's symbolic work for a whole request (a value, its partial derivatives and
 their Theorem 8.1 checks) then draws on one budget, and what is not done by its end falls back to
 quadrature instead of each integral starting a fresh limit of its own.
+
+Clocks.  ``run_with_timeout`` counts wall-clock seconds (a command's ``--timeout``).
+``run_with_timeout(fn, s, cpu=True)`` counts the CPU seconds of this process instead
+(``time.process_time``, enforced by ``ITIMER_PROF``/``SIGPROF``), with a wall-clock backstop of
+:data:`BACKSTOP_FACTOR` × s + :data:`BACKSTOP_SLACK` seconds, so a call still ends when the
+process is starved or blocked.  :class:`Deadline` and :func:`budget` count CPU seconds and
+:meth:`Deadline.run` uses ``cpu=True``: the exact engine's sympy budgets then give the same closed
+forms on a loaded machine as on an idle one (a wall-clock budget ran out sooner under load, and
+the answer changed from a closed form to quadrature), while every sympy call stays bounded in both
+CPU and wall time (a deadline is also over once its wall-clock backstop has passed).
 """
 
 from __future__ import annotations
@@ -25,6 +35,16 @@ from typing import Callable, Iterator, TypeVar
 T = TypeVar("T")
 
 _HAS_ALARM = hasattr(signal, "SIGALRM") and hasattr(signal, "setitimer")
+_HAS_PROF = _HAS_ALARM and hasattr(signal, "SIGPROF") and hasattr(signal, "ITIMER_PROF")
+
+#: A CPU-second limit of s seconds is also a wall-clock limit of BACKSTOP_FACTOR·s + BACKSTOP_SLACK.
+BACKSTOP_FACTOR = 10.0
+BACKSTOP_SLACK = 5.0
+
+
+def backstop(seconds: float) -> float:
+    """The wall-clock seconds allowed to a limit of ``seconds`` CPU seconds."""
+    return BACKSTOP_FACTOR * seconds + BACKSTOP_SLACK
 
 
 class _Expired(BaseException):
@@ -46,65 +66,86 @@ def _can_use_alarm() -> bool:
     return True
 
 
-def run_with_timeout(fn: Callable[[], T], seconds: float) -> T:
-    """``fn()``, or :class:`TimeoutError` when it runs longer than ``seconds``."""
+def run_with_timeout(fn: Callable[[], T], seconds: float, *, cpu: bool = False) -> T:
+    """``fn()``, or :class:`TimeoutError` when it runs longer than ``seconds`` (wall clock; with
+    ``cpu``, CPU seconds of this process, and at most :func:`backstop` seconds of wall clock)."""
     if seconds is None:
         return fn()
     if seconds <= 0:
         raise TimeoutError("no time left")
     if not _can_use_alarm():
-        start = time.monotonic()
+        clock = time.process_time if cpu else time.monotonic
+        start, wall = clock(), time.monotonic()
         result = fn()
-        if time.monotonic() - start > seconds:
-            raise TimeoutError(f"call took longer than {seconds:.3g} s")
+        if clock() - start > seconds or (cpu and time.monotonic() - wall > backstop(seconds)):
+            raise TimeoutError(f"call took longer than {seconds:.3g} {'CPU ' if cpu else ''}s")
         return result
+    if not cpu:
+        return _limited(fn, seconds, signal.ITIMER_REAL, signal.SIGALRM, time.monotonic, "s")
+    wall = backstop(seconds)
+    bounded = (lambda: _limited(fn, wall, signal.ITIMER_REAL, signal.SIGALRM, time.monotonic, "s (wall clock)"))
+    if not _HAS_PROF:  # pragma: no cover - every POSIX platform has ITIMER_PROF
+        return bounded()
+    return _limited(bounded, seconds, signal.ITIMER_PROF, signal.SIGPROF, time.process_time, "CPU s")
 
+
+def _limited(fn: Callable[[], T], seconds: float, which: int, signum: int, clock: Callable[[], float],
+             unit: str) -> T:
+    """``fn()`` under the interval timer ``which`` (delivering ``signum``), measured by ``clock``;
+    nesting: an inner limit never extends an outer one of the same timer, which is re-armed after."""
     token = object()
     state = {"done": False}
-    start = time.monotonic()
-    old_remaining, old_interval = signal.getitimer(signal.ITIMER_REAL)
+    start = clock()
+    old_remaining, old_interval = signal.getitimer(which)
     limit = seconds if old_remaining <= 0 else min(seconds, old_remaining)
 
     def handler(signum, frame):  # noqa: ARG001
         if not state["done"]:
             raise _Expired(token)
 
-    old_handler = signal.signal(signal.SIGALRM, handler)
+    old_handler = signal.signal(signum, handler)
     # The alarm repeats every 50 ms until disarmed: an exception raised where Python swallows it
     # (a garbage-collector callback, a __del__, a bare ``except:``) does not lose the limit.
-    signal.setitimer(signal.ITIMER_REAL, limit, 0.05)
+    signal.setitimer(which, limit, 0.05)
     try:
         return fn()
     except _Expired as exc:
         state["done"] = True
         if exc.token is token:
-            raise TimeoutError(f"call took longer than {limit:.3g} s") from None
+            raise TimeoutError(f"call took longer than {limit:.3g} {unit}") from None
         raise
     finally:
         state["done"] = True
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old_handler)
+        signal.setitimer(which, 0)
+        signal.signal(signum, old_handler)
         if old_remaining > 0:
-            left = old_remaining - (time.monotonic() - start)
+            left = old_remaining - (clock() - start)
             if left <= 0:
                 # The outer limit expired while we ran: deliver it now to the outer handler.
-                signal.setitimer(signal.ITIMER_REAL, 1e-4, old_interval)
+                signal.setitimer(which, 1e-4, old_interval)
             else:
-                signal.setitimer(signal.ITIMER_REAL, left, old_interval)
+                signal.setitimer(which, left, old_interval)
 
 
-#: The ends (``time.monotonic()``) of the enclosing :func:`budget` blocks, innermost last.
-_BUDGETS: list[float] = []
+#: The enclosing :func:`budget` blocks' ends, innermost last: (CPU end, wall-clock backstop end).
+_BUDGETS: list[tuple[float, float]] = []
+
+
+def _left(end: tuple[float, float]) -> float:
+    """CPU seconds left before ``end``; none once its wall-clock backstop has passed."""
+    cpu_end, wall_end = end
+    return cpu_end - time.process_time() if time.monotonic() < wall_end else 0.0
 
 
 @contextmanager
 def budget(seconds: float | None) -> Iterator[None]:
-    """Within the block, no :class:`Deadline` has more than ``seconds`` left from now (None: no
-    bound; nested blocks only shorten)."""
+    """Within the block, no :class:`Deadline` has more than ``seconds`` CPU seconds left from now
+    (None: no bound; nested blocks only shorten; over once :func:`backstop` wall seconds passed)."""
     if seconds is None:
         yield
         return
-    _BUDGETS.append(time.monotonic() + max(0.0, seconds))
+    seconds = max(0.0, seconds)
+    _BUDGETS.append((time.process_time() + seconds, time.monotonic() + backstop(seconds)))
     try:
         yield
     finally:
@@ -112,18 +153,19 @@ def budget(seconds: float | None) -> Iterator[None]:
 
 
 class Deadline:
-    """An overall time budget: ``run(fn, cap)`` runs ``fn`` under the remaining time (at most
-    ``cap`` seconds when given, and never past the end of an enclosing :func:`budget`)."""
+    """An overall budget of CPU seconds: ``run(fn, cap)`` runs ``fn`` under the remaining time (at
+    most ``cap`` seconds when given, and never past the end of an enclosing :func:`budget`); the
+    budget is also over once its wall-clock backstop (:func:`backstop`) has passed."""
 
     def __init__(self, seconds: float):
         self.seconds = seconds
-        self.end = time.monotonic() + seconds
+        self.end = (time.process_time() + seconds, time.monotonic() + backstop(seconds))
 
     def remaining(self) -> float:
-        return min([self.end, *_BUDGETS]) - time.monotonic()
+        return min(_left(e) for e in [self.end, *_BUDGETS])
 
     def run(self, fn: Callable[[], T], cap: float | None = None) -> T:
         left = self.remaining()
         if cap is not None:
             left = min(left, cap)
-        return run_with_timeout(fn, left)
+        return run_with_timeout(fn, left, cpu=True)

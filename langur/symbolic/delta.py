@@ -22,6 +22,7 @@ from langur.implicit import ImplicitRootFn
 from langur.symbolic.pieces import DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
 from langur.symbolic.regions import Cond, Context
+from langur.symbolic.regions import _remember as remember
 
 
 def _sample(ctx: Context, syms, ubox, n=5, seed=0):
@@ -114,6 +115,10 @@ def vanishes_identically(expr, syms, ubox, ctx: Context) -> bool:
         return True  # numerically zero at random points
 
 
+#: sympy's simplification of the Jacobians det DΨ̂⁻¹ on the zero set, by Jacobian.
+_SIMPLIFIED: dict = {}
+
+
 def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Context, ubox):
     """The delta piece as regular problems over ``u'`` (:func:`u_prime`, box ``ubox`` from
     :func:`u_box`): ``[(conds, weight), …]``."""
@@ -127,11 +132,17 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
         jac = sp.Matrix([[sp.diff(e, u) for u in psi.inputs] for e in comps]).det()
         sub = {u0: sp.Integer(0)}
         xsub = {x: inv[x].xreplace(sub) for x in psi.variables}
-        try:  # (an implicit root's Jacobian 1/f'(x*) has nothing to simplify, and costs seconds to try)
-            J = (jac.xreplace(sub) if jac.has(ImplicitRootFn)
-                 else ctx.deadline.run(lambda: sp.simplify(jac.xreplace(sub)), cap=3.0))
-        except TimeoutError:
-            J = jac.xreplace(sub)
+        J = jac.xreplace(sub)
+        if J in _SIMPLIFIED:  # Ψ̂'s Jacobian comes back for every partial derivative and check
+            J = _SIMPLIFIED[J]
+        elif not (J.is_number or J.has(ImplicitRootFn)):
+            # (an implicit root's Jacobian 1/f'(x*) has nothing to simplify, and costs seconds to try)
+            try:
+                simple = ctx.deadline.run(lambda J=J: sp.simplify(J), cap=3.0)
+                remember(_SIMPLIFIED, J, simple, 512)
+                J = simple
+            except TimeoutError:
+                pass
         exprs = [sp.sympify(c.expr).xreplace(xsub) for c in piece.conditions]
         guards = [sp.sympify(g).xreplace(sub) for g in b.guards]
         if not all(ctx.decide(g) for g in guards if not (g.free_symbols - ctx.params)):

@@ -25,6 +25,7 @@ evaluation point, from the combinatorial structure decided there:
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 from functools import lru_cache
 
@@ -88,6 +89,29 @@ def is_large(exprs, params) -> bool:
 # Exact values at the evaluation point.
 
 
+def shared_xreplace(e, rule: dict):
+    """``e.xreplace(rule)``, the same expression, each distinct subtree rebuilt once (sympy's
+    ``xreplace`` rebuilds a subtree every time it occurs: a weight substituted at every point of a
+    lattice rule is a tree of thousands of nodes over a few hundred distinct ones)."""
+    memo: dict = {}
+
+    def go(node):
+        if not node.args:  # (atoms are not memoized: equal Floats of other precisions stay as they are)
+            return rule.get(node, node)
+        hit = memo.get(node)
+        if hit is not None:
+            return hit
+        if node in rule:
+            out = rule[node]
+        else:
+            args = tuple(go(a) if isinstance(a, sp.Basic) else a for a in node.args)
+            out = node.func(*args) if any(a is not b for a, b in zip(args, node.args)) else node
+        memo[node] = out
+        return out
+
+    return go(sp.sympify(e))
+
+
 def exact_at(e, at: dict):
     """``e`` at the point as a Fraction when it is rational there, else None."""
     z = sp.sympify(e).xreplace(at)
@@ -122,8 +146,57 @@ def line_rule(d: int) -> tuple[tuple[Fraction, Fraction], ...]:
     return tuple(zip(pts, ws))
 
 
+def _moments_exact(rule, d: int) -> bool:
+    """Whether ``rule`` ((s, t, w), weights summing to 1) integrates every monomial sᵃtᵇ of degree
+    ≤ d over the reference triangle exactly (∫ sᵃ tᵇ = a! b! / (a + b + 2)!, divided by the area ½)."""
+    fact = [1]
+    for k in range(1, 2 * d + 3):
+        fact.append(fact[-1] * k)
+    return all(sum(w * s ** a * t ** b for s, t, w in rule) == Fraction(2 * fact[a] * fact[b], fact[a + b + 2])
+               for a in range(d + 1) for b in range(d + 1 - a))
+
+
+@lru_cache(maxsize=None)
+def grundmann_moeller(k: int) -> tuple[tuple[Fraction, Fraction, Fraction], ...]:
+    """The Grundmann–Möller rule of degree 2k + 1 on the reference triangle (SIAM J. Numer. Anal.
+    15(2), 1978): rational points and weights (some negative), (k + 1)(k + 2)(k + 3)/6 points —
+    fewer than the lattice rule of the same degree.  Points in barycentric coordinates
+    ((2β₀ + 1)/m, (2β₁ + 1)/m, (2β₂ + 1)/m) with |β| = k − i and m = 2k + 3 − 2i, weight ∝
+    (−1)ⁱ m^(2k+1) / (i! (2k + 3 − i)!); normalized to sum 1 and verified exact (by
+    :func:`_moments_exact`, in rationals) before use."""
+    d = 2 * k + 1
+    fact = [1]
+    for j in range(1, d + 4):
+        fact.append(fact[-1] * j)
+    out = []
+    for i in range(k + 1):
+        m = d + 2 - 2 * i
+        c = Fraction((-1) ** i * m ** d, fact[i] * fact[d + 2 - i])
+        for b1 in range(k - i + 1):
+            for b2 in range(k - i + 1 - b1):
+                out.append((Fraction(2 * b1 + 1, m), Fraction(2 * b2 + 1, m), c))
+    total = sum(w for _, _, w in out)
+    rule = tuple((s, t, w / total) for s, t, w in out)
+    if not _moments_exact(rule, d):  # pragma: no cover - the construction above is exact
+        raise AssertionError(f"Grundmann–Möller rule of degree {d} is not exact")
+    return rule
+
+
 @lru_cache(maxsize=None)
 def triangle_rule(d: int) -> tuple[tuple[Fraction, Fraction, Fraction], ...]:
+    """A rule on the reference triangle {s, t ≥ 0, s + t ≤ 1} with rational points and weights
+    summing to 1 (times the area), exact for degree ≤ d: the Grundmann–Möller rule of the
+    smallest odd degree ≥ d when it has fewer points than the lattice rule (the closed form is a
+    copy of the weight per point), else the lattice rule."""
+    d = max(d, 1)
+    k = d // 2  # degree 2k + 1 ≥ d
+    if (k + 1) * (k + 2) * (k + 3) // 6 < (d + 1) * (d + 2) // 2:
+        return grundmann_moeller(k)
+    return lattice_rule(d)
+
+
+@lru_cache(maxsize=None)
+def lattice_rule(d: int) -> tuple[tuple[Fraction, Fraction, Fraction], ...]:
     """The lattice rule on the reference triangle {s, t ≥ 0, s + t ≤ 1}: points (i/d, j/d),
     weights summing to 1 (times the area); exact for degree ≤ d (the lattice is unisolvent)."""
     d = max(d, 1)
@@ -144,7 +217,7 @@ def _q(f: Fraction) -> sp.Rational:
 
 def newton_cotes(w, v, a, b, d: int):
     """∫ₐᵇ w dv for ``w`` a polynomial of degree ≤ ``d`` in ``v`` (exact, unexpanded)."""
-    return (b - a) * sp.Add(*[_q(c) * w.xreplace({v: a + _q(p) * (b - a)}) for p, c in line_rule(d)])
+    return (b - a) * sp.Add(*[_q(c) * shared_xreplace(w, {v: a + _q(p) * (b - a)}) for p, c in line_rule(d)])
 
 
 # ------------------------------------------------------------------------------------------
@@ -208,20 +281,81 @@ def polygon_integral(conds, weight, x, y, box: dict, ctx):
             if k not in key:
                 rel = a * X + b * Y + c
                 if not rel.is_number:
-                    cell.append(sp.StrictGreaterThan(rel, 0))
+                    # (unevaluated: sympy cannot decide the sign of such a form, and spends
+                    # a tenth of a second per relation trying)
+                    cell.append(sp.StrictGreaterThan(rel, 0, evaluate=False))
     rule = triangle_rule(d)
+    coeffs = monomials(sp.sympify(weight), x, y)  # w = Σ c_ab xᵃ yᵇ, the c_ab never expanded
     total = []
     (x0, y0) = verts[poly[0][1]]
     for (_, k1), (_, k2) in zip(poly[1:], poly[2:]):
         (x1, y1), (x2, y2) = verts[k1], verts[k2]
         jac = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)  # twice the area: positive (counter-clockwise)
-        total.append(jac / 2 * sp.Add(*[_q(w) * weight.xreplace({x: x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0),
-                                                              y: y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0)})
+        total.append(jac / 2 * sp.Add(*[_q(w) * _at_point(coeffs, x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0),
+                                                          y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0))
                                     for s, t, w in rule]))
     for rel in cell:
         if rel not in ctx.cell:
             ctx.cell.append(rel)
     return sp.Add(*total)
+
+
+def monomials(w, x, y) -> dict:
+    """The polynomial ``w`` in ``x``, ``y`` as ``{(a, b): c_ab}`` (``w = Σ c_ab xᵃ yᵇ``), the
+    coefficients built from ``w``'s own subterms free of x and y by + and · (not expanded: one pass
+    over the distinct subtrees of ``w``).  The weight at a quadrature point is then a short sum over
+    these shared coefficients instead of a rebuilt copy of the whole weight."""
+    memo: dict = {}
+
+    def mul(p: dict, q: dict) -> dict:
+        out: dict = {}
+        for (a1, b1), c1 in p.items():
+            for (a2, b2), c2 in q.items():
+                k = (a1 + a2, b1 + b2)
+                out[k] = out[k] + c1 * c2 if k in out else c1 * c2
+        return {k: c for k, c in out.items() if c != 0}
+
+    def go(e) -> dict:
+        if e in memo:
+            return memo[e]
+        if not (e.free_symbols & {x, y}):
+            out = {(0, 0): e} if e != 0 else {}
+        elif e == x:
+            out = {(1, 0): sp.Integer(1)}
+        elif e == y:
+            out = {(0, 1): sp.Integer(1)}
+        elif isinstance(e, sp.Add):
+            out = {}
+            for a in e.args:
+                for k, c in go(a).items():
+                    out[k] = out[k] + c if k in out else c
+            out = {k: c for k, c in out.items() if c != 0}
+        elif isinstance(e, sp.Mul):
+            out = {(0, 0): sp.Integer(1)}
+            for a in e.args:
+                out = mul(out, go(a))
+        elif isinstance(e, sp.Pow) and e.exp.is_Integer and e.exp >= 0:
+            base, out = go(e.base), {(0, 0): sp.Integer(1)}
+            for _ in range(int(e.exp)):
+                out = mul(out, base)
+        else:  # pragma: no cover - degree() accepted only these
+            raise ValueError(f"not a polynomial in {x}, {y}: {e}")
+        memo[e] = out
+        return out
+
+    return go(w)
+
+
+def _at_point(coeffs: dict, X, Y):
+    """Σ c_ab Xᵃ Yᵇ."""
+    powers: dict = {}
+
+    def pw(base, k, tag):
+        if (tag, k) not in powers:
+            powers[(tag, k)] = base ** k
+        return powers[(tag, k)]
+
+    return sp.Add(*[c * pw(X, a, "x") * pw(Y, b, "y") for (a, b), c in sorted(coeffs.items())])
 
 
 def _clip(lines):
@@ -285,13 +419,112 @@ def _abstract(e, v, table: dict, memo: dict):
 
 
 def _poly_roots(p: sp.Poly):
-    cs = p.all_coeffs()
-    if p.degree() == 1:
+    return _formula_roots(p.all_coeffs())
+
+
+def _formula_roots(cs):
+    """The roots of the polynomial with coefficients ``cs`` (leading first, degree 1 or 2)."""
+    if len(cs) == 2:
         a, b = cs
         return [-b / a], a
     a, b, c = cs
     s = sp.sqrt(b ** 2 - 4 * a * c)
     return [(-b - s) / (2 * a), (-b + s) / (2 * a)], a
+
+
+class _NotLow(Exception):
+    """Not a rational function of low degree in the variable (:func:`_ratfun`)."""
+
+
+#: Highest degree kept while building a rational function by :func:`_ratfun`.
+_RATFUN_DEGREE = 4
+
+
+def _trim(cs: list) -> list:
+    while len(cs) > 1 and cs[-1] == 0:
+        cs.pop()
+    if len(cs) > _RATFUN_DEGREE + 1:
+        raise _NotLow()
+    return cs
+
+
+def _padd(p: list, q: list) -> list:
+    n = max(len(p), len(q))
+    return _trim([(p[i] if i < len(p) else 0) + (q[i] if i < len(q) else 0) for i in range(n)])
+
+
+def _pmul(p: list, q: list) -> list:
+    if len(p) + len(q) - 2 > _RATFUN_DEGREE:
+        raise _NotLow()
+    out = [sp.Integer(0)] * (len(p) + len(q) - 1)
+    for i, a in enumerate(p):
+        if a == 0:
+            continue
+        for j, b in enumerate(q):
+            out[i + j] += a * b
+    return _trim(out)
+
+
+def _rnorm(num: list, den: list):
+    if len(den) == 1 and den[0] != 1:  # a denominator free of v: into the coefficients
+        return _trim([c / den[0] for c in num]), [sp.Integer(1)]
+    return num, den
+
+
+def _ratfun(e, v, memo: dict):
+    """``e`` as ``(numerator, denominator)`` coefficient lists in ``v`` (lowest degree first; the
+    coefficients are expressions free of ``v``, never expanded), or :class:`_NotLow`."""
+    if e in memo:
+        return memo[e]
+    if v not in e.free_symbols:
+        out = ([e], [sp.Integer(1)])
+    elif e == v:
+        out = ([sp.Integer(0), sp.Integer(1)], [sp.Integer(1)])
+    elif isinstance(e, sp.Add):
+        n, d = _ratfun(e.args[0], v, memo)
+        for a in e.args[1:]:
+            n2, d2 = _ratfun(a, v, memo)
+            n, d = (_padd(n, n2), d) if d == d2 else (_padd(_pmul(n, d2), _pmul(n2, d)), _pmul(d, d2))
+        out = _rnorm(n, d)
+    elif isinstance(e, sp.Mul):
+        n, d = [sp.Integer(1)], [sp.Integer(1)]
+        for a in e.args:
+            n2, d2 = _ratfun(a, v, memo)
+            n, d = _rnorm(_pmul(n, n2), _pmul(d, d2))
+        out = (n, d)
+    elif isinstance(e, sp.Pow) and e.exp.is_Integer and e.exp != 0:
+        bn, bd = _ratfun(e.base, v, memo)
+        if e.exp < 0:
+            bn, bd = bd, bn
+        n, d = [sp.Integer(1)], [sp.Integer(1)]
+        for _ in range(abs(int(e.exp))):
+            n, d = _pmul(n, bn), _pmul(d, bd)
+        out = _rnorm(n, d)
+    else:
+        raise _NotLow()
+    memo[e] = out
+    return out
+
+
+def _direct_formulas(e, v):
+    """:func:`_root_formulas` by rational arithmetic on coefficient lists (no ``together``, no
+    ``Poly``: linear in the size of ``e``), or None when a part is not of degree ≤ 2 this way
+    (common factors are not cancelled: then ``together`` decides)."""
+    try:
+        num, den = _ratfun(e, v, {})
+    except _NotLow:
+        return None
+    out = []
+    for part in (num, den):
+        if len(part) > 3:
+            return None
+        if len(part) == 1:
+            out.append(([], ()))
+            continue
+        cs = list(reversed(part))
+        rs, _ = _formula_roots(cs)
+        out.append((rs, tuple(cs)))
+    return out
 
 
 def closed_roots(expr, v, value) -> tuple[list, list] | None:
@@ -322,6 +555,9 @@ def _root_formulas(expr, v):
     table: dict = {}
     e = _abstract(expr, v, table, {})
     back = {k: s for s, k in table.items()}
+    direct = _direct_formulas(e, v)
+    if direct is not None:
+        return [([r.xreplace(back) for r in rs], tuple(c.xreplace(back) for c in cs)) for rs, cs in direct]
     num, den = sp.fraction(sp.together(e))
     out = []
     for part in (num, den):
@@ -357,49 +593,95 @@ def dual_derivative(expr, point: dict, tangent: dict):
     return _dual(expr, point, tangent, 1)
 
 
+#: Bits beyond which an unreduced rational (numerator, denominator) of :func:`_dual` is reduced.
+_REDUCE_BITS = 512
+
+
+def _red(n: int, d: int) -> tuple[int, int]:
+    """``n/d`` (``d > 0``), reduced only when large: Fraction's gcd at every operation was most of
+    the time of evaluating a large closed form exactly."""
+    if d.bit_length() > _REDUCE_BITS or n.bit_length() > _REDUCE_BITS:
+        g = math.gcd(n, d)
+        if g > 1:
+            return n // g, d // g
+    return n, d
+
+
+def _qadd(x, y):
+    if x[1] == y[1]:
+        return _red(x[0] + y[0], x[1])
+    return _red(x[0] * y[1] + y[0] * x[1], x[1] * y[1])
+
+
+def _qmul(x, y):
+    return _red(x[0] * y[0], x[1] * y[1])
+
+
+def _qpow(x, k: int):
+    n, d = (x[0] ** k, x[1] ** k) if k >= 0 else (x[1] ** -k, x[0] ** -k)
+    return (-n, -d) if d < 0 else (n, d)
+
+
+_ZERO, _ONE = (0, 1), (1, 1)
+
+
 def _dual(expr, point: dict, tangent: dict, part: int):
-    """Value (``part`` 0) or derivative (1) by dual numbers over Fractions (see dual_derivative)."""
+    """Value (``part`` 0) or derivative (1) by dual numbers over the rationals (see
+    dual_derivative); rationals as unreduced integer pairs (:func:`_red`), the derivative not
+    computed when only the value is asked for."""
     memo: dict = {}
+    deriv = part == 1
+
+    def rational(z):
+        z = sp.sympify(z)
+        if not isinstance(z, sp.Rational):
+            raise _NotRational()
+        return int(z.p), int(z.q)
 
     def go(e):
         if e in memo:
             return memo[e]
         if isinstance(e, sp.Rational):
-            out = (Fraction(int(e.p), int(e.q)), Fraction(0))
+            out = ((int(e.p), int(e.q)), _ZERO)
         elif isinstance(e, sp.Symbol):
-            if e not in point or not isinstance(point[e], sp.Rational):
+            if e not in point:
                 raise _NotRational()
-            p, t = point[e], sp.sympify(tangent.get(e, 0))
-            if not isinstance(t, sp.Rational):
-                raise _NotRational()
-            out = (Fraction(int(p.p), int(p.q)), Fraction(int(t.p), int(t.q)))
+            out = (rational(point[e]), rational(tangent.get(e, 0)) if deriv else _ZERO)
         elif isinstance(e, sp.Add):
-            vs = [go(a) for a in e.args]
-            out = (sum(v for v, _ in vs), sum(d for _, d in vs))
-        elif isinstance(e, sp.Mul):
-            v, d = Fraction(1), Fraction(0)
+            v, d = _ZERO, _ZERO
             for a in e.args:
                 av, ad = go(a)
-                v, d = v * av, d * av + v * ad
+                v = _qadd(v, av)
+                if deriv:
+                    d = _qadd(d, ad)
+            out = (v, d)
+        elif isinstance(e, sp.Mul):
+            v, d = _ONE, _ZERO
+            for a in e.args:
+                av, ad = go(a)
+                if deriv:
+                    d = _qadd(_qmul(d, av), _qmul(v, ad))
+                v = _qmul(v, av)
             out = (v, d)
         elif isinstance(e, sp.Pow) and e.exp.is_Integer:
             bv, bd = go(e.base)
             k = int(e.exp)
-            if bv == 0 and k < 1:
+            if bv[0] == 0 and k < 1:
                 raise _NotRational()
-            out = (bv ** k, k * bv ** (k - 1) * bd)
+            out = (_qpow(bv, k), _qmul(_qmul((k, 1), _qpow(bv, k - 1)), bd) if deriv else _ZERO)
         elif isinstance(e, sp.Abs):
             av, ad = go(e.args[0])
-            if av == 0:
+            if av[0] == 0:
                 raise _NotRational()
-            out = (abs(av), ad if av > 0 else -ad)
+            out = ((abs(av[0]), av[1]), (ad if av[0] > 0 else (-ad[0], ad[1])))
         else:
             raise _NotRational()
         memo[e] = out
         return out
 
     try:
-        return go(sp.sympify(expr))[part]
+        n, d = go(sp.sympify(expr))[part]
+        return Fraction(n, d)
     except (_NotRational, ZeroDivisionError):
         return None
 

@@ -31,6 +31,7 @@ from scipy import integrate as si
 from scipy import optimize as so
 
 from langur.symbolic.pieces import DeltaPiece, Piece, Psi
+from langur.symbolic.text import shared_lambdify
 from langur.timebox import run_with_timeout
 
 GRID = 40
@@ -86,13 +87,13 @@ def _compile(args: tuple, e) -> tuple[Callable | None, Callable | None]:
     if hit is not None:
         return hit
     try:
-        f = sp.lambdify(list(args), e, modules=["math"])
+        f = shared_lambdify(list(args), e, "math")  # (sympy's lambdify, shared subtrees printed once)
         f(*[0.5] * len(args))  # probe: fails with NameError for functions math lacks
         out = (f, None)
     except NameError:
-        out = (None, sp.lambdify(list(args), e, modules=["mpmath"]))
+        out = (None, shared_lambdify(list(args), e, "mpmath"))
     except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
-        out = (sp.lambdify(list(args), e, modules=["math"]), None)
+        out = (shared_lambdify(list(args), e, "math"), None)
     if len(_COMPILED) >= COMPILED:
         _COMPILED.pop(next(iter(_COMPILED)))
     _COMPILED[key] = out
@@ -105,7 +106,8 @@ def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., flo
     by expression (:data:`COMPILED`), so other parameter values reuse it; an expression ``math``
     cannot evaluate with symbolic parameters is compiled with their values substituted."""
     e = printable(sp.sympify(expr))
-    params = tuple(k for k in at if k in e.free_symbols)
+    free = e.free_symbols  # (not cached by sympy: a walk of the whole tree, once)
+    params = tuple(k for k in at if k in free)
     f, g = _compile(tuple(symbols) + params, e)
     extra = tuple(float(at[k]) for k in params)
     if f is None and params:  # e.g. Heaviside of a parameter: decided once its value is known

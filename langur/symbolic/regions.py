@@ -579,7 +579,10 @@ def _outermost(conds, weight, v, lo, hi, ctx: Context):
 _SOLVED: dict = {}
 
 
-def _roots(c: Cond, v, ctx: Context):
+def _roots(c: Cond, v, ctx: Context, tidy: bool = True):
+    """The real roots of ``c`` in ``v`` at the evaluation point (checked there); ``tidy``: sympy's
+    solutions simplified (as they appear in closed forms), else as ``solve`` finds them without
+    its ``simplify`` pass (the same roots, several times cheaper: enough to learn where they are)."""
     psi = c.psi
     if psi is not None and psi.solved_for == v and psi.branches:
         sub = {psi.inputs[0]: sp.Integer(0)}
@@ -591,11 +594,11 @@ def _roots(c: Cond, v, ctx: Context):
     # check=False: sympy's own check drops roots whose validity depends on a parameter's sign
     # (yu + sqrt(r² − x²) = 0 has the roots ±sqrt(r² − yu²) exactly when yu ≤ 0); each candidate
     # is checked at the evaluation point instead, which is where the closed form is valid.
-    key = (c.expr, v)
+    key = (c.expr, v, tidy)
     sols = _SOLVED.get(key)  # the same conditions come back for ⟦p⟧, each ⦇p⦈ and the checks
     if sols is None:
         try:
-            sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False, check=False),
+            sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False, check=False, simplify=tidy),
                                     cap=max(2.0, ctx.deadline.seconds / 4))
         except TimeoutError:
             raise Unsupported(f"solving {c.expr} = 0 for {v} timed out") from None
@@ -637,6 +640,44 @@ def _vanishes_at(expr, v, root, ctx: Context) -> bool:
 MISSED_ROOT_PROBES = 8
 
 
+def _inside(r, lo: float, hi: float, ctx: Context) -> bool:
+    """The root ``r`` is real and strictly between ``lo`` and ``hi`` at the evaluation point."""
+    z = ctx.value(r)
+    return abs(z.imag) <= 1e-12 * max(1.0, abs(z.real)) and lo < z.real < hi
+
+
+#: Compiled (float) conditions by (expression, variable, parameters), for the sign probes.
+_PROBES: dict = {}
+#: A probe's float value at most this large (absolute) is recomputed with 30 digits.
+PROBE_DOUBT = 1e-6
+
+
+def _probe(expr, v, m: float, ctx: Context) -> complex | None:
+    """``expr`` at ``v = m`` at the evaluation point, for a sign: in floats (compiled once per
+    condition), recomputed with 30 digits (:meth:`Context.value`) when the float is within
+    :data:`PROBE_DOUBT` of 0, not finite or not real; None where it is undefined."""
+    params = tuple(sorted((k for k in ctx.at if k in expr.free_symbols), key=str))
+    key = (expr, v, params)
+    fn = _PROBES.get(key)
+    if fn is None:
+        try:
+            fn = sp.lambdify((v, *params), expr, modules=["math"])
+        except Exception:  # noqa: BLE001 - anything math cannot print: the exact path only
+            fn = False
+        _remember(_PROBES, key, fn)
+    if fn is not False:
+        try:
+            x = float(fn(m, *[float(ctx.at[k]) for k in params]))
+            if abs(x) > PROBE_DOUBT and x == x and abs(x) != float("inf"):
+                return complex(x)
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError, NameError):
+            pass
+    try:
+        return ctx.value(expr.xreplace({v: sp.Float(m, 40)}))
+    except (TypeError, ValueError, ZeroDivisionError):
+        return None
+
+
 def _no_missed_root(conds, v, a: float, b: float, ctx: Context) -> None:
     """No condition changes sign strictly between two consecutive roots ``a < b`` (at the
     evaluation point): sympy's ``solve`` returns ``[]`` for equations it cannot solve (a quintic
@@ -646,11 +687,8 @@ def _no_missed_root(conds, v, a: float, b: float, ctx: Context) -> None:
         signs = set()
         for k in range(1, MISSED_ROOT_PROBES + 1):
             m = a + (b - a) * k / (MISSED_ROOT_PROBES + 1)
-            try:
-                z = ctx.value(c.expr.xreplace({v: sp.Float(m, 40)}))
-            except (TypeError, ValueError, ZeroDivisionError):
-                continue
-            if abs(z.imag) <= 1e-20 and z.real != 0:
+            z = _probe(c.expr, v, m, ctx)
+            if z is not None and abs(z.imag) <= 1e-20 and z.real != 0:
                 signs.add(z.real > 0)
         if len(signs) == 2:
             raise Unsupported(f"{c.expr} changes sign between {a:.6g} and {b:.6g} in {v}, where sympy "
@@ -666,13 +704,15 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     for c in conds:
         rs = _closed_roots(c, v, ctx) if large else None
         if rs is None:
-            rs = _roots(c, v, ctx)
+            # sympy's roots untidied first: when none lies inside (lo, hi) here, none enters the
+            # closed form, and solve's simplify pass (most of its time) is not needed
+            rs = _roots(c, v, ctx, tidy=False)
+            if any(_inside(r, lo_v, hi_v, ctx) for r in rs):
+                rs = _roots(c, v, ctx)
             unsure.append(c)
         for r in rs:
-            z = ctx.value(r)
-            if abs(z.imag) > 1e-12 * max(1.0, abs(z.real)) or not (lo_v < z.real < hi_v):
-                continue
-            pts.append((z.real, r))
+            if _inside(r, lo_v, hi_v, ctx):
+                pts.append((ctx.value(r).real, r))
     pts.sort(key=lambda p: p[0])
     uniq = []
     for p in pts:
@@ -682,7 +722,7 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         if not (eb - ea).is_number:
             if large:  # (expanding the difference of two large bounds costs seconds)
-                rel = sp.StrictGreaterThan(eb - ea, 0)
+                rel = sp.StrictGreaterThan(eb - ea, 0, evaluate=False)  # (undecidable: not tried)
                 if rel not in ctx.cell:
                     ctx.cell.append(rel)
             else:
@@ -705,7 +745,9 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
         m = (a + b) / 2
         ok = True
         for c in conds:
-            z = ctx.value(c.expr.xreplace({v: sp.Float(m, 40)}))
+            z = _probe(c.expr, v, m, ctx)
+            if z is None:
+                raise Unsupported(f"{c.expr} has no value at {v} = {m:.6g} at the evaluation point")
             if abs(z.imag) > 1e-20 or not (z.real > 0 or (z.real == 0 and not c.strict)):
                 ok = False
                 break

@@ -12,9 +12,59 @@ from collections.abc import Sequence
 
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
+from sympy.printing.pycode import MpmathPrinter, PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
 from .pieces import Condition, DeltaPiece, Method, Piece, Psi
+
+
+class _Shared:
+    """A sympy printer mixin printing each subtree object once: a closed form built by substitution
+    (the local closed forms of :mod:`langur.symbolic.local`: vertices substituted at every point of
+    a lattice rule) is a tree of ~10⁵ nodes over a few thousand distinct objects.  The text is the
+    printer's own, character for character: a subtree's text does not depend on where it occurs
+    (parentheses are added by the parent; only the root is printed at the top level)."""
+
+    def __init__(self, settings=None):
+        super().__init__(settings)
+        self._memo: dict = {}
+
+    def _print(self, expr, **kwargs) -> str:
+        if kwargs or not isinstance(expr, sp.Basic) or not expr.args:
+            return super()._print(expr, **kwargs)
+        hit = self._memo.get(id(expr))
+        if hit is not None:
+            return hit[1]
+        out = super()._print(expr)
+        self._memo[id(expr)] = (expr, out)  # the object is kept: its id is not reused meanwhile
+        return out
+
+
+class _SharedPrinter(_Shared, StrPrinter):
+    pass
+
+
+class _SharedPython(_Shared, PythonCodePrinter):
+    pass
+
+
+class _SharedMpmath(_Shared, MpmathPrinter):
+    pass
+
+
+def shared_sstr(expr, **settings) -> str:
+    """``sympy.sstr(expr, **settings)``, the same text, each shared subtree printed once."""
+    return _SharedPrinter(settings).doprint(expr)
+
+
+def shared_lambdify(args, expr, module: str):
+    """``sympy.lambdify(args, expr, modules=[module])`` for ``module`` "math" or "mpmath": the same
+    generated code (sympy's printer for that module, with lambdify's settings), each shared subtree
+    printed once."""
+    cls = {"math": _SharedPython, "mpmath": _SharedMpmath}[module]
+    printer = cls({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
+                   "user_functions": {}})
+    return sp.lambdify(args, expr, modules=[module], printer=printer)
 
 
 def _iverson(e):

@@ -1,0 +1,84 @@
+"""The exact engine's sympy budgets count CPU seconds (langur/timebox.py): a sleeping (or starved)
+process does not use them up, a busy one does, and a wall-clock backstop still ends a call that
+uses no CPU."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from langur import timebox
+from langur.timebox import Deadline, budget, run_with_timeout
+
+
+def _spin(seconds: float) -> None:
+    end = time.process_time() + seconds
+    while time.process_time() < end:
+        pass
+
+
+def test_a_cpu_limit_ends_a_busy_call_near_its_cpu_seconds():
+    start = time.process_time()
+    with pytest.raises(TimeoutError, match="CPU"):
+        run_with_timeout(lambda: _spin(5.0), 0.2, cpu=True)
+    assert time.process_time() - start < 1.5
+
+
+def test_sleeping_does_not_use_a_cpu_limit():
+    assert run_with_timeout(lambda: (time.sleep(0.4), "slept")[1], 0.2, cpu=True) == "slept"
+
+
+def test_the_wall_clock_backstop_ends_a_call_that_uses_no_cpu(monkeypatch):
+    monkeypatch.setattr(timebox, "BACKSTOP_SLACK", 0.0)
+    monkeypatch.setattr(timebox, "BACKSTOP_FACTOR", 3.0)  # 0.1 CPU s: at most 0.3 s of wall clock
+    start = time.monotonic()
+    with pytest.raises(TimeoutError, match="wall clock"):
+        run_with_timeout(lambda: time.sleep(5), 0.1, cpu=True)
+    assert time.monotonic() - start < 2
+
+
+def test_a_cpu_limit_inside_a_wall_limit_never_extends_it():
+    start = time.monotonic()
+    with pytest.raises(TimeoutError):
+        run_with_timeout(lambda: run_with_timeout(lambda: time.sleep(5), 10.0, cpu=True), 0.3)
+    assert time.monotonic() - start < 2
+    # and a wall limit inside a CPU limit: the inner one is reported, the outer goes on
+    def outer():
+        with pytest.raises(TimeoutError):
+            run_with_timeout(lambda: _spin(5.0), 0.1)
+        return "outer done"
+    assert run_with_timeout(outer, 5.0, cpu=True) == "outer done"
+
+
+def test_nested_cpu_limits_never_extend_the_outer_one():
+    start = time.process_time()
+    with pytest.raises(TimeoutError):
+        run_with_timeout(lambda: run_with_timeout(lambda: _spin(5.0), 10.0, cpu=True), 0.2, cpu=True)
+    assert time.process_time() - start < 1.5
+
+
+def test_deadlines_and_budgets_count_cpu_seconds():
+    d = Deadline(1.0)
+    time.sleep(0.3)
+    assert d.remaining() > 0.9  # sleeping costs no budget
+    _spin(0.3)
+    assert d.remaining() < 0.75  # computing does
+    with budget(0.2):
+        assert d.remaining() <= 0.2
+        with pytest.raises(TimeoutError):
+            d.run(lambda: _spin(5.0))
+    # over once the wall-clock backstop has passed, CPU seconds left or not
+    d2 = Deadline(0.0)
+    assert d2.remaining() <= 0
+
+
+def test_a_deadline_is_over_once_its_wall_clock_backstop_passed(monkeypatch):
+    monkeypatch.setattr(timebox, "BACKSTOP_FACTOR", 0.0)
+    monkeypatch.setattr(timebox, "BACKSTOP_SLACK", 0.2)
+    d = Deadline(10.0)
+    assert d.remaining() > 9
+    time.sleep(0.3)
+    assert d.remaining() == 0.0
+    with pytest.raises(TimeoutError):
+        d.run(lambda: 1)
