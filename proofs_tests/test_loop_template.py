@@ -73,6 +73,12 @@ def _program(r: random.Random) -> str:
     if r.random() < 0.3:  # an inner loop: bounds with or without the outer index
         hi = r.choice(["2", "i", "i + 1"])
         body = f"{body} + (sum j in 1..{hi}: {_term(r, names + ['j'], 2)})"
+    if r.random() < 0.2:  # the loop inside a condition, with a conditional on the parameters in its body
+        body = (f"(if a >= {r.choice(['0.2', '0.7'])} then x else {r.choice(['2*x', 'x + y'])}) + "
+                f"{r.choice(['i', '1/(i + 1)', 'b*i'])} * {r.choice(['y', 'a', '1/2'])}")
+        lo, hi = r.choice([0, 1]), r.choice([2, 3])
+        return (f"param a = 0.5\nparam b = 0.25\nint ([0, 1], [0, 1]) [(sum i in {lo}..{hi}: {body}) >= 1] "
+                f"* (1 + b) d(x, y)\n")
     lo = r.choice([0, 1, 2])
     hi = lo + r.choice([1, 2, 3, 5])
     op = r.choice(["sum", "sum", "prod"])
@@ -140,3 +146,14 @@ def test_microbenchmark_one_is_instantiated():
     at, d = new.param_values({}), {"a": 1.0}
     assert (operational.estimate_derivative(new, at, d, samples=10, seed=0).value
             == operational.estimate_derivative(old, at, d, samples=10, seed=0).value)
+
+
+def test_a_conditional_on_the_parameters_is_copied():
+    # the loop's sum inside a condition: the desugarer lifts each `if a >= 0.2 …` out of the condition
+    # by its identity (desugar._put); copies sharing it would lift them all at once (another term)
+    text = ("param a = 0.5\nint ([0, 2]) [(sum i in 1..3: (if a >= 0.2 then x else 2*x) + i/4) >= 1]"
+            " + (sum i in 1..3: [min(x, a + i/5) >= 0.4]) d(x)\n")
+    new, _ = _load(text, True)
+    old, _ = _load(text, False)
+    assert new.program == old.program
+    assert print_program(new.program) == print_program(old.program)

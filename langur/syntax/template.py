@@ -6,7 +6,8 @@ differ only in the number the index stands for.  :meth:`Desugarer.loop
 <langur.syntax.desugar.Desugarer.loop>` therefore desugars the first copy while a :class:`Record`
 watches, and builds the others from it by :func:`instantiate`: the ``Const`` leaves the index
 became are replaced by the copy's number, every node above them is rebuilt (the rest is shared
-with the first copy, as an inlined def body shares its subterms), and every condition that
+with the first copy, as an inlined def body shares its subterms, but for conditionals on the
+parameters, which the desugarer may lift out of a condition by their identity), and every condition that
 contains them is completed again by the same function the desugarer calls
 (``langur.syntax.completion.complete``) — so each copy is the term desugaring it would give.
 
@@ -26,7 +27,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from ..core import Add, Const, Diffeo, IfDiffeo, Mul, Param, Pow, Prim, Term, Var, children, map_children
+from ..core import Add, Const, Diffeo, IfDiffeo, IfGe0, Mul, Param, Pow, Prim, Term, Var, children, map_children
 
 #: Build a loop's copies from its first (False: every copy desugared from the surface, as the
 #: tests compare).
@@ -77,8 +78,9 @@ class Template:
         self._mark(body)
 
     def _mark(self, root: Term) -> None:
-        """:attr:`dependent`: whether each distinct node of the first copy has an index leaf below it
-        (in a conditional: in its branches or in the condition it was completed from)."""
+        """:attr:`dependent`: whether each distinct node of the first copy is built anew in each copy:
+        it has an index leaf below it (in a conditional: in its branches or in the condition it was
+        completed from) or a conditional on the parameters; the other nodes are shared by the copies."""
         dep, leaves, completions = self.dependent, self.record.leaves, self.record.completions
         stack: list[tuple[Term, bool]] = [(root, False)]
         while stack:
@@ -94,7 +96,9 @@ class Template:
                 stack.append((u, True))
                 stack.extend((c, False) for c in kids if id(c) not in dep)
                 continue
-            dep[key] = any(dep[id(c)] for c in kids)
+            # (a conditional on the parameters is copied too: the desugarer lifts such a conditional
+            # out of a condition by its identity, `desugar._put`, which must not meet it in two copies)
+            dep[key] = type(u) is IfGe0 or any(dep[id(c)] for c in kids)
             if type(u) is IfDiffeo and key not in completions:
                 # a Ψ̂ not completed here (there is none while the record is safe): its terms must not
                 # mention the index
