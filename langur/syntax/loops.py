@@ -7,6 +7,9 @@ the one desugaring place, which unrolls the loop in :meth:`Desugarer.loop`).
   copies of its body, none when ``B < A`` (then a sum is 0 and a product 1).
 * In the ``k``-th copy the index is the number ``k`` (a ``Const``), so it may occur in exponents,
   in bounds of inner loops, in conditions and as a def's param argument.
+* The copies after the first are built from it (:mod:`langur.syntax.template`: its index leaves
+  replaced, its conditions completed again) when its desugaring does not read the index as a
+  number; they are the same terms as desugaring each copy gives.
 * The copies are combined into a balanced tree (:func:`balanced`), of the same shape as the
   parser gives a written-out sum or product (``langur.syntax.chains``): ``sum i in 1..3: t`` is
   exactly ``t1 + t2 + t3``, and a sum of 100,000 copies nests 17 levels, not 100,000.
