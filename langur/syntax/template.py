@@ -27,7 +27,21 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from ..core import Add, Const, Diffeo, IfDiffeo, IfGe0, Mul, Param, Pow, Prim, Term, Var, children, map_children
+from ..core import (
+    Add,
+    Const,
+    Diffeo,
+    IfDiffeo,
+    IfGe0,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Term,
+    Var,
+    children,
+    map_children,
+)
 
 #: Build a loop's copies from its first (False: every copy desugared from the surface, as the
 #: tests compare).
