@@ -13,7 +13,16 @@ Run:  python bench/bench_text_to_number.py [--plot OUT.png] [--reps K]
   of K processes; on a loaded machine the CPU time is the fair number), and the CPU time of
   importing ``langur.frontend`` + ``langur.operational`` beyond numpy's; each with Python's
   compiled modules kept (as an installed package has them) and with every module compiled from
-  source at start (``PYTHONDONTWRITEBYTECODE=1`` without a ``__pycache__``).
+  source at start (``PYTHONDONTWRITEBYTECODE=1`` without a ``__pycache__``); and ``python -X
+  importtime``'s cumulative time of those two imports (in-process wall time of the imports alone).
+
+numpy's BLAS runs on one thread here (``OPENBLAS_NUM_THREADS=1``, ``OMP_NUM_THREADS=1``, in this
+process and in the subprocesses, unless ``--blas-threads`` or the variables are already set): with
+its default thread pool, idle BLAS threads spinning on the other core were counted in the process's
+CPU time (user time above wall time in every one-shot run), which inflated the one-shot and import
+numbers of earlier runs (before 2026-11-26, branch ``loadonce``).  Nothing measured here uses BLAS.
+
+``--sizes 49,100`` measures those n only; ``--mb1-only`` skips microbenchmark 2 and the processes.
 """
 
 from __future__ import annotations
@@ -26,6 +35,10 @@ import subprocess
 import sys
 import tempfile
 import time
+
+if "--blas-threads" not in sys.argv:  # before numpy is imported (see the docstring)
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
@@ -105,7 +118,7 @@ def _env(bytecode: str | None) -> dict:
     kept there (``PYTHONPYCACHEPREFIX``), as an installed package has them (pip compiles them at
     install); with ``None``, every module is compiled from source at each start, as in a process
     run with ``PYTHONDONTWRITEBYTECODE=1`` on a tree that has no ``__pycache__``."""
-    env = {**os.environ, "PYTHONPATH": ROOT}
+    env = {**os.environ, "PYTHONPATH": ROOT}  # (with the BLAS thread variables set above)
     if bytecode is None:
         env["PYTHONDONTWRITEBYTECODE"] = "1"
         env.pop("PYTHONPYCACHEPREFIX", None)
@@ -144,21 +157,46 @@ def import_time(reps: int, bytecode: str | None = None) -> tuple[float, float]:
     return statistics.median(r[0] for r in runs), statistics.median(r[1] for r in runs)
 
 
+def import_tree(reps: int, bytecode: str | None = None) -> float:
+    """Median over ``reps`` processes of ``python -X importtime``'s cumulative time (s) of importing
+    ``langur.frontend`` and ``langur.operational`` after numpy (the modules numpy already brought in
+    are not counted again)."""
+    env = _env(bytecode)
+    out = []
+    for _ in range(reps + (bytecode is not None)):
+        err = subprocess.run([sys.executable, "-X", "importtime", "-c",
+                              "import numpy; import langur.frontend, langur.operational"],
+                             env=env, cwd=ROOT, check=True, capture_output=True, text=True).stderr
+        total = 0
+        for line in err.splitlines():
+            parts = line.split("|")
+            if len(parts) == 3 and parts[2].strip() in ("langur.frontend", "langur.operational") \
+                    and parts[2].startswith(" langur"):  # top level: no indentation
+                total += int(parts[1])
+        out.append(total / 1e6)
+    return statistics.median(out[1:] if bytecode is not None else out)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--plot", metavar="OUT.png")
+    ap.add_argument("--sizes", default=",".join(map(str, SIZES)))
+    ap.add_argument("--mb1-only", action="store_true")
+    ap.add_argument("--blas-threads", action="store_true", help="leave numpy's BLAS thread pool as it is")
     args = ap.parse_args()
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; CPU medians of {args.reps}")
     print("\nMicrobenchmark 1: text to number (ms CPU)")
     print("|   n | load (front end) | link (compile) | eval (10 samples) | text to number | load / (link + eval) |")
     print("|----:|-----------------:|---------------:|------------------:|---------------:|---------------------:|")
     rows = []
-    for n in SIZES:
+    for n in map(int, args.sizes.split(",")):
         r = mb1(n, args.reps)
         rows.append(r)
         print(f"| {n:3d} | {1e3 * r['load']:16.1f} | {1e3 * r['link']:14.1f} | {1e3 * r['eval']:17.1f} | "
               f"{1e3 * r['total']:14.1f} | {r['load'] / (r['link'] + r['eval']):20.2f} |")
+    if args.mb1_only:
+        return
     print("\nMicrobenchmark 2: 90 jumps, 50 shader swaps (s CPU, load + link + evaluate of each)")
     for incremental in (True, False):
         t, stats = mb2(50, incremental)
@@ -173,7 +211,7 @@ def main() -> None:
                   f"(medians of {args.reps})")
             numpy_s, ours = import_time(args.reps, bytecode)
             print(f"  import langur.frontend, langur.operational, {how}: {ours:.3f} s CPU beyond numpy's "
-                  f"{numpy_s:.3f} s")
+                  f"{numpy_s:.3f} s; -X importtime: {import_tree(args.reps, bytecode):.3f} s")
     if args.plot:
         import matplotlib
 

@@ -24,6 +24,7 @@ and :func:`rational_value` (a variable-free term's exact value, when it is ratio
 
 from __future__ import annotations
 
+import functools
 from fractions import Fraction
 
 from ..core import (
@@ -153,35 +154,55 @@ def rational_value(t: Term) -> Fraction | None:
 def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = frozenset()) -> Diffeo | None:
     """The completion of ``cond`` over ``variables`` (as ``diffeo.complete`` gives it), isolating none
     of the variables in ``avoid``, or ``None`` when ``cond`` is not affine with rational coefficients
-    (then the sympy path decides)."""
+    (then the sympy path decides).
+
+    Conditions of one shape — the same variables, parameters and coefficients, whatever their
+    constant term (a loop's copies: ``x + 1/i + a - 1`` for i = 10 … 58) — are solved once
+    (:func:`_solve`); each then costs its linear form, the constant ``−c₀/a`` and the Diffeo."""
     form = linear(cond)
     if form is None:
         return None
     coeffs, c0 = form
     occurring = free_vars(cond)
-    if not occurring or not occurring <= set(variables):
+    if not occurring:
         return None
-    candidates = [v for v in variables if v in occurring and v not in avoid and coeffs.get(("v", v))]
+    solved = _solve(tuple(variables), tuple(coeffs.items()), occurring, free_params(cond), frozenset(avoid))
+    if solved is None:
+        return None
+    v, a, inputs, others, terms, renamed = solved
+    solution = _ordered(-c0 if a == 1 else -c0 / a, terms)
+    components = tuple(solution if x is None else x for x in renamed)
+    return Diffeo(variables=tuple(variables), forward=(cond,) + others, inputs=inputs,
+                  branches=(InverseBranch(components, ()),), solved_for=v, name=None, nonzero=(),
+                  span=getattr(cond, "span", None))
+
+
+@functools.lru_cache(maxsize=1024)
+def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, params: frozenset, avoid: frozenset):
+    """What :func:`complete` needs of a condition's shape: the variable ``v`` solved for, its
+    coefficient ``a``, Ψ̂⁻¹'s inputs, Ψ̂'s other components (``Var`` of the other variables), the
+    terms ``(atom, kind, −c/a)`` of the solution but its constant, and Ψ̂⁻¹'s components (None where
+    the solution goes); None when no variable can be isolated (or one is not among ``variables``)."""
+    if not occurring <= set(variables):
+        return None
+    form = dict(coeffs)
+    candidates = [x for x in variables if x in occurring and x not in avoid and form.get(("v", x))]
     if not candidates:
         return None  # every variable cancels: the sympy path gives the reason
     v = candidates[-1]  # all have a constant coefficient (rank 0): the last one in order
-    params = free_params(cond)
     inputs = fresh_inputs(len(variables), set(variables) | set(params) | set(occurring))
     others = [x for x in variables if x != v]
     renamed = {x: u for x, u in zip(others, inputs[1:])}
-    a = coeffs[("v", v)]
+    a = form[("v", v)]
     over = (lambda c: -c) if a == 1 else (lambda c: -c / a)  # −c/a
     terms: list[tuple[str, str, Fraction]] = [(inputs[0], "v", 1 / a)]
-    for (kind, name), c in coeffs.items():
+    for (kind, name), c in coeffs:
         if kind == "p":
             terms.append((name, "p", over(c)))
         elif name != v:
             terms.append((renamed[name], "v", over(c)))
-    solution = _ordered(over(c0), terms)
-    components = tuple(solution if x == v else Var(renamed[x]) for x in variables)
-    return Diffeo(variables=tuple(variables), forward=(cond,) + tuple(Var(x) for x in others), inputs=inputs,
-                  branches=(InverseBranch(components, ()),), solved_for=v, name=None, nonzero=(),
-                  span=getattr(cond, "span", None))
+    return (v, a, inputs, tuple(Var(x) for x in others), tuple(terms),
+            tuple(None if x == v else Var(renamed[x]) for x in variables))
 
 
 # sympy's ordering_of_classes, for the classes a rational coefficient can have
@@ -206,13 +227,21 @@ def _sort_key(term: tuple[str, str, Fraction]):
     return (1, _CLASS_RANK[_coefficient_class(c)], c.numerator, c.denominator, name)
 
 
-def _ordered(constant: Fraction, terms: list[tuple[str, str, Fraction]]) -> Term:
+def _ordered(constant: Fraction, terms) -> Term:
     """``constant + Σ c·atom`` as ``from_sympy`` would build it from sympy's canonical sum."""
-    parts: list[Term] = [Const(constant)] if constant else []
+    parts = _atoms(tuple(terms))
+    out = Const(constant) if constant else parts[0]
+    for p in (parts if constant else parts[1:]):
+        out = Add(out, p)
+    return out
+
+
+@functools.lru_cache(maxsize=1024)
+def _atoms(terms: tuple[tuple[str, str, Fraction], ...]) -> tuple[Term, ...]:
+    """The ``c·atom`` of :func:`_ordered` in sympy's order: the same for every condition of one
+    shape (a loop's copies differ in their constant only), so built once and shared (issue 15)."""
+    parts: list[Term] = []
     for name, kind, c in sorted((t for t in terms if t[2]), key=_sort_key):
         atom: Term = Var(name) if kind == "v" else Param(name)
         parts.append(atom if c == 1 else Mul(Const(c), atom))
-    out = parts[0]
-    for p in parts[1:]:
-        out = Add(out, p)
-    return out
+    return tuple(parts)

@@ -64,7 +64,7 @@ from ..core import (
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
-from . import kinks, loops, vectors
+from . import kinks, loops, template, vectors
 from .completion import complete, diffeo
 from .inline import expand_calls, inline
 from .surface import (
@@ -197,6 +197,8 @@ class Desugarer:
         self.splitting = False
         #: The kinks decided on the way to the piece being completed: (kink's condition, ≥ 0?).
         self.sides: list[tuple[Term, bool]] = []
+        #: The loops whose first copy is being desugared, by index: what it shows (syntax/template.py).
+        self.records: dict[str, template.Record] = {}
 
     def fail(self, d: Diagnostic, span: Span | None) -> Term:
         self.errors.append(d)
@@ -344,6 +346,7 @@ class Desugarer:
         constant, T225 past the bound on unrolling)."""
         if self.budget.exhausted:
             return Const(Fraction(0), span=st.span)
+        self.unsafe(st.lo, st.hi, sc=sc)  # an enclosing index as a number
         try:
             lo, hi = loops.bounds(st.lo, st.hi, sc.consts)
         except loops.BoundError as e:
@@ -362,9 +365,26 @@ class Desugarer:
         if refused:
             return self.fail(ty.reject_loop_too_large(join(st.lo, st.hi), refused), st.span)
         before = len(self.errors)
-        copies = []
+        copies: list[Term] = []
+        plan: template.Template | None = None
+        charged = (0, 0)  # what desugaring the first copy took of the budget: each instantiated copy takes it too
         for k in range(lo, hi + 1):
-            copies.append(self.term(st.body, sc.with_index(st.index, k)))
+            if plan is not None:
+                if self.budget.again(*charged):
+                    copy = plan.at(k)
+                    if copy is not None:
+                        copies.append(copy)
+                        continue
+                    self.budget.copies -= charged[0]
+                    self.budget.nodes -= charged[1]
+                else:
+                    plan = None  # past the bound: desugared (and refused) as before
+            if k == lo and hi > lo and template.ENABLED:
+                # the first copy, watched: the others are built from it when its desugaring allows
+                first, plan, charged = self.first_copy(st, sc, k)
+                copies.append(first)
+            else:
+                copies.append(self.term(st.body, sc.with_index(st.index, k)))
             if self.budget.exhausted:
                 break
         self.errors[before:] = loops.once(self.errors[before:])  # the copies' diagnostics are the body's
@@ -372,13 +392,71 @@ class Desugarer:
             return Const(Fraction(0), span=st.span)
         return loops.balanced(copies, st.op, st.span)
 
+    def first_copy(self, st: Loop, sc: Scope, k: int) -> tuple[Term, template.Template | None, tuple[int, int]]:
+        """The first copy of a loop's body (index ``k``), desugared while a record watches; the
+        template of the others when its desugaring allows (:mod:`langur.syntax.template`), and
+        what it took of the budget."""
+        record = template.Record(st.index)
+        outer = self.records.get(st.index)
+        if outer is not None:
+            outer.unsafe = True  # an inner loop with the same index: the outer index is not watched here
+        self.records[st.index] = record
+        errors, pending, pieces = len(self.errors), len(self.pending or ()), self.pieces
+        copies, nodes = self.budget.copies, self.budget.nodes
+        try:
+            body = self.term(st.body, sc.with_index(st.index, k))
+        finally:
+            if outer is None:
+                del self.records[st.index]
+            else:
+                self.records[st.index] = outer
+        charged = (self.budget.copies - copies, self.budget.nodes - nodes)
+        if (record.unsafe or len(self.errors) > errors or len(self.pending or ()) != pending
+                or self.pieces != pieces or self.budget.exhausted):
+            return body, None, charged
+        plan = template.Template(body, record, self.complete_again, self.note_completion)
+        return body, (plan if plan.usable else None), charged
+
+    def complete_again(self, cond: Term, variables: tuple[str, ...], box) -> Diffeo | None:
+        """A copy's condition completed as :meth:`completed` would; None when it is not."""
+        try:
+            return complete(cond, variables, box)
+        except diffeo.CompletionError:
+            return None
+
+    def note_completion(self, node: IfDiffeo, cond: Term, variables: tuple[str, ...], box) -> None:
+        """Tell the loops being watched that ``node`` completes ``cond`` over ``variables``."""
+        for record in self.records.values():
+            record.completions[id(node)] = (node, cond, variables, box)
+
+    def unsafe(self, *sts: STerm, sc: Scope | None = None) -> None:
+        """The desugaring depends on the value of a watched loop index: on every watched one (no
+        ``sts``), or on those the surface terms ``sts`` mention (read as numbers)."""
+        if not self.records:
+            return
+        if not sts:
+            for record in self.records.values():
+                record.unsafe = True
+            return
+        for st in sts:
+            stack = [st]
+            while stack:
+                u = stack.pop()
+                if isinstance(u, Name) and u.name in self.records and (sc is None or u.name in sc.consts):
+                    self.records[u.name].unsafe = True
+                stack.extend(loops.children(u))
+
     def name(self, st: Name, sc: Scope) -> Term | Vec:
         n, span = st.name, st.span
         if n in sc.variables:
             return Var(n, span=span)
         if n in sc.consts:
             # a loop's index: the number it stands for in this copy of the body (§9)
-            return Const(sc.consts[n], span=span)
+            c = Const(sc.consts[n], span=span)
+            record = self.records.get(n)
+            if record is not None:
+                record.leaves[id(c)] = c
+            return c
         if n in sc.vectors:
             bound = sc.vectors[n]
             if bound.shadowed_by is not None:
@@ -403,6 +481,7 @@ class Desugarer:
 
     def power(self, st: BinOp, sc: Scope) -> Term:
         base = self.term(st.left, sc)
+        self.unsafe(st.right, sc=sc)  # the index as a number
         try:
             k = constant_value(st.right, sc.consts)
         except loops.TooLarge:
@@ -528,6 +607,7 @@ class Desugarer:
                 "[A <= s & B <= s], [min(A, B) <= s] is [A <= s | B <= s]: brackets that compare a min, max "
                 "or abs with a term are rewritten so by themselves)")), span)
         if kink is not None:
+            self.unsafe()  # the split compares conditions
             # a conditional over the variables inside a condition (abs, min, max: [abs(x - a) <= 0.2])
             # splits the condition at the kink: ifge0 ⌊Ψ_k⌋ then (the condition with the kink's
             # then-branch) else (… with its else-branch), each branch completed on its own.  The
@@ -555,6 +635,7 @@ class Desugarer:
                     self.splitting = False
         self.count_piece()
         if any(isinstance(u, Call) for u in subterms(cond)):
+            self.unsafe()
             # a condition is completed as a whole: expand the defs it calls first
             cond, errs = expand_calls(cond, lambda m, n: self.env.bodies.get((m, n)), sc.variables, sc.box)
             if errs:
@@ -583,7 +664,12 @@ class Desugarer:
                 return self.fail(diagnostic, span)
             psi = Diffeo(sc.variables, (cond,), (), ())  # completed by complete_pending
             self.pending.append((psi, diagnostic))
-        return IfDiffeo(psi, then, orelse, span=span)
+            self.unsafe()
+            return IfDiffeo(psi, then, orelse, span=span)
+        node = IfDiffeo(psi, then, orelse, span=span)
+        if self.records:
+            self.note_completion(node, cond, sc.variables, sc.box)
+        return node
 
     def complete_pending(self, t: Term, variables: tuple[str, ...], box) -> Term:
         """``t`` with the conditions left pending completed over the program's ``box`` (a periodic
@@ -606,6 +692,7 @@ class Desugarer:
         return go(t)
 
     def diffeo_app(self, app: DiffeoApp, sc: Scope) -> Diffeo | None:
+        self.unsafe()  # a declared Ψ instantiated with its arguments' values
         where = app.name_span or app.span
         if app.name in self.env.poisoned:
             return None

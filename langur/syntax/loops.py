@@ -7,6 +7,9 @@ the one desugaring place, which unrolls the loop in :meth:`Desugarer.loop`).
   copies of its body, none when ``B < A`` (then a sum is 0 and a product 1).
 * In the ``k``-th copy the index is the number ``k`` (a ``Const``), so it may occur in exponents,
   in bounds of inner loops, in conditions and as a def's param argument.
+* The copies after the first are built from it (:mod:`langur.syntax.template`: its index leaves
+  replaced, its conditions completed again) when its desugaring does not read the index as a
+  number; they are the same terms as desugaring each copy gives.
 * The copies are combined into a balanced tree (:func:`balanced`), of the same shape as the
   parser gives a written-out sum or product (``langur.syntax.chains``): ``sum i in 1..3: t`` is
   exactly ``t1 + t2 + t3``, and a sum of 100,000 copies nests 17 levels, not 100,000.
@@ -101,7 +104,7 @@ def _first_name(st: STerm) -> Name | None:
         u = stack.pop()
         if isinstance(u, Name):
             return u
-        stack.extend(reversed([c for c in _children(u)]))
+        stack.extend(reversed([c for c in children(u)]))
     return None
 
 
@@ -124,7 +127,7 @@ def bounds(lo: STerm, hi: STerm, consts: Mapping[str, Fraction]) -> tuple[int, i
     return out[0], out[1]
 
 
-def _children(st) -> list:
+def children(st) -> list:
     """The surface subterms of a surface node (every field that is a node or a tuple of nodes)."""
     out = []
     for f in dataclasses.fields(st):
@@ -142,7 +145,7 @@ def size(st: STerm) -> int:
     while stack:
         u = stack.pop()
         n += 1
-        stack.extend(_children(u))
+        stack.extend(children(u))
     return n
 
 
@@ -167,6 +170,17 @@ class Budget:
         return (f"this loop has {shown} copies of a body of {size:,} nodes; the loops of a module may write out at "
                 f"most {MAX_COPIES:,} copies and {MAX_NODES:,} nodes in all (so far {self.copies:,} and "
                 f"{self.nodes:,})")
+
+
+    def again(self, copies: int, nodes: int) -> bool:
+        """Take ``copies`` copies and ``nodes`` nodes written out by an instantiated copy of a loop's
+        body (what desugaring it again would take, :mod:`langur.syntax.template`) when they fit; else
+        take nothing and say False (the copy is then desugared, and refused, as before)."""
+        if self.copies + copies <= MAX_COPIES and self.nodes + nodes <= MAX_NODES:
+            self.copies += copies
+            self.nodes += nodes
+            return True
+        return False
 
 
 def once(diagnostics: list) -> list:
