@@ -113,7 +113,7 @@ def complete(cond: Term, variables: tuple[str, ...], box: Box = (), avoid: froze
 
 
 @lru_cache(maxsize=4096)
-def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box, avoid: frozenset[str]) -> Diffeo:
+def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box, avoid: frozenset[str] = frozenset()) -> Diffeo:
     occurring = [v for v in variables if v in free_vars(cond)]
     if not occurring:
         raise CompletionError("the condition has no variables (it is a plain ifge0)")
