@@ -137,7 +137,10 @@ def outcomes(tmp_path_factory):
     root = tmp_path_factory.mktemp("hostile")
     paths = {name: _write(root, name) for name in CORPUS}
     jobs = [(name, c) for name in CORPUS for c in ONLY.get(name, COMMANDS)]
-    with ThreadPoolExecutor(max_workers=max(2, min(4, os.cpu_count() or 2))) as pool:
+    # The cores this test process has to itself: under pytest-xdist the other workers use the rest,
+    # and commands starved of CPU would run past their wall-clock --timeout.
+    cores = (os.cpu_count() or 2) // int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+    with ThreadPoolExecutor(max_workers=max(1, min(4, cores))) as pool:
         results = list(pool.map(lambda job: _run(paths[job[0]], job[1]), jobs))
     return {(name, c): r for (name, c), r in zip(jobs, results)}
 
