@@ -31,7 +31,7 @@ from scipy import integrate as si
 from scipy import optimize as so
 
 from langur.symbolic.pieces import DeltaPiece, Piece, Psi
-from langur.symbolic.text import shared_lambdify
+from langur.symbolic.text import lambdify, shared_lambdify
 from langur.timebox import run_with_timeout
 
 GRID = 40
@@ -144,7 +144,7 @@ def _vectorize(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable | None:
     f = _VECTORIZED.get(key, 0)
     if f == 0:
         try:
-            f = sp.lambdify(list(key[0]), e, modules=["numpy"])
+            f = lambdify(list(key[0]), e, modules=["numpy"])
             with np.errstate(all="ignore"):
                 f(*[0.5] * (len(key[0]) - 1), np.linspace(0.1, 0.9, 3))  # probe: numpy has every function
         except NameError:
@@ -457,11 +457,11 @@ def _coefficients(expr, syms: tuple, level: int):
         coeffs = poly.all_coeffs()
         if poly.degree() <= 8 and not any(v in c.free_symbols for c in coeffs):
             args, body = list(syms[:level]), [printable(c) for c in coeffs]
-            fn = sp.lambdify(args, body, modules=["math"])
+            fn = lambdify(args, body, modules=["math"])
             try:
                 fn(*[0.5] * level)  # probe: NameError for functions math lacks
             except NameError:
-                fn = sp.lambdify(args, body, modules=["numpy"])
+                fn = lambdify(args, body, modules=["numpy"])
             except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
                 pass
     except (sp.PolynomialError, sp.GeneratorsNeeded):
