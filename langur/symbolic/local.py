@@ -26,8 +26,11 @@ evaluation point, from the combinatorial structure decided there:
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
+from contextvars import ContextVar
 from fractions import Fraction
 from functools import lru_cache
+from typing import Iterator
 
 import sympy as sp
 
@@ -74,6 +77,45 @@ def size(e, limit: int) -> int:
         n += 1
         stack.extend(node.args)
     return n
+
+
+#: Whether a closed form valid in the parameter cell of the point is enough (:func:`cell_forms`).
+_CELL_FORMS: ContextVar[bool] = ContextVar("cell_forms", default=False)
+
+
+@contextmanager
+def cell_forms() -> Iterator[None]:
+    """Within the block a 2-D region of affine conditions with a polynomial weight is integrated as
+    the polygon decided at the point (:func:`polygon_integral`) whatever its size: the caller wants
+    a closed form near the point only (Theorem 8.1's check localizes ⟦p⟧ at the point anyway), not
+    one for all parameter values, whose ``Max``/``Min`` nests cost seconds (triangle.lgr)."""
+    token = _CELL_FORMS.set(True)
+    try:
+        yield
+    finally:
+        _CELL_FORMS.reset(token)
+
+
+def wants_cell_forms() -> bool:
+    """Whether the caller asked for closed forms valid in the point's cell (:func:`cell_forms`)."""
+    return _CELL_FORMS.get()
+
+
+def has_any(e, types: tuple) -> bool:
+    """``e.has(*types)`` for classes ``types``, each distinct subtree visited once (sympy's ``has``
+    walks the tree with its repeats: seconds for a local closed form of 10⁶ nodes over 10⁴
+    distinct ones, the stylization kernel's ⟦p⟧)."""
+    seen: set = set()
+    stack = [e]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, types):
+            return True
+        for a in node.args:
+            if id(a) not in seen:
+                seen.add(id(a))
+                stack.append(a)
+    return False
 
 
 def is_large(exprs, params) -> bool:

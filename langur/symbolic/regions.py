@@ -35,6 +35,7 @@ import sympy as sp
 
 from langur.symbolic import elementary, local
 from langur.symbolic.pieces import Psi
+from langur.symbolic.text import lambdify
 from langur.timebox import Deadline
 
 
@@ -661,7 +662,7 @@ def _probe(expr, v, m: float, ctx: Context) -> complex | None:
     fn = _PROBES.get(key)
     if fn is None:
         try:
-            fn = sp.lambdify((v, *params), expr, modules=["math"])
+            fn = lambdify((v, *params), expr, modules=["math"])
         except Exception:  # noqa: BLE001 - anything math cannot print: the exact path only
             fn = False
         _remember(_PROBES, key, fn)
@@ -777,7 +778,8 @@ def integrate_region(conds: Sequence[Cond], weight, variables: Sequence, box: di
                 return sp.Integer(0)
         else:
             top.append(e > 0 if c.strict else e >= 0)
-    if len(variables) == 2 and local.is_large([c.expr for c in others] + [sp.sympify(weight)], ctx.params):
+    if len(variables) == 2 and ((others and local.wants_cell_forms()) or
+                                local.is_large([c.expr for c in others] + [sp.sympify(weight)], ctx.params)):
         # a convex polygon decided at the point (large affine regions: Max/Min nests cost minutes)
         sub = Context(ctx.at, ctx.deadline, ctx.params)
         val = local.polygon_integral(others, sp.sympify(weight), *variables, box, sub)
