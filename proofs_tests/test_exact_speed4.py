@@ -11,6 +11,7 @@ import random
 
 import pytest
 import sympy as sp
+from paths import EXAMPLES
 
 from langur import theorem
 from langur.ddenote import ddenote_program
@@ -20,8 +21,6 @@ from langur.implicit import ImplicitRootFn
 from langur.symbolic import local
 from langur.symbolic.text import lambdify
 from langur.sympy_bridge import at_symbols
-
-from paths import EXAMPLES
 
 a, b, c, x = sp.symbols("a b c x", real=True)
 
