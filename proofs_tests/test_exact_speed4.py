@@ -7,8 +7,10 @@ to ``simplify``."""
 
 from __future__ import annotations
 
+import inspect
 import random
 
+import numpy as np
 import pytest
 import sympy as sp
 from paths import EXAMPLES
@@ -19,7 +21,7 @@ from langur.denote import denote_program
 from langur.frontend import load
 from langur.implicit import ImplicitRootFn
 from langur.symbolic import local
-from langur.symbolic.text import lambdify
+from langur.symbolic.text import lambdify, shared_lambdify
 from langur.sympy_bridge import at_symbols
 
 a, b, c, x = sp.symbols("a b c x", real=True)
@@ -143,3 +145,22 @@ def test_turning_points_theorem_8_1_still_holds_numerically():
     up = denote_program(loaded.program, {"a": float(at["a"]) + h}, symbolic=False).value
     down = denote_program(loaded.program, {"a": float(at["a"]) - h}, symbolic=False).value
     assert abs((up - down) / (2 * h) - th.derivative_denotation) <= 1e-5
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_shared_free_symbols_are_sympys(seed):
+    e = _random_shared(seed)
+    lam = sp.Lambda(x, x ** 3 - x - a)
+    extra = [ImplicitRootFn(lam, b, -2, 2, -1, 0), sp.Integral(x * c, (x, 0, b)), sp.Lambda(x, x * a)]
+    for f in [e, e + extra[0], e * extra[1], sp.exp(extra[0]) + extra[1] ** 2]:
+        assert local.free_symbols(f) == f.free_symbols
+    assert local.free_symbols(extra[2]) == extra[2].free_symbols
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_shared_numpy_lambdify_generates_sympys_code(seed):
+    e = _random_shared(seed)
+    f, g = shared_lambdify([a, b, c], e, "numpy"), sp.lambdify([a, b, c], e, modules=["numpy"])
+    assert inspect.getsource(f) == inspect.getsource(g)
+    pts = np.linspace(0.1, 0.9, 4)
+    assert np.array_equal(f(0.3, -0.7, pts), g(0.3, -0.7, pts), equal_nan=True)

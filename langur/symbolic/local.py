@@ -118,6 +118,39 @@ def has_any(e, types: tuple) -> bool:
     return False
 
 
+@lru_cache(maxsize=None)
+def _plain_free_symbols(cls) -> bool:
+    """Whether ``cls``'s free symbols are the union of its arguments' (sympy's ``Basic`` rule)."""
+    owner = next(k for k in cls.__mro__ if "free_symbols" in k.__dict__)
+    return owner is sp.Basic
+
+
+def free_symbols(e) -> set:
+    """``e.free_symbols`` for a tree of symbols and numbers under ordinary functions and operators,
+    each distinct subtree visited once (sympy recomputes it for every occurrence: seconds for the
+    ~10³-node integrands of a stylize partial derivative).  A node with bound symbols (a Lambda,
+    an implicit root, an Integral) is asked for its own ``free_symbols``."""
+    out: set = set()
+    seen: set = set()
+    stack = [e]
+    while stack:
+        node = stack.pop()
+        if node.is_Symbol:
+            out.add(node)
+            continue
+        if not node.args:
+            out |= node.free_symbols
+            continue
+        if not _plain_free_symbols(type(node)):  # its own rule (bound symbols, ImplicitRootFn)
+            out |= node.free_symbols
+            continue
+        for a in node.args:
+            if id(a) not in seen:
+                seen.add(id(a))
+                stack.append(a)
+    return out
+
+
 def is_large(exprs, params) -> bool:
     """Whether ``exprs`` (conditions and weight) are large enough for the local path: together
     at least :data:`LARGE_OPS` nodes, or mentioning :data:`MANY_PARAMS` parameters."""

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
+from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import MpmathPrinter, PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
@@ -53,6 +54,10 @@ class _SharedMpmath(_Shared, MpmathPrinter):
     pass
 
 
+class _SharedNumPy(_Shared, NumPyPrinter):
+    pass
+
+
 def shared_sstr(expr, **settings) -> str:
     """``sympy.sstr(expr, **settings)``, the same text, each shared subtree printed once."""
     return _SharedPrinter(settings).doprint(expr)
@@ -69,10 +74,10 @@ def lambdify(args, expr, **kwargs):
 
 
 def shared_lambdify(args, expr, module: str):
-    """``sympy.lambdify(args, expr, modules=[module])`` for ``module`` "math" or "mpmath": the same
+    """``sympy.lambdify(args, expr, modules=[module])`` for ``module`` "math", "mpmath" or "numpy": the same
     generated code (sympy's printer for that module, with lambdify's settings), each shared subtree
     printed once."""
-    cls = {"math": _SharedPython, "mpmath": _SharedMpmath}[module]
+    cls = {"math": _SharedPython, "mpmath": _SharedMpmath, "numpy": _SharedNumPy}[module]
     printer = cls({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                    "user_functions": {}})
     return lambdify(args, expr, modules=[module], printer=printer)
