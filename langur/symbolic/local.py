@@ -44,29 +44,48 @@ MANY_PARAMS = 5
 MAX_DEGREE = 8
 
 
-def degree(e, vs: frozenset, memo: dict | None = None) -> int | None:
+def degree(e, vs: frozenset, memo: dict | None = None, seen: dict | None = None) -> int | None:
     """Total degree of ``e`` as a polynomial in the symbols ``vs`` (coefficients any expressions
-    free of them), or None when it is not one.  Linear in the size of the tree (memoized)."""
+    free of them), or None when it is not one.  Linear in the size of the tree (memoized; ``seen``
+    memoizes :func:`mentions`)."""
     memo = {} if memo is None else memo
+    seen = {} if seen is None else seen
     if e in memo:
         return memo[e]
     if not e.args:
         out = 1 if e in vs else 0
-    elif not (e.free_symbols & vs):
+    elif not mentions(e, vs, seen):
         out = 0
     elif isinstance(e, sp.Add):
-        ds = [degree(a, vs, memo) for a in e.args]
+        ds = [degree(a, vs, memo, seen) for a in e.args]
         out = None if None in ds else max(ds)
     elif isinstance(e, sp.Mul):
-        ds = [degree(a, vs, memo) for a in e.args]
+        ds = [degree(a, vs, memo, seen) for a in e.args]
         out = None if None in ds else sum(ds)
     elif isinstance(e, sp.Pow) and e.exp.is_Integer and e.exp >= 0:
-        d = degree(e.base, vs, memo)
+        d = degree(e.base, vs, memo, seen)
         out = None if d is None else d * int(e.exp)
     else:
         out = None
     memo[e] = out
     return out
+
+
+def mentions(e, vs, memo: dict) -> bool:
+    """Whether ``e`` has one of the symbols ``vs`` free (``e.free_symbols & vs``), memoized by
+    subtree in ``memo`` (asking ``free_symbols`` of every node walks each node's subtree again)."""
+    hit = memo.get(e)
+    if hit is None:
+        if e.is_Symbol:
+            hit = e in vs
+        elif not e.args:
+            hit = bool(e.free_symbols & vs)
+        elif not _plain_free_symbols(type(e)):
+            hit = bool(e.free_symbols & vs)
+        else:
+            hit = any(mentions(a, vs, memo) for a in e.args)
+        memo[e] = hit
+    return hit
 
 
 def size(e, limit: int) -> int:
@@ -381,6 +400,7 @@ def monomials(w, x, y) -> dict:
     over the distinct subtrees of ``w``).  The weight at a quadrature point is then a short sum over
     these shared coefficients instead of a rebuilt copy of the whole weight."""
     memo: dict = {}
+    seen: dict = {}
 
     def mul(p: dict, q: dict) -> dict:
         out: dict = {}
@@ -393,7 +413,7 @@ def monomials(w, x, y) -> dict:
     def go(e) -> dict:
         if e in memo:
             return memo[e]
-        if not (e.free_symbols & {x, y}):
+        if not mentions(e, frozenset((x, y)), seen):
             out = {(0, 0): e} if e != 0 else {}
         elif e == x:
             out = {(1, 0): sp.Integer(1)}

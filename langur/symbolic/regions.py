@@ -657,7 +657,8 @@ def _probe(expr, v, m: float, ctx: Context) -> complex | None:
     """``expr`` at ``v = m`` at the evaluation point, for a sign: in floats (compiled once per
     condition), recomputed with 30 digits (:meth:`Context.value`) when the float is within
     :data:`PROBE_DOUBT` of 0, not finite or not real; None where it is undefined."""
-    params = tuple(sorted((k for k in ctx.at if k in expr.free_symbols), key=str))
+    free = local.free_symbols(expr)
+    params = tuple(sorted((k for k in ctx.at if k in free), key=str))
     key = (expr, v, params)
     fn = _PROBES.get(key)
     if fn is None:

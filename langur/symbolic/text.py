@@ -68,8 +68,30 @@ def shared_sstr(expr, **settings) -> str:
 _NO_DOC = {"docstring_limit": 0} if "docstring_limit" in inspect.signature(sp.lambdify).parameters else {}
 
 
+def _implemented(expr) -> bool:
+    """Whether ``expr`` holds a function with its own numeric implementation (``_imp_``, as
+    :class:`langur.implicit.ImplicitRootFn`), each distinct subtree looked at once."""
+    if not isinstance(expr, sp.Basic):
+        return True  # (a list or matrix of expressions: lambdify looks itself)
+    seen: set = set()
+    stack = [expr]
+    while stack:
+        node = stack.pop()
+        if hasattr(node, "_imp_"):
+            return True
+        for a in node.args:
+            if id(a) not in seen:
+                seen.add(id(a))
+                stack.append(a)
+    return False
+
+
 def lambdify(args, expr, **kwargs):
-    """``sympy.lambdify(args, expr, **kwargs)``: the same function, without the docstring."""
+    """``sympy.lambdify(args, expr, **kwargs)``: the same function, without the docstring, and
+    without lambdify's search for implemented functions when there are none (it walks the tree
+    with its repeats: half a second for a stylize partial derivative's integrands)."""
+    if "use_imps" not in kwargs and not _implemented(expr):
+        kwargs["use_imps"] = False
     return sp.lambdify(args, expr, **kwargs, **_NO_DOC)
 
 
