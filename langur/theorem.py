@@ -280,13 +280,15 @@ def _large_closed_form_at(der, q: Mapping[str, float]) -> tuple[float, float] | 
     its parameter cell; else None (⦇p⦈(q) is then computed by quadrature)."""
     if der.method != Method.CLOSED_FORM or der.expr is None or size(der.expr, SYMBOLIC_OPS) < SYMBOLIC_OPS:
         return None
-    point = at_symbols(q)
+    point, memo = at_symbols(q), {}  # (the relations and the form share their subtrees)
     for rel in tuple(der.regular.cell) + tuple(der.boundary.cell):
         test = _RELATIONS.get(getattr(rel, "rel_op", None))
-        v = rational_value(rel.lhs - rel.rhs, point) if test is not None else None
+        if test is None:
+            return None
+        v = rational_value(rel.lhs if rel.rhs == 0 else rel.lhs - rel.rhs, point, memo)
         if v is None or not test(v):
             return None
-    value = rational_value(der.expr, point)
+    value = rational_value(der.expr, point, memo)
     return None if value is None else (float(value), 0.0)
 
 

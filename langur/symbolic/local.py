@@ -674,10 +674,12 @@ def _root_formulas(expr, v):
 # Exact directional derivatives of large rational closed forms.
 
 
-def rational_value(expr, point: dict):
+def rational_value(expr, point: dict, memo: dict | None = None):
     """``expr`` at ``point`` (symbols → Rationals) as an exact Fraction, for forms built from
-    rationals, symbols, +, ·, integer powers and ``Abs``; None otherwise (or on a division by 0)."""
-    return _dual(expr, point, {}, 0)
+    rationals, symbols, +, ·, integer powers and ``Abs``; None otherwise (or on a division by 0).
+    ``memo``: the values of subtrees at this point, shared by several calls (expressions built
+    from the same subtrees: a closed form and the relations of its cell)."""
+    return _dual(expr, point, {}, 0, memo)
 
 
 def dual_derivative(expr, point: dict, tangent: dict):
@@ -720,11 +722,11 @@ def _qpow(x, k: int):
 _ZERO, _ONE = (0, 1), (1, 1)
 
 
-def _dual(expr, point: dict, tangent: dict, part: int):
+def _dual(expr, point: dict, tangent: dict, part: int, memo: dict | None = None):
     """Value (``part`` 0) or derivative (1) by dual numbers over the rationals (see
     dual_derivative); rationals as unreduced integer pairs (:func:`_red`), the derivative not
-    computed when only the value is asked for."""
-    memo: dict = {}
+    computed when only the value is asked for; ``memo`` as :func:`rational_value`'s."""
+    memo = {} if memo is None else memo
     deriv = part == 1
 
     def rational(z):
