@@ -113,7 +113,9 @@ for p in at:
     t0 = time.process_time()
     r = exact_deriv(loaded.program, at, {q: int(q == p) for q in at})
     out.append({"wrt": p, "cpu": time.process_time() - t0, "method": str(r.method), "value": r.value,
-                "theorem": None if r.theorem_8_1 is None else r.theorem_8_1.holds})
+                "theorem": None if r.theorem_8_1 is None else r.theorem_8_1.holds,
+                "how": None if r.theorem_8_1 is None else str(r.theorem_8_1.how), "expr": r.expr,
+                "at": {k: str(v) for k, v in at.items()}})
 print(json.dumps(out))
 """
 
@@ -187,6 +189,8 @@ def main() -> None:
                     help="with --examples: also time the langur package in DIR (another version), "
                          "example by example in the same run")
     ap.add_argument("--only", metavar="TEXT", help="with --examples: only the examples whose path contains TEXT")
+    ap.add_argument("--dump", metavar="PATH", help="with --examples: also write every row (closed forms' text, "
+                                                     "Theorem 8.1's verdict and how) as JSON to PATH")
     ap.add_argument("--campaign", type=int, metavar="N", help="time the exact engine on a campaign's programs")
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
@@ -211,6 +215,9 @@ def main() -> None:
                 continue
             print(f"| {r['example']} | {r['version']} | {r['wrt']} | {r['cpu']:.2f} | {r['method']} "
                   f"| {r['value']!r} | {r['theorem']} |", flush=True)
+        if args.dump:
+            with open(args.dump, "w") as f:
+                json.dump(rows, f)
         for version in ("baseline", "this"):
             cpu = [r["cpu"] for r in rows if r.get("wrt") is not None and r["version"] == version]
             failed = [r["example"] for r in rows if r.get("wrt") is None and r["version"] == version
@@ -225,6 +232,10 @@ def main() -> None:
             if r["version"] == "this" and b is not None and abs(r["value"] - b["value"]) > 1e-9 * max(1, abs(b["value"])):
                 print(f"values differ: {r['example']} d/d{r['wrt']}: baseline {b['value']!r} ({b['method']}), "
                       f"this {r['value']!r} ({r['method']})")
+            if r["version"] == "this" and b is not None and (r["value"], r["method"], r["theorem"], r.get("how")) != \
+                    (b["value"], b["method"], b["theorem"], b.get("how")):
+                print(f"not bit-for-bit the same: {r['example']} d/d{r['wrt']}: baseline {b['value']!r} {b['method']} "
+                      f"{b['theorem']} {b.get('how')}, this {r['value']!r} {r['method']} {r['theorem']} {r.get('how')}")
         return
     print("| jumps n | regular pieces | delta terms | ⟦p⟧ s | ⦇t⦈ normal form s | ⦇p⦈ s | method | values ok |")
     print("|---:|---:|---:|---:|---:|---:|---|---|")

@@ -11,11 +11,13 @@ form in the parameters when it finds one, else quadrature.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from contextlib import nullcontext
 from dataclasses import replace
 
 import sympy as sp
 
 from .core import Program
+from .symbolic import local
 from .symbolic.decompose import Ctx, decided_cell, decompose, smooth_value
 from .symbolic.pieces import Integral, Method
 from .sympy_bridge import at_symbols, denote, symbol, symbols
@@ -42,18 +44,20 @@ _remembered: dict = {}
 
 
 def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
-                   timeout: float = 20.0, symbolic: bool = True) -> Integral:
+                   timeout: float = 20.0, symbolic: bool = True, near: bool = False) -> Integral:
     """⟦int t d(x⃗)⟧(γ) (Fig. 12) at the parameter values ``at`` (name → number; exact decimals
     are read as rationals).  The result's ``expr`` is the closed form in the parameters, valid
     near ``at``, when one was found.  Without ``symbolic`` only the value is wanted: quadrature,
-    with its error bound (no closed form sought where it converged).  Raises
+    with its error bound (no closed form sought where it converged).  With ``near`` a closed form
+    valid in the parameter cell of ``at`` is enough (2-D affine regions: the polygon decided at
+    the point, :func:`langur.symbolic.local.cell_forms`; what Theorem 8.1's check needs).  Raises
     :class:`~langur.values.ParameterError` when ``at`` does not give every parameter of the
     program a finite value."""
     from .symbolic.integrate import integrate_pieces  # scipy: 0.3 s, only when integrating
 
     check_values(program, at)
     point = at_symbols(at)
-    key = (program, frozenset(point.items()), symbolic)
+    key = (program, frozenset(point.items()), symbolic, near)
     time_left = Deadline(timeout).remaining()  # within an enclosing budget(), perhaps less than timeout
     known, had = _remembered.get(key, (None, 0.0))
     # a closed form is final; a fallback to quadrature is reused only by a call with no more time
@@ -63,8 +67,9 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
     pieces = decompose(program.body, ctx)
     if not pieces:
         return zero_integral()
-    out = integrate_pieces(pieces, symbols(program.variables), program_box(program, ctx), point,
-                           timeout=timeout, cell=decided_cell(program.body, ctx), symbolic=symbolic)
+    with local.cell_forms() if near else nullcontext():
+        out = integrate_pieces(pieces, symbols(program.variables), program_box(program, ctx), point,
+                               timeout=timeout, cell=decided_cell(program.body, ctx), symbolic=symbolic)
     if len(_remembered) >= REMEMBERED:
         _remembered.pop(next(iter(_remembered)))
     _remembered[key] = (replace(out, notes=list(out.notes)), time_left)

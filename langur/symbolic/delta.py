@@ -23,6 +23,7 @@ from langur.symbolic.pieces import DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
 from langur.symbolic.regions import Cond, Context
 from langur.symbolic.regions import _remember as remember
+from langur.symbolic.text import lambdify
 
 
 def _sample(ctx: Context, syms, ubox, n=5, seed=0):
@@ -81,7 +82,7 @@ def _enclosure(f, xs, box: dict, ctx: Context):
         pad = 1e-9 * (1 + hi - lo)
         ctx.notes.append(f"u-box of {f} from interval arithmetic at the evaluation point")
     else:
-        fn = sp.lambdify(list(xs), printable(f.xreplace(num)), modules=["math"])
+        fn = lambdify(list(xs), printable(f.xreplace(num)), modules=["math"])
         grid = itertools.product(*[[a + (b - a) * i / 24 for i in range(25)] for a, b in ranges.values()])
         vals = []
         for pt in grid:
@@ -119,6 +120,21 @@ def vanishes_identically(expr, syms, ubox, ctx: Context) -> bool:
 _SIMPLIFIED: dict = {}
 
 
+#: det DΨ̂⁻¹ on the zero set (u₀ = 0) by inverse branch: the same branches come back for every
+#: partial derivative and check, and sympy's determinant simplifies its products as it goes.
+_JACOBIANS: dict = {}
+
+
+def _jacobian(comps: tuple, inputs: tuple):
+    """det DΨ̂⁻¹ at u₀ = 0 for the inverse branch ``comps`` (the variables in the ``inputs``)."""
+    J = _JACOBIANS.get((comps, inputs))
+    if J is None:
+        jac = sp.Matrix([[sp.diff(e, u) for u in inputs] for e in comps]).det()
+        J = jac.xreplace({inputs[0]: sp.Integer(0)})
+        remember(_JACOBIANS, (comps, inputs), J, 512)
+    return J
+
+
 def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Context, ubox):
     """The delta piece as regular problems over ``u'`` (:func:`u_prime`, box ``ubox`` from
     :func:`u_box`): ``[(conds, weight), …]``."""
@@ -129,10 +145,9 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
     for b in psi.branches:
         inv = dict(b.inverse)
         comps = [inv[x] for x in psi.variables]
-        jac = sp.Matrix([[sp.diff(e, u) for u in psi.inputs] for e in comps]).det()
         sub = {u0: sp.Integer(0)}
         xsub = {x: inv[x].xreplace(sub) for x in psi.variables}
-        J = jac.xreplace(sub)
+        J = _jacobian(tuple(comps), tuple(psi.inputs))
         if J in _SIMPLIFIED:  # Ψ̂'s Jacobian comes back for every partial derivative and check
             J = _SIMPLIFIED[J]
         elif not (J.is_number or J.has(ImplicitRootFn)):

@@ -41,6 +41,7 @@ from typing import Iterator, Sequence
 
 import sympy as sp
 
+from langur.implicit import ImplicitRootFn
 from langur.symbolic import delta, local, quadrature, regions
 from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
 from langur.symbolic.quadrature import UndefinedIntegral
@@ -122,8 +123,11 @@ def untidied() -> Iterator[None]:
 def _tidy(expr, ctx: Context):
     """A simpler equal form when sympy finds one quickly (checked at the evaluation point)."""
     if not _TIDYING.get() or local.size(expr, 1000) >= 1000 or sp.count_ops(expr) > 300 \
-            or len(expr.atoms(sp.Max, sp.Min)) > 2:  # (size first: count_ops takes seconds on a large form)
-        return expr  # sympy's simplify is slow on Max/Min and rarely helps there
+            or len(expr.atoms(sp.Max, sp.Min)) > 2 or expr.has(ImplicitRootFn):
+        # (size first: count_ops takes seconds on a large form.)  sympy's simplify is slow on
+        # Max/Min and rarely helps there; it has no rule for an implicit root, whose values it
+        # computes again and again (a second of root finding for an unchanged form: turning.lgr)
+        return expr
     s = _TIDIED.get(expr)
     if s is None:
         try:

@@ -30,8 +30,9 @@ import sympy as sp
 from scipy import integrate as si
 from scipy import optimize as so
 
+from langur.symbolic.local import free_symbols
 from langur.symbolic.pieces import DeltaPiece, Piece, Psi
-from langur.symbolic.text import shared_lambdify
+from langur.symbolic.text import lambdify, shared_lambdify
 from langur.timebox import run_with_timeout
 
 GRID = 40
@@ -106,7 +107,7 @@ def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., flo
     by expression (:data:`COMPILED`), so other parameter values reuse it; an expression ``math``
     cannot evaluate with symbolic parameters is compiled with their values substituted."""
     e = printable(sp.sympify(expr))
-    free = e.free_symbols  # (not cached by sympy: a walk of the whole tree, once)
+    free = free_symbols(e)  # (not cached by sympy: a walk of the distinct subtrees, once)
     params = tuple(k for k in at if k in free)
     f, g = _compile(tuple(symbols) + params, e)
     extra = tuple(float(at[k]) for k in params)
@@ -139,12 +140,12 @@ def _vectorize(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable | None:
     passed like :func:`_lambdify`'s; None when numpy cannot evaluate it (then the scalar path
     alone integrates it)."""
     e = printable(sp.sympify(expr))
-    params = tuple(k for k in at if k in e.free_symbols)
+    params = tuple(k for k in at if k in free_symbols(e))
     key = (tuple(symbols) + params, e)
     f = _VECTORIZED.get(key, 0)
     if f == 0:
         try:
-            f = sp.lambdify(list(key[0]), e, modules=["numpy"])
+            f = shared_lambdify(list(key[0]), e, "numpy")  # (sympy's code, shared subtrees printed once)
             with np.errstate(all="ignore"):
                 f(*[0.5] * (len(key[0]) - 1), np.linspace(0.1, 0.9, 3))  # probe: numpy has every function
         except NameError:
@@ -457,11 +458,11 @@ def _coefficients(expr, syms: tuple, level: int):
         coeffs = poly.all_coeffs()
         if poly.degree() <= 8 and not any(v in c.free_symbols for c in coeffs):
             args, body = list(syms[:level]), [printable(c) for c in coeffs]
-            fn = sp.lambdify(args, body, modules=["math"])
+            fn = lambdify(args, body, modules=["math"])
             try:
                 fn(*[0.5] * level)  # probe: NameError for functions math lacks
             except NameError:
-                fn = sp.lambdify(args, body, modules=["numpy"])
+                fn = lambdify(args, body, modules=["numpy"])
             except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
                 pass
     except (sp.PolynomialError, sp.GeneratorsNeeded):

@@ -35,6 +35,7 @@ import sympy as sp
 
 from langur.symbolic import elementary, local
 from langur.symbolic.pieces import Psi
+from langur.symbolic.text import lambdify
 from langur.timebox import Deadline
 
 
@@ -656,12 +657,13 @@ def _probe(expr, v, m: float, ctx: Context) -> complex | None:
     """``expr`` at ``v = m`` at the evaluation point, for a sign: in floats (compiled once per
     condition), recomputed with 30 digits (:meth:`Context.value`) when the float is within
     :data:`PROBE_DOUBT` of 0, not finite or not real; None where it is undefined."""
-    params = tuple(sorted((k for k in ctx.at if k in expr.free_symbols), key=str))
+    free = local.free_symbols(expr)
+    params = tuple(sorted((k for k in ctx.at if k in free), key=str))
     key = (expr, v, params)
     fn = _PROBES.get(key)
     if fn is None:
         try:
-            fn = sp.lambdify((v, *params), expr, modules=["math"])
+            fn = lambdify((v, *params), expr, modules=["math"])
         except Exception:  # noqa: BLE001 - anything math cannot print: the exact path only
             fn = False
         _remember(_PROBES, key, fn)
@@ -777,7 +779,8 @@ def integrate_region(conds: Sequence[Cond], weight, variables: Sequence, box: di
                 return sp.Integer(0)
         else:
             top.append(e > 0 if c.strict else e >= 0)
-    if len(variables) == 2 and local.is_large([c.expr for c in others] + [sp.sympify(weight)], ctx.params):
+    if len(variables) == 2 and ((others and local.wants_cell_forms()) or
+                                local.is_large([c.expr for c in others] + [sp.sympify(weight)], ctx.params)):
         # a convex polygon decided at the point (large affine regions: Max/Min nests cost minutes)
         sub = Context(ctx.at, ctx.deadline, ctx.params)
         val = local.polygon_integral(others, sp.sympify(weight), *variables, box, sub)

@@ -7,11 +7,13 @@ these by :mod:`langur.exact`.
 
 from __future__ import annotations
 
+import inspect
 import re
 from collections.abc import Sequence
 
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
+from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import MpmathPrinter, PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
@@ -52,19 +54,55 @@ class _SharedMpmath(_Shared, MpmathPrinter):
     pass
 
 
+class _SharedNumPy(_Shared, NumPyPrinter):
+    pass
+
+
 def shared_sstr(expr, **settings) -> str:
     """``sympy.sstr(expr, **settings)``, the same text, each shared subtree printed once."""
     return _SharedPrinter(settings).doprint(expr)
 
 
+#: lambdify without its docstring: it holds ``str(expr)``, printed with its terms sorted (a second
+#: of a raytrace partial derivative's ~100 compilations); the generated code is the same.
+_NO_DOC = {"docstring_limit": 0} if "docstring_limit" in inspect.signature(sp.lambdify).parameters else {}
+
+
+def _implemented(expr) -> bool:
+    """Whether ``expr`` holds a function with its own numeric implementation (``_imp_``, as
+    :class:`langur.implicit.ImplicitRootFn`), each distinct subtree looked at once."""
+    if not isinstance(expr, sp.Basic):
+        return True  # (a list or matrix of expressions: lambdify looks itself)
+    seen: set = set()
+    stack = [expr]
+    while stack:
+        node = stack.pop()
+        if hasattr(node, "_imp_"):
+            return True
+        for a in node.args:
+            if id(a) not in seen:
+                seen.add(id(a))
+                stack.append(a)
+    return False
+
+
+def lambdify(args, expr, **kwargs):
+    """``sympy.lambdify(args, expr, **kwargs)``: the same function, without the docstring, and
+    without lambdify's search for implemented functions when there are none (it walks the tree
+    with its repeats: half a second for a stylize partial derivative's integrands)."""
+    if "use_imps" not in kwargs and not _implemented(expr):
+        kwargs["use_imps"] = False
+    return sp.lambdify(args, expr, **kwargs, **_NO_DOC)
+
+
 def shared_lambdify(args, expr, module: str):
-    """``sympy.lambdify(args, expr, modules=[module])`` for ``module`` "math" or "mpmath": the same
+    """``sympy.lambdify(args, expr, modules=[module])`` for ``module`` "math", "mpmath" or "numpy": the same
     generated code (sympy's printer for that module, with lambdify's settings), each shared subtree
     printed once."""
-    cls = {"math": _SharedPython, "mpmath": _SharedMpmath}[module]
+    cls = {"math": _SharedPython, "mpmath": _SharedMpmath, "numpy": _SharedNumPy}[module]
     printer = cls({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                    "user_functions": {}})
-    return sp.lambdify(args, expr, modules=[module], printer=printer)
+    return lambdify(args, expr, modules=[module], printer=printer)
 
 
 def _iverson(e):
