@@ -305,7 +305,8 @@ def _evalf(args, prec):
             if len(brackets) > of:
                 raise TooManyRoots(f"{len(brackets)} turning points on [{float(a):g}, {float(b):g}] at these "
                                    f"parameter values, more than the {int(of)} the condition was split for: Langur "
-                                   "cannot differentiate it here", _SPANS.get(x))
+                                   "cannot differentiate it here; split the variable's domain (a sum of integrals over "
+                                   "sub-intervals, each with at most that many turning points)", _SPANS.get(x))
             if index >= len(brackets):
                 return sp.Float(b, dps)
             a, b = brackets[int(index)]
@@ -360,7 +361,8 @@ def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
     if len(brackets) > of:
         lam, _ = _INDEXED[key]
         raise TooManyRoots(f"{len(brackets)} turning points on [{a:g}, {b:g}] at these parameter values, more than "
-                           f"the {int(of)} the condition was split for: Langur cannot differentiate it here",
+                           f"the {int(of)} the condition was split for: Langur cannot differentiate it here; split the variable's "
+                               "domain (a sum of integrals over sub-intervals, each with at most that many turning points)",
                            _SPANS.get(lam.variables[0]))
     if index >= len(brackets):
         return b

@@ -28,12 +28,12 @@ from langur.core import IfDiffeo, ImplicitRoot, TooManyRoots, Var, subterms
 from langur.ddenote import ddenote_program
 from langur.implicit import _interval_fn
 from langur.implicit import certified_brackets as exact_brackets
+from langur.lint.tangent import tangent_findings
 from langur.operational import estimate_derivative
 from langur.operational.interval import tape_of
 from langur.operational.signchanges import certified_brackets as mc_brackets
 from langur.sympy_bridge import from_sympy
 from langur.syntax.turning import MOVING_PIECES, turning_bound
-from langur.lint.tangent import tangent_findings
 
 TEXT = "param a = 0.1\nint ([-1, 1], [-1, 1]) [x^3 - x * y + y^3 - a >= 0] * (1 + x + y) d(x, y)\n"
 H = 1e-4

@@ -573,7 +573,8 @@ def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, o
         counts = np.bincount(r, minlength=len(tr))
         if np.any(counts > of):
             raise TooManyRoots(f"{int(counts.max())} turning points on the domain at these parameter values, more "
-                               f"than the {of} the condition was split for: Langur cannot differentiate it here",
+                               f"than the {of} the condition was split for: Langur cannot differentiate it here; split the variable's "
+                               "domain (a sum of integrals over sub-intervals, each with at most that many turning points)",
                                span)
         value_rows = hir.copy()
         has = counts > index

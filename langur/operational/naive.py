@@ -75,7 +75,8 @@ def _root(f, a: float, b: float, index: int | None, of: int, certify=None, span=
         brackets = certify(a, b)
         if len(brackets) > of:
             raise TooManyRoots(f"{len(brackets)} turning points on the domain at these parameter values, more than "
-                               f"the {of} the condition was split for: Langur cannot differentiate it here", span)
+                               f"the {of} the condition was split for: Langur cannot differentiate it here; split the variable's "
+                               "domain (a sum of integrals over sub-intervals, each with at most that many turning points)", span)
         if index >= len(brackets):
             return b
         a, b = brackets[index]
