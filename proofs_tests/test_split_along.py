@@ -109,8 +109,12 @@ def test_the_linter_does_not_report_the_folds_as_merging_roots():
     # merging for a parameter value (the derivative exists, the tests above compute it)
     from langur.transversality import check_program
 
+    # (its critical points on the zero set are: ∇f = 0 at (±1/√3, ±1/√3), where f + a = ∓2K, 0, 0, ±2K)
     loaded = frontend.load_text(FIXED, "split.lgr")
-    assert not [f for f in check_program(loaded.program, loaded.params) if f.code in ("X305", "X306")]
+    found = [f for f in check_program(loaded.program, loaded.params) if f.code in ("X305", "X306")]
+    assert all("critical point" in f.message for f in found) and len(found) == 4
+    assert sorted(f.message.split(" when ")[1].split(":")[0] for f in found) == \
+        ["a = -4*sqrt(3)/9", "a = 0", "a = 0", "a = 4*sqrt(3)/9"]  # ±2K = ±4/(3√3)
 
 
 def sine_sum(a):

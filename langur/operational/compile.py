@@ -487,7 +487,7 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
                 return _compile_root(*parts)
             others = tuple(sorted(free_vars(equation) - {variable}))  # Ψ̂⁻¹'s other inputs it moves with
             return _compile_sign_change(*parts, index, of, None if slope is None else tape_of([equation, slope], True),
-                                        t.span, others)
+                                        t.span, others, equation)
     raise TypeError(f"not a core term: {t!r}")
 
 
@@ -533,8 +533,14 @@ def _compile_root(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn) -> Fn:
     return root
 
 
+#: The certified sign changes of the last few (equation, points) met, each bisected: the k-th sign
+#: changes of one equation are one node per k (and each is read by several branches and guards),
+#: all found by one certification (kept with the equation itself, whose id is part of the key).
+_SIGN_CHANGES: dict = {}
+
+
 def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of: int, tape, span,
-                         others: tuple[str, ...] = ()) -> Fn:
+                         others: tuple[str, ...] = (), equation: Term | None = None) -> Fn:
     """The ``index``-th sign change of ``f − target`` on ``[lo, hi]`` (``hi`` when there are
     fewer; :class:`~langur.core.TooManyRoots` when more than ``of``, or when they cannot be
     certified): each sign change certified in a bracket (:mod:`langur.operational.signchanges`,
@@ -568,21 +574,30 @@ def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, o
             at_vars = {x: at, **{u: v[r] for u, v in moving.items()}}
             return np.broadcast_to(fe(Point(at_vars, at_rows(r), root=vals.root), lk)[0], np.shape(at))
 
-        r, a, b = certified_brackets(value, tape, x, tr, lor, hir, params, span, what=f"∂/∂{x}", others=moving,
-                                     lenient=bool(others))
-        counts = np.bincount(r, minlength=len(tr))
-        if np.any(counts > of):
-            raise TooManyRoots(f"{int(counts.max())} turning points on the domain at these parameter values, more "
-                               f"than the {of} the condition was split for: Langur cannot differentiate it here; split the variable's "
-                               "domain (a sum of integrals over sub-intervals, each with at most that many turning points)",
-                               span)
+        key = (id(equation), x, rows.shape, rows.tobytes(),
+               tuple((k, float(v)) for k, v in sorted(vals.params.items()) if not np.ndim(v)))
+        found = _SIGN_CHANGES.get(key)
+        if found is None or found[0] is not equation:
+            r, a, b = certified_brackets(value, tape, x, tr, lor, hir, params, span, what=f"∂/∂{x}", others=moving,
+                                         lenient=bool(others))
+            counts = np.bincount(r, minlength=len(tr))
+            if np.any(counts > of):
+                raise TooManyRoots(f"{int(counts.max())} turning points on the domain at these parameter values, more "
+                                   f"than the {of} the condition was split for: Langur cannot differentiate it here; "
+                                   "split the variable's domain (a sum of integrals over sub-intervals, each with at "
+                                   "most that many turning points)", span)
+            roots = _bisect(lambda at: value(at, r), tr[r], a, b)  # every sign change of every row at once
+            found = (equation, r, counts, roots)
+            if len(_SIGN_CHANGES) >= 16:
+                _SIGN_CHANGES.pop(next(iter(_SIGN_CHANGES)))
+            _SIGN_CHANGES[key] = found
+        _, r, counts, roots = found
         value_rows = hir.copy()
         has = counts > index
         if has.any():
             start = np.concatenate([[0], np.cumsum(counts)[:-1]])
             pick = start[has] + index  # the (index+1)-th bracket of each row that has one
-            rr = r[pick]
-            value_rows[rr] = _bisect(lambda at: value(at, rr), tr[rr], a[pick], b[pick])
+            value_rows[r[pick]] = roots[pick]
         value = value_rows[back] if n > 1 or np.ndim(t) or np.ndim(lo) or np.ndim(hi) else value_rows[0]
         if pt.mode == VALUE:
             return value, None
