@@ -35,8 +35,17 @@ turning points (fixed or moving) and continuous on the line, the pieces' ends ar
 certified sign changes of ``∂f/∂x`` on the moving interval itself, as for moving turning points,
 so turning points enter and leave the domain as the parameters move.
 
+In several variables (:func:`split_along`), a condition monotone in no variable is split along
+one, ``v``, at its turning points in ``v``: fixed ones, ones that move with the parameters, and
+ones that move with the *other variables* (``x^3 - x*y + y^3 - a``: ∂/∂y = 3y² − x), whose pieces'
+ends are then the k-th certified sign changes of ``∂f/∂v`` as functions of Ψ̂⁻¹'s other inputs,
+found by the engines at every point of the zero set.  The number of pieces is, for a ``∂f/∂v``
+polynomial in ``v``, the most sign changes it can have whatever its coefficients
+(:func:`turning_bound`), else :data:`MOVING_PIECES`.
+
 A root on a turning point (``f = ∂f/∂x = 0``: two roots merge) lies at the common end of two
-branches: the linter reports it (X306/X305, :mod:`langur.lint.tangent`).
+branches: the linter reports it (X306/X305, :mod:`langur.lint.tangent`), and so it does a
+critical point (``∇f = 0``) of a condition in several variables on its zero set.
 """
 
 from __future__ import annotations
