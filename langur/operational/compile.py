@@ -29,6 +29,7 @@ run exactly the same floating-point operations (bit-identical linking, Theorem 9
 
 from __future__ import annotations
 
+import hashlib
 import itertools
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -535,7 +536,8 @@ def _compile_root(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn) -> Fn:
 
 #: The certified sign changes of the last few (equation, points) met, each bisected: the k-th sign
 #: changes of one equation are one node per k (and each is read by several branches and guards),
-#: all found by one certification (kept with the equation itself, whose id is part of the key).
+#: all found by one certification (kept with the equation itself, whose id is part of the key; the
+#: points by a digest of their table, so a large batch is not held twice).
 _SIGN_CHANGES: dict = {}
 
 
@@ -574,7 +576,7 @@ def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, o
             at_vars = {x: at, **{u: v[r] for u, v in moving.items()}}
             return np.broadcast_to(fe(Point(at_vars, at_rows(r), root=vals.root), lk)[0], np.shape(at))
 
-        key = (id(equation), x, rows.shape, rows.tobytes(),
+        key = (id(equation), x, rows.shape, hashlib.blake2b(rows.tobytes(), digest_size=20).digest(),
                tuple((k, float(v)) for k, v in sorted(vals.params.items()) if not np.ndim(v)))
         found = _SIGN_CHANGES.get(key)
         if found is None or found[0] is not equation:
@@ -588,7 +590,7 @@ def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, o
                                    "most that many turning points)", span)
             roots = _bisect(lambda at: value(at, r), tr[r], a, b)  # every sign change of every row at once
             found = (equation, r, counts, roots)
-            if len(_SIGN_CHANGES) >= 16:
+            if len(_SIGN_CHANGES) >= 8:
                 _SIGN_CHANGES.pop(next(iter(_SIGN_CHANGES)))
             _SIGN_CHANGES[key] = found
         _, r, counts, roots = found
