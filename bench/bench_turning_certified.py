@@ -35,6 +35,11 @@ PROGRAMS = {
         "param a = 0.5\nint ([0, a + 1]) [x^3 - x - a >= 0] * (1 + x) d(x)\n",
     "x^3 - a*x + y^3 - a*y - 0.1, split along y, a = 1 (roots4)":
         "param a = 1\nint ([-2, 2], [-1.5, 1.5]) [x^3 - a * x + y^3 - a * y - 0.1 >= 0] * (1 + x * y) d(x, y)\n",
+    "x^3 - x*y + y^3 - a, split along y at turning points moving with x, a = 0.1 (roots5)":
+        (HERE / "examples" / "turning2d.lgr").read_text() if (HERE / "examples" / "turning2d.lgr").exists()
+        else "param a = 0.1\nint ([-1, 1], [-1, 1]) [x^3 - x * y + y^3 - a >= 0] * (1 + x + y) d(x, y)\n",
+    "T9(x) + a*x^2 - 0.1 on [-1, 1]: 8 moving turning points, a = 0.05 (roots5)":
+        "param a = 0.05\nint ([-1, 1]) [256*x^9 - 576*x^7 + 432*x^5 - 120*x^3 + 9*x + a*x^2 - 0.1 >= 0] * (1 + x) d(x)\n",
 }
 
 

@@ -215,7 +215,8 @@ class ImplicitRoot:
     It occurs only in an :class:`InverseBranch`'s components and guards: ``equation`` is a smooth
     term over ``Var(variable)`` (bound here), parameters and, for a condition in several variables,
     Ψ̂⁻¹'s other inputs (the other variables' values), ``target`` a term over Ψ̂⁻¹'s inputs and
-    parameters, ``lo`` and ``hi`` variable-free.
+    parameters, ``lo`` and ``hi`` over parameters and, for a condition split along a variable at
+    turning points that move with the others, Ψ̂⁻¹'s other inputs.
 
     * ``index`` is None: the one ``x`` in ``[lo, hi]`` with ``equation(x) = target``, where
       ``equation`` is strictly monotone on ``[lo, hi]`` (a piece between two turning points).  The

@@ -108,17 +108,18 @@ class _IntervalPrinter(PythonCodePrinter):
         return f"mpf({str(sp.Float(e, e._prec)).strip()!r})"
 
 
-def _interval_fn(x: sp.Symbol, e: sp.Expr):
-    """``e`` (in ``x`` only) on mpmath intervals: ``X ↦`` an interval containing ``e(X)``, the
-    whole line where it cannot be enclosed.  Every operation is mpmath's interval arithmetic
-    (rounded outward), constants included (:class:`_IntervalPrinter`)."""
+def _interval_fn(x: sp.Symbol, e: sp.Expr, free: tuple = ()):
+    """``e`` (in ``x`` and the symbols ``free``) on mpmath intervals: ``X, *values ↦`` an interval
+    containing ``e(X)`` at those values of ``free``; None where it cannot be enclosed.  Every
+    operation is mpmath's interval arithmetic (rounded outward), constants included
+    (:class:`_IntervalPrinter`)."""
     printer = _IntervalPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                                 "user_functions": {k: k for k in _IV}})  # lambdify's own settings
-    fn = sp.lambdify(x, e, modules=[_IV, mpmath.iv], printer=printer)
+    fn = sp.lambdify([x, *free], e, modules=[_IV, mpmath.iv], printer=printer)
 
-    def enclose(X):
+    def enclose(X, *values):
         try:
-            out = fn(X)
+            out = fn(X, *values)
             out = out if isinstance(out, mpmath.iv.mpf) else mpmath.iv.mpf(out)
         except (ValueError, ZeroDivisionError, TypeError, OverflowError, mpmath.libmp.NoConvergence):
             return None
@@ -127,7 +128,7 @@ def _interval_fn(x: sp.Symbol, e: sp.Expr):
 
 
 def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: int = DEPTH,
-                       what: str = "the equation") -> list[tuple]:
+                       what: str = "the equation", lenient: bool = False) -> list[tuple]:
     """The brackets, increasing, each holding exactly one sign change of ``g − target`` on
     ``[lo, hi]``, all of them: each cell of a ``grid``-cell grid is certified, by an interval
     enclosure of ``g − target`` that excludes 0 (no zero there) or one of ``g'`` that excludes 0
@@ -138,8 +139,11 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     monotone cells around it when ``g`` rises (or falls) on both, else the piece is refused (an
     extremum of ``g`` that is 0 within rounding); at ``lo`` and ``hi`` such a sign is ``g``'s value's.
     ``g``: a function of a number; ``g_iv``, ``dg_iv``: of an mpmath interval (None: no
-    enclosure).  The Monte Carlo engine certifies the same way on its own
-    (:mod:`langur.operational.signchanges`)."""
+    enclosure).  ``lenient``: a cell still uncertified after ``depth`` halvings, and a point of
+    unknown sign between cells that do not join, are decided by ``g``'s values instead of refused
+    (turning points that move with the other *integration* variables merge on a null set of them:
+    :func:`langur.operational.signchanges.certified_brackets`).  The Monte Carlo engine certifies
+    the same way on its own (:mod:`langur.operational.signchanges`)."""
     iv = mpmath.iv
     lo, hi = mpmath.mpf(lo), mpmath.mpf(hi)
     if not hi > lo:  # an empty interval (a moving end past the other): no sign change
@@ -162,11 +166,18 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
             cells.append((a, b, 1 if D.a > 0 else -1))
             continue
         if d == depth:
+            if lenient:
+                cells.append((a, b, LOOSE))
+                continue
             raise _uncertified(what, a, b)
         m = (a + b) / 2
         stack.append((b, m, d + 1))
         stack.append((m, a, d + 1))
-    return _sign_changes(g, g_iv, t, target, cells, what)
+    return _sign_changes(g, g_iv, t, target, cells, what, lenient)
+
+
+#: The direction of a cell left uncertified in lenient mode (its ends' signs decide).
+LOOSE = 2
 
 
 def _uncertified(what, a, b) -> TooManyRoots:
@@ -176,7 +187,7 @@ def _uncertified(what, a, b) -> TooManyRoots:
                         "stay too wide; Langur refuses rather than miss one")
 
 
-def _sign_changes(g, g_iv, t, target, cells, what) -> list[tuple]:
+def _sign_changes(g, g_iv, t, target, cells, what, lenient=False) -> list[tuple]:
     """The brackets between consecutive points of known sign (cells' ends) where the sign differs."""
     points = [c[0] for c in cells] + [cells[-1][1]]
     signs = []
@@ -184,16 +195,18 @@ def _sign_changes(g, g_iv, t, target, cells, what) -> list[tuple]:
         G = g_iv(mpmath.iv.mpf([p, p]))
         G = None if G is None else G - t
         s = 0 if G is None else (1 if G.a > 0 else (-1 if G.b < 0 else 0))
-        if s == 0 and i in (0, len(points) - 1):  # within rounding of an end of the domain
+        ends = i in (0, len(points) - 1)
+        if s == 0 and not ends:  # inside: the cells around it must be monotone the same way
+            before, after = cells[i - 1][2], cells[i][2]
+            if (before == 0 or before != after or before == LOOSE) and not lenient:
+                raise _uncertified(what, cells[i - 1][0], cells[i][1])
+            ends = before == 0 or before != after or before == LOOSE  # lenient: its value's sign
+        if s == 0 and ends:  # within rounding of an end of the domain (or lenient: see above)
             try:
                 v = g(p) - target
                 s = -1 if mpmath.isnan(v) or v < 0 else 1
             except (ValueError, ZeroDivisionError, OverflowError, TypeError):
                 s = -1
-        elif s == 0:  # inside: the cells around it must be monotone the same way
-            before, after = cells[i - 1][2], cells[i][2]
-            if before == 0 or before != after:
-                raise _uncertified(what, cells[i - 1][0], cells[i][1])
         signs.append(s)
     known = [(p, s) for p, s in zip(points, signs) if s != 0]
     return [(p, q) for (p, s), (q, r) in zip(known, known[1:]) if s != r]
@@ -292,7 +305,8 @@ def _evalf(args, prec):
             if len(brackets) > of:
                 raise TooManyRoots(f"{len(brackets)} turning points on [{float(a):g}, {float(b):g}] at these "
                                    f"parameter values, more than the {int(of)} the condition was split for: Langur "
-                                   "cannot differentiate it here", _SPANS.get(x))
+                                   "cannot differentiate it here; split the variable's domain (a sum of integrals over "
+                                   "sub-intervals, each with at most that many turning points)", _SPANS.get(x))
             if index >= len(brackets):
                 return sp.Float(b, dps)
             a, b = brackets[int(index)]
@@ -315,7 +329,8 @@ def _brackets_at(x, f, t: float, a: float, b: float) -> tuple:
         fn = sp.lambdify(x, f, modules="mpmath")
         g_iv, dg_iv = _interval_fn(x, f), _interval_fn(x, sp.diff(f, x))
         try:
-            return tuple((float(p), float(q)) for p, q in certified_brackets(fn, g_iv, dg_iv, t, a, b, what=f"{f}"))
+            return tuple((float(p), float(q)) for p, q in certified_brackets(fn, g_iv, dg_iv, t, a, b, what=f"{f}",
+                                                                              lenient=x in _LENIENT))
         except TooManyRoots as err:
             raise TooManyRoots(str(err), _SPANS.get(x)) from None
 
@@ -335,25 +350,73 @@ def _indexed_key(lam, free) -> str:
 
 
 def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
+    """The indexed root of the equation named ``key`` at these values of its other symbols, as
+    ``evalf`` finds it (certified brackets, then bisection with mpmath), its equation compiled
+    once for all values (a quadrature over the other inputs asks for thousands)."""
+    t, a, b = float(target), float(lo), float(hi)
+    if math.isnan(t) or math.isnan(a) or math.isnan(b):
+        return math.nan
+    vals = tuple(float(v) for v in values)
+    brackets = _brackets_of(key, t, a, b, vals)
+    if len(brackets) > of:
+        lam, _ = _INDEXED[key]
+        raise TooManyRoots(f"{len(brackets)} turning points on [{a:g}, {b:g}] at these parameter values, more than "
+                           f"the {int(of)} the condition was split for: Langur cannot differentiate it here; split the variable's "
+                               "domain (a sum of integrals over sub-intervals, each with at most that many turning points)",
+                           _SPANS.get(lam.variables[0]))
+    if index >= len(brackets):
+        return b
+    fn = _compiled(key)[3]
+    p, q = brackets[index]
+    return float(bracketed_root(lambda z: fn(z, *vals), t, p, q))  # in doubles: the result is one
+
+
+@lru_cache(maxsize=256)
+def _compiled(key: str) -> tuple:
+    """The equation named ``key`` compiled once: on mpmath numbers, and its and its derivative's
+    interval versions, each called as ``(x, *values of its other symbols)``."""
     lam, free = _INDEXED[key]
     (x,), f = lam.variables, lam.expr
-    at = {s: sp.Float(float(v), 30) for s, v in zip(free, values)}
-    args = (sp.Lambda(x, f.xreplace(at)), *(sp.Float(float(v), 30) for v in (target, lo, hi)),
-            sp.Integer(index), sp.Integer(of))
-    return float(_evalf(args, 53))
+    return (sp.lambdify([x, *free], f, modules="mpmath"), _interval_fn(x, f, free),
+            _interval_fn(x, sp.diff(f, x), free), sp.lambdify([x, *free], f, modules="math"))
+
+
+@lru_cache(maxsize=65536)
+def _brackets_of(key: str, t: float, a: float, b: float, vals: tuple) -> tuple:
+    """:func:`_brackets_at` for the equation named ``key`` at these values of its other symbols."""
+    lam, _ = _INDEXED[key]
+    x = lam.variables[0]
+    fn, g_iv, dg_iv, _ = _compiled(key)
+    iv_vals = [mpmath.iv.mpf(v) for v in vals]
+    mp_vals = [mpmath.mpf(v) for v in vals]
+    with mpmath.workprec(53):
+        try:
+            found = certified_brackets(lambda z: fn(z, *mp_vals), lambda X: g_iv(X, *iv_vals),
+                                       lambda X: dg_iv(X, *iv_vals), t, a, b, what=f"{lam.expr}",
+                                       lenient=x in _LENIENT)
+        except TooManyRoots as err:
+            raise TooManyRoots(str(err), _SPANS.get(x)) from None
+    return tuple((float(p), float(q)) for p, q in found)
 
 
 def implicit_root(equation: sp.Expr, variable: sp.Symbol, target: sp.Expr, lo: sp.Expr, hi: sp.Expr,
-                  index: int | None = None, of: int = 0, span=None) -> sp.Expr:
+                  index: int | None = None, of: int = 0, span=None, lenient: bool = False) -> sp.Expr:
     """``ImplicitRootFn`` of ``equation`` in ``variable`` (bound: replaced by a dummy); ``span``:
-    the condition's place in the source, named when evaluating it is refused."""
+    the condition's place in the source, named when evaluating it is refused; ``lenient``: the
+    equation mentions other integration variables (see :func:`certified_brackets`)."""
     x = sp.Dummy(variable.name, real=True)
     lam = sp.Lambda(x, equation.xreplace({variable: x}))
     if span is not None:
         _SPANS[x] = span
+    if lenient:
+        _LENIENT.add(x)
     return ImplicitRootFn(lam, target, lo, hi, sp.Integer(-1 if index is None else index), sp.Integer(of))
 
 
 #: The source place of a root's equation (sympy terms carry none), by its bound variable (a
 #: Dummy of its own, kept when parameter values are put in the equation).
 _SPANS: dict = {}
+#: The bound variables of indexed roots whose equation mentions other integration variables (a
+#: condition split along a variable at turning points that move with the others): certified
+#: leniently on the null set where two of them merge (:func:`certified_brackets`).
+_LENIENT: set = set()

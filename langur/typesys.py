@@ -336,12 +336,13 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
                 type_term(delta, gamma, a, out)
         case ImplicitRoot(eq, x, target, lo, hi):
             # issue 18, an inverse branch's implicit root: x, Δ ⊢ eq smooth (Δ: Ψ̂⁻¹'s inputs, the
-            # other variables of a condition in several), target over Δ, bracket over Γ
-            observe.rule("LANGUAGE.md §1 (issue 18), implicit root: x,Δ;Γ ⊢ f, Δ;Γ ⊢ target, ·;Γ ⊢ lo, hi ⟹ Δ;Γ ⊢ root", t, delta=delta, gamma=gamma)
+            # other variables of a condition in several), target and bracket over Δ (a bracket's end
+            # is a turning point that moves with the other variables when split along x)
+            observe.rule("LANGUAGE.md §1 (issue 18), implicit root: x,Δ;Γ ⊢ f, Δ;Γ ⊢ target, lo, hi ⟹ Δ;Γ ⊢ root", t, delta=delta, gamma=gamma)
             type_term(delta | {x}, gamma, eq, out)
             type_term(delta, gamma, target, out)
-            type_term(frozenset(), gamma, lo, out)
-            type_term(frozenset(), gamma, hi, out)
+            type_term(delta, gamma, lo, out)
+            type_term(delta, gamma, hi, out)
         case _:
             raise TypeError(f"not a core term: {t!r}")
 

@@ -40,8 +40,9 @@ def test_example_count():
     # pixel) and triangle.lgr (a triangle covering a pixel, written with vectors) the 16th and 17th;
     # raytrace/ holds §10.2's scene and its two shaders; window.lgr (abs/min/max in conditions,
     # issue 18) the 21st; turning.lgr (a condition with no closed-form inverse, issue 18) the 22nd;
-    # implicit2d.lgr (the same in two variables, monotone in one) the 23rd
-    assert len(ALL) == 23
+    # implicit2d.lgr (the same in two variables, monotone in one) the 23rd; turning2d.lgr (split along y
+    # at turning points that move with x) the 24th
+    assert len(ALL) == 24
 
 
 SHADERS = {

@@ -179,17 +179,20 @@ def test_the_delta_is_the_sum_over_the_boundary_curve():
     assert abs(exact.value - by_hand) <= 1e-8 + exact.error
 
 
-@pytest.mark.parametrize("cond, says", [
-    # monotone in no variable: ∂/∂x = 3cos(3x) + y and ∂/∂y = 3cos(3y) + x take both signs
-    ("sin(3*x) + sin(3*y) + x*y - a >= 0", ["not monotone in x", "not monotone in y"]),
-    # each slope depends on the other variable: no strip works (x³ + a·x + y³ + a·y − 1, whose
-    # slopes depend on a parameter only, is split along y: test_split_along_parametric.py)
-    ("x^3 - x*y + y^3 - y - a >= 0", ["not monotone in x", "not monotone in y", "and the parameters alone"]),
-])
-def test_a_condition_monotone_in_no_variable_is_refused(cond, says):
+@pytest.mark.parametrize("cond", ["sin(3*x) + sin(3*y) + x*y - a >= 0", "x^3 - x*y + y^3 - y - a >= 0"])
+def test_a_condition_monotone_in_no_variable_is_split_along_one(cond):
+    # monotone in no variable, and each slope depends on the other variable (∂/∂y = 3cos(3y) + x,
+    # 3y² − x − 1): split along y at its turning points, which move with x (test_split_along_moving.py)
+    site = _site(_load(f"param a = 0.5\nint ([-1, 1], [-1, 1]) [{cond}] d(x, y)\n").program)
+    assert site.psi.solved_for == "y" and len(site.psi.branches) > 1
+
+
+def test_a_condition_with_a_pole_in_the_box_is_refused():
+    # not monotone in either variable, and not continuous on the box (a pole on x + y = −1/2): no split
     with pytest.raises(LangurError) as info:
-        _load(f"param a = 0.5\nint ([-1, 1], [-1, 1]) [{cond}] d(x, y)\n")
+        _load("param a = 0.5\nint ([-1, 1], [-1, 1]) [x^3 - x*y + y^3 + 1/(x + y + 0.5) - a >= 0] d(x, y)\n")
     (d,) = info.value.diagnostics
+    says = ["not monotone in x", "not monotone in y", "it is continuous in y on"]
     assert d.code == "T207" and all(s in d.message for s in says), d.message
 
 

@@ -191,13 +191,14 @@ def test_the_four_cube():
 
 
 def test_a_refused_piece_says_which_piece_it_is():
-    # |x| + x³ − 2x + y³ − y + xy − a: on x ≥ 0 it is x³ − x + y³ − y + xy − a, monotone in neither
-    # variable and split along neither (each partial derivative depends on the other variable; a
-    # piece monotone in one would be completed by an implicit root, test_implicit_multivar.py, and
-    # x³ − x + y³ − y − a is split along y, test_split_along.py); the T207 says which piece of the
-    # split it is and what would make it acceptable
+    # |x| + x³ − 2x + y³ − y + xy + 1/(x + y + 0.5) − a: on x ≥ 0 monotone in neither variable and
+    # split along neither (a pole inside the box; without it the piece is split along y at turning
+    # points that move with x, test_split_along_moving.py; a piece monotone in one would be completed
+    # by an implicit root, test_implicit_multivar.py); the T207 says which piece of the split it is
+    # and what would make it acceptable
     with pytest.raises(LangurError) as info:
-        _load("param a = 0.5\nint ([-1, 1], [-1, 1]) [abs(x) + x^3 - 2*x + y^3 - y + x*y - a >= 0] d(x, y)\n")
+        _load("param a = 0.5\nint ([-1, 1], [-1, 1]) [abs(x) + x^3 - 2*x + y^3 - y + x*y + 1/(x + y + 0.5) - a >= 0] "
+              "d(x, y)\n")
     messages = [d.message for d in info.value.diagnostics]
     assert any("on its piece where x >= 0" in m and "monotone in x" in m and "declare a `diffeo`" in m
                for m in messages), messages

@@ -85,11 +85,23 @@ def test_one_branch_per_strip_cut_at_the_turning_points():
     assert ends == pytest.approx([-2, -1 / math.sqrt(3), 1 / math.sqrt(3), 2], abs=1e-12)
 
 
-def test_still_refused_when_no_variable_splits():
-    # ∂/∂x = y + 3cos(3x) depends on y, ∂/∂y = x + 3cos(3y) on x: no strip works
+def test_split_along_turning_points_that_move_with_the_other_variable():
+    # ∂/∂x = y + 3cos(3x) depends on y, ∂/∂y = x + 3cos(3y) on x: the strips move with the other
+    # variable; split along y at the certified sign changes of ∂/∂y (test_split_along_moving.py)
+    program = frontend.load_text("param a = 0.1\nint ([-1, 1], [-1, 1]) [sin(3*x) + sin(3*y) + x*y - a >= 0] "
+                                 "d(x, y)\n", "moving.lgr").program
+    roots = [c for t in subterms(program.integrand) if isinstance(t, IfDiffeo)
+             for b in t.psi.branches for c in b.components if isinstance(c, ImplicitRoot)]
+    assert {r.variable for r in roots} == {"y"} and len(roots) == 8  # not a polynomial: 7 slots
+    assert all("u1" in {v.name for v in subterms(r.hi.equation) if hasattr(v, "name")} for r in roots[:-1])
+
+
+def test_still_refused_with_a_pole_in_the_box():
+    # the turning points move with the other variable, but the condition is not continuous on the
+    # box (1/(x + y) on the diagonal): a root bisected across the pole would be no root
     with pytest.raises(LangurError, match="T207"):
-        frontend.load_text("param a = 0.1\nint ([-1, 1], [-1, 1]) [sin(3*x) + sin(3*y) + x*y - a >= 0] d(x, y)\n",
-                           "no.lgr")
+        frontend.load_text("param a = 0.1\nint ([-1, 1], [-1, 1]) [x^3 - x*y + y^3 + 1/(x + y + 0.5) - a >= 0] "
+                           "d(x, y)\n", "no.lgr")
 
 
 def test_the_linter_does_not_report_the_folds_as_merging_roots():
@@ -97,8 +109,12 @@ def test_the_linter_does_not_report_the_folds_as_merging_roots():
     # merging for a parameter value (the derivative exists, the tests above compute it)
     from langur.transversality import check_program
 
+    # (its critical points on the zero set are: ∇f = 0 at (±1/√3, ±1/√3), where f + a = ∓2K, 0, 0, ±2K)
     loaded = frontend.load_text(FIXED, "split.lgr")
-    assert not [f for f in check_program(loaded.program, loaded.params) if f.code in ("X305", "X306")]
+    found = [f for f in check_program(loaded.program, loaded.params) if f.code in ("X305", "X306")]
+    assert all("critical point" in f.message for f in found) and len(found) == 4
+    assert sorted(f.message.split(" when ")[1].split(":")[0] for f in found) == \
+        ["a = -4*sqrt(3)/9", "a = 0", "a = 0", "a = 4*sqrt(3)/9"]  # ±2K = ±4/(3√3)
 
 
 def sine_sum(a):

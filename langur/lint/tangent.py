@@ -8,7 +8,8 @@ derivative does not exist (``∫ [x³ − x − a ≥ 0]`` has a square-root cor
 ``a = ±2/(3√3)``).  A condition in several variables split along one of them at its turning
 points (:func:`langur.syntax.turning.split_along`) is not reported: there a root reaches a strip's
 end along a curve of the other variables (a fold of the zero set), where the delta's integral
-has an integrable inverse-square-root singularity and the derivative exists.  Like a vanishing coefficient (X306/X305 in :mod:`langur.lint.coincidence`):
+has an integrable inverse-square-root singularity and the derivative exists; its *critical
+points* (the whole gradient vanishes) on the zero set are (:func:`_critical_findings`).  Like a vanishing coefficient (X306/X305 in :mod:`langur.lint.coincidence`):
 the set of parameter values where it happens is a warning (X306), and the parameter values given
 with ``--at`` lying in it an error (X305), so the engines' numbers there are not taken as a
 derivative.
@@ -43,7 +44,70 @@ def tangent_findings(program: Program, point: dict | None, explicit: bool) -> li
         try:
             out += run_with_timeout(lambda t=t, roots=roots: _findings(t, roots, point, explicit), TIME_LIMIT)
         except (TimeoutError, NotSmooth, TypeError, ValueError, TooManyRoots):
+            pass
+        if len(t.psi.variables) > 1:
+            try:
+                out += run_with_timeout(lambda t=t: _critical_findings(t, program, point, explicit), TIME_LIMIT)
+            except (TimeoutError, NotSmooth, TypeError, ValueError, NotImplementedError):
+                continue
+    return out
+
+
+def _critical_findings(site: IfDiffeo, program: Program, point, explicit) -> list[Finding]:
+    """A condition in several variables completed by implicit roots (proved monotone, or split
+    along a variable at turning points that move with the others) whose *gradient* vanishes at a
+    point of the box (``x³ − x·y + y³ − a`` at the origin and at (1/3, 1/3)): when that critical
+    point lies on the zero set (its value of ``f`` is 0: a set of parameter values), the zero set
+    is not a smooth hypersurface there — two sheets cross (a saddle: the length of the level
+    sets blows up like a logarithm) or it shrinks to a point (an extremum: the derivative jumps)
+    — Ψ̂ is a diffeomorphism in no variable there, and the derivative in the parameters is not
+    defined.  A fold (``∂f/∂x = 0`` alone, where a root reaches a strip's end) is no such point.
+    The set of parameter values is a warning (X306); the values given with ``--at`` in it, an
+    error (X305), as for a root on a turning point in one variable."""
+    psi = site.psi
+    f = to_sympy(psi.forward[0])
+    xs = [symbol(v) for v in psi.variables if symbol(v) in f.free_symbols]
+    if len(xs) < 2:
+        return []
+    sols = sp.solve([sp.diff(f, x) for x in xs], xs, dict=True)
+    bounds = {}
+    for v, (lo, hi) in zip(program.variables, program.box):
+        try:
+            bounds[symbol(v)] = (to_sympy(lo), to_sympy(hi))
+        except (NotSmooth, TypeError, ValueError):
             continue
+    text = sp.sstr(f)
+    out = []
+    for s in sols:
+        if set(s) != set(xs) or not all(e.is_real is not False and not e.has(sp.I) for e in s.values()):
+            continue
+        if any(e.is_number and x in bounds and all(b.is_number for b in bounds[x])
+               and not bounds[x][0] <= e <= bounds[x][1] for x, e in s.items()):
+            continue  # outside the box
+        value = sp.simplify(f.xreplace(s))
+        params = sorted(value.free_symbols - set(xs), key=str)
+        if not params:
+            continue  # the condition alone: coincident or degenerate everywhere, other checks
+        names = tuple(p.name for p in params)
+        where = "(" + ", ".join(x.name for x in xs) + ") = (" + ", ".join(sp.sstr(s[x]) for x in xs) + ")"
+        hit = point is not None and all(n in point for n in names) and abs(complex(
+            value.xreplace({p: sp.Float(float(point[p.name]), 30) for p in params}).evalf(30))) <= TOLERANCE
+        shown = ", ".join(f"{n} = {float(point[n]):g}" for n in names) if hit else ""
+        if hit and explicit:
+            out.append(Finding(site.span, "error", "X305",
+                               f"at {shown} the zero set of the condition `{text}` passes through its critical "
+                               f"point {where} (its gradient vanishes there): the zero set is not smooth, the "
+                               "condition is not a diffeomorphism and the derivative is not defined here", (), names))
+            continue
+        sets = _solve(value, params)
+        the_set = " or ".join(", ".join(f"{k} = {sp.sstr(e)}" for k, e in q.items()) for q in sets) \
+            or f"{sp.sstr(value)} = 0"
+        note = f"; the default values {shown} lie in this set" if hit else ""
+        out.append(Finding(site.span, "warning", "X306",
+                           f"the zero set of the condition `{text}` passes through its critical point {where} "
+                           f"(its gradient vanishes there) when {the_set}: there it is not smooth (two sheets "
+                           f"cross, or it shrinks to a point), the condition stops being a diffeomorphism and the "
+                           f"derivative is not defined{note}", (), names))
     return out
 
 

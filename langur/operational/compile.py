@@ -29,6 +29,7 @@ run exactly the same floating-point operations (bit-identical linking, Theorem 9
 
 from __future__ import annotations
 
+import hashlib
 import itertools
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -51,6 +52,7 @@ from ..core import (
     Term,
     TooManyRoots,
     Var,
+    free_vars,
 )
 from ..primitives import REGISTRY
 from .consts import const_value
@@ -484,8 +486,9 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             parts = (_compile(equation, ctx), variable, _compile(target, ctx), _compile(lo, ctx), _compile(hi, ctx))
             if index is None:
                 return _compile_root(*parts)
+            others = tuple(sorted(free_vars(equation) - {variable}))  # Ψ̂⁻¹'s other inputs it moves with
             return _compile_sign_change(*parts, index, of, None if slope is None else tape_of([equation, slope], True),
-                                        t.span)
+                                        t.span, others, equation)
     raise TypeError(f"not a core term: {t!r}")
 
 
@@ -531,11 +534,22 @@ def _compile_root(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn) -> Fn:
     return root
 
 
-def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of: int, tape, span) -> Fn:
+#: The certified sign changes of the last few (equation, points) met, each bisected: the k-th sign
+#: changes of one equation are one node per k (and each is read by several branches and guards),
+#: all found by one certification (kept with the equation itself, whose id is part of the key; the
+#: points by a digest of their table, so a large batch is not held twice).
+_SIGN_CHANGES: dict = {}
+
+
+def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of: int, tape, span,
+                         others: tuple[str, ...] = (), equation: Term | None = None) -> Fn:
     """The ``index``-th sign change of ``f − target`` on ``[lo, hi]`` (``hi`` when there are
     fewer; :class:`~langur.core.TooManyRoots` when more than ``of``, or when they cannot be
     certified): each sign change certified in a bracket (:mod:`langur.operational.signchanges`,
-    ``tape`` encloses f and ∂f/∂x), once per distinct parameter point, and bisected there."""
+    ``tape`` encloses f and ∂f/∂x), once per distinct parameter point, and bisected there.
+    ``others``: the other inputs of Ψ̂⁻¹ ``f`` mentions (turning points that move with the other
+    variables of a condition split along ``x``): part of each point, and a cell left uncertified
+    on a null set of them is decided by its ends (``lenient``)."""
     def sign_change(pt, lk):
         vals = pt.values()
         if tape is None:
@@ -543,7 +557,7 @@ def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, o
                                "is missed (an implicit root without its slope): Langur cannot evaluate it", span)
         t, dt = ft(pt, lk)
         (lo, _), (hi, dhi) = flo(vals, lk), fhi(pt, lk)
-        columns = [t, lo, hi] + [v for v in vals.params.values() if np.ndim(v)]
+        columns = [t, lo, hi] + [vals.vars[u] for u in others] + [v for v in vals.params.values() if np.ndim(v)]
         n = max([np.size(c) for c in columns])
         table = np.stack([np.broadcast_to(np.asarray(c, dtype=float).reshape(-1), (n,)) if np.size(c) > 1
                           else np.full(n, float(np.asarray(c).reshape(-1)[0])) for c in columns], axis=1)
@@ -553,26 +567,39 @@ def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, o
         params = {k: (np.broadcast_to(np.asarray(v, dtype=float).reshape(-1), (n,))[first] if np.ndim(v) else v)
                   for k, v in vals.params.items()}
         tr, lor, hir = rows[:, 0], rows[:, 1], rows[:, 2]
+        moving = {u: rows[:, 3 + i] for i, u in enumerate(others)}
 
         def at_rows(r):
             return {k: (v[r] if np.ndim(v) else v) for k, v in params.items()}
 
         def value(at, r):
-            return np.broadcast_to(fe(Point({x: at}, at_rows(r), root=vals.root), lk)[0], np.shape(at))
+            at_vars = {x: at, **{u: v[r] for u, v in moving.items()}}
+            return np.broadcast_to(fe(Point(at_vars, at_rows(r), root=vals.root), lk)[0], np.shape(at))
 
-        r, a, b = certified_brackets(value, tape, x, tr, lor, hir, params, span, what=f"∂/∂{x}")
-        counts = np.bincount(r, minlength=len(tr))
-        if np.any(counts > of):
-            raise TooManyRoots(f"{int(counts.max())} turning points on the domain at these parameter values, more "
-                               f"than the {of} the condition was split for: Langur cannot differentiate it here",
-                               span)
+        key = (id(equation), x, rows.shape, hashlib.blake2b(rows.tobytes(), digest_size=20).digest(),
+               tuple((k, float(v)) for k, v in sorted(vals.params.items()) if not np.ndim(v)))
+        found = _SIGN_CHANGES.get(key)
+        if found is None or found[0] is not equation:
+            r, a, b = certified_brackets(value, tape, x, tr, lor, hir, params, span, what=f"∂/∂{x}", others=moving,
+                                         lenient=bool(others))
+            counts = np.bincount(r, minlength=len(tr))
+            if np.any(counts > of):
+                raise TooManyRoots(f"{int(counts.max())} turning points on the domain at these parameter values, more "
+                                   f"than the {of} the condition was split for: Langur cannot differentiate it here; "
+                                   "split the variable's domain (a sum of integrals over sub-intervals, each with at "
+                                   "most that many turning points)", span)
+            roots = _bisect(lambda at: value(at, r), tr[r], a, b)  # every sign change of every row at once
+            found = (equation, r, counts, roots)
+            if len(_SIGN_CHANGES) >= 8:
+                _SIGN_CHANGES.pop(next(iter(_SIGN_CHANGES)))
+            _SIGN_CHANGES[key] = found
+        _, r, counts, roots = found
         value_rows = hir.copy()
         has = counts > index
         if has.any():
             start = np.concatenate([[0], np.cumsum(counts)[:-1]])
             pick = start[has] + index  # the (index+1)-th bracket of each row that has one
-            rr = r[pick]
-            value_rows[rr] = _bisect(lambda at: value(at, rr), tr[rr], a[pick], b[pick])
+            value_rows[r[pick]] = roots[pick]
         value = value_rows[back] if n > 1 or np.ndim(t) or np.ndim(lo) or np.ndim(hi) else value_rows[0]
         if pt.mode == VALUE:
             return value, None

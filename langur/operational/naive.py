@@ -31,6 +31,7 @@ from ..core import (
     Term,
     TooManyRoots,
     Var,
+    free_vars,
 )
 from ..primitives import REGISTRY
 from .compile import DELTA, ROOT_HALVINGS, TANGENT, VALUE
@@ -74,7 +75,8 @@ def _root(f, a: float, b: float, index: int | None, of: int, certify=None, span=
         brackets = certify(a, b)
         if len(brackets) > of:
             raise TooManyRoots(f"{len(brackets)} turning points on the domain at these parameter values, more than "
-                               f"the {of} the condition was split for: Langur cannot differentiate it here", span)
+                               f"the {of} the condition was split for: Langur cannot differentiate it here; split the variable's "
+                               "domain (a sum of integrals over sub-intervals, each with at most that many turning points)", span)
         if index >= len(brackets):
             return b
         a, b = brackets[index]
@@ -92,13 +94,16 @@ def _root(f, a: float, b: float, index: int | None, of: int, certify=None, span=
     return 0.5 * (a + b)
 
 
-def _brackets(f, target: float, tape, x: str, lo: float, hi: float, params: dict, span) -> list[tuple[float, float]]:
+def _brackets(f, target: float, tape, x: str, lo: float, hi: float, params: dict, span,
+              moving: dict) -> list[tuple[float, float]]:
     """The certified brackets of the sign changes of ``f`` (= equation − target) on ``[lo, hi]``,
-    one point at a time (``f`` evaluated point by point, the enclosures by the shared tape)."""
+    one point at a time (``f`` evaluated point by point, the enclosures by the shared tape);
+    ``moving``: the other inputs the equation mentions (lenient on their null set, as the engine)."""
     def value(at, rows):
         return np.array([f(float(p)) + target for p in at])
     _, a, b = certified_brackets(value, tape, x, np.array([float(target)]), np.array([float(lo)]),
-                                 np.array([float(hi)]), params, span, what=f"∂/∂{x}")
+                                 np.array([float(hi)]), params, span, what=f"∂/∂{x}", others=moving,
+                                 lenient=bool(moving))
     return list(zip(a.tolist(), b.tolist()))
 
 
@@ -162,8 +167,9 @@ def evaluate(t: Term, rho: dict, gamma: dict, dgamma: dict, mode: int = VALUE, s
                 (tv, dt), (a, _), (b, db) = go(target, g, dg), go(lo, g, dg), go(hi, g, dg)
                 # the equation may mention Ψ̂⁻¹'s other inputs (a condition in several variables)
                 f = lambda at: evaluate(eq, {**rho, x: at}, g, {})[0] - tv  # noqa: E731
+                moving = {k: np.array([float(rho[k])]) for k in sorted(free_vars(eq) - {x})}  # other inputs
                 certify = None if slope is None else (
-                    lambda lo, hi: _brackets(f, tv, tape_of([eq, slope], True), x, lo, hi, g, u.span))
+                    lambda lo, hi: _brackets(f, tv, tape_of([eq, slope], True), x, lo, hi, g, u.span, moving))
                 r = _root(f, a, b, index, of, certify, u.span)
                 if index is not None and r == b:
                     return r, db  # no index-th sign change: the bracket's end

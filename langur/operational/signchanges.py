@@ -38,13 +38,22 @@ DEPTH = 30
 
 
 def certified_brackets(value, tape, x: str, target: np.ndarray, lo: np.ndarray, hi: np.ndarray, params: dict,
-                       span=None, what: str = "g"):
+                       span=None, what: str = "g", others: dict | None = None, lenient: bool = False):
     """The brackets ``(row, a, b)`` (arrays, sorted by row then ``a``) each holding exactly one
     sign change of ``g − target`` for the parameter point ``row``, all of them on ``[lo, hi]``.
 
     ``value(at, rows)``: ``g`` at the points ``at`` for the parameter rows ``rows`` (1-D arrays);
     ``tape``: ``tape_of([g, g'], certified=True)``; ``target``, ``lo``, ``hi``: one value per row;
-    ``params``: name → number or one value per row; a row whose ``hi`` ≤ ``lo`` has none."""
+    ``params``: name → number or one value per row; a row whose ``hi`` ≤ ``lo`` has none.
+    ``others``: the other variables ``g`` mentions (name → one value per row: a condition split
+    along ``x`` whose turning points move with them), enclosed as points.
+
+    ``lenient``: a cell still uncertified after :data:`DEPTH` halvings (narrower than 2⁻³⁰ of a
+    grid cell) is decided by the signs of ``g − target`` at its ends (doubles) instead of refused.
+    That is for turning points that move with the *integration* variables (``others``): two of
+    them merge (``3x² − y`` at ``y = 0``) only on a null set of the zero set, which no integral
+    sees, and refusing there would refuse every sample that lands on it (a quadrature node, a
+    grid's midpoint)."""
     ok = np.flatnonzero(hi > lo)  # an empty interval (a moving end past the other) has none
     rows = np.repeat(ok, GRID)
     cell = np.tile(np.arange(GRID), len(ok))
@@ -52,11 +61,13 @@ def certified_brackets(value, tape, x: str, target: np.ndarray, lo: np.ndarray, 
     a = lo[rows] + width[rows] * (cell / GRID)
     b = np.where(cell == GRID - 1, hi[rows], lo[rows] + width[rows] * ((cell + 1) / GRID))
     kept: list[tuple] = []  # certified cells: (row, a, b, direction) with direction 0 = no zero in it
+    others = others or {}
     for depth in range(DEPTH + 1):
         at = _at_rows(params, rows)
         t = target[rows]
+        box = {x: (a, b), **{k: (p, p) for k, p in _at_rows(others, rows).items()}}
         with np.errstate(all="ignore"):
-            (gl, gh), (dl, dh) = enclose_all(tape, {x: (a, b)}, at)
+            (gl, gh), (dl, dh) = enclose_all(tape, box, at)
             gl, gh, dl, dh = (np.broadcast_to(v, a.shape) for v in (gl, gh, dl, dh))
             free = (gl > t) | (gh < t)  # no zero in the cell (ends rounded outward: a proof)
             rising, falling = ~free & (dl > 0), ~free & ~(dl > 0) & (dh < 0)  # at most one
@@ -66,6 +77,9 @@ def certified_brackets(value, tape, x: str, target: np.ndarray, lo: np.ndarray, 
         if not rest.any():
             break
         if depth == DEPTH:
+            if lenient:  # a null set of the other variables: the ends' signs decide (see above)
+                kept.append((rows[rest], a[rest], b[rest], np.full(int(rest.sum()), LOOSE)))
+                break
             k = int(np.argmax(rest))
             raise _uncertified(what, x, a[k], b[k], span)
         rows, a, b = rows[rest], a[rest], b[rest]
@@ -74,7 +88,11 @@ def certified_brackets(value, tape, x: str, target: np.ndarray, lo: np.ndarray, 
     r, ca, cb, direction = (np.concatenate(c) for c in zip(*kept))
     order = np.lexsort((ca, r))
     r, ca, cb, direction = r[order], ca[order], cb[order], direction[order]
-    return _sign_changes(value, tape, x, target, params, r, ca, cb, direction, span, what)
+    return _sign_changes(value, tape, x, target, params, r, ca, cb, direction, span, what, others, lenient)
+
+
+#: The direction of a cell left uncertified in lenient mode (its ends' signs decide).
+LOOSE = 2
 
 
 def _at_rows(params: dict, rows: np.ndarray) -> dict:
@@ -89,7 +107,7 @@ def _uncertified(what, x, a, b, span) -> TooManyRoots:
         f"refuses rather than miss one", span)
 
 
-def _sign_changes(value, tape, x, target, params, r, a, b, direction, span, what):
+def _sign_changes(value, tape, x, target, params, r, a, b, direction, span, what, others, lenient):
     """The brackets of the sign changes over the certified cells (sorted by row, then ``a``; they
     tile each row's ``[lo, hi]``): the sign of ``g − target`` at each cell's start and at each
     row's end, from point enclosures; a point of unknown sign joins the monotone cells on its two
@@ -104,7 +122,8 @@ def _sign_changes(value, tape, x, target, params, r, a, b, direction, span, what
     prow = np.concatenate([r, r[last]])
     t = target[prow]
     with np.errstate(all="ignore"):
-        (pl, ph), _ = enclose_all(tape, {x: (pts, pts)}, _at_rows(params, prow))
+        box = {x: (pts, pts), **{k: (p, p) for k, p in _at_rows(others, prow).items()}}
+        (pl, ph), _ = enclose_all(tape, box, _at_rows(params, prow))
         pl, ph = np.broadcast_to(pl, pts.shape), np.broadcast_to(ph, pts.shape)
         sign = np.where(pl > t, 1, np.where(ph < t, -1, 0))
     # the order along each row: the cells' starts, the row's end after its last cell
@@ -114,6 +133,9 @@ def _sign_changes(value, tape, x, target, params, r, a, b, direction, span, what
     pts, prow, sign = pts[seq], prow[seq], sign[seq]
     ends = np.r_[True, prow[1:] != prow[:-1]] | np.r_[prow[1:] != prow[:-1], True]  # lo and hi of a row
     unknown_end = ends & (sign == 0)
+    if (direction == LOOSE).any():  # lenient: a point of unknown sign next to a loose cell, its double's sign
+        loose = np.r_[direction == LOOSE, np.zeros(len(where_end), dtype=bool)][seq]
+        unknown_end |= (sign == 0) & (loose | np.r_[False, loose[:-1]])
     if unknown_end.any():  # within rounding of the domain's end: the double value's sign
         with np.errstate(all="ignore"):
             v = value(pts[unknown_end], prow[unknown_end]) - target[prow[unknown_end]]
@@ -123,7 +145,12 @@ def _sign_changes(value, tape, x, target, params, r, a, b, direction, span, what
         k = np.flatnonzero(inner)  # in ``seq`` order; point k starts cell k (cells come first)
         before, after = direction[seq[k] - 1], direction[seq[k]]
         bad = (before == 0) | (before != after)
-        if bad.any():
+        if bad.any() and lenient:  # an extremum of g − target that is 0 within rounding: a null set
+            j = k[bad]
+            with np.errstate(all="ignore"):
+                sign[j] = np.where(value(pts[j], prow[j]) - target[prow[j]] >= 0, 1, -1)
+            inner[j] = False
+        elif bad.any():
             j = k[int(np.argmax(bad))]
             raise _uncertified(what, x, pts[j - 1], pts[j + 1], span)
     known = ~inner

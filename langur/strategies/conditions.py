@@ -244,7 +244,9 @@ def turning_condition(scope: Scope) -> S.Iverson:
     implicit roots (issue 18, :mod:`langur.syntax.turning`): the cubic ``v^3 - v`` (two turning
     points, up to three roots), ``exp(v) + v`` and ``v^5 + v`` (monotone, no inverse in closed
     form), ``sin(3*v)`` (turning points inside the box), and turning points that move with a
-    parameter ``P`` (``sin(3*P*v)``, ``v^3 - P*v``: counted certified by the engines), against a
+    parameter ``P`` (``sin(3*P*v)``, ``v^3 - P*v``: counted certified by the engines) or, with two
+    variables of constant bounds, with the other variable (``v^3 - v*w + w^3``: split along one of
+    them at turning points that move with the other), against a
     parameter term; ``v`` a variable with constant bounds, or one whose bound moves with the
     parameters (the implicit root's bracket follows it; the cubics' pieces end at the certified
     sign changes of their derivative on the moving interval)."""
@@ -264,6 +266,10 @@ def turning_condition(scope: Scope) -> S.Iverson:
             lambda v: call("sin", mul(num(3), mul(scope.param(), v))),
             lambda v: sub(power(v, 3), mul(scope.param(), v)),
         )
+        others = tuple(w for w in scope.fixed if w != v.name) if isinstance(v, S.Name) else ()
+        if others:  # two variables: split along one at turning points that move with the other
+            w = name(others[0])
+            forms += (lambda v: T.add(sub(power(v, 3), mul(v, w)), power(w, 3)),)
     else:  # a bound that moves: monotone on the whole line, or turning points (fixed or moving) split
         v = name(scope.pick(moving))  # at their certified sign changes on the moving interval
         forms = monotone + (

@@ -205,8 +205,9 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds, ends=None,
                     return psi
                 if psi is not None:
                     reasons.append(f"{v} (split): {psi}")
-        reasons.append("it is split along a variable only where its derivative in that variable depends on that "
-                       "variable and the parameters alone: write it so, or declare a `diffeo` with its inverse")
+        reasons.append("it is split along a variable at its turning points only where it is continuous on that "
+                       "variable's whole interval for every value of the others: split the domain there (several "
+                       "integrals), or declare a `diffeo` with its inverse")
     return "no variable can be isolated (" + "; ".join(reasons) + ")"
 
 

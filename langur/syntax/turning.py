@@ -35,8 +35,17 @@ turning points (fixed or moving) and continuous on the line, the pieces' ends ar
 certified sign changes of ``∂f/∂x`` on the moving interval itself, as for moving turning points,
 so turning points enter and leave the domain as the parameters move.
 
+In several variables (:func:`split_along`), a condition monotone in no variable is split along
+one, ``v``, at its turning points in ``v``: fixed ones, ones that move with the parameters, and
+ones that move with the *other variables* (``x^3 - x*y + y^3 - a``: ∂/∂y = 3y² − x), whose pieces'
+ends are then the k-th certified sign changes of ``∂f/∂v`` as functions of Ψ̂⁻¹'s other inputs,
+found by the engines at every point of the zero set.  The number of pieces is, for a ``∂f/∂v``
+polynomial in ``v``, the most sign changes it can have whatever its coefficients
+(:func:`turning_bound`), else :data:`MOVING_PIECES`.
+
 A root on a turning point (``f = ∂f/∂x = 0``: two roots merge) lies at the common end of two
-branches: the linter reports it (X306/X305, :mod:`langur.lint.tangent`).
+branches: the linter reports it (X306/X305, :mod:`langur.lint.tangent`), and so it does a
+critical point (``∇f = 0``) of a condition in several variables on its zero set.
 """
 
 from __future__ import annotations
@@ -62,7 +71,7 @@ from ..core import (
 )
 from ..sympy_bridge import from_sympy
 from ..timebox import run_with_timeout
-from .monotone import certify, rational
+from .monotone import _enclose, certify, rational
 
 #: Wall-clock limit (seconds) of the search for turning points.
 TURNING_LIMIT = 4.0
@@ -113,24 +122,49 @@ def _piece_ends(cond: Term, e: sp.Expr, d: sp.Expr, v: sp.Symbol, lo: float, hi:
     return ends
 
 
-def _moving_ends(cond: Term, d: sp.Expr, v: sp.Symbol, lo_t: Term, hi_t: Term) -> list[Term] | str:
-    """``lo_t``, the k-th sign changes of ``d`` = ∂f/∂x on ``[lo_t, hi_t]`` for k < MOVING_PIECES − 1
-    (indexed implicit roots, each ``hi_t`` where there are fewer, certified where evaluated), and
-    ``hi_t``: the ends of the monotone pieces whatever the parameters (the interval's ends may be
-    terms that move with them)."""
+def _moving_ends(cond: Term, d: sp.Expr, v: sp.Symbol, lo_t: Term, hi_t: Term,
+                 inputs: dict[sp.Symbol, sp.Symbol] | None = None) -> list[Term] | str:
+    """``lo_t``, the k-th sign changes of ``d`` = ∂f/∂x on ``[lo_t, hi_t]`` for k < the bound on
+    their number (:func:`turning_bound`; indexed implicit roots, each ``hi_t`` where there are
+    fewer, certified where evaluated), and ``hi_t``: the ends of the monotone pieces whatever the
+    parameters (the interval's ends may be terms that move with them).  ``inputs``: the other
+    variables ``d`` mentions (a condition split along ``v`` whose turning points move with them,
+    ``x^3 − x·y``), each renamed to its input of Ψ̂⁻¹: the ends are then functions of those inputs."""
     x = v.name
-    names = sorted(s.name for s in d.free_symbols - {v})
+    rename = inputs or {}
+    d = d.xreplace(rename)
+    names = sorted(s.name for s in d.free_symbols - {v} - set(rename.values()))
+    variables = (x, *sorted(u.name for u in rename.values()))
     try:
-        slope = from_sympy(d, (x,), names)
+        slope = from_sympy(d, variables, names)
     except ValueError as err:
         return f"∂/∂{x} = {d} is not a core term ({err})"
     try:  # ∂²f/∂x²: where its enclosure excludes 0, ∂f/∂x has at most one zero (certified count)
-        bend = from_sympy(sp.diff(d, v), (x,), names)
+        bend = from_sympy(sp.diff(d, v), variables, names)
     except ValueError as err:
         return f"∂²/∂{x}² = {sp.diff(d, v)} is not a core term ({err})"
-    cuts = MOVING_PIECES - 1
+    cuts = turning_bound(d, v)
     return ([lo_t] + [ImplicitRoot(slope, x, Const(Fraction(0)), lo_t, hi_t, k, cuts, bend, span=cond.span)
                       for k in range(cuts)] + [hi_t])
+
+
+def turning_bound(d: sp.Expr, v: sp.Symbol) -> int:
+    """How many turning points (sign changes of ``d`` = ∂f/∂v in ``v``) the condition is split
+    for when they move: for ``d`` a polynomial in ``v`` (any coefficients: parameters, other
+    variables) with ``m`` monomials of degree at most ``n``, never more than ``min(n, 2m − 1)``
+    whatever the coefficients' values (Descartes' rule of signs: at most ``m − 1`` positive and
+    ``m − 1`` negative zeros, and 0), when that is at most :data:`MAX_PIECES` − 1, so such a
+    condition is never refused for having too many (X316) and ``3x² − a`` costs 3 pieces, not 8;
+    otherwise :data:`MOVING_PIECES` − 1 (``sin(a·x)``: unbounded as ``a`` grows; more at the
+    values in force is X316)."""
+    try:
+        poly = sp.Poly(d, v)
+    except sp.PolynomialError:
+        return MOVING_PIECES - 1
+    if any(v in c.free_symbols for c in poly.coeffs()) or poly.is_zero:
+        return MOVING_PIECES - 1
+    bound = min(poly.degree(), 2 * len(poly.monoms()) - 1)
+    return bound if bound <= MAX_PIECES - 1 else MOVING_PIECES - 1
 
 
 def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...],
@@ -165,26 +199,65 @@ def complete_by_monotone(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[
 
 def split_along(cond: Term, e: sp.Expr, v: sp.Symbol, variables: tuple[str, ...], inputs: tuple[str, ...],
                 bounds: dict[str, tuple[float, float]], moving: bool = False) -> Diffeo | str | None:
-    """For a condition monotone in no variable on the box (tried first): ``∂e/∂v`` depends on ``v``
-    and (``moving``) the parameters only (``x^3 - x + y^3 - y``; ``x^3 - a*x + y^3 - a*y``): split
-    ``v``'s interval at its turning points, which are then the same for every value of the other
-    variables, so ``e`` is strictly monotone in ``v`` on each piece times the rest of the box: one
-    implicit-root branch per piece (None: ``∂e/∂v`` depends on something else, or ``v``'s interval
-    is not constant; a string: why the split failed).  Turning points that move with a parameter
-    are the k-th certified sign changes of ``∂e/∂v`` (as in one variable); the caller tries fixed
-    ones in every variable first.  Pieces that move with the other variables (``x*y - a``) are not
-    done."""
+    """For a condition monotone in no variable on the box (tried first): split ``v``'s interval at
+    the turning points of ``e`` in ``v`` (the sign changes of ``∂e/∂v``), so that ``e`` is strictly
+    monotone in ``v`` on each piece: one implicit-root branch per piece (None: ``moving`` is not
+    asked for and the turning points move, or ``v``'s interval is not constant; a string: why the
+    split failed).
+
+    * ``∂e/∂v`` depends on ``v`` alone (``x^3 - x + y^3 - y``): the turning points are fixed, the
+      same for every value of the other variables: exact where sympy solves ``∂e/∂v = 0``.
+    * ``moving``: ``∂e/∂v`` also depends on the parameters (``x^3 - a*x + y^3 - a*y``) or on the
+      other variables (``x^3 - x*y + y^3 - a``: the turning points ``x = ±√(y/3)`` move with
+      ``y``): the pieces' ends are the k-th certified sign changes of ``∂e/∂v`` on ``v``'s
+      interval (as in one variable), functions of the parameters and of Ψ̂⁻¹'s other inputs (the
+      other variables' values), evaluated by the engines at each point of the zero set.  The
+      split lives in Ψ̂⁻¹ only (which root is which branch), so it adds no delta.
+
+    The caller tries fixed turning points in every variable first."""
     lo, hi = bounds.get(v.name, (-math.inf, math.inf))
     d = sp.diff(e, v)
     others = {s.name for s in d.free_symbols - {v}}
-    if (others & set(variables)) or (others and not moving) or not (math.isfinite(lo) and math.isfinite(hi)) \
-            or lo >= hi:
-        return None  # other variables: pieces that move with them (not done); parameters: when asked
-    ends = _piece_ends(cond, e, d, v, lo, hi)
+    if (others and not moving) or not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+        return None  # turning points that move (with parameters or other variables): when asked
+    if not others & set(variables):
+        ends = _piece_ends(cond, e, d, v, lo, hi)
+    else:
+        why = _continuous_on_box(e, d, v, variables, bounds)
+        if why is not None:
+            return f"at the turning points of ∂/∂{v} = {d}, which move with the other variables: {why}"
+        rest = [y for y in variables if y != v.name]
+        rename = {sp.Symbol(y, real=True): sp.Symbol(u, real=True) for y, u in zip(rest, inputs[1:])
+                  if y in others}
+        L, R = (from_sympy(rational(b), (), ()) for b in (lo, hi))
+        ends = _moving_ends(cond, d, v, L, R, rename)
     if isinstance(ends, str):
         return f"at the turning points of ∂/∂{v} = {d}: {ends}"
     return _by_roots(cond, v.name, variables, inputs, ends)
 
+
+def _continuous_on_box(e: sp.Expr, d: sp.Expr, v: sp.Symbol, variables: tuple[str, ...],
+                       bounds: dict[str, tuple[float, float]]) -> str | None:
+    """None when ``e`` is continuous in ``v`` on ``v``'s interval whatever the other variables and
+    parameters (sympy's ``continuous_domain`` is that whole interval), or when ``∂e/∂v`` (free of
+    parameters) has a finite interval enclosure on the box (then ``e`` is smooth there); else why
+    not (a pole or a branch point where the pieces' roots would be bisected across a jump)."""
+    lo, hi = bounds[v.name]
+    L, R = rational(lo), rational(hi)
+    try:
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT)
+        if dom == sp.Interval(L, R):
+            return None
+    except Exception:  # noqa: BLE001 - sympy's own failures (multivariate sets): the enclosure decides
+        dom = None
+    names = {s.name for s in d.free_symbols}
+    if names <= set(variables) and all(n in bounds and all(map(math.isfinite, bounds[n])) for n in names):
+        box = {s: (rational(bounds[s.name][0]), rational(bounds[s.name][1])) for s in d.free_symbols}
+        r = _enclose(d, box)
+        if r is not None and all(x.is_finite for x in r):
+            return None
+    where = f"it is continuous in {v} on {dom} only" if dom is not None else f"sympy cannot tell where it is continuous in {v}"
+    return f"{where}, not on its whole interval [{lo:g}, {hi:g}] for every value of the others"
 
 
 def _end(end: float | Term | None) -> Term | None:
