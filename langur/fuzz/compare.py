@@ -565,8 +565,10 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
         res.imported = _modules_since(modules)
         return res
 
-    def arrived(res: ProgramResult) -> None:  # in this process: later units are forked knowing them
+    def arrived(res: ProgramResult) -> None:  # in this process: later workers are forked knowing them
         regions.learn_antiderivatives(res.learned)
+        if res.learned and workers_pool is not None:  # and the running workers take them in
+            workers_pool.tell(res.learned)
         _import_all(res.imported)
         res.learned, res.imported = {}, []
         if progress is not None:
@@ -579,6 +581,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
             planned(len(texts))
         return texts
 
+    workers_pool = None
     if scheduler is not None:
         texts = generate()
         summary.results = cluster.run_units(texts, covered, scheduler=scheduler, limit=timeout,
@@ -586,7 +589,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     elif workers > 0:  # units start as the programs are generated
         _warm_up(lint)
         workers_pool = pool.Pool(covered, workers=workers, limit=timeout, on_time_limit=_time_limited,
-                                 on_error=_unit_error, progress=arrived)
+                                 on_error=_unit_error, progress=arrived, told=regions.learn_antiderivatives)
         generate(workers_pool.submit)
         summary.results = workers_pool.finish()
     else:
