@@ -416,17 +416,32 @@ class _Failed(AssertionError):
         self.result = result
 
 
+def draws(examples: int) -> int:
+    """How many programs hypothesis may draw (its ``max_examples``) for a campaign of ``examples``
+    distinct ones: a program drawn again does not count, so more draws than ``examples``; as many
+    as leave hypothesis's first phase of small programs (``min(max_examples // 10, 50)`` of them) as
+    long as it is with ``max_examples = examples``, so that the programs drawn are those a run of
+    ``examples`` draws makes, followed by more of the same sequence."""
+    return 10 * examples if examples >= 500 else 10 * (examples // 10) + 9
+
+
 def _settings(examples: int, seed: int):
     """The hypothesis run of a campaign: seeded, no example database (nothing is written to the
-    user's folder), no deadline (time limits are the campaign's own)."""
+    user's folder), no deadline (time limits are the campaign's own); at most :func:`draws`
+    programs drawn."""
     hypothesis, _ = _hypothesis()
     from hypothesis import HealthCheck, settings
 
     def wrap(test):
-        return settings(max_examples=examples, deadline=None, database=None, derandomize=False,
+        return settings(max_examples=draws(examples), deadline=None, database=None, derandomize=False,
                         suppress_health_check=list(HealthCheck), print_blob=False)(
             hypothesis.seed(seed)(test))
     return wrap
+
+
+class _Enough(BaseException):
+    """Ends a campaign's generation once it has its number of distinct programs (a BaseException:
+    hypothesis neither catches nor shrinks it)."""
 
 
 class _Stop(BaseException):
@@ -439,8 +454,9 @@ class _Stop(BaseException):
 
 
 def generated(examples: int = 50, seed: int = 0, light: bool = False, each=None, **shape) -> list[str]:
-    """The distinct program texts a campaign of ``examples`` programs with ``seed`` checks, in the
-    order hypothesis generates them (the same seed gives the same list on any machine);
+    """The ``examples`` distinct program texts a campaign with ``seed`` checks, in the order
+    hypothesis generates them (the same seed gives the same list on any machine; a text drawn again
+    does not count: fewer only when :func:`draws` programs did not give that many);
     ``each(text)``: called for each new text as soon as it is generated (a campaign starts
     checking it then, while the next ones are generated); ``shape``: the bounds of
     :func:`~.generate.programs` (max_summands, max_factors, …)."""
@@ -460,11 +476,15 @@ def generated(examples: int = 50, seed: int = 0, light: bool = False, each=None,
                 each(prog.text)
             except Exception as e:  # not the program's failure: out of hypothesis, unshrunk
                 raise _Stop(e) from e
+        if len(texts) >= examples:
+            raise _Enough
 
     try:
         collect()
     except _Stop as stop:
         raise stop.error from None
+    except _Enough:
+        pass
     return list(texts)
 
 
@@ -624,19 +644,27 @@ def _shrunk(summary: FuzzSummary, examples: int, seed: int, light: bool, unit, *
     from hypothesis import given
 
     known = {r.text: r for r in summary.results}
+    seen: set[str] = set()
+    shrinking = []
 
     @_settings(examples, seed)
     @given(programs(light=light, **shape))
     def check(prog: FuzzProgram):
+        seen.add(prog.text)
+        if len(seen) > examples and not shrinking:  # past the campaign's programs: none failed here
+            raise _Enough
         res = known.get(prog.text)
         if res is None:
             res = known[prog.text] = unit(prog.text)
         if res.failed:
+            shrinking.append(True)
             raise _Failed(res)
 
     try:
         check()
     except _Failed as e:
         return e.result
+    except _Enough:
+        pass
     return next(r for r in summary.results if r.failed)  # not reproduced (a time limit): the first
 
