@@ -173,7 +173,7 @@ _reference: dict[tuple, tuple] = {}
 
 def _exact_all(program, params, timeout: float, isolate: bool = True):
     """``(status, ex, exd, spent)`` from the exact engine, run in a forked process that is killed after
-    ``timeout`` seconds (a SIGALRM-based limit inside one process can be lost, e.g. when it fires
+    ``timeout`` CPU seconds (a SIGALRM-based limit inside one process can be lost, e.g. when it fires
     in a garbage-collector callback; a killed child cannot overrun); remembered per program and
     parameters (a timeout only for budgets no longer than the one that ran out)."""
     key = (program, tuple(sorted((k, str(v)) for k, v in params.items())))
@@ -196,13 +196,19 @@ def _exact_fork(program, params, timeout: float):
     proc = ctx.Process(target=_exact_child, args=(child, program, params, timeout), daemon=True)
     proc.start()
     child.close()
+    start = time.monotonic()
     try:
-        if parent.poll(timeout):
-            try:
-                return parent.recv()
-            except EOFError:
-                return ("exact_error", f"exact engine process died (exit code {proc.exitcode})", None, {})
-        return ("timeout", f"exact engine took longer than {timeout:g} s", None, {})
+        while not parent.poll(pool.POLL):
+            # the limit counts the child's CPU seconds, as the worker pool does (a loaded machine
+            # gives it a fraction of a core), with the pool's wall-clock backstop
+            cpu, wall = pool.cpu_seconds(proc.pid), time.monotonic() - start
+            if (wall >= timeout if cpu is None else cpu >= timeout) or wall >= pool.BACKSTOP * timeout + 10:
+                unit = "s" if cpu is None else "CPU seconds"
+                return ("timeout", f"exact engine took longer than {timeout:g} {unit}", None, {})
+        try:
+            return parent.recv()
+        except EOFError:
+            return ("exact_error", f"exact engine process died (exit code {proc.exitcode})", None, {})
     finally:
         if proc.is_alive():
             proc.kill()
