@@ -49,3 +49,27 @@ def test_what_the_campaign_tells_reaches_the_worker_before_its_next_unit():
     first, second = p.finish()
     assert first.reason.split()[1:] == [] and second.reason.split()[1:] == ["x", "y"]
     assert _TOLD == []  # told in the worker, not in this process
+
+
+def test_examples_counts_distinct_programs_continuing_the_same_draws(tmp_path):
+    """`--examples N` checks N distinct programs: those N draws give (hypothesis repeats some),
+    in the same order, followed by more of the same sequence (seed 5: 19 distinct in 20 draws)."""
+    from hypothesis import HealthCheck, given, seed, settings
+
+    from langur.fuzz.generate import hypothesis_home
+
+    drawn = []
+
+    with hypothesis_home(str(tmp_path)):
+        @settings(max_examples=20, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+        @seed(5)
+        @given(fuzz.programs())
+        def draw(prog):
+            drawn.append(prog.text)
+
+        draw()
+        texts = fuzz.generated(20, 5)
+    once = list(dict.fromkeys(drawn))
+    assert len(drawn) == 20 and len(once) < 20  # the plain run repeats a program
+    assert len(texts) == len(set(texts)) == 20
+    assert texts[: len(once)] == once
