@@ -24,7 +24,7 @@ MAX_TIMEOUT = 86400.0
 
 def add_arguments(p):
     p.add_argument("--examples", type=count(1, MAX_EXAMPLES, "the number of programs"), default=50, metavar="N",
-                   help=f"number of random programs, 1 to {MAX_EXAMPLES:,} (default 50)")
+                   help=f"number of distinct random programs, 1 to {MAX_EXAMPLES:,} (default 50)")
     p.add_argument("--seed", type=seed, default=0, metavar="S",
                    help="random seed, a non-negative integer: same seed, same programs and numbers")
     p.add_argument("--samples", type=samples(), default=20000, metavar="N",
@@ -34,8 +34,9 @@ def add_arguments(p):
                         f"{fuzz.pool.GRACE:g} CPU seconds more); slower programs are counted apart as timeouts, "
                         "never as verdicts (default 20)")
     p.add_argument("--workers", type=count(0, 1024, "the number of workers"), default=None, metavar="N",
-                   help="worker processes, each running one program (both engines) at a time and killed at "
-                        "its time limit; 0 runs in this process (default: the core count)")
+                   help="long-lived worker processes, each running one program (both engines) at a time and "
+                        "keeping its caches; one whose program reaches its time limit is killed and replaced; "
+                        "0 runs in this process (default: the core count)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the units on the Dask distributed cluster at ADDRESS (e.g. tcp://host:8786) "
                         "instead of local workers (needs the cluster extra: pip install 'langur-workbench[cluster]')")

@@ -173,7 +173,7 @@ _reference: dict[tuple, tuple] = {}
 
 def _exact_all(program, params, timeout: float, isolate: bool = True):
     """``(status, ex, exd, spent)`` from the exact engine, run in a forked process that is killed after
-    ``timeout`` seconds (a SIGALRM-based limit inside one process can be lost, e.g. when it fires
+    ``timeout`` CPU seconds (a SIGALRM-based limit inside one process can be lost, e.g. when it fires
     in a garbage-collector callback; a killed child cannot overrun); remembered per program and
     parameters (a timeout only for budgets no longer than the one that ran out)."""
     key = (program, tuple(sorted((k, str(v)) for k, v in params.items())))
@@ -196,13 +196,19 @@ def _exact_fork(program, params, timeout: float):
     proc = ctx.Process(target=_exact_child, args=(child, program, params, timeout), daemon=True)
     proc.start()
     child.close()
+    start = time.monotonic()
     try:
-        if parent.poll(timeout):
-            try:
-                return parent.recv()
-            except EOFError:
-                return ("exact_error", f"exact engine process died (exit code {proc.exitcode})", None, {})
-        return ("timeout", f"exact engine took longer than {timeout:g} s", None, {})
+        while not parent.poll(pool.POLL):
+            # the limit counts the child's CPU seconds, as the worker pool does (a loaded machine
+            # gives it a fraction of a core), with the pool's wall-clock backstop
+            cpu, wall = pool.cpu_seconds(proc.pid), time.monotonic() - start
+            if (wall >= timeout if cpu is None else cpu >= timeout) or wall >= pool.BACKSTOP * timeout + 10:
+                unit = "s" if cpu is None else "CPU seconds"
+                return ("timeout", f"exact engine took longer than {timeout:g} {unit}", None, {})
+        try:
+            return parent.recv()
+        except EOFError:
+            return ("exact_error", f"exact engine process died (exit code {proc.exitcode})", None, {})
     finally:
         if proc.is_alive():
             proc.kill()
@@ -416,17 +422,32 @@ class _Failed(AssertionError):
         self.result = result
 
 
+def draws(examples: int) -> int:
+    """How many programs hypothesis may draw (its ``max_examples``) for a campaign of ``examples``
+    distinct ones: a program drawn again does not count, so more draws than ``examples``; as many
+    as leave hypothesis's first phase of small programs (``min(max_examples // 10, 50)`` of them) as
+    long as it is with ``max_examples = examples``, so that the programs drawn are those a run of
+    ``examples`` draws makes, followed by more of the same sequence."""
+    return 10 * examples if examples >= 500 else 10 * (examples // 10) + 9
+
+
 def _settings(examples: int, seed: int):
     """The hypothesis run of a campaign: seeded, no example database (nothing is written to the
-    user's folder), no deadline (time limits are the campaign's own)."""
+    user's folder), no deadline (time limits are the campaign's own); at most :func:`draws`
+    programs drawn."""
     hypothesis, _ = _hypothesis()
     from hypothesis import HealthCheck, settings
 
     def wrap(test):
-        return settings(max_examples=examples, deadline=None, database=None, derandomize=False,
+        return settings(max_examples=draws(examples), deadline=None, database=None, derandomize=False,
                         suppress_health_check=list(HealthCheck), print_blob=False)(
             hypothesis.seed(seed)(test))
     return wrap
+
+
+class _Enough(BaseException):
+    """Ends a campaign's generation once it has its number of distinct programs (a BaseException:
+    hypothesis neither catches nor shrinks it)."""
 
 
 class _Stop(BaseException):
@@ -439,8 +460,9 @@ class _Stop(BaseException):
 
 
 def generated(examples: int = 50, seed: int = 0, light: bool = False, each=None, **shape) -> list[str]:
-    """The distinct program texts a campaign of ``examples`` programs with ``seed`` checks, in the
-    order hypothesis generates them (the same seed gives the same list on any machine);
+    """The ``examples`` distinct program texts a campaign with ``seed`` checks, in the order
+    hypothesis generates them (the same seed gives the same list on any machine; a text drawn again
+    does not count: fewer only when :func:`draws` programs did not give that many);
     ``each(text)``: called for each new text as soon as it is generated (a campaign starts
     checking it then, while the next ones are generated); ``shape``: the bounds of
     :func:`~.generate.programs` (max_summands, max_factors, …)."""
@@ -460,11 +482,15 @@ def generated(examples: int = 50, seed: int = 0, light: bool = False, each=None,
                 each(prog.text)
             except Exception as e:  # not the program's failure: out of hypothesis, unshrunk
                 raise _Stop(e) from e
+        if len(texts) >= examples:
+            raise _Enough
 
     try:
         collect()
     except _Stop as stop:
         raise stop.error from None
+    except _Enough:
+        pass
     return list(texts)
 
 
@@ -565,8 +591,10 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
         res.imported = _modules_since(modules)
         return res
 
-    def arrived(res: ProgramResult) -> None:  # in this process: later units are forked knowing them
+    def arrived(res: ProgramResult) -> None:  # in this process: later workers are forked knowing them
         regions.learn_antiderivatives(res.learned)
+        if res.learned and workers_pool is not None:  # and the running workers take them in
+            workers_pool.tell(res.learned)
         _import_all(res.imported)
         res.learned, res.imported = {}, []
         if progress is not None:
@@ -579,6 +607,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
             planned(len(texts))
         return texts
 
+    workers_pool = None
     if scheduler is not None:
         texts = generate()
         summary.results = cluster.run_units(texts, covered, scheduler=scheduler, limit=timeout,
@@ -586,7 +615,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     elif workers > 0:  # units start as the programs are generated
         _warm_up(lint)
         workers_pool = pool.Pool(covered, workers=workers, limit=timeout, on_time_limit=_time_limited,
-                                 on_error=_unit_error, progress=arrived)
+                                 on_error=_unit_error, progress=arrived, told=regions.learn_antiderivatives)
         generate(workers_pool.submit)
         summary.results = workers_pool.finish()
     else:
@@ -621,19 +650,27 @@ def _shrunk(summary: FuzzSummary, examples: int, seed: int, light: bool, unit, *
     from hypothesis import given
 
     known = {r.text: r for r in summary.results}
+    seen: set[str] = set()
+    shrinking = []
 
     @_settings(examples, seed)
     @given(programs(light=light, **shape))
     def check(prog: FuzzProgram):
+        seen.add(prog.text)
+        if len(seen) > examples and not shrinking:  # past the campaign's programs: none failed here
+            raise _Enough
         res = known.get(prog.text)
         if res is None:
             res = known[prog.text] = unit(prog.text)
         if res.failed:
+            shrinking.append(True)
             raise _Failed(res)
 
     try:
         check()
     except _Failed as e:
         return e.result
+    except _Enough:
+        pass
     return next(r for r in summary.results if r.failed)  # not reproduced (a time limit): the first
 
