@@ -125,7 +125,11 @@ def agree(exact: float, error: float, mc: float, stderr: float) -> bool:
 #: The share of a program's time limit the exact engine may spend looking for closed forms (all
 #: its sympy integrate attempts together, over the value, every partial derivative and their
 #: Theorem 8.1 checks); the rest is left for the quadratures that stand in for what it did not find.
-SYMBOLIC_SHARE = 0.4
+#: A tenth (2 CPU s of the default 20): most of a campaign's time went to searches that then gave
+#: up (31 of the first 150 programs of seed 1 spent 181 CPU s there); at 0.1 instead of 0.4 they
+#: cost half, every verdict stayed the same and 8 of their 99 answers became quadratures with
+#: error bounds instead of closed forms (bench/RESULTS.md, campaign throughput, third pass).
+SYMBOLIC_SHARE = 0.1
 
 
 def _exact_answers(program, params, timeout):
