@@ -24,11 +24,12 @@ from __future__ import annotations
 import functools
 import sys
 import threading
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from fractions import Fraction
 from typing import Callable, TypeVar, Union
 
 from .diagnostics import Span
+from .records import frozen
 
 T = TypeVar("T")
 
@@ -39,7 +40,7 @@ def _span() -> Span | None:
     return field(default=None, compare=False, repr=False)  # type: ignore[return-value]
 
 
-@dataclass(frozen=True)
+@frozen
 class Const:
     """A constant ``c``: an exact rational, or the string ``"pi"`` for π."""
 
@@ -59,7 +60,7 @@ class Const:
             d["_small"] = value
 
 
-@dataclass(frozen=True)
+@frozen
 class Var:
     """A variable of integration ``x`` (or an input ``u`` of an inverse diffeomorphism)."""
 
@@ -73,7 +74,7 @@ class Var:
         d["_fv"] = _names(name)
 
 
-@dataclass(frozen=True)
+@frozen
 class Param:
     """A parameter ``z`` (declared, or bound by ``let``)."""
 
@@ -87,7 +88,7 @@ class Param:
         d["_fp"] = _names(name)
 
 
-@dataclass(frozen=True)
+@frozen
 class Add:
     left: "Term"
     right: "Term"
@@ -99,7 +100,7 @@ class Add:
         _binary(d, left.__dict__, right.__dict__, False)
 
 
-@dataclass(frozen=True)
+@frozen
 class Mul:
     left: "Term"
     right: "Term"
@@ -111,7 +112,7 @@ class Mul:
         _binary(d, left.__dict__, right.__dict__, True)
 
 
-@dataclass(frozen=True)
+@frozen
 class Prim:
     """A smooth primitive applied to a term: ``op`` names an entry of
     :data:`langur.primitives.REGISTRY`."""
@@ -126,7 +127,7 @@ class Prim:
         _unary(d, arg, False if arg._small is not None else None, True, op)
 
 
-@dataclass(frozen=True)
+@frozen
 class Pow:
     """``base ^ exponent`` with a constant rational exponent (``t / s`` is ``t · s ^ -1``)."""
 
@@ -141,7 +142,7 @@ class Pow:
                type(exponent) is Fraction or isinstance(exponent, Fraction), None)
 
 
-@dataclass(frozen=True)
+@frozen
 class IfGe0:
     """``ifge0 cond then then else orelse`` with a variable-free ``cond`` (Fig. 6, conditional)."""
 
@@ -156,7 +157,7 @@ class IfGe0:
         _annotate(self)
 
 
-@dataclass(frozen=True)
+@frozen
 class IfDiffeo:
     """``ifge0 ⌊Ψ⌋ then then else orelse`` (Fig. 6, diffeomorphic conditional).
 
@@ -174,7 +175,7 @@ class IfDiffeo:
         _ifdiffeo(d, psi, then.__dict__, orelse.__dict__)
 
 
-@dataclass(frozen=True)
+@frozen
 class Let:
     """``let name = bound in body``: ``bound`` variable-free, ``name`` a parameter in ``body``."""
 
@@ -189,7 +190,7 @@ class Let:
         _annotate(self)
 
 
-@dataclass(frozen=True)
+@frozen
 class Call:
     """A call of ``def name`` of module ``module`` (elaborated form only; see module docstring).
 
@@ -208,7 +209,7 @@ class Call:
         _annotate(self)
 
 
-@dataclass(frozen=True)
+@frozen
 class ImplicitRoot:
     """An implicit root (issue 18: an inverse branch with no closed form).
 
@@ -263,7 +264,7 @@ class TooManyRoots(Exception):
 Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot]
 
 
-@dataclass(frozen=True)
+@frozen
 class InverseBranch:
     """One branch of Ψ̂⁻¹: ``variables[i] = components[i](u⃗; z⃗)`` where every guard is ``≥ 0``.
 
@@ -283,7 +284,7 @@ class InverseBranch:
         d["components"], d["guards"] = components, guards
 
 
-@dataclass(frozen=True)
+@frozen
 class Diffeo:
     """A (piecewise) C¹ diffeomorphism ``x⃗ ↦ Ψ̂(x⃗; z⃗)`` with its inverse branches (§4, §5).
 
@@ -319,7 +320,7 @@ class Diffeo:
         return self.forward[0]
 
 
-@dataclass(frozen=True)
+@frozen
 class Interval:
     """One interval ``[lo, hi]`` of a program's domain ``int ([l1, u1], …) t d(x⃗)`` (LANGUAGE.md §6).
 
@@ -337,7 +338,7 @@ class Interval:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class Program:
     """``int domain? integrand d(variables)`` (Fig. 11).
 
