@@ -37,6 +37,8 @@ _FACTORY = getattr(dataclasses, "_HAS_DEFAULT_FACTORY", "<factory>")
 def frozen(cls):
     """``@dataclass(frozen=True)`` for ``cls``, without compiling generated source (see above)."""
     own_doc = cls.__dict__.get("__doc__")
+    if own_doc is None:  # (dataclass would write one from object's signature, tokenizing it: later)
+        cls.__doc__ = "?"
     cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
     fields = dataclasses.fields(cls)
     if hasattr(cls, "__post_init__") or any(b is not object and dataclasses.is_dataclass(b) for b in cls.__mro__[1:]):
