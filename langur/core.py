@@ -547,8 +547,10 @@ def _small_power(x, k):
     """The small value of ``t ^ k`` from ``t``'s (``x``)."""
     if x is None or x is False:
         return x
-    if (type(k) is Fraction or isinstance(k, (int, Fraction))) and k.denominator == 1 and abs(k) <= SMALL_EXPONENT and (x != 0 or k > 0):
-        return _in_range(x ** int(k))
+    if (type(k) is Fraction or isinstance(k, (int, Fraction))) and k.denominator == 1:
+        n = k.numerator  # (integer comparisons: a loop's copies rebuild 1/i, each a Pow)
+        if -SMALL_EXPONENT <= n <= SMALL_EXPONENT and (x or n > 0):
+            return _in_range(x ** n)
     return False
 
 
@@ -587,11 +589,32 @@ def _diffeo_summary(psi: "Diffeo") -> tuple:
         fp = ops = dfp = _EMPTY
         for f in psi.forward:
             fp = _join(fp, f._fp)
-        for u in psi.forward + psi.nonzero + tuple(c for b in psi.branches for c in b.components + b.guards):
+        for u in psi.forward + psi.nonzero:
             ops, dfp = _join(ops, u._ops), _join(dfp, _join(u._fp, u._dfp))
+        scoped = _diffeo_scoped(psi)
+        for b in psi.branches:  # (a branch shared by several Diffeos is summarized once)
+            b_ops, b_dfp, b_scoped = _branch_summary(b, psi.inputs, len(psi.variables))
+            ops, dfp, scoped = _join(ops, b_ops), _join(dfp, b_dfp), scoped and b_scoped
         found = d["_summary"] = (fp, _interned_set(psi.variables), _interned_set((psi.variables,)),
-                                 psi.forward[0]._depth if psi.name is None else 1, _diffeo_scoped(psi), ops, dfp)
+                                 psi.forward[0]._depth if psi.name is None else 1, scoped, ops, dfp)
     return found
+
+
+def _branch_summary(b: "InverseBranch", inputs: tuple[str, ...], n: int) -> tuple:
+    """The primitives and parameters of an inverse branch's terms, and whether it is scoped for a
+    Ψ̂ with these ``inputs`` and ``n`` variables (``_diffeo_scoped``'s premise on branches); kept
+    on the branch per ``(inputs, n)``."""
+    d = b.__dict__
+    found = d.get("_summary")
+    if found is None or found[0] != (inputs, n):
+        ops = dfp = _EMPTY
+        us = frozenset(inputs)
+        for u in b.components + b.guards:
+            ops, dfp = _join(ops, u._ops), _join(dfp, _join(u._fp, u._dfp))
+        scoped = len(b.components) == n and all(c._scoped and not c._binders and c._fv <= us
+                                                 for c in b.components + b.guards)
+        found = d["_summary"] = ((inputs, n), ops, dfp, scoped)
+    return found[1:]
 
 
 def _ifdiffeo(d: dict, psi: "Diffeo", a: dict, b: dict) -> None:
@@ -684,17 +707,17 @@ def _annotate(t: "Term") -> None:
 def _diffeo_scoped(psi: "Diffeo") -> bool:
     """The premises of Fig. 6's diffeomorphic conditional that do not depend on the context (see
     ``typesys.type_diffeo``): distinct variables, as many components and inputs as variables,
-    components over the variables, inverse branches (and guards) over the inputs, ``nonzero``
-    terms variable-free, each of these terms itself scoped and binding no name."""
-    xs, us, n = frozenset(psi.variables), frozenset(psi.inputs), len(psi.variables)
+    components over the variables, ``nonzero`` terms variable-free, each of these terms itself
+    scoped and binding no name (and, by :func:`_branch_summary`, inverse branches and guards over
+    the inputs, scoped, binding no name)."""
+    xs, n = frozenset(psi.variables), len(psi.variables)
     if len(xs) != n or len(psi.forward) != n or len(psi.inputs) != n:
         return False
     if not all(f._scoped and not f._binders and f._fv <= xs for f in psi.forward):
         return False
     if not all(z._scoped and not z._binders and not z._fv for z in psi.nonzero):
         return False
-    return all(len(b.components) == n and all(c._scoped and not c._binders and c._fv <= us
-                                              for c in b.components + b.guards) for b in psi.branches)
+    return True  # (the branches' premise: _branch_summary)
 
 
 def _setstate(self, state: dict) -> None:  # unpickled: the attributes computed again
