@@ -23,11 +23,17 @@ CPU time (user time above wall time in every one-shot run), which inflated the o
 numbers of earlier runs (before 2026-11-26, branch ``loadonce``).  Nothing measured here uses BLAS.
 
 ``--sizes 49,100`` measures those n only; ``--mb1-only`` skips microbenchmark 2 and the processes.
+
+``--against ROOT``: side by side with another source tree (a checkout of main): microbenchmark 1
+and the one-shot, each tree in processes of its own (``python -P``, ``PYTHONPATH=tree``), alternated
+``--rounds`` times; microbenchmark 1 as the minimum over calls and processes (on a shared machine the
+minimum separates ±10 % where medians do not), the one-shot as medians of process CPU.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import resource
 import statistics
@@ -177,6 +183,57 @@ def import_tree(reps: int, bytecode: str | None = None) -> float:
     return statistics.median(out[1:] if bytecode is not None else out)
 
 
+_SIDE = r"""
+import json, os, sys, time
+sys.path.insert(0, os.path.join(os.environ["LANGUR_TREE"], "bench"))
+import bench_text_to_number as b
+def least(f, reps):
+    ts, out = [], None
+    for _ in range(reps):
+        out = None
+        t0 = time.process_time(); out = f(); ts.append(time.process_time() - t0)
+    return min(ts), out
+b._median = least
+print(json.dumps({n: b.mb1(int(n), int(sys.argv[2])) for n in sys.argv[1].split(",")}))
+"""
+
+
+def against(other: str, sizes: str, reps: int, rounds: int) -> None:
+    """Microbenchmark 1 and the one-shot process, this tree and ``other`` side by side."""
+    trees = {"other": os.path.abspath(other), "this": ROOT}
+    mb: dict = {k: [] for k in trees}
+    shots: dict = {k: [] for k in trees}
+    envs = {}
+    for k, root in trees.items():  # (each tree's compiled modules written once, before measuring)
+        envs[k] = {**_env(None), "PYTHONPATH": root, "LANGUR_TREE": root}
+        envs[k].pop("PYTHONDONTWRITEBYTECODE", None)
+        subprocess.run([sys.executable, "-P", "-m", "langur", "eval", "examples/fig1.lgr", "--engine", "mc"],
+                       cwd=root, env=envs[k], check=True, capture_output=True)
+    for _ in range(rounds):
+        for k, root in trees.items():
+            env = envs[k]
+            out = subprocess.run([sys.executable, "-P", "-c", _SIDE, sizes, str(reps)], env=env, cwd=root,
+                                 check=True, capture_output=True, text=True).stdout
+            mb[k].append(json.loads(out))
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            subprocess.run([sys.executable, "-P", "-m", "langur", "eval", "examples/fig1.lgr", "--engine", "mc"],
+                           cwd=root, env=env, check=True, capture_output=True)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            shots[k].append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
+    print(f"load average {os.getloadavg()[0]:.1f}; {trees['other']} (other) vs {ROOT} (this), ms CPU, "
+          f"minimum of {reps} calls x {rounds} processes")
+    print("|   n | tree  |  load |  link |  eval | total | load / (link + eval) |")
+    for n in sizes.split(","):
+        for k in trees:
+            r = {key: 1e3 * min(run[n][key] for run in mb[k]) for key in ("load", "link", "eval")}
+            total = r["load"] + r["link"] + r["eval"]
+            print(f"| {n:>3} | {k:5s} | {r['load']:5.1f} | {r['link']:5.1f} | {r['eval']:5.1f} | {total:5.1f} | "
+                  f"{r['load'] / (r['link'] + r['eval']):20.2f} |")
+    for k in trees:
+        print(f"one-shot langur eval examples/fig1.lgr --engine mc ({k}): {statistics.median(shots[k]):.3f} s CPU "
+              f"(median of {rounds}, min {min(shots[k]):.3f})")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--reps", type=int, default=5)
@@ -184,7 +241,12 @@ def main() -> None:
     ap.add_argument("--sizes", default=",".join(map(str, SIZES)))
     ap.add_argument("--mb1-only", action="store_true")
     ap.add_argument("--blas-threads", action="store_true", help="leave numpy's BLAS thread pool as it is")
+    ap.add_argument("--against", metavar="ROOT", help="side by side with the source tree ROOT (see the docstring)")
+    ap.add_argument("--rounds", type=int, default=3, help="alternated processes per tree with --against")
     args = ap.parse_args()
+    if args.against:
+        against(args.against, args.sizes, max(args.reps, 9), args.rounds)
+        return
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; CPU medians of {args.reps}")
     print("\nMicrobenchmark 1: text to number (ms CPU)")
     print("|   n | load (front end) | link (compile) | eval (10 samples) | text to number | load / (link + eval) |")

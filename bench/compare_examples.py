@@ -7,8 +7,10 @@ Run:  python bench/compare_examples.py BEFORE_ROOT AFTER_ROOT [--samples N] [--e
 its printed core program (``print_program``) and its seeded Monte Carlo value and derivative along
 each parameter (or the diagnostics): no exact engine, so minutes become seconds.
 
-Each tree's ``langur`` runs in its own process (``PYTHONPATH=ROOT``) from the AFTER tree's folder
-(so examples' relative imports resolve the same); prints one line per program and command, and the
+Each tree's ``langur`` runs in its own process (``PYTHONPATH=ROOT``, and ``python -P``: without it
+the current folder, the AFTER tree, came first on ``sys.path`` and both runs imported the AFTER
+tree's ``langur`` — comparisons before 2026-11-26 evening compared a tree with itself) from the
+AFTER tree's folder (so examples' relative imports resolve the same); prints one line per program and command, and the
 differences in full.  Exit status 1 when any output differs.
 """
 
@@ -23,7 +25,7 @@ import sys
 
 def run(root: str, cwd: str, args: list[str]) -> str:
     env = {**os.environ, "PYTHONPATH": root, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
-    p = subprocess.run([sys.executable, "-m", "langur", *args], cwd=cwd, env=env, capture_output=True, text=True)
+    p = subprocess.run([sys.executable, "-P", "-m", "langur", *args], cwd=cwd, env=env, capture_output=True, text=True)
     return f"exit {p.returncode}\n{p.stdout}{p.stderr}"
 
 
@@ -56,7 +58,7 @@ def fast(a, cwd: str, files: list[str]) -> int:
     outs = []
     for root in (a.before, a.after):
         env = {**os.environ, "PYTHONPATH": os.path.abspath(root), "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
-        outs.append(subprocess.run([sys.executable, "-c", FAST, str(a.samples), *files], cwd=cwd, env=env,
+        outs.append(subprocess.run([sys.executable, "-P", "-c", FAST, str(a.samples), *files], cwd=cwd, env=env,
                                    capture_output=True, text=True))
     x, y = (o.stdout.splitlines() for o in outs)
     differ = sum(u != v for u, v in zip(x, y)) + abs(len(x) - len(y))

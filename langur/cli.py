@@ -14,6 +14,7 @@ that reach this level are collected and printed as one note, never as raw warnin
 from __future__ import annotations
 
 import argparse
+import gc
 import importlib
 import json
 import math
@@ -22,7 +23,7 @@ import sys
 import warnings
 from collections import Counter
 
-from . import __version__, progress
+from . import __version__, gcpause, progress
 from .diagnostics import LangurError
 from .timebox import run_with_timeout
 
@@ -192,8 +193,12 @@ RECURSION_LIMIT = 20_000
 
 def main(argv: list[str] | None = None) -> int:
     sys.setrecursionlimit(max(sys.getrecursionlimit(), RECURSION_LIMIT))
+    own_process = argv is None  # (the console script, python -m langur: not a caller's process)
     argv = sys.argv[1:] if argv is None else list(argv)
-    parser = build_parser(argv)
+    with gcpause.paused():  # the command's modules imported without cyclic collections (issue 15, start-up)
+        parser = build_parser(argv)
+        if own_process:  # what the imports built lives as long as the process: no collection scans it again
+            gc.freeze()
     args = parser.parse_args(argv)
     if not getattr(args, "_run", None):
         parser.print_help(sys.stderr)

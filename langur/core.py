@@ -24,11 +24,12 @@ from __future__ import annotations
 import functools
 import sys
 import threading
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from fractions import Fraction
 from typing import Callable, TypeVar, Union
 
 from .diagnostics import Span
+from .records import frozen
 
 T = TypeVar("T")
 
@@ -39,7 +40,7 @@ def _span() -> Span | None:
     return field(default=None, compare=False, repr=False)  # type: ignore[return-value]
 
 
-@dataclass(frozen=True)
+@frozen
 class Const:
     """A constant ``c``: an exact rational, or the string ``"pi"`` for π."""
 
@@ -59,7 +60,7 @@ class Const:
             d["_small"] = value
 
 
-@dataclass(frozen=True)
+@frozen
 class Var:
     """A variable of integration ``x`` (or an input ``u`` of an inverse diffeomorphism)."""
 
@@ -73,7 +74,7 @@ class Var:
         d["_fv"] = _names(name)
 
 
-@dataclass(frozen=True)
+@frozen
 class Param:
     """A parameter ``z`` (declared, or bound by ``let``)."""
 
@@ -87,7 +88,7 @@ class Param:
         d["_fp"] = _names(name)
 
 
-@dataclass(frozen=True)
+@frozen
 class Add:
     left: "Term"
     right: "Term"
@@ -99,7 +100,7 @@ class Add:
         _binary(d, left.__dict__, right.__dict__, False)
 
 
-@dataclass(frozen=True)
+@frozen
 class Mul:
     left: "Term"
     right: "Term"
@@ -111,7 +112,7 @@ class Mul:
         _binary(d, left.__dict__, right.__dict__, True)
 
 
-@dataclass(frozen=True)
+@frozen
 class Prim:
     """A smooth primitive applied to a term: ``op`` names an entry of
     :data:`langur.primitives.REGISTRY`."""
@@ -126,7 +127,7 @@ class Prim:
         _unary(d, arg, False if arg._small is not None else None, True, op)
 
 
-@dataclass(frozen=True)
+@frozen
 class Pow:
     """``base ^ exponent`` with a constant rational exponent (``t / s`` is ``t · s ^ -1``)."""
 
@@ -141,7 +142,7 @@ class Pow:
                type(exponent) is Fraction or isinstance(exponent, Fraction), None)
 
 
-@dataclass(frozen=True)
+@frozen
 class IfGe0:
     """``ifge0 cond then then else orelse`` with a variable-free ``cond`` (Fig. 6, conditional)."""
 
@@ -156,7 +157,7 @@ class IfGe0:
         _annotate(self)
 
 
-@dataclass(frozen=True)
+@frozen
 class IfDiffeo:
     """``ifge0 ⌊Ψ⌋ then then else orelse`` (Fig. 6, diffeomorphic conditional).
 
@@ -174,7 +175,7 @@ class IfDiffeo:
         _ifdiffeo(d, psi, then.__dict__, orelse.__dict__)
 
 
-@dataclass(frozen=True)
+@frozen
 class Let:
     """``let name = bound in body``: ``bound`` variable-free, ``name`` a parameter in ``body``."""
 
@@ -189,7 +190,7 @@ class Let:
         _annotate(self)
 
 
-@dataclass(frozen=True)
+@frozen
 class Call:
     """A call of ``def name`` of module ``module`` (elaborated form only; see module docstring).
 
@@ -208,7 +209,7 @@ class Call:
         _annotate(self)
 
 
-@dataclass(frozen=True)
+@frozen
 class ImplicitRoot:
     """An implicit root (issue 18: an inverse branch with no closed form).
 
@@ -264,7 +265,7 @@ class TooManyRoots(Exception):
 Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot]
 
 
-@dataclass(frozen=True)
+@frozen
 class InverseBranch:
     """One branch of Ψ̂⁻¹: ``variables[i] = components[i](u⃗; z⃗)`` where every guard is ``≥ 0``.
 
@@ -284,7 +285,7 @@ class InverseBranch:
         d["components"], d["guards"] = components, guards
 
 
-@dataclass(frozen=True)
+@frozen
 class Diffeo:
     """A (piecewise) C¹ diffeomorphism ``x⃗ ↦ Ψ̂(x⃗; z⃗)`` with its inverse branches (§4, §5).
 
@@ -320,7 +321,7 @@ class Diffeo:
         return self.forward[0]
 
 
-@dataclass(frozen=True)
+@frozen
 class Interval:
     """One interval ``[lo, hi]`` of a program's domain ``int ([l1, u1], …) t d(x⃗)`` (LANGUAGE.md §6).
 
@@ -338,7 +339,7 @@ class Interval:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class Program:
     """``int domain? integrand d(variables)`` (Fig. 11).
 
@@ -547,8 +548,10 @@ def _small_power(x, k):
     """The small value of ``t ^ k`` from ``t``'s (``x``)."""
     if x is None or x is False:
         return x
-    if (type(k) is Fraction or isinstance(k, (int, Fraction))) and k.denominator == 1 and abs(k) <= SMALL_EXPONENT and (x != 0 or k > 0):
-        return _in_range(x ** int(k))
+    if (type(k) is Fraction or isinstance(k, (int, Fraction))) and k.denominator == 1:
+        n = k.numerator  # (integer comparisons: a loop's copies rebuild 1/i, each a Pow)
+        if -SMALL_EXPONENT <= n <= SMALL_EXPONENT and (x or n > 0):
+            return _in_range(x ** n)
     return False
 
 
@@ -587,11 +590,32 @@ def _diffeo_summary(psi: "Diffeo") -> tuple:
         fp = ops = dfp = _EMPTY
         for f in psi.forward:
             fp = _join(fp, f._fp)
-        for u in psi.forward + psi.nonzero + tuple(c for b in psi.branches for c in b.components + b.guards):
+        for u in psi.forward + psi.nonzero:
             ops, dfp = _join(ops, u._ops), _join(dfp, _join(u._fp, u._dfp))
+        scoped = _diffeo_scoped(psi)
+        for b in psi.branches:  # (a branch shared by several Diffeos is summarized once)
+            b_ops, b_dfp, b_scoped = _branch_summary(b, psi.inputs, len(psi.variables))
+            ops, dfp, scoped = _join(ops, b_ops), _join(dfp, b_dfp), scoped and b_scoped
         found = d["_summary"] = (fp, _interned_set(psi.variables), _interned_set((psi.variables,)),
-                                 psi.forward[0]._depth if psi.name is None else 1, _diffeo_scoped(psi), ops, dfp)
+                                 psi.forward[0]._depth if psi.name is None else 1, scoped, ops, dfp)
     return found
+
+
+def _branch_summary(b: "InverseBranch", inputs: tuple[str, ...], n: int) -> tuple:
+    """The primitives and parameters of an inverse branch's terms, and whether it is scoped for a
+    Ψ̂ with these ``inputs`` and ``n`` variables (``_diffeo_scoped``'s premise on branches); kept
+    on the branch per ``(inputs, n)``."""
+    d = b.__dict__
+    found = d.get("_summary")
+    if found is None or found[0] != (inputs, n):
+        ops = dfp = _EMPTY
+        us = frozenset(inputs)
+        for u in b.components + b.guards:
+            ops, dfp = _join(ops, u._ops), _join(dfp, _join(u._fp, u._dfp))
+        scoped = len(b.components) == n and all(c._scoped and not c._binders and c._fv <= us
+                                                 for c in b.components + b.guards)
+        found = d["_summary"] = ((inputs, n), ops, dfp, scoped)
+    return found[1:]
 
 
 def _ifdiffeo(d: dict, psi: "Diffeo", a: dict, b: dict) -> None:
@@ -684,17 +708,17 @@ def _annotate(t: "Term") -> None:
 def _diffeo_scoped(psi: "Diffeo") -> bool:
     """The premises of Fig. 6's diffeomorphic conditional that do not depend on the context (see
     ``typesys.type_diffeo``): distinct variables, as many components and inputs as variables,
-    components over the variables, inverse branches (and guards) over the inputs, ``nonzero``
-    terms variable-free, each of these terms itself scoped and binding no name."""
-    xs, us, n = frozenset(psi.variables), frozenset(psi.inputs), len(psi.variables)
+    components over the variables, ``nonzero`` terms variable-free, each of these terms itself
+    scoped and binding no name (and, by :func:`_branch_summary`, inverse branches and guards over
+    the inputs, scoped, binding no name)."""
+    xs, n = frozenset(psi.variables), len(psi.variables)
     if len(xs) != n or len(psi.forward) != n or len(psi.inputs) != n:
         return False
     if not all(f._scoped and not f._binders and f._fv <= xs for f in psi.forward):
         return False
     if not all(z._scoped and not z._binders and not z._fv for z in psi.nonzero):
         return False
-    return all(len(b.components) == n and all(c._scoped and not c._binders and c._fv <= us
-                                              for c in b.components + b.guards) for b in psi.branches)
+    return True  # (the branches' premise: _branch_summary)
 
 
 def _setstate(self, state: dict) -> None:  # unpickled: the attributes computed again

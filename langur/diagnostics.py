@@ -8,10 +8,12 @@ more diagnostics, never a traceback.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
+
+from .records import frozen
 
 
-@dataclass(frozen=True)
+@frozen
 class Span:
     """A region of a source file: 1-based, end exclusive of nothing (end_col is the last col + 1)."""
 
@@ -25,7 +27,7 @@ class Span:
         return f"{self.path}:{self.line}:{self.col}"
 
 
-@dataclass(frozen=True)
+@frozen
 class Diagnostic:
     span: Span | None
     severity: str  # "error" | "warning"

@@ -14,9 +14,10 @@ from fractions import Fraction
 
 from .core import Diffeo, Program, Term
 from .diagnostics import Span
+from .records import frozen
 
 
-@dataclass(frozen=True)
+@frozen
 class CoreDef:
     """``def name(args) = body`` after desugaring.
 

@@ -26,11 +26,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from enum import Enum
 from fractions import Fraction
 
 import numpy as np
+
+from .records import frozen
 
 NAN = float("nan")
 
@@ -44,7 +45,7 @@ class Image(Enum):
     UNBOUNDED = "unbounded"  # anywhere
 
 
-@dataclass(frozen=True)
+@frozen
 class Domain:
     """The interval where f is defined; ``closed``: its finite ends belong to it.  ``poles``: f is
     also undefined at isolated periodic points (tan at π/2 + kπ).  ``why``: how the linter says a
@@ -71,7 +72,7 @@ class Domain:
         return above and below
 
 
-@dataclass(frozen=True)
+@frozen
 class Inverse:
     """x = f⁻¹(u) where ``guard(u, π) ≥ 0`` (``guard`` None: everywhere); ``guard`` is written
     with arithmetic only, so it works on sympy expressions (π exact) and numbers alike."""
@@ -80,7 +81,7 @@ class Inverse:
     guard: Callable | None = None
 
 
-@dataclass(frozen=True)
+@frozen
 class PeriodicBranch:
     """One family of inverse branches of a periodic f: x = sign·f⁻¹(u) + (offset + j·period)·π,
     whose image is [lo·π, hi·π] + j·period·π (all in units of π)."""
@@ -92,14 +93,14 @@ class PeriodicBranch:
     hi: Fraction
 
 
-@dataclass(frozen=True)
+@frozen
 class Periodic:
     period: int  # in units of π
     branches: tuple[PeriodicBranch, ...]
     guard: Callable | None = None  # (u, π) ↦ g(u), like Inverse.guard
 
 
-@dataclass(frozen=True)
+@frozen
 class Primitive:
     name: str
     surface: bool
@@ -179,7 +180,7 @@ _POSITIVE = Domain(0.0, math.inf, why="its argument is negative")
 
 
 def _entries() -> tuple[Primitive, ...]:
-    def prim(name, surface, value, scalar, derivative, domain=Domain(), sympy=None, **facts):
+    def prim(name, surface, value, scalar, derivative, domain=Domain(), sympy=None, **facts):  # noqa: B008 (a frozen record)
         return Primitive(name, surface, sympy or name, value, _scalar(scalar, domain), derivative, domain, **facts)
 
     return (

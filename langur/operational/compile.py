@@ -267,21 +267,26 @@ _LEAVES = (Const, Var, Param)
 
 
 def _children(t: Term) -> tuple:
-    match t:
-        case Add(a, b) | Mul(a, b):
-            return (a, b)
-        case Pow(a, _) | Prim(_, a):
-            return (a,)
-        case IfGe0(c, a, b):
-            return (c, a, b)
-        case IfDiffeo(psi, a, b):
-            return (psi.forward[0], a, b)
-        case Let(_, bound, body):
-            return (bound, body)
-        case Call(_, _, args):
-            return tuple(args)
-        case ImplicitRoot(eq, _, target, lo, hi):
-            return (eq, target, lo, hi)
+    """The subterms a unit evaluates (a conditional's condition, not the rest of its Ψ̂), by the
+    node's exact class (the node classes have no subclasses): :class:`_Sharing` asks it of every
+    node of every unit compiled."""
+    tt = type(t)
+    if tt is Add or tt is Mul:
+        return (t.left, t.right)
+    if tt is IfDiffeo:
+        return (t.psi.forward[0], t.then, t.orelse)
+    if tt is Pow:
+        return (t.base,)
+    if tt is Prim:
+        return (t.arg,)
+    if tt is IfGe0:
+        return (t.cond, t.then, t.orelse)
+    if tt is Let:
+        return (t.bound, t.body)
+    if tt is Call:
+        return tuple(t.args)
+    if tt is ImplicitRoot:
+        return (t.equation, t.target, t.lo, t.hi)
     return ()
 
 

@@ -188,10 +188,11 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
     box = dict(zip(linked.variables, evaluate_box(linked.box_fns, p)))
     m = len(linked.variables) - 1
     plan = []  # (site id, design, volume, [(x, weight, valid, dpsi)])
+    point = design(rng, m, samples, method) if m == 0 else None  # (one variable: one point, no draw)
     for k, site in enumerate(linked.sites):
         if not (site.deps & live):
             continue  # D_γ π₀Ψ̂·γ' ≡ 0: the delta's coefficient vanishes identically
-        des = design(rng, m, samples, method)
+        des = point if point is not None else design(rng, m, samples, method)
         region = site.sampler.region(box, p) if m else ()
         if region and any(math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b) for a, b in region):
             # no finite box encloses this zero set's coordinates (a pole of Ψ̂'s other components
@@ -210,13 +211,14 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
         nb = des.points.shape[0]
         counts.append(nb * len(branches))
         for xb, w, ok, dpsi in branches:
-            ids.append(np.full(nb, k))
+            ids.append(k)
             for v in linked.variables:
                 xs[v].append(xb[v])
             ws.append(w)
             oks.append(ok)
             dps.append(full(dpsi, nb))
-    site = np.concatenate(ids)
+    # each block's site id repeated over its points (one call, not an array per block)
+    site = np.repeat(np.array(ids, dtype=int), [des.points.shape[0] for _, des, _, branches in plan for _ in branches])
     x = {v: np.concatenate(a) for v, a in xs.items()}
     _, g = _run(linked, x, p, mode=DELTA, site=site, sites=frozenset(k for k, *_ in plan))
     # score = [guards ≥ 0] · (D_γπ₀Ψ̂·γ') · G_k · |det DΨ̂_b⁻¹|, all blocks at once.  A point of a

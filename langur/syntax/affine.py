@@ -170,11 +170,19 @@ def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = fro
     if solved is None:
         return None
     v, a, inputs, others, terms, renamed = solved
-    solution = _ordered(-c0 if a == 1 else -c0 / a, terms)
-    components = tuple(solution if x is None else x for x in renamed)
     return Diffeo(variables=tuple(variables), forward=(cond,) + others, inputs=inputs,
-                  branches=(InverseBranch(components, ()),), solved_for=v, name=None, nonzero=(),
-                  span=getattr(cond, "span", None))
+                  branches=_branches(-c0 if a == 1 else -c0 / a, terms, renamed), solved_for=v, name=None,
+                  nonzero=(), span=getattr(cond, "span", None))
+
+
+@functools.lru_cache(maxsize=4096)
+def _branches(constant: Fraction, terms: tuple, renamed: tuple) -> tuple[InverseBranch, ...]:
+    """Ψ̂⁻¹ of a completed affine condition: its one branch, the solution ``constant + Σ c·atom``
+    in place of the solved variable.  Equal conditions (a loop written twice, a def's condition
+    inlined at every call) share the same branch objects, so that comparing their Diffeos (the
+    Monte Carlo engine's sampler lookup) stops there (issue 15)."""
+    solution = _ordered(constant, terms)
+    return (InverseBranch(tuple(solution if x is None else x for x in renamed), ()),)
 
 
 @functools.lru_cache(maxsize=1024)

@@ -30,9 +30,6 @@ import threading
 from dataclasses import dataclass
 from fractions import Fraction
 
-from lark import Lark, Token
-from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
-
 from .. import gcpause
 from ..diagnostics import LangurError, Span, error
 from . import tables
@@ -40,6 +37,7 @@ from .chains import LEVEL as _LEVEL
 from .chains import MAX_DEPTH
 from .chains import Chain as _Chain
 from .chains import Reduced as _R
+from .larkload import Lark, Token, UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 from .surface import (
     Apply,
     BinOp,

@@ -7,11 +7,12 @@ language of ``langur.core`` exactly as LANGUAGE.md §6's table says.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 from typing import Union
 
 from ..diagnostics import Span
+from ..records import frozen
 
 
 def _span() -> Span | None:
@@ -21,7 +22,7 @@ def _span() -> Span | None:
 # --- terms ------------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
+@frozen
 class Num:
     """A decimal literal, read exactly (``0.5`` is ``Fraction(1, 2)``)."""
 
@@ -29,7 +30,7 @@ class Num:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class Name:
     """A name in a term: variable, parameter, let-bound name, def argument, or ``pi``."""
 
@@ -37,7 +38,7 @@ class Name:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class BinOp:
     """``left op right`` with ``op`` one of ``+ - * / ^``."""
 
@@ -47,7 +48,7 @@ class BinOp:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class Neg:
     """Unary minus ``-arg``."""
 
@@ -55,7 +56,7 @@ class Neg:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class Apply:
     """``name(args…)``: a primitive (``exp``, …, ``abs``, ``min``, ``max``) or a def call."""
 
@@ -65,7 +66,7 @@ class Apply:
     name_span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class Iverson:
     """``[t0 op0 t1 op1 t2 …]``: a chain of comparisons, ``ops[i]`` between ``terms[i]`` and ``terms[i+1]``."""
 
@@ -74,7 +75,7 @@ class Iverson:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class Logic:
     """``[A & B & …]``, ``[A | B | …]`` or ``[not A]`` over comparison chains ``parts``."""
 
@@ -83,7 +84,7 @@ class Logic:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class IfLogic:
     """``if A & B & … then s else r`` (also ``|``, and ``if not A``) over comparison chains."""
 
@@ -93,7 +94,7 @@ class IfLogic:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class LetIn:
     name: str
     bound: "STerm"
@@ -102,7 +103,7 @@ class LetIn:
     name_span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class DiffeoApp:
     """``NAME(terms ; terms)`` in the condition of ``ifge0``: a declared diffeo applied (⌊Ψ⌋)."""
 
@@ -113,7 +114,7 @@ class DiffeoApp:
     name_span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class IfGe0S:
     """``ifge0 cond then then else orelse``; ``cond`` a term or a :class:`DiffeoApp`."""
 
@@ -123,7 +124,7 @@ class IfGe0S:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class IfCmp:
     """``if left op right then then else orelse``."""
 
@@ -135,7 +136,7 @@ class IfCmp:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class NestedInt:
     """``int (domain)? body d(variables)`` where a term is expected.  Parsed only so that the type
     system can reject it at its text with its own code (T208, Fig. 11: a term contains no ``int``)."""
@@ -146,7 +147,7 @@ class NestedInt:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class Loop:
     """``sum i in lo..hi: body`` or ``prod i in lo..hi: body``: the finite loop of §9 ("a finite
     looping construct that is syntactic sugar and is unrolled"); ``index`` is an integer constant
@@ -161,7 +162,7 @@ class Loop:
     name_span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class Vector:
     """``(t1, t2, …)``: a small fixed-size vector of at least two terms (desugared to its
     components: vectors never reach the core language)."""
@@ -170,7 +171,7 @@ class Vector:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class Component:
     """``v.x``, ``v.y``, ``v.z``, ``v.w``: a component of a vector."""
 
@@ -187,7 +188,7 @@ STerm = Union[Num, Name, BinOp, Neg, Apply, Iverson, Logic, LetIn, IfGe0S, IfCmp
 # --- declarations and modules -----------------------------------------------------------------
 
 
-@dataclass(frozen=True)
+@frozen
 class Ident:
     """A name being declared or bound, with where it was written."""
 
@@ -195,7 +196,7 @@ class Ident:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class ParamDecl:
     """One ``pdecl`` of a ``param`` item: a name with an optional numeric default."""
 
@@ -204,13 +205,13 @@ class ParamDecl:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class ParamItem:
     decls: tuple[ParamDecl, ...]
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class DiffeoDecl:
     """``diffeo name(variables; params) = (forward…) inverse (inputs) = (inverse…)``."""
 
@@ -223,14 +224,14 @@ class DiffeoDecl:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class DefArg:
     name: Ident
     kind: str  # "var" | "param"
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class DefDecl:
     name: Ident
     args: tuple[DefArg, ...]
@@ -238,14 +239,14 @@ class DefDecl:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class ImportName:
     name: Ident
     alias: Ident | None
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class ImportItem:
     """``from module import name [as alias], …``."""
 
@@ -257,14 +258,14 @@ class ImportItem:
 Item = Union[ParamItem, DiffeoDecl, DefDecl, ImportItem]
 
 
-@dataclass(frozen=True)
+@frozen
 class Interval:
     lo: STerm
     hi: STerm
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class ProgramS:
     """``int (domain)? body d(variables)``; ``domain`` is ``None`` when absent."""
 
@@ -274,7 +275,7 @@ class ProgramS:
     span: Span | None = _span()
 
 
-@dataclass(frozen=True)
+@frozen
 class ModuleS:
     """A parsed `.lgr` file: its items in order, then at most one program."""
 

@@ -22,9 +22,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from lark import Lark
-from lark.grammar import Rule
-from lark.lexer import TerminalDef
+from .larkload import Lark, Rule, TerminalDef
 
 GRAMMAR = Path(__file__).with_name("grammar.lark")
 TABLES = Path(__file__).with_name("grammar.tables.json")
@@ -79,6 +77,17 @@ def _decode(x: Any) -> Any:
     return x
 
 
+def _tagged(x: dict) -> Any:
+    """:func:`_decode` of one JSON object whose members are decoded already (``json``'s
+    ``object_hook``: the whole file decoded in C but for the objects, at start-up)."""
+    tag = x.get("__t")
+    if tag == "dict":
+        return {k: v for k, v in x["items"]}
+    if tag == "tuple":
+        return tuple(x["items"])
+    return x
+
+
 def build(text: str | None = None, **kwargs: Any) -> Lark:
     """The parser built from the grammar, without any cache."""
     return Lark(grammar_text() if text is None else text, cache=False, **OPTIONS, **kwargs)
@@ -96,10 +105,10 @@ def load(transformer: Any, path: Path = TABLES) -> Lark | None:
     try:
         if path.stat().st_size > MAX_TABLES_BYTES:
             return None
-        doc = json.loads(path.read_text(encoding="utf-8"))
+        doc = json.loads(path.read_text(encoding="utf-8"), object_hook=_tagged)
         if doc.get("format") != FORMAT or doc.get("grammar_sha256") != digest(grammar_text()):
             return None
-        return Lark._load_from_dict(_decode(doc["data"]), _decode(doc["memo"]), transformer=transformer)
+        return Lark._load_from_dict(doc["data"], doc["memo"], transformer=transformer)
     except Exception:  # noqa: BLE001 - any defect in the data file: fall back to the grammar
         return None
 
