@@ -699,9 +699,8 @@ def _annotate(t: "Term") -> None:
             scoped = scoped and not bound._fv
             binders = _join(binders, _names(name))
             dfp = _join(bound._dfp, body._dfp - {name} if name in body._dfp else body._dfp)
-        case ImplicitRoot(eq, _, _, lo, hi, slope=slope):
-            scoped = (scoped and not lo._fv and not hi._fv and not eq._binders
-                      and (slope is None or not slope._binders))
+        case ImplicitRoot(eq, _, _, lo, hi, slope=slope):  # its bracket may move with Δ (issue 18)
+            scoped = scoped and not eq._binders and (slope is None or not slope._binders)
     d["_scoped"], d["_ops"], d["_binders"], d["_dfp"] = scoped, ops, binders, dfp
 
 
