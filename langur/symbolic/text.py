@@ -17,6 +17,7 @@ from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import MpmathPrinter, PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
+from .local import any_node
 from .pieces import Condition, DeltaPiece, Method, Piece, Psi
 
 
@@ -73,17 +74,7 @@ def _implemented(expr) -> bool:
     :class:`langur.implicit.ImplicitRootFn`), each distinct subtree looked at once."""
     if not isinstance(expr, sp.Basic):
         return True  # (a list or matrix of expressions: lambdify looks itself)
-    seen: set = set()
-    stack = [expr]
-    while stack:
-        node = stack.pop()
-        if hasattr(node, "_imp_"):
-            return True
-        for a in node.args:
-            if id(a) not in seen:
-                seen.add(id(a))
-                stack.append(a)
-    return False
+    return any_node(expr, lambda node: hasattr(node, "_imp_"))
 
 
 def lambdify(args, expr, **kwargs):
