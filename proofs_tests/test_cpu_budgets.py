@@ -82,3 +82,33 @@ def test_a_deadline_is_over_once_its_wall_clock_backstop_passed(monkeypatch):
     assert d.remaining() == 0.0
     with pytest.raises(TimeoutError):
         d.run(lambda: 1)
+
+
+def test_a_limit_expiring_inside_a_gc_callback_is_delivered_after_it_not_swallowed(monkeypatch):
+    """hypothesis times garbage collections with a gc callback; a limit expiring inside it used to
+    raise there, where Python only prints "Exception ignored in …".  Now the handler waits for the
+    callback to return (the timer repeats every 50 ms) and the call still ends with TimeoutError."""
+    import gc
+    import sys
+
+    unraisable = []
+    monkeypatch.setattr(sys, "unraisablehook", unraisable.append)
+
+    def slow_callback(phase, info):  # noqa: ARG001
+        if phase == "start":
+            _spin(0.3)
+
+    def work():
+        gc.collect()  # the limit (0.1 CPU s) expires inside the callback's 0.3 CPU s
+        _spin(5.0)
+
+    gc.callbacks.append(slow_callback)
+    try:
+        start = time.process_time()
+        with pytest.raises(TimeoutError):
+            run_with_timeout(work, 0.1, cpu=True)
+        used = time.process_time() - start
+    finally:
+        gc.callbacks.remove(slow_callback)
+    assert [u for u in unraisable if isinstance(u.exc_value, timebox._Expired)] == []
+    assert 0.3 <= used < 2.0
