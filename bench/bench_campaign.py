@@ -14,6 +14,11 @@ campaign (generated first, timed apart: the same fixed list for two versions of 
 exact engine in this process: what one warm process costs, no time limit).  To measure another
 version of the code, run it with ``PYTHONPATH`` pointing at that tree (the fixed list is handed to
 ``run_fuzz`` by replacing ``langur.fuzz.compare.generated``, which every version has).
+``--programs FILE`` checks a JSON list of program texts instead (a fixed list saved once);
+``--profile OUT`` (with ``--in-process``) writes a cProfile of the units; ``--against JSON`` prints
+the programs whose status or methods (closed form / quadrature per answer) differ from an earlier
+``--json`` of the same list; ``--json`` keeps each program's phases (front end, lint, exact
+symbolic / quadrature / other, mc).
 """
 
 from __future__ import annotations
