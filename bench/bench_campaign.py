@@ -14,11 +14,17 @@ campaign (generated first, timed apart: the same fixed list for two versions of 
 exact engine in this process: what one warm process costs, no time limit).  To measure another
 version of the code, run it with ``PYTHONPATH`` pointing at that tree (the fixed list is handed to
 ``run_fuzz`` by replacing ``langur.fuzz.compare.generated``, which every version has).
+``--programs FILE`` checks a JSON list of program texts instead (a fixed list saved once);
+``--profile OUT`` (with ``--in-process``) writes a cProfile of the units; ``--against JSON`` prints
+the programs whose status or methods (closed form / quadrature per answer) differ from an earlier
+``--json`` of the same list; ``--json`` keeps each program's phases (front end, lint, exact
+symbolic / quadrature / other, mc).
 """
 
 from __future__ import annotations
 
 import argparse
+import cProfile
 import json
 import os
 import resource
@@ -45,6 +51,9 @@ def main() -> None:
     ap.add_argument("--programs", metavar="FILE", help="a JSON list of program texts to check instead")
     ap.add_argument("--in-process", action="store_true", help="one program after the other in this process")
     ap.add_argument("--json", metavar="OUT")
+    ap.add_argument("--profile", metavar="OUT", help="with --in-process: a cProfile of the units to OUT (pstats)")
+    ap.add_argument("--against", metavar="JSON", help="an earlier --json of the same list: print the programs "
+                    "whose status or methods differ")
     a = ap.parse_args()
     load0 = os.getloadavg()
     generation = None
@@ -72,12 +81,19 @@ def main() -> None:
         f0 = resource.getrusage(resource.RUSAGE_SELF).ru_minflt + resource.getrusage(resource.RUSAGE_CHILDREN).ru_minflt
         if a.in_process:
             results = []
+            prof = cProfile.Profile() if a.profile else None
             for t in texts:
                 c = time.process_time()
+                if prof is not None:
+                    prof.enable()
                 with coverage.recording():
                     r = compare.compare_text(t, seed=a.seed, timeout=a.timeout, isolate=False)
+                if prof is not None:
+                    prof.disable()
                 r.cpu_seconds = time.process_time() - c
                 results.append(r)
+            if prof is not None:
+                prof.dump_stats(a.profile)
         else:
             results = fuzz.run_fuzz(a.examples, a.seed, timeout=a.timeout, workers=a.workers, storage=hyp,
                                     shrink=False).results
@@ -95,12 +111,23 @@ def main() -> None:
            "cpu_per_program": round((own + children) / max(n, 1), 3),
            "cpu_units": round(sum(r.cpu_seconds for r in results), 1), "minor_page_faults": faults,
            "load_before": load0, "load_after": os.getloadavg(),
+           "timing": {k: round(sum(r.timing.get(k, 0.0) for r in results), 1) for k in compare.PHASES},
            "results": [{"program": r.text, "status": r.status, "methods": r.methods,
-                        "cpu_seconds": round(r.cpu_seconds, 3)} for r in results]}
+                        "cpu_seconds": round(r.cpu_seconds, 3), "timing": r.timing_json(),
+                        "rows": [[row.quantity, row.wrt, row.ok] for row in r.rows]} for r in results]}
     print(json.dumps({k: v for k, v in out.items() if k != "results"}))
     if a.json:
         with open(a.json, "w", encoding="utf-8") as fh:
             json.dump(out, fh, indent=1)
+    if a.against:
+        with open(a.against, encoding="utf-8") as fh:
+            before = {r["program"]: r for r in json.load(fh)["results"]}
+        differ = [(before[r["program"]], r) for r in out["results"] if r["program"] in before
+                  and (before[r["program"]]["status"], before[r["program"]]["methods"]) != (r["status"], r["methods"])]
+        common = sum(r["program"] in before for r in out["results"])
+        print(f"{len(differ)} of {common} programs differ in status or methods from {a.against}")
+        for b, r in differ:
+            print(f"  {b['status']} {b['methods']} -> {r['status']} {r['methods']}: {r['program']!r}")
 
 
 if __name__ == "__main__":

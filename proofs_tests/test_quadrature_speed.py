@@ -166,7 +166,7 @@ def test_crossings_of_two_conditions_are_breakpoints(monkeypatch):
     assert any(abs(r + 0.5) < 1e-12 for r in kinks)  # the crossing x = −1/2, from the resultant
     ref = _reference_lens()
     assert abs(val - ref) <= err + 1e-12
-    monkeypatch.setattr(q, "_crossings", lambda p, level: [])  # quad subdivides towards it instead
+    monkeypatch.setattr(q, "_crossings", lambda p, level, parametric=False: [])  # quad subdivides towards it instead
     q._KINKS.clear()
     val2, err2 = q.integrate_problem(q.piece_problem(piece, [x, y], box, {}))
     assert abs(val2 - ref) <= err2 + 1e-12

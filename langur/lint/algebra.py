@@ -247,6 +247,8 @@ def _solve_points(eqs: list[sp.Expr], unknowns: Iterable[sp.Symbol]) -> list[dic
     decided = _affine_solution(eqs, unknowns)
     if decided is not None:
         return decided
+    if _contradictory(eqs, unknowns):
+        return []
     sols = timed(lambda: sp.solve(eqs, unknowns, dict=True))
     others = set().union(*(e.free_symbols for e in eqs)) - set(unknowns)
     out = []
@@ -259,12 +261,9 @@ def _solve_points(eqs: list[sp.Expr], unknowns: Iterable[sp.Symbol]) -> list[dic
     return out
 
 
-def _affine_solution(eqs: list[sp.Expr], unknowns: tuple[sp.Symbol, ...]) -> list[dict] | None:
-    """What :func:`_solve_points` finds, without ``sp.solve``, for equations affine in the unknowns
-    with rational coefficients and no other symbol (the conditions at the parameter values in
-    force, most zero sets of generated programs): ``[]`` when they have no common zero,
-    ``[{x: value, …}]`` (exact rationals) when exactly one; None when they leave an unknown free
-    or are not of that kind (``sp.solve`` decides, and words its curve of solutions)."""
+def _affine_rows(eqs: list[sp.Expr], unknowns: tuple[sp.Symbol, ...]) -> list[list[Fraction]] | None:
+    """Each equation as a row ``[c₁, …, cₙ, −c₀]`` of ``c₀ + Σ cᵢ·xᵢ = 0`` (exact rationals), or
+    None when one is not affine in the unknowns with rational coefficients and no other symbol."""
     rows = []
     names = set(unknowns)
     for e in eqs:
@@ -284,12 +283,17 @@ def _affine_solution(eqs: list[sp.Expr], unknowns: tuple[sp.Symbol, ...]) -> lis
             else:
                 row[monomial.index(1)] = c
         rows.append(row)
-    n = len(unknowns)
-    rank, free = 0, False
-    for col in range(n):  # Gauss-Jordan elimination in exact rationals
+    return rows
+
+
+def _eliminated(rows: list[list[Fraction]], n: int) -> tuple[list[list[Fraction]], int, list[int]]:
+    """Gauss–Jordan elimination of ``rows`` in exact rationals: ``(rows, rank, pivot columns)``;
+    rows past ``rank`` are ``0 = rows[i][-1]``."""
+    rows = [list(r) for r in rows]
+    rank, pivots = 0, []
+    for col in range(n):
         pivot = next((r for r in range(rank, len(rows)) if rows[r][col] != 0), None)
         if pivot is None:
-            free = True  # this unknown is left free (unless the system has no solution at all)
             continue
         rows[rank], rows[pivot] = rows[pivot], rows[rank]
         p = rows[rank][col]
@@ -298,10 +302,65 @@ def _affine_solution(eqs: list[sp.Expr], unknowns: tuple[sp.Symbol, ...]) -> lis
             if r != rank and rows[r][col] != 0:
                 k = rows[r][col]
                 rows[r] = [a - k * b for a, b in zip(rows[r], rows[rank])]
+        pivots.append(col)
         rank += 1
+    return rows, rank, pivots
+
+
+#: A number with at least this magnitude at 30 digits is certainly not zero (:func:`_contradictory`).
+NONZERO = 1e-20
+
+
+def _contradictory(eqs: list[sp.Expr], unknowns: tuple[sp.Symbol, ...]) -> bool:
+    """Do ``eqs`` certainly have no common zero, by exact algebra on their affine part?  The
+    equations affine in the unknowns with rational coefficients and no other symbol (box faces
+    ``x = 0``, ``1 − x = 0``, affine zero sets at the parameters in force) are solved exactly: no
+    solution, or unknowns they fix to values at which another equation is a nonzero number, means
+    the whole system has none.  What :func:`_solve_points` then returns without ``sp.solve``
+    (which decides the same, at up to a second per system: most tangency/triple-point systems of
+    generated programs pair two parallel box faces with a transcendental zero set).  False: not
+    decided here."""
+    affine, rest = [], []
+    for e in eqs:
+        (affine if _affine_rows([e], unknowns) is not None else rest).append(e)
+    if not affine:
+        return False
+    rows, rank, pivots = _eliminated(_affine_rows(affine, unknowns), len(unknowns))
+    if any(row[-1] != 0 for row in rows[rank:]):
+        return True  # the affine equations alone are inconsistent
+    fixed = {}
+    for i, col in enumerate(pivots):
+        if all(rows[i][j] == 0 for j in range(len(unknowns)) if j != col):  # this unknown alone
+            v = rows[i][-1]
+            fixed[unknowns[col]] = sp.Rational(v.numerator, v.denominator)
+    if not fixed:
+        return False
+    for e in rest:
+        r = e.xreplace(fixed)
+        if r.free_symbols:
+            continue
+        try:
+            v = complex(sp.N(r, 30))
+        except (TypeError, ValueError, ZeroDivisionError, OverflowError):
+            continue
+        if math.isfinite(v.real) and math.isfinite(v.imag) and abs(v) >= NONZERO:
+            return True  # nonzero where the affine equations put the unknowns
+    return False
+
+
+def _affine_solution(eqs: list[sp.Expr], unknowns: tuple[sp.Symbol, ...]) -> list[dict] | None:
+    """What :func:`_solve_points` finds, without ``sp.solve``, for equations affine in the unknowns
+    with rational coefficients and no other symbol (the conditions at the parameter values in
+    force, most zero sets of generated programs): ``[]`` when they have no common zero,
+    ``[{x: value, …}]`` (exact rationals) when exactly one; None when they leave an unknown free
+    or are not of that kind (``sp.solve`` decides, and words its curve of solutions)."""
+    rows = _affine_rows(eqs, unknowns)
+    if rows is None:
+        return None
+    rows, rank, _ = _eliminated(rows, len(unknowns))
     if any(row[-1] != 0 for row in rows[rank:]):
         return []  # inconsistent
-    if free:
+    if rank < len(unknowns):
         return None  # a line or plane of solutions: sympy words it
     return [{x: sp.Rational(rows[i][-1].numerator, rows[i][-1].denominator) for i, x in enumerate(unknowns)}]
 

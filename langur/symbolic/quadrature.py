@@ -241,6 +241,10 @@ class NumCond:
     hints: Callable[..., list[float]] | None = None
     expr: sp.Expr | None = None  # with the parameters' values substituted (for polynomial roots)
     roots: Callable[..., list[float]] | None = None
+    #: ``expr`` with the parameters left as symbols (their values are the problem's ``at``): the
+    #: polynomial roots and kinks computed from it hold at every parameter point, so Theorem 8.1's
+    #: shifted points and nearby points reuse them (:func:`_kink_functions`)
+    sym: sp.Expr | None = None
 
 
 class UndefinedIntegral(ValueError):
@@ -267,6 +271,10 @@ class NumProblem:
     #: the weight vectorized over the innermost variable (``prefix..., array``), or None: the
     #: innermost integrals first try one 21-point Gauss–Kronrod panel on it (:func:`_first_panel`)
     vweight: Callable | None = None
+    #: the parameters' values (symbol -> number) and the box with the parameters left as symbols,
+    #: when every condition has its ``sym``: kinks are then computed once per shape of problem
+    at: dict = field(default_factory=dict)
+    sbounds: list | None = None
     _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
 
     def here(self, level: int) -> list[NumCond]:
@@ -444,11 +452,11 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
 _COEFFICIENTS: dict = {}
 
 
-def _coefficients(expr, syms: tuple, level: int):
+def _coefficients(expr, syms: tuple, level: int, params: tuple = ()):
     """The coefficients of ``expr`` as a polynomial in ``syms[level]`` (of degree ≤ 8), highest
-    first, compiled as one function of ``syms[:level]`` returning them all (``math``; ``numpy``
-    for what ``math`` lacks), cached like :data:`_COMPILED`; or None."""
-    key = (expr, syms[: level + 1])
+    first, compiled as one function of ``syms[:level]`` and then ``params`` returning them all
+    (``math``; ``numpy`` for what ``math`` lacks), cached like :data:`_COMPILED`; or None."""
+    key = (expr, syms[: level + 1], params)
     if key in _COEFFICIENTS:
         return _COEFFICIENTS[key]
     v = syms[level]
@@ -457,10 +465,10 @@ def _coefficients(expr, syms: tuple, level: int):
         poly = sp.Poly(expr, v)
         coeffs = poly.all_coeffs()
         if poly.degree() <= 8 and not any(v in c.free_symbols for c in coeffs):
-            args, body = list(syms[:level]), [printable(c) for c in coeffs]
+            args, body = list(syms[:level]) + list(params), [printable(c) for c in coeffs]
             fn = lambdify(args, body, modules=["math"])
             try:
-                fn(*[0.5] * level)  # probe: NameError for functions math lacks
+                fn(*[0.5] * len(args))  # probe: NameError for functions math lacks
             except NameError:
                 fn = lambdify(args, body, modules=["numpy"])
             except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
@@ -506,15 +514,18 @@ def polynomial_roots(cs: Sequence[float]) -> list[float]:
     return [float(r.real) for r in out if abs(r.imag) <= REAL_SLACK * (1 + abs(r))]
 
 
-def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int):
-    """``prefix ↦ real roots in syms[level]`` when ``expr`` is a polynomial in it, else None."""
-    fn = _coefficients(expr, tuple(syms), level)
+def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int, at: dict | None = None):
+    """``prefix ↦ real roots in syms[level]`` when ``expr`` is a polynomial in it, else None;
+    ``at``: the values of the parameters ``expr`` may contain (passed after the prefix)."""
+    params = tuple(k for k in at if k in free_symbols(expr)) if at else ()
+    fn = _coefficients(expr, tuple(syms), level, params)
     if fn is None:
         return None
+    extra = tuple(float(at[k]) for k in params)
 
     def roots(*prefix):
         try:
-            cs = [complex(c) for c in fn(*prefix)]
+            cs = [complex(c) for c in fn(*prefix, *extra)]
         except (ValueError, ZeroDivisionError, OverflowError, TypeError):
             return []  # a coefficient undefined here (math raises where numpy gave NaN)
         if not all(math.isfinite(c.real) and math.isfinite(c.imag) for c in cs):
@@ -524,9 +535,10 @@ def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int):
     return roots
 
 
-def _finder(c: NumCond, syms, level: int):
+def _finder(c: NumCond, syms, level: int, at: dict | None = None):
     if c.roots is None and c.expr is not None and syms:
-        c.roots = _poly_roots(c.expr, syms, level) or False
+        c.roots = (_poly_roots(c.sym, syms, level, at) if c.sym is not None and at is not None
+                   else _poly_roots(c.expr, syms, level)) or False
     return c.roots or None
 
 
@@ -540,7 +552,9 @@ def _kink_functions(p: NumProblem, level: int):
     """Where the inner integral's region changes shape (kinks of this level's integrand): roots of
     the deeper conditions with each deeper variable at a box end or, for a condition quadratic in
     it, at its critical point (where a region in that variable appears or vanishes), and where two
-    conditions of the next level cross (:func:`_crossings`)."""
+    conditions of the next level cross (:func:`_crossings`).  With the problem's parameters kept as
+    symbols (``p.sbounds``), these expressions are computed once per shape of problem and hold at
+    every parameter point (only :func:`_at_levels`, numeric, is redone at each)."""
     out = []
     symbolic = [c for c in p.conds if c.level > level and c.expr is not None] if p.syms else []
     for c in p.conds:
@@ -549,28 +563,45 @@ def _kink_functions(p: NumProblem, level: int):
                 out.append((lambda *a, c=c, corner=corner: c.f(*a, *corner), None))
     if not symbolic:
         return out
-    key = (tuple((c.expr, c.level) for c in symbolic), tuple(p.syms), tuple(p.bounds), level)
+    parametric = p.sbounds is not None and all(c.sym is not None for c in symbolic)
+    at = p.at if parametric else {}
+    if parametric:
+        key = ("sym", tuple((c.sym, c.level) for c in symbolic), tuple(p.syms), tuple(p.sbounds), level)
+        bounds = p.sbounds
+    else:
+        key = (tuple((c.expr, c.level) for c in symbolic), tuple(p.syms), tuple(p.bounds), level)
+        bounds = [(sp.Float(lo), sp.Float(hi)) for lo, hi in p.bounds]
     exprs = _KINKS.get(key)
     if exprs is None:
         exprs = []
+        variables = set(p.syms)
         for c in symbolic:
-            es = [c.expr]
+            es = [c.sym if parametric else c.expr]
             for j in range(c.level, level, -1):
                 v = p.syms[j]
                 nxt = []
                 for e in es:
-                    nxt += [e.xreplace({v: sp.Float(b)}) for b in p.bounds[j]]
+                    nxt += [e.xreplace({v: b}) for b in bounds[j]]
                     nxt += [e.xreplace({v: r}) for r in _critical_points(e, v)]
                 es = nxt
-            exprs += [e for e in es if not e.is_number]
+            exprs += [e for e in es if free_symbols(e) & variables]
         if level + 1 < len(p.syms):
-            exprs += _crossings(p, level)
-            exprs += _at_levels(p, level)
+            exprs += _crossings(p, level, parametric)
+            if not parametric:
+                exprs += _at_levels(p, level)
         if len(_KINKS) >= COMPILED:
             _KINKS.pop(next(iter(_KINKS)))
         _KINKS[key] = exprs
+    if parametric and level + 1 < len(p.syms):  # numeric roots at these parameter values
+        key = (tuple((c.expr, c.level) for c in symbolic), tuple(p.syms), tuple(p.bounds), level, "levels")
+        levels = _KINKS.get(key)
+        if levels is None:
+            if len(_KINKS) >= COMPILED:
+                _KINKS.pop(next(iter(_KINKS)))
+            levels = _KINKS[key] = _at_levels(p, level)
+        exprs = exprs + levels
     for e in exprs:
-        out.append((_lambdify(p.syms[: level + 1], e, {}), _poly_roots(e, p.syms, level)))
+        out.append((_lambdify(p.syms[: level + 1], e, at), _poly_roots(e, p.syms, level, at)))
     return out
 
 
@@ -606,7 +637,7 @@ def _at_levels(p: NumProblem, level: int) -> list[sp.Expr]:
     return out
 
 
-def _crossings(p: NumProblem, level: int) -> list[sp.Expr]:
+def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.Expr]:
     """Where two conditions of the next level cross (kinks of this level's integrand: there the
     inner integral's region changes shape too): the resultant of the two polynomials in the next
     variable, a polynomial in this level's variables whose roots include every crossing (a
@@ -616,14 +647,16 @@ def _crossings(p: NumProblem, level: int) -> list[sp.Expr]:
     v = p.syms[level + 1]
     polys = []
     for c in p.here(level + 1):
-        if c.expr is None:
+        e = c.sym if parametric else c.expr
+        if e is None:
             continue
         try:
-            poly = sp.Poly(c.expr, v)
+            poly = sp.Poly(e, v)
         except (sp.PolynomialError, sp.GeneratorsNeeded):
             continue
         if 1 <= poly.degree() <= RESULTANT_DEGREE and not any(v in k.free_symbols for k in poly.all_coeffs()):
-            polys.append(c.expr)
+            polys.append(e)
+    params = set(p.at) if parametric else set()
     out = []
     for e1, e2 in itertools.combinations(polys, 2):
         try:
@@ -631,7 +664,7 @@ def _crossings(p: NumProblem, level: int) -> list[sp.Expr]:
         except Exception:  # noqa: BLE001 - sympy fails in many ways (PolynomialDivisionFailed on floats, a time
             continue  # limit); the pair is then left to quad's subdivision, as before
         r = sp.sympify(r)
-        if not r.is_number and p.syms[level] in r.free_symbols and r.free_symbols <= set(p.syms[: level + 1]):
+        if not r.is_number and p.syms[level] in r.free_symbols and r.free_symbols <= set(p.syms[: level + 1]) | params:
             out.append(r)
     return out
 
@@ -673,7 +706,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     for c in here:
         def g(t, c=c):
             return c.f(*prefix, t)
-        for r in _find(g, _finder(c, p.syms, level), prefix, lo, hi):
+        for r in _find(g, _finder(c, p.syms, level, p.at if p.sbounds is not None else None), prefix, lo, hi):
             pts.add(r)
         if c.hints is not None:
             for r in c.hints(*prefix):
@@ -785,11 +818,13 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
     for c in piece.conditions:
         lv = _level(c.expr, variables)
         hints = _psi_hints(c.psi, variables[lv], variables, lv, at) if lv >= 0 else None
-        conds.append(NumCond(_lambdify(variables[: lv + 1], c.expr, at), lv, hints,
-                             sp.sympify(c.expr).xreplace(_floats(at))))
+        expr = sp.sympify(c.expr)
+        conds.append(NumCond(_lambdify(variables[: lv + 1], expr, at), lv, hints, expr.xreplace(_floats(at)),
+                             sym=expr))
     bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in box]
     return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds, syms=variables,
-                      vweight=_vectorize(variables, piece.weight, at) if variables else None)
+                      vweight=_vectorize(variables, piece.weight, at) if variables else None,
+                      at=dict(at), sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in box])
 
 
 #: Each piece's quadrature ``(value, error, problem)`` by the piece, the variables, the box and the
@@ -902,7 +937,7 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
                     break
                 continue  # vanishes identically on the zero set: 0 >= 0 is TRUE (paper convention)
             lv = _level(se, uprime)
-            conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, se.xreplace(_floats(at))))
+            conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, se.xreplace(_floats(at)), sym=se))
         if empty:
             continue
         w_f = _lambdify(variables, piece.weight, at)
@@ -912,7 +947,8 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
             d = jac_f(*x)
             return w_f(*x) / abs(d) if d != 0 else math.nan  # degenerate: Ψ̂ not invertible here
 
-        problems.append(NumProblem(conds, weight, bounds, syms=uprime))
+        problems.append(NumProblem(conds, weight, bounds, syms=uprime, at=dict(at),
+                                   sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in ubox]))
     return problems
 
 
