@@ -20,10 +20,12 @@ there: ``langur.operational.compile``).
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 from functools import lru_cache
 
 import mpmath
 import numpy as np
+import scipy.optimize as so
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
@@ -31,8 +33,9 @@ from .core import TooManyRoots
 
 
 def bracketed_root(f, target, lo, hi, bits: int = 53):
-    """The ``x`` in ``[lo, hi]`` with ``f(x) = target`` for ``f`` monotone there: bisection
-    (``bits`` + 8 halvings of the bracket, so the result has full precision in that many bits),
+    """The ``x`` in ``[lo, hi]`` with ``f(x) = target`` for ``f`` monotone there, to within
+    ``|hi − lo|·2^−(bits + 8)`` (so the result has full precision in that many bits): false
+    position with the Illinois rule, the bracket halved whenever two steps did not halve it;
     NaN when ``target`` is not between ``f(lo)`` and ``f(hi)`` (no root there)."""
     try:
         a, b = lo, hi
@@ -45,19 +48,61 @@ def bracketed_root(f, target, lo, hi, bits: int = 53):
         return b
     if not (fa < 0) ^ (fb < 0):
         return math.nan
-    rising = fa < 0
-    for _ in range(bits + 8 + int(math.log2(1 + abs(float(hi - lo))))):
-        m = (a + b) / 2
-        if m == a or m == b:
+    tol = abs(hi - lo) / 2 ** (bits + 8)
+    side = 0  # the end kept by the last step (Illinois: its value is halved when kept twice)
+    width = b - a
+    for i in range(3 * (bits + 8) + 64):
+        if not b - a > tol:
             break
+        # false position (Illinois), or a halving when the last two steps did not halve the bracket
+        m = (a + b) / 2 if i % 2 == 0 and b - a > width / 2 else a - fa * (b - a) / (fb - fa)
+        if i % 2 == 0:
+            width = b - a
+        if not a < m < b:
+            m = (a + b) / 2
+            if m == a or m == b:
+                break
         fm = f(m) - target
         if fm == 0:
             return m
-        if (fm < 0) == rising:
-            a = m
+        if (fm < 0) == (fa < 0):
+            a, fa = m, fm
+            if side == -1:
+                fb /= 2
+            side = -1
         else:
-            b = m
+            b, fb = m, fm
+            if side == 1:
+                fa /= 2
+            side = 1
     return (a + b) / 2
+
+
+def double_root(f, target, lo, hi):
+    """:func:`bracketed_root` in double precision, by Brent's method (scipy's ``brentq``: ~10
+    evaluations of ``f`` instead of ~60 halvings; the same root to within a few units in the
+    last place); bisection where ``f`` fails inside the bracket."""
+    try:
+        a, b = float(lo), float(hi)
+        fa, fb = float(f(a)) - target, float(f(b)) - target
+    except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+        return math.nan
+    if fa == 0:
+        return a
+    if fb == 0:
+        return b
+    if math.isnan(fa) or math.isnan(fb) or not (fa < 0) ^ (fb < 0):
+        return math.nan
+
+    def g(z):
+        v = float(f(z)) - target
+        if math.isnan(v):
+            raise ValueError
+        return v
+    try:
+        return so.brentq(g, a, b, xtol=1e-300, rtol=4 * np.finfo(float).eps)
+    except (ValueError, ZeroDivisionError, OverflowError, TypeError, RuntimeError):
+        return bracketed_root(f, target, lo, hi)
 
 
 #: Cells of the grid of ``[lo, hi]`` on which an indexed root's sign changes are certified.
@@ -128,7 +173,7 @@ def _interval_fn(x: sp.Symbol, e: sp.Expr, free: tuple = ()):
 
 
 def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: int = DEPTH,
-                       what: str = "the equation", lenient: bool = False) -> list[tuple]:
+                       what: str = "the equation", lenient: bool = False, box: bool = False) -> list[tuple]:
     """The brackets, increasing, each holding exactly one sign change of ``g − target`` on
     ``[lo, hi]``, all of them: each cell of a ``grid``-cell grid is certified, by an interval
     enclosure of ``g − target`` that excludes 0 (no zero there) or one of ``g'`` that excludes 0
@@ -143,7 +188,10 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     unknown sign between cells that do not join, are decided by ``g``'s values instead of refused
     (turning points that move with the other *integration* variables merge on a null set of them:
     :func:`langur.operational.signchanges.certified_brackets`).  The Monte Carlo engine certifies
-    the same way on its own (:mod:`langur.operational.signchanges`)."""
+    the same way on its own (:mod:`langur.operational.signchanges`).  ``box``: ``g_iv`` and ``dg_iv``
+    enclose the equation for every value of its other symbols in a box (:func:`_box_brackets`):
+    nothing is decided by ``g``'s values (a point of unknown sign at an end of the domain is
+    refused too), so the brackets hold for every point of the box."""
     iv = mpmath.iv
     lo, hi = mpmath.mpf(lo), mpmath.mpf(hi)
     if not hi > lo:  # an empty interval (a moving end past the other): no sign change
@@ -173,7 +221,7 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
         m = (a + b) / 2
         stack.append((b, m, d + 1))
         stack.append((m, a, d + 1))
-    return _sign_changes(g, g_iv, t, target, cells, what, lenient)
+    return _sign_changes(g, g_iv, t, target, cells, what, lenient, box)
 
 
 #: The direction of a cell left uncertified in lenient mode (its ends' signs decide).
@@ -187,7 +235,7 @@ def _uncertified(what, a, b) -> TooManyRoots:
                         "stay too wide; Langur refuses rather than miss one")
 
 
-def _sign_changes(g, g_iv, t, target, cells, what, lenient=False) -> list[tuple]:
+def _sign_changes(g, g_iv, t, target, cells, what, lenient=False, box=False) -> list[tuple]:
     """The brackets between consecutive points of known sign (cells' ends) where the sign differs."""
     points = [c[0] for c in cells] + [cells[-1][1]]
     signs = []
@@ -201,6 +249,8 @@ def _sign_changes(g, g_iv, t, target, cells, what, lenient=False) -> list[tuple]
             if (before == 0 or before != after or before == LOOSE) and not lenient:
                 raise _uncertified(what, cells[i - 1][0], cells[i][1])
             ends = before == 0 or before != after or before == LOOSE  # lenient: its value's sign
+        if s == 0 and ends and box:  # over a box, no value decides it
+            raise _uncertified(what, points[max(i - 1, 0)], points[min(i + 1, len(points) - 1)])
         if s == 0 and ends:  # within rounding of an end of the domain (or lenient: see above)
             try:
                 v = g(p) - target
@@ -289,19 +339,23 @@ class ImplicitRootFn(sp.Function):
 def _solve(fn, target, lo, hi, index, of, *values):
     if isinstance(fn, str):  # an indexed root: certified as evalf certifies it
         return _indexed_at(fn, target, lo, hi, int(index), int(of), *values)
-    return bracketed_root(lambda x: fn(x, *values), target, lo, hi)
+    return double_root(lambda x: fn(x, *values), float(target), lo, hi)
 
 
 @lru_cache(maxsize=4096)
 def _evalf(args, prec):
     lam, target, lo, hi, index, of = args
     (x,), f = lam.variables, lam.expr
+    shape, consts = _shape(f)
     dps = mpmath.libmp.prec_to_dps(prec) + 5
     with mpmath.workdps(dps):
-        fn = sp.lambdify(x, f, modules="mpmath")
+        compiled = _shape_compiled(x, shape, len(consts))[0]
+        values = [mpmath.mpf(c._mpf_) for c in consts]
+        fn = lambda z: compiled(z, *values)  # noqa: E731
         t, a, b = (mpmath.mpf(sp.Float(v.evalf(dps), dps)) for v in (target, lo, hi))
         if index >= 0:  # the index-th of the certified brackets of the sign changes, then bisected
-            brackets = _brackets(x, f, fn, t, a, b)
+            brackets = [(mpmath.mpf(p), mpmath.mpf(q)) for p, q in _brackets_at(x, shape, consts, float(t), float(a),
+                                                                                   float(b))]
             if len(brackets) > of:
                 raise TooManyRoots(f"{len(brackets)} turning points on [{float(a):g}, {float(b):g}] at these "
                                    f"parameter values, more than the {int(of)} the condition was split for: Langur "
@@ -316,23 +370,67 @@ def _evalf(args, prec):
         return sp.Float(r, dps)
 
 
-def _brackets(x, f, fn, t, a, b) -> list[tuple]:
-    """The certified brackets of the sign changes of ``f − t`` (``f`` in ``x`` only) on ``[a, b]``
-    (``fn``: ``f`` on mpmath numbers), found once for every index and precision: in double
-    precision, since the certificate does not depend on the precision the root is wanted in."""
-    return [(mpmath.mpf(p), mpmath.mpf(q)) for p, q in _brackets_at(x, f, float(t), float(a), float(b))]
+#: Placeholders of the float constants of an equation (:func:`_shape`).
+_PLACEHOLDERS = [sp.Symbol(f"_langur_c{i}", real=True) for i in range(64)]
+
+
+@lru_cache(maxsize=4096)
+def _shape(f: sp.Expr) -> tuple:
+    """``f`` with its float constants (outside exponents) replaced by placeholders, and those
+    constants: an equation whose parameters (or a linter's spot values) were put in as numbers
+    is compiled once for all of their values (:func:`_shape_compiled`), not once per value."""
+    consts: list = []
+
+    def walk(e):
+        if isinstance(e, sp.Float) and len(consts) < len(_PLACEHOLDERS):
+            consts.append(e)
+            return _PLACEHOLDERS[len(consts) - 1]
+        if not e.args:
+            return e
+        if isinstance(e, sp.Pow) and e.exp.is_Number:
+            return sp.Pow(walk(e.base), e.exp)
+        return e.func(*[walk(a) for a in e.args])
+    try:
+        return walk(f), tuple(consts)
+    except (TypeError, ValueError):  # a node that cannot be rebuilt: the equation as it is
+        return f, ()
 
 
 @lru_cache(maxsize=1024)
-def _brackets_at(x, f, t: float, a: float, b: float) -> tuple:
+def _shape_compiled(x, shape: sp.Expr, n: int) -> tuple:
+    """The equation ``shape`` (:func:`_shape`) on mpmath numbers, and its and its derivative's
+    interval versions, each called as ``(x, *constants)``."""
+    cs = _PLACEHOLDERS[:n]
+    return (sp.lambdify([x, *cs], shape, modules="mpmath"), _interval_fn(x, shape, cs),
+            _interval_fn(x, sp.diff(shape, x), cs))
+
+
+@lru_cache(maxsize=4096)
+def _brackets_at(x, shape, consts: tuple, t: float, a: float, b: float) -> tuple:
+    """The certified brackets of the sign changes of ``f − t`` (``f`` in ``x`` only: ``shape``
+    with the constants ``consts``, :func:`_shape`) on ``[a, b]``, found once for every index and
+    precision: in double precision, since the certificate does not depend on the precision the
+    root is wanted in."""
+    coefficients = _polynomial_coefficients(x, shape, tuple(_PLACEHOLDERS[:len(consts)]))
+    if coefficients is not None and all(math.isfinite(v) for v in (t, a, b)):
+        # a polynomial: its sign changes isolated exactly (no enclosure), unless two roots (or a
+        # root and an end) are closer than the enclosures' resolution, where those decide (refuse)
+        poly = [Fraction(c) for c in coefficients(*(Fraction(*sp.Rational(c).as_numer_denom()) for c in consts))]
+        poly[-1] -= Fraction(t)
+        found = sturm_brackets(poly, Fraction(a), Fraction(b), depth=DEPTH + 4, squarefree=True)
+        if found is not None and all(float(p) == p and float(q) == q for p, q in found):
+            return tuple((float(p), float(q)) for p, q in found)
+    fn, g_iv, dg_iv = _shape_compiled(x, shape, len(consts))
     with mpmath.workprec(53):
-        fn = sp.lambdify(x, f, modules="mpmath")
-        g_iv, dg_iv = _interval_fn(x, f), _interval_fn(x, sp.diff(f, x))
+        mp = [mpmath.mpf(c._mpf_) for c in consts]
+        iv = [mpmath.iv.mpf(str(sp.Float(c, c._prec)).strip()) for c in consts]  # enclosing the constants
         try:
-            return tuple((float(p), float(q)) for p, q in certified_brackets(fn, g_iv, dg_iv, t, a, b, what=f"{f}",
-                                                                              lenient=x in _LENIENT))
+            found = certified_brackets(lambda z: fn(z, *mp), lambda X: g_iv(X, *iv), lambda X: dg_iv(X, *iv), t, a, b,
+                                       what=f"{shape.xreplace(dict(zip(_PLACEHOLDERS, consts)))}",
+                                       lenient=x in _LENIENT)
         except TooManyRoots as err:
             raise TooManyRoots(str(err), _SPANS.get(x)) from None
+    return tuple((float(p), float(q)) for p, q in found)
 
 
 #: The equations of indexed roots lambdify printed (by a key: ``lambdify``'s code calls back with
@@ -368,7 +466,7 @@ def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
         return b
     fn = _compiled(key)[3]
     p, q = brackets[index]
-    return float(bracketed_root(lambda z: fn(z, *vals), t, p, q))  # in doubles: the result is one
+    return float(double_root(lambda z: fn(z, *vals), t, p, q))  # in doubles: the result is one
 
 
 @lru_cache(maxsize=256)
@@ -383,9 +481,19 @@ def _compiled(key: str) -> tuple:
 
 @lru_cache(maxsize=65536)
 def _brackets_of(key: str, t: float, a: float, b: float, vals: tuple) -> tuple:
-    """:func:`_brackets_at` for the equation named ``key`` at these values of its other symbols."""
+    """:func:`_brackets_at` for the equation named ``key`` at these values of its other symbols:
+    those certified once for a box of them holding these values (:func:`_box_brackets`), else
+    certified at these values."""
     lam, _ = _INDEXED[key]
     x = lam.variables[0]
+    if vals:
+        found = _box_brackets(key, t, a, b, vals)
+        if found is not None:
+            return found
+    if x in _LENIENT:  # a polynomial equation: isolated exactly (where roots merge, enclosures fail)
+        found = _exact_brackets(key, t, a, b, vals)
+        if found is not None:
+            return found
     fn, g_iv, dg_iv, _ = _compiled(key)
     iv_vals = [mpmath.iv.mpf(v) for v in vals]
     mp_vals = [mpmath.mpf(v) for v in vals]
@@ -397,6 +505,220 @@ def _brackets_of(key: str, t: float, a: float, b: float, vals: tuple) -> tuple:
         except TooManyRoots as err:
             raise TooManyRoots(str(err), _SPANS.get(x)) from None
     return tuple((float(p), float(q)) for p, q in found)
+
+
+#: Widths of the boxes of the other symbols' values over which an indexed root's brackets are
+#: certified at once: 2**BOX_LEVELS[0] down to 2**BOX_LEVELS[-1], a box of each width tried (the
+#: widest first) before the values themselves.
+BOX_LEVELS = range(1, -16, -1)
+#: Halvings of a cell of a box's certification before that box is given up (a finer one is tried).
+BOX_DEPTH = 8
+#: Each box's brackets (None: not certified), by equation, target, domain, width and box.
+_BOXES: dict = {}
+#: At most this many boxes are kept (then forgotten all at once).
+BOXES = 200_000
+
+
+def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple | None:
+    """The certified brackets of the indexed root's sign changes for every value of its other
+    symbols in a dyadic box holding ``vals`` (the widest of :data:`BOX_LEVELS` that certifies,
+    :func:`certified_brackets` with ``box``): a quadrature over those symbols asks at thousands of
+    nodes, and one certification serves every node in a box (the brackets are the same there, so
+    is the k-th root's bracket; each node's root is then bisected at its own values).  None: no
+    box certifies (near values where sign changes merge or cross a cell's end, the values'
+    own certification decides)."""
+    if not all(math.isfinite(v) for v in vals):
+        return None
+    fn, g_iv, dg_iv, _ = _compiled(key)
+    for level in BOX_LEVELS:
+        w = 2.0 ** level
+        cell = tuple(math.floor(v / w) for v in vals)
+        k = (key, t, a, b, level, cell)
+        if k in _BOXES:
+            found = _BOXES[k]
+        else:
+            if len(_BOXES) >= BOXES:
+                _BOXES.clear()
+            box = [mpmath.iv.mpf([c * w, (c + 1) * w]) for c in cell]  # dyadic: exact in binary
+            with mpmath.workprec(53):
+                try:
+                    found = tuple((float(p), float(q)) for p, q in certified_brackets(
+                        None, lambda X, box=box: g_iv(X, *box), lambda X, box=box: dg_iv(X, *box), t, a, b, depth=BOX_DEPTH,
+                        box=True))
+                except TooManyRoots:
+                    found = None
+            _BOXES[k] = found
+        if found is not None:
+            return found
+    return None
+
+
+class _FractionPrinter(PythonCodePrinter):
+    """lambdify's text for exact rational arithmetic: every constant a ``Fraction`` (a float
+    constant its exact binary value), so a polynomial's coefficients at rational values of its
+    other symbols are computed without rounding."""
+
+    def _print_Rational(self, e):
+        return f"Fraction({e.p}, {e.q})"
+
+    def _print_Half(self, e):
+        return self._print_Rational(e)
+
+    def _print_Integer(self, e):
+        return f"Fraction({e.p})"
+
+    def _print_Float(self, e):
+        return self._print_Rational(sp.Rational(e))
+
+
+#: The degree up to which an indexed root's polynomial equation is isolated exactly.
+EXACT_DEGREE = 12
+
+
+@lru_cache(maxsize=256)
+def _exact_coefficients(key: str):
+    """The equation named ``key`` as a polynomial in the root's variable whose coefficients are
+    polynomials with rational (or float) constants in its other symbols: a function of those
+    symbols' values (Fractions) returning the coefficients exactly, highest first; None otherwise."""
+    lam, free = _INDEXED[key]
+    (x,), f = lam.variables, lam.expr
+    return _polynomial_coefficients(x, f, tuple(free))
+
+
+@lru_cache(maxsize=1024)
+def _polynomial_coefficients(x, f, free: tuple):
+    """:func:`_exact_coefficients` of ``f`` in ``x`` with the other symbols ``free``."""
+    try:
+        poly = sp.Poly(f, x)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return None
+    coeffs = poly.all_coeffs()
+    if poly.degree() < 1 or poly.degree() > EXACT_DEGREE:
+        return None
+    for c in coeffs:
+        if not c.is_polynomial(*free) or any(not isinstance(n, (sp.Rational, sp.Float)) for n in c.atoms(sp.Number)) \
+                or c.atoms(sp.Function) or (c.free_symbols - set(free)):
+            return None
+    return sp.lambdify(list(free), coeffs, modules=[{"Fraction": Fraction}], printer=_FractionPrinter(
+        {"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True}))
+
+
+def _exact_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple | None:
+    """The brackets of the sign changes of a polynomial equation (:func:`_exact_coefficients`) at
+    these values, by exact rational arithmetic (a Sturm sequence of its square-free part isolates
+    each distinct root; a root is a sign change when the equation's signs on its two sides
+    differ): certified with no interval enclosure, however close two roots are.  None: not such
+    an equation, or the isolating points are not doubles."""
+    coefficients = _exact_coefficients(key)
+    if coefficients is None or not all(math.isfinite(v) for v in (t, a, b, *vals)):
+        return None
+    p = [Fraction(c) for c in coefficients(*(Fraction(v) for v in vals))]
+    p[-1] -= Fraction(t)
+    found = sturm_brackets(p, Fraction(a), Fraction(b))
+    if found is None:
+        return None
+    out = tuple((float(q), float(r)) for q, r in found)
+    if any(float(q) != q or float(r) != r for q, r in found):
+        return None
+    return out
+
+
+def _strip(p: list) -> list:
+    i = 0
+    while i < len(p) - 1 and p[i] == 0:
+        i += 1
+    return p[i:]
+
+
+def _horner(p: list, x):
+    v = 0
+    for c in p:
+        v = v * x + c
+    return v
+
+
+def _rem(p: list, q: list) -> list:
+    """The remainder of ``p`` divided by ``q`` (highest first, ``q[0] != 0``)."""
+    p = list(p)
+    while len(p) >= len(q) and any(p):
+        c = p[0] / q[0]
+        for i in range(len(q)):
+            p[i] -= c * q[i]
+        p.pop(0)
+    return _strip(p) if p else [0]
+
+
+def _gcd(p: list, q: list) -> list:
+    while any(q):
+        p, q = q, _rem(p, q)
+    return [c / p[0] for c in p]
+
+
+def _quotient(p: list, q: list) -> list:
+    p, out = list(p), []
+    while len(p) >= len(q):
+        c = p[0] / q[0]
+        out.append(c)
+        for i in range(len(q)):
+            p[i] -= c * q[i]
+        p.pop(0)
+    return out
+
+
+def sturm_brackets(p: list, lo, hi, depth: int = 200, squarefree: bool = False) -> list | None:
+    """The brackets, increasing, each holding one sign change of the polynomial ``p`` (exact
+    rational coefficients, highest first) on ``[lo, hi]``, all of them; None when ``p`` is
+    identically zero or vanishes at ``lo`` or ``hi`` (there :func:`certified_brackets`'s convention
+    decides), when isolating its roots takes more than ``depth`` halvings, or (``squarefree``)
+    when it has a multiple root (a degenerate turning point, anywhere)."""
+    p = _strip(p)
+    if not any(p) or _horner(p, lo) == 0 or _horner(p, hi) == 0:
+        return None
+    if len(p) == 1:
+        return []
+    dp = [c * (len(p) - 1 - i) for i, c in enumerate(p[:-1])]
+    g = _gcd(p, dp)
+    if squarefree and len(g) > 1:
+        return None
+    p0 = _quotient(p, g) if len(g) > 1 else p
+    chain = [p0, [c * (len(p0) - 1 - i) for i, c in enumerate(p0[:-1])] or [0]]
+    while len(chain[-1]) > 1 or chain[-1][0] != 0:
+        r = _rem(chain[-2], chain[-1])
+        if not any(r):
+            break
+        chain.append([-c for c in r])
+        if len(chain[-1]) == 1:
+            break
+
+    def variations(x) -> int:
+        signs = [v for v in (_horner(q, x) for q in chain) if v != 0]
+        return sum((u < 0) != (w < 0) for u, w in zip(signs, signs[1:]))
+
+    def split(a, b):
+        for k in range(1, 8):  # the midpoint, or a dyadic point next to it that is not a root
+            for m in (a + (b - a) / 2 + (b - a) / 2 ** (k + 1) * (k > 1), a + (b - a) / 2 - (b - a) / 2 ** (k + 1)):
+                if _horner(p0, m) != 0:
+                    return m
+        return None
+
+    points = [lo, hi]
+    stack = [(lo, hi, variations(lo) - variations(hi), 0)]
+    while stack:
+        a, b, n, d = stack.pop()
+        if n <= 1:
+            continue
+        if d >= depth:
+            return None
+        m = split(a, b)
+        if m is None:
+            return None
+        points.append(m)
+        vm = variations(m)
+        stack.append((a, m, variations(a) - vm, d + 1))
+        stack.append((m, b, vm - variations(b), d + 1))
+    points = sorted(set(points))
+    signs = [-1 if _horner(p, x) < 0 else 1 for x in points]  # never 0: the ends and split points are no roots
+    return [(x, y) for x, y, s, r in zip(points, points[1:], signs, signs[1:]) if s != r]
 
 
 def implicit_root(equation: sp.Expr, variable: sp.Symbol, target: sp.Expr, lo: sp.Expr, hi: sp.Expr,

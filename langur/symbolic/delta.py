@@ -13,6 +13,7 @@ variable there is no ``u'`` and this is the sifting property ``Σ h(x*)/|Φ'(x*)
 from __future__ import annotations
 
 import itertools
+import math
 import random
 from typing import Sequence
 
@@ -183,8 +184,7 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
             problems.append((conds, weight * sp.Abs(J)))
             continue
         signs = set()
-        for pt in _sample(ctx, uprime, ubox, n=16, seed=1):
-            z = ctx.value(J.xreplace(pt))
+        for z in _jacobian_values(J, uprime, ctx, list(_sample(ctx, uprime, ubox, n=16, seed=1))):
             if abs(z.imag) < 1e-12 and z.real != 0:
                 signs.add(1 if z.real > 0 else -1)
         if len(signs) == 1:
@@ -196,6 +196,32 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
             problems.append((conds + [Cond(J)], weight * J))
             problems.append((conds + [Cond(-J)], -weight * J))
     return problems
+
+
+def _jacobian_values(J, uprime, ctx: Context, points) -> list:
+    """det DΨ̂⁻¹ at the sample points: sympy's 30-digit ``evalf``, except for a Jacobian holding
+    implicit roots, compiled once and evaluated in doubles (each ``evalf`` would solve every root
+    to 30 digits, and only the sign is wanted); a point where that is not finite is evaluated by
+    ``evalf``."""
+    fn = None
+    if J.has(ImplicitRootFn):
+        try:
+            fn = lambdify(list(uprime), printable(J.xreplace({k: sp.Float(float(v), 30) for k, v in ctx.at.items()})),
+                          modules=["math"])
+        except Exception:  # noqa: BLE001 - then sympy's evalf, as for any other Jacobian
+            fn = None
+    out = []
+    for pt in points:
+        z = None
+        if fn is not None:
+            try:
+                z = complex(fn(*[float(pt[u]) for u in uprime]))
+            except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+                z = None
+        if z is None or not (math.isfinite(z.real) and math.isfinite(z.imag)):
+            z = ctx.value(J.xreplace(pt))
+        out.append(z)
+    return out
 
 
 def u_prime(psi: Psi, variables: Sequence) -> list:
