@@ -682,20 +682,36 @@ def _root_formulas(expr, v):
 def rational_value(expr, point: dict, memo: dict | None = None):
     """``expr`` at ``point`` (symbols → Rationals) as an exact Fraction, for forms built from
     rationals, symbols, +, ·, integer powers and ``Abs``; None otherwise (or on a division by 0).
-    ``memo``: the values of subtrees at this point, shared by several calls (expressions built
-    from the same subtrees: a closed form and the relations of its cell)."""
-    return _dual(expr, point, {}, 0, memo)
+    The values of subtrees are remembered per point (:func:`_point_values`): a closed form, the
+    relations of its cell and the closed forms of the other partial derivatives share their
+    subtrees.  (``memo``, a dict of the caller's for the same purpose, is not needed any more.)"""
+    try:
+        n, d = _value_of(sp.sympify(expr), _point_values(point), point)
+        return Fraction(n, d)
+    except (_NotRational, ZeroDivisionError):
+        return None
 
 
 def dual_derivative(expr, point: dict, tangent: dict):
     """``d/ds expr(point + s·tangent)`` at s = 0 as an exact Fraction, by dual numbers over the
     rationals (one pass over the tree, shared subtrees once): for closed forms built from
     rationals, symbols, +, ·, integer powers and ``Abs`` (away from 0); None otherwise (or where
-    it is not differentiable: a division by 0, ``Abs`` at 0)."""
-    return _dual(expr, point, tangent, 1)
+    it is not differentiable: a division by 0, ``Abs`` at 0).  The values are those remembered at
+    the point (:func:`_point_values`: every partial derivative's Theorem 8.1 check differentiates
+    the same closed form of ⟦p⟧ at the same points); a subtree whose derivative along the line is
+    0 costs no arithmetic."""
+    try:
+        e = sp.sympify(expr)
+        values = _point_values(point)
+        _value_of(e, values, point)
+        n, d = _slope_of(e, values, {}, point, tangent)
+        return Fraction(n, d)
+    except (_NotRational, ZeroDivisionError):
+        return None
 
 
-#: Bits beyond which an unreduced rational (numerator, denominator) of :func:`_dual` is reduced.
+#: Bits beyond which an unreduced rational (numerator, denominator) of :func:`_value_of` and
+#: :func:`_slope_of` is reduced.
 _REDUCE_BITS = 512
 
 
@@ -727,65 +743,109 @@ def _qpow(x, k: int):
 _ZERO, _ONE = (0, 1), (1, 1)
 
 
-def _dual(expr, point: dict, tangent: dict, part: int, memo: dict | None = None):
-    """Value (``part`` 0) or derivative (1) by dual numbers over the rationals (see
-    dual_derivative); rationals as unreduced integer pairs (:func:`_red`), the derivative not
-    computed when only the value is asked for; ``memo`` as :func:`rational_value`'s."""
-    memo = {} if memo is None else memo
-    deriv = part == 1
+def _rational(z) -> tuple[int, int]:
+    z = sp.sympify(z)
+    if not isinstance(z, sp.Rational):
+        raise _NotRational()
+    return int(z.p), int(z.q)
 
-    def rational(z):
-        z = sp.sympify(z)
-        if not isinstance(z, sp.Rational):
+
+#: Exact values of subtrees (unreduced integer pairs, :func:`_red`) by evaluation point, the
+#: few most recent points (a point's dict is dropped with it).
+_VALUES: dict = {}
+#: Points whose values are kept.
+VALUE_POINTS = 8
+def _point_key(point: dict):
+    return frozenset(point.items())
+
+
+def _point_values(point: dict) -> dict:
+    """The remembered values of subtrees at ``point`` (a new dict for a new point)."""
+    key = _point_key(point)
+    memo = _VALUES.pop(key, None)  # (moved to the end: the oldest point is dropped first)
+    if memo is None:
+        memo = {}
+        if len(_VALUES) >= VALUE_POINTS:
+            _VALUES.pop(next(iter(_VALUES)))
+    _VALUES[key] = memo
+    return memo
+
+
+def _value_of(e, memo: dict, point: dict):
+    """``e`` at ``point`` as an unreduced integer pair (:class:`_NotRational` when it is not a form
+    of rationals, symbols, +, ·, integer powers and ``Abs``, or is undefined there)."""
+    hit = memo.get(e)
+    if hit is not None:
+        return hit
+    if isinstance(e, sp.Rational):
+        out = (int(e.p), int(e.q))
+    elif isinstance(e, sp.Symbol):
+        if e not in point:
             raise _NotRational()
-        return int(z.p), int(z.q)
+        out = _rational(point[e])
+    elif isinstance(e, sp.Add):
+        out = _ZERO
+        for a in e.args:
+            out = _qadd(out, _value_of(a, memo, point))
+    elif isinstance(e, sp.Mul):
+        out = _ONE
+        for a in e.args:
+            out = _qmul(out, _value_of(a, memo, point))
+    elif isinstance(e, sp.Pow) and e.exp.is_Integer:
+        bv = _value_of(e.base, memo, point)
+        k = int(e.exp)
+        if bv[0] == 0 and k < 1:
+            raise _NotRational()
+        out = _qpow(bv, k)
+    elif isinstance(e, sp.Abs):
+        av = _value_of(e.args[0], memo, point)
+        if av[0] == 0:
+            raise _NotRational()  # (not differentiable there)
+        out = (abs(av[0]), av[1])
+    else:
+        raise _NotRational()
+    memo[e] = out
+    return out
 
-    def go(e):
-        if e in memo:
-            return memo[e]
-        if isinstance(e, sp.Rational):
-            out = ((int(e.p), int(e.q)), _ZERO)
-        elif isinstance(e, sp.Symbol):
-            if e not in point:
-                raise _NotRational()
-            out = (rational(point[e]), rational(tangent.get(e, 0)) if deriv else _ZERO)
-        elif isinstance(e, sp.Add):
-            v, d = _ZERO, _ZERO
-            for a in e.args:
-                av, ad = go(a)
-                v = _qadd(v, av)
-                if deriv:
-                    d = _qadd(d, ad)
-            out = (v, d)
-        elif isinstance(e, sp.Mul):
-            v, d = _ONE, _ZERO
-            for a in e.args:
-                av, ad = go(a)
-                if deriv:
-                    d = _qadd(_qmul(d, av), _qmul(v, ad))
+
+def _slope_of(e, values: dict, memo: dict, point: dict, tangent: dict):
+    """The derivative of ``e`` along ``tangent`` at ``point`` (forward mode; ``values`` holds the
+    value of every subtree of ``e`` there, :func:`_value_of`), an unreduced integer pair."""
+    hit = memo.get(e)
+    if hit is not None:
+        return hit
+    if isinstance(e, sp.Rational):
+        out = _ZERO
+    elif isinstance(e, sp.Symbol):
+        out = _rational(tangent.get(e, 0))
+    elif isinstance(e, sp.Add):
+        out = _ZERO
+        for a in e.args:
+            da = _slope_of(a, values, memo, point, tangent)
+            if da[0]:
+                out = _qadd(out, da)
+    elif isinstance(e, sp.Mul):
+        ds = [_slope_of(a, values, memo, point, tangent) for a in e.args]
+        out = _ZERO
+        last = max((i for i, da in enumerate(ds) if da[0]), default=-1)
+        v = _ONE  # Σᵢ dᵢ·Πⱼ≠ᵢ vⱼ as d ← d·vᵢ + v·dᵢ, v ← v·vᵢ (v needed up to the last dᵢ ≠ 0)
+        for i, (a, da) in enumerate(zip(e.args, ds)):
+            av = values[a]
+            if out[0]:
+                out = _qmul(out, av)
+            if da[0]:
+                out = _qadd(out, _qmul(v, da))
+            if i < last:
                 v = _qmul(v, av)
-            out = (v, d)
-        elif isinstance(e, sp.Pow) and e.exp.is_Integer:
-            bv, bd = go(e.base)
-            k = int(e.exp)
-            if bv[0] == 0 and k < 1:
-                raise _NotRational()
-            out = (_qpow(bv, k), _qmul(_qmul((k, 1), _qpow(bv, k - 1)), bd) if deriv else _ZERO)
-        elif isinstance(e, sp.Abs):
-            av, ad = go(e.args[0])
-            if av[0] == 0:
-                raise _NotRational()
-            out = ((abs(av[0]), av[1]), (ad if av[0] > 0 else (-ad[0], ad[1])))
-        else:
-            raise _NotRational()
-        memo[e] = out
-        return out
-
-    try:
-        n, d = go(sp.sympify(expr))[part]
-        return Fraction(n, d)
-    except (_NotRational, ZeroDivisionError):
-        return None
+    elif isinstance(e, sp.Pow):  # (an integer power: _value_of accepted it)
+        db = _slope_of(e.base, values, memo, point, tangent)
+        k = int(e.exp)
+        out = _qmul(_qmul((k, 1), _qpow(values[e.base], k - 1)), db) if db[0] else _ZERO
+    else:  # Abs, away from 0
+        da = _slope_of(e.args[0], values, memo, point, tangent)
+        out = da if values[e.args[0]][0] > 0 else (-da[0], da[1])
+    memo[e] = out
+    return out
 
 
 class _NotRational(Exception):
