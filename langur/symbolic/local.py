@@ -88,14 +88,38 @@ def mentions(e, vs, memo: dict) -> bool:
     return hit
 
 
+#: Limits up to which :func:`size` counts node by node; beyond, it sums over distinct subtrees.
+WALKED_SIZE = 4096
+
+
 def size(e, limit: int) -> int:
-    """Number of nodes of the tree ``e``, counted up to ``limit`` (cheaper than ``count_ops``)."""
+    """Number of nodes of the tree ``e``, counted up to ``limit`` (cheaper than ``count_ops``):
+    ``min(number of nodes, limit)``.  A large limit (the closed forms printed or not, 10⁵ nodes) is
+    checked by summing the sizes of the distinct subtrees (:func:`tree_size`) rather than visiting
+    10⁵ nodes."""
+    if limit > WALKED_SIZE:
+        return min(tree_size(e), limit)
     n, stack = 0, [e]
     while stack and n < limit:
         node = stack.pop()
         n += 1
         stack.extend(node.args)
     return n
+
+
+def tree_size(e) -> int:
+    """Number of nodes of the tree ``e`` (a subtree counted each time it occurs), each distinct
+    subtree object visited once."""
+    sizes: dict = {}
+    stack = [(e, False)]
+    while stack:
+        node, done = stack.pop()
+        if done:
+            sizes[id(node)] = 1 + sum(sizes[id(a)] for a in node.args)
+        elif id(node) not in sizes:
+            stack.append((node, True))
+            stack.extend((a, False) for a in node.args if id(a) not in sizes)
+    return sizes[id(e)]
 
 
 #: Whether a closed form valid in the parameter cell of the point is enough (:func:`cell_forms`).
@@ -694,24 +718,173 @@ def rational_value(expr, point: dict, memo: dict | None = None):
 
 def dual_derivative(expr, point: dict, tangent: dict):
     """``d/ds expr(point + s·tangent)`` at s = 0 as an exact Fraction, by dual numbers over the
-    rationals (one pass over the tree, shared subtrees once): for closed forms built from
-    rationals, symbols, +, ·, integer powers and ``Abs`` (away from 0); None otherwise (or where
-    it is not differentiable: a division by 0, ``Abs`` at 0).  The values are those remembered at
-    the point (:func:`_point_values`: every partial derivative's Theorem 8.1 check differentiates
-    the same closed form of ⟦p⟧ at the same points); a subtree whose derivative along the line is
-    0 costs no arithmetic."""
+    rationals (one pass over the distinct subtrees): for closed forms built from rationals,
+    symbols, +, ·, integer powers and ``Abs`` (away from 0); None otherwise (or where it is not
+    differentiable: a division by 0, ``Abs`` at 0).  The form is flattened once into a list of
+    operations (:class:`_Tape`) and its values at a point computed once (every partial
+    derivative's Theorem 8.1 check differentiates the same closed form of ⟦p⟧ at the same
+    points); a subtree whose derivative along the line is 0 costs no arithmetic."""
     try:
-        e = sp.sympify(expr)
-        values = _point_values(point)
-        _value_of(e, values, point)
-        n, d = _slope_of(e, values, {}, point, tangent)
+        tape = _Tape.of(sp.sympify(expr))
+        n, d = tape.slope(tape.values(point), tangent)
         return Fraction(n, d)
     except (_NotRational, ZeroDivisionError):
         return None
 
 
+_RAT, _SYM, _ADD, _MUL, _POW, _ABS = range(6)
+#: Flattened closed forms (:class:`_Tape`) by form, or the exception met flattening it.
+_TAPES: dict = {}
+
+
+class _Tape:
+    """A form of rationals, symbols, +, ·, integer powers and ``Abs`` as a list of operations over
+    its distinct subtrees, children before parents (the form itself last): ``(kind, operand
+    indices, payload)`` with the payload a rational's integer pair, a symbol, or a power's
+    exponent; and its values by point."""
+
+    def __init__(self, expr):
+        index: dict = {}
+        self.ops: list = []
+        stack = [(expr, False)]
+        while stack:
+            node, done = stack.pop()
+            if node in index:
+                continue
+            if done:
+                index[node] = len(self.ops)
+                self.ops.append(self._op(node, index))
+                continue
+            stack.append((node, True))
+            stack.extend((a, False) for a in _operands(node) if a not in index)
+        self._values: dict = {}
+
+    @staticmethod
+    def _op(node, index):
+        if isinstance(node, sp.Rational):
+            return _RAT, (), (int(node.p), int(node.q))
+        if isinstance(node, sp.Symbol):
+            return _SYM, (), node
+        if isinstance(node, sp.Add):
+            return _ADD, tuple(index[a] for a in node.args), None
+        if isinstance(node, sp.Mul):
+            return _MUL, tuple(index[a] for a in node.args), None
+        if isinstance(node, sp.Pow):
+            return _POW, (index[node.base],), int(node.exp)
+        return _ABS, (index[node.args[0]],), None
+
+    @classmethod
+    def of(cls, expr) -> "_Tape":
+        tape = _TAPES.get(expr)
+        if tape is None:
+            try:
+                tape = cls(expr)
+            except _NotRational as exc:
+                tape = exc
+            if len(_TAPES) >= 64:
+                _TAPES.pop(next(iter(_TAPES)))
+            _TAPES[expr] = tape
+        if isinstance(tape, Exception):
+            raise tape
+        return tape
+
+    def values(self, point: dict) -> list:
+        """The value of every operation at ``point`` (remembered for the last few points)."""
+        key = _point_key(point)
+        vals = self._values.get(key)
+        if vals is None:
+            vals = []
+            for kind, args, k in self.ops:
+                if kind == _RAT:
+                    v = k
+                elif kind == _SYM:
+                    if k not in point:
+                        raise _NotRational()
+                    v = _rational(point[k])
+                elif kind == _ADD:
+                    v = _ZERO
+                    for j in args:
+                        v = _qadd(v, vals[j])
+                elif kind == _MUL:
+                    v = _ONE
+                    for j in args:
+                        v = _qmul(v, vals[j])
+                elif kind == _POW:
+                    b = vals[args[0]]
+                    if b[0] == 0 and k < 1:
+                        raise _NotRational()
+                    v = _qpow(b, k)
+                else:
+                    a = vals[args[0]]
+                    if a[0] == 0:
+                        raise _NotRational()  # (not differentiable there)
+                    v = (abs(a[0]), a[1])
+                vals.append(v)
+            if len(self._values) >= VALUE_POINTS:
+                self._values.pop(next(iter(self._values)))
+            self._values[key] = vals
+        return vals
+
+    def slope(self, vals: list, tangent: dict):
+        """The derivative along ``tangent`` (forward mode, ``None`` standing for 0)."""
+        d: list = []
+        for kind, args, k in self.ops:
+            if kind == _RAT:
+                out = None
+            elif kind == _SYM:
+                t = _rational(tangent.get(k, 0))
+                out = t if t[0] else None
+            elif kind == _ADD:
+                out = None
+                for j in args:
+                    dj = d[j]
+                    if dj is not None:
+                        out = dj if out is None else _qadd(out, dj)
+            elif kind == _MUL:
+                out = None
+                last = -1
+                for i, j in enumerate(args):
+                    if d[j] is not None:
+                        last = i
+                v = _ONE  # Σᵢ dᵢ·Πⱼ≠ᵢ vⱼ as d ← d·vᵢ + v·dᵢ, v ← v·vᵢ (v needed up to the last dᵢ ≠ 0)
+                for i in range(last + 1):
+                    j = args[i]
+                    if out is not None:
+                        out = _qmul(out, vals[j])
+                    dj = d[j]
+                    if dj is not None:
+                        term = _qmul(v, dj)
+                        out = term if out is None else _qadd(out, term)
+                    if i < last:
+                        v = _qmul(v, vals[j])
+                if out is not None:
+                    for i in range(last + 1, len(args)):
+                        out = _qmul(out, vals[args[i]])
+            elif kind == _POW:
+                db = d[args[0]]
+                out = None if db is None else _qmul(_qmul((k, 1), _qpow(vals[args[0]], k - 1)), db)
+            else:
+                da = d[args[0]]
+                out = da if da is None or vals[args[0]][0] > 0 else (-da[0], da[1])
+            if out is not None and out[0] == 0:
+                out = None
+            d.append(out)
+        return d[-1] or _ZERO
+
+
+def _operands(node) -> tuple:
+    """The operands :class:`_Tape` flattens (:class:`_NotRational` for any other node)."""
+    if isinstance(node, (sp.Rational, sp.Symbol)):
+        return ()
+    if isinstance(node, (sp.Add, sp.Mul, sp.Abs)):
+        return node.args
+    if isinstance(node, sp.Pow) and node.exp.is_Integer:
+        return (node.base,)
+    raise _NotRational()
+
+
 #: Bits beyond which an unreduced rational (numerator, denominator) of :func:`_value_of` and
-#: :func:`_slope_of` is reduced.
+#: :class:`_Tape` is reduced.
 _REDUCE_BITS = 512
 
 
@@ -804,46 +977,6 @@ def _value_of(e, memo: dict, point: dict):
         out = (abs(av[0]), av[1])
     else:
         raise _NotRational()
-    memo[e] = out
-    return out
-
-
-def _slope_of(e, values: dict, memo: dict, point: dict, tangent: dict):
-    """The derivative of ``e`` along ``tangent`` at ``point`` (forward mode; ``values`` holds the
-    value of every subtree of ``e`` there, :func:`_value_of`), an unreduced integer pair."""
-    hit = memo.get(e)
-    if hit is not None:
-        return hit
-    if isinstance(e, sp.Rational):
-        out = _ZERO
-    elif isinstance(e, sp.Symbol):
-        out = _rational(tangent.get(e, 0))
-    elif isinstance(e, sp.Add):
-        out = _ZERO
-        for a in e.args:
-            da = _slope_of(a, values, memo, point, tangent)
-            if da[0]:
-                out = _qadd(out, da)
-    elif isinstance(e, sp.Mul):
-        ds = [_slope_of(a, values, memo, point, tangent) for a in e.args]
-        out = _ZERO
-        last = max((i for i, da in enumerate(ds) if da[0]), default=-1)
-        v = _ONE  # Σᵢ dᵢ·Πⱼ≠ᵢ vⱼ as d ← d·vᵢ + v·dᵢ, v ← v·vᵢ (v needed up to the last dᵢ ≠ 0)
-        for i, (a, da) in enumerate(zip(e.args, ds)):
-            av = values[a]
-            if out[0]:
-                out = _qmul(out, av)
-            if da[0]:
-                out = _qadd(out, _qmul(v, da))
-            if i < last:
-                v = _qmul(v, av)
-    elif isinstance(e, sp.Pow):  # (an integer power: _value_of accepted it)
-        db = _slope_of(e.base, values, memo, point, tangent)
-        k = int(e.exp)
-        out = _qmul(_qmul((k, 1), _qpow(values[e.base], k - 1)), db) if db[0] else _ZERO
-    else:  # Abs, away from 0
-        da = _slope_of(e.args[0], values, memo, point, tangent)
-        out = da if values[e.args[0]][0] > 0 else (-da[0], da[1])
     memo[e] = out
     return out
 
