@@ -115,7 +115,12 @@ for p in at:
     out.append({"wrt": p, "cpu": time.process_time() - t0, "method": str(r.method), "value": r.value,
                 "theorem": None if r.theorem_8_1 is None else r.theorem_8_1.holds,
                 "how": None if r.theorem_8_1 is None else str(r.theorem_8_1.how), "expr": r.expr,
-                "at": {k: str(v) for k, v in at.items()}})
+                "at": {k: str(v) for k, v in at.items()},
+                # everything else the command prints (compared with --baseline)
+                "detail": [r.regular, r.boundary, r.standard_ad, r.error, r.notes, list(r.inconsistent)]
+                + ([] if r.theorem_8_1 is None else [r.theorem_8_1.d_denotation,
+                   r.theorem_8_1.derivative_denotation, r.theorem_8_1.notes,
+                   [[pt.params, pt.d_denotation, pt.derivative_denotation] for pt in r.theorem_8_1.points]])})
 print(json.dumps(out))
 """
 
@@ -227,15 +232,28 @@ def main() -> None:
                       f"max {max(cpu or [0]):.2f} s, {sum(c > 1.0 for c in cpu)} over 1 s; "
                       f"examples not finished: {failed or 'none'}")
         base = {(r["example"], r["wrt"]): r for r in rows if r.get("wrt") and r["version"] == "baseline"}
+        same = compared = 0
         for r in rows:
             b = base.get((r["example"], r.get("wrt")))
             if r["version"] == "this" and b is not None and abs(r["value"] - b["value"]) > 1e-9 * max(1, abs(b["value"])):
                 print(f"values differ: {r['example']} d/d{r['wrt']}: baseline {b['value']!r} ({b['method']}), "
                       f"this {r['value']!r} ({r['method']})")
-            if r["version"] == "this" and b is not None and (r["value"], r["method"], r["theorem"], r.get("how")) != \
+            if r["version"] != "this" or b is None:
+                continue
+            compared += 1
+            if (r["value"], r["method"], r["theorem"], r.get("how")) != \
                     (b["value"], b["method"], b["theorem"], b.get("how")):
                 print(f"not bit-for-bit the same: {r['example']} d/d{r['wrt']}: baseline {b['value']!r} {b['method']} "
                       f"{b['theorem']} {b.get('how')}, this {r['value']!r} {r['method']} {r['theorem']} {r.get('how')}")
+            elif r["expr"] != b["expr"]:
+                print(f"closed forms printed differently: {r['example']} d/d{r['wrt']}")
+            elif r.get("detail") != b.get("detail"):
+                print(f"regular/boundary parts, notes or Theorem 8.1's numbers differ: {r['example']} d/d{r['wrt']}")
+            else:
+                same += 1
+        if compared:
+            print(f"{same} of {compared} partial derivatives the same in both versions (value, method, "
+                  "Theorem 8.1's verdict, how and numbers, the closed form's text, notes)")
         return
     print("| jumps n | regular pieces | delta terms | ⟦p⟧ s | ⦇t⦈ normal form s | ⦇p⦈ s | method | values ok |")
     print("|---:|---:|---:|---:|---:|---:|---|---|")

@@ -144,11 +144,25 @@ def _tidy(expr, ctx: Context):
     return expr
 
 
+#: The text of the cell's relations by relation: the same relations (a polygon's vertices inside
+#: the other half-planes) come back for the value, each partial derivative and the checks, and
+#: sympy prints a large one with its terms sorted (a tenth of a second each).
+_RELATION_TEXTS: dict = {}
+
+
+def _relation_text(rel) -> str:
+    text = _RELATION_TEXTS.get(rel)
+    if text is None:
+        text = str(rel)
+        regions._remember(_RELATION_TEXTS, rel, text, 4096)
+    return text
+
+
 def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -> Integral:
     """Combine per-piece closed forms (None where missing) with per-piece quadratures (a piece
     whose quadrature did not converge was cross-checked only roughly: so is the sum)."""
     notes = []
-    cell = "; ".join(str(c) for c in ctx.cell)
+    cell = "; ".join(_relation_text(c) for c in ctx.cell)
     first = (CELL_PREFIX + cell) if cell else ALL_PARAMS
     if ctx.generic:
         first += " (and with the same real roots)"

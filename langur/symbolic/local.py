@@ -88,14 +88,38 @@ def mentions(e, vs, memo: dict) -> bool:
     return hit
 
 
+#: Limits up to which :func:`size` counts node by node; beyond, it sums over distinct subtrees.
+WALKED_SIZE = 4096
+
+
 def size(e, limit: int) -> int:
-    """Number of nodes of the tree ``e``, counted up to ``limit`` (cheaper than ``count_ops``)."""
+    """Number of nodes of the tree ``e``, counted up to ``limit`` (cheaper than ``count_ops``):
+    ``min(number of nodes, limit)``.  A large limit (the closed forms printed or not, 10⁵ nodes) is
+    checked by summing the sizes of the distinct subtrees (:func:`tree_size`) rather than visiting
+    10⁵ nodes."""
+    if limit > WALKED_SIZE:
+        return min(tree_size(e), limit)
     n, stack = 0, [e]
     while stack and n < limit:
         node = stack.pop()
         n += 1
         stack.extend(node.args)
     return n
+
+
+def tree_size(e) -> int:
+    """Number of nodes of the tree ``e`` (a subtree counted each time it occurs), each distinct
+    subtree object visited once."""
+    sizes: dict = {}
+    stack = [(e, False)]
+    while stack:
+        node, done = stack.pop()
+        if done:
+            sizes[id(node)] = 1 + sum(sizes[id(a)] for a in node.args)
+        elif id(node) not in sizes:
+            stack.append((node, True))
+            stack.extend((a, False) for a in node.args if id(a) not in sizes)
+    return sizes[id(e)]
 
 
 #: Whether a closed form valid in the parameter cell of the point is enough (:func:`cell_forms`).
@@ -682,20 +706,185 @@ def _root_formulas(expr, v):
 def rational_value(expr, point: dict, memo: dict | None = None):
     """``expr`` at ``point`` (symbols → Rationals) as an exact Fraction, for forms built from
     rationals, symbols, +, ·, integer powers and ``Abs``; None otherwise (or on a division by 0).
-    ``memo``: the values of subtrees at this point, shared by several calls (expressions built
-    from the same subtrees: a closed form and the relations of its cell)."""
-    return _dual(expr, point, {}, 0, memo)
+    The values of subtrees are remembered per point (:func:`_point_values`): a closed form, the
+    relations of its cell and the closed forms of the other partial derivatives share their
+    subtrees.  (``memo``, a dict of the caller's for the same purpose, is not needed any more.)"""
+    try:
+        n, d = _value_of(sp.sympify(expr), _point_values(point), point)
+        return Fraction(n, d)
+    except (_NotRational, ZeroDivisionError):
+        return None
 
 
 def dual_derivative(expr, point: dict, tangent: dict):
     """``d/ds expr(point + s·tangent)`` at s = 0 as an exact Fraction, by dual numbers over the
-    rationals (one pass over the tree, shared subtrees once): for closed forms built from
-    rationals, symbols, +, ·, integer powers and ``Abs`` (away from 0); None otherwise (or where
-    it is not differentiable: a division by 0, ``Abs`` at 0)."""
-    return _dual(expr, point, tangent, 1)
+    rationals (one pass over the distinct subtrees): for closed forms built from rationals,
+    symbols, +, ·, integer powers and ``Abs`` (away from 0); None otherwise (or where it is not
+    differentiable: a division by 0, ``Abs`` at 0).  The form is flattened once into a list of
+    operations (:class:`_Tape`) and its values at a point computed once (every partial
+    derivative's Theorem 8.1 check differentiates the same closed form of ⟦p⟧ at the same
+    points); a subtree whose derivative along the line is 0 costs no arithmetic."""
+    try:
+        tape = _Tape.of(sp.sympify(expr))
+        n, d = tape.slope(tape.values(point), tangent)
+        return Fraction(n, d)
+    except (_NotRational, ZeroDivisionError):
+        return None
 
 
-#: Bits beyond which an unreduced rational (numerator, denominator) of :func:`_dual` is reduced.
+_RAT, _SYM, _ADD, _MUL, _POW, _ABS = range(6)
+#: Flattened closed forms (:class:`_Tape`) by form, or the exception met flattening it.
+_TAPES: dict = {}
+
+
+class _Tape:
+    """A form of rationals, symbols, +, ·, integer powers and ``Abs`` as a list of operations over
+    its distinct subtrees, children before parents (the form itself last): ``(kind, operand
+    indices, payload)`` with the payload a rational's integer pair, a symbol, or a power's
+    exponent; and its values by point."""
+
+    def __init__(self, expr):
+        index: dict = {}
+        self.ops: list = []
+        stack = [(expr, False)]
+        while stack:
+            node, done = stack.pop()
+            if node in index:
+                continue
+            if done:
+                index[node] = len(self.ops)
+                self.ops.append(self._op(node, index))
+                continue
+            stack.append((node, True))
+            stack.extend((a, False) for a in _operands(node) if a not in index)
+        self._values: dict = {}
+
+    @staticmethod
+    def _op(node, index):
+        if isinstance(node, sp.Rational):
+            return _RAT, (), (int(node.p), int(node.q))
+        if isinstance(node, sp.Symbol):
+            return _SYM, (), node
+        if isinstance(node, sp.Add):
+            return _ADD, tuple(index[a] for a in node.args), None
+        if isinstance(node, sp.Mul):
+            return _MUL, tuple(index[a] for a in node.args), None
+        if isinstance(node, sp.Pow):
+            return _POW, (index[node.base],), int(node.exp)
+        return _ABS, (index[node.args[0]],), None
+
+    @classmethod
+    def of(cls, expr) -> "_Tape":
+        tape = _TAPES.get(expr)
+        if tape is None:
+            try:
+                tape = cls(expr)
+            except _NotRational as exc:
+                tape = exc
+            if len(_TAPES) >= 64:
+                _TAPES.pop(next(iter(_TAPES)))
+            _TAPES[expr] = tape
+        if isinstance(tape, Exception):
+            raise tape
+        return tape
+
+    def values(self, point: dict) -> list:
+        """The value of every operation at ``point`` (remembered for the last few points)."""
+        key = _point_key(point)
+        vals = self._values.get(key)
+        if vals is None:
+            vals = []
+            for kind, args, k in self.ops:
+                if kind == _RAT:
+                    v = k
+                elif kind == _SYM:
+                    if k not in point:
+                        raise _NotRational()
+                    v = _rational(point[k])
+                elif kind == _ADD:
+                    v = _ZERO
+                    for j in args:
+                        v = _qadd(v, vals[j])
+                elif kind == _MUL:
+                    v = _ONE
+                    for j in args:
+                        v = _qmul(v, vals[j])
+                elif kind == _POW:
+                    b = vals[args[0]]
+                    if b[0] == 0 and k < 1:
+                        raise _NotRational()
+                    v = _qpow(b, k)
+                else:
+                    a = vals[args[0]]
+                    if a[0] == 0:
+                        raise _NotRational()  # (not differentiable there)
+                    v = (abs(a[0]), a[1])
+                vals.append(v)
+            if len(self._values) >= VALUE_POINTS:
+                self._values.pop(next(iter(self._values)))
+            self._values[key] = vals
+        return vals
+
+    def slope(self, vals: list, tangent: dict):
+        """The derivative along ``tangent`` (forward mode, ``None`` standing for 0)."""
+        d: list = []
+        for kind, args, k in self.ops:
+            if kind == _RAT:
+                out = None
+            elif kind == _SYM:
+                t = _rational(tangent.get(k, 0))
+                out = t if t[0] else None
+            elif kind == _ADD:
+                out = None
+                for j in args:
+                    dj = d[j]
+                    if dj is not None:
+                        out = dj if out is None else _qadd(out, dj)
+            elif kind == _MUL:
+                out = None
+                last = -1
+                for i, j in enumerate(args):
+                    if d[j] is not None:
+                        last = i
+                v = _ONE  # Σᵢ dᵢ·Πⱼ≠ᵢ vⱼ as d ← d·vᵢ + v·dᵢ, v ← v·vᵢ (v needed up to the last dᵢ ≠ 0)
+                for i in range(last + 1):
+                    j = args[i]
+                    if out is not None:
+                        out = _qmul(out, vals[j])
+                    dj = d[j]
+                    if dj is not None:
+                        term = _qmul(v, dj)
+                        out = term if out is None else _qadd(out, term)
+                    if i < last:
+                        v = _qmul(v, vals[j])
+                if out is not None:
+                    for i in range(last + 1, len(args)):
+                        out = _qmul(out, vals[args[i]])
+            elif kind == _POW:
+                db = d[args[0]]
+                out = None if db is None else _qmul(_qmul((k, 1), _qpow(vals[args[0]], k - 1)), db)
+            else:
+                da = d[args[0]]
+                out = da if da is None or vals[args[0]][0] > 0 else (-da[0], da[1])
+            if out is not None and out[0] == 0:
+                out = None
+            d.append(out)
+        return d[-1] or _ZERO
+
+
+def _operands(node) -> tuple:
+    """The operands :class:`_Tape` flattens (:class:`_NotRational` for any other node)."""
+    if isinstance(node, (sp.Rational, sp.Symbol)):
+        return ()
+    if isinstance(node, (sp.Add, sp.Mul, sp.Abs)):
+        return node.args
+    if isinstance(node, sp.Pow) and node.exp.is_Integer:
+        return (node.base,)
+    raise _NotRational()
+
+
+#: Bits beyond which an unreduced rational (numerator, denominator) of :func:`_value_of` and
+#: :class:`_Tape` is reduced.
 _REDUCE_BITS = 512
 
 
@@ -727,65 +916,69 @@ def _qpow(x, k: int):
 _ZERO, _ONE = (0, 1), (1, 1)
 
 
-def _dual(expr, point: dict, tangent: dict, part: int, memo: dict | None = None):
-    """Value (``part`` 0) or derivative (1) by dual numbers over the rationals (see
-    dual_derivative); rationals as unreduced integer pairs (:func:`_red`), the derivative not
-    computed when only the value is asked for; ``memo`` as :func:`rational_value`'s."""
-    memo = {} if memo is None else memo
-    deriv = part == 1
+def _rational(z) -> tuple[int, int]:
+    z = sp.sympify(z)
+    if not isinstance(z, sp.Rational):
+        raise _NotRational()
+    return int(z.p), int(z.q)
 
-    def rational(z):
-        z = sp.sympify(z)
-        if not isinstance(z, sp.Rational):
+
+#: Exact values of subtrees (unreduced integer pairs, :func:`_red`) by evaluation point, the
+#: few most recent points (a point's dict is dropped with it).
+_VALUES: dict = {}
+#: Points whose values are kept.
+VALUE_POINTS = 8
+def _point_key(point: dict):
+    return frozenset(point.items())
+
+
+def _point_values(point: dict) -> dict:
+    """The remembered values of subtrees at ``point`` (a new dict for a new point)."""
+    key = _point_key(point)
+    memo = _VALUES.pop(key, None)  # (moved to the end: the oldest point is dropped first)
+    if memo is None:
+        memo = {}
+        if len(_VALUES) >= VALUE_POINTS:
+            _VALUES.pop(next(iter(_VALUES)))
+    _VALUES[key] = memo
+    return memo
+
+
+def _value_of(e, memo: dict, point: dict):
+    """``e`` at ``point`` as an unreduced integer pair (:class:`_NotRational` when it is not a form
+    of rationals, symbols, +, ·, integer powers and ``Abs``, or is undefined there)."""
+    hit = memo.get(e)
+    if hit is not None:
+        return hit
+    if isinstance(e, sp.Rational):
+        out = (int(e.p), int(e.q))
+    elif isinstance(e, sp.Symbol):
+        if e not in point:
             raise _NotRational()
-        return int(z.p), int(z.q)
-
-    def go(e):
-        if e in memo:
-            return memo[e]
-        if isinstance(e, sp.Rational):
-            out = ((int(e.p), int(e.q)), _ZERO)
-        elif isinstance(e, sp.Symbol):
-            if e not in point:
-                raise _NotRational()
-            out = (rational(point[e]), rational(tangent.get(e, 0)) if deriv else _ZERO)
-        elif isinstance(e, sp.Add):
-            v, d = _ZERO, _ZERO
-            for a in e.args:
-                av, ad = go(a)
-                v = _qadd(v, av)
-                if deriv:
-                    d = _qadd(d, ad)
-            out = (v, d)
-        elif isinstance(e, sp.Mul):
-            v, d = _ONE, _ZERO
-            for a in e.args:
-                av, ad = go(a)
-                if deriv:
-                    d = _qadd(_qmul(d, av), _qmul(v, ad))
-                v = _qmul(v, av)
-            out = (v, d)
-        elif isinstance(e, sp.Pow) and e.exp.is_Integer:
-            bv, bd = go(e.base)
-            k = int(e.exp)
-            if bv[0] == 0 and k < 1:
-                raise _NotRational()
-            out = (_qpow(bv, k), _qmul(_qmul((k, 1), _qpow(bv, k - 1)), bd) if deriv else _ZERO)
-        elif isinstance(e, sp.Abs):
-            av, ad = go(e.args[0])
-            if av[0] == 0:
-                raise _NotRational()
-            out = ((abs(av[0]), av[1]), (ad if av[0] > 0 else (-ad[0], ad[1])))
-        else:
+        out = _rational(point[e])
+    elif isinstance(e, sp.Add):
+        out = _ZERO
+        for a in e.args:
+            out = _qadd(out, _value_of(a, memo, point))
+    elif isinstance(e, sp.Mul):
+        out = _ONE
+        for a in e.args:
+            out = _qmul(out, _value_of(a, memo, point))
+    elif isinstance(e, sp.Pow) and e.exp.is_Integer:
+        bv = _value_of(e.base, memo, point)
+        k = int(e.exp)
+        if bv[0] == 0 and k < 1:
             raise _NotRational()
-        memo[e] = out
-        return out
-
-    try:
-        n, d = go(sp.sympify(expr))[part]
-        return Fraction(n, d)
-    except (_NotRational, ZeroDivisionError):
-        return None
+        out = _qpow(bv, k)
+    elif isinstance(e, sp.Abs):
+        av = _value_of(e.args[0], memo, point)
+        if av[0] == 0:
+            raise _NotRational()  # (not differentiable there)
+        out = (abs(av[0]), av[1])
+    else:
+        raise _NotRational()
+    memo[e] = out
+    return out
 
 
 class _NotRational(Exception):

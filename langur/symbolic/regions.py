@@ -35,7 +35,7 @@ import sympy as sp
 
 from langur.symbolic import elementary, local
 from langur.symbolic.pieces import Psi
-from langur.symbolic.text import lambdify
+from langur.symbolic.text import math_lambdify
 from langur.timebox import Deadline
 
 
@@ -53,6 +53,20 @@ class Cond:
     psi: Psi | None = None
 
 
+#: The point's values as 40-digit Floats, by point (:meth:`Context.value` substitutes them in
+#: every expression it evaluates: building them again each time was a third of its time).
+_FLOATS40: dict = {}
+
+
+def _floats40(at: dict) -> dict:
+    key = tuple(at.items())
+    out = _FLOATS40.get(key)
+    if out is None:
+        out = {k: sp.Float(float(v), 40) for k, v in at.items()}
+        _remember(_FLOATS40, key, out, 64)
+    return out
+
+
 @dataclass
 class Context:
     """Evaluation point, time budget and the decisions taken at the evaluation point."""
@@ -66,7 +80,7 @@ class Context:
     inconsistent: list = field(default_factory=list)  # closed forms that failed the cross-check
 
     def value(self, expr) -> complex:
-        e = sp.sympify(expr).xreplace({k: sp.Float(float(v), 40) for k, v in self.at.items()})
+        e = sp.sympify(expr).xreplace(_floats40(self.at))
         try:
             return complex(e.evalf(30))
         except TypeError:
@@ -663,7 +677,7 @@ def _probe(expr, v, m: float, ctx: Context) -> complex | None:
     fn = _PROBES.get(key)
     if fn is None:
         try:
-            fn = lambdify((v, *params), expr, modules=["math"])
+            fn = math_lambdify((v, *params), expr)  # (shared subtrees printed once)
         except Exception:  # noqa: BLE001 - anything math cannot print: the exact path only
             fn = False
         _remember(_PROBES, key, fn)

@@ -42,6 +42,14 @@ class _Shared:
         self._memo[id(expr)] = (expr, out)  # the object is kept: its id is not reused meanwhile
         return out
 
+    def _handle_UnevaluatedExpr(self, expr):
+        # (a code printer's first step rewrites every ``re(…)`` node: a walk of the tree with its
+        # repeats, a fifth of lambdify's time on a large integrand; with none there is nothing
+        # to rewrite and sympy's walk would return ``expr`` itself)
+        if isinstance(expr, sp.Basic) and not any_node(expr, lambda node: isinstance(node, sp.re)):
+            return expr
+        return super()._handle_UnevaluatedExpr(expr)
+
 
 class _SharedPrinter(_Shared, StrPrinter):
     pass
@@ -94,6 +102,15 @@ def shared_lambdify(args, expr, module: str):
     printer = cls({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                    "user_functions": {}})
     return lambdify(args, expr, modules=[module], printer=printer)
+
+
+def math_lambdify(args, expr):
+    """``sympy.lambdify(args, expr, modules=["math"])``: the same function, each shared subtree
+    printed once (:func:`shared_lambdify`) unless a function of ``expr`` has its own numeric
+    implementation (lambdify then prints it with settings of its own)."""
+    if _implemented(expr):
+        return lambdify(args, expr, modules=["math"])
+    return shared_lambdify(list(args), expr, "math")
 
 
 def _iverson(e):
