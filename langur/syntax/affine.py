@@ -159,6 +159,13 @@ def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = fro
     Conditions of one shape — the same variables, parameters and coefficients, whatever their
     constant term (a loop's copies: ``x + 1/i + a - 1`` for i = 10 … 58) — are solved once
     (:func:`_solve`); each then costs its linear form, the constant ``−c₀/a`` and the Diffeo."""
+    found = solve(cond, variables, avoid)
+    return None if found is None else completed(cond, variables, *found)
+
+
+def solve(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = frozenset()) -> tuple[tuple, Fraction] | None:
+    """What :func:`complete` finds of ``cond``: its shape solved (:func:`_solve`, shared by every
+    condition of that shape) and its constant term ``c₀``; ``None`` when :func:`complete` gives None."""
     form = linear(cond)
     if form is None:
         return None
@@ -167,12 +174,39 @@ def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = fro
     if not occurring:
         return None
     solved = _solve(tuple(variables), tuple(coeffs.items()), occurring, free_params(cond), frozenset(avoid))
-    if solved is None:
-        return None
+    return None if solved is None else (solved, c0)
+
+
+def completed(cond: Term, variables: tuple[str, ...], solved: tuple, c0: Fraction) -> Diffeo:
+    """The completion of ``cond``, whose shape :func:`solve` solved (``solved``) and whose constant
+    term is ``c0`` (:func:`complete` is ``completed(cond, variables, *solve(cond, variables))``)."""
     v, a, inputs, others, terms, renamed = solved
     return Diffeo(variables=tuple(variables), forward=(cond,) + others, inputs=inputs,
                   branches=_branches(-c0 if a == 1 else -c0 / a, terms, renamed), solved_for=v, name=None,
                   nonzero=(), span=getattr(cond, "span", None))
+
+
+def summands(cond: Term, moving) -> list[Term] | None:
+    """The subterms of ``cond`` that ``moving`` picks (a loop's copies rebuild them) when each is a
+    constant with a small value reached from ``cond``'s root through sums only, and ``moving``
+    picks no other subterm of ``cond`` (it is asked of a subterm before its children); else
+    ``None``.  Then every condition that differs from ``cond`` only in those constants' values
+    (each still small) has :func:`linear`'s coefficients of ``cond`` and the constant term ``c₀ −
+    Σ old + Σ new``: the same shape, solved once (a loop's copies, issue 15)."""
+    out: list[Term] = []
+    stack = [cond]
+    while stack:
+        u = stack.pop()
+        if not moving(u):
+            continue
+        v = small_value(u)
+        if v is not None and v is not False:  # (a small value: no variable, no parameter)
+            out.append(u)
+        elif type(u) is Add:
+            stack += (u.right, u.left)
+        else:
+            return None
+    return out
 
 
 @functools.lru_cache(maxsize=4096)

@@ -41,7 +41,9 @@ from ..core import (
     Var,
     children,
     map_children,
+    small_value,
 )
+from . import affine
 
 #: Build a loop's copies from its first (False: every copy desugared from the surface, as the
 #: tests compare).
@@ -61,10 +63,6 @@ class Record:
     leaves: dict[int, Const] = field(default_factory=dict)
     completions: dict[int, tuple[IfDiffeo, Term, tuple[str, ...], tuple]] = field(default_factory=dict)
     unsafe: bool = False
-
-
-class _Refused(Exception):
-    """This copy cannot be instantiated (a condition that does not complete again)."""
 
 
 def _diffeo_terms(psi: Diffeo) -> tuple[Term, ...]:
@@ -90,6 +88,9 @@ class Template:
         #: Ψ̂ from elsewhere): refuse to instantiate
         self.usable = True
         self._mark(body)
+        #: what :meth:`at` builds (:meth:`_compile`, on first use)
+        self.shared: list[Term] = []
+        self.steps: list[tuple] | None = None
 
     def _mark(self, root: Term) -> None:
         """:attr:`dependent`: whether each distinct node of the first copy is built anew in each copy:
@@ -129,56 +130,166 @@ class Template:
             stack.extend(_kids(u, {}))
         return False
 
+    def _compile(self) -> None:
+        """:attr:`steps`: the nodes each copy builds anew, children before parents (in the order the
+        first copy's recursive walk met them), each as a step over the slots of a list that starts
+        with the shared nodes they read; so :meth:`at` is one loop, with no recursion and no lookup
+        by identity.  A conditional completed again whose condition's changing parts are constant
+        summands (:func:`affine.summands`: ``[x + 1/i + a - 1 >= 0]``) keeps its shape solved
+        (:func:`affine.solve`): a copy then only adds up its constant term (issue 15)."""
+        dep, completions = self.dependent, self.record.completions
+        slot: dict[int, int] = {}
+        shared: list[Term] = []
+        built: list[Term] = []  # the first copy's node of each step
+
+        def at_slot(c: Term) -> int:  # a shared child: its slot among the shared nodes
+            key = id(c)
+            if key not in slot:
+                slot[key] = len(shared)
+                shared.append(c)
+            return slot[key]
+
+        order: list[Term] = []
+        seen: set[int] = set()
+        stack: list[tuple[Term, bool]] = [(self.body, False)]
+        while stack:  # post-order over the dependent nodes, left to right (as go() recursed)
+            u, done = stack.pop()
+            if done:
+                order.append(u)
+                continue
+            if id(u) in seen:
+                continue
+            seen.add(id(u))
+            stack.append((u, True))
+            kids = [c for c in _kids(u, completions) if dep[id(c)]]
+            if type(u) is IfDiffeo:
+                found = completions.get(id(u))
+                if found is not None and not dep[id(found[1])]:
+                    kids = [c for c in (u.then, u.orelse) if dep[id(c)]]
+            stack.extend((c, False) for c in reversed(kids) if id(c) not in seen)
+        own: dict[int, int] = {}  # a dependent node's step
+        for u in order:
+            own[id(u)] = len(built)
+            built.append(u)
+
+        def ref(c: Term) -> tuple[bool, int]:
+            return (True, own[id(c)]) if dep[id(c)] else (False, at_slot(c))
+
+        raw = []
+        for u in order:
+            tu = type(u)
+            if tu is Add or tu is Mul:
+                raw.append((_BINARY, tu, u.span, ref(u.left), ref(u.right)))
+            elif tu is Const:
+                raw.append((_LEAF, u.span))
+            elif tu is Pow:
+                raw.append((_POW, u.exponent, u.span, ref(u.base)))
+            elif tu is Prim:
+                raw.append((_PRIM, u.op, u.span, ref(u.arg)))
+            elif tu is IfDiffeo:
+                found = completions.get(id(u))
+                if found is not None and dep[id(found[1])]:
+                    _, cond, variables, box = found
+                    raw.append((_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
+                                self._shifted(cond, variables, own)))
+                else:
+                    raw.append((_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse),
+                                None if found is None else found[1:]))
+            else:
+                raw.append((_OTHER, u, {id(c): ref(c) for c in children(u) if dep[id(c)]}))
+        base = len(shared)
+
+        def fix(r: tuple[bool, int]) -> int:  # slots: the shared nodes first, then the steps' nodes
+            return base + r[1] if r[0] else r[1]
+
+        steps = []
+        for step in raw:
+            k = step[0]
+            if k is _BINARY or k is _POW or k is _PRIM:
+                steps.append(step[:-1] + (fix(step[-1]),) if k is not _BINARY
+                             else step[:3] + (fix(step[3]), fix(step[4])))
+            elif k is _COMPLETE:
+                steps.append(step[:2] + (fix(step[2]), fix(step[3]), fix(step[4])) + step[5:])
+            elif k is _CONDITIONAL:
+                steps.append(step[:3] + (fix(step[3]), fix(step[4])) + step[5:])
+            elif k is _OTHER:
+                steps.append((k, step[1], {key: fix(r) for key, r in step[2].items()}))
+            else:
+                steps.append(step)
+        self.shared, self.steps = shared, steps
+
+    def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int]):
+        """For a condition completed again: its solved shape, constant term and the steps of its
+        changing constant summands with their first values, when :func:`affine.summands` finds
+        them and the first copy's condition completed by the affine path; else None."""
+        dep = self.dependent
+        parts = affine.summands(cond, lambda u: dep.get(id(u), False))
+        if parts is None or any(id(u) not in own for u in parts):
+            return None
+        found = affine.solve(cond, tuple(variables))
+        if found is None:
+            return None
+        solved, c0 = found
+        return solved, c0, tuple((own[id(u)], small_value(u)) for u in parts)
+
     def at(self, value: int) -> Term | None:
         """The copy for the index's ``value``: the first copy with its index leaves replaced by
         ``value`` and its conditions over them completed again; None when one does not complete."""
+        if not self.dependent[id(self.body)]:
+            return self.body  # the index does not occur: every copy is the first
+        if self.steps is None:
+            self._compile()
         number = Fraction(value)
-        dep, completions = self.dependent, self.record.completions
-        memo: dict[int, Term] = {}
+        vals = list(self.shared)
+        base = len(vals)
         complete, completed = self.complete, self.completed
-
-        def go(u: Term) -> Term:  # (called on nodes with an index leaf below only)
-            key = id(u)
-            out = memo.get(key)
-            if out is not None:
-                return out
-            tu = type(u)
-            if tu is Add or tu is Mul:
-                a, b = u.left, u.right
-                out = tu(go(a) if dep[id(a)] else a, go(b) if dep[id(b)] else b, span=u.span)
-            elif tu is Const:
-                out = Const(number, span=u.span)
-            elif tu is Pow:
-                out = Pow(go(u.base), u.exponent, span=u.span)
-            elif tu is Prim:
-                out = Prim(u.op, go(u.arg), span=u.span)
-            elif tu is IfDiffeo:
-                psi, found = u.psi, completions.get(key)
-                if found is not None and dep[id(found[1])]:  # its condition has the index: completed again
-                    _, cond, variables, box = found
-                    cond = go(cond)
+        for step in self.steps:
+            k = step[0]
+            if k is _BINARY:
+                out = step[1](vals[step[3]], vals[step[4]], span=step[2])
+            elif k is _LEAF:
+                out = Const(number, span=step[1])
+            elif k is _POW:
+                out = Pow(vals[step[3]], step[1], span=step[2])
+            elif k is _PRIM:
+                out = Prim(step[1], vals[step[3]], span=step[2])
+            elif k is _COMPLETE:
+                _, span, c, a, b, variables, box, shifted = step
+                cond = vals[c]
+                psi = None
+                if shifted is not None:  # the same shape: the constant term moved by the summands' change
+                    solved, c0, parts = shifted
+                    for j, old in parts:
+                        new = small_value(vals[base + j])
+                        if new is None or new is False:
+                            break
+                        if new != old:
+                            c0 = c0 + (new - old)
+                    else:
+                        psi = affine.completed(cond, variables, solved, c0)
+                if psi is None:
                     psi = complete(cond, variables, box)
                     if psi is None:
-                        raise _Refused
-                    found = (None, cond, variables, box)
-                a, b = u.then, u.orelse
-                out = IfDiffeo(psi, go(a) if dep[id(a)] else a, go(b) if dep[id(b)] else b, span=u.span)
+                        STATS["refused"] += 1
+                        return None
+                out = IfDiffeo(psi, vals[a], vals[b], span=span)
+                completed(out, cond, variables, box)
+            elif k is _CONDITIONAL:
+                _, psi, span, a, b, found = step
+                out = IfDiffeo(psi, vals[a], vals[b], span=span)
                 if found is not None:
-                    completed(out, *found[1:])
+                    completed(out, *found)
             else:
-                out = map_children(u, lambda c: go(c) if dep[id(c)] else c)
-            memo[key] = out
-            return out
-
-        if not dep[id(self.body)]:
-            return self.body  # the index does not occur: every copy is the first
-        try:
-            out = go(self.body)
-        except _Refused:
-            STATS["refused"] += 1
-            return None
+                kids = step[2]
+                out = map_children(step[1], lambda c, kids=kids: vals[kids[id(c)]] if id(c) in kids else c)
+            vals.append(out)
         STATS["instantiated"] += 1
-        return out
+        return vals[-1]
+
+
+# the kinds of step of Template.steps
+_BINARY, _LEAF, _POW, _PRIM, _COMPLETE, _CONDITIONAL, _OTHER = (
+    "binary", "leaf", "pow", "prim", "complete", "conditional", "other")
 
 
 def _kids(u: Term, completions: dict) -> tuple[Term, ...]:
