@@ -122,6 +122,32 @@ def test_instantiated_copies_are_the_desugared_copies(seed):
     assert template.STATS["instantiated"] - before["instantiated"] >= 40  # the new path was taken
 
 
+@pytest.mark.parametrize("cond, shifted", [
+    ("x + 1/i - a >= 0", 3),            # the index in a constant summand
+    ("a - x - i/3 >= 0", 3),            # under a negation: the summand's factor is -1
+    ("2*(x + i/5) + 1 <= a", 3),        # under a constant factor
+    ("x + (i - 2)*a >= 0", 0),          # a coefficient of a parameter: solved again per copy
+    ("x + y/(i + 1) >= 1/2", 0),        # a coefficient of a variable: solved again per copy
+    ("y - x^2 >= i/8", 0),              # not affine (sympy): completed again per copy
+])
+def test_conditions_of_one_shape_move_their_constant_term_only(cond, shifted):
+    # a copy's condition that differs from the first's in constant summands only is completed by
+    # adding up its constant term (affine.summands); the others by the completion itself: either
+    # way the copies are those desugaring each one gives
+    text = f"param a = 0.5\nint ([0, 1], [0, 1]) (sum i in 1..4: [{cond}] * (x + i)) d(x, y)\n"
+    before = dict(template.STATS)
+    new, new_errors = _load(text, True)
+    old, old_errors = _load(text, False)
+    assert new_errors == old_errors == []
+    assert new.program == old.program
+    assert print_program(new.program) == print_program(old.program)
+    assert template.STATS["instantiated"] - before["instantiated"] == 3
+    assert template.STATS["shifted"] - before["shifted"] == shifted
+    at, d = new.param_values({}), {"a": 1.0}
+    assert (operational.estimate_derivative(new, at, d, samples=50, seed=1).value
+            == operational.estimate_derivative(old, at, d, samples=50, seed=1).value)
+
+
 def test_a_copy_that_does_not_complete_is_desugared_and_refused():
     # i = 0: `0 * x - 1 >= 0` has no variable to isolate; the copies i = -1, 1 complete
     text = "int ([0, 2]) (sum i in -1..1: [i*x - 1 >= 0] * x) d(x)\n"
@@ -138,9 +164,10 @@ def test_microbenchmark_one_is_instantiated():
     n = 49
     text = (f"param a = 1\nint ([-1, 1]) (sum i in 10..{9 + n}: [x + 1/i + a - 1 >= 0] * (1/i + a - 1 + x))"
             f" + (sum i in 10..{9 + n}: [x + 1/i + a - 1 >= 0] * (1/i + a - 1 - x)) d(x)\n")
-    count = template.STATS["instantiated"]
+    count, shifted = template.STATS["instantiated"], template.STATS["shifted"]
     new, _ = _load(text, True)
     assert template.STATS["instantiated"] == count + 2 * (n - 1)
+    assert template.STATS["shifted"] == shifted + 2 * (n - 1)  # each copy's condition: its constant term
     old, _ = _load(text, False)
     assert new.program == old.program
     at, d = new.param_values({}), {"a": 1.0}

@@ -186,26 +186,38 @@ def completed(cond: Term, variables: tuple[str, ...], solved: tuple, c0: Fractio
                   nonzero=(), span=getattr(cond, "span", None))
 
 
-def summands(cond: Term, moving) -> list[Term] | None:
-    """The subterms of ``cond`` that ``moving`` picks (a loop's copies rebuild them) when each is a
-    constant with a small value reached from ``cond``'s root through sums only, and ``moving``
+def summands(cond: Term, moving) -> list[tuple[Term, Fraction]] | None:
+    """The subterms of ``cond`` that ``moving`` picks (a loop's copies rebuild them), each with the
+    factor it is multiplied by in ``cond``, when each is a constant with a small value reached from
+    ``cond``'s root through sums and products by constants ``moving`` does not pick, and ``moving``
     picks no other subterm of ``cond`` (it is asked of a subterm before its children); else
     ``None``.  Then every condition that differs from ``cond`` only in those constants' values
-    (each still small) has :func:`linear`'s coefficients of ``cond`` and the constant term ``c₀ −
-    Σ old + Σ new``: the same shape, solved once (a loop's copies, issue 15)."""
-    out: list[Term] = []
-    stack = [cond]
+    (each still small) has :func:`linear`'s coefficients of ``cond`` and the constant term ``c₀ +
+    Σ factor·(new − old)``: the same shape, solved once (a loop's copies, issue 15)."""
+    out: list[tuple[Term, Fraction]] = []
+    stack: list[tuple[Term, Fraction]] = [(cond, _ONE)]
     while stack:
-        u = stack.pop()
+        u, factor = stack.pop()
         if not moving(u):
             continue
         v = small_value(u)
         if v is not None and v is not False:  # (a small value: no variable, no parameter)
-            out.append(u)
-        elif type(u) is Add:
-            stack += (u.right, u.left)
-        else:
-            return None
+            out.append((u, factor))
+            continue
+        tu = type(u)
+        if tu is Add:
+            stack += ((u.right, factor), (u.left, factor))
+            continue
+        if tu is Mul:
+            for c, t in ((u.left, u.right), (u.right, u.left)):
+                k = small_value(c)
+                if k is not None and k is not False and not moving(c):
+                    stack.append((t, factor * k))
+                    break
+            else:
+                return None
+            continue
+        return None
     return out
 
 

@@ -48,8 +48,9 @@ from . import affine
 #: Build a loop's copies from its first (False: every copy desugared from the surface, as the
 #: tests compare).
 ENABLED = True
-#: Copies built so far by :meth:`Template.at` (the tests check that they exercised it).
-STATS = {"instantiated": 0, "refused": 0}
+#: Copies built so far by :meth:`Template.at`, refused, and conditions completed again by adding up
+#: their constant term alone (the tests check that they exercised each).
+STATS = {"instantiated": 0, "refused": 0, "shifted": 0}
 
 
 @dataclass
@@ -224,13 +225,13 @@ class Template:
         them and the first copy's condition completed by the affine path; else None."""
         dep = self.dependent
         parts = affine.summands(cond, lambda u: dep.get(id(u), False))
-        if parts is None or any(id(u) not in own for u in parts):
+        if parts is None or any(id(u) not in own for u, _ in parts):
             return None
         found = affine.solve(cond, tuple(variables))
         if found is None:
             return None
         solved, c0 = found
-        return solved, c0, tuple((own[id(u)], small_value(u)) for u in parts)
+        return solved, c0, tuple((own[id(u)], small_value(u), factor) for u, factor in parts)
 
     def at(self, value: int) -> Term | None:
         """The copy for the index's ``value``: the first copy with its index leaves replaced by
@@ -259,14 +260,15 @@ class Template:
                 psi = None
                 if shifted is not None:  # the same shape: the constant term moved by the summands' change
                     solved, c0, parts = shifted
-                    for j, old in parts:
+                    for j, old, factor in parts:
                         new = small_value(vals[base + j])
                         if new is None or new is False:
                             break
                         if new != old:
-                            c0 = c0 + (new - old)
+                            c0 = c0 + (new - old if factor == 1 else factor * (new - old))
                     else:
                         psi = affine.completed(cond, variables, solved, c0)
+                        STATS["shifted"] += 1
                 if psi is None:
                     psi = complete(cond, variables, box)
                     if psi is None:
