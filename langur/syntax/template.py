@@ -40,7 +40,10 @@ from ..core import (
     Term,
     Var,
     children,
+    like,
     map_children,
+    same_shape,
+    shape_of,
     small_value,
 )
 from . import affine
@@ -92,6 +95,7 @@ class Template:
         #: what :meth:`at` builds (:meth:`_compile`, on first use)
         self.shared: list[Term] = []
         self.steps: list[tuple] | None = None
+        self.first: list[Term] = []  # the first copy's node of each step
 
     def _mark(self, root: Term) -> None:
         """:attr:`dependent`: whether each distinct node of the first copy is built anew in each copy:
@@ -180,13 +184,11 @@ class Template:
         for u in order:
             tu = type(u)
             if tu is Add or tu is Mul:
-                raw.append((_BINARY, tu, u.span, ref(u.left), ref(u.right)))
+                raw.append((_BINARY, (tu, shape_of(u)), u.span, ref(u.left), ref(u.right)))
             elif tu is Const:
                 raw.append((_LEAF, u.span))
-            elif tu is Pow:
-                raw.append((_POW, u.exponent, u.span, ref(u.base)))
-            elif tu is Prim:
-                raw.append((_PRIM, u.op, u.span, ref(u.arg)))
+            elif tu is Pow or tu is Prim:
+                raw.append((_UNARY, (tu, shape_of(u)), u.span, ref(u.base if tu is Pow else u.arg)))
             elif tu is IfDiffeo:
                 found = completions.get(id(u))
                 if found is not None and dep[id(found[1])]:
@@ -206,9 +208,10 @@ class Template:
         steps = []
         for step in raw:
             k = step[0]
-            if k is _BINARY or k is _POW or k is _PRIM:
-                steps.append(step[:-1] + (fix(step[-1]),) if k is not _BINARY
-                             else step[:3] + (fix(step[3]), fix(step[4])))
+            if k is _BINARY:
+                steps.append(step[:3] + (fix(step[3]), fix(step[4])))
+            elif k is _UNARY:
+                steps.append(step[:3] + (fix(step[3]),))
             elif k is _COMPLETE:
                 steps.append(step[:2] + (fix(step[2]), fix(step[3]), fix(step[4])) + step[5:])
             elif k is _CONDITIONAL:
@@ -217,6 +220,7 @@ class Template:
                 steps.append((k, step[1], {key: fix(r) for key, r in step[2].items()}))
             else:
                 steps.append(step)
+        self.first = built
         self.shared, self.steps = shared, steps
 
     def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int]):
@@ -243,17 +247,30 @@ class Template:
         number = Fraction(value)
         vals = list(self.shared)
         base = len(vals)
-        complete, completed = self.complete, self.completed
+        # same[i]: vals[i] has the shape of the first copy's node (core.same_shape), so a node above it
+        # is built by core.like, which keeps the attributes of that shape and computes the others
+        same = [True] * base
+        complete, completed, first = self.complete, self.completed, self.first
         for step in self.steps:
             k = step[0]
             if k is _BINARY:
-                out = step[1](vals[step[3]], vals[step[4]], span=step[2])
+                a, b = step[3], step[4]
+                cls, shape = step[1]
+                if same[a] and same[b]:
+                    out, shaped = like(cls, shape, (vals[a], vals[b]), step[2]), True
+                else:
+                    out, shaped = cls(vals[a], vals[b], span=step[2]), False
             elif k is _LEAF:
-                out = Const(number, span=step[1])
-            elif k is _POW:
-                out = Pow(vals[step[3]], step[1], span=step[2])
-            elif k is _PRIM:
-                out = Prim(step[1], vals[step[3]], span=step[2])
+                out, shaped = Const(number, span=step[1]), True
+            elif k is _UNARY:
+                a = step[3]
+                cls, shape = step[1]
+                if same[a]:
+                    out, shaped = like(cls, shape, (vals[a],), step[2]), True
+                elif cls is Pow:
+                    out, shaped = Pow(vals[a], shape["exponent"], span=step[2]), False
+                else:
+                    out, shaped = Prim(shape["op"], vals[a], span=step[2]), False
             elif k is _COMPLETE:
                 _, span, c, a, b, variables, box, shifted = step
                 cond = vals[c]
@@ -276,22 +293,26 @@ class Template:
                         return None
                 out = IfDiffeo(psi, vals[a], vals[b], span=span)
                 completed(out, cond, variables, box)
+                shaped = same_shape(out, first[len(vals) - base])
             elif k is _CONDITIONAL:
                 _, psi, span, a, b, found = step
                 out = IfDiffeo(psi, vals[a], vals[b], span=span)
                 if found is not None:
                     completed(out, *found)
+                shaped = same_shape(out, first[len(vals) - base])
             else:
                 kids = step[2]
                 out = map_children(step[1], lambda c, kids=kids: vals[kids[id(c)]] if id(c) in kids else c)
+                shaped = same_shape(out, step[1])
             vals.append(out)
+            same.append(shaped)
         STATS["instantiated"] += 1
         return vals[-1]
 
 
 # the kinds of step of Template.steps
-_BINARY, _LEAF, _POW, _PRIM, _COMPLETE, _CONDITIONAL, _OTHER = (
-    "binary", "leaf", "pow", "prim", "complete", "conditional", "other")
+_BINARY, _LEAF, _UNARY, _COMPLETE, _CONDITIONAL, _OTHER = (
+    "binary", "leaf", "unary", "complete", "conditional", "other")
 
 
 def _kids(u: Term, completions: dict) -> tuple[Term, ...]:
