@@ -137,91 +137,63 @@ class Template:
 
     def _compile(self) -> None:
         """:attr:`steps`: the nodes each copy builds anew, children before parents (in the order the
-        first copy's recursive walk met them), each as a step over the slots of a list that starts
-        with the shared nodes they read; so :meth:`at` is one loop, with no recursion and no lookup
-        by identity.  A conditional completed again whose condition's changing parts are constant
-        summands (:func:`affine.summands`: ``[x + 1/i + a - 1 >= 0]``) keeps its shape solved
+        first copy's recursive walk met them), each as a step over the slots of a list: the step's
+        own node at its index, the shared nodes it reads at negative indices (:attr:`shared`, in
+        reverse); so :meth:`at` is one loop, with no recursion and no lookup by identity.  A
+        conditional completed again whose condition's changing parts are constant summands
+        (:func:`affine.summands`: ``[x + 1/i + a - 1 >= 0]``) keeps its shape solved
         (:func:`affine.solve`): a copy then only adds up its constant term (issue 15)."""
         dep, completions = self.dependent, self.record.completions
         slot: dict[int, int] = {}
         shared: list[Term] = []
-        built: list[Term] = []  # the first copy's node of each step
+        own: dict[int, int] = {}  # a dependent node's step
+        first: list[Term] = []  # the first copy's node of each step
+        steps: list[tuple] = []
 
-        def at_slot(c: Term) -> int:  # a shared child: its slot among the shared nodes
+        def ref(c: Term) -> int:
             key = id(c)
-            if key not in slot:
-                slot[key] = len(shared)
+            if dep[key]:
+                return own[key]
+            found = slot.get(key)
+            if found is None:  # a shared child: its slot among the shared nodes, from the end
+                found = slot[key] = -1 - len(shared)
                 shared.append(c)
-            return slot[key]
+            return found
 
-        order: list[Term] = []
         seen: set[int] = set()
         stack: list[tuple[Term, bool]] = [(self.body, False)]
-        while stack:  # post-order over the dependent nodes, left to right (as go() recursed)
+        while stack:  # post-order over the dependent nodes, left to right (as a recursive walk)
             u, done = stack.pop()
-            if done:
-                order.append(u)
+            if not done:
+                if id(u) not in seen:
+                    seen.add(id(u))
+                    stack.append((u, True))
+                    stack.extend((c, False) for c in reversed(_kids(u, completions))
+                                 if dep[id(c)] and id(c) not in seen)
                 continue
-            if id(u) in seen:
-                continue
-            seen.add(id(u))
-            stack.append((u, True))
-            kids = [c for c in _kids(u, completions) if dep[id(c)]]
-            if type(u) is IfDiffeo:
-                found = completions.get(id(u))
-                if found is not None and not dep[id(found[1])]:
-                    kids = [c for c in (u.then, u.orelse) if dep[id(c)]]
-            stack.extend((c, False) for c in reversed(kids) if id(c) not in seen)
-        own: dict[int, int] = {}  # a dependent node's step
-        for u in order:
-            own[id(u)] = len(built)
-            built.append(u)
-
-        def ref(c: Term) -> tuple[bool, int]:
-            return (True, own[id(c)]) if dep[id(c)] else (False, at_slot(c))
-
-        raw = []
-        for u in order:
             tu = type(u)
             if tu is Add or tu is Mul:
-                raw.append((_BINARY, (tu, shape_of(u)), u.span, ref(u.left), ref(u.right)))
+                step = (_BINARY, (tu, shape_of(u)), u.span, ref(u.left), ref(u.right))
             elif tu is Const:
-                raw.append((_LEAF, u.span))
+                step = (_LEAF, u.span)
             elif tu is Pow or tu is Prim:
-                raw.append((_UNARY, (tu, shape_of(u)), u.span, ref(u.base if tu is Pow else u.arg)))
+                step = (_UNARY, (tu, shape_of(u)), u.span, ref(u.base if tu is Pow else u.arg))
             elif tu is IfDiffeo:
                 found = completions.get(id(u))
                 if found is not None and dep[id(found[1])]:
                     _, cond, variables, box = found
-                    raw.append((_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
-                                self._shifted(cond, variables, own)))
+                    step = (_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
+                            self._shifted(cond, variables, own))
                 else:
-                    raw.append((_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse),
-                                None if found is None else found[1:]))
+                    step = (_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse),
+                            None if found is None else found[1:])
             else:
-                raw.append((_OTHER, u, {id(c): ref(c) for c in children(u) if dep[id(c)]}))
-        base = len(shared)
-
-        def fix(r: tuple[bool, int]) -> int:  # slots: the shared nodes first, then the steps' nodes
-            return base + r[1] if r[0] else r[1]
-
-        steps = []
-        for step in raw:
-            k = step[0]
-            if k is _BINARY:
-                steps.append(step[:3] + (fix(step[3]), fix(step[4])))
-            elif k is _UNARY:
-                steps.append(step[:3] + (fix(step[3]),))
-            elif k is _COMPLETE:
-                steps.append(step[:2] + (fix(step[2]), fix(step[3]), fix(step[4])) + step[5:])
-            elif k is _CONDITIONAL:
-                steps.append(step[:3] + (fix(step[3]), fix(step[4])) + step[5:])
-            elif k is _OTHER:
-                steps.append((k, step[1], {key: fix(r) for key, r in step[2].items()}))
-            else:
-                steps.append(step)
-        self.first = built
-        self.shared, self.steps = shared, steps
+                step = (_OTHER, u, {id(c): ref(c) for c in children(u) if dep[id(c)]})
+            own[id(u)] = len(steps)
+            steps.append(step)
+            first.append(u)
+        self.first, self.steps = first, steps
+        self.shared = shared[::-1]
 
     def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int]):
         """For a condition completed again: its solved shape, constant term and the steps of its
@@ -245,32 +217,36 @@ class Template:
         if self.steps is None:
             self._compile()
         number = Fraction(value)
-        vals = list(self.shared)
-        base = len(vals)
+        steps, first = self.steps, self.first
+        n = len(steps)
+        vals: list = [None] * n + self.shared  # (each step's node at its index, shared nodes from the end)
         # same[i]: vals[i] has the shape of the first copy's node (core.same_shape), so a node above it
         # is built by core.like, which keeps the attributes of that shape and computes the others
-        same = [True] * base
-        complete, completed, first = self.complete, self.completed, self.first
-        for step in self.steps:
+        same = [False] * n + [True] * len(self.shared)
+        complete, completed = self.complete, self.completed
+        for i, step in enumerate(steps):
             k = step[0]
             if k is _BINARY:
                 a, b = step[3], step[4]
                 cls, shape = step[1]
                 if same[a] and same[b]:
-                    out, shaped = like(cls, shape, (vals[a], vals[b]), step[2]), True
+                    vals[i] = like(cls, shape, (vals[a], vals[b]), step[2])
+                    same[i] = True
                 else:
-                    out, shaped = cls(vals[a], vals[b], span=step[2]), False
+                    vals[i] = cls(vals[a], vals[b], span=step[2])
             elif k is _LEAF:
-                out, shaped = Const(number, span=step[1]), True
+                vals[i] = Const(number, span=step[1])
+                same[i] = True
             elif k is _UNARY:
                 a = step[3]
                 cls, shape = step[1]
                 if same[a]:
-                    out, shaped = like(cls, shape, (vals[a],), step[2]), True
+                    vals[i] = like(cls, shape, (vals[a],), step[2])
+                    same[i] = True
                 elif cls is Pow:
-                    out, shaped = Pow(vals[a], shape["exponent"], span=step[2]), False
+                    vals[i] = Pow(vals[a], shape["exponent"], span=step[2])
                 else:
-                    out, shaped = Prim(shape["op"], vals[a], span=step[2]), False
+                    vals[i] = Prim(shape["op"], vals[a], span=step[2])
             elif k is _COMPLETE:
                 _, span, c, a, b, variables, box, shifted = step
                 cond = vals[c]
@@ -278,7 +254,7 @@ class Template:
                 if shifted is not None:  # the same shape: the constant term moved by the summands' change
                     solved, c0, parts = shifted
                     for j, old, factor in parts:
-                        new = small_value(vals[base + j])
+                        new = small_value(vals[j])
                         if new is None or new is False:
                             break
                         if new != old:
@@ -291,23 +267,21 @@ class Template:
                     if psi is None:
                         STATS["refused"] += 1
                         return None
-                out = IfDiffeo(psi, vals[a], vals[b], span=span)
+                out = vals[i] = IfDiffeo(psi, vals[a], vals[b], span=span)
                 completed(out, cond, variables, box)
-                shaped = same_shape(out, first[len(vals) - base])
+                same[i] = same_shape(out, first[i])
             elif k is _CONDITIONAL:
                 _, psi, span, a, b, found = step
-                out = IfDiffeo(psi, vals[a], vals[b], span=span)
+                out = vals[i] = IfDiffeo(psi, vals[a], vals[b], span=span)
                 if found is not None:
                     completed(out, *found)
-                shaped = same_shape(out, first[len(vals) - base])
+                same[i] = same_shape(out, first[i])
             else:
                 kids = step[2]
-                out = map_children(step[1], lambda c, kids=kids: vals[kids[id(c)]] if id(c) in kids else c)
-                shaped = same_shape(out, step[1])
-            vals.append(out)
-            same.append(shaped)
+                out = vals[i] = map_children(step[1], lambda c, kids=kids: vals[kids[id(c)]] if id(c) in kids else c)
+                same[i] = same_shape(out, step[1])
         STATS["instantiated"] += 1
-        return vals[-1]
+        return vals[n - 1]
 
 
 # the kinds of step of Template.steps
