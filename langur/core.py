@@ -564,15 +564,15 @@ def same_shape(t: "Term", s: "Term") -> bool:
 
 
 def shape_of(t: "Term") -> dict:
-    """What :func:`like` keeps of ``t`` (an ``Add``, ``Mul``, ``Pow`` or ``Prim``): the attributes
-    of its shape, and its exponent or primitive."""
+    """What :func:`like` keeps of ``t`` (an ``Add``, ``Mul``, ``Pow``, ``Prim`` or ``IfDiffeo``):
+    the attributes of its shape, and its exponent or primitive."""
     d = dict(zip(_SHAPE, _shape(t.__dict__)))
     if type(t) is Pow:
         d["exponent"] = t.exponent
     elif type(t) is Prim:
         d["op"] = t.op
-    elif type(t) is not Add and type(t) is not Mul:
-        raise TypeError(f"shape_of: not an Add, Mul, Pow or Prim: {t!r}")
+    elif type(t) is not Add and type(t) is not Mul and type(t) is not IfDiffeo:
+        raise TypeError(f"shape_of: not an Add, Mul, Pow, Prim or IfDiffeo: {t!r}")
     return d
 
 
@@ -581,7 +581,12 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
     ``span`` whose other fields and attributes of its shape are ``shape`` (:func:`shape_of` of a
     node whose children had the :func:`same_shape` as ``kids``): only the attributes that depend on
     its constants' values are computed (a loop's copies, issue 15).  Equal, attributes included,
-    to the node the constructor builds."""
+    to the node the constructor builds.
+
+    For an ``IfDiffeo``, ``kids`` is ``(psi, then, orelse)`` and ``psi`` must have what Ψ̂ gives the
+    node (``_diffeo_summary``) in common with the Ψ̂ of the node ``shape`` was taken from: the same
+    variables and the same shapes of its terms, whatever their constants (an affine completion of
+    a condition of the same shape, :func:`langur.syntax.affine.completed`)."""
     new = cls.__new__(cls)
     d = new.__dict__
     d.update(shape)
@@ -590,6 +595,12 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
         a, b = kids
         d["left"], d["right"] = a, b
         _binary_value(d, a.__dict__, b.__dict__, cls is Mul)
+        return new
+    if cls is IfDiffeo:
+        psi, a, b = kids
+        d["psi"], d["then"], d["orelse"] = psi, a, b
+        v = d["_small"] = False if not d["_fv"] and not d["_fp"] else None
+        d["_small_all"] = v is not False and a._small_all and b._small_all
         return new
     (a,) = kids
     if cls is Pow:

@@ -16,7 +16,7 @@ import random
 
 import pytest
 
-from langur import operational
+from langur import core, operational
 from langur.diagnostics import LangurError
 from langur.frontend import clear_load_cache, load_text
 from langur.syntax import template
@@ -85,6 +85,26 @@ def _program(r: random.Random) -> str:
     return f"param a = 0.5\nparam b = 0.25\nint ([0, 1], [0, 1]) ({op} i in {lo}..{hi}: {body}) * (1 + b) d(x, y)\n"
 
 
+_ATTRIBUTES = core._SHAPE + ("_small", "_small_all")
+
+
+def _same_attributes(s: core.Term, t: core.Term) -> None:
+    """``s`` and ``t`` (equal terms) carry the same kept attributes at every node (``core.like``
+    builds a copy's nodes from the first copy's shape: they must be those the constructors give),
+    and their diffeos the same summary."""
+    stack = [(s, t)]
+    seen = set()
+    while stack:
+        a, b = stack.pop()
+        if (id(a), id(b)) in seen:
+            continue
+        seen.add((id(a), id(b)))
+        assert {k: a.__dict__[k] for k in _ATTRIBUTES} == {k: b.__dict__[k] for k in _ATTRIBUTES}, (a, b)
+        if type(a) is core.IfDiffeo:
+            assert core._diffeo_summary(a.psi) == core._diffeo_summary(b.psi)
+        stack.extend(zip(core.children(a), core.children(b)))
+
+
 def _load(text: str, enabled: bool):
     template.ENABLED = enabled
     clear_load_cache()
@@ -112,6 +132,7 @@ def test_instantiated_copies_are_the_desugared_copies(seed):
             continue
         loaded_ok += 1
         assert new.program == old.program, text
+        _same_attributes(new.program.body, old.program.body)
         assert print_program(new.program) == print_program(old.program), text
         if loaded_ok % 4 == 0:  # the Monte Carlo numbers (a DAG where copies share subterms: same numbers)
             at, d = new.param_values({}), {"a": 1.0}
@@ -140,6 +161,7 @@ def test_conditions_of_one_shape_move_their_constant_term_only(cond, shifted):
     old, old_errors = _load(text, False)
     assert new_errors == old_errors == []
     assert new.program == old.program
+    _same_attributes(new.program.body, old.program.body)
     assert print_program(new.program) == print_program(old.program)
     assert template.STATS["instantiated"] - before["instantiated"] == 3
     assert template.STATS["shifted"] - before["shifted"] == shifted
@@ -170,6 +192,7 @@ def test_microbenchmark_one_is_instantiated():
     assert template.STATS["shifted"] == shifted + 2 * (n - 1)  # each copy's condition: its constant term
     old, _ = _load(text, False)
     assert new.program == old.program
+    _same_attributes(new.program.body, old.program.body)
     at, d = new.param_values({}), {"a": 1.0}
     assert (operational.estimate_derivative(new, at, d, samples=10, seed=0).value
             == operational.estimate_derivative(old, at, d, samples=10, seed=0).value)

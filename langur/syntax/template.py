@@ -183,7 +183,7 @@ class Template:
                 if found is not None and dep[id(found[1])]:
                     _, cond, variables, box = found
                     step = (_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
-                            self._shifted(cond, variables, own))
+                            self._shifted(cond, variables, own), shape_of(u))
                 else:
                     step = (_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse),
                             None if found is None else found[1:])
@@ -248,7 +248,7 @@ class Template:
                 else:
                     vals[i] = Prim(shape["op"], vals[a], span=step[2])
             elif k is _COMPLETE:
-                _, span, c, a, b, variables, box, shifted = step
+                _, span, c, a, b, variables, box, shifted, shape = step
                 cond = vals[c]
                 psi = None
                 if shifted is not None:  # the same shape: the constant term moved by the summands' change
@@ -262,6 +262,12 @@ class Template:
                     else:
                         psi = affine.completed(cond, variables, solved, c0)
                         STATS["shifted"] += 1
+                        if same[c] and same[a] and same[b]:
+                            # Ψ̂ of the first's shape (affine.completed of a condition of its shape): so is the node
+                            out = vals[i] = like(IfDiffeo, shape, (psi, vals[a], vals[b]), span)
+                            completed(out, cond, variables, box)
+                            same[i] = True
+                            continue
                 if psi is None:
                     psi = complete(cond, variables, box)
                     if psi is None:
