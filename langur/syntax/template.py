@@ -196,9 +196,10 @@ class Template:
         self.shared = shared[::-1]
 
     def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int]):
-        """For a condition completed again: its solved shape, constant term and the steps of its
-        changing constant summands with their first values, when :func:`affine.summands` finds
-        them and the first copy's condition completed by the affine path; else None."""
+        """For a condition completed again: its solved shape, its constant term without the
+        changing constant summands, and those summands' steps with their factors, when
+        :func:`affine.summands` finds them and the first copy's condition completed by the affine
+        path; else None."""
         dep = self.dependent
         parts = affine.summands(cond, lambda u: dep.get(id(u), False))
         if parts is None or any(id(u) not in own for u, _ in parts):
@@ -207,7 +208,9 @@ class Template:
         if found is None:
             return None
         solved, c0 = found
-        return solved, c0, tuple((own[id(u)], small_value(u), factor) for u, factor in parts)
+        for u, factor in parts:  # c0 without the summands: each copy adds its own
+            c0 -= small_value(u) if factor == 1 else factor * small_value(u)
+        return solved, c0, tuple((own[id(u)], factor) for u, factor in parts)
 
     def at(self, value: int) -> Term | None:
         """The copy for the index's ``value``: the first copy with its index leaves replaced by
@@ -253,12 +256,11 @@ class Template:
                 psi = None
                 if shifted is not None:  # the same shape: the constant term moved by the summands' change
                     solved, c0, parts = shifted
-                    for j, old, factor in parts:
+                    for j, factor in parts:
                         new = small_value(vals[j])
                         if new is None or new is False:
                             break
-                        if new != old:
-                            c0 = c0 + (new - old if factor == 1 else factor * (new - old))
+                        c0 = c0 + (new if factor == 1 else factor * new)
                     else:
                         psi = affine.completed(cond, variables, solved, c0)
                         STATS["shifted"] += 1
