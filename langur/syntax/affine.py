@@ -180,10 +180,16 @@ def solve(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = frozen
 def completed(cond: Term, variables: tuple[str, ...], solved: tuple, c0: Fraction) -> Diffeo:
     """The completion of ``cond``, whose shape :func:`solve` solved (``solved``) and whose constant
     term is ``c0`` (:func:`complete` is ``completed(cond, variables, *solve(cond, variables))``)."""
-    v, a, inputs, others, terms, renamed = solved
+    v, a, inputs, others, terms, renamed, known = solved
+    constant = -c0 if a == 1 else -c0 / a
+    key = (constant.numerator, constant.denominator)  # (two ints hash in C; a Fraction in Python)
+    branches = known.get(key)
+    if branches is None:
+        if len(known) >= 4096:
+            known.clear()
+        branches = known[key] = _branches(constant, terms, renamed)
     return Diffeo(variables=tuple(variables), forward=(cond,) + others, inputs=inputs,
-                  branches=_branches(-c0 if a == 1 else -c0 / a, terms, renamed), solved_for=v, name=None,
-                  nonzero=(), span=getattr(cond, "span", None))
+                  branches=branches, solved_for=v, name=None, nonzero=(), span=getattr(cond, "span", None))
 
 
 def summands(cond: Term, moving) -> list[tuple[Term, Fraction]] | None:
@@ -235,8 +241,9 @@ def _branches(constant: Fraction, terms: tuple, renamed: tuple) -> tuple[Inverse
 def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, params: frozenset, avoid: frozenset):
     """What :func:`complete` needs of a condition's shape: the variable ``v`` solved for, its
     coefficient ``a``, Ψ̂⁻¹'s inputs, Ψ̂'s other components (``Var`` of the other variables), the
-    terms ``(atom, kind, −c/a)`` of the solution but its constant, and Ψ̂⁻¹'s components (None where
-    the solution goes); None when no variable can be isolated (or one is not among ``variables``)."""
+    terms ``(atom, kind, −c/a)`` of the solution but its constant, Ψ̂⁻¹'s components (None where
+    the solution goes) and the inverse branches built so far by their constant (:func:`completed`);
+    None when no variable can be isolated (or one is not among ``variables``)."""
     if not occurring <= set(variables):
         return None
     form = dict(coeffs)
@@ -256,7 +263,7 @@ def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, para
         elif name != v:
             terms.append((renamed[name], "v", over(c)))
     return (v, a, inputs, tuple(Var(x) for x in others), tuple(terms),
-            tuple(None if x == v else Var(renamed[x]) for x in variables))
+            tuple(None if x == v else Var(renamed[x]) for x in variables), {})
 
 
 # sympy's ordering_of_classes, for the classes a rational coefficient can have
