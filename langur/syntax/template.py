@@ -102,24 +102,41 @@ class Template:
         it has an index leaf below it (in a conditional: in its branches or in the condition it was
         completed from) or a conditional on the parameters; the other nodes are shared by the copies."""
         dep, leaves, completions = self.dependent, self.record.leaves, self.record.completions
-        stack: list[tuple[Term, bool]] = [(root, False)]
-        while stack:
-            u, done = stack.pop()
+        stack: list[Term] = [root]
+        while stack:  # (a node whose children are not all marked yet goes back under them)
+            u = stack.pop()
             key = id(u)
             if key in dep:
                 continue
-            if type(u) is Const or type(u) is Var or type(u) is Param:
+            tu = type(u)
+            if tu is Const or tu is Var or tu is Param:
                 dep[key] = key in leaves
                 continue
             kids = _kids(u, completions)
-            if not done:
-                stack.append((u, True))
-                stack.extend((c, False) for c in kids if id(c) not in dep)
+            pending = None
+            for c in kids:
+                k = id(c)
+                if k not in dep:
+                    tc = type(c)
+                    if tc is Const or tc is Var or tc is Param:
+                        dep[k] = k in leaves
+                    elif pending is None:
+                        pending = [u, c]
+                    else:
+                        pending.append(c)
+            if pending is not None:
+                stack += pending
                 continue
             # (a conditional on the parameters is copied too: the desugarer lifts such a conditional
             # out of a condition by its identity, `desugar._put`, which must not meet it in two copies)
-            dep[key] = type(u) is IfGe0 or any(dep[id(c)] for c in kids)
-            if type(u) is IfDiffeo and key not in completions:
+            d = tu is IfGe0
+            if not d:
+                for c in kids:
+                    if dep[id(c)]:
+                        d = True
+                        break
+            dep[key] = d
+            if tu is IfDiffeo and key not in completions:
                 # a Ψ̂ not completed here (there is none while the record is safe): its terms must not
                 # mention the index
                 if any(self._has_leaf(t) for t in _diffeo_terms(u.psi)):
