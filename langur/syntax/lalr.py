@@ -45,18 +45,16 @@ def driver(lark: Lark) -> Callable[[str, str], Any] | None:
         callbacks = parser.callbacks
         starts, ends = dict(table.start_states), dict(table.end_states)
         ignored, newlines = frozenset(lexer.ignore_types), frozenset(lexer.newline_types)
-        states: dict[int, dict[str, tuple]] = {}
-        for state, actions in table.states.items():
-            row = {}
-            for name, (action, arg) in actions.items():
-                if action.name == "Shift":
-                    row[name] = (True, arg)
-                else:  # a reduction: its length, callback and nonterminal, looked up once here
-                    row[name] = (False, (len(arg.expansion), callbacks[arg], arg.origin.name))
-            states[state] = row
-    except (AttributeError, KeyError, TypeError):
+        states = table.states  # state → terminal or nonterminal → (Shift, state) or (Reduce, Rule)
+        shift = next(a for row in states.values() for a, _ in row.values() if a.name == "Shift")
+    except (AttributeError, KeyError, TypeError, StopIteration):
         return None
     token_callbacks = {k: v for k, v in callbacks.items() if isinstance(k, str)}
+    reductions: dict[int, tuple] = {}  # a rule's length, callback and nonterminal, by its identity
+
+    def reduction(rule) -> tuple:
+        found = reductions[id(rule)] = (len(rule.expansion), callbacks[rule], rule.origin.name)
+        return found
 
     def parse(text: str, start: str) -> Any:
         match, end = pattern.match, len(text)
@@ -107,17 +105,18 @@ def driver(lark: Lark) -> Callable[[str, str], Any] | None:
                 is_end = True
             kind = token.type
             while True:
-                action = states[state_stack[-1]].get(kind)
-                if action is None:
+                entry = states[state_stack[-1]].get(kind)
+                if entry is None:
                     return FAILED
-                shift, arg = action
-                if shift:
+                action, arg = entry
+                if action is shift:
                     if is_end:
                         return FAILED
                     state_stack.append(arg)
                     value_stack.append(token if kind not in token_callbacks else token_callbacks[kind](token))
                     break
-                size, callback, origin = arg
+                # (lark's table keeps its Rule objects alive: their identities stay theirs)
+                size, callback, origin = reductions.get(id(arg)) or reduction(arg)
                 if size:
                     s = value_stack[-size:]
                     del state_stack[-size:]
