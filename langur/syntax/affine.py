@@ -180,8 +180,14 @@ def solve(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = frozen
 def completed(cond: Term, variables: tuple[str, ...], solved: tuple, c0: Fraction) -> Diffeo:
     """The completion of ``cond``, whose shape :func:`solve` solved (``solved``) and whose constant
     term is ``c0`` (:func:`complete` is ``completed(cond, variables, *solve(cond, variables))``)."""
+    a = solved[1]
+    return solved_at(cond, variables, solved, -c0 if a == 1 else -c0 / a)
+
+
+def solved_at(cond: Term, variables: tuple[str, ...], solved: tuple, constant: Fraction) -> Diffeo:
+    """The completion of ``cond``, whose shape :func:`solve` solved (``solved``), where the solved
+    variable's solution has the constant term ``constant`` (``−c₀/a``)."""
     v, a, inputs, others, terms, renamed, known = solved
-    constant = -c0 if a == 1 else -c0 / a
     key = (constant.numerator, constant.denominator)  # (two ints hash in C; a Fraction in Python)
     branches = known.get(key)
     if branches is None:

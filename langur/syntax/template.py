@@ -213,10 +213,10 @@ class Template:
         self.shared = shared[::-1]
 
     def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int]):
-        """For a condition completed again: its solved shape, its constant term without the
-        changing constant summands, and those summands' steps with their factors, when
-        :func:`affine.summands` finds them and the first copy's condition completed by the affine
-        path; else None."""
+        """For a condition completed again: its solved shape, the constant term of its solution
+        without the changing constant summands, and those summands' steps with their factors in
+        it, when :func:`affine.summands` finds them and the first copy's condition completed by
+        the affine path; else None."""
         dep = self.dependent
         parts = affine.summands(cond, lambda u: dep.get(id(u), False))
         if parts is None or any(id(u) not in own for u, _ in parts):
@@ -227,7 +227,9 @@ class Template:
         solved, c0 = found
         for u, factor in parts:  # c0 without the summands: each copy adds its own
             c0 -= small_value(u) if factor == 1 else factor * small_value(u)
-        return solved, c0, tuple((own[id(u)], factor) for u, factor in parts)
+        a = solved[1]  # the solution's constant −c₀/a: −(c0 + Σ factor·new)/a = base + Σ (−factor/a)·new
+        return (solved, -c0 if a == 1 else -c0 / a,
+                tuple((own[id(u)], -factor if a == 1 else -factor / a) for u, factor in parts))
 
     def at(self, value: int) -> Term | None:
         """The copy for the index's ``value``: the first copy with its index leaves replaced by
@@ -272,14 +274,15 @@ class Template:
                 cond = vals[c]
                 psi = None
                 if shifted is not None:  # the same shape: the constant term moved by the summands' change
-                    solved, c0, parts = shifted
+                    solved, constant, parts = shifted
                     for j, factor in parts:
                         new = small_value(vals[j])
                         if new is None or new is False:
                             break
-                        c0 = c0 + (new if factor == 1 else factor * new)
+                        constant = constant - new if factor == -1 else constant + (
+                            new if factor == 1 else factor * new)
                     else:
-                        psi = affine.completed(cond, variables, solved, c0)
+                        psi = affine.solved_at(cond, variables, solved, constant)
                         STATS["shifted"] += 1
                         if same[c] and same[a] and same[b]:
                             # Ψ̂ of the first's shape (affine.completed of a condition of its shape): so is the node
