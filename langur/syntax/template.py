@@ -10,6 +10,11 @@ with the first copy, as an inlined def body shares its subterms, but for conditi
 parameters, which the desugarer may lift out of a condition by their identity), and every condition that
 contains them is completed again by the same function the desugarer calls
 (``langur.syntax.completion.complete``) — so each copy is the term desugaring it would give.
+The first copy is compiled into *steps* (:meth:`Template._compile`) that :meth:`Template.at` runs
+in one loop; a node whose children keep the first copy's shape is built by ``core.like`` (its
+shape's attributes copied), and a condition that differs from the first's only in constant
+summands keeps the first's solved affine shape (``affine.summands``, ``affine.solved_at``): the
+completion the desugarer's function would give, for one Fraction addition per summand (issue 15).
 
 That holds when the desugarer's work on the body does not depend on the index's *value* except
 through those leaves and the completions.  The desugarer says when it may (:attr:`Record.unsafe`):
