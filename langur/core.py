@@ -22,6 +22,7 @@ module's definitions with calls into other modules left as links, for separate c
 from __future__ import annotations
 
 import functools
+import operator
 import sys
 import threading
 from dataclasses import field, replace
@@ -522,6 +523,21 @@ def _binary(d: dict, a: dict, b: dict, mul: bool) -> None:
     d["_size"] = 1 + a["_size"] + b["_size"]
     x, y = a["_depth"], b["_depth"]
     d["_depth"] = 1 + (x if x > y else y)
+    _binary_value(d, a, b, mul)
+    x, y = a["_psi_vars"], b["_psi_vars"]
+    d["_psi_vars"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    d["_scoped"] = a["_scoped"] and b["_scoped"]
+    x, y = a["_ops"], b["_ops"]
+    d["_ops"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_binders"], b["_binders"]
+    d["_binders"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_dfp"], b["_dfp"]
+    d["_dfp"] = x if (not y or x is y) else (y if not x else _join(x, y))
+
+
+def _binary_value(d: dict, a: dict, b: dict, mul: bool) -> None:
+    """The attributes of ``t + s`` or ``t · s`` (``d``) that depend on the values of its constants
+    (``_small``, ``_small_all``), from those of ``t`` (``a``) and ``s`` (``b``)."""
     x, y = a["_small"], b["_small"]
     if x is None or y is None:
         v = False if x is False or y is False else None
@@ -533,15 +549,68 @@ def _binary(d: dict, a: dict, b: dict, mul: bool) -> None:
         v = y if not x else (x if not y else _in_range(x + y))
     d["_small"] = v
     d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
-    x, y = a["_psi_vars"], b["_psi_vars"]
-    d["_psi_vars"] = x if (not y or x is y) else (y if not x else _join(x, y))
-    d["_scoped"] = a["_scoped"] and b["_scoped"]
-    x, y = a["_ops"], b["_ops"]
-    d["_ops"] = x if (not y or x is y) else (y if not x else _join(x, y))
-    x, y = a["_binders"], b["_binders"]
-    d["_binders"] = x if (not y or x is y) else (y if not x else _join(x, y))
-    x, y = a["_dfp"], b["_dfp"]
-    d["_dfp"] = x if (not y or x is y) else (y if not x else _join(x, y))
+
+
+#: The attributes that depend on a term's shape only (its classes, names, primitives, exponents and
+#: diffeos), not on the values of its constants: all but ``_small`` and ``_small_all``.
+_SHAPE = ("_fv", "_fp", "_smooth", "_calls", "_size", "_depth", "_psi_vars", "_scoped", "_ops", "_binders", "_dfp")
+_shape = operator.itemgetter(*_SHAPE)
+
+
+def same_shape(t: "Term", s: "Term") -> bool:
+    """``t`` and ``s`` have the same attributes but those that depend on their constants' values
+    (then a node above one of them may be built by :func:`like` from a node above the other)."""
+    return _shape(t.__dict__) == _shape(s.__dict__)
+
+
+def shape_of(t: "Term") -> dict:
+    """What :func:`like` keeps of ``t`` (an ``Add``, ``Mul``, ``Pow``, ``Prim`` or ``IfDiffeo``):
+    the attributes of its shape, and its exponent or primitive."""
+    d = dict(zip(_SHAPE, _shape(t.__dict__)))
+    if type(t) is Pow:
+        d["exponent"] = t.exponent
+    elif type(t) is Prim:
+        d["op"] = t.op
+    elif type(t) is not Add and type(t) is not Mul and type(t) is not IfDiffeo:
+        raise TypeError(f"shape_of: not an Add, Mul, Pow, Prim or IfDiffeo: {t!r}")
+    return d
+
+
+def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
+    """The node of class ``cls`` with children ``kids`` (in the order of :func:`children`) and
+    ``span`` whose other fields and attributes of its shape are ``shape`` (:func:`shape_of` of a
+    node whose children had the :func:`same_shape` as ``kids``): only the attributes that depend on
+    its constants' values are computed (a loop's copies, issue 15).  Equal, attributes included,
+    to the node the constructor builds.
+
+    For an ``IfDiffeo``, ``kids`` is ``(psi, then, orelse)`` and ``psi`` must have what Ψ̂ gives the
+    node (``_diffeo_summary``) in common with the Ψ̂ of the node ``shape`` was taken from: the same
+    variables and the same shapes of its terms, whatever their constants (an affine completion of
+    a condition of the same shape, :func:`langur.syntax.affine.completed`)."""
+    new = cls.__new__(cls)
+    d = new.__dict__
+    d.update(shape)
+    d["span"] = span
+    if cls is Add or cls is Mul:
+        a, b = kids
+        d["left"], d["right"] = a, b
+        _binary_value(d, a.__dict__, b.__dict__, cls is Mul)
+        return new
+    if cls is IfDiffeo:
+        psi, a, b = kids
+        d["psi"], d["then"], d["orelse"] = psi, a, b
+        v = d["_small"] = False if not d["_fv"] and not d["_fp"] else None
+        d["_small_all"] = v is not False and a._small_all and b._small_all
+        return new
+    (a,) = kids
+    if cls is Pow:
+        d["base"] = a
+        d["_small"] = v = _small_power(a._small, shape["exponent"])
+    else:
+        d["arg"] = a
+        d["_small"] = v = False if a._small is not None else None
+    d["_small_all"] = v is not False and a._small_all
+    return new
 
 
 def _small_power(x, k):

@@ -16,7 +16,7 @@ import random
 
 import pytest
 
-from langur import operational
+from langur import core, operational
 from langur.diagnostics import LangurError
 from langur.frontend import clear_load_cache, load_text
 from langur.syntax import template
@@ -85,6 +85,26 @@ def _program(r: random.Random) -> str:
     return f"param a = 0.5\nparam b = 0.25\nint ([0, 1], [0, 1]) ({op} i in {lo}..{hi}: {body}) * (1 + b) d(x, y)\n"
 
 
+_ATTRIBUTES = core._SHAPE + ("_small", "_small_all")
+
+
+def _same_attributes(s: core.Term, t: core.Term) -> None:
+    """``s`` and ``t`` (equal terms) carry the same kept attributes at every node (``core.like``
+    builds a copy's nodes from the first copy's shape: they must be those the constructors give),
+    and their diffeos the same summary."""
+    stack = [(s, t)]
+    seen = set()
+    while stack:
+        a, b = stack.pop()
+        if (id(a), id(b)) in seen:
+            continue
+        seen.add((id(a), id(b)))
+        assert {k: a.__dict__[k] for k in _ATTRIBUTES} == {k: b.__dict__[k] for k in _ATTRIBUTES}, (a, b)
+        if type(a) is core.IfDiffeo:
+            assert core._diffeo_summary(a.psi) == core._diffeo_summary(b.psi)
+        stack.extend(zip(core.children(a), core.children(b)))
+
+
 def _load(text: str, enabled: bool):
     template.ENABLED = enabled
     clear_load_cache()
@@ -112,6 +132,7 @@ def test_instantiated_copies_are_the_desugared_copies(seed):
             continue
         loaded_ok += 1
         assert new.program == old.program, text
+        _same_attributes(new.program.body, old.program.body)
         assert print_program(new.program) == print_program(old.program), text
         if loaded_ok % 4 == 0:  # the Monte Carlo numbers (a DAG where copies share subterms: same numbers)
             at, d = new.param_values({}), {"a": 1.0}
@@ -120,6 +141,33 @@ def test_instantiated_copies_are_the_desugared_copies(seed):
             assert (x.value, x.regular, x.boundary) == (y.value, y.regular, y.boundary), text
     assert loaded_ok >= 10
     assert template.STATS["instantiated"] - before["instantiated"] >= 40  # the new path was taken
+
+
+@pytest.mark.parametrize("cond, shifted", [
+    ("x + 1/i - a >= 0", 3),            # the index in a constant summand
+    ("a - x - i/3 >= 0", 3),            # under a negation: the summand's factor is -1
+    ("2*(x + i/5) + 1 <= a", 3),        # under a constant factor
+    ("x + (i - 2)*a >= 0", 0),          # a coefficient of a parameter: solved again per copy
+    ("x + y/(i + 1) >= 1/2", 0),        # a coefficient of a variable: solved again per copy
+    ("y - x^2 >= i/8", 0),              # not affine (sympy): completed again per copy
+])
+def test_conditions_of_one_shape_move_their_constant_term_only(cond, shifted):
+    # a copy's condition that differs from the first's in constant summands only is completed by
+    # adding up its constant term (affine.summands); the others by the completion itself: either
+    # way the copies are those desugaring each one gives
+    text = f"param a = 0.5\nint ([0, 1], [0, 1]) (sum i in 1..4: [{cond}] * (x + i)) d(x, y)\n"
+    before = dict(template.STATS)
+    new, new_errors = _load(text, True)
+    old, old_errors = _load(text, False)
+    assert new_errors == old_errors == []
+    assert new.program == old.program
+    _same_attributes(new.program.body, old.program.body)
+    assert print_program(new.program) == print_program(old.program)
+    assert template.STATS["instantiated"] - before["instantiated"] == 3
+    assert template.STATS["shifted"] - before["shifted"] == shifted
+    at, d = new.param_values({}), {"a": 1.0}
+    assert (operational.estimate_derivative(new, at, d, samples=50, seed=1).value
+            == operational.estimate_derivative(old, at, d, samples=50, seed=1).value)
 
 
 def test_a_copy_that_does_not_complete_is_desugared_and_refused():
@@ -138,11 +186,13 @@ def test_microbenchmark_one_is_instantiated():
     n = 49
     text = (f"param a = 1\nint ([-1, 1]) (sum i in 10..{9 + n}: [x + 1/i + a - 1 >= 0] * (1/i + a - 1 + x))"
             f" + (sum i in 10..{9 + n}: [x + 1/i + a - 1 >= 0] * (1/i + a - 1 - x)) d(x)\n")
-    count = template.STATS["instantiated"]
+    count, shifted = template.STATS["instantiated"], template.STATS["shifted"]
     new, _ = _load(text, True)
     assert template.STATS["instantiated"] == count + 2 * (n - 1)
+    assert template.STATS["shifted"] == shifted + 2 * (n - 1)  # each copy's condition: its constant term
     old, _ = _load(text, False)
     assert new.program == old.program
+    _same_attributes(new.program.body, old.program.body)
     at, d = new.param_values({}), {"a": 1.0}
     assert (operational.estimate_derivative(new, at, d, samples=10, seed=0).value
             == operational.estimate_derivative(old, at, d, samples=10, seed=0).value)

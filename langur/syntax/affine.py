@@ -159,6 +159,13 @@ def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = fro
     Conditions of one shape — the same variables, parameters and coefficients, whatever their
     constant term (a loop's copies: ``x + 1/i + a - 1`` for i = 10 … 58) — are solved once
     (:func:`_solve`); each then costs its linear form, the constant ``−c₀/a`` and the Diffeo."""
+    found = solve(cond, variables, avoid)
+    return None if found is None else completed(cond, variables, *found)
+
+
+def solve(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = frozenset()) -> tuple[tuple, Fraction] | None:
+    """What :func:`complete` finds of ``cond``: its shape solved (:func:`_solve`, shared by every
+    condition of that shape) and its constant term ``c₀``; ``None`` when :func:`complete` gives None."""
     form = linear(cond)
     if form is None:
         return None
@@ -167,12 +174,63 @@ def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = fro
     if not occurring:
         return None
     solved = _solve(tuple(variables), tuple(coeffs.items()), occurring, free_params(cond), frozenset(avoid))
-    if solved is None:
-        return None
-    v, a, inputs, others, terms, renamed = solved
+    return None if solved is None else (solved, c0)
+
+
+def completed(cond: Term, variables: tuple[str, ...], solved: tuple, c0: Fraction) -> Diffeo:
+    """The completion of ``cond``, whose shape :func:`solve` solved (``solved``) and whose constant
+    term is ``c0`` (:func:`complete` is ``completed(cond, variables, *solve(cond, variables))``)."""
+    a = solved[1]
+    return solved_at(cond, variables, solved, -c0 if a == 1 else -c0 / a)
+
+
+def solved_at(cond: Term, variables: tuple[str, ...], solved: tuple, constant: Fraction) -> Diffeo:
+    """The completion of ``cond``, whose shape :func:`solve` solved (``solved``), where the solved
+    variable's solution has the constant term ``constant`` (``−c₀/a``)."""
+    v, a, inputs, others, terms, renamed, known = solved
+    key = (constant.numerator, constant.denominator)  # (two ints hash in C; a Fraction in Python)
+    branches = known.get(key)
+    if branches is None:
+        if len(known) >= 4096:
+            known.clear()
+        branches = known[key] = _branches(constant, terms, renamed)
     return Diffeo(variables=tuple(variables), forward=(cond,) + others, inputs=inputs,
-                  branches=_branches(-c0 if a == 1 else -c0 / a, terms, renamed), solved_for=v, name=None,
-                  nonzero=(), span=getattr(cond, "span", None))
+                  branches=branches, solved_for=v, name=None, nonzero=(), span=getattr(cond, "span", None))
+
+
+def summands(cond: Term, moving) -> list[tuple[Term, Fraction]] | None:
+    """The subterms of ``cond`` that ``moving`` picks (a loop's copies rebuild them), each with the
+    factor it is multiplied by in ``cond``, when each is a constant with a small value reached from
+    ``cond``'s root through sums and products by constants ``moving`` does not pick, and ``moving``
+    picks no other subterm of ``cond`` (it is asked of a subterm before its children); else
+    ``None``.  Then every condition that differs from ``cond`` only in those constants' values
+    (each still small) has :func:`linear`'s coefficients of ``cond`` and the constant term ``c₀ +
+    Σ factor·(new − old)``: the same shape, solved once (a loop's copies, issue 15)."""
+    out: list[tuple[Term, Fraction]] = []
+    stack: list[tuple[Term, Fraction]] = [(cond, _ONE)]
+    while stack:
+        u, factor = stack.pop()
+        if not moving(u):
+            continue
+        v = small_value(u)
+        if v is not None and v is not False:  # (a small value: no variable, no parameter)
+            out.append((u, factor))
+            continue
+        tu = type(u)
+        if tu is Add:
+            stack += ((u.right, factor), (u.left, factor))
+            continue
+        if tu is Mul:
+            for c, t in ((u.left, u.right), (u.right, u.left)):
+                k = small_value(c)
+                if k is not None and k is not False and not moving(c):
+                    stack.append((t, factor * k))
+                    break
+            else:
+                return None
+            continue
+        return None
+    return out
 
 
 @functools.lru_cache(maxsize=4096)
@@ -189,8 +247,9 @@ def _branches(constant: Fraction, terms: tuple, renamed: tuple) -> tuple[Inverse
 def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, params: frozenset, avoid: frozenset):
     """What :func:`complete` needs of a condition's shape: the variable ``v`` solved for, its
     coefficient ``a``, Ψ̂⁻¹'s inputs, Ψ̂'s other components (``Var`` of the other variables), the
-    terms ``(atom, kind, −c/a)`` of the solution but its constant, and Ψ̂⁻¹'s components (None where
-    the solution goes); None when no variable can be isolated (or one is not among ``variables``)."""
+    terms ``(atom, kind, −c/a)`` of the solution but its constant, Ψ̂⁻¹'s components (None where
+    the solution goes) and the inverse branches built so far by their constant (:func:`completed`);
+    None when no variable can be isolated (or one is not among ``variables``)."""
     if not occurring <= set(variables):
         return None
     form = dict(coeffs)
@@ -210,7 +269,7 @@ def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, para
         elif name != v:
             terms.append((renamed[name], "v", over(c)))
     return (v, a, inputs, tuple(Var(x) for x in others), tuple(terms),
-            tuple(None if x == v else Var(renamed[x]) for x in variables))
+            tuple(None if x == v else Var(renamed[x]) for x in variables), {})
 
 
 # sympy's ordering_of_classes, for the classes a rational coefficient can have

@@ -130,13 +130,36 @@ def bounds(lo: STerm, hi: STerm, consts: Mapping[str, Fraction]) -> tuple[int, i
 def children(st) -> list:
     """The surface subterms of a surface node (every field that is a node or a tuple of nodes)."""
     out = []
-    for f in dataclasses.fields(st):
-        v = getattr(st, f.name)
+    for name in _fields(type(st)):
+        v = getattr(st, name)
         if isinstance(v, tuple):
-            out.extend(x for x in v if dataclasses.is_dataclass(x) and hasattr(x, "span"))
-        elif dataclasses.is_dataclass(v) and hasattr(v, "span") and f.name != "span":
+            out.extend(x for x in v if _is_node(x))
+        elif _is_node(v):
             out.append(v)
     return out
+
+
+_FIELDS: dict[type, tuple[str, ...]] = {}
+_NODES: dict[type, bool] = {}
+
+
+def _fields(cls: type) -> tuple[str, ...]:
+    """A surface node class's fields but its span (looked up once per class)."""
+    found = _FIELDS.get(cls)
+    if found is None:
+        found = _FIELDS[cls] = tuple(f.name for f in dataclasses.fields(cls) if f.name != "span")
+    return found
+
+
+def _is_node(x) -> bool:
+    """``x`` is a surface node: a dataclass instance with a span (decided once per class)."""
+    cls = type(x)
+    found = _NODES.get(cls)
+    if found is None:
+        found = dataclasses.is_dataclass(x) and hasattr(x, "span")
+        if not isinstance(x, type):
+            _NODES[cls] = found
+    return found
 
 
 def size(st: STerm) -> int:

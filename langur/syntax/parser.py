@@ -32,7 +32,7 @@ from fractions import Fraction
 
 from .. import gcpause
 from ..diagnostics import LangurError, Span, error
-from . import tables
+from . import lalr, tables
 from .chains import LEVEL as _LEVEL
 from .chains import MAX_DEPTH
 from .chains import Chain as _Chain
@@ -79,6 +79,10 @@ __all__ = [
     "parse_module",
     "parse_term",
 ]  # fmt: skip
+
+#: Parse with :mod:`langur.syntax.lalr`'s driver of lark's tables, lark only for syntax errors
+#: (False: lark parses every input, as the tests compare).
+FAST = True
 
 #: Reserved words (``d`` is only a keyword right after the integrand: see grammar.lark).
 KEYWORDS: frozenset[str] = frozenset(
@@ -411,15 +415,18 @@ class _Builder:
 
 _LOCK = threading.Lock()
 _PARSER: Lark | None = None
+#: lark's tables run by :mod:`langur.syntax.lalr` (None: lark parses every input itself)
+_DRIVER = None
 _BUILDER = _Builder()
 
 
 def _parser() -> Lark:
     """The parser: from the tables shipped with the package (data, never a pickle: SECURITY.md),
     or built from the grammar when they are missing or stale."""
-    global _PARSER  # called under _LOCK
+    global _PARSER, _DRIVER  # called under _LOCK
     if _PARSER is None:
         _PARSER = tables.load(_BUILDER) or tables.build(transformer=_BUILDER)
+        _DRIVER = lalr.driver(_PARSER)
     return _PARSER
 
 
@@ -553,7 +560,11 @@ def _run(text: str, path: str, start: str):
         # makes big inputs several times faster.
         try:
             with gcpause.paused():
-                return text, parser.parse(text, start=start)
+                if _DRIVER is not None and FAST:
+                    result = _DRIVER(text, start)
+                    if result is not lalr.FAILED:
+                        return text, result
+                return text, parser.parse(text, start=start)  # (a syntax error: lark's exception)
         except UnexpectedInput as exc:
             raise _convert(exc, path) from None
 

@@ -10,6 +10,11 @@ with the first copy, as an inlined def body shares its subterms, but for conditi
 parameters, which the desugarer may lift out of a condition by their identity), and every condition that
 contains them is completed again by the same function the desugarer calls
 (``langur.syntax.completion.complete``) — so each copy is the term desugaring it would give.
+The first copy is compiled into *steps* (:meth:`Template._compile`) that :meth:`Template.at` runs
+in one loop; a node whose children keep the first copy's shape is built by ``core.like`` (its
+shape's attributes copied), and a condition that differs from the first's only in constant
+summands keeps the first's solved affine shape (``affine.summands``, ``affine.solved_at``): the
+completion the desugarer's function would give, for one Fraction addition per summand (issue 15).
 
 That holds when the desugarer's work on the body does not depend on the index's *value* except
 through those leaves and the completions.  The desugarer says when it may (:attr:`Record.unsafe`):
@@ -40,14 +45,20 @@ from ..core import (
     Term,
     Var,
     children,
+    like,
     map_children,
+    same_shape,
+    shape_of,
+    small_value,
 )
+from . import affine
 
 #: Build a loop's copies from its first (False: every copy desugared from the surface, as the
 #: tests compare).
 ENABLED = True
-#: Copies built so far by :meth:`Template.at` (the tests check that they exercised it).
-STATS = {"instantiated": 0, "refused": 0}
+#: Copies built so far by :meth:`Template.at`, refused, and conditions completed again by adding up
+#: their constant term alone (the tests check that they exercised each).
+STATS = {"instantiated": 0, "refused": 0, "shifted": 0}
 
 
 @dataclass
@@ -61,10 +72,6 @@ class Record:
     leaves: dict[int, Const] = field(default_factory=dict)
     completions: dict[int, tuple[IfDiffeo, Term, tuple[str, ...], tuple]] = field(default_factory=dict)
     unsafe: bool = False
-
-
-class _Refused(Exception):
-    """This copy cannot be instantiated (a condition that does not complete again)."""
 
 
 def _diffeo_terms(psi: Diffeo) -> tuple[Term, ...]:
@@ -90,30 +97,51 @@ class Template:
         #: Ψ̂ from elsewhere): refuse to instantiate
         self.usable = True
         self._mark(body)
+        #: what :meth:`at` builds (:meth:`_compile`, on first use)
+        self.shared: list[Term] = []
+        self.steps: list[tuple] | None = None
+        self.first: list[Term] = []  # the first copy's node of each step
 
     def _mark(self, root: Term) -> None:
         """:attr:`dependent`: whether each distinct node of the first copy is built anew in each copy:
         it has an index leaf below it (in a conditional: in its branches or in the condition it was
         completed from) or a conditional on the parameters; the other nodes are shared by the copies."""
         dep, leaves, completions = self.dependent, self.record.leaves, self.record.completions
-        stack: list[tuple[Term, bool]] = [(root, False)]
-        while stack:
-            u, done = stack.pop()
+        stack: list[Term] = [root]
+        while stack:  # (a node whose children are not all marked yet goes back under them)
+            u = stack.pop()
             key = id(u)
             if key in dep:
                 continue
-            if type(u) is Const or type(u) is Var or type(u) is Param:
+            tu = type(u)
+            if tu is Const or tu is Var or tu is Param:
                 dep[key] = key in leaves
                 continue
             kids = _kids(u, completions)
-            if not done:
-                stack.append((u, True))
-                stack.extend((c, False) for c in kids if id(c) not in dep)
+            pending = None
+            for c in kids:
+                k = id(c)
+                if k not in dep:
+                    tc = type(c)
+                    if tc is Const or tc is Var or tc is Param:
+                        dep[k] = k in leaves
+                    elif pending is None:
+                        pending = [u, c]
+                    else:
+                        pending.append(c)
+            if pending is not None:
+                stack += pending
                 continue
             # (a conditional on the parameters is copied too: the desugarer lifts such a conditional
             # out of a condition by its identity, `desugar._put`, which must not meet it in two copies)
-            dep[key] = type(u) is IfGe0 or any(dep[id(c)] for c in kids)
-            if type(u) is IfDiffeo and key not in completions:
+            d = tu is IfGe0
+            if not d:
+                for c in kids:
+                    if dep[id(c)]:
+                        d = True
+                        break
+            dep[key] = d
+            if tu is IfDiffeo and key not in completions:
                 # a Ψ̂ not completed here (there is none while the record is safe): its terms must not
                 # mention the index
                 if any(self._has_leaf(t) for t in _diffeo_terms(u.psi)):
@@ -129,56 +157,169 @@ class Template:
             stack.extend(_kids(u, {}))
         return False
 
+    def _compile(self) -> None:
+        """:attr:`steps`: the nodes each copy builds anew, children before parents (in the order the
+        first copy's recursive walk met them), each as a step over the slots of a list: the step's
+        own node at its index, the shared nodes it reads at negative indices (:attr:`shared`, in
+        reverse); so :meth:`at` is one loop, with no recursion and no lookup by identity.  A
+        conditional completed again whose condition's changing parts are constant summands
+        (:func:`affine.summands`: ``[x + 1/i + a - 1 >= 0]``) keeps its shape solved
+        (:func:`affine.solve`): a copy then only adds up its constant term (issue 15)."""
+        dep, completions = self.dependent, self.record.completions
+        slot: dict[int, int] = {}
+        shared: list[Term] = []
+        own: dict[int, int] = {}  # a dependent node's step
+        first: list[Term] = []  # the first copy's node of each step
+        steps: list[tuple] = []
+
+        def ref(c: Term) -> int:
+            key = id(c)
+            if dep[key]:
+                return own[key]
+            found = slot.get(key)
+            if found is None:  # a shared child: its slot among the shared nodes, from the end
+                found = slot[key] = -1 - len(shared)
+                shared.append(c)
+            return found
+
+        seen: set[int] = set()
+        stack: list[tuple[Term, bool]] = [(self.body, False)]
+        while stack:  # post-order over the dependent nodes, left to right (as a recursive walk)
+            u, done = stack.pop()
+            if not done:
+                if id(u) not in seen:
+                    seen.add(id(u))
+                    stack.append((u, True))
+                    stack.extend((c, False) for c in reversed(_kids(u, completions))
+                                 if dep[id(c)] and id(c) not in seen)
+                continue
+            tu = type(u)
+            if tu is Add or tu is Mul:
+                step = (_BINARY, (tu, shape_of(u)), u.span, ref(u.left), ref(u.right))
+            elif tu is Const:
+                step = (_LEAF, u.span)
+            elif tu is Pow or tu is Prim:
+                step = (_UNARY, (tu, shape_of(u)), u.span, ref(u.base if tu is Pow else u.arg))
+            elif tu is IfDiffeo:
+                found = completions.get(id(u))
+                if found is not None and dep[id(found[1])]:
+                    _, cond, variables, box = found
+                    step = (_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
+                            self._shifted(cond, variables, own), shape_of(u))
+                else:
+                    step = (_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse),
+                            None if found is None else found[1:])
+            else:
+                step = (_OTHER, u, {id(c): ref(c) for c in children(u) if dep[id(c)]})
+            own[id(u)] = len(steps)
+            steps.append(step)
+            first.append(u)
+        self.first, self.steps = first, steps
+        self.shared = shared[::-1]
+
+    def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int]):
+        """For a condition completed again: its solved shape, the constant term of its solution
+        without the changing constant summands, and those summands' steps with their factors in
+        it, when :func:`affine.summands` finds them and the first copy's condition completed by
+        the affine path; else None."""
+        dep = self.dependent
+        parts = affine.summands(cond, lambda u: dep.get(id(u), False))
+        if parts is None or any(id(u) not in own for u, _ in parts):
+            return None
+        found = affine.solve(cond, tuple(variables))
+        if found is None:
+            return None
+        solved, c0 = found
+        for u, factor in parts:  # c0 without the summands: each copy adds its own
+            c0 -= small_value(u) if factor == 1 else factor * small_value(u)
+        a = solved[1]  # the solution's constant −c₀/a: −(c0 + Σ factor·new)/a = base + Σ (−factor/a)·new
+        return (solved, -c0 if a == 1 else -c0 / a,
+                tuple((own[id(u)], -factor if a == 1 else -factor / a) for u, factor in parts))
+
     def at(self, value: int) -> Term | None:
         """The copy for the index's ``value``: the first copy with its index leaves replaced by
         ``value`` and its conditions over them completed again; None when one does not complete."""
+        if not self.dependent[id(self.body)]:
+            return self.body  # the index does not occur: every copy is the first
+        if self.steps is None:
+            self._compile()
         number = Fraction(value)
-        dep, completions = self.dependent, self.record.completions
-        memo: dict[int, Term] = {}
+        steps, first = self.steps, self.first
+        n = len(steps)
+        vals: list = [None] * n + self.shared  # (each step's node at its index, shared nodes from the end)
+        # same[i]: vals[i] has the shape of the first copy's node (core.same_shape), so a node above it
+        # is built by core.like, which keeps the attributes of that shape and computes the others
+        same = [False] * n + [True] * len(self.shared)
         complete, completed = self.complete, self.completed
-
-        def go(u: Term) -> Term:  # (called on nodes with an index leaf below only)
-            key = id(u)
-            out = memo.get(key)
-            if out is not None:
-                return out
-            tu = type(u)
-            if tu is Add or tu is Mul:
-                a, b = u.left, u.right
-                out = tu(go(a) if dep[id(a)] else a, go(b) if dep[id(b)] else b, span=u.span)
-            elif tu is Const:
-                out = Const(number, span=u.span)
-            elif tu is Pow:
-                out = Pow(go(u.base), u.exponent, span=u.span)
-            elif tu is Prim:
-                out = Prim(u.op, go(u.arg), span=u.span)
-            elif tu is IfDiffeo:
-                psi, found = u.psi, completions.get(key)
-                if found is not None and dep[id(found[1])]:  # its condition has the index: completed again
-                    _, cond, variables, box = found
-                    cond = go(cond)
+        for i, step in enumerate(steps):
+            k = step[0]
+            if k is _BINARY:
+                a, b = step[3], step[4]
+                cls, shape = step[1]
+                if same[a] and same[b]:
+                    vals[i] = like(cls, shape, (vals[a], vals[b]), step[2])
+                    same[i] = True
+                else:
+                    vals[i] = cls(vals[a], vals[b], span=step[2])
+            elif k is _LEAF:
+                vals[i] = Const(number, span=step[1])
+                same[i] = True
+            elif k is _UNARY:
+                a = step[3]
+                cls, shape = step[1]
+                if same[a]:
+                    vals[i] = like(cls, shape, (vals[a],), step[2])
+                    same[i] = True
+                elif cls is Pow:
+                    vals[i] = Pow(vals[a], shape["exponent"], span=step[2])
+                else:
+                    vals[i] = Prim(shape["op"], vals[a], span=step[2])
+            elif k is _COMPLETE:
+                _, span, c, a, b, variables, box, shifted, shape = step
+                cond = vals[c]
+                psi = None
+                if shifted is not None:  # the same shape: the constant term moved by the summands' change
+                    solved, constant, parts = shifted
+                    for j, factor in parts:
+                        new = small_value(vals[j])
+                        if new is None or new is False:
+                            break
+                        constant = constant - new if factor == -1 else constant + (
+                            new if factor == 1 else factor * new)
+                    else:
+                        psi = affine.solved_at(cond, variables, solved, constant)
+                        STATS["shifted"] += 1
+                        if same[c] and same[a] and same[b]:
+                            # Ψ̂ of the first's shape (affine.completed of a condition of its shape): so is the node
+                            out = vals[i] = like(IfDiffeo, shape, (psi, vals[a], vals[b]), span)
+                            completed(out, cond, variables, box)
+                            same[i] = True
+                            continue
+                if psi is None:
                     psi = complete(cond, variables, box)
                     if psi is None:
-                        raise _Refused
-                    found = (None, cond, variables, box)
-                a, b = u.then, u.orelse
-                out = IfDiffeo(psi, go(a) if dep[id(a)] else a, go(b) if dep[id(b)] else b, span=u.span)
+                        STATS["refused"] += 1
+                        return None
+                out = vals[i] = IfDiffeo(psi, vals[a], vals[b], span=span)
+                completed(out, cond, variables, box)
+                same[i] = same_shape(out, first[i])
+            elif k is _CONDITIONAL:
+                _, psi, span, a, b, found = step
+                out = vals[i] = IfDiffeo(psi, vals[a], vals[b], span=span)
                 if found is not None:
-                    completed(out, *found[1:])
+                    completed(out, *found)
+                same[i] = same_shape(out, first[i])
             else:
-                out = map_children(u, lambda c: go(c) if dep[id(c)] else c)
-            memo[key] = out
-            return out
-
-        if not dep[id(self.body)]:
-            return self.body  # the index does not occur: every copy is the first
-        try:
-            out = go(self.body)
-        except _Refused:
-            STATS["refused"] += 1
-            return None
+                kids = step[2]
+                out = vals[i] = map_children(step[1], lambda c, kids=kids: vals[kids[id(c)]] if id(c) in kids else c)
+                same[i] = same_shape(out, step[1])
         STATS["instantiated"] += 1
-        return out
+        return vals[n - 1]
+
+
+# the kinds of step of Template.steps
+_BINARY, _LEAF, _UNARY, _COMPLETE, _CONDITIONAL, _OTHER = (
+    "binary", "leaf", "unary", "complete", "conditional", "other")
 
 
 def _kids(u: Term, completions: dict) -> tuple[Term, ...]:

@@ -1,0 +1,134 @@
+"""A lean driver of lark's LALR(1) tables for the parser's successful path (issue 15, loading).
+
+lark's ``Lark.parse`` runs the lexer as a generator of tokens, feeds each through its parser state
+object (looking the reduction's callback up by its ``Rule``, whose hash and equality are Python
+methods) and counts lines token by token: about two thirds of parsing a small program, the
+callbacks that build the surface tree (``parser._Builder``) the last third.  :func:`driver` reads
+the *same* objects out of the parser lark built from the shipped tables — the lexer's compiled
+terminal patterns, its keyword callback, the ignored and newline-bearing terminals, the LALR
+action table and the callbacks — and runs them in one loop: the same tokens (``lark.Token``, with
+the same positions), the same shifts and reductions, the same callbacks called in the same order,
+so the same result or the same exception from a callback (E105, E106).
+
+Only success is handled here: at a character no terminal matches or a token the table has no
+action for, :func:`driver`'s function returns :data:`FAILED` and the caller parses again with lark,
+which raises the error the diagnostics are made from (the callbacks keep no state between calls
+but the path, so running them again is harmless).  ``proofs_tests/test_lalr.py`` compares both on
+every example file, the hostile corpus and random programs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from .larkload import Lark, Token
+
+#: What the driver returns when lark must parse instead (an input with a syntax error).
+FAILED = object()
+
+
+def driver(lark: Lark) -> Callable[[str, str], Any] | None:
+    """``parse(text, start)``: ``lark.parse(text, start=start)`` for a text without syntax errors,
+    :data:`FAILED` otherwise; ``None`` when ``lark`` is not built as Langur's parser is (LALR, basic
+    lexer, one compiled pattern, no post-lexer, only a keyword callback on terminals)."""
+    try:
+        front = lark.parser
+        lexer, parser = front.lexer, front.parser.parser
+        scanner = lexer.scanner  # (builds the lexer's callbacks too)
+        if (front.lexer_conf.postlex is not None or len(scanner._mres) != 1
+                or any(type(cb).__name__ != "UnlessCallback" for cb in lexer.callback.values())):
+            return None
+        pattern = scanner._mres[0]
+        keywords = {name: cb.scanner._mres for name, cb in lexer.callback.items()}
+        table = parser.parse_table
+        callbacks = parser.callbacks
+        starts, ends = dict(table.start_states), dict(table.end_states)
+        ignored, newlines = frozenset(lexer.ignore_types), frozenset(lexer.newline_types)
+        states = table.states  # state → terminal or nonterminal → (Shift, state) or (Reduce, Rule)
+        shift = next(a for row in states.values() for a, _ in row.values() if a.name == "Shift")
+    except (AttributeError, KeyError, TypeError, StopIteration):
+        return None
+    token_callbacks = {k: v for k, v in callbacks.items() if isinstance(k, str)}
+    reductions: dict[int, tuple] = {}  # a rule's length, callback and nonterminal, by its identity
+
+    def reduction(rule) -> tuple:
+        found = reductions[id(rule)] = (len(rule.expansion), callbacks[rule], rule.origin.name)
+        return found
+
+    def parse(text: str, start: str) -> Any:
+        match, end = pattern.match, len(text)
+        state_stack, value_stack = [starts[start]], []
+        end_state = ends[start]
+        pos, line, line_start = 0, 1, 0
+        token = None
+        while True:
+            if pos < end:
+                m = match(text, pos)
+                if m is None:
+                    return FAILED
+                value, kind = m.group(0), m.lastgroup
+                column = pos - line_start + 1
+                nxt = pos + len(value)
+                if kind in newlines:
+                    k = value.count("\n")
+                    if k:
+                        line0 = line
+                        line += k
+                        line_start = pos + value.rindex("\n") + 1
+                        if kind in ignored:
+                            pos = nxt
+                            continue
+                        token = Token(kind, value, pos, line0, column)
+                    else:
+                        if kind in ignored:
+                            pos = nxt
+                            continue
+                        token = Token(kind, value, pos, line, column)
+                elif kind in ignored:
+                    pos = nxt
+                    continue
+                else:
+                    token = Token(kind, value, pos, line, column)
+                token.end_line, token.end_column, token.end_pos = line, nxt - line_start + 1, nxt
+                pos = nxt
+                if kind in keywords:  # a name that is a keyword: its own terminal (lark's UnlessCallback)
+                    for mre in keywords[kind]:
+                        k = mre.fullmatch(value)
+                        if k is not None:
+                            token.type = k.lastgroup
+                            break
+                is_end = False
+            else:
+                token = (Token.new_borrow_pos("$END", "", token) if token  # (as lark: a str's truth)
+                         else Token("$END", "", 0, 1, 1))
+                is_end = True
+            kind = token.type
+            while True:
+                entry = states[state_stack[-1]].get(kind)
+                if entry is None:
+                    return FAILED
+                action, arg = entry
+                if action is shift:
+                    if is_end:
+                        return FAILED
+                    state_stack.append(arg)
+                    value_stack.append(token if kind not in token_callbacks else token_callbacks[kind](token))
+                    break
+                # (lark's table keeps its Rule objects alive: their identities stay theirs)
+                size, callback, origin = reductions.get(id(arg)) or reduction(arg)
+                if size:
+                    s = value_stack[-size:]
+                    del state_stack[-size:]
+                    del value_stack[-size:]
+                else:
+                    s = []
+                value_stack.append(callback(s))
+                state_stack.append(states[state_stack[-1]][origin][1])
+                if is_end and state_stack[-1] == end_state:
+                    return value_stack[-1]
+
+    return parse
+
+
+__all__ = ["FAILED", "driver"]
