@@ -10,7 +10,9 @@ each parameter (or the diagnostics): no exact engine, so minutes become seconds.
 Each tree's ``langur`` runs in its own process (``PYTHONPATH=ROOT``, and ``python -P``: without it
 the current folder, the AFTER tree, came first on ``sys.path`` and both runs imported the AFTER
 tree's ``langur`` — comparisons before 2026-11-26 evening compared a tree with itself) from the
-AFTER tree's folder (so examples' relative imports resolve the same); prints one line per program and command, and the
+AFTER tree's folder (so examples' relative imports resolve the same), both with
+``PYTHONHASHSEED=0`` (sympy's choice among equal antiderivatives follows set order, which follows
+string hashing: the same tree printed two closed forms differing by a constant from run to run); prints one line per program and command, and the
 differences in full.  Exit status 1 when any output differs.
 """
 
@@ -24,7 +26,8 @@ import sys
 
 
 def run(root: str, cwd: str, args: list[str]) -> str:
-    env = {**os.environ, "PYTHONPATH": root, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+    env = {**os.environ, "PYTHONPATH": root, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
+           "PYTHONHASHSEED": "0"}
     p = subprocess.run([sys.executable, "-P", "-m", "langur", *args], cwd=cwd, env=env, capture_output=True, text=True)
     return f"exit {p.returncode}\n{p.stdout}{p.stderr}"
 
@@ -57,7 +60,8 @@ for f in sys.argv[2:]:
 def fast(a, cwd: str, files: list[str]) -> int:
     outs = []
     for root in (a.before, a.after):
-        env = {**os.environ, "PYTHONPATH": os.path.abspath(root), "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+        env = {**os.environ, "PYTHONPATH": os.path.abspath(root), "OPENBLAS_NUM_THREADS": "1",
+               "OMP_NUM_THREADS": "1", "PYTHONHASHSEED": "0"}
         outs.append(subprocess.run([sys.executable, "-P", "-c", FAST, str(a.samples), *files], cwd=cwd, env=env,
                                    capture_output=True, text=True))
     x, y = (o.stdout.splitlines() for o in outs)
