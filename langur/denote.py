@@ -60,10 +60,6 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
     key = (program, frozenset(point.items()), symbolic, near)
     time_left = Deadline(timeout).remaining()  # within an enclosing budget(), perhaps less than timeout
     known, had = _remembered.get(key, (None, 0.0))
-    if known is None and near:  # a closed form valid on a wider set is valid near ``at`` too
-        known, had = _remembered.get((program, frozenset(point.items()), symbolic, False), (None, 0.0))
-        if known is not None and known.method != Method.CLOSED_FORM:
-            known, had = None, 0.0
     # a closed form is final; a fallback to quadrature is reused only by a call with no more time
     if known is not None and (known.method == Method.CLOSED_FORM or time_left <= had):
         return replace(known, notes=list(known.notes))
