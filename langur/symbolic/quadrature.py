@@ -243,8 +243,17 @@ class NumCond:
     roots: Callable[..., list[float]] | None = None
     #: ``expr`` with the parameters left as symbols (their values are the problem's ``at``): the
     #: polynomial roots and kinks computed from it hold at every parameter point, so Theorem 8.1's
-    #: shifted points and nearby points reuse them (:func:`_kink_functions`)
+    #: shifted points and nearby points reuse them (:func:`_kink_functions`); None when ``expr``
+    #: is not polynomial in its symbols (:func:`_parametric`)
     sym: sp.Expr | None = None
+
+
+def _parametric(expr: sp.Expr) -> sp.Expr | None:
+    """``expr`` as :attr:`NumCond.sym` when it is a polynomial in all its symbols, else None (the
+    values substituted, as before): with a parameter in a denominator (the ray tracer's conditions
+    are rational in ``t``) sympy's ``Poly`` over a field of rational functions cost ~0.1–0.5 s per
+    condition and doubled the ray tracer's ∂/∂t, more than the reuse at shifted points saves."""
+    return expr if expr.is_polynomial(*free_symbols(expr)) else None
 
 
 class UndefinedIntegral(ValueError):
@@ -820,7 +829,7 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
         hints = _psi_hints(c.psi, variables[lv], variables, lv, at) if lv >= 0 else None
         expr = sp.sympify(c.expr)
         conds.append(NumCond(_lambdify(variables[: lv + 1], expr, at), lv, hints, expr.xreplace(_floats(at)),
-                             sym=expr))
+                             sym=_parametric(expr)))
     bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in box]
     return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds, syms=variables,
                       vweight=_vectorize(variables, piece.weight, at) if variables else None,
@@ -937,7 +946,7 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
                     break
                 continue  # vanishes identically on the zero set: 0 >= 0 is TRUE (paper convention)
             lv = _level(se, uprime)
-            conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, se.xreplace(_floats(at)), sym=se))
+            conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, se.xreplace(_floats(at)), sym=_parametric(se)))
         if empty:
             continue
         w_f = _lambdify(variables, piece.weight, at)
