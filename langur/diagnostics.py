@@ -23,6 +23,10 @@ class Span:
     end_line: int
     end_col: int
 
+    def __init__(self, path, line, col, end_line, end_col):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["path"], d["line"], d["col"], d["end_line"], d["end_col"] = path, line, col, end_line, end_col
+
     def __str__(self) -> str:
         return f"{self.path}:{self.line}:{self.col}"
 

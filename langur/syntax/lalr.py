@@ -28,10 +28,15 @@ from .larkload import Lark, Token
 FAILED = object()
 
 
-def driver(lark: Lark) -> Callable[[str, str], Any] | None:
+def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | None:
     """``parse(text, start)``: ``lark.parse(text, start=start)`` for a text without syntax errors,
     :data:`FAILED` otherwise; ``None`` when ``lark`` is not built as Langur's parser is (LALR, basic
-    lexer, one compiled pattern, no post-lexer, only a keyword callback on terminals)."""
+    lexer, one compiled pattern, no post-lexer, only a keyword callback on terminals).
+
+    ``identities``: callbacks that return their one argument's only element (``lambda c: c[0]``);
+    a one-symbol rule reduced with one of them only changes state (its value stays on the stack,
+    where the callback would have put it back): a unit rule of the precedence ladder (``term`` →
+    ``sum`` → ``product`` → ``unary`` → ``power``) is most reductions of a program."""
     try:
         front = lark.parser
         lexer, parser = front.lexer, front.parser.parser
@@ -53,8 +58,13 @@ def driver(lark: Lark) -> Callable[[str, str], Any] | None:
     reductions: dict[int, tuple] = {}  # a rule's length, callback and nonterminal, by its identity
 
     def reduction(rule) -> tuple:
-        found = reductions[id(rule)] = (len(rule.expansion), callbacks[rule], rule.origin.name)
+        size, callback = len(rule.expansion), callbacks[rule]
+        if size == 1 and any(callback == f for f in identities):
+            size = -1  # (below: a change of state only)
+        found = reductions[id(rule)] = (size, callback, rule.origin.name)
         return found
+
+    new = str.__new__
 
     def parse(text: str, start: str) -> Any:
         match, end = pattern.match, len(text)
@@ -79,17 +89,20 @@ def driver(lark: Lark) -> Callable[[str, str], Any] | None:
                         if kind in ignored:
                             pos = nxt
                             continue
-                        token = Token(kind, value, pos, line0, column)
+                    elif kind in ignored:
+                        pos = nxt
+                        continue
                     else:
-                        if kind in ignored:
-                            pos = nxt
-                            continue
-                        token = Token(kind, value, pos, line, column)
+                        line0 = line
                 elif kind in ignored:
                     pos = nxt
                     continue
                 else:
-                    token = Token(kind, value, pos, line, column)
+                    line0 = line
+                # Token(kind, value, pos, line0, column) with its end, without Token.__new__'s
+                # two Python calls (the same slots set to the same values)
+                token = new(Token, value)
+                token.type, token.start_pos, token.value, token.line, token.column = kind, pos, value, line0, column
                 token.end_line, token.end_column, token.end_pos = line, nxt - line_start + 1, nxt
                 pos = nxt
                 if kind in keywords:  # a name that is a keyword: its own terminal (lark's UnlessCallback)
@@ -117,14 +130,17 @@ def driver(lark: Lark) -> Callable[[str, str], Any] | None:
                     break
                 # (lark's table keeps its Rule objects alive: their identities stay theirs)
                 size, callback, origin = reductions.get(id(arg)) or reduction(arg)
-                if size:
-                    s = value_stack[-size:]
-                    del state_stack[-size:]
-                    del value_stack[-size:]
+                if size < 0:  # a unit rule whose callback returns its child: the value stays
+                    state_stack[-1] = states[state_stack[-2]][origin][1]
                 else:
-                    s = []
-                value_stack.append(callback(s))
-                state_stack.append(states[state_stack[-1]][origin][1])
+                    if size:
+                        s = value_stack[-size:]
+                        del state_stack[-size:]
+                        del value_stack[-size:]
+                    else:
+                        s = []
+                    value_stack.append(callback(s))
+                    state_stack.append(states[state_stack[-1]][origin][1])
                 if is_end and state_stack[-1] == end_state:
                     return value_stack[-1]
 

@@ -95,6 +95,8 @@ MAX_DIGITS = 1000
 #: Largest absolute decimal exponent of a number literal (E106).
 MAX_EXPONENT = 1000
 
+#: Integer literals this short are read directly (no exponent, within a double's range: 10³⁰⁰ < 1.8·10³⁰⁸).
+_SHORT = 300
 _FLOAT_MAX = Fraction(sys.float_info.max)
 _FLOAT_MIN = Fraction(sys.float_info.min)  # the smallest normal double: below it precision is lost
 
@@ -152,7 +154,12 @@ class _Builder:
     def term(self, make, first, last, subs) -> _R:
         """Build a term node spanning ``first``..``last`` with subterm results ``subs``."""
         sp = self.span(first, last)
-        depth = 1 + max((s.depth for s in subs), default=0)
+        depth = 0
+        for s in subs:  # (the deepest subterm: a loop, not max over a generator, on this hot path)
+            d = s.depth
+            if d > depth:
+                depth = d
+        depth += 1
         if depth > MAX_DEPTH:
             raise self.too_deep(sp)
         return _R(make(sp), sp.line, sp.col, sp.end_line, sp.end_col, depth)
@@ -168,6 +175,8 @@ class _Builder:
     def number(self, t: Token) -> Fraction:
         """The exact value of a decimal literal (E106 when too long or its exponent too large)."""
         text = str(t)
+        if len(text) <= _SHORT and text.isdigit():  # an integer of at most 300 digits: a double's range
+            return Fraction(int(text))
         mantissa, _, exp = text.lower().partition("e")
         whole, _, frac = mantissa.partition(".")
         if len(whole) + len(frac) > MAX_DIGITS:
@@ -303,13 +312,16 @@ class _Builder:
         arg = c[1]
         return self.term(lambda sp: Neg(arg.node, sp), c[0], arg, (arg,))
 
-    def num(self, c):
-        value = self.number(c[0])
-        return self.term(lambda sp: Num(value, sp), c[0], c[0], ())
+    def num(self, c):  # (term(): a leaf's span is its token's, its depth 1)
+        t = c[0]
+        value = self.number(t)
+        line, col, end_line, end_col = t.line, t.column, t.end_line, t.end_column
+        return _R(Num(value, Span(self.path, line, col, end_line, end_col)), line, col, end_line, end_col, 1)
 
     def var(self, c):
         t = c[0]
-        return self.term(lambda sp: Name(str(t), sp), t, t, ())
+        line, col, end_line, end_col = t.line, t.column, t.end_line, t.end_column
+        return _R(Name(str(t), Span(self.path, line, col, end_line, end_col)), line, col, end_line, end_col, 1)
 
     def apply(self, c):
         args = c[2] if isinstance(c[2], list) else []
@@ -426,7 +438,7 @@ def _parser() -> Lark:
     global _PARSER, _DRIVER  # called under _LOCK
     if _PARSER is None:
         _PARSER = tables.load(_BUILDER) or tables.build(transformer=_BUILDER)
-        _DRIVER = lalr.driver(_PARSER)
+        _DRIVER = lalr.driver(_PARSER, (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp))
     return _PARSER
 
 

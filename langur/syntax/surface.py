@@ -29,6 +29,10 @@ class Num:
     value: Fraction
     span: Span | None = _span()
 
+    def __init__(self, value, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["value"], d["span"] = value, span
+
 
 @frozen
 class Name:
@@ -36,6 +40,10 @@ class Name:
 
     name: str
     span: Span | None = _span()
+
+    def __init__(self, name, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["name"], d["span"] = name, span
 
 
 @frozen
@@ -47,6 +55,10 @@ class BinOp:
     right: "STerm"
     span: Span | None = _span()
 
+    def __init__(self, op, left, right, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["op"], d["left"], d["right"], d["span"] = op, left, right, span
+
 
 @frozen
 class Neg:
@@ -54,6 +66,10 @@ class Neg:
 
     arg: "STerm"
     span: Span | None = _span()
+
+    def __init__(self, arg, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["arg"], d["span"] = arg, span
 
 
 @frozen
@@ -65,6 +81,10 @@ class Apply:
     span: Span | None = _span()
     name_span: Span | None = _span()
 
+    def __init__(self, name, args, span=None, name_span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["name"], d["args"], d["span"], d["name_span"] = name, args, span, name_span
+
 
 @frozen
 class Iverson:
@@ -73,6 +93,10 @@ class Iverson:
     terms: tuple["STerm", ...]
     ops: tuple[str, ...]  # each one of "<=", ">=", "<", ">"
     span: Span | None = _span()
+
+    def __init__(self, terms, ops, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["terms"], d["ops"], d["span"] = terms, ops, span
 
 
 @frozen
@@ -161,6 +185,10 @@ class Loop:
     span: Span | None = _span()
     name_span: Span | None = _span()
 
+    def __init__(self, op, index, lo, hi, body, span=None, name_span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["op"], d["index"], d["lo"], d["hi"], d["body"], d["span"], d["name_span"] = op, index, lo, hi, body, span, name_span
+
 
 @frozen
 class Vector:
@@ -194,6 +222,10 @@ class Ident:
 
     name: str
     span: Span | None = _span()
+
+    def __init__(self, name, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["name"], d["span"] = name, span
 
 
 @frozen
