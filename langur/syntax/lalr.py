@@ -19,6 +19,7 @@ every example file, the hostile corpus and random programs.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from typing import Any
 
@@ -45,6 +46,9 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
                 or any(type(cb).__name__ != "UnlessCallback" for cb in lexer.callback.values())):
             return None
         pattern = scanner._mres[0]
+        # the same pattern after any run of ignored text (white space, comments): one match per token
+        skip = "|".join(f"(?:{t.pattern.to_regexp()})" for t in lexer.terminals if t.name in lexer.ignore_types)
+        glued = re.compile(f"(?:{skip})*(?:{pattern.pattern})", pattern.flags) if skip else pattern
         keywords = {name: cb.scanner._mres for name, cb in lexer.callback.items()}
         table = parser.parse_table
         callbacks = parser.callbacks
@@ -67,7 +71,7 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
     new = str.__new__
 
     def parse(text: str, start: str) -> Any:
-        match, end = pattern.match, len(text)
+        match, end = glued.match, len(text)
         state_stack, value_stack = [starts[start]], []
         end_state = ends[start]
         pos, line, line_start = 0, 1, 0
@@ -77,7 +81,15 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
                 m = match(text, pos)
                 if m is None:
                     return FAILED
-                value, kind = m.group(0), m.lastgroup
+                kind = m.lastgroup
+                value = m.group(kind)
+                start = m.start(kind)
+                if start != pos:  # ignored text first: its lines counted as lark's lexer counts them
+                    k = text.count("\n", pos, start)
+                    if k:
+                        line += k
+                        line_start = text.rindex("\n", pos, start) + 1
+                    pos = start
                 column = pos - line_start + 1
                 nxt = pos + len(value)
                 if kind in newlines:
