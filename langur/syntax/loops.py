@@ -163,12 +163,26 @@ def _is_node(x) -> bool:
 
 
 def size(st: STerm) -> int:
-    """The number of surface nodes of ``st`` (iteratively: no recursion on its depth)."""
+    """The number of surface nodes of ``st`` (iteratively: no recursion on its depth; ``children``
+    written out, with the lookups by class hoisted: a loop's body is counted on every load)."""
     n, stack = 0, [st]
+    fields, nodes = _FIELDS, _NODES
     while stack:
         u = stack.pop()
         n += 1
-        stack.extend(children(u))
+        cls = type(u)
+        names = fields.get(cls) or _fields(cls)
+        for name in names:
+            v = getattr(u, name)
+            if type(v) is tuple:
+                for x in v:
+                    found = nodes.get(type(x))
+                    if found or (found is None and _is_node(x)):
+                        stack.append(x)
+            else:
+                found = nodes.get(type(v))
+                if found or (found is None and _is_node(v)):
+                    stack.append(v)
     return n
 
 
