@@ -46,9 +46,11 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
                 or any(type(cb).__name__ != "UnlessCallback" for cb in lexer.callback.values())):
             return None
         pattern = scanner._mres[0]
-        # the same pattern after any run of ignored text (white space, comments): one match per token
+        # one match per token: any run of ignored text (white space, comments) as lark's lexer would
+        # cut it — atomic, never backtracked into (a comment is never cut short for a name in it) —
+        # then the same pattern, or nothing at the end of the text
         skip = "|".join(f"(?:{t.pattern.to_regexp()})" for t in lexer.terminals if t.name in lexer.ignore_types)
-        glued = re.compile(f"(?:{skip})*(?:{pattern.pattern})", pattern.flags) if skip else pattern
+        glued = re.compile(f"(?>(?:{skip})*)(?:{pattern.pattern})?", pattern.flags)
         keywords = {name: cb.scanner._mres for name, cb in lexer.callback.items()}
         table = parser.parse_table
         callbacks = parser.callbacks
@@ -78,10 +80,13 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
         token = None
         while True:
             if pos < end:
-                m = match(text, pos)
-                if m is None:
-                    return FAILED
+                m = match(text, pos)  # (never None: it may match ignored text alone, or nothing)
                 kind = m.lastgroup
+                if kind is None:  # no terminal after the ignored text: the end, or a character none matches
+                    if m.end() != end:
+                        return FAILED
+                    pos = end  # ($END takes the last token's position, as in lark)
+                    continue
                 value = m.group(kind)
                 start = m.start(kind)
                 if start != pos:  # ignored text first: its lines counted as lark's lexer counts them
