@@ -193,7 +193,10 @@ def solved_at(cond: Term, variables: tuple[str, ...], solved: tuple, constant: F
     if branches is None:
         if len(known) >= 4096:
             known.clear()
-        branches = known[key] = _branches(constant, terms, renamed)
+        parts = known.get(_PARTS)
+        if parts is None:
+            parts = known[_PARTS] = _atoms(terms)
+        branches = known[key] = _branches(constant, parts, renamed)
     return Diffeo(variables=tuple(variables), forward=(cond,) + others, inputs=inputs,
                   branches=branches, solved_for=v, name=None, nonzero=(), span=getattr(cond, "span", None))
 
@@ -233,13 +236,18 @@ def summands(cond: Term, moving) -> list[tuple[Term, Fraction]] | None:
     return out
 
 
-@functools.lru_cache(maxsize=4096)
-def _branches(constant: Fraction, terms: tuple, renamed: tuple) -> tuple[InverseBranch, ...]:
+#: Where a solved shape's branches by constant (:func:`_solve`'s last element) keep its ``c·atom`` parts.
+_PARTS = "parts"
+
+
+def _branches(constant: Fraction, parts: tuple, renamed: tuple) -> tuple[InverseBranch, ...]:
     """Ψ̂⁻¹ of a completed affine condition: its one branch, the solution ``constant + Σ c·atom``
-    in place of the solved variable.  Equal conditions (a loop written twice, a def's condition
-    inlined at every call) share the same branch objects, so that comparing their Diffeos (the
-    Monte Carlo engine's sampler lookup) stops there (issue 15)."""
-    solution = _ordered(constant, terms)
+    (``parts``: :func:`_atoms`) in place of the solved variable.  Built once per shape and constant
+    (:func:`solved_at`, by the constant's numerator and denominator): equal conditions (a loop
+    written twice, a def's condition inlined at every call) share the same branch objects, so that
+    comparing their Diffeos (the Monte Carlo engine's sampler lookup) stops there (issue 15).  (No
+    memo of its own: its key hashed Fractions, about 5 µs of each of a loop's copies.)"""
+    solution = _ordered(constant, parts)
     return (InverseBranch(tuple(solution if x is None else x for x in renamed), ()),)
 
 
@@ -248,7 +256,7 @@ def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, para
     """What :func:`complete` needs of a condition's shape: the variable ``v`` solved for, its
     coefficient ``a``, Ψ̂⁻¹'s inputs, Ψ̂'s other components (``Var`` of the other variables), the
     terms ``(atom, kind, −c/a)`` of the solution but its constant, Ψ̂⁻¹'s components (None where
-    the solution goes) and the inverse branches built so far by their constant (:func:`completed`);
+    the solution goes) and the inverse branches built so far by their constant and the ``c·atom`` parts under :data:`_PARTS` (:func:`solved_at`);
     None when no variable can be isolated (or one is not among ``variables``)."""
     if not occurring <= set(variables):
         return None
@@ -294,9 +302,9 @@ def _sort_key(term: tuple[str, str, Fraction]):
     return (1, _CLASS_RANK[_coefficient_class(c)], c.numerator, c.denominator, name)
 
 
-def _ordered(constant: Fraction, terms) -> Term:
-    """``constant + Σ c·atom`` as ``from_sympy`` would build it from sympy's canonical sum."""
-    parts = _atoms(tuple(terms))
+def _ordered(constant: Fraction, parts: tuple[Term, ...]) -> Term:
+    """``constant + Σ c·atom`` as ``from_sympy`` would build it from sympy's canonical sum (``parts``:
+    the ``c·atom`` in order, :func:`_atoms`)."""
     out = Const(constant) if constant else parts[0]
     for p in (parts if constant else parts[1:]):
         out = Add(out, p)
