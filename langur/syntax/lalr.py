@@ -50,7 +50,8 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
         # cut it — atomic, never backtracked into (a comment is never cut short for a name in it) —
         # then the same pattern, or nothing at the end of the text
         skip = "|".join(f"(?:{t.pattern.to_regexp()})" for t in lexer.terminals if t.name in lexer.ignore_types)
-        glued = re.compile(f"(?>(?:{skip})*)(?:{pattern.pattern})?", pattern.flags)
+        glued = re.compile(f"(?>(?:{skip})*)(?:{pattern.pattern})?" if skip else f"(?:{pattern.pattern})?",
+                           pattern.flags)
         keywords = {name: cb.scanner._mres for name, cb in lexer.callback.items()}
         table = parser.parse_table
         callbacks = parser.callbacks
@@ -58,7 +59,7 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
         ignored, newlines = frozenset(lexer.ignore_types), frozenset(lexer.newline_types)
         states = table.states  # state → terminal or nonterminal → (Shift, state) or (Reduce, Rule)
         shift = next(a for row in states.values() for a, _ in row.values() if a.name == "Shift")
-    except (AttributeError, KeyError, TypeError, StopIteration):
+    except (AttributeError, KeyError, TypeError, StopIteration, re.error):
         return None
     token_callbacks = {k: v for k, v in callbacks.items() if isinstance(k, str)}
     reductions: dict[int, tuple] = {}  # a rule's length, callback and nonterminal, by its identity
@@ -88,13 +89,13 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
                     pos = end  # ($END takes the last token's position, as in lark)
                     continue
                 value = m.group(kind)
-                start = m.start(kind)
-                if start != pos:  # ignored text first: its lines counted as lark's lexer counts them
-                    k = text.count("\n", pos, start)
+                begin = m.start(kind)
+                if begin != pos:  # ignored text first: its lines counted as lark's lexer counts them
+                    k = text.count("\n", pos, begin)
                     if k:
                         line += k
-                        line_start = text.rindex("\n", pos, start) + 1
-                    pos = start
+                        line_start = text.rindex("\n", pos, begin) + 1
+                    pos = begin
                 column = pos - line_start + 1
                 nxt = pos + len(value)
                 if kind in newlines:
