@@ -256,8 +256,9 @@ def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, para
     """What :func:`complete` needs of a condition's shape: the variable ``v`` solved for, its
     coefficient ``a``, Ψ̂⁻¹'s inputs, Ψ̂'s other components (``Var`` of the other variables), the
     terms ``(atom, kind, −c/a)`` of the solution but its constant, Ψ̂⁻¹'s components (None where
-    the solution goes) and the inverse branches built so far by their constant and the ``c·atom`` parts under :data:`_PARTS` (:func:`solved_at`);
-    None when no variable can be isolated (or one is not among ``variables``)."""
+    the solution goes) and the inverse branches built so far by their constant, with the ``c·atom``
+    parts under :data:`_PARTS` (:func:`solved_at`); None when no variable can be isolated (or one is
+    not among ``variables``)."""
     if not occurring <= set(variables):
         return None
     form = dict(coeffs)
