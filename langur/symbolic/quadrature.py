@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import operator
 import warnings
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
@@ -177,9 +178,11 @@ WGK = (0.011694638867371874278064396062192, 0.032558162307964727478818972459390,
 WG = (0.066671344308688137593568809893332, 0.149451349150580593145776339657697,
       0.219086362515982043995534934228163, 0.269266719309996355091226921569469,
       0.295524224714752870173892994651338)
-_X = np.array(XGK[:10])
-_WK_PAIR = np.array(WGK[:10])
-_WG_PAIR = np.array([0.0, WG[0], 0.0, WG[1], 0.0, WG[2], 0.0, WG[3], 0.0, WG[4]])
+#: The 21 abscissae in the order :func:`_first_panel` evaluates them (centre − half·XGK[j], then
+#: centre + half·XGK[j], j < 10, then the centre), and the Kronrod and Gauss weights in that order.
+_X21 = np.array([-x for x in XGK[:10]] + list(XGK[:10]) + [0.0])
+_WK21 = tuple(WGK[:10]) * 2 + (WGK[10],)
+_WG21 = (0.0, WG[0], 0.0, WG[1], 0.0, WG[2], 0.0, WG[3], 0.0, WG[4]) * 2 + (0.0,)
 _EPMACH = float(np.finfo(float).eps)
 _UFLOW = float(np.finfo(float).tiny)
 
@@ -188,12 +191,17 @@ def gauss_kronrod_21(y_minus, y_plus, y_centre, half: float):
     """QUADPACK's ``dqk21`` on values already computed: ``y_minus[j]``/``y_plus[j]`` at
     centre ∓ half·XGK[j] (j < 10), ``y_centre`` at the centre.  Returns ``(result, abserr,
     resabs, resasc)`` as ``dqk21`` defines them (the error estimate rescaled as QUADPACK does)."""
-    fsum = y_minus + y_plus
-    resk = WGK[10] * y_centre + float(_WK_PAIR @ fsum)
-    resg = float(_WG_PAIR @ fsum)
-    resabs = WGK[10] * abs(y_centre) + float(_WK_PAIR @ (np.abs(y_minus) + np.abs(y_plus)))
+    return _dqk21([float(v) for v in y_minus] + [float(v) for v in y_plus] + [float(y_centre)], half)
+
+
+def _dqk21(y: list, half: float):
+    """:func:`gauss_kronrod_21` on the 21 values as one list in :data:`_X21`'s order (plain
+    Python floats: on 21 numbers numpy's per-call overhead is most of the cost)."""
+    resk = sum(map(operator.mul, _WK21, y))
+    resg = sum(map(operator.mul, _WG21, y))
+    resabs = sum(map(operator.mul, _WK21, map(abs, y)))
     reskh = 0.5 * resk
-    resasc = WGK[10] * abs(y_centre - reskh) + float(_WK_PAIR @ (np.abs(y_minus - reskh) + np.abs(y_plus - reskh)))
+    resasc = sum(w * abs(v - reskh) for w, v in zip(_WK21, y))
     dh = abs(half)
     result, resabs, resasc = resk * half, resabs * dh, resasc * dh
     abserr = abs((resk - resg) * half)
@@ -215,8 +223,7 @@ def _first_panel(vw: Callable, prefix: tuple, a: float, b: float, eps: float):
     of 21 Python calls); None otherwise (then ``quad`` integrates it as before), and
     :data:`UNVECTORIZABLE` when the vectorized weight raises (its problem stops trying)."""
     centre, half = 0.5 * (a + b), 0.5 * (b - a)
-    absc = half * _X
-    t = np.concatenate((centre - absc, centre + absc, [centre]))
+    t = centre + half * _X21
     try:
         with np.errstate(all="ignore"):
             y = np.asarray(vw(*prefix, t), dtype=float)
@@ -224,9 +231,10 @@ def _first_panel(vw: Callable, prefix: tuple, a: float, b: float, eps: float):
         return UNVECTORIZABLE  # e.g. numpy's amin of an array and a number: quad from now on
     if y.shape != t.shape:
         y = np.broadcast_to(y, t.shape)  # a weight constant in the innermost variable
-    if not np.all(np.isfinite(y)):
+    ys = y.tolist()
+    if not all(map(math.isfinite, ys)):
         return None
-    result, abserr, _, resasc = gauss_kronrod_21(y[:10], y[10:20], float(y[20]), half)
+    result, abserr, _, resasc = _dqk21(ys, half)
     if (abserr <= max(eps, eps * abs(result)) and abserr != resasc) or abserr == 0.0:
         return float(result), float(abserr)
     return None
@@ -285,12 +293,22 @@ class NumProblem:
     at: dict = field(default_factory=dict)
     sbounds: list | None = None
     _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
+    _finders: dict = field(default_factory=dict, repr=False)  # level -> (condition, root finder)
 
     def here(self, level: int) -> list[NumCond]:
         """The conditions whose last variable is ``level``'s."""
         out = self._here.get(level)
         if out is None:
             out = self._here[level] = [c for c in self.conds if c.level == level]
+        return out
+
+    def finders(self, level: int) -> list[tuple[NumCond, Callable | None]]:
+        """``level``'s conditions, each with its polynomial root finder (None: the grid search of
+        :func:`_roots`), looked up once per level instead of once per outer abscissa."""
+        out = self._finders.get(level)
+        if out is None:
+            at = self.at if self.sbounds is not None else None
+            out = self._finders[level] = [(c, _finder(c, self.syms, level, at)) for c in self.here(level)]
         return out
 
 
@@ -534,7 +552,10 @@ def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int, at: dict | None = N
 
     def roots(*prefix):
         try:
-            cs = [complex(c) for c in fn(*prefix, *extra)]
+            raw = fn(*prefix, *extra)
+            if all(type(c) is float or type(c) is int for c in raw):  # math's: no conversion needed
+                return polynomial_roots(raw)  # (it returns [] for non-finite coefficients)
+            cs = [complex(c) for c in raw]
         except (ValueError, ZeroDivisionError, OverflowError, TypeError):
             return []  # a coefficient undefined here (math raises where numpy gave NaN)
         if not all(math.isfinite(c.real) and math.isfinite(c.imag) for c in cs):
@@ -700,23 +721,17 @@ def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
     return [r for r in sols if v not in r.free_symbols and not r.has(sp.I)][:8]
 
 
-def _find(g, roots, prefix, lo, hi):
-    if roots is not None:
-        return [r for r in roots(*prefix) if lo < r < hi]
-    return _roots(g, lo, hi)
-
-
 def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     lo, hi = p.bounds[level]
     if not hi > lo:
         return 0.0
     here = p.here(level)
     pts = {lo, hi}
-    for c in here:
-        def g(t, c=c):
-            return c.f(*prefix, t)
-        for r in _find(g, _finder(c, p.syms, level, p.at if p.sbounds is not None else None), prefix, lo, hi):
-            pts.add(r)
+    for c, finder in p.finders(level):
+        if finder is not None:
+            pts.update(r for r in finder(*prefix) if lo < r < hi)
+        else:
+            pts.update(_roots(lambda t, c=c: c.f(*prefix, t), lo, hi))
         if c.hints is not None:
             for r in c.hints(*prefix):
                 if lo < r < hi:
@@ -725,8 +740,10 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     if level not in p.kinks:
         p.kinks[level] = _kink_functions(p, level)
     for kf, roots in p.kinks[level]:
-        for r in _find(lambda t, kf=kf: kf(*prefix, t), roots, prefix, lo, hi):
-            kinks.add(r)
+        if roots is not None:
+            kinks.update(r for r in roots(*prefix) if lo < r < hi)
+        else:
+            kinks.update(_roots(lambda t, kf=kf: kf(*prefix, t), lo, hi))
     pts = sorted(pts)
     last = level == len(p.bounds) - 1
     eps = EPSABS * 10 ** (len(p.bounds) - 1 - level)  # inner levels tighter than outer ones
