@@ -229,9 +229,12 @@ def _first_panel(vw: Callable, prefix: tuple, a: float, b: float, eps: float):
             y = np.asarray(vw(*prefix, t), dtype=float)
     except (ValueError, TypeError, ZeroDivisionError, OverflowError, AttributeError):
         return UNVECTORIZABLE  # e.g. numpy's amin of an array and a number: quad from now on
-    if y.shape != t.shape:
-        y = np.broadcast_to(y, t.shape)  # a weight constant in the innermost variable
-    ys = y.tolist()
+    if y.shape == t.shape:
+        ys = y.tolist()
+    elif y.size == 1:  # a weight constant in the innermost variable
+        ys = [float(y.reshape(-1)[0])] * 21
+    else:
+        ys = np.broadcast_to(y, t.shape).tolist()
     if not all(map(math.isfinite, ys)):
         return None
     result, abserr, _, resasc = _dqk21(ys, half)
@@ -753,7 +756,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         if b - a <= 1e-15 * max(1.0, abs(a)):
             continue
         m = 0.5 * (a + b)
-        if not all(_holds(c.f(*prefix, m)) for c in here):
+        if not all(c.f(*prefix, m) >= 0 for c in here):  # (NaN >= 0 is false: _holds)
             continue
         inside = sorted(q for q in kinks if a < q < b)
         if last:
