@@ -1,5 +1,5 @@
 """Campaign throughput, fifth pass (issue 13): the nested quadrature's innermost level with less
-Python per outer abscissa — the 21-point Gauss–Kronrod panel on plain floats, polynomial
+Python per outer abscissa — the 21 abscissae of a panel in one multiply-add, polynomial
 coefficients from ``math`` taken as they are, each level's root finders looked up once per
 problem — each checked against an independent reference.
 
