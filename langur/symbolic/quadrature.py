@@ -177,7 +177,9 @@ WGK = (0.011694638867371874278064396062192, 0.032558162307964727478818972459390,
 WG = (0.066671344308688137593568809893332, 0.149451349150580593145776339657697,
       0.219086362515982043995534934228163, 0.269266719309996355091226921569469,
       0.295524224714752870173892994651338)
-_X = np.array(XGK[:10])
+#: The 21 abscissae in the order :func:`_first_panel` evaluates them (centre − half·XGK[j], then
+#: centre + half·XGK[j], j < 10, then the centre): one multiply-add per panel instead of three arrays.
+_X21 = np.array([-x for x in XGK[:10]] + list(XGK[:10]) + [0.0])
 _WK_PAIR = np.array(WGK[:10])
 _WG_PAIR = np.array([0.0, WG[0], 0.0, WG[1], 0.0, WG[2], 0.0, WG[3], 0.0, WG[4]])
 _EPMACH = float(np.finfo(float).eps)
@@ -215,8 +217,7 @@ def _first_panel(vw: Callable, prefix: tuple, a: float, b: float, eps: float):
     of 21 Python calls); None otherwise (then ``quad`` integrates it as before), and
     :data:`UNVECTORIZABLE` when the vectorized weight raises (its problem stops trying)."""
     centre, half = 0.5 * (a + b), 0.5 * (b - a)
-    absc = half * _X
-    t = np.concatenate((centre - absc, centre + absc, [centre]))
+    t = centre + half * _X21
     try:
         with np.errstate(all="ignore"):
             y = np.asarray(vw(*prefix, t), dtype=float)
@@ -285,12 +286,22 @@ class NumProblem:
     at: dict = field(default_factory=dict)
     sbounds: list | None = None
     _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
+    _finders: dict = field(default_factory=dict, repr=False)  # level -> (condition, root finder)
 
     def here(self, level: int) -> list[NumCond]:
         """The conditions whose last variable is ``level``'s."""
         out = self._here.get(level)
         if out is None:
             out = self._here[level] = [c for c in self.conds if c.level == level]
+        return out
+
+    def finders(self, level: int) -> list[tuple[NumCond, Callable | None]]:
+        """``level``'s conditions, each with its polynomial root finder (None: the grid search of
+        :func:`_roots`), looked up once per level instead of once per outer abscissa."""
+        out = self._finders.get(level)
+        if out is None:
+            at = self.at if self.sbounds is not None else None
+            out = self._finders[level] = [(c, _finder(c, self.syms, level, at)) for c in self.here(level)]
         return out
 
 
@@ -534,7 +545,10 @@ def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int, at: dict | None = N
 
     def roots(*prefix):
         try:
-            cs = [complex(c) for c in fn(*prefix, *extra)]
+            raw = fn(*prefix, *extra)
+            if all(type(c) is float or type(c) is int for c in raw):  # math's: no conversion needed
+                return polynomial_roots(raw)  # (it returns [] for non-finite coefficients)
+            cs = [complex(c) for c in raw]
         except (ValueError, ZeroDivisionError, OverflowError, TypeError):
             return []  # a coefficient undefined here (math raises where numpy gave NaN)
         if not all(math.isfinite(c.real) and math.isfinite(c.imag) for c in cs):
@@ -700,23 +714,17 @@ def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
     return [r for r in sols if v not in r.free_symbols and not r.has(sp.I)][:8]
 
 
-def _find(g, roots, prefix, lo, hi):
-    if roots is not None:
-        return [r for r in roots(*prefix) if lo < r < hi]
-    return _roots(g, lo, hi)
-
-
 def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     lo, hi = p.bounds[level]
     if not hi > lo:
         return 0.0
     here = p.here(level)
     pts = {lo, hi}
-    for c in here:
-        def g(t, c=c):
-            return c.f(*prefix, t)
-        for r in _find(g, _finder(c, p.syms, level, p.at if p.sbounds is not None else None), prefix, lo, hi):
-            pts.add(r)
+    for c, finder in p.finders(level):
+        if finder is not None:
+            pts.update(r for r in finder(*prefix) if lo < r < hi)
+        else:
+            pts.update(_roots(lambda t, c=c: c.f(*prefix, t), lo, hi))
         if c.hints is not None:
             for r in c.hints(*prefix):
                 if lo < r < hi:
@@ -725,8 +733,10 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     if level not in p.kinks:
         p.kinks[level] = _kink_functions(p, level)
     for kf, roots in p.kinks[level]:
-        for r in _find(lambda t, kf=kf: kf(*prefix, t), roots, prefix, lo, hi):
-            kinks.add(r)
+        if roots is not None:
+            kinks.update(r for r in roots(*prefix) if lo < r < hi)
+        else:
+            kinks.update(_roots(lambda t, kf=kf: kf(*prefix, t), lo, hi))
     pts = sorted(pts)
     last = level == len(p.bounds) - 1
     eps = EPSABS * 10 ** (len(p.bounds) - 1 - level)  # inner levels tighter than outer ones
@@ -736,7 +746,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         if b - a <= 1e-15 * max(1.0, abs(a)):
             continue
         m = 0.5 * (a + b)
-        if not all(_holds(c.f(*prefix, m)) for c in here):
+        if not all(c.f(*prefix, m) >= 0 for c in here):  # (NaN >= 0 is false: _holds)
             continue
         inside = sorted(q for q in kinks if a < q < b)
         if last:
