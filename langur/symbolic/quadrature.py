@@ -443,7 +443,7 @@ def _state(v: float) -> int:
 
 def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
     """Points in (lo, hi) where ``g`` changes sign or definedness (grid + brentq/bisection)."""
-    xs = np.linspace(lo, hi, GRID + 1)
+    xs = np.linspace(lo, hi, GRID + 1).tolist()  # Python floats: math functions, no numpy warnings
     vals = [g(x) for x in xs]
     out = []
     for i in range(GRID):
