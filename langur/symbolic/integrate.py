@@ -122,7 +122,9 @@ def untidied() -> Iterator[None]:
 
 
 def _tidy(expr, ctx: Context):
-    """A simpler equal form when sympy finds one quickly (checked at the evaluation point)."""
+    """A simpler equal form (checked at the evaluation point): sympy's simplify within
+    :data:`TIDY_SECONDS`, or, for Piecewise conditions that are not polynomial, the Piecewise folded
+    (:func:`_nonpolynomial_conditions`: the same form whatever the machine's load)."""
     if not _TIDYING.get() or local.size(expr, 1000) >= 1000 or sp.count_ops(expr) > 300 \
             or len(expr.atoms(sp.Max, sp.Min)) > 2 or expr.has(ImplicitRootFn):
         # (size first: count_ops takes seconds on a large form.)  sympy's simplify is slow on
@@ -136,7 +138,7 @@ def _tidy(expr, ctx: Context):
             # (continuous domains, periodicity): about a CPU second for a sum of two such Piecewise
             # (quadratic_one_root.lgr), so near the cap that whether it finished — and the printed
             # form — depended on the machine's load.  Folding the Piecewise is cheap and the same
-            # on every machine (2·Piecewise((−1/(2·|√a|), …)) → Piecewise((−1/|√a|), …)).
+            # on every machine (2·Piecewise((−1/(2·|√a|), …)) → Piecewise((−1/|√a|, …))).
             s = sp.piecewise_fold(expr)
         else:
             try:
