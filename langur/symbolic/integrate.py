@@ -46,6 +46,7 @@ from langur.symbolic import delta, local, quadrature, regions
 from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
 from langur.symbolic.quadrature import UndefinedIntegral
 from langur.symbolic.regions import Cond, Context, Unsupported
+from langur.symbolic.text import shared_sstr
 from langur.timebox import Deadline
 
 RTOL = 1e-7
@@ -121,7 +122,9 @@ def untidied() -> Iterator[None]:
 
 
 def _tidy(expr, ctx: Context):
-    """A simpler equal form when sympy finds one quickly (checked at the evaluation point)."""
+    """A simpler equal form (checked at the evaluation point): sympy's simplify within
+    :data:`TIDY_SECONDS`, or, for Piecewise conditions that are not polynomial, the Piecewise folded
+    (:func:`_nonpolynomial_conditions`: the same form whatever the machine's load)."""
     if not _TIDYING.get() or local.size(expr, 1000) >= 1000 or sp.count_ops(expr) > 300 \
             or len(expr.atoms(sp.Max, sp.Min)) > 2 or expr.has(ImplicitRootFn):
         # (size first: count_ops takes seconds on a large form.)  sympy's simplify is slow on
@@ -130,10 +133,18 @@ def _tidy(expr, ctx: Context):
         return expr
     s = _TIDIED.get(expr)
     if s is None:
-        try:
-            s = ctx.deadline.run(lambda: sp.simplify(expr), cap=TIDY_SECONDS)
-        except Exception:  # noqa: BLE001 - simplification is cosmetic; TimeoutError included
-            return expr
+        if _nonpolynomial_conditions(expr):
+            # sympy's simplify would solve inequalities in √a or log(a + 1) for these conditions
+            # (continuous domains, periodicity): about a CPU second for a sum of two such Piecewise
+            # (quadratic_one_root.lgr), so near the cap that whether it finished — and the printed
+            # form — depended on the machine's load.  Folding the Piecewise is cheap and the same
+            # on every machine (2·Piecewise((−1/(2·|√a|), …)) → Piecewise((−1/|√a|, …))).
+            s = sp.piecewise_fold(expr)
+        else:
+            try:
+                s = ctx.deadline.run(lambda: sp.simplify(expr), cap=TIDY_SECONDS)
+            except Exception:  # noqa: BLE001 - simplification is cosmetic; TimeoutError included
+                return expr
         regions._remember(_TIDIED, expr, s, 512)
     try:
         a, b = _value(expr, ctx), _value(s, ctx)
@@ -144,16 +155,32 @@ def _tidy(expr, ctx: Context):
     return expr
 
 
+def _nonpolynomial_conditions(expr) -> bool:
+    """Whether a condition of a Piecewise in ``expr`` relates expressions that are not polynomials
+    in their symbols (``sqrt(a) <= 1``, ``log(a + 1) >= 0``): the closed forms :func:`_tidy` leaves
+    to :func:`sympy.piecewise_fold` instead of sympy's simplify."""
+    for pw in expr.atoms(sp.Piecewise):
+        for _, cond in pw.args:
+            if not isinstance(cond, sp.Basic):
+                continue
+            for rel in cond.atoms(sp.core.relational.Relational):
+                d = rel.lhs - rel.rhs
+                if not d.is_polynomial(*d.free_symbols):
+                    return True
+    return False
+
+
 #: The text of the cell's relations by relation: the same relations (a polygon's vertices inside
 #: the other half-planes) come back for the value, each partial derivative and the checks, and
-#: sympy prints a large one with its terms sorted (a tenth of a second each).
+#: sympy prints a large one with its terms sorted (a tenth of a second each; the shared printer's
+#: text is the same, each subtree the relations share printed once).
 _RELATION_TEXTS: dict = {}
 
 
 def _relation_text(rel) -> str:
     text = _RELATION_TEXTS.get(rel)
     if text is None:
-        text = str(rel)
+        text = shared_sstr(rel)
         regions._remember(_RELATION_TEXTS, rel, text, 4096)
     return text
 

@@ -55,15 +55,60 @@ class _SharedPrinter(_Shared, StrPrinter):
     pass
 
 
-class _SharedPython(_Shared, PythonCodePrinter):
+#: Subtrees' code by code printer class, for :func:`shared_lambdify`'s printers (always the same
+#: settings): the engine compiles integrand after integrand, probe after probe, sharing subtrees (a
+#: polygon's vertices, root formulas, Jacobians), and each printer printed them again.  Keyed by the
+#: subtree (sympy's structural equality: equal trees print the same text; Floats of different
+#: precisions are not equal); only subtrees whose printing declared nothing to the printer
+#: (``_not_supported``, ``_number_symbols``) are kept.  Cleared when it holds :data:`CODE_TEXTS`.
+_CODE_TEXTS: dict = {}
+CODE_TEXTS = 50_000
+#: The modules' names any printer of a class has imported (``module_imports``): a new printer starts
+#: with them, so that a subtree's code taken from :data:`_CODE_TEXTS` finds its names (lambdify
+#: imports each name the function's namespace lacks; the names are the module's own).
+_CODE_IMPORTS: dict = {}
+
+
+class _SharedCode(_Shared):
+    """A code printer of :func:`shared_lambdify`: subtrees' code shared across printers (above)."""
+
+    def __init__(self, settings=None):
+        super().__init__(settings)
+        for mod, names in _CODE_IMPORTS.get(type(self), {}).items():
+            self.module_imports[mod].update(names)
+
+    def _declared(self) -> tuple[int, int]:
+        return len(getattr(self, "_not_supported", ())), len(getattr(self, "_number_symbols", ()))
+
+    def _print(self, expr, **kwargs) -> str:
+        if kwargs or not isinstance(expr, sp.Basic) or not expr.args:
+            return super()._print(expr, **kwargs)
+        texts = _CODE_TEXTS.setdefault(type(self), {})
+        out = texts.get(expr)
+        if out is not None:
+            return out
+        declared = self._declared()
+        out = super()._print(expr)
+        if declared == self._declared():
+            if len(texts) >= CODE_TEXTS:
+                texts.clear()
+            texts[expr] = out
+            known = _CODE_IMPORTS.setdefault(type(self), {})
+            for mod, names in self.module_imports.items():
+                if not names <= known.get(mod, set()):
+                    known.setdefault(mod, set()).update(names)
+        return out
+
+
+class _SharedPython(_SharedCode, PythonCodePrinter):
     pass
 
 
-class _SharedMpmath(_Shared, MpmathPrinter):
+class _SharedMpmath(_SharedCode, MpmathPrinter):
     pass
 
 
-class _SharedNumPy(_Shared, NumPyPrinter):
+class _SharedNumPy(_SharedCode, NumPyPrinter):
     pass
 
 
