@@ -26,10 +26,12 @@ CPU and wall time (a deadline is also over once its wall-clock backstop has pass
 
 from __future__ import annotations
 
+import _weakrefset
 import gc
 import signal
 import threading
 import time
+import weakref
 from contextlib import contextmanager
 from typing import Callable, Iterator, TypeVar
 
@@ -59,16 +61,22 @@ class _Expired(BaseException):
 
 def _where_swallowed(frame) -> bool:
     """Whether ``frame`` runs where Python would swallow an exception: inside a garbage-collector
-    callback (hypothesis times collections with one) or a ``__del__``.  Raised there, the limit
-    would only print "Exception ignored in …"; the handler declines and the timer's 50 ms repeat
-    delivers the limit once that code has returned."""
+    callback (hypothesis times collections with one), a ``__del__``, or the weakref module's
+    callbacks (a ``WeakValueDictionary`` dropping a dead entry, a ``finalize``).  Raised there, the
+    limit would only print "Exception ignored in …"; the handler declines and the timer's 50 ms
+    repeat delivers the limit once that code has returned."""
     callbacks = {getattr(cb, "__code__", None) for cb in gc.callbacks}
     depth = 0
     while frame is not None and depth < 64:
-        if frame.f_code in callbacks or frame.f_code.co_name == "__del__":
+        code = frame.f_code
+        if code in callbacks or code.co_name == "__del__" or code.co_filename in _WEAKREF_FILES:
             return True
         frame, depth = frame.f_back, depth + 1
     return False
+
+
+#: The files of the weakref module's callbacks (``WeakValueDictionary``'s ``remove``, ``finalize``).
+_WEAKREF_FILES = frozenset({weakref.__file__, _weakrefset.__file__})
 
 
 def _can_use_alarm() -> bool:

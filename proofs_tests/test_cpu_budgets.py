@@ -112,3 +112,30 @@ def test_a_limit_expiring_inside_a_gc_callback_is_delivered_after_it_not_swallow
         gc.callbacks.remove(slow_callback)
     assert [u for u in unraisable if isinstance(u.exc_value, timebox._Expired)] == []
     assert 0.3 <= used < 2.0
+
+
+def test_a_limit_expiring_inside_a_weakref_callback_is_delivered_after_it_not_swallowed(monkeypatch):
+    """CI printed "Exception ignored in: <function WeakValueDictionary.__init__.<locals>.remove>
+    … _Expired": a limit expiring inside the weakref module's callbacks is swallowed like one in a
+    gc callback.  A ``weakref.finalize`` whose callback runs 0.3 CPU s when its object dies."""
+    import sys
+    import weakref
+
+    unraisable = []
+    monkeypatch.setattr(sys, "unraisablehook", unraisable.append)
+
+    class Dying:
+        pass
+
+    def work():
+        obj = Dying()
+        weakref.finalize(obj, _spin, 0.3)
+        del obj  # the limit (0.1 CPU s) expires inside the finalizer's 0.3 CPU s
+        _spin(5.0)
+
+    start = time.process_time()
+    with pytest.raises(TimeoutError):
+        run_with_timeout(work, 0.1, cpu=True)
+    used = time.process_time() - start
+    assert [u for u in unraisable if isinstance(u.exc_value, timebox._Expired)] == []
+    assert 0.3 <= used < 2.0
