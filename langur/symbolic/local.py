@@ -161,6 +161,30 @@ def any_node(e, holds) -> bool:
     return False
 
 
+def atoms_of(e, types) -> set:
+    """``e.atoms(*types)`` for classes ``types`` (nodes of those classes, a set), each distinct
+    subtree visited once: sympy's ``atoms`` walks the tree with its repeats (the integrands and
+    closed forms of a stylize or ray-traced partial derivative share their subtrees: a walk of
+    10⁵ nodes over 10³ distinct ones, every time one is compiled or printed)."""
+    out: set = set()
+    seen: set = set()
+    stack = [e]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, types):
+            out.add(node)
+        for a in (node.args if isinstance(node, sp.Basic) else node):  # (sympy's traversal: args, or iterables)
+            if id(a) not in seen and (isinstance(a, sp.Basic) or _iterable(a)):
+                seen.add(id(a))
+                stack.append(a)
+    return out
+
+
+def _iterable(a) -> bool:
+    """Whether sympy's preorder traversal descends into ``a`` (a non-Basic argument)."""
+    return isinstance(a, (tuple, list, set, frozenset))
+
+
 def has_any(e, types: tuple) -> bool:
     """``e.has(*types)`` for classes ``types``, each distinct subtree visited once (:func:`any_node`)."""
     return any_node(e, lambda node: isinstance(node, types))
@@ -427,9 +451,12 @@ def monomials(w, x, y) -> dict:
     """The polynomial ``w`` in ``x``, ``y`` as ``{(a, b): c_ab}`` (``w = Σ c_ab xᵃ yᵇ``), the
     coefficients built from ``w``'s own subterms free of x and y by + and · (not expanded: one pass
     over the distinct subtrees of ``w``).  The weight at a quadrature point is then a short sum over
-    these shared coefficients instead of a rebuilt copy of the whole weight."""
-    memo: dict = {}
-    seen: dict = {}
+    these shared coefficients instead of a rebuilt copy of the whole weight.  The decompositions of
+    subtrees are remembered across calls (:data:`_MONOMIALS`): each partial derivative's weight
+    shares most of its subtrees with ⟦p⟧'s and the other partial derivatives' (the stylization
+    kernel's colour differences, the barycentric coordinates); not for a weight holding Floats
+    (sympy's equality does not see their precision)."""
+    memo, seen = ({}, {}) if has_any(w, (sp.Float,)) else _monomial_memos(x, y)
 
     def mul(p: dict, q: dict) -> dict:
         out: dict = {}
@@ -468,6 +495,21 @@ def monomials(w, x, y) -> dict:
         return out
 
     return go(w)
+
+
+#: Per pair of variables: the decompositions of subtrees (:func:`monomials`) and whether they
+#: mention the variables; dropped whole past :data:`MONOMIAL_MEMO` entries.
+_MONOMIALS: dict = {}
+MONOMIAL_MEMO = 20_000
+
+
+def _monomial_memos(x, y) -> tuple[dict, dict]:
+    memos = _MONOMIALS.get((x, y))
+    if memos is None or len(memos[0]) + len(memos[1]) > MONOMIAL_MEMO:
+        if len(_MONOMIALS) >= 8:
+            _MONOMIALS.pop(next(iter(_MONOMIALS)))
+        memos = _MONOMIALS[(x, y)] = ({}, {})
+    return memos
 
 
 def _at_point(coeffs: dict, X, Y):

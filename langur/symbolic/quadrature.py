@@ -30,7 +30,7 @@ import sympy as sp
 from scipy import integrate as si
 from scipy import optimize as so
 
-from langur.symbolic.local import free_symbols
+from langur.symbolic.local import atoms_of, free_symbols
 from langur.symbolic.pieces import DeltaPiece, Piece, Psi
 from langur.symbolic.text import lambdify, shared_lambdify
 from langur.timebox import run_with_timeout
@@ -70,7 +70,7 @@ def printable(e: sp.Expr) -> sp.Expr:
     """``e`` with rationals of thousands of digits as 30-digit floats: ``lambdify`` prints numbers
     as text, and Python refuses to print an integer of more than 4300 digits (a product of 10,000
     exact constants has such a value)."""
-    big = {r: sp.Float(r, 30) for r in e.atoms(sp.Rational) if max(abs(r.p), r.q).bit_length() > 4000}
+    big = {r: sp.Float(r, 30) for r in atoms_of(e, sp.Rational) if max(abs(r.p), r.q).bit_length() > 4000}
     return e.xreplace(big) if big else e
 
 
