@@ -920,6 +920,10 @@ def _vanishes(expr, syms, bounds, at) -> bool:
     return True
 
 
+#: det DΨ̂ by (forward map, variables): the same Ψ̂ comes back for other partial derivatives.
+_FORWARD_DETS: dict = {}
+
+
 def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[NumProblem]:
     """One problem over ``u'`` per inverse branch (forward-Jacobian form, see module doc).
 
@@ -929,7 +933,12 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
     variables = list(variables)
     missing = [x for x in variables if x not in psi.variables]
     uprime = list(psi.inputs[1:]) + missing
-    jac = sp.Matrix(psi.forward).jacobian(list(psi.variables)).det()
+    jac = _FORWARD_DETS.get((psi.forward, psi.variables))
+    if jac is None:  # (sympy's det simplifies as it goes: a third of a second for the ray tracer's shader)
+        jac = sp.Matrix(psi.forward).jacobian(list(psi.variables)).det()
+        if len(_FORWARD_DETS) >= COMPILED:
+            _FORWARD_DETS.pop(next(iter(_FORWARD_DETS)))
+        _FORWARD_DETS[(psi.forward, psi.variables)] = jac
     jac_f = _lambdify(variables, jac, at)
     bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in ubox]
     problems = []
