@@ -140,7 +140,8 @@ def _vectorize(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable | None:
     passed like :func:`_lambdify`'s; None when numpy cannot evaluate it (then the scalar path
     alone integrates it)."""
     e = printable(sp.sympify(expr))
-    params = tuple(k for k in at if k in free_symbols(e))
+    free = free_symbols(e)  # (once, not once per parameter)
+    params = tuple(k for k in at if k in free)
     key = (tuple(symbols) + params, e)
     f = _VECTORIZED.get(key, 0)
     if f == 0:
@@ -537,7 +538,8 @@ def polynomial_roots(cs: Sequence[float]) -> list[float]:
 def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int, at: dict | None = None):
     """``prefix ↦ real roots in syms[level]`` when ``expr`` is a polynomial in it, else None;
     ``at``: the values of the parameters ``expr`` may contain (passed after the prefix)."""
-    params = tuple(k for k in at if k in free_symbols(expr)) if at else ()
+    free = free_symbols(expr) if at else set()  # (once, not once per parameter)
+    params = tuple(k for k in at if k in free) if at else ()
     fn = _coefficients(expr, tuple(syms), level, params)
     if fn is None:
         return None
