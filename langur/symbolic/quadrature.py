@@ -290,7 +290,7 @@ class NumProblem:
     sbounds: list | None = None
     _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
     _finders: dict = field(default_factory=dict, repr=False)  # level -> (condition, root finder)
-    #: level -> which of :attr:`kinks`' functions depend on the outer variables
+    #: level -> the outer levels each of :attr:`kinks`' functions depends on (:func:`_depends`)
     kink_vary: dict = field(default_factory=dict, repr=False)
     #: level -> the breakpoints and kinks that do not depend on the outer variables (found once)
     _fixed: dict = field(default_factory=dict, repr=False)
@@ -313,18 +313,69 @@ class NumProblem:
         return out
 
     def moving(self, level: int, vary: bool) -> tuple[list, list, list]:
-        """``level``'s ``(condition, root finder)`` pairs whose roots depend on the outer variables
-        (``vary``) or do not, the conditions whose Psi hints do or do not, and the kink functions
-        (:attr:`kinks`, already computed) that do or do not (found once per level)."""
+        """``level``'s root functions of its conditions (``prefix ↦ roots``: polynomial finder or
+        grid search) that depend on the outer variables (``vary``) or do not, the conditions whose
+        Psi hints do or do not, and the kink functions (:attr:`kinks`, already computed; ``prefix
+        ↦ roots``) that do or do not.  A moving function that depends on some of the outer
+        variables only remembers its roots by their values (:func:`_by_outer`).  Found once per
+        level."""
         out = self._moving.get((level, vary))
         if out is None:
-            outer = set(self.syms[:level])
-            finders = [(c, f) for c, f in self.finders(level)
-                       if (c.expr is None or bool(free_symbols(c.expr) & outer)) == vary]
+            lo, hi = self.bounds[level]
+            points = []
+            for c, f in self.finders(level):
+                deps = _depends(c.expr, self.syms, level)
+                if bool(deps) != vary:
+                    continue
+                if f is None:
+                    def f(*prefix, c=c):
+                        return _roots(lambda t: c.f(*prefix, t), lo, hi)
+                points.append(_by_outer(f, deps, level))
             hinted = [c for c in self.here(level) if c.hints is not None and c.hints_vary == vary]
-            kinks = [k for k, moves in zip(self.kinks[level], self.kink_vary[level]) if moves == vary]
-            out = self._moving[(level, vary)] = (finders, hinted, kinks)
+            kinks = []
+            for (kf, roots), deps in zip(self.kinks[level], self.kink_vary[level]):
+                if bool(deps) != vary:
+                    continue
+                if roots is None:
+                    def roots(*prefix, kf=kf):
+                        return _roots(lambda t: kf(*prefix, t), lo, hi)
+                kinks.append(_by_outer(roots, deps, level))
+            out = self._moving[(level, vary)] = (points, hinted, kinks)
         return out
+
+
+def _depends(expr, syms, level: int) -> tuple[int, ...]:
+    """The outer levels (< ``level``) whose variables ``expr`` contains (all of them when there is
+    no expression to look at)."""
+    if expr is None:
+        return tuple(range(level))
+    fs = free_symbols(expr)
+    return tuple(i for i in range(level) if syms[i] in fs)
+
+
+#: Outer abscissae whose roots :func:`_by_outer` keeps per function (cleared when full).
+BY_OUTER = 4096
+
+
+def _by_outer(fn: Callable[..., list[float]], deps: tuple[int, ...], level: int) -> Callable[..., list[float]]:
+    """``fn`` (``prefix ↦ roots``), its answers remembered by the values of the outer variables it
+    depends on (``deps``) when that is not all of them: ``x² + z² ≤ a`` at the level of z, inside
+    x and y, has the same roots at every y for one x (the same function of the same arguments, so
+    the same numbers)."""
+    if len(deps) == level and deps:
+        return fn
+    memo: dict = {}
+
+    def remembered(*prefix):
+        key = tuple(prefix[i] for i in deps)
+        out = memo.get(key)
+        if out is None:
+            if len(memo) >= BY_OUTER:
+                memo.clear()
+            out = memo[key] = list(fn(*prefix))
+        return out
+
+    return remembered
 
 
 class _Finite:
@@ -600,15 +651,16 @@ def _kink_functions(p: NumProblem, level: int):
     conditions of the next level cross (:func:`_crossings`).  With the problem's parameters kept as
     symbols (``p.sbounds``), these expressions are computed once per shape of problem and hold at
     every parameter point (only :func:`_at_levels`, numeric, is redone at each).  Returns the
-    ``(function, polynomial roots or None)`` pairs and, for each, whether it depends on the outer
-    variables (the box-corner functions of conditions without an expression are assumed to)."""
+    ``(function, polynomial roots or None)`` pairs and, for each, the outer levels whose variables
+    it depends on (:func:`_depends`; all of them for the box-corner functions of conditions
+    without an expression)."""
     out, vary = [], []
     symbolic = [c for c in p.conds if c.level > level and c.expr is not None] if p.syms else []
     for c in p.conds:
         if c.level > level and c not in symbolic:
             for corner in itertools.product(*[p.bounds[j] for j in range(level + 1, c.level + 1)]):
                 out.append((lambda *a, c=c, corner=corner: c.f(*a, *corner), None))
-                vary.append(True)
+                vary.append(tuple(range(level)))
     if not symbolic:
         return out, vary
     parametric = p.sbounds is not None and all(c.sym is not None for c in symbolic)
@@ -648,10 +700,9 @@ def _kink_functions(p: NumProblem, level: int):
                 _KINKS.pop(next(iter(_KINKS)))
             levels = _KINKS[key] = _at_levels(p, level)
         exprs = exprs + levels
-    outer = set(p.syms[:level])
     for e in exprs:
         out.append((_lambdify(p.syms[: level + 1], e, at), _poly_roots(e, p.syms, level, at)))
-        vary.append(bool(free_symbols(e) & outer))
+        vary.append(_depends(e, p.syms, level))
     return out, vary
 
 
@@ -749,22 +800,16 @@ def _breakpoints(p: NumProblem, level: int, prefix: tuple, vary: bool) -> tuple[
     (the same numbers: the same functions of the same arguments)."""
     lo, hi = p.bounds[level]
     pts: set = set()
-    finders, hinted, kink_fns = p.moving(level, vary)
-    for c, finder in finders:
-        if finder is not None:
-            pts.update(r for r in finder(*prefix) if lo < r < hi)
-        else:
-            pts.update(_roots(lambda t, c=c: c.f(*prefix, t), lo, hi))
+    points, hinted, kink_fns = p.moving(level, vary)
+    for roots in points:
+        pts.update(r for r in roots(*prefix) if lo < r < hi)
     for c in hinted:
         for r in c.hints(*prefix):
             if lo < r < hi:
                 pts.add(r)
     kinks: set = set()
-    for kf, roots in kink_fns:
-        if roots is not None:
-            kinks.update(r for r in roots(*prefix) if lo < r < hi)
-        else:
-            kinks.update(_roots(lambda t, kf=kf: kf(*prefix, t), lo, hi))
+    for roots in kink_fns:
+        kinks.update(r for r in roots(*prefix) if lo < r < hi)
     return pts, kinks
 
 
