@@ -10,7 +10,9 @@ instead of once per outer abscissa.  Checked against independent references:
   are exactly those every condition's root finder and every kink function gives there — the
   pre-change computation, written out here;
 * a shear ``x + y − c`` (Psi hints that move with x) and a Psi of one variable (hints that do
-  not) against the area by hand.
+  not) against the area by hand;
+* roots that depend on some of the outer variables only (``x² + z² ≤ r²`` at z's level inside x
+  and y) remembered by those (:func:`quadrature._by_outer`): a half cylinder against πr²/2 · 3/2.
 """
 
 from __future__ import annotations
@@ -96,3 +98,34 @@ def test_psi_hints_moving_and_fixed():
     assert prob.conds[0].hints_vary is False  # x = c at every y: found once
     val, err = q.integrate_problem(prob)
     assert abs(val - 0.75 ** 2 / 2) <= err + 1e-12  # c ≤ x ≤ y ≤ 1
+
+
+def test_roots_remembered_by_the_outer_variables_they_depend_on():
+    calls = []
+
+    def roots(x, y):
+        calls.append((x, y))
+        return [x / 2]
+
+    by_x = q._by_outer(roots, (0,), 2)  # at z's level inside x and y, a function of x only
+    assert by_x(0.5, 0.1) == [0.25] and by_x(0.5, 0.7) == [0.25] and by_x(0.3, 0.7) == [0.15]
+    assert calls == [(0.5, 0.1), (0.3, 0.7)]  # computed once per value of x
+    assert q._by_outer(roots, (0, 1), 2) is roots  # depends on every outer variable: not remembered
+    x, y, z = sp.symbols("x y z")
+    assert q._depends(x ** 2 + z ** 2, [x, y, z], 2) == (0,)
+    assert q._depends(y - z, [x, y, z], 2) == (1,)
+    assert q._depends(None, [x, y, z], 2) == (0, 1)
+
+
+def test_cylinder_in_a_box_whose_roots_skip_the_middle_variable():
+    x, y, z, r = sp.symbols("x y z r")
+    # [x² + z² ≤ r²]·(y + 1) on [−1, 1] × [0, 1] × [0, 1]: its roots in z depend on x, not y;
+    # ∫₀¹ (y + 1) dy = 3/2 times the area πr²/2 of the half disc z ≥ 0
+    piece = Piece((Condition(r ** 2 - x ** 2 - z ** 2),), y + 1)
+    prob = _problem(piece, [x, y, z], [(-1, 1), (0, 1), (0, 1)], {r: sp.Rational(3, 5)})
+    val, err = q.integrate_problem(prob)
+    assert abs(val - 1.5 * math.pi * 0.36 / 2) <= err + 1e-12
+    for prefix in ((0.2, 0.3), (0.2, 0.9), (-0.5, 0.1)):
+        moving, kinks = q._breakpoints(prob, 2, prefix, True)
+        fixed = prob._fixed[2]
+        assert ({*prob.bounds[2], *fixed[0], *moving}, kinks | fixed[1]) == _all_breakpoints(prob, 2, prefix)
