@@ -880,7 +880,10 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
             raise UndefinedIntegral(f"the integrand is undefined ({v}) at the evaluation point")
         return v, 0.0
     p.errors.clear()
-    val = _nested(p, 0, ())
+    try:
+        val = _nested(p, 0, ())
+    finally:
+        p._moving.clear()  # the roots remembered by outer abscissae (the problem may be kept in _DONE)
     err = sum(p.errors)
     # Inner levels' errors are not propagated by quad; add a conservative relative allowance.
     return val, err + 1e-10 * (1.0 + abs(val)) * len(p.bounds)
