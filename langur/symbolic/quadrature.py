@@ -248,6 +248,9 @@ class NumCond:
     #: shifted points and nearby points reuse them (:func:`_kink_functions`); None when ``expr``
     #: is not polynomial in its symbols (:func:`_parametric`)
     sym: sp.Expr | None = None
+    #: whether :attr:`hints` depend on the outer variables (False: the same roots at every outer
+    #: abscissa, found once per problem, :meth:`NumProblem.fixed`)
+    hints_vary: bool = True
 
 
 def _parametric(expr: sp.Expr) -> sp.Expr | None:
@@ -288,6 +291,11 @@ class NumProblem:
     sbounds: list | None = None
     _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
     _finders: dict = field(default_factory=dict, repr=False)  # level -> (condition, root finder)
+    #: level -> the outer levels each of :attr:`kinks`' functions depends on (:func:`_depends`)
+    kink_vary: dict = field(default_factory=dict, repr=False)
+    #: level -> the breakpoints and kinks that do not depend on the outer variables (found once)
+    _fixed: dict = field(default_factory=dict, repr=False)
+    _moving: dict = field(default_factory=dict, repr=False)  # (level, vary) -> :meth:`moving`
 
     def here(self, level: int) -> list[NumCond]:
         """The conditions whose last variable is ``level``'s."""
@@ -304,6 +312,71 @@ class NumProblem:
             at = self.at if self.sbounds is not None else None
             out = self._finders[level] = [(c, _finder(c, self.syms, level, at)) for c in self.here(level)]
         return out
+
+    def moving(self, level: int, vary: bool) -> tuple[list, list, list]:
+        """``level``'s root functions of its conditions (``prefix ↦ roots``: polynomial finder or
+        grid search) that depend on the outer variables (``vary``) or do not, the conditions whose
+        Psi hints do or do not, and the kink functions (:attr:`kinks`, already computed; ``prefix
+        ↦ roots``) that do or do not.  A moving function that depends on some of the outer
+        variables only remembers its roots by their values (:func:`_by_outer`).  Found once per
+        level."""
+        out = self._moving.get((level, vary))
+        if out is None:
+            lo, hi = self.bounds[level]
+            points = []
+            for c, f in self.finders(level):
+                deps = _depends(c.expr, self.syms, level)
+                if bool(deps) != vary:
+                    continue
+                if f is None:
+                    def f(*prefix, c=c):
+                        return _roots(lambda t: c.f(*prefix, t), lo, hi)
+                points.append(_by_outer(f, deps, level))
+            hinted = [c for c in self.here(level) if c.hints is not None and c.hints_vary == vary]
+            kinks = []
+            for (kf, roots), deps in zip(self.kinks[level], self.kink_vary[level]):
+                if bool(deps) != vary:
+                    continue
+                if roots is None:
+                    def roots(*prefix, kf=kf):
+                        return _roots(lambda t: kf(*prefix, t), lo, hi)
+                kinks.append(_by_outer(roots, deps, level))
+            out = self._moving[(level, vary)] = (points, hinted, kinks)
+        return out
+
+
+def _depends(expr, syms, level: int) -> tuple[int, ...]:
+    """The outer levels (< ``level``) whose variables ``expr`` contains (all of them when there is
+    no expression to look at)."""
+    if expr is None:
+        return tuple(range(level))
+    fs = free_symbols(expr)
+    return tuple(i for i in range(level) if syms[i] in fs)
+
+
+#: Outer abscissae whose roots :func:`_by_outer` keeps per function (cleared when full).
+BY_OUTER = 4096
+
+
+def _by_outer(fn: Callable[..., list[float]], deps: tuple[int, ...], level: int) -> Callable[..., list[float]]:
+    """``fn`` (``prefix ↦ roots``), its answers remembered by the values of the outer variables it
+    depends on (``deps``) when that is not all of them: ``x² + z² ≤ a`` at the level of z, inside
+    x and y, has the same roots at every y for one x (the same function of the same arguments, so
+    the same numbers)."""
+    if len(deps) == level and deps:
+        return fn
+    memo: dict = {}
+
+    def remembered(*prefix):
+        key = tuple(prefix[i] for i in deps)
+        out = memo.get(key)
+        if out is None:
+            if len(memo) >= BY_OUTER:
+                memo.clear()
+            out = memo[key] = list(fn(*prefix))
+        return out
+
+    return remembered
 
 
 class _Finite:
@@ -579,15 +652,19 @@ def _kink_functions(p: NumProblem, level: int):
     it, at its critical point (where a region in that variable appears or vanishes), and where two
     conditions of the next level cross (:func:`_crossings`).  With the problem's parameters kept as
     symbols (``p.sbounds``), these expressions are computed once per shape of problem and hold at
-    every parameter point (only :func:`_at_levels`, numeric, is redone at each)."""
-    out = []
+    every parameter point (only :func:`_at_levels`, numeric, is redone at each).  Returns the
+    ``(function, polynomial roots or None)`` pairs and, for each, the outer levels whose variables
+    it depends on (:func:`_depends`; all of them for the box-corner functions of conditions
+    without an expression)."""
+    out, vary = [], []
     symbolic = [c for c in p.conds if c.level > level and c.expr is not None] if p.syms else []
     for c in p.conds:
         if c.level > level and c not in symbolic:
             for corner in itertools.product(*[p.bounds[j] for j in range(level + 1, c.level + 1)]):
                 out.append((lambda *a, c=c, corner=corner: c.f(*a, *corner), None))
+                vary.append(tuple(range(level)))
     if not symbolic:
-        return out
+        return out, vary
     parametric = p.sbounds is not None and all(c.sym is not None for c in symbolic)
     at = p.at if parametric else {}
     if parametric:
@@ -627,7 +704,8 @@ def _kink_functions(p: NumProblem, level: int):
         exprs = exprs + levels
     for e in exprs:
         out.append((_lambdify(p.syms[: level + 1], e, at), _poly_roots(e, p.syms, level, at)))
-    return out
+        vary.append(_depends(e, p.syms, level))
+    return out, vary
 
 
 #: Seconds sympy may spend on the resultant of two conditions (:func:`_crossings`).
@@ -716,29 +794,42 @@ def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
     return [r for r in sols if v not in r.free_symbols and not r.has(sp.I)][:8]
 
 
+def _breakpoints(p: NumProblem, level: int, prefix: tuple, vary: bool) -> tuple[set, set]:
+    """``level``'s breakpoints in (lo, hi) at the outer abscissae ``prefix`` (roots of its
+    conditions, from their polynomial root finders, a grid search, or their Psi's inverse) and its
+    kinks (:func:`_kink_functions`): those that depend on the outer variables (``vary``), or those
+    that do not — the same at every outer abscissa, so :func:`_nested` finds them once per problem
+    (the same numbers: the same functions of the same arguments)."""
+    lo, hi = p.bounds[level]
+    pts: set = set()
+    points, hinted, kink_fns = p.moving(level, vary)
+    for roots in points:
+        pts.update(r for r in roots(*prefix) if lo < r < hi)
+    for c in hinted:
+        for r in c.hints(*prefix):
+            if lo < r < hi:
+                pts.add(r)
+    kinks: set = set()
+    for roots in kink_fns:
+        kinks.update(r for r in roots(*prefix) if lo < r < hi)
+    return pts, kinks
+
+
 def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     lo, hi = p.bounds[level]
     if not hi > lo:
         return 0.0
     here = p.here(level)
-    pts = {lo, hi}
-    for c, finder in p.finders(level):
-        if finder is not None:
-            pts.update(r for r in finder(*prefix) if lo < r < hi)
-        else:
-            pts.update(_roots(lambda t, c=c: c.f(*prefix, t), lo, hi))
-        if c.hints is not None:
-            for r in c.hints(*prefix):
-                if lo < r < hi:
-                    pts.add(r)
-    kinks = set()
     if level not in p.kinks:
-        p.kinks[level] = _kink_functions(p, level)
-    for kf, roots in p.kinks[level]:
-        if roots is not None:
-            kinks.update(r for r in roots(*prefix) if lo < r < hi)
-        else:
-            kinks.update(_roots(lambda t, kf=kf: kf(*prefix, t), lo, hi))
+        p.kinks[level], p.kink_vary[level] = _kink_functions(p, level)
+    fixed = p._fixed.get(level)
+    if fixed is None:  # the first abscissa: what does not depend on the outer variables, once
+        fixed = p._fixed[level] = _breakpoints(p, level, prefix, False)
+    moving, kinks = _breakpoints(p, level, prefix, True)
+    pts = {lo, hi}
+    pts.update(fixed[0])
+    pts.update(moving)
+    kinks.update(fixed[1])
     pts = sorted(pts)
     last = level == len(p.bounds) - 1
     eps = EPSABS * 10 ** (len(p.bounds) - 1 - level)  # inner levels tighter than outer ones
@@ -791,7 +882,10 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
             raise UndefinedIntegral(f"the integrand is undefined ({v}) at the evaluation point")
         return v, 0.0
     p.errors.clear()
-    val = _nested(p, 0, ())
+    try:
+        val = _nested(p, 0, ())
+    finally:
+        p._moving.clear()  # the roots remembered by outer abscissae (the problem may be kept in _DONE)
     err = sum(p.errors)
     # Inner levels' errors are not propagated by quad; add a conservative relative allowance.
     return val, err + 1e-10 * (1.0 + abs(val)) * len(p.bounds)
@@ -807,18 +901,22 @@ def _level(expr, variables: Sequence[sp.Symbol]) -> int:
 
 
 def _psi_hints(psi: Psi | None, v: sp.Symbol, variables, level: int, at: dict):
-    """Roots of the condition in ``v`` from Psi's inverse branches (completed Psi only)."""
+    """Roots of the condition in ``v`` from Psi's inverse branches (completed Psi only), and
+    whether they depend on the outer variables."""
     if psi is None or psi.solved_for != v or not psi.branches:
-        return None
+        return None, True
     others = [x for x in psi.variables if x != v]
     if any(x not in variables[:level] for x in others):
-        return None
+        return None, True
     sub = {psi.inputs[0]: 0}
     sub.update({u: x for u, x in zip(psi.inputs[1:], others)})
     fns = []
+    outer = set(variables[:level])
+    vary = False
     for b in psi.branches:
         comp = dict(b.inverse)[v].xreplace(sub)
         guards = [g.xreplace(sub) for g in b.guards]
+        vary = vary or any(free_symbols(sp.sympify(e)) & outer for e in [comp, *guards])
         fns.append((_lambdify(variables[:level], comp, at), [_lambdify(variables[:level], g, at) for g in guards]))
 
     def hints(*prefix):
@@ -830,7 +928,7 @@ def _psi_hints(psi: Psi | None, v: sp.Symbol, variables, level: int, at: dict):
                     out.append(r)
         return out
 
-    return hints
+    return hints, vary
 
 
 def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
@@ -838,10 +936,10 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
     conds = []
     for c in piece.conditions:
         lv = _level(c.expr, variables)
-        hints = _psi_hints(c.psi, variables[lv], variables, lv, at) if lv >= 0 else None
+        hints, vary = _psi_hints(c.psi, variables[lv], variables, lv, at) if lv >= 0 else (None, True)
         expr = sp.sympify(c.expr)
         conds.append(NumCond(_lambdify(variables[: lv + 1], expr, at), lv, hints, expr.xreplace(_floats(at)),
-                             sym=_parametric(expr)))
+                             sym=_parametric(expr), hints_vary=vary))
     bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in box]
     return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds, syms=variables,
                       vweight=_vectorize(variables, piece.weight, at) if variables else None,
