@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import time
 import warnings
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
@@ -30,6 +31,7 @@ import sympy as sp
 from scipy import integrate as si
 from scipy import optimize as so
 
+from langur.implicit import ImplicitRootFn
 from langur.symbolic.local import atoms_of, free_symbols
 from langur.symbolic.pieces import DeltaPiece, Piece, Psi
 from langur.symbolic.text import lambdify, shared_lambdify
@@ -44,6 +46,11 @@ SPLIT_ROUNDS = 3
 #: value (at a fold of an inverse branch, z = sqrt(r² − x² − y²) near the rim of a disk), not a
 #: property of the integral.
 NARROW = 1e-8
+#: A condition whose value is at most this at a point where a ``folds`` problem's weight is not
+#: finite puts that point outside the region or on its boundary within rounding (an implicit root
+#: at its piece's turning point, where it cannot be bracketed and 1/|f'| is 1/0): a fold met, not a
+#: pole inside the region (there the conditions hold).
+BOUNDARY = 1e-9
 #: Seconds sympy may spend on the critical points of one condition (:func:`_critical_points`).
 CRITICAL_SECONDS = 1.0
 #: More abscissae than this where the integrand is not finite, in one pass of ``quad``: not a few
@@ -289,6 +296,13 @@ class NumProblem:
     #: when every condition has its ``sym``: kinks are then computed once per shape of problem
     at: dict = field(default_factory=dict)
     sbounds: list | None = None
+    #: a delta through an implicit root: its weight 1/|f'(x*)| is singular (like 1/√) along the fold
+    #: where x* reaches a turning point of its piece; ``fold_hit``: the weight was not finite at a
+    #: point outside the region or on its boundary within rounding (:data:`BOUNDARY`); ``until``: the
+    #: CPU time (``time.process_time``) past which such a problem in two or more coordinates gives up
+    folds: bool = False
+    fold_hit: bool = False
+    until: float = math.inf
     _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
     _finders: dict = field(default_factory=dict, repr=False)  # level -> (condition, root finder)
     #: level -> the outer levels each of :attr:`kinks`' functions depends on (:func:`_depends`)
@@ -852,7 +866,12 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
                 continue
 
             def h(t):
-                return p.weight(*prefix, t)
+                if p.folds and time.process_time() > p.until:
+                    raise FoldUnresolved(_fold_message(p, f"did not reach its tolerance within {FOLD_SECONDS:g} CPU seconds"))
+                v = p.weight(*prefix, t)
+                if p.folds and not math.isfinite(v) and not all(c.f(*prefix, t) > BOUNDARY for c in here):
+                    p.fold_hit = True  # the root at its turning point within rounding (see integrate_problem)
+                return v
         else:
             def h(t):
                 return _nested(p, level + 1, prefix + (t,))
@@ -872,6 +891,24 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     return total
 
 
+#: CPU seconds one delta problem through an implicit root (``folds``) may take: in two or more
+#: coordinates its weight's fold singularity (1/√ along the fold curve, 1/|t − t₀| across it where
+#: the fold curve is itself singular) keeps the nested quadrature from its tolerance for hours.
+FOLD_SECONDS = 20.0
+
+
+class FoldUnresolved(ValueError):
+    """A delta through an implicit root, in two or more coordinates, whose quadrature did not finish
+    within :data:`FOLD_SECONDS` or met its fold within rounding at ever more points: an engine
+    limitation (the singularity along the fold is integrable), reported as no value, not undefined."""
+
+
+def _fold_message(p: NumProblem, what: str) -> str:
+    return (f"the delta's weight 1/|f'| through an implicit root is singular along the fold where f' = 0 "
+            f"(over {', '.join(map(str, p.syms))}); its nested quadrature {what}, so no value has an error "
+            "bound to trust (an engine limitation, not an undefined integral: use the Monte Carlo engine)")
+
+
 def integrate_problem(p: NumProblem) -> tuple[float, float]:
     """Value and error estimate of ``∫_bounds Π[conds] · weight``."""
     if any(c.level < 0 and not _holds(c.f()) for c in p.conds):
@@ -883,7 +920,17 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
         return v, 0.0
     p.errors.clear()
     try:
-        val = _nested(p, 0, ())
+        if p.folds and len(p.bounds) >= 2:  # (one coordinate: the fold is a point, quad resolves it)
+            p.until = time.process_time() + FOLD_SECONDS
+            try:
+                val = _nested(p, 0, ())
+            except UndefinedIntegral as exc:
+                if not p.fold_hit:
+                    raise
+                raise FoldUnresolved(_fold_message(p, "met the fold within rounding, where the root cannot be "
+                                                      "bracketed, at ever more points")) from exc
+        else:
+            val = _nested(p, 0, ())
     finally:
         p._moving.clear()  # the roots remembered by outer abscissae (the problem may be kept in _DONE)
     err = sum(p.errors)
@@ -1076,7 +1123,8 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
             return w_f(*x) / abs(d) if d != 0 else math.nan  # degenerate: Ψ̂ not invertible here
 
         problems.append(NumProblem(conds, weight, bounds, syms=uprime, at=dict(at),
-                                   sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in ubox]))
+                                   sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in ubox],
+                                   folds=any(e.has(ImplicitRootFn) for e in xs)))
     return problems
 
 
