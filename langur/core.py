@@ -613,6 +613,49 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
     return new
 
 
+def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
+    """``like(cls, shape, (a, b), span)`` for an ``Add`` or a ``Mul`` whose ``shape`` also holds its
+    ``span`` (``dict(shape_of(t), span=…)``): a loop's copies build most of their nodes so, one call
+    each (issue 15)."""
+    new = _new(cls)
+    d = new.__dict__
+    d.update(shape)
+    d["left"] = a
+    d["right"] = b
+    _binary_value(d, a.__dict__, b.__dict__, cls is Mul)
+    return new
+
+
+def like_power(shape: dict, a: "Term", small) -> "Term":
+    """``like(Pow, shape, (a,), span)`` whose ``shape`` also holds its ``span``, with the small value
+    of ``a ^ k`` given (``small_power(small_value(a), k)``, which a copy may have computed already)."""
+    new = _new(Pow)
+    d = new.__dict__
+    d.update(shape)
+    d["base"] = a
+    d["_small"] = small
+    d["_small_all"] = small is not False and a._small_all
+    return new
+
+
+def like_leaf(c: Const, span) -> Const:
+    """``Const(c.value, span=span)``, its attributes copied from ``c`` (a loop's copy reads its
+    index at several places: one number, issue 15)."""
+    new = _new(Const)
+    d = new.__dict__
+    d.update(c.__dict__)
+    d["span"] = span
+    return new
+
+
+_new = object.__new__
+
+
+def small_power(x, k):
+    """The small value of ``t ^ k`` from ``t``'s (``x``): :func:`small_value` of ``Pow(t, k)``."""
+    return _small_power(x, k)
+
+
 def _small_power(x, k):
     """The small value of ``t ^ k`` from ``t``'s (``x``)."""
     if x is None or x is False:

@@ -46,9 +46,13 @@ from ..core import (
     Var,
     children,
     like,
+    like_binary,
+    like_leaf,
+    like_power,
     map_children,
     same_shape,
     shape_of,
+    small_power,
     small_value,
 )
 from . import affine
@@ -171,6 +175,7 @@ class Template:
         own: dict[int, int] = {}  # a dependent node's step
         first: list[Term] = []  # the first copy's node of each step
         steps: list[tuple] = []
+        powers: dict[Fraction, int] = {}  # the exponents of the index's powers, each a slot of at()'s
 
         def ref(c: Term) -> int:
             key = id(c)
@@ -195,11 +200,19 @@ class Template:
                 continue
             tu = type(u)
             if tu is Add or tu is Mul:
-                step = (_BINARY, (tu, shape_of(u)), u.span, ref(u.left), ref(u.right))
+                step = (_BINARY, tu, _with_span(u), ref(u.left), ref(u.right))
             elif tu is Const:
                 step = (_LEAF, u.span)
-            elif tu is Pow or tu is Prim:
-                step = (_UNARY, (tu, shape_of(u)), u.span, ref(u.base if tu is Pow else u.arg))
+            elif tu is Pow:
+                base = ref(u.base)
+                # a power of the index itself (1/i): its value is computed once per copy and exponent
+                if base >= 0 and steps[base][0] is _LEAF:
+                    power = powers.setdefault(u.exponent, len(powers))
+                else:
+                    power = -1
+                step = (_UNARY, tu, _with_span(u), base, u.exponent, power)
+            elif tu is Prim:
+                step = (_UNARY, tu, _with_span(u), ref(u.arg), u.op, -1)
             elif tu is IfDiffeo:
                 found = completions.get(id(u))
                 if found is not None and dep[id(found[1])]:
@@ -216,6 +229,11 @@ class Template:
             first.append(u)
         self.first, self.steps = first, steps
         self.shared = shared[::-1]
+        self.powers = len(powers)
+        # what each copy starts from: no node of its own yet, the shared ones at the end (and they
+        # have the first copy's shape)
+        self.start = [None] * len(steps) + self.shared
+        self.start_same = [False] * len(steps) + [True] * len(self.shared)
 
     def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int]):
         """For a condition completed again: its solved shape, the constant term of its solution
@@ -233,8 +251,11 @@ class Template:
         for u, factor in parts:  # c0 without the summands: each copy adds its own
             c0 -= small_value(u) if factor == 1 else factor * small_value(u)
         a = solved[1]  # the solution's constant −c₀/a: −(c0 + Σ factor·new)/a = base + Σ (−factor/a)·new
-        return (solved, -c0 if a == 1 else -c0 / a,
-                tuple((own[id(u)], -factor if a == 1 else -factor / a) for u, factor in parts))
+        moves = []
+        for u, factor in parts:  # each summand's step, its factor in the solution and whether it is 1 or −1
+            f = -factor if a == 1 else -factor / a  # when ±1
+            moves.append((own[id(u)], f, -1 if f == -1 else (1 if f == 1 else 0)))
+        return solved, -c0 if a == 1 else -c0 / a, tuple(moves)
 
     def at(self, value: int) -> Term | None:
         """The copy for the index's ``value``: the first copy with its index leaves replaced by
@@ -246,46 +267,54 @@ class Template:
         number = Fraction(value)
         steps, first = self.steps, self.first
         n = len(steps)
-        vals: list = [None] * n + self.shared  # (each step's node at its index, shared nodes from the end)
+        vals = self.start[:]  # (each step's node at its index, shared nodes from the end)
         # same[i]: vals[i] has the shape of the first copy's node (core.same_shape), so a node above it
         # is built by core.like, which keeps the attributes of that shape and computes the others
-        same = [False] * n + [True] * len(self.shared)
+        same = self.start_same[:]
+        powers = [None] * self.powers  # the small value of each power of the index, once computed
+        leaf = None  # the copy's first index leaf: the others are built from it
         complete, completed = self.complete, self.completed
         for i, step in enumerate(steps):
             k = step[0]
             if k is _BINARY:
-                a, b = step[3], step[4]
-                cls, shape = step[1]
+                _, cls, shape, a, b = step
                 if same[a] and same[b]:
-                    vals[i] = like(cls, shape, (vals[a], vals[b]), step[2])
+                    vals[i] = like_binary(cls, shape, vals[a], vals[b])
                     same[i] = True
                 else:
-                    vals[i] = cls(vals[a], vals[b], span=step[2])
+                    vals[i] = cls(vals[a], vals[b], span=shape["span"])
             elif k is _LEAF:
-                vals[i] = Const(number, span=step[1])
+                vals[i] = leaf = Const(number, span=step[1]) if leaf is None else like_leaf(leaf, step[1])
                 same[i] = True
             elif k is _UNARY:
-                a = step[3]
-                cls, shape = step[1]
+                _, cls, shape, a, arg, power = step
                 if same[a]:
-                    vals[i] = like(cls, shape, (vals[a],), step[2])
+                    if cls is Pow:
+                        if power < 0:
+                            small = small_power(vals[a]._small, arg)
+                        else:
+                            small = powers[power]
+                            if small is None:
+                                small = powers[power] = small_power(vals[a]._small, arg)
+                        vals[i] = like_power(shape, vals[a], small)
+                    else:
+                        vals[i] = like(cls, shape, (vals[a],), shape["span"])
                     same[i] = True
                 elif cls is Pow:
-                    vals[i] = Pow(vals[a], shape["exponent"], span=step[2])
+                    vals[i] = Pow(vals[a], arg, span=shape["span"])
                 else:
-                    vals[i] = Prim(shape["op"], vals[a], span=step[2])
+                    vals[i] = Prim(arg, vals[a], span=shape["span"])
             elif k is _COMPLETE:
                 _, span, c, a, b, variables, box, shifted, shape = step
                 cond = vals[c]
                 psi = None
                 if shifted is not None:  # the same shape: the constant term moved by the summands' change
                     solved, constant, parts = shifted
-                    for j, factor in parts:
+                    for j, factor, sign in parts:
                         new = small_value(vals[j])
                         if new is None or new is False:
                             break
-                        constant = constant - new if factor == -1 else constant + (
-                            new if factor == 1 else factor * new)
+                        constant = constant - new if sign < 0 else constant + (new if sign > 0 else factor * new)
                     else:
                         psi = affine.solved_at(cond, variables, solved, constant)
                         STATS["shifted"] += 1
@@ -320,6 +349,13 @@ class Template:
 # the kinds of step of Template.steps
 _BINARY, _LEAF, _UNARY, _COMPLETE, _CONDITIONAL, _OTHER = (
     "binary", "leaf", "unary", "complete", "conditional", "other")
+
+
+def _with_span(u: Term) -> dict:
+    """``core.shape_of(u)`` with ``u``'s span: what ``core.like_binary`` and ``like_power`` copy."""
+    d = shape_of(u)
+    d["span"] = u.span
+    return d
 
 
 def _kids(u: Term, completions: dict) -> tuple[Term, ...]:
