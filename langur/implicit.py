@@ -78,13 +78,14 @@ def bracketed_root(f, target, lo, hi, bits: int = 53):
     return (a + b) / 2
 
 
-def double_root(f, target, lo, hi):
+def double_root(f, target, lo, hi, args: tuple = ()):
     """:func:`bracketed_root` in double precision, by Brent's method (scipy's ``brentq``: ~10
     evaluations of ``f`` instead of ~60 halvings; the same root to within a few units in the
-    last place); bisection where ``f`` fails inside the bracket."""
+    last place); bisection where ``f`` fails inside the bracket.  ``f`` is called as
+    ``f(x, *args)`` (no closure per root: a quadrature asks for tens of thousands)."""
     try:
         a, b = float(lo), float(hi)
-        fa, fb = float(f(a)) - target, float(f(b)) - target
+        fa, fb = float(f(a, *args)) - target, float(f(b, *args)) - target
     except (ValueError, ZeroDivisionError, OverflowError, TypeError):
         return math.nan
     if fa == 0:
@@ -93,16 +94,31 @@ def double_root(f, target, lo, hi):
         return b
     if math.isnan(fa) or math.isnan(fb) or not (fa < 0) ^ (fb < 0):
         return math.nan
-
-    def g(z):
-        v = float(f(z)) - target
-        if math.isnan(v):
-            raise ValueError
-        return v
     try:
-        return so.brentq(g, a, b, xtol=1e-300, rtol=4 * np.finfo(float).eps)
+        # scipy's C routine itself, as ``so.brentq`` calls it with these tolerances (its wrapper
+        # only checks them and raises on NaN, which ``_root_value`` already does): the same root
+        return _BRENTQ(_root_value, a, b, 1e-300, _RTOL, _MAXITER, (f, target, args), False, True)
     except (ValueError, ZeroDivisionError, OverflowError, TypeError, RuntimeError):
-        return bracketed_root(f, target, lo, hi)
+        return bracketed_root(lambda z: f(z, *args), target, lo, hi)
+
+
+def _root_value(z, f, target, args):
+    """``f(z, *args) − target`` for Brent's method, raising where it is NaN."""
+    v = float(f(z, *args)) - target
+    if v != v:
+        raise ValueError
+    return v
+
+
+#: Brent's method as ``so.brentq`` runs it (its relative tolerance and iteration limit).
+_RTOL = 4 * np.finfo(float).eps
+_MAXITER = 100
+try:
+    from scipy.optimize import _zeros as _scipy_zeros
+    _BRENTQ = _scipy_zeros._brentq
+except (ImportError, AttributeError):  # a scipy without it: its public wrapper (the same root)
+    def _BRENTQ(g, a, b, xtol, rtol, maxiter, args, full_output, disp):
+        return so.brentq(g, a, b, args=args, xtol=xtol, rtol=rtol, maxiter=maxiter)
 
 
 #: Cells of the grid of ``[lo, hi]`` on which an indexed root's sign changes are certified.
@@ -296,7 +312,7 @@ class ImplicitRootFn(sp.Function):
         of a condition in several variables, the parameters), or for an indexed root the key of its
         equation (certified by :func:`certified_brackets`, as ``evalf``); arrays (the numpy module)
         are solved element by element."""
-        if any(np.ndim(v) for v in (target, lo, hi, *free)):
+        if any(isinstance(v, _ARRAYS) and np.ndim(v) for v in (target, lo, hi, *free)):
             t, a, b, *rest = np.broadcast_arrays(target, lo, hi, *free)
             return np.array([_solve(fn, ti, ai, bi, index, of, *r)
                              for ti, ai, bi, *r in zip(t.flat, a.flat, b.flat, *(c.flat for c in rest))],
@@ -339,7 +355,11 @@ class ImplicitRootFn(sp.Function):
 def _solve(fn, target, lo, hi, index, of, *values):
     if isinstance(fn, str):  # an indexed root: certified as evalf certifies it
         return _indexed_at(fn, target, lo, hi, int(index), int(of), *values)
-    return double_root(lambda x: fn(x, *values), float(target), lo, hi)
+    return double_root(fn, float(target), lo, hi, values)
+
+
+#: The arguments ``_imp_`` solves element by element (anything else is a number: ndim 0).
+_ARRAYS = (np.ndarray, list, tuple)
 
 
 @lru_cache(maxsize=4096)
@@ -466,7 +486,7 @@ def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
         return b
     fn = _compiled(key)[3]
     p, q = brackets[index]
-    return float(double_root(lambda z: fn(z, *vals), t, p, q))  # in doubles: the result is one
+    return float(double_root(fn, t, p, q, vals))  # in doubles: the result is one
 
 
 @lru_cache(maxsize=256)
