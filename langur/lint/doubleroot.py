@@ -21,7 +21,7 @@ from ..sympy_bridge import NotSmooth, symbol, to_sympy
 from ..timebox import run_with_timeout
 from .findings import Finding
 
-#: Seconds of sympy per condition.
+#: CPU seconds of sympy per condition.
 TIME_LIMIT = 2.0
 
 
@@ -33,7 +33,7 @@ def double_root_findings(program: Program) -> list[Finding]:
             continue
         seen.add(t.psi)
         try:
-            degenerate = run_with_timeout(lambda t=t: _double_root(t.psi), TIME_LIMIT)
+            degenerate = run_with_timeout(lambda t=t: _double_root(t.psi), TIME_LIMIT, cpu=True)
         except (TimeoutError, NotSmooth, TypeError, ValueError):
             continue
         if degenerate:

@@ -43,7 +43,7 @@ from ..timebox import run_with_timeout
 from .blowup import Blowup, Region, Undecidable, Verdict, blowups
 from .findings import Finding, quote
 
-#: Seconds for the whole analysis of one integral (beyond: nothing is claimed).
+#: CPU seconds for the whole analysis of one integral (beyond: nothing is claimed).
 TIME_LIMIT = 15.0
 
 
@@ -145,9 +145,9 @@ def _num(e) -> float:
 def _guarded(what: str, fn) -> Integrability:
     out = Integrability(what)
     try:
-        run_with_timeout(lambda: fn(out), TIME_LIMIT)
+        run_with_timeout(lambda: fn(out), TIME_LIMIT, cpu=True)
     except TimeoutError:
-        out.note = f"the analysis of {what} took longer than {TIME_LIMIT:g} s"
+        out.note = f"the analysis of {what} took longer than {TIME_LIMIT:g} CPU s"
     except Exception as e:  # noqa: BLE001 - the analysis never stops a command; it claims nothing then
         out.note = f"the analysis of {what} could not run ({type(e).__name__}: {e})"
     return out

@@ -24,7 +24,7 @@ from ..sympy_bridge import NotSmooth, symbol, to_sympy
 from ..timebox import run_with_timeout
 from .findings import Finding
 
-#: Seconds of sympy per condition.
+#: CPU seconds of sympy per condition.
 TIME_LIMIT = 2.0
 #: |f(c)| below this (relative to the scale of f) at the parameters in force: a tangent root.
 TOLERANCE = 1e-9
@@ -42,12 +42,12 @@ def tangent_findings(program: Program, point: dict | None, explicit: bool) -> li
         if not roots:
             continue
         try:
-            out += run_with_timeout(lambda t=t, roots=roots: _findings(t, roots, point, explicit), TIME_LIMIT)
+            out += run_with_timeout(lambda t=t, roots=roots: _findings(t, roots, point, explicit), TIME_LIMIT, cpu=True)
         except (TimeoutError, NotSmooth, TypeError, ValueError, TooManyRoots):
             pass
         if len(t.psi.variables) > 1:
             try:
-                out += run_with_timeout(lambda t=t: _critical_findings(t, program, point, explicit), TIME_LIMIT)
+                out += run_with_timeout(lambda t=t: _critical_findings(t, program, point, explicit), TIME_LIMIT, cpu=True)
             except (TimeoutError, NotSmooth, TypeError, ValueError, NotImplementedError):
                 continue
     return out
