@@ -303,6 +303,10 @@ class NumProblem:
     folds: bool = False
     fold_hit: bool = False
     until: float = math.inf
+    #: the fold's rounding allowances (:func:`_fold_innermost`, :func:`_fold_outer`): per innermost
+    #: integral ``(outer abscissae, allowance)``, and absolute amounts left out at outer levels
+    fold_allow: list = field(default_factory=list)
+    fold_extra: float = 0.0
     _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
     _finders: dict = field(default_factory=dict, repr=False)  # level -> (condition, root finder)
     #: level -> the outer levels each of :attr:`kinks`' functions depends on (:func:`_depends`)
@@ -847,6 +851,8 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     pts = sorted(pts)
     last = level == len(p.bounds) - 1
     eps = EPSABS * 10 ** (len(p.bounds) - 1 - level)  # inner levels tighter than outer ones
+    if p.folds and len(p.bounds) >= 2:  # the fold's rounding: no tighter than its allowance (fold section)
+        eps = max(eps, FOLD_EPS * 10 ** (len(p.bounds) - 1 - level))
     total = 0.0
     err = 0.0
     for a, b in zip(pts, pts[1:]):
@@ -875,8 +881,13 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         else:
             def h(t):
                 return _nested(p, level + 1, prefix + (t,))
+            if p.folds and len(p.bounds) >= 2:  # an inner integral at the fold within rounding (fold section)
+                h = _fold_outer(p, level, prefix, [a, *inside, b], hi - lo)
         try:
-            val, e = _quad(h, a, b, eps, inside, p, level)
+            if last and p.folds and len(p.bounds) >= 2:  # the fold's 1/√ at the ends substituted (fold section)
+                val, e = _fold_innermost(p, level, prefix, a, b, eps, inside, hi - lo)
+            else:
+                val, e = _quad(h, a, b, eps, inside, p, level)
         except UndefinedIntegral:
             if b - a > NARROW * max(1.0, hi - lo):
                 raise
@@ -903,6 +914,183 @@ class FoldUnresolved(ValueError):
     limitation (the singularity along the fold is integrable), reported as no value, not undefined."""
 
 
+#: The uncertainty, relative to max(1, |end|), of an innermost interval's end where a fold makes
+#: the weight grow like 1/√: the end is a root of a guard computed in doubles (a few units in the
+#: last place for a simple root; more next to a double root, where the fold curve turns).
+FOLD_END = 2.0 ** -44
+#: The innermost tolerance of a ``folds`` problem in two or more coordinates (each outer level 10×
+#: looser): the weight next to the fold is computed from a root within rounding of its turning
+#: point, so its values carry noise of ~10⁻¹⁰ relative that a tighter tolerance only chases.
+FOLD_EPS = 1e-8
+#: Where the substituted variable s is this close to 0 or 1, the point is the end within rounding
+#: (the implicit root at its turning point cannot be bracketed there): the integrand counts 0 and
+#: the part left out is in :data:`FOLD_END`'s allowance.
+FOLD_ROUNDING = 1e-7
+
+
+def _fold_innermost(p: NumProblem, level: int, prefix: tuple, a: float, b: float, eps: float,
+                    inside: list[float], span: float) -> tuple[float, float]:
+    """∫_a^b of a ``folds`` problem's weight over its innermost variable, in two or more
+    coordinates: on each piece [c, d] between the kinks, t = c + (d − c)·(3s² − 2s³), whose
+    derivative 6(d − c)·s(1 − s) vanishes like the distance to either end, so the weight's
+    1/√(t − c) where the implicit root reaches its turning point (the fold) becomes bounded and
+    smooth in s.  A fold end is known only within rounding (:data:`FOLD_END`), and next to it the
+    root may not be found (NaN where a condition is within :data:`BOUNDARY` of 0: counted 0, and
+    four times the farthest such point from the end joins δ): if the weight grows like A/√|t − c|
+    there, the end's uncertainty δ changes the integral by at most 2A·√δ, kept as the fold's
+    allowance (:func:`_fold_allowance`) with A measured at s = 10⁻⁴ (0 where the weight stays
+    bounded)."""
+    cuts = [a, *inside, b]
+    here = p.here(level)
+    total = err = 0.0
+    for c, d in zip(cuts, cuts[1:]):
+        if not d > c:
+            continue
+        width = d - c
+        missed = [0.0, 0.0]  # how far from each end the weight was counted 0 (met the fold within rounding)
+
+        def h(s, c=c, width=width, missed=missed):
+            if time.process_time() > p.until:
+                raise FoldUnresolved(_fold_message(p, f"did not reach its tolerance within {FOLD_SECONDS:g} CPU seconds"))
+            ds = 6.0 * width * s * (1.0 - s)
+            off = width * s * s * (3.0 - 2.0 * s)
+            v = p.weight(*prefix, c + off)
+            if not math.isfinite(v):
+                if min(s, 1.0 - s) <= FOLD_ROUNDING or not all(q.f(*prefix, c + off) > BOUNDARY for q in here):
+                    end = 0 if s < 0.5 else 1  # the root at its turning point within rounding (see FOLD_END)
+                    missed[end] = max(missed[end], off if end == 0 else width - off)
+                    return 0.0
+                return v
+            return v * ds
+
+        if width <= NARROW * max(1.0, span):
+            sliver = _fold_sliver(p, prefix, c, d)
+            if sliver is not None:
+                p.fold_allow.append((prefix, sliver[1]))
+                total += sliver[0]
+                continue
+        try:
+            val, e = _quad(h, 0.0, 1.0, eps, [], p, level)
+        except UndefinedIntegral:
+            # next to a fold (a cusp where two turning points merge, an end the guard finds only
+            # roughly): reported as no value (FoldUnresolved), never as undefined
+            p.fold_hit = True
+            raise
+        allow = 0.0
+        for i, (end, s) in enumerate(((c, 1e-4), (d, 1.0 - 1e-4))):
+            k = h(s)
+            delta = max(FOLD_END * max(1.0, abs(end)), 4.0 * missed[i])
+            if math.isfinite(k):  # A = K/(2√(3·width)), the change 2A·√δ = K·√(δ/(3·width))
+                allow += abs(k) * math.sqrt(delta / (3.0 * width))
+        p.fold_allow.append((prefix, allow))
+        total += val
+        err += e
+    return total, err
+
+
+def _fold_sliver(p: NumProblem, prefix: tuple, c: float, d: float) -> tuple[float, float] | None:
+    """A piece [c, d] narrower than :data:`NARROW` where a fold end was found twice within rounding
+    (a guard's root and the bisected edge of where the root is defined, ~10⁻¹⁴ apart): counted 0,
+    its integral in the error bound.  If the weight is A/√|t − t₀| with t₀ within δ = width + the
+    ends' uncertainty of every point, A ≤ |W(t)|·√δ at any finite sample, and the piece's integral is
+    at most 2A·√δ ≤ 2·max|W|·δ.  None when no sample is finite (no bound: left to the caller)."""
+    delta = (d - c) + FOLD_END * max(1.0, abs(c), abs(d))
+    vals = [abs(p.weight(*prefix, c + (d - c) * k / 8)) for k in range(1, 8)]
+    finite = [v for v in vals if math.isfinite(v)]
+    if not finite:
+        return None
+    return 0.0, 2.0 * max(finite) * delta
+
+
+#: An outer abscissa this close (relative to the variable's range) to its interval's end, where the
+#: inner integral cannot be evaluated because the fold is met within rounding: left out (there the
+#: fold curve turns, the end is a breakpoint, and quad's extrapolation of the inner integral's
+#: logarithmic growth asks for abscissae a few units in the last place from it).
+FOLD_NEAR = 1e-12
+
+
+def _fold_outer(p: NumProblem, level: int, prefix: tuple, ends: list[float], span: float) -> Callable[[float], float]:
+    """The integrand of an outer level of a ``folds`` problem: the inner integral, or 0 at an
+    abscissa within :data:`FOLD_NEAR` of one of the ``ends`` (the interval's ends and its kinks),
+    where the fold is met within rounding and the inner integral cannot be evaluated in doubles.  The part left out, η = the distance to the end, is bounded assuming the inner
+    integral grows at most logarithmically there (the fold curve's turning point): ∫₀^η
+    |I| ≤ η·|I₁|·(2 + ln(span/η)), |I₁| the largest inner integral evaluated on the interval."""
+    near = FOLD_NEAR * max(1.0, span)
+    seen = [0.0]
+
+    def h(t):
+        eta = min(abs(t - e) for e in ends)
+        if eta <= near:
+            eta = max(eta, 1e-300)
+            p.fold_extra += eta * max(seen[0], 1.0) * (2.0 + math.log(max(span, eta) / eta))
+            return 0.0
+        v = _nested(p, level + 1, prefix + (t,))
+        if math.isfinite(v):
+            seen[0] = max(seen[0], abs(v))
+        return v
+
+    return h
+
+
+def _fold_allowance(p: NumProblem) -> float:
+    """The fold's rounding allowances integrated over the outer variables: for one outer variable
+    a step rule over the abscissae where they were measured (each gap counts the larger of its two
+    ends), for more the largest times the outer box's volume; plus what was left out."""
+    if not p.fold_allow:
+        return p.fold_extra
+    dens: dict = {}
+    for prefix, allow in p.fold_allow:
+        dens[prefix] = dens.get(prefix, 0.0) + allow
+    if len(p.bounds) == 2:
+        (lo, hi) = p.bounds[0]
+        xs = sorted(dens)
+        out = (xs[0][0] - lo) * dens[xs[0]] + (hi - xs[-1][0]) * dens[xs[-1]]
+        out += sum((q[0] - r[0]) * max(dens[q], dens[r]) for r, q in zip(xs, xs[1:]))
+    else:
+        out = max(dens.values()) * math.prod(hi - lo for lo, hi in p.bounds[:-1])
+    return out + p.fold_extra
+
+
+def _implied_by_bracket(e, variables, xs, at: dict) -> bool:
+    """Whether the condition ``e ≥ 0`` is ``k·(v − c) ≥ 0`` for a variable ``v`` that the branch
+    solves by an implicit root (``xs``) whose bracket lies on the condition's side of ``c`` (a bound
+    of the box on the root's variable, or ``[z >= -1]`` in the program): then it holds wherever the
+    root exists, and :func:`delta_problems` leaves it out — in two or more coordinates such a
+    condition is not a polynomial, and finding where it changes sign (a grid search of root solves
+    at every outer abscissa) was three quarters of a fold problem's time, for a condition that never
+    changes sign."""
+    e = sp.sympify(e)
+    fs = e.free_symbols
+    if len(fs) != 1:
+        return False
+    (v,) = fs
+    if v not in variables or not isinstance(x := xs[variables.index(v)], ImplicitRootFn):
+        return False
+    try:
+        poly = sp.Poly(e, v)
+        if poly.degree() != 1:
+            return False
+        k, c0 = (_num(c, at) for c in poly.all_coeffs())
+        a, b = _bracket_range(x.args[2], at)[0], _bracket_range(x.args[3], at)[1]
+    except (sp.PolynomialError, TypeError, ValueError):
+        return False
+    c = -c0 / k
+    return a >= c if k > 0 else b <= c
+
+
+def _bracket_range(e, at: dict) -> tuple[float, float]:
+    """The least and the greatest value a bracket's end ``e`` can take: itself when it is a number,
+    an implicit root's own bracket's when it is one (the turning point ``sign_change_0(3z² − y)`` in
+    [−1, 1], which moves with y); ValueError otherwise."""
+    if isinstance(e, ImplicitRootFn):
+        return _bracket_range(e.args[2], at)[0], _bracket_range(e.args[3], at)[1]
+    e = sp.sympify(e)
+    if not e.is_number and not (e.free_symbols <= set(at)):
+        raise ValueError(e)
+    v = _num(e, at)
+    return v, v
+
+
 def _fold_message(p: NumProblem, what: str) -> str:
     return (f"the delta's weight 1/|f'| through an implicit root is singular along the fold where f' = 0 "
             f"(over {', '.join(map(str, p.syms))}); its nested quadrature {what}, so no value has an error "
@@ -922,6 +1110,8 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
     try:
         if p.folds and len(p.bounds) >= 2:  # (one coordinate: the fold is a point, quad resolves it)
             p.until = time.process_time() + FOLD_SECONDS
+            p.fold_allow.clear()
+            p.fold_extra = 0.0
             try:
                 val = _nested(p, 0, ())
             except UndefinedIntegral as exc:
@@ -934,6 +1124,8 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
     finally:
         p._moving.clear()  # the roots remembered by outer abscissae (the problem may be kept in _DONE)
     err = sum(p.errors)
+    if p.folds and len(p.bounds) >= 2:
+        err += _fold_allowance(p)  # the ends' rounding at the fold (fold section)
     # Inner levels' errors are not propagated by quad; add a conservative relative allowance.
     return val, err + 1e-10 * (1.0 + abs(val)) * len(p.bounds)
 
@@ -1105,6 +1297,9 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
             exprs += [variables[i] - lo, hi - variables[i]]
         empty = False
         for k, e in enumerate(exprs):
+            if len(uprime) >= 2 and k not in range(guards_start, guards_start + len(b.guards)) \
+                    and _implied_by_bracket(e, variables, xs, at):  # (fold section)
+                continue
             se = e if guards_start <= k < guards_start + len(b.guards) else e.xreplace(dict(zip(variables, xs)))
             if _vanishes(se, uprime, bounds, at):
                 if k < guards_start and piece.conditions[k].strict:
