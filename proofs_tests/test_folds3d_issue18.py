@@ -6,7 +6,7 @@ turning point, and logarithmically across the points where that curve turns (∂
 The exact engine's quadrature substitutes t = c + (d − c)(3s² − 2s³) on each innermost interval
 (the 1/√ at a fold end becomes bounded), leaves out only outer abscissae within 10⁻¹² of the
 curve's turning points (kinks), and adds the fold ends' rounding to its error bound
-(``quadrature._fold_innermost``).  Checked here against an independent reference: V(a) =
+(``quadrature._fold_innermost``), the curve's turns found numerically (``_add_fold_turns``).  Checked here against an independent reference: V(a) =
 ∫∫ L(a − g(x) − g(y)) dx dy with g(t) = t³ − t and L(c) = |{z ∈ [−1, 1] : g(z) ≥ c}| from the
 cubic's trigonometric roots (nested scipy ``quad`` with the kinks as breakpoints), dV/da by the
 five-point central difference at h = 4·10⁻³ (its error measured at ~3·10⁻⁹ against h = 10⁻³ and

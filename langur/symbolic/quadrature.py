@@ -840,6 +840,8 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     here = p.here(level)
     if level not in p.kinks:
         p.kinks[level], p.kink_vary[level] = _kink_functions(p, level)
+        if p.folds and level + 2 == len(p.bounds):  # where the fold curve turns, numerically (fold section)
+            _add_fold_turns(p, level)
     fixed = p._fixed.get(level)
     if fixed is None:  # the first abscissa: what does not depend on the outer variables, once
         fixed = p._fixed[level] = _breakpoints(p, level, prefix, False)
@@ -1030,6 +1032,73 @@ def _fold_outer(p: NumProblem, level: int, prefix: tuple, ends: list[float], spa
         return v
 
     return h
+
+
+#: Cells of the grid on which :func:`_add_fold_turns` looks for the fold curve's turning points
+#: (two in one cell are missed; each point costs one numpy root finding).
+FOLD_TURN_GRID = 512
+
+
+def _add_fold_turns(p: NumProblem, level: int) -> None:
+    """Kinks of ``level`` (the one outside the innermost) where a condition of the innermost level,
+    a polynomial in its variable v, has a critical point in v on its zero set: there the fold curve
+    turns (∂f/∂v = 0 on it) and the inner integral grows like log.  :func:`_kink_functions` finds
+    them from sympy's ``solve`` within a wall-clock limit, so under load they could be missing and
+    the outer quadrature not converge; here they are the sign changes in the outer variable of
+    e(…, v_c) at each real critical point v_c in the box (numpy's roots of ∂e/∂v), on a grid of
+    :data:`FOLD_TURN_GRID` cells refined by ``brentq``."""
+    v = p.syms[level + 1]
+    vlo, vhi = p.bounds[level + 1]
+    for c in p.here(level + 1):
+        if c.expr is None:
+            continue
+        try:
+            dfn = _coefficients(sp.diff(c.expr, v), tuple(p.syms), level + 1)
+        except (TypeError, ValueError):
+            continue
+        if dfn is None:
+            continue
+
+        def turns(*args, c=c, dfn=dfn):
+            """e(…, v_c) at each real critical point v_c in the box, in increasing v_c."""
+            *prefix, t = args
+            try:
+                cs = [float(q) for q in dfn(*prefix, t)]
+            except (TypeError, ValueError, ZeroDivisionError, OverflowError):
+                return []
+            return [c.f(*prefix, t, r) for r in sorted(polynomial_roots(cs)) if vlo < r < vhi]
+
+        def roots(*prefix, turns=turns):
+            """Where one of them changes sign (each on its own: at x = −0.7865 in the separable
+            cubic two change sign at once, and their product would not)."""
+            lo, hi = p.bounds[level]
+            xs = np.linspace(lo, hi, FOLD_TURN_GRID + 1).tolist()
+            vals = [turns(*prefix, x) for x in xs]
+            out = []
+            for a, b, fa, fb in zip(xs, xs[1:], vals, vals[1:]):
+                if len(fa) != len(fb):
+                    continue  # a critical point entering or leaving the box: not a turn of the fold curve
+                n = len(fa)
+                for k, (ya, yb) in enumerate(zip(fa, fb)):
+                    if not (math.isfinite(ya) and math.isfinite(yb)) or (ya < 0) == (yb < 0) or ya == 0.0:
+                        continue
+
+                    def one(x, k=k, n=n):
+                        vs = turns(*prefix, x)
+                        return vs[k] if len(vs) == n else math.nan
+
+                    try:
+                        out.append(so.brentq(one, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps))
+                    except (ValueError, RuntimeError):
+                        out.append(0.5 * (a + b))
+            return out
+
+        def kink(*args, turns=turns):  # (the kink's value, for callers that search it themselves)
+            vals = turns(*args)
+            return math.prod(vals) if vals else math.nan
+
+        p.kinks[level].append((kink, roots))
+        p.kink_vary[level].append(tuple(range(level)))
 
 
 def _fold_allowance(p: NumProblem) -> float:
