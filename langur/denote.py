@@ -54,10 +54,12 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
     :class:`~langur.values.ParameterError` when ``at`` does not give every parameter of the
     program a finite value."""
     from .symbolic.integrate import integrate_pieces  # scipy: 0.3 s, only when integrating
+    from .symbolic.quadrature import looseness
 
     check_values(program, at)
     point = at_symbols(at)
-    key = (program, frozenset(point.items()), symbolic, near)
+    # (a value computed with a looser quadrature, Theorem 8.1's finite differences, kept apart)
+    key = (program, frozenset(point.items()), symbolic, near, looseness())
     time_left = Deadline(timeout).remaining()  # within an enclosing budget(), perhaps less than timeout
     known, had = _remembered.get(key, (None, 0.0))
     # a closed form is final; a fallback to quadrature is reused only by a call with no more time

@@ -27,6 +27,7 @@ import sympy as sp
 from .ddenote import ddenote_program
 from .denote import denote_program
 from .implicit import ImplicitRootFn
+from .symbolic import quadrature
 from .symbolic.local import dual_derivative, has_any, rational_value, size
 from .symbolic.pieces import Method
 from .sympy_bridge import at_symbols, exact_number, symbol
@@ -85,6 +86,12 @@ SHIFTED_TIMEOUT = 1.0
 #: needs: at most TIGHT times the larger of 1 and the two sides' sizes.
 FD_STEPS = (1e-3, 1e-4, 1e-5)
 TIGHT = 1e-4
+#: The first step's shifted values are first computed with the outermost quadrature level's
+#: tolerance loosened this many times (:func:`langur.symbolic.quadrature.outer_tolerance`), and
+#: that answer stands only when the quadrature's share of its bound is at most
+#: :data:`QUADRATURE_SHARE` of the tight bound (see :func:`_finite_difference`).
+LOOSE_OUTER = 30.0
+QUADRATURE_SHARE = 0.25
 
 
 def directional(expr: sp.Expr, direction: Mapping[str, object]) -> sp.Expr:
@@ -337,10 +344,33 @@ def _finite_difference(program, at, direction, der, den, timeout, why: str) -> T
     parameters' scale) until one decides: a verdict is given only when its error bound is tight
     (:data:`TIGHT` relative to the values) — near a switch of ⟦p⟧ (a kink, a tangency where ⟦p⟧
     behaves like (θ − θ₀)^(3/2)) a larger step's Richardson bound is not to be trusted, and a
-    smaller step stays inside the parameter cell.  What no step decides is inconclusive."""
+    smaller step stays inside the parameter cell.  What no step decides is inconclusive.
+
+    **The accuracy the bound needs.**  At a step h the bound is ``|fd₁ − fd₂| + (e₁ + f₁)/(2h) +
+    (e₂ + f₂)/(4h)``: the truncation term plus the shifted values' quadrature errors e, f divided
+    by the step, and a verdict needs all of it ≤ TIGHT·size (size ≥ 1).  A shifted value needs
+    only an absolute accuracy of order TIGHT·h — 10⁻⁷ at h = 10⁻³ — while the nested quadrature
+    asks 10⁻⁹ (three variables) to 10⁻¹¹ (one) of its outermost level.  So at the first step the
+    four shifted values are first computed with that level's tolerance loosened
+    :data:`LOOSE_OUTER` times (the inner levels keep theirs, so the allowance for their
+    unpropagated errors still holds; the error each value reports, the outermost level's estimate,
+    is what enters the bound, exactly as before).  That answer stands only when it holds, comes
+    from the central difference, its bound is tight and the quadrature's share of the bound is at
+    most :data:`QUADRATURE_SHARE` of TIGHT·size (so the window within which D⟦p⟧·γ' and ⦇p⦈ are
+    found to agree widens by at most that share of what a verdict accepts anyway); otherwise the
+    step is computed again at the usual tolerance, as before, so every other verdict (fails,
+    inconclusive, one-sided) is the usual computation's."""
     scale = max([1.0] + [abs(float(v)) for v in at.values()])
     last = None
     for h in FD_STEPS:
+        if last is None and LOOSE_OUTER != 1.0:
+            with quadrature.outer_tolerance(LOOSE_OUTER):
+                loose, share = _differences(program, at, direction, der, den, timeout, why, h * scale)
+            tight = TIGHT * max(1.0, abs(loose.d_denotation), abs(loose.derivative_denotation))
+            if loose.holds is True and share is not None and loose.error <= tight and share <= QUADRATURE_SHARE * tight:
+                return replace(loose, notes=loose.notes + [
+                    f"the shifted values' outermost quadrature at {LOOSE_OUTER:g}× its usual tolerance: "
+                    f"their share of the bound is {share:.2g}"])
         last = _difference_at(program, at, direction, der, den, timeout, why, h * scale)
         size = max(1.0, abs(last.d_denotation), abs(last.derivative_denotation))
         if last.holds is not None and last.error is not None and last.error <= TIGHT * size:
@@ -356,6 +386,12 @@ def _finite_difference(program, at, direction, der, den, timeout, why: str) -> T
 def _difference_at(program, at, direction, der, den, timeout, why: str, h: float) -> TheoremCheck:
     """D⟦p⟧·γ' by central differences of quadratures at steps h and 2h, error bound from both;
     one-sided differences where the central one straddles a switch."""
+    return _differences(program, at, direction, der, den, timeout, why, h)[0]
+
+
+def _differences(program, at, direction, der, den, timeout, why: str, h: float) -> tuple[TheoremCheck, float | None]:
+    """:func:`_difference_at`'s check, and the quadrature errors' share of its bound when it is the
+    central difference's (None for a one-sided answer)."""
     def shifted(s: float) -> tuple[float, float]:
         q = {k: float(v) + s * float(direction.get(k, 0)) for k, v in at.items()}
         # only values are needed here: quadrature with its error bound (symbolic only where it
@@ -367,7 +403,8 @@ def _difference_at(program, at, direction, der, den, timeout, why: str, h: float
     (p2, e2), (m2, f2) = shifted(2 * h), shifted(-2 * h)
     fd1, fd2 = (p1 - m1) / (2 * h), (p2 - m2) / (4 * h)
     estimate = (4 * fd1 - fd2) / 3  # Richardson: cancels the h² term
-    error = abs(fd1 - fd2) + (e1 + f1) / (2 * h) + (e2 + f2) / (4 * h)
+    quadrature_part = (e1 + f1) / (2 * h) + (e2 + f2) / (4 * h)
+    error = abs(fd1 - fd2) + quadrature_part
     point = Point({k: float(v) for k, v in at.items()}, estimate, der.value)
     note = f"{why}: D⟦p⟧·γ' estimated by central finite differences of ⟦p⟧ (h = {h:g}) with error bound {error:.2g}"
     # One-sided second-order differences on each side, with their own bounds: where they disagree,
@@ -380,7 +417,7 @@ def _difference_at(program, at, direction, der, den, timeout, why: str, h: float
     (df, ef), (db, eb) = one_sided["forward"], one_sided["backward"]
     if _close(df, db, ef + eb):
         return TheoremCheck(_close(estimate, der.value, error + der.error), estimate, der.value,
-                            How.FINITE_DIFFERENCE, (point,), [note], error)
+                            How.FINITE_DIFFERENCE, (point,), [note], error), quadrature_part
     agreeing = [k for k, (d, e) in one_sided.items() if _close(d, der.value, e + der.error)]
     if agreeing:
         d, e = min((one_sided[k] for k in agreeing), key=lambda de: de[1])
@@ -389,8 +426,8 @@ def _difference_at(program, at, direction, der, den, timeout, why: str, h: float
                             (Point(point.params, d, der.value),),
                             [f"{why}: ⟦p⟧ switches within {2 * h:g} of the parameters (its one-sided differences "
                              f"differ: forward {df:.6g}, backward {db:.6g}); the {side} one, which stays in "
-                             f"one parameter cell, is {d:.10g} ± {e:.2g} and agrees"], e)
+                             f"one parameter cell, is {d:.10g} ± {e:.2g} and agrees"], e), None
     return TheoremCheck(None, estimate, der.value, How.FINITE_DIFFERENCE, (point,),
                         [note, f"inconclusive: ⟦p⟧ switches within {2 * h:g} of the parameters (one-sided "
                                f"differences: forward {df:.6g} ± {ef:.2g}, backward {db:.6g} ± {eb:.2g}) and "
-                               "neither side's difference decides"], error)
+                               "neither side's difference decides"], error), None

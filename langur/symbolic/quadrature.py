@@ -23,8 +23,9 @@ import itertools
 import math
 import time
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from typing import Callable, Iterator, Sequence
 
 import numpy as np
 import sympy as sp
@@ -63,6 +64,32 @@ MAX_BAD = 3
 #: used here, and ier = 5 ("probably divergent") means the integral does not exist.
 NOT_CONVERGED = ("maximum number of subdivisions", "bad integrand behavior")
 DIVERGENT = "probably divergent"
+
+#: The factor by which the outermost level's tolerance is loosened (:func:`outer_tolerance`).
+_OUTER = [1.0]
+
+
+@contextmanager
+def outer_tolerance(factor: float) -> Iterator[None]:
+    """Within it, the outermost level of every nested quadrature asks ``quad`` for ``factor``
+    times its usual tolerance (absolute and relative); the inner levels keep theirs.  What a
+    quadrature reports as its error is the outermost level's error estimate (plus the allowance
+    for the inner levels' unpropagated errors, which is still valid because their tolerances are
+    unchanged), so the looser tolerance shows in the error bound: a caller that needs a value
+    only to an accuracy it can state (Theorem 8.1's finite differences, :mod:`langur.theorem`)
+    spends less, and checks the bound it got.  Results computed inside are remembered apart
+    (:data:`_DONE`, and :func:`looseness` for the callers' caches)."""
+    before = _OUTER[0]
+    _OUTER[0] = float(factor)
+    try:
+        yield
+    finally:
+        _OUTER[0] = before
+
+
+def looseness() -> float:
+    """The current factor of :func:`outer_tolerance` (1.0 outside it)."""
+    return _OUTER[0]
 
 
 def _num(expr, at: dict) -> float:
@@ -847,6 +874,8 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     pts = sorted(pts)
     last = level == len(p.bounds) - 1
     eps = EPSABS * 10 ** (len(p.bounds) - 1 - level)  # inner levels tighter than outer ones
+    if level == 0:
+        eps *= _OUTER[0]  # (1 but inside :func:`outer_tolerance`)
     total = 0.0
     err = 0.0
     for a, b in zip(pts, pts[1:]):
@@ -1032,7 +1061,10 @@ def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict,
     for pc in pieces:
         try:
             key = _piece_key(pc, variables, box, at)
-            hit = _DONE.get(key)
+            hit = _DONE.get(key)  # (a value at the usual tolerance serves a looser request too)
+            if _OUTER[0] != 1.0:
+                key = (key, _OUTER[0])  # a looser value never serves a request at the usual tolerance
+                hit = hit or _DONE.get(key)
         except TypeError:  # something unhashable: integrated, not remembered
             key, hit = None, None
         if hit is None:
