@@ -102,3 +102,29 @@ def test_a_genuine_failure_is_never_taken_from_the_loose_pass():
     assert th.holds is False and th.how == "finite_difference"
     assert th.d_denotation == pytest.approx(-math.exp(math.sin(0.5)), rel=1e-6)
     assert not any("usual tolerance" in n for n in th.notes)
+
+
+def test_critical_points_solved_once_per_expression(monkeypatch):
+    # tanh(z − 0.53) − 0.1 (late programs of seed 1): sympy's solve on its derivative comes back at
+    # every outer level of every piece and point it is a factor of; the answer is remembered, and is
+    # the one sympy gives (none real: tanh is monotone), while a quadratic's vertex is by hand
+    z, y = quadrature.sp.symbols("z y")
+    e = quadrature.sp.tanh(z - quadrature.sp.Float(0.53)) - quadrature.sp.Float(0.1)
+    calls = []
+    real = quadrature.sp.solve
+
+    def counting(*args, **kwargs):
+        calls.append(args)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(quadrature, "_CRITICAL", {})
+    monkeypatch.setattr(quadrature, "CRITICAL_SECONDS", 60.0)  # (a wall-clock limit: not the load's answer)
+    monkeypatch.setattr(quadrature.sp, "solve", counting)
+    first = quadrature._critical_points(e, z)
+    assert quadrature._critical_points(e, z) == first and len(calls) == 1
+    assert all(not r.is_real for r in first) or first == []
+    assert [float(r) for r in quadrature._critical_points(z**2 + y**2 - 0.3 - 2 * z, z)] == [1.0]
+    # a time limit's empty answer is not kept: asked again
+    monkeypatch.setattr(quadrature, "run_with_timeout", lambda fn, s: (_ for _ in ()).throw(TimeoutError()))
+    w = quadrature.sp.sin(z * y) - quadrature.sp.Float(0.2)
+    assert quadrature._critical_points(w, z) == [] and (w, z) not in quadrature._CRITICAL

@@ -813,26 +813,51 @@ def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.E
     return out
 
 
+#: :func:`_critical_points`' answers by (expression, variable): one condition's come back at every
+#: outer level of its problem, in every piece it is a factor of, and in every problem at the same
+#: parameter values (the value, its cross-check, each derivative, Theorem 8.1's shifted points
+#: of the pieces that do not move); a non-polynomial one costs a sympy ``solve`` (a third of a
+#: second for ``tanh(z − 0.53) − 0.1``).  A time limit's empty answer is not kept (asked again,
+#: as before); at most :data:`COMPILED` kept.
+_CRITICAL: dict = {}
+
+
 def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
     """Where ``∂e/∂v`` vanishes, as expressions in the outer variables: there a region in ``v``
     appears or vanishes as they move (the top of a circle, ``sqrt(x² + y²) < r`` at y = 0).
     A quadratic's vertex directly; otherwise sympy's solve on the derivative's numerator within
-    :data:`CRITICAL_SECONDS` (none found: none used, the grid search of :func:`_roots` remains)."""
+    :data:`CRITICAL_SECONDS` (none found: none used, the grid search of :func:`_roots` remains);
+    remembered (:data:`_CRITICAL`)."""
+    key = (e, v)
+    known = _CRITICAL.get(key)
+    if known is None:
+        known, final = _solve_critical(e, v)
+        if final:
+            if len(_CRITICAL) >= COMPILED:
+                _CRITICAL.pop(next(iter(_CRITICAL)))
+            _CRITICAL[key] = known
+    return list(known)
+
+
+def _solve_critical(e: sp.Expr, v: sp.Symbol) -> tuple[list[sp.Expr], bool]:
+    """:func:`_critical_points`' answer, and whether it is final (not cut short by the time limit)."""
     try:
         poly = sp.Poly(e, v)
         if poly.degree() == 2 and not any(v in k.free_symbols for k in poly.all_coeffs()):
             a2, a1, _ = poly.all_coeffs()
-            return [-a1 / (2 * a2)]
+            return [-a1 / (2 * a2)], True
         if poly.degree() <= 1 and not any(v in k.free_symbols for k in poly.all_coeffs()):
-            return []
+            return [], True
     except (sp.PolynomialError, sp.GeneratorsNeeded):
         pass
     try:
         numerator = sp.numer(sp.together(sp.diff(e, v)))
         sols = run_with_timeout(lambda: sp.solve(numerator, v), CRITICAL_SECONDS)
-    except (TimeoutError, NotImplementedError, ValueError, TypeError, sp.PolynomialError):
-        return []
-    return [r for r in sols if v not in r.free_symbols and not r.has(sp.I)][:8]
+    except TimeoutError:
+        return [], False
+    except (NotImplementedError, ValueError, TypeError, sp.PolynomialError):
+        return [], True
+    return [r for r in sols if v not in r.free_symbols and not r.has(sp.I)][:8], True
 
 
 def _breakpoints(p: NumProblem, level: int, prefix: tuple, vary: bool) -> tuple[set, set]:
