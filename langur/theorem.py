@@ -403,8 +403,8 @@ def _differences(program, at, direction, der, den, timeout, why: str, h: float) 
     (p2, e2), (m2, f2) = shifted(2 * h), shifted(-2 * h)
     fd1, fd2 = (p1 - m1) / (2 * h), (p2 - m2) / (4 * h)
     estimate = (4 * fd1 - fd2) / 3  # Richardson: cancels the h² term
+    error = abs(fd1 - fd2) + (e1 + f1) / (2 * h) + (e2 + f2) / (4 * h)
     quadrature_part = (e1 + f1) / (2 * h) + (e2 + f2) / (4 * h)
-    error = abs(fd1 - fd2) + quadrature_part
     point = Point({k: float(v) for k, v in at.items()}, estimate, der.value)
     note = f"{why}: D⟦p⟧·γ' estimated by central finite differences of ⟦p⟧ (h = {h:g}) with error bound {error:.2g}"
     # One-sided second-order differences on each side, with their own bounds: where they disagree,
