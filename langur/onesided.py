@@ -107,6 +107,27 @@ def one_sided(program, at: Mapping[str, object], direction: Mapping[str, object]
         return OneSided(None, None, str(e))
 
 
+def closed_form_sides(expr: sp.Expr, at: Mapping[str, object], direction: Mapping[str, object],
+                      seconds: float = SECONDS) -> OneSided:
+    """D₋ and D₊ of the closed form ``expr`` (valid on both sides of ``at``) at ``at`` in the
+    direction ``direction``, within ``seconds`` CPU (Theorem 8.1's check at a switching point)."""
+    def sides():
+        point = {k: exact_number(v) for k, v in at.items()}
+        gamma = {k: exact_number(v) for k, v in direction.items()}
+        forms = (sp.sympify(expr),) * 2
+        return _sides(forms, sp.sympify(expr).xreplace(_at(point)), point, gamma, sp.Symbol("t", positive=True))
+    try:
+        return run_with_timeout(sides, seconds, cpu=True)
+    except TimeoutError:
+        return OneSided(None, None, f"not within {seconds:g} CPU seconds")
+    except Undecided as e:
+        return OneSided(None, None, str(e))
+
+
+def _at(point):
+    return {symbol(k): q for k, q in point.items()}
+
+
 def _one_sided(program, at, direction) -> OneSided:
     point = {k: exact_number(v) for k, v in at.items()}
     gamma = {k: exact_number(v) for k, v in direction.items()}
@@ -114,12 +135,18 @@ def _one_sided(program, at, direction) -> OneSided:
     here = denote_program(program, dict(at))
     if here.method != Method.CLOSED_FORM:
         raise Undecided("⟦p⟧ has no closed form at these values")
-    v0 = sp.sympify(here.expr).xreplace({symbol(k): q for k, q in point.items()})
+    v0 = sp.sympify(here.expr).xreplace(_at(point))
+    forms = tuple((here if here.everywhere and not here.generic else _side_form(program, point, gamma, s, t)).expr
+                  for s in (1, -1))
+    return _sides(forms, v0, point, gamma, t)
+
+
+def _sides(forms, v0, point, gamma, t) -> OneSided:
+    """D₊ from ``forms[0]`` (valid on θ + tγ'), D₋ from ``forms[1]`` (valid on θ − tγ'), ⟦p⟧(θ) = v0."""
     sides = []
-    for s in (1, -1):
-        form = here if here.everywhere and not here.generic else _side_form(program, point, gamma, s, t)
+    for s, form in zip((1, -1), forms):
         ray = {symbol(k): point[k] + s * t * gamma.get(k, 0) for k in point}
-        f = _resolve(sp.sympify(form.expr).xreplace(ray), t)
+        f = _resolve(sp.sympify(form).xreplace(ray), t)
         f0 = _limit0(f, t)
         if sp.simplify(f0 - v0) != 0:  # ⟦p⟧ jumps: an infinite one-sided difference quotient
             sides.append(sp.oo if s * (f0 - v0) > 0 else -sp.oo)
