@@ -335,7 +335,7 @@ def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, 
             notes.append(f"its one-sided derivatives there agree: D⟦p⟧·γ' = {sides.above}")
             return float(sides.above), None
         if sides.exists is False:
-            raise _NotDifferentiable(sides, _central_difference(expr, at, direction))
+            raise _NotDifferentiable(sides, _central_difference(expr, at, direction)) from None
     return _central_difference(expr, at, direction), None
 
 
