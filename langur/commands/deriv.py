@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import sys
 from dataclasses import replace
 
@@ -82,7 +83,7 @@ def run(args) -> int:
     if args.engine in ("both", "mc"):
         mc = run_mc("deriv", target, params, args, direction,
                     infinite_variance=defined.infinite_variance or (integral_undefined and "the derivative does not exist"))
-        if mc is not None and integral_undefined is None and gate.here and not gate.findings:
+        if mc is not None and integral_undefined is None and gate.here and not gate.findings and not math.isnan(mc.value):
             mc = replace(mc, notes=("⦇p⦈'s estimate, which is not the derivative at these parameter values (X305)",
                                     *mc.notes))
         if mc is None and args.engine == "mc":
