@@ -8,7 +8,8 @@ expression holds a physical quantity.  The first such import in a process costs 
 No ``Quantity`` can exist while ``sympy.physics.units`` has not been imported (the class is
 defined in a module of that package, and importing any of its modules imports the package).  So,
 within :func:`units_unloaded` and only while the package is not imported, ``sys.modules`` holds a
-placeholder for it whose ``Quantity`` is a class nothing is an instance of: ``expr.has(Quantity)``
+placeholder for it (and for ``sympy.physics``) whose ``Quantity`` (``Unit``, the same class, for
+``solve``'s ``checksol``) is a class nothing is an instance of: ``expr.has(Quantity)``
 is False, as it would be with the real class, and simplify returns the same expression.  Any
 other name asked of the placeholder (or ``Quantity`` outside the blocks, through a reference kept to
 it) imports the real package and drops the placeholder, so code that really wants units gets them;
@@ -24,7 +25,9 @@ import types
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-NAME = "sympy.physics.units"
+PARENT, NAME = "sympy.physics", "sympy.physics.units"
+#: What sympy asks of the package: simplify's ``Quantity``, ``checksol``'s ``Unit`` (the same class).
+ASKED = ("Quantity", "Unit")
 
 
 class _NoQuantity:
@@ -33,27 +36,33 @@ class _NoQuantity:
 
 
 class _Placeholder(types.ModuleType):
-    """``sys.modules[NAME]`` within :func:`units_unloaded` while the real package is not imported."""
+    """``sys.modules[NAME]`` (and ``[PARENT]``) within :func:`units_unloaded` while the real
+    packages are not imported."""
 
     def __getattr__(self, name: str):
-        if name == "Quantity" and _depth > 0 and sys.modules.get(NAME) is self:
+        if self.__name__ == NAME and name in ASKED and _depth > 0 and sys.modules.get(NAME) is self:
             return _NoQuantity  # within a block, the real package not imported: no Quantity exists
         if name.startswith("__"):
             raise AttributeError(name)
-        return getattr(_real(), name)
+        return getattr(_real(self.__name__), name)
 
 
 _lock = threading.RLock()
 _depth = 0
-_placeholder = _Placeholder(NAME, __doc__)
+_placeholders = {name: _Placeholder(name, __doc__) for name in (PARENT, NAME)}
 
 
-def _real() -> types.ModuleType:
-    """The real package: the placeholder dropped from ``sys.modules``, then imported."""
+def _drop() -> None:
+    for name, module in _placeholders.items():
+        if sys.modules.get(name) is module:
+            del sys.modules[name]
+
+
+def _real(name: str) -> types.ModuleType:
+    """The real package: the placeholders dropped from ``sys.modules``, then imported."""
     with _lock:
-        if sys.modules.get(NAME) is _placeholder:
-            del sys.modules[NAME]
-    return importlib.import_module(NAME)
+        _drop()
+    return importlib.import_module(name)
 
 
 @contextmanager
@@ -62,13 +71,14 @@ def units_unloaded() -> Iterator[None]:
     blocks nest, and may run in several threads at once."""
     global _depth
     with _lock:
-        if _depth == 0 and NAME not in sys.modules:
-            sys.modules[NAME] = _placeholder
+        if _depth == 0 and NAME not in sys.modules and PARENT not in sys.modules:
+            # (importing ``sympy.physics`` imports its ``units``: neither is, or both are, imported)
+            sys.modules.update(_placeholders)
         _depth += 1
     try:
         yield
     finally:
         with _lock:
             _depth -= 1
-            if _depth == 0 and sys.modules.get(NAME) is _placeholder:
-                del sys.modules[NAME]
+            if _depth == 0:
+                _drop()
