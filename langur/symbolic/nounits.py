@@ -13,7 +13,10 @@ placeholder for it (and for ``sympy.physics``) whose ``Quantity`` (``Unit``, the
 is False, as it would be with the real class, and simplify returns the same expression.  Any
 other name asked of the placeholder (or ``Quantity`` outside the blocks, through a reference kept to
 it) imports the real package and drops the placeholder, so code that really wants units gets them;
-the placeholder is removed when the last block exits.
+the placeholders are removed when the last block exits.  (Code run inside a block that wrote
+``import sympy.physics.units`` and then reached the package as ``sympy.physics.units`` would not
+find the attribute; nothing the exact engine calls does that — ``from … import`` and
+``import … as`` work.)
 """
 
 from __future__ import annotations
