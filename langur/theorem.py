@@ -27,7 +27,7 @@ import sympy as sp
 from .ddenote import ddenote_program
 from .denote import denote_program
 from .implicit import ImplicitRootFn
-from .symbolic.local import dual_derivative, has_any, rational_value, size
+from .symbolic.local import atoms_of, dual_derivative, has_any, rational_value, size
 from .symbolic.pieces import Method
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .timebox import run_with_timeout
@@ -102,8 +102,8 @@ def _float(e: sp.Expr, at: Mapping[str, object]) -> float:
     evalf would solve it again at every precision it tries on each subexpression holding it
     (turning.lgr: a tenth of a second per evaluation)."""
     e = e.xreplace(at_symbols(at))
-    if e.has(ImplicitRootFn):
-        e = e.xreplace({r: r.evalf(ROOT_DIGITS) for r in e.atoms(ImplicitRootFn) if not r.free_symbols})
+    if has_any(e, (ImplicitRootFn,)):  # (each distinct subtree once: large forms share theirs)
+        e = e.xreplace({r: r.evalf(ROOT_DIGITS) for r in atoms_of(e, (ImplicitRootFn,)) if not r.free_symbols})
     try:
         return float(sp.N(e, 20))
     except TypeError:  # zoo, or not real there
