@@ -28,7 +28,7 @@ from .ddenote import ddenote_program
 from .denote import denote_program
 from .implicit import ImplicitRootFn
 from .onesided import closed_form_sides
-from .symbolic.local import dual_derivative, has_any, rational_value, size
+from .symbolic.local import atoms_of, dual_derivative, has_any, rational_value, size
 from .symbolic.pieces import Method
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .timebox import run_with_timeout
@@ -93,9 +93,20 @@ def directional(expr: sp.Expr, direction: Mapping[str, object]) -> sp.Expr:
     return sp.Add(*[sp.diff(expr, symbol(z)) * exact_number(v) for z, v in direction.items() if v != 0])
 
 
+#: Digits of the implicit roots put in before :func:`_float` evaluates a form with 20 digits.
+ROOT_DIGITS = 50
+
+
 def _float(e: sp.Expr, at: Mapping[str, object]) -> float:
+    """``e`` at ``at`` with 20 digits, as a float (nan where it is not real there).  Each implicit
+    root is evaluated once, with :data:`ROOT_DIGITS` digits, and put in as that number: sympy's
+    evalf would solve it again at every precision it tries on each subexpression holding it
+    (turning.lgr: a tenth of a second per evaluation)."""
+    e = e.xreplace(at_symbols(at))
+    if has_any(e, (ImplicitRootFn,)):  # (each distinct subtree once: large forms share theirs)
+        e = e.xreplace({r: r.evalf(ROOT_DIGITS) for r in atoms_of(e, (ImplicitRootFn,)) if not r.free_symbols})
     try:
-        return float(sp.N(e.xreplace(at_symbols(at)), 20))
+        return float(sp.N(e, 20))
     except TypeError:  # zoo, or not real there
         return math.nan
 
