@@ -16,6 +16,7 @@ from dataclasses import replace
 
 import sympy as sp
 
+from . import lazy
 from .core import Program
 from .symbolic import local
 from .symbolic.decompose import Ctx, decided_cell, decompose, smooth_value
@@ -23,6 +24,9 @@ from .symbolic.pieces import Integral, Method
 from .sympy_bridge import at_symbols, denote, symbol, symbols
 from .timebox import Deadline
 from .values import check_values
+
+#: scipy (0.3 s) only when integrating: read for its :func:`~langur.symbolic.quadrature.looseness`
+quadrature = lazy.module("langur.symbolic.quadrature")
 
 __all__ = ["denote", "denote_program", "program_box", "symbol"]
 
@@ -57,7 +61,8 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
 
     check_values(program, at)
     point = at_symbols(at)
-    key = (program, frozenset(point.items()), symbolic, near)
+    # (a value computed with a looser quadrature, Theorem 8.1's finite differences, kept apart)
+    key = (program, frozenset(point.items()), symbolic, near, quadrature.looseness())
     time_left = Deadline(timeout).remaining()  # within an enclosing budget(), perhaps less than timeout
     known, had = _remembered.get(key, (None, 0.0))
     # a closed form is final; a fallback to quadrature is reused only by a call with no more time

@@ -28,6 +28,7 @@ from .ddenote import ddenote, ddenote_program
 from .denote import denote, denote_program
 from .symbolic.integrate import for_reading
 from .symbolic.local import size
+from .symbolic.nounits import units_unloaded
 from .symbolic.pieces import Method
 from .symbolic.quadrature import UndefinedIntegral, printable
 from .symbolic.readable import Readable, readable
@@ -164,8 +165,10 @@ def exact_deriv(program: Program, params: Mapping[str, float | object], directio
     if check:
         try:
             # ⟦p⟧ near the point is all the check needs (it localizes ⟦p⟧'s closed form there)
-            denotation = denote_program(program, params, near=True)
-            theorem = check_theorem_8_1(program, params, direction, denotation=denotation, derivative=res)
+            with units_unloaded():  # sympy's simplify without its import of physical units
+                denotation = denote_program(program, params, near=True)
+                theorem = check_theorem_8_1(program, params, direction, denotation=denotation,
+                                            derivative=res)
         except Exception as e:  # noqa: BLE001 - the check is a report, not a reason to lose the derivative
             notes.append(f"Theorem 8.1 check not computed: {str(e).splitlines()[0] if str(e) else e!r}")
     return ExactDerivative(base.value, base.expr, base.method, base.error, notes, base.inconsistent,

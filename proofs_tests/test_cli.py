@@ -77,8 +77,9 @@ def test_deriv_at_a_degenerate_point_is_undefined(capsys):
     r = run_json(capsys, "deriv", str(DEGENERATE / "boundary.lgr"), "--wrt", "theta", "--at", "theta=0.5")
     assert r["exact"]["value"] == 1.0 and r["undefined"] is None
     # The triangle abc with a = (ax, 0.1), b = (0.9, 0.3), c = (0.4, 0.8) has area (0.55 − 0.5·ax)/2
-    # for ax < 1.1, and is empty beyond (clockwise): at ax = 1.1 the three vertices are collinear,
-    # the edges' jumps coincide, and the derivative (−1/4 on the left, 0 on the right) does not exist.
+    # for ax < 1.1 (inside the pixel for ax ≤ 1), and is empty beyond (clockwise): at ax = 1.1 the
+    # three vertices are collinear, the edges' jumps coincide, and the derivative (−13/56 on the
+    # left, test_onesided.py; 0 on the right) does not exist.
     tri = str(EXAMPLES / "triangle.lgr")
     status, out, err = run(capsys, "deriv", tri, "--wrt", "ax", "--at", "ax=1.1", "--no-theorem")
     assert status == 1 and "undefined" in out and "error X305" in err

@@ -4,7 +4,7 @@
                     gcpause, records
     sympy bridge    sympy_bridge (⟦·⟧ of Fig. 7 in sympy, names, numbers, time limits)
     front end       syntax/*, typesys, frontend
-    exact engine    denote, ddenote, symbolic/*          Monte Carlo engine  operational/*
+    exact engine    denote, ddenote, onesided, symbolic/*          Monte Carlo engine  operational/*
     linter          transversality, lint/*
     top             exact, theorem, reproduce, strategies/*, fuzz/*, commands/*, cli, __main__
 
@@ -32,7 +32,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
               "langur.records")),
     ("sympy bridge", ("langur.sympy_bridge",)),
     ("front end", ("langur.syntax", "langur.typesys", "langur.frontend")),
-    ("exact engine", ("langur.symbolic", "langur.denote", "langur.ddenote", "langur.exact_batch")),
+    ("exact engine", ("langur.symbolic", "langur.denote", "langur.ddenote", "langur.onesided", "langur.exact_batch")),
     ("linter", ("langur.transversality", "langur.lint")),
     ("top", ("langur.exact", "langur.steps", "langur.theorem", "langur.reproduce", "langur.reference", "langur.engines",
              "langur.strategies", "langur.fuzz", "langur.commands",

@@ -108,10 +108,19 @@ def test_fails_on_coincident_jumps_and_holds_off_the_degenerate_parameters():
 
 def test_boundary_parameter_is_a_switching_point():
     # ∫₀¹ [x ≤ θ] = clamp(θ, 0, 1): at θ = 1 the jump sits on the domain's end, D⟦p⟧ does not exist
-    # (one-sided 1 and 0); ⦇p⦈ = 1 there.  The check cannot hold and says why.
+    # (one-sided 1 and 0); ⦇p⦈ = 1 there.  The check has no left side: inconclusive, and says why
+    # (before, it said the theorem FAILS, as if ⦇p⦈ were wrong).
     loaded = load(os.path.join(str(DEGENERATE), "boundary.lgr"))
     th = check_theorem_8_1(loaded.program, loaded.param_values(), {"theta": 1})
-    assert th.holds is False and any("switches" in n for n in th.notes)
+    assert th.holds is None and any("switches" in n for n in th.notes)
+    assert any("from below 1, from above 0" in n for n in th.notes)
+    # ∫₀¹ [x ≤ θ](1 − x) = θ − θ²/2 on [0, 1] and 1/2 beyond: at θ = 1 the closed form switches
+    # branches too, but both one-sided derivatives are 1 − 1 = 0 = ⦇p⦈ (the delta's weight 1 − x
+    # vanishes at x = 1).  Before, a central difference with h = 1e-8 gave h/4 = 2.5e-9 (its error
+    # is O(h) at a switch, not O(h²)) and the check said the theorem FAILS.
+    src = "param theta = 1\nint ([0, 1]) [x <= theta] * (1 - x) d(x)\n"
+    th = check_theorem_8_1(load_text(src, "<t>").program, {"theta": 1}, {"theta": 1})
+    assert th.holds is True and th.d_denotation == 0.0 and th.derivative_denotation == 0.0
     th = check_theorem_8_1(loaded.program, {"theta": 0.25}, {"theta": 1})
     assert th.holds is True and th.how == "symbolic"
 

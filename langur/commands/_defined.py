@@ -49,6 +49,7 @@ recomplete = lazy.module("langur.lint.recomplete")
 rewrite = lazy.module("langur.lint.rewrite")
 singular = lazy.module("langur.lint.singular")
 transversality = lazy.module("langur.transversality")
+onesided = lazy.module("langur.onesided")
 
 
 @dataclass
@@ -132,11 +133,15 @@ class Transversal:
     shown: str = ""  # the rewrite as a diff of the file (or the whole program)
     here: list[Finding] = field(default_factory=list)  # X305 at the parameter values asked
 
-    def undefined_here(self) -> str | None:
-        """Why the derivative does not exist at the parameter values (X305), or None."""
+    def undefined_here(self, sides: "onesided.OneSided | None" = None) -> str | None:
+        """Why ⦇p⦈ is not the derivative at the parameter values (X305), or None; with ``sides``
+        (:mod:`langur.onesided`), whether ⟦p⟧ has a derivative there all the same."""
         if not self.here:
             return None
-        return "the derivative does not exist at these parameter values: " + _short(self.here[0])
+        why = _short(self.here[0])
+        if sides is None:
+            return f"⦇p⦈ is not defined at these parameter values: {why}"
+        return f"{sides.text()}: {why}"
 
     def reason(self) -> str:
         f = self.findings[0]

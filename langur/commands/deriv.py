@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import math
 import sys
+from dataclasses import replace
 
 from .. import progress
 from ..cli import add_common, add_timeout
@@ -57,11 +59,15 @@ def run(args) -> int:
         target = program
     with progress.phase("integrability analysis"):
         defined = _defined.derivative(program, params, direction, args.file)  # X311 / X313
-    if gate.here and not gate.findings:  # X305: a kink at these parameter values
+    sides = None  # X305: ⦇p⦈ is not defined at these parameter values; is ⟦p⟧ differentiable there?
+    if gate.here and not gate.findings:
         defined.findings = gate.here + defined.findings
-        defined.undefined = defined.undefined or gate.undefined_here()
+        if defined.undefined is None and args.engine in ("both", "exact"):
+            with progress.phase("one-sided derivatives of ⟦p⟧"):
+                sides = _defined.onesided.one_sided(program, params, direction)
     defined.report(args.json)
-    undefined = defined.undefined
+    integral_undefined = defined.undefined  # X311/X313: the integral itself does not exist
+    undefined = integral_undefined or gate.undefined_here(sides)
     if undefined is not None:
         status = 1
     elif args.engine in ("both", "exact") or engine is not None:
@@ -76,7 +82,10 @@ def run(args) -> int:
         status = max(status, bad)
     if args.engine in ("both", "mc"):
         mc = run_mc("deriv", target, params, args, direction,
-                    infinite_variance=defined.infinite_variance or (undefined and "the derivative does not exist"))
+                    infinite_variance=defined.infinite_variance or (integral_undefined and "the derivative does not exist"))
+        if mc is not None and integral_undefined is None and gate.here and not gate.findings and not math.isnan(mc.value):
+            mc = replace(mc, notes=("⦇p⦈'s estimate, which is not the derivative at these parameter values (X305)",
+                                    *mc.notes))
         if mc is None and args.engine == "mc":
             status = 1
         if mc is not None:
@@ -87,7 +96,7 @@ def run(args) -> int:
         c.dump_json({"params": params, "direction": direction, "exact": exact.to_json() if exact else None,
                      "mc": mc.to_json(standard_ad=False) if mc is not None else None,
                      "standard_ad": standard_ad, "theorem_8_1": theorem.to_json() if theorem else None,
-                     "undefined": undefined,
+                     "undefined": undefined, "one_sided": sides.to_json() if sides is not None else None,
                      "diagnostics": [d.to_json() for d in defined.diagnostics()], "rewrite": rewrite,
                      "recompleted": list(recompleted),
                      **({"engine": named} if named is not None else {})})

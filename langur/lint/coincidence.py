@@ -130,8 +130,9 @@ class CoincidenceChecks:
         where = self.where(self.anchor(o), self.anchor(p))
         text = (
             f"at {self.at_point(names)} the zero sets of {self.label(p)} and {self.label(o)} at {where} "
-            f"coincide (the set of such parameter values could not be solved for: {why}): the integral "
-            "has a kink there and its derivative does not exist (Def. 7.2 fails)"
+            f"coincide (the set of such parameter values could not be solved for: {why}): ⦇p⦈ is not "
+            "defined there and the integral may have a kink (Def. 7.2 fails; `langur deriv` decides whether "
+            "its derivative exists)"
         )
         if self.explicit:
             self.add(self.anchor(p), "error", "X305", text, (self.anchor(o),), names)
@@ -355,8 +356,8 @@ class CoincidenceChecks:
             the_set = describe_set(sols)
             related = tuple(self.anchor(o) for o, _, _ in shown)
             consequence = (
-                "the integral has a kink there and its derivative does not exist (Def. 7.2 fails; "
-                "Theorem 8.1 holds only for almost every parameter value)"
+                "⦇p⦈ is not defined there and the integral may have a kink (Def. 7.2 fails; Theorem 8.1 "
+                "holds only for almost every parameter value; `langur deriv` decides whether its derivative exists)"
             )
             if self.explicit:
                 self.add(

@@ -108,6 +108,10 @@ def estimate_batch(program_or_loaded, params: dict, *, direction: dict | None = 
     if direction is not None and np.any(cat["low"]):
         notes = (f"low hits: at {int(np.count_nonzero(cat['low']))} of {npts} points a zero set was hit by fewer "
                  f"than {LOW_HITS} samples; their standard errors are not reliable (give more samples)",)
+    if direction is not None and np.any(cat["degenerate"]):
+        notes += (f"⦇p⦈ is not defined at {int(np.count_nonzero(cat['degenerate']))} of {npts} points: the "
+                  "completion of a condition divides by a parameter coefficient that is 0 there (no "
+                  "diffeomorphism); the derivative is NaN there",)
     return BatchEstimate({k: np.array(v) for k, v in grid.items()}, cat["value"], cat["se"], int(samples), seed,
                          method, notes=notes, **extra)
 
@@ -157,9 +161,9 @@ def _chunk(linked: Linked, grid: dict, dp: dict | None, samples: int, seed: int,
         g = full(_run(linked, x, rep, dparams=dp, mode=TANGENT)[1], npts * n).reshape(npts, n)
         mean, se = _rows_mean(d, g)
         out["reg"], out["reg_se"] = _finish(volume * mean, volume * se, empty, undefined)
-        bnd, var, low = _boundary(linked, grid, dp, rng, samples, method, lo, hi, npts)
+        bnd, var, low, degenerate = _boundary(linked, grid, dp, rng, samples, method, lo, hi, npts)
         out["bnd"], out["bnd_se"] = _finish(bnd, np.sqrt(var), empty, undefined)
-        out["low"] = low
+        out["low"], out["degenerate"] = low, degenerate & ~empty
     return out
 
 
@@ -178,10 +182,12 @@ def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: s
     m = len(linked.variables) - 1
     total, var = np.zeros(npts), np.zeros(npts)
     low = np.zeros(npts, dtype=bool)
+    degenerate = np.zeros(npts, dtype=bool)  # Ψ̂ no diffeomorphism: ⦇p⦈ not defined (NaN)
     plan = []  # (site id, design, its points, their volumes, branches [(x, weight, valid, dpsi)], params)
     for k, site in enumerate(linked.sites):
         if not (site.deps & live):
             continue
+        degenerate |= np.broadcast_to(site.sampler.vanishing(grid), (npts,))
         des = design(rng, m, samples, method)
         unbounded, idx, volumes, branches = _geometry(site.sampler, des, grid, dp, lo, hi, npts, m)
         total[unbounded] = var[unbounded] = math.nan  # no finite box encloses the zero set here
@@ -189,8 +195,9 @@ def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: s
             continue
         rep = {name: np.repeat(v[idx], des.points.shape[0]) for name, v in grid.items()}
         plan.append((k, des, idx, volumes, branches, rep))
+    total[degenerate] = var[degenerate] = math.nan
     if not plan:
-        return total, var, low
+        return total, var, low, degenerate
     # every (site, branch) block of its points × N samples one after the other, in one DELTA pass
     ids, xs, ws, oks, dps, reps, boxes, counts = [], {v: [] for v in linked.variables}, [], [], [], [], [], []
     for k, des, idx, _, branches, rep in plan:
@@ -225,7 +232,7 @@ def _boundary(linked: Linked, grid: dict, dp: dict, rng, samples: int, method: s
         mean, se = _rows_mean(des, f)
         total[idx] += volumes * mean
         var[idx] += (volumes * se) ** 2
-    return total, var, low
+    return total, var, low, degenerate
 
 
 #: Recent sites' zero-set work (:func:`_geometry`), most recent last, at most GEOMETRY_BYTES of arrays.

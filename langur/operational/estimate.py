@@ -178,6 +178,13 @@ def _inside(x: dict, box: dict) -> np.ndarray:
     return inside
 
 
+def vanishing_note(sampler, points: str = "") -> str:
+    """The note of a result where a condition's completion divides by a coefficient that is 0."""
+    return (f"⦇p⦈ is not defined{points}: the completion of the condition{sampler.where()} divides by a "
+            "parameter coefficient that is 0 here (no diffeomorphism); the result is NaN there (`langur "
+            "deriv` completes such a condition by another variable where one does not degenerate)")
+
+
 def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
               notes: list[str] | None = None) -> tuple[float, float]:
     """Σ_k ∫ E_k δ_k: every live site's zero set sampled through every inverse branch, all sites'
@@ -192,6 +199,10 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
     for k, site in enumerate(linked.sites):
         if not (site.deps & live):
             continue  # D_γ π₀Ψ̂·γ' ≡ 0: the delta's coefficient vanishes identically
+        if site.sampler.vanishing(p):  # Ψ̂ is no diffeomorphism here: ⦇p⦈ is not defined
+            if notes is not None:
+                notes.append(vanishing_note(site.sampler))
+            return math.nan, math.nan
         des = point if point is not None else design(rng, m, samples, method)
         region = site.sampler.region(box, p) if m else ()
         if region and any(math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b) for a, b in region):

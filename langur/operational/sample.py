@@ -116,6 +116,7 @@ class SiteSampler:
         self._condition = None
         self._branches = None
         self._enclosures = None
+        self._nonzero = None
         self.has_guards = any(b.guards for b in psi.branches)
         coords = []
         for i in range(1, len(psi.forward)):
@@ -141,6 +142,26 @@ class SiteSampler:
             self._branches = [([compile_term(c).fn for c in b.components], [compile_term(g).fn for g in b.guards])
                               for b in self.psi.branches]
         return self._branches
+
+    def vanishing(self, params: dict):
+        """Where one of Ψ̂'s ``nonzero`` coefficients (``Diffeo.nonzero``: what the completion
+        divides by, such as ``a`` in ``a*x - 1/2``) is exactly 0 at ``params`` (numbers, or arrays
+        of P points): Ψ̂ is no diffeomorphism there and ⦇p⦈ is not defined (its inverse divides by
+        zero).  A bool, or a bool array of the parameters' shape."""
+        if not self.psi.nonzero:
+            return False
+        if self._nonzero is None:
+            self._nonzero = [compile_term(n).fn for n in self.psi.nonzero]
+        env = Point({}, params, mode=VALUE)
+        out = False
+        for fn in self._nonzero:
+            out = out | (np.asarray(fn(env, UNLINKED)[0], dtype=float) == 0.0)
+        return out
+
+    def where(self) -> str:
+        """The condition's place in the source, for notes (``line:col``), or ``""``."""
+        span = self.psi.span
+        return f" at {span.line}:{span.col}" if span is not None else ""
 
     def region(self, box: dict[str, tuple[float, float]], params: dict) -> list[tuple[float, float]]:
         """The u'-box: a variable's own interval, or an interval enclosure of Ψ̂'s component."""

@@ -43,6 +43,7 @@ import sympy as sp
 
 from langur.implicit import ImplicitRootFn
 from langur.symbolic import delta, local, quadrature, regions
+from langur.symbolic.nounits import units_unloaded
 from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
 from langur.symbolic.quadrature import UndefinedIntegral
 from langur.symbolic.regions import Cond, Context, Unsupported
@@ -357,6 +358,7 @@ def _quadratures(quad_one, items, ctx: Context):
     return quads, converged
 
 
+@units_unloaded()  # sympy's simplify without its import of physical units (nounits.py)
 def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: float = 20.0,
                      cell: Sequence[sp.Rel] = (), symbolic: bool = True) -> Integral:
     """Σ ∫_box Π[conditions]·weight (regular part of a denotation or derivative denotation);
@@ -378,6 +380,7 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
     return _finish(exacts, quads, why, ctx, "pieces", converged)
 
 
+@units_unloaded()
 def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
                            timeout: float = 20.0, cell: Sequence[sp.Rel] = (), symbolic: bool = True) -> Integral:
     """Σ ∫_box h·δ(π₀Ψ̂) through the change of variables ``u = Ψ̂(x)`` over every inverse branch:

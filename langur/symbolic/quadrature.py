@@ -23,8 +23,9 @@ import itertools
 import math
 import time
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from typing import Callable, Iterator, Sequence
 
 import numpy as np
 import sympy as sp
@@ -63,6 +64,32 @@ MAX_BAD = 3
 #: used here, and ier = 5 ("probably divergent") means the integral does not exist.
 NOT_CONVERGED = ("maximum number of subdivisions", "bad integrand behavior")
 DIVERGENT = "probably divergent"
+
+#: The factor by which the outermost level's tolerance is loosened (:func:`outer_tolerance`).
+_OUTER = [1.0]
+
+
+@contextmanager
+def outer_tolerance(factor: float) -> Iterator[None]:
+    """Within it, the outermost level of every nested quadrature asks ``quad`` for ``factor``
+    times its usual tolerance (absolute and relative); the inner levels keep theirs.  What a
+    quadrature reports as its error is the outermost level's error estimate (plus the allowance
+    for the inner levels' unpropagated errors, which is still valid because their tolerances are
+    unchanged), so the looser tolerance shows in the error bound: a caller that needs a value
+    only to an accuracy it can state (Theorem 8.1's finite differences, :mod:`langur.theorem`)
+    spends less, and checks the bound it got.  Results computed inside are remembered apart
+    (:data:`_DONE`, and :func:`looseness` for the callers' caches)."""
+    before = _OUTER[0]
+    _OUTER[0] = float(factor)
+    try:
+        yield
+    finally:
+        _OUTER[0] = before
+
+
+def looseness() -> float:
+    """The current factor of :func:`outer_tolerance` (1.0 outside it)."""
+    return _OUTER[0]
 
 
 def _num(expr, at: dict) -> float:
@@ -790,26 +817,51 @@ def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.E
     return out
 
 
+#: :func:`_critical_points`' answers by (expression, variable): one condition's come back at every
+#: outer level of its problem, in every piece it is a factor of, and in every problem at the same
+#: parameter values (the value, its cross-check, each derivative, Theorem 8.1's shifted points
+#: of the pieces that do not move); a non-polynomial one costs a sympy ``solve`` (a third of a
+#: second for ``tanh(z − 0.53) − 0.1``).  A time limit's empty answer is not kept (asked again,
+#: as before); at most :data:`COMPILED` kept.
+_CRITICAL: dict = {}
+
+
 def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
     """Where ``∂e/∂v`` vanishes, as expressions in the outer variables: there a region in ``v``
     appears or vanishes as they move (the top of a circle, ``sqrt(x² + y²) < r`` at y = 0).
     A quadratic's vertex directly; otherwise sympy's solve on the derivative's numerator within
-    :data:`CRITICAL_SECONDS` (none found: none used, the grid search of :func:`_roots` remains)."""
+    :data:`CRITICAL_SECONDS` (none found: none used, the grid search of :func:`_roots` remains);
+    remembered (:data:`_CRITICAL`)."""
+    key = (e, v)
+    known = _CRITICAL.get(key)
+    if known is None:
+        known, final = _solve_critical(e, v)
+        if final:
+            if len(_CRITICAL) >= COMPILED:
+                _CRITICAL.pop(next(iter(_CRITICAL)))
+            _CRITICAL[key] = known
+    return list(known)
+
+
+def _solve_critical(e: sp.Expr, v: sp.Symbol) -> tuple[list[sp.Expr], bool]:
+    """:func:`_critical_points`' answer, and whether it is final (not cut short by the time limit)."""
     try:
         poly = sp.Poly(e, v)
         if poly.degree() == 2 and not any(v in k.free_symbols for k in poly.all_coeffs()):
             a2, a1, _ = poly.all_coeffs()
-            return [-a1 / (2 * a2)]
+            return [-a1 / (2 * a2)], True
         if poly.degree() <= 1 and not any(v in k.free_symbols for k in poly.all_coeffs()):
-            return []
+            return [], True
     except (sp.PolynomialError, sp.GeneratorsNeeded):
         pass
     try:
         numerator = sp.numer(sp.together(sp.diff(e, v)))
         sols = run_with_timeout(lambda: sp.solve(numerator, v), CRITICAL_SECONDS)
-    except (TimeoutError, NotImplementedError, ValueError, TypeError, sp.PolynomialError):
-        return []
-    return [r for r in sols if v not in r.free_symbols and not r.has(sp.I)][:8]
+    except TimeoutError:
+        return [], False
+    except (NotImplementedError, ValueError, TypeError, sp.PolynomialError):
+        return [], True
+    return [r for r in sols if v not in r.free_symbols and not r.has(sp.I)][:8], True
 
 
 def _breakpoints(p: NumProblem, level: int, prefix: tuple, vary: bool) -> tuple[set, set]:
@@ -853,6 +905,8 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     pts = sorted(pts)
     last = level == len(p.bounds) - 1
     eps = EPSABS * 10 ** (len(p.bounds) - 1 - level)  # inner levels tighter than outer ones
+    if level == 0:
+        eps *= _OUTER[0]  # (1 but inside :func:`outer_tolerance`)
     if p.folds and len(p.bounds) >= 2:  # the fold's rounding: no tighter than its allowance (fold section)
         eps = max(eps, FOLD_EPS * 10 ** (len(p.bounds) - 1 - level))
     total = 0.0
@@ -1293,7 +1347,10 @@ def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict,
     for pc in pieces:
         try:
             key = _piece_key(pc, variables, box, at)
-            hit = _DONE.get(key)
+            hit = _DONE.get(key)  # (a value at the usual tolerance serves a looser request too)
+            if _OUTER[0] != 1.0:
+                key = (key, _OUTER[0])  # a looser value never serves a request at the usual tolerance
+                hit = hit or _DONE.get(key)
         except TypeError:  # something unhashable: integrated, not remembered
             key, hit = None, None
         if hit is None:
