@@ -194,19 +194,20 @@ SYMBOLIC_OPS = 3000
 
 
 def symbolic_difference(lhs: sp.Expr, rhs: sp.Expr, seconds: float = 5.0) -> sp.Expr | None:
-    """``simplify(lhs − rhs)`` within ``seconds`` (the expansion too), or None when it does not
-    finish or the two sides are too large to try (:data:`SYMBOLIC_OPS`)."""
+    """``simplify(lhs − rhs)`` within ``seconds`` CPU (the expansion too; CPU, so that how the check
+    decides does not change with the machine's load), or None when it does not finish or the two
+    sides are too large to try (:data:`SYMBOLIC_OPS`)."""
     if size(lhs, SYMBOLIC_OPS) + size(rhs, SYMBOLIC_OPS) >= SYMBOLIC_OPS:
         return None
     try:
-        difference = run_with_timeout(lambda: sp.expand(lhs - rhs), seconds)
+        difference = run_with_timeout(lambda: sp.expand(lhs - rhs), seconds, cpu=True)
         if difference == 0:  # the common case, without simplify's seconds
             return difference
         if difference.has(ImplicitRootFn):
             # simplify has no rule for an implicit root and evaluates it again and again: it
             # never decides such a difference, it only spends its whole budget (turning.lgr)
             return None
-        return run_with_timeout(lambda: sp.simplify(difference), seconds)
+        return run_with_timeout(lambda: sp.simplify(difference), seconds, cpu=True)
     except (TimeoutError, RecursionError):
         return None
 

@@ -118,13 +118,13 @@ def test_critical_points_solved_once_per_expression(monkeypatch):
         return real(*args, **kwargs)
 
     monkeypatch.setattr(quadrature, "_CRITICAL", {})
-    monkeypatch.setattr(quadrature, "CRITICAL_SECONDS", 60.0)  # (a wall-clock limit: not the load's answer)
+    monkeypatch.setattr(quadrature, "CRITICAL_SECONDS", 60.0)  # (not the time limit's answer)
     monkeypatch.setattr(quadrature.sp, "solve", counting)
     first = quadrature._critical_points(e, z)
     assert quadrature._critical_points(e, z) == first and len(calls) == 1
     assert all(not r.is_real for r in first) or first == []
     assert [float(r) for r in quadrature._critical_points(z**2 + y**2 - 0.3 - 2 * z, z)] == [1.0]
     # a time limit's empty answer is not kept: asked again
-    monkeypatch.setattr(quadrature, "run_with_timeout", lambda fn, s: (_ for _ in ()).throw(TimeoutError()))
+    monkeypatch.setattr(quadrature, "run_with_timeout", lambda fn, s, **kw: (_ for _ in ()).throw(TimeoutError()))
     w = quadrature.sp.sin(z * y) - quadrature.sp.Float(0.2)
     assert quadrature._critical_points(w, z) == [] and (w, z) not in quadrature._CRITICAL

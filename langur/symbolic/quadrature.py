@@ -52,7 +52,9 @@ NARROW = 1e-8
 #: at its piece's turning point, where it cannot be bracketed and 1/|f'| is 1/0): a fold met, not a
 #: pole inside the region (there the conditions hold).
 BOUNDARY = 1e-9
-#: Seconds sympy may spend on the critical points of one condition (:func:`_critical_points`).
+#: CPU seconds sympy may spend on the critical points of one condition (:func:`_critical_points`):
+#: CPU, not wall clock, so that the breakpoints found (and the error bounds) do not change with the
+#: machine's load.
 CRITICAL_SECONDS = 1.0
 #: More abscissae than this where the integrand is not finite, in one pass of ``quad``: not a few
 #: isolated singular points but a set quadrature keeps hitting (undefined on a set of positive
@@ -753,7 +755,8 @@ def _kink_functions(p: NumProblem, level: int):
     return out, vary
 
 
-#: Seconds sympy may spend on the resultant of two conditions (:func:`_crossings`).
+#: CPU seconds sympy may spend on the resultant of two conditions (:func:`_crossings`) (CPU: as
+#: :data:`CRITICAL_SECONDS`).
 RESULTANT_SECONDS = 0.5
 #: Degree (in the next variable) up to which two conditions' crossings are computed.
 RESULTANT_DEGREE = 4
@@ -808,7 +811,8 @@ def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.E
     out = []
     for e1, e2 in itertools.combinations(polys, 2):
         try:
-            r = run_with_timeout(lambda e1=e1, e2=e2: sp.resultant(e1, e2, v), RESULTANT_SECONDS)
+            r = run_with_timeout(lambda e1=e1, e2=e2: sp.resultant(e1, e2, v), RESULTANT_SECONDS,
+                                  cpu=True)
         except Exception:  # noqa: BLE001 - sympy fails in many ways (PolynomialDivisionFailed on floats, a time
             continue  # limit); the pair is then left to quad's subdivision, as before
         r = sp.sympify(r)
@@ -856,7 +860,7 @@ def _solve_critical(e: sp.Expr, v: sp.Symbol) -> tuple[list[sp.Expr], bool]:
         pass
     try:
         numerator = sp.numer(sp.together(sp.diff(e, v)))
-        sols = run_with_timeout(lambda: sp.solve(numerator, v), CRITICAL_SECONDS)
+        sols = run_with_timeout(lambda: sp.solve(numerator, v), CRITICAL_SECONDS, cpu=True)
     except TimeoutError:
         return [], False
     except (NotImplementedError, ValueError, TypeError, sp.PolynomialError):
