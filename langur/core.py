@@ -576,6 +576,13 @@ def shape_of(t: "Term") -> dict:
     return d
 
 
+def shape_with_span(t: "Term") -> dict:
+    """:func:`shape_of` ``t`` with its span: what :func:`like_binary` and :func:`like_power` copy."""
+    d = shape_of(t)
+    d["span"] = t.span
+    return d
+
+
 def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
     """The node of class ``cls`` with children ``kids`` (in the order of :func:`children`) and
     ``span`` whose other fields and attributes of its shape are ``shape`` (:func:`shape_of` of a
@@ -622,7 +629,14 @@ def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
     d.update(shape)
     d["left"] = a
     d["right"] = b
-    _binary_value(d, a.__dict__, b.__dict__, cls is Mul)
+    a, b = a.__dict__, b.__dict__
+    x, y = a["_small"], b["_small"]
+    if (x is None or y is None) and x is not False and y is not False:
+        # (_binary_value's first case, written out: a copy's nodes over a variable or parameter)
+        d["_small"] = None
+        d["_small_all"] = a["_small_all"] and b["_small_all"]
+    else:
+        _binary_value(d, a, b, cls is Mul)
     return new
 
 

@@ -52,6 +52,7 @@ from ..core import (
     map_children,
     same_shape,
     shape_of,
+    shape_with_span,
     small_power,
     small_value,
 )
@@ -200,7 +201,7 @@ class Template:
                 continue
             tu = type(u)
             if tu is Add or tu is Mul:
-                step = (_BINARY, tu, _with_span(u), ref(u.left), ref(u.right))
+                step = (_BINARY, tu, shape_with_span(u), ref(u.left), ref(u.right))
             elif tu is Const:
                 step = (_LEAF, u.span)
             elif tu is Pow:
@@ -210,9 +211,9 @@ class Template:
                     power = powers.setdefault(u.exponent, len(powers))
                 else:
                     power = -1
-                step = (_UNARY, tu, _with_span(u), base, u.exponent, power)
+                step = (_UNARY, tu, shape_with_span(u), base, u.exponent, power)
             elif tu is Prim:
-                step = (_UNARY, tu, _with_span(u), ref(u.arg), u.op, -1)
+                step = (_UNARY, tu, shape_with_span(u), ref(u.arg), u.op, -1)
             elif tu is IfDiffeo:
                 found = completions.get(id(u))
                 if found is not None and dep[id(found[1])]:
@@ -349,13 +350,6 @@ class Template:
 # the kinds of step of Template.steps
 _BINARY, _LEAF, _UNARY, _COMPLETE, _CONDITIONAL, _OTHER = (
     "binary", "leaf", "unary", "complete", "conditional", "other")
-
-
-def _with_span(u: Term) -> dict:
-    """``core.shape_of(u)`` with ``u``'s span: what ``core.like_binary`` and ``like_power`` copy."""
-    d = shape_of(u)
-    d["span"] = u.span
-    return d
 
 
 def _kids(u: Term, completions: dict) -> tuple[Term, ...]:
