@@ -665,6 +665,41 @@ def like_leaf(c: Const, span) -> Const:
 _new = object.__new__
 
 
+def index_const(value: int, span=None) -> Const:
+    """``Const(Fraction(value), span=span)`` for an int ``value`` (a loop's index in one of its
+    copies, issue 15): an integer of fewer than 1000 bits is its own small value, so its attributes
+    are written without the constructor's tests.  Equal, attributes included, to the constructor's."""
+    number = Fraction(value)
+    if value.bit_length() >= 1000:
+        return Const(number, span=span)
+    new = _new(Const)
+    d = new.__dict__
+    d["value"], d["span"] = number, span
+    d.update(_LEAF_ATTRS)
+    d["_small"] = number
+    return new
+
+
+def index_power_small(value: int, n: int):
+    """``small_power(small_value(Const(Fraction(value))), n)`` for ints ``value`` and ``n`` (a
+    power of a loop's index, ``1/i``), in integer arithmetic: ``_small_power``'s tests and
+    ``_in_range`` on the numerator and denominator of ``value ** n`` (issue 15)."""
+    if value.bit_length() >= 1000:
+        return _small_power(_in_range(Fraction(value)), n)
+    if not -SMALL_EXPONENT <= n <= SMALL_EXPONENT or (not value and n <= 0):
+        return False
+    if n >= 0:
+        num, den = value**n, 1
+    else:
+        den = value**-n
+        num, den = (1, den) if den > 0 else (-1, -den)
+    if den.bit_length() > SMALL_BITS:
+        return False
+    if num.bit_length() < 1000 or abs(num) <= _SMALL_INT * den:
+        return Fraction(num, den)
+    return False
+
+
 def small_power(x, k):
     """The small value of ``t ^ k`` from ``t``'s (``x``): :func:`small_value` of ``Pow(t, k)``."""
     return _small_power(x, k)

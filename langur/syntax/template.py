@@ -45,6 +45,8 @@ from ..core import (
     Term,
     Var,
     children,
+    index_const,
+    index_power_small,
     like,
     like_binary,
     like_leaf,
@@ -231,6 +233,9 @@ class Template:
         self.first, self.steps = first, steps
         self.shared = shared[::-1]
         self.powers = len(powers)
+        #: each power's exponent as an int when it is an integer (then computed in integers,
+        #: core.index_power_small), else None
+        self.exponents = [int(k) if k.denominator == 1 else None for k in powers]
         # what each copy starts from: no node of its own yet, the shared ones at the end (and they
         # have the first copy's shape)
         self.start = [None] * len(steps) + self.shared
@@ -265,7 +270,6 @@ class Template:
             return self.body  # the index does not occur: every copy is the first
         if self.steps is None:
             self._compile()
-        number = Fraction(value)
         steps, first = self.steps, self.first
         n = len(steps)
         vals = self.start[:]  # (each step's node at its index, shared nodes from the end)
@@ -285,7 +289,7 @@ class Template:
                 else:
                     vals[i] = cls(vals[a], vals[b], span=shape["span"])
             elif k is _LEAF:
-                vals[i] = leaf = Const(number, span=step[1]) if leaf is None else like_leaf(leaf, step[1])
+                vals[i] = leaf = index_const(value, step[1]) if leaf is None else like_leaf(leaf, step[1])
                 same[i] = True
             elif k is _UNARY:
                 _, cls, shape, a, arg, power = step
@@ -296,7 +300,9 @@ class Template:
                         else:
                             small = powers[power]
                             if small is None:
-                                small = powers[power] = small_power(vals[a]._small, arg)
+                                e = self.exponents[power]
+                                small = powers[power] = (small_power(vals[a]._small, arg) if e is None
+                                                         else index_power_small(value, e))
                         vals[i] = like_power(shape, vals[a], small)
                     else:
                         vals[i] = like(cls, shape, (vals[a],), shape["span"])
