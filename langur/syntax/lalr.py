@@ -66,12 +66,12 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
     # per state (a list index), a terminal or nonterminal's action — the next state (an int) for a
     # shift, or (the rule's length, its callback, the goto of its nonterminal by state) for a
     # reduction, the length -1 for a unit rule whose callback returns its child
-    gotos: dict[str, dict[int, int]] = {}
-    for state, row in states.items():
-        for symbol, (action, arg) in row.items():
-            if action is shift and not symbol.isupper():  # (a nonterminal's goto; terminals are upper case)
-                gotos.setdefault(symbol, {})[state] = arg
     try:
+        gotos: dict[str, dict[int, int]] = {}  # by symbol (read for nonterminals only)
+        for state, row in states.items():
+            for symbol, (action, arg) in row.items():
+                if action is shift:
+                    gotos.setdefault(symbol, {})[state] = arg
         act: list[dict | None] = [None] * (max(states) + 1)
         rules: dict[int, tuple] = {}
         for state, row in states.items():
@@ -167,7 +167,9 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
                     value_stack.append(token if kind not in token_callbacks else token_callbacks[kind](token))
                     break
                 size, callback, goto = code
-                if size < 0:  # unit rules whose callbacks return their child: the value stays, the
+                if size < 0 and is_end:  # (at the end, one at a time: the end state is checked after each)
+                    state_stack[-1] = goto[state_stack[-2]]
+                elif size < 0:  # unit rules whose callbacks return their child: the value stays, the
                     # state after the whole run of them found once per (state below, state, symbol)
                     below = state_stack[-2]
                     key = (below, state_stack[-1], kind)
