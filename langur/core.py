@@ -576,6 +576,13 @@ def shape_of(t: "Term") -> dict:
     return d
 
 
+def shape_with_span(t: "Term") -> dict:
+    """:func:`shape_of` ``t`` with its span: what :func:`like_binary` and :func:`like_power` copy."""
+    d = shape_of(t)
+    d["span"] = t.span
+    return d
+
+
 def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
     """The node of class ``cls`` with children ``kids`` (in the order of :func:`children`) and
     ``span`` whose other fields and attributes of its shape are ``shape`` (:func:`shape_of` of a
@@ -622,7 +629,14 @@ def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
     d.update(shape)
     d["left"] = a
     d["right"] = b
-    _binary_value(d, a.__dict__, b.__dict__, cls is Mul)
+    a, b = a.__dict__, b.__dict__
+    x, y = a["_small"], b["_small"]
+    if (x is None or y is None) and x is not False and y is not False:
+        # (_binary_value's first case, written out: a copy's nodes over a variable or parameter)
+        d["_small"] = None
+        d["_small_all"] = a["_small_all"] and b["_small_all"]
+    else:
+        _binary_value(d, a, b, cls is Mul)
     return new
 
 
@@ -649,6 +663,41 @@ def like_leaf(c: Const, span) -> Const:
 
 
 _new = object.__new__
+
+
+def index_const(value: int, span=None) -> Const:
+    """``Const(Fraction(value), span=span)`` for an int ``value`` (a loop's index in one of its
+    copies, issue 15): an integer of fewer than 1000 bits is its own small value, so its attributes
+    are written without the constructor's tests.  Equal, attributes included, to the constructor's."""
+    number = Fraction(value)
+    if value.bit_length() >= 1000:
+        return Const(number, span=span)
+    new = _new(Const)
+    d = new.__dict__
+    d["value"], d["span"] = number, span
+    d.update(_LEAF_ATTRS)
+    d["_small"] = number
+    return new
+
+
+def index_power_small(value: int, n: int):
+    """``small_power(small_value(Const(Fraction(value))), n)`` for ints ``value`` and ``n`` (a
+    power of a loop's index, ``1/i``), in integer arithmetic: ``_small_power``'s tests and
+    ``_in_range`` on the numerator and denominator of ``value ** n`` (issue 15)."""
+    if value.bit_length() >= 1000:
+        return _small_power(_in_range(Fraction(value)), n)
+    if not -SMALL_EXPONENT <= n <= SMALL_EXPONENT or (not value and n <= 0):
+        return False
+    if n >= 0:
+        num, den = value**n, 1
+    else:
+        den = value**-n
+        num, den = (1, den) if den > 0 else (-1, -den)
+    if den.bit_length() > SMALL_BITS:
+        return False
+    if num.bit_length() < 1000 or abs(num) <= _SMALL_INT * den:
+        return Fraction(num, den)
+    return False
 
 
 def small_power(x, k):

@@ -39,6 +39,8 @@ from ..core import (
     Var,
     free_params,
     free_vars,
+    like_binary,
+    shape_with_span,
     small_value,
     tree_size,
 )
@@ -196,9 +198,9 @@ def solved_at(cond: Term, variables: tuple[str, ...], solved: tuple, constant: F
         parts = known.get(_PARTS)
         if parts is None:
             parts = known[_PARTS] = _atoms(terms)
-        branches = known[key] = _branches(constant, parts, renamed)
-    return Diffeo(variables=tuple(variables), forward=(cond,) + others, inputs=inputs,
-                  branches=branches, solved_for=v, name=None, nonzero=(), span=getattr(cond, "span", None))
+        branches = known[key] = _branches(constant, parts, renamed, known)
+    # (positional: a keyword call costs a loop's copy more than the record's own init)
+    return Diffeo(tuple(variables), (cond,) + others, inputs, branches, v, None, (), getattr(cond, "span", None))
 
 
 def summands(cond: Term, moving) -> list[tuple[Term, Fraction]] | None:
@@ -240,14 +242,16 @@ def summands(cond: Term, moving) -> list[tuple[Term, Fraction]] | None:
 _PARTS = "parts"
 
 
-def _branches(constant: Fraction, parts: tuple, renamed: tuple) -> tuple[InverseBranch, ...]:
+def _branches(constant: Fraction, parts: tuple, renamed: tuple, known: dict) -> tuple[InverseBranch, ...]:
     """Ψ̂⁻¹ of a completed affine condition: its one branch, the solution ``constant + Σ c·atom``
     (``parts``: :func:`_atoms`) in place of the solved variable.  Built once per shape and constant
     (:func:`solved_at`, by the constant's numerator and denominator): equal conditions (a loop
     written twice, a def's condition inlined at every call) share the same branch objects, so that
     comparing their Diffeos (the Monte Carlo engine's sampler lookup) stops there (issue 15).  (No
-    memo of its own: its key hashed Fractions, about 5 µs of each of a loop's copies.)"""
-    solution = _ordered(constant, parts)
+    memo of its own: its key hashed Fractions, about 5 µs of each of a loop's copies.)  The sums
+    above a nonzero constant have the same shape whatever the constant: built by ``core.like_binary``
+    from the first's, kept in ``known`` (the shape's table) under :data:`_SUMS`."""
+    solution = _ordered(constant, parts, known)
     return (InverseBranch(tuple(solution if x is None else x for x in renamed), ()),)
 
 
@@ -303,13 +307,34 @@ def _sort_key(term: tuple[str, str, Fraction]):
     return (1, _CLASS_RANK[_coefficient_class(c)], c.numerator, c.denominator, name)
 
 
-def _ordered(constant: Fraction, parts: tuple[Term, ...]) -> Term:
+def _ordered(constant: Fraction, parts: tuple[Term, ...], known: dict | None = None) -> Term:
     """``constant + Σ c·atom`` as ``from_sympy`` would build it from sympy's canonical sum (``parts``:
-    the ``c·atom`` in order, :func:`_atoms`)."""
-    out = Const(constant) if constant else parts[0]
-    for p in (parts if constant else parts[1:]):
+    the ``c·atom`` in order, :func:`_atoms`); with ``known``, a solved shape's table, the sums above
+    a nonzero constant are built from the shapes of the first ones built so (issue 15: a loop's
+    copies differ in the constant only, and every ``Const`` of a rational has one shape)."""
+    if not constant:
+        out = parts[0]
+        for p in parts[1:]:
+            out = Add(out, p)
+        return out
+    out = Const(constant)
+    shapes = None if known is None else known.get(_SUMS)
+    if shapes is not None:
+        for p, shape in zip(parts, shapes):
+            out = like_binary(Add, shape, out, p)
+        return out
+    sums = []
+    for p in parts:
         out = Add(out, p)
+        sums.append(shape_with_span(out))
+    if known is not None:
+        known[_SUMS] = sums
     return out
+
+
+#: Where a solved shape's table keeps the shapes of the sums of :func:`_ordered` (``core.shape_of``
+#: with the span).
+_SUMS = "sums"
 
 
 @functools.lru_cache(maxsize=1024)

@@ -84,9 +84,11 @@ class Chain(Reduced):
         if len(items) <= CHAIN_BALANCE:
             (_, first), *rest = items
             node, depth = first.node, first.depth
-            for op, r in rest:
-                node = BinOp(op, node, r.node, self._span(first, r))
-                depth = 1 + max(depth, r.depth)
+            path, line, col = self.builder.path, first.line, first.col
+            for op, r in rest:  # (the span from `first` to `r`, both Reduced: builder.span written out)
+                node = BinOp(op, node, r.node, Span(path, line, col, r.end_line, r.end_col))
+                d = r.depth
+                depth = 1 + (depth if depth > d else d)
             self._node, self._depth = node, depth
         elif self.level == "sum":
             self._node, self._depth = self._balanced([(op == "-", r) for op, r in items], "+", "-")

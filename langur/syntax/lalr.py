@@ -62,14 +62,35 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
     except (AttributeError, KeyError, TypeError, StopIteration, re.error):
         return None
     token_callbacks = {k: v for k, v in callbacks.items() if isinstance(k, str)}
-    reductions: dict[int, tuple] = {}  # a rule's length, callback and nonterminal, by its identity
-
-    def reduction(rule) -> tuple:
-        size, callback = len(rule.expansion), callbacks[rule]
-        if size == 1 and any(callback == f for f in identities):
-            size = -1  # (below: a change of state only)
-        found = reductions[id(rule)] = (size, callback, rule.origin.name)
-        return found
+    # lark's table resolved once into what the loop reads (the same shifts, reductions and gotos):
+    # per state (a list index), a terminal or nonterminal's action — the next state (an int) for a
+    # shift, or (the rule's length, its callback, the goto of its nonterminal by state) for a
+    # reduction, the length -1 for a unit rule whose callback returns its child
+    try:
+        gotos: dict[str, dict[int, int]] = {}  # by symbol (read for nonterminals only)
+        for state, row in states.items():
+            for symbol, (action, arg) in row.items():
+                if action is shift:
+                    gotos.setdefault(symbol, {})[state] = arg
+        act: list[dict | None] = [None] * (max(states) + 1)
+        rules: dict[int, tuple] = {}
+        for state, row in states.items():
+            out = act[state] = {}
+            for symbol, (action, arg) in row.items():
+                if action is shift:
+                    out[symbol] = arg
+                    continue
+                found = rules.get(id(arg))
+                if found is None:
+                    size, callback = len(arg.expansion), callbacks[arg]
+                    if size == 1 and any(callback == f for f in identities):
+                        size = -1  # (below: a change of state only)
+                    found = rules[id(arg)] = (size, callback, gotos.get(arg.origin.name, {}))
+                out[symbol] = found
+    except (AttributeError, KeyError, TypeError, ValueError):
+        return None
+    #: the state a run of unit reductions ends in, by (state below, state, lookahead symbol)
+    units: dict[tuple, int] = {}
 
     new = str.__new__
 
@@ -136,20 +157,32 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
                 is_end = True
             kind = token.type
             while True:
-                entry = states[state_stack[-1]].get(kind)
-                if entry is None:
+                code = act[state_stack[-1]].get(kind)
+                if code is None:
                     return FAILED
-                action, arg = entry
-                if action is shift:
+                if type(code) is int:  # a shift
                     if is_end:
                         return FAILED
-                    state_stack.append(arg)
+                    state_stack.append(code)
                     value_stack.append(token if kind not in token_callbacks else token_callbacks[kind](token))
                     break
-                # (lark's table keeps its Rule objects alive: their identities stay theirs)
-                size, callback, origin = reductions.get(id(arg)) or reduction(arg)
-                if size < 0:  # a unit rule whose callback returns its child: the value stays
-                    state_stack[-1] = states[state_stack[-2]][origin][1]
+                size, callback, goto = code
+                if size < 0 and is_end:  # (at the end, one at a time: the end state is checked after each)
+                    state_stack[-1] = goto[state_stack[-2]]
+                elif size < 0:  # unit rules whose callbacks return their child: the value stays, the
+                    # state after the whole run of them found once per (state below, state, symbol)
+                    below = state_stack[-2]
+                    key = (below, state_stack[-1], kind)
+                    top = units.get(key)
+                    if top is None:
+                        top = goto[below]
+                        while True:
+                            nxt = act[top].get(kind)
+                            if type(nxt) is not tuple or nxt[0] >= 0:
+                                break
+                            top = nxt[2][below]
+                        units[key] = top
+                    state_stack[-1] = top
                 else:
                     if size:
                         s = value_stack[-size:]
@@ -158,7 +191,7 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
                     else:
                         s = []
                     value_stack.append(callback(s))
-                    state_stack.append(states[state_stack[-1]][origin][1])
+                    state_stack.append(goto[state_stack[-1]])
                 if is_end and state_stack[-1] == end_state:
                     return value_stack[-1]
 

@@ -145,7 +145,21 @@ class _Builder:
 
     # -- helpers --
     def span(self, first, last) -> Span:
-        (l1, c1), (l2, c2) = _start(first), _end(last)
+        # (_start and _end written out for the two kinds met on every term: an intermediate
+        # result or a token)
+        tf, tl = type(first), type(last)
+        if tf is _R or tf is _Chain:
+            l1, c1 = first.line, first.col
+        elif tf is Token:
+            l1, c1 = first.line, first.column
+        else:
+            l1, c1 = _start(first)
+        if tl is _R or tl is _Chain:
+            l2, c2 = last.end_line, last.end_col
+        elif tl is Token:
+            l2, c2 = last.end_line, last.end_column
+        else:
+            l2, c2 = _end(last)
         return Span(self.path, l1, c1, l2, c2)
 
     def tok_span(self, t: Token) -> Span:
@@ -314,7 +328,8 @@ class _Builder:
 
     def num(self, c):  # (term(): a leaf's span is its token's, its depth 1)
         t = c[0]
-        value = self.number(t)
+        text = str(t)  # (number()'s first case written out: a short integer)
+        value = Fraction(int(text)) if len(text) <= _SHORT and text.isdigit() else self.number(t)
         line, col, end_line, end_col = t.line, t.column, t.end_line, t.end_column
         return _R(Num(value, Span(self.path, line, col, end_line, end_col)), line, col, end_line, end_col, 1)
 

@@ -45,6 +45,8 @@ from ..core import (
     Term,
     Var,
     children,
+    index_const,
+    index_power_small,
     like,
     like_binary,
     like_leaf,
@@ -52,6 +54,7 @@ from ..core import (
     map_children,
     same_shape,
     shape_of,
+    shape_with_span,
     small_power,
     small_value,
 )
@@ -200,7 +203,7 @@ class Template:
                 continue
             tu = type(u)
             if tu is Add or tu is Mul:
-                step = (_BINARY, tu, _with_span(u), ref(u.left), ref(u.right))
+                step = (_BINARY, tu, shape_with_span(u), ref(u.left), ref(u.right))
             elif tu is Const:
                 step = (_LEAF, u.span)
             elif tu is Pow:
@@ -210,9 +213,9 @@ class Template:
                     power = powers.setdefault(u.exponent, len(powers))
                 else:
                     power = -1
-                step = (_UNARY, tu, _with_span(u), base, u.exponent, power)
+                step = (_UNARY, tu, shape_with_span(u), base, u.exponent, power)
             elif tu is Prim:
-                step = (_UNARY, tu, _with_span(u), ref(u.arg), u.op, -1)
+                step = (_UNARY, tu, shape_with_span(u), ref(u.arg), u.op, -1)
             elif tu is IfDiffeo:
                 found = completions.get(id(u))
                 if found is not None and dep[id(found[1])]:
@@ -230,6 +233,9 @@ class Template:
         self.first, self.steps = first, steps
         self.shared = shared[::-1]
         self.powers = len(powers)
+        #: each power's exponent as an int when it is an integer (then computed in integers,
+        #: core.index_power_small), else None
+        self.exponents = [int(k) if k.denominator == 1 else None for k in powers]
         # what each copy starts from: no node of its own yet, the shared ones at the end (and they
         # have the first copy's shape)
         self.start = [None] * len(steps) + self.shared
@@ -264,7 +270,6 @@ class Template:
             return self.body  # the index does not occur: every copy is the first
         if self.steps is None:
             self._compile()
-        number = Fraction(value)
         steps, first = self.steps, self.first
         n = len(steps)
         vals = self.start[:]  # (each step's node at its index, shared nodes from the end)
@@ -284,7 +289,7 @@ class Template:
                 else:
                     vals[i] = cls(vals[a], vals[b], span=shape["span"])
             elif k is _LEAF:
-                vals[i] = leaf = Const(number, span=step[1]) if leaf is None else like_leaf(leaf, step[1])
+                vals[i] = leaf = index_const(value, step[1]) if leaf is None else like_leaf(leaf, step[1])
                 same[i] = True
             elif k is _UNARY:
                 _, cls, shape, a, arg, power = step
@@ -295,7 +300,9 @@ class Template:
                         else:
                             small = powers[power]
                             if small is None:
-                                small = powers[power] = small_power(vals[a]._small, arg)
+                                e = self.exponents[power]
+                                small = powers[power] = (small_power(vals[a]._small, arg) if e is None
+                                                         else index_power_small(value, e))
                         vals[i] = like_power(shape, vals[a], small)
                     else:
                         vals[i] = like(cls, shape, (vals[a],), shape["span"])
@@ -349,13 +356,6 @@ class Template:
 # the kinds of step of Template.steps
 _BINARY, _LEAF, _UNARY, _COMPLETE, _CONDITIONAL, _OTHER = (
     "binary", "leaf", "unary", "complete", "conditional", "other")
-
-
-def _with_span(u: Term) -> dict:
-    """``core.shape_of(u)`` with ``u``'s span: what ``core.like_binary`` and ``like_power`` copy."""
-    d = shape_of(u)
-    d["span"] = u.span
-    return d
 
 
 def _kids(u: Term, completions: dict) -> tuple[Term, ...]:
