@@ -612,8 +612,14 @@ def _compiled(key: str) -> tuple:
     interval versions, each called as ``(x, *values of its other symbols)``."""
     lam, free = _INDEXED[key]
     (x,), f = lam.variables, lam.expr
-    return (sp.lambdify([x, *free], f, modules="mpmath"), _interval_fn(x, f, free),
-            _interval_fn(x, sp.diff(f, x), free), sp.lambdify([x, *free], f, modules="math"))
+    mp = []  # on mpmath numbers only where no box certifies (rare): compiled when first called
+
+    def on_mpmath(*args):
+        if not mp:
+            mp.append(sp.lambdify([x, *free], f, modules="mpmath"))
+        return mp[0](*args)
+    return (on_mpmath, _interval_fn(x, f, free), _interval_fn(x, sp.diff(f, x), free),
+            sp.lambdify([x, *free], f, modules="math"))
 
 
 @lru_cache(maxsize=65536)
