@@ -419,8 +419,17 @@ class ImplicitRootFn(sp.Function):
 
 
 def _solve(fn, target, lo, hi, index, of, *values):
-    if isinstance(fn, str):  # an indexed root: certified as evalf certifies it
-        return _indexed_at(fn, target, lo, hi, int(index), int(of), *values)
+    if isinstance(fn, str):  # an indexed root: certified as evalf certifies it (remembered: see below)
+        key = (fn, target, lo, hi, index, of, values)
+        try:
+            root = _ROOTS.get(key)
+        except TypeError:  # an argument that is not a number (no hash): not remembered
+            return _indexed_at(fn, target, lo, hi, int(index), int(of), *values)
+        if root is None:
+            root = _indexed_at(fn, target, lo, hi, int(index), int(of), *values)
+            if not _has_zero(lo, hi, values):
+                _remember(key, root)
+        return root
     t = float(target)
     # the same root asked again (a quadrature's conditions, guards and breakpoints at one abscissa
     # name it several times): ``double_root`` is a function of its arguments, so it is remembered
