@@ -433,8 +433,12 @@ def _solve(fn, target, lo, hi, index, of, *values):
     t = float(target)
     # the same root asked again (a quadrature's conditions, guards and breakpoints at one abscissa
     # name it several times): ``double_root`` is a function of its arguments, so it is remembered
-    # by them — the equation by its code and namespace (a new lambda per call, the same code)
-    key = (fn.__code__, id(fn.__globals__), t, lo, hi, values)
+    # by them — the equation by its code and namespace (a new lambda per call, the same code); not
+    # a function whose code alone does not say what it computes (a closure, default arguments)
+    code = getattr(fn, "__code__", None)
+    if code is None or fn.__closure__ is not None or fn.__defaults__ is not None or fn.__kwdefaults__:
+        return double_root(fn, t, lo, hi, values)
+    key = (code, id(fn.__globals__), t, lo, hi, values)
     try:
         return _ROOTS[key]
     except KeyError:

@@ -292,3 +292,21 @@ def test_powers_enclose_every_power(n):
         exact = [Fraction(v) ** n for v in (lo, hi, (lo + hi) / 2)] + ([Fraction(0)] if lo <= 0 <= hi else [])
         assert Fraction(ol) <= min(exact) and max(exact) <= Fraction(oh)
         assert il > ih or (min(exact) <= Fraction(il) and Fraction(ih) <= max(exact))
+
+
+def test_roots_of_functions_with_the_same_code_are_not_confused():
+    # one lambda's code with different closures or defaults: not remembered by its code alone
+    def closure(c):
+        return lambda z: z**3 + z - c
+
+    def defaults(c):
+        return lambda z, c=c: z**3 + z - c
+
+    for make in (closure, defaults):
+        for c in (0.5, -0.25, 0.5, 1.5):
+            root = implicit._solve(make(c), 0, -2.0, 2.0, -1, 0)
+            assert abs(root**3 + root - c) < 1e-14, (make, c, root)
+    # the same code and namespace with other values: remembered apart
+    f = eval("lambda z, c: z**3 + z - c")  # noqa: S307 - a constant text
+    got = [implicit._solve(f, 0, -2.0, 2.0, -1, 0, c) for c in (0.5, -0.25, 0.5)]
+    assert got[0] == got[2] != got[1] and abs(got[1] ** 3 + got[1] + 0.25) < 1e-14
