@@ -29,6 +29,7 @@ import scipy.optimize as so
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
+from . import floativ
 from .core import TooManyRoots
 
 
@@ -169,23 +170,92 @@ class _IntervalPrinter(PythonCodePrinter):
         return f"mpf({str(sp.Float(e, e._prec)).strip()!r})"
 
 
-def _interval_fn(x: sp.Symbol, e: sp.Expr, free: tuple = ()):
+def _interval_fn(x: sp.Symbol, e: sp.Expr, free: tuple = ()) -> _Enclosure:
     """``e`` (in ``x`` and the symbols ``free``) on mpmath intervals: ``X, *values ↦`` an interval
     containing ``e(X)`` at those values of ``free``; None where it cannot be enclosed.  Every
     operation is mpmath's interval arithmetic (rounded outward), constants included
-    (:class:`_IntervalPrinter`)."""
+    (:class:`_IntervalPrinter`); a polynomial's also compiled to float enclosures that bracket
+    mpmath's (:mod:`langur.floativ`), which decide first where they can."""
     printer = _IntervalPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                                 "user_functions": {k: k for k in _IV}})  # lambdify's own settings
     fn = sp.lambdify([x, *free], e, modules=[_IV, mpmath.iv], printer=printer)
+    return _Enclosure(fn, floativ.compile_enclosure(fn, 1 + len(free)))
 
-    def enclose(X, *values):
+
+class _Enclosure:
+    """:func:`_interval_fn`'s function: ``enclosure(X, *values)`` mpmath's interval or None;
+    ``fast``: the float enclosures ``(outer, inner)`` of :func:`langur.floativ.compile_enclosure`,
+    or None."""
+
+    __slots__ = ("fn", "fast")
+
+    def __init__(self, fn, fast):
+        self.fn, self.fast = fn, fast
+
+    def __call__(self, X, *values):
         try:
-            out = fn(X, *values)
+            out = self.fn(X, *values)
             out = out if isinstance(out, mpmath.iv.mpf) else mpmath.iv.mpf(out)
         except (ValueError, ZeroDivisionError, TypeError, OverflowError, mpmath.libmp.NoConvergence):
             return None
         return None if (mpmath.isnan(out.a) or mpmath.isnan(out.b)) else out
-    return enclose
+
+    def bind(self, *values) -> _Bound:
+        """This enclosure at the values (mpmath intervals or numbers) of the other symbols."""
+        return _Bound(self, values)
+
+
+class _Bound:
+    """An :class:`_Enclosure` with its other symbols' values put in: ``bound(X)``."""
+
+    __slots__ = ("enclosure", "values", "ends")
+
+    def __init__(self, enclosure: _Enclosure, values: tuple):
+        self.enclosure, self.values = enclosure, values
+        self.ends = None if enclosure.fast is None else tuple(e for v in values for e in floativ.ends(v))
+
+    def __call__(self, X):
+        return self.enclosure(X, *self.values)
+
+
+def _signer(enclosure, t):
+    """``(a, b) ↦`` 1 or −1 when the enclosure of ``enclosure − t`` over ``[a, b]`` (floats) is
+    positive or negative, 0 when it holds 0 or there is none (``t`` None: the enclosure itself, as
+    for the derivative).  mpmath's interval arithmetic decides; where ``enclosure`` is an
+    :class:`_Enclosure` (or :class:`_Bound`) of a polynomial, its float enclosures answer first
+    when they agree with any answer mpmath could give (:mod:`langur.floativ`): the same signs,
+    without mpmath in all but the cells where 0 is within rounding of an end."""
+    iv = mpmath.iv
+    T = None if t is None else iv.mpf(t)
+
+    def slow(a, b):
+        G = enclosure(iv.mpf([a, b]))
+        if G is None:
+            return 0
+        if T is not None:
+            G = G - T
+        return 1 if G.a > 0 else (-1 if G.b < 0 else 0)
+
+    if isinstance(enclosure, _Enclosure):
+        enclosure = enclosure.bind()
+    fast = enclosure.enclosure.fast if isinstance(enclosure, _Bound) else None
+    if fast is None or iv.prec != floativ.PREC:
+        return slow
+    outer, inner = fast
+    args = (*enclosure.ends, *((0.0, 0.0) if T is None else floativ.ends(T)))
+
+    def sign(a, b):
+        r = outer(a, b, *args)
+        if r is not None:
+            if r[0] > 0:
+                return 1  # mpmath's enclosure is inside this one: positive too
+            if r[1] < 0:
+                return -1
+            q = inner(a, b, *args)
+            if q is not None and q[0] <= 0 <= q[1]:
+                return 0  # mpmath's enclosure holds this one: it holds 0 too
+        return slow(a, b)
+    return sign
 
 
 def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: int = DEPTH,
@@ -199,35 +269,32 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     arithmetic rounds outward: a proof); a point where that enclosure contains 0 joins the two
     monotone cells around it when ``g`` rises (or falls) on both, else the piece is refused (an
     extremum of ``g`` that is 0 within rounding); at ``lo`` and ``hi`` such a sign is ``g``'s value's.
-    ``g``: a function of a number; ``g_iv``, ``dg_iv``: of an mpmath interval (None: no
-    enclosure).  ``lenient``: a cell still uncertified after ``depth`` halvings, and a point of
-    unknown sign between cells that do not join, are decided by ``g``'s values instead of refused
-    (turning points that move with the other *integration* variables merge on a null set of them:
-    :func:`langur.operational.signchanges.certified_brackets`).  The Monte Carlo engine certifies
-    the same way on its own (:mod:`langur.operational.signchanges`).  ``box``: ``g_iv`` and ``dg_iv``
-    enclose the equation for every value of its other symbols in a box (:func:`_box_brackets`):
-    nothing is decided by ``g``'s values (a point of unknown sign at an end of the domain is
-    refused too), so the brackets hold for every point of the box."""
-    iv = mpmath.iv
-    lo, hi = mpmath.mpf(lo), mpmath.mpf(hi)
+    ``g``: a function of a number (called with an mpmath number); ``g_iv``, ``dg_iv``: of an mpmath
+    interval (None: no enclosure; an :func:`_interval_fn` or its ``bind``: float enclosures decide
+    first, :func:`_signer`).  The cells' ends are doubles (the grid and the halvings rounded to
+    nearest, as mpmath at 53 bits).  ``lenient``: a cell still uncertified after ``depth`` halvings,
+    and a point of unknown sign between cells that do not join, are decided by ``g``'s values
+    instead of refused (turning points that move with the other *integration* variables merge on a
+    null set of them: :func:`langur.operational.signchanges.certified_brackets`).  The Monte Carlo
+    engine certifies the same way on its own (:mod:`langur.operational.signchanges`).  ``box``:
+    ``g_iv`` and ``dg_iv`` enclose the equation for every value of its other symbols in a box
+    (:func:`_box_brackets`): nothing is decided by ``g``'s values (a point of unknown sign at an end
+    of the domain is refused too), so the brackets hold for every point of the box."""
+    lo, hi = float(mpmath.mpf(lo)), float(mpmath.mpf(hi))
     if not hi > lo:  # an empty interval (a moving end past the other): no sign change
         return []
-    t = iv.mpf(target)
+    g_sign, dg_sign = _signer(g_iv, target), _signer(dg_iv, None)
     stack = [(hi if i == grid - 1 else lo + (hi - lo) * (i + 1) / grid, lo + (hi - lo) * i / grid, 0)
              for i in range(grid)][::-1]
     cells = []  # (a, b, direction), increasing; direction 0: no zero in the cell
     while stack:
         b, a, d = stack.pop()
-        X = iv.mpf([a, b])
-        G = g_iv(X)
-        if G is not None:
-            G = G - t
-            if G.a > 0 or G.b < 0:
-                cells.append((a, b, 0))  # no zero in the cell
-                continue
-        D = dg_iv(X)
-        if D is not None and (D.a > 0 or D.b < 0):  # monotone: at most one zero
-            cells.append((a, b, 1 if D.a > 0 else -1))
+        if g_sign(a, b):
+            cells.append((a, b, 0))  # no zero in the cell
+            continue
+        s = dg_sign(a, b)
+        if s:  # monotone: at most one zero
+            cells.append((a, b, s))
             continue
         if d == depth:
             if lenient:
@@ -237,7 +304,7 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
         m = (a + b) / 2
         stack.append((b, m, d + 1))
         stack.append((m, a, d + 1))
-    return _sign_changes(g, g_iv, t, target, cells, what, lenient, box)
+    return _sign_changes(g, g_sign, target, cells, what, lenient, box)
 
 
 #: The direction of a cell left uncertified in lenient mode (its ends' signs decide).
@@ -251,14 +318,12 @@ def _uncertified(what, a, b) -> TooManyRoots:
                         "stay too wide; Langur refuses rather than miss one")
 
 
-def _sign_changes(g, g_iv, t, target, cells, what, lenient=False, box=False) -> list[tuple]:
+def _sign_changes(g, g_sign, target, cells, what, lenient=False, box=False) -> list[tuple]:
     """The brackets between consecutive points of known sign (cells' ends) where the sign differs."""
     points = [c[0] for c in cells] + [cells[-1][1]]
     signs = []
     for i, p in enumerate(points):
-        G = g_iv(mpmath.iv.mpf([p, p]))
-        G = None if G is None else G - t
-        s = 0 if G is None else (1 if G.a > 0 else (-1 if G.b < 0 else 0))
+        s = g_sign(p, p)
         ends = i in (0, len(points) - 1)
         if s == 0 and not ends:  # inside: the cells around it must be monotone the same way
             before, after = cells[i - 1][2], cells[i][2]
@@ -269,7 +334,7 @@ def _sign_changes(g, g_iv, t, target, cells, what, lenient=False, box=False) -> 
             raise _uncertified(what, points[max(i - 1, 0)], points[min(i + 1, len(points) - 1)])
         if s == 0 and ends:  # within rounding of an end of the domain (or lenient: see above)
             try:
-                v = g(p) - target
+                v = g(mpmath.mpf(p)) - target
                 s = -1 if mpmath.isnan(v) or v < 0 else 1
             except (ValueError, ZeroDivisionError, OverflowError, TypeError):
                 s = -1
@@ -312,7 +377,8 @@ class ImplicitRootFn(sp.Function):
         of a condition in several variables, the parameters), or for an indexed root the key of its
         equation (certified by :func:`certified_brackets`, as ``evalf``); arrays (the numpy module)
         are solved element by element."""
-        if any(isinstance(v, _ARRAYS) and np.ndim(v) for v in (target, lo, hi, *free)):
+        if not _SCALARS.issuperset(map(type, (target, lo, hi, *free))) and any(
+                isinstance(v, _ARRAYS) and np.ndim(v) for v in (target, lo, hi, *free)):
             t, a, b, *rest = np.broadcast_arrays(target, lo, hi, *free)
             return np.array([_solve(fn, ti, ai, bi, index, of, *r)
                              for ti, ai, bi, *r in zip(t.flat, a.flat, b.flat, *(c.flat for c in rest))],
@@ -353,13 +419,65 @@ class ImplicitRootFn(sp.Function):
 
 
 def _solve(fn, target, lo, hi, index, of, *values):
-    if isinstance(fn, str):  # an indexed root: certified as evalf certifies it
-        return _indexed_at(fn, target, lo, hi, int(index), int(of), *values)
-    return double_root(fn, float(target), lo, hi, values)
+    if isinstance(fn, str):  # an indexed root: certified as evalf certifies it (remembered: see below)
+        key = (fn, target, lo, hi, index, of, values)
+        try:
+            root = _ROOTS.get(key)
+        except TypeError:  # an argument that is not a number (no hash): not remembered
+            return _indexed_at(fn, target, lo, hi, int(index), int(of), *values)
+        if root is None:
+            root = _indexed_at(fn, target, lo, hi, int(index), int(of), *values)
+            if not _has_zero(lo, hi, values):
+                _remember(key, root)
+        return root
+    t = float(target)
+    # the same root asked again (a quadrature's conditions, guards and breakpoints at one abscissa
+    # name it several times): ``double_root`` is a function of its arguments, so it is remembered
+    # by them — the equation by its code and namespace (a new lambda per call, the same code); not
+    # a function whose code alone does not say what it computes (a closure, default arguments)
+    code = getattr(fn, "__code__", None)
+    if code is None or fn.__closure__ is not None or fn.__defaults__ is not None or fn.__kwdefaults__:
+        return double_root(fn, t, lo, hi, values)
+    key = (code, id(fn.__globals__), t, lo, hi, values)
+    try:
+        return _ROOTS[key]
+    except KeyError:
+        pass
+    except TypeError:  # an argument that is not a number (no hash): not remembered
+        return double_root(fn, t, lo, hi, values)
+    root = double_root(fn, t, lo, hi, values)
+    if not _has_zero(lo, hi, values):
+        _remember(key, root, fn.__globals__)
+    return root
+
+
+#: Roots already found (:func:`_solve`, :func:`_indexed_root`), by their arguments; at most
+#: :data:`ROOTS` kept (then forgotten all at once, with the namespaces their keys name by id).
+_ROOTS: dict = {}
+_HELD: list = []
+ROOTS = 100_000
+
+
+def _has_zero(lo, hi, values) -> bool:
+    """Whether a bracket's end or a value is ±0 (then not remembered: a dict does not tell −0.0
+    from 0.0, and a root at that end would be returned with its sign; the target's sign of zero
+    changes only the sign of a zero difference, which Brent's method tests by ``== 0``)."""
+    return 0 in (lo, hi) or 0 in values
+
+
+def _remember(key, root, held=None) -> None:
+    if len(_ROOTS) >= ROOTS:
+        _ROOTS.clear()
+        _HELD.clear()
+    if held is not None:
+        _HELD.append(held)  # alive while the key names it by id
+    _ROOTS[key] = root
 
 
 #: The arguments ``_imp_`` solves element by element (anything else is a number: ndim 0).
 _ARRAYS = (np.ndarray, list, tuple)
+#: Types that are numbers for certain (no test of ``np.ndim`` needed).
+_SCALARS = frozenset({float, int, np.float64})
 
 
 @lru_cache(maxsize=4096)
@@ -445,7 +563,7 @@ def _brackets_at(x, shape, consts: tuple, t: float, a: float, b: float) -> tuple
         mp = [mpmath.mpf(c._mpf_) for c in consts]
         iv = [mpmath.iv.mpf(str(sp.Float(c, c._prec)).strip()) for c in consts]  # enclosing the constants
         try:
-            found = certified_brackets(lambda z: fn(z, *mp), lambda X: g_iv(X, *iv), lambda X: dg_iv(X, *iv), t, a, b,
+            found = certified_brackets(lambda z: fn(z, *mp), g_iv.bind(*iv), dg_iv.bind(*iv), t, a, b,
                                        what=f"{shape.xreplace(dict(zip(_PLACEHOLDERS, consts)))}",
                                        lenient=x in _LENIENT)
         except TooManyRoots as err:
@@ -472,9 +590,9 @@ def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
     ``evalf`` finds it (certified brackets, then bisection with mpmath), its equation compiled
     once for all values (a quadrature over the other inputs asks for thousands)."""
     t, a, b = float(target), float(lo), float(hi)
-    if math.isnan(t) or math.isnan(a) or math.isnan(b):
+    if t != t or a != a or b != b:  # NaN
         return math.nan
-    vals = tuple(float(v) for v in values)
+    vals = tuple(map(float, values))
     brackets = _brackets_of(key, t, a, b, vals)
     if len(brackets) > of:
         lam, _ = _INDEXED[key]
@@ -484,9 +602,21 @@ def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
                            _SPANS.get(lam.variables[0]))
     if index >= len(brackets):
         return b
-    fn = _compiled(key)[3]
     p, q = brackets[index]
-    return float(double_root(fn, t, p, q, vals))  # in doubles: the result is one
+    return _indexed_root(key, t, p, q, vals)
+
+
+def _indexed_root(key: str, t: float, p: float, q: float, vals: tuple) -> float:
+    """The root of the equation named ``key`` in its certified bracket ``[p, q]`` in doubles,
+    remembered by its arguments (a quadrature's conditions and breakpoints at one abscissa ask for
+    the same turning point several times)."""
+    k = (key, t, p, q, vals)
+    root = _ROOTS.get(k)
+    if root is None:
+        root = float(double_root(_compiled(key)[3], t, p, q, vals))  # in doubles: the result is one
+        if not _has_zero(p, q, vals):
+            _remember(k, root)
+    return root
 
 
 @lru_cache(maxsize=256)
@@ -495,8 +625,14 @@ def _compiled(key: str) -> tuple:
     interval versions, each called as ``(x, *values of its other symbols)``."""
     lam, free = _INDEXED[key]
     (x,), f = lam.variables, lam.expr
-    return (sp.lambdify([x, *free], f, modules="mpmath"), _interval_fn(x, f, free),
-            _interval_fn(x, sp.diff(f, x), free), sp.lambdify([x, *free], f, modules="math"))
+    mp = []  # on mpmath numbers only where no box certifies (rare): compiled when first called
+
+    def on_mpmath(*args):
+        if not mp:
+            mp.append(sp.lambdify([x, *free], f, modules="mpmath"))
+        return mp[0](*args)
+    return (on_mpmath, _interval_fn(x, f, free), _interval_fn(x, sp.diff(f, x), free),
+            sp.lambdify([x, *free], f, modules="math"))
 
 
 @lru_cache(maxsize=65536)
@@ -519,8 +655,8 @@ def _brackets_of(key: str, t: float, a: float, b: float, vals: tuple) -> tuple:
     mp_vals = [mpmath.mpf(v) for v in vals]
     with mpmath.workprec(53):
         try:
-            found = certified_brackets(lambda z: fn(z, *mp_vals), lambda X: g_iv(X, *iv_vals),
-                                       lambda X: dg_iv(X, *iv_vals), t, a, b, what=f"{lam.expr}",
+            found = certified_brackets(lambda z: fn(z, *mp_vals), g_iv.bind(*iv_vals),
+                                       dg_iv.bind(*iv_vals), t, a, b, what=f"{lam.expr}",
                                        lenient=x in _LENIENT)
         except TooManyRoots as err:
             raise TooManyRoots(str(err), _SPANS.get(x)) from None
@@ -537,6 +673,7 @@ BOX_DEPTH = 8
 _BOXES: dict = {}
 #: At most this many boxes are kept (then forgotten all at once).
 BOXES = 200_000
+_UNSEEN = object()
 
 
 def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple | None:
@@ -552,18 +689,17 @@ def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple 
     fn, g_iv, dg_iv, _ = _compiled(key)
     for level in BOX_LEVELS:
         w = 2.0 ** level
-        cell = tuple(math.floor(v / w) for v in vals)
+        cell = (math.floor(vals[0] / w),) if len(vals) == 1 else tuple(math.floor(v / w) for v in vals)
         k = (key, t, a, b, level, cell)
-        if k in _BOXES:
-            found = _BOXES[k]
-        else:
+        found = _BOXES.get(k, _UNSEEN)
+        if found is _UNSEEN:
             if len(_BOXES) >= BOXES:
                 _BOXES.clear()
             box = [mpmath.iv.mpf([c * w, (c + 1) * w]) for c in cell]  # dyadic: exact in binary
             with mpmath.workprec(53):
                 try:
                     found = tuple((float(p), float(q)) for p, q in certified_brackets(
-                        None, lambda X, box=box: g_iv(X, *box), lambda X, box=box: dg_iv(X, *box), t, a, b, depth=BOX_DEPTH,
+                        None, g_iv.bind(*box), dg_iv.bind(*box), t, a, b, depth=BOX_DEPTH,
                         box=True))
                 except TooManyRoots:
                     found = None
