@@ -73,9 +73,10 @@ from . import affine, turning
 from .affine import fresh_inputs
 from .support import float_bounds
 
-#: Wall-clock limit (seconds) of one completion / one declaration check.
+#: CPU-second limit of one completion / one declaration check (CPU, not wall clock: what a program
+#: completes to must not change with the machine's load).
 TIME_LIMIT = 10.0
-#: Limit (seconds) of the symbolic proof that a declared inverse inverts (then: numeric check).
+#: CPU-second limit of the symbolic proof that a declared inverse inverts (then: numeric check).
 SYMBOLIC_LIMIT = 3.0
 #: More inverse branches than this on the domain is treated as "infinitely many".
 MAX_BRANCHES = 64
@@ -130,9 +131,9 @@ def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box, avoid: fr
     ends = {v: (lo, hi) for v, lo, hi in box}  # … but an implicit root's bracket may follow it (issue 18)
     try:
         found = run_with_timeout(lambda: _choose(cond, expr, variables, occurring, inputs, params, bounds, ends, avoid),
-                                 TIME_LIMIT)
+                                 TIME_LIMIT, cpu=True)
     except TimeoutError:
-        raise CompletionError(f"sympy could not invert the condition within {TIME_LIMIT:g}s") from None
+        raise CompletionError(f"sympy could not invert the condition within {TIME_LIMIT:g} CPU s") from None
     if isinstance(found, str):
         raise CompletionError(found)
     return found
@@ -235,7 +236,7 @@ def _solve_for(e, v, u0, others: set, ranges):
     return peel_reason
 
 
-#: Limit (seconds) of the search for turning points that explains a refusal.
+#: CPU-second limit of the search for turning points that explains a refusal.
 SHAPE_LIMIT = 2.0
 
 
@@ -252,7 +253,7 @@ def _shape(e, v, interval) -> str:
         return ""  # turning points that move with parameters or other variables: not analysed here
     dom = sp.Interval(sp.nsimplify(lo), sp.nsimplify(hi))
     try:
-        zeros = run_with_timeout(lambda: sp.solveset(d, v, dom), SHAPE_LIMIT)
+        zeros = run_with_timeout(lambda: sp.solveset(d, v, dom), SHAPE_LIMIT, cpu=True)
     except TimeoutError:
         return ""
     rewrite = ("; Langur completes a condition only where a variable can be isolated in closed form "
@@ -421,9 +422,9 @@ def check_declared(name: str, variables: tuple[str, ...], params: tuple[str, ...
         inverse = tuple(substitute(c, {a: Var(b) for a, b in zip(inputs, new)}) for c in inverse)
         inputs = new
     try:
-        nonzero = run_with_timeout(lambda: _check(name, variables, params, forward, inputs, inverse), TIME_LIMIT)
+        nonzero = run_with_timeout(lambda: _check(name, variables, params, forward, inputs, inverse), TIME_LIMIT, cpu=True)
     except TimeoutError:
-        raise DiffeoCheckError("T215", f"diffeo {name}: could not check within {TIME_LIMIT:g}s that the inverse "
+        raise DiffeoCheckError("T215", f"diffeo {name}: could not check within {TIME_LIMIT:g} CPU s that the inverse "
                                "inverts Ψ̂ and that its Jacobian is nonsingular (simplify the declaration)") from None
     return Diffeo(variables=tuple(variables), forward=tuple(forward), inputs=tuple(inputs),
                   branches=(InverseBranch(tuple(inverse)),), solved_for=None, name=name, nonzero=nonzero)
@@ -458,7 +459,7 @@ def _numeric_inverse(name, variables, params, inputs, F, G, xs, us):
     there = [f.subs(dict(zip(xs, G)), simultaneous=True) - u for f, u in zip(F, us)]
     back = [g.subs(dict(zip(us, F)), simultaneous=True) - x for g, x in zip(G, xs)]
     try:  # a symbolic proof when sympy finds one quickly; otherwise the numeric check decides
-        if run_with_timeout(lambda: all(sp.simplify(d) == 0 for d in there + back), SYMBOLIC_LIMIT):
+        if run_with_timeout(lambda: all(sp.simplify(d) == 0 for d in there + back), SYMBOLIC_LIMIT, cpu=True):
             return
     except TimeoutError:
         pass

@@ -73,7 +73,7 @@ from ..sympy_bridge import from_sympy
 from ..timebox import run_with_timeout
 from .monotone import _enclose, certify, rational
 
-#: Wall-clock limit (seconds) of the search for turning points.
+#: CPU-second limit of the search for turning points (CPU: the split must not change with the load).
 TURNING_LIMIT = 4.0
 #: More monotone pieces than this from exact turning points: found numerically instead.
 MAX_PIECES = 32
@@ -106,9 +106,9 @@ def _piece_ends(cond: Term, e: sp.Expr, d: sp.Expr, v: sp.Symbol, lo: float, hi:
     turning points, exact or (moving, no closed form) the k-th certified sign changes of ``d``."""
     L, R = rational(lo), rational(hi)
     try:
-        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT)
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT, cpu=True)
     except TimeoutError:
-        return f"sympy could not find where it is continuous within {TURNING_LIMIT:g}s"
+        return f"sympy could not find where it is continuous within {TURNING_LIMIT:g} CPU s"
     except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
         return f"sympy could not find where it is continuous ({type(err).__name__})"
     if not (isinstance(dom, sp.Interval) and dom.start.is_number and dom.end.is_number and dom.start < dom.end):
@@ -245,7 +245,7 @@ def _continuous_on_box(e: sp.Expr, d: sp.Expr, v: sp.Symbol, variables: tuple[st
     lo, hi = bounds[v.name]
     L, R = rational(lo), rational(hi)
     try:
-        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT)
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.Interval(L, R)), TURNING_LIMIT, cpu=True)
         if dom == sp.Interval(L, R):
             return None
     except Exception:  # noqa: BLE001 - sympy's own failures (multivariate sets): the enclosure decides
@@ -279,9 +279,9 @@ def _parametric(cond: Term, e: sp.Expr, v: sp.Symbol, variables, inputs, lo, hi)
     if why is None:
         return _by_roots(cond, v.name, variables, inputs, [a, b])
     try:
-        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.S.Reals), TURNING_LIMIT)
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.S.Reals), TURNING_LIMIT, cpu=True)
     except TimeoutError:
-        dom = f"an unknown set (sympy did not decide within {TURNING_LIMIT:g}s)"
+        dom = f"an unknown set (sympy did not decide within {TURNING_LIMIT:g} CPU s)"
     except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
         dom = f"an unknown set ({type(err).__name__})"
     if dom != sp.S.Reals:
@@ -301,10 +301,10 @@ def _monotone_on_the_line(e: sp.Expr, v: sp.Symbol) -> str | None:
     if d.free_symbols - {v}:
         return f"∂/∂{v} = {d} depends on the parameters"
     try:
-        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.S.Reals), TURNING_LIMIT)
-        zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.S.Reals), TURNING_LIMIT)
+        dom = run_with_timeout(lambda: continuous_domain(e, v, sp.S.Reals), TURNING_LIMIT, cpu=True)
+        zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.S.Reals), TURNING_LIMIT, cpu=True)
     except TimeoutError:
-        return f"sympy could not decide within {TURNING_LIMIT:g}s where ∂/∂{v} = {d} vanishes"
+        return f"sympy could not decide within {TURNING_LIMIT:g} CPU s where ∂/∂{v} = {d} vanishes"
     except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
         return f"sympy could not decide where ∂/∂{v} = {d} vanishes ({type(err).__name__})"
     if dom != sp.S.Reals:
@@ -345,7 +345,7 @@ def _exact_ends(d, v, L, R) -> list[Term] | str | None:
     ``[L, R]``; None when sympy cannot solve ``d = 0`` (then they are found numerically where the
     condition is evaluated); a reason when there are too many or infinitely many."""
     try:
-        zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.Interval(L, R)), TURNING_LIMIT)
+        zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.Interval(L, R)), TURNING_LIMIT, cpu=True)
     except TimeoutError:
         return None
     if zeros is sp.S.EmptySet:
