@@ -16,11 +16,10 @@ with y, a cusp where they merge) still has no exact value: it must say so, not c
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 import sympy as sp
+from cubic_reference import L, M, g
 from scipy import integrate
 
 from langur import exact as api
@@ -28,27 +27,8 @@ from langur import frontend, operational
 from langur.ddenote import ddenote_program
 from langur.symbolic import quadrature
 
-M = 2 / (3 * math.sqrt(3))  # the largest value of g on [-1, 1], at -1/√3
-T = 1 / math.sqrt(3)
 TOL = 1e-10
 H = 4e-3
-
-
-def g(t):
-    return t**3 - t
-
-
-def L(c):
-    """|{z ∈ [−1, 1] : z³ − z ≥ c}| from the trigonometric roots of z³ − z − c."""
-    if c <= -M:
-        return 2.0
-    if c >= M:
-        return 0.0
-    th = math.acos(max(-1.0, min(1.0, c / M))) / 3
-    r0 = 2 * T * math.cos(th)
-    r1, r2 = 2 * T * math.cos(th - 2 * math.pi / 3), 2 * T * math.cos(th + 2 * math.pi / 3)
-    r1, r2 = max(r1, r2), min(r1, r2)
-    return (r1 - max(r2, -1.0)) + max(0.0, 1.0 - r0)
 
 
 def roots_in(c, lo, hi):
