@@ -178,11 +178,11 @@ def _inside(x: dict, box: dict) -> np.ndarray:
     return inside
 
 
-def vanishing_note(sampler, points: str = "") -> str:
-    """The note of a result where a condition's completion divides by a coefficient that is 0."""
-    return (f"⦇p⦈ is not defined{points}: the completion of the condition{sampler.where()} divides by a "
-            "parameter coefficient that is 0 here (no diffeomorphism); the result is NaN there (`langur "
-            "deriv` completes such a condition by another variable where one does not degenerate)")
+#: The note of a result where a condition's completion divides by a coefficient that is 0 (the
+#: sampler's Ψ̂ is canonical, shared by programs: it has no place in a source to point to).
+VANISHING_NOTE = ("⦇p⦈ is not defined: the completion of a condition divides by a parameter coefficient that "
+                  "is 0 here (no diffeomorphism); the result is NaN (`langur deriv` completes such a "
+                  "condition by another variable where one does not degenerate)")
 
 
 def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
@@ -201,7 +201,7 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
             continue  # D_γ π₀Ψ̂·γ' ≡ 0: the delta's coefficient vanishes identically
         if site.sampler.vanishing(p):  # Ψ̂ is no diffeomorphism here: ⦇p⦈ is not defined
             if notes is not None:
-                notes.append(vanishing_note(site.sampler))
+                notes.append(VANISHING_NOTE)
             return math.nan, math.nan
         des = point if point is not None else design(rng, m, samples, method)
         region = site.sampler.region(box, p) if m else ()

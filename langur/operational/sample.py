@@ -158,11 +158,6 @@ class SiteSampler:
             out = out | (np.asarray(fn(env, UNLINKED)[0], dtype=float) == 0.0)
         return out
 
-    def where(self) -> str:
-        """The condition's place in the source, for notes (``line:col``), or ``""``."""
-        span = self.psi.span
-        return f" at {span.line}:{span.col}" if span is not None else ""
-
     def region(self, box: dict[str, tuple[float, float]], params: dict) -> list[tuple[float, float]]:
         """The u'-box: a variable's own interval, or an interval enclosure of Ψ̂'s component."""
         lo, hi = self.region_many(_column(box), params)
