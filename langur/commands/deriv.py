@@ -59,8 +59,9 @@ def run(args) -> int:
         target = program
     with progress.phase("integrability analysis"):
         defined = _defined.derivative(program, params, direction, args.file)  # X311 / X313
-    sides = None  # X305: ⦇p⦈ is not defined at these parameter values; is ⟦p⟧ differentiable there?
-    if gate.here and not gate.findings:
+    here = bool(gate.here) and not gate.findings  # X305: ⦇p⦈ is not defined at these parameter values
+    sides = None  # … is ⟦p⟧ differentiable there all the same?
+    if here:
         defined.findings = gate.here + defined.findings
         if defined.undefined is None and args.engine in ("both", "exact"):
             with progress.phase("one-sided derivatives of ⟦p⟧"):
@@ -83,7 +84,7 @@ def run(args) -> int:
     if args.engine in ("both", "mc"):
         mc = run_mc("deriv", target, params, args, direction,
                     infinite_variance=defined.infinite_variance or (integral_undefined and "the derivative does not exist"))
-        if mc is not None and integral_undefined is None and gate.here and not gate.findings and not math.isnan(mc.value):
+        if mc is not None and here and integral_undefined is None and not math.isnan(mc.value):
             mc = replace(mc, notes=("⦇p⦈'s estimate, which is not the derivative at these parameter values (X305)",
                                     *mc.notes))
         if mc is None and args.engine == "mc":
