@@ -35,6 +35,8 @@ import time
 from collections.abc import Callable, Iterable
 from multiprocessing.connection import wait
 
+from .. import framestack
+
 #: Seconds a unit may run past its time limit before it is killed (the Monte Carlo estimates
 #: after an exact engine that used its whole budget).
 GRACE = 5.0
@@ -111,7 +113,9 @@ class _Worker:
     def __init__(self, ctx, work, told):
         task_reader, self.tasks = ctx.Pipe(duplex=False)
         self.results, result_writer = ctx.Pipe(duplex=False)
-        self.proc = ctx.Process(target=_serve, args=(task_reader, result_writer, work, told), daemon=True)
+        # a worker's frame stack kept grown: no mmap/munmap per call-depth swing (langur.framestack)
+        self.proc = ctx.Process(target=framestack.run, args=(_serve, task_reader, result_writer, work, told),
+                                daemon=True)
         self.proc.start()
         task_reader.close()
         result_writer.close()
