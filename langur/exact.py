@@ -18,6 +18,7 @@ on part of the domain).
 
 from __future__ import annotations
 
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -43,6 +44,7 @@ from .symbolic.text import (
 )
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .theorem import TheoremCheck, check_theorem_8_1
+from .timebox import run_with_timeout
 
 
 class ExactUnavailable(Exception):
@@ -154,21 +156,34 @@ def exact_eval(program: Program, params: Mapping[str, float | object]) -> ExactV
     return ExactValue.of(_guard(denote_program, program, dict(params)))
 
 
+#: The note of a derivative whose Theorem 8.1 check ran out of the CPU seconds it was given.
+CHECK_STOPPED = "Theorem 8.1 check stopped: its CPU budget was spent"
+
+
 def exact_deriv(program: Program, params: Mapping[str, float | object], direction: Mapping[str, float | object],
-                *, check: bool = True) -> ExactDerivative:
+                *, check: bool = True, check_seconds: float | None = None) -> ExactDerivative:
     """⦇p⦈ at ``params`` in the direction γ' = ``direction`` (``--wrt a`` is ``{"a": 1}``), with the
-    check of Theorem 8.1 unless ``check`` is false."""
+    check of Theorem 8.1 unless ``check`` is false; ``check_seconds``: the CPU seconds the check may
+    take (None: no limit), past which it is left out with the note :data:`CHECK_STOPPED` (the
+    derivative itself is never cut short)."""
     params, direction = dict(params), dict(direction)
     res = _guard(ddenote_program, program, params, direction)
     base = ExactValue.of(res)
     notes, theorem = base.notes, None
+
+    def checked():
+        # ⟦p⟧ near the point is all the check needs (it localizes ⟦p⟧'s closed form there)
+        with units_unloaded():  # sympy's simplify without its import of physical units
+            denotation = denote_program(program, params, near=True)
+            return check_theorem_8_1(program, params, direction, denotation=denotation, derivative=res)
+
     if check:
+        start = time.process_time()
         try:
-            # ⟦p⟧ near the point is all the check needs (it localizes ⟦p⟧'s closed form there)
-            with units_unloaded():  # sympy's simplify without its import of physical units
-                denotation = denote_program(program, params, near=True)
-                theorem = check_theorem_8_1(program, params, direction, denotation=denotation,
-                                            derivative=res)
+            theorem = run_with_timeout(checked, check_seconds, cpu=True)
+        except TimeoutError as e:  # this limit's, or one inside the check that it did not catch
+            spent = check_seconds is not None and time.process_time() - start >= check_seconds - 1e-3
+            notes.append(CHECK_STOPPED if spent else f"Theorem 8.1 check not computed: {e}")
         except Exception as e:  # noqa: BLE001 - the check is a report, not a reason to lose the derivative
             notes.append(f"Theorem 8.1 check not computed: {str(e).splitlines()[0] if str(e) else e!r}")
     return ExactDerivative(base.value, base.expr, base.method, base.error, notes, base.inconsistent,

@@ -132,6 +132,10 @@ def run(args) -> int:
     print(f"  {'status':<20}{'programs':>9}")
     for k, v in counts.items():
         print(f"  {k:<20}{v:>9}")
+    th = summary.theorem_counts()
+    if any(th.values()):
+        print(f"  Theorem 8.1 on the partial derivatives: {th['checked']} checked, {th['undecided']} undecided, "
+              f"{th['budget']} left out (its CPU budget spent), {th['not_computed']} not computed")
     worst = max((r for res in summary.results for r in res.rows if r.quantity != "theorem_8_1"
                  and r.stderr > 0), key=lambda r: r.z, default=None)
     label = engine.name if engine is not None else "mc"
