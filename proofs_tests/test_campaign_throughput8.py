@@ -1,0 +1,70 @@
+"""Campaign throughput, eighth pass (issue 13, camp8): less Python per innermost sub-interval of
+the nested quadrature, the same numbers.
+
+* :func:`quadrature._gk21_panel` (QUADPACK's 21-point Gauss–Kronrod panel on the 21 values at
+  once) gives bitwise :func:`quadrature.gauss_kronrod_21`'s answer, and integrates a polynomial
+  of degree 20 exactly (by hand: ∫₋₁¹ t²⁰ dt = 2/21);
+* :func:`quadrature._first_panel` on a weight constant in the innermost variable (numpy returns
+  one number) gives ``c·(b − a)`` with the same answer as the 21 values spelled out;
+* the conditions tested at each sub-interval's midpoint are tried in a move-to-front order
+  (:meth:`quadrature.NumProblem.tests`): a 3-D region cut by several conditions against its
+  volume by hand, bitwise the value with the order frozen, and the order did move.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import sympy as sp
+
+from langur.symbolic import quadrature as q
+from langur.symbolic.pieces import Condition, Piece
+
+
+def test_gk21_panel_is_gauss_kronrod_21_bitwise():
+    rng = np.random.default_rng(8)
+    cases = [rng.normal(size=21) * 10.0 ** rng.integers(-8, 8) for _ in range(200)]
+    cases += [np.full(21, 3.7), np.zeros(21), np.full(21, -1e-300), np.exp(np.linspace(-3, 3, 21))]
+    for y in cases:
+        for half in (0.5, 1e-9, 3.25, -2.0):
+            old = q.gauss_kronrod_21(y[:10], y[10:20], float(y[20]), half)
+            new = q._gk21_panel(y, half)
+            assert (new[0], new[1], new[2]) == (old[0], old[1], old[3])
+
+
+def test_gk21_panel_integrates_a_degree_20_polynomial_exactly():
+    t = 0.0 + 1.0 * q._X21  # the abscissae of [−1, 1] in the panel's order
+    result, abserr, _ = q._gk21_panel(t ** 20, 1.0)
+    assert abs(result - 2 / 21) <= 1e-15
+    assert abserr <= 1e-3  # (the Gauss rule alone is off: QUADPACK's estimate says so)
+
+
+def test_first_panel_of_a_constant_weight():
+    y, z = sp.symbols("y z")
+    vw = q._vectorize([y, z], sp.Float(2.5) * sp.log(y + 2), {})
+    assert np.ndim(vw(0.3, np.linspace(0, 1, 21))) == 0  # numpy returns one number: constant in z
+    val, err = q._first_panel(vw, (0.3,), 0.25, 1.75, 1e-11)
+    assert abs(val - 2.5 * math.log(2.3) * 1.5) <= 1e-14 and err <= 1e-12
+    spelled = q._first_panel(lambda yy, tt: np.full(tt.shape, 2.5 * math.log(yy + 2)), (0.3,), 0.25, 1.75, 1e-11)
+    assert (val, err) == spelled
+
+
+def test_midpoint_tests_move_to_front_same_value():
+    x, y, z, a = sp.symbols("x y z a")
+    # the unit cube cut by z ≤ a, x + z ≤ 1 and y ≥ z: at each (x, y) the midpoint of a sub-interval
+    # of z fails one of them or none
+    piece = Piece((Condition(a - z), Condition(1 - x - z), Condition(y - z)), sp.Integer(1))
+    box = [(0, 1), (0, 1), (0, 1)]
+    at = {a: sp.Rational(1, 2)}
+    q._DONE.clear()
+    prob = q.piece_problem(piece, [x, y, z], box, at)
+    val, err = q.integrate_problem(prob)
+    # volume: ∫_0^{1/2} (1 − z)·(1 − z) dz (for z ≤ 1/2: x ≤ 1 − z, y ≥ z) = [−(1 − z)³/3]_0^{1/2} = 7/24
+    assert abs(val - 7 / 24) <= err + 1e-12
+    order, reorder = prob.tests(2)
+    assert reorder and order != prob.here(2)  # a failing condition was moved to the front
+
+    frozen = q.piece_problem(piece, [x, y, z], box, at)
+    frozen._tests = {lv: (list(frozen.here(lv)), False) for lv in range(3)}
+    assert q.integrate_problem(frozen) == (val, err)
