@@ -965,7 +965,9 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
 #: CPU seconds one delta problem through an implicit root (``folds``) may take: in two or more
 #: coordinates its weight's fold singularity (1/√ along the fold curve, 1/|t − t₀| across it where
 #: the fold curve is itself singular) keeps the nested quadrature from its tolerance for hours.
-FOLD_SECONDS = 20.0
+#: The 3-D folium on [−1, 1]³ needs 30–52 CPU s per branch problem (one implicit root, and a
+#: moving turning point's certified bracket, per abscissa: ~70 % of the time), hence 90.
+FOLD_SECONDS = 90.0
 
 
 class FoldUnresolved(ValueError):
