@@ -1186,7 +1186,7 @@ def _bracket_jumps(e: sp.Expr, v: sp.Symbol, lo: float, hi: float, at: dict) -> 
         if not free_symbols(g) <= {z, v}:
             continue
         try:
-            exprs = [run_with_timeout(lambda g=g: sp.resultant(g, sp.diff(g, z), z), RESULTANT_SECONDS, cpu=True),
+            exprs = [run_with_timeout(lambda g=g, z=z: sp.resultant(g, sp.diff(g, z), z), RESULTANT_SECONDS, cpu=True),
                      g.xreplace({z: blo}), g.xreplace({z: bhi})]
         except Exception:  # noqa: BLE001 - sympy fails in many ways; then no jump is known (as before)
             continue
@@ -1250,8 +1250,8 @@ def _add_fold_guards(p: NumProblem, level: int) -> None:
             out = last.get(args)
             if out is None:
                 out = []
-                for phi, dphi, jumps, sides in parts:
-                    found = _roots(lambda t: dphi(*args, t), vlo, vhi)
+                for _, dphi, jumps, _ in parts:
+                    found = _roots(lambda t, dphi=dphi: dphi(*args, t), vlo, vhi)
                     out.append([t for t in found if all(abs(t - d) > FOLD_STEP * 64 * max(1.0, abs(d)) for d in jumps)])
                 last.clear()
                 last[args] = out
@@ -1312,7 +1312,9 @@ def _add_fold_guards(p: NumProblem, level: int) -> None:
                             if not (math.isfinite(u) and math.isfinite(w)) or u == 0.0 or (u < 0) == (w < 0):
                                 continue
 
-                            def one(x, i=i, kind=kind, k=k, n=len(ya)):
+                            n = len(ya)
+
+                            def one(x, i=i, kind=kind, k=k, n=n):
                                 vs = specials(*prefix, x)[i][kind]
                                 return vs[k] if len(vs) == n else math.nan
 
