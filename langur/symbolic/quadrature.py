@@ -1292,6 +1292,8 @@ def _add_fold_guards(p: NumProblem, level: int) -> None:
 
         def specials(*args, parts=parts, crits=crits):
             """φ at each factor's special points: (values at critical points, values at jump sides)."""
+            if time.process_time() > p.until:  # (the outer kinks' grid is part of the problem's budget)
+                raise FoldUnresolved(_fold_message(p, f"did not reach its tolerance within {FOLD_SECONDS:g} CPU seconds"))
             out = []
             for (phi, _, _, sides), cs in zip(parts, crits(*args)):
                 out.append(([phi(*args, t) for t in cs], [phi(*args, q) for ab in sides for q in ab]))
