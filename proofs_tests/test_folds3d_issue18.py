@@ -11,7 +11,8 @@ curve's turning points (kinks), and adds the fold ends' rounding to its error bo
 cubic's trigonometric roots (nested scipy ``quad`` with the kinks as breakpoints), dV/da by the
 five-point central difference at h = 4·10⁻³ (its error measured at ~3·10⁻⁹ against h = 10⁻³ and
 tighter tolerances), and against the Monte Carlo engine.  The 3-D folium (turning points moving
-with y, a cusp where they merge) still has no exact value: it must say so, not call it undefined.
+with y, a cusp where they merge) has a value since roots10 (test_folds3d_folium.py); past its CPU
+budget it must say "no exact value", not call the integral undefined.
 """
 
 from __future__ import annotations
@@ -71,7 +72,7 @@ def test_separable_cubic_across_the_fold_curve_has_a_value():
     assert abs(mc.value - float(r.value)) <= 5 * mc.stderr + 1e-9, (mc.value, mc.stderr, float(r.value))
 
 
-def test_folium_in_three_variables_is_still_no_value_not_undefined(monkeypatch):
+def test_folium_past_its_budget_is_no_value_not_undefined(monkeypatch):
     monkeypatch.setattr(quadrature, "FOLD_SECONDS", 1.0)
     program = frontend.load_text(FOLIUM, "folium3.lgr").program
     with pytest.raises(api.ExactUnavailable, match="singular along the fold") as info:

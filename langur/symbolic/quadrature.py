@@ -1020,7 +1020,9 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
 #: CPU seconds one delta problem through an implicit root (``folds``) may take: in two or more
 #: coordinates its weight's fold singularity (1/√ along the fold curve, 1/|t − t₀| across it where
 #: the fold curve is itself singular) keeps the nested quadrature from its tolerance for hours.
-FOLD_SECONDS = 20.0
+#: The 3-D folium on [−1, 1]³ needs 30–52 CPU s per branch problem (one implicit root, and a
+#: moving turning point's certified bracket, per abscissa: ~70 % of the time), hence 90.
+FOLD_SECONDS = 90.0
 
 
 class FoldUnresolved(ValueError):
@@ -1211,6 +1213,175 @@ def _add_fold_turns(p: NumProblem, level: int) -> None:
             return math.prod(vals) if vals else math.nan
 
         p.kinks[level].append((kink, roots))
+        p.kink_vary[level].append(tuple(range(level)))
+    _add_fold_guards(p, level)
+
+
+#: A bracket end that jumps (an indexed root appearing or vanishing: the turning points ±√(y/3) of
+#: z³ − yz appear at y = 0) is looked at this far on either side, relative to max(1, |d|).
+FOLD_JUMP = 1e-9
+#: The step of :func:`_add_fold_guards`' central differences (relative to max(1, |v|)); critical
+#: points this close to a jump (×64) are the jump's, not the factor's.
+FOLD_STEP = 1e-7
+
+
+def _bracket_jumps(e: sp.Expr, v: sp.Symbol, lo: float, hi: float, at: dict) -> list[float]:
+    """Where a moving turning point in ``e`` (an indexed root, ``sign_change_k(3z² − y)``) appears
+    or vanishes as ``v`` moves in (lo, hi): its equation g(z; v) = 0 has a double root (the resultant
+    of g and ∂g/∂z in z vanishes) or a root at its bracket's end — there the bracket end, and with
+    it the guard, jumps (the folium's cusp at y = 0).  Only for an equation polynomial in z whose
+    other symbols are v and the parameters, with constant bracket ends; roots by numpy."""
+    out: set = set()
+    for r in e.atoms(ImplicitRootFn):
+        lam, target, blo, bhi, index, _ = r.args
+        if int(index) < 0 or not (sp.sympify(blo).is_number and sp.sympify(bhi).is_number):
+            continue
+        (z,), f = lam.variables, lam.expr
+        g = sp.expand((f - target).xreplace(_floats(at)))
+        if not free_symbols(g) <= {z, v}:
+            continue
+        try:
+            exprs = [run_with_timeout(lambda g=g, z=z: sp.resultant(g, sp.diff(g, z), z), RESULTANT_SECONDS, cpu=True),
+                     g.xreplace({z: blo}), g.xreplace({z: bhi})]
+        except Exception:  # noqa: BLE001 - sympy fails in many ways; then no jump is known (as before)
+            continue
+        for q in exprs:
+            q = sp.expand(sp.sympify(q))
+            if v not in free_symbols(q):
+                continue
+            try:
+                cs = [float(k) for k in sp.Poly(q, v).all_coeffs()]
+            except (sp.PolynomialError, TypeError):
+                continue
+            out.update(t for t in polynomial_roots(cs) if lo < t < hi)
+    return sorted(out)
+
+
+def _add_fold_guards(p: NumProblem, level: int) -> None:
+    """The fold curve's turns for an innermost condition that is not a polynomial (its guard
+    contains a moving turning point, the 3-D folium's ``sign_change_0(3z² − y)``): on each of its
+    factors φ, the special points in the innermost variable v at each outer abscissa are the
+    critical points of φ (zeros of ∂φ/∂v, the implicit root differentiated by the implicit
+    function theorem, found by :func:`_roots`) and the two sides of each point where a turning
+    point appears (:func:`_bracket_jumps`).  Between two of them φ is monotone, so
+
+    * the condition's roots in v are one ``brentq`` per factor and interval (its root finder,
+      instead of a grid search of the product);
+    * the critical points are innermost kinks: there the weight peaks like 1/√(Δ + β(v − v_c)²)
+      when the fold curve nearly turns, and :func:`_fold_innermost` splits at them;
+    * where φ at a special point changes sign in the outer variable, the fold curve turns or
+      meets the cusp: outer kinks, on a grid of :data:`FOLD_TURN_GRID` cells refined by ``brentq``."""
+    inner = level + 1
+    v = p.syms[inner]
+    vlo, vhi = p.bounds[inner]
+    names = p.syms[: inner + 1]
+    if inner not in p.kinks:
+        p.kinks[inner], p.kink_vary[inner] = _kink_functions(p, inner)
+    for c in p.here(inner):
+        if c.expr is None or c.roots is not None or _coefficients(c.expr, tuple(p.syms), inner) is not None:
+            continue
+        factors = [f for f in sp.Mul.make_args(c.expr) if v in free_symbols(f)]
+        if not factors or not any(f.has(ImplicitRootFn) for f in factors):
+            continue
+        parts = []
+        for f in factors:
+            jumps = _bracket_jumps(f, v, vlo, vhi, p.at)
+            sides = [(d - FOLD_JUMP * max(1.0, abs(d)), d + FOLD_JUMP * max(1.0, abs(d))) for d in jumps]
+            phi = _lambdify(names, f, p.at)
+
+            def dphi(*args, phi=phi):
+                """∂φ/∂v by a central difference: the implicit function theorem's derivative of
+                ``sign_change_k`` is wrong where the turning point does not exist (the root is then
+                its bracket's end, a constant)."""
+                *outer, t = args
+                h = FOLD_STEP * max(1.0, abs(t))
+                return (phi(*outer, t + h) - phi(*outer, t - h)) / (2.0 * h)
+
+            parts.append((phi, dphi, jumps, sides))
+        last: dict = {}
+
+        def crits(*args, parts=parts, last=last):
+            """Each factor's critical points in v at the outer abscissae ``args`` (the last asked kept)."""
+            out = last.get(args)
+            if out is None:
+                out = []
+                for _, dphi, jumps, _ in parts:
+                    found = _roots(lambda t, dphi=dphi: dphi(*args, t), vlo, vhi)
+                    out.append([t for t in found if all(abs(t - d) > FOLD_STEP * 64 * max(1.0, abs(d)) for d in jumps)])
+                last.clear()
+                last[args] = out
+            return out
+
+        def roots(*args, parts=parts, crits=crits):
+            """The condition's roots in v: each factor's, one per monotone interval."""
+            out = []
+            for (phi, _, jumps, sides), cs in zip(parts, crits(*args)):
+                pts = sorted({vlo, vhi, *cs, *(q for ab in sides for q in ab if vlo < q < vhi)})
+                vals = [phi(*args, t) for t in pts]
+                if not all(math.isfinite(w) for w in vals):
+                    out += _roots(lambda t, phi=phi: phi(*args, t), vlo, vhi)
+                    continue
+                for a, b, fa, fb in zip(pts, pts[1:], vals, vals[1:]):
+                    if fa == 0.0:
+                        out.append(a)
+                    if fa == 0.0 or fb == 0.0 or (fa < 0) == (fb < 0):
+                        continue
+                    jump = next((d for d, ab in zip(jumps, sides) if ab == (a, b)), None)
+                    if jump is not None:  # the guard jumps here: its sign changes at the jump
+                        out.append(jump)
+                        continue
+                    try:
+                        out.append(so.brentq(lambda t, phi=phi: phi(*args, t), a, b, xtol=1e-15,
+                                             rtol=4 * np.finfo(float).eps))
+                    except (ValueError, RuntimeError):
+                        out.append(0.5 * (a + b))
+            return out
+
+        c.roots = roots
+
+        def inner_kinks(*args, parts=parts, crits=crits):
+            return [t for cs in crits(*args) for t in cs] + [d for _, _, jumps, _ in parts for d in jumps]
+
+        p.kinks[inner].append((None, inner_kinks))
+        p.kink_vary[inner].append(tuple(range(inner)))
+
+        def specials(*args, parts=parts, crits=crits):
+            """φ at each factor's special points: (values at critical points, values at jump sides)."""
+            if time.process_time() > p.until:  # (the outer kinks' grid is part of the problem's budget)
+                raise FoldUnresolved(_fold_message(p, f"did not reach its tolerance within {FOLD_SECONDS:g} CPU seconds"))
+            out = []
+            for (phi, _, _, sides), cs in zip(parts, crits(*args)):
+                out.append(([phi(*args, t) for t in cs], [phi(*args, q) for ab in sides for q in ab]))
+            return out
+
+        def outer_roots(*prefix, specials=specials):
+            lo, hi = p.bounds[level]
+            xs = np.linspace(lo, hi, FOLD_TURN_GRID + 1).tolist()
+            vals = [specials(*prefix, x) for x in xs]
+            out = []
+            for a, b, fa, fb in zip(xs, xs[1:], vals, vals[1:]):
+                for i, (pa, pb) in enumerate(zip(fa, fb)):
+                    for kind in (0, 1):
+                        ya, yb = pa[kind], pb[kind]
+                        if len(ya) != len(yb):
+                            continue  # a critical point appearing: not a turn of the fold curve
+                        for k, (u, w) in enumerate(zip(ya, yb)):
+                            if not (math.isfinite(u) and math.isfinite(w)) or u == 0.0 or (u < 0) == (w < 0):
+                                continue
+
+                            n = len(ya)
+
+                            def one(x, i=i, kind=kind, k=k, n=n):
+                                vs = specials(*prefix, x)[i][kind]
+                                return vs[k] if len(vs) == n else math.nan
+
+                            try:
+                                out.append(so.brentq(one, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps))
+                            except (ValueError, RuntimeError):
+                                out.append(0.5 * (a + b))
+            return out
+
+        p.kinks[level].append((None, outer_roots))
         p.kink_vary[level].append(tuple(range(level)))
 
 
