@@ -222,7 +222,7 @@ class Template:
                 if found is not None and dep[id(found[1])]:
                     _, cond, variables, box = found
                     step = (_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
-                            self._shifted(cond, variables, own), shape_of(u))
+                            self._shifted(cond, variables, own, u.psi), shape_of(u))
                 else:
                     step = (_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse),
                             None if found is None else found[1:])
@@ -242,16 +242,16 @@ class Template:
         self.start = [None] * len(steps) + self.shared
         self.start_same = [False] * len(steps) + [True] * len(self.shared)
 
-    def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int]):
+    def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int], psi: Diffeo):
         """For a condition completed again: its solved shape, the constant term of its solution
         without the changing constant summands, and those summands' steps with their factors in
         it, when :func:`affine.summands` finds them and the first copy's condition completed by
-        the affine path; else None."""
+        the affine path (``psi``, which keeps what it solved); else None."""
         dep = self.dependent
         parts = affine.summands(cond, lambda u: dep.get(id(u), False))
         if parts is None or any(id(u) not in own for u, _ in parts):
             return None
-        found = affine.solve(cond, tuple(variables))
+        found = affine.solved_by(psi, cond, variables)  # (the first copy's completion solved it)
         if found is None:
             return None
         solved, c0 = found
@@ -485,12 +485,10 @@ class Template:
                 kids, u = step[2], step[1]
                 out, flags = [], []
                 for j in range(m):
-                    def kid(c, j=j):
-                        if id(c) not in kids:
-                            return c
-                        col = cols[kids[id(c)]]
-                        return col[j] if type(col) is list else col
-                    node = map_children(u, kid)
+                    # (the copy's own children by the first copy's children's ids; the rest shared)
+                    own = {key: (col[j] if type(col) is list else col)
+                           for key, col in ((key, cols[slot]) for key, slot in kids.items())}
+                    node = map_children(u, lambda c, own=own: own.get(id(c), c))
                     out.append(node)
                     flags.append(same_shape(node, u))
                 cols[i], same[i] = out, (True if all(flags) else flags)
