@@ -640,6 +640,28 @@ def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
     return new
 
 
+def like_binary_many(cls: type, shape: dict, lefts: list, rights: list) -> list:
+    """``[like_binary(cls, shape, a, b) for a, b in zip(lefts, rights)]`` in one loop (the same node
+    of all of a loop's copies at once, issue 15)."""
+    out = []
+    append = out.append
+    mul = cls is Mul
+    for a, b in zip(lefts, rights):
+        new = _new(cls)
+        d = new.__dict__
+        d.update(shape)
+        d["left"] = a
+        d["right"] = b
+        a, b = a.__dict__, b.__dict__
+        x, y = a["_small"], b["_small"]
+        if (x is None or y is None) and x is not False and y is not False:
+            d["_small"] = None
+            d["_small_all"] = a["_small_all"] and b["_small_all"]
+        else:
+            _binary_value(d, a, b, mul)
+        append(new)
+    return out
+
 def like_power(shape: dict, a: "Term", small) -> "Term":
     """``like(Pow, shape, (a,), span)`` whose ``shape`` also holds its ``span``, with the small value
     of ``a ^ k`` given (``small_power(small_value(a), k)``, which a copy may have computed already)."""

@@ -162,7 +162,22 @@ def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = fro
     constant term (a loop's copies: ``x + 1/i + a - 1`` for i = 10 … 58) — are solved once
     (:func:`_solve`); each then costs its linear form, the constant ``−c₀/a`` and the Diffeo."""
     found = solve(cond, variables, avoid)
-    return None if found is None else completed(cond, variables, *found)
+    if found is None:
+        return None
+    psi = completed(cond, variables, *found)
+    if not avoid:  # (kept for a loop's template, which completes this shape again: `solved_by`)
+        psi.__dict__["_solved"] = found
+    return psi
+
+
+def solved_by(psi: Diffeo, cond: Term, variables: tuple[str, ...]) -> tuple[tuple, Fraction] | None:
+    """``solve(cond, variables)``, read off ``psi`` when :func:`complete` made it from that ``cond``
+    (the same object) over those ``variables`` (isolating any): no second walk (a loop's template,
+    issue 15)."""
+    found = psi.__dict__.get("_solved")
+    if found is not None and psi.forward[0] is cond and psi.variables == tuple(variables):
+        return found
+    return solve(cond, tuple(variables))
 
 
 def solve(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = frozenset()) -> tuple[tuple, Fraction] | None:

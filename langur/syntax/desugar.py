@@ -369,6 +369,17 @@ class Desugarer:
         plan: template.Template | None = None
         charged = (0, 0)  # what desugaring the first copy took of the budget: each instantiated copy takes it too
         for k in range(lo, hi + 1):
+            if plan is not None and k == lo + 1:
+                # every other copy at once when they all fit the budget and all complete (else one
+                # by one, below: a copy that does not complete is desugared, and reports why)
+                rest = hi - lo
+                if self.budget.again(charged[0] * rest, charged[1] * rest):
+                    built = plan.at_all(range(k, hi + 1))
+                    if built is not None:
+                        copies += built
+                        break
+                    self.budget.copies -= charged[0] * rest
+                    self.budget.nodes -= charged[1] * rest
             if plan is not None:
                 if self.budget.again(*charged):
                     copy = plan.at(k)

@@ -49,6 +49,7 @@ from ..core import (
     index_power_small,
     like,
     like_binary,
+    like_binary_many,
     like_leaf,
     like_power,
     map_children,
@@ -221,7 +222,7 @@ class Template:
                 if found is not None and dep[id(found[1])]:
                     _, cond, variables, box = found
                     step = (_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
-                            self._shifted(cond, variables, own), shape_of(u))
+                            self._shifted(cond, variables, own, u.psi), shape_of(u))
                 else:
                     step = (_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse),
                             None if found is None else found[1:])
@@ -241,16 +242,16 @@ class Template:
         self.start = [None] * len(steps) + self.shared
         self.start_same = [False] * len(steps) + [True] * len(self.shared)
 
-    def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int]):
+    def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int], psi: Diffeo):
         """For a condition completed again: its solved shape, the constant term of its solution
         without the changing constant summands, and those summands' steps with their factors in
         it, when :func:`affine.summands` finds them and the first copy's condition completed by
-        the affine path; else None."""
+        the affine path (``psi``, which keeps what it solved); else None."""
         dep = self.dependent
         parts = affine.summands(cond, lambda u: dep.get(id(u), False))
         if parts is None or any(id(u) not in own for u, _ in parts):
             return None
-        found = affine.solve(cond, tuple(variables))
+        found = affine.solved_by(psi, cond, variables)  # (the first copy's completion solved it)
         if found is None:
             return None
         solved, c0 = found
@@ -351,6 +352,153 @@ class Template:
                 same[i] = same_shape(out, step[1])
         STATS["instantiated"] += 1
         return vals[n - 1]
+
+
+    def at_all(self, values: range) -> list[Term] | None:
+        """The copies for the index's ``values`` (each :meth:`at`'s), built step by step for all of
+        them at once: each step's kind, shape and slots are read once for every copy, and a node whose
+        children keep the first copy's shape is built in one loop over the copies (issue 15).  None
+        when a copy's condition does not complete (the caller then builds the copies one by one, as
+        :meth:`at` does, which reports it); the conditionals completed are told (``completed``) once
+        all are built, copy by copy in the order :meth:`at` would."""
+        if not self.dependent[id(self.body)]:
+            return [self.body] * len(values)
+        if self.steps is None:
+            self._compile()
+        steps, first = self.steps, self.first
+        m = len(values)
+        n = len(steps)
+        # cols[i]: step i's node in each copy (a list), or a shared node (from the end, one for all)
+        cols: list = [None] * n + self.shared
+        # same[i]: cols[i]'s nodes all have the first copy's shape (True), or a list per copy
+        same: list = [False] * n + [True] * len(self.shared)
+        powers: dict[int, list] = {}  # the small value of each power of the index, per copy
+        leaves = None  # the copies' first index leaves: the others are built from them
+        notes: list[list] = [[] for _ in values]  # the conditionals completed, per copy
+        shifted_count = 0
+        for i, step in enumerate(steps):
+            k = step[0]
+            if k is _BINARY:
+                _, cls, shape, a, b = step
+                xs, ys = cols[a], cols[b]
+                if type(xs) is not list:
+                    xs = [xs] * m
+                if type(ys) is not list:
+                    ys = [ys] * m
+                sa, sb = same[a], same[b]
+                if sa is True and sb is True:
+                    cols[i], same[i] = like_binary_many(cls, shape, xs, ys), True
+                else:
+                    sa = [sa] * m if type(sa) is bool else sa
+                    sb = [sb] * m if type(sb) is bool else sb
+                    out, flags = [], []
+                    for x, y, p, q in zip(xs, ys, sa, sb):
+                        if p and q:
+                            out.append(like_binary(cls, shape, x, y))
+                            flags.append(True)
+                        else:
+                            out.append(cls(x, y, span=shape["span"]))
+                            flags.append(False)
+                    cols[i], same[i] = out, flags
+            elif k is _LEAF:
+                span = step[1]
+                if leaves is None:
+                    cols[i] = leaves = [index_const(v, span) for v in values]
+                else:
+                    cols[i] = [like_leaf(leaf, span) for leaf in leaves]
+                same[i] = True
+            elif k is _UNARY:
+                _, cls, shape, a, arg, power = step
+                xs = cols[a]
+                if type(xs) is not list:
+                    xs = [xs] * m
+                sa = same[a]
+                sa = [sa] * m if type(sa) is bool else sa
+                if cls is Pow and power >= 0:
+                    smalls = powers.get(power)
+                    if smalls is None:
+                        e = self.exponents[power]
+                        smalls = powers[power] = (
+                            [small_power(x._small, arg) for x in xs] if e is None
+                            else [index_power_small(v, e) for v in values])
+                else:
+                    smalls = [None] * m
+                out, flags = [], []
+                for x, p, small in zip(xs, sa, smalls):
+                    if p:
+                        if cls is Pow:
+                            out.append(like_power(shape, x, small_power(x._small, arg) if power < 0 else small))
+                        else:
+                            out.append(like(cls, shape, (x,), shape["span"]))
+                    elif cls is Pow:
+                        out.append(Pow(x, arg, span=shape["span"]))
+                    else:
+                        out.append(Prim(arg, x, span=shape["span"]))
+                    flags.append(bool(p))
+                cols[i], same[i] = out, (True if all(flags) else flags)
+            elif k is _COMPLETE:
+                _, span, c, a, b, variables, box, shifted, shape = step
+                conds, xs, ys = (col if type(col) is list else [col] * m for col in (cols[c], cols[a], cols[b]))
+                sc, sa, sb = (s if type(s) is list else [s] * m for s in (same[c], same[a], same[b]))
+                out, flags = [], []
+                for j in range(m):
+                    cond = conds[j]
+                    psi = None
+                    if shifted is not None:
+                        solved, constant, parts = shifted
+                        for jj, factor, sign in parts:
+                            col = cols[jj]
+                            new = small_value(col[j] if type(col) is list else col)
+                            if new is None or new is False:
+                                break
+                            constant = constant - new if sign < 0 else constant + (new if sign > 0 else factor * new)
+                        else:
+                            psi = affine.solved_at(cond, variables, solved, constant)
+                            shifted_count += 1
+                            if sc[j] and sa[j] and sb[j]:
+                                node = like(IfDiffeo, shape, (psi, xs[j], ys[j]), span)
+                                notes[j].append((node, cond, variables, box))
+                                out.append(node)
+                                flags.append(True)
+                                continue
+                    if psi is None:
+                        psi = self.complete(cond, variables, box)
+                        if psi is None:
+                            return None
+                    node = IfDiffeo(psi, xs[j], ys[j], span=span)
+                    notes[j].append((node, cond, variables, box))
+                    out.append(node)
+                    flags.append(same_shape(node, first[i]))
+                cols[i], same[i] = out, (True if all(flags) else flags)
+            elif k is _CONDITIONAL:
+                _, psi, span, a, b, found = step
+                xs, ys = (col if type(col) is list else [col] * m for col in (cols[a], cols[b]))
+                out, flags = [], []
+                for j in range(m):
+                    node = IfDiffeo(psi, xs[j], ys[j], span=span)
+                    if found is not None:
+                        notes[j].append((node, *found))
+                    out.append(node)
+                    flags.append(same_shape(node, first[i]))
+                cols[i], same[i] = out, (True if all(flags) else flags)
+            else:
+                kids, u = step[2], step[1]
+                out, flags = [], []
+                for j in range(m):
+                    # (the copy's own children by the first copy's children's ids; the rest shared)
+                    own = {key: (col[j] if type(col) is list else col)
+                           for key, col in ((key, cols[slot]) for key, slot in kids.items())}
+                    node = map_children(u, lambda c, own=own: own.get(id(c), c))
+                    out.append(node)
+                    flags.append(same_shape(node, u))
+                cols[i], same[i] = out, (True if all(flags) else flags)
+        completed = self.completed
+        for copy in notes:
+            for note in copy:
+                completed(*note)
+        STATS["instantiated"] += m
+        STATS["shifted"] += shifted_count
+        return cols[n - 1]
 
 
 # the kinds of step of Template.steps
