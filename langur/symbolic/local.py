@@ -925,29 +925,39 @@ def _operands(node) -> tuple:
     raise _NotRational()
 
 
-#: Bits beyond which an unreduced rational (numerator, denominator) of :func:`_value_of` and
-#: :class:`_Tape` is reduced.
-_REDUCE_BITS = 512
-
-
-def _red(n: int, d: int) -> tuple[int, int]:
-    """``n/d`` (``d > 0``), reduced only when large: Fraction's gcd at every operation was most of
-    the time of evaluating a large closed form exactly."""
-    if d.bit_length() > _REDUCE_BITS or n.bit_length() > _REDUCE_BITS:
-        g = math.gcd(n, d)
-        if g > 1:
-            return n // g, d // g
-    return n, d
-
-
 def _qadd(x, y):
-    if x[1] == y[1]:
-        return _red(x[0] + y[0], x[1])
-    return _red(x[0] * y[1] + y[0] * x[1], x[1] * y[1])
+    """``x + y`` for reduced integer pairs ``(numerator, denominator > 0)``, reduced (Henrici's
+    algorithm, as CPython's ``Fraction``: the gcds are taken of the operands' denominators, not of
+    the sum's far larger numerator and denominator; a gcd of two large integers was most of the
+    time of evaluating a large closed form exactly)."""
+    a, b = x[1], y[1]
+    if a == b:
+        n = x[0] + y[0]
+        g = _gcd(n, a)
+        return (n, a) if g == 1 else (n // g, a // g)
+    g = _gcd(a, b)
+    if g == 1:  # (then the sum of reduced fractions is reduced)
+        return x[0] * b + y[0] * a, a * b
+    s = a // g
+    t = x[0] * (b // g) + y[0] * s
+    g2 = _gcd(t, g)  # (a common factor of t and the denominator s·b divides g)
+    return (t, s * b) if g2 == 1 else (t // g2, s * (b // g2))
 
 
 def _qmul(x, y):
-    return _red(x[0] * y[0], x[1] * y[1])
+    """``x · y`` for reduced integer pairs, reduced (each numerator against the other denominator)."""
+    n1, d1 = x
+    n2, d2 = y
+    g1 = _gcd(n1, d2)
+    if g1 != 1:
+        n1, d2 = n1 // g1, d2 // g1
+    g2 = _gcd(n2, d1)
+    if g2 != 1:
+        n2, d1 = n2 // g2, d1 // g2
+    return n1 * n2, d1 * d2
+
+
+_gcd = math.gcd
 
 
 def _qpow(x, k: int):
@@ -965,7 +975,7 @@ def _rational(z) -> tuple[int, int]:
     return int(z.p), int(z.q)
 
 
-#: Exact values of subtrees (unreduced integer pairs, :func:`_red`) by evaluation point, the
+#: Exact values of subtrees (reduced integer pairs, :func:`_qadd`) by evaluation point, the
 #: few most recent points (a point's dict is dropped with it).
 _VALUES: dict = {}
 #: Points whose values are kept.
@@ -987,7 +997,7 @@ def _point_values(point: dict) -> dict:
 
 
 def _value_of(e, memo: dict, point: dict):
-    """``e`` at ``point`` as an unreduced integer pair (:class:`_NotRational` when it is not a form
+    """``e`` at ``point`` as a reduced integer pair (:class:`_NotRational` when it is not a form
     of rationals, symbols, +, ·, integer powers and ``Abs``, or is undefined there)."""
     hit = memo.get(e)
     if hit is not None:
