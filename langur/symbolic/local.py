@@ -436,11 +436,8 @@ def polygon_integral(conds, weight, x, y, box: dict, ctx):
     total = []
     (x0, y0) = verts[poly[0][1]]
     for (_, k1), (_, k2) in zip(poly[1:], poly[2:]):
-        (x1, y1), (x2, y2) = verts[k1], verts[k2]
-        jac = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)  # twice the area: positive (counter-clockwise)
-        total.append(jac / 2 * sp.Add(*[_q(w) * _at_point(coeffs, x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0),
-                                                          y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0))
-                                    for s, t, w in rule]))
+        half, points = _triangle_points(x0, y0, *verts[k1], *verts[k2], rule)
+        total.append(half * sp.Add(*[w * _at_point(coeffs, X, Y, powers) for w, X, Y, powers in points]))
     for rel in cell:
         if rel not in ctx.cell:
             ctx.cell.append(rel)
@@ -512,9 +509,35 @@ def _monomial_memos(x, y) -> tuple[dict, dict]:
     return memos
 
 
-def _at_point(coeffs: dict, X, Y):
-    """Σ c_ab Xᵃ Yᵇ."""
-    powers: dict = {}
+#: A triangle's half Jacobian and its rule's points with their weights and the powers of their
+#: coordinates computed so far (:func:`_triangle_points`), by vertices and rule.
+_TRIANGLES: dict = {}
+TRIANGLES = 512
+
+
+def _triangle_points(x0, y0, x1, y1, x2, y2, rule) -> tuple:
+    """The triangle's Jacobian over 2, and per point ``(s, t, w)`` of ``rule`` its weight ``w``, its
+    coordinates ``(X, Y) = v0 + s·(v1 − v0) + t·(v2 − v0)`` and a dict for their powers
+    (:func:`_at_point`).  These depend on the polygon only, and the same polygons come back for ⟦p⟧
+    and every partial derivative (the weights differ): remembered, except for vertices holding Floats
+    (sympy's equality does not see their precision)."""
+    key = (x0, y0, x1, y1, x2, y2, rule)
+    hit = _TRIANGLES.get(key)
+    if hit is not None:
+        return hit
+    jac = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)  # twice the area: positive (counter-clockwise)
+    out = (jac / 2, [(_q(w), x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0), y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0),
+                      {}) for s, t, w in rule])
+    if not any(has_any(v, (sp.Float,)) for v in key[:6]):
+        if len(_TRIANGLES) >= TRIANGLES:
+            _TRIANGLES.pop(next(iter(_TRIANGLES)))
+        _TRIANGLES[key] = out
+    return out
+
+
+def _at_point(coeffs: dict, X, Y, powers: dict | None = None):
+    """Σ c_ab Xᵃ Yᵇ (``powers``: the powers of X and Y computed so far, by (tag, exponent))."""
+    powers = {} if powers is None else powers
 
     def pw(base, k, tag):
         if (tag, k) not in powers:

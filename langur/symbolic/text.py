@@ -158,11 +158,10 @@ def shared_lambdify(args, expr, module: str):
 
 
 def _plain_arguments(args) -> bool:
-    """Whether lambdify would name every argument by its own name (symbols, none a ``Dummy``, whose
-    names are Python identifiers: then it substitutes nothing in the expression)."""
+    """Whether lambdify would name every argument by its own name (symbols, not a ``Dummy`` nor of a
+    subclass, whose names are Python identifiers: then it substitutes nothing in the expression)."""
     return isinstance(args, (list, tuple)) and all(
-        isinstance(a, sp.Symbol) and not isinstance(a, sp.Dummy) and str(a).isidentifier()
-        and not keyword.iskeyword(str(a)) for a in args)
+        type(a) is sp.Symbol and a.name.isidentifier() and not keyword.iskeyword(a.name) for a in args)
 
 
 def _rewritten(node) -> bool:
@@ -194,11 +193,11 @@ def _generated(args: list, expr, printer, module: str):
     partial derivative's integrands, each ~10⁴ nodes over a few hundred distinct ones."""
     namespace = _namespace(module)
     for sym in atoms_of(expr, (sp.Symbol,)):
-        namespace[str(sym)] = sym
+        namespace[sym.name if type(sym) is sp.Symbol else str(sym)] = sym  # (str(Symbol) is its name)
     text = printer.doprint(expr)
     if "\n" in text:
         text = f"({text})"
-    source = f"def _lambdifygenerated({', '.join(str(a) for a in args)}):\n    return {text}\n"
+    source = f"def _lambdifygenerated({', '.join(a.name for a in args)}):\n    return {text}\n"
     for mod, names in (getattr(printer, "module_imports", None) or {}).items():
         for name in names:
             if name not in namespace:
