@@ -80,6 +80,12 @@ def _shared_tree(seed: int):
     return sp.Add(*pool[-4:])
 
 
+def _printer(module: str):
+    cls = {"math": text._SharedPython, "mpmath": text._SharedMpmath, "numpy": text._SharedNumPy}[module]
+    return cls({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
+                "user_functions": {}})
+
+
 def _ours(f) -> bool:
     return f.__code__.co_filename.startswith("<lambdifygenerated-langur-")
 
@@ -91,13 +97,18 @@ def test_generated_functions_are_sympys(seed):
     e = _shared_tree(seed) + sp.Symbol("w") * 0 + sp.Symbol("k", positive=True) * x
     args = [x, y, z]
     for module in ("math", "mpmath", "numpy"):
+        # sympy's lambdify with a shared printer as before (its printers start with the module names
+        # earlier ones imported, which lambdify imports too), and with its own printer
+        before = sp.lambdify(args, e, modules=[module], printer=_printer(module))
         ours, theirs = shared_lambdify(args, e, module), sp.lambdify(args, e, modules=[module])
-        assert _ours(ours) and not _ours(theirs)
-        assert inspect.getsource(ours) == inspect.getsource(theirs)
+        assert _ours(ours) and not _ours(theirs) and not _ours(before)
+        assert inspect.getsource(ours) == inspect.getsource(theirs) == inspect.getsource(before)
         g1 = {k: v for k, v in ours.__globals__.items() if k != "__builtins__"}
+        g0 = {k: v for k, v in before.__globals__.items() if k != "__builtins__"}
         g2 = {k: v for k, v in theirs.__globals__.items() if k != "__builtins__"}
-        assert g1.keys() == g2.keys()
-        assert all(g1[k] is g2[k] or g1[k] == g2[k] for k in g1)
+        assert g1.keys() == g0.keys() and g2.keys() <= g1.keys()
+        assert all(g1[k] is g0[k] or g1[k] == g0[k] for k in g1)
+        assert all(g1[k] is g2[k] or g1[k] == g2[k] for k in g2)
         pt = (0.3, -0.7, 1.1)
         try:
             want = complex(theirs(*pt))
