@@ -436,11 +436,8 @@ def polygon_integral(conds, weight, x, y, box: dict, ctx):
     total = []
     (x0, y0) = verts[poly[0][1]]
     for (_, k1), (_, k2) in zip(poly[1:], poly[2:]):
-        (x1, y1), (x2, y2) = verts[k1], verts[k2]
-        jac = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)  # twice the area: positive (counter-clockwise)
-        total.append(jac / 2 * sp.Add(*[_q(w) * _at_point(coeffs, x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0),
-                                                          y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0))
-                                    for s, t, w in rule]))
+        half, points = _triangle_points(x0, y0, *verts[k1], *verts[k2], rule)
+        total.append(half * sp.Add(*[w * _at_point(coeffs, X, Y, powers) for w, X, Y, powers in points]))
     for rel in cell:
         if rel not in ctx.cell:
             ctx.cell.append(rel)
@@ -512,9 +509,35 @@ def _monomial_memos(x, y) -> tuple[dict, dict]:
     return memos
 
 
-def _at_point(coeffs: dict, X, Y):
-    """Σ c_ab Xᵃ Yᵇ."""
-    powers: dict = {}
+#: A triangle's half Jacobian and its rule's points with their weights and the powers of their
+#: coordinates computed so far (:func:`_triangle_points`), by vertices and rule.
+_TRIANGLES: dict = {}
+TRIANGLES = 512
+
+
+def _triangle_points(x0, y0, x1, y1, x2, y2, rule) -> tuple:
+    """The triangle's Jacobian over 2, and per point ``(s, t, w)`` of ``rule`` its weight ``w``, its
+    coordinates ``(X, Y) = v0 + s·(v1 − v0) + t·(v2 − v0)`` and a dict for their powers
+    (:func:`_at_point`).  These depend on the polygon only, and the same polygons come back for ⟦p⟧
+    and every partial derivative (the weights differ): remembered, except for vertices holding Floats
+    (sympy's equality does not see their precision)."""
+    key = (x0, y0, x1, y1, x2, y2, rule)
+    hit = _TRIANGLES.get(key)
+    if hit is not None:
+        return hit
+    jac = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)  # twice the area: positive (counter-clockwise)
+    out = (jac / 2, [(_q(w), x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0), y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0),
+                      {}) for s, t, w in rule])
+    if not any(has_any(v, (sp.Float,)) for v in key[:6]):
+        if len(_TRIANGLES) >= TRIANGLES:
+            _TRIANGLES.pop(next(iter(_TRIANGLES)))
+        _TRIANGLES[key] = out
+    return out
+
+
+def _at_point(coeffs: dict, X, Y, powers: dict | None = None):
+    """Σ c_ab Xᵃ Yᵇ (``powers``: the powers of X and Y computed so far, by (tag, exponent))."""
+    powers = {} if powers is None else powers
 
     def pw(base, k, tag):
         if (tag, k) not in powers:
@@ -925,29 +948,39 @@ def _operands(node) -> tuple:
     raise _NotRational()
 
 
-#: Bits beyond which an unreduced rational (numerator, denominator) of :func:`_value_of` and
-#: :class:`_Tape` is reduced.
-_REDUCE_BITS = 512
-
-
-def _red(n: int, d: int) -> tuple[int, int]:
-    """``n/d`` (``d > 0``), reduced only when large: Fraction's gcd at every operation was most of
-    the time of evaluating a large closed form exactly."""
-    if d.bit_length() > _REDUCE_BITS or n.bit_length() > _REDUCE_BITS:
-        g = math.gcd(n, d)
-        if g > 1:
-            return n // g, d // g
-    return n, d
-
-
 def _qadd(x, y):
-    if x[1] == y[1]:
-        return _red(x[0] + y[0], x[1])
-    return _red(x[0] * y[1] + y[0] * x[1], x[1] * y[1])
+    """``x + y`` for reduced integer pairs ``(numerator, denominator > 0)``, reduced (Henrici's
+    algorithm, as CPython's ``Fraction``: the gcds are taken of the operands' denominators, not of
+    the sum's far larger numerator and denominator; a gcd of two large integers was most of the
+    time of evaluating a large closed form exactly)."""
+    a, b = x[1], y[1]
+    if a == b:
+        n = x[0] + y[0]
+        g = _gcd(n, a)
+        return (n, a) if g == 1 else (n // g, a // g)
+    g = _gcd(a, b)
+    if g == 1:  # (then the sum of reduced fractions is reduced)
+        return x[0] * b + y[0] * a, a * b
+    s = a // g
+    t = x[0] * (b // g) + y[0] * s
+    g2 = _gcd(t, g)  # (a common factor of t and the denominator s·b divides g)
+    return (t, s * b) if g2 == 1 else (t // g2, s * (b // g2))
 
 
 def _qmul(x, y):
-    return _red(x[0] * y[0], x[1] * y[1])
+    """``x · y`` for reduced integer pairs, reduced (each numerator against the other denominator)."""
+    n1, d1 = x
+    n2, d2 = y
+    g1 = _gcd(n1, d2)
+    if g1 != 1:
+        n1, d2 = n1 // g1, d2 // g1
+    g2 = _gcd(n2, d1)
+    if g2 != 1:
+        n2, d1 = n2 // g2, d1 // g2
+    return n1 * n2, d1 * d2
+
+
+_gcd = math.gcd
 
 
 def _qpow(x, k: int):
@@ -965,7 +998,7 @@ def _rational(z) -> tuple[int, int]:
     return int(z.p), int(z.q)
 
 
-#: Exact values of subtrees (unreduced integer pairs, :func:`_red`) by evaluation point, the
+#: Exact values of subtrees (reduced integer pairs, :func:`_qadd`) by evaluation point, the
 #: few most recent points (a point's dict is dropped with it).
 _VALUES: dict = {}
 #: Points whose values are kept.
@@ -987,7 +1020,7 @@ def _point_values(point: dict) -> dict:
 
 
 def _value_of(e, memo: dict, point: dict):
-    """``e`` at ``point`` as an unreduced integer pair (:class:`_NotRational` when it is not a form
+    """``e`` at ``point`` as a reduced integer pair (:class:`_NotRational` when it is not a form
     of rationals, symbols, +, ·, integer powers and ``Abs``, or is undefined there)."""
     hit = memo.get(e)
     if hit is not None:

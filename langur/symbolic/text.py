@@ -7,8 +7,13 @@ these by :mod:`langur.exact`.
 
 from __future__ import annotations
 
+import builtins
 import inspect
+import itertools
+import keyword
+import linecache
 import re
+import weakref
 from collections.abc import Sequence
 
 import sympy as sp
@@ -17,7 +22,7 @@ from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import MpmathPrinter, PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
-from .local import any_node
+from .local import any_node, atoms_of
 from .pieces import Condition, DeltaPiece, Method, Piece, Psi
 
 
@@ -142,11 +147,69 @@ def lambdify(args, expr, **kwargs):
 def shared_lambdify(args, expr, module: str):
     """``sympy.lambdify(args, expr, modules=[module])`` for ``module`` "math", "mpmath" or "numpy": the same
     generated code (sympy's printer for that module, with lambdify's settings), each shared subtree
-    printed once."""
+    printed once; for plain arguments and an expression with nothing lambdify rewrites, generated
+    without lambdify's walks of the tree with its repeats (:func:`_generated`)."""
     cls = {"math": _SharedPython, "mpmath": _SharedMpmath, "numpy": _SharedNumPy}[module]
     printer = cls({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                    "user_functions": {}})
+    if isinstance(expr, sp.Basic) and _plain_arguments(args) and not any_node(expr, _rewritten):
+        return _generated(list(args), expr, printer, module)
     return lambdify(args, expr, modules=[module], printer=printer)
+
+
+def _plain_arguments(args) -> bool:
+    """Whether lambdify would name every argument by its own name (symbols, not a ``Dummy`` nor of a
+    subclass, whose names are Python identifiers: then it substitutes nothing in the expression)."""
+    return isinstance(args, (list, tuple)) and all(
+        type(a) is sp.Symbol and a.name.isidentifier() and not keyword.iskeyword(a.name) for a in args)
+
+
+def _rewritten(node) -> bool:
+    """A node lambdify treats apart: a function with its own numeric implementation (``_imp_``: it
+    goes into the function's namespace) or an unevaluated substitution (``Subs``: made an assignment)."""
+    return hasattr(node, "_imp_") or isinstance(node, sp.Subs)
+
+
+#: lambdify's namespace by module (its module's names, ``builtins`` and ``range``): copied for
+#: each function :func:`_generated` makes.
+_NAMESPACES: dict = {}
+_GENERATED = itertools.count()
+
+
+def _namespace(module: str) -> dict:
+    ns = _NAMESPACES.get(module)
+    if ns is None:
+        ns = dict(sp.lambdify([], sp.Integer(0), modules=[module], use_imps=False, **_NO_DOC).__globals__)
+        _NAMESPACES[module] = ns
+    return dict(ns)
+
+
+def _generated(args: list, expr, printer, module: str):
+    """What ``sympy.lambdify(args, expr, modules=[module], printer=printer, use_imps=False)`` makes for
+    plain ``args`` (:func:`_plain_arguments`) and an ``expr`` without :func:`_rewritten` nodes: the same
+    source text, namespace and function.  Its two walks of the tree with its repeats are not made:
+    ``atoms(Symbol)`` for the namespace (here each distinct subtree once: :func:`atoms_of`) and the
+    replacement of ``Subs`` nodes (there are none) — two thirds of lambdify's time on a stylize
+    partial derivative's integrands, each ~10⁴ nodes over a few hundred distinct ones."""
+    namespace = _namespace(module)
+    for sym in atoms_of(expr, (sp.Symbol,)):
+        namespace[sym.name if type(sym) is sp.Symbol else str(sym)] = sym  # (str(Symbol) is its name)
+    text = printer.doprint(expr)
+    if "\n" in text:
+        text = f"({text})"
+    source = f"def _lambdifygenerated({', '.join(a.name for a in args)}):\n    return {text}\n"
+    for mod, names in (getattr(printer, "module_imports", None) or {}).items():
+        for name in names:
+            if name not in namespace:
+                exec(f"from {mod} import {name}", {}, namespace)  # (as lambdify: the module's own name)
+    namespace.update({"builtins": builtins, "range": range})
+    filename = f"<lambdifygenerated-langur-{next(_GENERATED)}>"
+    local: dict = {}
+    exec(compile(source, filename, "exec"), namespace, local)
+    linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
+    func = local["_lambdifygenerated"]
+    weakref.finalize(func, linecache.cache.pop, filename, None)
+    return func
 
 
 def math_lambdify(args, expr):
