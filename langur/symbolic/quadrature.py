@@ -609,10 +609,11 @@ def _state(v: float) -> int:
 
 
 def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
-    """Points in (lo, hi) where ``g`` changes sign or definedness (grid + brentq/bisection)."""
+    """Points in (lo, hi) where ``g`` changes sign or definedness (grid + brentq/bisection, and
+    :func:`_hidden_pairs` where a pair of roots closer than the grid's step hides between nodes)."""
     xs = np.linspace(lo, hi, GRID + 1).tolist()  # Python floats: math functions, no numpy warnings
     vals = [g(x) for x in xs]
-    out = []
+    out = _hidden_pairs(g, xs, vals)
     for i in range(GRID):
         a, b, fa, fb = xs[i], xs[i + 1], vals[i], vals[i + 1]
         if fa == 0.0 and i > 0:
@@ -633,6 +634,43 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
             else:
                 b = m
         out.append(0.5 * (a + b))
+    return out
+
+
+def _hidden_pairs(g: Callable[[float], float], xs: list, vals: list) -> list[float]:
+    """The roots of ``g`` a sign-change search on the grid ``xs`` cannot see: two roots between
+    neighbouring nodes where ``g`` turns (``[x ≥ sin(z) + a]`` in z near z = π/2, x just below
+    a + 1: the set in z has a gap narrower than the step, and ∫∫ lost ~10⁻⁵ with an error bound of
+    10⁻⁹).  Wherever the nodes' values have a local maximum below 0 or a local minimum above 0
+    (each extremum of ``g`` between nodes shows as one, at a node next to it), the extremum is
+    found by bounded Brent's method between the neighbouring nodes, and if ``g`` changes sign
+    there, the two roots on its sides by brentq.  Nothing is added where the grid sees the turn."""
+    out: list[float] = []
+    n = len(xs)
+    for j in range(n):
+        v = vals[j]
+        if not (math.isfinite(v) and v != 0.0):
+            continue
+        left = vals[j - 1] if j > 0 else None
+        right = vals[j + 1] if j + 1 < n else None
+        if any(w is not None and not (math.isfinite(w) and (w > 0) == (v > 0)) for w in (left, right)):
+            continue  # a sign change or a NaN next to it: the grid search handles it
+        sign = 1.0 if v > 0 else -1.0  # a minimum of sign·g above 0 may dip below it
+        if (left is None or sign * left >= sign * v) and (right is None or sign * right >= sign * v):
+            a, b = xs[max(j - 1, 0)], xs[min(j + 1, n - 1)]
+            try:
+                opt = so.minimize_scalar(lambda t, sign=sign: sign * g(t), bounds=(a, b), method="bounded",
+                                         options={"xatol": 1e-13 * max(1.0, abs(a), abs(b))})
+            except (ValueError, ArithmeticError):
+                continue
+            t, w = float(opt.x), g(float(opt.x))
+            if not (math.isfinite(w) and sign * w < 0 and a < t < b):
+                continue
+            for u, z in ((a, t), (t, b)):
+                try:
+                    out.append(so.brentq(g, u, z, xtol=1e-15, rtol=4 * np.finfo(float).eps))
+                except (ValueError, RuntimeError):
+                    pass
     return out
 
 
