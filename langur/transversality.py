@@ -52,6 +52,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import replace
 
+from . import timebox
 from .core import Call, Param, Program, Var
 from .diagnostics import LangurError, Span
 from .lint import singular
@@ -83,10 +84,12 @@ __all__ = [
 
 
 def check_loaded(
-    loaded, *, at: Mapping[str, float] | None = None, sources: Mapping[str, str] | None = None
+    loaded, *, at: Mapping[str, float] | None = None, sources: Mapping[str, str] | None = None,
+    budget: float | None = None,
 ) -> list[Finding]:
     """:func:`check_program` on a front end's :class:`~langur.modules.Loaded`, with call sites of
-    inlined defs and the domain's intervals located in the user's source."""
+    inlined defs and the domain's intervals located in the user's source (``budget``: CPU seconds
+    for the whole analysis, see :func:`check_program`)."""
     if loaded.program is None:
         return []
     sources = dict(sources or {})
@@ -104,6 +107,7 @@ def check_loaded(
         sources=sources,
         domain_spans=_domain_spans(loaded.program),
         sites=call_sites(loaded),
+        budget=budget,
     )
 
 
@@ -167,6 +171,7 @@ def check_program(
     sources: Mapping[str, str] | None = None,
     domain_spans: Mapping[tuple[int, int], Span] | None = None,
     sites: list | None = None,
+    budget: float | None = None,
 ) -> list[Finding]:
     """The transversality findings of ``program`` (see the module docstring).
 
@@ -174,13 +179,43 @@ def check_program(
     order; ``at``: values given on the command line (``--at``), which make degeneracies at that
     point errors; ``sources``: file texts by path, to quote the user's conditions in messages;
     ``domain_spans``: ``(variable index, 0 lower / 1 upper) → span`` of the domain's bounds;
-    ``sites``: :func:`call_sites` of the program.
+    ``sites``: :func:`call_sites` of the program; ``budget``: CPU seconds the whole analysis may
+    take (a fuzz unit's share of its time limit; None: each analysis's own limits, the checker's
+    :data:`BUDGET`).  CPU seconds, as every limit of the linter, so that the findings do not change
+    with the machine's load; what the budget leaves unchecked is said in an X310 warning.
     """
+    if budget is None:
+        return _analysed(program, declared, at, sources, domain_spans, sites, None)
+    state: dict = {}
+    with timebox.budget(budget):
+        try:  # the checks stop themselves at the budget; this bounds code between two checks too
+            return timebox.run_with_timeout(
+                lambda: _analysed(program, declared, at, sources, domain_spans, sites, budget, state),
+                budget + OVERRUN, cpu=True)
+        except TimeoutError:
+            found = list(state.get("findings", ()))
+    return _dedupe(found + [_stopped(program, budget, "it ran past it")])
+
+
+#: CPU seconds an analysis with a ``budget`` may run past it (code between two checks) before it is
+#: stopped where it is, keeping what it has found.
+OVERRUN = 1.0
+
+
+def _stopped(program: Program, budget: float, rest: str) -> Finding:
+    return Finding(program.span, "warning", "X310",
+                   f"the transversality analysis stopped after {budget:g} CPU s (its budget): {rest}; the rest is unchecked")
+
+
+def _analysed(program, declared, at, sources, domain_spans, sites, budget, state=None) -> list[Finding]:
+    """:func:`check_program`'s analyses one after the other; ``state["findings"]``: what they have
+    found so far (kept when the budget stops them)."""
     declared = dict(declared or {})
     at = dict(at or {})
     point = point_of(declared, at)
+    state = {} if state is None else state
     try:
-        checker = Checker(program, declared, point, bool(at), dict(sources or {}), domain_spans, sites)
+        checker = Checker(program, declared, point, bool(at), dict(sources or {}), domain_spans, sites, budget)
     except _FAILURES as e:  # the conditions could not be read as sympy expressions
         return [
             Finding(
@@ -190,13 +225,23 @@ def check_program(
                 f"could not analyse the conditions ({type(e).__name__}): transversality is unchecked",
             )
         ]
+    state["findings"] = findings = checker.findings
     findings = checker.run()
-
-    findings += domain_findings(program, point, sources or {})
-    findings += double_root_findings(program)
-    findings += tangent_findings(program, point, bool(at))
-    findings += empty_domain_findings(program, point, domain_spans)
-    findings += singular.findings(program, declared, point, sources or {})
+    state["findings"] = findings
+    after = [
+        ("the domains of primitives", lambda: domain_findings(program, point, sources or {})),
+        ("double roots", lambda: double_root_findings(program)),
+        ("turning points", lambda: tangent_findings(program, point, bool(at))),
+        ("empty domains", lambda: empty_domain_findings(program, point, domain_spans)),
+        ("integrability", lambda: singular.findings(program, declared, point, sources or {})),
+    ]
+    for k, (_what, analysis) in enumerate(after):
+        if budget is not None and timebox.Deadline(budget).remaining() <= 0:
+            skipped = ", ".join(w for w, _ in after[k:])
+            findings.append(_stopped(program, budget, f"{skipped} not analysed"))
+            break
+        findings += analysis()
+        state["findings"] = findings
     return _dedupe(findings)
 
 

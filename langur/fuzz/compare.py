@@ -233,6 +233,11 @@ def _exact_fork(program, params, timeout: float):
         parent.close()
 
 
+#: The share of a unit's time limit the transversality linter may spend (CPU seconds; what it
+#: leaves unchecked is an X310 warning, not a verdict): the engines keep the rest.
+LINT_SHARE = 0.25
+
+
 def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
     """What every comparison starts from: ``text`` loaded, linted (a program the linter finds not
     transverse is discarded) and answered by the exact engine.  Returns ``(result, loaded, params,
@@ -252,7 +257,7 @@ def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
         _phase("lint", result)
         try:
             found = check_loaded(loaded, at={k: float(v) for k, v in params.items()},
-                                  sources={"<fuzz>.lgr": text})
+                                  sources={"<fuzz>.lgr": text}, budget=LINT_SHARE * timeout)
         except Exception as e:  # noqa: BLE001 - a linter crash is recorded, the engines still run
             found = []
             result.findings.append(f"linter error: {type(e).__name__}: {e}")

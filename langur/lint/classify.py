@@ -17,7 +17,6 @@ X305, X306, X308) and :mod:`langur.lint.nullsets` (failures on null sets, §7.3:
 from __future__ import annotations
 
 import itertools
-import time
 from collections.abc import Mapping
 
 import sympy as sp
@@ -25,6 +24,7 @@ import sympy as sp
 from ..core import Program
 from ..diagnostics import Span
 from ..sympy_bridge import denote, symbol, to_sympy
+from ..timebox import Deadline
 from .algebra import Undecided, bad_parameters, describe_point, exact, vanishes
 from .ancestry import ancestry
 from .coincidence import CoincidenceChecks
@@ -71,7 +71,11 @@ class Checker(CoincidenceChecks, NullSetChecks):
         sources: Mapping[str, str],
         domain_spans: Mapping[tuple[int, int], Span] | None = None,
         sites=None,
+        budget: float | None = None,
     ):
+        #: CPU seconds the analysis may take: :data:`BUDGET`, or less when the caller says so
+        #: (``check_program``'s ``budget``, which also bounds the analysis with ``timebox.budget``).
+        self.budget = BUDGET if budget is None else min(BUDGET, budget)
         self.program = program
         self.col = collect(program, sites, point)
         self.ancestry = ancestry(program.body, self.col.occurrences)
@@ -200,18 +204,18 @@ class Checker(CoincidenceChecks, NullSetChecks):
         # (5000 copies of [x <= a] in one sum) is not repeated; one that found something is, so
         # that each copy is reported where it is written.
         clean: set = set()
-        deadline = time.process_time() + BUDGET
+        clock = Deadline(BUDGET)  # within an enclosing timebox.budget (check_program's ``budget``)
         for k, (step, args, same) in enumerate(steps):
             if same is not None and same in clean:
                 continue
             before = self._state()
-            if time.process_time() > deadline:
+            if clock.remaining() <= 0:
                 self.add(
                     self.program.span,
                     "warning",
                     "X310",
-                    f"the transversality analysis stopped after {BUDGET:g} CPU s with {len(steps) - k} of "
-                    f"{len(steps)} checks left: the rest is unchecked",
+                    f"the transversality analysis stopped after {self.budget:g} CPU s (its budget) with "
+                    f"{len(steps) - k} of {len(steps)} checks left: the rest is unchecked",
                 )
                 break
             try:

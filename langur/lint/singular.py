@@ -39,7 +39,7 @@ from ..diagnostics import Span
 from ..primitives import REGISTRY, Domain
 from ..symbolic.decompose import Ctx, decompose
 from ..sympy_bridge import at_symbols, symbols
-from ..timebox import run_with_timeout
+from ..timebox import Deadline
 from .blowup import Blowup, Region, Undecidable, Verdict, blowups
 from .findings import Finding, quote
 
@@ -144,10 +144,13 @@ def _num(e) -> float:
 
 def _guarded(what: str, fn) -> Integrability:
     out = Integrability(what)
+    clock = Deadline(TIME_LIMIT)  # within the whole analysis's budget, when it has one
+    cut = clock.remaining() < 0.99 * TIME_LIMIT  # an enclosing budget has less left than this limit
     try:
-        run_with_timeout(lambda: fn(out), TIME_LIMIT, cpu=True)
+        clock.run(lambda: fn(out))
     except TimeoutError:
-        out.note = f"the analysis of {what} took longer than {TIME_LIMIT:g} CPU s"
+        out.note = (f"the analysis of {what} ran out of the analysis's CPU budget" if cut else
+                    f"the analysis of {what} took longer than {TIME_LIMIT:g} CPU s")
     except Exception as e:  # noqa: BLE001 - the analysis never stops a command; it claims nothing then
         out.note = f"the analysis of {what} could not run ({type(e).__name__}: {e})"
     return out

@@ -21,7 +21,7 @@ import sympy as sp
 
 from ..core import IfDiffeo, ImplicitRoot, Program, TooManyRoots, subterms
 from ..sympy_bridge import NotSmooth, symbol, to_sympy
-from ..timebox import run_with_timeout
+from ..timebox import Deadline
 from .findings import Finding
 
 #: CPU seconds of sympy per condition.
@@ -42,12 +42,12 @@ def tangent_findings(program: Program, point: dict | None, explicit: bool) -> li
         if not roots:
             continue
         try:
-            out += run_with_timeout(lambda t=t, roots=roots: _findings(t, roots, point, explicit), TIME_LIMIT, cpu=True)
+            out += Deadline(TIME_LIMIT).run(lambda t=t, roots=roots: _findings(t, roots, point, explicit))
         except (TimeoutError, NotSmooth, TypeError, ValueError, TooManyRoots):
             pass
         if len(t.psi.variables) > 1:
             try:
-                out += run_with_timeout(lambda t=t: _critical_findings(t, program, point, explicit), TIME_LIMIT, cpu=True)
+                out += Deadline(TIME_LIMIT).run(lambda t=t: _critical_findings(t, program, point, explicit))
             except (TimeoutError, NotSmooth, TypeError, ValueError, NotImplementedError):
                 continue
     return out
