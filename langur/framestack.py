@@ -5,7 +5,7 @@ call that does not fit in the current chunk maps a new one (``mmap``), and the r
 that chunk empty unmaps it.  A computation whose call depth goes up and down across a chunk's edge
 — sympy's recursive walks, nested integrands, compiled closures calling closures — maps, touches
 and unmaps memory at every crossing.  In a ``langur fuzz`` worker this was 73 % of all page faults
-(``perf record -e page-faults``: ``_PyThreadState_BumpFramePointerSlow``), about 21,000 per program,
+(``perf record -e page-faults``: ``_PyThreadState_BumpFramePointerSlow``), about 19,000 per program,
 and about a tenth of a 10-minute campaign's CPU went to the kernel (124 of 1,185 s).
 
 :func:`run` calls its function from a frame whose code declares a value stack of :data:`SLOTS`

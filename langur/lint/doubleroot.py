@@ -72,4 +72,7 @@ def _nonzero_somewhere(e: sp.Expr) -> bool:
     """Is ``e`` certainly not identically 0: real and nonzero at a random point?  What ``simplify``
     would then not reduce to 0, decided by a few compiled evaluations instead (most conditions'
     slopes are nonzero on their zero sets: this is the common answer)."""
-    return any(abs(v) > _NONZERO for v in spot_values(e, e.free_symbols, points=3))
+    try:
+        return any(abs(v) > _NONZERO for v in spot_values(e, e.free_symbols, points=3))
+    except Exception:  # noqa: BLE001 - a point where e cannot be evaluated (an implicit root with more
+        return False   # turning points than its split, TooManyRoots): sympy's simplify decides, as before
