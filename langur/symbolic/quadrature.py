@@ -223,32 +223,12 @@ _EPMACH = float(np.finfo(float).eps)
 _UFLOW = float(np.finfo(float).tiny)
 
 
-def gauss_kronrod_21(y_minus, y_plus, y_centre, half: float):
-    """QUADPACK's ``dqk21`` on values already computed: ``y_minus[j]``/``y_plus[j]`` at
-    centre ∓ half·XGK[j] (j < 10), ``y_centre`` at the centre.  Returns ``(result, abserr,
-    resabs, resasc)`` as ``dqk21`` defines them (the error estimate rescaled as QUADPACK does)."""
-    fsum = y_minus + y_plus
-    resk = WGK[10] * y_centre + float(_WK_PAIR @ fsum)
-    resg = float(_WG_PAIR @ fsum)
-    resabs = WGK[10] * abs(y_centre) + float(_WK_PAIR @ (np.abs(y_minus) + np.abs(y_plus)))
-    reskh = 0.5 * resk
-    resasc = WGK[10] * abs(y_centre - reskh) + float(_WK_PAIR @ (np.abs(y_minus - reskh) + np.abs(y_plus - reskh)))
-    dh = abs(half)
-    result, resabs, resasc = resk * half, resabs * dh, resasc * dh
-    abserr = abs((resk - resg) * half)
-    if resasc != 0.0 and abserr != 0.0:
-        abserr = resasc * min(1.0, (200.0 * abserr / resasc) ** 1.5)
-    if resabs > _UFLOW / (50.0 * _EPMACH):
-        abserr = max(_EPMACH * 50.0 * resabs, abserr)
-    return result, abserr, resabs, resasc
-
-
 def _gk21_panel(y, half: float):
-    """:func:`gauss_kronrod_21`'s ``(result, abserr, resasc)`` on the 21 values ``y`` in
+    """QUADPACK's ``dqk21`` ``(result, abserr, resasc)`` on the 21 values ``y`` in
     :func:`_first_panel`'s order (``y[:10]`` at centre − half·XGK[j], ``y[10:20]`` at centre +
-    half·XGK[j], ``y[20]`` at the centre), bitwise its answer: the same elementwise operations
-    and the same 10-term dot products, with the absolute values and the deviations from the mean
-    taken once over the whole panel (four numpy calls fewer per panel; issue 13, camp8)."""
+    half·XGK[j], ``y[20]`` at the centre), with the absolute values and the deviations from the
+    mean taken once over the whole panel (issue 13, camp8; bitwise the rule written out term by
+    term, which proofs_tests/test_campaign_throughput8.py keeps as its reference)."""
     yc = float(y[20])
     fsum = y[:10] + y[10:20]
     resk = WGK[10] * yc + float(_WK_PAIR @ fsum)
