@@ -62,6 +62,12 @@ class Row:
                 "mc": self.mc, "stderr": self.stderr, "ok": self.ok}
 
 
+#: What became of Theorem 8.1's check of one partial derivative: computed (held, or failed — then
+#: the program is a discrepancy), undecided, left out on its CPU budget (:data:`CHECK_SHARE`), or
+#: not computed (the exact engine's note says why).
+THEOREM_OUTCOMES = ("checked", "undecided", "budget", "not_computed")
+
+
 @dataclass
 class ProgramResult:
     """The outcome for one program: ``status`` is agree, discrepancy, timeout, exact_unavailable,
@@ -81,6 +87,8 @@ class ProgramResult:
     cpu_seconds: float = 0.0  # the same in CPU seconds of its worker (0 outside a worker pool)
     coverage: dict = field(default_factory=dict)  # (figure, rule) -> applications (langur.fuzz.coverage)
     methods: list[str] = field(default_factory=list)
+    #: Theorem 8.1's check per partial derivative: one of :data:`THEOREM_OUTCOMES`
+    theorem_8_1: dict[str, str] = field(default_factory=dict)
     #: where the unit's time went, seconds per phase (:data:`PHASES`; ``langur fuzz --profile``)
     timing: dict[str, float] = field(default_factory=dict)
     #: sympy's antiderivatives this unit found in its worker (handed to the units forked after it)
@@ -322,13 +330,16 @@ def _compared(result, loaded, params, ex, exd, samples, seed, method) -> Program
                         m.standard_ad.value, 0.0, False))
         th = e.theorem_8_1
         if th is None:
-            why = ": its CPU budget was spent" if api.CHECK_STOPPED in e.notes else ""
-            result.findings.append(f"Theorem 8.1 not checked for {p}{why}")
+            stopped = api.CHECK_STOPPED in e.notes
+            result.theorem_8_1[p] = "budget" if stopped else "not_computed"
+            result.findings.append(f"Theorem 8.1 not checked for {p}{': its CPU budget was spent' if stopped else ''}")
         else:
             ok = th.holds is True
             rows.append(Row("theorem_8_1", p, th.d_denotation, er, th.derivative_denotation, 0.0, ok))
+            result.theorem_8_1[p] = "checked"
             if th.holds is None:
                 rows[-1].ok = True
+                result.theorem_8_1[p] = "undecided"
                 result.findings.append(f"Theorem 8.1 undecided for {p}")
     for r in rows:
         if r.quantity != "theorem_8_1":
@@ -405,15 +416,10 @@ class FuzzSummary:
     def theorem_counts(self) -> dict[str, int]:
         """Theorem 8.1's checks over the campaign's partial derivatives: held (or failed: a failure is
         a discrepancy), undecided, stopped on their CPU budget (:data:`CHECK_SHARE`), not computed."""
-        out = {"checked": 0, "undecided": 0, "budget": 0, "not_computed": 0}
+        out = dict.fromkeys(THEOREM_OUTCOMES, 0)
         for r in self.results:
-            out["checked"] += sum(1 for row in r.rows if row.quantity == "theorem_8_1")
-            for f in r.findings:
-                if f.startswith("Theorem 8.1 undecided"):
-                    out["undecided"] += 1
-                elif f.startswith("Theorem 8.1 not checked"):
-                    out["budget" if f.endswith("budget was spent") else "not_computed"] += 1
-        out["checked"] -= out["undecided"]
+            for outcome in r.theorem_8_1.values():
+                out[outcome] += 1
         return out
 
     def coverage(self):
