@@ -1172,6 +1172,35 @@ def _fold_outer(p: NumProblem, level: int, prefix: tuple, ends: list[float], spa
 FOLD_TURN_GRID = 512
 
 
+def _fold_grid_sign_changes(groups: Callable[[float], Sequence[list]], lo: float, hi: float) -> list[float]:
+    """Where the k-th value of a group of ``groups(x)`` changes sign on [lo, hi]: a grid of
+    :data:`FOLD_TURN_GRID` cells, each sign change refined by brentq on that value alone (a cell
+    where the group's count changes — a critical point entering or leaving the box — is not a turn
+    of the fold curve).  The fold curve's turns for :func:`_add_fold_turns` and
+    :func:`_add_fold_guards`."""
+    xs = np.linspace(lo, hi, FOLD_TURN_GRID + 1).tolist()
+    vals = [groups(x) for x in xs]
+    out = []
+    for a, b, fa, fb in zip(xs, xs[1:], vals, vals[1:]):
+        for g, (ya, yb) in enumerate(zip(fa, fb)):
+            if len(ya) != len(yb):
+                continue
+            n = len(ya)
+            for k, (u, w) in enumerate(zip(ya, yb)):
+                if not (math.isfinite(u) and math.isfinite(w)) or u == 0.0 or (u < 0) == (w < 0):
+                    continue
+
+                def one(x, g=g, k=k, n=n):
+                    vs = groups(x)[g]
+                    return vs[k] if len(vs) == n else math.nan
+
+                try:
+                    out.append(so.brentq(one, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps))
+                except (ValueError, RuntimeError):
+                    out.append(0.5 * (a + b))
+    return out
+
+
 def _add_fold_turns(p: NumProblem, level: int) -> None:
     """Kinks of ``level`` (the one outside the innermost) where a condition of the innermost level,
     a polynomial in its variable v, has a critical point in v on its zero set: there the fold curve
@@ -1204,27 +1233,7 @@ def _add_fold_turns(p: NumProblem, level: int) -> None:
         def roots(*prefix, turns=turns):
             """Where one of them changes sign (each on its own: at x = −0.7865 in the separable
             cubic two change sign at once, and their product would not)."""
-            lo, hi = p.bounds[level]
-            xs = np.linspace(lo, hi, FOLD_TURN_GRID + 1).tolist()
-            vals = [turns(*prefix, x) for x in xs]
-            out = []
-            for a, b, fa, fb in zip(xs, xs[1:], vals, vals[1:]):
-                if len(fa) != len(fb):
-                    continue  # a critical point entering or leaving the box: not a turn of the fold curve
-                n = len(fa)
-                for k, (ya, yb) in enumerate(zip(fa, fb)):
-                    if not (math.isfinite(ya) and math.isfinite(yb)) or (ya < 0) == (yb < 0) or ya == 0.0:
-                        continue
-
-                    def one(x, k=k, n=n):
-                        vs = turns(*prefix, x)
-                        return vs[k] if len(vs) == n else math.nan
-
-                    try:
-                        out.append(so.brentq(one, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps))
-                    except (ValueError, RuntimeError):
-                        out.append(0.5 * (a + b))
-            return out
+            return _fold_grid_sign_changes(lambda x: (turns(*prefix, x),), *p.bounds[level])
 
         def kink(*args, turns=turns):  # (the kink's value, for callers that search it themselves)
             vals = turns(*args)
@@ -1373,31 +1382,8 @@ def _add_fold_guards(p: NumProblem, level: int) -> None:
             return out
 
         def outer_roots(*prefix, specials=specials):
-            lo, hi = p.bounds[level]
-            xs = np.linspace(lo, hi, FOLD_TURN_GRID + 1).tolist()
-            vals = [specials(*prefix, x) for x in xs]
-            out = []
-            for a, b, fa, fb in zip(xs, xs[1:], vals, vals[1:]):
-                for i, (pa, pb) in enumerate(zip(fa, fb)):
-                    for kind in (0, 1):
-                        ya, yb = pa[kind], pb[kind]
-                        if len(ya) != len(yb):
-                            continue  # a critical point appearing: not a turn of the fold curve
-                        for k, (u, w) in enumerate(zip(ya, yb)):
-                            if not (math.isfinite(u) and math.isfinite(w)) or u == 0.0 or (u < 0) == (w < 0):
-                                continue
-
-                            n = len(ya)
-
-                            def one(x, i=i, kind=kind, k=k, n=n):
-                                vs = specials(*prefix, x)[i][kind]
-                                return vs[k] if len(vs) == n else math.nan
-
-                            try:
-                                out.append(so.brentq(one, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps))
-                            except (ValueError, RuntimeError):
-                                out.append(0.5 * (a + b))
-            return out
+            return _fold_grid_sign_changes(
+                lambda x: [values for part in specials(*prefix, x) for values in part], *p.bounds[level])
 
         p.kinks[level].append((None, outer_roots))
         p.kink_vary[level].append(tuple(range(level)))
