@@ -64,7 +64,7 @@ def test_a_unit_past_its_time_limit_is_killed_and_reported_apart(monkeypatch):
     seen = []
     t0 = time.monotonic()
     out = pool.run_units(["fast 1", "slow", "crash", "fast 2"], _slow_or_fast, workers=2, limit=1.0,
-                         on_time_limit=lambda t, why: fuzz.ProgramResult(t, "timeout", reason=why),
+                         on_time_limit=lambda t, why, last=None: fuzz.ProgramResult(t, "timeout", reason=why),
                          on_error=lambda t, why: fuzz.ProgramResult(t, "exact_error", reason=why),
                          progress=seen.append)
     assert time.monotonic() - t0 < 30  # the spinning unit did not run its 60 s

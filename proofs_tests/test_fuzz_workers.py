@@ -23,7 +23,7 @@ def _pid_or_spin(text):
 
 def _run(texts, **kw):
     return pool.run_units(texts, _pid_or_spin, workers=1, limit=0.5,
-                          on_time_limit=lambda t, why: fuzz.ProgramResult(t, "timeout", reason=why),
+                          on_time_limit=lambda t, why, last=None: fuzz.ProgramResult(t, "timeout", reason=why),
                           on_error=lambda t, why: fuzz.ProgramResult(t, "exact_error", reason=why), **kw)
 
 
@@ -39,7 +39,7 @@ def test_one_worker_runs_many_units_and_is_replaced_after_a_kill(monkeypatch):
 
 def test_what_the_campaign_tells_reaches_the_worker_before_its_next_unit():
     p = pool.Pool(_pid_or_spin, workers=1, limit=5.0, told=_TOLD.append,
-                  on_time_limit=lambda t, why: None, on_error=lambda t, why: None)
+                  on_time_limit=lambda t, why, last=None: None, on_error=lambda t, why: None)
     p.submit("a")
     while p._busy():
         p._collect()
@@ -73,3 +73,24 @@ def test_examples_counts_distinct_programs_continuing_the_same_draws(tmp_path):
     assert len(drawn) == 20 and len(once) < 20  # the plain run repeats a program
     assert len(texts) == len(set(texts)) == 20
     assert texts[: len(once)] == once
+
+
+def test_a_killed_unit_reports_the_cpu_seconds_it_used(monkeypatch):
+    """A unit killed at its limit is a timeout that says what it used (camp9: `-v` printed "0.0s"):
+    at least its limit of CPU seconds (the spinning unit burns CPU only), read from /proc by the
+    pool, and shown by `langur fuzz -v` in place of the exact engine's unknown share."""
+    from langur.commands.fuzz import verbose_times
+    from langur.fuzz import compare
+
+    monkeypatch.setattr(pool, "GRACE", 0.0)
+    before = time.process_time()
+    out = pool.run_units(["a", "slow"], _pid_or_spin, workers=1, limit=0.5,
+                         on_time_limit=compare._time_limited, on_error=compare._unit_error)
+    assert [r.status for r in out] == ["agree", "timeout"]
+    killed = out[1]
+    if pool.cpu_seconds(os.getpid()) is not None:  # Linux: the limit counts CPU seconds
+        assert 0.5 <= killed.cpu_seconds < 5.0
+        assert killed.seconds >= killed.cpu_seconds - 0.05  # one thread: no more CPU than wall time
+        line = verbose_times(killed)
+        assert line.split()[:2] == ["timeout", "-"] and f"{killed.cpu_seconds:.1f} CPU s" in line
+    assert time.process_time() - before < 0.5  # the spinning was the worker's, not this process's

@@ -84,8 +84,7 @@ def run(args) -> int:
 
     def progress(res):
         if args.verbose:
-            print(f"  {res.status:<18} {res.exact_seconds:6.1f}s  "
-                  f"{res.text.splitlines()[-2].strip()[:90]}", file=sys.stderr)
+            print(f"  {verbose_times(res)}  {res.text.splitlines()[-2].strip()[:90]}", file=sys.stderr)
             if res.failed:
                 print("".join(f"    | {line}\n" for line in res.text.splitlines()), end="", file=sys.stderr)
                 for r in res.rows:
@@ -163,6 +162,16 @@ def run(args) -> int:
     return status
 
 
+def verbose_times(res) -> str:
+    """A program's status and times for ``-v``: the exact engine's seconds, then the CPU seconds
+    its whole unit used in its worker (a unit killed at its time limit: what it had used when it
+    was killed, its exact engine's share unknown: ``-``; outside a worker pool: no CPU column)."""
+    killed = res.status == "timeout" and res.exact_seconds == 0.0
+    exact = f"{'-':>6} " if killed else f"{res.exact_seconds:6.1f}s"
+    cpu = f" {res.cpu_seconds:6.1f} CPU s" if res.cpu_seconds > 0 else ""
+    return f"{res.status:<18} {exact}{cpu}"
+
+
 def profile_text(summary) -> str:
     """Where the per-program budget went (``--profile``): each phase's total, share, median and
     largest time per program, then the slowest programs with their split."""
@@ -188,7 +197,8 @@ def profile_text(summary) -> str:
     if cpu:
         lines.append(f"    CPU seconds per program (in its worker; the machine may be shared): median "
                      f"{statistics.median(cpu):.3f}, mean {sum(cpu) / len(cpu):.3f}, total {sum(cpu):.1f} "
-                     f"over the {len(cpu)} that finished")
+                     f"over {len(cpu)} programs, of which {sum(r.cpu_seconds for r in killed):.1f} in the "
+                     f"{len(killed)} killed at their time limit")
     exact = sorted(r.exact_seconds for r in results) or [0.0]
     lines.append(f"    exact engine per program: median {statistics.median(exact):.3f} s, "
                  f"{sum(e > 1.0 for e in exact)} of {len(results)} over 1 s")

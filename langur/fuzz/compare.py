@@ -576,12 +576,17 @@ def _import_all(names) -> None:
 
 def _time_limited(text: str, reason: str, last: dict | None = None) -> ProgramResult:
     """A unit killed at its time limit; ``last``: its last :func:`_phase` note (the phase it was
-    in, the seconds of those it had finished), kept in ``timing`` and ``killed_in``."""
+    in, the seconds of those it had finished), kept in ``timing`` and ``killed_in``, and what the
+    pool measured when it killed it (``cpu``: CPU seconds or None, ``wall``: seconds), kept in
+    ``cpu_seconds`` and ``seconds``."""
     res = ProgramResult(text, "timeout", reason=reason)
-    if last is not None:
+    last = last or {}
+    if "phase" in last:
         res.timing = dict(last["timing"])
         res.killed_in = last["phase"]
         res.reason += f" in its {last['phase']} phase"
+    res.cpu_seconds = last.get("cpu") or 0.0
+    res.seconds = last.get("wall") or 0.0
     return res
 
 

@@ -74,9 +74,9 @@ _NOTE = None
 
 
 def note(payload) -> None:
-    """In a worker, tell the campaign's process where the unit is (``payload``, small and
-    picklable: e.g. the phase it starts); kept for the unit's ``on_time_limit`` should it be
-    killed.  Does nothing outside a worker."""
+    """In a worker, tell the campaign's process where the unit is (``payload``, a small picklable
+    dict: e.g. the phase it starts); kept for the unit's ``on_time_limit`` should it be killed.
+    Does nothing outside a worker."""
     if _NOTE is not None:
         _NOTE(payload)
 
@@ -146,8 +146,10 @@ class _Worker:
 class Pool:
     """Units ``work(text)`` in ``workers`` long-lived forked processes (module doc): a unit that
     has used ``limit + GRACE`` CPU seconds (:data:`BACKSTOP`) is killed with its worker and
-    replaced by ``on_time_limit(text, reason)``, or ``on_time_limit(text, reason, last)`` after the
-    unit's :func:`note` ``last``; one that raised, or whose worker died, by ``on_error(text, why)``;
+    replaced by ``on_time_limit(text, reason, last)``: ``last`` is the unit's last :func:`note`
+    (a dict; empty when it sent none) with ``"cpu"`` and ``"wall"`` added, the CPU seconds (None
+    without ``/proc``) and wall seconds the unit had used when it was killed; one that raised, or
+    whose worker died, by ``on_error(text, why)``;
     ``progress(result)`` is called as results arrive (in completion order); ``told(n)`` is what a
     worker does with each ``n`` of :meth:`tell`."""
 
@@ -196,19 +198,21 @@ class Pool:
         if self.progress is not None:
             self.progress(res)
 
-    def _late(self, w: _Worker, now: float) -> str | None:
-        """Why the unit in worker ``w`` is past its limit, or None."""
-        cpu = cpu_seconds(w.proc.pid)
+    def _late(self, w: _Worker, now: float) -> tuple[str, dict] | None:
+        """Why the unit in worker ``w`` is past its limit and what it used (``{"cpu": CPU seconds or
+        None without /proc, "wall": seconds}``), or None."""
+        cpu, wall = cpu_seconds(w.proc.pid), now - w.start
         if cpu is None:
-            if now - w.start >= self.cap:
-                return f"the program took longer than {self.cap:g} s (killed)"
+            if wall >= self.cap:
+                return f"the program took longer than {self.cap:g} s (killed)", {"cpu": None, "wall": wall}
             return None
         cpu -= w.cpu0
+        used = {"cpu": cpu, "wall": wall}
         if cpu >= self.cap:
-            return f"the program took longer than {self.cap:g} CPU seconds (killed)"
-        if now - w.start >= BACKSTOP * self.cap + 10:
+            return f"the program took longer than {self.cap:g} CPU seconds (killed)", used
+        if wall >= BACKSTOP * self.cap + 10:
             return (f"the program ran {BACKSTOP * self.cap + 10:g} s (wall clock) with {cpu:.1f} CPU seconds "
-                    "(killed)")
+                    "(killed)"), used
         return None
 
     def _retire(self, w: _Worker, kill: bool) -> None:
@@ -237,12 +241,11 @@ class Pool:
                 self._done(i, payload if status == "ok" else self.on_error(self.texts[i], payload))
         now = time.monotonic()
         for reader, w in busy.items():
-            why = self._late(w, now) if reader not in ready and w.index is not None else None
-            if why is not None:
-                i, last = w.index, w.last
+            late = self._late(w, now) if reader not in ready and w.index is not None else None
+            if late is not None:
+                (why, used), i = late, w.index
                 self._retire(w, kill=True)
-                self._done(i, self.on_time_limit(self.texts[i], why) if last is None
-                           else self.on_time_limit(self.texts[i], why, last))
+                self._done(i, self.on_time_limit(self.texts[i], why, {**(w.last or {}), **used}))
 
 
 def run_units(texts: Iterable[str], work: Callable[[str], object], *, workers: int, limit: float,
