@@ -30,6 +30,11 @@ from langur.timebox import budget
 from langur.transversality import check_loaded
 
 
+#: The campaign's time limit per program (``langur fuzz --timeout``): the linter's, the closed-form
+#: search's and Theorem 8.1's shares of it are the campaign's (``compare.LINT_SHARE`` …).
+TIMEOUT = 20.0
+
+
 def _timed(owner, name: str, acc: dict):
     real = getattr(owner, name)
 
@@ -53,7 +58,8 @@ def _unit(text: str, i: int, w: int) -> None:
     emit(phase="front_end", cpu=T() - c)
     params = loaded.param_values({})
     c = T()
-    found = check_loaded(loaded, at={k: float(v) for k, v in params.items()}, sources={"<fuzz>.lgr": text})
+    found = check_loaded(loaded, at={k: float(v) for k, v in params.items()}, sources={"<fuzz>.lgr": text},
+                         budget=compare.LINT_SHARE * TIMEOUT)
     emit(phase="lint", cpu=T() - c)
     if any(f.code in compare.LINT_DISCARD for f in found):
         emit(phase="discarded", cpu=0.0)
@@ -61,7 +67,7 @@ def _unit(text: str, i: int, w: int) -> None:
     fd, dd = {"cpu": 0.0}, {"cpu": 0.0}
     _timed(theorem, "_finite_difference", fd)
     _timed(api, "ddenote_program", dd)
-    with budget(compare.SYMBOLIC_SHARE * 20.0), integrate.untidied():
+    with budget(compare.SYMBOLIC_SHARE * TIMEOUT), integrate.untidied():
         c = T()
         try:
             ex = api.exact_eval(loaded.program, params)
@@ -69,11 +75,13 @@ def _unit(text: str, i: int, w: int) -> None:
             emit(phase="value_error", cpu=T() - c, err=repr(e)[:150])
             raise
         emit(phase="value", cpu=T() - c, method=str(ex.method), v=ex.value, e=ex.error)
+        checks_end = T() + compare.CHECK_SHARE * TIMEOUT
         for p in params:
             fd["cpu"] = dd["cpu"] = 0.0
             c = T()
             try:
-                r = api.exact_deriv(loaded.program, params, {q: (1 if q == p else 0) for q in params})
+                r = api.exact_deriv(loaded.program, params, {q: (1 if q == p else 0) for q in params},
+                                    check_seconds=max(0.0, checks_end - T()))
             except BaseException as e:
                 emit(phase="deriv_error", p=p, cpu=T() - c, ddenote=dd["cpu"], fd=fd["cpu"], err=repr(e)[:150])
                 raise

@@ -401,7 +401,9 @@ def _finite_difference(program, at, direction, der, den, timeout, why: str) -> T
     most :data:`QUADRATURE_SHARE` of TIGHT·size (so the window within which D⟦p⟧·γ' and ⦇p⦈ are
     found to agree widens by at most that share of what a verdict accepts anyway); otherwise the
     step is computed again at the usual tolerance, as before, so every other verdict (fails,
-    inconclusive, one-sided) is the usual computation's."""
+    inconclusive, one-sided) is the usual computation's.  Both tolerances are this check's own: a
+    caller that loosened the quadratures of ⟦p⟧ and ⦇p⦈ (a campaign, :mod:`langur.fuzz.compare`)
+    does not loosen the shifted values."""
     scale = max([1.0] + [abs(float(v)) for v in at.values()])
     last = None
     for h in FD_STEPS:
@@ -413,7 +415,8 @@ def _finite_difference(program, at, direction, der, den, timeout, why: str) -> T
                 return replace(loose, notes=loose.notes + [
                     f"the shifted values' outermost quadrature at {LOOSE_OUTER:g}× its usual tolerance: "
                     f"their share of the bound is {share:.2g}"])
-        last = _difference_at(program, at, direction, der, den, timeout, why, h * scale)
+        with quadrature.outer_tolerance(1.0):  # the usual tolerance, whatever the caller's (a campaign's)
+            last = _difference_at(program, at, direction, der, den, timeout, why, h * scale)
         size = max(1.0, abs(last.d_denotation), abs(last.derivative_denotation))
         if last.holds is not None and last.error is not None and last.error <= TIGHT * size:
             return last
