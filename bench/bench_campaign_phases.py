@@ -9,8 +9,10 @@ used ``--limit`` CPU seconds; the phases, timed with ``time.process_time`` in th
 end, the linter (``check_loaded``), ⟦p⟧ (``exact_eval``), each partial derivative
 (``exact_deriv``, split into ``ddenote_program`` and the Theorem 8.1 check, and within that the
 CPU of ``theorem._finite_difference``), and the Monte Carlo estimates (20,000 samples) — the
-exact engine inside the campaign's closed-form budget (``SYMBOLIC_SHARE · 20`` s), as a unit runs
-it.  A phase that raises is recorded with its CPU and the error.
+linter within ``LINT_SHARE · 20`` CPU s, the exact engine inside the campaign's closed-form budget
+(``SYMBOLIC_SHARE · 20`` s) and Theorem 8.1's checks within ``CHECK_SHARE · 20`` s, as a unit runs
+them (camp9; the quadratures' outermost level at the unit's tolerance is not applied here).  A
+phase that raises is recorded with its CPU and the error.
 """
 
 from __future__ import annotations
@@ -28,7 +30,6 @@ from langur.fuzz import compare, pool
 from langur.symbolic import integrate
 from langur.timebox import budget
 from langur.transversality import check_loaded
-
 
 #: The campaign's time limit per program (``langur fuzz --timeout``): the linter's, the closed-form
 #: search's and Theorem 8.1's shares of it are the campaign's (``compare.LINT_SHARE`` …).
