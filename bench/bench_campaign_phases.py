@@ -11,8 +11,8 @@ end, the linter (``check_loaded``), ⟦p⟧ (``exact_eval``), each partial deriv
 CPU of ``theorem._finite_difference``), and the Monte Carlo estimates (20,000 samples) — the
 linter within ``LINT_SHARE · 20`` CPU s, the exact engine inside the campaign's closed-form budget
 (``SYMBOLIC_SHARE · 20`` s) and Theorem 8.1's checks within ``CHECK_SHARE · 20`` s, as a unit runs
-them (camp9; the quadratures' outermost level at the unit's tolerance is not applied here).  A
-phase that raises is recorded with its CPU and the error.
+them, the quadratures' outermost level at the campaign's looseness (``OUTER_LOOSENESS``, camp9;
+1 in trees that predate it).  A phase that raises is recorded with its CPU and the error.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from langur import exact as api
 from langur import operational, theorem
 from langur.frontend import load_text
 from langur.fuzz import compare, pool
-from langur.symbolic import integrate
+from langur.symbolic import integrate, quadrature
 from langur.timebox import budget
 from langur.transversality import check_loaded
 
@@ -68,7 +68,8 @@ def _unit(text: str, i: int, w: int) -> None:
     fd, dd = {"cpu": 0.0}, {"cpu": 0.0}
     _timed(theorem, "_finite_difference", fd)
     _timed(api, "ddenote_program", dd)
-    with budget(compare.SYMBOLIC_SHARE * TIMEOUT), integrate.untidied():
+    with (budget(compare.SYMBOLIC_SHARE * TIMEOUT), integrate.untidied(),
+          quadrature.outer_tolerance(getattr(compare, "OUTER_LOOSENESS", 1.0))):
         c = T()
         try:
             ex = api.exact_eval(loaded.program, params)
