@@ -72,9 +72,9 @@ def test_a_campaigns_answers_are_bounded_at_the_looser_tolerance():
 
 def test_finite_differences_keep_their_own_tolerance_inside_a_looser_caller(monkeypatch):
     """Theorem 8.1's finite differences at the usual tolerance (the loose first pass switched off)
-    give bitwise the same check inside ``outer_tolerance(OUTER_LOOSENESS)`` as outside it: the
-    shifted values are not loosened by the caller's context.  Before camp9 the usual pass took the
-    caller's tolerance (the check's bound then 10³ times wider)."""
+    inside ``outer_tolerance(OUTER_LOOSENESS)``: every shifted value's outermost level asks for
+    the usual tolerance, not the caller's (before camp9 the usual pass took the caller's), and the
+    check is the one computed outside the context, agreeing with the hand value."""
     monkeypatch.setattr(T, "LOOSE_OUTER", 1.0)
     prog = load_text(SOURCE_2D).program
     at, direction = {"a": 0.7}, {"a": 1}
@@ -82,9 +82,18 @@ def test_finite_differences_keep_their_own_tolerance_inside_a_looser_caller(monk
     der = ddenote_program(prog, at, direction, symbolic=False)
     _forget()
     outside = T.check_theorem_8_1(prog, at, direction, denotation=den, derivative=der)
+    seen = []
+    real = _quad
+
+    def recording(h, a, b, eps, inside, p, level):
+        seen.append((len(p.bounds), level, eps))
+        return real(h, a, b, eps, inside, p, level)
+
     _forget()
-    with quadrature.outer_tolerance(compare.OUTER_LOOSENESS):
+    with pytest.MonkeyPatch.context() as mp, quadrature.outer_tolerance(compare.OUTER_LOOSENESS):
+        mp.setattr(nested, "_quad", recording)
         inside = T.check_theorem_8_1(prog, at, direction, denotation=den, derivative=der)
+    assert seen and {eps for dim, level, eps in seen if level == 0} == {EPSABS * 10}, seen
     hand = quad(lambda x: math.exp(math.sin(x)), 0.0, 0.7, epsabs=1e-13, epsrel=1e-13)[0]
     assert outside.how == "finite_difference" and outside.holds is True, outside
     assert (inside.holds, inside.d_denotation, inside.error) == (outside.holds, outside.d_denotation, outside.error)
