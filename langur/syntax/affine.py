@@ -289,8 +289,9 @@ def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, para
     others = [x for x in variables if x != v]
     renamed = {x: u for x, u in zip(others, inputs[1:])}
     a = form[("v", v)]
-    over = (lambda c: -c) if a == 1 else (lambda c: -c / a)  # −c/a
-    terms: list[tuple[str, str, Fraction]] = [(inputs[0], "v", 1 / a)]
+    one = a == 1
+    over = (lambda c: -c) if one else (lambda c: -c / a)  # −c/a
+    terms: list[tuple[str, str, Fraction]] = [(inputs[0], "v", _ONE if one else 1 / a)]
     for (kind, name), c in coeffs:
         if kind == "p":
             terms.append((name, "p", over(c)))

@@ -132,6 +132,9 @@ class Env:
     bodies: dict[tuple[str, str], object] = field(default_factory=dict)  # (module, def) -> CoreDef
 
 
+_new = object.__new__
+
+
 @dataclass(frozen=True)
 class Scope:
     """Δ (``variables``, in order), Γ (``gamma``), the numeric box for completion, and where we are."""
@@ -154,9 +157,15 @@ class Scope:
         return replace(self, gamma=self.gamma | {name}, consts=consts, vectors=vecs)
 
     def with_index(self, name: str, value: int) -> Scope:
-        """``name`` the index of a loop, the number ``value`` in this copy of its body (§9)."""
-        vecs = {n: b for n, b in self.vectors.items() if n != name}
-        return replace(self, consts={**self.consts, name: Fraction(value)}, vectors=vecs)
+        """``name`` the index of a loop, the number ``value`` in this copy of its body (§9).  (Copied
+        field by field, as ``dataclasses.replace`` would with these two changed, without its walk
+        over the fields: every first copy of a loop's body, and every copy not built from it.)"""
+        vecs = {n: b for n, b in self.vectors.items() if n != name} if self.vectors else {}
+        new = _new(Scope)
+        d = new.__dict__
+        d.update(self.__dict__)
+        d["consts"], d["vectors"] = {**self.consts, name: Fraction(value)}, vecs
+        return new
 
     def with_vector(self, name: str, vec: Vec) -> Scope:
         """``name`` bound to the vector ``vec`` by a ``let``."""

@@ -164,13 +164,24 @@ def _is_node(x) -> bool:
 
 def size(st: STerm) -> int:
     """The number of surface nodes of ``st`` (iteratively: no recursion on its depth; ``children``
-    written out, with the lookups by class hoisted: a loop's body is counted on every load)."""
+    written out, with the lookups by class hoisted, and the classes of most nodes of a term — names,
+    numbers, operators, negations — handled first: a loop's body is counted on every load)."""
     n, stack = 0, [st]
+    pop, push = stack.pop, stack.append
     fields, nodes = _FIELDS, _NODES
     while stack:
-        u = stack.pop()
+        u = pop()
         n += 1
         cls = type(u)
+        if cls is Name or cls is Num:  # (leaves)
+            continue
+        if cls is BinOp:
+            push(u.left)
+            push(u.right)
+            continue
+        if cls is Neg:
+            push(u.arg)
+            continue
         names = fields.get(cls) or _fields(cls)
         for name in names:
             v = getattr(u, name)
@@ -178,11 +189,11 @@ def size(st: STerm) -> int:
                 for x in v:
                     found = nodes.get(type(x))
                     if found or (found is None and _is_node(x)):
-                        stack.append(x)
+                        push(x)
             else:
                 found = nodes.get(type(v))
                 if found or (found is None and _is_node(v)):
-                    stack.append(v)
+                    push(v)
     return n
 
 

@@ -104,6 +104,7 @@ class Template:
         #: a completed conditional with an index leaf in a term of Ψ̂ that is not its condition (a
         #: Ψ̂ from elsewhere): refuse to instantiate
         self.usable = True
+        self.order: list[Term] = []
         self._mark(body)
         #: what :meth:`at` builds (:meth:`_compile`, on first use)
         self.shared: list[Term] = []
@@ -113,33 +114,36 @@ class Template:
     def _mark(self, root: Term) -> None:
         """:attr:`dependent`: whether each distinct node of the first copy is built anew in each copy:
         it has an index leaf below it (in a conditional: in its branches or in the condition it was
-        completed from) or a conditional on the parameters; the other nodes are shared by the copies."""
+        completed from) or a conditional on the parameters; the other nodes are shared by the copies.
+        :attr:`order`: the dependent nodes children first, left to right, each once (a recursive
+        walk's post-order), which :meth:`_compile` turns into steps without a walk of its own."""
         dep, leaves, completions = self.dependent, self.record.leaves, self.record.completions
+        order = self.order
         stack: list[Term] = [root]
-        while stack:  # (a node whose children are not all marked yet goes back under them)
-            u = stack.pop()
+        while stack:  # (a node whose children are not all marked yet stays under them, marked after)
+            u = stack[-1]
             key = id(u)
             if key in dep:
+                stack.pop()
                 continue
             tu = type(u)
             if tu is Const or tu is Var or tu is Param:
-                dep[key] = key in leaves
+                stack.pop()
+                if key in leaves:
+                    dep[key] = True
+                    order.append(u)
+                else:
+                    dep[key] = False
                 continue
             kids = _kids(u, completions)
-            pending = None
-            for c in kids:
-                k = id(c)
-                if k not in dep:
-                    tc = type(c)
-                    if tc is Const or tc is Var or tc is Param:
-                        dep[k] = k in leaves
-                    elif pending is None:
-                        pending = [u, c]
-                    else:
-                        pending.append(c)
-            if pending is not None:
-                stack += pending
+            pending = False
+            for c in reversed(kids):  # (the leftmost child on top: walked first)
+                if id(c) not in dep:
+                    stack.append(c)
+                    pending = True
+            if pending:
                 continue
+            stack.pop()
             # (a conditional on the parameters is copied too: the desugarer lifts such a conditional
             # out of a condition by its identity, `desugar._put`, which must not meet it in two copies)
             d = tu is IfGe0
@@ -149,6 +153,8 @@ class Template:
                         d = True
                         break
             dep[key] = d
+            if d:
+                order.append(u)
             if tu is IfDiffeo and key not in completions:
                 # a Ψ̂ not completed here (there is none while the record is safe): its terms must not
                 # mention the index
@@ -191,17 +197,7 @@ class Template:
                 shared.append(c)
             return found
 
-        seen: set[int] = set()
-        stack: list[tuple[Term, bool]] = [(self.body, False)]
-        while stack:  # post-order over the dependent nodes, left to right (as a recursive walk)
-            u, done = stack.pop()
-            if not done:
-                if id(u) not in seen:
-                    seen.add(id(u))
-                    stack.append((u, True))
-                    stack.extend((c, False) for c in reversed(_kids(u, completions))
-                                 if dep[id(c)] and id(c) not in seen)
-                continue
+        for u in self.order:  # post-order over the dependent nodes, left to right (_mark's)
             tu = type(u)
             if tu is Add or tu is Mul:
                 step = (_BINARY, tu, shape_with_span(u), ref(u.left), ref(u.right))
