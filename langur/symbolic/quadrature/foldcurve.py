@@ -21,7 +21,7 @@ from langur.symbolic.quadrature.compiling import _floats, _lambdify
 from langur.symbolic.quadrature.fold import _fold_timeout
 from langur.symbolic.quadrature.kinks import RESULTANT_SECONDS, _kink_functions
 from langur.symbolic.quadrature.problem import NumProblem
-from langur.symbolic.quadrature.roots import _coefficients, _roots, polynomial_roots
+from langur.symbolic.quadrature.roots import _coefficients, _hidden_pairs, _roots, polynomial_roots
 from langur.timebox import run_with_timeout
 
 #: Cells of the grid on which :func:`_add_fold_turns` looks for the fold curve's turning points
@@ -33,8 +33,11 @@ def _fold_grid_sign_changes(groups: Callable[[float], Sequence[list]], lo: float
     """Where the k-th value of a group of ``groups(x)`` changes sign on [lo, hi]: a grid of
     :data:`FOLD_TURN_GRID` cells, each sign change refined by brentq on that value alone (a cell
     where the group's count changes — a critical point entering or leaving the box — is not a turn
-    of the fold curve).  The fold curve's turns for :func:`_add_fold_turns` and
-    :func:`_add_fold_guards`."""
+    of the fold curve), and the pairs of sign changes closer than a cell that the grid cannot see
+    (:func:`_hidden_pairs` on each value along each run of nodes where its group's count stays
+    the same: a tiny closed loop of the fold curve, a bump narrower than a cell — missed, the outer
+    quadrature saw the inner integral 0 at all its abscissae and lost the loop's part).  The fold
+    curve's turns for :func:`_add_fold_turns` and :func:`_add_fold_guards`."""
     xs = np.linspace(lo, hi, FOLD_TURN_GRID + 1).tolist()
     vals = [groups(x) for x in xs]
     out = []
@@ -55,6 +58,21 @@ def _fold_grid_sign_changes(groups: Callable[[float], Sequence[list]], lo: float
                     out.append(so.brentq(one, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps))
                 except (ValueError, RuntimeError):
                     out.append(0.5 * (a + b))
+    for g in range(min((len(v) for v in vals), default=0)):
+        start = 0
+        for end in range(1, len(xs) + 1):  # runs [start, end) of nodes with the same count in group g
+            if end < len(xs) and len(vals[end][g]) == len(vals[start][g]):
+                continue
+            n = len(vals[start][g])
+            if end - start >= 2:
+                for k in range(n):
+                    def one(x, g=g, k=k, n=n):
+                        vs = groups(x)[g]
+                        return vs[k] if len(vs) == n else math.nan
+
+                    out += _hidden_pairs(one, xs[start:end], [vals[i][g][k] for i in range(start, end)],
+                                          flat=False)
+            start = end
     return out
 
 

@@ -57,14 +57,17 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
     return out
 
 
-def _hidden_pairs(g: Callable[[float], float], xs: list, vals: list) -> list[float]:
+def _hidden_pairs(g: Callable[[float], float], xs: list, vals: list, flat: bool = True) -> list[float]:
     """The roots of ``g`` a sign-change search on the grid ``xs`` cannot see: two roots between
     neighbouring nodes where ``g`` turns (``[x ≥ sin(z) + a]`` in z near z = π/2, x just below
     a + 1: the set in z has a gap narrower than the step, and ∫∫ lost ~10⁻⁵ with an error bound of
     10⁻⁹).  Wherever the nodes' values have a local maximum below 0 or a local minimum above 0
     (each extremum of ``g`` between nodes shows as one, at a node next to it), the extremum is
     found by bounded Brent's method between the neighbouring nodes, and if ``g`` changes sign
-    there, the two roots on its sides by brentq.  Nothing is added where the grid sees the turn."""
+    there, the two roots on its sides by brentq.  Nothing is added where the grid sees the turn.
+    ``flat=False``: a node equal to all its neighbours is not searched (a value constant along the
+    grid — the fold grid's many series that do not depend on the outer variable — would cost one
+    Brent search per node)."""
     out: list[float] = []
     n = len(xs)
     for j in range(n):
@@ -76,6 +79,8 @@ def _hidden_pairs(g: Callable[[float], float], xs: list, vals: list) -> list[flo
         if any(w is not None and not (math.isfinite(w) and (w > 0) == (v > 0)) for w in (left, right)):
             continue  # a sign change or a NaN next to it: the grid search handles it
         sign = 1.0 if v > 0 else -1.0  # a minimum of sign·g above 0 may dip below it
+        if not flat and all(w is None or w == v for w in (left, right)):
+            continue
         if (left is None or sign * left >= sign * v) and (right is None or sign * right >= sign * v):
             a, b = xs[max(j - 1, 0)], xs[min(j + 1, n - 1)]
             try:
