@@ -67,6 +67,13 @@ def _floats40(at: dict) -> dict:
     return out
 
 
+#: :meth:`Context.value`'s results by (expression, point): the same roots, bounds and relations are
+#: evaluated again for ⟦p⟧, ⦇p⦈'s pieces and the check (a third of raytrace ∂/∂t's evaluations are
+#: repeats).  sympy's equality tells Floats of different precisions apart, so a key is exact.
+_VALUES: dict = {}
+VALUES = 4096
+
+
 @dataclass
 class Context:
     """Evaluation point, time budget and the decisions taken at the evaluation point."""
@@ -80,11 +87,19 @@ class Context:
     inconsistent: list = field(default_factory=list)  # closed forms that failed the cross-check
 
     def value(self, expr) -> complex:
-        e = sp.sympify(expr).xreplace(_floats40(self.at))
-        try:
-            return complex(e.evalf(30))
-        except TypeError:
-            raise ValueError(f"no value for {sorted(map(str, e.free_symbols))} in {expr}") from None
+        """``expr`` at the point with 30 digits (40-digit floats substituted), as a complex;
+        remembered per (expression, point) (:data:`_VALUES`)."""
+        expr = sp.sympify(expr)
+        key = (expr, tuple(self.at.items()))
+        z = _VALUES.get(key)
+        if z is None:
+            e = expr.xreplace(_floats40(self.at))
+            try:
+                z = complex(e.evalf(30))
+            except TypeError:
+                raise ValueError(f"no value for {sorted(map(str, e.free_symbols))} in {expr}") from None
+            _remember(_VALUES, key, z, VALUES)
+        return z
 
     def exact_value(self, expr) -> complex:
         """:meth:`value` with the point's rational values substituted exactly (then evaluated to 30

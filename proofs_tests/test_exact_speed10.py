@@ -1,0 +1,61 @@
+"""exact10 (issue 15): work the exact engine repeats, remembered without changing a result.
+
+* ``regions.Context.value`` remembers its 30-digit values per (expression, point): each value is
+  sympy's own ``evalf`` of the expression with the point's 40-digit floats put in (computed here
+  independently), Floats of other precisions are not confused, and another point is another key.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from langur.symbolic import regions
+from langur.timebox import Deadline
+
+
+def _ctx(at):
+    return regions.Context(dict(at), Deadline(5.0), frozenset(at))
+
+
+def _by_sympy(expr, at) -> complex:
+    # independently: the point's values as 40-digit floats, sympy's evalf to 30 digits
+    return complex(sp.sympify(expr).subs({k: sp.Float(float(v), 40) for k, v in at.items()}).evalf(30))
+
+
+def test_value_is_sympys_evalf_and_repeats_give_the_same():
+    a, b = sp.symbols("a b")
+    at = {a: sp.Rational(3, 7), b: sp.Rational(-2, 5)}
+    ctx = _ctx(at)
+    for e in [sp.sqrt(a**2 + b**2) - a / 3, sp.exp(a) * sp.cos(b), (a - b) / (a + 2 * b + 1), sp.log(a) + sp.I * b]:
+        first = ctx.value(e)
+        assert first == _by_sympy(e, at)
+        assert ctx.value(e) == first  # remembered
+        assert _ctx(at).value(e) == first  # another context at the same point
+    # a value asked again at another point is that point's
+    other = {a: sp.Rational(1, 2), b: sp.Rational(1, 3)}
+    e = sp.sqrt(a**2 + b**2) - a / 3
+    assert _ctx(other).value(e) == _by_sympy(e, other) != ctx.value(e)
+    assert abs(_ctx(other).value(e) - (sp.sqrt(sp.Rational(13, 36)) - sp.Rational(1, 6))) < 1e-15
+
+
+def test_floats_of_other_precisions_are_other_keys():
+    a = sp.Symbol("a")
+    at = {a: sp.Rational(1, 3)}
+    ctx = _ctx(at)
+    lo, hi = sp.Float("0.1", 3) * a, sp.Float("0.1", 40) * a  # 0.1 rounded to 3 and 40 digits
+    assert lo != hi
+    assert ctx.value(lo) == _by_sympy(lo, at)
+    assert ctx.value(hi) == _by_sympy(hi, at)
+    assert ctx.value(hi) != ctx.value(lo)
+
+
+def test_no_value_is_an_error_each_time():
+    a, z = sp.symbols("a z")
+    ctx = _ctx({a: sp.Rational(1, 2)})
+    for _ in range(2):
+        try:
+            ctx.value(a + z)
+        except ValueError as e:
+            assert "z" in str(e)
+        else:
+            raise AssertionError("a free symbol has no value")
