@@ -59,3 +59,20 @@ def test_no_value_is_an_error_each_time():
             assert "z" in str(e)
         else:
             raise AssertionError("a free symbol has no value")
+
+
+def test_closed_roots_remembered_per_point():
+    # x² − a: roots ±√a where a > 0 (by hand), none where a < 0; (x − a)/(x − 2a): root a, pole 2a
+    x, a = sp.symbols("x a")
+    cond = regions.Cond(x**2 - a)
+    for _ in range(2):
+        four = _ctx({a: sp.Integer(4)})
+        rs = regions._closed_roots(cond, x, four)
+        assert sorted(complex(four.value(r)).real for r in rs) == [-2.0, 2.0]
+        assert regions._closed_roots(cond, x, _ctx({a: sp.Integer(-1)})) == []
+        rat = regions.Cond((x - a) / (x - 2 * a))
+        rs = regions._closed_roots(rat, x, _ctx({a: sp.Rational(1, 3)}))
+        assert [sp.simplify(r - w) for r, w in zip(rs, [a, 2 * a])] == [0, 0]
+    # a root that does not vanish at the point is not one (the check is per point, not per formula)
+    assert not regions._vanishes_at(x**2 - a, x, sp.sqrt(a), _ctx({a: sp.Integer(-1)}))
+    assert regions._vanishes_at(x**2 - a, x, sp.sqrt(a), _ctx({a: sp.Integer(2)}))
