@@ -15,8 +15,10 @@ import mpmath
 import sympy as sp
 
 from langur.lint import algebra
-from langur.symbolic import quadrature as q
 from langur.symbolic.pieces import Condition, Piece
+from langur.symbolic.quadrature.kinks import _KINKS
+from langur.symbolic.quadrature.nested import integrate_problem
+from langur.symbolic.quadrature.pieceproblems import _DONE, piece_problem
 
 
 def _segment_area(a: float, r: float) -> float:
@@ -32,21 +34,21 @@ def test_parametric_kinks_hold_at_every_parameter_point():
     r = sp.Rational(2, 5)
     piece = Piece((Condition(r ** 2 - (x - a) ** 2 - y ** 2),), sp.Integer(1))
     box = [(0, 1), (0, 1)]
-    q._DONE.clear()
-    q._KINKS.clear()
+    _DONE.clear()
+    _KINKS.clear()
     for value in (0.37, 0.41):
         at = {a: sp.Rational(str(value))}
-        prob = q.piece_problem(piece, [x, y], box, at)
-        val, err = q.integrate_problem(prob)
+        prob = piece_problem(piece, [x, y], box, at)
+        val, err = integrate_problem(prob)
         assert abs(val - _segment_area(value, 0.4)) <= err + 1e-12
         kinks = [root for _, roots in prob.kinks[0] if roots is not None for root in roots()]
         assert any(abs(k - (value + 0.4)) < 1e-12 for k in kinks)  # x = a + r, where y's region vanishes
         assert any(abs(k - (value - 0.4)) < 1e-12 for k in kinks)
         if value == 0.37:
-            shapes = {k for k in q._KINKS if k[0] == "sym"}
+            shapes = {k for k in _KINKS if k[0] == "sym"}
             assert shapes  # the kinks were computed with a as a symbol
         else:
-            assert {k for k in q._KINKS if k[0] == "sym"} == shapes  # and reused at the second point
+            assert {k for k in _KINKS if k[0] == "sym"} == shapes  # and reused at the second point
 
 
 def _sympy_verdict(eqs, unknowns) -> bool:

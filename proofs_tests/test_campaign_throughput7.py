@@ -10,6 +10,7 @@ integrated with scipy's ``quad`` (independent of the engine's nested quadrature)
 import math
 
 import pytest
+import sympy as sp
 from scipy.integrate import quad
 
 from langur import denote
@@ -18,6 +19,11 @@ from langur.ddenote import ddenote_program
 from langur.denote import denote_program
 from langur.frontend import load_text
 from langur.symbolic import quadrature
+from langur.symbolic.quadrature import kinks, nested
+from langur.symbolic.quadrature.adaptive import _quad
+from langur.symbolic.quadrature.kinks import _critical_points
+from langur.symbolic.quadrature.pieceproblems import _DONE
+from langur.symbolic.quadrature.tolerance import EPSABS
 
 # ∫₀¹∫₀¹ [x + y ≤ a]·e^{sin x} = ∫₀^a e^{sin x}(a − x) dx for a ≤ 1 (no elementary antiderivative:
 # ⟦p⟧ is known by quadrature only), so D_a⟦p⟧ = ∫₀^a e^{sin x} dx.
@@ -37,7 +43,7 @@ def _answers(prog):
 
 
 def _forget():
-    quadrature._DONE.clear()
+    _DONE.clear()
     denote._remembered.clear()
 
 
@@ -56,7 +62,7 @@ def test_loose_finite_difference_decides_the_hand_value():
 def test_loose_values_equal_the_usual_ones_within_their_bounds():
     prog = _program()
     seen = []
-    real = quadrature._quad
+    real = _quad
 
     def recording(h, a, b, eps, inside, p, level):
         seen.append((level, eps))
@@ -66,12 +72,12 @@ def test_loose_values_equal_the_usual_ones_within_their_bounds():
     _forget()
     usual = denote_program(prog, q, symbolic=False)
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(quadrature, "_quad", recording)
+        mp.setattr(nested, "_quad", recording)
         _forget()  # (else the usual value, remembered, serves the looser request too)
         with quadrature.outer_tolerance(T.LOOSE_OUTER):
             loose = denote_program(prog, q, symbolic=False)
-    assert seen and {eps for level, eps in seen if level == 0} == {quadrature.EPSABS * 10 * T.LOOSE_OUTER}
-    assert {eps for level, eps in seen if level == 1} <= {quadrature.EPSABS}  # inner level unchanged
+    assert seen and {eps for level, eps in seen if level == 0} == {EPSABS * 10 * T.LOOSE_OUTER}
+    assert {eps for level, eps in seen if level == 1} <= {EPSABS}  # inner level unchanged
     assert abs(loose.value - usual.value) <= loose.error + usual.error
     hand = quad(lambda x: math.exp(math.sin(x)) * (q["a"] - x), 0.0, q["a"], epsabs=1e-13, epsrel=1e-13)[0]
     assert abs(loose.value - hand) <= loose.error and abs(usual.value - hand) <= usual.error
@@ -108,23 +114,23 @@ def test_critical_points_solved_once_per_expression(monkeypatch):
     # tanh(z − 0.53) − 0.1 (late programs of seed 1): sympy's solve on its derivative comes back at
     # every outer level of every piece and point it is a factor of; the answer is remembered, and is
     # the one sympy gives (none real: tanh is monotone), while a quadratic's vertex is by hand
-    z, y = quadrature.sp.symbols("z y")
-    e = quadrature.sp.tanh(z - quadrature.sp.Float(0.53)) - quadrature.sp.Float(0.1)
+    z, y = sp.symbols("z y")
+    e = sp.tanh(z - sp.Float(0.53)) - sp.Float(0.1)
     calls = []
-    real = quadrature.sp.solve
+    real = sp.solve
 
     def counting(*args, **kwargs):
         calls.append(args)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(quadrature, "_CRITICAL", {})
-    monkeypatch.setattr(quadrature, "CRITICAL_SECONDS", 60.0)  # (not the time limit's answer)
-    monkeypatch.setattr(quadrature.sp, "solve", counting)
-    first = quadrature._critical_points(e, z)
-    assert quadrature._critical_points(e, z) == first and len(calls) == 1
+    monkeypatch.setattr(kinks, "_CRITICAL", {})
+    monkeypatch.setattr(kinks, "CRITICAL_SECONDS", 60.0)  # (not the time limit's answer)
+    monkeypatch.setattr(sp, "solve", counting)
+    first = _critical_points(e, z)
+    assert _critical_points(e, z) == first and len(calls) == 1
     assert all(not r.is_real for r in first) or first == []
-    assert [float(r) for r in quadrature._critical_points(z**2 + y**2 - 0.3 - 2 * z, z)] == [1.0]
+    assert [float(r) for r in _critical_points(z**2 + y**2 - 0.3 - 2 * z, z)] == [1.0]
     # a time limit's empty answer is not kept: asked again
-    monkeypatch.setattr(quadrature, "run_with_timeout", lambda fn, s, **kw: (_ for _ in ()).throw(TimeoutError()))
-    w = quadrature.sp.sin(z * y) - quadrature.sp.Float(0.2)
-    assert quadrature._critical_points(w, z) == [] and (w, z) not in quadrature._CRITICAL
+    monkeypatch.setattr(kinks, "run_with_timeout", lambda fn, s, **kw: (_ for _ in ()).throw(TimeoutError()))
+    w = sp.sin(z * y) - sp.Float(0.2)
+    assert _critical_points(w, z) == [] and (w, z) not in kinks._CRITICAL

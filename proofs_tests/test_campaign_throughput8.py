@@ -1,13 +1,13 @@
 """Campaign throughput, eighth pass (issue 13, camp8): less Python per innermost sub-interval of
 the nested quadrature, the same numbers.
 
-* :func:`quadrature._gk21_panel` (QUADPACK's 21-point Gauss–Kronrod panel on the 21 values at
+* :func:`quadrature.gausskronrod._gk21_panel` (QUADPACK's 21-point Gauss–Kronrod panel on the 21 values at
   once) gives bitwise the answer of QUADPACK's ``dqk21`` written out term by term (:func:`dqk21_reference`), and integrates a polynomial
   of degree 20 exactly (by hand: ∫₋₁¹ t²⁰ dt = 2/21);
-* :func:`quadrature._first_panel` on a weight constant in the innermost variable (numpy returns
+* :func:`quadrature.gausskronrod._first_panel` on a weight constant in the innermost variable (numpy returns
   one number) gives ``c·(b − a)`` with the same answer as the 21 values spelled out;
 * the conditions tested at each sub-interval's midpoint are tried in a move-to-front order
-  (:meth:`quadrature.NumProblem.tests`): a 3-D region cut by several conditions against its
+  (:meth:`quadrature.problem.NumProblem.tests`): a 3-D region cut by several conditions against its
   volume by hand, bitwise the value with the order frozen, and the order did move.
 """
 
@@ -18,8 +18,20 @@ import math
 import numpy as np
 import sympy as sp
 
-from langur.symbolic import quadrature as q
 from langur.symbolic.pieces import Condition, Piece
+from langur.symbolic.quadrature.compiling import _vectorize
+from langur.symbolic.quadrature.gausskronrod import (
+    _EPMACH,
+    _UFLOW,
+    _WG_PAIR,
+    _WK_PAIR,
+    _X21,
+    WGK,
+    _first_panel,
+    _gk21_panel,
+)
+from langur.symbolic.quadrature.nested import integrate_problem
+from langur.symbolic.quadrature.pieceproblems import _DONE, piece_problem
 
 
 def dqk21_reference(y_minus, y_plus, y_centre, half: float):
@@ -27,18 +39,18 @@ def dqk21_reference(y_minus, y_plus, y_centre, half: float):
     centre ∓ half·XGK[j] (j < 10), ``y_centre`` at the centre.  Returns ``(result, abserr,
     resabs, resasc)`` as ``dqk21`` defines them (the error estimate rescaled as QUADPACK does)."""
     fsum = y_minus + y_plus
-    resk = q.WGK[10] * y_centre + float(q._WK_PAIR @ fsum)
-    resg = float(q._WG_PAIR @ fsum)
-    resabs = q.WGK[10] * abs(y_centre) + float(q._WK_PAIR @ (np.abs(y_minus) + np.abs(y_plus)))
+    resk = WGK[10] * y_centre + float(_WK_PAIR @ fsum)
+    resg = float(_WG_PAIR @ fsum)
+    resabs = WGK[10] * abs(y_centre) + float(_WK_PAIR @ (np.abs(y_minus) + np.abs(y_plus)))
     reskh = 0.5 * resk
-    resasc = q.WGK[10] * abs(y_centre - reskh) + float(q._WK_PAIR @ (np.abs(y_minus - reskh) + np.abs(y_plus - reskh)))
+    resasc = WGK[10] * abs(y_centre - reskh) + float(_WK_PAIR @ (np.abs(y_minus - reskh) + np.abs(y_plus - reskh)))
     dh = abs(half)
     result, resabs, resasc = resk * half, resabs * dh, resasc * dh
     abserr = abs((resk - resg) * half)
     if resasc != 0.0 and abserr != 0.0:
         abserr = resasc * min(1.0, (200.0 * abserr / resasc) ** 1.5)
-    if resabs > q._UFLOW / (50.0 * q._EPMACH):
-        abserr = max(q._EPMACH * 50.0 * resabs, abserr)
+    if resabs > _UFLOW / (50.0 * _EPMACH):
+        abserr = max(_EPMACH * 50.0 * resabs, abserr)
     return result, abserr, resabs, resasc
 
 
@@ -49,24 +61,24 @@ def test_gk21_panel_is_dqk21_bitwise():
     for y in cases:
         for half in (0.5, 1e-9, 3.25, -2.0):
             old = dqk21_reference(y[:10], y[10:20], float(y[20]), half)
-            new = q._gk21_panel(y, half)
+            new = _gk21_panel(y, half)
             assert (new[0], new[1], new[2]) == (old[0], old[1], old[3])
 
 
 def test_gk21_panel_integrates_a_degree_20_polynomial_exactly():
-    t = 0.0 + 1.0 * q._X21  # the abscissae of [−1, 1] in the panel's order
-    result, abserr, _ = q._gk21_panel(t ** 20, 1.0)
+    t = 0.0 + 1.0 * _X21  # the abscissae of [−1, 1] in the panel's order
+    result, abserr, _ = _gk21_panel(t ** 20, 1.0)
     assert abs(result - 2 / 21) <= 1e-15
     assert abserr <= 1e-3  # (the Gauss rule alone is off: QUADPACK's estimate says so)
 
 
 def test_first_panel_of_a_constant_weight():
     y, z = sp.symbols("y z")
-    vw = q._vectorize([y, z], sp.Float(2.5) * sp.log(y + 2), {})
+    vw = _vectorize([y, z], sp.Float(2.5) * sp.log(y + 2), {})
     assert np.ndim(vw(0.3, np.linspace(0, 1, 21))) == 0  # numpy returns one number: constant in z
-    val, err = q._first_panel(vw, (0.3,), 0.25, 1.75, 1e-11)
+    val, err = _first_panel(vw, (0.3,), 0.25, 1.75, 1e-11)
     assert abs(val - 2.5 * math.log(2.3) * 1.5) <= 1e-14 and err <= 1e-12
-    spelled = q._first_panel(lambda yy, tt: np.full(tt.shape, 2.5 * math.log(yy + 2)), (0.3,), 0.25, 1.75, 1e-11)
+    spelled = _first_panel(lambda yy, tt: np.full(tt.shape, 2.5 * math.log(yy + 2)), (0.3,), 0.25, 1.75, 1e-11)
     assert (val, err) == spelled
 
 
@@ -77,14 +89,14 @@ def test_midpoint_tests_move_to_front_same_value():
     piece = Piece((Condition(a - z), Condition(1 - x - z), Condition(y - z)), sp.Integer(1))
     box = [(0, 1), (0, 1), (0, 1)]
     at = {a: sp.Rational(1, 2)}
-    q._DONE.clear()
-    prob = q.piece_problem(piece, [x, y, z], box, at)
-    val, err = q.integrate_problem(prob)
+    _DONE.clear()
+    prob = piece_problem(piece, [x, y, z], box, at)
+    val, err = integrate_problem(prob)
     # volume: ∫_0^{1/2} (1 − z)·(1 − z) dz (for z ≤ 1/2: x ≤ 1 − z, y ≥ z) = [−(1 − z)³/3]_0^{1/2} = 7/24
     assert abs(val - 7 / 24) <= err + 1e-12
     order, reorder = prob.tests(2)
     assert reorder and order != prob.here(2)  # a failing condition was moved to the front
 
-    frozen = q.piece_problem(piece, [x, y, z], box, at)
+    frozen = piece_problem(piece, [x, y, z], box, at)
     frozen._tests = {lv: (list(frozen.here(lv)), False) for lv in range(3)}
-    assert q.integrate_problem(frozen) == (val, err)
+    assert integrate_problem(frozen) == (val, err)

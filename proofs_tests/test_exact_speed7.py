@@ -21,9 +21,10 @@ import sympy as sp
 
 from langur.ddenote import ddenote_program
 from langur.frontend import load
-from langur.symbolic import local, quadrature
+from langur.symbolic import local
 from langur.symbolic.local import atoms_of, monomials
 from langur.symbolic.quadrature import printable
+from langur.symbolic.quadrature.deltaproblems import _FORWARD_DETS
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 x, y, a, b, c = sp.symbols("x y a b c")
@@ -117,10 +118,10 @@ def test_monomials_across_calls_equal_a_fresh_decomposition(monkeypatch):
 def test_forward_determinants_are_sympys_and_the_quadrature_is_unchanged():
     loaded = load(str(EXAMPLES / "fig9.lgr"))
     at = loaded.param_values()
-    quadrature._FORWARD_DETS.clear()
+    _FORWARD_DETS.clear()
     fresh = ddenote_program(loaded.program, at, {"theta": 1})
-    assert quadrature._FORWARD_DETS
-    for (forward, variables), det in quadrature._FORWARD_DETS.items():
+    assert _FORWARD_DETS
+    for (forward, variables), det in _FORWARD_DETS.items():
         assert det == sp.Matrix(forward).jacobian(list(variables)).det()
     remembered = ddenote_program(loaded.program, at, {"theta": 1})  # det DΨ̂ from the memo
     assert fresh.boundary.check == remembered.boundary.check  # the quadrature, bit for bit

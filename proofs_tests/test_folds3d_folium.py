@@ -4,8 +4,8 @@ turning points ±√(y/3) move with y and merge at the cusp y = 0 (roots10).
 z is split at ``sign_change_k(3z² − y)``, so each branch's guard is not a polynomial in (x, y): the
 exact engine's quadrature splits it at its factors' critical points in y (central differences: the
 implicit function theorem's derivative of a turning point is wrong where it does not exist) and at
-the jump y = 0 where the turning points appear (``quadrature._bracket_jumps``), finds the fold
-curve's turns as outer kinks (``quadrature._add_fold_guards``).  Checked against an independent
+the jump y = 0 where the turning points appear (``quadrature.foldcurve._bracket_jumps``), finds the fold
+curve's turns as outer kinks (``quadrature.foldcurve._add_fold_guards``).  Checked against an independent
 reference, written out here with no engine involved: dV/da = −∫dy ∫dx Σ 1/|3z² − y| over the roots
 z ∈ [−1, 1] of z³ − yz = a − y³ − (x³ − yx) (trigonometric / Cardano roots, the kinks of the inner
 integrand as scipy ``quad`` breakpoints); on [−1, 1]³ it agrees with the five-point difference of
@@ -24,7 +24,10 @@ from scipy import integrate, optimize
 from langur import frontend, operational
 from langur.ddenote import ddenote_program
 from langur.implicit import ImplicitRootFn
-from langur.symbolic import quadrature
+from langur.symbolic.quadrature import deltaproblems, pieceproblems
+from langur.symbolic.quadrature.foldcurve import _add_fold_turns, _bracket_jumps
+from langur.symbolic.quadrature.kinks import _kink_functions
+from langur.symbolic.quadrature.nested import _nested
 
 A = 0.1
 XS, YS = (0.3, 0.7), (-0.2, 0.6)  # around the cusp (x, y) = (a^⅓, 0) and the turn near (0.5635, 0.43)
@@ -116,15 +119,16 @@ def test_folium_inner_integrals_and_outer_kinks(monkeypatch):
     and of the fold curve's turn, against the reference; the cusp and the turn among the outer kinks.
     (The problems are built, not integrated: a few seconds.)"""
     problems = []
-    monkeypatch.setattr(quadrature, "integrate_problem", lambda p: (problems.append(p), (0.0, 0.0))[1])
+    for front in (pieceproblems, deltaproblems):
+        monkeypatch.setattr(front, "integrate_problem", lambda p: (problems.append(p), (0.0, 0.0))[1])
     ddenote_program(frontend.load_text(BOX, "folium_box.lgr").program, {"a": A}, {"a": 1})
     folds = [p for p in problems if p.folds]
     assert len(folds) == 3
     kinks0 = set()
     for p in folds:
         p.until = math.inf
-        p.kinks[0], p.kink_vary[0] = quadrature._kink_functions(p, 0)
-        quadrature._add_fold_turns(p, 0)
+        p.kinks[0], p.kink_vary[0] = _kink_functions(p, 0)
+        _add_fold_turns(p, 0)
         kinks0 |= {r for _, roots in p.kinks[0] if roots is not None for r in roots()}
     cusp = A ** (1 / 3)
     assert min(abs(k - cusp) for k in kinks0) < 1e-8, sorted(kinks0)
@@ -132,7 +136,7 @@ def test_folium_inner_integrals_and_outer_kinks(monkeypatch):
     turn = [k for k in kinks0 if 0.56 < k < 0.57]
     assert turn, sorted(kinks0)
     for x in (cusp - 1e-3, cusp + 1e-3, 0.5, turn[0] - 1e-3, turn[0] + 1e-3, 0.68):
-        engine = sum(quadrature._nested(p, 1, (x,)) for p in folds)
+        engine = sum(_nested(p, 1, (x,)) for p in folds)
         assert abs(-engine - inner_in_y(x)) < 1e-7, (x, engine, inner_in_y(x))
 
 
@@ -162,7 +166,7 @@ def test_turning_points_appear_where_their_equation_has_a_double_root():
     box [−1, 1]), not at y = 3 (outside), and an unindexed root gives no jump."""
     y, w = sp.symbols("y w", real=True)
     turning = ImplicitRootFn(sp.Lambda(w, 3 * w**2 - y), 0, -1, 1, 0, 2)
-    assert quadrature._bracket_jumps(y**3 - y * turning, y, -1.0, 1.0, {}) == [0.0]
-    assert quadrature._bracket_jumps(y - turning, y, -1.0, 4.0, {}) == [0.0, 3.0]
+    assert _bracket_jumps(y**3 - y * turning, y, -1.0, 1.0, {}) == [0.0]
+    assert _bracket_jumps(y - turning, y, -1.0, 4.0, {}) == [0.0, 3.0]
     root = ImplicitRootFn(sp.Lambda(w, w**3 + w - y), 0, -1, 1, -1, 0)
-    assert quadrature._bracket_jumps(root - y, y, -1.0, 1.0, {}) == []
+    assert _bracket_jumps(root - y, y, -1.0, 1.0, {}) == []

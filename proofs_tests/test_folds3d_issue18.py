@@ -6,7 +6,7 @@ turning point, and logarithmically across the points where that curve turns (∂
 The exact engine's quadrature substitutes t = c + (d − c)(3s² − 2s³) on each innermost interval
 (the 1/√ at a fold end becomes bounded), leaves out only outer abscissae within 10⁻¹² of the
 curve's turning points (kinks), and adds the fold ends' rounding to its error bound
-(``quadrature._fold_innermost``), the curve's turns found numerically (``_add_fold_turns``).  Checked here against an independent reference: V(a) =
+(``quadrature.fold._fold_innermost``), the curve's turns found numerically (``_add_fold_turns``).  Checked here against an independent reference: V(a) =
 ∫∫ L(a − g(x) − g(y)) dx dy with g(t) = t³ − t and L(c) = |{z ∈ [−1, 1] : g(z) ≥ c}| from the
 cubic's trigonometric roots (nested scipy ``quad`` with the kinks as breakpoints), dV/da by the
 five-point central difference at h = 4·10⁻³ (its error measured at ~3·10⁻⁹ against h = 10⁻³ and
@@ -26,7 +26,8 @@ from scipy import integrate
 from langur import exact as api
 from langur import frontend, operational
 from langur.ddenote import ddenote_program
-from langur.symbolic import quadrature
+from langur.symbolic.quadrature import fold
+from langur.symbolic.quadrature.brackets import _implied_by_bracket
 
 TOL = 1e-10
 H = 4e-3
@@ -73,7 +74,7 @@ def test_separable_cubic_across_the_fold_curve_has_a_value():
 
 
 def test_folium_past_its_budget_is_no_value_not_undefined(monkeypatch):
-    monkeypatch.setattr(quadrature, "FOLD_SECONDS", 1.0)
+    monkeypatch.setattr(fold, "FOLD_SECONDS", 1.0)
     program = frontend.load_text(FOLIUM, "folium3.lgr").program
     with pytest.raises(api.ExactUnavailable, match="singular along the fold") as info:
         api.exact_deriv(program, {"a": 0.1}, {"a": 1})
@@ -88,11 +89,11 @@ def test_bracket_implies_the_box_condition_on_the_root():
     x, y, z, w = sp.symbols("x y z w", real=True)
     root = ImplicitRootFn(sp.Lambda(w, w**3 - w + x), 0, -1, -1 / sp.sqrt(3), -1, 0)
     xs = [x, y, root]
-    assert quadrature._implied_by_bracket(z + 1, [x, y, z], xs, {})
-    assert quadrature._implied_by_bracket(1 - z, [x, y, z], xs, {})
-    assert not quadrature._implied_by_bracket(z, [x, y, z], xs, {})
-    assert not quadrature._implied_by_bracket(z + 1, [x, y, z], [x, y, z], {})
+    assert _implied_by_bracket(z + 1, [x, y, z], xs, {})
+    assert _implied_by_bracket(1 - z, [x, y, z], xs, {})
+    assert not _implied_by_bracket(z, [x, y, z], xs, {})
+    assert not _implied_by_bracket(z + 1, [x, y, z], [x, y, z], {})
     turning = ImplicitRootFn(sp.Lambda(w, 3 * w**2 - y), 0, -1, 1, 0, 2)
     moving = ImplicitRootFn(sp.Lambda(w, w**3 - w * y + x), 0, -1, turning, -1, 0)
-    assert quadrature._implied_by_bracket(z + 1, [x, y, z], [x, y, moving], {})
-    assert not quadrature._implied_by_bracket(sp.Rational(1, 2) - z, [x, y, z], [x, y, moving], {})
+    assert _implied_by_bracket(z + 1, [x, y, z], [x, y, moving], {})
+    assert not _implied_by_bracket(sp.Rational(1, 2) - z, [x, y, z], [x, y, moving], {})

@@ -8,7 +8,7 @@ the cubic's trigonometric roots, integrated by scipy's ``quad`` with the kinks a
 dV/da by central differences with Richardson extrapolation (h = 1e−3, 1e−4).  In two coordinates
 (the 3-D separable cubic) the fold is a curve, singular where ∂f/∂y vanishes on it too: the exact
 engine integrates it in about 20 CPU s (roots9, test_folds3d_issue18.py); when its quadrature does
-not finish within :data:`~langur.symbolic.quadrature.FOLD_SECONDS` it must say it has no value (an
+not finish within :data:`~langur.symbolic.quadrature.fold.FOLD_SECONDS` it must say it has no value (an
 engine limitation), not that the integral is undefined — tested here with that limit cut to 1 s.
 """
 
@@ -23,6 +23,7 @@ from langur import exact as api
 from langur import frontend
 from langur.ddenote import ddenote_program
 from langur.symbolic import quadrature
+from langur.symbolic.quadrature import fold
 
 
 def value(a):
@@ -51,7 +52,7 @@ def test_one_coordinate_fold_is_integrated(a):
 
 
 def test_fold_curve_is_an_engine_limitation_not_undefined(monkeypatch):
-    monkeypatch.setattr(quadrature, "FOLD_SECONDS", 1.0)
+    monkeypatch.setattr(fold, "FOLD_SECONDS", 1.0)
     program = frontend.load_text(THREE, "three.lgr").program
     with pytest.raises(api.ExactUnavailable, match="singular along the fold") as info:
         api.exact_deriv(program, {"a": 0.3}, {"a": 1})

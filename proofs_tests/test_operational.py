@@ -302,8 +302,9 @@ def test_coincident_and_nested_jumps_count_twice():
 # -- the naive per-sample evaluator agrees with the compiled one ------------------------------------
 
 def test_naive_and_vectorized_agree_on_the_same_points():
-    from langur.operational.compile import DELTA, TANGENT, UNLINKED, VALUE, Point, compile_term
+    from langur.operational.compile import compile_term
     from langur.operational.naive import evaluate
+    from langur.operational.point import DELTA, TANGENT, UNLINKED, VALUE, Point
 
     a = Param("a")
     j = completed(sub(Mul(x, x), a), ("x", "y"), "x",
@@ -380,8 +381,9 @@ def _agree(mine, ref, tol=1e-9):
 @given(_terms(), st.floats(-1.5, 1.5), st.floats(-1.5, 1.5))
 @example(Prim("sqrt", Param("a")), 0.0, 0.0)  # found: d/da sqrt(a) at 0 divided a Python float by zero
 def test_random_terms_compiled_equals_naive(term, av, bv):
-    from langur.operational.compile import DELTA, TANGENT, UNLINKED, VALUE, Point, compile_term
+    from langur.operational.compile import compile_term
     from langur.operational.naive import evaluate
+    from langur.operational.point import DELTA, TANGENT, UNLINKED, VALUE, Point
 
     unit = compile_term(term)
     pts = {"x": np.linspace(-2, 2, 9), "y": np.linspace(1.7, -1.3, 9)}
@@ -403,7 +405,8 @@ def test_random_terms_compiled_equals_naive(term, av, bv):
 
 def test_parameter_singularities_are_nan_not_exceptions():
     # found by the property test: d/da log(a) at a = 0 divided a Python float by zero
-    from langur.operational.compile import TANGENT, UNLINKED, Point, compile_term
+    from langur.operational.compile import compile_term
+    from langur.operational.point import TANGENT, UNLINKED, Point
 
     a = Param("a")
     for op, at in (("log", 0.0), ("atanh", 1.0), ("atanh", -1.0), ("log", -2.0)):
@@ -420,7 +423,8 @@ def test_a_shared_subterm_is_evaluated_once_per_point_with_the_same_numbers():
     # compiled once and evaluated once per point: x is read twice, not six times; the value and
     # tangent are bit for bit those of the term written out with separate copies; once its three
     # references are read, the point no longer holds s's arrays
-    from langur.operational.compile import TANGENT, UNLINKED, Point, compile_term
+    from langur.operational.compile import compile_term
+    from langur.operational.point import TANGENT, UNLINKED, Point
 
     class Reads(dict):
         count = 0

@@ -23,6 +23,13 @@ from scipy import integrate as si
 
 from langur.symbolic import quadrature as q
 from langur.symbolic.pieces import Condition, Piece
+from langur.symbolic.quadrature import kinks as kink_module
+from langur.symbolic.quadrature import nested, pieceproblems
+from langur.symbolic.quadrature.gausskronrod import WG, XGK, _first_panel, _gk21_panel
+from langur.symbolic.quadrature.kinks import _KINKS
+from langur.symbolic.quadrature.nested import integrate_problem
+from langur.symbolic.quadrature.pieceproblems import _DONE, piece_problem
+from langur.symbolic.quadrature.roots import polynomial_roots
 
 
 def _reference_roots(cs):
@@ -47,7 +54,7 @@ def test_polynomial_roots_match_mpmath():
                 continue  # near a double root: ill-conditioned for any method
         if len(cs) - cs.index(nz[0]) > 3:
             continue  # numpy.roots as before: not the closed forms under test
-        ours, ref = sorted(q.polynomial_roots(cs)), _reference_roots(cs)
+        ours, ref = sorted(polynomial_roots(cs)), _reference_roots(cs)
         assert len(ours) == len(ref), (cs, ours, ref)
         for x, y in zip(ours, ref):
             assert abs(x - y) <= 1e-13 * max(1.0, abs(y)), (cs, ours, ref)
@@ -56,26 +63,26 @@ def test_polynomial_roots_match_mpmath():
 
 
 def test_polynomial_roots_edge_cases():
-    assert q.polynomial_roots([0.0, 0.0, 3.0]) == []  # a constant
-    assert q.polynomial_roots([2.0, -1.0]) == [0.5]
-    assert sorted(q.polynomial_roots([1.0, 0.0, -4.0])) == [-2.0, 2.0]
-    assert q.polynomial_roots([1.0, 0.0, 4.0]) == []  # x² + 4: no real root
-    assert q.polynomial_roots([1.0, -2.0, 1.0]) == [1.0, 1.0]  # a double root
-    assert q.polynomial_roots([1.0, 0.0, 0.0]) == [0.0, 0.0]
-    assert q.polynomial_roots([1.0, math.nan, 0.0]) == []
-    cubic = sorted(q.polynomial_roots([1.0, -6.0, 11.0, -6.0]))  # numpy.roots: (x−1)(x−2)(x−3)
+    assert polynomial_roots([0.0, 0.0, 3.0]) == []  # a constant
+    assert polynomial_roots([2.0, -1.0]) == [0.5]
+    assert sorted(polynomial_roots([1.0, 0.0, -4.0])) == [-2.0, 2.0]
+    assert polynomial_roots([1.0, 0.0, 4.0]) == []  # x² + 4: no real root
+    assert polynomial_roots([1.0, -2.0, 1.0]) == [1.0, 1.0]  # a double root
+    assert polynomial_roots([1.0, 0.0, 0.0]) == [0.0, 0.0]
+    assert polynomial_roots([1.0, math.nan, 0.0]) == []
+    cubic = sorted(polynomial_roots([1.0, -6.0, 11.0, -6.0]))  # numpy.roots: (x−1)(x−2)(x−3)
     assert np.allclose(cubic, [1.0, 2.0, 3.0], rtol=0, atol=1e-12)
 
 
 def test_gauss_kronrod_rule():
     gx, gw = np.polynomial.legendre.leggauss(10)
-    assert np.allclose(sorted(q.XGK[1:10:2]), gx[gx > 0], rtol=0, atol=1e-15)
-    assert np.allclose(sorted(q.WG), sorted(gw[gx > 0]), rtol=0, atol=1e-15)
+    assert np.allclose(sorted(XGK[1:10:2]), gx[gx > 0], rtol=0, atol=1e-15)
+    assert np.allclose(sorted(WG), sorted(gw[gx > 0]), rtol=0, atol=1e-15)
     for deg in range(32):  # Kronrod-21 integrates every polynomial of degree ≤ 31 exactly on [-1, 1]
         def f(t, deg=deg):
             return t ** deg + 0.5 * t
-        x = np.array(q.XGK[:10])
-        res, _, _ = q._gk21_panel(np.concatenate([f(-x), f(x), [f(0.0)]]), 1.0)
+        x = np.array(XGK[:10])
+        res, _, _ = _gk21_panel(np.concatenate([f(-x), f(x), [f(0.0)]]), 1.0)
         exact = 0.0 if deg % 2 else 2.0 / (deg + 1)
         assert abs(res - exact) <= 1e-14, deg
 
@@ -91,7 +98,7 @@ def test_first_panel_is_quadpack_first_panel():
         a = float(rng.uniform(-2, 1))
         b = a + float(rng.uniform(1e-3, 4))
         eps = float(10.0 ** rng.integers(-13, -7))
-        fast = q._first_panel(f, (), a, b, eps)
+        fast = _first_panel(f, (), a, b, eps)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             val, err, info = si.quad(lambda t: float(f(t)), a, b, epsabs=eps, epsrel=eps, limit=100,
@@ -108,8 +115,8 @@ def test_first_panel_is_quadpack_first_panel():
 
 
 def test_first_panel_declines_non_finite():
-    assert q._first_panel(lambda t: 1.0 / t, (), -1.0, 1.0 + 1e-9, 1e-10) is None
-    assert q._first_panel(lambda t: np.sqrt(t), (), -0.5, 1.0, 1e-10) is None  # NaN below 0
+    assert _first_panel(lambda t: 1.0 / t, (), -1.0, 1.0 + 1e-9, 1e-10) is None
+    assert _first_panel(lambda t: np.sqrt(t), (), -0.5, 1.0, 1e-10) is None  # NaN below 0
 
 
 @pytest.mark.parametrize("weight, conds", [
@@ -123,8 +130,8 @@ def test_integrals_same_with_and_without_fast_path(weight, conds, monkeypatch):
     box = [(-1, 1), (0, 2)]
     at = {a: sp.Rational(37, 100)}
     fast = q.quad_pieces([piece], [x, y], box, at)
-    monkeypatch.setattr(q, "_first_panel", lambda *args: None)
-    monkeypatch.setattr(q, "_DONE", {})  # integrated again, not remembered
+    monkeypatch.setattr(nested, "_first_panel", lambda *args: None)
+    monkeypatch.setattr(pieceproblems, "_DONE", {})  # integrated again, not remembered
     slow = q.quad_pieces([piece], [x, y], box, at)
     assert abs(fast[0] - slow[0]) <= fast[1] + slow[1]
     assert math.isfinite(fast[0]) and fast[1] < 1e-6
@@ -137,11 +144,11 @@ def test_pieces_remembered_only_for_the_same_parameter_values():
     p1 = Piece((Condition(y - x ** 2 + a),), sp.exp(x * y))
     p2 = Piece((), sp.cos(b * y))
     box = [(-1, 1), (0, 2)]
-    q._DONE.clear()
+    _DONE.clear()
     first = [q.quad_pieces([p], [x, y], box, {a: 0.3, b: 0.7}) for p in (p1, p2)]
-    assert len(q._DONE) == 2
+    assert len(_DONE) == 2
     second = [q.quad_pieces([p], [x, y], box, {a: 0.301, b: 0.7}) for p in (p1, p2)]
-    assert len(q._DONE) == 3  # p2's key holds b only
+    assert len(_DONE) == 3  # p2's key holds b only
     assert second[1] == first[1] and second[0][0] != first[0][0]
     reference = si.quad(lambda t: math.cos(0.7 * t), 0, 2)[0] * 2  # ∫₋₁¹ dx · ∫₀² cos(0.7 y) dy
     assert abs(first[1][0] - reference) <= 1e-9
@@ -159,16 +166,16 @@ def test_crossings_of_two_conditions_are_breakpoints(monkeypatch):
     x, y = sp.symbols("x y")
     piece = Piece((Condition(y - x ** 2), Condition((1 + x) / 2 - y)), sp.exp(x) * sp.cos(y))
     box = [(-1, 1), (0, 2)]
-    q._DONE.clear()
-    prob = q.piece_problem(piece, [x, y], box, {})
-    val, err = q.integrate_problem(prob)
+    _DONE.clear()
+    prob = piece_problem(piece, [x, y], box, {})
+    val, err = integrate_problem(prob)
     kinks = [r for _, roots in prob.kinks[0] if roots is not None for r in roots()]
     assert any(abs(r + 0.5) < 1e-12 for r in kinks)  # the crossing x = −1/2, from the resultant
     ref = _reference_lens()
     assert abs(val - ref) <= err + 1e-12
-    monkeypatch.setattr(q, "_crossings", lambda p, level, parametric=False: [])  # quad subdivides towards it instead
-    q._KINKS.clear()
-    val2, err2 = q.integrate_problem(q.piece_problem(piece, [x, y], box, {}))
+    monkeypatch.setattr(kink_module, "_crossings", lambda p, level, parametric=False: [])  # quad subdivides towards it instead
+    _KINKS.clear()
+    val2, err2 = integrate_problem(piece_problem(piece, [x, y], box, {}))
     assert abs(val2 - ref) <= err2 + 1e-12
 
 
@@ -177,8 +184,8 @@ def test_conditions_meeting_a_level_are_breakpoints():
     x, y = sp.symbols("x y")
     level = 1.71 ** 2 - 2
     piece = Piece((Condition(1.71 - sp.sqrt(y + 2)), Condition(0.3 - x ** 2 - (y - 0.7) ** 2)), sp.Integer(1))
-    prob = q.piece_problem(piece, [x, y], [(0, 1), (0, 1)], {})
-    val, err = q.integrate_problem(prob)
+    prob = piece_problem(piece, [x, y], [(0, 1), (0, 1)], {})
+    val, err = integrate_problem(prob)
     kinks = [r for _, roots in prob.kinks[0] if roots is not None for r in roots()]
     meet = math.sqrt(0.3 - (level - 0.7) ** 2)
     assert any(abs(r - meet) < 1e-9 for r in kinks)
@@ -197,8 +204,8 @@ def test_a_resultant_sympy_cannot_compute_leaves_the_pair_to_quad():
     x, y = sp.symbols("x y")
     circle, band = (x - 0.83) ** 2 + y ** 2 - 0.3, (y - 1.66) ** 2 - 0.25
     piece = Piece((Condition(circle), Condition(band)), sp.cos(1.66 * x - 2))
-    q._DONE.clear()
-    q._KINKS.clear()
+    _DONE.clear()
+    _KINKS.clear()
     val, err = q.quad_pieces([piece], [x, y], [(-0.17, 1), (-1, 1)], {})
     # outside the disc (the band's condition holds for every y ≤ 1 since (y − 1.66)² ≥ 0.4356):
     # ∫ cos(1.66x − 2)·(2 − chord(x)) dx, chord = 2√(0.3 − (x − 0.83)²) where it is real

@@ -129,12 +129,13 @@ def test_quadratures_grid_search_does_not_warn_where_a_kink_is_undefined():
     # a complex number (NaN for quadrature, as before).  The definedness boundary is still found.
     import sympy as sp
 
-    from langur.symbolic import quadrature
+    from langur.symbolic.quadrature.compiling import _lambdify
+    from langur.symbolic.quadrature.roots import _roots
 
     x = sp.Symbol("x")
-    f = quadrature._lambdify([x], (x - sp.Float(0.3)) ** sp.Float(0.5) - sp.Float(0.2), {})
+    f = _lambdify([x], (x - sp.Float(0.3)) ** sp.Float(0.5) - sp.Float(0.2), {})
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)
-        found = quadrature._roots(f, 0.0, 1.0)
+        found = _roots(f, 0.0, 1.0)
     assert len(found) == 2
     assert abs(found[0] - 0.3) < 1e-12 and abs(found[1] - 0.34) < 1e-12

@@ -31,7 +31,7 @@ from .. import operational
 from ..core import IfDiffeo, Let
 from ..engines.builtin import MonteCarloEngine
 from ..operational import compile as comp
-from ..operational import sample
+from ..operational import dual, point, sample
 from .compare import ProgramResult, compare_engine
 
 _COMPILE = comp._compile  # the unbroken compiler, each mutant's fallback for every other case
@@ -53,8 +53,8 @@ def _ifdiffeo(jump_sign: float):
             m = c >= 0
             s, ds = fs(pt, lk)
             r, dr = fr(pt, lk)
-            d = comp._select(m, ds, dr)
-            if pt.mode == comp.DELTA and jump_sign:
+            d = dual.select(m, ds, dr)
+            if pt.mode == point.DELTA and jump_sign:
                 gid = lk.base + (slot if lk.offsets is None else lk.offsets[slot])
                 if gid in pt.sites:
                     jump = np.where(pt.site == gid, jump_sign * (s - r), 0.0)

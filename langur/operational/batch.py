@@ -27,9 +27,9 @@ import numpy as np
 
 from ..core import diffeo_params, free_params
 from ..values import ParameterError
-from .compile import DELTA, TANGENT, VALUE, Point, full
 from .estimate import LOW_HITS, _inside, prepare
 from .link import CACHE, CompileCache, Linked
+from .point import DELTA, TANGENT, VALUE, Point, full
 from .sample import design
 
 #: At most this many samples (points × samples per point) are evaluated in one pass.

@@ -3,9 +3,11 @@
 :func:`compile_term` turns a core term into a *unit*: a Python closure ``fn(point, linking) ->
 (value, d)`` that evaluates the term on whole arrays of points at once (no Python loop per sample),
 plus the term's *slot table* (its diffeomorphic conditionals and calls in pre-order, for linking).
-Separate compilation (§9) splits what the closure reads: the :class:`Point` it is evaluated at
-(fresh for every evaluation) and its :class:`Linking` (where the unit sits in a linked program,
-fixed when the program is linked; :data:`UNLINKED` for a unit run on its own).
+Separate compilation (§9) splits what the closure reads (:mod:`langur.operational.point`): the
+:class:`Point` it is evaluated at (fresh for every evaluation) and its :class:`Linking` (where the
+unit sits in a linked program, fixed when the program is linked; :data:`UNLINKED` for a unit run on
+its own).  What is computed once per term is in :mod:`~langur.operational.sharing`, dual-number
+arithmetic in :mod:`~langur.operational.dual`, implicit roots in :mod:`~langur.operational.roots`.
 
 ``d`` is the derivative part of a dual number; ``None`` stands for an exact zero (so terms that do
 not depend on the direction cost nothing).  What ``d`` means depends on the point's mode:
@@ -29,12 +31,6 @@ run exactly the same floating-point operations (bit-identical linking, Theorem 9
 
 from __future__ import annotations
 
-import hashlib
-import itertools
-from collections.abc import Callable
-from dataclasses import dataclass, field
-from fractions import Fraction
-
 import numpy as np
 
 from ..core import (
@@ -50,154 +46,16 @@ from ..core import (
     Pow,
     Prim,
     Term,
-    TooManyRoots,
     Var,
     free_vars,
 )
 from ..primitives import REGISTRY
 from .consts import const_value
+from .dual import dadd, dmul, power, power_derivative, select
 from .interval import tape_of
-from .signchanges import certified_brackets
-
-VALUE, TANGENT, DELTA = 0, 1, 2
-NAN = float("nan")
-
-
-@dataclass(frozen=True, slots=True)
-class Linking:
-    """Where a unit sits in a linked program (§9, linking): the global id of its first site
-    (``base``), its slot → site offset table (``offsets``; None: slot = offset) and the linked
-    defs its calls go to (``units``: (module, def) → (fn, offsets, argument names))."""
-
-    base: int = 0
-    offsets: list | None = None
-    units: dict | None = None
-
-
-#: A unit run on its own: no calls to resolve, its sites numbered by its own slots.
-UNLINKED = Linking()
-
-
-@dataclass(frozen=True, slots=True)
-class Point:
-    """The evaluation point (§9: what a separately compiled unit reads when run): ρ (``vars``), a
-    direction in the variables ρ' (``dvars``), γ (``params``), γ' (``dparams``), the mode, in
-    DELTA mode the site owning each point (``site``, with the ids present in ``sites``), and the
-    program's own (γ, γ') (``root``) that a def's body reads for its module's declared params
-    (None at the program's top level, where they are ``params``, ``dparams``)."""
-
-    vars: dict
-    params: dict
-    dvars: dict = field(default_factory=dict)
-    dparams: dict = field(default_factory=dict)
-    mode: int = VALUE
-    site: np.ndarray | None = None
-    sites: frozenset = frozenset()
-    root: tuple | None = None
-    #: values of the shared subterms already evaluated at this point (see :func:`_shared`)
-    memo: dict = field(default_factory=dict, compare=False, repr=False)
-
-    def values(self) -> Point:
-        """The same point and parameters without any derivative (conditions are values only)."""
-        if self.mode == VALUE:
-            return self
-        found = self.memo.get(_VALUES)  # made once per point (every condition reads it)
-        if found is None:
-            found = self.memo[_VALUES] = Point(self.vars, self.params, root=self.root and (self.root[0], {}))
-        return found
-
-    def bind(self, name: str, v, d) -> Point:
-        """``γ[z ↦ v]``, ``γ'[z ↦ d]`` (Fig. 8, let)."""
-        dp = self.dparams
-        if d is not None or name in dp:
-            dp = dict(dp)
-            if d is None:
-                del dp[name]
-            else:
-                dp[name] = d
-        return Point(self.vars, {**self.params, name: v}, self.dvars, dp, self.mode, self.site, self.sites,
-                     self.root or (self.params, self.dparams))
-
-
-#: The key of :meth:`Point.values`'s point in :attr:`Point.memo` (the shared subterms' keys are ints).
-_VALUES = "values"
-
-Fn = Callable[[Point, Linking], tuple]
-
-
-@dataclass
-class Unit:
-    """A compiled term: ``fn`` and its slots in pre-order: ``("site", None, ())`` or
-    ``("call", (module, def), which arguments are plain variables)``."""
-
-    fn: Fn
-    slots: list
-
-
-# -- constant powers: value and derivative, NaN outside the domain (primitives: langur.primitives)
-
-def power(a, k: Fraction):
-    """a^k for a constant rational k; NaN where undefined (0 to a negative power, fractional
-    power of a negative number)."""
-    if k == 1:
-        return a
-    if k == 2:
-        return a * a
-    if k == 0:
-        return np.where(np.isnan(a), NAN, 1.0)
-    if k == -1:
-        out = 1.0 / np.where(a == 0, NAN, a)
-    elif k == Fraction(1, 2):
-        out = np.sqrt(a)
-    else:
-        out = np.power(np.where(a == 0, NAN, a) if k < 0 else a, float(k))
-    return out
-
-
-def power_derivative(a, k: Fraction, v):
-    """d/da a^k = k·a^(k−1)."""
-    if k == 1:
-        return 1.0
-    if k == 2:
-        return 2.0 * a
-    if k == 0:
-        return 0.0
-    if k == -1:
-        return -(v * v)
-    return float(k) * power(a, k - 1)
-
-
-def full(v, n: int) -> np.ndarray:
-    """``v`` (a scalar, None for 0, or an array of n values) as an array of n floats."""
-    if type(v) is np.ndarray and v.shape == (n,):
-        return v
-    return np.full(n, 0.0 if v is None else v, dtype=float)
-
-
-# -- dual-number helpers ------------------------------------------------------------------------
-
-def _dadd(da, db):
-    if da is None:
-        return db
-    if db is None:
-        return da
-    return da + db
-
-
-def _dmul(da, b, db, a):
-    """⦇t·s⦈ = ⦇t⦈·⟦s⟧ + ⦇s⦈·⟦t⟧ (Fig. 8, product)."""
-    if da is None:
-        return None if db is None else db * a
-    if db is None:
-        return da * b
-    return da * b + db * a
-
-
-def _select(c, ds, dr):
-    if ds is None and dr is None:
-        return None
-    return np.where(c, 0.0 if ds is None else ds, 0.0 if dr is None else dr)
-
+from .point import DELTA, Fn, Linking, Point, Unit
+from .roots import compile_root, compile_sign_change
+from .sharing import KEYS, Sharing, constant, evaluated_once
 
 # -- the compiler: one match over the core AST, Fig. 8's order -----------------------------------
 
@@ -207,7 +65,7 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
     ``local``: for a def body, its param arguments; any other parameter it reads (its module's
     declared params) is then looked up among the program's parameters (``point.root``), so a
     linked call binds only its arguments.  ``None``: every parameter is in ``point.params``."""
-    ctx = _Ctx([], local, _Sharing(t))
+    ctx = _Ctx([], local, Sharing(t))
     with np.errstate(all="ignore"):  # constants are folded now (a NaN is a value, as when evaluated)
         fn = _compile(t, ctx)
     return Unit(fn, ctx.slots)
@@ -216,7 +74,7 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
 class _Ctx:
     __slots__ = ("local", "slots", "sharing")
 
-    def __init__(self, slots: list, local, sharing: _Sharing):
+    def __init__(self, slots: list, local, sharing: Sharing):
         self.slots = slots
         self.local = local
         self.sharing = sharing
@@ -225,74 +83,9 @@ class _Ctx:
         return self if self.local is None else _Ctx(self.slots, self.local | {name}, self.sharing)
 
 
-#: Keys of shared subterms in :attr:`Point.memo`, unique across every compiled unit (units
-#: compiled apart may be evaluated at one point).
-_KEYS = itertools.count()
-
-
-class _Sharing:
-    """The subterms of a term that occur more than once in it (a DAG: substituted lets, inlined
-    calls and vectors share their subterms; the ray tracer's completed conic has ~10,000 nodes
-    written out and ~900 distinct ones) and contain no site nor call: those are compiled once and
-    evaluated once per :class:`Point` (:func:`_shared`), with the same floating-point operations
-    as written out.  Sites and calls are never shared: each occurrence owns its slot."""
-
-    def __init__(self, t: Term):
-        self.refs: dict[int, int] = {}
-        self.compiled: dict[tuple, Fn] = {}
-        self.keep = t  # the term stays alive, so the ids above stay its own
-        self._count(t)
-
-    def _count(self, root: Term) -> None:
-        refs = self.refs
-        refs[id(root)] = 1
-        stack = [root]
-        while stack:  # each distinct node expanded once (its children's references counted)
-            for c in _children(stack.pop()):
-                if type(c) in _LEAVES:
-                    continue  # never shared
-                n = refs.get(id(c))
-                if n is None:
-                    refs[id(c)] = 1
-                    stack.append(c)
-                else:
-                    refs[id(c)] = n + 1
-
-    def shared(self, t: Term) -> bool:
-        # pure: no site nor call below (the kept attributes: no diffeomorphic conditional, no call)
-        return self.refs.get(id(t), 0) > 1 and not t._psi_vars and not t._calls
-
-
-_LEAVES = (Const, Var, Param)
-
-
-def _children(t: Term) -> tuple:
-    """The subterms a unit evaluates (a conditional's condition, not the rest of its Ψ̂), by the
-    node's exact class (the node classes have no subclasses): :class:`_Sharing` asks it of every
-    node of every unit compiled."""
-    tt = type(t)
-    if tt is Add or tt is Mul:
-        return (t.left, t.right)
-    if tt is IfDiffeo:
-        return (t.psi.forward[0], t.then, t.orelse)
-    if tt is Pow:
-        return (t.base,)
-    if tt is Prim:
-        return (t.arg,)
-    if tt is IfGe0:
-        return (t.cond, t.then, t.orelse)
-    if tt is Let:
-        return (t.bound, t.body)
-    if tt is Call:
-        return tuple(t.args)
-    if tt is ImplicitRoot:
-        return (t.equation, t.target, t.lo, t.hi)
-    return ()
-
-
 def _compile(t: Term, ctx: _Ctx) -> Fn:
     if type(t) is not Const:
-        c = _constant(t)
+        c = constant(t)
         if c is not None:
             # a constant: its value computed now, by the same operations its closures would run
             return lambda pt, lk: (c, None)
@@ -301,70 +94,9 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
         key = (id(t), ctx.local)
         fn = sharing.compiled.get(key)
         if fn is None:
-            fn = sharing.compiled[key] = _shared(_compile_node(t, ctx), next(_KEYS), sharing.refs[id(t)])
+            fn = sharing.compiled[key] = evaluated_once(_compile_node(t, ctx), next(KEYS), sharing.refs[id(t)])
         return fn
     return _compile_node(t, ctx)
-
-
-_NOT_YET = object()
-
-
-def _constant(t: Term):
-    """:func:`_fold` of ``t`` when it has no variable, parameter or call (kept on the node: a
-    number that only depends on the term), else None."""
-    if t._fv or t._fp or t._calls:
-        return None
-    d = t.__dict__
-    v = d.get("_folded", _NOT_YET)
-    if v is _NOT_YET:
-        v = d["_folded"] = _fold(t)
-    return v
-
-
-def _fold(t: Term):
-    """The value of a constant term (no variable, parameter or call) built of constants, sums,
-    products, powers and primitives, computed by exactly the floating-point operations of the
-    closures :func:`_compile_node` would build for it (so evaluating it once at compile time gives
-    the very numbers every evaluation would: a variable-free subterm evaluates to a scalar); None
-    for any other term."""
-    match t:
-        case Const():
-            return const_value(t)
-        case Add(a, b) | Mul(a, b):
-            x = _fold(a)
-            if x is None:
-                return None
-            y = _fold(b)
-            if y is None:
-                return None
-            return x + y if type(t) is Add else x * y
-        case Pow(a, k):
-            x = _fold(a)
-            return None if x is None else power(x, k)
-        case Prim(op, a):
-            x = _fold(a)
-            return None if x is None else REGISTRY[op].value(x)
-    return None
-
-
-def _shared(f: Fn, key: int, uses: int) -> Fn:
-    """``f`` evaluated once per point: a shared pure subterm reads nothing but the point.  Its
-    value is kept for the term's ``uses`` references and then dropped, so a point holds at once
-    only the shared values still to be read (not every one: arrays of a million samples each).
-    A reference not reached (a branch not taken) keeps the value until the point goes; one
-    reached more often than counted evaluates ``f`` again, to the same numbers."""
-    def shared(pt, lk):
-        memo = pt.memo
-        hit = memo.get(key)
-        if hit is None:
-            out = f(pt, lk)
-            memo[key] = [out, uses - 1]
-            return out
-        hit[1] -= 1
-        if hit[1] <= 0:
-            del memo[key]
-        return hit[0]
-    return shared
 
 
 def _compile_node(t: Term, ctx: _Ctx) -> Fn:
@@ -384,7 +116,7 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
         case Add(left, right):
             # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈
             f, g = _compile(left, ctx), _compile(right, ctx)
-            cl, cr = _constant(left), _constant(right)
+            cl, cr = constant(left), constant(right)
             if cr is not None:  # t + c (⦇c⦈ = 0): the same operation, one call fewer
                 def add_constant(pt, lk):
                     a, da = f(pt, lk)
@@ -399,12 +131,12 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             def add(pt, lk):
                 a, da = f(pt, lk)
                 b, db = g(pt, lk)
-                return a + b, _dadd(da, db)
+                return a + b, dadd(da, db)
             return add
         case Mul(left, right):
             # Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
             f, g = _compile(left, ctx), _compile(right, ctx)
-            cl, cr = _constant(left), _constant(right)
+            cl, cr = constant(left), constant(right)
             if cr is not None:  # t · c (⦇c⦈ = 0): ⦇t⦈·c
                 def mul_constant(pt, lk):
                     a, da = f(pt, lk)
@@ -419,7 +151,7 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             def mul(pt, lk):
                 a, da = f(pt, lk)
                 b, db = g(pt, lk)
-                return a * b, _dmul(da, b, db, a)
+                return a * b, dmul(da, b, db, a)
             return mul
         case IfGe0(cond, then, orelse):
             # Fig. 8, conditional on parameters: ⦇s⦈ if ⟦t⟧(·,γ) ≥ 0 else ⦇r⦈
@@ -432,7 +164,7 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
                 s, ds = fs(pt, lk)
                 r, dr = fr(pt, lk)
                 m = c >= 0
-                return np.where(m, s, r), _select(m, ds, dr)
+                return np.where(m, s, r), select(m, ds, dr)
             return ifge0
         case IfDiffeo(psi, then, orelse):
             # Fig. 8, diffeomorphic conditional: (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·D_γπ₀Ψ̂·γ'·(⟦s⟧−⟦r⟧)
@@ -446,7 +178,7 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
                 m = c >= 0
                 s, ds = fs(pt, lk)
                 r, dr = fr(pt, lk)
-                d = _select(m, ds, dr)
+                d = select(m, ds, dr)
                 if pt.mode == DELTA:
                     gid = lk.base + (slot if lk.offsets is None else lk.offsets[slot])
                     if gid in pt.sites:
@@ -490,130 +222,11 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             # ⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ') / ∂f/∂x at x* (implicit function theorem)
             parts = (_compile(equation, ctx), variable, _compile(target, ctx), _compile(lo, ctx), _compile(hi, ctx))
             if index is None:
-                return _compile_root(*parts)
+                return compile_root(*parts)
             others = tuple(sorted(free_vars(equation) - {variable}))  # Ψ̂⁻¹'s other inputs it moves with
-            return _compile_sign_change(*parts, index, of, None if slope is None else tape_of([equation, slope], True),
+            return compile_sign_change(*parts, index, of, None if slope is None else tape_of([equation, slope], True),
                                         t.span, others, equation)
     raise TypeError(f"not a core term: {t!r}")
-
-
-#: Halvings of an implicit root's bracket: past double precision for brackets up to 2^10 wide.
-ROOT_HALVINGS = 64 + 10
-def _bisect(f, t, a, b):
-    """Vectorized bisection of ``f − t`` on brackets ``[a, b]`` where it changes sign (NaN where it
-    does not)."""
-    a0, b0 = a, b
-    a, b = a.copy(), b.copy()
-    fa, fb = f(a) - t, f(b) - t
-    rising = fa < fb
-    ok = (np.sign(fa) * np.sign(fb) <= 0) & ~np.isnan(fa) & ~np.isnan(fb)
-    for _ in range(ROOT_HALVINGS):
-        m = 0.5 * (a + b)
-        below = (f(m) - t < 0) == rising
-        a, b = np.where(below, m, a), np.where(below, b, m)
-    return np.where(ok, np.where(fa == 0, a0, np.where(fb == 0, b0, 0.5 * (a + b))), NAN)
-
-
-def _root_tangent(fe: Fn, x: str, value, dt, pt: Point, lk: Linking):
-    """⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ' − ∂f/∂u·u') / ∂f/∂x at x* (implicit function theorem; u: the
-    other inputs of Ψ̂⁻¹ the equation mentions, for a condition in several variables)."""
-    vals = pt.values()
-    at = {**vals.vars, x: value}
-    fx = fe(Point(at, vals.params, dvars={x: 1.0}, mode=TANGENT, root=vals.root), lk)[1]
-    others = {k: d for k, d in pt.dvars.items() if k != x}
-    ftheta = fe(Point(at, pt.params, dvars=others, dparams=pt.dparams, mode=TANGENT, root=pt.root), lk)[1]
-    num = _dadd(dt, None if ftheta is None else -ftheta)
-    return None if num is None else num / fx
-
-
-def _compile_root(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn) -> Fn:
-    """The implicit root, vectorized: bisection of ``f − target`` on each point's bracket (``f`` is
-    monotone there and changes sign when the branch's guard holds; NaN where it does not)."""
-    def root(pt, lk):
-        vals = pt.values()
-        t, dt = ft(pt, lk)
-        lo, hi = flo(vals, lk)[0], fhi(vals, lk)[0]
-        t, a, b = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (t, lo, hi)))
-        value = _bisect(lambda at: fe(Point({**vals.vars, x: at}, vals.params, root=vals.root), lk)[0], t, a, b)
-        return value, (None if pt.mode == VALUE else _root_tangent(fe, x, value, dt, pt, lk))
-    return root
-
-
-#: The certified sign changes of the last few (equation, points) met, each bisected: the k-th sign
-#: changes of one equation are one node per k (and each is read by several branches and guards),
-#: all found by one certification (kept with the equation itself, whose id is part of the key; the
-#: points by a digest of their table, so a large batch is not held twice).
-_SIGN_CHANGES: dict = {}
-
-
-def _compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of: int, tape, span,
-                         others: tuple[str, ...] = (), equation: Term | None = None) -> Fn:
-    """The ``index``-th sign change of ``f − target`` on ``[lo, hi]`` (``hi`` when there are
-    fewer; :class:`~langur.core.TooManyRoots` when more than ``of``, or when they cannot be
-    certified): each sign change certified in a bracket (:mod:`langur.operational.signchanges`,
-    ``tape`` encloses f and ∂f/∂x), once per distinct parameter point, and bisected there.
-    ``others``: the other inputs of Ψ̂⁻¹ ``f`` mentions (turning points that move with the other
-    variables of a condition split along ``x``): part of each point, and a cell left uncertified
-    on a null set of them is decided by its ends (``lenient``)."""
-    def sign_change(pt, lk):
-        vals = pt.values()
-        if tape is None:
-            raise TooManyRoots("a turning point that moves with the parameters has no ∂²/∂x² to certify that none "
-                               "is missed (an implicit root without its slope): Langur cannot evaluate it", span)
-        t, dt = ft(pt, lk)
-        (lo, _), (hi, dhi) = flo(vals, lk), fhi(pt, lk)
-        columns = [t, lo, hi] + [vals.vars[u] for u in others] + [v for v in vals.params.values() if np.ndim(v)]
-        n = max([np.size(c) for c in columns])
-        table = np.stack([np.broadcast_to(np.asarray(c, dtype=float).reshape(-1), (n,)) if np.size(c) > 1
-                          else np.full(n, float(np.asarray(c).reshape(-1)[0])) for c in columns], axis=1)
-        rows, back = np.unique(table, axis=0, return_inverse=True)
-        back = back.reshape(-1)
-        first = np.unique(back, return_index=True)[1]  # one sample row per distinct point
-        params = {k: (np.broadcast_to(np.asarray(v, dtype=float).reshape(-1), (n,))[first] if np.ndim(v) else v)
-                  for k, v in vals.params.items()}
-        tr, lor, hir = rows[:, 0], rows[:, 1], rows[:, 2]
-        moving = {u: rows[:, 3 + i] for i, u in enumerate(others)}
-
-        def at_rows(r):
-            return {k: (v[r] if np.ndim(v) else v) for k, v in params.items()}
-
-        def value(at, r):
-            at_vars = {x: at, **{u: v[r] for u, v in moving.items()}}
-            return np.broadcast_to(fe(Point(at_vars, at_rows(r), root=vals.root), lk)[0], np.shape(at))
-
-        key = (id(equation), x, rows.shape, hashlib.blake2b(rows.tobytes(), digest_size=20).digest(),
-               tuple((k, float(v)) for k, v in sorted(vals.params.items()) if not np.ndim(v)))
-        found = _SIGN_CHANGES.get(key)
-        if found is None or found[0] is not equation:
-            r, a, b = certified_brackets(value, tape, x, tr, lor, hir, params, span, what=f"∂/∂{x}", others=moving,
-                                         lenient=bool(others))
-            counts = np.bincount(r, minlength=len(tr))
-            if np.any(counts > of):
-                raise TooManyRoots(f"{int(counts.max())} turning points on the domain at these parameter values, more "
-                                   f"than the {of} the condition was split for: Langur cannot differentiate it here; "
-                                   "split the variable's domain (a sum of integrals over sub-intervals, each with at "
-                                   "most that many turning points)", span)
-            roots = _bisect(lambda at: value(at, r), tr[r], a, b)  # every sign change of every row at once
-            found = (equation, r, counts, roots)
-            if len(_SIGN_CHANGES) >= 8:
-                _SIGN_CHANGES.pop(next(iter(_SIGN_CHANGES)))
-            _SIGN_CHANGES[key] = found
-        _, r, counts, roots = found
-        value_rows = hir.copy()
-        has = counts > index
-        if has.any():
-            start = np.concatenate([[0], np.cumsum(counts)[:-1]])
-            pick = start[has] + index  # the (index+1)-th bracket of each row that has one
-            value_rows[r[pick]] = roots[pick]
-        value = value_rows[back] if n > 1 or np.ndim(t) or np.ndim(lo) or np.ndim(hi) else value_rows[0]
-        if pt.mode == VALUE:
-            return value, None
-        inside = has[back] if np.ndim(value) else bool(has[0])
-        d = _root_tangent(fe, x, value, dt, pt, lk)
-        if d is None and dhi is None:
-            return value, None
-        return value, np.where(inside, 0.0 if d is None else d, 0.0 if dhi is None else dhi)
-    return sign_change
 
 
 def _compile_call(slot: int, module: str, name: str, args, ctx: _Ctx) -> Fn:

@@ -10,8 +10,8 @@ import numpy as np
 from ..core import Program, tree_size
 from ..modules import Loaded
 from ..values import ParameterError, check_values
-from .compile import DELTA, TANGENT, VALUE, Point, full
 from .link import CACHE, CompileCache, Linked, compile_program, link
+from .point import DELTA, TANGENT, VALUE, Point, full
 from .results import DerivativeEstimate, Estimate, ValueEstimate
 from .sample import design, evaluate_box
 
@@ -81,7 +81,7 @@ def _domain(linked: Linked, params: dict, rng, samples: int, method: str):
 
 
 def _run(linked: Linked, x, params, **point) -> tuple:
-    """The linked program run at the :class:`~.compile.Point` (``x``, γ, …) under its linking (§9)."""
+    """The linked program run at the :class:`~.point.Point` (``x``, γ, …) under its linking (§9)."""
     return linked.fn(Point(x, params, **point), linked.linking)
 
 

@@ -1,7 +1,7 @@
 """Separate compilation and linking (§9, Theorem 9.1: compositional evaluation).
 
 Every module's elaborated form (``Loaded.modules[name]``: its defs with ``Call`` links and its
-program) is compiled *per def* into a :class:`~langur.operational.compile.Unit` and cached under
+program) is compiled *per def* into a :class:`~langur.operational.point.Unit` and cached under
 a key made of what determines the def's elaborated form: ``(module name, module source_hash,
 def name, import signature)`` — the module's own text and the *signatures* (argument kinds,
 declared diffeos) of what it imports, never the imported bodies (modules.py: "a module's
@@ -56,7 +56,8 @@ from ..core import (
     subterms,
 )
 from ..modules import Loaded
-from .compile import UNLINKED, Linking, Unit, compile_term
+from .compile import compile_term
+from .point import UNLINKED, Linking, Unit
 from .sample import SiteSampler
 
 

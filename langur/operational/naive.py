@@ -34,10 +34,11 @@ from ..core import (
     free_vars,
 )
 from ..primitives import REGISTRY
-from .compile import DELTA, ROOT_HALVINGS, TANGENT, VALUE
 from .interval import tape_of
 from .link import collect_sites
+from .point import DELTA, TANGENT, VALUE
 from .results import Estimate
+from .roots import ROOT_HALVINGS
 from .sample import design
 from .signchanges import certified_brackets
 

@@ -25,8 +25,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import Diffeo, Var
-from .compile import TANGENT, UNLINKED, VALUE, Point, compile_term, full
+from .compile import compile_term
 from .interval import enclose, enclose_all, tape_of
+from .point import TANGENT, UNLINKED, VALUE, Point, full
 
 METHODS = ("uniform", "stratified", "qmc")
 QMC_RANDOMIZATIONS = 32

@@ -1,0 +1,138 @@
+"""What a unit computes once (§9, compiling a term once): the subterms shared in a term's DAG,
+evaluated once per point, and the variable-free subterms, folded at compile time by the very
+floating-point operations their closures would run (bit-identical linking, Theorem 9.1)."""
+
+from __future__ import annotations
+
+import itertools
+
+from ..core import Add, Call, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var
+from ..primitives import REGISTRY
+from .consts import const_value
+from .dual import power
+from .point import Fn
+
+#: Keys of shared subterms in :attr:`Point.memo`, unique across every compiled unit (units
+#: compiled apart may be evaluated at one point).
+KEYS = itertools.count()
+
+
+class Sharing:
+    """The subterms of a term that occur more than once in it (a DAG: substituted lets, inlined
+    calls and vectors share their subterms; the ray tracer's completed conic has ~10,000 nodes
+    written out and ~900 distinct ones) and contain no site nor call: those are compiled once and
+    evaluated once per :class:`Point` (:func:`evaluated_once`), with the same floating-point operations
+    as written out.  Sites and calls are never shared: each occurrence owns its slot."""
+
+    def __init__(self, t: Term):
+        self.refs: dict[int, int] = {}
+        self.compiled: dict[tuple, Fn] = {}
+        self.keep = t  # the term stays alive, so the ids above stay its own
+        self._count(t)
+
+    def _count(self, root: Term) -> None:
+        refs = self.refs
+        refs[id(root)] = 1
+        stack = [root]
+        while stack:  # each distinct node expanded once (its children's references counted)
+            for c in _children(stack.pop()):
+                if type(c) in _LEAVES:
+                    continue  # never shared
+                n = refs.get(id(c))
+                if n is None:
+                    refs[id(c)] = 1
+                    stack.append(c)
+                else:
+                    refs[id(c)] = n + 1
+
+    def shared(self, t: Term) -> bool:
+        # pure: no site nor call below (the kept attributes: no diffeomorphic conditional, no call)
+        return self.refs.get(id(t), 0) > 1 and not t._psi_vars and not t._calls
+
+
+_LEAVES = (Const, Var, Param)
+
+
+def _children(t: Term) -> tuple:
+    """The subterms a unit evaluates (a conditional's condition, not the rest of its Ψ̂), by the
+    node's exact class (the node classes have no subclasses): :class:`Sharing` asks it of every
+    node of every unit compiled."""
+    tt = type(t)
+    if tt is Add or tt is Mul:
+        return (t.left, t.right)
+    if tt is IfDiffeo:
+        return (t.psi.forward[0], t.then, t.orelse)
+    if tt is Pow:
+        return (t.base,)
+    if tt is Prim:
+        return (t.arg,)
+    if tt is IfGe0:
+        return (t.cond, t.then, t.orelse)
+    if tt is Let:
+        return (t.bound, t.body)
+    if tt is Call:
+        return tuple(t.args)
+    if tt is ImplicitRoot:
+        return (t.equation, t.target, t.lo, t.hi)
+    return ()
+
+
+_NOT_YET = object()
+
+
+def constant(t: Term):
+    """:func:`_fold` of ``t`` when it has no variable, parameter or call (kept on the node: a
+    number that only depends on the term), else None."""
+    if t._fv or t._fp or t._calls:
+        return None
+    d = t.__dict__
+    v = d.get("_folded", _NOT_YET)
+    if v is _NOT_YET:
+        v = d["_folded"] = _fold(t)
+    return v
+
+
+def _fold(t: Term):
+    """The value of a constant term (no variable, parameter or call) built of constants, sums,
+    products, powers and primitives, computed by exactly the floating-point operations of the
+    closures :func:`_compile_node` would build for it (so evaluating it once at compile time gives
+    the very numbers every evaluation would: a variable-free subterm evaluates to a scalar); None
+    for any other term."""
+    match t:
+        case Const():
+            return const_value(t)
+        case Add(a, b) | Mul(a, b):
+            x = _fold(a)
+            if x is None:
+                return None
+            y = _fold(b)
+            if y is None:
+                return None
+            return x + y if type(t) is Add else x * y
+        case Pow(a, k):
+            x = _fold(a)
+            return None if x is None else power(x, k)
+        case Prim(op, a):
+            x = _fold(a)
+            return None if x is None else REGISTRY[op].value(x)
+    return None
+
+
+def evaluated_once(f: Fn, key: int, uses: int) -> Fn:
+    """``f`` evaluated once per point: a shared pure subterm reads nothing but the point.  Its
+    value is kept for the term's ``uses`` references and then dropped, so a point holds at once
+    only the shared values still to be read (not every one: arrays of a million samples each).
+    A reference not reached (a branch not taken) keeps the value until the point goes; one
+    reached more often than counted evaluates ``f`` again, to the same numbers."""
+    def shared(pt, lk):
+        memo = pt.memo
+        hit = memo.get(key)
+        if hit is None:
+            out = f(pt, lk)
+            memo[key] = [out, uses - 1]
+            return out
+        hit[1] -= 1
+        if hit[1] <= 0:
+            del memo[key]
+        return hit[0]
+    return shared

@@ -1,0 +1,161 @@
+"""One level's adaptive quadrature, made safe and honest (paper §8.2; LANGUAGE.md's undefined
+integrals): scipy's ``quad`` on an integrand made finite where sampled, split at the abscissae
+where it was not, with QUADPACK's own diagnostics deciding divergence (:class:`UndefinedIntegral`)
+or an unreached tolerance (a note).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from typing import Callable
+
+from scipy import integrate as si
+
+from langur.symbolic.quadrature.problem import NumProblem, UndefinedIntegral
+
+#: Rounds of splitting an interval at the abscissae where the integrand was found not finite.
+SPLIT_ROUNDS = 3
+
+
+#: More abscissae than this where the integrand is not finite, in one pass of ``quad``: not a few
+#: isolated singular points but a set quadrature keeps hitting (undefined on a set of positive
+#: measure, or an inner integral that diverges as the outer variable tends to a point).
+MAX_BAD = 3
+
+
+#: The warnings of scipy's QUADPACK wrapper that mean "no convergence" (ier = 1: the subdivision
+#: limit, ier = 3: bad integrand behaviour): the error estimate is not to be trusted.  ier = 2 and
+#: ier = 4 (roundoff kept the tolerance from being reached) are harmless at the tight tolerances
+#: used here, and ier = 5 ("probably divergent") means the integral does not exist.
+NOT_CONVERGED = ("maximum number of subdivisions", "bad integrand behavior")
+
+
+DIVERGENT = "probably divergent"
+
+
+class _Finite:
+    """The integrand as ``quad`` samples it: finite everywhere.  A value that is not finite (a
+    pole, NaN outside a primitive's domain) or an inner integral found undefined at this abscissa
+    is recorded and replaced by 0, so ``quad`` never sees NaN (it can crash the process on one)."""
+
+    def __init__(self, h: Callable[[float], float]):
+        self.h = h
+        self.bad: list[float] = []
+        self.inner: str | None = None  # the first inner integral's reason for being undefined
+
+    def __call__(self, t: float) -> float:
+        try:
+            v = self.h(t)
+        except UndefinedIntegral as exc:
+            self.inner = self.inner or exc.reason
+            return self._bad(t)
+        if not math.isfinite(v):
+            return self._bad(t)
+        return v
+
+    def _bad(self, t: float) -> float:
+        if t not in self.bad:
+            self.bad.append(t)
+        if len(self.bad) > MAX_BAD:
+            raise _TooMany()
+        return 0.0
+
+
+class _TooMany(Exception):
+    """Raised through ``quad`` (which propagates a callback's exception) to stop a pass early."""
+
+
+def _name(p: NumProblem, level: int) -> str:
+    return str(p.syms[level]) if level < len(p.syms) else f"variable {level + 1}"
+
+
+def _quad_once(h, a: float, b: float, eps: float, inside: list[float]):
+    """``quad`` over [a, b] with scipy's IntegrationWarnings recorded (never silenced, never
+    leaked): ``(value, error, [warning texts])``."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", si.IntegrationWarning)
+        val, e = si.quad(h, a, b, epsabs=eps, epsrel=eps, limit=100, points=inside or None)
+    texts = [str(w.message).strip() for w in caught if issubclass(w.category, si.IntegrationWarning)]
+    return val, e, texts
+
+
+#: An end-point growth exponent this close to 1 counts as 1 (``1/x`` measures 1.000).
+GROWTH_SLACK = 0.02
+
+
+def _end_growth(h, c: float, d: float) -> list[tuple[float, float]]:
+    """Where ``quad`` did not converge on [c, d]: at each end e, the exponent α of |h| ~ |t − e|^-α
+    measured at t = e ± (d − c)·10⁻⁴, 10⁻⁶, 10⁻⁸ (both differences must agree within 0.05:
+    an oscillating or logarithmic integrand gives no exponent)."""
+    out = []
+    for end, sign in ((c, 1.0), (d, -1.0)):
+        try:
+            vals = [abs(h(end + sign * (d - c) * 10.0 ** -k)) for k in (4, 6, 8)]
+        except (UndefinedIntegral, ArithmeticError, ValueError):
+            continue
+        if not all(math.isfinite(v) and v > 0 for v in vals):
+            continue
+        a1 = math.log10(vals[1] / vals[0]) / 2
+        a2 = math.log10(vals[2] / vals[1]) / 2
+        if abs(a1 - a2) <= 0.05:
+            out.append((end, a2))
+    return out
+
+
+def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem, level: int):
+    """∫_a^b h by ``quad``, made safe and honest.
+
+    The integrand is made finite where sampled (:class:`_Finite`).  Where it was not finite, the
+    interval is split at those abscissae and integrated again (quad never samples an endpoint), up
+    to :data:`SPLIT_ROUNDS` times: an integrable singularity (``log(x^2)`` at 0) then gets its
+    value; an integrand that keeps being non-finite at new abscissae is undefined on more than a
+    null set.  scipy's "probably divergent" means the integral does not exist, and so does no
+    convergence on an interval that ends at a point where the integrand is not finite."""
+    where = f"{_name(p, level)} in [{a:.6g}, {b:.6g}]"
+    singular: list[float] = []
+    for _ in range(SPLIT_ROUNDS + 1):
+        g = _Finite(h)
+        cuts = sorted({a, b, *singular})
+        total = err = 0.0
+        texts: list[tuple[float, float, str]] = []
+        try:
+            for c, d in zip(cuts, cuts[1:]):
+                if not d > c:
+                    continue
+                val, e, ws = _quad_once(g, c, d, eps, [q for q in inside if c < q < d])
+                total += val
+                err += e
+                texts += [(c, d, w) for w in ws]
+        except _TooMany:
+            break
+        for c, d, w in texts:
+            if DIVERGENT in w:
+                raise UndefinedIntegral(f"quadrature over {where}: scipy says the integral is "
+                                        f"probably divergent (on [{c:.6g}, {d:.6g}])")
+        if not g.bad:
+            for c, d, w in texts:
+                if not any(k in w for k in NOT_CONVERGED):
+                    continue
+                touching = [s for s in singular if s in (c, d)]
+                if touching:
+                    raise UndefinedIntegral(
+                        f"the integrand is not finite at {_name(p, level)} = {touching[0]:.6g} and "
+                        f"quadrature does not converge next to it: the integral is probably divergent")
+                for end, alpha in _end_growth(h, c, d):
+                    if alpha >= 1 - GROWTH_SLACK:
+                        raise UndefinedIntegral(
+                            f"quadrature over {_name(p, level)} in [{c:.6g}, {d:.6g}] does not converge and the "
+                            f"integrand grows like |{_name(p, level)} - {end:.6g}|^-{alpha:.3g} there: the "
+                            "integral is probably divergent")
+                p.converged = False
+                p.notes.append(f"quadrature did not reach its tolerance over {_name(p, level)} "
+                               f"(scipy: {w.splitlines()[0].rstrip('.')}); the error bound may be optimistic")
+            return total, err
+        singular += [t for t in g.bad if t not in singular]
+    if g.inner:
+        raise UndefinedIntegral(f"{g.inner} (for ever more values of {_name(p, level)} in [{a:.6g}, {b:.6g}])")
+    raise UndefinedIntegral(f"quadrature over {where}: the integrand is undefined (NaN) or infinite at ever "
+                            "more points (on a set of positive measure, or near a point where the "
+                            "integral diverges)")
+

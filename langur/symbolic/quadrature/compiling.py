@@ -1,0 +1,125 @@
+"""Sympy expressions compiled to fast numeric functions for the quadrature (paper §8.2: the
+integrand of ⟦p⟧ evaluated at the parameters' values; issue 13's caches).
+
+``_lambdify`` gives scalar ``math`` functions (``mpmath`` for what ``math`` lacks), ``_vectorize``
+numpy functions of the innermost variable; both are cached by expression with the parameters as
+trailing arguments, so other parameter values reuse them.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable, Sequence
+
+import numpy as np
+import sympy as sp
+
+from langur.symbolic.local import atoms_of, free_symbols
+from langur.symbolic.text import shared_lambdify
+
+
+def _num(expr, at: dict) -> float:
+    return complex(sp.sympify(expr).xreplace(_floats(at)).evalf(30)).real
+
+
+def _floats(at: dict) -> dict:
+    return {k: sp.Float(float(v), 30) for k, v in at.items()}
+
+
+def printable(e: sp.Expr) -> sp.Expr:
+    """``e`` with rationals of thousands of digits as 30-digit floats: ``lambdify`` prints numbers
+    as text, and Python refuses to print an integer of more than 4300 digits (a product of 10,000
+    exact constants has such a value)."""
+    big = {r: sp.Float(r, 30) for r in atoms_of(e, sp.Rational) if max(abs(r.p), r.q).bit_length() > 4000}
+    return e.xreplace(big) if big else e
+
+
+#: Compiled integrands by (arguments, expression): the same conditions and weights come back at
+#: other parameter values (the value, each partial derivative, Theorem 8.1's shifted and nearby
+#: points), and ``lambdify`` costs milliseconds per call; at most this many kept.
+COMPILED = 4096
+
+
+_COMPILED: dict = {}
+
+
+def _compile(args: tuple, e) -> tuple[Callable | None, Callable | None]:
+    """``(math function, None)`` or, for a function ``math`` lacks, ``(None, mpmath function)``."""
+    key = (args, e)
+    hit = _COMPILED.get(key)
+    if hit is not None:
+        return hit
+    try:
+        f = shared_lambdify(list(args), e, "math")  # (sympy's lambdify, shared subtrees printed once)
+        f(*[0.5] * len(args))  # probe: fails with NameError for functions math lacks
+        out = (f, None)
+    except NameError:
+        out = (None, shared_lambdify(list(args), e, "mpmath"))
+    except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
+        out = (shared_lambdify(list(args), e, "math"), None)
+    if len(_COMPILED) >= COMPILED:
+        _COMPILED.pop(next(iter(_COMPILED)))
+    _COMPILED[key] = out
+    return out
+
+
+def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., float]:
+    """A fast scalar function of ``symbols`` (``math``); NaN where the expression is undefined or
+    complex.  The parameters ``at`` are passed as trailing arguments of a compiled function cached
+    by expression (:data:`COMPILED`), so other parameter values reuse it; an expression ``math``
+    cannot evaluate with symbolic parameters is compiled with their values substituted."""
+    e = printable(sp.sympify(expr))
+    free = free_symbols(e)  # (not cached by sympy: a walk of the distinct subtrees, once)
+    params = tuple(k for k in at if k in free)
+    f, g = _compile(tuple(symbols) + params, e)
+    extra = tuple(float(at[k]) for k in params)
+    if f is None and params:  # e.g. Heaviside of a parameter: decided once its value is known
+        f, g = _compile(tuple(symbols), printable(e.xreplace(_floats(at))))
+        extra = ()
+    if f is not None:
+        def call(*vals):
+            try:
+                return float(f(*vals, *extra))
+            except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+                return math.nan
+        return call
+
+    def slow(*vals):
+        try:
+            v = complex(g(*vals, *extra))
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            return math.nan
+        return v.real if abs(v.imag) <= 1e-12 * max(1.0, abs(v.real)) else math.nan
+
+    return slow
+
+
+_VECTORIZED: dict = {}
+
+
+def _vectorize(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable | None:
+    """``expr`` as a numpy function of ``symbols`` (the last one an array), the parameters ``at``
+    passed like :func:`_lambdify`'s; None when numpy cannot evaluate it (then the scalar path
+    alone integrates it)."""
+    e = printable(sp.sympify(expr))
+    free = free_symbols(e)  # (once, not once per parameter)
+    params = tuple(k for k in at if k in free)
+    key = (tuple(symbols) + params, e)
+    f = _VECTORIZED.get(key, 0)
+    if f == 0:
+        try:
+            f = shared_lambdify(list(key[0]), e, "numpy")  # (sympy's code, shared subtrees printed once)
+            with np.errstate(all="ignore"):
+                f(*[0.5] * (len(key[0]) - 1), np.linspace(0.1, 0.9, 3))  # probe: numpy has every function
+        except NameError:
+            f = None
+        except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
+            pass
+        if len(_VECTORIZED) >= COMPILED:
+            _VECTORIZED.pop(next(iter(_VECTORIZED)))
+        _VECTORIZED[key] = f
+    if f is None:
+        return None
+    extra = tuple(float(at[k]) for k in params)
+    return lambda *vals: f(*vals, *extra)
+

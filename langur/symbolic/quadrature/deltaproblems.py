@@ -1,0 +1,117 @@
+"""The delta pieces' front (paper §7.3, Theorem 7.1; LANGUAGE.md §4): ``∫ h δ(π₀Ψ̂)`` over the box
+as one problem over ``u'`` per inverse branch of Ψ̂, with the forward map's Jacobian
+``1/|det DΨ̂(x)|`` at ``x = Ψ̂_b⁻¹(0, u')`` (independent of the inverse-map Jacobian the closed form
+uses); a branch through an implicit root is a ``folds`` problem.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+import sympy as sp
+
+from langur.implicit import ImplicitRootFn
+from langur.symbolic.pieces import DeltaPiece
+from langur.symbolic.quadrature.brackets import _implied_by_bracket
+from langur.symbolic.quadrature.compiling import COMPILED, _floats, _lambdify, _num
+from langur.symbolic.quadrature.nested import integrate_problem
+from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
+
+
+def _vanishes(expr, syms, bounds, at) -> bool:
+    """Numerically zero at a few pseudo-random points of the u' box."""
+    expr = sp.sympify(expr)
+    if expr.is_number:
+        return abs(_num(expr, at)) < 1e-300
+    f = _lambdify(syms, expr, at)
+    rng = np.random.default_rng(12345)
+    for _ in range(5):
+        v = f(*[rng.uniform(lo, hi) for lo, hi in bounds])
+        if math.isnan(v) or abs(v) > 1e-12:
+            return False
+    return True
+
+
+#: det DΨ̂ by (forward map, variables): the same Ψ̂ comes back for other partial derivatives.
+_FORWARD_DETS: dict = {}
+
+
+def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[NumProblem]:
+    """One problem over ``u'`` per inverse branch (forward-Jacobian form, see module doc).
+
+    ``ubox``: the (lo, hi) bounds of ``u'`` (shared with the closed form: it is only an
+    enclosure; the box conditions added here cut it to the right region)."""
+    psi = piece.psi
+    variables = list(variables)
+    missing = [x for x in variables if x not in psi.variables]
+    uprime = list(psi.inputs[1:]) + missing
+    jac = _FORWARD_DETS.get((psi.forward, psi.variables))
+    if jac is None:  # (sympy's det simplifies as it goes: a third of a second for the ray tracer's shader)
+        jac = sp.Matrix(psi.forward).jacobian(list(psi.variables)).det()
+        if len(_FORWARD_DETS) >= COMPILED:
+            _FORWARD_DETS.pop(next(iter(_FORWARD_DETS)))
+        _FORWARD_DETS[(psi.forward, psi.variables)] = jac
+    jac_f = _lambdify(variables, jac, at)
+    bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in ubox]
+    problems = []
+    for b in psi.branches:
+        sub = {psi.inputs[0]: sp.Integer(0)}
+        inv = {x: e.xreplace(sub) for x, e in b.inverse}
+        xs = [inv.get(x, x) for x in variables]
+        x_fns = [_lambdify(uprime, e, at) for e in xs]
+
+        def xmap(*u, x_fns=x_fns):
+            return [f(*u) for f in x_fns]
+
+        conds = []
+        exprs = [c.expr for c in piece.conditions] + [g.xreplace(sub) for g in b.guards]
+        guards_start = len(piece.conditions)
+        for i, (lo, hi) in enumerate(box):
+            exprs += [variables[i] - lo, hi - variables[i]]
+        empty = False
+        for k, e in enumerate(exprs):
+            if len(uprime) >= 2 and k not in range(guards_start, guards_start + len(b.guards)) \
+                    and _implied_by_bracket(e, variables, xs, at):  # (fold section)
+                continue
+            se = e if guards_start <= k < guards_start + len(b.guards) else e.xreplace(dict(zip(variables, xs)))
+            if _vanishes(se, uprime, bounds, at):
+                if k < guards_start and piece.conditions[k].strict:
+                    empty = True  # [0 > 0] is FALSE: the piece is 0 on this branch of the zero set
+                    break
+                continue  # vanishes identically on the zero set: 0 >= 0 is TRUE (paper convention)
+            lv = _level(se, uprime)
+            conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, se.xreplace(_floats(at)), sym=_parametric(se)))
+        if empty:
+            continue
+        w_f = _lambdify(variables, piece.weight, at)
+
+        def weight(*u, xmap=xmap, w_f=w_f):
+            x = xmap(*u)
+            d = jac_f(*x)
+            return w_f(*x) / abs(d) if d != 0 else math.nan  # degenerate: Ψ̂ not invertible here
+
+        problems.append(NumProblem(conds, weight, bounds, syms=uprime, at=dict(at),
+                                   sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in ubox],
+                                   folds=any(e.has(ImplicitRootFn) for e in xs)))
+    return problems
+
+
+def quad_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at: dict, uboxes,
+                      notes: list[str] | None = None, problems: list[NumProblem] | None = None
+                      ) -> tuple[float, float]:
+    """Σ ∫ h δ(π₀Ψ̂) at ``at`` over the box; ``uboxes[i]`` is piece i's ``u'`` box (``notes`` and
+    errors as :func:`quad_pieces`)."""
+    val = err = 0.0
+    for pc, ub in zip(pieces, uboxes):
+        for prob in delta_problems(pc, variables, box, at, ub):
+            v, e = integrate_problem(prob)
+            val += v
+            err += e
+            if notes is not None:
+                notes.extend(prob.notes)
+            if problems is not None:
+                problems.append(prob)
+    return val, err
+

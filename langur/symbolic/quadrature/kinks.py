@@ -1,0 +1,227 @@
+"""Breakpoints and kinks of one level of the nested integral (paper §8.2): where a deeper level's
+region changes shape as this level's variable moves — deeper conditions at box ends and critical
+points, crossings of two conditions (resultants), conditions meeting a flat one — so that the
+outer ``quad`` only sees integrands smooth between its breakpoints.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import sympy as sp
+
+from langur.symbolic.local import free_symbols
+from langur.symbolic.quadrature.compiling import COMPILED, _lambdify
+from langur.symbolic.quadrature.problem import NumProblem, _depends
+from langur.symbolic.quadrature.roots import _poly_roots, _roots
+from langur.timebox import run_with_timeout
+
+#: CPU seconds sympy may spend on the critical points of one condition (:func:`_critical_points`):
+#: CPU, not wall clock, so that the breakpoints found (and the error bounds) do not change with the
+#: machine's load.
+CRITICAL_SECONDS = 1.0
+
+
+#: The kink expressions of :func:`_kink_functions` by (conditions, variables, bounds, level): the
+#: same problem comes back (a value, its cross-check, a derivative's regular part at the same
+#: point), and the critical points and crossings are sympy work; at most :data:`COMPILED` kept.
+_KINKS: dict = {}
+
+
+def _kink_functions(p: NumProblem, level: int):
+    """Where the inner integral's region changes shape (kinks of this level's integrand): roots of
+    the deeper conditions with each deeper variable at a box end or, for a condition quadratic in
+    it, at its critical point (where a region in that variable appears or vanishes), and where two
+    conditions of the next level cross (:func:`_crossings`).  With the problem's parameters kept as
+    symbols (``p.sbounds``), these expressions are computed once per shape of problem and hold at
+    every parameter point (only :func:`_at_levels`, numeric, is redone at each).  Returns the
+    ``(function, polynomial roots or None)`` pairs and, for each, the outer levels whose variables
+    it depends on (:func:`_depends`; all of them for the box-corner functions of conditions
+    without an expression)."""
+    out, vary = [], []
+    symbolic = [c for c in p.conds if c.level > level and c.expr is not None] if p.syms else []
+    for c in p.conds:
+        if c.level > level and c not in symbolic:
+            for corner in itertools.product(*[p.bounds[j] for j in range(level + 1, c.level + 1)]):
+                out.append((lambda *a, c=c, corner=corner: c.f(*a, *corner), None))
+                vary.append(tuple(range(level)))
+    if not symbolic:
+        return out, vary
+    parametric = p.sbounds is not None and all(c.sym is not None for c in symbolic)
+    at = p.at if parametric else {}
+    if parametric:
+        key = ("sym", tuple((c.sym, c.level) for c in symbolic), tuple(p.syms), tuple(p.sbounds), level)
+        bounds = p.sbounds
+    else:
+        key = (tuple((c.expr, c.level) for c in symbolic), tuple(p.syms), tuple(p.bounds), level)
+        bounds = [(sp.Float(lo), sp.Float(hi)) for lo, hi in p.bounds]
+    exprs = _KINKS.get(key)
+    if exprs is None:
+        exprs = []
+        variables = set(p.syms)
+        for c in symbolic:
+            es = [c.sym if parametric else c.expr]
+            for j in range(c.level, level, -1):
+                v = p.syms[j]
+                nxt = []
+                for e in es:
+                    nxt += [e.xreplace({v: b}) for b in bounds[j]]
+                    nxt += [e.xreplace({v: r}) for r in _critical_points(e, v)]
+                es = nxt
+            exprs += [e for e in es if free_symbols(e) & variables]
+        if level + 1 < len(p.syms):
+            exprs += _crossings(p, level, parametric)
+            if not parametric:
+                exprs += _at_levels(p, level)
+        if len(_KINKS) >= COMPILED:
+            _KINKS.pop(next(iter(_KINKS)))
+        _KINKS[key] = exprs
+    if parametric and level + 1 < len(p.syms):  # numeric roots at these parameter values
+        key = (tuple((c.expr, c.level) for c in symbolic), tuple(p.syms), tuple(p.bounds), level, "levels")
+        levels = _KINKS.get(key)
+        if levels is None:
+            if len(_KINKS) >= COMPILED:
+                _KINKS.pop(next(iter(_KINKS)))
+            levels = _KINKS[key] = _at_levels(p, level)
+        exprs = exprs + levels
+    for e in exprs:
+        out.append((_lambdify(p.syms[: level + 1], e, at), _poly_roots(e, p.syms, level, at)))
+        vary.append(_depends(e, p.syms, level))
+    return out, vary
+
+
+#: CPU seconds sympy may spend on the resultant of two conditions (:func:`_crossings`) (CPU: as
+#: :data:`CRITICAL_SECONDS`).
+RESULTANT_SECONDS = 0.5
+
+
+#: Degree (in the next variable) up to which two conditions' crossings are computed.
+RESULTANT_DEGREE = 4
+
+
+def _at_levels(p: NumProblem, level: int) -> list[sp.Expr]:
+    """Where a condition of the next level meets a condition on the next variable alone
+    (``sqrt(y + 2) <= 1.71``: y = 0.9241): the first with the next variable at the second's roots,
+    as box ends are substituted in :func:`_kink_functions` (found on a grid refined by ``brentq``
+    when it is not a polynomial)."""
+    v, (lo, hi) = p.syms[level + 1], p.bounds[level + 1]
+    if not hi > lo:
+        return []
+    here = [c for c in p.here(level + 1) if c.expr is not None]
+    flat = [c for c in here if c.expr.free_symbols <= {v}]
+    if not flat:
+        return []
+    roots = set()
+    for c in flat:
+        poly = _poly_roots(c.expr, p.syms, level + 1)
+        prefix = [0.0] * (level + 1)  # unused: the condition depends on the next variable alone
+        found = poly(*prefix) if poly is not None else _roots(lambda t, c=c, z=prefix: c.f(*z, t), lo, hi)
+        roots |= {r for r in found if lo < r < hi}
+    out = []
+    for c in here:
+        if c in flat:
+            continue
+        out += [e for r in sorted(roots) if not (e := c.expr.xreplace({v: sp.Float(r)})).is_number]
+    return out
+
+
+def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.Expr]:
+    """Where two conditions of the next level cross (kinks of this level's integrand: there the
+    inner integral's region changes shape too): the resultant of the two polynomials in the next
+    variable, a polynomial in this level's variables whose roots include every crossing (a
+    superset: extra breakpoints only split ``quad``'s intervals).  Pairs that are not polynomials
+    of degree ≤ :data:`RESULTANT_DEGREE` in it, or whose resultant takes longer than
+    :data:`RESULTANT_SECONDS`, are left to ``quad``'s subdivision as before."""
+    v = p.syms[level + 1]
+    polys = []
+    for c in p.here(level + 1):
+        e = c.sym if parametric else c.expr
+        if e is None:
+            continue
+        try:
+            poly = sp.Poly(e, v)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            continue
+        if 1 <= poly.degree() <= RESULTANT_DEGREE and not any(v in k.free_symbols for k in poly.all_coeffs()):
+            polys.append(e)
+    params = set(p.at) if parametric else set()
+    out = []
+    for e1, e2 in itertools.combinations(polys, 2):
+        try:
+            r = run_with_timeout(lambda e1=e1, e2=e2: sp.resultant(e1, e2, v), RESULTANT_SECONDS,
+                                  cpu=True)
+        except Exception:  # noqa: BLE001 - sympy fails in many ways (PolynomialDivisionFailed on floats, a time
+            continue  # limit); the pair is then left to quad's subdivision, as before
+        r = sp.sympify(r)
+        if not r.is_number and p.syms[level] in r.free_symbols and r.free_symbols <= set(p.syms[: level + 1]) | params:
+            out.append(r)
+    return out
+
+
+#: :func:`_critical_points`' answers by (expression, variable): one condition's come back at every
+#: outer level of its problem, in every piece it is a factor of, and in every problem at the same
+#: parameter values (the value, its cross-check, each derivative, Theorem 8.1's shifted points
+#: of the pieces that do not move); a non-polynomial one costs a sympy ``solve`` (a third of a
+#: second for ``tanh(z − 0.53) − 0.1``).  A time limit's empty answer is not kept (asked again,
+#: as before); at most :data:`COMPILED` kept.
+_CRITICAL: dict = {}
+
+
+def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
+    """Where ``∂e/∂v`` vanishes, as expressions in the outer variables: there a region in ``v``
+    appears or vanishes as they move (the top of a circle, ``sqrt(x² + y²) < r`` at y = 0).
+    A quadratic's vertex directly; otherwise sympy's solve on the derivative's numerator within
+    :data:`CRITICAL_SECONDS` (none found: none used, the grid search of :func:`_roots` remains);
+    remembered (:data:`_CRITICAL`)."""
+    key = (e, v)
+    known = _CRITICAL.get(key)
+    if known is None:
+        known, final = _solve_critical(e, v)
+        if final:
+            if len(_CRITICAL) >= COMPILED:
+                _CRITICAL.pop(next(iter(_CRITICAL)))
+            _CRITICAL[key] = known
+    return list(known)
+
+
+def _solve_critical(e: sp.Expr, v: sp.Symbol) -> tuple[list[sp.Expr], bool]:
+    """:func:`_critical_points`' answer, and whether it is final (not cut short by the time limit)."""
+    try:
+        poly = sp.Poly(e, v)
+        if poly.degree() == 2 and not any(v in k.free_symbols for k in poly.all_coeffs()):
+            a2, a1, _ = poly.all_coeffs()
+            return [-a1 / (2 * a2)], True
+        if poly.degree() <= 1 and not any(v in k.free_symbols for k in poly.all_coeffs()):
+            return [], True
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        pass
+    try:
+        numerator = sp.numer(sp.together(sp.diff(e, v)))
+        sols = run_with_timeout(lambda: sp.solve(numerator, v), CRITICAL_SECONDS, cpu=True)
+    except TimeoutError:
+        return [], False
+    except (NotImplementedError, ValueError, TypeError, sp.PolynomialError):
+        return [], True
+    return [r for r in sols if v not in r.free_symbols and not r.has(sp.I)][:8], True
+
+
+def _breakpoints(p: NumProblem, level: int, prefix: tuple, vary: bool) -> tuple[set, set]:
+    """``level``'s breakpoints in (lo, hi) at the outer abscissae ``prefix`` (roots of its
+    conditions, from their polynomial root finders, a grid search, or their Psi's inverse) and its
+    kinks (:func:`_kink_functions`): those that depend on the outer variables (``vary``), or those
+    that do not — the same at every outer abscissa, so :func:`_nested` finds them once per problem
+    (the same numbers: the same functions of the same arguments)."""
+    lo, hi = p.bounds[level]
+    pts: set = set()
+    points, hinted, kink_fns = p.moving(level, vary)
+    for roots in points:
+        pts.update(r for r in roots(*prefix) if lo < r < hi)
+    for c in hinted:
+        for r in c.hints(*prefix):
+            if lo < r < hi:
+                pts.add(r)
+    kinks: set = set()
+    for roots in kink_fns:
+        kinks.update(r for r in roots(*prefix) if lo < r < hi)
+    return pts, kinks
+

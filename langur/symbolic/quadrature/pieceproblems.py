@@ -1,0 +1,133 @@
+"""The pieces' front (Def. 6.2's pieces, paper §8.2): each piece ``[conditions] · weight`` as a
+:class:`NumProblem` at the evaluation point (Psi's inverse branches as root hints) and its
+integral; a piece's result is remembered by the values of the parameters it depends on, so
+Theorem 8.1's shifted points reuse it (issue 13).
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import sympy as sp
+
+from langur.symbolic.local import free_symbols
+from langur.symbolic.pieces import Piece, Psi
+from langur.symbolic.quadrature.compiling import _floats, _lambdify, _num, _vectorize
+from langur.symbolic.quadrature.nested import integrate_problem
+from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
+from langur.symbolic.quadrature.tolerance import _OUTER
+
+
+def _psi_hints(psi: Psi | None, v: sp.Symbol, variables, level: int, at: dict):
+    """Roots of the condition in ``v`` from Psi's inverse branches (completed Psi only), and
+    whether they depend on the outer variables."""
+    if psi is None or psi.solved_for != v or not psi.branches:
+        return None, True
+    others = [x for x in psi.variables if x != v]
+    if any(x not in variables[:level] for x in others):
+        return None, True
+    sub = {psi.inputs[0]: 0}
+    sub.update({u: x for u, x in zip(psi.inputs[1:], others)})
+    fns = []
+    outer = set(variables[:level])
+    vary = False
+    for b in psi.branches:
+        comp = dict(b.inverse)[v].xreplace(sub)
+        guards = [g.xreplace(sub) for g in b.guards]
+        vary = vary or any(free_symbols(sp.sympify(e)) & outer for e in [comp, *guards])
+        fns.append((_lambdify(variables[:level], comp, at), [_lambdify(variables[:level], g, at) for g in guards]))
+
+    def hints(*prefix):
+        out = []
+        for f, gs in fns:
+            for g in gs:
+                if not g(*prefix) >= 0:  # (_holds: NaN >= 0 is false)
+                    break
+            else:
+                r = f(*prefix)
+                if r == r:  # (not NaN)
+                    out.append(r)
+        return out
+
+    return hints, vary
+
+
+def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
+    variables = list(variables)
+    conds = []
+    for c in piece.conditions:
+        lv = _level(c.expr, variables)
+        hints, vary = _psi_hints(c.psi, variables[lv], variables, lv, at) if lv >= 0 else (None, True)
+        expr = sp.sympify(c.expr)
+        conds.append(NumCond(_lambdify(variables[: lv + 1], expr, at), lv, hints, expr.xreplace(_floats(at)),
+                             sym=_parametric(expr), hints_vary=vary))
+    bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in box]
+    return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds, syms=variables,
+                      vweight=_vectorize(variables, piece.weight, at) if variables else None,
+                      at=dict(at), sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in box])
+
+
+#: Each piece's quadrature ``(value, error, problem)`` by the piece, the variables, the box and the
+#: values of the parameters the piece and the box depend on (at most :data:`DONE` kept).  Theorem
+#: 8.1's finite differences evaluate ⟦p⟧ at points shifted along one parameter: the pieces that do
+#: not depend on it are the same integrals there, and the same deterministic computation would
+#: give the same numbers, so they are taken from here instead of being integrated again.
+DONE = 256
+
+
+_DONE: dict = {}
+
+
+def _symbols_of(obj) -> set:
+    """The free symbols of a piece (its conditions, their diffeomorphisms' forward and inverse
+    maps and guards, its weight), of a box, or of any tuple of those."""
+    if isinstance(obj, sp.Basic):
+        return set(obj.free_symbols)
+    if isinstance(obj, (tuple, list)):
+        return set().union(*[_symbols_of(o) for o in obj]) if obj else set()
+    if hasattr(obj, "__dataclass_fields__"):
+        return set().union(*[_symbols_of(getattr(obj, f)) for f in obj.__dataclass_fields__ if f != "origin"])
+    return set()
+
+
+def _piece_key(piece: Piece, variables, box, at: dict):
+    box = tuple((sp.sympify(lo), sp.sympify(hi)) for lo, hi in box)
+    used = (_symbols_of(piece) | _symbols_of(box)) - set(variables)
+    return (piece, tuple(variables), box,
+            tuple(sorted(((str(k), at[k]) for k in at if k in used), key=lambda kv: kv[0])))
+
+
+def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict,
+                notes: list[str] | None = None, problems: list[NumProblem] | None = None) -> tuple[float, float]:
+    """Σ ∫_box piece at ``at``: (value, error estimate).  scipy's warnings that did not stop the
+    result are appended to ``notes``, the problems integrated to ``problems`` (whether each
+    converged); :class:`UndefinedIntegral` when the integral does not exist.  A piece already
+    integrated with the same values of the parameters it depends on is not integrated again
+    (:data:`DONE`)."""
+    val = err = 0.0
+    for pc in pieces:
+        try:
+            key = _piece_key(pc, variables, box, at)
+            hit = _DONE.get(key)  # (a value at the usual tolerance serves a looser request too)
+            if _OUTER[0] != 1.0:
+                key = (key, _OUTER[0])  # a looser value never serves a request at the usual tolerance
+                hit = hit or _DONE.get(key)
+        except TypeError:  # something unhashable: integrated, not remembered
+            key, hit = None, None
+        if hit is None:
+            prob = piece_problem(pc, variables, box, at)
+            v, e = integrate_problem(prob)
+            if key is not None:
+                if len(_DONE) >= DONE:
+                    _DONE.pop(next(iter(_DONE)))
+                _DONE[key] = (v, e, prob)
+        else:
+            v, e, prob = hit
+        val += v
+        err += e
+        if notes is not None:
+            notes.extend(prob.notes)
+        if problems is not None:
+            problems.append(prob)
+    return val, err
+

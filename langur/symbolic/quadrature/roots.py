@@ -1,0 +1,185 @@
+"""Roots of a condition in one variable: the breakpoints where the quadrature splits its range
+(paper §8.2: ⟦p⟧'s integrand is smooth between the points where a condition changes sign).
+
+Polynomials by their coefficients (compiled once, roots in closed form or by ``numpy.roots``);
+anything else by a sign-change grid refined by ``brentq``, plus the pairs of roots closer than the
+grid's step (:func:`_hidden_pairs`, issue 18).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable, Sequence
+
+import numpy as np
+import sympy as sp
+from scipy import optimize as so
+
+from langur.symbolic.local import free_symbols
+from langur.symbolic.quadrature.compiling import COMPILED, printable
+from langur.symbolic.text import lambdify
+
+GRID = 40
+
+
+def _state(v: float) -> int:
+    if math.isnan(v):
+        return 0
+    return 1 if v >= 0 else -1
+
+
+def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
+    """Points in (lo, hi) where ``g`` changes sign or definedness (grid + brentq/bisection, and
+    :func:`_hidden_pairs` where a pair of roots closer than the grid's step hides between nodes)."""
+    xs = np.linspace(lo, hi, GRID + 1).tolist()  # Python floats: math functions, no numpy warnings
+    vals = [g(x) for x in xs]
+    out = _hidden_pairs(g, xs, vals)
+    for i in range(GRID):
+        a, b, fa, fb = xs[i], xs[i + 1], vals[i], vals[i + 1]
+        if fa == 0.0 and i > 0:
+            out.append(a)
+        sa, sb = _state(fa), _state(fb)
+        if sa == sb:
+            continue
+        if sa != 0 and sb != 0 and fa != 0.0 and fb != 0.0:
+            try:
+                out.append(so.brentq(g, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps))
+                continue
+            except (ValueError, RuntimeError):
+                pass
+        for _ in range(80):  # bisection on the state (definedness / sign)
+            m = 0.5 * (a + b)
+            if _state(g(m)) == sa:
+                a = m
+            else:
+                b = m
+        out.append(0.5 * (a + b))
+    return out
+
+
+def _hidden_pairs(g: Callable[[float], float], xs: list, vals: list) -> list[float]:
+    """The roots of ``g`` a sign-change search on the grid ``xs`` cannot see: two roots between
+    neighbouring nodes where ``g`` turns (``[x ≥ sin(z) + a]`` in z near z = π/2, x just below
+    a + 1: the set in z has a gap narrower than the step, and ∫∫ lost ~10⁻⁵ with an error bound of
+    10⁻⁹).  Wherever the nodes' values have a local maximum below 0 or a local minimum above 0
+    (each extremum of ``g`` between nodes shows as one, at a node next to it), the extremum is
+    found by bounded Brent's method between the neighbouring nodes, and if ``g`` changes sign
+    there, the two roots on its sides by brentq.  Nothing is added where the grid sees the turn."""
+    out: list[float] = []
+    n = len(xs)
+    for j in range(n):
+        v = vals[j]
+        if not (math.isfinite(v) and v != 0.0):
+            continue
+        left = vals[j - 1] if j > 0 else None
+        right = vals[j + 1] if j + 1 < n else None
+        if any(w is not None and not (math.isfinite(w) and (w > 0) == (v > 0)) for w in (left, right)):
+            continue  # a sign change or a NaN next to it: the grid search handles it
+        sign = 1.0 if v > 0 else -1.0  # a minimum of sign·g above 0 may dip below it
+        if (left is None or sign * left >= sign * v) and (right is None or sign * right >= sign * v):
+            a, b = xs[max(j - 1, 0)], xs[min(j + 1, n - 1)]
+            try:
+                opt = so.minimize_scalar(lambda t, sign=sign: sign * g(t), bounds=(a, b), method="bounded",
+                                         options={"xatol": 1e-13 * max(1.0, abs(a), abs(b))})
+            except (ValueError, ArithmeticError):
+                continue
+            t, w = float(opt.x), g(float(opt.x))
+            if not (math.isfinite(w) and sign * w < 0 and a < t < b):
+                continue
+            for u, z in ((a, t), (t, b)):
+                try:
+                    out.append(so.brentq(g, u, z, xtol=1e-15, rtol=4 * np.finfo(float).eps))
+                except (ValueError, RuntimeError):
+                    pass
+    return out
+
+
+_COEFFICIENTS: dict = {}
+
+
+def _coefficients(expr, syms: tuple, level: int, params: tuple = ()):
+    """The coefficients of ``expr`` as a polynomial in ``syms[level]`` (of degree ≤ 8), highest
+    first, compiled as one function of ``syms[:level]`` and then ``params`` returning them all
+    (``math``; ``numpy`` for what ``math`` lacks), cached like :data:`_COMPILED`; or None."""
+    key = (expr, syms[: level + 1], params)
+    if key in _COEFFICIENTS:
+        return _COEFFICIENTS[key]
+    v = syms[level]
+    fn = None
+    try:
+        poly = sp.Poly(expr, v)
+        coeffs = poly.all_coeffs()
+        if poly.degree() <= 8 and not any(v in c.free_symbols for c in coeffs):
+            args, body = list(syms[:level]) + list(params), [printable(c) for c in coeffs]
+            fn = lambdify(args, body, modules=["math"])
+            try:
+                fn(*[0.5] * len(args))  # probe: NameError for functions math lacks
+            except NameError:
+                fn = lambdify(args, body, modules=["numpy"])
+            except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
+                pass
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        pass
+    if len(_COEFFICIENTS) >= COMPILED:
+        _COEFFICIENTS.pop(next(iter(_COEFFICIENTS)))
+    _COEFFICIENTS[key] = fn
+    return fn
+
+
+#: A complex root counts as real (a double root perturbed by rounding) when its imaginary part is
+#: at most this times 1 + its modulus.
+REAL_SLACK = 1e-9
+
+
+def polynomial_roots(cs: Sequence[float]) -> list[float]:
+    """The real roots of ``cs[0]·tᵈ + … + cs[d]`` (highest first, leading exact zeros ignored):
+    linear and quadratic in closed form (the quadratic formula in its cancellation-free form),
+    higher degrees by ``numpy.roots``; a complex pair whose imaginary part is below
+    :data:`REAL_SLACK` counts as a double real root.  Empty for a constant or non-finite
+    coefficients."""
+    if not all(math.isfinite(c) for c in cs):
+        return []
+    k = 0
+    while k < len(cs) and cs[k] == 0.0:
+        k += 1
+    cs = cs[k:]
+    if len(cs) <= 1:
+        return []
+    if len(cs) == 2:
+        return [-cs[1] / cs[0]]
+    if len(cs) == 3:
+        a, b, c = cs
+        disc = b * b - 4.0 * a * c
+        if disc < 0.0:
+            re, im = -b / (2.0 * a), math.sqrt(-disc) / (2.0 * abs(a))
+            return [re, re] if im <= REAL_SLACK * (1.0 + math.hypot(re, im)) else []
+        q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
+        return [q / a, c / q] if q != 0.0 else [0.0, 0.0]
+    out = np.roots(np.array(cs, dtype=float))
+    return [float(r.real) for r in out if abs(r.imag) <= REAL_SLACK * (1 + abs(r))]
+
+
+def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int, at: dict | None = None):
+    """``prefix ↦ real roots in syms[level]`` when ``expr`` is a polynomial in it, else None;
+    ``at``: the values of the parameters ``expr`` may contain (passed after the prefix)."""
+    free = free_symbols(expr) if at else set()  # (once, not once per parameter)
+    params = tuple(k for k in at if k in free) if at else ()
+    fn = _coefficients(expr, tuple(syms), level, params)
+    if fn is None:
+        return None
+    extra = tuple(float(at[k]) for k in params)
+
+    def roots(*prefix):
+        try:
+            raw = fn(*prefix, *extra)
+            if all(type(c) is float or type(c) is int for c in raw):  # math's: no conversion needed
+                return polynomial_roots(raw)  # (it returns [] for non-finite coefficients)
+            cs = [complex(c) for c in raw]
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            return []  # a coefficient undefined here (math raises where numpy gave NaN)
+        if not all(math.isfinite(c.real) and math.isfinite(c.imag) for c in cs):
+            return []
+        return polynomial_roots([c.real for c in cs])
+
+    return roots
+
