@@ -76,3 +76,43 @@ def test_closed_roots_remembered_per_point():
     # a root that does not vanish at the point is not one (the check is per point, not per formula)
     assert not regions._vanishes_at(x**2 - a, x, sp.sqrt(a), _ctx({a: sp.Integer(-1)}))
     assert regions._vanishes_at(x**2 - a, x, sp.sqrt(a), _ctx({a: sp.Integer(2)}))
+
+
+def test_shared_lambdify_gives_the_function_in_use_and_its_values():
+    # the same (arguments, expression, module) while the first function is in use: that function;
+    # its values are sympy.lambdify's and math's, computed independently
+    import gc
+    import math
+
+    from langur.symbolic.text import shared_lambdify
+
+    x, a = sp.symbols("x a")
+    e = sp.sqrt(x**2 + a) * sp.cos(x) - a / (x + 2)
+    f = shared_lambdify([x, a], e, "math")
+    assert shared_lambdify([x, a], e, "math") is f
+    assert shared_lambdify([a, x], e, "math") is not f  # other arguments: another function
+    ref = sp.lambdify([x, a], e, modules=["math"])
+    for xv, av in [(0.3, 1.5), (-1.25, 0.5), (2.0, 7.0)]:
+        assert f(xv, av) == ref(xv, av)
+        assert abs(f(xv, av) - (math.sqrt(xv**2 + av) * math.cos(xv) - av / (xv + 2))) < 1e-12
+    lo = shared_lambdify([x], sp.Float("0.1", 3) * x, "math")
+    hi = shared_lambdify([x], sp.Float("0.1", 40) * x, "math")
+    assert lo is not hi  # Floats of other precisions: other functions, each sympy.lambdify's
+    for fn, c in ((lo, sp.Float("0.1", 3)), (hi, sp.Float("0.1", 40))):
+        assert fn(3.0) == sp.lambdify([x], c * x, modules=["math"])(3.0)
+
+
+def test_shared_lambdify_makes_a_gone_function_again():
+    import gc
+
+    from langur.symbolic.text import shared_lambdify
+
+    x = sp.Symbol("x")
+    e = sp.exp(x) - 3 * x
+    name = shared_lambdify([x], e, "math").__code__.co_filename  # not kept by anything
+    gc.collect()
+    g = shared_lambdify([x], e, "math")
+    same = g.__code__.co_filename == name
+    value = g(0.5)
+    assert not same
+    assert value == sp.lambdify([x], e, modules=["math"])(0.5)

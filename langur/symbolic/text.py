@@ -152,9 +152,22 @@ def shared_lambdify(args, expr, module: str):
     cls = {"math": _SharedPython, "mpmath": _SharedMpmath, "numpy": _SharedNumPy}[module]
     printer = cls({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                    "user_functions": {}})
-    if isinstance(expr, sp.Basic) and _plain_arguments(args) and not any_node(expr, _rewritten):
-        return _generated(list(args), expr, printer, module)
+    if isinstance(expr, sp.Basic) and _plain_arguments(args):
+        key = (tuple(args), expr, module)
+        func = _FUNCTIONS.get(key)
+        if func is None and not any_node(expr, _rewritten):
+            func = _FUNCTIONS[key] = _generated(list(args), expr, printer, module)
+        if func is not None:
+            return func
     return lambdify(args, expr, modules=[module], printer=printer)
+
+
+#: The functions :func:`_generated` made, by (arguments, expression, module), while they are in use
+#: (weak references: one goes, with its source in ``linecache``, when its callers drop it): the same
+#: code is asked for again by other callers (the quadrature's compilations, its retry after a probe's
+#: domain error, the sign probes of regions.py).  sympy's equality tells Floats of other precisions
+#: apart, and such a function is a pure function of its arguments.
+_FUNCTIONS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 
 
 def _plain_arguments(args) -> bool:
