@@ -149,16 +149,17 @@ def shared_lambdify(args, expr, module: str):
     generated code (sympy's printer for that module, with lambdify's settings), each shared subtree
     printed once; for plain arguments and an expression with nothing lambdify rewrites, generated
     without lambdify's walks of the tree with its repeats (:func:`_generated`)."""
+    plain = isinstance(expr, sp.Basic) and _plain_arguments(args)
+    key = (tuple(args), expr, module) if plain else None
+    func = _FUNCTIONS.get(key) if plain else None
+    if func is not None:
+        return func
     cls = {"math": _SharedPython, "mpmath": _SharedMpmath, "numpy": _SharedNumPy}[module]
     printer = cls({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                    "user_functions": {}})
-    if isinstance(expr, sp.Basic) and _plain_arguments(args):
-        key = (tuple(args), expr, module)
-        func = _FUNCTIONS.get(key)
-        if func is None and not any_node(expr, _rewritten):
-            func = _FUNCTIONS[key] = _generated(list(args), expr, printer, module)
-        if func is not None:
-            return func
+    if plain and not any_node(expr, _rewritten):
+        func = _FUNCTIONS[key] = _generated(list(args), expr, printer, module)
+        return func
     return lambdify(args, expr, modules=[module], printer=printer)
 
 
