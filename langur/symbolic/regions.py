@@ -67,6 +67,13 @@ def _floats40(at: dict) -> dict:
     return out
 
 
+#: :meth:`Context.value`'s results by (expression, point): the same roots, bounds and relations are
+#: evaluated again for ⟦p⟧, ⦇p⦈'s pieces and the check (a third of raytrace ∂/∂t's evaluations are
+#: repeats).  sympy's equality tells Floats of different precisions apart, so a key is exact.
+_VALUES: dict = {}
+VALUES = 4096
+
+
 @dataclass
 class Context:
     """Evaluation point, time budget and the decisions taken at the evaluation point."""
@@ -80,11 +87,19 @@ class Context:
     inconsistent: list = field(default_factory=list)  # closed forms that failed the cross-check
 
     def value(self, expr) -> complex:
-        e = sp.sympify(expr).xreplace(_floats40(self.at))
-        try:
-            return complex(e.evalf(30))
-        except TypeError:
-            raise ValueError(f"no value for {sorted(map(str, e.free_symbols))} in {expr}") from None
+        """``expr`` at the point with 30 digits (40-digit floats substituted), as a complex;
+        remembered per (expression, point) (:data:`_VALUES`)."""
+        expr = sp.sympify(expr)
+        key = (expr, tuple(self.at.items()))
+        z = _VALUES.get(key)
+        if z is None:
+            e = expr.xreplace(_floats40(self.at))
+            try:
+                z = complex(e.evalf(30))
+            except TypeError:
+                raise ValueError(f"no value for {sorted(map(str, e.free_symbols))} in {expr}") from None
+            _remember(_VALUES, key, z, VALUES)
+        return z
 
     def exact_value(self, expr) -> complex:
         """:meth:`value` with the point's rational values substituted exactly (then evaluated to 30
@@ -625,22 +640,44 @@ def _roots(c: Cond, v, ctx: Context, tidy: bool = True):
     return [r for r in sols if not isinstance(r, (dict, tuple)) and _vanishes_at(c.expr, v, r, ctx)]
 
 
+#: :func:`_closed_roots` and :func:`_vanishes_at` by (condition, variable[, root], point): the same
+#: conditions come back at the same point for ⟦p⟧ (the check), ⦇p⦈'s regular and delta pieces.
+_CLOSED_ROOTS: dict = {}
+_VANISHES: dict = {}
+
+
 def _closed_roots(c: Cond, v, ctx: Context):
     """The roots, and the poles, of a condition (one of a large problem's) whose numerator and
     denominator are of degree ≤ 2 in ``v`` (:func:`local.closed_roots`), the roots checked at the
     evaluation point; None when it is not of that shape."""
     if c.psi is not None:
         return None
+    key = (c.expr, v, tuple(ctx.at.items()))
+    if key in _CLOSED_ROOTS:
+        out = _CLOSED_ROOTS[key]
+        return None if out is None else list(out)
     found = local.closed_roots(c.expr, v, ctx.value)
-    if found is None:
-        return None
-    roots, poles = found
-    return [r for r in roots if _vanishes_at(c.expr, v, r, ctx)] + list(poles)
+    out = None
+    if found is not None:
+        roots, poles = found
+        out = [r for r in roots if _vanishes_at(c.expr, v, r, ctx)] + list(poles)
+    _remember(_CLOSED_ROOTS, key, None if out is None else tuple(out))
+    return out
 
 
 def _vanishes_at(expr, v, root, ctx: Context) -> bool:
     """``expr`` is zero at ``v = root`` at the evaluation point (a true root there, not one that
     only an unchecked solution formula gives)."""
+    key = (expr, v, root, tuple(ctx.at.items()))
+    hit = _VANISHES.get(key)
+    if hit is None:
+        hit = _VANISHES[key] = _vanishes_at_point(expr, v, root, ctx)
+        if len(_VANISHES) > 2048:
+            _VANISHES.pop(next(iter(_VANISHES)))
+    return hit
+
+
+def _vanishes_at_point(expr, v, root, ctx: Context) -> bool:
     try:
         z = ctx.value(root)
         if abs(z.imag) > 1e-12 * max(1.0, abs(z.real)):

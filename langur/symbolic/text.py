@@ -149,12 +149,26 @@ def shared_lambdify(args, expr, module: str):
     generated code (sympy's printer for that module, with lambdify's settings), each shared subtree
     printed once; for plain arguments and an expression with nothing lambdify rewrites, generated
     without lambdify's walks of the tree with its repeats (:func:`_generated`)."""
+    plain = isinstance(expr, sp.Basic) and _plain_arguments(args)
+    key = (tuple(args), expr, module) if plain else None
+    func = _FUNCTIONS.get(key) if plain else None
+    if func is not None:
+        return func
     cls = {"math": _SharedPython, "mpmath": _SharedMpmath, "numpy": _SharedNumPy}[module]
     printer = cls({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                    "user_functions": {}})
-    if isinstance(expr, sp.Basic) and _plain_arguments(args) and not any_node(expr, _rewritten):
-        return _generated(list(args), expr, printer, module)
+    if plain and not any_node(expr, _rewritten):
+        func = _FUNCTIONS[key] = _generated(list(args), expr, printer, module)
+        return func
     return lambdify(args, expr, modules=[module], printer=printer)
+
+
+#: The functions :func:`_generated` made, by (arguments, expression, module), while they are in use
+#: (weak references: one goes, with its source in ``linecache``, when its callers drop it): the same
+#: code is asked for again by other callers (the quadrature's compilations, its retry after a probe's
+#: domain error, the sign probes of regions.py).  sympy's equality tells Floats of other precisions
+#: apart, and such a function is a pure function of its arguments.
+_FUNCTIONS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 
 
 def _plain_arguments(args) -> bool:
