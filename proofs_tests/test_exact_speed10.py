@@ -81,7 +81,6 @@ def test_closed_roots_remembered_per_point():
 def test_shared_lambdify_gives_the_function_in_use_and_its_values():
     # the same (arguments, expression, module) while the first function is in use: that function;
     # its values are sympy.lambdify's and math's, computed independently
-    import gc
     import math
 
     from langur.symbolic.text import shared_lambdify
