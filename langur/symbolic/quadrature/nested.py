@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import math
 import time
+from typing import Callable
 
 from langur.symbolic.quadrature.adaptive import _name, _quad
 from langur.symbolic.quadrature.fold import (
+    FOLD_END,
     FOLD_EPS,
     FoldUnresolved,
     _fold_allowance,
@@ -29,6 +31,20 @@ from langur.symbolic.quadrature.tolerance import _OUTER, BOUNDARY, EPSABS, NARRO
 
 def _holds(v: float) -> bool:
     return not math.isnan(v) and v >= 0
+
+
+def _apart(a: float, inside: list[float], b: float) -> list[float]:
+    """The kinks ``inside`` (sorted, in (a, b)) without those within 10⁻¹⁵ relative of the previous
+    point kept or of b (the threshold below which :func:`_nested` skips a sub-interval): one kink
+    found twice by different formulas, ~10⁻¹⁶ apart, gave ``quad`` a sub-interval it cannot
+    subdivide ("extremely bad integrand behavior", the tolerance not reached)."""
+    out: list[float] = []
+    prev = a
+    for q in inside:
+        if q - prev > 1e-15 * max(1.0, abs(prev)) and b - q > 1e-15 * max(1.0, abs(q)):
+            out.append(q)
+            prev = q
+    return out
 
 
 def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
@@ -72,7 +88,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
                 tests.remove(failed)
                 tests.insert(0, failed)
             continue
-        inside = sorted(q for q in kinks if a < q < b)
+        inside = _apart(a, sorted(q for q in kinks if a < q < b), b)
         if last:
             quick = _first_panel(p.vweight, prefix, a, b, eps) if p.vweight is not None and not inside else None
             if quick is UNVECTORIZABLE:
@@ -97,6 +113,8 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         try:
             if last and p.folds and len(p.bounds) >= 2:  # the fold's 1/√ at the ends substituted (fold section)
                 val, e = _fold_innermost(p, level, prefix, a, b, eps, inside, hi - lo)
+            elif last and b - a <= NARROW * max(1.0, hi - lo):
+                val, e = _narrow(p, h, a, b, eps, inside, level, hi - lo)
             else:
                 val, e = _quad(h, a, b, eps, inside, p, level)
         except UndefinedIntegral:
@@ -113,6 +131,55 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     return total
 
 
+#: Distances (relative to the variable's range) from a narrow piece's midpoint at which
+#: :func:`_narrow` measures the weight's 1/√ growth.
+NARROW_PROBES = (1e-4, 1e-6, 1e-8)
+
+
+def _narrow(p: NumProblem, h: Callable[[float], float], a: float, b: float, eps: float,
+            inside: list[float], level: int, span: float) -> tuple[float, float]:
+    """∫_a^b h on an innermost piece narrower than :data:`NARROW` of the range: ``quad``, or, where
+    it does not converge (two estimates of one root of a guard a few units in the last place
+    apart, the weight's 1/√ at that root evaluated from the guard's rounding noise in between), 0
+    with a bound.  If |h| ≤ A/√|t − t₀| next to the piece (the fold's growth, :mod:`.fold`), its
+    integral is at most 2A·√δ, δ = its width plus the root's uncertainty (:data:`FOLD_END`); A is
+    the largest |h(t)|·√|t − m| measured at t = m ± span·:data:`NARROW_PROBES` (m the midpoint),
+    finite samples only, and no bound where it more than doubles from the farthest to the nearest
+    probe on one side (a growth faster than 1/√).  The bound joins :attr:`NumProblem.narrow_allow` (integrated over the
+    outer variables by :func:`integrate_problem`).  With no finite sample, no bound: the
+    non-convergence stands."""
+    converged, notes = p.converged, len(p.notes)
+    val, e = _quad(h, a, b, eps, inside, p, level)
+    if p.converged or not converged:
+        return val, e
+    m = 0.5 * (a + b)
+    growth = []
+    for side in (-1.0, 1.0):
+        series = []
+        for k in NARROW_PROBES:
+            t = m + side * span * k
+            try:
+                v = abs(h(t))
+            except (UndefinedIntegral, ArithmeticError, ValueError):
+                continue
+            if math.isfinite(v):
+                series.append(v * math.sqrt(abs(t - m)))
+        if len(series) >= 2 and series[-1] > 2.0 * series[0]:
+            return val, e  # growing faster than 1/√ towards the piece: no bound
+        growth += series
+    if not growth:
+        return val, e
+    p.converged = True
+    del p.notes[notes:]
+    delta = (b - a) + FOLD_END * max(1.0, abs(a), abs(b))
+    p.narrow_allow = max(p.narrow_allow, 2.0 * max(growth) * math.sqrt(delta))
+    note = (f"left out: pieces of {_name(p, level)} narrower than {NARROW:g} of its range where quadrature "
+            "does not converge (a root of a guard found twice within rounding); bounded in the error")
+    if note not in p.notes:
+        p.notes.append(note)
+    return 0.0, 0.0
+
+
 def integrate_problem(p: NumProblem) -> tuple[float, float]:
     """Value and error estimate of ``∫_bounds Π[conds] · weight``."""
     if any(c.level < 0 and not _holds(c.f()) for c in p.conds):
@@ -123,6 +190,7 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
             raise UndefinedIntegral(f"the integrand is undefined ({v}) at the evaluation point")
         return v, 0.0
     p.errors.clear()
+    p.narrow_allow = 0.0
     try:
         if p.folds and len(p.bounds) >= 2:  # (one coordinate: the fold is a point, quad resolves it)
             p.until = _fold_deadline()
@@ -140,6 +208,7 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
     finally:
         p._moving.clear()  # the roots remembered by outer abscissae (the problem may be kept in _DONE)
     err = sum(p.errors)
+    err += p.narrow_allow * math.prod(hi - lo for lo, hi in p.bounds[:-1])  # (every innermost integral)
     if p.folds and len(p.bounds) >= 2:
         err += _fold_allowance(p)  # the ends' rounding at the fold (fold section)
     # Inner levels' errors are not propagated by quad; add a conservative relative allowance.

@@ -83,6 +83,8 @@ class NumProblem:
     #: integral ``(outer abscissae, allowance)``, and absolute amounts left out at outer levels
     fold_allow: list = field(default_factory=list)
     fold_extra: float = 0.0
+    #: the largest bound of an innermost piece left out by :func:`_narrow` (per innermost integral)
+    narrow_allow: float = 0.0
     _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
     _finders: dict = field(default_factory=dict, repr=False)  # level -> (condition, root finder)
     _tests: dict = field(default_factory=dict, repr=False)  # level -> :meth:`tests`
