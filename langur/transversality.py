@@ -86,10 +86,11 @@ __all__ = [
 def check_loaded(
     loaded, *, at: Mapping[str, float] | None = None, sources: Mapping[str, str] | None = None,
     budget: float | None = None,
+    only: frozenset[str] | None = None,
 ) -> list[Finding]:
     """:func:`check_program` on a front end's :class:`~langur.modules.Loaded`, with call sites of
     inlined defs and the domain's intervals located in the user's source (``budget``: CPU seconds
-    for the whole analysis, see :func:`check_program`)."""
+    for the whole analysis, ``only``: the codes asked for, see :func:`check_program`)."""
     if loaded.program is None:
         return []
     sources = dict(sources or {})
@@ -108,6 +109,7 @@ def check_loaded(
         domain_spans=_domain_spans(loaded.program),
         sites=call_sites(loaded),
         budget=budget,
+        only=only,
     )
 
 
@@ -172,6 +174,7 @@ def check_program(
     domain_spans: Mapping[tuple[int, int], Span] | None = None,
     sites: list | None = None,
     budget: float | None = None,
+    only: frozenset[str] | None = None,
 ) -> list[Finding]:
     """The transversality findings of ``program`` (see the module docstring).
 
@@ -183,14 +186,18 @@ def check_program(
     take (a fuzz unit's share of its time limit; None: each analysis's own limits, the checker's
     :data:`BUDGET`).  CPU seconds, as every limit of the linter, so that the findings do not change
     with the machine's load; what the budget leaves unchecked is said in an X310 warning.
+    ``only``: the codes the caller acts on (``langur fuzz`` discards a program on X301 or X305):
+    the analyses that cannot report any of them are not run (:data:`ANALYSES_CODES`), so the
+    findings of other codes are those of the analyses that ran (X310 included); None: every
+    analysis.
     """
     if budget is None:
-        return _analysed(program, declared, at, sources, domain_spans, sites, None)
+        return _analysed(program, declared, at, sources, domain_spans, sites, None, only=only)
     state: dict = {}
     with timebox.budget(budget):
         try:  # the checks stop themselves at the budget; this bounds code between two checks too
             return timebox.run_with_timeout(
-                lambda: _analysed(program, declared, at, sources, domain_spans, sites, budget, state),
+                lambda: _analysed(program, declared, at, sources, domain_spans, sites, budget, state, only),
                 budget + OVERRUN, cpu=True)
         except TimeoutError:
             found = list(state.get("findings", ()))
@@ -207,15 +214,27 @@ def _stopped(program: Program, budget: float, rest: str) -> Finding:
                    f"the transversality analysis stopped after {budget:g} CPU s (its budget): {rest}; the rest is unchecked")
 
 
-def _analysed(program, declared, at, sources, domain_spans, sites, budget, state=None) -> list[Finding]:
-    """:func:`check_program`'s analyses one after the other; ``state["findings"]``: what they have
-    found so far (kept when the budget stops them)."""
+#: The codes each analysis after the checker's can report (``check_program``'s ``only`` skips an
+#: analysis none of whose codes is asked for); the checker's null-set steps: :data:`~langur.lint.nullsets.NULL_SET_CODES`.
+ANALYSES_CODES = {
+    "the domains of primitives": frozenset({"X307"}),
+    "double roots": frozenset({"X315"}),
+    "turning points": frozenset({"X305", "X306"}),
+    "empty domains": frozenset({"X314"}),
+    "integrability": frozenset({"X311", "X312", "X313"}),
+}
+
+
+def _analysed(program, declared, at, sources, domain_spans, sites, budget, state=None, only=None) -> list[Finding]:
+    """:func:`check_program`'s analyses one after the other (those that can report one of ``only``'s
+    codes; None: all); ``state["findings"]``: what they have found so far (kept when the budget
+    stops them)."""
     declared = dict(declared or {})
     at = dict(at or {})
     point = point_of(declared, at)
     state = {} if state is None else state
     try:
-        checker = Checker(program, declared, point, bool(at), dict(sources or {}), domain_spans, sites, budget)
+        checker = Checker(program, declared, point, bool(at), dict(sources or {}), domain_spans, sites, budget, only)
     except _FAILURES as e:  # the conditions could not be read as sympy expressions
         return [
             Finding(
@@ -235,6 +254,8 @@ def _analysed(program, declared, at, sources, domain_spans, sites, budget, state
         ("empty domains", lambda: empty_domain_findings(program, point, domain_spans)),
         ("integrability", lambda: singular.findings(program, declared, point, sources or {})),
     ]
+    if only is not None:
+        after = [(what, analysis) for what, analysis in after if ANALYSES_CODES[what] & only]
     for k, (_what, analysis) in enumerate(after):
         if budget is not None and timebox.Deadline(budget).remaining() <= 0:
             skipped = ", ".join(w for w, _ in after[k:])

@@ -262,6 +262,29 @@ def _exact_fork(program, params, timeout: float):
 LINT_SHARE = 0.25
 
 
+def _linted(loaded, params, text: str, timeout: float, only: frozenset[str] | None) -> list[str]:
+    """The linter's findings on a loaded program, as ``CODE message`` lines, within ``LINT_SHARE ·
+    timeout`` CPU seconds; ``only``: the codes asked for (``check_loaded``'s ``only``)."""
+    try:
+        found = check_loaded(loaded, at={k: float(v) for k, v in params.items()},
+                             sources={"<fuzz>.lgr": text}, budget=LINT_SHARE * timeout, only=only)
+    except Exception as e:  # noqa: BLE001 - a linter crash is recorded, the engines still run
+        return [f"linter error: {type(e).__name__}: {e}"]
+    return [f"{f.code} {f.message}" for f in found]
+
+
+def _with_all_findings(result: ProgramResult, loaded, params, timeout: float, lint: bool) -> ProgramResult:
+    """A failed unit's findings: every analysis of the linter (the unit ran only those that can
+    discard it, :data:`~.generate.LINT_DISCARD`); its tangencies (X302), families (X303),
+    integrability (X311–X313) … may explain a discrepancy.  Failures are rare: the cost is theirs."""
+    if lint and loaded is not None and result.failed:
+        discard = [f for f in result.findings if f.split(" ", 1)[0] in LINT_DISCARD or f.startswith("linter error")]
+        full = _linted(loaded, params, result.text, timeout, None)
+        others = [f for f in result.findings if f.startswith("Theorem 8.1")]
+        result.findings = list(dict.fromkeys(full + discard)) + others
+    return result
+
+
 def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
     """What every comparison starts from: ``text`` loaded, linted (a program the linter finds not
     transverse is discarded) and answered by the exact engine.  Returns ``(result, loaded, params,
@@ -279,14 +302,11 @@ def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
     t0 = time.monotonic()
     if lint:
         _phase("lint", result)
-        try:
-            found = check_loaded(loaded, at={k: float(v) for k, v in params.items()},
-                                  sources={"<fuzz>.lgr": text}, budget=LINT_SHARE * timeout)
-        except Exception as e:  # noqa: BLE001 - a linter crash is recorded, the engines still run
-            found = []
-            result.findings.append(f"linter error: {type(e).__name__}: {e}")
-        result.findings += [f"{f.code} {f.message}" for f in found]
-        if any(f.code in LINT_DISCARD for f in found):
+        # only the analyses that can discard the program (X301, X305): the others' findings are
+        # reported with a failure only (_with_all_findings)
+        found = _linted(loaded, params, text, timeout, frozenset(LINT_DISCARD))
+        result.findings += found
+        if any(f.split(" ", 1)[0] in LINT_DISCARD for f in found):
             result.status = "discarded"
             result.timing["lint"] = time.monotonic() - t0
             return result, loaded, params, None, None
@@ -311,10 +331,20 @@ def compare_text(text: str, *, samples: int = 20000, seed: int = 0, timeout: flo
     if result.status == "agree":
         _phase("mc", result)
     try:
-        return _compared(result, loaded, params, ex, exd, samples, seed, method)
+        _compared(result, loaded, params, ex, exd, samples, seed, method)
     finally:
         result.timing["mc"] = time.monotonic() - t1
-        result.seconds = time.monotonic() - t0
+    return _finished(result, loaded, params, timeout, lint, t0)
+
+
+def _finished(result: ProgramResult, loaded, params, timeout: float, lint: bool, t0: float) -> ProgramResult:
+    """The unit's total time, and a failed unit's findings completed (:func:`_with_all_findings`,
+    timed as lint)."""
+    t1 = time.monotonic()
+    _with_all_findings(result, loaded, params, timeout, lint)
+    result.timing["lint"] = result.timing.get("lint", 0.0) + time.monotonic() - t1
+    result.seconds = time.monotonic() - t0
+    return result
 
 
 def _compared(result, loaded, params, ex, exd, samples, seed, method) -> ProgramResult:
@@ -375,10 +405,10 @@ def compare_engine(text: str, engine, *, timeout: float = 20.0, lint: bool = Tru
     if result.status == "agree":
         _phase("mc", result)
     try:
-        return _engine_compared(result, loaded, params, ex, exd, engine)
+        _engine_compared(result, loaded, params, ex, exd, engine)
     finally:
         result.timing["mc"] = time.monotonic() - t1
-        result.seconds = time.monotonic() - t0
+    return _finished(result, loaded, params, timeout, lint, t0)
 
 
 def _engine_compared(result, loaded, params, ex, exd, engine) -> ProgramResult:

@@ -31,7 +31,7 @@ from .coincidence import CoincidenceChecks
 from .collect import MAX_PRODUCTS, Occurrence, collect
 from .findings import Finding, quote
 from .geometry import is_linear, params_of, restrict, span_key, xsyms
-from .nullsets import NullSetChecks
+from .nullsets import NULL_SET_CODES, NullSetChecks
 
 #: At most this many families of 3 to n+1 conditions are solved for a common point.
 MAX_FAMILIES = 400
@@ -72,10 +72,14 @@ class Checker(CoincidenceChecks, NullSetChecks):
         domain_spans: Mapping[tuple[int, int], Span] | None = None,
         sites=None,
         budget: float | None = None,
+        only: frozenset[str] | None = None,
     ):
         #: CPU seconds the analysis may take: :data:`BUDGET`, or less when the caller says so
         #: (``check_program``'s ``budget``, which also bounds the analysis with ``timebox.budget``).
         self.budget = BUDGET if budget is None else min(BUDGET, budget)
+        #: the codes asked for (None: all): the null-set checks (tangency, families: X302, X303
+        #: only, :data:`NULL_SET_CODES`) are left out when neither is (``check_program``'s ``only``)
+        self.null_sets = only is None or bool(NULL_SET_CODES & only)
         self.program = program
         self.col = collect(program, sites, point)
         self.ancestry = ancestry(program.body, self.col.occurrences)
@@ -183,7 +187,7 @@ class Checker(CoincidenceChecks, NullSetChecks):
             for i, site in sorted(p.squared, key=lambda s: (s[0], span_key(s[1]))):
                 squared.setdefault(i, site)
             # subfamilies of 3 ≤ k ≤ n+1 conditions (k = 2 is the pairs' tangency check)
-            for k in range(3, min(self.n + 1, len(ids)) + 1):
+            for k in range(3, min(self.n + 1, len(ids)) + 1) if self.null_sets else ():
                 if len(families) >= MAX_FAMILIES:
                     break
                 for fam in itertools.combinations(ids, k):
@@ -273,5 +277,5 @@ class Checker(CoincidenceChecks, NullSetChecks):
             self.unsolved(c, g, unsolved, names)
         if relations:
             self.parametric(c, g, relations, names)
-        if self.n >= 2 and not (is_linear(c.f, self.xs) and is_linear(g.f, self.xs)):
+        if self.null_sets and self.n >= 2 and not (is_linear(c.f, self.xs) and is_linear(g.f, self.xs)):
             self.tangency(c, g, names)

@@ -27,6 +27,9 @@ from .ancestry import in_force
 from .collect import Occurrence
 from .geometry import in_box, moving, num, span_key
 
+#: The codes these checks report (``check_program``'s ``only`` leaves them out when it asks for neither).
+NULL_SET_CODES = frozenset({"X302", "X303"})
+
 #: Words a family's finding is built from: (the common point, the members, the parameter names).
 Message = Callable[[str, str, tuple[str, ...]], str]
 

@@ -21,7 +21,8 @@ ordering bounds, deciding signs or Piecewise branches); with ``" (and with the s
 appended when roots were ordered numerically.  Further notes explain assumptions (e.g. the sign
 of a Jacobian sampled at the evaluation point).  With ``Method.QUADRATURE`` the notes are
 ``"no closed form for k of n pieces; …"``, one reason per piece that fell back, then
-``"exact part (<the cell note above>): <expr>"`` when some pieces had closed forms.
+``"exact part (<the cell note above>): <expr>"`` when some pieces had closed forms (not within
+:func:`untidied`: no text for people is wanted there).
 
 Delta pieces go through :mod:`langur.symbolic.delta` (change of variables, then the same region
 machinery over ``u'``).  Errors: :class:`~langur.symbolic.quadrature.UndefinedIntegral` (a
@@ -220,7 +221,7 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -
     notes.append(f"no closed form for {sum(e is None for e in exacts)} of {len(exacts)} "
                  f"{what}; adaptive quadrature at the evaluation point")
     notes.extend(dict.fromkeys(w for w in fallbacks if w))
-    if exact_part:
+    if exact_part and for_reading():  # (untidied: not printed, a tenth of a second per large part)
         notes.append(f"exact part ({first}): {sp.Add(*exact_part)}")
     notes.extend(dict.fromkeys(ctx.notes))
     return Integral(None, value, Method.QUADRATURE, error, check, notes, inconsistent=tuple(ctx.inconsistent))
