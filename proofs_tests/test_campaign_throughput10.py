@@ -8,6 +8,7 @@ run again in full for a unit that fails, whose findings are shown.  The programs
 are those of ``test_transversality`` / ``examples/degenerate`` (worked out by hand there).
 """
 
+import gc
 import math
 from pathlib import Path
 
@@ -109,3 +110,30 @@ def test_a_quadrature_within_untidied_prints_no_exact_part():
     assert not any(n.startswith("exact part") for n in fuzz.notes)
     assert fuzz.value == read.value and fuzz.error == read.error and fuzz.method == read.method == "quadrature"
     assert math.isclose(fuzz.value, want, abs_tol=max(fuzz.error, 1e-12))
+
+
+def _worker_gc(text):
+    """In a pool worker: its collector's thresholds, and whether a dropped reference cycle is
+    collected while the unit keeps allocating (no explicit ``gc.collect``)."""
+    import weakref
+
+    class Node:
+        pass
+
+    a, b = Node(), Node()
+    a.other, b.other = b, a
+    gone = []
+    weakref.finalize(a, gone.append, True)
+    del a, b
+    keep = [[i] for i in range(200_000)]  # container allocations: what the young generation counts
+    return gc.get_threshold(), bool(gone), len(keep)
+
+
+def test_a_worker_collects_cycles_less_often_but_still_collects_them():
+    from langur.fuzz import pool
+
+    out = pool.run_units(["unit"], _worker_gc, workers=1, limit=60.0, on_time_limit=lambda t, r, *a: r,
+                         on_error=lambda t, r: r)
+    (thresholds, collected, n), = out
+    assert thresholds == pool.GC_THRESHOLDS and thresholds[0] > gc.get_threshold()[0]
+    assert collected and n == 200_000
