@@ -6,7 +6,8 @@
 once); the positions to run; ``OUT.jsonl`` gets one line per phase and program, appended.  Each
 program runs in a child forked from this warm process (``compare._warm_up``), killed when it has
 used ``--limit`` CPU seconds; the phases, timed with ``time.process_time`` in the child: the front
-end, the linter (``check_loaded``), ⟦p⟧ (``exact_eval``), each partial derivative
+end, the linter (``check_loaded``, only the analyses that can discard the program where the tree
+has ``only``, as a unit), ⟦p⟧ (``exact_eval``), each partial derivative
 (``exact_deriv``, split into ``ddenote_program`` and the Theorem 8.1 check, and within that the
 CPU of ``theorem._finite_difference``), and the Monte Carlo estimates (20,000 samples) — the
 linter within ``LINT_SHARE · 20`` CPU s, the exact engine inside the campaign's closed-form budget
@@ -18,6 +19,7 @@ them, the quadratures' outermost level at the campaign's looseness (``OUTER_LOOS
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 import os
 import signal
@@ -59,8 +61,10 @@ def _unit(text: str, i: int, w: int) -> None:
     emit(phase="front_end", cpu=T() - c)
     params = loaded.param_values({})
     c = T()
+    # as a unit lints (camp10: only the analyses that can discard it; older trees: all of them)
+    only = {"only": frozenset(compare.LINT_DISCARD)} if "only" in inspect.signature(check_loaded).parameters else {}
     found = check_loaded(loaded, at={k: float(v) for k, v in params.items()}, sources={"<fuzz>.lgr": text},
-                         budget=compare.LINT_SHARE * TIMEOUT)
+                         budget=compare.LINT_SHARE * TIMEOUT, **only)
     emit(phase="lint", cpu=T() - c)
     if any(f.code in compare.LINT_DISCARD for f in found):
         emit(phase="discarded", cpu=0.0)
