@@ -26,7 +26,10 @@ program is also run through :func:`langur.transversality.check_loaded` and disca
 X301/X305 finding at the defaults (a cross-test of the linter: such a finding on these programs
 is counted).  X304 ("coincident for *some* parameter values", reported for any two moving jumps
 of one variable on the same side, e.g. ``[x >= a]·[x >= b]``) is recorded but not discarded: the
-defaults are generic, so the program is transverse where it is evaluated.  A failing program is
+defaults are generic, so the program is transverse where it is evaluated.  Only the analyses
+that can report X301 or X305 run in a unit (``check_loaded``'s ``only``); a unit that fails is
+linted again with all of them, so that its findings (tangencies, integrability, …) are complete.
+A failing program is
 shrunk and written with both engines' numbers by :mod:`langur.fuzz.counterexamples` (``--out``).
 
 Comparison (per program, value and the derivative in each parameter): agree iff
