@@ -50,8 +50,8 @@ BACKSTOP = 4.0
 #: sympy expressions by the million, few of them in cycles: at the default the collector ran
 #: 2,726 times over 98 programs of seed 1 and took 4.8 % of their CPU (6.2 of 128.9 s); at these
 #: 67 times, 2.2 % (2.7 of 121.8 s), no full collection, the same verdicts (bench/RESULTS.md,
-#: campaign throughput, tenth pass).  Cycles are still collected (the young generations every
-#: 20,000 allocations), only less often.
+#: campaign throughput, tenth pass).  Cycles are still collected (the youngest generation once
+#: 20,000 more container objects are allocated than freed), only less often.
 GC_THRESHOLDS = (20000, 20, 20)
 #: Seconds between two looks at the running units' CPU times.
 POLL = 0.2
