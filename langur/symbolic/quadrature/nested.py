@@ -138,15 +138,16 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
 
 
 def _near(t: float, tangent: set) -> bool:
-    """Whether ``t`` is one of the tangency kinks (within the 10⁻¹⁵ of :func:`_apart`, which may
-    have dropped a kink that fell on a breakpoint)."""
+    """Whether ``t`` is one of the tangency kinks, within the 10⁻¹⁵ of :func:`_apart`: one kink
+    found by two functions (the ball's z = 0 as a box end and as a critical point) a unit in the
+    last place apart is kept once, perhaps in its other copy."""
     return any(abs(t - q) <= 1e-15 * max(1.0, abs(q)) for q in tangent)
 
 
 def _touches(tangent: set, a: float, inside: list[float], b: float) -> bool:
     """Whether the sub-interval [a, b] (with its kinks ``inside``) has a tangency kink at an end
     or inside."""
-    return _near(a, tangent) or _near(b, tangent) or any(q in tangent for q in inside)
+    return _near(a, tangent) or _near(b, tangent) or any(_near(q, tangent) for q in inside)
 
 
 def _tangent_quad(h: Callable[[float], float], a: float, b: float, eps: float, inside: list[float],
@@ -173,8 +174,8 @@ def _tangent_quad(h: Callable[[float], float], a: float, b: float, eps: float, i
     u(t) (a null set maps to a null set), and an end growth |t − c|^-α becomes u^(1 − 2α), which
     diverges (exponent ≤ −1) exactly when α ≥ 1 — :func:`_quad`'s diagnostics decide the same.
     Issue 13 (tang13)."""
-    cuts = [a, *(q for q in inside if q in tangent), b]
-    rest = [q for q in inside if q not in tangent]
+    cuts = [a, *(q for q in inside if _near(q, tangent)), b]
+    rest = [q for q in inside if not _near(q, tangent)]
     total = err = 0.0
     for c, d in zip(cuts, cuts[1:]):
         at_c, at_d = _near(c, tangent), _near(d, tangent)
