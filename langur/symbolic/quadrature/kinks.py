@@ -164,19 +164,41 @@ def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.E
     return out
 
 
+#: :func:`_square_free`'s answers by (resultant, variable): the same pair of conditions comes back in
+#: every problem of a program at every parameter point (the value, each derivative's pieces, the
+#: finite differences' shifted points); at most :data:`COMPILED` kept.
+_SQUARE_FREE: dict = {}
+
+
 def _square_free(r: sp.Expr, v: sp.Symbol) -> sp.Expr:
+    """:func:`_square_free_part`, remembered (:data:`_SQUARE_FREE`)."""
+    key = (r, v)
+    out = _SQUARE_FREE.get(key)
+    if out is None:
+        out, final = _square_free_part(r, v)
+        if final:  # (a time limit's fallback is not kept: asked again, as :func:`_critical_points` does)
+            if len(_SQUARE_FREE) >= COMPILED:
+                _SQUARE_FREE.pop(next(iter(_SQUARE_FREE)))
+            _SQUARE_FREE[key] = out
+    return out
+
+
+def _square_free_part(r: sp.Expr, v: sp.Symbol) -> tuple[sp.Expr, bool]:
     """The resultant ``r`` without its repeated factors (as a polynomial in ``v``), within
     :data:`RESULTANT_SECONDS` (else ``r``): two conditions that cross where they are both simple
     give a resultant with double roots — the cylinders x² + z² ≤ a, y² + z² ≤ a give (x² − y²)²
     in y — and ``numpy.roots`` finds a double root as two roots ~10⁻⁸ apart or as a complex pair
     it drops (:data:`~.roots.REAL_SLACK`): the kink y = x was missing and the middle level
-    subdivided there.  The same zeros, each simple (tang13)."""
+    subdivided there.  The same zeros, each simple (tang13); and whether the answer is final (not
+    cut short by the time limit)."""
     try:
         out = run_with_timeout(lambda: sp.sqf_part(r, v), RESULTANT_SECONDS, cpu=True)
+    except TimeoutError:
+        return r, False
     except Exception:  # noqa: BLE001 - sympy fails in many ways on floats; the resultant itself is kept
-        return r
+        return r, True
     out = sp.sympify(out)
-    return out if v in out.free_symbols else r
+    return (out if v in out.free_symbols else r), True
 
 
 #: :func:`_critical_points`' answers by (expression, variable): one condition's come back at every
