@@ -25,7 +25,8 @@ The modules, each importing only those above it in this list:
 * :mod:`.roots` — a condition's roots in one variable (polynomial, grid + ``brentq``, hidden pairs);
 * :mod:`.problem` — :class:`NumCond`, :class:`NumProblem`, :class:`UndefinedIntegral`;
 * :mod:`.adaptive` — one level's ``quad``, made safe and honest;
-* :mod:`.kinks` — breakpoints and kinks of a level (critical points, crossings);
+* :mod:`.kinks` — breakpoints and kinks of a level (critical points, crossings), and which kinks
+  are tangency points (integrated after a substitution by :mod:`.nested`);
 * :mod:`.fold` — integration next to a delta's fold (substitution, allowances, time limit);
 * :mod:`.foldcurve` — where the fold curve turns (outer kinks, guards through turning points);
 * :mod:`.brackets` — what an implicit root's bracket implies;

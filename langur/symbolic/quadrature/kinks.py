@@ -37,8 +37,12 @@ def _kink_functions(p: NumProblem, level: int):
     every parameter point (only :func:`_at_levels`, numeric, is redone at each).  Returns the
     ``(function, polynomial roots or None)`` pairs and, for each, the outer levels whose variables
     it depends on (:func:`_depends`; all of them for the box-corner functions of conditions
-    without an expression)."""
+    without an expression).  Records in ``p.kink_tangent[level]`` the positions (in the returned
+    list) of the tangency kinks: those with a critical point substituted, where a deeper region
+    appears or vanishes as this level's variable moves and the inner integral behaves like a half
+    power of the distance (:func:`langur.symbolic.quadrature.nested._tangent_quad`)."""
     out, vary = [], []
+    p.kink_tangent[level] = set()
     symbolic = [c for c in p.conds if c.level > level and c.expr is not None] if p.syms else []
     for c in p.conds:
         if c.level > level and c not in symbolic:
@@ -60,19 +64,19 @@ def _kink_functions(p: NumProblem, level: int):
         exprs = []
         variables = set(p.syms)
         for c in symbolic:
-            es = [c.sym if parametric else c.expr]
+            es = [(c.sym if parametric else c.expr, False)]  # (expression, a critical point substituted)
             for j in range(c.level, level, -1):
                 v = p.syms[j]
                 nxt = []
-                for e in es:
-                    nxt += [e.xreplace({v: b}) for b in bounds[j]]
-                    nxt += [e.xreplace({v: r}) for r in _critical_points(e, v)]
+                for e, tangent in es:
+                    nxt += [(e.xreplace({v: b}), tangent) for b in bounds[j]]
+                    nxt += [(e.xreplace({v: r}), True) for r in _critical_points(e, v)]
                 es = nxt
-            exprs += [e for e in es if free_symbols(e) & variables]
+            exprs += [(e, tangent) for e, tangent in es if free_symbols(e) & variables]
         if level + 1 < len(p.syms):
-            exprs += _crossings(p, level, parametric)
+            exprs += [(e, False) for e in _crossings(p, level, parametric)]
             if not parametric:
-                exprs += _at_levels(p, level)
+                exprs += [(e, False) for e in _at_levels(p, level)]
         if len(_KINKS) >= COMPILED:
             _KINKS.pop(next(iter(_KINKS)))
         _KINKS[key] = exprs
@@ -83,8 +87,10 @@ def _kink_functions(p: NumProblem, level: int):
             if len(_KINKS) >= COMPILED:
                 _KINKS.pop(next(iter(_KINKS)))
             levels = _KINKS[key] = _at_levels(p, level)
-        exprs = exprs + levels
-    for e in exprs:
+        exprs = exprs + [(e, False) for e in levels]
+    for e, tangent in exprs:
+        if tangent:
+            p.kink_tangent[level].add(len(out))
         out.append((_lambdify(p.syms[: level + 1], e, at), _poly_roots(e, p.syms, level, at)))
         vary.append(_depends(e, p.syms, level))
     return out, vary
@@ -152,10 +158,47 @@ def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.E
                                   cpu=True)
         except Exception:  # noqa: BLE001 - sympy fails in many ways (PolynomialDivisionFailed on floats, a time
             continue  # limit); the pair is then left to quad's subdivision, as before
-        r = sp.sympify(r)
+        r = _square_free(sp.sympify(r), p.syms[level])
         if not r.is_number and p.syms[level] in r.free_symbols and r.free_symbols <= set(p.syms[: level + 1]) | params:
             out.append(r)
     return out
+
+
+#: :func:`_square_free`'s answers by (resultant, variable): the same pair of conditions comes back in
+#: every problem of a program at every parameter point (the value, each derivative's pieces, the
+#: finite differences' shifted points); at most :data:`COMPILED` kept.
+_SQUARE_FREE: dict = {}
+
+
+def _square_free(r: sp.Expr, v: sp.Symbol) -> sp.Expr:
+    """:func:`_square_free_part`, remembered (:data:`_SQUARE_FREE`)."""
+    key = (r, v)
+    out = _SQUARE_FREE.get(key)
+    if out is None:
+        out, final = _square_free_part(r, v)
+        if final:  # (a time limit's fallback is not kept: asked again, as :func:`_critical_points` does)
+            if len(_SQUARE_FREE) >= COMPILED:
+                _SQUARE_FREE.pop(next(iter(_SQUARE_FREE)))
+            _SQUARE_FREE[key] = out
+    return out
+
+
+def _square_free_part(r: sp.Expr, v: sp.Symbol) -> tuple[sp.Expr, bool]:
+    """The resultant ``r`` without its repeated factors (as a polynomial in ``v``), within
+    :data:`RESULTANT_SECONDS` (else ``r``): two conditions that cross where they are both simple
+    give a resultant with double roots — the cylinders x² + z² ≤ a, y² + z² ≤ a give (x² − y²)²
+    in y — and ``numpy.roots`` finds a double root as two roots ~10⁻⁸ apart or as a complex pair
+    it drops (:data:`~.roots.REAL_SLACK`): the kink y = x was missing and the middle level
+    subdivided there.  The same zeros, each simple (tang13); and whether the answer is final (not
+    cut short by the time limit)."""
+    try:
+        out = run_with_timeout(lambda: sp.sqf_part(r, v), RESULTANT_SECONDS, cpu=True)
+    except TimeoutError:
+        return r, False
+    except Exception:  # noqa: BLE001 - sympy fails in many ways on floats; the resultant itself is kept
+        return r, True
+    out = sp.sympify(out)
+    return (out if v in out.free_symbols else r), True
 
 
 #: :func:`_critical_points`' answers by (expression, variable): one condition's come back at every
@@ -205,15 +248,17 @@ def _solve_critical(e: sp.Expr, v: sp.Symbol) -> tuple[list[sp.Expr], bool]:
     return [r for r in sols if v not in r.free_symbols and not r.has(sp.I)][:8], True
 
 
-def _breakpoints(p: NumProblem, level: int, prefix: tuple, vary: bool) -> tuple[set, set]:
+def _breakpoints(p: NumProblem, level: int, prefix: tuple, vary: bool,
+                 tangent: set | None = None) -> tuple[set, set]:
     """``level``'s breakpoints in (lo, hi) at the outer abscissae ``prefix`` (roots of its
     conditions, from their polynomial root finders, a grid search, or their Psi's inverse) and its
     kinks (:func:`_kink_functions`): those that depend on the outer variables (``vary``), or those
     that do not — the same at every outer abscissa, so :func:`_nested` finds them once per problem
-    (the same numbers: the same functions of the same arguments)."""
+    (the same numbers: the same functions of the same arguments).  ``tangent``, when given, gets
+    the kinks that are tangency points (``p.kink_tangent``)."""
     lo, hi = p.bounds[level]
     pts: set = set()
-    points, hinted, kink_fns = p.moving(level, vary)
+    points, hinted, kink_fns, tangents = p.moving(level, vary)
     for roots in points:
         pts.update(r for r in roots(*prefix) if lo < r < hi)
     for c in hinted:
@@ -221,7 +266,10 @@ def _breakpoints(p: NumProblem, level: int, prefix: tuple, vary: bool) -> tuple[
             if lo < r < hi:
                 pts.add(r)
     kinks: set = set()
-    for roots in kink_fns:
-        kinks.update(r for r in roots(*prefix) if lo < r < hi)
+    for roots, is_tangent in zip(kink_fns, tangents):
+        found = [r for r in roots(*prefix) if lo < r < hi]
+        kinks.update(found)
+        if is_tangent and tangent is not None:
+            tangent.update(found)
     return pts, kinks
 

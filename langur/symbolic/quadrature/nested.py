@@ -57,16 +57,20 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         p.kinks[level], p.kink_vary[level] = _kink_functions(p, level)
         if p.folds and level + 2 == len(p.bounds):  # where the fold curve turns, numerically (fold section)
             _add_fold_turns(p, level)
+    last = level == len(p.bounds) - 1
+    tangent = None if last or p.folds else set()  # (the innermost level has no kinks)
     fixed = p._fixed.get(level)
     if fixed is None:  # the first abscissa: what does not depend on the outer variables, once
-        fixed = p._fixed[level] = _breakpoints(p, level, prefix, False)
-    moving, kinks = _breakpoints(p, level, prefix, True)
+        p._fixed_tangent[level] = set()
+        fixed = p._fixed[level] = _breakpoints(p, level, prefix, False, p._fixed_tangent[level])
+    moving, kinks = _breakpoints(p, level, prefix, True, tangent)
     pts = {lo, hi}
     pts.update(fixed[0])
     pts.update(moving)
     kinks.update(fixed[1])
+    if tangent is not None:
+        tangent.update(p._fixed_tangent[level])
     pts = sorted(pts)
-    last = level == len(p.bounds) - 1
     eps = EPSABS * 10 ** (len(p.bounds) - 1 - level)  # inner levels tighter than outer ones
     if level == 0:
         eps *= _OUTER[0]  # (1 but inside :func:`outer_tolerance`)
@@ -115,6 +119,8 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
                 val, e = _fold_innermost(p, level, prefix, a, b, eps, inside, hi - lo)
             elif last and b - a <= NARROW * max(1.0, hi - lo):
                 val, e = _narrow(p, h, a, b, eps, inside, level, hi - lo)
+            elif tangent and _touches(tangent, a, inside, b):
+                val, e = _tangent_quad(h, a, b, eps, inside, tangent, p, level)
             else:
                 val, e = _quad(h, a, b, eps, inside, p, level)
         except UndefinedIntegral:
@@ -129,6 +135,72 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     if level == 0:
         p.errors.append(err)
     return total
+
+
+def _near(t: float, tangent: set) -> bool:
+    """Whether ``t`` is one of the tangency kinks, within the 10⁻¹⁵ of :func:`_apart`: one kink
+    found by two functions (the ball's z = 0 as a box end and as a critical point) a unit in the
+    last place apart is kept once, perhaps in its other copy."""
+    return any(abs(t - q) <= 1e-15 * max(1.0, abs(q)) for q in tangent)
+
+
+def _touches(tangent: set, a: float, inside: list[float], b: float) -> bool:
+    """Whether the sub-interval [a, b] (with its kinks ``inside``) has a tangency kink at an end
+    or inside."""
+    return _near(a, tangent) or _near(b, tangent) or any(_near(q, tangent) for q in inside)
+
+
+def _tangent_quad(h: Callable[[float], float], a: float, b: float, eps: float, inside: list[float],
+                  tangent: set, p: NumProblem, level: int) -> tuple[float, float]:
+    """∫_a^b h (an inner integral) where a tangency kink (:func:`_kink_functions`) ends or lies in
+    [a, b]: there a deeper region appears or vanishes (the disc ``y² + z² ≤ a`` at y = ±√a, its
+    z-interval [−√(a − y²), √(a − y²)] of zero length) and the inner integral behaves like
+    c·√|t − t₀| + smooth: a derivative like 1/√, which Gauss–Kronrod only resolves by halving the
+    panel next to t₀ some twenty times at the middle level's tolerance (the nested discs of issue
+    13's seed-1 campaign: ~60 panels per middle integral).
+
+    [a, b] is split at its tangency kinks; each piece [c, d] with a tangency end c is integrated in
+    u ∈ [0, 1] with t = c + (d − c)·u² (at d: t = d − (d − c)·u²; at both ends: split at the
+    midpoint first), dt = 2(d − c)·u du, so that √(t − c) = √(d − c)·u and any half-integer power
+    of t − c becomes a polynomial in u: the transformed integrand is smooth and ``quad`` stops
+    after a few panels.  The other kinks keep their places (u = √((q − c)/(d − c))).  Pieces without
+    a tangency end are integrated as before.
+
+    The bound stays honest: the substitution is an exact change of variables, ∫_c^d h(t) dt =
+    ∫_0^1 h(t(u))·t'(u) du for a monotone C¹ map t of [0, 1] onto [c, d], so the transformed
+    integral *is* the original number, and ``quad``'s error estimate of it (asked for the same
+    absolute and relative tolerance) is an estimate of the same error; each piece's estimate is
+    added.  Nothing else changes: where the integrand is not finite at t, it is not finite at
+    u(t) (a null set maps to a null set), and an end growth |t − c|^-α becomes u^(1 − 2α), which
+    diverges (exponent ≤ −1) exactly when α ≥ 1 — :func:`_quad`'s diagnostics decide the same
+    (where ``quad`` does not converge, its measured exponent 2α − 1 is held to the same
+    :data:`~.adaptive.GROWTH_SLACK`, i.e. α ≥ 0.99 instead of 0.98 counts as a pole).
+    Issue 13 (tang13)."""
+    cuts = [a, *(q for q in inside if _near(q, tangent)), b]
+    rest = [q for q in inside if not _near(q, tangent)]
+    total = err = 0.0
+    for c, d in zip(cuts, cuts[1:]):
+        at_c, at_d = _near(c, tangent), _near(d, tangent)
+        if at_c and at_d:
+            m = 0.5 * (c + d)
+            ends = [(c, m, True, False), (m, d, False, True)]
+        else:
+            ends = [(c, d, at_c, at_d)]
+        for c, d, at_c, at_d in ends:
+            inner = [q for q in rest if c < q < d]
+            if at_c or at_d:
+                w = d - c
+                e0, s = (c, 1.0) if at_c else (d, -1.0)
+
+                def g(u, h=h, e0=e0, s=s, w=w):
+                    return h(e0 + s * w * u * u) * (2.0 * w * u)
+                inner = sorted(math.sqrt(abs(q - e0) / w) for q in inner)
+                val, e = _quad(g, 0.0, 1.0, eps, [u for u in inner if 0.0 < u < 1.0], p, level)
+            else:
+                val, e = _quad(h, c, d, eps, inner, p, level)
+            total += val
+            err += e
+    return total, err
 
 
 #: Distances (relative to the variable's range) from a narrow piece's midpoint at which

@@ -90,8 +90,11 @@ class NumProblem:
     _tests: dict = field(default_factory=dict, repr=False)  # level -> :meth:`tests`
     #: level -> the outer levels each of :attr:`kinks`' functions depends on (:func:`_depends`)
     kink_vary: dict = field(default_factory=dict, repr=False)
+    #: level -> the positions in :attr:`kinks` of its tangency kinks (:func:`_kink_functions`)
+    kink_tangent: dict = field(default_factory=dict, repr=False)
     #: level -> the breakpoints and kinks that do not depend on the outer variables (found once)
     _fixed: dict = field(default_factory=dict, repr=False)
+    _fixed_tangent: dict = field(default_factory=dict, repr=False)  # level -> the tangency kinks among them
     _moving: dict = field(default_factory=dict, repr=False)  # (level, vary) -> :meth:`moving`
 
     def here(self, level: int) -> list[NumCond]:
@@ -124,11 +127,12 @@ class NumProblem:
             out = self._finders[level] = [(c, _finder(c, self.syms, level, at)) for c in self.here(level)]
         return out
 
-    def moving(self, level: int, vary: bool) -> tuple[list, list, list]:
+    def moving(self, level: int, vary: bool) -> tuple[list, list, list, list]:
         """``level``'s root functions of its conditions (``prefix ↦ roots``: polynomial finder or
         grid search) that depend on the outer variables (``vary``) or do not, the conditions whose
         Psi hints do or do not, and the kink functions (:attr:`kinks`, already computed; ``prefix
-        ↦ roots``) that do or do not.  A moving function that depends on some of the outer
+        ↦ roots``) that do or do not, with whether each is a tangency kink (:attr:`kink_tangent`).
+        A moving function that depends on some of the outer
         variables only remembers its roots by their values (:func:`_by_outer`).  Found once per
         level."""
         out = self._moving.get((level, vary))
@@ -144,15 +148,17 @@ class NumProblem:
                         return _roots(lambda t: c.f(*prefix, t), lo, hi)
                 points.append(_by_outer(f, deps, level))
             hinted = [c for c in self.here(level) if c.hints is not None and c.hints_vary == vary]
-            kinks = []
-            for (kf, roots), deps in zip(self.kinks[level], self.kink_vary[level]):
+            kinks, tangent = [], []
+            tangents = self.kink_tangent.get(level, ())
+            for k, ((kf, roots), deps) in enumerate(zip(self.kinks[level], self.kink_vary[level])):
                 if bool(deps) != vary:
                     continue
                 if roots is None:
                     def roots(*prefix, kf=kf):
                         return _roots(lambda t: kf(*prefix, t), lo, hi)
                 kinks.append(_by_outer(roots, deps, level))
-            out = self._moving[(level, vary)] = (points, hinted, kinks)
+                tangent.append(k in tangents)
+            out = self._moving[(level, vary)] = (points, hinted, kinks, tangent)
         return out
 
 
