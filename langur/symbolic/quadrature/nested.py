@@ -33,6 +33,12 @@ def _holds(v: float) -> bool:
     return not math.isnan(v) and v >= 0
 
 
+def _coincide(t: float, ref: float) -> bool:
+    """Whether ``t`` and ``ref`` are one point for this module: within 10⁻¹⁵ relative to ``ref``
+    (a kink found twice by different formulas lands a unit or so in the last place apart)."""
+    return abs(t - ref) <= 1e-15 * max(1.0, abs(ref))
+
+
 def _apart(a: float, inside: list[float], b: float) -> list[float]:
     """The kinks ``inside`` (sorted, in (a, b)) without those within 10⁻¹⁵ relative of the previous
     point kept or of b (the threshold below which :func:`_nested` skips a sub-interval): one kink
@@ -41,7 +47,7 @@ def _apart(a: float, inside: list[float], b: float) -> list[float]:
     out: list[float] = []
     prev = a
     for q in inside:
-        if q - prev > 1e-15 * max(1.0, abs(prev)) and b - q > 1e-15 * max(1.0, abs(q)):
+        if not _coincide(q, prev) and not _coincide(b, q):
             out.append(q)
             prev = q
     return out
@@ -79,7 +85,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     total = 0.0
     err = 0.0
     for a, b in zip(pts, pts[1:]):
-        if b - a <= 1e-15 * max(1.0, abs(a)):
+        if _coincide(b, a):
             continue
         m = 0.5 * (a + b)
         failed = None
@@ -138,10 +144,10 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
 
 
 def _near(t: float, tangent: set) -> bool:
-    """Whether ``t`` is one of the tangency kinks, within the 10⁻¹⁵ of :func:`_apart`: one kink
+    """Whether ``t`` is one of the tangency kinks, (:func:`_coincide`): one kink
     found by two functions (the ball's z = 0 as a box end and as a critical point) a unit in the
     last place apart is kept once, perhaps in its other copy."""
-    return any(abs(t - q) <= 1e-15 * max(1.0, abs(q)) for q in tangent)
+    return any(_coincide(t, q) for q in tangent)
 
 
 def _touches(tangent: set, a: float, inside: list[float], b: float) -> bool:
