@@ -15,7 +15,7 @@ Public API::
     run_fuzz(examples=50, seed=0, samples=20000, timeout=20.0, keep=None, lint=True,
              progress=None, method="uniform") -> FuzzSummary
 
-``hypothesis`` is a development dependency: it is imported lazily, and :class:`MissingHypothesis`
+``hypothesis`` (a dependency of Langur) is imported lazily, when generating, and :class:`MissingHypothesis`
 is raised (with ``pip install hypothesis`` advice) when it is absent.
 
 Generated programs (transverse by construction, LANGUAGE.md §5) are those of the public strategies

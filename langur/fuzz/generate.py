@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 from .. import lazy
 
-#: The public strategies (hypothesis is a development dependency: imported when generating).
+#: The public strategies (they import hypothesis: loaded when generating, not at start-up).
 strategies = lazy.module("langur.strategies")
 
 SIGMA = 5.0          # standard errors allowed (false alarm ≈ 6e-7 per comparison under normality)
@@ -22,7 +22,7 @@ LINT_DISCARD = ("X301", "X305")
 
 
 class MissingHypothesis(RuntimeError):
-    """``hypothesis`` (a development dependency) is not installed."""
+    """``hypothesis`` (a dependency of Langur, which ``langur fuzz`` draws programs with) is missing."""
 
 
 def _hypothesis():
@@ -30,8 +30,8 @@ def _hypothesis():
         import hypothesis
         from hypothesis import strategies as st
     except ImportError:  # pragma: no cover - depends on the environment
-        raise MissingHypothesis("`langur fuzz` needs hypothesis: pip install hypothesis "
-                                "(or pip install -e '.[dev]')") from None
+        raise MissingHypothesis("`langur fuzz` needs hypothesis, a dependency of Langur missing from "
+                                "this environment: pip install hypothesis (or pip install -e .)") from None
     return hypothesis, st
 
 

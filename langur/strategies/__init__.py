@@ -36,8 +36,8 @@ engines' derivatives exist there (§5, Theorem 8.1).  Everything is built with `
 from small choices whose first option is the simplest, so hypothesis shrinks a failing program to
 one variable, one parameter and one factor when the failure allows it.
 
-``hypothesis`` is a development dependency of Langur: importing this package without it raises
-:class:`ImportError` saying how to install it.  Nothing else in Langur imports this package at
+``hypothesis`` is a dependency of Langur (``langur fuzz`` needs it); importing this package in an
+environment without it raises :class:`ImportError` saying how to install it.  Nothing else in Langur imports this package at
 start-up (``langur fuzz`` does when it generates).
 """
 
@@ -46,8 +46,8 @@ from __future__ import annotations
 try:
     import hypothesis  # noqa: F401
 except ImportError as e:  # pragma: no cover - depends on the environment
-    raise ImportError("langur.strategies needs hypothesis, a development dependency of Langur: "
-                      "pip install hypothesis (or pip install 'langur-workbench[dev]')") from e
+    raise ImportError("langur.strategies needs hypothesis, a dependency of Langur missing from this "
+                      "environment: pip install hypothesis (or pip install langur-workbench)") from e
 
 from .programs import GENERIC, PARAMS, VARIABLES, Generated, cores, programs, render, texts
 
