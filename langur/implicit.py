@@ -28,6 +28,7 @@ import numpy as np
 import scipy.optimize as so
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
+from sympy.printing.str import StrPrinter
 
 from . import floativ
 from .core import TooManyRoots
@@ -353,7 +354,23 @@ class ImplicitRootFn(sp.Function):
 
     @property
     def is_number(self) -> bool:  # the bound variable of the Lambda is not a free symbol
-        return not self.free_symbols
+        return not self._free()
+
+    @property
+    def free_symbols(self) -> set:
+        """sympy's free symbols of the root (its arguments', the equation's without its bound
+        variable), a new set each time as sympy gives it (callers may change it); found once per
+        root (:meth:`_free`)."""
+        return set(self._free())
+
+    def _free(self) -> frozenset:
+        """The free symbols, walked once per root: sympy asks for them at every assumption query
+        and ``evalf`` of an expression holding the root (``is_number``), each time a walk of the
+        equation and of the roots nested in its bracket (issue 15, exact13t)."""
+        known = self.__dict__.get("_langur_free")
+        if known is None:
+            known = self.__dict__["_langur_free"] = frozenset(super().free_symbols)
+        return known
 
     @classmethod
     def eval(cls, lam, target, lo, hi, index, of):
@@ -366,7 +383,7 @@ class ImplicitRootFn(sp.Function):
         return (sp.diff(target, s) - sp.diff(f, s).xreplace(at)) / sp.diff(f, x).xreplace(at)
 
     def _eval_evalf(self, prec):
-        if self.free_symbols:
+        if self._free():
             return None
         return _evalf(self.args, prec)
 
@@ -410,12 +427,36 @@ class ImplicitRootFn(sp.Function):
         return out if exp is None else rf"\left({out}\right)^{{{exp}}}"
 
     def _sympystr(self, printer):
+        """``root(x: f = target in [lo, hi])`` (``sign_change_k(…; at most n)`` for an indexed
+        root); by sympy's own ``StrPrinter`` with its settings, remembered (:data:`_PRINTED`): sympy's
+        ``solve`` prints an equation holding roots again and again (each nested root once more)."""
+        if type(printer) is not StrPrinter:
+            return self._text(printer)
+        try:
+            # (a Float is printed stripped below the top level: the level's side of 1 is part of it)
+            key = (self, tuple(sorted(printer._settings.items())), getattr(printer, "_print_level", 0) > 0)
+            known = _PRINTED.get(key)
+        except TypeError:  # a setting that cannot be hashed: printed again
+            return self._text(printer)
+        if known is None:
+            if len(_PRINTED) >= PRINTED:
+                _PRINTED.clear()
+            known = _PRINTED[key] = self._text(printer)
+        return known
+
+    def _text(self, printer):
         lam, target, lo, hi, index, of = self.args
         (x,), f = lam.variables, lam.expr
         which = "root" if index < 0 else f"sign_change_{int(index)}"
         bound = "" if index < 0 else f"; at most {int(of)}"
         return (f"{which}({printer.doprint(x)}: {printer.doprint(f)} = {printer.doprint(target)} "
                 f"in [{printer.doprint(lo)}, {printer.doprint(hi)}]{bound})")
+
+
+#: :meth:`ImplicitRootFn._sympystr`'s texts by root and printer settings; at most :data:`PRINTED`
+#: kept (then forgotten all at once).
+_PRINTED: dict = {}
+PRINTED = 4096
 
 
 def _solve(fn, target, lo, hi, index, of, *values):
@@ -610,7 +651,7 @@ def _indexed_root(key: str, t: float, p: float, q: float, vals: tuple) -> float:
     """The root of the equation named ``key`` in its certified bracket ``[p, q]`` in doubles,
     remembered by its arguments (a quadrature's conditions and breakpoints at one abscissa ask for
     the same turning point several times)."""
-    k = (key, t, p, q, vals)
+    k = (_same_code(key), t, p, q, vals)
     root = _ROOTS.get(k)
     if root is None:
         root = float(double_root(_compiled(key)[3], t, p, q, vals))  # in doubles: the result is one
@@ -633,6 +674,58 @@ def _compiled(key: str) -> tuple:
         return mp[0](*args)
     return (on_mpmath, _interval_fn(x, f, free), _interval_fn(x, sp.diff(f, x), free),
             sp.lambdify([x, *free], f, modules="math"))
+
+
+#: key -> the first key whose compiled equation is the same code (:func:`_same_code`).
+_SAME: dict[str, str] = {}
+#: The code signature of each key's compiled equation (:func:`_code_of`) -> the first such key and
+#: its compiled functions.
+_BY_CODE: dict = {}
+
+
+def _same_code(key: str) -> str:
+    """The first key (of :data:`_INDEXED`) whose compiled equation (:func:`_compiled`: the function
+    in doubles, the interval enclosures of it and of its derivative, and their float enclosures) is
+    the same code as ``key``'s — the same bytecode, constants (with their types) and global
+    objects, so the same numbers for the same arguments; ``key`` itself when none is.  Theorem
+    8.1's shifted points, ⟦p⟧ and ⦇p⦈ build the same equation again with a new bound variable (a
+    new key: ``3*_y**2 - x`` twelve times in turning2d), and the boxes certified for one
+    (:func:`_box_brackets`) and the roots found in their brackets (:func:`_indexed_root`) are then
+    those of the others: shared by this key (issue 15, exact13t)."""
+    out = _SAME.get(key)
+    if out is None:
+        _, g_iv, dg_iv, fn = _compiled(key)
+        sig = (_code_of(fn), *(_code_of(f) for e in (g_iv, dg_iv)
+                               for f in (e.fn, *(e.fast if e.fast is not None else (None, None)))))
+        if any(s is _NO_CODE for s in sig):
+            out = key
+        else:  # (the first key's functions kept alive: the signature names their globals by id)
+            out = _BY_CODE.setdefault(sig, (key, (g_iv, dg_iv, fn)))[0]
+        _SAME[key] = out
+    return out
+
+
+_NO_CODE = object()
+
+
+def _code_of(f):
+    """What a function computes from its positional arguments, as a hashable signature: its
+    bytecode, its constants with their types (``1`` and ``1.0`` compare equal, compute differently),
+    and the global objects its names refer to (by identity); :data:`_NO_CODE` for anything else
+    (closures, defaults, nested code: not compared)."""
+    if f is None:
+        return None
+    code = getattr(f, "__code__", None)
+    if code is None or f.__closure__ is not None or f.__defaults__ is not None or f.__kwdefaults__:
+        return _NO_CODE
+    consts = []
+    for c in code.co_consts:
+        if c is not None and type(c) not in (int, float, str, bool):
+            return _NO_CODE
+        consts.append((type(c), repr(c)))
+    names = tuple(id(f.__globals__[n]) if n in f.__globals__ else ("builtin", n) for n in code.co_names)
+    return (code.co_code, tuple(consts), code.co_names, names, code.co_argcount, code.co_posonlyargcount,
+            code.co_kwonlyargcount, code.co_flags, code.co_nlocals)
 
 
 @lru_cache(maxsize=65536)
@@ -687,10 +780,11 @@ def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple 
     if not all(math.isfinite(v) for v in vals):
         return None
     fn, g_iv, dg_iv, _ = _compiled(key)
+    shared = _same_code(key)  # (the boxes of the same equation compiled under another key)
     for level in BOX_LEVELS:
         w = 2.0 ** level
         cell = (math.floor(vals[0] / w),) if len(vals) == 1 else tuple(math.floor(v / w) for v in vals)
-        k = (key, t, a, b, level, cell)
+        k = (shared, t, a, b, level, cell)
         found = _BOXES.get(k, _UNSEEN)
         if found is _UNSEEN:
             if len(_BOXES) >= BOXES:
