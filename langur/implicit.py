@@ -619,11 +619,47 @@ _KEYS: dict = {}
 
 
 def _indexed_key(lam, free) -> str:
+    """The key naming the equation ``lam`` with its other symbols ``free``: one key for every
+    equation that differs from an earlier one only in its bound variable's identity (a new Dummy
+    of the same name each time ⟦p⟧ or ⦇p⦈ is built: Theorem 8.1's shifted points build
+    ``3*_y**2 - x`` again; :func:`_form`), so its compiled functions, certified boxes, brackets and
+    roots are found once (issue 15, exact13t)."""
     key = _KEYS.get((lam, tuple(free)))
     if key is None:
-        key = _KEYS[(lam, tuple(free))] = f"indexed root {len(_KEYS)}"
-        _INDEXED[key] = (lam, tuple(free))
+        form = _form(lam, tuple(free))
+        key = _BY_FORM.get(form) if form is not None else None
+        if key is None:
+            key = f"indexed root {len(_INDEXED)}"
+            _INDEXED[key] = (lam, tuple(free))
+            if form is not None:
+                _BY_FORM[form] = key
+        _KEYS[(lam, tuple(free))] = key
     return key
+
+
+#: Keys by :func:`_form`.
+_BY_FORM: dict = {}
+#: The bound variable of :func:`_form`'s equations.
+_CANONICAL = sp.Dummy("langur_bound", real=True)
+
+
+def _form(lam, free: tuple):
+    """``lam``'s equation up to the identity of its bound variable, with everything else that
+    decides what its key computes and says: its other symbols, the bound variable's name and
+    assumptions (they order the printed terms: the compiled code), its source place (named when
+    refused) and whether it is certified leniently; None when the equation holds another Dummy
+    (its order against the bound variable could depend on their creation).  Two equations of the
+    same form print the same code but for the bound variable's name: the same function."""
+    (x,), f = lam.variables, lam.expr
+    if f.atoms(sp.Dummy) != {x}:
+        return None
+    span = _SPANS.get(x)
+    try:
+        hash(span)
+    except TypeError:
+        span = ("unhashable", id(span))
+    return (f.xreplace({x: _CANONICAL}), free, x.name, tuple(sorted(x.assumptions0.items())), span,
+            x in _LENIENT)
 
 
 def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
