@@ -24,7 +24,7 @@ import sympy as sp
 from sympy.printing.str import StrPrinter
 
 from langur import implicit
-from langur.implicit import ImplicitRootFn, implicit_root
+from langur.implicit import implicit_root
 
 Y, U, V, A = sp.symbols("y u v a", real=True)
 TURNING = 3 * Y**2 - U  # turning2d's ∂/∂y: sign changes ∓sqrt(u/3)
