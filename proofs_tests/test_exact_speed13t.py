@@ -177,3 +177,85 @@ def test_printed_roots_are_sympys_text_under_every_setting():
             for _ in range(2):  # asked again: remembered
                 assert StrPrinter(settings).doprint(expr) == Uncached(settings).doprint(expr)
     assert str(root).startswith("root(_y: ")
+
+
+def _old_sturm_brackets(p, lo, hi, depth=200, squarefree=False):
+    """``sturm_brackets`` as it was before exact13t (every sign by ``_horner`` on Fractions)."""
+    from langur.implicit import _gcd, _horner, _quotient, _rem, _strip
+
+    p = _strip(p)
+    if not any(p) or _horner(p, lo) == 0 or _horner(p, hi) == 0:
+        return None
+    if len(p) == 1:
+        return []
+    dp = [c * (len(p) - 1 - i) for i, c in enumerate(p[:-1])]
+    g = _gcd(p, dp)
+    if squarefree and len(g) > 1:
+        return None
+    p0 = _quotient(p, g) if len(g) > 1 else p
+    chain = [p0, [c * (len(p0) - 1 - i) for i, c in enumerate(p0[:-1])] or [0]]
+    while len(chain[-1]) > 1 or chain[-1][0] != 0:
+        r = _rem(chain[-2], chain[-1])
+        if not any(r):
+            break
+        chain.append([-c for c in r])
+        if len(chain[-1]) == 1:
+            break
+
+    def variations(x):
+        signs = [v for v in (_horner(q, x) for q in chain) if v != 0]
+        return sum((u < 0) != (w < 0) for u, w in zip(signs, signs[1:]))
+
+    def split(a, b):
+        for k in range(1, 8):
+            for m in (a + (b - a) / 2 + (b - a) / 2 ** (k + 1) * (k > 1), a + (b - a) / 2 - (b - a) / 2 ** (k + 1)):
+                if _horner(p0, m) != 0:
+                    return m
+        return None
+
+    points = [lo, hi]
+    stack = [(lo, hi, variations(lo) - variations(hi), 0)]
+    while stack:
+        a, b, n, d = stack.pop()
+        if n <= 1:
+            continue
+        if d >= depth:
+            return None
+        m = split(a, b)
+        if m is None:
+            return None
+        points.append(m)
+        vm = variations(m)
+        stack.append((a, m, variations(a) - vm, d + 1))
+        stack.append((m, b, vm - variations(b), d + 1))
+    points = sorted(set(points))
+    signs = [-1 if _horner(p, x) < 0 else 1 for x in points]
+    return [(x, y) for x, y, s, r in zip(points, points[1:], signs, signs[1:]) if s != r]
+
+
+def test_sturm_brackets_in_integers_are_those_in_fractions():
+    from fractions import Fraction
+
+    from langur.implicit import _integral, _sign, sturm_brackets
+
+    rng = np.random.default_rng(1513)
+    cases = []
+    for _ in range(300):
+        deg = int(rng.integers(1, 7))
+        cs = [Fraction(float(c)) for c in rng.normal(size=deg + 1)]
+        if rng.random() < 0.3:  # rational constants, double roots, roots at dyadic points and near each other
+            r = Fraction(int(rng.integers(-8, 9)), int(rng.choice([1, 3, 4, 7, 1024])))
+            cs = [Fraction(1), -2 * r, r * r] if rng.random() < 0.5 else [Fraction(3), Fraction(0), -r / 10**12]
+        lo = Fraction(float(rng.uniform(-3, 0)))
+        hi = lo + Fraction(float(rng.uniform(0, 4)))
+        cases.append((cs, lo, hi))
+    cases += [([Fraction(3), Fraction(0), -Fraction(1, 10**20)], Fraction(-1), Fraction(1)),
+              ([Fraction(1), Fraction(0), Fraction(-1)], Fraction(-1), Fraction(1)),
+              ([Fraction(3), Fraction(0), Fraction(0)], Fraction(-1), Fraction(1))]
+    for cs, lo, hi in cases:
+        for squarefree in (False, True):
+            assert sturm_brackets(cs, lo, hi, squarefree=squarefree) == _old_sturm_brackets(cs, lo, hi, squarefree=squarefree)
+        q = _integral(cs)
+        for x in (lo, hi, (lo + hi) / 2, Fraction(1, 3)):
+            value = sum(c * x ** (len(cs) - 1 - i) for i, c in enumerate(cs))
+            assert _sign(q, x) == (value > 0) - (value < 0)
