@@ -377,10 +377,22 @@ class ImplicitRootFn(sp.Function):
         return None  # stays symbolic: it has no closed form (that is why it exists)
 
     def _eval_derivative(self, s):
-        lam, target = self.args[:2]
-        (x,), f = lam.variables, lam.expr
-        at = {x: self}
-        return (sp.diff(target, s) - sp.diff(f, s).xreplace(at)) / sp.diff(f, x).xreplace(at)
+        """The implicit function theorem's derivative (module doc), built once per root and
+        symbol (:data:`_DERIVATIVES`): sympy's ``solve`` and the Jacobians differentiate the same
+        roots again and again, and each build asks sympy's assumptions of the root."""
+        try:
+            known = _DERIVATIVES.get((self, s))
+        except TypeError:  # (an unhashable symbol: built again)
+            known = None
+        if known is None:
+            lam, target = self.args[:2]
+            (x,), f = lam.variables, lam.expr
+            at = {x: self}
+            known = (sp.diff(target, s) - sp.diff(f, s).xreplace(at)) / sp.diff(f, x).xreplace(at)
+            if len(_DERIVATIVES) >= PRINTED:
+                _DERIVATIVES.clear()
+            _DERIVATIVES[(self, s)] = known
+        return known
 
     def _eval_evalf(self, prec):
         if self._free():
@@ -457,6 +469,9 @@ class ImplicitRootFn(sp.Function):
 #: kept (then forgotten all at once).
 _PRINTED: dict = {}
 PRINTED = 4096
+#: :meth:`ImplicitRootFn._eval_derivative`'s derivatives by root and symbol (at most
+#: :data:`PRINTED` kept, then forgotten all at once).
+_DERIVATIVES: dict = {}
 
 
 def _solve(fn, target, lo, hi, index, of, *values):
@@ -526,6 +541,7 @@ def _evalf(args, prec):
     lam, target, lo, hi, index, of = args
     (x,), f = lam.variables, lam.expr
     shape, consts = _shape(f)
+    x, shape = _canonical_shape(x, shape)
     dps = mpmath.libmp.prec_to_dps(prec) + 5
     with mpmath.workdps(dps):
         compiled = _shape_compiled(x, shape, len(consts))[0]
@@ -547,6 +563,22 @@ def _evalf(args, prec):
         if isinstance(r, float) and math.isnan(r):
             return sp.nan
         return sp.Float(r, dps)
+
+
+#: The first ``(bound variable, shape)`` of each :func:`_shape_form`.
+_SHAPES: dict = {}
+
+
+def _canonical_shape(x, shape) -> tuple:
+    """The first ``(x, shape)`` (:func:`_shape`) of the same form as this one (:func:`_form`: the
+    same equation up to the identity of its bound variable, of the same name, assumptions, source
+    place and leniency): its compiled versions (:func:`_shape_compiled`) and certified brackets
+    (:func:`_brackets_at`) are this one's — the same code but for the bound variable's name — and
+    are made once instead of once per build of ⟦p⟧ or ⦇p⦈ (issue 15, exact13t)."""
+    form = _form(sp.Lambda(x, shape), ())
+    if form is None:
+        return x, shape
+    return _SHAPES.setdefault(form, (x, shape))
 
 
 #: Placeholders of the float constants of an equation (:func:`_shape`).

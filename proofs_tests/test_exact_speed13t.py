@@ -259,3 +259,50 @@ def test_sturm_brackets_in_integers_are_those_in_fractions():
         for x in (lo, hi, (lo + hi) / 2, Fraction(1, 3)):
             value = sum(c * x ** (len(cs) - 1 - i) for i, c in enumerate(cs))
             assert _sign(q, x) == (value > 0) - (value < 0)
+
+
+def test_evalf_through_shared_shapes_is_evalf_apart(monkeypatch):
+    # roots built again (new bound Dummies) evaluated by sympy's evalf at several precisions: the
+    # compiled shape and certified brackets of the first build serve the others, with the same digits
+    # as each build compiled and certified on its own, and the digits are the root's (mpmath findroot)
+    def builds():
+        out = []
+        for _ in range(2):
+            sc = [_indexed(TURNING, k, 2) for k in (0, 1)]
+            mid = implicit_root(FOLIUM, Y, sp.Integer(0), sc[0], sc[1])
+            out.append([sc[0], sc[1], mid])
+        return out
+
+    points = [(0.5, 0.1), (0.81, -0.02), (0.3, 0.05), (1e-3, 0.0), (-0.4, 0.1)]
+
+    def values(roots):
+        return [[str(r.xreplace({U: sp.Rational(u), A: sp.Rational(a)}).evalf(n)) for r in roots
+                 for n in (2, 15, 30)] for u, a in points]
+
+    first, again = builds()
+    shared = [values(first), values(again)]
+    assert shared[0] == shared[1]
+    _isolated(monkeypatch)
+    monkeypatch.setattr(implicit, "_canonical_shape", lambda x, shape: (x, shape))
+    monkeypatch.setattr(implicit, "_SHAPES", {})
+    implicit._evalf.cache_clear()
+    implicit._shape_compiled.cache_clear()
+    implicit._brackets_at.cache_clear()
+    alone = values(builds()[1])
+    implicit._evalf.cache_clear()
+    assert alone == shared[0]
+    for (u, a), row in zip(points, shared[0]):
+        with mpmath.workdps(50):
+            u_, a_ = mpmath.mpf(sp.Rational(u).p) / sp.Rational(u).q, mpmath.mpf(sp.Rational(a).p) / sp.Rational(a).q
+            if u_ <= 0:  # no sign change of 3y² − u: the domain's end
+                assert mpmath.mpf(row[2]) == 2 and mpmath.mpf(row[5]) == 2
+                continue
+            s0, s1 = -mpmath.sqrt(u_ / 3), mpmath.sqrt(u_ / 3)
+            assert abs(mpmath.mpf(row[2]) - s0) < mpmath.mpf(10) ** -28
+            assert abs(mpmath.mpf(row[5]) - s1) < mpmath.mpf(10) ** -28
+            g = lambda y, u_=u_, a_=a_: y**3 - y * u_ + u_**3 - a_  # noqa: E731
+            if (g(s0) < 0) != (g(s1) < 0):
+                want = mpmath.findroot(g, (s0, s1), solver="anderson")
+                assert abs(mpmath.mpf(row[8]) - want) < mpmath.mpf(10) ** -28
+            else:
+                assert row[8] == "nan"
