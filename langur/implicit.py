@@ -578,6 +578,8 @@ def _canonical_shape(x, shape) -> tuple:
     form = _form(sp.Lambda(x, shape), ())
     if form is None:
         return x, shape
+    if len(_SHAPES) >= PRINTED and form not in _SHAPES:
+        _SHAPES.clear()
     return _SHAPES.setdefault(form, (x, shape))
 
 
@@ -747,8 +749,9 @@ def _compiled(key: str) -> tuple:
 #: key -> the first key whose compiled equation is the same code (:func:`_same_code`).
 _SAME: dict[str, str] = {}
 #: The code signature of each key's compiled equation (:func:`_code_of`) -> the first such key and
-#: its compiled functions.
+#: its compiled functions; at most :data:`SAME_CODES` kept (as many as :func:`_compiled` keeps).
 _BY_CODE: dict = {}
+SAME_CODES = 256
 
 
 def _same_code(key: str) -> str:
@@ -768,6 +771,9 @@ def _same_code(key: str) -> str:
         if any(s is _NO_CODE for s in sig):
             out = key
         else:  # (the first key's functions kept alive: the signature names their globals by id)
+            if len(_BY_CODE) >= SAME_CODES:  # (forgotten all at once: keys then start anew, the
+                _BY_CODE.clear()  # boxes they certify are the same)
+                _SAME.clear()
             out = _BY_CODE.setdefault(sig, (key, (g_iv, dg_iv, fn)))[0]
         _SAME[key] = out
     return out
