@@ -807,12 +807,12 @@ def _brackets_of(key: str, t: float, a: float, b: float, vals: tuple) -> tuple:
     """:func:`_brackets_at` for the equation named ``key`` at these values of its other symbols:
     those certified once for a box of them holding these values (:func:`_box_brackets`), else
     certified at these values."""
-    lam, _ = _INDEXED[key]
-    x = lam.variables[0]
     if vals:
         found = _box_brackets(key, t, a, b, vals)
         if found is not None:
             return found
+    lam, _ = _INDEXED[key]
+    x = lam.variables[0]  # (sympy builds it anew each time: only past the boxes)
     if x in _LENIENT:  # a polynomial equation: isolated exactly (where roots merge, enclosures fail)
         found = _exact_brackets(key, t, a, b, vals)
         if found is not None:
