@@ -28,6 +28,7 @@ import numpy as np
 import scipy.optimize as so
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
+from sympy.printing.str import StrPrinter
 
 from . import floativ
 from .core import TooManyRoots
@@ -353,20 +354,48 @@ class ImplicitRootFn(sp.Function):
 
     @property
     def is_number(self) -> bool:  # the bound variable of the Lambda is not a free symbol
-        return not self.free_symbols
+        return not self._free()
+
+    @property
+    def free_symbols(self) -> set:
+        """sympy's free symbols of the root (its arguments', the equation's without its bound
+        variable), a new set each time as sympy gives it (callers may change it); found once per
+        root (:meth:`_free`)."""
+        return set(self._free())
+
+    def _free(self) -> frozenset:
+        """The free symbols, walked once per root: sympy asks for them at every assumption query
+        and ``evalf`` of an expression holding the root (``is_number``), each time a walk of the
+        equation and of the roots nested in its bracket (issue 15, exact13t)."""
+        known = self.__dict__.get("_langur_free")
+        if known is None:
+            known = self.__dict__["_langur_free"] = frozenset(super().free_symbols)
+        return known
 
     @classmethod
     def eval(cls, lam, target, lo, hi, index, of):
         return None  # stays symbolic: it has no closed form (that is why it exists)
 
     def _eval_derivative(self, s):
-        lam, target = self.args[:2]
-        (x,), f = lam.variables, lam.expr
-        at = {x: self}
-        return (sp.diff(target, s) - sp.diff(f, s).xreplace(at)) / sp.diff(f, x).xreplace(at)
+        """The implicit function theorem's derivative (module doc), built once per root and
+        symbol (:data:`_DERIVATIVES`): sympy's ``solve`` and the Jacobians differentiate the same
+        roots again and again, and each build asks sympy's assumptions of the root."""
+        try:
+            known = _DERIVATIVES.get((self, s))
+        except TypeError:  # (an unhashable symbol: built again)
+            known = None
+        if known is None:
+            lam, target = self.args[:2]
+            (x,), f = lam.variables, lam.expr
+            at = {x: self}
+            known = (sp.diff(target, s) - sp.diff(f, s).xreplace(at)) / sp.diff(f, x).xreplace(at)
+            if len(_DERIVATIVES) >= PRINTED:
+                _DERIVATIVES.clear()
+            _DERIVATIVES[(self, s)] = known
+        return known
 
     def _eval_evalf(self, prec):
-        if self.free_symbols:
+        if self._free():
             return None
         return _evalf(self.args, prec)
 
@@ -410,12 +439,39 @@ class ImplicitRootFn(sp.Function):
         return out if exp is None else rf"\left({out}\right)^{{{exp}}}"
 
     def _sympystr(self, printer):
+        """``root(x: f = target in [lo, hi])`` (``sign_change_k(…; at most n)`` for an indexed
+        root); by sympy's own ``StrPrinter`` with its settings, remembered (:data:`_PRINTED`): sympy's
+        ``solve`` prints an equation holding roots again and again (each nested root once more)."""
+        if type(printer) is not StrPrinter:
+            return self._text(printer)
+        try:
+            # (a Float is printed stripped below the top level: the level's side of 1 is part of it)
+            key = (self, tuple(sorted(printer._settings.items())), getattr(printer, "_print_level", 0) > 0)
+            known = _PRINTED.get(key)
+        except TypeError:  # a setting that cannot be hashed: printed again
+            return self._text(printer)
+        if known is None:
+            if len(_PRINTED) >= PRINTED:
+                _PRINTED.clear()
+            known = _PRINTED[key] = self._text(printer)
+        return known
+
+    def _text(self, printer):
         lam, target, lo, hi, index, of = self.args
         (x,), f = lam.variables, lam.expr
         which = "root" if index < 0 else f"sign_change_{int(index)}"
         bound = "" if index < 0 else f"; at most {int(of)}"
         return (f"{which}({printer.doprint(x)}: {printer.doprint(f)} = {printer.doprint(target)} "
                 f"in [{printer.doprint(lo)}, {printer.doprint(hi)}]{bound})")
+
+
+#: :meth:`ImplicitRootFn._sympystr`'s texts by root and printer settings; at most :data:`PRINTED`
+#: kept (then forgotten all at once).
+_PRINTED: dict = {}
+PRINTED = 4096
+#: :meth:`ImplicitRootFn._eval_derivative`'s derivatives by root and symbol (at most
+#: :data:`PRINTED` kept, then forgotten all at once).
+_DERIVATIVES: dict = {}
 
 
 def _solve(fn, target, lo, hi, index, of, *values):
@@ -485,6 +541,7 @@ def _evalf(args, prec):
     lam, target, lo, hi, index, of = args
     (x,), f = lam.variables, lam.expr
     shape, consts = _shape(f)
+    x, shape = _canonical_shape(x, shape)
     dps = mpmath.libmp.prec_to_dps(prec) + 5
     with mpmath.workdps(dps):
         compiled = _shape_compiled(x, shape, len(consts))[0]
@@ -506,6 +563,24 @@ def _evalf(args, prec):
         if isinstance(r, float) and math.isnan(r):
             return sp.nan
         return sp.Float(r, dps)
+
+
+#: The first ``(bound variable, shape)`` of each :func:`_shape_form`.
+_SHAPES: dict = {}
+
+
+def _canonical_shape(x, shape) -> tuple:
+    """The first ``(x, shape)`` (:func:`_shape`) of the same form as this one (:func:`_form`: the
+    same equation up to the identity of its bound variable, of the same name, assumptions, source
+    place and leniency): its compiled versions (:func:`_shape_compiled`) and certified brackets
+    (:func:`_brackets_at`) are this one's — the same code but for the bound variable's name — and
+    are made once instead of once per build of ⟦p⟧ or ⦇p⦈ (issue 15, exact13t)."""
+    form = _form(sp.Lambda(x, shape), ())
+    if form is None:
+        return x, shape
+    if len(_SHAPES) >= PRINTED and form not in _SHAPES:
+        _SHAPES.clear()
+    return _SHAPES.setdefault(form, (x, shape))
 
 
 #: Placeholders of the float constants of an equation (:func:`_shape`).
@@ -578,11 +653,47 @@ _KEYS: dict = {}
 
 
 def _indexed_key(lam, free) -> str:
+    """The key naming the equation ``lam`` with its other symbols ``free``: one key for every
+    equation that differs from an earlier one only in its bound variable's identity (a new Dummy
+    of the same name each time ⟦p⟧ or ⦇p⦈ is built: Theorem 8.1's shifted points build
+    ``3*_y**2 - x`` again; :func:`_form`), so its compiled functions, certified boxes, brackets and
+    roots are found once (issue 15, exact13t)."""
     key = _KEYS.get((lam, tuple(free)))
     if key is None:
-        key = _KEYS[(lam, tuple(free))] = f"indexed root {len(_KEYS)}"
-        _INDEXED[key] = (lam, tuple(free))
+        form = _form(lam, tuple(free))
+        key = _BY_FORM.get(form) if form is not None else None
+        if key is None:
+            key = f"indexed root {len(_INDEXED)}"
+            _INDEXED[key] = (lam, tuple(free))
+            if form is not None:
+                _BY_FORM[form] = key
+        _KEYS[(lam, tuple(free))] = key
     return key
+
+
+#: Keys by :func:`_form`.
+_BY_FORM: dict = {}
+#: The bound variable of :func:`_form`'s equations.
+_CANONICAL = sp.Dummy("langur_bound", real=True)
+
+
+def _form(lam, free: tuple):
+    """``lam``'s equation up to the identity of its bound variable, with everything else that
+    decides what its key computes and says: its other symbols, the bound variable's name and
+    assumptions (they order the printed terms: the compiled code), its source place (named when
+    refused) and whether it is certified leniently; None when the equation holds another Dummy
+    (its order against the bound variable could depend on their creation).  Two equations of the
+    same form print the same code but for the bound variable's name: the same function."""
+    (x,), f = lam.variables, lam.expr
+    if f.atoms(sp.Dummy) != {x}:
+        return None
+    span = _SPANS.get(x)
+    try:
+        hash(span)
+    except TypeError:
+        span = ("unhashable", id(span))
+    return (f.xreplace({x: _CANONICAL}), free, x.name, tuple(sorted(x.assumptions0.items())), span,
+            x in _LENIENT)
 
 
 def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
@@ -610,7 +721,7 @@ def _indexed_root(key: str, t: float, p: float, q: float, vals: tuple) -> float:
     """The root of the equation named ``key`` in its certified bracket ``[p, q]`` in doubles,
     remembered by its arguments (a quadrature's conditions and breakpoints at one abscissa ask for
     the same turning point several times)."""
-    k = (key, t, p, q, vals)
+    k = (_same_code(key), t, p, q, vals)
     root = _ROOTS.get(k)
     if root is None:
         root = float(double_root(_compiled(key)[3], t, p, q, vals))  # in doubles: the result is one
@@ -635,17 +746,73 @@ def _compiled(key: str) -> tuple:
             sp.lambdify([x, *free], f, modules="math"))
 
 
+#: key -> the first key whose compiled equation is the same code (:func:`_same_code`).
+_SAME: dict[str, str] = {}
+#: The code signature of each key's compiled equation (:func:`_code_of`) -> the first such key and
+#: its compiled functions; at most :data:`SAME_CODES` kept (as many as :func:`_compiled` keeps).
+_BY_CODE: dict = {}
+SAME_CODES = 256
+
+
+def _same_code(key: str) -> str:
+    """The first key (of :data:`_INDEXED`) whose compiled equation (:func:`_compiled`: the function
+    in doubles, the interval enclosures of it and of its derivative, and their float enclosures) is
+    the same code as ``key``'s — the same bytecode, constants (with their types) and global
+    objects, so the same numbers for the same arguments; ``key`` itself when none is.  Theorem
+    8.1's shifted points, ⟦p⟧ and ⦇p⦈ build the same equation again with a new bound variable (a
+    new key: ``3*_y**2 - x`` twelve times in turning2d), and the boxes certified for one
+    (:func:`_box_brackets`) and the roots found in their brackets (:func:`_indexed_root`) are then
+    those of the others: shared by this key (issue 15, exact13t)."""
+    out = _SAME.get(key)
+    if out is None:
+        _, g_iv, dg_iv, fn = _compiled(key)
+        sig = (_code_of(fn), *(_code_of(f) for e in (g_iv, dg_iv)
+                               for f in (e.fn, *(e.fast if e.fast is not None else (None, None)))))
+        if any(s is _NO_CODE for s in sig):
+            out = key
+        else:  # (the first key's functions kept alive: the signature names their globals by id)
+            if len(_BY_CODE) >= SAME_CODES:  # (forgotten all at once: keys then start anew, the
+                _BY_CODE.clear()  # boxes they certify are the same)
+                _SAME.clear()
+            out = _BY_CODE.setdefault(sig, (key, (g_iv, dg_iv, fn)))[0]
+        _SAME[key] = out
+    return out
+
+
+_NO_CODE = object()
+
+
+def _code_of(f):
+    """What a function computes from its positional arguments, as a hashable signature: its
+    bytecode, its constants with their types (``1`` and ``1.0`` compare equal, compute differently),
+    and the global objects its names refer to (by identity); :data:`_NO_CODE` for anything else
+    (closures, defaults, nested code: not compared)."""
+    if f is None:
+        return None
+    code = getattr(f, "__code__", None)
+    if code is None or f.__closure__ is not None or f.__defaults__ is not None or f.__kwdefaults__:
+        return _NO_CODE
+    consts = []
+    for c in code.co_consts:
+        if c is not None and type(c) not in (int, float, str, bool):
+            return _NO_CODE
+        consts.append((type(c), repr(c)))
+    names = tuple(id(f.__globals__[n]) if n in f.__globals__ else ("builtin", n) for n in code.co_names)
+    return (code.co_code, tuple(consts), code.co_names, names, code.co_argcount, code.co_posonlyargcount,
+            code.co_kwonlyargcount, code.co_flags, code.co_nlocals)
+
+
 @lru_cache(maxsize=65536)
 def _brackets_of(key: str, t: float, a: float, b: float, vals: tuple) -> tuple:
     """:func:`_brackets_at` for the equation named ``key`` at these values of its other symbols:
     those certified once for a box of them holding these values (:func:`_box_brackets`), else
     certified at these values."""
-    lam, _ = _INDEXED[key]
-    x = lam.variables[0]
     if vals:
         found = _box_brackets(key, t, a, b, vals)
         if found is not None:
             return found
+    lam, _ = _INDEXED[key]
+    x = lam.variables[0]  # (sympy builds it anew each time: only past the boxes)
     if x in _LENIENT:  # a polynomial equation: isolated exactly (where roots merge, enclosures fail)
         found = _exact_brackets(key, t, a, b, vals)
         if found is not None:
@@ -687,10 +854,11 @@ def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple 
     if not all(math.isfinite(v) for v in vals):
         return None
     fn, g_iv, dg_iv, _ = _compiled(key)
+    shared = _same_code(key)  # (the boxes of the same equation compiled under another key)
     for level in BOX_LEVELS:
         w = 2.0 ** level
         cell = (math.floor(vals[0] / w),) if len(vals) == 1 else tuple(math.floor(v / w) for v in vals)
-        k = (key, t, a, b, level, cell)
+        k = (shared, t, a, b, level, cell)
         found = _BOXES.get(k, _UNSEEN)
         if found is _UNSEEN:
             if len(_BOXES) >= BOXES:
@@ -821,6 +989,28 @@ def _quotient(p: list, q: list) -> list:
     return out
 
 
+def _integral(p: list) -> list[int]:
+    """The rational coefficients ``p`` times the (positive) least common multiple of their
+    denominators: integers, a polynomial with the same sign as ``p`` everywhere."""
+    den = 1
+    for c in p:
+        den = den * c.denominator // math.gcd(den, c.denominator)
+    return [c.numerator * (den // c.denominator) for c in p]
+
+
+def _sign(q: list[int], x) -> int:
+    """The sign (−1, 0, 1) of the polynomial ``q`` (integer coefficients, highest first) at the
+    rational ``x = n/d`` (d > 0), exactly: that of q(x)·dᵈᵉᵍ = Σ qᵢ·n^(deg−i)·dⁱ, in integers (no
+    fraction reduced at each step, as :func:`_horner` on fractions does: several times faster;
+    issue 15, exact13t)."""
+    n, d = x.numerator, x.denominator
+    v, dp = 0, 1
+    for c in q:
+        v = v * n + c * dp
+        dp *= d
+    return (v > 0) - (v < 0)
+
+
 def sturm_brackets(p: list, lo, hi, depth: int = 200, squarefree: bool = False) -> list | None:
     """The brackets, increasing, each holding one sign change of the polynomial ``p`` (exact
     rational coefficients, highest first) on ``[lo, hi]``, all of them; None when ``p`` is
@@ -828,7 +1018,10 @@ def sturm_brackets(p: list, lo, hi, depth: int = 200, squarefree: bool = False) 
     decides), when isolating its roots takes more than ``depth`` halvings, or (``squarefree``)
     when it has a multiple root (a degenerate turning point, anywhere)."""
     p = _strip(p)
-    if not any(p) or _horner(p, lo) == 0 or _horner(p, hi) == 0:
+    if not any(p):
+        return None
+    ip = _integral(p)  # (the signs of p, in integers: see _sign)
+    if _sign(ip, lo) == 0 or _sign(ip, hi) == 0:
         return None
     if len(p) == 1:
         return []
@@ -846,14 +1039,21 @@ def sturm_brackets(p: list, lo, hi, depth: int = 200, squarefree: bool = False) 
         if len(chain[-1]) == 1:
             break
 
+    ichain = [_integral(q) for q in chain]
+    ip0 = ichain[0]
+    known: dict = {}
+
     def variations(x) -> int:
-        signs = [v for v in (_horner(q, x) for q in chain) if v != 0]
-        return sum((u < 0) != (w < 0) for u, w in zip(signs, signs[1:]))
+        out = known.get(x)
+        if out is None:
+            signs = [v for v in (_sign(q, x) for q in ichain) if v != 0]
+            out = known[x] = sum((u < 0) != (w < 0) for u, w in zip(signs, signs[1:]))
+        return out
 
     def split(a, b):
         for k in range(1, 8):  # the midpoint, or a dyadic point next to it that is not a root
             for m in (a + (b - a) / 2 + (b - a) / 2 ** (k + 1) * (k > 1), a + (b - a) / 2 - (b - a) / 2 ** (k + 1)):
-                if _horner(p0, m) != 0:
+                if _sign(ip0, m) != 0:
                     return m
         return None
 
@@ -873,7 +1073,7 @@ def sturm_brackets(p: list, lo, hi, depth: int = 200, squarefree: bool = False) 
         stack.append((a, m, variations(a) - vm, d + 1))
         stack.append((m, b, vm - variations(b), d + 1))
     points = sorted(set(points))
-    signs = [-1 if _horner(p, x) < 0 else 1 for x in points]  # never 0: the ends and split points are no roots
+    signs = [-1 if _sign(ip, x) < 0 else 1 for x in points]  # never 0: the ends and split points are no roots
     return [(x, y) for x, y, s, r in zip(points, points[1:], signs, signs[1:]) if s != r]
 
 
