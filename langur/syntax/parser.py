@@ -453,7 +453,7 @@ def _parser() -> Lark:
     global _PARSER, _DRIVER  # called under _LOCK
     if _PARSER is None:
         _PARSER = tables.load(_BUILDER) or tables.build(transformer=_BUILDER)
-        _DRIVER = lalr.driver(_PARSER, (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp))
+        _DRIVER = lalr.driver(_PARSER, (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp, (_BUILDER.name, "NAME")))
     return _PARSER
 
 
