@@ -109,7 +109,8 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
     # per state (a list index), a terminal or nonterminal's action — the next state (an int) for a
     # shift, (the rule's length, its callback, the goto of its nonterminal by state) for a
     # reduction, and for a unit rule whose callback returns its child a dict (filled as met): the
-    # state a run of such reductions ends in, by the state below (the value stays on the stack)
+    # state a run of such reductions ends in and the look-ahead's action there, by the state below
+    # (the value stays on the stack)
     try:
         gotos: dict[str, dict[int, int]] = {}  # by symbol (read for nonterminals only)
         for state, row in states.items():
@@ -174,8 +175,8 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
             token.end_line, token.end_pos = line, nxt
             token.column, token.end_column = pos - line_start + 1, nxt - line_start + 1
             pos = nxt
+            code = act[state_stack[-1]].get(kind)
             while True:  # the reductions this token's look-ahead calls for, then its shift
-                code = act[state_stack[-1]].get(kind)
                 if type(code) is Tuple:
                     size, callback, goto = code
                     if size:
@@ -185,13 +186,17 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
                     else:
                         s = []
                     push_value(callback(s))
-                    push_state(goto[state_stack[-1]])
-                elif type(code) is Dict:  # a run of unit reductions: the state after it, by the state below
+                    state = goto[state_stack[-1]]
+                    push_state(state)
+                    code = act[state].get(kind)
+                elif type(code) is Dict:  # a run of unit reductions: the state after it and the action
+                    # there, by the state below
                     below = state_stack[-2]
-                    top = code.get(below)
-                    if top is None:
-                        top = code[below] = unit_run(state_stack[-1], below, kind)
-                    state_stack[-1] = top
+                    found = code.get(below)
+                    if found is None:
+                        top = unit_run(state_stack[-1], below, kind)
+                        found = code[below] = (top, act[top].get(kind))
+                    state_stack[-1], code = found
                 elif code is None:
                     return FAILED
                 else:  # a shift
