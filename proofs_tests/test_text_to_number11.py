@@ -241,3 +241,72 @@ def test_index_constants_equal_the_constructors_attributes_included():
         ours, ref = core.index_const(v), core.Const(Fraction(v))
         assert ours == ref and vars(ours) == vars(ref), v
         assert type(ours.value) is Fraction and ours.value == v
+
+
+def _fresh_reference(n: int, taken: set[str]) -> tuple[str, ...]:
+    """``affine.fresh_inputs`` as written before the table (the names built each time)."""
+    for prefix in ("u", "u_", "w", "w_", "v_", "_u"):
+        names = tuple(f"{prefix}{i}" for i in range(n))
+        if not taken.intersection(names):
+            return names
+    k = 0
+    while any(f"_u{k}_{i}" in taken for i in range(n)):
+        k += 1
+    return tuple(f"_u{k}_{i}" for i in range(n))
+
+
+def test_fresh_inputs_are_the_names_built_each_time():
+    from langur.syntax import affine
+
+    rng = random.Random(5)
+    pool = [f"{p}{i}" for p in ("u", "u_", "w", "w_", "v_", "_u", "_u0_", "_u1_") for i in range(12)] + ["x", "a"]
+    for _ in range(400):
+        n = rng.randrange(0, 12)
+        taken = set(rng.sample(pool, rng.randrange(0, 40)))
+        assert affine.fresh_inputs(n, taken) == _fresh_reference(n, taken), (n, sorted(taken))
+
+
+def test_single_variable_completions_are_sympys_order_and_the_load_is_unchanged():
+    """A one-term solution skips the sort (``affine._atoms``): the completed Ψ̂ of ``±x + c`` and of
+    conditions with several terms equal the ones the sorted path gives (the sort run here on the
+    same terms), and a domain's completions load as the constructor builds them."""
+    from langur.core import Const, Var, sub
+    from langur.syntax import affine
+
+    for terms in [(("u0", "v", Fraction(1)),), (("u0", "v", Fraction(-1)),), (("u0", "v", Fraction(1, 2)),),
+                  (("u0", "v", Fraction(1)), ("a", "p", Fraction(-1))), (("u0", "v", Fraction(0)),)]:
+        affine._atoms.cache_clear()
+        ours = affine._atoms(terms)
+        ref = []
+        for name, kind, c in sorted((t for t in terms if t[2]), key=affine._sort_key):
+            atom = Var(name) if kind == "v" else core.Param(name)
+            ref.append(atom if c == 1 else core.Mul(Const(c), atom))
+        assert ours == tuple(ref)
+    for lo, hi in [(-1, 1), (0, Fraction(1, 3)), (Fraction(-5, 2), 7)]:
+        for cond in (sub(Var("x"), Const(Fraction(lo))), sub(Const(Fraction(hi)), Var("x"))):
+            affine._solve.cache_clear()
+            affine._atoms.cache_clear()
+            psi = affine.complete(cond, ("x",))
+            (branch,) = psi.branches
+            # Ψ̂⁻¹(u0) solves cond = u0 for x: cond(Ψ̂⁻¹(u0)) = u0 at a few rational points
+            for u in (Fraction(0), Fraction(3, 7), Fraction(-2)):
+                x = _value(branch.components[0], {"u0": u})
+                assert _value(cond, {"x": x}) == u
+            assert psi.inputs == ("u0",) and psi.variables == ("x",)
+
+
+def _value(t, env):
+    """The exact value of a small affine core term (an independent evaluator)."""
+    from langur.core import Add, Const, Mul, Pow, Var
+
+    if isinstance(t, Const):
+        return t.value
+    if isinstance(t, Var):
+        return env[t.name]
+    if isinstance(t, Add):
+        return _value(t.left, env) + _value(t.right, env)
+    if isinstance(t, Mul):
+        return _value(t.left, env) * _value(t.right, env)
+    if isinstance(t, Pow):
+        return _value(t.base, env) ** t.exponent
+    raise TypeError(type(t).__name__)
