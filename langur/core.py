@@ -52,7 +52,9 @@ class Const:
         d = self.__dict__
         d["value"], d["span"] = value, span
         d.update(_LEAF_ATTRS)
-        if type(value) is not Fraction:
+        if id(value) in _INT_IDS:  # (an integer of INT_FRACTIONS: small, without Fraction's properties)
+            d["_small"] = value
+        elif type(value) is not Fraction:
             d["_small"] = d["_small_all"] = False
         elif value.denominator.bit_length() > SMALL_BITS or value.numerator.bit_length() >= 1000:
             d["_small"] = v = _in_range(value)
@@ -500,6 +502,8 @@ _MINUS_ONE = Fraction(-1)
 #: constructor is Python code (≈ 4.8 k instructions a call) where this is one subscript (issue 15).
 #: A ``Fraction`` is immutable: sharing one is invisible.
 INT_FRACTIONS: tuple[Fraction, ...] = tuple(Fraction(i) for i in range(128))
+#: Their identities (the table keeps them alive): a ``Const`` of one of them is small (``Const``).
+_INT_IDS = frozenset(map(id, INT_FRACTIONS))
 
 
 def _in_range(v: Fraction):

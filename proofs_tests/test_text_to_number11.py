@@ -310,3 +310,13 @@ def _value(t, env):
     if isinstance(t, Pow):
         return _value(t.base, env) ** t.exponent
     raise TypeError(type(t).__name__)
+
+
+def test_consts_of_the_table_have_the_constructors_attributes():
+    """``Const`` of an ``INT_FRACTIONS`` entry skips the size tests (new): its attributes are those of
+    a ``Const`` of a Fraction made apart (not from the table), for every entry."""
+    for i, f in enumerate(core.INT_FRACTIONS):
+        apart = Fraction(i * 3, 3)  # (a distinct object of the same value)
+        assert apart is not f
+        ours, ref = core.Const(f), core.Const(apart)
+        assert vars(ours) == vars(ref) and ours._small is f
