@@ -4,11 +4,17 @@ lark's ``Lark.parse`` runs the lexer as a generator of tokens, feeds each throug
 object (looking the reduction's callback up by its ``Rule``, whose hash and equality are Python
 methods) and counts lines token by token: about two thirds of parsing a small program, the
 callbacks that build the surface tree (``parser._Builder``) the last third.  :func:`driver` reads
-the *same* objects out of the parser lark built from the shipped tables — the lexer's compiled
-terminal patterns, its keyword callback, the ignored and newline-bearing terminals, the LALR
+the *same* objects out of the parser lark built from the shipped tables — the lexer's terminals
+in its order, its keyword callback's literals, the ignored and newline-bearing terminals, the LALR
 action table and the callbacks — and runs them in one loop: the same tokens (``lark.Token``, with
 the same positions), the same shifts and reductions, the same callbacks called in the same order,
-so the same result or the same exception from a callback (E105, E106).
+so the same result or the same exception from a callback (E105, E106).  Two things are done
+another way than lark's runtime does them, for speed (front11, issue 15: matching was a fifth of
+parsing a small program): the one-character literal terminals are one character class of the
+lexer's pattern (at most one of them matches anywhere, so lark's order among them is moot), and a
+name is told from a keyword by a dict of the keywords' literals (what lark's ``UnlessCallback``
+finds by a full match of their alternation).  ``proofs_tests/test_text_to_number11.py`` compares
+every token with lark's.
 
 Only success is handled here: at a character no terminal matches or a token the table has no
 action for, :func:`driver`'s function returns :data:`FAILED` and the caller parses again with lark,
