@@ -52,7 +52,9 @@ class Const:
         d = self.__dict__
         d["value"], d["span"] = value, span
         d.update(_LEAF_ATTRS)
-        if type(value) is not Fraction:
+        if id(value) in _INT_IDS:  # (an integer of INT_FRACTIONS: small, without Fraction's properties)
+            d["_small"] = value
+        elif type(value) is not Fraction:
             d["_small"] = d["_small_all"] = False
         elif value.denominator.bit_length() > SMALL_BITS or value.numerator.bit_length() >= 1000:
             d["_small"] = v = _in_range(value)
@@ -495,6 +497,14 @@ def _join(a: frozenset, b: frozenset) -> frozenset:
 _SMALL_INT = int(SMALL)
 _MINUS_ONE = Fraction(-1)
 
+#: ``Fraction(i)`` for the integers 0 … 127, made once at import (≈ 0.6 M instructions): most literals
+#: of a program and most indices of a loop's copies are small integers, and ``Fraction``'s
+#: constructor is Python code (≈ 4.8 k instructions a call) where this is one subscript (issue 15).
+#: A ``Fraction`` is immutable: sharing one is invisible.
+INT_FRACTIONS: tuple[Fraction, ...] = tuple(Fraction(i) for i in range(128))
+#: Their identities (the table keeps them alive): a ``Const`` of one of them is small (``Const``).
+_INT_IDS = frozenset(map(id, INT_FRACTIONS))
+
 
 def _in_range(v: Fraction):
     """``v`` when it is a small rational (``SMALL``, ``SMALL_BITS``), else ``False`` (integer
@@ -697,7 +707,7 @@ def index_const(value: int, span=None) -> Const:
     """``Const(Fraction(value), span=span)`` for an int ``value`` (a loop's index in one of its
     copies, issue 15): an integer of fewer than 1000 bits is its own small value, so its attributes
     are written without the constructor's tests.  Equal, attributes included, to the constructor's."""
-    number = Fraction(value)
+    number = INT_FRACTIONS[value] if 0 <= value < 128 else Fraction(value)
     if value.bit_length() >= 1000:
         return Const(number, span=span)
     new = _new(Const)

@@ -53,11 +53,16 @@ MAX_EXPONENT = 64
 Linear = tuple[dict[tuple[str, str], Fraction], Fraction]
 
 
+#: The prefixes of :func:`fresh_inputs`, in the order they are tried, each with its first names.
+_PREFIXES = tuple((prefix, tuple(f"{prefix}{i}" for i in range(8))) for prefix in ("u", "u_", "w", "w_", "v_", "_u"))
+
+
 def fresh_inputs(n: int, taken: set[str]) -> tuple[str, ...]:
-    """``u0 … u{n-1}``, or with the first prefix among ``u, u_, w, w_, …`` that clashes with nothing."""
-    for prefix in ("u", "u_", "w", "w_", "v_", "_u"):
-        names = tuple(f"{prefix}{i}" for i in range(n))
-        if not taken.intersection(names):
+    """``u0 … u{n-1}``, or with the first prefix among ``u, u_, w, w_, …`` that clashes with nothing.
+    (Up to 8 names read off a table: every completion of a new shape asks, issue 15.)"""
+    for prefix, first in _PREFIXES:
+        names = first[:n] if n <= 8 else tuple(f"{prefix}{i}" for i in range(n))
+        if taken.isdisjoint(names):
             return names
     k = 0
     while any(f"_u{k}_{i}" in taken for i in range(n)):
@@ -285,7 +290,7 @@ def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, para
     if not candidates:
         return None  # every variable cancels: the sympy path gives the reason
     v = candidates[-1]  # all have a constant coefficient (rank 0): the last one in order
-    inputs = fresh_inputs(len(variables), set(variables) | set(params) | set(occurring))
+    inputs = fresh_inputs(len(variables), {*variables, *params, *occurring})
     others = [x for x in variables if x != v]
     renamed = {x: u for x, u in zip(others, inputs[1:])}
     a = form[("v", v)]
@@ -358,7 +363,8 @@ def _atoms(terms: tuple[tuple[str, str, Fraction], ...]) -> tuple[Term, ...]:
     """The ``c·atom`` of :func:`_ordered` in sympy's order: the same for every condition of one
     shape (a loop's copies differ in their constant only), so built once and shared (issue 15)."""
     parts: list[Term] = []
-    for name, kind, c in sorted((t for t in terms if t[2]), key=_sort_key):
+    kept = [t for t in terms if t[2]]
+    for name, kind, c in (sorted(kept, key=_sort_key) if len(kept) > 1 else kept):
         atom: Term = Var(name) if kind == "v" else Param(name)
         parts.append(atom if c == 1 else Mul(Const(c), atom))
     return tuple(parts)

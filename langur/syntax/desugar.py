@@ -38,6 +38,7 @@ from fractions import Fraction
 
 from .. import typesys as ty
 from ..core import (
+    INT_FRACTIONS,
     PI,
     Add,
     Call,
@@ -133,6 +134,7 @@ class Env:
 
 
 _new = object.__new__
+_ZERO, _ONE, _MINUS_ONE = INT_FRACTIONS[0], INT_FRACTIONS[1], Fraction(-1)
 
 
 @dataclass(frozen=True)
@@ -164,7 +166,7 @@ class Scope:
         new = _new(Scope)
         d = new.__dict__
         d.update(self.__dict__)
-        d["consts"], d["vectors"] = {**self.consts, name: Fraction(value)}, vecs
+        d["consts"], d["vectors"] = {**self.consts, name: INT_FRACTIONS[value] if 0 <= value < 128 else Fraction(value)}, vecs
         return new
 
     def with_vector(self, name: str, vec: Vec) -> Scope:
@@ -248,7 +250,7 @@ class Desugarer:
                 if op == "*":
                     return Mul(left, right, span=span)
                 if op == "/":
-                    return Mul(left, Pow(right, Fraction(-1), span=span), span=span)
+                    return Mul(left, Pow(right, _MINUS_ONE, span=span), span=span)
                 raise ValueError(f"unknown operator {op}")
             case Num(v):
                 # a decimal literal, read exactly
@@ -261,7 +263,7 @@ class Desugarer:
                 arg = self.value(a, sc)
                 if isinstance(arg, Vec):
                     return vectors.negate(arg)
-                return Mul(Const(Fraction(-1)), arg, span=span)
+                return Mul(Const(_MINUS_ONE), arg, span=span)
             case Apply("dot" | "cross" as f, args):
                 # dot(u, v) is u1·v1 + … + un·vn; cross(u, v) of 3-vectors
                 if len(args) != 2:
@@ -284,8 +286,8 @@ class Desugarer:
                 # [t0 op t1 op t2 …] is the product [t0 op t1]·[t1 op t2]·…
                 errors, pieces = len(self.errors), self.pieces
                 core = [self.term(t, sc) for t in terms]
-                out = product([self.conditional(compare(core[i], op, core[i + 1]), Const(Fraction(1)),
-                                                Const(Fraction(0)), sc, span, join(terms[i], terms[i + 1]))
+                out = product([self.conditional(compare(core[i], op, core[i + 1]), Const(_ONE),
+                                                Const(_ZERO), sc, span, join(terms[i], terms[i + 1]))
                                for i, op in enumerate(ops)], span)
                 if len(self.errors) > errors and all(kinks.TOO_LARGE in d.message for d in self.errors[errors:]) \
                         and (alt := kinks.lattice(st)) is not None:

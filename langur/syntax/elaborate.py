@@ -16,7 +16,7 @@ from fractions import Fraction
 
 from .. import lazy
 from .. import typesys as ty
-from ..core import Call, Const, Diffeo, Interval, Program, Var, sub, subterms
+from ..core import INT_FRACTIONS, Call, Const, Diffeo, Interval, Program, Var, sub, subterms
 from ..diagnostics import Diagnostic, Span
 from ..modules import CoreDef, ElaboratedModule
 from .desugar import RESERVED, DefSig, Desugarer, DiffeoSig, Env, Scope, is_smooth
@@ -273,7 +273,7 @@ def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) 
     else:
         # int ([l1, u1], …) t d(x⃗)  is  int [x1 ≥ l1]·[u1 ≥ x1]·…·t d(x⃗): the domain is kept as
         # data, its conditions completed here; Program.body builds the indicators
-        one, zero = Const(Fraction(1)), Const(Fraction(0))
+        one, zero = Const(INT_FRACTIONS[1]), Const(INT_FRACTIONS[0])
         for x, (lo, hi), iv in zip(xs, box, p.domain):
             lower, upper = (ds.conditional(cond, one, zero, sc, p.span, iv.span)
                             for cond in (sub(Var(x), lo), sub(hi, Var(x))))

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from .. import gcpause
+from ..core import INT_FRACTIONS
 from ..diagnostics import LangurError, Span, error
 from . import lalr, tables
 from .chains import LEVEL as _LEVEL
@@ -312,14 +313,15 @@ class _Builder:
 
     def binop(self, c):
         left, op, right = c
-        level = _LEVEL.get(str(op))
+        op = op.value  # (a token's text: its `value` slot, as str(op) would copy it)
+        level = _LEVEL.get(op)
         if level is None:  # ^: right-associative and bounded by real nesting
-            return self.term(lambda sp: BinOp(str(op), left.node, right.node, sp), left, right, (left, right))
-        if isinstance(left, _Chain) and left.level == level:  # the grammar's left recursion: one more link
-            left.append(str(op), right)
+            return self.term(lambda sp: BinOp(op, left.node, right.node, sp), left, right, (left, right))
+        if type(left) is _Chain and left.level == level:  # the grammar's left recursion: one more link
+            left.append(op, right)
             return left
         chain = _Chain(self, level, left)
-        chain.append(str(op), right)
+        chain.append(op, right)
         return chain
 
     def neg(self, c):
@@ -328,15 +330,19 @@ class _Builder:
 
     def num(self, c):  # (term(): a leaf's span is its token's, its depth 1)
         t = c[0]
-        text = str(t)  # (number()'s first case written out: a short integer)
-        value = Fraction(int(text)) if len(text) <= _SHORT and text.isdigit() else self.number(t)
+        text = t.value  # (number()'s first case written out: a short integer)
+        if len(text) <= _SHORT and text.isdigit():
+            value = int(text)
+            value = INT_FRACTIONS[value] if value < 128 else Fraction(value)
+        else:
+            value = self.number(t)
         line, col, end_line, end_col = t.line, t.column, t.end_line, t.end_column
         return _R(Num(value, Span(self.path, line, col, end_line, end_col)), line, col, end_line, end_col, 1)
 
     def var(self, c):
         t = c[0]
         line, col, end_line, end_col = t.line, t.column, t.end_line, t.end_column
-        return _R(Name(str(t), Span(self.path, line, col, end_line, end_col)), line, col, end_line, end_col, 1)
+        return _R(Name(t.value, Span(self.path, line, col, end_line, end_col)), line, col, end_line, end_col, 1)
 
     def apply(self, c):
         args = c[2] if isinstance(c[2], list) else []
@@ -344,9 +350,8 @@ class _Builder:
         return self.term(lambda sp: Apply(str(c[0]), tuple(a.node for a in args), sp, nsp), c[0], c[-1], args)
 
     def paren(self, c):
-        inner = c[1]
-        (l1, c1), (l2, c2) = _start(c[0]), _end(c[2])
-        return _R(inner.node, l1, c1, l2, c2, inner.depth)
+        left, inner, right = c  # ( term ): two tokens around the term
+        return _R(inner.node, left.line, left.column, right.end_line, right.end_column, inner.depth)
 
     def chain(self, c):
         """``t0 op0 t1 op1 t2 …``: its terms and comparison operators."""
@@ -453,7 +458,7 @@ def _parser() -> Lark:
     global _PARSER, _DRIVER  # called under _LOCK
     if _PARSER is None:
         _PARSER = tables.load(_BUILDER) or tables.build(transformer=_BUILDER)
-        _DRIVER = lalr.driver(_PARSER, (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp))
+        _DRIVER = lalr.driver(_PARSER, (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp, (_BUILDER.name, "NAME")))
     return _PARSER
 
 
