@@ -108,7 +108,7 @@ def vanishes_identically(expr, syms, ubox, ctx: Context) -> bool:
     if expr.is_number:
         return False
     for pt in _sample(ctx, syms, ubox):
-        z = ctx.value(expr.xreplace(pt))
+        z = ctx.value_with(expr, pt)
         if abs(z) > 1e-12:
             return False
     try:

@@ -34,6 +34,20 @@ def _vanishes(expr, syms, bounds, at) -> bool:
     return True
 
 
+def cofactor_det(m: sp.Matrix) -> sp.Expr:
+    """det ``m`` by cofactor expansion along the first row, nothing expanded, cancelled or
+    simplified: the forward Jacobian is only ever evaluated in floats at the quadrature's nodes, so
+    sympy's ``Matrix.det`` (which expands and cancels the products: a third of a second for the
+    ray tracer's shader condition) buys nothing here."""
+    n = m.rows
+    if n != m.cols:
+        raise ValueError(f"det of a {m.rows}x{m.cols} matrix")
+    if n == 1:
+        return m[0, 0]
+    return sp.Add(*[(-1) ** j * m[0, j] * cofactor_det(m.minor_submatrix(0, j))
+                    for j in range(n) if m[0, j] != 0])
+
+
 #: det DΨ̂ by (forward map, variables): the same Ψ̂ comes back for other partial derivatives.
 _FORWARD_DETS: dict = {}
 
@@ -48,8 +62,8 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
     missing = [x for x in variables if x not in psi.variables]
     uprime = list(psi.inputs[1:]) + missing
     jac = _FORWARD_DETS.get((psi.forward, psi.variables))
-    if jac is None:  # (sympy's det simplifies as it goes: a third of a second for the ray tracer's shader)
-        jac = sp.Matrix(psi.forward).jacobian(list(psi.variables)).det()
+    if jac is None:  # (only evaluated numerically: the cofactor formula, not sympy's simplifying det)
+        jac = cofactor_det(sp.Matrix(psi.forward).jacobian(list(psi.variables)))
         if len(_FORWARD_DETS) >= COMPILED:
             _FORWARD_DETS.pop(next(iter(_FORWARD_DETS)))
         _FORWARD_DETS[(psi.forward, psi.variables)] = jac
