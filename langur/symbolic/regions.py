@@ -536,13 +536,14 @@ def _dedupe(bounds):
 def _rational_probe(e):
     """``e``'s exact value (a sympy Rational) with each symbol replaced by a fixed rational of its
     own (from its name), or None when that is not a rational number (a root, a pole)."""
+    e = sp.sympify(e)
     point = {}
     for s in local.free_symbols(e):
         q = _PROBE_RATIONALS.get(s.name)
         if q is None:
             q = _PROBE_RATIONALS[s.name] = sp.Rational(random.Random(s.name).randint(10**5, 10**6), 999983)
         point[s] = q
-    z = sp.sympify(e).xreplace(point)
+    z = e.xreplace(point)
     return z if z.is_Rational else None
 
 
