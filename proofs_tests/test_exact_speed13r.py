@@ -27,8 +27,8 @@ import sympy as sp
 from langur.ddenote import ddenote_program
 from langur.frontend import load, load_text
 from langur.operational import estimate_derivative
-from langur.symbolic import regions
-from langur.symbolic.quadrature.deltaproblems import _FORWARD_DETS, cofactor_det
+from langur.symbolic import delta, regions
+from langur.symbolic.quadrature.deltaproblems import _FORWARD_DETS, cofactor_det, jacobian_det
 from langur.symbolic.regions import Context, _dedupe, _rational_probe
 from langur.timebox import Deadline
 
@@ -106,8 +106,49 @@ def test_the_ray_tracers_forward_determinants_equal_sympys():
     assert len(_FORWARD_DETS) == 4
     for (forward, variables), det in _FORWARD_DETS.items():
         jac = sp.Matrix(forward).jacobian(list(variables))
-        assert det == cofactor_det(jac)  # the formula, not sympy's cancelled form (new)
+        assert det == jacobian_det(forward, variables)  # the formula, not sympy's cancelled form (new)
         _same_function(det, jac, sorted(jac.free_symbols, key=str), 7)  # the same function
+
+
+def test_jacobian_det_differentiates_only_what_the_expansion_multiplies():
+    f = (a * x + b * y) ** 3 / (x - y + 2)
+    assert jacobian_det((f, x), (x, y)) == -sp.diff(f, y)  # Ψ̂ = (f, x): ∂f/∂x is not needed
+    rng = random.Random(9)
+    syms = [x, y, z]
+    for n in (2, 3):
+        for _ in range(6):
+            fs = [sum(rng.randint(-3, 3) * rng.choice(syms[:n]) ** rng.randint(0, 2) * rng.choice([1, a])
+                      for _ in range(2)) for _ in range(n)]
+            jac = sp.Matrix(fs).jacobian(syms[:n])
+            assert sp.expand(jacobian_det(fs, syms[:n]) - _leibniz(jac)) == 0
+
+
+def _old_jacobian(comps, inputs):
+    """delta._jacobian as it was: every entry differentiated, then sympy's det (on the zero set)."""
+    return sp.Matrix([[sp.diff(e, u) for u in inputs] for e in comps]).det().xreplace({inputs[0]: sp.Integer(0)})
+
+
+@pytest.mark.parametrize("example", ["raytrace/scene.lgr", "fig9.lgr", "window.lgr", "adapters/programs/disk.lgr"])
+def test_inverse_jacobians_are_sympys_determinants_as_before(example, monkeypatch):
+    # det DΨ̂⁻¹ is printed in closed forms: it must stay sympy's determinant of the full matrix
+    # (the entries whose partner is 0 are no longer differentiated)
+    seen = []
+    original = delta._jacobian
+
+    def spy(comps, inputs):
+        seen.append((comps, inputs))
+        return original(comps, inputs)
+
+    monkeypatch.setattr(delta, "_jacobian", spy)
+    delta._JACOBIANS.clear()
+    loaded = load(str(EXAMPLES / example))
+    at = loaded.param_values()
+    ddenote_program(loaded.program, at, {k: int(k == next(iter(at))) for k in at})
+    assert seen
+    for comps, inputs in seen:
+        assert sp.srepr(original(comps, inputs)) == sp.srepr(_old_jacobian(comps, inputs))
+    comps, inputs = (y, (x ** 2 + a) / (y + b) + x), (x, y)  # ∂y/∂x = 0: ∂(second)/∂y is not needed
+    assert sp.srepr(original(comps, inputs)) == sp.srepr(_old_jacobian(comps, inputs))
 
 
 def test_a_delta_integral_with_a_hand_value():
