@@ -74,6 +74,22 @@ _VALUES: dict = {}
 VALUES = 4096
 
 
+#: :func:`_canonical`'s answers by (kind, expression): the same coefficients' signs are recorded
+#: for each case of a decomposition and again for other partial derivatives.
+_CANONICAL: dict = {}
+
+
+def _canonical(rel_kind: str, expr) -> tuple:
+    """``(p, p ⋈ 0)``: ``expr`` expanded, its positive content divided out (remembered)."""
+    key = (rel_kind, sp.sympify(expr))
+    out = _CANONICAL.get(key)
+    if out is None:
+        _, p = sp.expand(expr).as_content_primitive()
+        out = (p, {">": sp.StrictGreaterThan, ">=": sp.GreaterThan, "=": sp.Eq}[rel_kind](p, 0))
+        _remember(_CANONICAL, key, out)
+    return out
+
+
 @dataclass
 class Context:
     """Evaluation point, time budget and the decisions taken at the evaluation point."""
@@ -134,9 +150,7 @@ class Context:
     def record(self, rel_kind: str, expr) -> None:
         """Add ``expr > 0`` / ``expr >= 0`` / ``expr = 0`` to the cell, canonically (positive
         content divided out, so ``4*a + 4 > 0`` and ``-a - 1 < 0`` are one entry)."""
-        e = sp.expand(expr)
-        _, p = e.as_content_primitive()
-        rel = {">": sp.StrictGreaterThan, ">=": sp.GreaterThan, "=": sp.Eq}[rel_kind](p, 0)
+        p, rel = _canonical(rel_kind, expr)
         if rel_kind == "=" and sp.Eq(-p, 0) in self.cell:
             return
         if rel not in (sp.true, sp.false) and rel not in self.cell:
