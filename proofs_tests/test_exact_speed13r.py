@@ -225,3 +225,18 @@ def test_rational_probe_is_the_exact_value_at_its_point():
     assert got == want
     assert _rational_probe(sp.sqrt(a) + x) is None
     assert _rational_probe(sp.Integer(7)) == 7
+
+
+def test_cell_relations_are_canonical_and_remembered():
+    ctx = _ctx()
+    ctx.record(">", 4 * a + 4)
+    ctx.record(">", 2 * (a + 1) * 2)  # the same relation, unexpanded
+    assert ctx.cell == [sp.StrictGreaterThan(a + 1, 0)]
+    ctx.record("=", -b - 1)
+    ctx.record("=", b + 1)  # -(b + 1) = 0 is already there
+    assert ctx.cell == [sp.StrictGreaterThan(a + 1, 0), sp.Eq(-b - 1, 0)]
+    for kind, e in ((">", (a - b) * (a + b) * 6), (">=", 3 * a ** 2 - 9 * b), ("=", (a + 1) ** 2 / 2)):
+        p, rel = regions._canonical(kind, e)
+        assert regions._CANONICAL[(kind, e)] == (p, rel)
+        _, fresh = sp.expand(e).as_content_primitive()  # the rule, computed afresh
+        assert p == fresh and rel.lhs == fresh and rel.rhs == 0
