@@ -20,6 +20,7 @@ from typing import Sequence
 import sympy as sp
 
 from langur.implicit import ImplicitRootFn
+from langur.symbolic import local
 from langur.symbolic.pieces import DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
 from langur.symbolic.regions import Cond, Context
@@ -108,7 +109,7 @@ def vanishes_identically(expr, syms, ubox, ctx: Context) -> bool:
     if expr.is_number:
         return False
     for pt in _sample(ctx, syms, ubox):
-        z = ctx.value(expr.xreplace(pt))
+        z = ctx.value_with(expr, pt)
         if abs(z) > 1e-12:
             return False
     try:
@@ -130,10 +131,26 @@ def _jacobian(comps: tuple, inputs: tuple):
     """det DΨ̂⁻¹ at u₀ = 0 for the inverse branch ``comps`` (the variables in the ``inputs``)."""
     J = _JACOBIANS.get((comps, inputs))
     if J is None:
-        jac = sp.Matrix([[sp.diff(e, u) for u in inputs] for e in comps]).det()
+        jac = sp.Matrix(_jacobian_entries(comps, inputs)).det()
         J = jac.xreplace({inputs[0]: sp.Integer(0)})
         remember(_JACOBIANS, (comps, inputs), J, 512)
     return J
+
+
+def _jacobian_entries(comps: tuple, inputs: tuple) -> list[list]:
+    """DΨ̂⁻¹ = (∂comps_i/∂inputs_j), 0 without differentiating where ``inputs_j`` is not in
+    ``comps_i``.  In a 2×2, whose determinant is the formula ``a·d − b·c`` (sympy's for at most
+    3×3), an entry whose partner in its product is such a 0 is not differentiated either and is
+    written 0: the product is 0 all the same (for Ψ̂⁻¹ = (u₁, g(u₀, u₁)) only ∂g/∂u₀ is computed)."""
+    free = [local.free_symbols(sp.sympify(e)) for e in comps]
+    n = len(comps)
+    zero = [[u not in free[i] for u in inputs] for i in range(n)]
+    skip = [[False] * n for _ in range(n)]
+    if n == 2:
+        for i, j in ((0, 0), (0, 1), (1, 0), (1, 1)):
+            skip[i][j] = zero[1 - i][1 - j]
+    return [[sp.Integer(0) if zero[i][j] or skip[i][j] else sp.diff(e, u) for j, u in enumerate(inputs)]
+            for i, e in enumerate(comps)]
 
 
 def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Context, ubox):

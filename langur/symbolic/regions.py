@@ -74,6 +74,22 @@ _VALUES: dict = {}
 VALUES = 4096
 
 
+#: :func:`_canonical`'s answers by (kind, expression): the same coefficients' signs are recorded
+#: for each case of a decomposition and again for other partial derivatives.
+_CANONICAL: dict = {}
+
+
+def _canonical(rel_kind: str, expr) -> tuple:
+    """``(p, p ⋈ 0)``: ``expr`` expanded, its positive content divided out (remembered)."""
+    key = (rel_kind, sp.sympify(expr))
+    out = _CANONICAL.get(key)
+    if out is None:
+        _, p = sp.expand(expr).as_content_primitive()
+        out = (p, {">": sp.StrictGreaterThan, ">=": sp.GreaterThan, "=": sp.Eq}[rel_kind](p, 0))
+        _remember(_CANONICAL, key, out)
+    return out
+
+
 @dataclass
 class Context:
     """Evaluation point, time budget and the decisions taken at the evaluation point."""
@@ -101,6 +117,23 @@ class Context:
             _remember(_VALUES, key, z, VALUES)
         return z
 
+    def value_with(self, expr, numbers: dict) -> complex:
+        """:meth:`value` of ``expr.xreplace(numbers)`` (``numbers``: symbols → sympy Floats), in
+        one substitution: the tree is rebuilt once, from numbers only, instead of once with the
+        floats ``numbers`` among the parameters' symbols (sympy's products and sums of symbolic
+        terms, their assumptions) and again with the point's floats; remembered likewise."""
+        expr = sp.sympify(expr)
+        key = (expr, tuple(numbers.items()), tuple(self.at.items()))
+        z = _VALUES.get(key)
+        if z is None:
+            e = expr.xreplace({**_floats40(self.at), **numbers})
+            try:
+                z = complex(e.evalf(30))
+            except TypeError:
+                raise ValueError(f"no value for {sorted(map(str, e.free_symbols))} in {expr}") from None
+            _remember(_VALUES, key, z, VALUES)
+        return z
+
     def exact_value(self, expr) -> complex:
         """:meth:`value` with the point's rational values substituted exactly (then evaluated to 30
         digits): a closed form's value at the point.  With 40-digit floats substituted, a closed
@@ -117,9 +150,7 @@ class Context:
     def record(self, rel_kind: str, expr) -> None:
         """Add ``expr > 0`` / ``expr >= 0`` / ``expr = 0`` to the cell, canonically (positive
         content divided out, so ``4*a + 4 > 0`` and ``-a - 1 < 0`` are one entry)."""
-        e = sp.expand(expr)
-        _, p = e.as_content_primitive()
-        rel = {">": sp.StrictGreaterThan, ">=": sp.GreaterThan, "=": sp.Eq}[rel_kind](p, 0)
+        p, rel = _canonical(rel_kind, expr)
         if rel_kind == "=" and sp.Eq(-p, 0) in self.cell:
             return
         if rel not in (sp.true, sp.false) and rel not in self.cell:
@@ -502,11 +533,36 @@ def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
 
 
 def _dedupe(bounds):
-    out = []
+    """``bounds`` without repeats: ``b`` is dropped when ``expand(b − o) == 0`` for a bound ``o``
+    kept before it.  Two bounds with different exact values at one rational point
+    (:func:`_rational_probe`) are not repeats, and are not expanded (expanding the difference of
+    two large bounds costs tens of milliseconds); the expansion decides the rest, as before."""
+    out, values = [], []
     for b in bounds:
-        if not any(sp.expand(b - o) == 0 for o in out):
+        vb = _rational_probe(b)
+        if not any((vb is None or vo is None or vb == vo) and sp.expand(b - o) == 0
+                   for o, vo in zip(out, values)):
             out.append(b)
+            values.append(vb)
     return out
+
+
+def _rational_probe(e):
+    """``e``'s exact value (a sympy Rational) with each symbol replaced by a fixed rational of its
+    own (from its name), or None when that is not a rational number (a root, a pole)."""
+    e = sp.sympify(e)
+    point = {}
+    for s in local.free_symbols(e):
+        q = _PROBE_RATIONALS.get(s.name)
+        if q is None:
+            q = _PROBE_RATIONALS[s.name] = sp.Rational(random.Random(s.name).randint(10**5, 10**6), 999983)
+        point[s] = q
+    z = e.xreplace(point)
+    return z if z.is_Rational else None
+
+
+#: :func:`_rational_probe`'s value of each symbol, by name.
+_PROBE_RATIONALS: dict = {}
 
 
 def _prefilter(conds, ctx: Context):
@@ -682,7 +738,7 @@ def _vanishes_at_point(expr, v, root, ctx: Context) -> bool:
         z = ctx.value(root)
         if abs(z.imag) > 1e-12 * max(1.0, abs(z.real)):
             return False
-        residual = ctx.value(expr.xreplace({v: sp.Float(z.real, 40)}))
+        residual = ctx.value_with(expr, {v: sp.Float(z.real, 40)})
     except (TypeError, ValueError, ZeroDivisionError):
         return False
     return abs(residual) <= 1e-9 * max(1.0, abs(z.real))

@@ -13,6 +13,7 @@ import numpy as np
 import sympy as sp
 
 from langur.implicit import ImplicitRootFn
+from langur.symbolic.local import free_symbols
 from langur.symbolic.pieces import DeltaPiece
 from langur.symbolic.quadrature.brackets import _implied_by_bracket
 from langur.symbolic.quadrature.compiling import COMPILED, _floats, _lambdify, _num
@@ -34,6 +35,46 @@ def _vanishes(expr, syms, bounds, at) -> bool:
     return True
 
 
+def cofactor_det(m: sp.Matrix) -> sp.Expr:
+    """det ``m`` by cofactor expansion (:func:`_expansion`), nothing expanded, cancelled or
+    simplified."""
+    if m.rows != m.cols:
+        raise ValueError(f"det of a {m.rows}x{m.cols} matrix")
+    return _expansion(lambda i, j: m[i, j], lambda i, j: m[i, j] == 0, list(range(m.rows)), list(range(m.cols)))
+
+
+def jacobian_det(fs: Sequence, xs: Sequence) -> sp.Expr:
+    """det (∂f_i/∂x_j) by cofactor expansion (:func:`_expansion`), an entry known to be 0 where
+    ``x_j`` is not in ``f_i``, and only the entries the expansion multiplies differentiated: for
+    Ψ̂ = (f, x) that is ∂f/∂y alone.  The forward Jacobian det DΨ̂ is only ever evaluated in floats
+    at the quadrature's nodes, so sympy's ``Matrix.det`` (which expands and cancels the products: a
+    third of a second for the ray tracer's shader condition) buys nothing here."""
+    fs = [sp.sympify(f) for f in fs]
+    if len(fs) != len(xs):
+        raise ValueError(f"det of a {len(fs)}x{len(xs)} Jacobian")
+    free = [free_symbols(f) for f in fs]
+    known: dict = {}
+
+    def entry(i, j):
+        if (i, j) not in known:
+            known[i, j] = sp.diff(fs[i], xs[j])
+        return known[i, j]
+
+    return _expansion(entry, lambda i, j: xs[j] not in free[i], list(range(len(fs))), list(range(len(xs))))
+
+
+def _expansion(entry, zero, rows: list, cols: list) -> sp.Expr:
+    """det of the minor (``rows``, ``cols``), expanded along its row with the most entries ``zero``
+    says are 0 (the first such row); ``entry(i, j)`` is asked only for the entries multiplied."""
+    if len(rows) == 1:
+        return entry(rows[0], cols[0])
+    k = max(range(len(rows)), key=lambda r: sum(zero(rows[r], j) for j in cols))
+    i = rows[k]
+    rest = rows[:k] + rows[k + 1:]
+    return sp.Add(*[(-1) ** (k + c) * entry(i, j) * _expansion(entry, zero, rest, cols[:c] + cols[c + 1:])
+                    for c, j in enumerate(cols) if not zero(i, j)])
+
+
 #: det DΨ̂ by (forward map, variables): the same Ψ̂ comes back for other partial derivatives.
 _FORWARD_DETS: dict = {}
 
@@ -48,8 +89,8 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
     missing = [x for x in variables if x not in psi.variables]
     uprime = list(psi.inputs[1:]) + missing
     jac = _FORWARD_DETS.get((psi.forward, psi.variables))
-    if jac is None:  # (sympy's det simplifies as it goes: a third of a second for the ray tracer's shader)
-        jac = sp.Matrix(psi.forward).jacobian(list(psi.variables)).det()
+    if jac is None:  # (only evaluated numerically: the cofactor formula, not sympy's simplifying det)
+        jac = jacobian_det(psi.forward, psi.variables)
         if len(_FORWARD_DETS) >= COMPILED:
             _FORWARD_DETS.pop(next(iter(_FORWARD_DETS)))
         _FORWARD_DETS[(psi.forward, psi.variables)] = jac
