@@ -857,6 +857,7 @@ class _Tape:
     def __init__(self, expr):
         index: dict = {}
         self.ops: list = []
+        self.nodes: list = []  # (the subtree of each operation)
         stack = [(expr, False)]
         while stack:
             node, done = stack.pop()
@@ -865,6 +866,7 @@ class _Tape:
             if done:
                 index[node] = len(self.ops)
                 self.ops.append(self._op(node, index))
+                self.nodes.append(node)
                 continue
             stack.append((node, True))
             stack.extend((a, False) for a in _operands(node) if a not in index)
@@ -900,12 +902,21 @@ class _Tape:
         return tape
 
     def values(self, point: dict) -> list:
-        """The value of every operation at ``point`` (remembered for the last few points)."""
+        """The value of every operation at ``point`` (remembered for the last few points), sharing
+        the values of subtrees at the point with :func:`rational_value` (:func:`_point_values`): the
+        Theorem 8.1 check differentiates ⟦p⟧'s closed form and evaluates ⦇p⦈'s and its cell's
+        relations at the same points, and they share their subtrees (a polygon's vertices and their
+        powers, the weights' coefficients)."""
         key = _point_key(point)
         vals = self._values.get(key)
         if vals is None:
             vals = []
-            for kind, args, k in self.ops:
+            known = _point_values(point)
+            for node, (kind, args, k) in zip(self.nodes, self.ops):
+                v = known.get(node)
+                if v is not None:
+                    vals.append(v)
+                    continue
                 if kind == _RAT:
                     v = k
                 elif kind == _SYM:
@@ -931,6 +942,7 @@ class _Tape:
                         raise _NotRational()  # (not differentiable there)
                     v = (abs(a[0]), a[1])
                 vals.append(v)
+                known[node] = v
             if len(self._values) >= VALUE_POINTS:
                 self._values.pop(next(iter(self._values)))
             self._values[key] = vals
