@@ -236,10 +236,22 @@ def is_large(exprs, params) -> bool:
 # Exact values at the evaluation point.
 
 
-def shared_xreplace(e, rule: dict):
+def shared_xreplace(e, rule: dict, rational: bool | None = None):
     """``e.xreplace(rule)``, the same expression, each distinct subtree rebuilt once (sympy's
     ``xreplace`` rebuilds a subtree every time it occurs: a weight substituted at every point of a
-    lattice rule is a tree of thousands of nodes over a few hundred distinct ones)."""
+    lattice rule is a tree of thousands of nodes over a few hundred distinct ones).
+
+    When ``e`` and the replacements are real rational forms (:func:`rational_form`; ``rational``:
+    that answer when the caller knows it), a rebuilt integer power of a sum is made without sympy's
+    evaluation, which gives that same node: for a sum with a symbol in it and an integer exponent
+    other than 0 and 1, ``Pow`` evaluates only through ``Add._eval_power``, which rewrites nothing
+    without the imaginary unit in the sum — and a real rational form has none, nor can one appear
+    by substituting such forms — but first asks whether either term of a two-term sum is
+    infinite: a query of sympy's assumptions through the whole new subtree (two thirds of the time
+    of the stylization kernel's delta pieces' Newton–Cotes sums, :func:`newton_cotes`)."""
+    e = sp.sympify(e)
+    if rational is None:
+        rational = rational_form(e) and all(rational_form(sp.sympify(r)) for r in rule.values())
     memo: dict = {}
 
     def go(node):
@@ -252,11 +264,43 @@ def shared_xreplace(e, rule: dict):
             out = rule[node]
         else:
             args = tuple(go(a) if isinstance(a, sp.Basic) else a for a in node.args)
-            out = node.func(*args) if any(a is not b for a, b in zip(args, node.args)) else node
+            if all(a is b for a, b in zip(args, node.args)):
+                out = node
+            elif rational and isinstance(node, sp.Pow) and isinstance(args[0], sp.Add):
+                out = sp.Pow(*args, evaluate=False)  # (an Integer exponent, not 0 or 1: unchanged)
+            else:
+                out = node.func(*args)
         memo[node] = out
         return out
 
-    return go(sp.sympify(e))
+    return go(e)
+
+
+def rational_form(e) -> bool:
+    """Whether ``e`` is built from real symbols and rationals by +, ·, integer powers other than 0
+    and 1, and ``Abs`` (no imaginary unit can come out of sympy's evaluation of such a form with
+    other such forms substituted), each distinct subtree looked at once."""
+    seen: set = set()
+    stack = [e]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, sp.Symbol):
+            if node.is_real is not True:
+                return False
+        elif isinstance(node, sp.Pow):
+            if not (node.exp.is_Integer and node.exp not in (0, 1)):
+                return False
+            if id(node.base) not in seen:
+                seen.add(id(node.base))
+                stack.append(node.base)
+        elif isinstance(node, (sp.Add, sp.Mul, sp.Abs)):
+            for a in node.args:
+                if id(a) not in seen:
+                    seen.add(id(a))
+                    stack.append(a)
+        elif not isinstance(node, sp.Rational):
+            return False
+    return True
 
 
 def exact_at(e, at: dict):
@@ -364,7 +408,9 @@ def _q(f: Fraction) -> sp.Rational:
 
 def newton_cotes(w, v, a, b, d: int):
     """∫ₐᵇ w dv for ``w`` a polynomial of degree ≤ ``d`` in ``v`` (exact, unexpanded)."""
-    return (b - a) * sp.Add(*[_q(c) * shared_xreplace(w, {v: a + _q(p) * (b - a)}) for p, c in line_rule(d)])
+    rational = rational_form(w) and rational_form(a) and rational_form(b)
+    return (b - a) * sp.Add(*[_q(c) * shared_xreplace(w, {v: a + _q(p) * (b - a)}, rational)
+                              for p, c in line_rule(d)])
 
 
 # ------------------------------------------------------------------------------------------
@@ -811,6 +857,7 @@ class _Tape:
     def __init__(self, expr):
         index: dict = {}
         self.ops: list = []
+        self.nodes: list = []  # (the subtree of each operation)
         stack = [(expr, False)]
         while stack:
             node, done = stack.pop()
@@ -819,6 +866,7 @@ class _Tape:
             if done:
                 index[node] = len(self.ops)
                 self.ops.append(self._op(node, index))
+                self.nodes.append(node)
                 continue
             stack.append((node, True))
             stack.extend((a, False) for a in _operands(node) if a not in index)
@@ -854,12 +902,21 @@ class _Tape:
         return tape
 
     def values(self, point: dict) -> list:
-        """The value of every operation at ``point`` (remembered for the last few points)."""
+        """The value of every operation at ``point`` (remembered for the last few points), sharing
+        the values of subtrees at the point with :func:`rational_value` (:func:`_point_values`): the
+        Theorem 8.1 check differentiates ⟦p⟧'s closed form and evaluates ⦇p⦈'s and its cell's
+        relations at the same points, and they share their subtrees (a polygon's vertices and their
+        powers, the weights' coefficients)."""
         key = _point_key(point)
         vals = self._values.get(key)
         if vals is None:
             vals = []
-            for kind, args, k in self.ops:
+            known = _point_values(point)
+            for node, (kind, args, k) in zip(self.nodes, self.ops):
+                v = known.get(node)
+                if v is not None:
+                    vals.append(v)
+                    continue
                 if kind == _RAT:
                     v = k
                 elif kind == _SYM:
@@ -885,6 +942,7 @@ class _Tape:
                         raise _NotRational()  # (not differentiable there)
                     v = (abs(a[0]), a[1])
                 vals.append(v)
+                known[node] = v
             if len(self._values) >= VALUE_POINTS:
                 self._values.pop(next(iter(self._values)))
             self._values[key] = vals

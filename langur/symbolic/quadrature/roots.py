@@ -15,6 +15,7 @@ import numpy as np
 import sympy as sp
 from scipy import optimize as so
 
+from langur.symbolic import local
 from langur.symbolic.local import free_symbols
 from langur.symbolic.quadrature.compiling import COMPILED, printable
 from langur.symbolic.text import lambdify
@@ -112,9 +113,11 @@ def _coefficients(expr, syms: tuple, level: int, params: tuple = ()):
     v = syms[level]
     fn = None
     try:
-        poly = sp.Poly(expr, v)
-        coeffs = poly.all_coeffs()
-        if poly.degree() <= 8 and not any(v in c.free_symbols for c in coeffs):
+        coeffs = _expanded_coefficients(expr, v)
+        if coeffs is None:
+            poly = sp.Poly(expr, v)
+            coeffs = poly.all_coeffs() if poly.degree() <= 8 else None
+        if coeffs is not None and not any(v in c.free_symbols for c in coeffs):
             args, body = list(syms[:level]) + list(params), [printable(c) for c in coeffs]
             fn = lambdify(args, body, modules=["math"])
             try:
@@ -129,6 +132,28 @@ def _coefficients(expr, syms: tuple, level: int, params: tuple = ()):
         _COEFFICIENTS.pop(next(iter(_COEFFICIENTS)))
     _COEFFICIENTS[key] = fn
     return fn
+
+
+def _expanded_coefficients(expr, v) -> list | None:
+    """``sympy.Poly(expr, v).all_coeffs()`` for a polynomial in all its symbols with rational
+    coefficients, of degree 1 to 8 in ``v`` (the conditions of affine and polynomial regions), from
+    sympy's ``expand`` of ``expr`` with its terms grouped by their power of ``v``: the coefficients
+    are then polynomials with rational coefficients, which sympy writes in one canonical expanded
+    form whichever way they are built, so they are the same expressions (and compile to the same
+    code) without ``Poly``'s construction of a polynomial ring over the other symbols (two thirds
+    of the time of a condition's first compilation).  None for anything else (``Poly`` then)."""
+    if not local.rational_form(expr) or local.degree(expr, frozenset(expr.free_symbols)) is None:
+        return None
+    by_power: dict = {}
+    for term in sp.Add.make_args(sp.expand(expr)):
+        c, k = term.as_coeff_exponent(v)
+        if not (k.is_Integer and 0 <= k) or v in c.free_symbols:
+            return None
+        by_power.setdefault(int(k), []).append(c)
+    top = max(by_power, default=0)
+    if not 1 <= top <= 8:
+        return None
+    return [sp.Add(*by_power[k]) if k in by_power else sp.Integer(0) for k in range(top, -1, -1)]
 
 
 #: A complex root counts as real (a double root perturbed by rounding) when its imaginary part is
