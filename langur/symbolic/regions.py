@@ -105,17 +105,7 @@ class Context:
     def value(self, expr) -> complex:
         """``expr`` at the point with 30 digits (40-digit floats substituted), as a complex;
         remembered per (expression, point) (:data:`_VALUES`)."""
-        expr = sp.sympify(expr)
-        key = (expr, tuple(self.at.items()))
-        z = _VALUES.get(key)
-        if z is None:
-            e = expr.xreplace(_floats40(self.at))
-            try:
-                z = complex(e.evalf(30))
-            except TypeError:
-                raise ValueError(f"no value for {sorted(map(str, e.free_symbols))} in {expr}") from None
-            _remember(_VALUES, key, z, VALUES)
-        return z
+        return self.value_with(expr, {})
 
     def value_with(self, expr, numbers: dict) -> complex:
         """:meth:`value` of ``expr.xreplace(numbers)`` (``numbers``: symbols → sympy Floats), in
