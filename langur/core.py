@@ -506,6 +506,11 @@ INT_FRACTIONS: tuple[Fraction, ...] = tuple(Fraction(i) for i in range(128))
 _INT_IDS = frozenset(map(id, INT_FRACTIONS))
 
 
+def int_fraction(i: int) -> Fraction:
+    """``Fraction(i)``, read off :data:`INT_FRACTIONS` when ``i`` is in it."""
+    return INT_FRACTIONS[i] if 0 <= i < len(INT_FRACTIONS) else Fraction(i)
+
+
 def _in_range(v: Fraction):
     """``v`` when it is a small rational (``SMALL``, ``SMALL_BITS``), else ``False`` (integer
     arithmetic: ``|n/d| ≤ SMALL`` is ``|n| ≤ SMALL·d``)."""
@@ -707,7 +712,7 @@ def index_const(value: int, span=None) -> Const:
     """``Const(Fraction(value), span=span)`` for an int ``value`` (a loop's index in one of its
     copies, issue 15): an integer of fewer than 1000 bits is its own small value, so its attributes
     are written without the constructor's tests.  Equal, attributes included, to the constructor's."""
-    number = INT_FRACTIONS[value] if 0 <= value < 128 else Fraction(value)
+    number = int_fraction(value)
     if value.bit_length() >= 1000:
         return Const(number, span=span)
     new = _new(Const)

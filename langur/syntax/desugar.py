@@ -54,6 +54,7 @@ from ..core import (
     Term,
     Var,
     free_vars,
+    int_fraction,
     map_children,
     neg,
     product,
@@ -166,7 +167,7 @@ class Scope:
         new = _new(Scope)
         d = new.__dict__
         d.update(self.__dict__)
-        d["consts"], d["vectors"] = {**self.consts, name: INT_FRACTIONS[value] if 0 <= value < 128 else Fraction(value)}, vecs
+        d["consts"], d["vectors"] = {**self.consts, name: int_fraction(value)}, vecs
         return new
 
     def with_vector(self, name: str, vec: Vec) -> Scope:

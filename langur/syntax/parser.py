@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from .. import gcpause
-from ..core import INT_FRACTIONS
+from ..core import int_fraction
 from ..diagnostics import LangurError, Span, error
 from . import lalr, tables
 from .chains import LEVEL as _LEVEL
@@ -333,7 +333,7 @@ class _Builder:
         text = t.value  # (number()'s first case written out: a short integer)
         if len(text) <= _SHORT and text.isdigit():
             value = int(text)
-            value = INT_FRACTIONS[value] if value < 128 else Fraction(value)
+            value = int_fraction(value)
         else:
             value = self.number(t)
         line, col, end_line, end_col = t.line, t.column, t.end_line, t.end_column
