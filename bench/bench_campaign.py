@@ -13,7 +13,8 @@ campaign (generated first, timed apart: the same fixed list for two versions of 
 ``--in-process`` runs them one after the other in this process instead (``compare_text`` with the
 exact engine in this process: what one warm process costs, no time limit).  To measure another
 version of the code, run it with ``PYTHONPATH`` pointing at that tree (the fixed list is handed to
-``run_fuzz`` by replacing ``langur.fuzz.compare.generated``, which every version has).
+``run_fuzz`` by replacing ``generated`` in the module that defines ``run_fuzz``: ``langur.fuzz.campaign``,
+or ``langur.fuzz.compare`` in trees before 2026-11-27).
 ``--programs FILE`` checks a JSON list of program texts instead (a fixed list saved once);
 ``--profile OUT`` (with ``--in-process``) writes a cProfile of the units; ``--against JSON`` prints
 the programs whose status or methods (closed form / quadrature per answer) differ from an earlier
@@ -28,6 +29,7 @@ import cProfile
 import json
 import os
 import resource
+import sys
 import tempfile
 import time
 
@@ -76,7 +78,7 @@ def main() -> None:
                         each(t)
                 return list(texts)
 
-            compare.generated = fixed
+            sys.modules[fuzz.run_fuzz.__module__].generated = fixed  # the driver's module (module doc)
         t0, k0 = time.monotonic(), os.times()
         f0 = resource.getrusage(resource.RUSAGE_SELF).ru_minflt + resource.getrusage(resource.RUSAGE_CHILDREN).ru_minflt
         if a.in_process:

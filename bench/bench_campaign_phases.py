@@ -4,7 +4,7 @@
 
 ``LIST.json``: a JSON list of program texts (e.g. ``langur.fuzz.compare.generated(1000, 1)`` saved
 once); the positions to run; ``OUT.jsonl`` gets one line per phase and program, appended.  Each
-program runs in a child forked from this warm process (``compare._warm_up``), killed when it has
+program runs in a child forked from this warm process (``langur.fuzz.campaign._warm_up``), killed when it has
 used ``--limit`` CPU seconds; the phases, timed with ``time.process_time`` in the child: the front
 end, the linter (``check_loaded``, only the analyses that can discard the program where the tree
 has ``only``, as a unit), ⟦p⟧ (``exact_eval``), each partial derivative
@@ -28,7 +28,7 @@ import time
 from langur import exact as api
 from langur import operational, theorem
 from langur.frontend import load_text
-from langur.fuzz import compare, pool
+from langur.fuzz import campaign, compare, pool
 from langur.symbolic import integrate, quadrature
 from langur.timebox import budget
 from langur.transversality import check_loaded
@@ -112,7 +112,7 @@ def main() -> None:
     ap.add_argument("--limit", type=float, default=45.0, help="CPU seconds before a program is killed")
     a = ap.parse_args()
     texts = json.load(open(a.programs, encoding="utf-8"))
-    compare._warm_up(True)
+    campaign._warm_up(True)
     with open(a.out, "a", encoding="utf-8") as fo:
         for i in (int(k) for k in a.positions.split(",")):
             r, w = os.pipe()

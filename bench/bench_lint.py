@@ -5,7 +5,7 @@
     python bench/bench_lint.py --programs PROGRAMS.json --baseline /tmp/b_lint8 [--json OUT]
     python bench/bench_lint.py --programs PROGRAMS.json --units [--json OUT]
 
-``--save`` regenerates a campaign's programs (``langur.fuzz.compare.generated``: the same seed gives
+``--save`` regenerates a campaign's programs (``langur.fuzz.generated``: the same seed gives
 the same list) and writes them.  ``--programs`` lints each, as ``langur fuzz`` does
 (``check_loaded`` at the default parameter values), in a server process per tree: this tree and,
 with ``--baseline DIR``, another one (``git archive REV | tar -x -C DIR``), the two alternating
@@ -41,11 +41,17 @@ def _findings_of(text: str, budget: float | None) -> tuple[float, list]:
     return cpu, [[f.code, f.span.line if f.span else 0, f.span.col if f.span else 0, f.message] for f in found]
 
 
+def _driver(fuzz):
+    """The module of ``langur fuzz``'s driver in the tree being measured: ``langur.fuzz.campaign``
+    (``langur.fuzz.compare`` in trees before 2026-11-27)."""
+    return sys.modules[fuzz.run_fuzz.__module__]
+
+
 def serve(budget: float | None) -> None:
     """One program text per line (JSON) in, ``{"cpu", "findings"}`` per line out."""
-    from langur.fuzz import compare
+    from langur import fuzz
 
-    compare._warm_up(True)  # as the campaign's process does before forking its workers
+    _driver(fuzz)._warm_up(True)  # as the campaign's process does before forking its workers
     print(json.dumps({"ready": True}), flush=True)
     for line in sys.stdin:
         try:
@@ -78,6 +84,7 @@ class _Server:
 
 def units(texts: list[str], timeout: float) -> list[dict]:
     """Whole campaign units in one pool worker; the lint's CPU measured inside the unit."""
+    from langur import fuzz
     from langur.fuzz import compare, coverage, pool
 
     lint_cpu = [0.0]
@@ -113,7 +120,7 @@ def units(texts: list[str], timeout: float) -> list[dict]:
         return {"status": "timeout", "unit_cpu": timeout + pool.GRACE, "lint_cpu": lint,
                 "phase": (last or {}).get("phase"), "reason": reason}
 
-    compare._warm_up(True)
+    _driver(fuzz)._warm_up(True)
     return pool.run_units(texts, work, workers=1, limit=timeout, on_time_limit=killed,
                           on_error=lambda t, r: {"status": "error", "reason": r, "unit_cpu": 0, "lint_cpu": 0})
 
@@ -140,10 +147,11 @@ def main() -> None:
     if a.save:
         import tempfile
 
-        from langur.fuzz import compare, generate
+        from langur import fuzz
+        from langur.fuzz import generate
 
         with tempfile.TemporaryDirectory() as hyp, generate.hypothesis_home(hyp):
-            texts = compare.generated(a.examples, a.seed, kinks=a.kinks, turning=a.turning)
+            texts = fuzz.generated(a.examples, a.seed, kinks=a.kinks, turning=a.turning)
         if a.first is not None:
             texts = texts[: a.first]
         if a.slice:

@@ -168,12 +168,13 @@ def _finish(proc: subprocess.Popen, name: str, limit: float):
 
 def bench_campaign(examples: int, seed: int) -> list[dict]:
     """The exact engine's answers per program of a seeded campaign (module doc), CPU seconds."""
+    from langur import fuzz
     from langur.frontend import load_text
     from langur.fuzz import compare
     from langur.fuzz.generate import hypothesis_home
 
     with hypothesis_home(None):
-        texts = compare.generated(examples, seed)
+        texts = fuzz.generated(examples, seed)
     rows = []
     for t in texts:
         loaded = load_text(t, path="<fuzz>.lgr")

@@ -104,7 +104,7 @@ def test_a_campaign_checks_each_program_as_it_is_generated():
 
 
 def test_a_unit_killed_at_its_time_limit_says_in_which_phase(monkeypatch):
-    from langur.fuzz import compare, pool
+    from langur.fuzz import campaign, compare, pool
 
     def hangs(*args, **kwargs):  # computes forever: killed at its limit in CPU seconds
         while True:
@@ -115,7 +115,7 @@ def test_a_unit_killed_at_its_time_limit_says_in_which_phase(monkeypatch):
     text = "param a = 0.37\nint ([0, 1])\n  x + a\nd(x)\n"
     t0 = time.monotonic()
     (res,) = pool.run_units([text], lambda t: compare.compare_text(t, isolate=False), workers=1, limit=1.5,
-                            on_time_limit=compare._time_limited, on_error=compare._unit_error)
+                            on_time_limit=campaign._time_limited, on_error=campaign._unit_error)
     assert time.monotonic() - t0 < 30
     assert res.status == "timeout" and res.killed_in == "exact" and "in its exact phase" in res.reason
     assert set(res.timing) == {"front_end", "lint"}  # the phases it finished, with their seconds

@@ -68,7 +68,7 @@ def test_discrepancy_exits_1_prints_and_keeps_the_minimal_program(capsys, tmp_pa
         res.status = "agree" if ok else "discrepancy"
         return res
 
-    monkeypatch.setattr(fuzz.compare, "compare_text", fake)  # the driver's own reference
+    monkeypatch.setattr(fuzz.campaign, "compare_text", fake)  # the driver's own reference
     keep = tmp_path / "kept"
     status, out, err = run(capsys, "fuzz", "--examples", "10", "--seed", "2", "--keep", str(keep))
     assert status == 1, err
@@ -87,7 +87,7 @@ def test_missing_hypothesis_says_how_to_install(capsys, monkeypatch):
     def missing():
         raise fuzz.MissingHypothesis("`langur fuzz` needs hypothesis: pip install hypothesis")
 
-    monkeypatch.setattr(fuzz.compare, "_hypothesis", missing)
+    monkeypatch.setattr(fuzz.campaign, "_hypothesis", missing)
     monkeypatch.setattr(fuzz.generate, "_hypothesis", missing)
     status, out, err = run(capsys, "fuzz", "--examples", "1")
     assert status == 2 and "pip install hypothesis" in err and out == ""
@@ -123,7 +123,7 @@ def test_keep_never_overwrites_a_file_in_its_directory(capsys, tmp_path, monkeyp
         res.status = "agree" if ok else "discrepancy"
         return res
 
-    monkeypatch.setattr(fuzz.compare, "compare_text", fake)
+    monkeypatch.setattr(fuzz.campaign, "compare_text", fake)
     keep = tmp_path / "kept"
     keep.mkdir()
     (keep / "fuzz_2_minimal.lgr").write_text("# the user's own file\n")

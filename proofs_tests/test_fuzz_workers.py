@@ -80,12 +80,12 @@ def test_a_killed_unit_reports_the_cpu_seconds_it_used(monkeypatch):
     at least its limit of CPU seconds (the spinning unit burns CPU only), read from /proc by the
     pool, and shown by `langur fuzz -v` in place of the exact engine's unknown share."""
     from langur.commands.fuzz import verbose_times
-    from langur.fuzz import compare
+    from langur.fuzz import campaign
 
     monkeypatch.setattr(pool, "GRACE", 0.0)
     before = time.process_time()
     out = pool.run_units(["a", "slow"], _pid_or_spin, workers=1, limit=0.5,
-                         on_time_limit=compare._time_limited, on_error=compare._unit_error)
+                         on_time_limit=campaign._time_limited, on_error=campaign._unit_error)
     assert [r.status for r in out] == ["agree", "timeout"]
     killed = out[1]
     if pool.cpu_seconds(os.getpid()) is not None:  # Linux: the limit counts CPU seconds

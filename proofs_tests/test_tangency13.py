@@ -45,7 +45,7 @@ BUDGET = 60.0
 STEINMETZ = ("param a = 0.53\n"
              "int ([-1, 1], [-1, 1], [-1, 1]) [x ^ 2 + z ^ 2 <= a] * [y ^ 2 + z ^ 2 <= a] d(x, y, z)\n")
 QUARTER_BALL = "param a = 0.53\nint ([-1, 1], [0, 1], [0, 2]) [x ^ 2 + y ^ 2 + z ^ 2 <= a] d(x, y, z)\n"
-# program 689 of `langur.fuzz.compare.generated(1000, 1)`
+# program 689 of `langur.fuzz.campaign.generated(1000, 1)`
 DISCS = ("param a = 0.53\nint ([a - 1, 1], [-1, 1], [-1, 1])\n"
          "  2 * (if x ^ 2 + z ^ 2 <= a then (if y ^ 2 + z ^ 2 <= a then y + 0.5 else 0.5) else sin(z + a * y))\n"
          "d(x, y, z)\n")

@@ -9,7 +9,7 @@ left out apart from those that held.  Values here are by hand: ∫₀¹ [x ≤ �
 
 from langur import exact as api
 from langur import frontend
-from langur.fuzz import compare
+from langur.fuzz import campaign, compare
 
 FIG1 = "param theta = 0.5\nint ([0, 1]) [x <= theta] d(x)\n"
 TWO = "param a = 0.3\nparam b = 0.6\nint ([0, 1]) [x <= a] * x + [x >= b] d(x)\n"
@@ -52,5 +52,5 @@ def test_a_campaign_counts_checks_left_out_apart(monkeypatch):
     assert sorted(f for f in cut.findings if "Theorem" in f) == [
         "Theorem 8.1 not checked for a: its CPU budget was spent",
         "Theorem 8.1 not checked for b: its CPU budget was spent"]
-    s = compare.FuzzSummary(2, 0, 4000, results=[full, cut])
+    s = campaign.FuzzSummary(2, 0, 4000, results=[full, cut])
     assert s.theorem_counts() == {"checked": 2, "undecided": 0, "budget": 2, "not_computed": 0}

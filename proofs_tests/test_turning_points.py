@@ -249,7 +249,8 @@ def test_too_many_turning_points_is_an_error_exit(tmp_path):
 def test_random_programs_with_implicit_roots_agree():
     """The strategies' ``turning`` conditions (x^3 - x, exp(x) + x, x^5 + x, sin(3x) against a
     parameter term; issue 18): a small seeded campaign, both engines agree on each (5 SE)."""
-    from langur.fuzz.compare import compare_text, generated
+    from langur.fuzz.campaign import generated
+    from langur.fuzz.compare import compare_text
 
     marks = ("^ 3 - ", ") + x", ") + y", "^ 5 + ", "sin(3 * ")
     texts = [t for t in generated(30, 3, True, turning=True, max_summands=1, max_factors=2)

@@ -44,9 +44,10 @@ exception of the exact engine (e.g. a closed form that disagrees with its own qu
 at the time limit (a SIGALRM-based limit can be lost when it fires inside a gc callback).
 """
 
-from . import cluster, pool
-from .compare import FuzzSummary, ProgramResult, Row, agree, compare_engine, compare_text, generated, run_fuzz
+from . import campaign, cluster, compare, pool
+from .campaign import FuzzSummary, generated, run_fuzz
+from .compare import ProgramResult, Row, agree, compare_engine, compare_text
 from .generate import FuzzProgram, MissingHypothesis, programs
 
-__all__ = ["FuzzProgram", "FuzzSummary", "MissingHypothesis", "ProgramResult", "Row", "agree", "cluster", "generated", "pool",
-           "compare_engine", "compare_text", "programs", "run_fuzz"]
+__all__ = ["FuzzProgram", "FuzzSummary", "MissingHypothesis", "ProgramResult", "Row", "agree", "campaign", "cluster",
+           "compare", "compare_engine", "compare_text", "generated", "pool", "programs", "run_fuzz"]

@@ -1,13 +1,12 @@
-"""Comparing the exact and the Monte Carlo engines on one program, and the driver that
-``langur fuzz`` runs (see :mod:`langur.fuzz` for the agreement rule).
+"""Comparing the exact engine with the Monte Carlo engine (or another engine, ``--engine``) on one
+program: load, lint, every exact answer in a child killed at the time limit, the comparison rows
+(see :mod:`langur.fuzz` for the agreement rule).  The campaign that generates the programs and runs
+them as units is :mod:`langur.fuzz.campaign`.
 """
 
 from __future__ import annotations
 
-import importlib
 import math
-import os
-import sys
 import time
 from dataclasses import dataclass, field
 
@@ -15,24 +14,12 @@ from .. import engines, operational
 from .. import exact as api
 from ..diagnostics import LangurError
 from ..frontend import load_text
-from ..symbolic import integrate, quadrature, regions
+from ..symbolic import integrate, quadrature
 from ..timebox import budget
 from ..transversality import check_loaded
-from . import cluster, counterexamples, coverage, pool
-from .generate import (
-    ABS_SLACK,
-    LINT_DISCARD,
-    REL_SLACK,
-    SIGMA,
-    FuzzProgram,
-    _hypothesis,
-    hypothesis_home,
-    programs,
-)
+from . import pool
+from .generate import ABS_SLACK, LINT_DISCARD, REL_SLACK, SIGMA
 
-# ---------------------------------------------------------------------------------------------
-# Comparison
-# ---------------------------------------------------------------------------------------------
 
 @dataclass
 class Row:
@@ -284,6 +271,10 @@ def _with_all_findings(result: ProgramResult, loaded, params, timeout: float, li
         result.findings = list(dict.fromkeys(full + discard)) + others
     return result
 
+def _phase(name: str, result: ProgramResult) -> None:
+    """In a worker: the unit starts phase ``name`` (``front_end``, ``lint``, ``exact``, ``mc``)."""
+    pool.note({"phase": name, "timing": dict(result.timing)})
+
 
 def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
     """What every comparison starts from: ``text`` loaded, linted (a program the linter finds not
@@ -435,336 +426,3 @@ def _engine_compared(result, loaded, params, ex, exd, engine) -> ProgramResult:
     if not all(r.ok for r in result.rows):
         result.status = "discrepancy"
     return result
-
-
-# ---------------------------------------------------------------------------------------------
-# Driver (what `langur fuzz` runs)
-# ---------------------------------------------------------------------------------------------
-
-@dataclass
-class FuzzSummary:
-    examples: int
-    seed: int
-    samples: int
-    results: list[ProgramResult] = field(default_factory=list)
-    minimal: ProgramResult | None = None
-    kept: list[str] = field(default_factory=list)
-    workers: int = 0
-    seconds: float = 0.0
-
-    def counts(self) -> dict[str, int]:
-        out = {s: 0 for s in ("agree", "discrepancy", "load_error", "exact_error", "timeout",
-                              "exact_unavailable", "discarded", "declined", "engine_failure")}
-        for r in self.results:
-            out[r.status] = out.get(r.status, 0) + 1
-        return out
-
-    def theorem_counts(self) -> dict[str, int]:
-        """Theorem 8.1's checks over the campaign's partial derivatives: held (or failed: a failure is
-        a discrepancy), undecided, stopped on their CPU budget (:data:`CHECK_SHARE`), not computed."""
-        out = dict.fromkeys(THEOREM_OUTCOMES, 0)
-        for r in self.results:
-            for outcome in r.theorem_8_1.values():
-                out[outcome] += 1
-        return out
-
-    def coverage(self):
-        """Rule applications over the campaign (:func:`langur.fuzz.coverage.table` rows)."""
-        total: dict = {}
-        for r in self.results:
-            for k, v in r.coverage.items():
-                total[k] = total.get(k, 0) + v
-        return coverage.table(total)
-
-    def timing(self) -> dict[str, float]:
-        """Seconds per phase (:data:`PHASES`) summed over the programs (time-limited units, killed
-        before they could report, count nothing)."""
-        return {k: sum(r.timing.get(k, 0.0) for r in self.results) for k in PHASES}
-
-    @property
-    def comparisons(self) -> int:
-        return sum(len(r.rows) for r in self.results)
-
-    @property
-    def failed(self) -> bool:
-        return any(r.failed for r in self.results)
-
-    def to_json(self) -> dict:
-        return {"examples": self.examples, "seed": self.seed, "samples": self.samples,
-                "programs": len(self.results), "comparisons": self.comparisons,
-                "counts": self.counts(), "theorem_8_1": self.theorem_counts(), "status": "discrepancy" if self.failed else "agree",
-                "minimal": self.minimal.to_json() if self.minimal else None,
-                "failures": [r.to_json() for r in self.results if r.failed],
-                "results": [{"program": r.text, "status": r.status, "seconds": round(r.seconds, 3),
-                             "exact_seconds": round(r.exact_seconds, 3), "timing": r.timing_json(),
-                             "cpu_seconds": round(r.cpu_seconds, 3), **({"killed_in": r.killed_in} if r.killed_in else {})}
-                            for r in self.results],
-                "timing": {k: round(v, 3) for k, v in self.timing().items()},
-                "kept": self.kept, "workers": self.workers,
-                "coverage": [{"figure": f, "rule": r, "count": n} for f, r, n in self.coverage()], "seconds": round(self.seconds, 3),
-                "programs_per_minute": round(60 * len(self.results) / self.seconds, 2) if self.seconds else None}
-
-
-class _Failed(AssertionError):
-    def __init__(self, result: ProgramResult):
-        super().__init__(result.status)
-        self.result = result
-
-
-def draws(examples: int) -> int:
-    """How many programs hypothesis may draw (its ``max_examples``) for a campaign of ``examples``
-    distinct ones: a program drawn again does not count, so more draws than ``examples``; as many
-    as leave hypothesis's first phase of small programs (``min(max_examples // 10, 50)`` of them) as
-    long as it is with ``max_examples = examples``, so that the programs drawn are those a run of
-    ``examples`` draws makes, followed by more of the same sequence."""
-    return 10 * examples if examples >= 500 else 10 * (examples // 10) + 9
-
-
-def _settings(examples: int, seed: int):
-    """The hypothesis run of a campaign: seeded, no example database (nothing is written to the
-    user's folder), no deadline (time limits are the campaign's own); at most :func:`draws`
-    programs drawn."""
-    hypothesis, _ = _hypothesis()
-    from hypothesis import HealthCheck, settings
-
-    def wrap(test):
-        return settings(max_examples=draws(examples), deadline=None, database=None, derandomize=False,
-                        suppress_health_check=list(HealthCheck), print_blob=False)(
-            hypothesis.seed(seed)(test))
-    return wrap
-
-
-class _Enough(BaseException):
-    """Ends a campaign's generation once it has its number of distinct programs (a BaseException:
-    hypothesis neither catches nor shrinks it)."""
-
-
-class _Stop(BaseException):
-    """Carries an exception raised while a campaign handled a generated program out of
-    hypothesis's test function (a BaseException: hypothesis neither catches nor shrinks it)."""
-
-    def __init__(self, error: BaseException):
-        super().__init__(repr(error))
-        self.error = error
-
-
-def generated(examples: int = 50, seed: int = 0, light: bool = False, each=None, **shape) -> list[str]:
-    """The ``examples`` distinct program texts a campaign with ``seed`` checks, in the order
-    hypothesis generates them (the same seed gives the same list on any machine; a text drawn again
-    does not count: fewer only when :func:`draws` programs did not give that many);
-    ``each(text)``: called for each new text as soon as it is generated (a campaign starts
-    checking it then, while the next ones are generated); ``shape``: the bounds of
-    :func:`~.generate.programs` (max_summands, max_factors, …)."""
-    _hypothesis()
-    from hypothesis import given
-
-    texts: dict[str, None] = {}
-
-    @_settings(examples, seed)
-    @given(programs(light=light, **shape))
-    def collect(prog: FuzzProgram):
-        if prog.text in texts:
-            return
-        texts[prog.text] = None
-        if each is not None:
-            try:
-                each(prog.text)
-            except Exception as e:  # not the program's failure: out of hypothesis, unshrunk
-                raise _Stop(e) from e
-        if len(texts) >= examples:
-            raise _Enough
-
-    try:
-        collect()
-    except _Stop as stop:
-        raise stop.error from None
-    except _Enough:
-        pass
-    return list(texts)
-
-
-#: A small program loaded and linted once in the campaign's process before its workers are forked:
-#: the parser's tables and the modules the front end and the linter import on first use (sympy's
-#: solvers, its combinatorics and units, ...) are then loaded once, not again in every unit.
-WARM_UP = """param a = 0.3, b = 0.6
-int ([0, 1], [0, 1])
-  exp(x) * [x + y <= a + 0.5] + sin(b * y) * [y >= x * x]
-d(x, y)
-"""
-
-#: Where the modules a unit imported on first use, and that its campaign's process then imports
-#: before forking the next units, come from (never anything a program names).
-WARM_MODULES = ("sympy", "scipy", "mpmath", "numpy", "langur")
-
-
-def _warm_up(lint: bool) -> None:
-    """Load (and lint) :data:`WARM_UP` in this process; the result is not kept."""
-    try:
-        loaded = load_text(WARM_UP, path="<warm-up>.lgr")
-        if lint:
-            check_loaded(loaded, at={k: float(v) for k, v in loaded.param_values({}).items()})
-    except Exception:  # noqa: BLE001 - only a head start: the units do the same work anyway
-        pass
-
-
-def _modules_since(known: set) -> list[str]:
-    return sorted(m for m in set(sys.modules) - known if m.split(".")[0] in WARM_MODULES)
-
-
-def _import_all(names) -> None:
-    for name in names:
-        if name not in sys.modules:
-            try:
-                importlib.import_module(name)
-            except Exception:  # noqa: BLE001 - a module that imports only in context: the units load it
-                pass
-
-
-def _time_limited(text: str, reason: str, last: dict | None = None) -> ProgramResult:
-    """A unit killed at its time limit; ``last``: its last :func:`_phase` note (the phase it was
-    in, the seconds of those it had finished), kept in ``timing`` and ``killed_in``, and what the
-    pool measured when it killed it (``cpu``: CPU seconds or None, ``wall``: seconds), kept in
-    ``cpu_seconds`` and ``seconds``."""
-    res = ProgramResult(text, "timeout", reason=reason)
-    last = last or {}
-    if "phase" in last:
-        res.timing = dict(last["timing"])
-        res.killed_in = last["phase"]
-        res.reason += f" in its {last['phase']} phase"
-    res.cpu_seconds = last.get("cpu") or 0.0
-    res.seconds = last.get("wall") or 0.0
-    return res
-
-
-def _phase(name: str, result: ProgramResult) -> None:
-    """In a worker: the unit starts phase ``name`` (``front_end``, ``lint``, ``exact``, ``mc``)."""
-    pool.note({"phase": name, "timing": dict(result.timing)})
-
-
-def _unit_error(text: str, reason: str) -> ProgramResult:
-    return ProgramResult(text, "exact_error", reason=f"worker: {reason}")
-
-
-def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: float = 20.0,
-             keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform",
-             engine=None, light: bool = False, workers: int = 0, shrink: bool = True,
-             storage: str | None = None, scheduler=None, planned=None, kinks: bool = False,
-             turning: bool = False) -> FuzzSummary:
-    """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs), each a
-    unit of :mod:`langur.fuzz.pool` (``workers`` processes; 0: in this process); on a failure
-    hypothesis replays the same seed and shrinks it (``shrink``), and the minimal failing program
-    is ``summary.minimal``.  ``engine``: compare it (an engine of :mod:`langur.engines`) with the
-    exact engine instead of the Monte Carlo engine; ``light``: programs the exact engine
-    integrates quickly (tests); ``storage``: hypothesis's folder (:func:`~.generate.default_storage`
-    when None: never the current folder); ``scheduler``: a Dask scheduler's address (or a
-    ``distributed.Client``) to run the units on instead (:mod:`~langur.fuzz.cluster`);
-    ``planned(n)``: called once the n distinct programs are generated; ``kinks``, ``turning``:
-    also conditions with ``abs``/``min``/``max`` inside, or with no closed-form inverse (issue
-    18; :func:`~.generate.programs`).  A program
-    is time-limited (``timeout``) when it runs past
-    ``timeout`` seconds; time-limited programs are counted apart from the verdicts."""
-    start = time.monotonic()
-    summary = FuzzSummary(examples, seed, samples, workers=workers)
-
-    def unit(text: str, isolate: bool) -> ProgramResult:
-        if engine is not None:
-            return compare_engine(text, engine, timeout=timeout, lint=lint, isolate=isolate)
-        return compare_text(text, samples=samples, seed=seed, timeout=timeout, lint=lint, method=method,
-                            isolate=isolate)
-
-    def covered(text: str) -> ProgramResult:  # in a worker: both engines run here, every rule is seen
-        coverage.reset()
-        known = regions.antiderivatives_known()
-        modules = set(sys.modules)
-        cpu = time.process_time()
-        with coverage.recording():
-            res = unit(text, False)
-        res.cpu_seconds = time.process_time() - cpu
-        res.coverage = dict(coverage.counts())
-        res.learned = regions.antiderivatives_since(known)
-        res.imported = _modules_since(modules)
-        return res
-
-    def arrived(res: ProgramResult) -> None:  # in this process: later workers are forked knowing them
-        regions.learn_antiderivatives(res.learned)
-        if res.learned and workers_pool is not None:  # and the running workers take them in
-            workers_pool.tell(res.learned)
-        _import_all(res.imported)
-        res.learned, res.imported = {}, []
-        if progress is not None:
-            progress(res)
-
-    def generate(each=None) -> list[str]:
-        with hypothesis_home(storage):
-            texts = generated(examples, seed, light, each=each, kinks=kinks, turning=turning)
-        if planned is not None:
-            planned(len(texts))
-        return texts
-
-    workers_pool = None
-    if scheduler is not None:
-        texts = generate()
-        summary.results = cluster.run_units(texts, covered, scheduler=scheduler, limit=timeout,
-                                            on_time_limit=_time_limited, on_error=_unit_error, progress=progress)
-    elif workers > 0:  # units start as the programs are generated
-        _warm_up(lint)
-        workers_pool = pool.Pool(covered, workers=workers, limit=timeout, on_time_limit=_time_limited,
-                                 on_error=_unit_error, progress=arrived, told=regions.learn_antiderivatives)
-        generate(workers_pool.submit)
-        summary.results = workers_pool.finish()
-    else:
-        def checked(t: str) -> None:
-            summary.results.append(unit(t, True))
-            if progress is not None:
-                progress(summary.results[-1])
-
-        generate(checked)
-    if shrink and summary.failed:
-        with hypothesis_home(storage):
-            summary.minimal = _shrunk(summary, examples, seed, light, lambda t: unit(t, True),
-                                      kinks=kinks, turning=turning)
-    summary.seconds = time.monotonic() - start
-    if keep:  # --out: each failure shrunk (langur.fuzz.counterexamples) and written with its numbers
-        os.makedirs(keep, exist_ok=True)
-        failing = [r for r in summary.results if r.failed]
-        for i, r in enumerate(failing):
-            small = counterexamples.shrink(r, lambda t: unit(t, True))  # bounded: even with --no-shrink
-            summary.kept.append(counterexamples.write(keep, f"fuzz_{seed}_{i:03d}", counterexamples.annotated(small, r)))
-        if summary.minimal is not None:
-            summary.kept.append(counterexamples.write(keep, f"fuzz_{seed}_minimal",
-                                                      counterexamples.annotated(summary.minimal)))
-        summary.seconds = time.monotonic() - start
-    return summary
-
-
-def _shrunk(summary: FuzzSummary, examples: int, seed: int, light: bool, unit, **shape) -> ProgramResult:
-    """Hypothesis's minimal failing program: the same seeded run replayed (programs already
-    checked are looked up, not rerun) up to its first failure, which hypothesis then shrinks,
-    checking each smaller candidate in this process."""
-    from hypothesis import given
-
-    known = {r.text: r for r in summary.results}
-    seen: set[str] = set()
-    shrinking = []
-
-    @_settings(examples, seed)
-    @given(programs(light=light, **shape))
-    def check(prog: FuzzProgram):
-        seen.add(prog.text)
-        if len(seen) > examples and not shrinking:  # past the campaign's programs: none failed here
-            raise _Enough
-        res = known.get(prog.text)
-        if res is None:
-            res = known[prog.text] = unit(prog.text)
-        if res.failed:
-            shrinking.append(True)
-            raise _Failed(res)
-
-    try:
-        check()
-    except _Failed as e:
-        return e.result
-    except _Enough:
-        pass
-    return next(r for r in summary.results if r.failed)  # not reproduced (a time limit): the first
-
