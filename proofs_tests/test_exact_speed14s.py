@@ -158,7 +158,8 @@ def test_polygon_geometry_remembered_gives_the_same_closed_form_and_moments(monk
                 _clear(local, "_LINES", "_VERTICES", "_RELATIONS")
             made = []
             real = sp.StrictGreaterThan
-            monkeypatch.setattr(sp, "StrictGreaterThan", lambda *a, **k: made.append(a) or real(*a, **k))
+            monkeypatch.setattr(sp, "StrictGreaterThan",
+                                lambda *a, made=made, real=real, **k: made.append(a) or real(*a, **k))
             ctx = Context(at, Deadline(20.0), frozenset(at))
             val = local.polygon_integral([Cond(c) for c in conds], w, x, y, box, ctx)
             monkeypatch.setattr(sp, "StrictGreaterThan", real)
