@@ -48,7 +48,7 @@ from langur.symbolic.nounits import units_unloaded
 from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
 from langur.symbolic.quadrature import UndefinedIntegral
 from langur.symbolic.regions import Cond, Context, Unsupported
-from langur.symbolic.text import shared_sstr
+from langur.symbolic.text import shared_sstr, shared_sstrs
 from langur.timebox import Deadline
 
 RTOL = 1e-7
@@ -179,19 +179,24 @@ def _nonpolynomial_conditions(expr) -> bool:
 _RELATION_TEXTS: dict = {}
 
 
-def _relation_text(rel) -> str:
-    text = _RELATION_TEXTS.get(rel)
-    if text is None:
-        text = shared_sstr(rel)
+def _relation_texts(rels) -> list[str]:
+    """Each relation's text; those not known yet printed by one shared printer (the relations of a
+    polygon's cell share its vertices, each in the relations with every other line)."""
+    new = [rel for rel in dict.fromkeys(rels) if rel not in _RELATION_TEXTS]
+    for rel, text in zip(new, shared_sstrs(new)):
         regions._remember(_RELATION_TEXTS, rel, text, 4096)
-    return text
+    return [_RELATION_TEXTS.get(rel) or shared_sstr(rel) for rel in rels]
+
+
+def _relation_text(rel) -> str:
+    return _relation_texts((rel,))[0]
 
 
 def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -> Integral:
     """Combine per-piece closed forms (None where missing) with per-piece quadratures (a piece
     whose quadrature did not converge was cross-checked only roughly: so is the sum)."""
     notes = []
-    cell = "; ".join(_relation_text(c) for c in ctx.cell)
+    cell = "; ".join(_relation_texts(ctx.cell))
     first = (CELL_PREFIX + cell) if cell else ALL_PARAMS
     if ctx.generic:
         first += " (and with the same real roots)"

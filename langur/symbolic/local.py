@@ -423,13 +423,67 @@ class _Tie(Exception):
 
 
 def _affine(e, x, y, memo):
-    """``(a, b, c)`` with ``e = a·x + b·y + c`` (each free of x, y), or None."""
+    """``(a, b, c)`` with ``e = a·x + b·y + c`` (each free of x, y), or None; remembered
+    (:data:`_LINES`) for ``e`` without Floats."""
+    key = (e, x, y)
+    hit = _LINES.get(key, _LINES)
+    if hit is not _LINES:
+        return hit
     if degree(e, frozenset((x, y)), memo) not in (0, 1):
-        return None
-    a, b = sp.diff(e, x), sp.diff(e, y)
-    if (a.free_symbols | b.free_symbols) & {x, y}:
-        return None
-    return a, b, e.xreplace({x: sp.Integer(0), y: sp.Integer(0)})
+        out = None
+    else:
+        a, b = sp.diff(e, x), sp.diff(e, y)
+        out = None if (a.free_symbols | b.free_symbols) & {x, y} else \
+            (a, b, e.xreplace({x: sp.Integer(0), y: sp.Integer(0)}))
+    if not has_any(e, (sp.Float,)):
+        _keep(_LINES, key, out)
+    return out
+
+
+#: The polygon's pieces of sympy arithmetic that depend on its lines only (:func:`polygon_integral`):
+#: each condition's line ``(a, b, c)`` by (condition, x, y); each vertex by its two lines (in the
+#: order they are met); each relation of the cell by (line, vertex).  ⟦p⟧ and every partial
+#: derivative's regular part integrate over the same polygon (the stylization kernel's triangle in
+#: its pixel: the same conditions, another weight), and the same computation of the same sympy
+#: expressions gives the same expressions.  Not kept for Floats (sympy's equality does not see
+#: their precision); at most :data:`GEOMETRY` entries each.
+_LINES: dict = {}
+_VERTICES: dict = {}
+_RELATIONS: dict = {}
+GEOMETRY = 4096
+
+
+def _keep(memo: dict, key, value) -> None:
+    if len(memo) >= GEOMETRY:
+        memo.pop(next(iter(memo)))
+    memo[key] = value
+
+
+def _vertex(li: tuple, lj: tuple, keep: bool) -> tuple:
+    """The meeting point of the lines ``li`` and ``lj`` (Cramer's rule), remembered when ``keep``."""
+    hit = _VERTICES.get((li, lj))
+    if hit is None:
+        (ai, bi, ci), (aj, bj, cj) = li, lj
+        det = ai * bj - aj * bi
+        hit = ((bi * cj - bj * ci) / det, (aj * ci - ai * cj) / det)
+        if keep:
+            _keep(_VERTICES, (li, lj), hit)
+    return hit
+
+
+def _relation(line: tuple, X, Y, keep: bool):
+    """``a·X + b·Y + c > 0`` (unevaluated), or None when it is a number; remembered when ``keep``."""
+    key = (line, X, Y)
+    hit = _RELATIONS.get(key, _RELATIONS)
+    if hit is _RELATIONS:
+        a, b, c = line
+        rel = a * X + b * Y + c
+        # (unevaluated: sympy cannot decide the sign of such a form, and spends a tenth of a
+        # second per relation trying)
+        hit = None if rel.is_number else sp.StrictGreaterThan(rel, 0, evaluate=False)
+        if keep:
+            _keep(_RELATIONS, key, hit)
+    return hit
 
 
 def polygon_integral(conds, weight, x, y, box: dict, ctx):
@@ -462,21 +516,18 @@ def polygon_integral(conds, weight, x, y, box: dict, ctx):
     cell = []
     if len(poly) < 3:  # empty at the point: only a tie-free emptiness is decided here
         return None
+    keep = not any(has_any(k, (sp.Float,)) for abc in lines for k in abc)
     verts = {}
     for key in {k for _, k in poly}:
         i, j = sorted(key)
-        (ai, bi, ci), (aj, bj, cj) = lines[i], lines[j]
-        det = ai * bj - aj * bi
-        verts[key] = ((bi * cj - bj * ci) / det, (aj * ci - ai * cj) / det)
+        verts[key] = _vertex(lines[i], lines[j], keep)
     for _, key in poly:
         X, Y = verts[key]
-        for k, (a, b, c) in enumerate(lines):
+        for k, line in enumerate(lines):
             if k not in key:
-                rel = a * X + b * Y + c
-                if not rel.is_number:
-                    # (unevaluated: sympy cannot decide the sign of such a form, and spends
-                    # a tenth of a second per relation trying)
-                    cell.append(sp.StrictGreaterThan(rel, 0, evaluate=False))
+                rel = _relation(line, X, Y, keep)
+                if rel is not None:
+                    cell.append(rel)
     rule = triangle_rule(d)
     coeffs = monomials(sp.sympify(weight), x, y)  # w = Σ c_ab xᵃ yᵇ, the c_ab never expanded
     total = []

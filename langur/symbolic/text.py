@@ -122,6 +122,13 @@ def shared_sstr(expr, **settings) -> str:
     return _SharedPrinter(settings).doprint(expr)
 
 
+def shared_sstrs(exprs, **settings) -> list[str]:
+    """``[sympy.sstr(e, **settings) for e in exprs]``, the same texts, each subtree they share printed
+    once (by one printer: a subtree's text does not depend on where it occurs)."""
+    printer = _SharedPrinter(settings)
+    return [printer.doprint(e) for e in exprs]
+
+
 #: lambdify without its docstring: it holds ``str(expr)``, printed with its terms sorted (a second
 #: of a raytrace partial derivative's ~100 compilations); the generated code is the same.
 _NO_DOC = {"docstring_limit": 0} if "docstring_limit" in inspect.signature(sp.lambdify).parameters else {}

@@ -22,8 +22,26 @@ def _num(expr, at: dict) -> float:
     return complex(sp.sympify(expr).xreplace(_floats(at)).evalf(30)).real
 
 
+#: The point's values as 30-digit Floats, by point (:func:`_floats`): every condition of every piece
+#: has them substituted (:func:`~.pieceproblems.piece_problem`), 46 times for a stylize partial
+#: derivative with its ~40 parameters; a Float is a pure function of the value (equal values, of
+#: any precision, have the same ``float``).  The dict is shared: callers only read it.
+_FLOATS: dict = {}
+
+
 def _floats(at: dict) -> dict:
-    return {k: sp.Float(float(v), 30) for k, v in at.items()}
+    try:
+        key = tuple(at.items())
+        out = _FLOATS.get(key)
+    except TypeError:  # (an unhashable value: built each time)
+        key, out = None, None
+    if out is None:
+        out = {k: sp.Float(float(v), 30) for k, v in at.items()}
+        if key is not None:
+            if len(_FLOATS) >= 64:
+                _FLOATS.pop(next(iter(_FLOATS)))
+            _FLOATS[key] = out
+    return out
 
 
 def printable(e: sp.Expr) -> sp.Expr:

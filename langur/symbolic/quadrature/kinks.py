@@ -10,7 +10,7 @@ import itertools
 
 import sympy as sp
 
-from langur.symbolic.local import free_symbols
+from langur.symbolic.local import degree, free_symbols, rational_form
 from langur.symbolic.quadrature.compiling import COMPILED, _lambdify
 from langur.symbolic.quadrature.problem import NumProblem, _depends
 from langur.symbolic.quadrature.roots import _poly_roots, _roots
@@ -153,15 +153,59 @@ def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.E
     params = set(p.at) if parametric else set()
     out = []
     for e1, e2 in itertools.combinations(polys, 2):
-        try:
-            r = run_with_timeout(lambda e1=e1, e2=e2: sp.resultant(e1, e2, v), RESULTANT_SECONDS,
-                                  cpu=True)
-        except Exception:  # noqa: BLE001 - sympy fails in many ways (PolynomialDivisionFailed on floats, a time
-            continue  # limit); the pair is then left to quad's subdivision, as before
-        r = _square_free(sp.sympify(r), p.syms[level])
+        r = _crossing(e1, e2, v, p.syms[level])
+        if r is None:  # the pair is left to quad's subdivision
+            continue
         if not r.is_number and p.syms[level] in r.free_symbols and r.free_symbols <= set(p.syms[: level + 1]) | params:
             out.append(r)
     return out
+
+
+#: :func:`_crossing`'s answers by (first condition, second condition, eliminated variable, variable
+#: kept), and whether the answer is the same for the pair in the other order (:func:`_crossing`);
+#: at most :data:`COMPILED` kept.  The conditions of a program come back in every problem at every
+#: parameter point, in another order when another piece lists them otherwise: the stylization
+#: kernel's ⟦p⟧ (Theorem 8.1's check) has the box's conditions first, its partial derivatives'
+#: regular parts last (exact14s).
+_PAIRS: dict = {}
+
+
+def _crossing(e1: sp.Expr, e2: sp.Expr, v: sp.Symbol, w: sp.Symbol) -> sp.Expr | None:
+    """The square-free part in ``w`` of the resultant of ``e1`` and ``e2`` in ``v`` (:func:`_crossings`),
+    or None when sympy fails or runs out of time (the pair is then left to ``quad``'s subdivision).
+
+    Remembered by the ordered pair (:data:`_PAIRS`; the same computation would give the same
+    expression), and used for the pair in the other order when that gives the same expression too:
+    when both conditions are polynomials with rational coefficients in all their symbols (then
+    sympy's coefficient domain is the integers or rationals with the other symbols adjoined, exact,
+    where res(e2, e1) = (−1)^(deg e1 · deg e2)·res(e1, e2) as polynomials), and the answer is
+    sympy's ``sqf_part`` itself, which first makes the polynomial's leading coefficient positive,
+    so that r and −r have the same square-free part (:func:`_square_free_part`).  A time limit's or
+    a failure's answer is not kept (asked again, as before)."""
+    hit = _PAIRS.get((e1, e2, v, w))
+    if hit is None:
+        hit = _PAIRS.get((e2, e1, v, w))
+        if hit is not None and not hit[1]:
+            hit = None
+    if hit is not None:
+        return hit[0]
+    try:
+        r = run_with_timeout(lambda: sp.resultant(e1, e2, v), RESULTANT_SECONDS, cpu=True)
+    except Exception:  # noqa: BLE001 - sympy fails in many ways (PolynomialDivisionFailed on floats, a time
+        return None  # limit)
+    r = sp.sympify(r)
+    out, final, normalized = _square_free(r, w)
+    if final:
+        exact = _rational_polynomial(e1) and _rational_polynomial(e2)
+        if len(_PAIRS) >= COMPILED:
+            _PAIRS.pop(next(iter(_PAIRS)))
+        _PAIRS[(e1, e2, v, w)] = (out, exact and normalized)
+    return out
+
+
+def _rational_polynomial(e: sp.Expr) -> bool:
+    """Whether ``e`` is a polynomial with rational coefficients in all its symbols."""
+    return rational_form(e) and degree(e, frozenset(free_symbols(e))) is not None
 
 
 #: :func:`_square_free`'s answers by (resultant, variable): the same pair of conditions comes back in
@@ -170,35 +214,37 @@ def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.E
 _SQUARE_FREE: dict = {}
 
 
-def _square_free(r: sp.Expr, v: sp.Symbol) -> sp.Expr:
+def _square_free(r: sp.Expr, v: sp.Symbol) -> tuple[sp.Expr, bool, bool]:
     """:func:`_square_free_part`, remembered (:data:`_SQUARE_FREE`)."""
     key = (r, v)
-    out = _SQUARE_FREE.get(key)
-    if out is None:
-        out, final = _square_free_part(r, v)
-        if final:  # (a time limit's fallback is not kept: asked again, as :func:`_critical_points` does)
-            if len(_SQUARE_FREE) >= COMPILED:
-                _SQUARE_FREE.pop(next(iter(_SQUARE_FREE)))
-            _SQUARE_FREE[key] = out
-    return out
+    hit = _SQUARE_FREE.get(key)
+    if hit is not None:
+        return hit[0], True, hit[1]
+    out, final, normalized = _square_free_part(r, v)
+    if final:  # (a time limit's fallback is not kept: asked again, as :func:`_critical_points` does)
+        if len(_SQUARE_FREE) >= COMPILED:
+            _SQUARE_FREE.pop(next(iter(_SQUARE_FREE)))
+        _SQUARE_FREE[key] = (out, normalized)
+    return out, final, normalized
 
 
-def _square_free_part(r: sp.Expr, v: sp.Symbol) -> tuple[sp.Expr, bool]:
+def _square_free_part(r: sp.Expr, v: sp.Symbol) -> tuple[sp.Expr, bool, bool]:
     """The resultant ``r`` without its repeated factors (as a polynomial in ``v``), within
     :data:`RESULTANT_SECONDS` (else ``r``): two conditions that cross where they are both simple
     give a resultant with double roots — the cylinders x² + z² ≤ a, y² + z² ≤ a give (x² − y²)²
     in y — and ``numpy.roots`` finds a double root as two roots ~10⁻⁸ apart or as a complex pair
     it drops (:data:`~.roots.REAL_SLACK`): the kink y = x was missing and the middle level
-    subdivided there.  The same zeros, each simple (tang13); and whether the answer is final (not
-    cut short by the time limit)."""
+    subdivided there.  The same zeros, each simple (tang13); whether the answer is final (not
+    cut short by the time limit); and whether it is sympy's ``sqf_part`` (which first makes the
+    leading coefficient positive: then −r has the same answer) rather than ``r`` itself."""
     try:
         out = run_with_timeout(lambda: sp.sqf_part(r, v), RESULTANT_SECONDS, cpu=True)
     except TimeoutError:
-        return r, False
+        return r, False, False
     except Exception:  # noqa: BLE001 - sympy fails in many ways on floats; the resultant itself is kept
-        return r, True
+        return r, True, False
     out = sp.sympify(out)
-    return (out if v in out.free_symbols else r), True
+    return (out, True, True) if v in out.free_symbols else (r, True, False)
 
 
 #: :func:`_critical_points`' answers by (expression, variable): one condition's come back at every
