@@ -23,7 +23,9 @@ from langur.implicit import ImplicitRootFn
 from langur.symbolic import local
 from langur.symbolic.pieces import DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
-from langur.symbolic.regions import Cond, Context
+from langur.symbolic.quadrature.deltaproblems import cofactor_det
+from langur.symbolic.regions import Cond, Context, Deferred
+from langur.symbolic.regions import _rational_probe as rational_probe
 from langur.symbolic.regions import _remember as remember
 from langur.symbolic.text import lambdify
 
@@ -127,14 +129,47 @@ _SIMPLIFIED: dict = {}
 _JACOBIANS: dict = {}
 
 
-def _jacobian(comps: tuple, inputs: tuple):
-    """det DΨ̂⁻¹ at u₀ = 0 for the inverse branch ``comps`` (the variables in the ``inputs``)."""
+def _jacobian(comps: tuple, inputs: tuple, entries: list | None = None):
+    """det DΨ̂⁻¹ at u₀ = 0 for the inverse branch ``comps`` (the variables in the ``inputs``);
+    ``entries``: :func:`_jacobian_entries`'s, when the caller has them."""
     J = _JACOBIANS.get((comps, inputs))
     if J is None:
-        jac = sp.Matrix(_jacobian_entries(comps, inputs)).det()
+        jac = sp.Matrix(entries if entries is not None else _jacobian_entries(comps, inputs)).det()
         J = jac.xreplace({inputs[0]: sp.Integer(0)})
         remember(_JACOBIANS, (comps, inputs), J, 512)
     return J
+
+
+def _simplified(J, ctx: Context):
+    """sympy's ``simplify`` of the Jacobian ``J`` (remembered; ``J`` itself when it is a number,
+    holds implicit roots, or its simplification runs out of time)."""
+    if J in _SIMPLIFIED:  # Ψ̂'s Jacobian comes back for every partial derivative and check
+        return _SIMPLIFIED[J]
+    if not (J.is_number or J.has(ImplicitRootFn)):
+        # (an implicit root's Jacobian 1/f'(x*) has nothing to simplify, and costs seconds to try)
+        try:
+            simple = ctx.deadline.run(lambda: sp.simplify(J), cap=3.0)
+            remember(_SIMPLIFIED, J, simple, 512)
+            return simple
+        except TimeoutError:
+            pass
+    return J
+
+
+def _constant_and_nonzero(entries: list, inputs: tuple, uprime) -> bool:
+    """Whether det DΨ̂⁻¹ at u₀ = 0 (:func:`_jacobian` of these ``entries``) is known from the
+    entries alone to be free of ``u'`` and not 0: no entry mentions ``u'`` (sympy's determinant and
+    its simplification have no symbols the entries do not have), and the determinant of the
+    entries' exact values at u₀ = 0 and one rational point (:func:`regions._rational_probe`) is a
+    non-zero rational (a function not 0 there: no form of it is the number 0)."""
+    entries = [[sp.sympify(e) for e in row] for row in entries]
+    if set().union(*[local.free_symbols(e) for row in entries for e in row]) & set(uprime):
+        return False
+    zero = {inputs[0]: sp.Integer(0)}
+    values = [[rational_probe(e.xreplace(zero)) for e in row] for row in entries]
+    if any(q is None for row in values for q in row):
+        return False
+    return cofactor_det(sp.Matrix(values)) != 0
 
 
 def _jacobian_entries(comps: tuple, inputs: tuple) -> list[list]:
@@ -165,17 +200,13 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
         comps = [inv[x] for x in psi.variables]
         sub = {u0: sp.Integer(0)}
         xsub = {x: inv[x].xreplace(sub) for x in psi.variables}
-        J = _jacobian(tuple(comps), tuple(psi.inputs))
-        if J in _SIMPLIFIED:  # Ψ̂'s Jacobian comes back for every partial derivative and check
-            J = _SIMPLIFIED[J]
-        elif not (J.is_number or J.has(ImplicitRootFn)):
-            # (an implicit root's Jacobian 1/f'(x*) has nothing to simplify, and costs seconds to try)
-            try:
-                simple = ctx.deadline.run(lambda J=J: sp.simplify(J), cap=3.0)
-                remember(_SIMPLIFIED, J, simple, 512)
-                J = simple
-            except TimeoutError:
-                pass
+        key = (tuple(comps), tuple(psi.inputs))
+        entries = None if key in _JACOBIANS else _jacobian_entries(*key)
+        # a Jacobian free of u' and not 0 is only a factor of the weight: its determinant and
+        # simplification are left until the integration needs the weight (Deferred), and never
+        # made when the region is empty at the evaluation point
+        deferred = entries is not None and _constant_and_nonzero(entries, psi.inputs, uprime)
+        J = None if deferred else _simplified(_jacobian(*key, entries), ctx)
         exprs = [sp.sympify(c.expr).xreplace(xsub) for c in piece.conditions]
         guards = [sp.sympify(g).xreplace(sub) for g in b.guards]
         if not all(ctx.decide(g) for g in guards if not (g.free_symbols - ctx.params)):
@@ -197,6 +228,12 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
         if empty:
             continue
         weight = sp.sympify(piece.weight).xreplace(xsub)
+        if deferred and weight != 0:
+            problems.append((conds, Deferred(
+                lambda weight=weight, key=key, entries=entries: weight * sp.Abs(_simplified(_jacobian(*key, entries), ctx)))))
+            continue
+        if J is None:
+            J = _simplified(_jacobian(*key, entries), ctx)
         if not (J.free_symbols & set(uprime)):
             problems.append((conds, weight * sp.Abs(J)))
             continue

@@ -90,6 +90,31 @@ def _canonical(rel_kind: str, expr) -> tuple:
     return out
 
 
+class Deferred:
+    """A weight made only when the integration needs it (``make()``, called once): a delta piece's
+    weight holds sympy's determinant and simplification of det DΨ̂⁻¹ (a fifth of a second for the
+    ray tracer's), which a region found empty at the evaluation point never uses.  The maker of one
+    promises that the weight is not 0 (so ``weight == 0`` is rightly false for it); it stays
+    unmade only in one variable where the conditions alone are large (:func:`_outermost`): the
+    weight's size, which else chooses the method, does not matter there, and :func:`_generic_1d`
+    asks for it only to integrate a non-empty interval.  Everywhere else it is made at once."""
+
+    __slots__ = ("_make", "_made")
+
+    def __init__(self, make):
+        self._make, self._made = make, None
+
+    def made(self) -> sp.Expr:
+        if self._made is None:
+            self._made = sp.sympify(self._make())
+        return self._made
+
+
+def _made(weight):
+    """``weight``, a :class:`Deferred` one made."""
+    return weight.made() if isinstance(weight, Deferred) else weight
+
+
 @dataclass
 class Context:
     """Evaluation point, time budget and the decisions taken at the evaluation point."""
@@ -574,8 +599,8 @@ def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
     if conds is None:
         return sp.Integer(0)
     if not variables:
-        return weight
-    if weight == 0:
+        return _made(weight)
+    if weight == 0:  # (a Deferred weight is not 0)
         return sp.Integer(0)
     v, outer = variables[-1], list(variables[:-1])
     dep = [c for c in conds if v in c.expr.free_symbols]
@@ -585,6 +610,7 @@ def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
         if rest:
             raise Unsupported("condition on a variable outside the integration order")
         return _outermost(dep, weight, v, lo, hi, ctx)
+    weight = _made(weight)
     F = None  # computed on first use: empty cases need no antiderivative
     total = sp.Integer(0)
     for combo in itertools.product(*[alternatives(c, v, outer, ctx) for c in dep]):
@@ -624,8 +650,13 @@ def _extremum(fn, args):
 
 def _outermost(conds, weight, v, lo, hi, ctx: Context):
     """Last variable: ``F(Max(A, B)) − F(A)`` per alternative, else the generic 1-D method (at
-    once for large conditions: their Max/Min nests cost minutes, :mod:`langur.symbolic.local`)."""
-    if local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params):
+    once for large conditions: their Max/Min nests cost minutes, :mod:`langur.symbolic.local`).
+    A :class:`Deferred` weight stays unmade when the conditions alone are large (then so are the
+    conditions with any weight)."""
+    exprs = [c.expr for c in conds]
+    if isinstance(weight, Deferred) and not local.is_large(exprs, ctx.params):
+        weight = weight.made()
+    if isinstance(weight, Deferred) or local.is_large(exprs + [sp.sympify(weight)], ctx.params):
         return _generic_1d(conds, weight, v, lo, hi, ctx)
     sub = Context(ctx.at, ctx.deadline, ctx.params)
     try:
@@ -795,10 +826,15 @@ def _no_missed_root(conds, v, a: float, b: float, ctx: Context) -> None:
 
 
 def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
-    """Roots of all conditions, ordered at ``at``; conditions decided per sub-interval at ``at``."""
+    """Roots of all conditions, ordered at ``at``; conditions decided per sub-interval at ``at``.
+    A :class:`Deferred` weight (the conditions alone large) is made for the first non-empty
+    sub-interval, if any."""
     lo_v, hi_v = ctx.value(lo).real, ctx.value(hi).real
     pts = [(lo_v, lo), (hi_v, hi)]
-    large = local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params)
+    if isinstance(weight, Deferred) and not local.is_large([c.expr for c in conds], ctx.params):
+        weight = weight.made()
+    large = isinstance(weight, Deferred) or \
+        local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params)
     unsure = []  # conditions whose roots sympy solved (it may miss some): sign changes looked for
     for c in conds:
         rs = _closed_roots(c, v, ctx) if large else None
@@ -831,15 +867,18 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     total = sp.Integer(0)
     start = None
     F = None
-    deg = local.degree(sp.sympify(weight), frozenset((v,))) if large else None
-    if deg is not None and deg <= local.MAX_DEGREE:  # a large polynomial: never expanded
-        def definite(a, b):
-            return local.newton_cotes(sp.sympify(weight), v, a, b, deg)
-    else:
-        def definite(a, b):
-            nonlocal F
-            F = F if F is not None else antiderivative(weight, v, ctx)
-            return F.xreplace({v: b}) - F.xreplace({v: a})
+    made = None  # (the weight, its degree when large) once an interval needs it
+
+    def definite(a, b):
+        nonlocal F, made
+        if made is None:
+            w = sp.sympify(_made(weight))
+            made = (w, local.degree(w, frozenset((v,))) if large else None)
+        w, deg = made
+        if deg is not None and deg <= local.MAX_DEGREE:  # a large polynomial: never expanded
+            return local.newton_cotes(w, v, a, b, deg)
+        F = F if F is not None else antiderivative(w, v, ctx)
+        return F.xreplace({v: b}) - F.xreplace({v: a})
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         m = (a + b) / 2
         ok = True
@@ -864,7 +903,10 @@ def integrate_region(conds: Sequence[Cond], weight, variables: Sequence, box: di
     """Exact ∫ Π conds · weight over ``box``, trying each integration order.
 
     Parameter-only conditions of the input stay exact as a Piecewise factor; comparisons made
-    during the decomposition are decided at ``at`` (``ctx.cell``)."""
+    during the decomposition are decided at ``at`` (``ctx.cell``); a :class:`Deferred` weight
+    is made here unless there is one variable."""
+    if isinstance(weight, Deferred) and len(variables) != 1:
+        weight = weight.made()
     top = []
     others = []
     for c in conds:
