@@ -765,6 +765,53 @@ def _vanishes_at_point(expr, v, root, ctx: Context) -> bool:
     return abs(residual) <= 1e-9 * max(1.0, abs(z.real))
 
 
+def _away_from_zero(c: Cond, v, lo: float, hi: float, ctx: Context) -> bool:
+    """Whether ``c.expr`` = e + k·√A (e, k free of ``v``, A a polynomial of degree 1 or 2 in ``v``;
+    no Psi solved for ``v``) stays away from 0 on [lo, hi] at the evaluation point, by far more
+    than :func:`_vanishes_at_point`'s tolerance: then no root sympy's ``solve`` gives passes that
+    check and :func:`_inside` (lo, hi), and solving is not needed to know it (a quadratic
+    condition's roots compared with the box: √(4r² − 4x²)/2 − 1 ≥ 0 for the disc of radius r).
+    |e + k√A| ≥ |e| where A < 0 (k√A imaginary) and where k√A has e's sign; else
+    ≥ |e| − |k|·√(max A)."""
+    psi, expr = c.psi, c.expr
+    if psi is not None and psi.solved_for == v and psi.branches or not isinstance(expr, sp.Add):
+        return False
+    with_v = [t for t in expr.args if v in t.free_symbols]
+    if len(with_v) != 1:
+        return False
+    roots = [f for f in sp.Mul.make_args(with_v[0]) if v in f.free_symbols]
+    if len(roots) != 1 or not (isinstance(roots[0], sp.Pow) and roots[0].exp == sp.S.Half):
+        return False
+    try:
+        poly = sp.Poly(roots[0].base, v)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return False
+    coeffs = poly.all_coeffs()
+    if poly.degree() not in (1, 2) or any(v in a.free_symbols for a in coeffs):
+        return False
+    e = sp.Add(*[t for t in expr.args if v not in t.free_symbols])
+    k = sp.Mul(*[f for f in sp.Mul.make_args(with_v[0]) if v not in f.free_symbols])
+    try:
+        nums = [ctx.value(x) for x in [e, k, *coeffs]]
+    except (TypeError, ValueError, ZeroDivisionError):
+        return False
+    if any(abs(z.imag) > 1e-20 * max(1.0, abs(z.real)) for z in nums):
+        return False
+    e_v, k_v, *a = [z.real for z in nums]
+    if k_v == 0:
+        return False
+    bound = abs(e_v)
+    if e_v * k_v <= 0:
+        def at(x):
+            return sum(ak * x ** (len(a) - 1 - i) for i, ak in enumerate(a))
+        tops = [at(lo), at(hi)]
+        if len(a) == 3 and a[0] < 0 and lo < -a[1] / (2 * a[0]) < hi:
+            tops.append(at(-a[1] / (2 * a[0])))
+        if max(tops) > 0:
+            bound = abs(e_v) - abs(k_v) * max(tops) ** 0.5
+    return bound > 1e-6 * max(1.0, abs(lo), abs(hi), abs(e_v))
+
+
 #: Points per sub-interval at which :func:`_no_missed_root` looks for a sign change.
 MISSED_ROOT_PROBES = 8
 
@@ -840,8 +887,9 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
         rs = _closed_roots(c, v, ctx) if large else None
         if rs is None:
             # sympy's roots untidied first: when none lies inside (lo, hi) here, none enters the
-            # closed form, and solve's simplify pass (most of its time) is not needed
-            rs = _roots(c, v, ctx, tidy=False)
+            # closed form, and solve's simplify pass (most of its time) is not needed; nor solve
+            # itself when the condition is seen to stay away from 0 there
+            rs = [] if _away_from_zero(c, v, lo_v, hi_v, ctx) else _roots(c, v, ctx, tidy=False)
             if any(_inside(r, lo_v, hi_v, ctx) for r in rs):
                 rs = _roots(c, v, ctx)
             unsure.append(c)
