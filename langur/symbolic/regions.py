@@ -566,14 +566,19 @@ def _rational_probe(e):
     """``e``'s exact value (a sympy Rational) with each symbol replaced by a fixed rational of its
     own (from its name), or None when that is not a rational number (a root, a pole)."""
     e = sp.sympify(e)
+    z = e.xreplace(_probe_point(local.free_symbols(e)))
+    return z if z.is_Rational else None
+
+
+def _probe_point(symbols) -> dict:
+    """:func:`_rational_probe`'s point: each symbol a fixed rational of its own (from its name)."""
     point = {}
-    for s in local.free_symbols(e):
+    for s in symbols:
         q = _PROBE_RATIONALS.get(s.name)
         if q is None:
             q = _PROBE_RATIONALS[s.name] = sp.Rational(random.Random(s.name).randint(10**5, 10**6), 999983)
         point[s] = q
-    z = e.xreplace(point)
-    return z if z.is_Rational else None
+    return point
 
 
 #: :func:`_rational_probe`'s value of each symbol, by name.
