@@ -27,15 +27,17 @@ substituted afterwards.
 from __future__ import annotations
 
 import itertools
+import math
 import random
 from dataclasses import dataclass, field
 from typing import Sequence
 
+import mpmath
 import sympy as sp
 
 from langur.symbolic import elementary, local
 from langur.symbolic.pieces import Psi
-from langur.symbolic.text import math_lambdify
+from langur.symbolic.text import math_lambdify, shared_lambdify
 from langur.timebox import Deadline
 
 
@@ -854,10 +856,45 @@ def _probe(expr, v, m: float, ctx: Context) -> complex | None:
                 return complex(x)
         except (ValueError, ZeroDivisionError, OverflowError, TypeError, NameError):
             pass
+    z = _nonreal_probe(expr, v, m, params, ctx)
+    if z is not None:
+        return z
     try:
         return ctx.value(expr.xreplace({v: sp.Float(m, 40)}))
     except (TypeError, ValueError, ZeroDivisionError):
         return None
+
+
+#: The sign probes' mpmath functions, by the key of :data:`_PROBES`.
+_MP_PROBES: dict = {}
+
+
+def _nonreal_probe(expr, v, m: float, params: tuple, ctx: Context) -> complex | None:
+    """:func:`_probe`'s value when it is clearly not real (a square root or logarithm of a
+    negative number: the float function's domain error), from a compiled mpmath function with
+    40 digits and the same inputs as :meth:`Context.value`'s (the doubles of the point, and ``m``):
+    an imaginary part above 1e-15 of the value's size, where the 30-digit evaluation differs by
+    ~1e-30 of it, so that its imaginary part is above the 1e-20 under which the probes' callers
+    take a value as real — they use a probe only to ask whether it is real and, if so, its sign.
+    None otherwise (then the 30-digit evaluation, as before)."""
+    key = (expr, v, params)
+    fn = _MP_PROBES.get(key)
+    if fn is None:
+        try:
+            fn = shared_lambdify([v, *params], expr, "mpmath")
+        except Exception:  # noqa: BLE001 - anything mpmath cannot print: the 30-digit path only
+            fn = False
+        _remember(_MP_PROBES, key, fn)
+    if fn is False:
+        return None
+    try:
+        with mpmath.workdps(40):
+            z = complex(fn(mpmath.mpf(m), *[mpmath.mpf(float(ctx.at[k])) for k in params]))
+    except Exception:  # noqa: BLE001 - undefined there, or not a number: the 30-digit path decides
+        return None
+    if not (math.isfinite(z.real) and math.isfinite(z.imag)):
+        return None
+    return z if abs(z.imag) > 1e-15 * max(1.0, abs(z.real)) else None
 
 
 def _no_missed_root(conds, v, a: float, b: float, ctx: Context) -> None:
