@@ -146,6 +146,10 @@ def test_inverse_jacobians_are_sympys_determinants_as_before(example, monkeypatc
     delta._JACOBIANS.clear()
     loaded = load(str(EXAMPLES / example))
     at = loaded.param_values()
+    if example.startswith("raytrace"):
+        # a pixel the depth boundary crosses (since exact14r a constant Jacobian is only made for a
+        # region that is not empty at the point, and the default pixel's are all empty)
+        at.update(px=0, py=-0.06)
     ddenote_program(loaded.program, at, {k: int(k == next(iter(at))) for k in at})
     assert seen
     for comps, inputs in seen:
