@@ -15,6 +15,7 @@ from __future__ import annotations
 import itertools
 import math
 import random
+from fractions import Fraction
 from typing import Sequence
 
 import sympy as sp
@@ -23,7 +24,9 @@ from langur.implicit import ImplicitRootFn
 from langur.symbolic import local
 from langur.symbolic.pieces import DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
-from langur.symbolic.regions import Cond, Context
+from langur.symbolic.quadrature.deltaproblems import cofactor_det
+from langur.symbolic.regions import Cond, Context, Deferred
+from langur.symbolic.regions import _probe_point as probe_point
 from langur.symbolic.regions import _remember as remember
 from langur.symbolic.text import lambdify
 
@@ -137,11 +140,99 @@ def _jacobian(comps: tuple, inputs: tuple):
     return J
 
 
-def _jacobian_entries(comps: tuple, inputs: tuple) -> list[list]:
-    """DΨ̂⁻¹ = (∂comps_i/∂inputs_j), 0 without differentiating where ``inputs_j`` is not in
-    ``comps_i``.  In a 2×2, whose determinant is the formula ``a·d − b·c`` (sympy's for at most
-    3×3), an entry whose partner in its product is such a 0 is not differentiated either and is
-    written 0: the product is 0 all the same (for Ψ̂⁻¹ = (u₁, g(u₀, u₁)) only ∂g/∂u₀ is computed)."""
+def _simplified(J, ctx: Context):
+    """sympy's ``simplify`` of the Jacobian ``J`` (remembered; ``J`` itself when it is a number,
+    holds implicit roots, or its simplification runs out of time)."""
+    if J in _SIMPLIFIED:  # Ψ̂'s Jacobian comes back for every partial derivative and check
+        return _SIMPLIFIED[J]
+    if not (J.is_number or J.has(ImplicitRootFn)):
+        # (an implicit root's Jacobian 1/f'(x*) has nothing to simplify, and costs seconds to try)
+        try:
+            simple = ctx.deadline.run(lambda: sp.simplify(J), cap=3.0)
+            remember(_SIMPLIFIED, J, simple, 512)
+            return simple
+        except TimeoutError:
+            pass
+    return J
+
+
+def _constant_and_nonzero(comps: tuple, inputs: tuple, uprime) -> bool:
+    """Whether det DΨ̂⁻¹ at u₀ = 0 (:func:`_jacobian`) is known, without differentiating, to be free
+    of ``u'`` and not 0: no entry :func:`_jacobian_entries` differentiates can mention ``u'``
+    (:func:`_derivative_symbols`; sympy's determinant and its simplification have no symbols the
+    entries do not have), and the determinant of the entries' exact values at u₀ = 0 and one
+    rational point (:func:`_dual`) is a non-zero rational (a function not 0 there: no form of it
+    is the number 0).  False when that is not known (then the Jacobian is made at once)."""
+    comps = [sp.sympify(e) for e in comps]
+    wanted = _differentiated(comps, inputs)
+    point = {s: Fraction(0) if s == inputs[0] else Fraction(int(q.p), int(q.q))
+             for s, q in probe_point(set().union(*[local.free_symbols(e) for e in comps])).items()}
+    values = []
+    for i, e in enumerate(comps):
+        row = []
+        for j, u in enumerate(inputs):
+            if not wanted[i][j]:
+                row.append(0)
+                continue
+            if _derivative_symbols(e, u) & set(uprime):
+                return False
+            dual = _dual(e, u, point, {})
+            if dual is None:
+                return False
+            row.append(dual[1])
+        values.append(row)
+    return cofactor_det(sp.Matrix([[sp.Rational(q.numerator, q.denominator) if isinstance(q, Fraction) else q
+                                    for q in row] for row in values])) != 0
+
+
+def _derivative_symbols(e, u) -> set:
+    """Symbols that ``∂e/∂u`` may hold (a superset: those of ``e``'s subterms that the product, power
+    and sum rules carry into it)."""
+    if u not in local.free_symbols(e):
+        return set()
+    if e == u:
+        return set()
+    if isinstance(e, sp.Add):
+        return set().union(*[_derivative_symbols(a, u) for a in e.args])
+    if isinstance(e, sp.Mul):
+        out: set = set()
+        for k, f in enumerate(e.args):
+            if u in local.free_symbols(f):
+                out |= _derivative_symbols(f, u)
+                out |= set().union(*[local.free_symbols(g) for m, g in enumerate(e.args) if m != k])
+        return out
+    if isinstance(e, sp.Pow) and e.exp.is_number:
+        return _derivative_symbols(e.base, u) | (local.free_symbols(e.base) if e.exp != 1 else set())
+    return set(local.free_symbols(e))  # (∂e/∂u has no symbol e lacks)
+
+
+def _dual(e, u, point: dict, memo: dict):
+    """``(e, ∂e/∂u)`` at ``point`` (symbols → Fractions) exactly, for a rational function (sums,
+    products, integer powers of rationals and symbols); None otherwise or at a pole."""
+    hit = memo.get(e)
+    if hit is not None or e in memo:
+        return hit
+    out = None
+    if e.is_Rational:
+        out = (Fraction(int(e.p), int(e.q)), Fraction(0))
+    elif isinstance(e, sp.Symbol):
+        out = (point[e], Fraction(int(e == u))) if e in point else None
+    elif isinstance(e, (sp.Add, sp.Mul)):
+        parts = [_dual(a, u, point, memo) for a in e.args]
+        if all(p is not None for p in parts):
+            out = parts[0]
+            for v, d in parts[1:]:
+                out = (out[0] + v, out[1] + d) if isinstance(e, sp.Add) else (out[0] * v, out[1] * v + out[0] * d)
+    elif isinstance(e, sp.Pow) and e.exp.is_Integer:
+        base, n = _dual(e.base, u, point, memo), int(e.exp)
+        if base is not None and (n >= 0 or base[0] != 0):
+            out = (base[0] ** n, n * base[0] ** (n - 1) * base[1] if n != 0 else Fraction(0))
+    memo[e] = out
+    return out
+
+
+def _differentiated(comps: list, inputs: tuple) -> list[list[bool]]:
+    """Which entries of DΨ̂⁻¹ :func:`_jacobian_entries` differentiates (the others are written 0)."""
     free = [local.free_symbols(sp.sympify(e)) for e in comps]
     n = len(comps)
     zero = [[u not in free[i] for u in inputs] for i in range(n)]
@@ -149,7 +240,16 @@ def _jacobian_entries(comps: tuple, inputs: tuple) -> list[list]:
     if n == 2:
         for i, j in ((0, 0), (0, 1), (1, 0), (1, 1)):
             skip[i][j] = zero[1 - i][1 - j]
-    return [[sp.Integer(0) if zero[i][j] or skip[i][j] else sp.diff(e, u) for j, u in enumerate(inputs)]
+    return [[not (zero[i][j] or skip[i][j]) for j in range(n)] for i in range(n)]
+
+
+def _jacobian_entries(comps: tuple, inputs: tuple) -> list[list]:
+    """DΨ̂⁻¹ = (∂comps_i/∂inputs_j), 0 without differentiating where ``inputs_j`` is not in
+    ``comps_i``.  In a 2×2, whose determinant is the formula ``a·d − b·c`` (sympy's for at most
+    3×3), an entry whose partner in its product is such a 0 is not differentiated either and is
+    written 0: the product is 0 all the same (for Ψ̂⁻¹ = (u₁, g(u₀, u₁)) only ∂g/∂u₀ is computed)."""
+    wanted = _differentiated(list(comps), inputs)
+    return [[sp.diff(e, u) if wanted[i][j] else sp.Integer(0) for j, u in enumerate(inputs)]
             for i, e in enumerate(comps)]
 
 
@@ -165,17 +265,12 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
         comps = [inv[x] for x in psi.variables]
         sub = {u0: sp.Integer(0)}
         xsub = {x: inv[x].xreplace(sub) for x in psi.variables}
-        J = _jacobian(tuple(comps), tuple(psi.inputs))
-        if J in _SIMPLIFIED:  # Ψ̂'s Jacobian comes back for every partial derivative and check
-            J = _SIMPLIFIED[J]
-        elif not (J.is_number or J.has(ImplicitRootFn)):
-            # (an implicit root's Jacobian 1/f'(x*) has nothing to simplify, and costs seconds to try)
-            try:
-                simple = ctx.deadline.run(lambda J=J: sp.simplify(J), cap=3.0)
-                remember(_SIMPLIFIED, J, simple, 512)
-                J = simple
-            except TimeoutError:
-                pass
+        key = (tuple(comps), tuple(psi.inputs))
+        # a Jacobian free of u' and not 0 is only a factor of the weight: its entries, determinant
+        # and simplification are left until the integration needs the weight (Deferred), and never
+        # made when the region is empty at the evaluation point
+        deferred = key not in _JACOBIANS and _constant_and_nonzero(*key, uprime)
+        J = None if deferred else _simplified(_jacobian(*key), ctx)
         exprs = [sp.sympify(c.expr).xreplace(xsub) for c in piece.conditions]
         guards = [sp.sympify(g).xreplace(sub) for g in b.guards]
         if not all(ctx.decide(g) for g in guards if not (g.free_symbols - ctx.params)):
@@ -197,6 +292,12 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
         if empty:
             continue
         weight = sp.sympify(piece.weight).xreplace(xsub)
+        if deferred and weight != 0:
+            problems.append((conds, Deferred(
+                lambda weight=weight, key=key: weight * sp.Abs(_simplified(_jacobian(*key), ctx)))))
+            continue
+        if J is None:
+            J = _simplified(_jacobian(*key), ctx)
         if not (J.free_symbols & set(uprime)):
             problems.append((conds, weight * sp.Abs(J)))
             continue

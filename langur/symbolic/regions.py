@@ -27,15 +27,17 @@ substituted afterwards.
 from __future__ import annotations
 
 import itertools
+import math
 import random
 from dataclasses import dataclass, field
 from typing import Sequence
 
+import mpmath
 import sympy as sp
 
 from langur.symbolic import elementary, local
 from langur.symbolic.pieces import Psi
-from langur.symbolic.text import math_lambdify
+from langur.symbolic.text import math_lambdify, shared_lambdify
 from langur.timebox import Deadline
 
 
@@ -88,6 +90,31 @@ def _canonical(rel_kind: str, expr) -> tuple:
         out = (p, {">": sp.StrictGreaterThan, ">=": sp.GreaterThan, "=": sp.Eq}[rel_kind](p, 0))
         _remember(_CANONICAL, key, out)
     return out
+
+
+class Deferred:
+    """A weight made only when the integration needs it (``make()``, called once): a delta piece's
+    weight holds sympy's determinant and simplification of det DΨ̂⁻¹ (a fifth of a second for the
+    ray tracer's), which a region found empty at the evaluation point never uses.  The maker of one
+    promises that the weight is not 0 (so ``weight == 0`` is rightly false for it); it stays
+    unmade only in one variable where the conditions alone are large (:func:`_outermost`): the
+    weight's size, which else chooses the method, does not matter there, and :func:`_generic_1d`
+    asks for it only to integrate a non-empty interval.  Everywhere else it is made at once."""
+
+    __slots__ = ("_make", "_made")
+
+    def __init__(self, make):
+        self._make, self._made = make, None
+
+    def made(self) -> sp.Expr:
+        if self._made is None:
+            self._made = sp.sympify(self._make())
+        return self._made
+
+
+def _made(weight):
+    """``weight``, a :class:`Deferred` one made."""
+    return weight.made() if isinstance(weight, Deferred) else weight
 
 
 @dataclass
@@ -541,14 +568,19 @@ def _rational_probe(e):
     """``e``'s exact value (a sympy Rational) with each symbol replaced by a fixed rational of its
     own (from its name), or None when that is not a rational number (a root, a pole)."""
     e = sp.sympify(e)
+    z = e.xreplace(_probe_point(local.free_symbols(e)))
+    return z if z.is_Rational else None
+
+
+def _probe_point(symbols) -> dict:
+    """:func:`_rational_probe`'s point: each symbol a fixed rational of its own (from its name)."""
     point = {}
-    for s in local.free_symbols(e):
+    for s in symbols:
         q = _PROBE_RATIONALS.get(s.name)
         if q is None:
             q = _PROBE_RATIONALS[s.name] = sp.Rational(random.Random(s.name).randint(10**5, 10**6), 999983)
         point[s] = q
-    z = e.xreplace(point)
-    return z if z.is_Rational else None
+    return point
 
 
 #: :func:`_rational_probe`'s value of each symbol, by name.
@@ -574,8 +606,8 @@ def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
     if conds is None:
         return sp.Integer(0)
     if not variables:
-        return weight
-    if weight == 0:
+        return _made(weight)
+    if weight == 0:  # (a Deferred weight is not 0)
         return sp.Integer(0)
     v, outer = variables[-1], list(variables[:-1])
     dep = [c for c in conds if v in c.expr.free_symbols]
@@ -585,6 +617,7 @@ def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
         if rest:
             raise Unsupported("condition on a variable outside the integration order")
         return _outermost(dep, weight, v, lo, hi, ctx)
+    weight = _made(weight)
     F = None  # computed on first use: empty cases need no antiderivative
     total = sp.Integer(0)
     for combo in itertools.product(*[alternatives(c, v, outer, ctx) for c in dep]):
@@ -624,8 +657,13 @@ def _extremum(fn, args):
 
 def _outermost(conds, weight, v, lo, hi, ctx: Context):
     """Last variable: ``F(Max(A, B)) − F(A)`` per alternative, else the generic 1-D method (at
-    once for large conditions: their Max/Min nests cost minutes, :mod:`langur.symbolic.local`)."""
-    if local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params):
+    once for large conditions: their Max/Min nests cost minutes, :mod:`langur.symbolic.local`).
+    A :class:`Deferred` weight stays unmade when the conditions alone are large (then so are the
+    conditions with any weight)."""
+    exprs = [c.expr for c in conds]
+    if isinstance(weight, Deferred) and not local.is_large(exprs, ctx.params):
+        weight = weight.made()
+    if isinstance(weight, Deferred) or local.is_large(exprs + [sp.sympify(weight)], ctx.params):
         return _generic_1d(conds, weight, v, lo, hi, ctx)
     sub = Context(ctx.at, ctx.deadline, ctx.params)
     try:
@@ -734,6 +772,53 @@ def _vanishes_at_point(expr, v, root, ctx: Context) -> bool:
     return abs(residual) <= 1e-9 * max(1.0, abs(z.real))
 
 
+def _away_from_zero(c: Cond, v, lo: float, hi: float, ctx: Context) -> bool:
+    """Whether ``c.expr`` = e + k·√A (e, k free of ``v``, A a polynomial of degree 1 or 2 in ``v``;
+    no Psi solved for ``v``) stays away from 0 on [lo, hi] at the evaluation point, by far more
+    than :func:`_vanishes_at_point`'s tolerance: then no root sympy's ``solve`` gives passes that
+    check and :func:`_inside` (lo, hi), and solving is not needed to know it (a quadratic
+    condition's roots compared with the box: √(4r² − 4x²)/2 − 1 ≥ 0 for the disc of radius r).
+    |e + k√A| ≥ |e| where A < 0 (k√A imaginary) and where k√A has e's sign; else
+    ≥ |e| − |k|·√(max A)."""
+    psi, expr = c.psi, c.expr
+    if psi is not None and psi.solved_for == v and psi.branches or not isinstance(expr, sp.Add):
+        return False
+    with_v = [t for t in expr.args if v in t.free_symbols]
+    if len(with_v) != 1:
+        return False
+    roots = [f for f in sp.Mul.make_args(with_v[0]) if v in f.free_symbols]
+    if len(roots) != 1 or not (isinstance(roots[0], sp.Pow) and roots[0].exp == sp.S.Half):
+        return False
+    try:
+        poly = sp.Poly(roots[0].base, v)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return False
+    coeffs = poly.all_coeffs()
+    if poly.degree() not in (1, 2) or any(v in a.free_symbols for a in coeffs):
+        return False
+    e = sp.Add(*[t for t in expr.args if v not in t.free_symbols])
+    k = sp.Mul(*[f for f in sp.Mul.make_args(with_v[0]) if v not in f.free_symbols])
+    try:
+        nums = [ctx.value(x) for x in [e, k, *coeffs]]
+    except (TypeError, ValueError, ZeroDivisionError):
+        return False
+    if any(abs(z.imag) > 1e-20 * max(1.0, abs(z.real)) for z in nums):
+        return False
+    e_v, k_v, *a = [z.real for z in nums]
+    if k_v == 0:
+        return False
+    bound = abs(e_v)
+    if e_v * k_v <= 0:
+        def at(x):
+            return sum(ak * x ** (len(a) - 1 - i) for i, ak in enumerate(a))
+        tops = [at(lo), at(hi)]
+        if len(a) == 3 and a[0] < 0 and lo < -a[1] / (2 * a[0]) < hi:
+            tops.append(at(-a[1] / (2 * a[0])))
+        if max(tops) > 0:
+            bound = abs(e_v) - abs(k_v) * max(tops) ** 0.5
+    return bound > 1e-6 * max(1.0, abs(lo), abs(hi), abs(e_v))
+
+
 #: Points per sub-interval at which :func:`_no_missed_root` looks for a sign change.
 MISSED_ROOT_PROBES = 8
 
@@ -771,10 +856,45 @@ def _probe(expr, v, m: float, ctx: Context) -> complex | None:
                 return complex(x)
         except (ValueError, ZeroDivisionError, OverflowError, TypeError, NameError):
             pass
+    z = _nonreal_probe(expr, v, m, params, ctx)
+    if z is not None:
+        return z
     try:
         return ctx.value(expr.xreplace({v: sp.Float(m, 40)}))
     except (TypeError, ValueError, ZeroDivisionError):
         return None
+
+
+#: The sign probes' mpmath functions, by the key of :data:`_PROBES`.
+_MP_PROBES: dict = {}
+
+
+def _nonreal_probe(expr, v, m: float, params: tuple, ctx: Context) -> complex | None:
+    """:func:`_probe`'s value when it is clearly not real (a square root or logarithm of a
+    negative number: the float function's domain error), from a compiled mpmath function with
+    40 digits and the same inputs as :meth:`Context.value`'s (the doubles of the point, and ``m``):
+    an imaginary part above 1e-15 of the value's size, where the 30-digit evaluation differs by
+    ~1e-30 of it, so that its imaginary part is above the 1e-20 under which the probes' callers
+    take a value as real — they use a probe only to ask whether it is real and, if so, its sign.
+    None otherwise (then the 30-digit evaluation, as before)."""
+    key = (expr, v, params)
+    fn = _MP_PROBES.get(key)
+    if fn is None:
+        try:
+            fn = shared_lambdify([v, *params], expr, "mpmath")
+        except Exception:  # noqa: BLE001 - anything mpmath cannot print: the 30-digit path only
+            fn = False
+        _remember(_MP_PROBES, key, fn)
+    if fn is False:
+        return None
+    try:
+        with mpmath.workdps(40):
+            z = complex(fn(mpmath.mpf(m), *[mpmath.mpf(float(ctx.at[k])) for k in params]))
+    except Exception:  # noqa: BLE001 - undefined there, or not a number: the 30-digit path decides
+        return None
+    if not (math.isfinite(z.real) and math.isfinite(z.imag)):
+        return None
+    return z if abs(z.imag) > 1e-15 * max(1.0, abs(z.real)) else None
 
 
 def _no_missed_root(conds, v, a: float, b: float, ctx: Context) -> None:
@@ -795,17 +915,23 @@ def _no_missed_root(conds, v, a: float, b: float, ctx: Context) -> None:
 
 
 def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
-    """Roots of all conditions, ordered at ``at``; conditions decided per sub-interval at ``at``."""
+    """Roots of all conditions, ordered at ``at``; conditions decided per sub-interval at ``at``.
+    A :class:`Deferred` weight (the conditions alone large) is made for the first non-empty
+    sub-interval, if any."""
     lo_v, hi_v = ctx.value(lo).real, ctx.value(hi).real
     pts = [(lo_v, lo), (hi_v, hi)]
-    large = local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params)
+    if isinstance(weight, Deferred) and not local.is_large([c.expr for c in conds], ctx.params):
+        weight = weight.made()
+    large = isinstance(weight, Deferred) or \
+        local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params)
     unsure = []  # conditions whose roots sympy solved (it may miss some): sign changes looked for
     for c in conds:
         rs = _closed_roots(c, v, ctx) if large else None
         if rs is None:
             # sympy's roots untidied first: when none lies inside (lo, hi) here, none enters the
-            # closed form, and solve's simplify pass (most of its time) is not needed
-            rs = _roots(c, v, ctx, tidy=False)
+            # closed form, and solve's simplify pass (most of its time) is not needed; nor solve
+            # itself when the condition is seen to stay away from 0 there
+            rs = [] if _away_from_zero(c, v, lo_v, hi_v, ctx) else _roots(c, v, ctx, tidy=False)
             if any(_inside(r, lo_v, hi_v, ctx) for r in rs):
                 rs = _roots(c, v, ctx)
             unsure.append(c)
@@ -831,15 +957,18 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     total = sp.Integer(0)
     start = None
     F = None
-    deg = local.degree(sp.sympify(weight), frozenset((v,))) if large else None
-    if deg is not None and deg <= local.MAX_DEGREE:  # a large polynomial: never expanded
-        def definite(a, b):
-            return local.newton_cotes(sp.sympify(weight), v, a, b, deg)
-    else:
-        def definite(a, b):
-            nonlocal F
-            F = F if F is not None else antiderivative(weight, v, ctx)
-            return F.xreplace({v: b}) - F.xreplace({v: a})
+    made = None  # (the weight, its degree when large) once an interval needs it
+
+    def definite(a, b):
+        nonlocal F, made
+        if made is None:
+            w = sp.sympify(_made(weight))
+            made = (w, local.degree(w, frozenset((v,))) if large else None)
+        w, deg = made
+        if deg is not None and deg <= local.MAX_DEGREE:  # a large polynomial: never expanded
+            return local.newton_cotes(w, v, a, b, deg)
+        F = F if F is not None else antiderivative(w, v, ctx)
+        return F.xreplace({v: b}) - F.xreplace({v: a})
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         m = (a + b) / 2
         ok = True
@@ -864,7 +993,10 @@ def integrate_region(conds: Sequence[Cond], weight, variables: Sequence, box: di
     """Exact ∫ Π conds · weight over ``box``, trying each integration order.
 
     Parameter-only conditions of the input stay exact as a Piecewise factor; comparisons made
-    during the decomposition are decided at ``at`` (``ctx.cell``)."""
+    during the decomposition are decided at ``at`` (``ctx.cell``); a :class:`Deferred` weight
+    is made here unless there is one variable."""
+    if isinstance(weight, Deferred) and len(variables) != 1:
+        weight = weight.made()
     top = []
     others = []
     for c in conds:

@@ -88,24 +88,12 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
     variables = list(variables)
     missing = [x for x in variables if x not in psi.variables]
     uprime = list(psi.inputs[1:]) + missing
-    jac = _FORWARD_DETS.get((psi.forward, psi.variables))
-    if jac is None:  # (only evaluated numerically: the cofactor formula, not sympy's simplifying det)
-        jac = jacobian_det(psi.forward, psi.variables)
-        if len(_FORWARD_DETS) >= COMPILED:
-            _FORWARD_DETS.pop(next(iter(_FORWARD_DETS)))
-        _FORWARD_DETS[(psi.forward, psi.variables)] = jac
-    jac_f = _lambdify(variables, jac, at)
     bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in ubox]
     problems = []
     for b in psi.branches:
         sub = {psi.inputs[0]: sp.Integer(0)}
         inv = {x: e.xreplace(sub) for x, e in b.inverse}
         xs = [inv.get(x, x) for x in variables]
-        x_fns = [_lambdify(uprime, e, at) for e in xs]
-
-        def xmap(*u, x_fns=x_fns):
-            return [f(*u) for f in x_fns]
-
         conds = []
         exprs = [c.expr for c in piece.conditions] + [g.xreplace(sub) for g in b.guards]
         guards_start = len(piece.conditions)
@@ -126,17 +114,44 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
             conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, se.xreplace(_floats(at)), sym=_parametric(se)))
         if empty:
             continue
-        w_f = _lambdify(variables, piece.weight, at)
-
-        def weight(*u, xmap=xmap, w_f=w_f):
-            x = xmap(*u)
-            d = jac_f(*x)
-            return w_f(*x) / abs(d) if d != 0 else math.nan  # degenerate: Ψ̂ not invertible here
-
-        problems.append(NumProblem(conds, weight, bounds, syms=uprime, at=dict(at),
+        problems.append(NumProblem(conds, _Weight(piece, variables, uprime, xs, at), bounds, syms=uprime, at=dict(at),
                                    sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in ubox],
                                    folds=any(e.has(ImplicitRootFn) for e in xs)))
     return problems
+
+
+def _forward_det(psi):
+    """det DΨ̂ (:func:`jacobian_det`), remembered by (forward map, variables)."""
+    jac = _FORWARD_DETS.get((psi.forward, psi.variables))
+    if jac is None:  # (only evaluated numerically: the cofactor formula, not sympy's simplifying det)
+        jac = jacobian_det(psi.forward, psi.variables)
+        if len(_FORWARD_DETS) >= COMPILED:
+            _FORWARD_DETS.pop(next(iter(_FORWARD_DETS)))
+        _FORWARD_DETS[(psi.forward, psi.variables)] = jac
+    return jac
+
+
+class _Weight:
+    """A branch's weight ``h(x)/|det DΨ̂(x)|`` at ``x = Ψ̂_b⁻¹(0, u')``, as a function of ``u'``;
+    det DΨ̂ and the compiled functions made at its first call: a region the quadrature finds empty
+    never calls it (the shader's Ψ̂ of the ray tracer: its derivative and compilation were a
+    twentieth of ∂/∂t)."""
+
+    __slots__ = ("piece", "variables", "uprime", "xs", "at", "_fns")
+
+    def __init__(self, piece: DeltaPiece, variables: list, uprime: list, xs: list, at: dict):
+        self.piece, self.variables, self.uprime, self.xs, self.at = piece, variables, uprime, xs, at
+        self._fns = None
+
+    def __call__(self, *u):
+        if self._fns is None:
+            self._fns = ([_lambdify(self.uprime, e, self.at) for e in self.xs],
+                         _lambdify(self.variables, _forward_det(self.piece.psi), self.at),
+                         _lambdify(self.variables, self.piece.weight, self.at))
+        x_fns, jac_f, w_f = self._fns
+        x = [f(*u) for f in x_fns]
+        d = jac_f(*x)
+        return w_f(*x) / abs(d) if d != 0 else math.nan  # degenerate: Ψ̂ not invertible here
 
 
 def quad_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at: dict, uboxes,
