@@ -33,6 +33,7 @@ from typing import Sequence
 
 import sympy as sp
 
+from langur.implicit import unsolvable
 from langur.symbolic import elementary, local
 from langur.symbolic.pieces import Psi
 from langur.symbolic.text import math_lambdify
@@ -673,6 +674,9 @@ def _roots(c: Cond, v, ctx: Context, tidy: bool = True):
     key = (c.expr, v, tidy)
     sols = _SOLVED.get(key)  # the same conditions come back for ⟦p⟧, each ⦇p⦈ and the checks
     if sols is None:
+        known = unsolvable(c.expr, v)  # sympy's failure known from the shape (seconds saved)
+        if known is not None:
+            raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {known}")
         try:
             sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False, check=False, simplify=tidy),
                                     cap=max(2.0, ctx.deadline.seconds / 4))
