@@ -124,3 +124,28 @@ def test_turning2d_note_unchanged():
     lhs = notes[0].split("cannot solve ", 1)[1].split(" = 0 for u1: ", 1)
     assert lhs[1] == "No algorithms are implemented to solve equation " + lhs[0]
     assert implicit.NO_ALGORITHM.strip() == "No algorithms are implemented to solve equation"
+
+
+def test_theorem_forms_remembered(monkeypatch):
+    """Theorem 8.1's check asks whether a closed form holds a switch and whether it is large at every
+    point it compares: answered once per form, the same answers as the walks themselves."""
+    from langur import theorem
+    from langur.symbolic.local import has_any, size
+
+    x, b = sp.symbols("x b", real=True)
+    small = sp.Max(x, b) + x**2
+    big = sp.Add(*[sp.Rational(k, 3) * x**k * b for k in range(1, 800)])  # ~4000 nodes
+    edge = sp.Add(*[x**k for k in range(2, 1002)])  # 1 + 1000·3 - … nodes around the limit
+    for e in (small, big, edge, x * b, sp.Piecewise((x, b > 0), (0, True)), sp.Heaviside(x - b)):
+        want_switch = has_any(e, (sp.Max, sp.Min, sp.Heaviside, sp.DiracDelta, sp.Piecewise))
+        want_large = size(e, theorem.SYMBOLIC_OPS) >= theorem.SYMBOLIC_OPS
+        assert theorem._switches(e) is want_switch
+        assert theorem._large(e) is want_large
+    walks = []
+    monkeypatch.setattr(theorem, "has_any", lambda *a: walks.append(a) or True)
+    monkeypatch.setattr(theorem, "size", lambda *a: walks.append(a) or 0)
+    for _ in range(3):  # remembered: no walk again
+        assert theorem._switches(big) is False
+        assert theorem._large(big) is True
+    assert walks == []
+    assert theorem.localize(x * b, {b: sp.Integer(1)}) == x * b
