@@ -674,12 +674,8 @@ def _roots(c: Cond, v, ctx: Context, tidy: bool = True):
     key = (c.expr, v, tidy)
     sols = _SOLVED.get(key)  # the same conditions come back for ⟦p⟧, each ⦇p⦈ and the checks
     if sols is None:
-        known = unsolvable(c.expr, v)  # sympy's failure known from the shape (seconds saved)
-        if known is not None:
-            raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {known}")
         try:
-            sols = ctx.deadline.run(lambda: sp.solve(c.expr, v, dict=False, check=False, simplify=tidy),
-                                    cap=max(2.0, ctx.deadline.seconds / 4))
+            sols = ctx.deadline.run(lambda: _solve(c.expr, v, tidy), cap=max(2.0, ctx.deadline.seconds / 4))
         except TimeoutError:
             raise Unsupported(f"solving {c.expr} = 0 for {v} timed out") from None
         except (NotImplementedError, ValueError, TypeError) as exc:
@@ -688,6 +684,15 @@ def _roots(c: Cond, v, ctx: Context, tidy: bool = True):
     if not isinstance(sols, list):
         raise Unsupported(f"infinitely many roots of {c.expr} in {v}")
     return [r for r in sols if not isinstance(r, (dict, tuple)) and _vanishes_at(c.expr, v, r, ctx)]
+
+
+def _solve(expr, v, tidy: bool):
+    """sympy's ``solve`` as :func:`_roots` asks it, or its failure when it is known from the shape
+    (:func:`langur.implicit.unsolvable`: 0.1–0.2 s saved each time, the same message)."""
+    known = unsolvable(expr, v)
+    if known is not None:
+        raise NotImplementedError(known)
+    return sp.solve(expr, v, dict=False, check=False, simplify=tidy)
 
 
 #: :func:`_closed_roots` and :func:`_vanishes_at` by (condition, variable[, root], point): the same
