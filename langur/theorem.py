@@ -21,6 +21,7 @@ import random
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from enum import StrEnum
+from functools import lru_cache
 
 import sympy as sp
 
@@ -147,7 +148,7 @@ def localize(expr: sp.Expr, at: Mapping[sp.Symbol, sp.Expr], eps: float = 1e-12)
             return bool(cond.func(d, 0))
         raise _Tie()
 
-    if not has_any(expr, (sp.Max, sp.Min, sp.Heaviside, sp.DiracDelta, sp.Piecewise)):
+    if not _switches(expr):
         return expr  # nothing to resolve (and a large closed form is not rebuilt node by node)
 
     def go(e):
@@ -191,6 +192,21 @@ def localize(expr: sp.Expr, at: Mapping[sp.Symbol, sp.Expr], eps: float = 1e-12)
 #: of two closed forms of ~10⁴ operations (the stylization kernel, §10.3.1) takes minutes; the
 #: comparison is then numeric.
 SYMBOLIC_OPS = 3000
+
+
+@lru_cache(maxsize=64)
+def _switches(expr: sp.Expr) -> bool:
+    """Whether ``expr`` holds a Max, Min, Heaviside, DiracDelta or Piecewise (what
+    :func:`localize` resolves), remembered by form: the check localizes the same closed form of
+    ⟦p⟧ at the parameters and at each nearby point (a walk of its distinct subtrees each time)."""
+    return has_any(expr, (sp.Max, sp.Min, sp.Heaviside, sp.DiracDelta, sp.Piecewise))
+
+
+@lru_cache(maxsize=64)
+def _large(expr: sp.Expr) -> bool:
+    """Whether ``expr`` has :data:`SYMBOLIC_OPS` nodes or more, remembered by form (asked of the same
+    closed forms of ⟦p⟧ and ⦇p⦈ at each point the check compares)."""
+    return size(expr, SYMBOLIC_OPS) >= SYMBOLIC_OPS
 
 
 def symbolic_difference(lhs: sp.Expr, rhs: sp.Expr, seconds: float = 5.0) -> sp.Expr | None:
@@ -316,7 +332,7 @@ def _large_closed_form_at(der, q: Mapping[str, float]) -> tuple[float, float] | 
     one: the two closed forms compared at points near the parameters, not only at them, where
     both were cross-checked by quadrature), rational there, and ``q`` is inside every relation of
     its parameter cell; else None (⦇p⦈(q) is then computed by quadrature)."""
-    if der.method != Method.CLOSED_FORM or der.expr is None or size(der.expr, SYMBOLIC_OPS) < SYMBOLIC_OPS:
+    if der.method != Method.CLOSED_FORM or der.expr is None or not _large(der.expr):
         return None
     point, memo = at_symbols(q), {}  # (the relations and the form share their subtrees)
     for rel in tuple(der.regular.cell) + tuple(der.boundary.cell):
@@ -338,7 +354,7 @@ def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, 
     the form holds on both sides (``across``); else ``(None, None)``."""
     try:
         local_form = localize(expr, at_symbols(at))
-        if size(local_form, SYMBOLIC_OPS) >= SYMBOLIC_OPS:  # large: differentiated along the line only
+        if _large(local_form):  # large: differentiated along the line only
             return _line_derivative(local_form, at, direction), None
         local = directional(local_form, direction)
         value = _float(local, at)
