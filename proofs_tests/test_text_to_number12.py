@@ -149,3 +149,40 @@ def test_the_depth_check_still_runs_before_the_early_return(monkeypatch):
     with pytest.raises(LangurError) as e:
         frontend.load_text("int ([0, 1]) x * (x + (x * (x + 1))) d(x)\n")
     assert [d.code for d in e.value.diagnostics] == ["T230"]
+
+
+# ---- records built once per load, their __init__ written out (as Span's and BinOp's) ----------
+
+def _written_out():
+    from langur import core
+    from langur.syntax import surface
+    return [surface.ParamDecl, surface.ParamItem, surface.Interval, surface.ProgramS, surface.ModuleS,
+            core.Interval, core.Program]
+
+
+@pytest.mark.parametrize("cls", _written_out(), ids=lambda c: f"{c.__module__}.{c.__name__}")
+def test_written_out_inits_behave_as_the_generic_one(cls):
+    import dataclasses
+
+    fields = [f for f in dataclasses.fields(cls) if f.init]
+    assert cls.__init__.__qualname__ == f"{cls.__qualname__}.__init__"  # its own
+    values = {f.name: object() for f in fields}
+    by_name = cls(**values)
+    by_position = cls(*values.values())
+    for obj in (by_name, by_position):
+        assert {k: obj.__dict__[k] for k in values} == values
+        assert set(obj.__dict__) == set(values)  # nothing else written
+    assert by_name == by_position and hash(by_name) == hash(by_position)
+    # the defaults of the fields that have one (dataclasses' own field list as the reference)
+    required = [f.name for f in fields if f.default is dataclasses.MISSING]
+    partial = cls(*(values[n] for n in required))
+    for f in fields:
+        if f.default is not dataclasses.MISSING:
+            assert partial.__dict__[f.name] == f.default
+    with pytest.raises(TypeError):
+        cls(*values.values(), object())  # one argument too many
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        setattr(by_name, fields[0].name, 1)
+    other = object()
+    replaced = dataclasses.replace(by_name, **{fields[0].name: other})
+    assert replaced.__dict__[fields[0].name] is other
