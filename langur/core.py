@@ -341,6 +341,10 @@ class Interval:
     upper: "Term"
     span: Span | None = _span()
 
+    def __init__(self, variable, lo, hi, lower, upper, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["variable"], d["lo"], d["hi"], d["lower"], d["upper"], d["span"] = variable, lo, hi, lower, upper, span
+
 
 @frozen
 class Program:
@@ -359,6 +363,10 @@ class Program:
     box: tuple[tuple["Term", "Term"], ...]
     domain: tuple[Interval, ...] = ()
     span: Span | None = _span()
+
+    def __init__(self, integrand, variables, box, domain=(), span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["integrand"], d["variables"], d["box"], d["domain"], d["span"] = integrand, variables, box, domain, span
 
     @functools.cached_property
     def body(self) -> "Term":

@@ -69,10 +69,10 @@ def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program
         too_large = _too_large(program, lookup)
         if too_large:
             raise LangurError([too_large])
+        if not has_calls(program.integrand):
+            return program  # nothing to inline (no inliner, no numeric box: issue 15)
         inl = _Inliner(lambda m, n: modules[m].defs[n], program.variables,
                        numeric_box(program.variables, program.box))
-        if not has_calls(program.integrand):
-            return program  # nothing to inline
         integrand = inl.expand(program.integrand, ())  # the domain's bounds call nothing
     except RecursionError:  # calls through thousands of definitions that each add no depth
         raise LangurError([ty.reject_too_large(program.span, "its calls go through too many definitions, "

@@ -236,11 +236,19 @@ class ParamDecl:
     default: Fraction | None
     span: Span | None = _span()
 
+    def __init__(self, name, default, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["name"], d["default"], d["span"] = name, default, span
+
 
 @frozen
 class ParamItem:
     decls: tuple[ParamDecl, ...]
     span: Span | None = _span()
+
+    def __init__(self, decls, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["decls"], d["span"] = decls, span
 
 
 @frozen
@@ -296,6 +304,10 @@ class Interval:
     hi: STerm
     span: Span | None = _span()
 
+    def __init__(self, lo, hi, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["lo"], d["hi"], d["span"] = lo, hi, span
+
 
 @frozen
 class ProgramS:
@@ -306,6 +318,10 @@ class ProgramS:
     variables: tuple[Ident, ...]
     span: Span | None = _span()
 
+    def __init__(self, domain, body, variables, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["domain"], d["body"], d["variables"], d["span"] = domain, body, variables, span
+
 
 @frozen
 class ModuleS:
@@ -315,3 +331,7 @@ class ModuleS:
     items: tuple[Item, ...]
     program: ProgramS | None
     span: Span | None = _span()
+
+    def __init__(self, path, items, program, span=None):  # (written out: the generic one costs twice as much)
+        d = self.__dict__
+        d["path"], d["items"], d["program"], d["span"] = path, items, program, span
