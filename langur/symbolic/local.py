@@ -717,7 +717,7 @@ _POOL: list = []
 
 def _pooled(pool: list, i: int):
     while len(pool) <= i:
-        pool.append(sp.Dummy("k"))
+        pool.append(sp.Dummy("k", finite=True))
     return pool[i]
 
 
