@@ -690,19 +690,23 @@ def _clip(lines):
 # Roots of a condition in one variable by formula.
 
 
-def _abstract(e, v, table: dict, memo: dict, pool: list | None = None):
+def _abstract(e, v, table: dict, memo: dict, pool: list | None = None, seen: dict | None = None):
     """``e`` with its maximal non-atomic subterms free of ``v`` replaced by dummies (``table``):
-    new ones, or the next of ``pool`` (:data:`_POOL`) in the order they are first met."""
+    new ones, or the next of ``pool`` (:data:`_POOL`) in the order they are first met.  (Whether a
+    subtree has ``v`` free is asked by :func:`mentions`, once per distinct subtree: ``free_symbols``
+    of every node walked its subtree again.)"""
     if e in memo:
         return memo[e]
+    if seen is None:
+        seen = {}
     if not e.args:
         out = e
-    elif v not in e.free_symbols:
+    elif not mentions(e, frozenset((v,)), seen):
         out = table.get(e)
         if out is None:
             out = table[e] = sp.Dummy("k") if pool is None else _pooled(pool, len(table))
     else:
-        out = e.func(*[_abstract(a, v, table, memo, pool) for a in e.args])
+        out = e.func(*[_abstract(a, v, table, memo, pool, seen) for a in e.args])
     memo[e] = out
     return out
 
