@@ -690,18 +690,39 @@ def _clip(lines):
 # Roots of a condition in one variable by formula.
 
 
-def _abstract(e, v, table: dict, memo: dict):
-    """``e`` with its maximal non-atomic subterms free of ``v`` replaced by dummies (``table``)."""
+def _abstract(e, v, table: dict, memo: dict, pool: list | None = None, seen: dict | None = None):
+    """``e`` with its maximal non-atomic subterms free of ``v`` replaced by dummies (``table``):
+    new ones, or the next of ``pool`` (:data:`_POOL`) in the order they are first met.  (Whether a
+    subtree has ``v`` free is asked by :func:`mentions`, once per distinct subtree: ``free_symbols``
+    of every node walked its subtree again.)"""
     if e in memo:
         return memo[e]
+    if seen is None:
+        seen = {}
     if not e.args:
         out = e
-    elif v not in e.free_symbols:
-        out = table.setdefault(e, sp.Dummy("k"))
+    elif not mentions(e, frozenset((v,)), seen):
+        out = table.get(e)
+        if out is None:
+            out = table[e] = sp.Dummy("k") if pool is None else _pooled(pool, len(table))
     else:
-        out = e.func(*[_abstract(a, v, table, memo) for a in e.args])
+        out = e.func(*[_abstract(a, v, table, memo, pool, seen) for a in e.args])
     memo[e] = out
     return out
+
+
+#: The dummies standing for the parameter-only parts in :func:`_root_formulas`, the i-th part met
+#: taking the i-th: sympy orders dummies of one name by their creation, so the i-th part gets a
+#: dummy that sorts after those of the parts met before it, as a new ``Dummy`` would — the formulas
+#: are the same up to the renaming, and the same again for every condition of the same shape
+#: (:data:`_SHAPES`; sympy's assumptions of a dummy are found once).
+_POOL: list = []
+
+
+def _pooled(pool: list, i: int):
+    while len(pool) <= i:
+        pool.append(sp.Dummy("k", finite=True))
+    return pool[i]
 
 
 def _poly_roots(p: sp.Poly):
@@ -839,11 +860,40 @@ def _root_formulas(expr, v):
     """For the numerator and the denominator of ``expr``: its roots in ``v`` by formula and its
     coefficients (the leading one first), or None when either is not of degree ≤ 2."""
     table: dict = {}
-    e = _abstract(expr, v, table, {})
+    # Pooled dummies unless ``expr`` holds dummies named like them (whose order with the pool's
+    # would then differ from their order with new ones): fresh ones, as before, and no memo.
+    pooled = not any(isinstance(s, sp.Dummy) and s.name == "k" for s in expr.free_symbols)
+    e = _abstract(expr, v, table, {}, _POOL if pooled else None)
     back = {k: s for s, k in table.items()}
+    if not pooled:
+        return _shape_formulas(e, v, back)
+    key = (e, v)
+    out = _SHAPES.get(key)
+    if out is None:
+        out = _shape_formulas(e, v, None)
+        _SHAPES[key] = False if out is None else out
+        if len(_SHAPES) > 2048:
+            _SHAPES.pop(next(iter(_SHAPES)))
+    if out is None or out is False:
+        return None
+    return [([r.xreplace(back) for r in rs], tuple(c.xreplace(back) for c in cs)) for rs, cs in out]
+
+
+#: :func:`_shape_formulas` of an abstracted condition (pooled dummies), by (form, variable): a pure
+#: function of them (False for None); the dummies of the formulas are replaced by each condition's
+#: parts afterwards, as they were before.
+_SHAPES: dict = {}
+
+
+def _shape_formulas(e, v, back: dict | None):
+    """:func:`_root_formulas` of the abstracted ``e``, its dummies replaced by ``back``'s values
+    (kept when ``back`` is None); None when not of degree ≤ 2."""
+    def put(x):
+        return x if back is None else x.xreplace(back)
+
     direct = _direct_formulas(e, v)
     if direct is not None:
-        return [([r.xreplace(back) for r in rs], tuple(c.xreplace(back) for c in cs)) for rs, cs in direct]
+        return [([put(r) for r in rs], tuple(put(c) for c in cs)) for rs, cs in direct]
     num, den = sp.fraction(sp.together(e))
     out = []
     for part in (num, den):
@@ -857,7 +907,7 @@ def _root_formulas(expr, v):
         if p.degree() > 2 or any(v in c.free_symbols for c in p.all_coeffs()):
             return None
         rs, _ = _poly_roots(p)
-        out.append(([r.xreplace(back) for r in rs], tuple(c.xreplace(back) for c in p.all_coeffs())))
+        out.append(([put(r) for r in rs], tuple(put(c) for c in p.all_coeffs())))
     return out
 
 
