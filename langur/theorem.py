@@ -30,8 +30,9 @@ from .denote import denote_program
 from .implicit import ImplicitRootFn
 from .onesided import closed_form_sides
 from .symbolic import quadrature
-from .symbolic.local import atoms_of, dual_derivative, has_any, rational_value, size
+from .symbolic.local import atoms_of, has_any, size
 from .symbolic.pieces import Method
+from .symbolic.rational import dual_derivative, rational_value
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .timebox import run_with_timeout
 

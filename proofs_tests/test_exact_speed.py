@@ -14,7 +14,7 @@ import pytest
 import scipy.integrate as si
 import sympy as sp
 
-from langur.symbolic import local, regions
+from langur.symbolic import local, rational, regions
 from langur.symbolic.regions import Cond, Context
 from langur.symbolic.text import shared_lambdify, shared_sstr
 from langur.timebox import Deadline
@@ -149,7 +149,7 @@ def test_sympys_roots_without_its_simplify_pass_are_the_same_numbers():
 
 
 def test_exact_values_and_dual_derivatives_by_integer_pairs_match_sympys_rationals():
-    # local.rational_value / dual_derivative (unreduced integer pairs) against sympy's exact
+    # rational.rational_value / dual_derivative (unreduced integer pairs) against sympy's exact
     # substitution and its derivative along the line, on random rational forms
     pt = {a: sp.Rational(3, 7), b: sp.Rational(-5, 4), c: sp.Rational(11, 3)}
     tg = {a: 1, b: sp.Rational(1, 2), c: 0}
@@ -166,9 +166,9 @@ def test_exact_values_and_dual_derivatives_by_integer_pairs_match_sympys_rationa
             continue
         want = e.xreplace(pt)
         assert want.is_Rational
-        assert local.rational_value(e, pt) == want
+        assert rational.rational_value(e, pt) == want
         slope = sp.diff(e.xreplace({k: v + s * tg[k] for k, v in pt.items()}), s).subs(s, 0).doit()
-        assert local.dual_derivative(e, pt, tg) == slope
+        assert rational.dual_derivative(e, pt, tg) == slope
         checked += 1
     assert checked >= 50
 

@@ -2,7 +2,7 @@
 integer powers of sums rebuilt without sympy's assumption queries in Newton–Cotes sums
 (``local.shared_xreplace``), a polynomial condition's coefficients without ``Poly``
 (``quadrature.roots._expanded_coefficients``), the exact values of subtrees at a point shared between
-Theorem 8.1's dual derivatives and exact values (``local._Tape.values``).  Each gives the same
+Theorem 8.1's dual derivatives and exact values (``rational._Tape.values``).  Each gives the same
 expressions and numbers as before; checked here against sympy's own ``xreplace``, ``Poly`` and
 ``integrate``, hand-solved roots, exact derivatives by sympy, the shoelace formula, an independent
 numpy integration of the kernel (proofs_tests/test_stylize.py) and the Monte Carlo engine."""
@@ -18,7 +18,7 @@ from test_stylize import clip, defaults, kernel
 
 from langur.exact import exact_deriv
 from langur.operational.batch import estimate_batch
-from langur.symbolic import local
+from langur.symbolic import local, rational
 from langur.symbolic.quadrature import roots
 from langur.symbolic.regions import Cond, Context
 from langur.sympy_bridge import symbol
@@ -143,12 +143,12 @@ def test_tape_values_are_shared_with_exact_values_at_the_point():
     point = {A: sp.Rational(3, 7), B: sp.Rational(-5, 11), C: sp.Rational(2, 13), X: sp.Rational(1, 3),
              Y: sp.Rational(7, 5)}
     tangent = {A: 1, B: 0, C: 0, X: 0, Y: 0}
-    d = local.dual_derivative(f, point, tangent)
+    d = rational.dual_derivative(f, point, tangent)
     assert d == Fraction(str(sp.diff(f, A).xreplace(point)))
     # the tape left its subtrees' values for the other form at the same point
-    memo = local._point_values(point)
+    memo = rational._point_values(point)
     assert memo.get(A * B - C) is not None and memo.get(f) is not None
-    assert local.rational_value(g, point) == Fraction(str(g.xreplace(point)))
+    assert rational.rational_value(g, point) == Fraction(str(g.xreplace(point)))
 
 
 def test_polygon_of_the_triangle_in_the_pixel_has_the_shoelace_area():

@@ -20,7 +20,7 @@ from langur.ddenote import ddenote_program
 from langur.denote import denote_program
 from langur.frontend import load
 from langur.implicit import ImplicitRootFn
-from langur.symbolic import local
+from langur.symbolic import local, rational
 from langur.symbolic.text import lambdify, shared_lambdify
 from langur.sympy_bridge import at_symbols
 
@@ -111,7 +111,7 @@ def test_a_large_closed_form_of_the_derivative_stands_for_quadrature_only_inside
     for k in at:
         for step in (1.0, -1.0, 3.0, -3.0):
             trial = {**q, k: q[k] + step}
-            v = local.rational_value(rel.lhs - rel.rhs, at_symbols(trial))
+            v = rational.rational_value(rel.lhs - rel.rhs, at_symbols(trial))
             if v is not None and v <= 0:
                 shifted = trial
                 break

@@ -1,7 +1,7 @@
 """The exact engine's shortcuts of issue 15 (exact5): each gives what the plain computation gives.
 
 * exact values and derivatives along a line of rational forms remembered per point and flattened
-  once (``local.rational_value``, ``local.dual_derivative``) against sympy's substitution and
+  once (``rational.rational_value``, ``rational.dual_derivative``) against sympy's substitution and
   derivative, for several points and tangents in turn (what Theorem 8.1's check asks for every
   partial derivative), and more points than are remembered;
 * ``local.size`` by distinct subtrees against the node-by-node count;
@@ -18,7 +18,7 @@ from fractions import Fraction
 
 import sympy as sp
 
-from langur.symbolic import integrate, local, regions, text
+from langur.symbolic import integrate, local, rational, regions, text
 from langur.symbolic.regions import Context
 from langur.timebox import Deadline
 
@@ -44,7 +44,7 @@ def test_values_and_slopes_at_many_points_and_tangents_are_sympys():
     rng = random.Random(5)
     # more points than local remembers (VALUE_POINTS), revisited: evicted values are recomputed
     points = [{k: sp.Rational(rng.randint(-40, 40), rng.randint(1, 13)) for k in (a, b, c)}
-              for _ in range(local.VALUE_POINTS + 1)]
+              for _ in range(rational.VALUE_POINTS + 1)]
     points.append({a: sp.Rational(0.1234567), b: sp.Rational(-2.5e-3), c: sp.Rational(7.75)})  # floats' exact values
     tangents = [{a: 1}, {c: 1}, {a: sp.Rational(1, 3), b: -2}]
     checked = 0
@@ -54,14 +54,14 @@ def test_values_and_slopes_at_many_points_and_tangents_are_sympys():
         for pt in points + points[:2]:
             want = e.xreplace(pt)
             if not want.is_Rational:  # a division by 0 there: both say None
-                assert local.rational_value(e, pt) is None
+                assert rational.rational_value(e, pt) is None
                 continue
-            assert local.rational_value(e, pt) == Fraction(int(want.p), int(want.q))
+            assert rational.rational_value(e, pt) == Fraction(int(want.p), int(want.q))
             if any(k.xreplace(pt) == 0 for k in kinks):
                 continue
             for tg in tangents:
                 slope = sum(t * grad[k].xreplace(pt) for k, t in tg.items())
-                assert local.dual_derivative(e, pt, tg) == Fraction(int(slope.p), int(slope.q)), (e, pt, tg)
+                assert rational.dual_derivative(e, pt, tg) == Fraction(int(slope.p), int(slope.q)), (e, pt, tg)
                 checked += 1
     assert checked > 80
 
@@ -69,12 +69,12 @@ def test_values_and_slopes_at_many_points_and_tangents_are_sympys():
 def test_slope_of_a_form_with_a_zero_factor_and_a_cancelling_sum():
     pt = {a: sp.Rational(2), b: sp.Rational(3)}
     e = sp.Mul(a - 2, b**3, evaluate=False) + (a * b - b * a)  # value 0, slope along a: b³ = 27
-    assert local.rational_value(e, pt) == 0
-    assert local.dual_derivative(e, pt, {a: 1}) == 27
-    assert local.dual_derivative(e, pt, {b: 1}) == 0
-    assert local.dual_derivative(sp.sqrt(a) + b, pt, {a: 1}) is None  # not a rational form
-    assert local.dual_derivative(a + c, pt, {a: 1}) is None  # c has no value at the point
-    assert local.dual_derivative(1 / (a - 2), pt, {a: 1}) is None  # a pole there
+    assert rational.rational_value(e, pt) == 0
+    assert rational.dual_derivative(e, pt, {a: 1}) == 27
+    assert rational.dual_derivative(e, pt, {b: 1}) == 0
+    assert rational.dual_derivative(sp.sqrt(a) + b, pt, {a: 1}) is None  # not a rational form
+    assert rational.dual_derivative(a + c, pt, {a: 1}) is None  # c has no value at the point
+    assert rational.dual_derivative(1 / (a - 2), pt, {a: 1}) is None  # a pole there
 
 
 def _walked(e, limit):

@@ -36,7 +36,7 @@ import mpmath
 import sympy as sp
 
 from langur.implicit import unsolvable
-from langur.symbolic import elementary, local
+from langur.symbolic import elementary, local, rational
 from langur.symbolic.pieces import Psi
 from langur.symbolic.text import math_lambdify, shared_lambdify
 from langur.timebox import Deadline
@@ -160,7 +160,7 @@ class Context:
         exact = {k: v for k, v in self.at.items() if isinstance(v, sp.Rational)}
         expr = sp.sympify(expr)
         if exact and local.size(expr, local.LARGE_OPS) >= local.LARGE_OPS:
-            q = local.rational_value(expr, exact)  # a large rational form: Fractions, not sympy's nodes
+            q = rational.rational_value(expr, exact)  # a large rational form: Fractions, not sympy's nodes
             if q is not None:
                 return complex(q)
         return self.value(expr.xreplace(exact) if exact else expr)

@@ -1,0 +1,319 @@
+"""Exact values and directional derivatives of large rational closed forms (issue 15): a closed
+form of rationals, symbols, +, ·, integer powers and ``Abs`` evaluated at a rational point with
+integer pairs (Henrici's reduced additions) instead of sympy's nodes, and differentiated along a line
+by dual numbers over the rationals.  Theorem 8.1's check (:mod:`langur.theorem`) differentiates the
+closed form of ⟦p⟧ that :mod:`langur.symbolic.local` builds for large problems (the stylization
+kernel's triangle, §10.3.1; the ray-traced triangle, §10.2), and :mod:`langur.symbolic.regions`
+decides the relations of its parameter cell at the point with :func:`rational_value`.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import sympy as sp
+
+
+def rational_value(expr, point: dict, memo: dict | None = None):
+    """``expr`` at ``point`` (symbols → Rationals) as an exact Fraction, for forms built from
+    rationals, symbols, +, ·, integer powers and ``Abs``; None otherwise (or on a division by 0).
+    The values of subtrees are remembered per point (:func:`_point_values`): a closed form, the
+    relations of its cell and the closed forms of the other partial derivatives share their
+    subtrees.  (``memo``, a dict of the caller's for the same purpose, is not needed any more.)"""
+    try:
+        n, d = _value_of(sp.sympify(expr), _point_values(point), point)
+        return Fraction(n, d)
+    except (_NotRational, ZeroDivisionError):
+        return None
+
+
+def dual_derivative(expr, point: dict, tangent: dict):
+    """``d/ds expr(point + s·tangent)`` at s = 0 as an exact Fraction, by dual numbers over the
+    rationals (one pass over the distinct subtrees): for closed forms built from rationals,
+    symbols, +, ·, integer powers and ``Abs`` (away from 0); None otherwise (or where it is not
+    differentiable: a division by 0, ``Abs`` at 0).  The form is flattened once into a list of
+    operations (:class:`_Tape`) and its values at a point computed once (every partial
+    derivative's Theorem 8.1 check differentiates the same closed form of ⟦p⟧ at the same
+    points); a subtree whose derivative along the line is 0 costs no arithmetic."""
+    try:
+        tape = _Tape.of(sp.sympify(expr))
+        n, d = tape.slope(tape.values(point), tangent)
+        return Fraction(n, d)
+    except (_NotRational, ZeroDivisionError):
+        return None
+
+
+_RAT, _SYM, _ADD, _MUL, _POW, _ABS = range(6)
+#: Flattened closed forms (:class:`_Tape`) by form, or the exception met flattening it.
+_TAPES: dict = {}
+
+
+class _Tape:
+    """A form of rationals, symbols, +, ·, integer powers and ``Abs`` as a list of operations over
+    its distinct subtrees, children before parents (the form itself last): ``(kind, operand
+    indices, payload)`` with the payload a rational's integer pair, a symbol, or a power's
+    exponent; and its values by point."""
+
+    def __init__(self, expr):
+        index: dict = {}
+        self.ops: list = []
+        self.nodes: list = []  # (the subtree of each operation)
+        stack = [(expr, False)]
+        while stack:
+            node, done = stack.pop()
+            if node in index:
+                continue
+            if done:
+                index[node] = len(self.ops)
+                self.ops.append(self._op(node, index))
+                self.nodes.append(node)
+                continue
+            stack.append((node, True))
+            stack.extend((a, False) for a in _operands(node) if a not in index)
+        self._values: dict = {}
+
+    @staticmethod
+    def _op(node, index):
+        if isinstance(node, sp.Rational):
+            return _RAT, (), (int(node.p), int(node.q))
+        if isinstance(node, sp.Symbol):
+            return _SYM, (), node
+        if isinstance(node, sp.Add):
+            return _ADD, tuple(index[a] for a in node.args), None
+        if isinstance(node, sp.Mul):
+            return _MUL, tuple(index[a] for a in node.args), None
+        if isinstance(node, sp.Pow):
+            return _POW, (index[node.base],), int(node.exp)
+        return _ABS, (index[node.args[0]],), None
+
+    @classmethod
+    def of(cls, expr) -> "_Tape":
+        tape = _TAPES.get(expr)
+        if tape is None:
+            try:
+                tape = cls(expr)
+            except _NotRational as exc:
+                tape = exc
+            if len(_TAPES) >= 64:
+                _TAPES.pop(next(iter(_TAPES)))
+            _TAPES[expr] = tape
+        if isinstance(tape, Exception):
+            raise tape
+        return tape
+
+    def values(self, point: dict) -> list:
+        """The value of every operation at ``point`` (remembered for the last few points), sharing
+        the values of subtrees at the point with :func:`rational_value` (:func:`_point_values`): the
+        Theorem 8.1 check differentiates ⟦p⟧'s closed form and evaluates ⦇p⦈'s and its cell's
+        relations at the same points, and they share their subtrees (a polygon's vertices and their
+        powers, the weights' coefficients)."""
+        key = _point_key(point)
+        vals = self._values.get(key)
+        if vals is None:
+            vals = []
+            known = _point_values(point)
+            for node, (kind, args, k) in zip(self.nodes, self.ops):
+                v = known.get(node)
+                if v is not None:
+                    vals.append(v)
+                    continue
+                if kind == _RAT:
+                    v = k
+                elif kind == _SYM:
+                    if k not in point:
+                        raise _NotRational()
+                    v = _rational(point[k])
+                elif kind == _ADD:
+                    v = _ZERO
+                    for j in args:
+                        v = _qadd(v, vals[j])
+                elif kind == _MUL:
+                    v = _ONE
+                    for j in args:
+                        v = _qmul(v, vals[j])
+                elif kind == _POW:
+                    b = vals[args[0]]
+                    if b[0] == 0 and k < 1:
+                        raise _NotRational()
+                    v = _qpow(b, k)
+                else:
+                    a = vals[args[0]]
+                    if a[0] == 0:
+                        raise _NotRational()  # (not differentiable there)
+                    v = (abs(a[0]), a[1])
+                vals.append(v)
+                known[node] = v
+            if len(self._values) >= VALUE_POINTS:
+                self._values.pop(next(iter(self._values)))
+            self._values[key] = vals
+        return vals
+
+    def slope(self, vals: list, tangent: dict):
+        """The derivative along ``tangent`` (forward mode, ``None`` standing for 0)."""
+        d: list = []
+        for kind, args, k in self.ops:
+            if kind == _RAT:
+                out = None
+            elif kind == _SYM:
+                t = _rational(tangent.get(k, 0))
+                out = t if t[0] else None
+            elif kind == _ADD:
+                out = None
+                for j in args:
+                    dj = d[j]
+                    if dj is not None:
+                        out = dj if out is None else _qadd(out, dj)
+            elif kind == _MUL:
+                out = None
+                last = -1
+                for i, j in enumerate(args):
+                    if d[j] is not None:
+                        last = i
+                v = _ONE  # Σᵢ dᵢ·Πⱼ≠ᵢ vⱼ as d ← d·vᵢ + v·dᵢ, v ← v·vᵢ (v needed up to the last dᵢ ≠ 0)
+                for i in range(last + 1):
+                    j = args[i]
+                    if out is not None:
+                        out = _qmul(out, vals[j])
+                    dj = d[j]
+                    if dj is not None:
+                        term = _qmul(v, dj)
+                        out = term if out is None else _qadd(out, term)
+                    if i < last:
+                        v = _qmul(v, vals[j])
+                if out is not None:
+                    for i in range(last + 1, len(args)):
+                        out = _qmul(out, vals[args[i]])
+            elif kind == _POW:
+                db = d[args[0]]
+                out = None if db is None else _qmul(_qmul((k, 1), _qpow(vals[args[0]], k - 1)), db)
+            else:
+                da = d[args[0]]
+                out = da if da is None or vals[args[0]][0] > 0 else (-da[0], da[1])
+            if out is not None and out[0] == 0:
+                out = None
+            d.append(out)
+        return d[-1] or _ZERO
+
+
+def _operands(node) -> tuple:
+    """The operands :class:`_Tape` flattens (:class:`_NotRational` for any other node)."""
+    if isinstance(node, (sp.Rational, sp.Symbol)):
+        return ()
+    if isinstance(node, (sp.Add, sp.Mul, sp.Abs)):
+        return node.args
+    if isinstance(node, sp.Pow) and node.exp.is_Integer:
+        return (node.base,)
+    raise _NotRational()
+
+
+def _qadd(x, y):
+    """``x + y`` for reduced integer pairs ``(numerator, denominator > 0)``, reduced (Henrici's
+    algorithm, as CPython's ``Fraction``: the gcds are taken of the operands' denominators, not of
+    the sum's far larger numerator and denominator; a gcd of two large integers was most of the
+    time of evaluating a large closed form exactly)."""
+    a, b = x[1], y[1]
+    if a == b:
+        n = x[0] + y[0]
+        g = _gcd(n, a)
+        return (n, a) if g == 1 else (n // g, a // g)
+    g = _gcd(a, b)
+    if g == 1:  # (then the sum of reduced fractions is reduced)
+        return x[0] * b + y[0] * a, a * b
+    s = a // g
+    t = x[0] * (b // g) + y[0] * s
+    g2 = _gcd(t, g)  # (a common factor of t and the denominator s·b divides g)
+    return (t, s * b) if g2 == 1 else (t // g2, s * (b // g2))
+
+
+def _qmul(x, y):
+    """``x · y`` for reduced integer pairs, reduced (each numerator against the other denominator)."""
+    n1, d1 = x
+    n2, d2 = y
+    g1 = _gcd(n1, d2)
+    if g1 != 1:
+        n1, d2 = n1 // g1, d2 // g1
+    g2 = _gcd(n2, d1)
+    if g2 != 1:
+        n2, d1 = n2 // g2, d1 // g2
+    return n1 * n2, d1 * d2
+
+
+_gcd = math.gcd
+
+
+def _qpow(x, k: int):
+    n, d = (x[0] ** k, x[1] ** k) if k >= 0 else (x[1] ** -k, x[0] ** -k)
+    return (-n, -d) if d < 0 else (n, d)
+
+
+_ZERO, _ONE = (0, 1), (1, 1)
+
+
+def _rational(z) -> tuple[int, int]:
+    z = sp.sympify(z)
+    if not isinstance(z, sp.Rational):
+        raise _NotRational()
+    return int(z.p), int(z.q)
+
+
+#: Exact values of subtrees (reduced integer pairs, :func:`_qadd`) by evaluation point, the
+#: few most recent points (a point's dict is dropped with it).
+_VALUES: dict = {}
+#: Points whose values are kept.
+VALUE_POINTS = 8
+def _point_key(point: dict):
+    return frozenset(point.items())
+
+
+def _point_values(point: dict) -> dict:
+    """The remembered values of subtrees at ``point`` (a new dict for a new point)."""
+    key = _point_key(point)
+    memo = _VALUES.pop(key, None)  # (moved to the end: the oldest point is dropped first)
+    if memo is None:
+        memo = {}
+        if len(_VALUES) >= VALUE_POINTS:
+            _VALUES.pop(next(iter(_VALUES)))
+    _VALUES[key] = memo
+    return memo
+
+
+def _value_of(e, memo: dict, point: dict):
+    """``e`` at ``point`` as a reduced integer pair (:class:`_NotRational` when it is not a form
+    of rationals, symbols, +, ·, integer powers and ``Abs``, or is undefined there)."""
+    hit = memo.get(e)
+    if hit is not None:
+        return hit
+    if isinstance(e, sp.Rational):
+        out = (int(e.p), int(e.q))
+    elif isinstance(e, sp.Symbol):
+        if e not in point:
+            raise _NotRational()
+        out = _rational(point[e])
+    elif isinstance(e, sp.Add):
+        out = _ZERO
+        for a in e.args:
+            out = _qadd(out, _value_of(a, memo, point))
+    elif isinstance(e, sp.Mul):
+        out = _ONE
+        for a in e.args:
+            out = _qmul(out, _value_of(a, memo, point))
+    elif isinstance(e, sp.Pow) and e.exp.is_Integer:
+        bv = _value_of(e.base, memo, point)
+        k = int(e.exp)
+        if bv[0] == 0 and k < 1:
+            raise _NotRational()
+        out = _qpow(bv, k)
+    elif isinstance(e, sp.Abs):
+        av = _value_of(e.args[0], memo, point)
+        if av[0] == 0:
+            raise _NotRational()  # (not differentiable there)
+        out = (abs(av[0]), av[1])
+    else:
+        raise _NotRational()
+    memo[e] = out
+    return out
+
+
+class _NotRational(Exception):
+    pass
