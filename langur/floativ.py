@@ -1,6 +1,6 @@
 """Interval enclosures in floating point that bracket mpmath's (issue 15/18).
 
-:func:`langur.implicit.certified_brackets` proves where an equation has no zero or is monotone by
+:func:`langur.enclosures.certified_brackets` proves where an equation has no zero or is monotone by
 mpmath's interval arithmetic (``mpmath.iv``: every operation the exact hull of its result over its
 input intervals, rounded outward to 53 bits), about 40 µs per evaluation of a small polynomial;
 turning2d's quadrature asks for tens of thousands.  :func:`compile_enclosure` traces the very

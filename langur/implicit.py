@@ -12,8 +12,10 @@ the implicit function theorem's,
 so every derivative (and the Jacobian dx*/du₀ = 1/f'(x*) of the delta's change of variables) is
 exact in terms of ``x*``; ``evalf`` finds ``x*`` to the requested precision by bisection with
 mpmath (on a bracket where ``f − target`` changes sign: for the unique root, the whole piece;
-for the k-th sign change, a bracket certified to hold exactly one, :func:`certified_brackets`),
-and ``lambdify`` calls the same solver on the compiled ``f``.  The Monte Carlo engine has its own vectorized solver (no sympy
+for the k-th sign change, a bracket certified to hold exactly one by interval enclosures,
+:func:`langur.enclosures.certified_brackets`, or for a polynomial equation isolated exactly by
+its Sturm sequence, :func:`langur.sturm.sturm_brackets`), and ``lambdify`` calls the same solver
+on the compiled ``f``.  The Monte Carlo engine has its own vectorized solver (no sympy
 there: ``langur.operational.compile``).
 """
 
@@ -30,8 +32,9 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
-from . import floativ
 from .core import TooManyRoots
+from .enclosures import DEPTH, _interval_fn, certified_brackets
+from .sturm import sturm_brackets
 
 
 def bracketed_root(f, target, lo, hi, bits: int = 53):
@@ -123,227 +126,6 @@ except (ImportError, AttributeError):  # a scipy without it: its public wrapper 
         return so.brentq(g, a, b, args=args, xtol=xtol, rtol=rtol, maxiter=maxiter)
 
 
-#: Cells of the grid of ``[lo, hi]`` on which an indexed root's sign changes are certified.
-GRID = 16
-#: Halvings of a cell that neither enclosure certifies before the root is refused.
-DEPTH = 30
-
-
-def _monotone_iv(fn, increasing: bool = True):
-    """An mpmath interval version of a monotone function mpmath's ``iv`` lacks (``atan``, ``tanh``,
-    ``erf``, …): its values at the ends, a few bits more precise, widened outward; anything
-    where it is undefined at an end."""
-    def f(X):
-        X = mpmath.iv.mpf(X)
-        try:
-            with mpmath.workprec(mpmath.iv.prec + 16):
-                a, b = fn(mpmath.mpf(X.a)), fn(mpmath.mpf(X.b))
-            if not (isinstance(a, mpmath.mpf) and isinstance(b, mpmath.mpf)):
-                raise ValueError
-        except (ValueError, ZeroDivisionError, TypeError):
-            return mpmath.iv.mpf([-mpmath.inf, mpmath.inf])
-        if not increasing:
-            a, b = b, a
-        slack = (abs(a) + abs(b)) * mpmath.mpf(2) ** (2 - mpmath.iv.prec) + mpmath.mpf(2) ** -1000
-        return mpmath.iv.mpf([a - slack, b + slack])
-    return f
-
-
-#: lambdify's names for the interval versions (the rest from ``mpmath.iv``; ``log`` is a method of
-#: its class, which lambdify would otherwise take from ``math``).
-_IV = {"log": mpmath.iv.log, "mpf": mpmath.iv.mpf, "atan": _monotone_iv(mpmath.atan), "tanh": _monotone_iv(mpmath.tanh), "erf": _monotone_iv(mpmath.erf),
-       "asin": _monotone_iv(mpmath.asin), "acos": _monotone_iv(mpmath.acos, increasing=False),
-       "atanh": _monotone_iv(mpmath.atanh)}
-
-
-class _IntervalPrinter(PythonCodePrinter):
-    """lambdify's text for mpmath intervals: a rational constant as the interval quotient of its
-    numerator and denominator (``1/3`` would be the double 0.333…, ``x**(1/3)`` a double power),
-    a float as the interval of its decimal digits."""
-
-    def _print_Rational(self, e):
-        return f"(mpf({e.p})/mpf({e.q}))"
-
-    def _print_Half(self, e):
-        return self._print_Rational(e)
-
-    def _print_Float(self, e):
-        return f"mpf({str(sp.Float(e, e._prec)).strip()!r})"
-
-
-def _interval_fn(x: sp.Symbol, e: sp.Expr, free: tuple = ()) -> _Enclosure:
-    """``e`` (in ``x`` and the symbols ``free``) on mpmath intervals: ``X, *values ↦`` an interval
-    containing ``e(X)`` at those values of ``free``; None where it cannot be enclosed.  Every
-    operation is mpmath's interval arithmetic (rounded outward), constants included
-    (:class:`_IntervalPrinter`); a polynomial's also compiled to float enclosures that bracket
-    mpmath's (:mod:`langur.floativ`), which decide first where they can."""
-    printer = _IntervalPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
-                                "user_functions": {k: k for k in _IV}})  # lambdify's own settings
-    fn = sp.lambdify([x, *free], e, modules=[_IV, mpmath.iv], printer=printer)
-    return _Enclosure(fn, floativ.compile_enclosure(fn, 1 + len(free)))
-
-
-class _Enclosure:
-    """:func:`_interval_fn`'s function: ``enclosure(X, *values)`` mpmath's interval or None;
-    ``fast``: the float enclosures ``(outer, inner)`` of :func:`langur.floativ.compile_enclosure`,
-    or None."""
-
-    __slots__ = ("fn", "fast")
-
-    def __init__(self, fn, fast):
-        self.fn, self.fast = fn, fast
-
-    def __call__(self, X, *values):
-        try:
-            out = self.fn(X, *values)
-            out = out if isinstance(out, mpmath.iv.mpf) else mpmath.iv.mpf(out)
-        except (ValueError, ZeroDivisionError, TypeError, OverflowError, mpmath.libmp.NoConvergence):
-            return None
-        return None if (mpmath.isnan(out.a) or mpmath.isnan(out.b)) else out
-
-    def bind(self, *values) -> _Bound:
-        """This enclosure at the values (mpmath intervals or numbers) of the other symbols."""
-        return _Bound(self, values)
-
-
-class _Bound:
-    """An :class:`_Enclosure` with its other symbols' values put in: ``bound(X)``."""
-
-    __slots__ = ("enclosure", "values", "ends")
-
-    def __init__(self, enclosure: _Enclosure, values: tuple):
-        self.enclosure, self.values = enclosure, values
-        self.ends = None if enclosure.fast is None else tuple(e for v in values for e in floativ.ends(v))
-
-    def __call__(self, X):
-        return self.enclosure(X, *self.values)
-
-
-def _signer(enclosure, t):
-    """``(a, b) ↦`` 1 or −1 when the enclosure of ``enclosure − t`` over ``[a, b]`` (floats) is
-    positive or negative, 0 when it holds 0 or there is none (``t`` None: the enclosure itself, as
-    for the derivative).  mpmath's interval arithmetic decides; where ``enclosure`` is an
-    :class:`_Enclosure` (or :class:`_Bound`) of a polynomial, its float enclosures answer first
-    when they agree with any answer mpmath could give (:mod:`langur.floativ`): the same signs,
-    without mpmath in all but the cells where 0 is within rounding of an end."""
-    iv = mpmath.iv
-    T = None if t is None else iv.mpf(t)
-
-    def slow(a, b):
-        G = enclosure(iv.mpf([a, b]))
-        if G is None:
-            return 0
-        if T is not None:
-            G = G - T
-        return 1 if G.a > 0 else (-1 if G.b < 0 else 0)
-
-    if isinstance(enclosure, _Enclosure):
-        enclosure = enclosure.bind()
-    fast = enclosure.enclosure.fast if isinstance(enclosure, _Bound) else None
-    if fast is None or iv.prec != floativ.PREC:
-        return slow
-    outer, inner = fast
-    args = (*enclosure.ends, *((0.0, 0.0) if T is None else floativ.ends(T)))
-
-    def sign(a, b):
-        r = outer(a, b, *args)
-        if r is not None:
-            if r[0] > 0:
-                return 1  # mpmath's enclosure is inside this one: positive too
-            if r[1] < 0:
-                return -1
-            q = inner(a, b, *args)
-            if q is not None and q[0] <= 0 <= q[1]:
-                return 0  # mpmath's enclosure holds this one: it holds 0 too
-        return slow(a, b)
-    return sign
-
-
-def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: int = DEPTH,
-                       what: str = "the equation", lenient: bool = False, box: bool = False) -> list[tuple]:
-    """The brackets, increasing, each holding exactly one sign change of ``g − target`` on
-    ``[lo, hi]``, all of them: each cell of a ``grid``-cell grid is certified, by an interval
-    enclosure of ``g − target`` that excludes 0 (no zero there) or one of ``g'`` that excludes 0
-    (``g`` monotone: a zero iff a sign change between the ends); a cell certified by neither is
-    halved, at most ``depth`` times, then refused (:class:`~langur.core.TooManyRoots`, naming the
-    piece).  The signs at the cells' ends are those of ``g_iv`` at the point (mpmath's interval
-    arithmetic rounds outward: a proof); a point where that enclosure contains 0 joins the two
-    monotone cells around it when ``g`` rises (or falls) on both, else the piece is refused (an
-    extremum of ``g`` that is 0 within rounding); at ``lo`` and ``hi`` such a sign is ``g``'s value's.
-    ``g``: a function of a number (called with an mpmath number); ``g_iv``, ``dg_iv``: of an mpmath
-    interval (None: no enclosure; an :func:`_interval_fn` or its ``bind``: float enclosures decide
-    first, :func:`_signer`).  The cells' ends are doubles (the grid and the halvings rounded to
-    nearest, as mpmath at 53 bits).  ``lenient``: a cell still uncertified after ``depth`` halvings,
-    and a point of unknown sign between cells that do not join, are decided by ``g``'s values
-    instead of refused (turning points that move with the other *integration* variables merge on a
-    null set of them: :func:`langur.operational.signchanges.certified_brackets`).  The Monte Carlo
-    engine certifies the same way on its own (:mod:`langur.operational.signchanges`).  ``box``:
-    ``g_iv`` and ``dg_iv`` enclose the equation for every value of its other symbols in a box
-    (:func:`_box_brackets`): nothing is decided by ``g``'s values (a point of unknown sign at an end
-    of the domain is refused too), so the brackets hold for every point of the box."""
-    lo, hi = float(mpmath.mpf(lo)), float(mpmath.mpf(hi))
-    if not hi > lo:  # an empty interval (a moving end past the other): no sign change
-        return []
-    g_sign, dg_sign = _signer(g_iv, target), _signer(dg_iv, None)
-    stack = [(hi if i == grid - 1 else lo + (hi - lo) * (i + 1) / grid, lo + (hi - lo) * i / grid, 0)
-             for i in range(grid)][::-1]
-    cells = []  # (a, b, direction), increasing; direction 0: no zero in the cell
-    while stack:
-        b, a, d = stack.pop()
-        if g_sign(a, b):
-            cells.append((a, b, 0))  # no zero in the cell
-            continue
-        s = dg_sign(a, b)
-        if s:  # monotone: at most one zero
-            cells.append((a, b, s))
-            continue
-        if d == depth:
-            if lenient:
-                cells.append((a, b, LOOSE))
-                continue
-            raise _uncertified(what, a, b)
-        m = (a + b) / 2
-        stack.append((b, m, d + 1))
-        stack.append((m, a, d + 1))
-    return _sign_changes(g, g_sign, target, cells, what, lenient, box)
-
-
-#: The direction of a cell left uncertified in lenient mode (its ends' signs decide).
-LOOSE = 2
-
-
-def _uncertified(what, a, b) -> TooManyRoots:
-    return TooManyRoots(f"cannot certify the turning points (sign changes of {what}) near x in "
-                        f"[{float(a):.12g}, {float(b):.12g}] at these parameter values: there it and its "
-                        "derivative both vanish (a degenerate turning point) or their interval enclosures "
-                        "stay too wide; Langur refuses rather than miss one")
-
-
-def _sign_changes(g, g_sign, target, cells, what, lenient=False, box=False) -> list[tuple]:
-    """The brackets between consecutive points of known sign (cells' ends) where the sign differs."""
-    points = [c[0] for c in cells] + [cells[-1][1]]
-    signs = []
-    for i, p in enumerate(points):
-        s = g_sign(p, p)
-        ends = i in (0, len(points) - 1)
-        if s == 0 and not ends:  # inside: the cells around it must be monotone the same way
-            before, after = cells[i - 1][2], cells[i][2]
-            if (before == 0 or before != after or before == LOOSE) and not lenient:
-                raise _uncertified(what, cells[i - 1][0], cells[i][1])
-            ends = before == 0 or before != after or before == LOOSE  # lenient: its value's sign
-        if s == 0 and ends and box:  # over a box, no value decides it
-            raise _uncertified(what, points[max(i - 1, 0)], points[min(i + 1, len(points) - 1)])
-        if s == 0 and ends:  # within rounding of an end of the domain (or lenient: see above)
-            try:
-                v = g(mpmath.mpf(p)) - target
-                s = -1 if mpmath.isnan(v) or v < 0 else 1
-            except (ValueError, ZeroDivisionError, OverflowError, TypeError):
-                s = -1
-        signs.append(s)
-    known = [(p, s) for p, s in zip(points, signs) if s != 0]
-    return [(p, q) for (p, s), (q, r) in zip(known, known[1:]) if s != r]
-
-
 class ImplicitRootFn(sp.Function):
     """``x*(target; θ)``: ``ImplicitRootFn(Lambda(x, f), target, lo, hi, index, of)`` is the root of
     ``f(x; θ) = target`` in ``[lo, hi]`` (``index`` = −1, ``f`` monotone there), or the ``index``-th
@@ -404,7 +186,7 @@ class ImplicitRootFn(sp.Function):
         """``lambdify``'s implementation: ``fn`` is ``f`` compiled by lambdify (module namespace),
         called as ``fn(x, *free)`` with the values of the equation's other symbols (the other inputs
         of a condition in several variables, the parameters), or for an indexed root the key of its
-        equation (certified by :func:`certified_brackets`, as ``evalf``); arrays (the numpy module)
+        equation (certified by :func:`langur.enclosures.certified_brackets`, as ``evalf``); arrays (the numpy module)
         are solved element by element."""
         if not _SCALARS.issuperset(map(type, (target, lo, hi, *free))) and any(
                 isinstance(v, _ARRAYS) and np.ndim(v) for v in (target, lo, hi, *free)):
@@ -846,7 +628,7 @@ _UNSEEN = object()
 def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple | None:
     """The certified brackets of the indexed root's sign changes for every value of its other
     symbols in a dyadic box holding ``vals`` (the widest of :data:`BOX_LEVELS` that certifies,
-    :func:`certified_brackets` with ``box``): a quadrature over those symbols asks at thousands of
+    :func:`langur.enclosures.certified_brackets` with ``box``): a quadrature over those symbols asks at thousands of
     nodes, and one certification serves every node in a box (the brackets are the same there, so
     is the k-th root's bracket; each node's root is then bisected at its own values).  None: no
     box certifies (near values where sign changes merge or cross a cell's end, the values'
@@ -947,141 +729,11 @@ def _exact_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tupl
     return out
 
 
-def _strip(p: list) -> list:
-    i = 0
-    while i < len(p) - 1 and p[i] == 0:
-        i += 1
-    return p[i:]
-
-
-def _horner(p: list, x):
-    v = 0
-    for c in p:
-        v = v * x + c
-    return v
-
-
-def _rem(p: list, q: list) -> list:
-    """The remainder of ``p`` divided by ``q`` (highest first, ``q[0] != 0``)."""
-    p = list(p)
-    while len(p) >= len(q) and any(p):
-        c = p[0] / q[0]
-        for i in range(len(q)):
-            p[i] -= c * q[i]
-        p.pop(0)
-    return _strip(p) if p else [0]
-
-
-def _gcd(p: list, q: list) -> list:
-    while any(q):
-        p, q = q, _rem(p, q)
-    return [c / p[0] for c in p]
-
-
-def _quotient(p: list, q: list) -> list:
-    p, out = list(p), []
-    while len(p) >= len(q):
-        c = p[0] / q[0]
-        out.append(c)
-        for i in range(len(q)):
-            p[i] -= c * q[i]
-        p.pop(0)
-    return out
-
-
-def _integral(p: list) -> list[int]:
-    """The rational coefficients ``p`` times the (positive) least common multiple of their
-    denominators: integers, a polynomial with the same sign as ``p`` everywhere."""
-    den = 1
-    for c in p:
-        den = den * c.denominator // math.gcd(den, c.denominator)
-    return [c.numerator * (den // c.denominator) for c in p]
-
-
-def _sign(q: list[int], x) -> int:
-    """The sign (−1, 0, 1) of the polynomial ``q`` (integer coefficients, highest first) at the
-    rational ``x = n/d`` (d > 0), exactly: that of q(x)·dᵈᵉᵍ = Σ qᵢ·n^(deg−i)·dⁱ, in integers (no
-    fraction reduced at each step, as :func:`_horner` on fractions does: several times faster;
-    issue 15, exact13t)."""
-    n, d = x.numerator, x.denominator
-    v, dp = 0, 1
-    for c in q:
-        v = v * n + c * dp
-        dp *= d
-    return (v > 0) - (v < 0)
-
-
-def sturm_brackets(p: list, lo, hi, depth: int = 200, squarefree: bool = False) -> list | None:
-    """The brackets, increasing, each holding one sign change of the polynomial ``p`` (exact
-    rational coefficients, highest first) on ``[lo, hi]``, all of them; None when ``p`` is
-    identically zero or vanishes at ``lo`` or ``hi`` (there :func:`certified_brackets`'s convention
-    decides), when isolating its roots takes more than ``depth`` halvings, or (``squarefree``)
-    when it has a multiple root (a degenerate turning point, anywhere)."""
-    p = _strip(p)
-    if not any(p):
-        return None
-    ip = _integral(p)  # (the signs of p, in integers: see _sign)
-    if _sign(ip, lo) == 0 or _sign(ip, hi) == 0:
-        return None
-    if len(p) == 1:
-        return []
-    dp = [c * (len(p) - 1 - i) for i, c in enumerate(p[:-1])]
-    g = _gcd(p, dp)
-    if squarefree and len(g) > 1:
-        return None
-    p0 = _quotient(p, g) if len(g) > 1 else p
-    chain = [p0, [c * (len(p0) - 1 - i) for i, c in enumerate(p0[:-1])] or [0]]
-    while len(chain[-1]) > 1 or chain[-1][0] != 0:
-        r = _rem(chain[-2], chain[-1])
-        if not any(r):
-            break
-        chain.append([-c for c in r])
-        if len(chain[-1]) == 1:
-            break
-
-    ichain = [_integral(q) for q in chain]
-    ip0 = ichain[0]
-    known: dict = {}
-
-    def variations(x) -> int:
-        out = known.get(x)
-        if out is None:
-            signs = [v for v in (_sign(q, x) for q in ichain) if v != 0]
-            out = known[x] = sum((u < 0) != (w < 0) for u, w in zip(signs, signs[1:]))
-        return out
-
-    def split(a, b):
-        for k in range(1, 8):  # the midpoint, or a dyadic point next to it that is not a root
-            for m in (a + (b - a) / 2 + (b - a) / 2 ** (k + 1) * (k > 1), a + (b - a) / 2 - (b - a) / 2 ** (k + 1)):
-                if _sign(ip0, m) != 0:
-                    return m
-        return None
-
-    points = [lo, hi]
-    stack = [(lo, hi, variations(lo) - variations(hi), 0)]
-    while stack:
-        a, b, n, d = stack.pop()
-        if n <= 1:
-            continue
-        if d >= depth:
-            return None
-        m = split(a, b)
-        if m is None:
-            return None
-        points.append(m)
-        vm = variations(m)
-        stack.append((a, m, variations(a) - vm, d + 1))
-        stack.append((m, b, vm - variations(b), d + 1))
-    points = sorted(set(points))
-    signs = [-1 if _sign(ip, x) < 0 else 1 for x in points]  # never 0: the ends and split points are no roots
-    return [(x, y) for x, y, s, r in zip(points, points[1:], signs, signs[1:]) if s != r]
-
-
 def implicit_root(equation: sp.Expr, variable: sp.Symbol, target: sp.Expr, lo: sp.Expr, hi: sp.Expr,
                   index: int | None = None, of: int = 0, span=None, lenient: bool = False) -> sp.Expr:
     """``ImplicitRootFn`` of ``equation`` in ``variable`` (bound: replaced by a dummy); ``span``:
     the condition's place in the source, named when evaluating it is refused; ``lenient``: the
-    equation mentions other integration variables (see :func:`certified_brackets`)."""
+    equation mentions other integration variables (see :func:`langur.enclosures.certified_brackets`)."""
     x = sp.Dummy(variable.name, real=True)
     lam = sp.Lambda(x, equation.xreplace({variable: x}))
     if span is not None:
@@ -1096,7 +748,7 @@ def implicit_root(equation: sp.Expr, variable: sp.Symbol, target: sp.Expr, lo: s
 _SPANS: dict = {}
 #: The bound variables of indexed roots whose equation mentions other integration variables (a
 #: condition split along a variable at turning points that move with the others): certified
-#: leniently on the null set where two of them merge (:func:`certified_brackets`).
+#: leniently on the null set where two of them merge (:func:`langur.enclosures.certified_brackets`).
 _LENIENT: set = set()
 
 

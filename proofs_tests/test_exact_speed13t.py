@@ -181,7 +181,7 @@ def test_printed_roots_are_sympys_text_under_every_setting():
 
 def _old_sturm_brackets(p, lo, hi, depth=200, squarefree=False):
     """``sturm_brackets`` as it was before exact13t (every sign by ``_horner`` on Fractions)."""
-    from langur.implicit import _gcd, _horner, _quotient, _rem, _strip
+    from langur.sturm import _gcd, _horner, _quotient, _rem, _strip
 
     p = _strip(p)
     if not any(p) or _horner(p, lo) == 0 or _horner(p, hi) == 0:
@@ -236,7 +236,7 @@ def _old_sturm_brackets(p, lo, hi, depth=200, squarefree=False):
 def test_sturm_brackets_in_integers_are_those_in_fractions():
     from fractions import Fraction
 
-    from langur.implicit import _integral, _sign, sturm_brackets
+    from langur.sturm import _integral, _sign, sturm_brackets
 
     rng = np.random.default_rng(1513)
     cases = []

@@ -1,7 +1,7 @@
 """Float enclosures that bracket mpmath's, and remembered roots (issue 15/18, turning2d's speed).
 
 :mod:`langur.floativ` compiles an equation's interval text to an outer enclosure (containing
-mpmath's) and an inner one (contained in it); :func:`langur.implicit.certified_brackets` lets them
+mpmath's) and an inner one (contained in it); :func:`langur.enclosures.certified_brackets` lets them
 decide a cell's sign only where that is the sign mpmath's enclosure gives, so its brackets must be
 *bitwise* those of the mpmath-only certification it replaced (copied below as it was at 35d65c7,
 cells in mpmath numbers), on random boxes of turning2d's turning points (across the fold u = 0
@@ -20,9 +20,10 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from langur import floativ, implicit
+from langur import enclosures, floativ, implicit
 from langur.core import TooManyRoots
-from langur.implicit import LOOSE, _interval_fn, _uncertified, certified_brackets, implicit_root
+from langur.enclosures import LOOSE, _interval_fn, _uncertified, certified_brackets
+from langur.implicit import implicit_root
 
 
 def _old_certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid=16, depth=30, what="the equation",
@@ -208,8 +209,8 @@ def test_signs_from_float_enclosures_are_mpmaths_even_at_exact_zeros():
             yhi = rng.choice([0.0, ylo + 2.0**-k]) if ylo < 0 else ylo + 2.0**-k
             u = rng.choice([[0.0, 0.0], [0.0, 2.0**-k], [-(2.0**-k), 0.0], sorted(rng.uniform(-1, 1) for _ in range(2))])
             vals = (mpmath.iv.mpf(u), mpmath.iv.mpf(0.1))
-            fast = implicit._signer(enc.bind(*vals), 0.0)
-            slow = implicit._signer(lambda X, enc=enc, vals=vals: enc(X, *vals), 0.0)
+            fast = enclosures._signer(enc.bind(*vals), 0.0)
+            slow = enclosures._signer(lambda X, enc=enc, vals=vals: enc(X, *vals), 0.0)
             with mpmath.workprec(53):
                 assert fast(ylo, yhi) == slow(ylo, yhi), (expr, ylo, yhi, u)
 
@@ -226,8 +227,8 @@ def test_signs_within_rounding_of_zero_are_left_to_mpmath():
         for _ in range(rng.randint(0, 3)):
             u = math.nextafter(u, rng.choice([-math.inf, math.inf]))
         vals = (mpmath.iv.mpf(u),)
-        fast = implicit._signer(enc.bind(*vals), 0.0)
-        slow = implicit._signer(lambda X, vals=vals: enc(X, *vals), 0.0)
+        fast = enclosures._signer(enc.bind(*vals), 0.0)
+        slow = enclosures._signer(lambda X, vals=vals: enc(X, *vals), 0.0)
         with mpmath.workprec(53):
             assert fast(y, y) == slow(y, y), (y, u)
             decided += slow(y, y) != 0

@@ -1,7 +1,7 @@
 """The exact engine's cheaper certificates for implicit roots (issue 18): brackets certified once
 per box of the other symbols' values, sign changes of polynomial equations isolated exactly (a
 Sturm sequence), and equations compiled once per shape.  Each is checked against the interval
-certification it replaces (:func:`langur.implicit.certified_brackets`) or against numpy's roots."""
+certification it replaces (:func:`langur.enclosures.certified_brackets`) or against numpy's roots."""
 
 from __future__ import annotations
 
@@ -15,7 +15,9 @@ import sympy as sp
 
 from langur import implicit
 from langur.core import TooManyRoots
-from langur.implicit import _interval_fn, certified_brackets, implicit_root, sturm_brackets
+from langur.enclosures import _interval_fn, certified_brackets
+from langur.implicit import implicit_root
+from langur.sturm import sturm_brackets
 
 
 def _poly(rng, deg):

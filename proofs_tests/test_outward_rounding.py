@@ -20,8 +20,8 @@ import numpy as np
 import sympy as sp
 
 from langur.core import Add, Const, Mul, Param, Pow, Prim, Var
-from langur.implicit import _interval_fn
-from langur.implicit import certified_brackets as exact_brackets
+from langur.enclosures import _interval_fn
+from langur.enclosures import certified_brackets as exact_brackets
 from langur.operational.interval import enclose_all, tape_of
 from langur.operational.signchanges import certified_brackets as mc_brackets
 

@@ -26,8 +26,8 @@ from scipy.integrate import quad
 from langur import frontend
 from langur.core import IfDiffeo, ImplicitRoot, TooManyRoots, Var, subterms
 from langur.ddenote import ddenote_program
-from langur.implicit import _interval_fn
-from langur.implicit import certified_brackets as exact_brackets
+from langur.enclosures import _interval_fn
+from langur.enclosures import certified_brackets as exact_brackets
 from langur.lint.tangent import tangent_findings
 from langur.operational import estimate_derivative
 from langur.operational.interval import tape_of

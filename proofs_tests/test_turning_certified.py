@@ -23,7 +23,7 @@ from langur import frontend
 from langur.core import Add, Const, Mul, Pow, TooManyRoots, Var
 from langur.ddenote import ddenote_program
 from langur.denote import denote_program
-from langur.implicit import _interval_fn, certified_brackets
+from langur.enclosures import _interval_fn, certified_brackets
 from langur.operational import estimate_derivative
 from langur.operational.interval import _periodic, tape_of
 from langur.operational.naive import naive_derivative

@@ -21,7 +21,7 @@ ends; when it rises on one and falls on the other (``g`` has an extremum there t
 rounding: a degenerate turning point) the piece is refused.  At the ends of ``[lo, hi]`` an
 unknown sign is ``g``'s double value's (a sign change within rounding of an end of the domain
 cuts off a piece of that width, which no integral sees).  The exact engine certifies the same way
-on its own, with mpmath's interval arithmetic (:mod:`langur.implicit`).
+on its own, with mpmath's interval arithmetic (:mod:`langur.enclosures`).
 """
 
 from __future__ import annotations

@@ -26,7 +26,7 @@ completion has :data:`MOVING_PIECES` branches whose ends are the k-th sign chang
 (indexed implicit roots, ``hi`` past the last one, each carrying ``∂²f/∂x²`` as its ``slope``),
 found by the engines where they evaluate, each sign change *certified* (an interval enclosure of
 ``∂f/∂x`` or of ``∂²f/∂x²`` that excludes 0 on every cell: :mod:`langur.operational.signchanges`,
-:func:`langur.implicit.certified_brackets`); a point with more, or with a cell neither enclosure
+:func:`langur.enclosures.certified_brackets`); a point with more, or with a cell neither enclosure
 certifies (a degenerate turning point), raises :class:`~langur.core.TooManyRoots` there (X316).
 
 An end of the interval that moves with the parameters (``int ([0, a + 1]) …``) is the bracket's

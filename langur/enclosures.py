@@ -1,0 +1,246 @@
+"""Certified sign changes of an equation in one variable by interval enclosures (issue 18).
+
+The k-th sign change of ``g − target`` on ``[lo, hi]`` (an indexed root, a turning point that
+moves with the parameters: :mod:`langur.syntax.turning`) is found on brackets certified to hold
+exactly one: :func:`certified_brackets` certifies every cell of a grid of ``[lo, hi]`` by an
+interval enclosure of ``g − target`` that excludes 0 (no zero there) or one of ``g'`` that
+excludes 0 (``g`` monotone: a zero iff a sign change between the cell's ends), halving a cell
+neither certifies, and refuses (:class:`~langur.core.TooManyRoots`) rather than miss one.
+The enclosures are mpmath's interval arithmetic (rounded outward: a proof) of lambdify's interval
+text of the equation (:func:`_interval_fn`, :class:`_IntervalPrinter`); for a polynomial, float
+enclosures that bracket mpmath's decide first where they can (:mod:`langur.floativ`,
+:func:`_signer`).
+
+Used by :mod:`langur.implicit` (``evalf`` and lambdified code of an indexed
+:class:`~langur.implicit.ImplicitRootFn`); the Monte Carlo engine certifies the same way on its
+own, vectorized (:mod:`langur.operational.signchanges`).
+"""
+
+from __future__ import annotations
+
+import mpmath
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+from . import floativ
+from .core import TooManyRoots
+
+#: Cells of the grid of ``[lo, hi]`` on which an indexed root's sign changes are certified.
+GRID = 16
+#: Halvings of a cell that neither enclosure certifies before the root is refused.
+DEPTH = 30
+
+
+def _monotone_iv(fn, increasing: bool = True):
+    """An mpmath interval version of a monotone function mpmath's ``iv`` lacks (``atan``, ``tanh``,
+    ``erf``, …): its values at the ends, a few bits more precise, widened outward; anything
+    where it is undefined at an end."""
+    def f(X):
+        X = mpmath.iv.mpf(X)
+        try:
+            with mpmath.workprec(mpmath.iv.prec + 16):
+                a, b = fn(mpmath.mpf(X.a)), fn(mpmath.mpf(X.b))
+            if not (isinstance(a, mpmath.mpf) and isinstance(b, mpmath.mpf)):
+                raise ValueError
+        except (ValueError, ZeroDivisionError, TypeError):
+            return mpmath.iv.mpf([-mpmath.inf, mpmath.inf])
+        if not increasing:
+            a, b = b, a
+        slack = (abs(a) + abs(b)) * mpmath.mpf(2) ** (2 - mpmath.iv.prec) + mpmath.mpf(2) ** -1000
+        return mpmath.iv.mpf([a - slack, b + slack])
+    return f
+
+
+#: lambdify's names for the interval versions (the rest from ``mpmath.iv``; ``log`` is a method of
+#: its class, which lambdify would otherwise take from ``math``).
+_IV = {"log": mpmath.iv.log, "mpf": mpmath.iv.mpf, "atan": _monotone_iv(mpmath.atan), "tanh": _monotone_iv(mpmath.tanh), "erf": _monotone_iv(mpmath.erf),
+       "asin": _monotone_iv(mpmath.asin), "acos": _monotone_iv(mpmath.acos, increasing=False),
+       "atanh": _monotone_iv(mpmath.atanh)}
+
+
+class _IntervalPrinter(PythonCodePrinter):
+    """lambdify's text for mpmath intervals: a rational constant as the interval quotient of its
+    numerator and denominator (``1/3`` would be the double 0.333…, ``x**(1/3)`` a double power),
+    a float as the interval of its decimal digits."""
+
+    def _print_Rational(self, e):
+        return f"(mpf({e.p})/mpf({e.q}))"
+
+    def _print_Half(self, e):
+        return self._print_Rational(e)
+
+    def _print_Float(self, e):
+        return f"mpf({str(sp.Float(e, e._prec)).strip()!r})"
+
+
+def _interval_fn(x: sp.Symbol, e: sp.Expr, free: tuple = ()) -> _Enclosure:
+    """``e`` (in ``x`` and the symbols ``free``) on mpmath intervals: ``X, *values ↦`` an interval
+    containing ``e(X)`` at those values of ``free``; None where it cannot be enclosed.  Every
+    operation is mpmath's interval arithmetic (rounded outward), constants included
+    (:class:`_IntervalPrinter`); a polynomial's also compiled to float enclosures that bracket
+    mpmath's (:mod:`langur.floativ`), which decide first where they can."""
+    printer = _IntervalPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
+                                "user_functions": {k: k for k in _IV}})  # lambdify's own settings
+    fn = sp.lambdify([x, *free], e, modules=[_IV, mpmath.iv], printer=printer)
+    return _Enclosure(fn, floativ.compile_enclosure(fn, 1 + len(free)))
+
+
+class _Enclosure:
+    """:func:`_interval_fn`'s function: ``enclosure(X, *values)`` mpmath's interval or None;
+    ``fast``: the float enclosures ``(outer, inner)`` of :func:`langur.floativ.compile_enclosure`,
+    or None."""
+
+    __slots__ = ("fn", "fast")
+
+    def __init__(self, fn, fast):
+        self.fn, self.fast = fn, fast
+
+    def __call__(self, X, *values):
+        try:
+            out = self.fn(X, *values)
+            out = out if isinstance(out, mpmath.iv.mpf) else mpmath.iv.mpf(out)
+        except (ValueError, ZeroDivisionError, TypeError, OverflowError, mpmath.libmp.NoConvergence):
+            return None
+        return None if (mpmath.isnan(out.a) or mpmath.isnan(out.b)) else out
+
+    def bind(self, *values) -> _Bound:
+        """This enclosure at the values (mpmath intervals or numbers) of the other symbols."""
+        return _Bound(self, values)
+
+
+class _Bound:
+    """An :class:`_Enclosure` with its other symbols' values put in: ``bound(X)``."""
+
+    __slots__ = ("enclosure", "values", "ends")
+
+    def __init__(self, enclosure: _Enclosure, values: tuple):
+        self.enclosure, self.values = enclosure, values
+        self.ends = None if enclosure.fast is None else tuple(e for v in values for e in floativ.ends(v))
+
+    def __call__(self, X):
+        return self.enclosure(X, *self.values)
+
+
+def _signer(enclosure, t):
+    """``(a, b) ↦`` 1 or −1 when the enclosure of ``enclosure − t`` over ``[a, b]`` (floats) is
+    positive or negative, 0 when it holds 0 or there is none (``t`` None: the enclosure itself, as
+    for the derivative).  mpmath's interval arithmetic decides; where ``enclosure`` is an
+    :class:`_Enclosure` (or :class:`_Bound`) of a polynomial, its float enclosures answer first
+    when they agree with any answer mpmath could give (:mod:`langur.floativ`): the same signs,
+    without mpmath in all but the cells where 0 is within rounding of an end."""
+    iv = mpmath.iv
+    T = None if t is None else iv.mpf(t)
+
+    def slow(a, b):
+        G = enclosure(iv.mpf([a, b]))
+        if G is None:
+            return 0
+        if T is not None:
+            G = G - T
+        return 1 if G.a > 0 else (-1 if G.b < 0 else 0)
+
+    if isinstance(enclosure, _Enclosure):
+        enclosure = enclosure.bind()
+    fast = enclosure.enclosure.fast if isinstance(enclosure, _Bound) else None
+    if fast is None or iv.prec != floativ.PREC:
+        return slow
+    outer, inner = fast
+    args = (*enclosure.ends, *((0.0, 0.0) if T is None else floativ.ends(T)))
+
+    def sign(a, b):
+        r = outer(a, b, *args)
+        if r is not None:
+            if r[0] > 0:
+                return 1  # mpmath's enclosure is inside this one: positive too
+            if r[1] < 0:
+                return -1
+            q = inner(a, b, *args)
+            if q is not None and q[0] <= 0 <= q[1]:
+                return 0  # mpmath's enclosure holds this one: it holds 0 too
+        return slow(a, b)
+    return sign
+
+
+def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: int = DEPTH,
+                       what: str = "the equation", lenient: bool = False, box: bool = False) -> list[tuple]:
+    """The brackets, increasing, each holding exactly one sign change of ``g − target`` on
+    ``[lo, hi]``, all of them: each cell of a ``grid``-cell grid is certified, by an interval
+    enclosure of ``g − target`` that excludes 0 (no zero there) or one of ``g'`` that excludes 0
+    (``g`` monotone: a zero iff a sign change between the ends); a cell certified by neither is
+    halved, at most ``depth`` times, then refused (:class:`~langur.core.TooManyRoots`, naming the
+    piece).  The signs at the cells' ends are those of ``g_iv`` at the point (mpmath's interval
+    arithmetic rounds outward: a proof); a point where that enclosure contains 0 joins the two
+    monotone cells around it when ``g`` rises (or falls) on both, else the piece is refused (an
+    extremum of ``g`` that is 0 within rounding); at ``lo`` and ``hi`` such a sign is ``g``'s value's.
+    ``g``: a function of a number (called with an mpmath number); ``g_iv``, ``dg_iv``: of an mpmath
+    interval (None: no enclosure; an :func:`_interval_fn` or its ``bind``: float enclosures decide
+    first, :func:`_signer`).  The cells' ends are doubles (the grid and the halvings rounded to
+    nearest, as mpmath at 53 bits).  ``lenient``: a cell still uncertified after ``depth`` halvings,
+    and a point of unknown sign between cells that do not join, are decided by ``g``'s values
+    instead of refused (turning points that move with the other *integration* variables merge on a
+    null set of them: :func:`langur.operational.signchanges.certified_brackets`).  The Monte Carlo
+    engine certifies the same way on its own (:mod:`langur.operational.signchanges`).  ``box``:
+    ``g_iv`` and ``dg_iv`` enclose the equation for every value of its other symbols in a box
+    (:func:`langur.implicit._box_brackets`): nothing is decided by ``g``'s values (a point of unknown sign at an end
+    of the domain is refused too), so the brackets hold for every point of the box."""
+    lo, hi = float(mpmath.mpf(lo)), float(mpmath.mpf(hi))
+    if not hi > lo:  # an empty interval (a moving end past the other): no sign change
+        return []
+    g_sign, dg_sign = _signer(g_iv, target), _signer(dg_iv, None)
+    stack = [(hi if i == grid - 1 else lo + (hi - lo) * (i + 1) / grid, lo + (hi - lo) * i / grid, 0)
+             for i in range(grid)][::-1]
+    cells = []  # (a, b, direction), increasing; direction 0: no zero in the cell
+    while stack:
+        b, a, d = stack.pop()
+        if g_sign(a, b):
+            cells.append((a, b, 0))  # no zero in the cell
+            continue
+        s = dg_sign(a, b)
+        if s:  # monotone: at most one zero
+            cells.append((a, b, s))
+            continue
+        if d == depth:
+            if lenient:
+                cells.append((a, b, LOOSE))
+                continue
+            raise _uncertified(what, a, b)
+        m = (a + b) / 2
+        stack.append((b, m, d + 1))
+        stack.append((m, a, d + 1))
+    return _sign_changes(g, g_sign, target, cells, what, lenient, box)
+
+
+#: The direction of a cell left uncertified in lenient mode (its ends' signs decide).
+LOOSE = 2
+
+
+def _uncertified(what, a, b) -> TooManyRoots:
+    return TooManyRoots(f"cannot certify the turning points (sign changes of {what}) near x in "
+                        f"[{float(a):.12g}, {float(b):.12g}] at these parameter values: there it and its "
+                        "derivative both vanish (a degenerate turning point) or their interval enclosures "
+                        "stay too wide; Langur refuses rather than miss one")
+
+
+def _sign_changes(g, g_sign, target, cells, what, lenient=False, box=False) -> list[tuple]:
+    """The brackets between consecutive points of known sign (cells' ends) where the sign differs."""
+    points = [c[0] for c in cells] + [cells[-1][1]]
+    signs = []
+    for i, p in enumerate(points):
+        s = g_sign(p, p)
+        ends = i in (0, len(points) - 1)
+        if s == 0 and not ends:  # inside: the cells around it must be monotone the same way
+            before, after = cells[i - 1][2], cells[i][2]
+            if (before == 0 or before != after or before == LOOSE) and not lenient:
+                raise _uncertified(what, cells[i - 1][0], cells[i][1])
+            ends = before == 0 or before != after or before == LOOSE  # lenient: its value's sign
+        if s == 0 and ends and box:  # over a box, no value decides it
+            raise _uncertified(what, points[max(i - 1, 0)], points[min(i + 1, len(points) - 1)])
+        if s == 0 and ends:  # within rounding of an end of the domain (or lenient: see above)
+            try:
+                v = g(mpmath.mpf(p)) - target
+                s = -1 if mpmath.isnan(v) or v < 0 else 1
+            except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+                s = -1
+        signs.append(s)
+    known = [(p, s) for p, s in zip(points, signs) if s != 0]
+    return [(p, q) for (p, s), (q, r) in zip(known, known[1:]) if s != r]
