@@ -154,12 +154,17 @@ def _limited(fn: Callable[[], T], seconds: float, which: int, signum: int, clock
             return
         raise _Expired(token)
 
-    old_handler = signal.signal(signum, handler)
-    # The alarm repeats every 50 ms until disarmed: the handler does not raise inside a
-    # garbage-collector callback or a __del__ (:func:`_where_swallowed`), and an exception
-    # swallowed elsewhere (a bare ``except:``) does not lose the limit either.
-    signal.setitimer(which, limit, 0.05)
+    old_handler = signal.getsignal(signum)
     try:
+        # Installed and armed inside the ``try``: a signal delivered between two of these
+        # statements (an outer limit of another timer, or this one when ``limit`` is tiny) still
+        # passes through the ``finally``, which disarms the timer and puts the old handler back —
+        # outside it, a handler left installed raised its _Expired later, anywhere, uncaught.
+        signal.signal(signum, handler)
+        # The alarm repeats every 50 ms until disarmed: the handler does not raise inside a
+        # garbage-collector callback or a __del__ (:func:`_where_swallowed`), and an exception
+        # swallowed elsewhere (a bare ``except:``) does not lose the limit either.
+        signal.setitimer(which, limit, 0.05)
         return fn()
     except BaseException as exc:
         state["done"] = True
