@@ -5,7 +5,7 @@ delta piece no longer do when its answer does not need it.
   :class:`regions.Deferred` weight: the determinant and sympy's simplification of it are made when
   an interval of the region needs the weight, and never for a region empty at the evaluation point
   (the ray tracer's pixel).  Decided without differentiating (``delta._constant_and_nonzero``:
-  exact derivative values at a rational point by ``delta._dual``, the symbols a derivative can
+  exact derivative values at a rational point by ``rational.dual_derivative``, the symbols a derivative can
   hold by ``delta._derivative_symbols``).  Values by hand: ∫_[0,1]² δ(x + 2y − a) = 1/4 at a = 1/2
   (|det DΨ̂⁻¹| = 1/2 along u₁ ∈ [0, 1/2]) and 0 at a = 5.
 * The quadrature's weight ``h/|det DΨ̂|`` of a delta piece (``deltaproblems._Weight``) is compiled
@@ -19,14 +19,13 @@ delta piece no longer do when its answer does not need it.
 from __future__ import annotations
 
 import random
-from fractions import Fraction
 from pathlib import Path
 
 import sympy as sp
 
 from langur.ddenote import ddenote_program
 from langur.frontend import load
-from langur.symbolic import delta, regions
+from langur.symbolic import delta, rational, regions
 from langur.symbolic.pieces import Branch, DeltaPiece, Psi
 from langur.symbolic.quadrature import deltaproblems
 from langur.symbolic.regions import Cond, Context, Deferred
@@ -130,31 +129,32 @@ def _random_rational(rng, syms, depth=3):
 
 
 def test_dual_is_the_exact_derivative_at_the_point():
+    """The entries' values ``_constant_and_nonzero`` decides by: rational.dual_derivative along one
+    input (and rational_value) against sympy's diff, substituted exactly."""
     rng = random.Random(14)
     syms = (u0, u1, a)
-    point = {u0: Fraction(0), u1: Fraction(3, 7), a: Fraction(-5, 11)}
+    point = {u0: sp.Integer(0), u1: sp.Rational(3, 7), a: sp.Rational(-5, 11)}
     checked = 0
     for _ in range(200):
         e = _random_rational(rng, syms)
         for u in syms:
-            got = delta._dual(e, u, point, {})
+            got = rational.dual_derivative(e, point, {u: 1})
             d = sp.diff(e, u)
-            value = e.xreplace({s: sp.Rational(q.numerator, q.denominator) for s, q in point.items()})
-            want = d.xreplace({s: sp.Rational(q.numerator, q.denominator) for s, q in point.items()})
+            value = e.xreplace(point)
+            want = d.xreplace(point)
             if got is None:
                 # only at a pole (or 0 to a negative power) of the tree
                 assert not (value.is_Rational and want.is_Rational) or any(
-                    p.exp.is_negative and p.base.xreplace({s: sp.Rational(q.numerator, q.denominator)
-                                                           for s, q in point.items()}) == 0
-                    for p in e.atoms(sp.Pow))
+                    p.exp.is_negative and p.base.xreplace(point) == 0 for p in e.atoms(sp.Pow))
                 continue
-            assert sp.Rational(got[0].numerator, got[0].denominator) == value
-            assert sp.Rational(got[1].numerator, got[1].denominator) == want
+            v = rational.rational_value(e, point)
+            assert sp.Rational(v.numerator, v.denominator) == value
+            assert sp.Rational(got.numerator, got.denominator) == want
             checked += 1
     assert checked > 300
-    assert delta._dual(sp.sqrt(u0 + 1), u0, point, {}) is None
-    assert delta._dual(sp.sin(u1), u1, point, {}) is None
-    assert delta._dual(1 / u0, u0, point, {}) is None  # a pole at u0 = 0
+    assert rational.dual_derivative(sp.sqrt(u0 + 1), point, {u0: 1}) is None
+    assert rational.dual_derivative(sp.sin(u1), point, {u1: 1}) is None
+    assert rational.dual_derivative(1 / u0, point, {u0: 1}) is None  # a pole at u0 = 0
 
 
 def test_derivative_symbols_hold_those_of_the_derivative():

@@ -15,7 +15,6 @@ from __future__ import annotations
 import itertools
 import math
 import random
-from fractions import Fraction
 from typing import Sequence
 
 import sympy as sp
@@ -25,6 +24,7 @@ from langur.symbolic import local
 from langur.symbolic.pieces import DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
 from langur.symbolic.quadrature.deltaproblems import cofactor_det
+from langur.symbolic.rational import dual_derivative
 from langur.symbolic.regions import Cond, Context, Deferred
 from langur.symbolic.regions import _probe_point as probe_point
 from langur.symbolic.regions import _remember as remember
@@ -161,28 +161,28 @@ def _constant_and_nonzero(comps: tuple, inputs: tuple, uprime) -> bool:
     of ``u'`` and not 0: no entry :func:`_jacobian_entries` differentiates can mention ``u'``
     (:func:`_derivative_symbols`; sympy's determinant and its simplification have no symbols the
     entries do not have), and the determinant of the entries' exact values at u₀ = 0 and one
-    rational point (:func:`_dual`) is a non-zero rational (a function not 0 there: no form of it
-    is the number 0).  False when that is not known (then the Jacobian is made at once)."""
+    rational point (:func:`langur.symbolic.rational.dual_derivative`, along ``u``) is a non-zero
+    rational (a function not 0 there: no form of it is the number 0).  False when that is not
+    known (then the Jacobian is made at once)."""
     comps = [sp.sympify(e) for e in comps]
     wanted = _differentiated(comps, inputs)
-    point = {s: Fraction(0) if s == inputs[0] else Fraction(int(q.p), int(q.q))
+    point = {s: sp.Integer(0) if s == inputs[0] else q
              for s, q in probe_point(set().union(*[local.free_symbols(e) for e in comps])).items()}
     values = []
     for i, e in enumerate(comps):
         row = []
         for j, u in enumerate(inputs):
             if not wanted[i][j]:
-                row.append(0)
+                row.append(sp.Integer(0))
                 continue
             if _derivative_symbols(e, u) & set(uprime):
                 return False
-            dual = _dual(e, u, point, {})
-            if dual is None:
+            slope = dual_derivative(e, point, {u: 1})
+            if slope is None:
                 return False
-            row.append(dual[1])
+            row.append(sp.Rational(slope.numerator, slope.denominator))
         values.append(row)
-    return cofactor_det(sp.Matrix([[sp.Rational(q.numerator, q.denominator) if isinstance(q, Fraction) else q
-                                    for q in row] for row in values])) != 0
+    return cofactor_det(sp.Matrix(values)) != 0
 
 
 def _derivative_symbols(e, u) -> set:
@@ -204,31 +204,6 @@ def _derivative_symbols(e, u) -> set:
     if isinstance(e, sp.Pow) and e.exp.is_number:
         return _derivative_symbols(e.base, u) | (local.free_symbols(e.base) if e.exp != 1 else set())
     return set(local.free_symbols(e))  # (∂e/∂u has no symbol e lacks)
-
-
-def _dual(e, u, point: dict, memo: dict):
-    """``(e, ∂e/∂u)`` at ``point`` (symbols → Fractions) exactly, for a rational function (sums,
-    products, integer powers of rationals and symbols); None otherwise or at a pole."""
-    hit = memo.get(e)
-    if hit is not None or e in memo:
-        return hit
-    out = None
-    if e.is_Rational:
-        out = (Fraction(int(e.p), int(e.q)), Fraction(0))
-    elif isinstance(e, sp.Symbol):
-        out = (point[e], Fraction(int(e == u))) if e in point else None
-    elif isinstance(e, (sp.Add, sp.Mul)):
-        parts = [_dual(a, u, point, memo) for a in e.args]
-        if all(p is not None for p in parts):
-            out = parts[0]
-            for v, d in parts[1:]:
-                out = (out[0] + v, out[1] + d) if isinstance(e, sp.Add) else (out[0] * v, out[1] * v + out[0] * d)
-    elif isinstance(e, sp.Pow) and e.exp.is_Integer:
-        base, n = _dual(e.base, u, point, memo), int(e.exp)
-        if base is not None and (n >= 0 or base[0] != 0):
-            out = (base[0] ** n, n * base[0] ** (n - 1) * base[1] if n != 0 else Fraction(0))
-    memo[e] = out
-    return out
 
 
 def _differentiated(comps: list, inputs: tuple) -> list[list[bool]]:
