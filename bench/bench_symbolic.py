@@ -13,7 +13,11 @@ Also times the risk program's full exact gradient (paper §2).
 ``--examples``: instead, the exact ``deriv`` of every example (``examples/**/*.lgr``) in each of its
 parameters, as ``langur deriv FILE --wrt P --engine exact`` computes it (``langur.exact.exact_deriv``:
 ⦇p⦈ and its Theorem 8.1 check), each example in a fresh process (no cache from another example),
-CPU seconds (``time.process_time``) per partial derivative, the method and the value.
+CPU seconds (``time.process_time``) per partial derivative, the method and the value.  An example's
+later partial derivatives reuse what its first one remembered (⟦p⟧ near the point for Theorem 8.1,
+kinks, compiled conditions); ``--one-shot`` gives each partial derivative a fresh process, as one
+``langur deriv FILE --wrt P`` has; ``--repeat N`` reports the median of N such runs (CPU seconds of
+one run scatter by tens of per cent on a shared machine).
 
 ``--campaign N --seed S``: instead, the exact engine's answers to each distinct program of a
 seeded ``langur fuzz --examples N --seed S`` campaign (the value and every partial derivative with
@@ -21,7 +25,8 @@ its Theorem 8.1 check, as a campaign's unit asks them: ``langur.fuzz.compare._ex
 CPU seconds per program in this one process, and how many answers are closed forms.
 
 Run:  python bench/bench_symbolic.py  [--max 64]
-      python bench/bench_symbolic.py --examples [--baseline DIR] [--only TEXT] [--limit SECONDS]
+      python bench/bench_symbolic.py --examples [--baseline DIR] [--only TEXT] [--limit SECONDS] [--repeat N]
+                                        [--one-shot]
       python bench/bench_symbolic.py --campaign 30 --seed 1
 """
 
@@ -40,6 +45,7 @@ from fractions import Fraction
 from langur.core import Add, Diffeo, IfDiffeo, InverseBranch, Mul, Param, Program, Var, const, sub
 from langur.ddenote import ddenote, ddenote_program
 from langur.denote import denote_program
+from langur.frontend import load
 
 EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")  # the project's own
 
@@ -109,7 +115,7 @@ if loaded.program is None:  # a module of definitions (a shader), not a program
     sys.exit(0)
 at = loaded.param_values()
 out = []
-for p in at:
+for p in (sys.argv[2:] or at):
     t0 = time.process_time()
     r = exact_deriv(loaded.program, at, {q: int(q == p) for q in at})
     out.append({"wrt": p, "cpu": time.process_time() - t0, "method": str(r.method), "value": r.value,
@@ -129,30 +135,61 @@ print(json.dumps(out))
 EXAMPLE_LIMIT = 300.0
 
 
-def bench_examples(limit: float = EXAMPLE_LIMIT, baseline: str | None = None, only: str | None = None):
+def bench_examples(limit: float = EXAMPLE_LIMIT, baseline: str | None = None, only: str | None = None,
+                   repeat: int = 1, one_shot: bool = False):
     """Every example's exact deriv per parameter, each example in a fresh process (module doc);
     yields rows as they are measured.  With ``baseline`` (a directory holding another version's
     ``langur`` package, e.g. ``git archive main | tar -x -C DIR``), each example is measured with
     that version too, at the same time in a second process (rows with ``"version": "baseline"``):
-    both under the same load; ``only``: a substring of the examples' paths to keep."""
+    both under the same load; ``only``: a substring of the examples' paths to keep.  ``repeat``:
+    that many fresh processes per example and version, one after the other; a row's ``cpu`` is the
+    median of its runs (``cpu_runs``: all of them), everything else is the first run's (the runs'
+    printed parts are compared: ``stable`` says whether they were the same).  ``one_shot``: each
+    partial derivative in a fresh process of its own, as one ``langur deriv FILE --wrt P`` computes
+    it (without it, an example's later partial derivatives reuse what its first one remembered)."""
     for path in sorted(glob.glob(os.path.join(EXAMPLES, "**", "*.lgr"), recursive=True)):
         name = os.path.relpath(path, EXAMPLES)
         if only and only not in name:
             continue
-        # both versions at once, in two processes: each example is measured under the same load
-        runs = [("baseline", _start(path, limit, baseline))] if baseline else []
-        runs.append(("this", _start(path, limit, None)))
-        for version, proc in runs:
-            for r in _finish(proc, name, limit):
-                yield {**r, "version": version}
+        measured: dict[str, list[list[dict]]] = {"baseline": [], "this": []}
+        for _ in range(max(repeat, 1)):
+            for wrt in _partials(path) if one_shot else [()]:
+                # both versions at once, in two processes: each is measured under the same load
+                runs = [("baseline", _start(path, limit, baseline, wrt))] if baseline else []
+                runs.append(("this", _start(path, limit, None, wrt)))
+                for version, proc in runs:
+                    measured[version].append(list(_finish(proc, name, limit)))
+        for version, runs in measured.items():
+            # one group per partial derivative (or per failure), its rows from every run
+            groups: dict = {}
+            for r in (r for run in runs for r in run):
+                groups.setdefault(r["wrt"] if r.get("wrt") is not None else ("error", r.get("error")), []).append(r)
+            yield from (_median_row(tuple(group), version) for group in groups.values())
 
 
-def _start(path: str, limit: float, pythonpath: str | None) -> subprocess.Popen:
+def _median_row(group: tuple[dict, ...], version: str) -> dict:
+    """One partial derivative's runs (:func:`bench_examples`) as one row: the median CPU seconds."""
+    first = group[0]
+    if first.get("wrt") is None:
+        return {**first, "version": version}
+    cpu = [r["cpu"] for r in group]
+    printed = [{k: v for k, v in r.items() if k != "cpu"} for r in group]
+    return {**first, "cpu": statistics.median(cpu), "cpu_runs": cpu, "version": version,
+            "stable": all(p == printed[0] for p in printed)}
+
+
+def _partials(path: str) -> list[tuple[str]]:
+    """The example's parameters, one tuple each (the arguments of one one-shot process)."""
+    loaded = load(path)
+    return [(p,) for p in loaded.param_values()] if loaded.program is not None else [()]
+
+
+def _start(path: str, limit: float, pythonpath: str | None, wrt: tuple = ()) -> subprocess.Popen:
     env = dict(os.environ)
     if pythonpath:
         env["PYTHONPATH"] = os.path.abspath(pythonpath) + os.pathsep + env.get("PYTHONPATH", "")
     code = f"import resource; resource.setrlimit(resource.RLIMIT_CPU, ({int(limit)}, {int(limit) + 5}))\n" + _ONE
-    return subprocess.Popen([sys.executable, "-c", code, path], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    return subprocess.Popen([sys.executable, "-c", code, path, *wrt], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, cwd=os.path.dirname(path), env=env)
 
 
@@ -197,6 +234,12 @@ def main() -> None:
     ap.add_argument("--only", metavar="TEXT", help="with --examples: only the examples whose path contains TEXT")
     ap.add_argument("--dump", metavar="PATH", help="with --examples: also write every row (closed forms' text, "
                                                      "Theorem 8.1's verdict and how) as JSON to PATH")
+    ap.add_argument("--repeat", type=int, default=1, metavar="N",
+                    help="with --examples: N fresh processes per example (and version); the median CPU "
+                         "seconds per partial derivative, with the runs' range")
+    ap.add_argument("--one-shot", action="store_true",
+                    help="with --examples: each partial derivative in a fresh process of its own, as one "
+                         "`langur deriv FILE --wrt P` computes it")
     ap.add_argument("--campaign", type=int, metavar="N", help="time the exact engine on a campaign's programs")
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
@@ -212,14 +255,17 @@ def main() -> None:
         return
     if args.examples:
         rows = []
-        print("| example | version | wrt | CPU s | method | value | Theorem 8.1 |")
+        runs = f" (median of {args.repeat}: min–max)" if args.repeat > 1 else ""
+        print(f"| example | version | wrt | CPU s{runs} | method | value | Theorem 8.1 |")
         print("|---|---|---|---:|---|---:|---|")
-        for r in bench_examples(args.limit, args.baseline, args.only):
+        for r in bench_examples(args.limit, args.baseline, args.only, args.repeat, args.one_shot):
             rows.append(r)
             if r.get("wrt") is None:
                 print(f"| {r['example']} | {r['version']} | — | — | {r.get('error', 'no parameters')} | | |", flush=True)
                 continue
-            print(f"| {r['example']} | {r['version']} | {r['wrt']} | {r['cpu']:.2f} | {r['method']} "
+            spread = f" ({min(r['cpu_runs']):.2f}–{max(r['cpu_runs']):.2f})" if args.repeat > 1 else ""
+            unstable = "" if r["stable"] else " (the runs printed different results)"
+            print(f"| {r['example']} | {r['version']} | {r['wrt']} | {r['cpu']:.2f}{spread} | {r['method']}{unstable} "
                   f"| {r['value']!r} | {r['theorem']} |", flush=True)
         if args.dump:
             with open(args.dump, "w") as f:
