@@ -21,6 +21,7 @@ from __future__ import annotations
 import random
 from pathlib import Path
 
+import mpmath
 import sympy as sp
 
 from langur.ddenote import ddenote_program
@@ -238,8 +239,10 @@ def test_away_from_zero_on_the_disc_and_against_sympys_roots():
         if regions._away_from_zero(Cond(e), x, lo, hi, ctx):
             seen += 1
             assert _old_candidates_inside(Cond(e), x, lo, hi, ctx) in ([], None)
-            # and no sign change at a fine grid of real values (30 digits)
-            vals = [ctx.value(e.xreplace({x: sp.Float(lo + (hi - lo) * k / 200, 40)})) for k in range(201)]
+            # and no sign change at a fine grid of real values (30 digits, mpmath at r = 1/2)
+            f = sp.lambdify(x, e.xreplace({r: sp.Rational(1, 2)}), "mpmath")
+            with mpmath.workdps(30):
+                vals = [f(mpmath.mpf(lo) + (mpmath.mpf(hi) - mpmath.mpf(lo)) * k / 200) for k in range(201)]
             assert min(abs(z) for z in vals) > 1e-6
     assert seen > 10
 
