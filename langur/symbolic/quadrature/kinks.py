@@ -274,7 +274,16 @@ def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
 
 
 def _solve_critical(e: sp.Expr, v: sp.Symbol) -> tuple[list[sp.Expr], bool]:
-    """:func:`_critical_points`' answer, and whether it is final (not cut short by the time limit)."""
+    """:func:`_critical_points`' answer, and whether it is final (not cut short by the time limit).
+
+    An expression of degree at most 1 in ``v`` (:func:`~langur.symbolic.local.degree`: an upper
+    bound of the polynomial degree, from the tree, coefficients any expressions free of ``v``) has
+    none, without building sympy's ``Poly`` (a millisecond per condition; the stylization kernel's
+    half-planes are all affine): ``Poly(e, v)`` would have degree ≤ 1 and coefficients free of
+    ``v``, the answer below (issue 15, exact15q)."""
+    bound = degree(e, frozenset((v,)))
+    if bound is not None and bound <= 1:
+        return [], True
     try:
         poly = sp.Poly(e, v)
         if poly.degree() == 2 and not any(v in k.free_symbols for k in poly.all_coeffs()):
