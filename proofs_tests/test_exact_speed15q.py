@@ -91,3 +91,26 @@ def test_degree_bound_is_not_fooled_by_powers(monkeypatch):
     assert calls
     # (y + 1)² − y² is affine once expanded: Poly (degree 1) and the bound agree, no critical point
     assert kinks._solve_critical((y + 1) ** 2 - y ** 2, y) == ([], True)
+
+
+def _poly_check(e: sp.Expr, v: sp.Symbol) -> bool:
+    """The eligibility for a crossing, from scratch: a polynomial of degree 1 to 4 in v with
+    coefficients free of v."""
+    try:
+        poly = sp.Poly(e, v)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return False
+    return 1 <= poly.degree() <= 4 and not any(v in k.free_symbols for k in poly.all_coeffs())
+
+
+def test_crossing_eligibility_remembered_and_equal_to_poly(monkeypatch):
+    rng = random.Random(7)
+    cases = STYLIZE + [_random_affine(rng) for _ in range(10)] + [
+        (y - ax) ** 2 - bx, y ** 5 - x, y ** 4 - x * y, sp.sin(y) + x, sp.sqrt(y) - x, 1 / y - x, x + ax, sp.Integer(2),
+        (y + 1) ** 2 - y ** 2 - 1 - 2 * y]  # the last is 0 once expanded: not a crossing
+    refs = [(_poly_check(e, y), _poly_check(e, x)) for e in cases]
+    kinks._CROSSES.clear()
+    assert [(kinks._crosses(e, y), kinks._crosses(e, x)) for e in cases] == refs
+    _forbid_poly(monkeypatch)  # asked again: remembered, no Poly
+    assert [(kinks._crosses(e, y), kinks._crosses(e, x)) for e in cases] == refs
+    assert refs[-1] == (False, False) and refs[len(STYLIZE) + 10 + 1][0] is False  # 0; degree 5: too high
