@@ -139,17 +139,7 @@ def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.E
     of degree ≤ :data:`RESULTANT_DEGREE` in it, or whose resultant takes longer than
     :data:`RESULTANT_SECONDS`, are left to ``quad``'s subdivision as before."""
     v = p.syms[level + 1]
-    polys = []
-    for c in p.here(level + 1):
-        e = c.sym if parametric else c.expr
-        if e is None:
-            continue
-        try:
-            poly = sp.Poly(e, v)
-        except (sp.PolynomialError, sp.GeneratorsNeeded):
-            continue
-        if 1 <= poly.degree() <= RESULTANT_DEGREE and not any(v in k.free_symbols for k in poly.all_coeffs()):
-            polys.append(e)
+    polys = [e for c in p.here(level + 1) if (e := c.sym if parametric else c.expr) is not None and _crosses(e, v)]
     params = set(p.at) if parametric else set()
     out = []
     for e1, e2 in itertools.combinations(polys, 2):
@@ -159,6 +149,29 @@ def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.E
         if not r.is_number and p.syms[level] in r.free_symbols and r.free_symbols <= set(p.syms[: level + 1]) | params:
             out.append(r)
     return out
+
+
+#: :func:`_crosses`' answers by (condition, variable); at most :data:`COMPILED` kept.
+_CROSSES: dict = {}
+
+
+def _crosses(e: sp.Expr, v: sp.Symbol) -> bool:
+    """Whether ``e`` is a polynomial of degree 1 to :data:`RESULTANT_DEGREE` in ``v`` with
+    coefficients free of ``v`` (sympy's ``Poly``), remembered by (condition, variable): the same
+    conditions come back in every problem of a program (⟦p⟧, its cross-check, each derivative's
+    pieces), and each ``Poly`` costs a millisecond or more (issue 15, exact15q)."""
+    key = (e, v)
+    known = _CROSSES.get(key)
+    if known is None:
+        try:
+            poly = sp.Poly(e, v)
+            known = 1 <= poly.degree() <= RESULTANT_DEGREE and not any(v in k.free_symbols for k in poly.all_coeffs())
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            known = False
+        if len(_CROSSES) >= COMPILED:
+            _CROSSES.pop(next(iter(_CROSSES)))
+        _CROSSES[key] = known
+    return known
 
 
 #: :func:`_crossing`'s answers by (first condition, second condition, eliminated variable, variable
@@ -274,7 +287,16 @@ def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
 
 
 def _solve_critical(e: sp.Expr, v: sp.Symbol) -> tuple[list[sp.Expr], bool]:
-    """:func:`_critical_points`' answer, and whether it is final (not cut short by the time limit)."""
+    """:func:`_critical_points`' answer, and whether it is final (not cut short by the time limit).
+
+    An expression of degree at most 1 in ``v`` (:func:`~langur.symbolic.local.degree`: an upper
+    bound of the polynomial degree, from the tree, coefficients any expressions free of ``v``) has
+    none, without building sympy's ``Poly`` (a millisecond per condition; the stylization kernel's
+    half-planes are all affine): ``Poly(e, v)`` would have degree ≤ 1 and coefficients free of
+    ``v``, the answer below (issue 15, exact15q)."""
+    bound = degree(e, frozenset((v,)))
+    if bound is not None and bound <= 1:
+        return [], True
     try:
         poly = sp.Poly(e, v)
         if poly.degree() == 2 and not any(v in k.free_symbols for k in poly.all_coeffs()):
