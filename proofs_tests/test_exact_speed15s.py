@@ -103,10 +103,11 @@ def _moment(poly, a: int, b: int) -> Fraction:
     total = Fraction(0)
     for (x0, y0), (x1, y1) in zip(poly, poly[1:] + poly[:1]):
         # ∮ xᵃ⁺¹ yᵇ /(a + 1) dy along the edge, parametrized linearly: Simpson's rule is exact (degree ≤ 3)
-        def f(t):
+        values = []
+        for t in (Fraction(0), Fraction(1, 2), Fraction(1)):
             x, y = x0 + t * (x1 - x0), y0 + t * (y1 - y0)
-            return x ** (a + 1) * y ** b / (a + 1) * (y1 - y0)
-        total += (f(Fraction(0)) + 4 * f(Fraction(1, 2)) + f(Fraction(1))) / 6
+            values.append(x ** (a + 1) * y ** b / (a + 1) * (y1 - y0))
+        total += (values[0] + 4 * values[1] + values[2]) / 6
     return total
 
 
