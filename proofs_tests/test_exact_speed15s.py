@@ -169,18 +169,3 @@ def test_a_conditions_coefficient_function_gives_polys_coefficients(monkeypatch)
         assert len(got) == len(cs)
         for g, c in zip(got, cs):
             assert g == pytest.approx(float(c.xreplace(vals)), rel=1e-14, abs=1e-14)
-
-
-def test_the_points_powers_are_sympys_without_its_evaluation(monkeypatch):
-    # the rule point's coordinates are real rational sums: X**k is the same node built unevaluated, and
-    # sympy's Add._eval_power (whose assumption queries walk the sum) is not asked
-    X0 = (A * B - C) / (A - 2 * B + 3) + sp.Rational(1, 3) * (C - D) / (B + 5)
-    Y0 = A + sp.Rational(2, 7) * (B * C - 1) / (D - 4)
-    coeffs = {(a, b): A + b * C - a * D + 1 for a in range(5) for b in range(5 - a)}
-    want = [c * X0 ** a * Y0 ** b for (a, b), c in sorted(coeffs.items())]
-    calls = []
-    real = sp.Add._eval_power
-    monkeypatch.setattr(sp.Add, "_eval_power", lambda self, e: calls.append(e) or real(self, e))
-    got = local._point_terms(coeffs, X0, Y0, {})
-    assert not calls
-    assert [sp.srepr(t) for t in got] == [sp.srepr(t) for t in want]

@@ -658,13 +658,7 @@ def _point_terms(coeffs: dict, X, Y, powers: dict | None = None, w=None) -> list
 
     def pw(base, k, tag):
         if (tag, k) not in powers:
-            if (tag, "rational") not in powers:
-                powers[(tag, "rational")] = isinstance(base, sp.Add) and rational_form(base)
-            # (a real rational form that is a sum, to an integer power other than 0 and 1: sympy's
-            # evaluation gives the same node, after assumption queries through the sum — see
-            # shared_xreplace; the points' sums of vertices are such forms for affine conditions)
-            powers[(tag, k)] = sp.Pow(base, k, evaluate=False) if powers[(tag, "rational")] and k > 1 \
-                else base ** k
+            powers[(tag, k)] = base ** k
         return powers[(tag, k)]
 
     one = not (X.is_Number or Y.is_Number)
