@@ -158,7 +158,11 @@ def shared_lambdify(args, expr, module: str):
     list of their values) with nothing lambdify rewrites, generated without lambdify's walks of the
     tree with its repeats (:func:`_generated`)."""
     plain = (isinstance(expr, sp.Basic) or _basic_list(expr)) and _plain_arguments(args)
-    key = (tuple(args), ("list", tuple(expr)) if isinstance(expr, list) else expr, module) if plain else None
+    # (a list by a sympy Tuple of its expressions, whose hash is kept: hashing a plain tuple hashes each
+    # element again, and a bare Float's hash is not kept — at shutdown the weak dictionary's removals
+    # hashed Floats while Python was unloading mpmath)
+    key = ((tuple(args), "list", sp.Tuple(*expr), module) if isinstance(expr, list) else (tuple(args), expr, module)) \
+        if plain else None
     func = _FUNCTIONS.get(key) if plain else None
     if func is not None:
         return func
