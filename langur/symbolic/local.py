@@ -533,7 +533,8 @@ def polygon_integral(conds, weight, x, y, box: dict, ctx):
     (x0, y0) = verts[poly[0][1]]
     for (_, k1), (_, k2) in zip(poly[1:], poly[2:]):
         half, points = _triangle_points(x0, y0, *verts[k1], *verts[k2], rule)
-        total.append(half * sp.Add(*[w * _at_point(coeffs, X, Y, powers) for w, X, Y, powers in points]))
+        # Σ_points w·(Σ_ab c_ab·Xᵃ·Yᵇ) as one sum of the terms w·c_ab·Xᵃ·Yᵇ (:func:`_point_terms`)
+        total.append(half * sp.Add(*[t for w, X, Y, powers in points for t in _point_terms(coeffs, X, Y, powers, w)]))
     for rel in cell:
         if rel not in ctx.cell:
             ctx.cell.append(rel)
@@ -633,6 +634,26 @@ def _triangle_points(x0, y0, x1, y1, x2, y2, rule) -> tuple:
 
 def _at_point(coeffs: dict, X, Y, powers: dict | None = None):
     """Σ c_ab Xᵃ Yᵇ (``powers``: the powers of X and Y computed so far, by (tag, exponent))."""
+    return sp.Add(*_point_terms(coeffs, X, Y, powers))
+
+
+def _point_terms(coeffs: dict, X, Y, powers: dict | None = None, w=None) -> list:
+    """The terms of w·Σ_ab c_ab·Xᵃ·Yᵇ (w a rational, 1 when None): their sum is the same expression
+    as ``w * Add(*[c * X**a * Y**b …])`` (:func:`_at_point` times w).
+
+    :func:`polygon_integral` adds the terms of all the points of a triangle in one sum rather than
+    Σ_points w·(Σ_ab …), each point's sum sorted, then distributed and sorted again: sympy's
+    product of a rational and a sum is the sum of the rational's products with the terms (``Mul``
+    distributes a number over a sum, each term's number kept in front), and a sum of sums is the
+    sum of all their terms (``Add`` flattens its arguments, adds the numbers of the terms with the
+    same rest, drops zeros and sorts the terms canonically), so one sum of the same terms is the
+    same expression.
+
+    A coefficient that is a sum (each coefficient of the stylization kernel's weight) is multiplied
+    by w, Xᵃ and Yᵇ in one product rather than three (``w·((c·Xᵃ)·Yᵇ)``) when X and Y are not numbers
+    and (a, b) ≠ (0, 0): then no product is of a number with a sum (only that one distributes), so
+    each is sympy's general product — the factors' powers merged by base, the number in front, the
+    rest sorted canonically — and the same in one step.  Anything else is built as before."""
     powers = {} if powers is None else powers
 
     def pw(base, k, tag):
@@ -640,7 +661,16 @@ def _at_point(coeffs: dict, X, Y, powers: dict | None = None):
             powers[(tag, k)] = base ** k
         return powers[(tag, k)]
 
-    return sp.Add(*[c * pw(X, a, "x") * pw(Y, b, "y") for (a, b), c in sorted(coeffs.items())])
+    one = not (X.is_Number or Y.is_Number)
+    out = []
+    for (a, b), c in sorted(coeffs.items()):
+        if one and c.is_Add and (a or b):
+            out.append(sp.Mul(c, pw(X, a, "x"), pw(Y, b, "y")) if w is None else
+                       sp.Mul(w, c, pw(X, a, "x"), pw(Y, b, "y")))
+        else:
+            t = c * pw(X, a, "x") * pw(Y, b, "y")
+            out.append(t if w is None else w * t)
+    return out
 
 
 def _clip(lines):

@@ -154,17 +154,22 @@ def lambdify(args, expr, **kwargs):
 def shared_lambdify(args, expr, module: str):
     """``sympy.lambdify(args, expr, modules=[module])`` for ``module`` "math", "mpmath" or "numpy": the same
     generated code (sympy's printer for that module, with lambdify's settings), each shared subtree
-    printed once; for plain arguments and an expression with nothing lambdify rewrites, generated
-    without lambdify's walks of the tree with its repeats (:func:`_generated`)."""
-    plain = isinstance(expr, sp.Basic) and _plain_arguments(args)
-    key = (tuple(args), expr, module) if plain else None
+    printed once; for plain arguments and an expression (or a list of them: a function returning the
+    list of their values) with nothing lambdify rewrites, generated without lambdify's walks of the
+    tree with its repeats (:func:`_generated`)."""
+    plain = (isinstance(expr, sp.Basic) or _basic_list(expr)) and _plain_arguments(args)
+    # (a list by a sympy Tuple of its expressions, whose hash is kept: hashing a plain tuple hashes each
+    # element again, and a bare Float's hash is not kept — at shutdown the weak dictionary's removals
+    # hashed Floats while Python was unloading mpmath)
+    key = ((tuple(args), "list", sp.Tuple(*expr), module) if isinstance(expr, list) else (tuple(args), expr, module)) \
+        if plain else None
     func = _FUNCTIONS.get(key) if plain else None
     if func is not None:
         return func
     cls = {"math": _SharedPython, "mpmath": _SharedMpmath, "numpy": _SharedNumPy}[module]
     printer = cls({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                    "user_functions": {}})
-    if plain and not any_node(expr, _rewritten):
+    if plain and not any(any_node(e, _rewritten) for e in (expr if isinstance(expr, list) else [expr])):
         func = _FUNCTIONS[key] = _generated(list(args), expr, printer, module)
         return func
     return lambdify(args, expr, modules=[module], printer=printer)
@@ -176,6 +181,11 @@ def shared_lambdify(args, expr, module: str):
 #: domain error, the sign probes of regions.py).  sympy's equality tells Floats of other precisions
 #: apart, and such a function is a pure function of its arguments.
 _FUNCTIONS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
+
+
+def _basic_list(expr) -> bool:
+    """Whether ``expr`` is a list of sympy expressions (lambdify returns the list of their values)."""
+    return isinstance(expr, list) and all(isinstance(e, sp.Basic) for e in expr)
 
 
 def _plain_arguments(args) -> bool:
@@ -213,9 +223,12 @@ def _generated(args: list, expr, printer, module: str):
     replacement of ``Subs`` nodes (there are none) — two thirds of lambdify's time on a stylize
     partial derivative's integrands, each ~10⁴ nodes over a few hundred distinct ones."""
     namespace = _namespace(module)
-    for sym in atoms_of(expr, (sp.Symbol,)):
-        namespace[sym.name if type(sym) is sp.Symbol else str(sym)] = sym  # (str(Symbol) is its name)
-    text = printer.doprint(expr)
+    if isinstance(expr, list):  # (lambdify prints each, in brackets; it adds no symbol to the namespace)
+        text = "[" + ", ".join(printer.doprint(e) for e in expr) + "]"
+    else:
+        for sym in atoms_of(expr, (sp.Symbol,)):
+            namespace[sym.name if type(sym) is sp.Symbol else str(sym)] = sym  # (str(Symbol) is its name)
+        text = printer.doprint(expr)
     if "\n" in text:
         text = f"({text})"
     source = f"def _lambdifygenerated({', '.join(a.name for a in args)}):\n    return {text}\n"

@@ -18,7 +18,7 @@ from scipy import optimize as so
 from langur.symbolic import local
 from langur.symbolic.local import free_symbols
 from langur.symbolic.quadrature.compiling import COMPILED, printable
-from langur.symbolic.text import lambdify
+from langur.symbolic.text import shared_lambdify
 
 GRID = 40
 
@@ -119,11 +119,11 @@ def _coefficients(expr, syms: tuple, level: int, params: tuple = ()):
             coeffs = poly.all_coeffs() if poly.degree() <= 8 else None
         if coeffs is not None and not any(v in c.free_symbols for c in coeffs):
             args, body = list(syms[:level]) + list(params), [printable(c) for c in coeffs]
-            fn = lambdify(args, body, modules=["math"])
+            fn = shared_lambdify(args, body, "math")  # (sympy's lambdify of the list, shared subtrees printed once)
             try:
                 fn(*[0.5] * len(args))  # probe: NameError for functions math lacks
             except NameError:
-                fn = lambdify(args, body, modules=["numpy"])
+                fn = shared_lambdify(args, body, "numpy")
             except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
                 pass
     except (sp.PolynomialError, sp.GeneratorsNeeded):
