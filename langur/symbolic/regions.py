@@ -828,6 +828,61 @@ def _away_from_zero(c: Cond, v, lo: float, hi: float, ctx: Context) -> bool:
     return bound > 1e-6 * max(1.0, abs(lo), abs(hi), abs(e_v))
 
 
+#: How far (relative) a root's 30-digit value must be from every double's rounding boundary, from
+#: the interval's ends and from the imaginary-part thresholds for :func:`_only_repeats` to vouch
+#: for the double of another form of it: sympy's ``evalf(30)`` of two forms of one number agree
+#: to ~1e-30 of it, ten orders of magnitude inside this margin.
+REPEAT_MARGIN = 1e-20
+
+
+def _only_repeats(c: Cond, v, lo: float, hi: float, known: set, ctx: Context) -> bool:
+    """Whether every root of ``c`` that :func:`_generic_1d` would add with the tidy solve (sympy's
+    ``solve`` with its ``simplify`` pass) is certainly a repeat of a point already there (a double
+    in ``known``), so that the tidy solve — most of ``solve``'s time — cannot change anything.
+
+    The tidy solutions are the untidy ones simplified (:func:`_roots`: the same numbers; that is
+    what :func:`_generic_1d` already relies on when no untidy root is inside).  Each untidy
+    candidate's value is taken with 30 digits, and it must be, by :data:`REPEAT_MARGIN` relative,
+    either clearly not real (then no form of it passes :func:`_vanishes_at_point`), or clearly
+    outside ``[lo, hi]`` (then no form of it is :func:`_inside`), or a real number whose double
+    is certain — farther than the margin from both rounding boundaries around it — and is one of
+    ``known``.  Such a number's other forms have the same double, so the tidy root would be
+    sorted right after the point already there and dropped as its repeat (whatever else is kept,
+    a repeat with an equal double placed after its twin is dropped when its twin is, or is not:
+    it is compared with the same last kept point)."""
+    sols = _SOLVED.get((c.expr, v, False))
+    if not isinstance(sols, list) or not sols:
+        return False
+    floats = _floats40(ctx.at)
+    for s in sols:
+        if isinstance(s, (dict, tuple)):
+            return False
+        try:
+            z = sp.sympify(s).xreplace(floats).evalf(30)
+            re, im = (mpmath.mpmathify(part) for part in z.as_real_imag())
+        except (TypeError, ValueError, AttributeError):
+            return False
+        if not (mpmath.isfinite(re) and mpmath.isfinite(im)):
+            return False
+        size = max(1, abs(re))
+        if abs(im) > 1e-9 * size:
+            continue  # not real: every form of it fails the 1e-12 test of _vanishes_at_point
+        if abs(im) > REPEAT_MARGIN * size:
+            return False  # (nearly real: leave it to the tidy solve)
+        margin = REPEAT_MARGIN * size
+        if re < lo - margin or re > hi + margin:
+            continue  # outside: no form of it is inside (lo, hi)
+        d = float(re)
+        if d not in known or d == 0.0:
+            return False
+        below, above = math.nextafter(d, -math.inf), math.nextafter(d, math.inf)
+        with mpmath.workprec(200):  # (the midpoints of doubles are exact at 200 bits)
+            if not (re - (mpmath.mpf(d) + mpmath.mpf(below)) / 2 > margin
+                    and (mpmath.mpf(d) + mpmath.mpf(above)) / 2 - re > margin):
+                return False
+    return True
+
+
 #: Points per sub-interval at which :func:`_no_missed_root` looks for a sign change.
 MISSED_ROOT_PROBES = 8
 
@@ -941,7 +996,8 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
             # closed form, and solve's simplify pass (most of its time) is not needed; nor solve
             # itself when the condition is seen to stay away from 0 there
             rs = [] if _away_from_zero(c, v, lo_v, hi_v, ctx) else _roots(c, v, ctx, tidy=False)
-            if any(_inside(r, lo_v, hi_v, ctx) for r in rs):
+            if any(_inside(r, lo_v, hi_v, ctx) for r in rs) and \
+                    not _only_repeats(c, v, lo_v, hi_v, {p[0] for p in pts}, ctx):
                 rs = _roots(c, v, ctx)
             unsure.append(c)
         for r in rs:
