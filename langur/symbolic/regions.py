@@ -835,10 +835,11 @@ def _away_from_zero(c: Cond, v, lo: float, hi: float, ctx: Context) -> bool:
 REPEAT_MARGIN = 1e-20
 
 
-def _only_repeats(c: Cond, v, lo: float, hi: float, known: set, ctx: Context) -> bool:
-    """Whether every root of ``c`` that :func:`_generic_1d` would add with the tidy solve (sympy's
-    ``solve`` with its ``simplify`` pass) is certainly a repeat of a point already there (a double
-    in ``known``), so that the tidy solve — most of ``solve``'s time — cannot change anything.
+def _only_repeats(expr, v, lo: float, hi: float, known: set, ctx: Context) -> bool:
+    """Whether every root of the condition ``expr`` that :func:`_generic_1d` would add with the tidy
+    solve (sympy's ``solve`` with its ``simplify`` pass) is certainly a repeat of a point already
+    there (a double in ``known``), so that the tidy solve — most of ``solve``'s time — cannot
+    change anything; from sympy's untidy solutions, which must be known (:data:`_SOLVED`).
 
     The tidy solutions are the untidy ones simplified (:func:`_roots`: the same numbers; that is
     what :func:`_generic_1d` already relies on when no untidy root is inside).  Each untidy
@@ -850,7 +851,7 @@ def _only_repeats(c: Cond, v, lo: float, hi: float, known: set, ctx: Context) ->
     sorted right after the point already there and dropped as its repeat (whatever else is kept,
     a repeat with an equal double placed after its twin is dropped when its twin is, or is not:
     it is compared with the same last kept point)."""
-    sols = _SOLVED.get((c.expr, v, False))
+    sols = _SOLVED.get((expr, v, False))
     if not isinstance(sols, list) or not sols:
         return False
     floats = _floats40(ctx.at)
@@ -881,6 +882,31 @@ def _only_repeats(c: Cond, v, lo: float, hi: float, known: set, ctx: Context) ->
                     and (mpmath.mpf(d) + mpmath.mpf(above)) / 2 - re > margin):
                 return False
     return True
+
+
+def _radicand(c: Cond, v, seen: set):
+    """``P`` when ``c.expr`` is k·√P with k a positive rational, ``P`` a polynomial of degree 1 or 2
+    in ``v`` (coefficients free of it) and ``P`` the expression of a condition whose roots
+    :func:`_generic_1d` has already placed (``seen``); None otherwise.  The real zeros of k·√P are
+    those of P, and sympy's ``solve`` of k·√P finds P's (it squares the radical away: checked on
+    the examples' and random conditions, proofs_tests/test_exact_speed15r.py), so with P's roots
+    certain repeats (:func:`_only_repeats`) so are those of k·√P: neither solve can change the
+    points (the √(4r² − 4x²) ≥ 0 of the disc's ⟦p⟧, the width of its inner interval)."""
+    if c.psi is not None:
+        return None
+    k, root = c.expr.as_coeff_Mul()
+    if not (k.is_Rational and k > 0 and isinstance(root, sp.Pow) and root.exp == sp.S.Half):
+        return None
+    base = root.base
+    if base not in seen:
+        return None
+    try:
+        poly = sp.Poly(base, v)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return None
+    if poly.degree() not in (1, 2) or any(v in a.free_symbols for a in poly.all_coeffs()):
+        return None
+    return base
 
 
 #: Points per sub-interval at which :func:`_no_missed_root` looks for a sign change.
@@ -989,17 +1015,25 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     large = isinstance(weight, Deferred) or \
         local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params)
     unsure = []  # conditions whose roots sympy solved (it may miss some): sign changes looked for
+    seen: set = set()  # the conditions whose roots are among pts
     for c in conds:
         rs = _closed_roots(c, v, ctx) if large else None
         if rs is None:
             # sympy's roots untidied first: when none lies inside (lo, hi) here, none enters the
             # closed form, and solve's simplify pass (most of its time) is not needed; nor solve
             # itself when the condition is seen to stay away from 0 there
-            rs = [] if _away_from_zero(c, v, lo_v, hi_v, ctx) else _roots(c, v, ctx, tidy=False)
-            if any(_inside(r, lo_v, hi_v, ctx) for r in rs) and \
-                    not _only_repeats(c, v, lo_v, hi_v, {p[0] for p in pts}, ctx):
-                rs = _roots(c, v, ctx)
+            # (nor either solve when every root it could add is a certain repeat of a point there)
+            known = {p[0] for p in pts}
+            base = _radicand(c, v, seen)
+            if base is not None and _only_repeats(base, v, lo_v, hi_v, known, ctx):
+                rs = []  # k·√P whose P came before: P's roots, all repeats
+            else:
+                rs = [] if _away_from_zero(c, v, lo_v, hi_v, ctx) else _roots(c, v, ctx, tidy=False)
+                if any(_inside(r, lo_v, hi_v, ctx) for r in rs) and \
+                        not _only_repeats(c.expr, v, lo_v, hi_v, known, ctx):
+                    rs = _roots(c, v, ctx)
             unsure.append(c)
+        seen.add(c.expr)
         for r in rs:
             if _inside(r, lo_v, hi_v, ctx):
                 pts.append((ctx.value(r).real, r))
