@@ -23,6 +23,7 @@ from pathlib import Path
 import mpmath
 import sympy as sp
 
+from langur import ddenote as ddenote_module
 from langur import denote as denote_module
 from langur.ddenote import ddenote_program
 from langur.denote import denote_program
@@ -45,7 +46,7 @@ def _ctx(**at) -> Context:
 def _forget() -> None:
     """Drop the memos that would hand a second run the first run's answers."""
     for memo in (regions._SOLVED, regions._VALUES, regions._CACHE, regions._VANISHES, regions._CLOSED_ROOTS,
-                 delta._SIMPLIFIED, denote_module._remembered):
+                 delta._SIMPLIFIED, denote_module._remembered, denote_module._DECOMPOSED, ddenote_module._NORMAL_FORMS):
         memo.clear()
 
 
@@ -171,10 +172,9 @@ def test_ellipses_and_offcentre_discs_are_the_same_without_the_shortcuts(monkeyp
         at = loaded.param_values()
         direction = {next(iter(at)): 1}
 
-        def run():
+        def run(program=loaded.program, at=at, direction=direction):
             _forget()
-            return (denote_program(loaded.program, at, near=True),
-                    ddenote_program(loaded.program, at, direction))
+            return denote_program(program, at, near=True), ddenote_program(program, at, direction)
 
         with monkeypatch.context() as m:
             new = run()
@@ -225,3 +225,44 @@ def test_disk_deriv_and_its_check_by_hand():
         q = pt.params["r"]
         assert abs(pt.d_denotation - 2 * math.pi * q) < 1e-9
         assert abs(pt.derivative_denotation - 2 * math.pi * q) < 1e-7
+
+
+def test_point_free_programs_decompose_once_and_the_same(monkeypatch):
+    """A program without a variable-free conditional is decomposed once for all points (Theorem
+    8.1's shifted and nearby points), and its ⦇p⦈ normal form made once per γ': the values at other
+    points are those of a fresh decomposition (patched off); a program with an ``if`` on a
+    parameter is decomposed at each point (its pieces depend on it)."""
+    from langur.core import Add, IfGe0, Param, Program, Var, const, sub
+
+    loaded = load(str(EXAMPLES / "adapters" / "programs" / "disk.lgr"))
+    program = loaded.program
+    assert denote_module.point_free(program)
+    calls = []
+    real = denote_module.decompose
+    monkeypatch.setattr(denote_module, "decompose", lambda *args: calls.append(1) or real(*args))
+    _forget()
+    points = [{"r": q} for q in (0.3, 0.45, 0.6)]
+    new = [denote_program(program, q, symbolic=False) for q in points]
+    assert len(calls) == 1
+    derivs = [ddenote_program(program, q, {"r": 1}, symbolic=False) for q in points]
+    for q, d in zip(points, derivs):  # 2πr by hand (quadrature)
+        assert abs(d.value - 2 * math.pi * q["r"]) < 1e-7
+    for q, v in zip(points, new):
+        assert abs(v.value - math.pi * q["r"] ** 2) < 1e-9  # πr² by hand
+    monkeypatch.setattr(denote_module, "point_free", lambda program: False)
+    monkeypatch.setattr(ddenote_module, "point_free", lambda program: False)
+    _forget()
+    old = [denote_program(program, q, symbolic=False) for q in points]
+    old_derivs = [ddenote_program(program, q, {"r": 1}, symbolic=False) for q in points]
+    assert len(calls) == 4
+    assert [(v.value, v.error) for v in new] == [(v.value, v.error) for v in old]
+    assert [(d.value, d.error) for d in derivs] == [(d.value, d.error) for d in old_derivs]
+    monkeypatch.undo()
+    # ∫₀¹ (if a ≥ 0 then x else 1) dx: 1/2 or 1 by the sign of a — decided at each point
+    body = IfGe0(Param("a"), Var("x"), const(1))
+    branching = Program(body, ("x",), ((const(0), const(1)),))
+    assert not denote_module.point_free(branching)
+    in_box = IfGe0(Param("a"), const(2), const(1))  # (an if in the box only)
+    assert not denote_module.point_free(Program(Add(Var("x"), const(1)), ("x",), ((const(0), sub(const(3), in_box)),)))
+    assert denote_program(branching, {"a": 0.5}).value == 0.5
+    assert denote_program(branching, {"a": -0.5}).value == 1.0
