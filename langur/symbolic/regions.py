@@ -790,23 +790,12 @@ def _away_from_zero(c: Cond, v, lo: float, hi: float, ctx: Context) -> bool:
     |e + k√A| ≥ |e| where A < 0 (k√A imaginary) and where k√A has e's sign; else
     ≥ |e| − |k|·√(max A)."""
     psi, expr = c.psi, c.expr
-    if psi is not None and psi.solved_for == v and psi.branches or not isinstance(expr, sp.Add):
+    if psi is not None and psi.solved_for == v and psi.branches:
         return False
-    with_v = [t for t in expr.args if v in t.free_symbols]
-    if len(with_v) != 1:
+    shape = _root_shape(expr, v)
+    if shape is None:
         return False
-    roots = [f for f in sp.Mul.make_args(with_v[0]) if v in f.free_symbols]
-    if len(roots) != 1 or not (isinstance(roots[0], sp.Pow) and roots[0].exp == sp.S.Half):
-        return False
-    try:
-        poly = sp.Poly(roots[0].base, v)
-    except (sp.PolynomialError, sp.GeneratorsNeeded):
-        return False
-    coeffs = poly.all_coeffs()
-    if poly.degree() not in (1, 2) or any(v in a.free_symbols for a in coeffs):
-        return False
-    e = sp.Add(*[t for t in expr.args if v not in t.free_symbols])
-    k = sp.Mul(*[f for f in sp.Mul.make_args(with_v[0]) if v not in f.free_symbols])
+    e, k, coeffs = shape
     try:
         nums = [ctx.value(x) for x in [e, k, *coeffs]]
     except (TypeError, ValueError, ZeroDivisionError):
@@ -826,6 +815,36 @@ def _away_from_zero(c: Cond, v, lo: float, hi: float, ctx: Context) -> bool:
         if max(tops) > 0:
             bound = abs(e_v) - abs(k_v) * max(tops) ** 0.5
     return bound > 1e-6 * max(1.0, abs(lo), abs(hi), abs(e_v))
+
+
+#: :func:`_root_shape`'s answers by (expression, variable).
+_ROOT_SHAPES: dict = {}
+
+
+def _root_shape(expr, v):
+    """``(e, k, [A's coefficients])`` when ``expr`` = e + k·√A with e, k free of ``v`` and A a
+    polynomial of degree 1 or 2 in ``v``, else None (:func:`_away_from_zero`'s shape); remembered
+    by (expression, variable), of which it is a pure function (the same conditions come back in
+    each case split of ⟦p⟧ and each branch of a delta piece)."""
+    key = (expr, v)
+    if key in _ROOT_SHAPES:
+        return _ROOT_SHAPES[key]
+    out = None
+    with_v = [t for t in expr.args if v in t.free_symbols] if isinstance(expr, sp.Add) else []
+    roots = [f for f in sp.Mul.make_args(with_v[0]) if v in f.free_symbols] if len(with_v) == 1 else []
+    if len(roots) == 1 and isinstance(roots[0], sp.Pow) and roots[0].exp == sp.S.Half:
+        try:
+            poly = sp.Poly(roots[0].base, v)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            poly = None
+        if poly is not None:
+            coeffs = poly.all_coeffs()
+            if poly.degree() in (1, 2) and not any(v in a.free_symbols for a in coeffs):
+                e = sp.Add(*[t for t in expr.args if v not in t.free_symbols])
+                k = sp.Mul(*[f for f in sp.Mul.make_args(with_v[0]) if v not in f.free_symbols])
+                out = (e, k, coeffs)
+    _remember(_ROOT_SHAPES, key, out)
+    return out
 
 
 #: How far (relative) a root's 30-digit value must be from every double's rounding boundary, from
