@@ -45,7 +45,7 @@ def _ctx(**at) -> Context:
 
 def _forget() -> None:
     """Drop the memos that would hand a second run the first run's answers."""
-    for memo in (regions._SOLVED, regions._VALUES, regions._CACHE, regions._VANISHES, regions._CLOSED_ROOTS,
+    for memo in (regions._SOLVED, regions._VALUES, regions._CACHE, regions._VANISHES, regions._CLOSED_ROOTS, regions._MATCHES,
                  delta._SIMPLIFIED, denote_module._remembered, denote_module._DECOMPOSED, ddenote_module._NORMAL_FORMS):
         memo.clear()
 
@@ -266,3 +266,23 @@ def test_point_free_programs_decompose_once_and_the_same(monkeypatch):
     assert not denote_module.point_free(Program(Add(Var("x"), const(1)), ("x",), ((const(0), sub(const(3), in_box)),)))
     assert denote_program(branching, {"a": 0.5}).value == 0.5
     assert denote_program(branching, {"a": -0.5}).value == 1.0
+
+
+def test_derivative_matches_is_remembered_with_the_same_verdicts(monkeypatch):
+    """sympy's antiderivative r·asin(u/|r|) of r/√(r² − u²) (by hand: d/du asin(u/|r|) = 1/√(r² − u²))
+    passes, 0 and u·r fail; each (F, w) is checked once per point."""
+    ctx = _ctx(r=0.5)
+    u = symbol("u1")
+    w = r / sp.sqrt(r ** 2 - u ** 2)
+    calls = []
+    real = regions._derivative_matches_here
+    monkeypatch.setattr(regions, "_derivative_matches_here", lambda *args: calls.append(1) or real(*args))
+    regions._MATCHES.clear()
+    good = r * sp.asin(u / sp.Abs(r))
+    assert regions._derivative_matches(good, w, u, ctx) is True
+    assert regions._derivative_matches(good, w, u, ctx) is True
+    assert len(calls) == 1
+    assert regions._derivative_matches(sp.Integer(0), w, u, ctx) is False
+    assert regions._derivative_matches(u * r, w, u, ctx) is False
+    assert regions._derivative_matches(good, w, u, _ctx(r=0.25)) is True  # another point: computed
+    assert len(calls) == 4

@@ -336,9 +336,26 @@ def _remember(cache: dict, key, value, size: int = 2048) -> None:
     cache[key] = value
 
 
+#: :func:`_derivative_matches`' verdicts by (F, w, variable, point): a pure function of them (its
+#: random points come from a fixed seed), asked again when the same weight comes back (the other
+#: branch of a delta piece, the other partial derivatives).
+_MATCHES: dict = {}
+
+
 def _derivative_matches(F, w, v, ctx: Context) -> bool:
     """d/dv F = w at a few pseudo-random points (parameters at ``at``): sympy's integrate has
-    returned wrong antiderivatives (even 0) for symbolic constants; catch that early."""
+    returned wrong antiderivatives (even 0) for symbolic constants; catch that early (remembered:
+    :data:`_MATCHES`)."""
+    key = (F, sp.sympify(w), v, tuple(ctx.at.items()))
+    hit = _MATCHES.get(key)
+    if hit is None:
+        hit = _derivative_matches_here(F, w, v, ctx)
+        _remember(_MATCHES, key, hit)
+    return hit
+
+
+def _derivative_matches_here(F, w, v, ctx: Context) -> bool:
+    """:func:`_derivative_matches`' computation."""
     try:
         d = sp.diff(F, v) - w
     except Exception:  # noqa: BLE001
