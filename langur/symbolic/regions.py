@@ -528,9 +528,19 @@ def _direction(d, v, outer, ctx: Context, root) -> list[Alt]:
     return [Alt([Cond(d, strict=True)], [root], []), Alt([Cond(-d)], [], [root])]
 
 
-def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
-    """``[c ≥ 0]`` as a disjoint union (up to null sets) of intervals in ``v``."""
-    e = c.expr
+#: :func:`_polynomial_roots`' answers by (expression, variable).
+_POLY_ROOTS: dict = {}
+
+
+def _polynomial_roots(e, v):
+    """For ``e`` a polynomial of degree 1 in ``v`` (coefficients free of it): ``(a, −b/a)`` (its
+    leading coefficient and root, cancelled); of degree 2: ``(a, disc, r₋, r₊)`` (the roots
+    (−b ∓ √disc)/2a); else None.  :func:`alternatives`' formulas, remembered by (expression,
+    variable), of which they are a pure function: the same conditions come back in each case
+    split and for each partial derivative; what depends on the point is decided after."""
+    key = (e, v)
+    if key in _POLY_ROOTS:
+        return _POLY_ROOTS[key]
     poly = None
     try:
         poly = sp.Poly(e, v)
@@ -538,16 +548,29 @@ def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
             poly = None
     except (sp.PolynomialError, sp.GeneratorsNeeded):
         poly = None
+    out = None
     if poly is not None and poly.degree() == 1:
         a, b = poly.all_coeffs()
-        return _direction(a, v, outer, ctx, sp.cancel(-b / a))
-    if poly is not None and poly.degree() == 2:
+        out = (a, sp.cancel(-b / a))
+    elif poly is not None and poly.degree() == 2:
         a, b, d = poly.all_coeffs()
+        disc = sp.expand(b**2 - 4 * a * d)
+        out = (a, disc, (-b - sp.sqrt(disc)) / (2 * a), (-b + sp.sqrt(disc)) / (2 * a))
+    _remember(_POLY_ROOTS, key, out)
+    return out
+
+
+def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
+    """``[c ≥ 0]`` as a disjoint union (up to null sets) of intervals in ``v``."""
+    e = c.expr
+    solved = _polynomial_roots(e, v)
+    if solved is not None and len(solved) == 2:
+        a, root = solved
+        return _direction(a, v, outer, ctx, root)
+    if solved is not None:
+        a, disc, r_minus, r_plus = solved
         if a.free_symbols & set(outer):
             raise Unsupported("quadratic with a variable leading coefficient")
-        disc = sp.expand(b**2 - 4 * a * d)
-        r_minus = (-b - sp.sqrt(disc)) / (2 * a)
-        r_plus = (-b + sp.sqrt(disc)) / (2 * a)
         if ctx.sign(a) < 0:  # c ≥ 0 between the roots
             return [Alt([Cond(disc)], [r_plus], [r_minus])]
         return [Alt([Cond(-disc, strict=True)], [], []),
