@@ -18,6 +18,7 @@ import sympy as sp
 
 from . import lazy
 from .core import IfDiffeo, IfGe0, Program, subterms
+from .symbolic import decompose as decompose_module
 from .symbolic import local
 from .symbolic.decompose import Ctx, decided_cell, decompose, smooth_value
 from .symbolic.pieces import Integral, Method
@@ -79,7 +80,9 @@ def _decomposed(program: Program, ctx: Ctx) -> list:
     """``decompose(program.body, ctx)``, remembered by program when it is :func:`point_free` (the
     same pieces at every point: Theorem 8.1's finite differences decompose the program at four
     shifted points, the check's ⟦p⟧ near the point once more)."""
-    if not point_free(program):
+    if not point_free(program) or decompose_module.decompose is not decompose:
+        # (nor while decompose is wrapped: an observer — a campaign's rule coverage — counts each
+        # of its applications, and must see the same ones as without this memo)
         return decompose(program.body, ctx)
     # by identity (the entry keeps the program alive): pieces carry their conditionals' spans,
     # which program equality ignores

@@ -239,7 +239,14 @@ def test_point_free_programs_decompose_once_and_the_same(monkeypatch):
     assert denote_module.point_free(program)
     calls = []
     real = denote_module.decompose
-    monkeypatch.setattr(denote_module, "decompose", lambda *args: calls.append(1) or real(*args))
+
+    def spy(t, *rest):  # (the program's decompositions, not their recursion)
+        if t is program.body:
+            calls.append(1)
+        return real(t, *rest)
+
+    monkeypatch.setattr(denote_module, "decompose", spy)
+    monkeypatch.setattr(denote_module.decompose_module, "decompose", spy)  # (wrapped alike: memo on)
     _forget()
     points = [{"r": q} for q in (0.3, 0.45, 0.6)]
     new = [denote_program(program, q, symbolic=False) for q in points]
@@ -257,6 +264,17 @@ def test_point_free_programs_decompose_once_and_the_same(monkeypatch):
     assert len(calls) == 4
     assert [(v.value, v.error) for v in new] == [(v.value, v.error) for v in old]
     assert [(d.value, d.error) for d in derivs] == [(d.value, d.error) for d in old_derivs]
+    # an observer wrapping decompose alone (a campaign's rule coverage): every point decomposed
+    monkeypatch.undo()
+    counted = []
+    monkeypatch.setattr(denote_module.decompose_module, "decompose",
+                        lambda *args: counted.append(1) or real(*args))  # (sees the recursion)
+    _forget()
+    denote_program(program, points[0], symbolic=False)
+    once = len(counted)
+    for q in points[1:]:
+        denote_program(program, q, symbolic=False)
+    assert once > 0 and len(counted) == 3 * once
     monkeypatch.undo()
     # ∫₀¹ (if a ≥ 0 then x else 1) dx: 1/2 or 1 by the sign of a — decided at each point
     body = IfGe0(Param("a"), Var("x"), const(1))
