@@ -17,7 +17,8 @@ from dataclasses import replace
 import sympy as sp
 
 from . import lazy
-from .core import Program
+from .core import IfDiffeo, IfGe0, Program, subterms
+from .symbolic import decompose as decompose_module
 from .symbolic import local
 from .symbolic.decompose import Ctx, decided_cell, decompose, smooth_value
 from .symbolic.pieces import Integral, Method
@@ -34,6 +35,63 @@ __all__ = ["denote", "denote_program", "program_box", "symbol"]
 def program_box(program: Program, ctx: Ctx) -> tuple[tuple[sp.Expr, sp.Expr], ...]:
     """The program's bounding box as sympy (lo, hi) pairs in the parameters."""
     return tuple((smooth_value(lo, ctx), smooth_value(hi, ctx)) for lo, hi in program.box)
+
+
+def point_free(program: Program) -> bool:
+    """Whether ``program`` has no variable-free conditional (``ifge0``) anywhere — its body, its
+    box, the terms of its diffeomorphisms (components, inverse branches, guards, non-zero terms):
+    then neither ⟦t⟧'s decomposition (:func:`~langur.symbolic.decompose.decompose`) nor ⦇t⦈'s
+    normal form depends on the evaluation point, which they read only to decide such a
+    conditional (``select``).  Remembered by program."""
+    hit = _POINT_FREE.get(program)
+    if hit is None:
+        terms = [program.body] + [t for pair in program.box for t in pair]
+        seen: set[int] = set()
+        hit = True
+        while terms and hit:
+            for u in subterms(terms.pop()):
+                if id(u) in seen:
+                    continue
+                seen.add(id(u))
+                if isinstance(u, IfGe0):
+                    hit = False
+                    break
+                if isinstance(u, IfDiffeo):
+                    psi = u.psi
+                    terms += list(psi.forward) + list(psi.nonzero) + [
+                        t for b in psi.branches for t in tuple(b.components) + tuple(b.guards)]
+        _remember_small(_POINT_FREE, program, hit)
+    return hit
+
+
+#: :func:`point_free`'s answers by program, and the decompositions of point-free programs by
+#: the program's identity (with the program).
+_POINT_FREE: dict = {}
+_DECOMPOSED: dict = {}
+
+
+def _remember_small(cache: dict, key, value, size: int = 64) -> None:
+    if len(cache) >= size:
+        cache.pop(next(iter(cache)))
+    cache[key] = value
+
+
+def _decomposed(program: Program, ctx: Ctx) -> list:
+    """``decompose(program.body, ctx)``, remembered by program when it is :func:`point_free` (the
+    same pieces at every point: Theorem 8.1's finite differences decompose the program at four
+    shifted points, the check's ⟦p⟧ near the point once more)."""
+    if not point_free(program) or decompose_module.decompose is not decompose:
+        # (nor while decompose is wrapped: an observer — a campaign's rule coverage — counts each
+        # of its applications, and must see the same ones as without this memo)
+        return decompose(program.body, ctx)
+    # by identity (the entry keeps the program alive): pieces carry their conditionals' spans,
+    # which program equality ignores
+    hit = _DECOMPOSED.get(id(program))
+    if hit is not None and hit[0] is program:
+        return list(hit[1])
+    out = decompose(program.body, ctx)
+    _remember_small(_DECOMPOSED, id(program), (program, out), 16)
+    return list(out)
 
 
 def zero_integral() -> Integral:
@@ -69,7 +127,7 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
     if known is not None and (known.method == Method.CLOSED_FORM or time_left <= had):
         return replace(known, notes=list(known.notes))
     ctx = Ctx(at=point, variables=tuple(program.variables))
-    pieces = decompose(program.body, ctx)
+    pieces = _decomposed(program, ctx)
     if not pieces:
         return zero_integral()
     with local.cell_forms() if near else nullcontext():

@@ -17,6 +17,7 @@ import math
 import random
 from typing import Sequence
 
+import mpmath
 import sympy as sp
 
 from langur.implicit import ImplicitRootFn
@@ -28,7 +29,7 @@ from langur.symbolic.rational import dual_derivative
 from langur.symbolic.regions import Cond, Context, Deferred
 from langur.symbolic.regions import _probe_point as probe_point
 from langur.symbolic.regions import _remember as remember
-from langur.symbolic.text import lambdify
+from langur.symbolic.text import lambdify, shared_lambdify
 
 
 def _sample(ctx: Context, syms, ubox, n=5, seed=0):
@@ -292,17 +293,29 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
 
 
 def _jacobian_values(J, uprime, ctx: Context, points) -> list:
-    """det DΨ̂⁻¹ at the sample points: sympy's 30-digit ``evalf``, except for a Jacobian holding
-    implicit roots, compiled once and evaluated in doubles (each ``evalf`` would solve every root
-    to 30 digits, and only the sign is wanted); a point where that is not finite is evaluated by
-    ``evalf``."""
-    fn = None
+    """det DΨ̂⁻¹ at the sample points, for :func:`delta_to_regular`'s decisions on them (whether
+    a value is real, |imag| < 1e-12, and its sign): sympy's 30-digit ``evalf``, except
+    * for a Jacobian holding implicit roots, compiled once and evaluated in doubles (each ``evalf``
+      would solve every root to 30 digits, and only the sign is wanted);
+    * for any other, compiled once into a 40-digit mpmath function of the same inputs (the doubles
+      of the point and of the sample), whose value stands where those decisions are certain
+      (:func:`_certain`): it and the 30-digit value differ by ~1e-28 of their size;
+    a point where neither gives a value is evaluated by ``evalf``."""
+    fn = mp = None
+    params = ()
     if J.has(ImplicitRootFn):
         try:
             fn = lambdify(list(uprime), printable(J.xreplace({k: sp.Float(float(v), 30) for k, v in ctx.at.items()})),
                           modules=["math"])
         except Exception:  # noqa: BLE001 - then sympy's evalf, as for any other Jacobian
             fn = None
+    else:
+        free = local.free_symbols(J)
+        params = tuple(sorted((k for k in ctx.at if k in free), key=str))
+        try:
+            mp = shared_lambdify([*uprime, *params], J, "mpmath")
+        except Exception:  # noqa: BLE001 - anything mpmath cannot print: sympy's evalf
+            mp = None
     out = []
     for pt in points:
         z = None
@@ -311,10 +324,32 @@ def _jacobian_values(J, uprime, ctx: Context, points) -> list:
                 z = complex(fn(*[float(pt[u]) for u in uprime]))
             except (ValueError, ZeroDivisionError, OverflowError, TypeError):
                 z = None
+        elif mp is not None:
+            z = _certain(mp, [float(pt[u]) for u in uprime] + [float(ctx.at[k]) for k in params])
         if z is None or not (math.isfinite(z.real) and math.isfinite(z.imag)):
             z = ctx.value(J.xreplace(pt))
         out.append(z)
     return out
+
+
+def _certain(fn, args: list) -> complex | None:
+    """``fn`` (a compiled mpmath function) at ``args`` (doubles) with 40 digits, when the decisions
+    :func:`delta_to_regular` takes on a Jacobian's value are certain from it — its size below
+    1e10, and its imaginary part above 1e-10 (not real: the threshold is 1e-12), or below 1e-14
+    with its real part farther than 1e-15 of its size from 0 (real, of that sign): then sympy's
+    30-digit value of the same form at the same inputs, within ~1e-28 of its size, gives the
+    same decisions.  None otherwise."""
+    try:
+        with mpmath.workdps(40):
+            z = complex(fn(*[mpmath.mpf(a) for a in args]))
+    except Exception:  # noqa: BLE001 - undefined there, or not a number: sympy's evalf decides
+        return None
+    if not (math.isfinite(z.real) and math.isfinite(z.imag)):
+        return None
+    size = max(1.0, abs(z))
+    if size >= 1e10 or 1e-14 <= abs(z.imag) <= 1e-10 or abs(z.imag) < 1e-14 and abs(z.real) <= 1e-15 * size:
+        return None
+    return z
 
 
 def u_prime(psi: Psi, variables: Sequence) -> list:

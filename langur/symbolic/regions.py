@@ -336,9 +336,26 @@ def _remember(cache: dict, key, value, size: int = 2048) -> None:
     cache[key] = value
 
 
+#: :func:`_derivative_matches`' verdicts by (F, w, variable, point): a pure function of them (its
+#: random points come from a fixed seed), asked again when the same weight comes back (the other
+#: branch of a delta piece, the other partial derivatives).
+_MATCHES: dict = {}
+
+
 def _derivative_matches(F, w, v, ctx: Context) -> bool:
     """d/dv F = w at a few pseudo-random points (parameters at ``at``): sympy's integrate has
-    returned wrong antiderivatives (even 0) for symbolic constants; catch that early."""
+    returned wrong antiderivatives (even 0) for symbolic constants; catch that early (remembered:
+    :data:`_MATCHES`)."""
+    key = (F, sp.sympify(w), v, tuple(ctx.at.items()))
+    hit = _MATCHES.get(key)
+    if hit is None:
+        hit = _derivative_matches_here(F, w, v, ctx)
+        _remember(_MATCHES, key, hit)
+    return hit
+
+
+def _derivative_matches_here(F, w, v, ctx: Context) -> bool:
+    """:func:`_derivative_matches`' computation."""
     try:
         d = sp.diff(F, v) - w
     except Exception:  # noqa: BLE001
@@ -511,9 +528,19 @@ def _direction(d, v, outer, ctx: Context, root) -> list[Alt]:
     return [Alt([Cond(d, strict=True)], [root], []), Alt([Cond(-d)], [], [root])]
 
 
-def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
-    """``[c ≥ 0]`` as a disjoint union (up to null sets) of intervals in ``v``."""
-    e = c.expr
+#: :func:`_polynomial_roots`' answers by (expression, variable).
+_POLY_ROOTS: dict = {}
+
+
+def _polynomial_roots(e, v):
+    """For ``e`` a polynomial of degree 1 in ``v`` (coefficients free of it): ``(a, −b/a)`` (its
+    leading coefficient and root, cancelled); of degree 2: ``(a, disc, r₋, r₊)`` (the roots
+    (−b ∓ √disc)/2a); else None.  :func:`alternatives`' formulas, remembered by (expression,
+    variable), of which they are a pure function: the same conditions come back in each case
+    split and for each partial derivative; what depends on the point is decided after."""
+    key = (e, v)
+    if key in _POLY_ROOTS:
+        return _POLY_ROOTS[key]
     poly = None
     try:
         poly = sp.Poly(e, v)
@@ -521,16 +548,29 @@ def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
             poly = None
     except (sp.PolynomialError, sp.GeneratorsNeeded):
         poly = None
+    out = None
     if poly is not None and poly.degree() == 1:
         a, b = poly.all_coeffs()
-        return _direction(a, v, outer, ctx, sp.cancel(-b / a))
-    if poly is not None and poly.degree() == 2:
+        out = (a, sp.cancel(-b / a))
+    elif poly is not None and poly.degree() == 2:
         a, b, d = poly.all_coeffs()
+        disc = sp.expand(b**2 - 4 * a * d)
+        out = (a, disc, (-b - sp.sqrt(disc)) / (2 * a), (-b + sp.sqrt(disc)) / (2 * a))
+    _remember(_POLY_ROOTS, key, out)
+    return out
+
+
+def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
+    """``[c ≥ 0]`` as a disjoint union (up to null sets) of intervals in ``v``."""
+    e = c.expr
+    solved = _polynomial_roots(e, v)
+    if solved is not None and len(solved) == 2:
+        a, root = solved
+        return _direction(a, v, outer, ctx, root)
+    if solved is not None:
+        a, disc, r_minus, r_plus = solved
         if a.free_symbols & set(outer):
             raise Unsupported("quadratic with a variable leading coefficient")
-        disc = sp.expand(b**2 - 4 * a * d)
-        r_minus = (-b - sp.sqrt(disc)) / (2 * a)
-        r_plus = (-b + sp.sqrt(disc)) / (2 * a)
         if ctx.sign(a) < 0:  # c ≥ 0 between the roots
             return [Alt([Cond(disc)], [r_plus], [r_minus])]
         return [Alt([Cond(-disc, strict=True)], [], []),
@@ -790,23 +830,12 @@ def _away_from_zero(c: Cond, v, lo: float, hi: float, ctx: Context) -> bool:
     |e + k√A| ≥ |e| where A < 0 (k√A imaginary) and where k√A has e's sign; else
     ≥ |e| − |k|·√(max A)."""
     psi, expr = c.psi, c.expr
-    if psi is not None and psi.solved_for == v and psi.branches or not isinstance(expr, sp.Add):
+    if psi is not None and psi.solved_for == v and psi.branches:
         return False
-    with_v = [t for t in expr.args if v in t.free_symbols]
-    if len(with_v) != 1:
+    shape = _root_shape(expr, v)
+    if shape is None:
         return False
-    roots = [f for f in sp.Mul.make_args(with_v[0]) if v in f.free_symbols]
-    if len(roots) != 1 or not (isinstance(roots[0], sp.Pow) and roots[0].exp == sp.S.Half):
-        return False
-    try:
-        poly = sp.Poly(roots[0].base, v)
-    except (sp.PolynomialError, sp.GeneratorsNeeded):
-        return False
-    coeffs = poly.all_coeffs()
-    if poly.degree() not in (1, 2) or any(v in a.free_symbols for a in coeffs):
-        return False
-    e = sp.Add(*[t for t in expr.args if v not in t.free_symbols])
-    k = sp.Mul(*[f for f in sp.Mul.make_args(with_v[0]) if v not in f.free_symbols])
+    e, k, coeffs = shape
     try:
         nums = [ctx.value(x) for x in [e, k, *coeffs]]
     except (TypeError, ValueError, ZeroDivisionError):
@@ -826,6 +855,117 @@ def _away_from_zero(c: Cond, v, lo: float, hi: float, ctx: Context) -> bool:
         if max(tops) > 0:
             bound = abs(e_v) - abs(k_v) * max(tops) ** 0.5
     return bound > 1e-6 * max(1.0, abs(lo), abs(hi), abs(e_v))
+
+
+#: :func:`_root_shape`'s answers by (expression, variable).
+_ROOT_SHAPES: dict = {}
+
+
+def _root_shape(expr, v):
+    """``(e, k, [A's coefficients])`` when ``expr`` = e + k·√A with e, k free of ``v`` and A a
+    polynomial of degree 1 or 2 in ``v``, else None (:func:`_away_from_zero`'s shape); remembered
+    by (expression, variable), of which it is a pure function (the same conditions come back in
+    each case split of ⟦p⟧ and each branch of a delta piece)."""
+    key = (expr, v)
+    if key in _ROOT_SHAPES:
+        return _ROOT_SHAPES[key]
+    out = None
+    with_v = [t for t in expr.args if v in t.free_symbols] if isinstance(expr, sp.Add) else []
+    roots = [f for f in sp.Mul.make_args(with_v[0]) if v in f.free_symbols] if len(with_v) == 1 else []
+    if len(roots) == 1 and isinstance(roots[0], sp.Pow) and roots[0].exp == sp.S.Half:
+        try:
+            poly = sp.Poly(roots[0].base, v)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            poly = None
+        if poly is not None:
+            coeffs = poly.all_coeffs()
+            if poly.degree() in (1, 2) and not any(v in a.free_symbols for a in coeffs):
+                e = sp.Add(*[t for t in expr.args if v not in t.free_symbols])
+                k = sp.Mul(*[f for f in sp.Mul.make_args(with_v[0]) if v not in f.free_symbols])
+                out = (e, k, coeffs)
+    _remember(_ROOT_SHAPES, key, out)
+    return out
+
+
+#: How far (relative) a root's 30-digit value must be from every double's rounding boundary, from
+#: the interval's ends and from the imaginary-part thresholds for :func:`_only_repeats` to vouch
+#: for the double of another form of it: sympy's ``evalf(30)`` of two forms of one number agree
+#: to ~1e-30 of it, ten orders of magnitude inside this margin.
+REPEAT_MARGIN = 1e-20
+
+
+def _only_repeats(expr, v, lo: float, hi: float, known: set, ctx: Context) -> bool:
+    """Whether every root of the condition ``expr`` that :func:`_generic_1d` would add with the tidy
+    solve (sympy's ``solve`` with its ``simplify`` pass) is certainly a repeat of a point already
+    there (a double in ``known``), so that the tidy solve — most of ``solve``'s time — cannot
+    change anything; from sympy's untidy solutions, which must be known (:data:`_SOLVED`).
+
+    The tidy solutions are the untidy ones simplified (:func:`_roots`: the same numbers; that is
+    what :func:`_generic_1d` already relies on when no untidy root is inside).  Each untidy
+    candidate's value is taken with 30 digits, and it must be, by :data:`REPEAT_MARGIN` relative,
+    either clearly not real (then no form of it passes :func:`_vanishes_at_point`), or clearly
+    outside ``[lo, hi]`` (then no form of it is :func:`_inside`), or a real number whose double
+    is certain — farther than the margin from both rounding boundaries around it — and is one of
+    ``known``.  Such a number's other forms have the same double, so the tidy root would be
+    sorted right after the point already there and dropped as its repeat (whatever else is kept,
+    a repeat with an equal double placed after its twin is dropped when its twin is, or is not:
+    it is compared with the same last kept point)."""
+    sols = _SOLVED.get((expr, v, False))
+    if not isinstance(sols, list) or not sols:
+        return False
+    floats = _floats40(ctx.at)
+    for s in sols:
+        if isinstance(s, (dict, tuple)):
+            return False
+        try:
+            z = sp.sympify(s).xreplace(floats).evalf(30)
+            re, im = (mpmath.mpmathify(part) for part in z.as_real_imag())
+        except (TypeError, ValueError, AttributeError):
+            return False
+        if not (mpmath.isfinite(re) and mpmath.isfinite(im)):
+            return False
+        size = max(1, abs(re))
+        if abs(im) > 1e-9 * size:
+            continue  # not real: every form of it fails the 1e-12 test of _vanishes_at_point
+        if abs(im) > REPEAT_MARGIN * size:
+            return False  # (nearly real: leave it to the tidy solve)
+        margin = REPEAT_MARGIN * size
+        if re < lo - margin or re > hi + margin:
+            continue  # outside: no form of it is inside (lo, hi)
+        d = float(re)
+        if d not in known or d == 0.0:
+            return False
+        below, above = math.nextafter(d, -math.inf), math.nextafter(d, math.inf)
+        with mpmath.workprec(200):  # (the midpoints of doubles are exact at 200 bits)
+            if not (re - (mpmath.mpf(d) + mpmath.mpf(below)) / 2 > margin
+                    and (mpmath.mpf(d) + mpmath.mpf(above)) / 2 - re > margin):
+                return False
+    return True
+
+
+def _radicand(c: Cond, v, seen: set):
+    """``P`` when ``c.expr`` is k·√P with k a positive rational, ``P`` a polynomial of degree 1 or 2
+    in ``v`` (coefficients free of it) and ``P`` the expression of a condition whose roots
+    :func:`_generic_1d` has already placed (``seen``); None otherwise.  The real zeros of k·√P are
+    those of P, and sympy's ``solve`` of k·√P finds P's (it squares the radical away: checked on
+    the examples' and random conditions, proofs_tests/test_exact_speed15r.py), so with P's roots
+    certain repeats (:func:`_only_repeats`) so are those of k·√P: neither solve can change the
+    points (the √(4r² − 4x²) ≥ 0 of the disc's ⟦p⟧, the width of its inner interval)."""
+    if c.psi is not None:
+        return None
+    k, root = c.expr.as_coeff_Mul()
+    if not (k.is_Rational and k > 0 and isinstance(root, sp.Pow) and root.exp == sp.S.Half):
+        return None
+    base = root.base
+    if base not in seen:
+        return None
+    try:
+        poly = sp.Poly(base, v)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return None
+    if poly.degree() not in (1, 2) or any(v in a.free_symbols for a in poly.all_coeffs()):
+        return None
+    return base
 
 
 #: Points per sub-interval at which :func:`_no_missed_root` looks for a sign change.
@@ -848,8 +988,7 @@ def _probe(expr, v, m: float, ctx: Context) -> complex | None:
     """``expr`` at ``v = m`` at the evaluation point, for a sign: in floats (compiled once per
     condition), recomputed with 30 digits (:meth:`Context.value`) when the float is within
     :data:`PROBE_DOUBT` of 0, not finite or not real; None where it is undefined."""
-    free = local.free_symbols(expr)
-    params = tuple(sorted((k for k in ctx.at if k in free), key=str))
+    params = _probe_parameters(expr, ctx)
     key = (expr, v, params)
     fn = _PROBES.get(key)
     if fn is None:
@@ -872,6 +1011,23 @@ def _probe(expr, v, m: float, ctx: Context) -> complex | None:
         return ctx.value(expr.xreplace({v: sp.Float(m, 40)}))
     except (TypeError, ValueError, ZeroDivisionError):
         return None
+
+
+#: :func:`_probe_parameters`' answers by (expression, the point's symbols).
+_PARAMETERS: dict = {}
+
+
+def _probe_parameters(expr, ctx: Context) -> tuple:
+    """The point's symbols that ``expr`` holds, sorted by name: a probe's arguments after the
+    variable; remembered by (expression, the point's symbols) — a pure function of the key —
+    instead of a walk of the expression at each of the 8 probes per sub-interval."""
+    key = (expr, tuple(ctx.at))
+    out = _PARAMETERS.get(key)
+    if out is None:
+        free = local.free_symbols(expr)
+        out = tuple(sorted((k for k in ctx.at if k in free), key=str))
+        _remember(_PARAMETERS, key, out)
+    return out
 
 
 #: The sign probes' mpmath functions, by the key of :data:`_PROBES`.
@@ -934,16 +1090,25 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
     large = isinstance(weight, Deferred) or \
         local.is_large([c.expr for c in conds] + [sp.sympify(weight)], ctx.params)
     unsure = []  # conditions whose roots sympy solved (it may miss some): sign changes looked for
+    seen: set = set()  # the conditions whose roots are among pts
     for c in conds:
         rs = _closed_roots(c, v, ctx) if large else None
         if rs is None:
             # sympy's roots untidied first: when none lies inside (lo, hi) here, none enters the
             # closed form, and solve's simplify pass (most of its time) is not needed; nor solve
             # itself when the condition is seen to stay away from 0 there
-            rs = [] if _away_from_zero(c, v, lo_v, hi_v, ctx) else _roots(c, v, ctx, tidy=False)
-            if any(_inside(r, lo_v, hi_v, ctx) for r in rs):
-                rs = _roots(c, v, ctx)
+            # (nor either solve when every root it could add is a certain repeat of a point there)
+            known = {p[0] for p in pts}
+            base = _radicand(c, v, seen)
+            if base is not None and _only_repeats(base, v, lo_v, hi_v, known, ctx):
+                rs = []  # k·√P whose P came before: P's roots, all repeats
+            else:
+                rs = [] if _away_from_zero(c, v, lo_v, hi_v, ctx) else _roots(c, v, ctx, tidy=False)
+                if any(_inside(r, lo_v, hi_v, ctx) for r in rs) and \
+                        not _only_repeats(c.expr, v, lo_v, hi_v, known, ctx):
+                    rs = _roots(c, v, ctx)
             unsure.append(c)
+        seen.add(c.expr)
         for r in rs:
             if _inside(r, lo_v, hi_v, ctx):
                 pts.append((ctx.value(r).real, r))
