@@ -22,13 +22,13 @@ import sympy as sp
 
 from langur.implicit import ImplicitRootFn
 from langur.symbolic import local
+from langur.symbolic.context import Cond, Context, Deferred
+from langur.symbolic.context import _remember as remember
 from langur.symbolic.pieces import DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
 from langur.symbolic.quadrature.deltaproblems import cofactor_det
 from langur.symbolic.rational import dual_derivative
-from langur.symbolic.regions import Cond, Context, Deferred
 from langur.symbolic.regions import _probe_point as probe_point
-from langur.symbolic.regions import _remember as remember
 from langur.symbolic.text import lambdify, shared_lambdify
 
 

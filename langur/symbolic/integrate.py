@@ -44,10 +44,10 @@ import sympy as sp
 
 from langur.implicit import ImplicitRootFn
 from langur.symbolic import delta, local, quadrature, regions
+from langur.symbolic.context import Cond, Context, Unsupported, _remember
 from langur.symbolic.nounits import units_unloaded
 from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
 from langur.symbolic.quadrature import UndefinedIntegral
-from langur.symbolic.regions import Cond, Context, Unsupported
 from langur.symbolic.text import shared_sstr, shared_sstrs
 from langur.timebox import Deadline
 
@@ -147,7 +147,7 @@ def _tidy(expr, ctx: Context):
                 s = ctx.deadline.run(lambda: sp.simplify(expr), cap=TIDY_SECONDS)
             except Exception:  # noqa: BLE001 - simplification is cosmetic; TimeoutError included
                 return expr
-        regions._remember(_TIDIED, expr, s, 512)
+        _remember(_TIDIED, expr, s, 512)
     try:
         a, b = _value(expr, ctx), _value(s, ctx)
     except (Unsupported, TypeError, ValueError):
@@ -184,7 +184,7 @@ def _relation_texts(rels) -> list[str]:
     polygon's cell share its vertices, each in the relations with every other line)."""
     new = [rel for rel in dict.fromkeys(rels) if rel not in _RELATION_TEXTS]
     for rel, text in zip(new, shared_sstrs(new)):
-        regions._remember(_RELATION_TEXTS, rel, text, 4096)
+        _remember(_RELATION_TEXTS, rel, text, 4096)
     return [_RELATION_TEXTS.get(rel) or shared_sstr(rel) for rel in rels]
 
 

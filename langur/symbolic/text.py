@@ -178,7 +178,7 @@ def shared_lambdify(args, expr, module: str):
 #: The functions :func:`_generated` made, by (arguments, expression, module), while they are in use
 #: (weak references: one goes, with its source in ``linecache``, when its callers drop it): the same
 #: code is asked for again by other callers (the quadrature's compilations, its retry after a probe's
-#: domain error, the sign probes of regions.py).  sympy's equality tells Floats of other precisions
+#: domain error, the sign probes of solving.py).  sympy's equality tells Floats of other precisions
 #: apart, and such a function is a pure function of its arguments.
 _FUNCTIONS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 
