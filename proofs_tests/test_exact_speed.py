@@ -14,8 +14,8 @@ import pytest
 import scipy.integrate as si
 import sympy as sp
 
-from langur.symbolic import local, rational, regions
-from langur.symbolic.regions import Cond, Context
+from langur.symbolic import local, rational, solving
+from langur.symbolic.context import Cond, Context
 from langur.symbolic.text import shared_lambdify, shared_sstr
 from langur.timebox import Deadline
 
@@ -142,8 +142,8 @@ def test_sympys_roots_without_its_simplify_pass_are_the_same_numbers():
     at = {r: sp.Rational(5, 4)}
     ctx = Context(at, Deadline(20.0), frozenset(at))
     for e in (1 - sp.sqrt(r**2 - x**2), sp.sqrt(4 * r**2 - 4 * x**2) / 2 - 1, r**2 - x**2, x**3 - r * x):
-        quick = sorted(complex(ctx.value(z)).real for z in regions._roots(Cond(e), x, ctx, tidy=False))
-        tidy = sorted(complex(ctx.value(z)).real for z in regions._roots(Cond(e), x, ctx))
+        quick = sorted(complex(ctx.value(z)).real for z in solving._roots(Cond(e), x, ctx, tidy=False))
+        tidy = sorted(complex(ctx.value(z)).real for z in solving._roots(Cond(e), x, ctx))
         assert quick == pytest.approx(tidy, rel=1e-12, abs=1e-15)
         assert quick  # each has real roots at r = 5/4
 

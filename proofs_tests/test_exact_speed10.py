@@ -1,6 +1,6 @@
 """exact10 (issue 15): work the exact engine repeats, remembered without changing a result.
 
-* ``regions.Context.value`` remembers its 30-digit values per (expression, point): each value is
+* ``context.Context.value`` remembers its 30-digit values per (expression, point): each value is
   sympy's own ``evalf`` of the expression with the point's 40-digit floats put in (computed here
   independently), Floats of other precisions are not confused, and another point is another key.
 """
@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import sympy as sp
 
-from langur.symbolic import regions
+from langur.symbolic import context, solving
 from langur.timebox import Deadline
 
 
 def _ctx(at):
-    return regions.Context(dict(at), Deadline(5.0), frozenset(at))
+    return context.Context(dict(at), Deadline(5.0), frozenset(at))
 
 
 def _by_sympy(expr, at) -> complex:
@@ -64,18 +64,18 @@ def test_no_value_is_an_error_each_time():
 def test_closed_roots_remembered_per_point():
     # x² − a: roots ±√a where a > 0 (by hand), none where a < 0; (x − a)/(x − 2a): root a, pole 2a
     x, a = sp.symbols("x a")
-    cond = regions.Cond(x**2 - a)
+    cond = context.Cond(x**2 - a)
     for _ in range(2):
         four = _ctx({a: sp.Integer(4)})
-        rs = regions._closed_roots(cond, x, four)
+        rs = solving._closed_roots(cond, x, four)
         assert sorted(complex(four.value(r)).real for r in rs) == [-2.0, 2.0]
-        assert regions._closed_roots(cond, x, _ctx({a: sp.Integer(-1)})) == []
-        rat = regions.Cond((x - a) / (x - 2 * a))
-        rs = regions._closed_roots(rat, x, _ctx({a: sp.Rational(1, 3)}))
+        assert solving._closed_roots(cond, x, _ctx({a: sp.Integer(-1)})) == []
+        rat = context.Cond((x - a) / (x - 2 * a))
+        rs = solving._closed_roots(rat, x, _ctx({a: sp.Rational(1, 3)}))
         assert [sp.simplify(r - w) for r, w in zip(rs, [a, 2 * a])] == [0, 0]
     # a root that does not vanish at the point is not one (the check is per point, not per formula)
-    assert not regions._vanishes_at(x**2 - a, x, sp.sqrt(a), _ctx({a: sp.Integer(-1)}))
-    assert regions._vanishes_at(x**2 - a, x, sp.sqrt(a), _ctx({a: sp.Integer(2)}))
+    assert not solving._vanishes_at(x**2 - a, x, sp.sqrt(a), _ctx({a: sp.Integer(-1)}))
+    assert solving._vanishes_at(x**2 - a, x, sp.sqrt(a), _ctx({a: sp.Integer(2)}))
 
 
 def test_shared_lambdify_gives_the_function_in_use_and_its_values():

@@ -27,9 +27,10 @@ import sympy as sp
 from langur.ddenote import ddenote_program
 from langur.frontend import load, load_text
 from langur.operational import estimate_derivative
-from langur.symbolic import delta, regions
+from langur.symbolic import context, delta
+from langur.symbolic.context import Context
 from langur.symbolic.quadrature.deltaproblems import _FORWARD_DETS, _forward_det, cofactor_det, jacobian_det
-from langur.symbolic.regions import Context, _dedupe, _rational_probe
+from langur.symbolic.regions import _dedupe, _rational_probe
 from langur.timebox import Deadline
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -199,7 +200,7 @@ def test_value_with_is_value_of_the_substitution_and_is_remembered():
             got = ctx.value_with(e, num)
             assert abs(got - want) <= 1e-25 * max(1.0, abs(want))
             key = (e, tuple(num.items()), tuple(ctx.at.items()))
-            assert regions._VALUES[key] == got
+            assert context._VALUES[key] == got
 
 
 def _old_dedupe(bounds):
@@ -243,7 +244,7 @@ def test_cell_relations_are_canonical_and_remembered():
     ctx.record("=", b + 1)  # -(b + 1) = 0 is already there
     assert ctx.cell == [sp.StrictGreaterThan(a + 1, 0), sp.Eq(-b - 1, 0)]
     for kind, e in ((">", (a - b) * (a + b) * 6), (">=", 3 * a ** 2 - 9 * b), ("=", (a + 1) ** 2 / 2)):
-        p, rel = regions._canonical(kind, e)
-        assert regions._CANONICAL[(kind, e)] == (p, rel)
+        p, rel = context._canonical(kind, e)
+        assert context._CANONICAL[(kind, e)] == (p, rel)
         _, fresh = sp.expand(e).as_content_primitive()  # the rule, computed afresh
         assert p == fresh and rel.lhs == fresh and rel.rhs == 0

@@ -19,8 +19,8 @@ from test_stylize import clip, defaults, kernel
 from langur.exact import exact_deriv
 from langur.operational.batch import estimate_batch
 from langur.symbolic import local, rational
+from langur.symbolic.context import Cond, Context
 from langur.symbolic.quadrature import roots
-from langur.symbolic.regions import Cond, Context
 from langur.sympy_bridge import symbol
 from langur.timebox import Deadline
 

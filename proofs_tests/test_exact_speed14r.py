@@ -2,7 +2,7 @@
 delta piece no longer do when its answer does not need it.
 
 * A delta piece whose Jacobian det DΨ̂⁻¹ is free of ``u'`` and not 0 gets a
-  :class:`regions.Deferred` weight: the determinant and sympy's simplification of it are made when
+  :class:`context.Deferred` weight: the determinant and sympy's simplification of it are made when
   an interval of the region needs the weight, and never for a region empty at the evaluation point
   (the ray tracer's pixel).  Decided without differentiating (``delta._constant_and_nonzero``:
   exact derivative values at a rational point by ``rational.dual_derivative``, the symbols a derivative can
@@ -10,9 +10,9 @@ delta piece no longer do when its answer does not need it.
   (|det DΨ̂⁻¹| = 1/2 along u₁ ∈ [0, 1/2]) and 0 at a = 5.
 * The quadrature's weight ``h/|det DΨ̂|`` of a delta piece (``deltaproblems._Weight``) is compiled
   at its first call; its values are h/|det| computed here by hand.
-* ``regions._away_from_zero``: a condition e + k·√A that stays away from 0 on the interval is not
+* ``solving._away_from_zero``: a condition e + k·√A that stays away from 0 on the interval is not
   solved; checked against sympy's own candidates (the old path) on random instances.
-* ``regions._nonreal_probe``: a sign probe's clearly non-real value from mpmath, non-real in the
+* ``solving._nonreal_probe``: a sign probe's clearly non-real value from mpmath, non-real in the
   30-digit evaluation too.
 """
 
@@ -26,10 +26,10 @@ import sympy as sp
 
 from langur.ddenote import ddenote_program
 from langur.frontend import load
-from langur.symbolic import delta, rational, regions
+from langur.symbolic import context, delta, rational, regions, solving
+from langur.symbolic.context import Cond, Context, Deferred
 from langur.symbolic.pieces import Branch, DeltaPiece, Psi
 from langur.symbolic.quadrature import deltaproblems
-from langur.symbolic.regions import Cond, Context, Deferred
 from langur.timebox import Deadline
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -208,10 +208,10 @@ def test_the_quadratures_weight_is_made_at_its_first_call_and_is_h_over_det():
 def _old_candidates_inside(c, v, lo, hi, ctx):
     """What the old path found: sympy's untidied roots that pass the check, inside (lo, hi)."""
     try:
-        rs = regions._roots(c, v, ctx, tidy=False)
-    except regions.Unsupported:
+        rs = solving._roots(c, v, ctx, tidy=False)
+    except context.Unsupported:
         return None
-    return [rt for rt in rs if regions._inside(rt, lo, hi, ctx)]
+    return [rt for rt in rs if solving._inside(rt, lo, hi, ctx)]
 
 
 def test_away_from_zero_on_the_disc_and_against_sympys_roots():
@@ -219,14 +219,14 @@ def test_away_from_zero_on_the_disc_and_against_sympys_roots():
     # the disc's case splits: √(r² − u₁²) + 1, 1 − √(r² − u₁²), √(4r² − 4x²)/2 − 1 on [−1, 1]
     for e, v in ((sp.sqrt(r ** 2 - u1 ** 2) + 1, u1), (1 - sp.sqrt(r ** 2 - u1 ** 2), u1),
                  (sp.sqrt(4 * r ** 2 - 4 * x ** 2) / 2 - 1, x), (1 - sp.sqrt(4 * r ** 2 - 4 * x ** 2) / 2, x)):
-        assert regions._away_from_zero(Cond(e), v, -1.0, 1.0, ctx)
+        assert solving._away_from_zero(Cond(e), v, -1.0, 1.0, ctx)
         assert _old_candidates_inside(Cond(e), v, -1.0, 1.0, ctx) == []
     # roots inside: not away from 0
-    assert not regions._away_from_zero(Cond(sp.sqrt(4 * r ** 2 - 4 * x ** 2)), x, -1.0, 1.0, ctx)
-    assert not regions._away_from_zero(Cond(sp.Rational(1, 4) - sp.sqrt(r ** 2 - x ** 2)), x, -1.0, 1.0, ctx)
+    assert not solving._away_from_zero(Cond(sp.sqrt(4 * r ** 2 - 4 * x ** 2)), x, -1.0, 1.0, ctx)
+    assert not solving._away_from_zero(Cond(sp.Rational(1, 4) - sp.sqrt(r ** 2 - x ** 2)), x, -1.0, 1.0, ctx)
     # not of the form: a cube root, two roots, x outside the root
-    assert not regions._away_from_zero(Cond(sp.cbrt(r - x) + 1), x, -1.0, 1.0, ctx)
-    assert not regions._away_from_zero(Cond(x + sp.sqrt(r - x)), x, -1.0, 1.0, ctx)
+    assert not solving._away_from_zero(Cond(sp.cbrt(r - x) + 1), x, -1.0, 1.0, ctx)
+    assert not solving._away_from_zero(Cond(x + sp.sqrt(r - x)), x, -1.0, 1.0, ctx)
     rng = random.Random(16)
     seen = 0
     for _ in range(60):
@@ -236,7 +236,7 @@ def test_away_from_zero_on_the_disc_and_against_sympys_roots():
         lo, hi = sorted(rng.uniform(-3, 3) for _ in range(2))
         if not isinstance(e, sp.Add):
             continue
-        if regions._away_from_zero(Cond(e), x, lo, hi, ctx):
+        if solving._away_from_zero(Cond(e), x, lo, hi, ctx):
             seen += 1
             assert _old_candidates_inside(Cond(e), x, lo, hi, ctx) in ([], None)
             # and no sign change at a fine grid of real values (30 digits, mpmath at r = 1/2)
@@ -252,10 +252,10 @@ def test_the_disc_is_the_same_without_the_shortcuts(monkeypatch):
     at = loaded.param_values()
     new = ddenote_program(loaded.program, at, {"r": 1})
     assert abs(new.value - 3.141592653589793) < 1e-12  # 2πr at r = 1/2
-    regions._SOLVED.clear()
-    regions._VALUES.clear()
+    solving._SOLVED.clear()
+    context._VALUES.clear()
     monkeypatch.setattr(regions, "_away_from_zero", lambda *args: False)
-    monkeypatch.setattr(regions, "_nonreal_probe", lambda *args: None)
+    monkeypatch.setattr(solving, "_nonreal_probe", lambda *args: None)
     old = ddenote_program(loaded.program, at, {"r": 1})
     assert sp.srepr(new.expr) == sp.srepr(old.expr) and new.value == old.value
     assert new.notes == old.notes
@@ -266,11 +266,11 @@ def test_nonreal_probe_agrees_with_the_30_digit_value():
     e = 1 - sp.sqrt(r ** 2 - x ** 2)
     params = (r,)
     for m in (-0.9, -0.6, 0.55, 0.8, 0.99):
-        z = regions._nonreal_probe(e, x, m, params, ctx)
+        z = solving._nonreal_probe(e, x, m, params, ctx)
         old = ctx.value(e.xreplace({x: sp.Float(m, 40)}))
         assert z is not None and abs(z.imag) > 1e-3 and abs(old.imag) > 1e-20
         assert abs(z - old) < 1e-14
     for m in (-0.4, 0.0, 0.3):  # real there: the 30-digit evaluation decides
-        assert regions._nonreal_probe(e, x, m, params, ctx) is None
-    assert regions._nonreal_probe(sp.log(x - r), x, 0.2, params, ctx) is not None  # log of a negative
-    assert regions._nonreal_probe(1 / (x - r), x, 0.5, params, ctx) is None  # a pole
+        assert solving._nonreal_probe(e, x, m, params, ctx) is None
+    assert solving._nonreal_probe(sp.log(x - r), x, 0.2, params, ctx) is not None  # log of a negative
+    assert solving._nonreal_probe(1 / (x - r), x, 0.5, params, ctx) is None  # a pole

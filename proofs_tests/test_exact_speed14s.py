@@ -16,10 +16,10 @@ import sympy as sp
 from test_stylize import clip, defaults
 
 from langur.symbolic import integrate, local
+from langur.symbolic.context import Cond, Context
 from langur.symbolic.pieces import Condition, Piece
 from langur.symbolic.quadrature import kinks
 from langur.symbolic.quadrature.pieceproblems import piece_problem
-from langur.symbolic.regions import Cond, Context
 from langur.symbolic.text import shared_sstr, shared_sstrs
 from langur.sympy_bridge import symbol
 from langur.timebox import Deadline

@@ -2,7 +2,7 @@
 from the equation's shape (issue 15, turning2d's speed, exact14t).
 
 turning2d's delta piece has the condition ``root(_y: _y**3 - _y*u1 - a + u1**3 = 0 in [-1, …]) + 1``
-on its zero set's coordinate u1; looking for a closed form, :func:`langur.symbolic.regions._roots`
+on its zero set's coordinate u1; looking for a closed form, :func:`langur.symbolic.solving._roots`
 asked sympy's ``solve`` for its roots in u1, which spent 0.1–0.2 s before raising "No algorithms are
 implemented to solve equation …" (the piece then goes to quadrature, and the message is printed as a
 note).  :func:`langur.implicit.unsolvable` now gives that message from the shape ``k·x* + c`` without
@@ -90,8 +90,8 @@ def test_other_shapes_not_predicted():
 
 
 def test_roots_raise_without_asking_sympy(monkeypatch):
-    from langur.symbolic import regions
-    from langur.symbolic.regions import Cond, Context, Unsupported
+    from langur.symbolic import solving
+    from langur.symbolic.context import Cond, Context, Unsupported
     from langur.timebox import Deadline
 
     root = implicit_root(Y**5 + Y - U, Y, sp.Integer(0), sp.Integer(-2), sp.Integer(2))
@@ -102,9 +102,9 @@ def test_roots_raise_without_asking_sympy(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("sympy's solve called")
 
-    monkeypatch.setattr(regions.sp, "solve", refuse)
+    monkeypatch.setattr(solving.sp, "solve", refuse)
     with pytest.raises(Unsupported) as info:
-        regions._roots(Cond(expr), U, ctx, tidy=False)
+        solving._roots(Cond(expr), U, ctx, tidy=False)
     assert str(info.value) == want
 
 

@@ -1,11 +1,11 @@
 """exact15r (issue 15, disk ∂/∂r and Theorem 8.1's cost): sympy's ``solve`` no longer run where its
 answer cannot change the closed form, and a Jacobian's sample signs without sympy's ``evalf``.
 
-* ``regions._only_repeats``: the tidy solve (sympy's ``solve`` with its ``simplify`` pass) is skipped
+* ``solving._only_repeats``: the tidy solve (sympy's ``solve`` with its ``simplify`` pass) is skipped
   when every untidy candidate is, by a wide margin, not real, outside the interval, or a real number
   whose double is certain and already among the points: its tidy form would be dropped as a repeat.
   Checked on hand-made candidates (a root exactly on a rounding boundary of doubles is refused).
-* ``regions._radicand``: no solve at all for k·√P when P came before and its roots are certain
+* ``solving._radicand``: no solve at all for k·√P when P came before and its roots are certain
   repeats; relies on sympy's roots of k·√P being P's: checked against sympy on random quadratics.
 * ``delta._certain``: det DΨ̂⁻¹'s sample values from a 40-digit mpmath function where the decisions
   taken on them (real or not, sign) are certain; compared with sympy's 30-digit values.
@@ -29,8 +29,8 @@ from langur.ddenote import ddenote_program
 from langur.denote import denote_program
 from langur.exact import exact_deriv
 from langur.frontend import load, load_text
-from langur.symbolic import delta, regions
-from langur.symbolic.regions import Cond, Context
+from langur.symbolic import context, delta, regions, solving
+from langur.symbolic.context import Cond, Context
 from langur.sympy_bridge import symbol
 from langur.timebox import Deadline
 
@@ -45,13 +45,13 @@ def _ctx(**at) -> Context:
 
 def _forget() -> None:
     """Drop the memos that would hand a second run the first run's answers."""
-    for memo in (regions._SOLVED, regions._VALUES, regions._CACHE, regions._VANISHES, regions._CLOSED_ROOTS, regions._MATCHES,
+    for memo in (solving._SOLVED, context._VALUES, regions._CACHE, solving._VANISHES, solving._CLOSED_ROOTS, regions._MATCHES,
                  delta._SIMPLIFIED, denote_module._remembered, denote_module._DECOMPOSED, ddenote_module._NORMAL_FORMS):
         memo.clear()
 
 
 def _solved(expr, v, sols) -> None:
-    regions._SOLVED[(expr, v, False)] = list(sols)
+    solving._SOLVED[(expr, v, False)] = list(sols)
 
 
 def test_only_repeats_on_hand_made_candidates():
@@ -59,44 +59,44 @@ def test_only_repeats_on_hand_made_candidates():
     e = sp.Symbol("e_hand", real=True)  # (a key of its own in the solutions' memo)
     # ±|r| = ±1/2: doubles certain, both among the points
     _solved(e, x, [-sp.Abs(r), sp.Abs(r)])
-    assert regions._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0, -0.5, 0.5}, ctx)
-    assert not regions._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0, -0.5}, ctx)  # 1/2 is new
+    assert solving._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0, -0.5, 0.5}, ctx)
+    assert not solving._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0, -0.5}, ctx)  # 1/2 is new
     # not real (r ± i), or outside [−1, 1] (3r): nothing to add
     _solved(e, x, [r + sp.I, r - sp.I, 3 * r + 1, -sp.Abs(r)])
-    assert regions._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0, -0.5}, ctx)
+    assert solving._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0, -0.5}, ctx)
     # a number exactly halfway between two doubles: its double is not certain
     half = sp.Integer(1) + sp.Rational(1, 2 ** 53)
     assert float(half) in (1.0, 1.0 + 2.0 ** -52)
     _solved(e, x, [half])
-    assert not regions._only_repeats(e, x, 0.0, 2.0, {0.0, 2.0, 1.0, 1.0 + 2.0 ** -52}, ctx)
+    assert not solving._only_repeats(e, x, 0.0, 2.0, {0.0, 2.0, 1.0, 1.0 + 2.0 ** -52}, ctx)
     # 1 ± 10⁻²⁵: its double is certainly 1.0, the interval's end (never inside: nothing added)
     _solved(e, x, [1 + sp.Rational(1, 10 ** 25), 1 - sp.Rational(1, 10 ** 25)])
-    assert regions._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0}, ctx)
+    assert solving._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0}, ctx)
     # nearly real: left to the tidy solve
     _solved(e, x, [r + sp.I * sp.Rational(1, 10 ** 15)])
-    assert not regions._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0, 0.5}, ctx)
+    assert not solving._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0, 0.5}, ctx)
     # nothing known, or no candidate: no claim
-    regions._SOLVED.pop((e, x, False))
-    assert not regions._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0}, ctx)
+    solving._SOLVED.pop((e, x, False))
+    assert not solving._only_repeats(e, x, -1.0, 1.0, {-1.0, 1.0}, ctx)
 
 
 def test_radicand_shapes():
     P = 4 * r ** 2 - 4 * x ** 2
     seen = {P}
-    assert regions._radicand(Cond(sp.sqrt(P)), x, seen) == P
-    assert regions._radicand(Cond(3 * sp.sqrt(P) / 2), x, seen) == P
-    assert regions._radicand(Cond(sp.sqrt(P)), x, set()) is None  # P not placed before
-    assert regions._radicand(Cond(-sp.sqrt(P)), x, seen) is None  # a negative factor
-    assert regions._radicand(Cond(r * sp.sqrt(P)), x, seen) is None  # a symbolic factor
-    assert regions._radicand(Cond(sp.sqrt(P) - 1), x, seen) is None
-    assert regions._radicand(Cond(sp.cbrt(P)), x, seen) is None
+    assert solving._radicand(Cond(sp.sqrt(P)), x, seen) == P
+    assert solving._radicand(Cond(3 * sp.sqrt(P) / 2), x, seen) == P
+    assert solving._radicand(Cond(sp.sqrt(P)), x, set()) is None  # P not placed before
+    assert solving._radicand(Cond(-sp.sqrt(P)), x, seen) is None  # a negative factor
+    assert solving._radicand(Cond(r * sp.sqrt(P)), x, seen) is None  # a symbolic factor
+    assert solving._radicand(Cond(sp.sqrt(P) - 1), x, seen) is None
+    assert solving._radicand(Cond(sp.cbrt(P)), x, seen) is None
     cubic = x ** 3 - r
-    assert regions._radicand(Cond(sp.sqrt(cubic)), x, {cubic}) is None  # degree 3
+    assert solving._radicand(Cond(sp.sqrt(cubic)), x, {cubic}) is None  # degree 3
 
 
 def test_sympys_roots_of_k_sqrt_p_are_those_of_p():
-    """What :func:`regions._radicand` relies on: for P of degree 1 or 2 in x (parameters in its
-    coefficients), sympy's solve of k·√P (as regions._roots asks it: check=False, untidied) gives,
+    """What :func:`solving._radicand` relies on: for P of degree 1 or 2 in x (parameters in its
+    coefficients), sympy's solve of k·√P (as solving._roots asks it: check=False, untidied) gives,
     at random rational parameter values, the same set of numbers as its solve of P."""
     rng = random.Random(151)
     checked = 0
@@ -125,7 +125,7 @@ def test_the_disc_is_the_same_without_the_shortcuts(monkeypatch):
     loaded = load(str(EXAMPLES / "adapters" / "programs" / "disk.lgr"))
     at = loaded.param_values()
     asked = []
-    real_solve = regions._solve
+    real_solve = solving._solve
 
     def spy(expr, v, tidy):
         asked.append((expr, tidy))
@@ -137,7 +137,7 @@ def test_the_disc_is_the_same_without_the_shortcuts(monkeypatch):
         der = ddenote_program(loaded.program, at, {"r": 1})
         return den, der
 
-    monkeypatch.setattr(regions, "_solve", spy)
+    monkeypatch.setattr(solving, "_solve", spy)
     den, der = run()
     assert abs(den.value - math.pi / 4) < 1e-12 and abs(der.value - math.pi) < 1e-12  # πr², 2πr at r = 1/2
     root = sp.sqrt(4 * r ** 2 - 4 * x ** 2)

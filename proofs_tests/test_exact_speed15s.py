@@ -24,8 +24,8 @@ import pytest
 import sympy as sp
 
 from langur.symbolic import local, text
+from langur.symbolic.context import Cond, Context
 from langur.symbolic.quadrature import roots
-from langur.symbolic.regions import Cond, Context
 from langur.sympy_bridge import symbol
 from langur.timebox import Deadline
 

@@ -18,8 +18,8 @@ from fractions import Fraction
 
 import sympy as sp
 
-from langur.symbolic import integrate, local, rational, regions, text
-from langur.symbolic.regions import Context
+from langur.symbolic import context, integrate, local, rational, text
+from langur.symbolic.context import Context
 from langur.timebox import Deadline
 
 a, b, c, x, y = sp.symbols("a b c x y", real=True)
@@ -144,4 +144,4 @@ def test_remembered_relation_texts_and_floats_are_the_same():
     e = sp.exp(a) * b - sp.sqrt(c) / (1 + a**2)
     want = complex(e.xreplace({k: sp.Float(float(v), 40) for k, v in at.items()}).evalf(30))
     assert ctx.value(e) == want and ctx.value(e) == want
-    assert regions._floats40(at) is regions._floats40(dict(at))
+    assert context._floats40(at) is context._floats40(dict(at))

@@ -19,7 +19,7 @@ import sympy as sp
 from sympy.utilities.lambdify import implemented_function
 
 from langur.symbolic import local, rational, text
-from langur.symbolic.regions import Cond as local_cond
+from langur.symbolic.context import Cond as local_cond
 from langur.symbolic.text import shared_lambdify
 
 x, y, z = sp.symbols("x y z", real=True)

@@ -12,8 +12,8 @@ import sympy as sp
 
 from langur.denote import denote_program
 from langur.frontend import load_text
+from langur.symbolic.context import Context
 from langur.symbolic.pieces import Method
-from langur.symbolic.regions import Context
 from langur.timebox import Deadline
 
 # a pixel [px, px + h]² and two half-planes: 7/5 − x − 3y/2 ≥ 0 holds on the pixels below, and

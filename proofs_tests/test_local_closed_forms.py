@@ -18,7 +18,7 @@ from test_stylize import clip
 from langur.exact import exact_deriv
 from langur.frontend import load, load_text
 from langur.symbolic import local, rational
-from langur.symbolic.regions import Cond, Context
+from langur.symbolic.context import Cond, Context
 from langur.timebox import Deadline
 
 x, y, v = sp.symbols("x y v", real=True)

@@ -10,9 +10,9 @@ import time
 import pytest
 import sympy as sp
 
-from langur.symbolic import delta, regions
+from langur.symbolic import delta, regions, solving
+from langur.symbolic.context import Cond, Context, Unsupported
 from langur.symbolic.pieces import Branch, DeltaPiece, Psi
-from langur.symbolic.regions import Cond, Context, Unsupported
 from langur.timebox import Deadline, run_with_timeout
 
 x, y = sp.symbols("x y", real=True)
@@ -32,48 +32,48 @@ def ctx(**at):
 def test_linear_condition_directions():
     c = ctx(theta=0.5)
     # θ − x ≥ 0  ⟺  x ≤ θ (slope −1 < 0): an upper bound
-    (alt,) = regions.alternatives(Cond(theta - x), x, [], c)
+    (alt,) = solving.alternatives(Cond(theta - x), x, [], c)
     assert alt.uppers == [theta] and alt.lowers == [] and c.cell == []
     # 2x − θ ≥ 0  ⟺  x ≥ θ/2
-    (alt,) = regions.alternatives(Cond(2 * x - theta), x, [], c)
+    (alt,) = solving.alternatives(Cond(2 * x - theta), x, [], c)
     assert alt.lowers == [theta / 2]
 
 
 def test_parametric_slope_is_decided_at_the_point():
     # a·x − 1 ≥ 0 at a = −2: slope negative, x ≤ 1/a; the cell records a < 0 (as −a > 0)
     c = ctx(a=-2)
-    (alt,) = regions.alternatives(Cond(a * x - 1), x, [], c)
+    (alt,) = solving.alternatives(Cond(a * x - 1), x, [], c)
     assert alt.uppers == [1 / a]
     assert c.cell == [sp.StrictGreaterThan(-a, 0)]
 
 
 def test_slope_depending_on_an_outer_variable_is_a_case_split():
     # x·y − 1 ≥ 0 in y: y ≥ 1/x where x > 0, y ≤ 1/x where x < 0
-    alts = regions.alternatives(Cond(x * y - 1), y, [x], ctx())
+    alts = solving.alternatives(Cond(x * y - 1), y, [x], ctx())
     assert [(alt.extra[0].expr, alt.lowers, alt.uppers) for alt in alts] == [
         (x, [1 / x], []), (-x, [], [1 / x])]
 
 
 def test_quadratic_condition():
     # a − x² ≥ 0: between the roots ±√a, where the discriminant 4a ≥ 0
-    (alt,) = regions.alternatives(Cond(a - x**2), x, [], ctx(a=0.25))
+    (alt,) = solving.alternatives(Cond(a - x**2), x, [], ctx(a=0.25))
     assert alt.extra[0].expr == 4 * a
     assert alt.lowers == [-sp.sqrt(a)] and alt.uppers == [sp.sqrt(a)]
     # x² − a ≥ 0: everywhere when 4a < 0, else outside [−√a, √a]
-    alts = regions.alternatives(Cond(x**2 - a), x, [], ctx(a=0.25))
+    alts = solving.alternatives(Cond(x**2 - a), x, [], ctx(a=0.25))
     assert [(alt.lowers, alt.uppers) for alt in alts] == [([], []), ([], [-sp.sqrt(a)]), ([sp.sqrt(a)], [])]
 
 
 def test_condition_solved_through_its_psi():
     # exp(x) − θ ≥ 0 with Psi solved for x: x = log(u0 + θ) (∂x/∂u0 > 0): x ≥ log θ
     psi = Psi((x,), (sp.exp(x) - theta,), (u0,), (Branch(((x, sp.log(u0 + theta)),)),), x)
-    (alt,) = regions.alternatives(Cond(sp.exp(x) - theta, psi=psi), x, [], ctx(theta=2))
+    (alt,) = solving.alternatives(Cond(sp.exp(x) - theta, psi=psi), x, [], ctx(theta=2))
     assert alt.lowers == [sp.log(theta)]
 
 
 def test_unsolvable_condition_is_unsupported():
     with pytest.raises(Unsupported):
-        regions.alternatives(Cond(sp.sin(x * y) - x), y, [x], ctx())
+        solving.alternatives(Cond(sp.sin(x * y) - x), y, [x], ctx())
 
 
 # ---------------------------------------------------------------------------------------------
