@@ -8,10 +8,11 @@ substituted afterwards.
 
 * Each condition involving the integration variable ``v`` is solved for ``v`` into alternatives
   ``(extra conditions on the other symbols, lower bounds, upper bounds)``
-  (:func:`~langur.symbolic.solving.alternatives`): linear and quadratic polynomials in ``v`` exactly, a Psi solved for ``v``
-  with one branch through its inverse (a diffeomorphism's condition is monotone in ``v``).  A
-  direction (sign of the derivative) that depends on parameters only is decided at the
-  evaluation point; one that depends on outer variables becomes a case split.
+  (:func:`~langur.symbolic.solving.alternatives`): linear and quadratic polynomials in ``v``
+  exactly, a Psi solved for ``v`` with one branch through its inverse (a diffeomorphism's
+  condition is monotone in ``v``).  A direction (sign of the derivative) that depends on
+  parameters only is decided at the evaluation point; one that depends on outer variables becomes
+  a case split.
 * Innermost variables: ``v ∈ [max L, min U]`` is split into the cases "``l`` is the largest lower
   and ``u`` the smallest upper bound"; each case adds the comparisons as conditions on the outer
   variables and integrates ``F(u) − F(l)``, a smooth function with plain bounds.
@@ -23,9 +24,10 @@ substituted afterwards.
 * Every comparison of parameter-only quantities is decided at the evaluation point ``at`` and
   recorded in :attr:`Context.cell`: the closed form is valid in the parameter cell they define.
 
-The records (:class:`Cond`, :class:`Context`, :class:`Deferred`) are in :mod:`langur.symbolic.context`;
-solving one condition for one variable, its roots and the sign probes in :mod:`langur.symbolic.solving`.
-This module: the antiderivatives of smooth weights and the iterated integration itself.
+The records (:class:`Cond`, :class:`Context`, :class:`Deferred`) are in
+:mod:`langur.symbolic.context`; solving one condition for one variable, its roots and the sign
+probes in :mod:`langur.symbolic.solving`.  This module: the antiderivatives of smooth weights and
+the iterated integration itself.
 """
 
 from __future__ import annotations
