@@ -16,6 +16,7 @@ against sympy's ``Poly`` coefficients evaluated exactly."""
 
 from __future__ import annotations
 
+import gc
 import inspect
 import random
 from fractions import Fraction
@@ -169,3 +170,21 @@ def test_a_conditions_coefficient_function_gives_polys_coefficients(monkeypatch)
         assert len(got) == len(cs)
         for g, c in zip(got, cs):
             assert g == pytest.approx(float(c.xreplace(vals)), rel=1e-14, abs=1e-14)
+
+
+def test_a_compiled_lists_key_is_not_hashed_again_when_its_function_goes(monkeypatch):
+    # text.shared_lambdify's weak dictionary hashes a key again when the function goes (at worst at
+    # interpreter shutdown, where a bare Float's hash, recomputed through mpmath, failed): the key's
+    # hash is computed once, when the function is made
+    x = sp.Symbol("x")
+    weight = sp.Float(0.123456789, 30)  # a Float not in any earlier key
+    fn = text.shared_lambdify([x], [weight, x + 1], "math")
+    assert fn(1.0) == [float(weight), 2.0]
+    before = len(text._FUNCTIONS)
+    hashed = []
+    real = sp.Float.__hash__
+    monkeypatch.setattr(sp.Float, "__hash__", lambda self: hashed.append(self) or real(self))
+    del fn
+    gc.collect()
+    assert len(text._FUNCTIONS) == before - 1  # the entry went
+    assert hashed == []

@@ -158,10 +158,7 @@ def shared_lambdify(args, expr, module: str):
     list of their values) with nothing lambdify rewrites, generated without lambdify's walks of the
     tree with its repeats (:func:`_generated`)."""
     plain = (isinstance(expr, sp.Basic) or _basic_list(expr)) and _plain_arguments(args)
-    # (a list by a sympy Tuple of its expressions, whose hash is kept: hashing a plain tuple hashes each
-    # element again, and a bare Float's hash is not kept — at shutdown the weak dictionary's removals
-    # hashed Floats while Python was unloading mpmath)
-    key = ((tuple(args), "list", sp.Tuple(*expr), module) if isinstance(expr, list) else (tuple(args), expr, module)) \
+    key = _Key((tuple(args), "list", tuple(expr), module) if isinstance(expr, list) else (tuple(args), expr, module)) \
         if plain else None
     func = _FUNCTIONS.get(key) if plain else None
     if func is not None:
@@ -173,6 +170,22 @@ def shared_lambdify(args, expr, module: str):
         func = _FUNCTIONS[key] = _generated(list(args), expr, printer, module)
         return func
     return lambdify(args, expr, modules=[module], printer=printer)
+
+
+class _Key(tuple):
+    """A key of :data:`_FUNCTIONS`: a tuple whose hash is computed once, when it is made.  A weak
+    dictionary hashes a key again when its value goes, which may be at interpreter shutdown; a bare
+    sympy ``Float``'s hash is recomputed at each call (through mpmath), and there it failed
+    ("Exception ignored … sys.meta_path is None" from pytest's workers, for a list of coefficients
+    holding Floats)."""
+
+    def __new__(cls, items):
+        key = super().__new__(cls, items)
+        key.hash = tuple.__hash__(key)
+        return key
+
+    def __hash__(self):
+        return self.hash
 
 
 #: The functions :func:`_generated` made, by (arguments, expression, module), while they are in use
