@@ -40,6 +40,7 @@ from .core import (
     shared,
 )
 from .denote import point_free, program_box, zero_integral
+from .symbolic.context import _remember as remember
 from .symbolic.decompose import (
     Ctx,
     apply_smooth,
@@ -261,9 +262,7 @@ def _normal_form(program: Program, direction: Mapping[str, object], at) -> Norma
             return NormalForm(list(hit[1].regular), list(hit[1].deltas))
     nf = ddenote(program.body, direction, at=at or {}, variables=tuple(program.variables))
     if key is not None:
-        if len(_NORMAL_FORMS) >= 16:
-            _NORMAL_FORMS.pop(next(iter(_NORMAL_FORMS)))
-        _NORMAL_FORMS[key] = (program, NormalForm(list(nf.regular), list(nf.deltas)))
+        remember(_NORMAL_FORMS, key, (program, NormalForm(list(nf.regular), list(nf.deltas))), 16)
     return nf
 
 

@@ -20,6 +20,7 @@ from . import lazy
 from .core import IfDiffeo, IfGe0, Program, subterms
 from .symbolic import decompose as decompose_module
 from .symbolic import local
+from .symbolic.context import _remember as remember
 from .symbolic.decompose import Ctx, decided_cell, decompose, smooth_value
 from .symbolic.pieces import Integral, Method
 from .sympy_bridge import at_symbols, denote, symbol, symbols
@@ -60,7 +61,7 @@ def point_free(program: Program) -> bool:
                     psi = u.psi
                     terms += list(psi.forward) + list(psi.nonzero) + [
                         t for b in psi.branches for t in tuple(b.components) + tuple(b.guards)]
-        _remember_small(_POINT_FREE, program, hit)
+        remember(_POINT_FREE, program, hit, 64)
     return hit
 
 
@@ -68,12 +69,6 @@ def point_free(program: Program) -> bool:
 #: the program's identity (with the program).
 _POINT_FREE: dict = {}
 _DECOMPOSED: dict = {}
-
-
-def _remember_small(cache: dict, key, value, size: int = 64) -> None:
-    if len(cache) >= size:
-        cache.pop(next(iter(cache)))
-    cache[key] = value
 
 
 def _decomposed(program: Program, ctx: Ctx) -> list:
@@ -90,7 +85,7 @@ def _decomposed(program: Program, ctx: Ctx) -> list:
     if hit is not None and hit[0] is program:
         return list(hit[1])
     out = decompose(program.body, ctx)
-    _remember_small(_DECOMPOSED, id(program), (program, out), 16)
+    remember(_DECOMPOSED, id(program), (program, out), 16)
     return list(out)
 
 
