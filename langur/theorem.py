@@ -30,6 +30,7 @@ from .denote import denote_program
 from .implicit import ImplicitRootFn
 from .onesided import closed_form_sides
 from .symbolic import quadrature
+from .symbolic.context import nearly_real
 from .symbolic.local import atoms_of, has_any, size
 from .symbolic.pieces import Method
 from .symbolic.rational import dual_derivative, rational_value
@@ -375,21 +376,15 @@ def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, 
     return _central_difference(expr, at, direction), None
 
 
-#: A 30-digit value whose imaginary part is at most this (relative) is real: evaluation noise, as
-#: from √ of a radicand that is identically 0 (−4b² + 8b(b − √30/10) − 4(b − √30/10)² + 6/5 gave
-#: ±1e-59·i), not a value off the reals.
-IMAGINARY_NOISE = 1e-12
-
-
 def _central_difference(expr: sp.Expr, at: Mapping[str, object], direction) -> float:
     """(expr(at + hγ') − expr(at − hγ'))/2h with h = 1e-8, evaluated with 30 digits; a ValueError
-    when it is not real (beyond :data:`IMAGINARY_NOISE`)."""
+    when it is not real (beyond :data:`~langur.symbolic.context.IMAGINARY_NOISE`)."""
     h = sp.Rational(1, 10 ** 8)
     pt = at_symbols(at)
     plus = {k: v + h * exact_number(direction.get(k.name, 0)) for k, v in pt.items()}
     minus = {k: v - h * exact_number(direction.get(k.name, 0)) for k, v in pt.items()}
     z = complex(sp.N((expr.xreplace(plus) - expr.xreplace(minus)) / (2 * h), 30))
-    if abs(z.imag) > IMAGINARY_NOISE * max(1.0, abs(z.real)):
+    if not nearly_real(z):
         raise ValueError(f"the closed form of ⟦p⟧ is not real beside the point (its central difference is {z})")
     return z.real
 

@@ -199,6 +199,16 @@ class Context:
         raise Unsupported(f"{expr} vanishes at the evaluation point")
 
 
+#: A 30-digit value whose imaginary part is at most this, relative to max(1, |real part|), is real:
+#: evaluation noise (√ of a radicand that is identically 0 gave ±1e-59·i), not a value off the reals.
+IMAGINARY_NOISE = 1e-12
+
+
+def nearly_real(z: complex) -> bool:
+    """Whether the 30-digit value ``z`` is real up to :data:`IMAGINARY_NOISE`."""
+    return abs(z.imag) <= IMAGINARY_NOISE * max(1.0, abs(z.real))
+
+
 def _remember(cache: dict, key, value, size: int = 2048) -> None:
     """``cache[key] = value``, the oldest entry dropped beyond ``size``."""
     if len(cache) >= size:

@@ -24,7 +24,7 @@ import sympy as sp
 
 from langur.implicit import unsolvable
 from langur.symbolic import local
-from langur.symbolic.context import Cond, Context, Unsupported, _floats40, _remember
+from langur.symbolic.context import Cond, Context, Unsupported, _floats40, _remember, nearly_real
 from langur.symbolic.text import math_lambdify, shared_lambdify
 
 # ------------------------------------------------------------------------------------------
@@ -189,7 +189,7 @@ def _vanishes_at(expr, v, root, ctx: Context) -> bool:
 def _vanishes_at_point(expr, v, root, ctx: Context) -> bool:
     try:
         z = ctx.value(root)
-        if abs(z.imag) > 1e-12 * max(1.0, abs(z.real)):
+        if not nearly_real(z):
             return False
         residual = ctx.value_with(expr, {v: sp.Float(z.real, 40)})
     except (TypeError, ValueError, ZeroDivisionError):
@@ -351,7 +351,7 @@ MISSED_ROOT_PROBES = 8
 def _inside(r, lo: float, hi: float, ctx: Context) -> bool:
     """The root ``r`` is real and strictly between ``lo`` and ``hi`` at the evaluation point."""
     z = ctx.value(r)
-    return abs(z.imag) <= 1e-12 * max(1.0, abs(z.real)) and lo < z.real < hi
+    return nearly_real(z) and lo < z.real < hi
 
 
 #: Compiled (float) conditions by (expression, variable, parameters), for the sign probes.
