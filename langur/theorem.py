@@ -33,7 +33,7 @@ from .symbolic import quadrature
 from .symbolic.context import nearly_real
 from .symbolic.local import atoms_of, has_any, size
 from .symbolic.pieces import Method
-from .symbolic.rational import dual_derivative, rational_value
+from .symbolic.rational import dual_derivative_float, float_value, sign_value
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .timebox import run_with_timeout
 
@@ -336,16 +336,16 @@ def _large_closed_form_at(der, q: Mapping[str, float]) -> tuple[float, float] | 
     its parameter cell; else None (⦇p⦈(q) is then computed by quadrature)."""
     if der.method != Method.CLOSED_FORM or der.expr is None or not _large(der.expr):
         return None
-    point, memo = at_symbols(q), {}  # (the relations and the form share their subtrees)
+    point = at_symbols(q)  # (the relations and the form share their subtrees' values at q)
     for rel in tuple(der.regular.cell) + tuple(der.boundary.cell):
         test = _RELATIONS.get(getattr(rel, "rel_op", None))
         if test is None:
             return None
-        v = rational_value(rel.lhs if rel.rhs == 0 else rel.lhs - rel.rhs, point, memo)
+        v = sign_value(rel.lhs if rel.rhs == 0 else rel.lhs - rel.rhs, point)  # (the exact value's sign)
         if v is None or not test(v):
             return None
-    value = rational_value(der.expr, point, memo)
-    return None if value is None else (float(value), 0.0)
+    value = float_value(der.expr, point)  # (the exact value's double)
+    return None if value is None else (value, 0.0)
 
 
 def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, notes: list[str],
@@ -395,9 +395,9 @@ def _line_derivative(expr: sp.Expr, at: Mapping[str, object], direction) -> floa
     than ``expr`` in all its parameters)."""
     point = at_symbols(at)
     tangent = {k: exact_number(direction.get(k.name, 0)) for k in point}
-    exact = dual_derivative(expr, point, tangent)  # rational arithmetic with dual numbers
+    exact = dual_derivative_float(expr, point, tangent)  # the exact derivative's double (dual numbers)
     if exact is not None:
-        return float(exact)
+        return exact
     s = sp.Dummy("s")
     line = {k: v + s * tangent[k] for k, v in point.items()}
     return _float(sp.diff(expr.xreplace(line), s).xreplace({s: sp.Integer(0)}), {})

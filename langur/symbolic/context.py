@@ -139,7 +139,7 @@ class Context:
         exact = {k: v for k, v in self.at.items() if isinstance(v, sp.Rational)}
         expr = sp.sympify(expr)
         if exact and local.size(expr, local.LARGE_OPS) >= local.LARGE_OPS:
-            q = rational.rational_value(expr, exact)  # a large rational form: Fractions, not sympy's nodes
+            q = rational.float_value(expr, exact)  # a large rational form: its exact value's double
             if q is not None:
                 return complex(q)
         return self.value(expr.xreplace(exact) if exact else expr)

@@ -72,6 +72,7 @@ class _Tape:
             stack.append((node, True))
             stack.extend((a, False) for a in _operands(node) if a not in index)
         self._values: dict = {}
+        self._balls: dict = {}
 
     @staticmethod
     def _op(node, index):
@@ -196,6 +197,105 @@ class _Tape:
         return d[-1] or _ZERO
 
 
+    def balls(self, point: dict) -> list:
+        """Every operation's value at ``point`` as a ball (:func:`_bmul`), remembered for the last
+        few points and sharing the balls of subtrees at the point with :func:`float_value`
+        (:func:`_point_balls`); :class:`_Uncertain` where a ball holds 0 and a sign is needed."""
+        key = _point_key(point)
+        vals = self._balls.get(key)
+        if vals is None:
+            vals = []
+            known = _point_balls(point)
+            for node, (kind, args, k) in zip(self.nodes, self.ops):
+                v = known.get(node)
+                if v is None:
+                    if kind == _RAT:
+                        v = _bconst(*k)
+                    elif kind == _SYM:
+                        if k not in point:
+                            raise _NotRational()
+                        v = _bconst(*_rational(point[k]))
+                    elif kind == _ADD:
+                        m = r = 0
+                        for j in args:
+                            a, s = vals[j]
+                            m += a
+                            r += s
+                        v = (m, r)
+                    elif kind == _MUL:
+                        v = vals[args[0]]
+                        for j in args[1:]:
+                            v = _bmul(v, vals[j])
+                    elif kind == _POW:
+                        v = _bpow(vals[args[0]], k)
+                    else:
+                        a, r = vals[args[0]]
+                        if abs(a) <= r:
+                            raise _Uncertain()
+                        v = (abs(a), r)
+                    known[node] = v
+                vals.append(v)
+            if len(self._balls) >= VALUE_POINTS:
+                self._balls.pop(next(iter(self._balls)))
+            self._balls[key] = vals
+        return vals
+
+    def ball_slope(self, vals: list, tangent: dict):
+        """:meth:`slope` in balls (``None`` standing for an exact 0)."""
+        d: list = []
+        for kind, args, k in self.ops:
+            if kind == _RAT:
+                out = None
+            elif kind == _SYM:
+                t = _rational(tangent.get(k, 0))
+                out = _bconst(*t) if t[0] else None
+            elif kind == _ADD:
+                out = None
+                m = r = 0
+                for j in args:
+                    dj = d[j]
+                    if dj is not None:
+                        out = True
+                        m += dj[0]
+                        r += dj[1]
+                if out is not None:
+                    out = (m, r)
+            elif kind == _MUL:
+                out = None
+                last = -1
+                for i, j in enumerate(args):
+                    if d[j] is not None:
+                        last = i
+                v = None  # (the product of the values so far; None: 1)
+                for i in range(last + 1):
+                    j = args[i]
+                    if out is not None:
+                        out = _bmul(out, vals[j])
+                    dj = d[j]
+                    if dj is not None:
+                        term = dj if v is None else _bmul(v, dj)
+                        out = term if out is None else (out[0] + term[0], out[1] + term[1])
+                    if i < last:
+                        v = vals[j] if v is None else _bmul(v, vals[j])
+                if out is not None:
+                    for i in range(last + 1, len(args)):
+                        out = _bmul(out, vals[args[i]])
+            elif kind == _POW:
+                db = d[args[0]]
+                if db is None:
+                    out = None
+                else:
+                    p = _bpow(vals[args[0]], k - 1)
+                    out = _bmul((k * p[0], abs(k) * p[1]), db)
+            else:
+                da = d[args[0]]
+                out = da if da is None or vals[args[0]][0] > 0 else (-da[0], da[1])
+            if out is not None and out == (0, 0):
+                out = None
+            d.append(out)
+        return d[-1] or (0, 0)
+
+
 def _operands(node) -> tuple:
     """The operands :class:`_Tape` flattens (:class:`_NotRational` for any other node)."""
     if isinstance(node, (sp.Rational, sp.Symbol)):
@@ -317,3 +417,192 @@ def _value_of(e, memo: dict, point: dict):
 
 class _NotRational(Exception):
     pass
+
+
+# Balls: the same values, bounded with less work.  Theorem 8.1's check reads of these exact
+# values only their signs and their doubles, and near the parameters (floats, dyadic rationals of
+# ~55 bits) their numerators and denominators carry hundreds of digits: most of the exact
+# arithmetic is reducing them (gcds).  A ball ``(m, r)`` stands for the interval
+# [(m − r)·2⁻ᴾ, (m + r)·2⁻ᴾ] (P = :data:`BALL_BITS`, m and r ≥ 0 integers); every operation
+# below returns a ball holding every result of its operation on the points of its operands'
+# balls, so the exact value is inside the final ball.  Rounding is monotone, so when both ends
+# of that ball round to the same double the exact value rounds to it too: ``float`` of the exact
+# Fraction, the same double.  Where a ball cannot decide (it holds 0 where a sign or a quotient is
+# needed, or its ends round apart) the exact arithmetic above is computed instead.
+
+#: Bits after the binary point of a ball's integers.
+BALL_BITS = 192
+_P = BALL_BITS
+_MASK = (1 << _P) - 1
+_SCALE = 1 << _P
+
+
+class _Uncertain(Exception):
+    """A ball cannot decide: the exact arithmetic is computed instead."""
+
+
+def _bconst(n: int, d: int):
+    """The ball of the rational n/d (d > 0): ⌊n·2ᴾ/d⌋, radius 1 unless exact."""
+    m, rem = divmod(n << _P, d)
+    return m, (1 if rem else 0)
+
+
+def _bmul(x, y):
+    """A ball holding every product of points of balls ``x`` and ``y``: the centres' product
+    ab·2⁻²ᴾ is within |a|s + |b|r + rs (in 2⁻²ᴾ) of each, and shifting it down by P floors
+    (< 1 in 2⁻ᴾ)."""
+    a, r = x
+    b, s = y
+    p = a * b
+    if r or s:
+        return p >> _P, ((abs(a) * s + abs(b) * r + r * s) >> _P) + 2
+    return p >> _P, (1 if p & _MASK else 0)
+
+
+def _bpow(x, k: int):
+    """A ball holding xᵏ for every point x of ball ``x`` (k an integer): |(a + δ)ᵏ − aᵏ| ≤
+    (|a| + |δ|)ᵏ − |a|ᵏ for k ≥ 1; a negative power is the reciprocal (:func:`_binv`) of the
+    positive one; :class:`_Uncertain` for k < 1 when the ball holds 0."""
+    a, r = x
+    if k < 1:
+        if abs(a) <= r:
+            raise _Uncertain()
+        return (_SCALE, 0) if k == 0 else _binv(_bpow(x, -k))
+    if k == 1:
+        return x
+    c = a ** k  # (in 2⁻ᵏᴾ)
+    shift = (k - 1) * _P
+    if r:
+        big = abs(a)
+        return c >> shift, (((big + r) ** k - big ** k) >> shift) + 2
+    return c >> shift, (1 if c & ((1 << shift) - 1) else 0)
+
+
+def _binv(x):
+    """A ball holding 1/x for every point x of ball ``x`` (:class:`_Uncertain` when it holds 0):
+    in 2⁻ᴾ, 2²ᴾ/t for t within r of a, which is within 2²ᴾ·r/(|a|(|a| − r)) of 2²ᴾ/a."""
+    a, r = x
+    big = abs(a)
+    if big <= r:
+        raise _Uncertain()
+    m, rem = divmod(1 << (2 * _P), a)
+    if r:
+        return m, ((r << (2 * _P)) // (big * (big - r))) + 2
+    return m, (1 if rem else 0)
+
+
+def _double(ball) -> float:
+    """The double of the exact value inside ``ball``, when both its ends round to the same one
+    (:class:`_Uncertain` otherwise, or when it is beyond a double's range)."""
+    m, r = ball
+    try:
+        lo, hi = (m - r) / _SCALE, (m + r) / _SCALE  # (int / int rounds correctly)
+    except OverflowError:
+        raise _Uncertain() from None
+    if lo != hi or math.isinf(lo):
+        raise _Uncertain()
+    return lo
+
+
+def _sign(ball) -> int:
+    m, r = ball
+    if m > r:
+        return 1
+    if m < -r:
+        return -1
+    if m == r == 0:
+        return 0
+    raise _Uncertain()
+
+
+def dual_derivative_float(expr, point: dict, tangent: dict) -> float | None:
+    """``float(dual_derivative(expr, point, tangent))`` (the same double; None where that is
+    None), from balls when they decide it, else from the exact value."""
+    try:
+        tape = _Tape.of(sp.sympify(expr))
+        slope = tape.ball_slope(tape.balls(point), tangent)
+        return _double(slope)
+    except _NotRational:
+        return None
+    except _Uncertain:
+        pass
+    exact = dual_derivative(expr, point, tangent)
+    return None if exact is None else float(exact)
+
+
+def float_value(expr, point: dict) -> float | None:
+    """``float(rational_value(expr, point))`` (the same double; None where that is None), from
+    balls when they decide it, else from the exact value."""
+    try:
+        return _double(_ball_of(sp.sympify(expr), _point_balls(point), point))
+    except _NotRational:
+        return None
+    except _Uncertain:
+        pass
+    exact = rational_value(expr, point)
+    return None if exact is None else float(exact)
+
+
+def sign_value(expr, point: dict) -> int | None:
+    """The sign (−1, 0, 1) of ``rational_value(expr, point)`` (None where that is None), from
+    balls when they decide it, else from the exact value."""
+    try:
+        return _sign(_ball_of(sp.sympify(expr), _point_balls(point), point))
+    except _NotRational:
+        return None
+    except _Uncertain:
+        pass
+    exact = rational_value(expr, point)
+    return None if exact is None else (exact > 0) - (exact < 0)
+
+
+#: Balls of subtrees by evaluation point, as :data:`_VALUES`.
+_BALLS: dict = {}
+
+
+def _point_balls(point: dict) -> dict:
+    """The remembered balls of subtrees at ``point`` (a new dict for a new point)."""
+    key = _point_key(point)
+    memo = _BALLS.pop(key, None)
+    if memo is None:
+        memo = {}
+        if len(_BALLS) >= VALUE_POINTS:
+            _BALLS.pop(next(iter(_BALLS)))
+    _BALLS[key] = memo
+    return memo
+
+
+def _ball_of(e, memo: dict, point: dict):
+    """:func:`_value_of` in balls (:class:`_Uncertain` where a ball holds 0 and a sign is needed)."""
+    hit = memo.get(e)
+    if hit is not None:
+        return hit
+    if isinstance(e, sp.Rational):
+        out = _bconst(int(e.p), int(e.q))
+    elif isinstance(e, sp.Symbol):
+        if e not in point:
+            raise _NotRational()
+        out = _bconst(*_rational(point[e]))
+    elif isinstance(e, sp.Add):
+        m = r = 0
+        for a in e.args:
+            b, s = _ball_of(a, memo, point)
+            m += b
+            r += s
+        out = (m, r)
+    elif isinstance(e, sp.Mul):
+        args = e.args
+        out = _ball_of(args[0], memo, point)
+        for a in args[1:]:
+            out = _bmul(out, _ball_of(a, memo, point))
+    elif isinstance(e, sp.Pow) and e.exp.is_Integer:
+        out = _bpow(_ball_of(e.base, memo, point), int(e.exp))
+    elif isinstance(e, sp.Abs):
+        a, r = _ball_of(e.args[0], memo, point)
+        if abs(a) <= r:
+            raise _Uncertain()
+        out = (abs(a), r)
+    else:
+        raise _NotRational()
+    memo[e] = out
+    return out
