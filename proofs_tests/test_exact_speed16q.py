@@ -152,3 +152,38 @@ def test_pair_free_of_the_kept_variable_not_asked(monkeypatch):
         if x in r.free_symbols:
             want.append(r)
     assert [sp.srepr(r) for r in out] == [sp.srepr(r) for r in want]
+
+
+def _poly_answer(e: sp.Expr, v: sp.Symbol) -> bool:
+    """The old eligibility, from scratch: sympy's Poly of degree 1 to 4 in v, coefficients free of v."""
+    try:
+        poly = sp.Poly(e, v)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return False
+    return 1 <= poly.degree() <= kinks.RESULTANT_DEGREE and not any(v in k.free_symbols for k in poly.all_coeffs())
+
+
+def test_affine_conditions_eligible_without_poly(monkeypatch):
+    rng = random.Random(161)
+    affine = STYLIZE + [(a + 1) * (y - b) - a * (y - b) * 1, (y + a) * b - b * y, a * (y - 1) - a * y + a,
+                        sp.Integer(2), a * b] + [e for pair in _random_pairs(rng, 10) for e in pair
+                                                 if kinks.degree(e, frozenset((y,))) in (0, 1)
+                                                 and kinks.degree(e, frozenset((x,))) in (0, 1)]
+    want = {e: (_poly_answer(e, y), _poly_answer(e, x)) for e in affine}
+    assert want[(y + a) * b - b * y] == (False, False) and want[STYLIZE[0]] == (True, True)
+
+    def no_poly(*args, **kwargs):
+        raise AssertionError("sympy Poly built for a rational condition of degree <= 1")
+    monkeypatch.setattr(kinks.sp, "Poly", no_poly)
+    for e, (in_y, in_x) in want.items():
+        assert (kinks._crosses(e, y), kinks._crosses(e, x)) == (in_y, in_x), e
+        if in_y:  # the two coefficients, as polynomials
+            k1, k0 = kinks._coefficients_in(e, y)
+            assert sp.expand(k1 * y + k0 - e) == 0 and y not in k1.free_symbols | k0.free_symbols
+
+
+def test_other_conditions_still_ask_poly():
+    for e in (y ** 2 - a, sp.sqrt(a) * y + 1, sp.Float("0.5") * y + x, y * sp.sin(x) + 1, y ** 5 + 1, sp.sqrt(y) - a,
+              (y + 1) ** 2 - y ** 2):
+        assert kinks._affine_coefficients(e, y) is None
+        assert kinks._crosses(e, y) == _poly_answer(e, y), e
