@@ -11,12 +11,17 @@ function and the same breakpoints, bit for bit).
 from __future__ import annotations
 
 import itertools
+import math
 import random
 
 import pytest
 import sympy as sp
+from scipy import integrate as si
 
 import langur.symbolic.quadrature.kinks as kinks
+from langur.symbolic.pieces import Condition, Piece
+from langur.symbolic.quadrature.nested import integrate_problem
+from langur.symbolic.quadrature.pieceproblems import _DONE, piece_problem
 
 ax, ay, bx, by, cx, cy, px, py, h, x, y = sp.symbols("ax ay bx by cx cy px py h x y", real=True)
 a, b, c, d, u = sp.symbols("a b c d u", real=True)
@@ -154,36 +159,26 @@ def test_pair_free_of_the_kept_variable_not_asked(monkeypatch):
     assert [sp.srepr(r) for r in out] == [sp.srepr(r) for r in want]
 
 
-def _poly_answer(e: sp.Expr, v: sp.Symbol) -> bool:
-    """The old eligibility, from scratch: sympy's Poly of degree 1 to 4 in v, coefficients free of v."""
-    try:
-        poly = sp.Poly(e, v)
-    except (sp.PolynomialError, sp.GeneratorsNeeded):
-        return False
-    return 1 <= poly.degree() <= kinks.RESULTANT_DEGREE and not any(v in k.free_symbols for k in poly.all_coeffs())
 
+def test_kinks_with_polynomial_roots_are_not_compiled(monkeypatch):
+    # the lens of test_quadrature_speed: [y ≥ x²]·[(1 + x)/2 − y ≥ 0]·eˣ·cos y over [−1, 1]×[0, 2];
+    # its kinks in x (the parabola's vertex, the crossings x = −1/2 and x = 1) have polynomial roots
+    compiled = []
+    lambdify = kinks._lambdify
 
-def test_affine_conditions_eligible_without_poly(monkeypatch):
-    rng = random.Random(161)
-    affine = STYLIZE + [(a + 1) * (y - b) - a * (y - b) * 1, (y + a) * b - b * y, a * (y - 1) - a * y + a,
-                        sp.Integer(2), a * b] + [e for pair in _random_pairs(rng, 10) for e in pair
-                                                 if kinks.degree(e, frozenset((y,))) in (0, 1)
-                                                 and kinks.degree(e, frozenset((x,))) in (0, 1)]
-    want = {e: (_poly_answer(e, y), _poly_answer(e, x)) for e in affine}
-    assert want[(y + a) * b - b * y] == (False, False) and want[STYLIZE[0]] == (True, True)
-
-    def no_poly(*args, **kwargs):
-        raise AssertionError("sympy Poly built for a rational condition of degree <= 1")
-    monkeypatch.setattr(kinks.sp, "Poly", no_poly)
-    for e, (in_y, in_x) in want.items():
-        assert (kinks._crosses(e, y), kinks._crosses(e, x)) == (in_y, in_x), e
-        if in_y:  # the two coefficients, as polynomials
-            k1, k0 = kinks._coefficients_in(e, y)
-            assert sp.expand(k1 * y + k0 - e) == 0 and y not in k1.free_symbols | k0.free_symbols
-
-
-def test_other_conditions_still_ask_poly():
-    for e in (y ** 2 - a, sp.sqrt(a) * y + 1, sp.Float("0.5") * y + x, y * sp.sin(x) + 1, y ** 5 + 1, sp.sqrt(y) - a,
-              (y + 1) ** 2 - y ** 2):
-        assert kinks._affine_coefficients(e, y) is None
-        assert kinks._crosses(e, y) == _poly_answer(e, y), e
+    def spy(symbols, expr, at):
+        compiled.append(sp.sympify(expr))
+        return lambdify(symbols, expr, at)
+    monkeypatch.setattr(kinks, "_lambdify", spy)
+    monkeypatch.setattr(kinks, "_KINKS", {})
+    px, py = sp.symbols("x y")
+    piece = Piece((Condition(py - px ** 2), Condition((1 + px) / 2 - py)), sp.exp(px) * sp.cos(py))
+    _DONE.clear()
+    prob = piece_problem(piece, [px, py], [(-1, 1), (0, 2)], {})
+    val, err = integrate_problem(prob)
+    found = sorted(r for _, roots in prob.kinks[0] if roots is not None for r in roots())
+    assert any(abs(r + 0.5) < 1e-12 for r in found) and any(abs(r - 1) < 1e-12 for r in found)
+    assert all(f is None for f, roots in prob.kinks[0] if roots is not None) and compiled == []
+    # the value: ∫_{−1/2}^{1} eˣ (sin((1 + x)/2) − sin(x²)) dx by scipy, independently of the kinks
+    ref = si.quad(lambda t: math.exp(t) * (math.sin((1 + t) / 2) - math.sin(t * t)), -0.5, 1, epsabs=1e-13)[0]
+    assert abs(val - ref) <= err + 1e-12

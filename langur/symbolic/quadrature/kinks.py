@@ -179,37 +179,17 @@ def _coefficients_in(e: sp.Expr, v: sp.Symbol) -> tuple | bool:
     key = (e, v)
     known = _CROSSES.get(key)
     if known is None:
-        known = _affine_coefficients(e, v)
         try:
-            if known is None:
-                poly = sp.Poly(e, v)
-                coeffs = tuple(poly.all_coeffs())
-                eligible = 1 <= poly.degree() <= RESULTANT_DEGREE and not any(v in k.free_symbols for k in coeffs)
-                known = coeffs if eligible else False
+            poly = sp.Poly(e, v)
+            coeffs = tuple(poly.all_coeffs())
+            eligible = 1 <= poly.degree() <= RESULTANT_DEGREE and not any(v in k.free_symbols for k in coeffs)
+            known = coeffs if eligible else False
         except (sp.PolynomialError, sp.GeneratorsNeeded):
             known = False
         if len(_CROSSES) >= COMPILED:
             _CROSSES.pop(next(iter(_CROSSES)))
         _CROSSES[key] = known
     return known
-
-
-def _affine_coefficients(e: sp.Expr, v: sp.Symbol) -> tuple | bool | None:
-    """:func:`_coefficients_in`'s answer from the tree, without sympy's ``Poly`` (the stylization
-    kernel's five conditions: a millisecond or more each, expanding products): False for an
-    expression free of ``v`` (``Poly(e, v)`` has degree 0); for a polynomial with rational
-    coefficients in all its symbols of degree at most 1 in ``v``
-    (:func:`~langur.symbolic.local.degree`: e = a·v + b with a, b free of ``v``), ``(∂e/∂v,
-    e at v = 0)`` — equal to ``Poly``'s two coefficients as polynomials, which is all
-    :func:`_linear_crossing` uses of them — or False when ∂e/∂v expands to 0 (degree 0); None
-    otherwise (``Poly`` decides)."""
-    bound = degree(e, frozenset((v,)))
-    if bound == 0:
-        return False
-    if bound != 1 or not _rational_polynomial(e):
-        return None
-    a = sp.diff(e, v)
-    return (a, e.xreplace({v: sp.Integer(0)})) if sp.expand(a) != 0 else False
 
 
 #: :func:`_crossing`'s answers by (first condition, second condition, eliminated variable, variable
