@@ -9,6 +9,8 @@ from __future__ import annotations
 import itertools
 
 import sympy as sp
+from sympy.polys.constructor import construct_domain
+from sympy.polys.polyerrors import CoercionFailed
 
 from langur.symbolic.local import degree, free_symbols, rational_form
 from langur.symbolic.quadrature.compiling import COMPILED, _lambdify
@@ -37,7 +39,8 @@ def _kink_functions(p: NumProblem, level: int):
     every parameter point (only :func:`_at_levels`, numeric, is redone at each).  Returns the
     ``(function, polynomial roots or None)`` pairs and, for each, the outer levels whose variables
     it depends on (:func:`_depends`; all of them for the box-corner functions of conditions
-    without an expression).  Records in ``p.kink_tangent[level]`` the positions (in the returned
+    without an expression); a function is None where its roots are polynomial (only the grid
+    search of the others evaluates one).  Records in ``p.kink_tangent[level]`` the positions (in the returned
     list) of the tangency kinks: those with a critical point substituted, where a deeper region
     appears or vanishes as this level's variable moves and the inner integral behaves like a half
     power of the distance (:func:`langur.symbolic.quadrature.nested._tangent_quad`)."""
@@ -91,7 +94,10 @@ def _kink_functions(p: NumProblem, level: int):
     for e, tangent in exprs:
         if tangent:
             p.kink_tangent[level].add(len(out))
-        out.append((_lambdify(p.syms[: level + 1], e, at), _poly_roots(e, p.syms, level, at)))
+        roots = _poly_roots(e, p.syms, level, at)
+        # (the kink's own function only where there is no polynomial root finder: only
+        # :meth:`NumProblem.moving`'s grid search evaluates it, as for the fold's kinks (None, roots))
+        out.append((_lambdify(p.syms[: level + 1], e, at) if roots is None else None, roots))
         vary.append(_depends(e, p.syms, level))
     return out, vary
 
@@ -143,6 +149,8 @@ def _crossings(p: NumProblem, level: int, parametric: bool = False) -> list[sp.E
     params = set(p.at) if parametric else set()
     out = []
     for e1, e2 in itertools.combinations(polys, 2):
+        if p.syms[level] not in free_symbols(e1) and p.syms[level] not in free_symbols(e2):
+            continue  # (their resultant is free of this level's variable too: no crossing kept below)
         r = _crossing(e1, e2, v, p.syms[level])
         if r is None:  # the pair is left to quad's subdivision
             continue
@@ -157,15 +165,25 @@ _CROSSES: dict = {}
 
 def _crosses(e: sp.Expr, v: sp.Symbol) -> bool:
     """Whether ``e`` is a polynomial of degree 1 to :data:`RESULTANT_DEGREE` in ``v`` with
-    coefficients free of ``v`` (sympy's ``Poly``), remembered by (condition, variable): the same
+    coefficients free of ``v`` (sympy's ``Poly``; :func:`_coefficients_in`)."""
+    return bool(_coefficients_in(e, v))
+
+
+def _coefficients_in(e: sp.Expr, v: sp.Symbol) -> tuple | bool:
+    """``e``'s coefficients in ``v`` (sympy's ``Poly(e, v).all_coeffs()``, highest degree first)
+    when ``e`` is a polynomial of degree 1 to :data:`RESULTANT_DEGREE` in ``v`` with coefficients
+    free of ``v``, else False; remembered by (condition, variable) in :data:`_CROSSES`: the same
     conditions come back in every problem of a program (⟦p⟧, its cross-check, each derivative's
-    pieces), and each ``Poly`` costs a millisecond or more (issue 15, exact15q)."""
+    pieces), and each ``Poly`` costs a millisecond or more (issue 15, exact15q); the coefficients
+    serve :func:`_linear_crossing` (exact16q)."""
     key = (e, v)
     known = _CROSSES.get(key)
     if known is None:
         try:
             poly = sp.Poly(e, v)
-            known = 1 <= poly.degree() <= RESULTANT_DEGREE and not any(v in k.free_symbols for k in poly.all_coeffs())
+            coeffs = tuple(poly.all_coeffs())
+            eligible = 1 <= poly.degree() <= RESULTANT_DEGREE and not any(v in k.free_symbols for k in coeffs)
+            known = coeffs if eligible else False
         except (sp.PolynomialError, sp.GeneratorsNeeded):
             known = False
         if len(_CROSSES) >= COMPILED:
@@ -203,6 +221,15 @@ def _crossing(e1: sp.Expr, e2: sp.Expr, v: sp.Symbol, w: sp.Symbol) -> sp.Expr |
     if hit is not None:
         return hit[0]
     try:
+        out = run_with_timeout(lambda: _linear_crossing(e1, e2, v, w), RESULTANT_SECONDS, cpu=True)
+    except Exception:  # noqa: BLE001 - a time limit (or a sympy failure): sympy's resultant, as before
+        out = None
+    if out is not None:
+        if len(_PAIRS) >= COMPILED:
+            _PAIRS.pop(next(iter(_PAIRS)))
+        _PAIRS[(e1, e2, v, w)] = (out, True)
+        return out
+    try:
         r = run_with_timeout(lambda: sp.resultant(e1, e2, v), RESULTANT_SECONDS, cpu=True)
     except Exception:  # noqa: BLE001 - sympy fails in many ways (PolynomialDivisionFailed on floats, a time
         return None  # limit)
@@ -214,6 +241,53 @@ def _crossing(e1: sp.Expr, e2: sp.Expr, v: sp.Symbol, w: sp.Symbol) -> sp.Expr |
             _PAIRS.pop(next(iter(_PAIRS)))
         _PAIRS[(e1, e2, v, w)] = (out, exact and normalized)
     return out
+
+
+def _linear_crossing(e1: sp.Expr, e2: sp.Expr, v: sp.Symbol, w: sp.Symbol) -> sp.Expr | None:
+    """:func:`_crossing`'s answer for two conditions of degree 1 in ``v`` with integer
+    coefficients whose resultant is of degree 1 in ``w`` (the stylization kernel's half-planes and
+    box sides: every pair), without sympy's ``resultant`` and ``sqf_part`` (~5 ms a pair, a tenth
+    of stylize/quadratic's kinks); None when that does not apply (then :func:`_crossing` asks
+    sympy, as before).
+
+    The same expression:
+    - e₁ = a₁v + b₁ and e₂ = a₂v + b₂ (:func:`_coefficients_in`, sympy's ``Poly`` coefficients)
+      have res_v(e₁, e₂) = a₁b₂ − a₂b₁ (the 2×2 Sylvester determinant, over any commutative ring),
+      the polynomial of sympy's resultant up to its sign.  It is formed here as ``Poly`` products
+      in ``w`` over ℤ[the conditions' other symbols] (sympy's ``construct_domain``, which orders
+      the symbols as it does for the resultant's own ``Poly``), not by expanding expressions.
+    - Of degree 1 in ``w``, f = A·w + B: gcd(f, f′) = gcd(f, A) is a constant (the content
+      gcd(A, B), up to a unit), so ``sqf_part`` — which makes the leading coefficient positive
+      (``is_negative`` of the coefficient domain), divides by that gcd and takes the primitive part
+      over the ring — gives f's primitive part with a positive leading coefficient, the same for
+      −f.  That is unique (the units of ℤ[…] are ±1): ``Poly.primitive()``, its sign made positive
+      the same way, converted by the same ``as_expr``.  A symbol of the conditions that cancels
+      from f is a generator with exponent 0 in every term: it changes neither the leading term
+      (lexicographic order) nor the expression.
+    A coefficient outside ℤ[…] (a rational, a float) is left to sympy.  No time limit is lost:
+    :func:`_crossing` runs this under the resultant's.  proofs_tests/test_exact_speed16q.py
+    compares it with sympy's ``sqf_part(resultant)`` on the examples' pairs and random ones
+    (issue 15, exact16q)."""
+    c1, c2 = _coefficients_in(e1, v), _coefficients_in(e2, v)
+    if not (c1 and c2 and len(c1) == 2 and len(c2) == 2) or not (_rational_polynomial(e1) and _rational_polynomial(e2)):
+        return None
+    others = (free_symbols(e1) | free_symbols(e2)) - {v, w}
+    if not others:
+        return None
+    ring = construct_domain([sp.Add(*others)])[0]  # ℤ[others], ordered as sympy orders them
+    if not (ring.is_PolynomialRing and ring.domain.is_ZZ):
+        return None
+    try:
+        (a1, b1), (a2, b2) = [[sp.Poly(k, w, domain=ring) for k in cs] for cs in (c1, c2)]
+    except (sp.PolynomialError, sp.GeneratorsNeeded, CoercionFailed):
+        return None
+    f = a1 * b2 - a2 * b1
+    if f.degree() != 1:
+        return None
+    f = f.primitive()[1]
+    if ring.is_negative(ring.from_sympy(f.LC())):
+        f = -f
+    return f.as_expr()
 
 
 def _rational_polynomial(e: sp.Expr) -> bool:
