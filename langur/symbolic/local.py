@@ -106,10 +106,13 @@ def size(e, limit: int) -> int:
     return n
 
 
-def tree_size(e) -> int:
+def tree_size(e, sizes: dict | None = None) -> int:
     """Number of nodes of the tree ``e`` (a subtree counted each time it occurs), each distinct
-    subtree object visited once."""
-    sizes: dict = {}
+    subtree object visited once (``sizes``: the sizes found so far by object id, for the caller's
+    trees that are alive meanwhile; shared between calls on trees sharing subtrees)."""
+    sizes = {} if sizes is None else sizes
+    if id(e) in sizes:
+        return sizes[id(e)]
     stack = [(e, False)]
     while stack:
         node, done = stack.pop()
@@ -584,6 +587,7 @@ def _near_form(coeffs: dict, triangles: list, at: dict):
     if None in cres.values():
         return None
     total = 0
+    sizes: dict = {}  # (tree sizes by subtree: the coefficients and powers are alive throughout)
     parts = []  # per triangle: the residue of half·Σ without its number
     for half, points in triangles:
         h = _residue(half, point, memo)
@@ -604,7 +608,7 @@ def _near_form(coeffs: dict, triangles: list, at: dict):
                 factors = [f for f, k in ((_power(X, a, "x", powers), a), (_power(Y, b, "y", powers), b)) if k]
                 if one and c.is_Add and factors and c != X and c != Y and all(f.is_Pow or f.is_Add for f in factors):
                     # (sympy's product w·c·Xᵃ·Yᵇ: the number w, then c, Xᵃ, Yᵇ as they are: distinct bases)
-                    n = 1 + (w != 1) + tree_size(c) + sum(tree_size(f) for f in factors)
+                    n = 1 + (w != 1) + tree_size(c, sizes) + sum(tree_size(f, sizes) for f in factors)
                     known = main.get(r)
                     main[r] = (w, n) if known is None else (known[0] + w, min(known[1], n))
                     continue
