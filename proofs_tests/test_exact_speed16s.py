@@ -25,7 +25,7 @@ import sympy as sp
 from langur import denote
 from langur.exact import exact_deriv
 from langur.frontend import load
-from langur.symbolic import local, rational
+from langur.symbolic import context, local, rational
 from langur.symbolic.context import Cond, Context
 from langur.symbolic.pieces import Condition, Piece
 from langur.symbolic.quadrature import compiling, nested, pieceproblems
@@ -177,3 +177,24 @@ def test_a_rational_weight_is_compiled_at_its_first_call():
     form, _, _ = _polygon(True, near=False)
     exact = float(rational.rational_value(form, {k: Fraction(int(v.p), int(v.q)) for k, v in at.items()}))
     assert abs(value - exact) <= max(1e-7, 10 * error) * (1 + abs(exact))
+
+
+def test_a_value_at_the_point_rebuilds_each_distinct_subtree_once(monkeypatch):
+    # a root formula's shape: the same radicand and denominator in both roots
+    a, b, c = P[:3]
+    disc = sp.sqrt(b ** 2 - 4 * a * c)
+    expr = (-b + disc) / (2 * a) + (-b - disc) / (2 * a) * (b ** 2 - 4 * a * c) + disc ** 3
+    at = {a: sp.Rational(1, 3), b: sp.Rational(5, 2), c: sp.Rational(-7, 4)}
+    calls = []
+    real = local.shared_xreplace
+    monkeypatch.setattr(local, "shared_xreplace", lambda *args: calls.append(1) or real(*args))
+    context._VALUES.clear()
+    got = Context(at, Deadline(20.0), frozenset(at)).value(expr)
+    assert calls  # (the old code used sympy's xreplace)
+    want = complex(sp.N(expr.xreplace(at), 40))  # exact rationals substituted, then 40 digits
+    assert abs(got - want) <= 1e-25 * abs(want)
+    # a form holding a Float keeps sympy's own substitution
+    calls.clear()
+    context._VALUES.clear()
+    Context(at, Deadline(20.0), frozenset(at)).value(expr + sp.Float("0.1", 15) * a)
+    assert not calls
