@@ -22,7 +22,7 @@ from fractions import Fraction
 
 import sympy as sp
 
-from langur import denote
+from langur import denote, theorem
 from langur.exact import exact_deriv
 from langur.frontend import load
 from langur.symbolic import context, local, rational
@@ -203,6 +203,4 @@ def test_a_value_at_the_point_rebuilds_each_distinct_subtree_once(monkeypatch):
 def test_the_near_forms_threshold_covers_every_size_that_changes_how_a_form_is_used():
     # Theorem 8.1's symbolic comparison (theorem.SYMBOLIC_OPS), integrate._tidy's simplify (1,000 nodes),
     # Context.exact_value's rational path (local.LARGE_OPS): a form of NEAR_LARGE nodes or more is past all
-    from langur import theorem
-
     assert local.NEAR_LARGE >= theorem.SYMBOLIC_OPS >= 1000 >= local.LARGE_OPS
