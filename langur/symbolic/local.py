@@ -586,6 +586,13 @@ def _near_form(coeffs: dict, triangles: list, at: dict):
     cres = {ab: _residue(c, point, memo) for ab, c in coeffs.items()}
     if None in cres.values():
         return None
+    # the constant term w·c_00 of every point, c_00 a sum: sympy distributes the number w over its terms,
+    # whose parts without their numbers are those of c_00's terms (the same residues at every point)
+    zero, zero_rests = coeffs.get((0, 0)), None
+    if zero is not None and zero.is_Add:
+        zero_rests = {_residue(t.as_coeff_Mul()[1], point, memo) for t in zero.args if not t.is_Number}
+        if None in zero_rests:
+            return None
     total = 0
     sizes: dict = {}  # (tree sizes by subtree: the coefficients and powers are alive throughout)
     parts = []  # per triangle: the residue of half·Σ without its number
@@ -601,23 +608,31 @@ def _near_form(coeffs: dict, triangles: list, at: dict):
             rx, ry = _residue(X, point, memo), _residue(Y, point, memo)
             if rx is None or ry is None:
                 return None
-            one = X.is_Add and Y.is_Add and X != Y and w != 0
+            rw = _residue(w, {}, {})  # (w a rational: its numerator and denominator, not sympy's comparisons)
+            one = X.is_Add and Y.is_Add and (rx != ry or X != Y) and w.p != 0
             for (a, b), c in coeffs.items():
-                r = cres[(a, b)] * pow(rx, a, _PRIME) * pow(ry, b, _PRIME) % _PRIME
-                s = (s + _residue(w, {}, {}) * r) % _PRIME
-                factors = [f for f, k in ((_power(X, a, "x", powers), a), (_power(Y, b, "y", powers), b)) if k]
-                if one and c.is_Add and factors and c != X and c != Y and all(f.is_Pow or f.is_Add for f in factors):
+                rc = cres[(a, b)]
+                r = rc * pow(rx, a, _PRIME) * pow(ry, b, _PRIME) % _PRIME
+                s = (s + rw * r) % _PRIME
+                # (equal expressions have equal residues: sympy's comparison only where they are equal)
+                shape = one and c.is_Add and (a or b) and (rc != rx or c != X) and (rc != ry or c != Y)
+                factors = [f for f, e in ((_power(X, a, "x", powers), a), (_power(Y, b, "y", powers), b)) if e] \
+                    if shape else []
+                if shape and all(f.is_Pow or f.is_Add for f in factors):
                     # (sympy's product w·c·Xᵃ·Yᵇ: the number w, then c, Xᵃ, Yᵇ as they are: distinct bases)
-                    n = 1 + (w != 1) + tree_size(c, sizes) + sum(tree_size(f, sizes) for f in factors)
+                    n = 1 + (w.p != w.q) + tree_size(c, sizes) + sum(tree_size(f, sizes) for f in factors)
                     known = main.get(r)
                     main[r] = (w, n) if known is None else (known[0] + w, min(known[1], n))
+                    continue
+                if (a, b) == (0, 0) and zero_rests is not None:
+                    other |= zero_rests
                     continue
                 for rest in _rests(c * _power(X, a, "x", powers) * _power(Y, b, "y", powers) * w):
                     q = _residue(rest, point, memo)
                     if q is None:
                         return None
                     other.add(q)
-        kept = [n for w, n in main.values() if w != 0]
+        kept = [n for w, n in main.values() if w.p != 0]
         if len(kept) < 2 or other & main.keys():
             return None
         total += sum(kept)
