@@ -123,7 +123,11 @@ class Context:
         key = (expr, tuple(numbers.items()), tuple(self.at.items()))
         z = _VALUES.get(key)
         if z is None:
-            e = expr.xreplace({**_floats40(self.at), **numbers})
+            rule = {**_floats40(self.at), **numbers}
+            # each distinct subtree rebuilt once (sympy's xreplace rebuilds a subtree wherever it occurs:
+            # a condition's root formulas repeat their parts); the same tree, except that equal Floats of
+            # other precisions in ``expr`` would be taken for one another: then sympy's own
+            e = expr.xreplace(rule) if local.has_any(expr, (sp.Float,)) else local.shared_xreplace(expr, rule, False)
             try:
                 z = complex(e.evalf(30))
             except TypeError:

@@ -106,10 +106,13 @@ def size(e, limit: int) -> int:
     return n
 
 
-def tree_size(e) -> int:
+def tree_size(e, sizes: dict | None = None) -> int:
     """Number of nodes of the tree ``e`` (a subtree counted each time it occurs), each distinct
-    subtree object visited once."""
-    sizes: dict = {}
+    subtree object visited once (``sizes``: the sizes found so far by object id, for the caller's
+    trees that are alive meanwhile; shared between calls on trees sharing subtrees)."""
+    sizes = {} if sizes is None else sizes
+    if id(e) in sizes:
+        return sizes[id(e)]
     stack = [(e, False)]
     while stack:
         node, done = stack.pop()
@@ -228,7 +231,7 @@ def is_large(exprs, params) -> bool:
     exprs = [sp.sympify(e) for e in exprs]
     if sum(size(e, LARGE_OPS) for e in exprs) >= LARGE_OPS:
         return True
-    return len(set().union(*[e.free_symbols for e in exprs]) & set(params)) >= MANY_PARAMS
+    return len(set().union(*[free_symbols(e) for e in exprs]) & set(params)) >= MANY_PARAMS
 
 
 # ------------------------------------------------------------------------------------------
@@ -485,10 +488,11 @@ def _relation(line: tuple, X, Y, keep: bool):
     return hit
 
 
-def polygon_integral(conds, weight, x, y, box: dict, ctx):
+def polygon_integral(conds, weight, x, y, box: dict, ctx, near: bool = False):
     """∫∫_box Π [c ≥ 0] · weight d(x, y) for affine conditions and a polynomial weight, valid in
     the parameter cell of ``ctx.at`` (recorded in ``ctx.cell``); None when this method does not
-    apply (not affine, not polynomial, not rational at the point, or a tie there)."""
+    apply (not affine, not polynomial, not rational at the point, or a tie there).  ``near``: the
+    form is for Theorem 8.1's check only (:func:`_near_form`)."""
     memo: dict = {}
     d = degree(sp.sympify(weight), frozenset((x, y)), memo)
     if d is None or d > MAX_DEGREE:
@@ -529,16 +533,165 @@ def polygon_integral(conds, weight, x, y, box: dict, ctx):
                     cell.append(rel)
     rule = triangle_rule(d)
     coeffs = monomials(sp.sympify(weight), x, y)  # w = Σ c_ab xᵃ yᵇ, the c_ab never expanded
-    total = []
     (x0, y0) = verts[poly[0][1]]
-    for (_, k1), (_, k2) in zip(poly[1:], poly[2:]):
-        half, points = _triangle_points(x0, y0, *verts[k1], *verts[k2], rule)
+    triangles = [_triangle_points(x0, y0, *verts[k1], *verts[k2], rule) for (_, k1), (_, k2) in zip(poly[1:], poly[2:])]
+    form = _near_form(coeffs, triangles, ctx.at) if near else None
+    if form is None:
         # Σ_points w·(Σ_ab c_ab·Xᵃ·Yᵇ) as one sum of the terms w·c_ab·Xᵃ·Yᵇ (:func:`_point_terms`)
-        total.append(half * sp.Add(*[t for w, X, Y, powers in points for t in _point_terms(coeffs, X, Y, powers, w)]))
+        form = sp.Add(*[half * sp.Add(*[t for w, X, Y, powers in points for t in _point_terms(coeffs, X, Y, powers, w)])
+                        for half, points in triangles])
     for rel in cell:
         if rel not in ctx.cell:
             ctx.cell.append(rel)
-    return sp.Add(*total)
+    return form
+
+
+#: The size (tree nodes) from which Theorem 8.1's check treats a closed form as large
+#: (``langur.theorem.SYMBOLIC_OPS``): a polygon's closed form for that check is built as sums of
+#: moments (:func:`_near_form`) only when both it and the canonical form are at least this large.
+NEAR_LARGE = 3000
+#: A prime: values at the point modulo it tell sympy expressions apart (:func:`_residue`).
+_PRIME = (1 << 61) - 1
+
+
+def _near_form(coeffs: dict, triangles: list, at: dict):
+    """The polygon's closed form for Theorem 8.1's check (``near``, :func:`cell_forms`) as
+    Σ_ab c_ab·M_ab with the moments M_ab = Σ_triangles half·Σ_points w·Xᵃ·Yᵇ, every sum and product
+    unevaluated (sympy neither flattens nor sorts them): the same function as the canonical form
+    of :func:`polygon_integral` (the same rule, points and coefficients, regrouped by
+    distributivity), and only that check differentiates it (exactly, by dual numbers over the
+    rationals: the same numbers).  What the check does with a form depends on its size
+    (:data:`NEAR_LARGE`; ``integrate._tidy`` and ``Context.exact_value`` below that), so this form is
+    returned only when it is large and the canonical one is certainly large too; else None (the
+    canonical form is built).
+
+    The canonical form is certainly large when the terms w·c·Xᵃ·Yᵇ that :func:`_point_terms` makes
+    in one product (c a sum, X and Y sums, a or b > 0; then the term's number is w and its other
+    factors c, Xᵃ, Yᵇ) have sizes adding up to :data:`NEAR_LARGE` and each is kept by sympy's sum:
+    a sum merges two terms only when their non-numeric parts are equal, so equal values there.
+    Values at the point modulo a prime (:func:`_residue`) tell them apart: of the terms whose parts
+    share a residue (a rule's repeated point, or a coincidence) at least one is kept when their
+    numbers do not add up to 0 (equal parts are merged, adding their numbers), so each such group
+    counts with its smallest term, provided no other term of the triangle has that residue; each
+    triangle's half·Σ (not a number, so not distributed) must have a residue of its own among the
+    triangles.  A denominator the prime divides, a Float or anything else: None."""
+    point: dict = {}
+    for k, v in at.items():
+        if isinstance(v, sp.Rational):
+            r = _residue(v, {}, {})
+            if r is None:
+                return None
+            point[k] = r
+    memo: dict = {}
+    cres = {ab: _residue(c, point, memo) for ab, c in coeffs.items()}
+    if None in cres.values():
+        return None
+    # the constant term w·c_00 of every point, c_00 a sum: sympy distributes the number w over its terms,
+    # whose parts without their numbers are those of c_00's terms (the same residues at every point)
+    zero, zero_rests = coeffs.get((0, 0)), None
+    if zero is not None and zero.is_Add:
+        zero_rests = {_residue(t.as_coeff_Mul()[1], point, memo) for t in zero.args if not t.is_Number}
+        if None in zero_rests:
+            return None
+    total = 0
+    sizes: dict = {}  # (tree sizes by subtree: the coefficients and powers are alive throughout)
+    parts = []  # per triangle: the residue of half·Σ without its number
+    for half, points in triangles:
+        h = _residue(half, point, memo)
+        k = half.as_coeff_Mul()[0]
+        if half.is_Number or h is None or _residue(k, {}, {}) in (None, 0):
+            return None
+        main: dict = {}  # residue of c·Xᵃ·Yᵇ -> its term's size
+        other: set = set()
+        s = 0  # Σ's residue
+        for w, X, Y, powers in points:
+            rx, ry = _residue(X, point, memo), _residue(Y, point, memo)
+            if rx is None or ry is None:
+                return None
+            rw = _residue(w, {}, {})  # (w a rational: its numerator and denominator, not sympy's comparisons)
+            one = X.is_Add and Y.is_Add and (rx != ry or X != Y) and w.p != 0
+            for (a, b), c in coeffs.items():
+                rc = cres[(a, b)]
+                r = rc * pow(rx, a, _PRIME) * pow(ry, b, _PRIME) % _PRIME
+                s = (s + rw * r) % _PRIME
+                # (equal expressions have equal residues: sympy's comparison only where they are equal)
+                shape = one and c.is_Add and (a or b) and (rc != rx or c != X) and (rc != ry or c != Y)
+                factors = [f for f, e in ((_power(X, a, "x", powers), a), (_power(Y, b, "y", powers), b)) if e] \
+                    if shape else []
+                if shape and all(f.is_Pow or f.is_Add for f in factors):
+                    # (sympy's product w·c·Xᵃ·Yᵇ: the number w, then c, Xᵃ, Yᵇ as they are: distinct bases)
+                    n = 1 + (w.p != w.q) + tree_size(c, sizes) + sum(tree_size(f, sizes) for f in factors)
+                    known = main.get(r)
+                    main[r] = (w, n) if known is None else (known[0] + w, min(known[1], n))
+                    continue
+                if (a, b) == (0, 0) and zero_rests is not None:
+                    other |= zero_rests
+                    continue
+                for rest in _rests(c * _power(X, a, "x", powers) * _power(Y, b, "y", powers) * w):
+                    q = _residue(rest, point, memo)
+                    if q is None:
+                        return None
+                    other.add(q)
+        kept = [n for w, n in main.values() if w.p != 0]
+        if len(kept) < 2 or other & main.keys():
+            return None
+        total += sum(kept)
+        parts.append(h * s * pow(_residue(k, {}, {}), -1, _PRIME) % _PRIME)
+    if total < NEAR_LARGE or len(set(parts)) != len(parts):
+        return None
+    moments = {ab: [] for ab in coeffs}
+    for half, points in triangles:
+        for a, b in moments:
+            inner = [sp.Mul(w, *([_power(X, a, "x", powers)] if a else []), *([_power(Y, b, "y", powers)] if b else []),
+                            evaluate=False) for w, X, Y, powers in points]
+            moments[(a, b)].append(sp.Mul(half, sp.Add(*inner, evaluate=False), evaluate=False))
+    form = sp.Add(*[sp.Mul(c, sp.Add(*moments[ab], evaluate=False), evaluate=False) for ab, c in sorted(coeffs.items())],
+                  evaluate=False)
+    return form if size(form, NEAR_LARGE) >= NEAR_LARGE else None
+
+
+def _power(base, k: int, tag: str, powers: dict):
+    """``base**k``, remembered in ``powers`` by (tag, k) (:func:`_point_terms`' powers)."""
+    if (tag, k) not in powers:
+        powers[(tag, k)] = base ** k
+    return powers[(tag, k)]
+
+
+def _rests(term) -> list:
+    """The non-numeric parts of what sympy's sum makes of ``term`` (a number: none; a sum: each of
+    its terms; a product: without its number)."""
+    if term.is_Number:
+        return []
+    if term.is_Add:
+        return [r for a in term.args for r in _rests(a)]
+    return [term.as_coeff_Mul()[1]]
+
+
+def _residue(e, point: dict, memo: dict):
+    """``e``'s value at the point modulo :data:`_PRIME` (``point``: the symbols' residues), for a
+    form of rationals, symbols, + , · and integer powers; None for anything else or when a
+    denominator is divisible by the prime.  Equal expressions have equal residues."""
+    if e.is_Rational:
+        q = int(e.q) % _PRIME
+        return None if q == 0 else int(e.p) * pow(q, -1, _PRIME) % _PRIME
+    hit = memo.get(e)
+    if hit is not None or e in memo:
+        return hit
+    out = None
+    if e.is_Symbol:
+        out = point.get(e)
+    elif e.is_Add or e.is_Mul:
+        vals = [_residue(a, point, memo) for a in e.args]
+        if None not in vals:
+            out = 0 if e.is_Add else 1
+            for v in vals:
+                out = (out + v) % _PRIME if e.is_Add else out * v % _PRIME
+    elif e.is_Pow and e.exp.is_Integer:
+        v = _residue(e.base, point, memo)
+        if v is not None and (v != 0 or e.exp > 0):
+            out = pow(v, int(e.exp), _PRIME)
+    memo[e] = out
+    return out
 
 
 def monomials(w, x, y) -> dict:

@@ -380,7 +380,7 @@ def _prefilter(conds, ctx: Context):
     kept = []
     for c in conds:
         e = sp.sympify(c.expr)
-        if not (e.free_symbols - ctx.params):
+        if not (local.free_symbols(e) - ctx.params):
             if not ctx.decide(e, c.strict):
                 return None
             continue
@@ -398,8 +398,8 @@ def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
     if weight == 0:  # (a Deferred weight is not 0)
         return sp.Integer(0)
     v, outer = variables[-1], list(variables[:-1])
-    dep = [c for c in conds if v in c.expr.free_symbols]
-    rest = [c for c in conds if v not in c.expr.free_symbols]
+    dep = [c for c in conds if v in local.free_symbols(c.expr)]
+    rest = [c for c in conds if v not in local.free_symbols(c.expr)]
     lo, hi = box[v]
     if not outer:
         if rest:
@@ -573,7 +573,7 @@ def integrate_region(conds: Sequence[Cond], weight, variables: Sequence, box: di
     others = []
     for c in conds:
         e = sp.sympify(c.expr)
-        if e.free_symbols & set(variables):
+        if local.free_symbols(e) & set(variables):
             others.append(c)
         elif e.is_number:
             if not ctx.decide(e, c.strict):
@@ -584,7 +584,10 @@ def integrate_region(conds: Sequence[Cond], weight, variables: Sequence, box: di
                                 local.is_large([c.expr for c in others] + [sp.sympify(weight)], ctx.params)):
         # a convex polygon decided at the point (large affine regions: Max/Min nests cost minutes)
         sub = Context(ctx.at, ctx.deadline, ctx.params)
-        val = local.polygon_integral(others, sp.sympify(weight), *variables, box, sub)
+        # (⟦p⟧ near the point, a form only Theorem 8.1's check reads, as sums of moments when large;
+        # not under a parameter-only Piecewise, which that check's localization would rebuild)
+        val = local.polygon_integral(others, sp.sympify(weight), *variables, box, sub,
+                                     near=local.wants_cell_forms() and not top)
         if val is not None:
             ctx.cell.extend(r for r in sub.cell if r not in ctx.cell)
             return sp.Piecewise((val, sp.And(*top)), (0, True)) if top else val

@@ -112,6 +112,27 @@ def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., flo
     return slow
 
 
+class OnFirstCall:
+    """A function compiled when it is first called (``make()`` gives it): the scalar weight of a
+    piece whose vectorized weight integrates every innermost interval (:func:`~.nested._first_panel`)
+    is never called — the stylization kernel's regular pieces, whose weights are printed and
+    compiled for ``math`` only to be dropped.  The same function as ``make()`` made at once, as long
+    as ``make`` is a pure function of what it captured and cannot fail (the caller's to ensure)."""
+
+    __slots__ = ("_make", "_f")
+
+    def __init__(self, make: Callable[[], Callable]):
+        self._make = make
+        self._f: Callable | None = None
+
+    def __call__(self, *vals):
+        f = self._f
+        if f is None:
+            f = self._f = self._make()
+            self._make = None
+        return f(*vals)
+
+
 _VECTORIZED: dict = {}
 
 

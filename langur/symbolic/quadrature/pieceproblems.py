@@ -10,9 +10,9 @@ from typing import Sequence
 
 import sympy as sp
 
-from langur.symbolic.local import free_symbols
+from langur.symbolic.local import free_symbols, rational_form
 from langur.symbolic.pieces import Piece, Psi
-from langur.symbolic.quadrature.compiling import _floats, _lambdify, _num, _vectorize
+from langur.symbolic.quadrature.compiling import OnFirstCall, _floats, _lambdify, _num, _vectorize
 from langur.symbolic.quadrature.nested import integrate_problem
 from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
 from langur.symbolic.quadrature.tolerance import _OUTER
@@ -62,8 +62,16 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
         conds.append(NumCond(_lambdify(variables[: lv + 1], expr, at), lv, hints, expr.xreplace(_floats(at)),
                              sym=_parametric(expr), hints_vary=vary))
     bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in box]
-    return NumProblem(conds, _lambdify(variables, piece.weight, at), bounds, syms=variables,
-                      vweight=_vectorize(variables, piece.weight, at) if variables else None,
+    vweight = _vectorize(variables, piece.weight, at) if variables else None
+    if vweight is not None and rational_form(sp.sympify(piece.weight)):
+        # compiled at its first call: with the vectorized weight on every innermost interval it is
+        # never called (a rational form prints and compiles for math without fail, so nothing is
+        # raised later that would have been raised here; the point's values are copied now)
+        point = dict(at)
+        weight = OnFirstCall(lambda: _lambdify(variables, piece.weight, point))
+    else:
+        weight = _lambdify(variables, piece.weight, at)
+    return NumProblem(conds, weight, bounds, syms=variables, vweight=vweight,
                       at=dict(at), sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in box])
 
 
@@ -82,7 +90,7 @@ def _symbols_of(obj) -> set:
     """The free symbols of a piece (its conditions, their diffeomorphisms' forward and inverse
     maps and guards, its weight), of a box, or of any tuple of those."""
     if isinstance(obj, sp.Basic):
-        return set(obj.free_symbols)
+        return free_symbols(obj)  # (each distinct subtree once: sympy walks the repeats)
     if isinstance(obj, (tuple, list)):
         return set().union(*[_symbols_of(o) for o in obj]) if obj else set()
     if hasattr(obj, "__dataclass_fields__"):

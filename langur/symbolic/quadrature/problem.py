@@ -204,7 +204,7 @@ def _finder(c: NumCond, syms, level: int, at: dict | None = None):
 
 
 def _level(expr, variables: Sequence[sp.Symbol]) -> int:
-    fs = sp.sympify(expr).free_symbols
+    fs = free_symbols(sp.sympify(expr))  # (each distinct subtree once)
     lv = -1
     for i, v in enumerate(variables):
         if v in fs:

@@ -117,7 +117,7 @@ def _coefficients(expr, syms: tuple, level: int, params: tuple = ()):
         if coeffs is None:
             poly = sp.Poly(expr, v)
             coeffs = poly.all_coeffs() if poly.degree() <= 8 else None
-        if coeffs is not None and not any(v in c.free_symbols for c in coeffs):
+        if coeffs is not None and not any(v in free_symbols(c) for c in coeffs):
             args, body = list(syms[:level]) + list(params), [printable(c) for c in coeffs]
             fn = shared_lambdify(args, body, "math")  # (sympy's lambdify of the list, shared subtrees printed once)
             try:
@@ -142,12 +142,12 @@ def _expanded_coefficients(expr, v) -> list | None:
     form whichever way they are built, so they are the same expressions (and compile to the same
     code) without ``Poly``'s construction of a polynomial ring over the other symbols (two thirds
     of the time of a condition's first compilation).  None for anything else (``Poly`` then)."""
-    if not local.rational_form(expr) or local.degree(expr, frozenset(expr.free_symbols)) is None:
+    if not local.rational_form(expr) or local.degree(expr, frozenset(free_symbols(expr))) is None:
         return None
     by_power: dict = {}
     for term in sp.Add.make_args(sp.expand(expr)):
         c, k = term.as_coeff_exponent(v)
-        if not (k.is_Integer and 0 <= k) or v in c.free_symbols:
+        if not (k.is_Integer and 0 <= k) or v in free_symbols(c):
             return None
         by_power.setdefault(int(k), []).append(c)
     top = max(by_power, default=0)
