@@ -55,6 +55,7 @@ from ..core import (
     substitute_diffeo,
     subterms,
 )
+from ..memo import remember
 from ..modules import Loaded
 from .compile import compile_term
 from .point import UNLINKED, Linking, Unit
@@ -117,9 +118,7 @@ class CompileCache:
         key = (psi, variables)
         s = self.samplers.get(key)
         if s is None:
-            s = self.samplers[key] = SiteSampler(psi, variables)
-            if len(self.samplers) > SAMPLER_CAPACITY:
-                self.samplers.pop(next(iter(self.samplers)))
+            s = remember(self.samplers, key, SiteSampler(psi, variables), SAMPLER_CAPACITY)
         return s
 
     def find(self, key) -> Linked | None:
