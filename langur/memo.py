@@ -1,7 +1,7 @@
 """The bounded in-process memo: a plain dict of answers already computed, kept to a fixed number
 of entries (issue 15, "each concept declared once").
 
-Both engines, the front end and the linter remember answers of pure functions of their keys (a
+Both engines, the front end and the linter remember answers already computed, by their keys (a
 condition's roots, a compiled integrand, a polygon's vertices, an interned set): the same question
 comes back for ⟦p⟧ and each partial derivative, Theorem 8.1's shifted points, a quadrature's
 abscissae.  A long process (a fuzz campaign, a render session) must not grow its heap without bound,
@@ -12,9 +12,11 @@ so each memo holds at most ``size`` entries and makes room before a new one, in 
   dropped ones: keys naming objects only the dropped entries keep alive, ids, …), where dropping
   one by one would cost more than the memo saves or where entries are only valid together.
 
-Nothing is written to disk; a memo is keyed by everything its answer depends on, which each user
-says where it declares its dict.  Memos that trim by other measures (least recently used, bytes)
-say so where they are declared.
+A memo that forgets the least recently used entry instead pops a hit and remembers it again (it
+moves to the end).  Nothing is written to disk; a memo is keyed by everything its answer depends
+on, which each user says where it declares its dict.  (The Monte Carlo engine's geometry memo,
+``langur.operational.batch``, is bounded by bytes instead, and ``functools.lru_cache`` serves
+functions of a few small arguments.)
 """
 
 from __future__ import annotations

@@ -132,10 +132,8 @@ class CompileCache:
     def keep(self, key, linked: Linked) -> Linked:
         """Remember ``linked`` under ``key``, forgetting the oldest beyond LINKED_CAPACITY (a long
         session of swaps must not grow the heap without bound)."""
-        self.linked.pop(key, None)
-        self.linked[key] = linked
-        while len(self.linked) > LINKED_CAPACITY:
-            self.linked.pop(next(iter(self.linked)))
+        self.linked.pop(key, None)  # (moved to the end: the least recently used is forgotten first)
+        remember(self.linked, key, linked, LINKED_CAPACITY)
         self.last_link = linked.how
         return linked
 
