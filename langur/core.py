@@ -30,6 +30,7 @@ from fractions import Fraction
 from typing import Callable, TypeVar, Union
 
 from .diagnostics import Span
+from .memo import remember
 from .records import frozen
 
 T = TypeVar("T")
@@ -488,9 +489,7 @@ def _names(name: str) -> frozenset:
     """``frozenset({name})``, one object per name (so that unions of equal sets are no-ops)."""
     s = _SINGLE.get(name)
     if s is None:
-        if len(_SINGLE) > 4096:
-            _SINGLE.clear()
-        s = _SINGLE[name] = frozenset((name,))
+        s = remember(_SINGLE, name, frozenset((name,)), 4096, at_once=True)
     return s
 
 
@@ -785,9 +784,7 @@ _INTERNED_SETS: dict = {}
 def _interned_set(items: tuple) -> frozenset:
     s = _INTERNED_SETS.get(items)
     if s is None:
-        if len(_INTERNED_SETS) > 4096:
-            _INTERNED_SETS.clear()
-        s = _INTERNED_SETS[items] = frozenset(items)
+        s = remember(_INTERNED_SETS, items, frozenset(items), 4096, at_once=True)
     return s
 
 

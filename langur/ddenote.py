@@ -40,7 +40,7 @@ from .core import (
     shared,
 )
 from .denote import point_free, program_box, zero_integral
-from .symbolic.context import _remember as remember
+from .memo import remember
 from .symbolic.decompose import (
     Ctx,
     apply_smooth,
@@ -239,8 +239,6 @@ class DerivativeResult:
                 f" \\text{{, boundary }} {self.boundary.value:.12g})$")
 
 
-#: ``_dd`` as defined here (a wrapper of an observer replaces the module's name while it counts).
-_PLAIN_DD = _dd
 #: Normal forms of point-free programs (:func:`~langur.denote.point_free`) by (the program's
 #: identity, γ'), with the program.
 _NORMAL_FORMS: dict = {}
@@ -249,11 +247,11 @@ _NORMAL_FORMS: dict = {}
 def _normal_form(program: Program, direction: Mapping[str, object], at) -> NormalForm:
     """⦇p⦈'s normal form at ``at``; remembered by (program, γ') when the program is point-free (the
     same normal form at every point: Theorem 8.1's check computes ⦇p⦈ at nearby points), except
-    while an observer records the rules (:func:`langur.observe.active`)."""
+    while the rules are observed (:func:`langur.observe.watched`)."""
     key = None
     # (not while an observer records or counts the rules: a campaign's rule coverage wraps _dd and
     # must see the same applications as without this memo)
-    if not observe.active() and _dd is _PLAIN_DD and point_free(program):
+    if not observe.watched() and point_free(program):
         # by the program's identity (the entry keeps it alive: its spans, which equality ignores,
         # are in the pieces) and γ' exactly
         key = (id(program), tuple(sorted((k, exact_number(v)) for k, v in direction.items())))

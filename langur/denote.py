@@ -16,11 +16,10 @@ from dataclasses import replace
 
 import sympy as sp
 
-from . import lazy
+from . import lazy, observe
 from .core import IfDiffeo, IfGe0, Program, subterms
-from .symbolic import decompose as decompose_module
+from .memo import remember
 from .symbolic import local
-from .symbolic.context import _remember as remember
 from .symbolic.decompose import Ctx, decided_cell, decompose, smooth_value
 from .symbolic.pieces import Integral, Method
 from .sympy_bridge import at_symbols, denote, symbol, symbols
@@ -75,9 +74,9 @@ def _decomposed(program: Program, ctx: Ctx) -> list:
     """``decompose(program.body, ctx)``, remembered by program when it is :func:`point_free` (the
     same pieces at every point: Theorem 8.1's finite differences decompose the program at four
     shifted points, the check's ⟦p⟧ near the point once more)."""
-    if not point_free(program) or decompose_module.decompose is not decompose:
-        # (nor while decompose is wrapped: an observer — a campaign's rule coverage — counts each
-        # of its applications, and must see the same ones as without this memo)
+    if not point_free(program) or observe.watched():
+        # (nor while the rules are observed — a campaign's rule coverage counts each application of
+        # decompose's — which must see the same ones as without this memo)
         return decompose(program.body, ctx)
     # by identity (the entry keeps the program alive): pieces carry their conditionals' spans,
     # which program equality ignores
@@ -128,7 +127,5 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
     with local.cell_forms() if near else nullcontext():
         out = integrate_pieces(pieces, symbols(program.variables), program_box(program, ctx), point,
                                timeout=timeout, cell=decided_cell(program.body, ctx), symbolic=symbolic)
-    if len(_remembered) >= REMEMBERED:
-        _remembered.pop(next(iter(_remembered)))
-    _remembered[key] = (replace(out, notes=list(out.notes)), time_left)
+    remember(_remembered, key, (replace(out, notes=list(out.notes)), time_left), REMEMBERED)
     return out

@@ -47,6 +47,7 @@ from . import gcpause
 from . import typesys as ty
 from .core import Diffeo, Term, free_params
 from .diagnostics import Diagnostic, LangurError, Span
+from .memo import remember
 from .modules import ElaboratedModule, Loaded
 from .syntax.desugar import Desugarer, DiffeoSig, Env, Scope
 from .syntax.elaborate import elaborate
@@ -74,11 +75,6 @@ class LoadCache:
     modules: dict = field(default_factory=dict)
     elaborated: list = field(default_factory=list)
     reused: int = 0
-
-    def keep(self, table: dict, key, value) -> None:
-        table[key] = value
-        while len(table) > CAPACITY:
-            table.pop(next(iter(table)))
 
     def stats(self) -> dict:
         """The modules elaborated (in order) since the last reset and how many were reused."""
@@ -181,7 +177,7 @@ class _Loader:
         self.done[name] = elab
         CACHE.elaborated.append(name)
         if key is not None and len(self.errors) == n_errors:
-            CACHE.keep(CACHE.modules, key, elab)
+            remember(CACHE.modules, key, elab, CAPACITY)
         return elab
 
     def key(self, name: str, path: str, data: bytes, digest: str) -> tuple | None:
@@ -211,7 +207,7 @@ class _Loader:
         mod = CACHE.parsed.get(key)
         if mod is None:
             mod = parse_bytes(data, path)
-            CACHE.keep(CACHE.parsed, key, mod)
+            remember(CACHE.parsed, key, mod, CAPACITY)
         return mod
 
     def loadable(self, name: str, path: str, data: bytes, digest: str, visiting: tuple[str, ...]) -> bool:

@@ -34,6 +34,7 @@ from sympy.printing.str import StrPrinter
 
 from .core import TooManyRoots
 from .enclosures import DEPTH, _interval_fn, certified_brackets
+from .memo import make_room, remember
 from .sturm import sturm_brackets
 
 
@@ -171,9 +172,7 @@ class ImplicitRootFn(sp.Function):
             (x,), f = lam.variables, lam.expr
             at = {x: self}
             known = (sp.diff(target, s) - sp.diff(f, s).xreplace(at)) / sp.diff(f, x).xreplace(at)
-            if len(_DERIVATIVES) >= PRINTED:
-                _DERIVATIVES.clear()
-            _DERIVATIVES[(self, s)] = known
+            remember(_DERIVATIVES, (self, s), known, PRINTED, at_once=True)
         return known
 
     def _eval_evalf(self, prec):
@@ -233,8 +232,7 @@ class ImplicitRootFn(sp.Function):
         except TypeError:  # a setting that cannot be hashed: printed again
             return self._text(printer)
         if known is None:
-            if len(_PRINTED) >= PRINTED:
-                _PRINTED.clear()
+            make_room(_PRINTED, PRINTED, at_once=True)
             known = _PRINTED[key] = self._text(printer)
         return known
 
@@ -304,9 +302,7 @@ def _has_zero(lo, hi, values) -> bool:
 
 
 def _remember(key, root, held=None) -> None:
-    if len(_ROOTS) >= ROOTS:
-        _ROOTS.clear()
-        _HELD.clear()
+    make_room(_ROOTS, ROOTS, at_once=True, also=(_HELD,))
     if held is not None:
         _HELD.append(held)  # alive while the key names it by id
     _ROOTS[key] = root
@@ -360,9 +356,8 @@ def _canonical_shape(x, shape) -> tuple:
     form = _form(sp.Lambda(x, shape), ())
     if form is None:
         return x, shape
-    if len(_SHAPES) >= PRINTED and form not in _SHAPES:
-        _SHAPES.clear()
-    return _SHAPES.setdefault(form, (x, shape))
+    known = _SHAPES.get(form)
+    return known if known is not None else remember(_SHAPES, form, (x, shape), PRINTED, at_once=True)
 
 
 #: Placeholders of the float constants of an equation (:func:`_shape`).
@@ -553,9 +548,8 @@ def _same_code(key: str) -> str:
         if any(s is _NO_CODE for s in sig):
             out = key
         else:  # (the first key's functions kept alive: the signature names their globals by id)
-            if len(_BY_CODE) >= SAME_CODES:  # (forgotten all at once: keys then start anew, the
-                _BY_CODE.clear()  # boxes they certify are the same)
-                _SAME.clear()
+            # (forgotten all at once: keys then start anew, the boxes they certify are the same)
+            make_room(_BY_CODE, SAME_CODES, at_once=True, also=(_SAME,))
             out = _BY_CODE.setdefault(sig, (key, (g_iv, dg_iv, fn)))[0]
         _SAME[key] = out
     return out
@@ -643,8 +637,7 @@ def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple 
         k = (shared, t, a, b, level, cell)
         found = _BOXES.get(k, _UNSEEN)
         if found is _UNSEEN:
-            if len(_BOXES) >= BOXES:
-                _BOXES.clear()
+            make_room(_BOXES, BOXES, at_once=True)
             box = [mpmath.iv.mpf([c * w, (c + 1) * w]) for c in cell]  # dyadic: exact in binary
             with mpmath.workprec(53):
                 try:

@@ -5,6 +5,12 @@ semantics: each case of ``ddenote._dd`` and ``typesys.type_term`` calls :func:`r
 of its rule and the term it applies to; a recursive pass decorated with :func:`nested` records the
 depth and, for a case that returns one, the result.  Nothing is recorded (and almost nothing done)
 unless a caller opened :func:`observing`.
+
+A caller may also count the rules by wrapping the semantic functions themselves (a campaign's rule
+coverage, ``langur.fuzz.coverage``); it says so by opening :func:`counted`.  Either way the rules
+are :func:`watched`, and a pass that would skip applications it made before (the point-free memos
+of ⟦t⟧'s pieces and ⦇p⦈'s normal form, typing read off the attributes kept on terms) stands aside:
+the observer sees the same applications as without it.
 """
 
 from __future__ import annotations
@@ -14,7 +20,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 
-_STATE: dict = {"steps": None, "depth": 0}
+_STATE: dict = {"steps": None, "depth": 0, "counting": 0}
 
 
 @dataclass
@@ -37,8 +43,15 @@ def rule(name: str, term, **context) -> None:
 
 
 def active() -> bool:
-    """Whether an observer is recording (a pass that skips work it has done before must not)."""
+    """Whether an observer is recording the rules into a list (:func:`observing`)."""
     return _STATE["steps"] is not None
+
+
+def watched() -> bool:
+    """Whether the rules are observed at all: recorded (:func:`observing`) or counted by wrappers
+    of the semantic functions (:func:`counted`).  A pass that skips work it has done before must
+    not then."""
+    return _STATE["steps"] is not None or _STATE["counting"] > 0
 
 
 def nested(fn):
@@ -71,3 +84,14 @@ def observing() -> Iterator[list[Step]]:
         yield _STATE["steps"]
     finally:
         _STATE.update(saved)
+
+
+@contextmanager
+def counted() -> Iterator[None]:
+    """Say that the rules are counted inside the ``with`` block by wrappers of the semantic
+    functions (:func:`watched` is true there; blocks nest)."""
+    _STATE["counting"] += 1
+    try:
+        yield
+    finally:
+        _STATE["counting"] -= 1

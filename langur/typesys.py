@@ -48,6 +48,7 @@ from .core import (
     subterms,
 )
 from .diagnostics import Diagnostic, Span
+from .memo import remember
 from .primitives import ALL_PRIMITIVES
 
 #: 30-digit arithmetic for the range check of constants (T231), imported only when a constant is
@@ -206,9 +207,8 @@ _INTERNED: dict[frozenset, frozenset] = {}
 
 
 def _interned(s: frozenset) -> frozenset:
-    if len(_INTERNED) > 4096:
-        _INTERNED.clear()
-    return _INTERNED.setdefault(s, s)
+    known = _INTERNED.get(s)
+    return known if known is not None else remember(_INTERNED, s, s, 4096, at_once=True)
 
 
 _KNOWN_PRIMITIVES = frozenset(ALL_PRIMITIVES)
@@ -242,7 +242,9 @@ def _remembered(fn):
 
     @functools.wraps(fn)
     def wrapper(delta, gamma, t, out):
-        if not _watched() and well_typed(delta, gamma, t):
+        # (not while the rules are watched one by one, :func:`langur.observe.watched`: recorded for
+        # ``show --typing``, or counted by the campaigns' rule coverage, which wraps type_term)
+        if not observe.watched() and well_typed(delta, gamma, t):
             return None  # every rule's premises hold: the rules would add no diagnostic
         visited = getattr(_CHECKING, "visited", None)
         if visited is None:
@@ -345,16 +347,6 @@ def type_term(delta: frozenset[str], gamma: frozenset[str], t: Term, out: list[D
             type_term(delta, gamma, hi, out)
         case _:
             raise TypeError(f"not a core term: {t!r}")
-
-
-_TYPE_TERM = type_term
-
-
-def _watched() -> bool:
-    """Whether the rules are watched one by one: an observer records them (``show --typing``), or
-    :func:`type_term` was replaced by a wrapper that sees each of its calls (the campaigns' rule
-    coverage, ``langur.fuzz.coverage``).  Then typing is not read off the kept attributes."""
-    return observe.active() or type_term is not _TYPE_TERM
 
 
 def type_diffeo(delta: frozenset[str], gamma: frozenset[str], psi: Diffeo, out: list[Diagnostic], span=None) -> None:

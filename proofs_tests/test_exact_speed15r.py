@@ -25,11 +25,13 @@ import sympy as sp
 
 from langur import ddenote as ddenote_module
 from langur import denote as denote_module
+from langur import observe
 from langur.ddenote import ddenote_program
 from langur.denote import denote_program
 from langur.exact import exact_deriv
 from langur.frontend import load, load_text
 from langur.symbolic import context, delta, regions, solving
+from langur.symbolic import decompose as decompose_module
 from langur.symbolic.context import Cond, Context
 from langur.sympy_bridge import symbol
 from langur.timebox import Deadline
@@ -246,7 +248,7 @@ def test_point_free_programs_decompose_once_and_the_same(monkeypatch):
         return real(t, *rest)
 
     monkeypatch.setattr(denote_module, "decompose", spy)
-    monkeypatch.setattr(denote_module.decompose_module, "decompose", spy)  # (wrapped alike: memo on)
+    monkeypatch.setattr(decompose_module, "decompose", spy)  # (the recursion too: no observer, memo on)
     _forget()
     points = [{"r": q} for q in (0.3, 0.45, 0.6)]
     new = [denote_program(program, q, symbolic=False) for q in points]
@@ -267,13 +269,14 @@ def test_point_free_programs_decompose_once_and_the_same(monkeypatch):
     # an observer wrapping decompose alone (a campaign's rule coverage): every point decomposed
     monkeypatch.undo()
     counted = []
-    monkeypatch.setattr(denote_module.decompose_module, "decompose",
+    monkeypatch.setattr(decompose_module, "decompose",
                         lambda *args: counted.append(1) or real(*args))  # (sees the recursion)
     _forget()
-    denote_program(program, points[0], symbolic=False)
-    once = len(counted)
-    for q in points[1:]:
-        denote_program(program, q, symbolic=False)
+    with observe.counted():
+        denote_program(program, points[0], symbolic=False)
+        once = len(counted)
+        for q in points[1:]:
+            denote_program(program, q, symbolic=False)
     assert once > 0 and len(counted) == 3 * once
     monkeypatch.undo()
     # ∫₀¹ (if a ≥ 0 then x else 1) dx: 1/2 or 1 by the sign of a — decided at each point

@@ -14,6 +14,7 @@ from .. import engines, operational
 from .. import exact as api
 from ..diagnostics import LangurError
 from ..frontend import load_text
+from ..memo import remember
 from ..symbolic import integrate, quadrature
 from ..timebox import budget
 from ..transversality import check_loaded
@@ -209,9 +210,7 @@ def _exact_all(program, params, timeout: float, isolate: bool = True):
     if known is not None and (known[0] != "timeout" or known[2] >= timeout):
         return (*known[:3], {}) if known[0] != "timeout" else (known[0], known[1], None, {})  # nothing spent
     out = _exact_fork(program, params, timeout) if isolate else _exact_answers(program, params, timeout)
-    if len(_reference) >= REFERENCES:
-        _reference.pop(next(iter(_reference)))
-    _reference[key] = out if out[0] != "timeout" else (out[0], out[1], timeout)
+    remember(_reference, key, out if out[0] != "timeout" else (out[0], out[1], timeout), REFERENCES)
     return out
 
 

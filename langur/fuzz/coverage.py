@@ -12,8 +12,10 @@ each kind of diffeomorphism completion met by Fig. 8's diffeomorphic conditional
 Nothing in the semantics knows about coverage: while :func:`recording` is active, each of those
 functions is wrapped (its module's global, through which its ``match`` recurses) by a wrapper
 that calls :func:`fired` with the rule its ``match`` case is about to apply — the rule is the
-case's term constructor — and calls the function.  A call made through a name imported into
-another module before the wrapping is not seen (the first call of a tree; its recursion is).
+case's term constructor — and calls the function; and the rules are marked as watched
+(:func:`langur.observe.counted`), so that no memo skips an application.  A call made through a
+name imported into another module before the wrapping is not seen (the first call of a tree; its
+recursion is).
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ from __future__ import annotations
 import contextlib
 from collections import Counter
 
-from .. import ddenote, denote, exact, sympy_bridge, theorem, typesys
+from .. import ddenote, denote, exact, observe, sympy_bridge, theorem, typesys
 from ..core import Add, Call, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Var
 from ..operational import compile as mc_compile
 from ..symbolic import decompose
@@ -114,7 +116,8 @@ def recording():
             original = getattr(module, name)
             saved.append((module, name, original))
             setattr(module, name, wrap(original))
-        yield
+        with observe.counted():  # (the passes that would skip applications stand aside)
+            yield
     finally:
         for module, name, original in reversed(saved):
             setattr(module, name, original)

@@ -25,6 +25,7 @@ from typing import TypeVar
 import mpmath
 import sympy as sp
 
+from ..memo import remember
 from ..timebox import Deadline
 from ..timebox import run_with_timeout as _run_with_timeout  # nesting-safe SIGALRM limiter
 
@@ -192,9 +193,7 @@ def _memo(fn):
                 raise  # this analysis's budget, not the question's answer: not remembered
             except Undecided as e:
                 hit = (False, e)
-            if len(table) > 100_000:
-                table.clear()
-            table[key] = hit
+            remember(table, key, hit, 100_000, at_once=True)
         ok, value = hit
         if not ok:
             raise value

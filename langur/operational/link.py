@@ -55,6 +55,7 @@ from ..core import (
     substitute_diffeo,
     subterms,
 )
+from ..memo import remember
 from ..modules import Loaded
 from .compile import compile_term
 from .point import UNLINKED, Linking, Unit
@@ -117,9 +118,7 @@ class CompileCache:
         key = (psi, variables)
         s = self.samplers.get(key)
         if s is None:
-            s = self.samplers[key] = SiteSampler(psi, variables)
-            if len(self.samplers) > SAMPLER_CAPACITY:
-                self.samplers.pop(next(iter(self.samplers)))
+            s = remember(self.samplers, key, SiteSampler(psi, variables), SAMPLER_CAPACITY)
         return s
 
     def find(self, key) -> Linked | None:
@@ -133,10 +132,8 @@ class CompileCache:
     def keep(self, key, linked: Linked) -> Linked:
         """Remember ``linked`` under ``key``, forgetting the oldest beyond LINKED_CAPACITY (a long
         session of swaps must not grow the heap without bound)."""
-        self.linked.pop(key, None)
-        self.linked[key] = linked
-        while len(self.linked) > LINKED_CAPACITY:
-            self.linked.pop(next(iter(self.linked)))
+        self.linked.pop(key, None)  # (moved to the end: the least recently used is forgotten first)
+        remember(self.linked, key, linked, LINKED_CAPACITY)
         self.last_link = linked.how
         return linked
 

@@ -10,6 +10,7 @@ import hashlib
 import numpy as np
 
 from ..core import Term, TooManyRoots
+from ..memo import remember
 from .dual import dadd
 from .point import NAN, TANGENT, VALUE, Fn, Linking, Point
 from .signchanges import certified_brackets
@@ -112,9 +113,7 @@ def compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of
                                    "most that many turning points)", span)
             roots = bisection(lambda at: value(at, r), tr[r], a, b)  # every sign change of every row at once
             found = (equation, r, counts, roots)
-            if len(_SIGN_CHANGES) >= 8:
-                _SIGN_CHANGES.pop(next(iter(_SIGN_CHANGES)))
-            _SIGN_CHANGES[key] = found
+            remember(_SIGN_CHANGES, key, found, 8)
         _, r, counts, roots = found
         value_rows = hir.copy()
         has = counts > index

@@ -3,8 +3,7 @@ condition ``[expr ≥ 0]`` (:class:`Cond`, Def. 6.1's simple discontinuity, with
 ``Psi`` when known), a weight made only when needed (:class:`Deferred`), and the evaluation point
 with the decisions taken there (:class:`Context`: every comparison of parameter-only quantities is
 decided at the point and recorded in its ``cell``, where the closed form is valid), and
-:class:`Unsupported`, which sends a piece to quadrature.  Also the bounded memo helper
-:func:`_remember` that the exact engine's caches share.
+:class:`Unsupported`, which sends a piece to quadrature.
 
 Used by :mod:`langur.symbolic.solving` (one condition solved for one variable) and
 :mod:`langur.symbolic.regions` (the iterated integration).
@@ -16,6 +15,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from langur.memo import remember
 from langur.symbolic import local, rational
 from langur.symbolic.pieces import Psi
 from langur.timebox import Deadline
@@ -45,7 +45,7 @@ def _floats40(at: dict) -> dict:
     out = _FLOATS40.get(key)
     if out is None:
         out = {k: sp.Float(float(v), 40) for k, v in at.items()}
-        _remember(_FLOATS40, key, out, 64)
+        remember(_FLOATS40, key, out, 64)
     return out
 
 
@@ -68,7 +68,7 @@ def _canonical(rel_kind: str, expr) -> tuple:
     if out is None:
         _, p = sp.expand(expr).as_content_primitive()
         out = (p, {">": sp.StrictGreaterThan, ">=": sp.GreaterThan, "=": sp.Eq}[rel_kind](p, 0))
-        _remember(_CANONICAL, key, out)
+        remember(_CANONICAL, key, out)
     return out
 
 
@@ -132,7 +132,7 @@ class Context:
                 z = complex(e.evalf(30))
             except TypeError:
                 raise ValueError(f"no value for {sorted(map(str, e.free_symbols))} in {expr}") from None
-            _remember(_VALUES, key, z, VALUES)
+            remember(_VALUES, key, z, VALUES)
         return z
 
     def exact_value(self, expr) -> complex:
@@ -212,9 +212,3 @@ def nearly_real(z: complex) -> bool:
     """Whether the 30-digit value ``z`` is real up to :data:`IMAGINARY_NOISE`."""
     return abs(z.imag) <= IMAGINARY_NOISE * max(1.0, abs(z.real))
 
-
-def _remember(cache: dict, key, value, size: int = 2048) -> None:
-    """``cache[key] = value``, the oldest entry dropped beyond ``size``."""
-    if len(cache) >= size:
-        cache.pop(next(iter(cache)))
-    cache[key] = value

@@ -21,9 +21,9 @@ import mpmath
 import sympy as sp
 
 from langur.implicit import ImplicitRootFn
+from langur.memo import remember
 from langur.symbolic import local
 from langur.symbolic.context import Cond, Context, Deferred
-from langur.symbolic.context import _remember as remember
 from langur.symbolic.pieces import DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
 from langur.symbolic.quadrature.deltaproblems import cofactor_det

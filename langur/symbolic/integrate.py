@@ -43,8 +43,9 @@ from typing import Iterator, Sequence
 import sympy as sp
 
 from langur.implicit import ImplicitRootFn
+from langur.memo import remember as _remember
 from langur.symbolic import delta, local, quadrature, regions
-from langur.symbolic.context import Cond, Context, Unsupported, _remember
+from langur.symbolic.context import Cond, Context, Unsupported
 from langur.symbolic.nounits import units_unloaded
 from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
 from langur.symbolic.quadrature import UndefinedIntegral

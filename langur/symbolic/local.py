@@ -33,6 +33,8 @@ from typing import Iterator
 
 import sympy as sp
 
+from langur.memo import remember
+
 #: Conditions (plus weight) at least this large (tree nodes) take the local path (the ray-traced
 #: triangle's are 500–2,000; the renderer's quad_shader, 150, keeps its closed form for all
 #: parameter values, which `render --exact` evaluates over the whole image).
@@ -438,7 +440,7 @@ def _affine(e, x, y, memo):
         out = None if (a.free_symbols | b.free_symbols) & {x, y} else \
             (a, b, e.xreplace({x: sp.Integer(0), y: sp.Integer(0)}))
     if not has_any(e, (sp.Float,)):
-        _keep(_LINES, key, out)
+        remember(_LINES, key, out, GEOMETRY)
     return out
 
 
@@ -455,12 +457,6 @@ _RELATIONS: dict = {}
 GEOMETRY = 4096
 
 
-def _keep(memo: dict, key, value) -> None:
-    if len(memo) >= GEOMETRY:
-        memo.pop(next(iter(memo)))
-    memo[key] = value
-
-
 def _vertex(li: tuple, lj: tuple, keep: bool) -> tuple:
     """The meeting point of the lines ``li`` and ``lj`` (Cramer's rule), remembered when ``keep``."""
     hit = _VERTICES.get((li, lj))
@@ -469,7 +465,7 @@ def _vertex(li: tuple, lj: tuple, keep: bool) -> tuple:
         det = ai * bj - aj * bi
         hit = ((bi * cj - bj * ci) / det, (aj * ci - ai * cj) / det)
         if keep:
-            _keep(_VERTICES, (li, lj), hit)
+            remember(_VERTICES, (li, lj), hit, GEOMETRY)
     return hit
 
 
@@ -484,7 +480,7 @@ def _relation(line: tuple, X, Y, keep: bool):
         # second per relation trying)
         hit = None if rel.is_number else sp.StrictGreaterThan(rel, 0, evaluate=False)
         if keep:
-            _keep(_RELATIONS, key, hit)
+            remember(_RELATIONS, key, hit, GEOMETRY)
     return hit
 
 
@@ -753,9 +749,7 @@ MONOMIAL_MEMO = 20_000
 def _monomial_memos(x, y) -> tuple[dict, dict]:
     memos = _MONOMIALS.get((x, y))
     if memos is None or len(memos[0]) + len(memos[1]) > MONOMIAL_MEMO:
-        if len(_MONOMIALS) >= 8:
-            _MONOMIALS.pop(next(iter(_MONOMIALS)))
-        memos = _MONOMIALS[(x, y)] = ({}, {})
+        memos = remember(_MONOMIALS, (x, y), ({}, {}), 8)
     return memos
 
 
@@ -779,9 +773,7 @@ def _triangle_points(x0, y0, x1, y1, x2, y2, rule) -> tuple:
     out = (jac / 2, [(_q(w), x0 + _q(s) * (x1 - x0) + _q(t) * (x2 - x0), y0 + _q(s) * (y1 - y0) + _q(t) * (y2 - y0),
                       {}) for s, t, w in rule])
     if not any(has_any(v, (sp.Float,)) for v in key[:6]):
-        if len(_TRIANGLES) >= TRIANGLES:
-            _TRIANGLES.pop(next(iter(_TRIANGLES)))
-        _TRIANGLES[key] = out
+        remember(_TRIANGLES, key, out, TRIANGLES)
     return out
 
 
@@ -1053,9 +1045,7 @@ def _root_formulas(expr, v):
     out = _SHAPES.get(key)
     if out is None:
         out = _shape_formulas(e, v, None)
-        _SHAPES[key] = False if out is None else out
-        if len(_SHAPES) > 2048:
-            _SHAPES.pop(next(iter(_SHAPES)))
+        remember(_SHAPES, key, False if out is None else out, 2048)
     if out is None or out is False:
         return None
     return [([r.xreplace(back) for r in rs], tuple(c.xreplace(back) for c in cs)) for rs, cs in out]

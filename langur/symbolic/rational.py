@@ -14,6 +14,8 @@ from fractions import Fraction
 
 import sympy as sp
 
+from langur.memo import remember
+
 
 def rational_value(expr, point: dict, memo: dict | None = None):
     """``expr`` at ``point`` (symbols → Rationals) as an exact Fraction, for forms built from
@@ -96,9 +98,7 @@ class _Tape:
                 tape = cls(expr)
             except _NotRational as exc:
                 tape = exc
-            if len(_TAPES) >= 64:
-                _TAPES.pop(next(iter(_TAPES)))
-            _TAPES[expr] = tape
+            remember(_TAPES, expr, tape, 64)
         if isinstance(tape, Exception):
             raise tape
         return tape
@@ -145,9 +145,7 @@ class _Tape:
                     v = (abs(a[0]), a[1])
                 vals.append(v)
                 known[node] = v
-            if len(self._values) >= VALUE_POINTS:
-                self._values.pop(next(iter(self._values)))
-            self._values[key] = vals
+            remember(self._values, key, vals, VALUE_POINTS)
         return vals
 
     def slope(self, vals: list, tangent: dict):
@@ -370,12 +368,7 @@ def _point_values(point: dict) -> dict:
     """The remembered values of subtrees at ``point`` (a new dict for a new point)."""
     key = _point_key(point)
     memo = _VALUES.pop(key, None)  # (moved to the end: the oldest point is dropped first)
-    if memo is None:
-        memo = {}
-        if len(_VALUES) >= VALUE_POINTS:
-            _VALUES.pop(next(iter(_VALUES)))
-    _VALUES[key] = memo
-    return memo
+    return remember(_VALUES, key, {} if memo is None else memo, VALUE_POINTS)
 
 
 def _value_of(e, memo: dict, point: dict):

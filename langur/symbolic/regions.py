@@ -38,8 +38,9 @@ from typing import Sequence
 
 import sympy as sp
 
+from langur.memo import remember as _remember
 from langur.symbolic import elementary, local
-from langur.symbolic.context import Cond, Context, Deferred, Unsupported, _made, _remember
+from langur.symbolic.context import Cond, Context, Deferred, Unsupported, _made
 from langur.symbolic.solving import (
     _away_from_zero,
     _closed_roots,

@@ -23,8 +23,9 @@ import mpmath
 import sympy as sp
 
 from langur.implicit import unsolvable
+from langur.memo import remember as _remember
 from langur.symbolic import local
-from langur.symbolic.context import Cond, Context, Unsupported, _floats40, _remember, nearly_real
+from langur.symbolic.context import Cond, Context, Unsupported, _floats40, nearly_real
 from langur.symbolic.text import math_lambdify, shared_lambdify
 
 # ------------------------------------------------------------------------------------------
@@ -180,9 +181,7 @@ def _vanishes_at(expr, v, root, ctx: Context) -> bool:
     key = (expr, v, root, tuple(ctx.at.items()))
     hit = _VANISHES.get(key)
     if hit is None:
-        hit = _VANISHES[key] = _vanishes_at_point(expr, v, root, ctx)
-        if len(_VANISHES) > 2048:
-            _VANISHES.pop(next(iter(_VANISHES)))
+        hit = _remember(_VANISHES, key, _vanishes_at_point(expr, v, root, ctx))
     return hit
 
 

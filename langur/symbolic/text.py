@@ -22,6 +22,7 @@ from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import MpmathPrinter, PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
+from ..memo import remember
 from .local import any_node, atoms_of
 from .pieces import Condition, DeltaPiece, Method, Piece, Psi
 
@@ -95,9 +96,7 @@ class _SharedCode(_Shared):
         declared = self._declared()
         out = super()._print(expr)
         if declared == self._declared():
-            if len(texts) >= CODE_TEXTS:
-                texts.clear()
-            texts[expr] = out
+            remember(texts, expr, out, CODE_TEXTS, at_once=True)
             known = _CODE_IMPORTS.setdefault(type(self), {})
             for mod, names in self.module_imports.items():
                 if not names <= known.get(mod, set()):

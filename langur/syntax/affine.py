@@ -44,6 +44,7 @@ from ..core import (
     small_value,
     tree_size,
 )
+from ..memo import make_room
 
 #: Largest |exponent| folded exactly (``2^k`` with a constant base): beyond it, the sympy path.
 MAX_EXPONENT = 64
@@ -213,8 +214,7 @@ def solved_at(cond: Term, variables: tuple[str, ...], solved: tuple, constant: F
     key = (constant.numerator, constant.denominator)  # (two ints hash in C; a Fraction in Python)
     branches = known.get(key)
     if branches is None:
-        if len(known) >= 4096:
-            known.clear()
+        make_room(known, 4096, at_once=True)
         parts = known.get(_PARTS)
         if parts is None:
             parts = known[_PARTS] = _atoms(terms)

@@ -14,6 +14,7 @@ from typing import Callable, Sequence
 import numpy as np
 import sympy as sp
 
+from langur.memo import remember
 from langur.symbolic.local import atoms_of, free_symbols
 from langur.symbolic.text import shared_lambdify
 
@@ -38,9 +39,7 @@ def _floats(at: dict) -> dict:
     if out is None:
         out = {k: sp.Float(float(v), 30) for k, v in at.items()}
         if key is not None:
-            if len(_FLOATS) >= 64:
-                _FLOATS.pop(next(iter(_FLOATS)))
-            _FLOATS[key] = out
+            remember(_FLOATS, key, out, 64)
     return out
 
 
@@ -75,9 +74,7 @@ def _compile(args: tuple, e) -> tuple[Callable | None, Callable | None]:
         out = (None, shared_lambdify(list(args), e, "mpmath"))
     except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
         out = (shared_lambdify(list(args), e, "math"), None)
-    if len(_COMPILED) >= COMPILED:
-        _COMPILED.pop(next(iter(_COMPILED)))
-    _COMPILED[key] = out
+    remember(_COMPILED, key, out, COMPILED)
     return out
 
 
@@ -154,9 +151,7 @@ def _vectorize(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable | None:
             f = None
         except Exception:  # noqa: BLE001 - a domain error at the probe point is fine
             pass
-        if len(_VECTORIZED) >= COMPILED:
-            _VECTORIZED.pop(next(iter(_VECTORIZED)))
-        _VECTORIZED[key] = f
+        remember(_VECTORIZED, key, f, COMPILED)
     if f is None:
         return None
     extra = tuple(float(at[k]) for k in params)

@@ -13,6 +13,7 @@ import numpy as np
 import sympy as sp
 
 from langur.implicit import ImplicitRootFn
+from langur.memo import remember
 from langur.symbolic.local import free_symbols
 from langur.symbolic.pieces import DeltaPiece
 from langur.symbolic.quadrature.brackets import _implied_by_bracket
@@ -125,9 +126,7 @@ def _forward_det(psi):
     jac = _FORWARD_DETS.get((psi.forward, psi.variables))
     if jac is None:  # (only evaluated numerically: the cofactor formula, not sympy's simplifying det)
         jac = jacobian_det(psi.forward, psi.variables)
-        if len(_FORWARD_DETS) >= COMPILED:
-            _FORWARD_DETS.pop(next(iter(_FORWARD_DETS)))
-        _FORWARD_DETS[(psi.forward, psi.variables)] = jac
+        remember(_FORWARD_DETS, (psi.forward, psi.variables), jac, COMPILED)
     return jac
 
 

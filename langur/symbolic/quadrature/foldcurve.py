@@ -16,6 +16,7 @@ import sympy as sp
 from scipy import optimize as so
 
 from langur.implicit import ImplicitRootFn
+from langur.memo import remember
 from langur.symbolic.local import free_symbols
 from langur.symbolic.quadrature.compiling import _floats, _lambdify
 from langur.symbolic.quadrature.fold import _fold_timeout
@@ -212,8 +213,7 @@ def _add_fold_guards(p: NumProblem, level: int) -> None:
                 for _, dphi, jumps, _ in parts:
                     found = _roots(lambda t, dphi=dphi: dphi(*args, t), vlo, vhi)
                     out.append([t for t in found if all(abs(t - d) > FOLD_STEP * 64 * max(1.0, abs(d)) for d in jumps)])
-                last.clear()
-                last[args] = out
+                remember(last, args, out, 1)
             return out
 
         def roots(*args, parts=parts, crits=crits):

@@ -12,6 +12,7 @@ import sympy as sp
 from sympy.polys.constructor import construct_domain
 from sympy.polys.polyerrors import CoercionFailed
 
+from langur.memo import make_room, remember
 from langur.symbolic.local import degree, free_symbols, rational_form
 from langur.symbolic.quadrature.compiling import COMPILED, _lambdify
 from langur.symbolic.quadrature.problem import NumProblem, _depends
@@ -80,15 +81,12 @@ def _kink_functions(p: NumProblem, level: int):
             exprs += [(e, False) for e in _crossings(p, level, parametric)]
             if not parametric:
                 exprs += [(e, False) for e in _at_levels(p, level)]
-        if len(_KINKS) >= COMPILED:
-            _KINKS.pop(next(iter(_KINKS)))
-        _KINKS[key] = exprs
+        remember(_KINKS, key, exprs, COMPILED)
     if parametric and level + 1 < len(p.syms):  # numeric roots at these parameter values
         key = (tuple((c.expr, c.level) for c in symbolic), tuple(p.syms), tuple(p.bounds), level, "levels")
         levels = _KINKS.get(key)
         if levels is None:
-            if len(_KINKS) >= COMPILED:
-                _KINKS.pop(next(iter(_KINKS)))
+            make_room(_KINKS, COMPILED)
             levels = _KINKS[key] = _at_levels(p, level)
         exprs = exprs + [(e, False) for e in levels]
     for e, tangent in exprs:
@@ -186,9 +184,7 @@ def _coefficients_in(e: sp.Expr, v: sp.Symbol) -> tuple | bool:
             known = coeffs if eligible else False
         except (sp.PolynomialError, sp.GeneratorsNeeded):
             known = False
-        if len(_CROSSES) >= COMPILED:
-            _CROSSES.pop(next(iter(_CROSSES)))
-        _CROSSES[key] = known
+        remember(_CROSSES, key, known, COMPILED)
     return known
 
 
@@ -237,9 +233,7 @@ def _crossing(e1: sp.Expr, e2: sp.Expr, v: sp.Symbol, w: sp.Symbol) -> sp.Expr |
     out, final, normalized = _square_free(r, w)
     if final:
         exact = _rational_polynomial(e1) and _rational_polynomial(e2)
-        if len(_PAIRS) >= COMPILED:
-            _PAIRS.pop(next(iter(_PAIRS)))
-        _PAIRS[(e1, e2, v, w)] = (out, exact and normalized)
+        remember(_PAIRS, (e1, e2, v, w), (out, exact and normalized), COMPILED)
     return out
 
 
@@ -309,9 +303,7 @@ def _square_free(r: sp.Expr, v: sp.Symbol) -> tuple[sp.Expr, bool, bool]:
         return hit[0], True, hit[1]
     out, final, normalized = _square_free_part(r, v)
     if final:  # (a time limit's fallback is not kept: asked again, as :func:`_critical_points` does)
-        if len(_SQUARE_FREE) >= COMPILED:
-            _SQUARE_FREE.pop(next(iter(_SQUARE_FREE)))
-        _SQUARE_FREE[key] = (out, normalized)
+        remember(_SQUARE_FREE, key, (out, normalized), COMPILED)
     return out, final, normalized
 
 
@@ -354,9 +346,7 @@ def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
     if known is None:
         known, final = _solve_critical(e, v)
         if final:
-            if len(_CRITICAL) >= COMPILED:
-                _CRITICAL.pop(next(iter(_CRITICAL)))
-            _CRITICAL[key] = known
+            remember(_CRITICAL, key, known, COMPILED)
     return list(known)
 
 

@@ -10,6 +10,7 @@ from typing import Sequence
 
 import sympy as sp
 
+from langur.memo import remember
 from langur.symbolic.local import free_symbols, rational_form
 from langur.symbolic.pieces import Piece, Psi
 from langur.symbolic.quadrature.compiling import OnFirstCall, _floats, _lambdify, _num, _vectorize
@@ -126,9 +127,7 @@ def quad_pieces(pieces: Sequence[Piece], variables, box, at: dict,
             prob = piece_problem(pc, variables, box, at)
             v, e = integrate_problem(prob)
             if key is not None:
-                if len(_DONE) >= DONE:
-                    _DONE.pop(next(iter(_DONE)))
-                _DONE[key] = (v, e, prob)
+                remember(_DONE, key, (v, e, prob), DONE)
         else:
             v, e, prob = hit
         val += v

@@ -13,6 +13,7 @@ from typing import Callable, Sequence
 import sympy as sp
 
 from langur.implicit import ImplicitRootFn
+from langur.memo import make_room
 from langur.symbolic.local import free_symbols
 from langur.symbolic.quadrature.roots import _poly_roots, _roots
 
@@ -188,8 +189,7 @@ def _by_outer(fn: Callable[..., list[float]], deps: tuple[int, ...], level: int)
         key = tuple(prefix[i] for i in deps)
         out = memo.get(key)
         if out is None:
-            if len(memo) >= BY_OUTER:
-                memo.clear()
+            make_room(memo, BY_OUTER, at_once=True)
             out = memo[key] = list(fn(*prefix))
         return out
 

@@ -15,6 +15,7 @@ import numpy as np
 import sympy as sp
 from scipy import optimize as so
 
+from langur.memo import remember
 from langur.symbolic import local
 from langur.symbolic.local import free_symbols
 from langur.symbolic.quadrature.compiling import COMPILED, printable
@@ -128,9 +129,7 @@ def _coefficients(expr, syms: tuple, level: int, params: tuple = ()):
                 pass
     except (sp.PolynomialError, sp.GeneratorsNeeded):
         pass
-    if len(_COEFFICIENTS) >= COMPILED:
-        _COEFFICIENTS.pop(next(iter(_COEFFICIENTS)))
-    _COEFFICIENTS[key] = fn
+    remember(_COEFFICIENTS, key, fn, COMPILED)
     return fn
 
 
