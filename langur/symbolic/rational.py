@@ -233,9 +233,7 @@ class _Tape:
                         v = (abs(a), r)
                     known[node] = v
                 vals.append(v)
-            if len(self._balls) >= VALUE_POINTS:
-                self._balls.pop(next(iter(self._balls)))
-            self._balls[key] = vals
+            remember(self._balls, key, vals, VALUE_POINTS)
         return vals
 
     def ball_slope(self, vals: list, tangent: dict):
@@ -556,13 +554,8 @@ _BALLS: dict = {}
 def _point_balls(point: dict) -> dict:
     """The remembered balls of subtrees at ``point`` (a new dict for a new point)."""
     key = _point_key(point)
-    memo = _BALLS.pop(key, None)
-    if memo is None:
-        memo = {}
-        if len(_BALLS) >= VALUE_POINTS:
-            _BALLS.pop(next(iter(_BALLS)))
-    _BALLS[key] = memo
-    return memo
+    memo = _BALLS.pop(key, None)  # (moved to the end: the oldest point is dropped first)
+    return remember(_BALLS, key, {} if memo is None else memo, VALUE_POINTS)
 
 
 def _ball_of(e, memo: dict, point: dict):

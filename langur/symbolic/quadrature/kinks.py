@@ -221,9 +221,7 @@ def _crossing(e1: sp.Expr, e2: sp.Expr, v: sp.Symbol, w: sp.Symbol) -> sp.Expr |
     except Exception:  # noqa: BLE001 - a time limit (or a sympy failure): sympy's resultant, as before
         out = None
     if out is not None:
-        if len(_PAIRS) >= COMPILED:
-            _PAIRS.pop(next(iter(_PAIRS)))
-        _PAIRS[(e1, e2, v, w)] = (out, True)
+        remember(_PAIRS, (e1, e2, v, w), (out, True), COMPILED)
         return out
     try:
         r = run_with_timeout(lambda: sp.resultant(e1, e2, v), RESULTANT_SECONDS, cpu=True)
