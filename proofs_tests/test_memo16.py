@@ -84,7 +84,7 @@ def test_sites_keep_their_own_sizes(monkeypatch):
     assert kinks._crosses(v ** 2 - 3, v) is True  # by hand: degree 2 in x, coefficients free of x
     assert len(kinks._CROSSES) == compiling.COMPILED
     assert ("filler", 0) not in kinks._CROSSES and ("filler", 1) in kinks._CROSSES
-    assert kinks._CROSSES[(v ** 2 - 3, v)] is True
+    assert kinks._CROSSES[(v ** 2 - 3, v)] == (1, 0, -3)  # its coefficients in x, kept for the crossings
     monkeypatch.setattr(compiling, "_FLOATS", {})
     for i in range(70):
         compiling._floats({v: i})
