@@ -61,29 +61,6 @@ COMPILED = 4096
 _COMPILED: dict = {}
 
 
-#: Expressions with the point's values substituted (:func:`at_floats`), by (expression, point).
-_AT_FLOATS: dict = {}
-
-
-def at_floats(expr: sp.Expr, at: dict) -> sp.Expr:
-    """``expr.xreplace(_floats(at))``, remembered by (expression, point): each delta piece's
-    problem substitutes the point into the same box and zero-set conditions (stylize/quadratic
-    ∂py: 8 distinct of 56, each a rebuild with 30-digit Float arithmetic).  ``_floats(at)`` is a
-    pure function of the point's items and ``xreplace`` of the expression and that dict, so the key
-    determines the answer (sympy expressions are immutable: sharing one is safe)."""
-    try:
-        key = (expr, tuple(at.items()))
-        out = _AT_FLOATS.get(key)
-    except TypeError:  # (an unhashable value: substituted each time)
-        return expr.xreplace(_floats(at))
-    if out is None:
-        out = expr.xreplace(_floats(at))
-        if len(_AT_FLOATS) >= COMPILED:
-            _AT_FLOATS.pop(next(iter(_AT_FLOATS)))
-        _AT_FLOATS[key] = out
-    return out
-
-
 def _compile(args: tuple, e) -> tuple[Callable | None, Callable | None]:
     """``(math function, None)`` or, for a function ``math`` lacks, ``(None, mpmath function)``."""
     key = (args, e)
