@@ -145,14 +145,33 @@ def _expanded_coefficients(expr, v) -> list | None:
         return None
     by_power: dict = {}
     for term in sp.Add.make_args(sp.expand(expr)):
-        c, k = term.as_coeff_exponent(v)
-        if not (k.is_Integer and 0 <= k) or v in free_symbols(c):
+        k, rest = _split_power(term, v)
+        if k is None:
             return None
-        by_power.setdefault(int(k), []).append(c)
+        by_power.setdefault(k, []).append(sp.Mul(*rest))
     top = max(by_power, default=0)
     if not 1 <= top <= 8:
         return None
     return [sp.Add(*by_power[k]) if k in by_power else sp.Integer(0) for k in range(top, -1, -1)]
+
+
+def _split_power(term, v) -> tuple[int | None, list]:
+    """A term of an expanded polynomial (a number times powers of symbols) as ``(k, rest)``:
+    ``term = v**k · Π rest`` with ``v`` not in ``rest``; ``(None, [])`` when ``v`` appears otherwise.
+    The factors of sympy's ``Mul`` directly: ``term.as_coeff_exponent(v)`` gives the same ``k`` and
+    coefficient (``Mul(*rest)``: the same factors, in sympy's canonical order) but first runs
+    ``collect`` on the term, which was a third of :func:`_expanded_coefficients`."""
+    k, rest = 0, []
+    for f in sp.Mul.make_args(term):
+        if f == v:
+            k += 1
+        elif f.is_Pow and f.base == v and f.exp.is_Integer and f.exp > 0:
+            k += int(f.exp)
+        elif v in free_symbols(f):
+            return None, []
+        else:
+            rest.append(f)
+    return k, rest
 
 
 #: A complex root counts as real (a double root perturbed by rounding) when its imaginary part is
