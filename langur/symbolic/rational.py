@@ -506,45 +506,40 @@ def _sign(ball) -> int:
     raise _Uncertain()
 
 
-def dual_derivative_float(expr, point: dict, tangent: dict) -> float | None:
-    """``float(dual_derivative(expr, point, tangent))`` (the same double; None where that is
-    None), from balls when they decide it, else from the exact value."""
+def _decided(by_balls, exact, of_exact):
+    """``by_balls()`` when the balls decide it; None for a form that is not rational; else
+    ``of_exact`` of the exact value ``exact()`` (None where that is None)."""
     try:
-        tape = _Tape.of(sp.sympify(expr))
-        slope = tape.ball_slope(tape.balls(point), tangent)
-        return _double(slope)
+        return by_balls()
     except _NotRational:
         return None
     except _Uncertain:
         pass
-    exact = dual_derivative(expr, point, tangent)
-    return None if exact is None else float(exact)
+    value = exact()
+    return None if value is None else of_exact(value)
+
+
+def dual_derivative_float(expr, point: dict, tangent: dict) -> float | None:
+    """``float(dual_derivative(expr, point, tangent))`` (the same double; None where that is
+    None), from balls when they decide it, else from the exact value."""
+    def by_balls():
+        tape = _Tape.of(sp.sympify(expr))
+        return _double(tape.ball_slope(tape.balls(point), tangent))
+    return _decided(by_balls, lambda: dual_derivative(expr, point, tangent), float)
 
 
 def float_value(expr, point: dict) -> float | None:
     """``float(rational_value(expr, point))`` (the same double; None where that is None), from
     balls when they decide it, else from the exact value."""
-    try:
-        return _double(_ball_of(sp.sympify(expr), _point_balls(point), point))
-    except _NotRational:
-        return None
-    except _Uncertain:
-        pass
-    exact = rational_value(expr, point)
-    return None if exact is None else float(exact)
+    return _decided(lambda: _double(_ball_of(sp.sympify(expr), _point_balls(point), point)),
+                    lambda: rational_value(expr, point), float)
 
 
 def sign_value(expr, point: dict) -> int | None:
     """The sign (−1, 0, 1) of ``rational_value(expr, point)`` (None where that is None), from
     balls when they decide it, else from the exact value."""
-    try:
-        return _sign(_ball_of(sp.sympify(expr), _point_balls(point), point))
-    except _NotRational:
-        return None
-    except _Uncertain:
-        pass
-    exact = rational_value(expr, point)
-    return None if exact is None else (exact > 0) - (exact < 0)
+    return _decided(lambda: _sign(_ball_of(sp.sympify(expr), _point_balls(point), point)),
+                    lambda: rational_value(expr, point), lambda q: (q > 0) - (q < 0))
 
 
 #: Balls of subtrees by evaluation point, as :data:`_VALUES`.
