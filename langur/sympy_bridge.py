@@ -11,6 +11,8 @@ core terms as sympy expressions through this module; the Monte Carlo engine neve
   ``Prim('sqrt', b)``.  Sympy keeps its arguments in a canonical order, so the same expression
   always gives the same term (the completion of a condition is deterministic).
 * :func:`symbol`, :func:`const_expr`, :func:`exact_number`, :func:`at_symbols`: names and numbers.
+* :func:`magnitude`: the size of an expression's terms, against which a numeric zero test reads a
+  value (the linter's and the quadrature's "vanishes identically on the zero set").
 """
 
 from __future__ import annotations
@@ -97,6 +99,20 @@ def exact_number(v) -> sp.Expr:
 def at_symbols(at: Mapping[str, object] | None) -> dict[sp.Symbol, sp.Expr]:
     """``{"theta": 0.5}`` → ``{theta: 1/2}`` (symbols and exact numbers)."""
     return {symbol(k): exact_number(v) for k, v in (at or {}).items()}
+
+
+def magnitude(expr: sp.Expr) -> sp.Expr:
+    """A bound of the size of ``expr``'s values made of its terms' sizes: sums and products of the
+    terms' absolute values (a sum that cancels keeps a large magnitude; a term as small as
+    ``y/10**13`` is all of its own), and at least 1 for a function's value, whose argument may
+    cancel to 0.  A value far below its magnitude is rounding, whatever the scale."""
+    if expr.is_Add or expr.is_Mul:
+        return expr.func(*(magnitude(a) for a in expr.args))
+    if expr.is_Pow and expr.exp.is_Integer and expr.exp > 0:
+        return magnitude(expr.base) ** expr.exp
+    if expr.is_Symbol or expr.is_number:
+        return sp.Abs(expr)
+    return sp.Abs(expr) + 1
 
 
 def derivative_function(op: str) -> Callable[[sp.Expr], sp.Expr]:

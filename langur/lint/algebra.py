@@ -26,6 +26,7 @@ import mpmath
 import sympy as sp
 
 from ..memo import remember
+from ..sympy_bridge import magnitude
 from ..timebox import Deadline
 from ..timebox import run_with_timeout as _run_with_timeout  # nesting-safe SIGALRM limiter
 
@@ -238,6 +239,8 @@ def vanishes(
     try:
         if timed(lambda: _plainly_zero(expr), CHEAP_LIMIT):
             return True
+        if _rational_function(expr):
+            return False  # ``cancel`` decides a rational function over the rationals exactly
     except BudgetSpent:
         raise
     except Undecided:
@@ -250,9 +253,21 @@ def vanishes(
         return True
     if s == 0:
         return True
-    # simplify could not show it; a few more samples decide.
-    more = spot_values(expr, symbols, guards, seed + 1, points=3 * SPOT_POINTS)
-    return bool(more) and all(abs(v) <= _TOL for v in more)
+    # simplify could not show it; a few more samples decide, each value against the size of the
+    # terms it is made of (``y/10**13`` is small, not zero: its value is all of its size).
+    more = spot_values(expr / magnitude(expr), symbols, guards, seed + 1, points=3 * SPOT_POINTS)
+    return bool(more) and all(abs(v) <= _RELATIVE_TOL for v in more)
+
+
+#: A spot value (:data:`_SPOT_DPS` digits) this small against its :func:`~langur.sympy_bridge.magnitude` is rounding.
+_RELATIVE_TOL = 1e-20
+
+
+def _rational_function(expr: sp.Expr) -> bool:
+    """Is ``expr`` made of rationals and symbols by +, · and integer powers?  Then
+    :func:`_plainly_zero`'s ``cancel`` is a decision, not only a proof."""
+    return all(n.is_Symbol or n.is_Rational or n.is_Add or n.is_Mul or (n.is_Pow and n.exp.is_Integer)
+               for n in sp.preorder_traversal(expr))
 
 
 def _equations(expr: sp.Expr, inner: tuple[sp.Symbol, ...], seed: int) -> list[sp.Expr]:

@@ -20,20 +20,25 @@ from langur.symbolic.quadrature.brackets import _implied_by_bracket
 from langur.symbolic.quadrature.compiling import COMPILED, _floats, _lambdify, _num
 from langur.symbolic.quadrature.nested import integrate_problem
 from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
+from langur.sympy_bridge import magnitude
 
 
 def _vanishes(expr, syms, bounds, at) -> bool:
-    """Numerically zero at a few pseudo-random points of the u' box."""
+    """Numerically zero at a few pseudo-random points of the u' box: each value rounding against
+    the size of the terms it is made of (:func:`~langur.sympy_bridge.magnitude`; ``y/10**13`` is a
+    condition, not 0)."""
     expr = sp.sympify(expr)
     if expr.is_number:
         return abs(_num(expr, at)) < 1e-300
     f = _lambdify(syms, expr, at)
     rng = np.random.default_rng(12345)
-    for _ in range(5):
-        v = f(*[rng.uniform(lo, hi) for lo, hi in bounds])
-        if math.isnan(v) or abs(v) > 1e-12:
-            return False
-    return True
+    points = [[rng.uniform(lo, hi) for lo, hi in bounds] for _ in range(5)]
+    values = [f(*u) for u in points]
+    if any(math.isnan(v) or abs(v) > 1e-6 for v in values):
+        return False  # (the common answer, without the magnitude's compilation: rounding that large
+        # needs terms of size 10¹⁰, and then the condition is taken for nonzero, as it always was)
+    scale = _lambdify(syms, magnitude(expr), at)
+    return all(abs(v) <= 1e-12 * scale(*u) for v, u in zip(values, points))
 
 
 def cofactor_det(m: sp.Matrix) -> sp.Expr:
