@@ -72,6 +72,7 @@ CODES: dict[str, Code] = _catalogue(
     Code("T231", "constant beyond the range of doubles"),
     Code("T232", "vector component out of range"),
     Code("T233", "let shadows a name that a let-bound vector uses"),
+    Code("T234", "power too large to compute exactly"),
     # X3xx: transversality and integrability (langur check)
     Code("X301", "Two multiplying conditions (or one multiplied by itself through a power or primitive) have the "
          "same zero set for every parameter value: the derivative counts the jump twice (Def. 7.2).",

@@ -11,6 +11,7 @@ core terms as sympy expressions through this module; the Monte Carlo engine neve
   ``Prim('sqrt', b)``.  Sympy keeps its arguments in a canonical order, so the same expression
   always gives the same term (the completion of a condition is deterministic).
 * :func:`symbol`, :func:`const_expr`, :func:`exact_number`, :func:`at_symbols`: names and numbers.
+* :data:`MAX_EXPONENT`, :func:`exponent_weight`: the bound on the powers ⟦·⟧ computes (T234).
 * :func:`magnitude`: the size of an expression's terms, against which a numeric zero test reads a
   value (the linter's and the quadrature's "vanishes identically on the zero set").
 """
@@ -41,11 +42,13 @@ from .core import (
     Prim,
     Term,
     Var,
+    children,
     free_vars,
     shared,
     smooth,
     subterms,
 )
+from .diagnostics import LangurError, error
 from .implicit import implicit_root
 from .primitives import REGISTRY
 
@@ -144,12 +147,16 @@ def denote(t: Term, env: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
         case Prim(op, a):  # LANGUAGE.md §1, smooth primitive f(t)
             return FUNCTIONS[op](denote(a, env))
         case Pow(a, k):  # LANGUAGE.md §1, constant power t ^ k
+            if exponent_weight(t) > MAX_EXPONENT:
+                raise too_heavy(t)
             return denote(a, env) ** const_expr(k)
         case IfGe0(c, a, b):  # Fig. 7, conditional: ⟦s⟧ if ⟦t⟧(·, γ) ≥ 0 else ⟦r⟧
             return sp.Piecewise((denote(a, env), denote(c, env) >= 0), (denote(b, env), True))
         case IfDiffeo(psi, a, b):  # Fig. 7, diffeomorphic conditional: ⟦s⟧ if π₀Ψ̂(ρ, γ) ≥ 0 else ⟦r⟧
             return sp.Piecewise((denote(a, env), denote(psi.forward[0], env) >= 0), (denote(b, env), True))
         case Let(name, bound, body):  # Fig. 7, let: ⟦s⟧(ρ, γ[z ↦ ⟦t⟧(·, γ)])
+            if exponent_weight(t) > MAX_EXPONENT:
+                raise too_heavy(t)
             return denote(body, {**env, name: denote(bound, env)})
         case Call(module, name, _):
             raise TypeError(f"call of {module}.{name} left in a core term: inline it first")
@@ -158,6 +165,40 @@ def denote(t: Term, env: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
             return implicit_root(denote(eq, inner), symbol(x), denote(target, env), denote(lo, env), denote(hi, env),
                                  index, of, span=t.span, lenient=bool(free_vars(eq) - {x}))
     raise TypeError(f"not a core term: {t!r}")
+
+
+#: The largest exponent ⟦·⟧ computes, multiplied along nested powers and lets (T234): sympy, the
+#: exact engine and the checker raise a parameter's value or a constant to it as an exact
+#: rational, about that many times its bits — ``(2^1000/3)^4096`` takes half a CPU second already,
+#: ``a ^ 100000000`` or ``10 ^ 10 ^ 10`` minutes to forever.  (The Monte Carlo engine computes in
+#: doubles and takes any exponent.)
+MAX_EXPONENT = 4096
+
+
+@shared
+def exponent_weight(t: Term) -> int:
+    """An upper bound of the factor by which ⟦t⟧'s exact values can exceed the bits of its
+    constants and parameters: a leaf weighs 1, ``t ^ (p/q)`` weight(t)·max(|p|, q), ``let z = a in
+    b`` at most weight(a)·weight(b), anything else the largest of its parts (a completed
+    condition's components included).  A sum or a product does not multiply: ``a^4096 * a^4096``
+    weighs 4096."""
+    match t:
+        case Pow(a, k):
+            return exponent_weight(a) * max(abs(k.numerator), k.denominator)
+        case Let(_, bound, body):
+            return exponent_weight(bound) * exponent_weight(body)
+        case IfDiffeo(psi, a, b):
+            return max(exponent_weight(a), exponent_weight(b), *map(exponent_weight, psi.forward))
+    return max(map(exponent_weight, children(t)), default=1)
+
+
+def too_heavy(t: Pow | Let) -> LangurError:
+    """T234 for the power or let ``t`` whose :func:`exponent_weight` exceeds :data:`MAX_EXPONENT`."""
+    what = f"its exponent {t.exponent}" if isinstance(t, Pow) else "the exponent of a power in its body"
+    return error(t.span, "T234", f"power too large to compute exactly: {what}, multiplied by those of the powers "
+                 f"and lets it is nested in, exceeds {MAX_EXPONENT}; the exact engine and the checker compute powers "
+                 "of rationals exactly (write a larger power as "
+                 "exp(k * log(t)) for t > 0, or rescale)")
 
 
 def to_sympy(t: Term, env: Mapping[str, sp.Expr] | None = None) -> sp.Expr:

@@ -65,6 +65,8 @@ CORPUS: dict[str, bytes | str | dict[str, str]] = {
     "huge-number": _program("x * 1e999 * [x <= a]"),
     "tiny-number": _program("x * 1e-400 * [x <= a]"),
     "overflowing-power": _program("x * 10^400 * [x <= a]"),
+    "huge-exponent": _program("x * [x <= a ^ 100000000]"),
+    "power-tower": _program("[x <= 10 ^ 10 ^ 10] * [x <= a]"),
     "long-literal": _program("1" * 5000 + " * x"),
     "nul-bytes": b"param a = 0.5\nint ([0, 1]) x\x00 * [x <= a] d(x)\n",
     "bom-crlf": "\ufeffparam a = 0.5\r\nint ([0, 1]) x * [x <= a] d(x)\r\n",
@@ -184,6 +186,8 @@ EXPECTED_CODE = {
     "long-line": "E108",
     "import-cycle-3": "T219",
     "overflowing-power": "T231",
+    "huge-exponent": "T234",
+    "power-tower": "T234",
 }
 
 

@@ -8,6 +8,7 @@ from .. import progress
 from .. import typesys as ty
 from ..cli import UsageError
 from ..core import Const, IfDiffeo, ImplicitRoot, TooManyRoots, subterms
+from ..diagnostics import LangurError
 
 ENGINE_CHOICES = ["both", "exact", "mc"]
 
@@ -101,6 +102,9 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
         return Undefined(str(e).removeprefix("undefined: ")), 1
     except TooManyRoots as e:  # moving turning points beyond the split, or not certified (issue 18)
         print(_too_many_roots(kind, "exact", e, program), file=sys.stderr)
+        return None, 0
+    except LangurError as e:  # a bound of the exact engine's (T234): located, the other engine still runs
+        print(f"{e}\nlangur {kind}: no exact value (the error above)", file=sys.stderr)
         return None, 0
     except Exception as e:  # noqa: BLE001 - reported, the other engine still runs
         print(f"langur {kind}: no exact value: {type(e).__name__}: {e}", file=sys.stderr)
