@@ -12,13 +12,13 @@ The modules, each importing only those above it in this list:
   variables and parameters, size, depth, small exact value, typing's premises; issue 15);
 * :mod:`.sharing` — terms shared after inlining (§9) are DAGs: hashes kept, equality and passes
   (:func:`shared`) once per distinct node;
-* :mod:`.terms` — §4.1: the term nodes (``Const`` … ``ImplicitRoot``, ``Diffeo`` and its
-  ``InverseBranch`` es), ``Term``, their :func:`children`;
+* :mod:`.terms` — §4.1: the term nodes (``Const`` … ``ImplicitRoot``; ``Diffeo`` with its inverse
+  branches, ``InverseBranch``), ``Term``, their :func:`children`;
 * :mod:`.shapes` — nodes built from a node of the same shape (a loop's copies, issue 15);
 * :mod:`.structural` — small constructors (:func:`const`, :func:`neg`, :func:`product`, …),
   generic traversals (:func:`subterms`, :func:`substitute`, :func:`map_children`, …) and the
   readers of the kept attributes (:func:`free_vars`, :func:`tree_size`, …);
-* :mod:`.programs` — §4.2: ``Program`` and the ``Interval`` s of its domain.
+* :mod:`.programs` — §4.2: ``Program`` and the intervals of its domain (``Interval``).
 
 Here: every public name of these modules, as the rest of langur imports them
 (``from langur.core import Add``).
