@@ -28,7 +28,6 @@ from .core import Program
 from .ddenote import ddenote, ddenote_program
 from .denote import denote, denote_program
 from .symbolic.integrate import for_reading
-from .symbolic.local import size
 from .symbolic.nounits import units_unloaded
 from .symbolic.pieces import Method
 from .symbolic.quadrature import UndefinedIntegral, printable
@@ -42,6 +41,7 @@ from .symbolic.text import (
     psi_text,
     shared_sstr,
 )
+from .symbolic.walks import size
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .theorem import TheoremCheck, check_theorem_8_1
 from .timebox import run_with_timeout

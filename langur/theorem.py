@@ -31,9 +31,9 @@ from .implicit import ImplicitRootFn
 from .onesided import closed_form_sides
 from .symbolic import quadrature
 from .symbolic.context import nearly_real
-from .symbolic.local import atoms_of, has_any, size
 from .symbolic.pieces import Method
 from .symbolic.rational import dual_derivative_float, float_value, sign_value
+from .symbolic.walks import atoms_of, has_any, size
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .timebox import run_with_timeout
 

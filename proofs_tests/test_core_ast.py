@@ -1,4 +1,4 @@
-"""Unit tests of the core AST's structural helpers (langur/core.py)."""
+"""Unit tests of the core AST's structural helpers (langur/core/structural.py)."""
 
 from fractions import Fraction
 

@@ -14,7 +14,7 @@ import pytest
 import scipy.integrate as si
 import sympy as sp
 
-from langur.symbolic import local, rational, solving
+from langur.symbolic import exact_rules, local, rational, root_formulas, solving, walks
 from langur.symbolic.context import Cond, Context
 from langur.symbolic.text import shared_lambdify, shared_sstr
 from langur.timebox import Deadline
@@ -75,12 +75,12 @@ def test_shared_lambdify_generates_sympys_code(seed):
 def test_shared_substitution_builds_sympys_expression(seed):
     e = _random_shared(seed)
     rule = {a: x + 2 * y, b: x * y - sp.Rational(1, 3)}
-    assert local.shared_xreplace(e, rule) == e.xreplace(rule)
+    assert walks.shared_xreplace(e, rule) == e.xreplace(rule)
 
 
 @pytest.mark.parametrize("k", range(0, 4))
 def test_grundmann_moeller_rules_integrate_monomials_like_scipy(k):
-    rule = local.grundmann_moeller(k)
+    rule = exact_rules.grundmann_moeller(k)
     assert len(rule) == (k + 1) * (k + 2) * (k + 3) // 6
     d = 2 * k + 1
     for p in range(d + 1):
@@ -103,7 +103,7 @@ def test_the_chosen_triangle_rule_is_exact_on_a_triangle_with_symbolic_vertices(
     form = jac / 2 * sp.Add(*[sp.Rational(wt.numerator, wt.denominator) * w.xreplace(
         {x: x0 + sp.Rational(s.numerator, s.denominator) * (x1 - x0) + sp.Rational(t.numerator, t.denominator) * (x2 - x0),
          y: y0 + sp.Rational(s.numerator, s.denominator) * (y1 - y0) + sp.Rational(t.numerator, t.denominator) * (y2 - y0)})
-        for s, t, wt in local.triangle_rule(d)])
+        for s, t, wt in exact_rules.triangle_rule(d)])
     pt = {a: sp.Rational(3, 2), b: sp.Rational(5, 3)}
     exact = sp.integrate(w.xreplace(pt), (y, 0, pt[b] * (1 - x / pt[a])), (x, 0, pt[a]))
     assert form.xreplace(pt) == exact
@@ -125,7 +125,7 @@ def _shape(seed: int):
 def test_root_formulas_by_coefficient_lists_find_numpys_roots(seed):
     expr = _shape(seed)
     at = {a: sp.Rational(5, 11), b: sp.Rational(-1, 4)}  # (no coefficient of _shape vanishes there)
-    found = local.closed_roots(expr, x, lambda e: complex(sp.sympify(e).xreplace(at).evalf(30)))
+    found = root_formulas.closed_roots(expr, x, lambda e: complex(sp.sympify(e).xreplace(at).evalf(30)))
     assert found is not None
     roots, poles = found
     num, _ = sp.fraction(sp.together(expr.xreplace(at)))

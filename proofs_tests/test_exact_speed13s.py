@@ -1,6 +1,6 @@
 """Issue 15, exact13s: the stylization kernel's first partial derivatives with less sympy work —
 integer powers of sums rebuilt without sympy's assumption queries in Newton–Cotes sums
-(``local.shared_xreplace``), a polynomial condition's coefficients without ``Poly``
+(``walks.shared_xreplace``), a polynomial condition's coefficients without ``Poly``
 (``quadrature.roots._expanded_coefficients``), the exact values of subtrees at a point shared between
 Theorem 8.1's dual derivatives and exact values (``rational._Tape.values``).  Each gives the same
 expressions and numbers as before; checked here against sympy's own ``xreplace``, ``Poly`` and
@@ -18,7 +18,7 @@ from test_stylize import clip, defaults, kernel
 
 from langur.exact import exact_deriv
 from langur.operational.batch import estimate_batch
-from langur.symbolic import local, rational
+from langur.symbolic import exact_rules, local, rational, walks
 from langur.symbolic.context import Cond, Context
 from langur.symbolic.quadrature import roots
 from langur.sympy_bridge import symbol
@@ -66,12 +66,12 @@ def test_shared_xreplace_is_sympys_xreplace_on_real_rational_forms(monkeypatch):
     rng = random.Random(13)
     forms = [_random_form(rng, 4, (X, Y, A)) for _ in range(150)]
     values = [A + sp.Rational(1, 3) * (B - A), B * C - 2, sp.Rational(5, 7)]
-    ours = [[local.shared_xreplace(e, {X: v}) for v in values] for e in forms]
+    ours = [[walks.shared_xreplace(e, {X: v}) for v in values] for e in forms]
     # powers of two-term sums (terms of a sum), rebuilt: not through sympy's evaluation of a power
     # of a sum (its queries of the terms' assumptions), which leaves them as they are
     sums = (X * A + Y) ** 2 + sp.Abs(A - B) + (X - B) ** -1 + (X * C + B) ** 3
     calls = _count_add_powers(monkeypatch)
-    rebuilt = local.shared_xreplace(sums, {X: B * C - 2})
+    rebuilt = walks.shared_xreplace(sums, {X: B * C - 2})
     assert not calls
     monkeypatch.undo()
     assert sp.srepr(rebuilt) == sp.srepr(sums.xreplace({X: B * C - 2}))
@@ -85,11 +85,11 @@ def test_the_powers_of_sums_that_need_sympys_evaluation_still_get_it():
     cases = [((X + Y) ** 2 * sp.sqrt(A), {X: B}), ((X + z) ** 2, {X: B}), ((X + Y) ** 2, {X: sp.I * B}),
              ((X + Y) ** 3, {X: sp.Float(0.5)}), ((X + Y) ** 2 + sp.sin(X), {X: B})]
     for e, rule in cases:
-        assert not (local.rational_form(e) and all(local.rational_form(v) for v in rule.values()))
-        got = local.shared_xreplace(e, rule)
+        assert not (walks.rational_form(e) and all(walks.rational_form(v) for v in rule.values()))
+        got = walks.shared_xreplace(e, rule)
         assert sp.srepr(got) == sp.srepr(e.xreplace(rule))
     # the imaginary unit's case that evaluation rewrites: (a + I·b)^-1 with b infinite
-    assert not local.rational_form(X + sp.I * sp.oo)
+    assert not walks.rational_form(X + sp.I * sp.oo)
 
 
 def test_newton_cotes_of_a_delta_piece_shaped_weight_is_the_integral():
@@ -97,7 +97,7 @@ def test_newton_cotes_of_a_delta_piece_shaped_weight_is_the_integral():
     v = symbol("v13")
     w = sp.Abs(A - 2 * B) * ((v - A) ** 2 * (B + 1) / (A + 3) + (v * B - 1) ** 3 / (B - A - 5) + (A + v) * C)
     lo, hi = A * B - C, 2 * A + 1
-    got = local.newton_cotes(w, v, lo, hi, 3)
+    got = exact_rules.newton_cotes(w, v, lo, hi, 3)
     want = sp.integrate(w, (v, lo, hi))
     rng = random.Random(5)
     for _ in range(12):  # exactly equal at rational points

@@ -130,7 +130,7 @@ def test_theorem_forms_remembered(monkeypatch):
     """Theorem 8.1's check asks whether a closed form holds a switch and whether it is large at every
     point it compares: answered once per form, the same answers as the walks themselves."""
     from langur import theorem
-    from langur.symbolic.local import has_any, size
+    from langur.symbolic.walks import has_any, size
 
     x, b = sp.symbols("x b", real=True)
     small = sp.Max(x, b) + x**2

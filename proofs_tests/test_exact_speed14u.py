@@ -1,4 +1,4 @@
-"""Issue 15, exact14u: the root formulas of a large condition (``local._root_formulas``, ⟦p⟧'s and
+"""Issue 15, exact14u: the root formulas of a large condition (``root_formulas._root_formulas``, ⟦p⟧'s and
 ⦇p⦈'s 1-D steps for the ray tracer, paper §10.2) with its parameter-only parts held by a fixed pool
 of dummies, the i-th part met taking the i-th (sympy orders dummies of one name by creation, as it
 ordered the new dummies of each call before), and the formulas remembered by the abstracted shape.
@@ -15,7 +15,7 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
-from langur.symbolic import local
+from langur.symbolic import root_formulas
 from langur.sympy_bridge import symbol
 
 X, A, B, C = (symbol(n) for n in ("x14u", "a14u", "b14u", "c14u"))
@@ -45,17 +45,17 @@ def _condition(seed: int):
 
 def _fresh(monkeypatch) -> None:
     """The old behaviour: a new dummy for every part of every call, nothing remembered."""
-    monkeypatch.setattr(local, "_pooled", lambda pool, i: sp.Dummy("k"))
-    monkeypatch.setattr(local, "_SHAPES", {})
+    monkeypatch.setattr(root_formulas, "_pooled", lambda pool, i: sp.Dummy("k"))
+    monkeypatch.setattr(root_formulas, "_SHAPES", {})
 
 
 def test_pooled_formulas_are_those_of_new_dummies(monkeypatch):
     exprs = [_condition(s) for s in range(60)]
-    local._SHAPES.clear()
-    pooled = [local._root_formulas.__wrapped__(e, X) for e in exprs]
-    pooled_again = [local._root_formulas.__wrapped__(e, X) for e in exprs]  # (now from the memo)
+    root_formulas._SHAPES.clear()
+    pooled = [root_formulas._root_formulas.__wrapped__(e, X) for e in exprs]
+    pooled_again = [root_formulas._root_formulas.__wrapped__(e, X) for e in exprs]  # (now from the memo)
     _fresh(monkeypatch)
-    fresh = [local._root_formulas.__wrapped__(e, X) for e in exprs]
+    fresh = [root_formulas._root_formulas.__wrapped__(e, X) for e in exprs]
     assert sum(f is not None for f in fresh) >= 50
     for e, got, again, want in zip(exprs, pooled, pooled_again, fresh):
         assert sp.srepr(got) == sp.srepr(want), e
@@ -74,11 +74,11 @@ def test_two_conditions_of_one_shape_compute_formulas_once(monkeypatch):
     pairs = [(A * B + 2, (C + 1) * (B - 3)), (A + 5, (B + 4) * (A - 2))]
     exprs = [p * X + q for p, q in pairs]
     calls = []
-    real = local._direct_formulas
-    monkeypatch.setattr(local, "_direct_formulas", lambda e, v: calls.append(e) or real(e, v))
-    local._SHAPES.clear()
-    local._root_formulas.cache_clear()
-    found = [local.closed_roots(e, X, lambda z: 1) for e in exprs]
+    real = root_formulas._direct_formulas
+    monkeypatch.setattr(root_formulas, "_direct_formulas", lambda e, v: calls.append(e) or real(e, v))
+    root_formulas._SHAPES.clear()
+    root_formulas._root_formulas.cache_clear()
+    found = [root_formulas.closed_roots(e, X, lambda z: 1) for e in exprs]
     assert len(calls) == 1  # the second condition's formulas came from the first's
     for (p, q), (roots, poles) in zip(pairs, found):
         assert poles == []
@@ -94,8 +94,8 @@ def test_two_conditions_of_one_shape_compute_formulas_once(monkeypatch):
 @pytest.mark.parametrize("seed", range(1, 40, 4))
 def test_quadratic_roots_vanish_at_rational_points(seed):
     expr = _condition(seed)  # (seed % 4 == 1: quadratic)
-    local._root_formulas.cache_clear()
-    found = local.closed_roots(expr, X, lambda z: 1)
+    root_formulas._root_formulas.cache_clear()
+    found = root_formulas.closed_roots(expr, X, lambda z: 1)
     assert found is not None
     roots, _ = found
     rng = random.Random(seed)
@@ -114,13 +114,13 @@ def test_quadratic_roots_vanish_at_rational_points(seed):
 def test_a_condition_holding_a_dummy_of_the_pools_name_takes_the_old_path(monkeypatch):
     k = sp.Dummy("k")
     expr = (A + k) * X + (B * C + 1)
-    local._SHAPES.clear()
-    local._root_formulas.cache_clear()
-    roots, poles = local.closed_roots(expr, X, lambda z: 1)
-    assert local._SHAPES == {}  # not remembered
+    root_formulas._SHAPES.clear()
+    root_formulas._root_formulas.cache_clear()
+    roots, poles = root_formulas.closed_roots(expr, X, lambda z: 1)
+    assert root_formulas._SHAPES == {}  # not remembered
     assert poles == []
     point = {A: sp.Rational(1, 3), k: sp.Rational(2, 5), B: sp.Integer(3), C: sp.Rational(-1, 7)}
     assert _value(roots[0], point) == -(Fraction(3) * Fraction(-1, 7) + 1) / (Fraction(1, 3) + Fraction(2, 5))
     _fresh(monkeypatch)
-    local._root_formulas.cache_clear()
-    assert sp.srepr(local.closed_roots(expr, X, lambda z: 1)) == sp.srepr((roots, poles))
+    root_formulas._root_formulas.cache_clear()
+    assert sp.srepr(root_formulas.closed_roots(expr, X, lambda z: 1)) == sp.srepr((roots, poles))

@@ -25,7 +25,7 @@ import sympy as sp
 from langur import denote, theorem
 from langur.exact import exact_deriv
 from langur.frontend import load
-from langur.symbolic import context, local, rational
+from langur.symbolic import context, local, rational, walks
 from langur.symbolic.context import Cond, Context
 from langur.symbolic.pieces import Condition, Piece
 from langur.symbolic.quadrature import compiling, nested, pieceproblems
@@ -87,7 +87,7 @@ def test_the_near_form_is_the_canonical_form_as_a_function():
     finally:
         local._near_form = real
     assert made and made[0] is near  # the moments' form was taken
-    assert local.tree_size(near) >= local.NEAR_LARGE and local.tree_size(canonical) >= local.NEAR_LARGE
+    assert walks.tree_size(near) >= local.NEAR_LARGE and walks.tree_size(canonical) >= local.NEAR_LARGE
     assert near_cell == cell  # the same cell
     rng = random.Random(16)
     point = {k: Fraction(int(v.p), int(v.q)) for k, v in at.items()}
@@ -105,7 +105,7 @@ def test_the_near_form_is_the_canonical_form_as_a_function():
 def test_a_small_polygon_keeps_the_canonical_tree():
     canonical, _, _ = _polygon(False, near=False)
     near, _, _ = _polygon(False, near=True)
-    assert local.tree_size(canonical) < local.NEAR_LARGE
+    assert walks.tree_size(canonical) < local.NEAR_LARGE
     assert sp.srepr(near) == sp.srepr(canonical)
 
 
@@ -186,8 +186,8 @@ def test_a_value_at_the_point_rebuilds_each_distinct_subtree_once(monkeypatch):
     expr = (-b + disc) / (2 * a) + (-b - disc) / (2 * a) * (b ** 2 - 4 * a * c) + disc ** 3
     at = {a: sp.Rational(1, 3), b: sp.Rational(5, 2), c: sp.Rational(-7, 4)}
     calls = []
-    real = local.shared_xreplace
-    monkeypatch.setattr(local, "shared_xreplace", lambda *args: calls.append(1) or real(*args))
+    real = walks.shared_xreplace
+    monkeypatch.setattr(walks, "shared_xreplace", lambda *args: calls.append(1) or real(*args))
     context._VALUES.clear()
     got = Context(at, Deadline(20.0), frozenset(at)).value(expr)
     assert calls  # (the old code used sympy's xreplace)

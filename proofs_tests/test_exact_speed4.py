@@ -20,7 +20,7 @@ from langur.ddenote import ddenote_program
 from langur.denote import denote_program
 from langur.frontend import load
 from langur.implicit import ImplicitRootFn
-from langur.symbolic import local, rational
+from langur.symbolic import rational, walks
 from langur.symbolic.text import lambdify, shared_lambdify
 from langur.sympy_bridge import at_symbols
 
@@ -54,7 +54,7 @@ def _random_shared(seed: int) -> sp.Expr:
 def test_has_any_answers_sympys_has(seed):
     e = _random_shared(seed)
     for types in [(sp.Max,), (sp.Piecewise,), (sp.Abs, sp.exp), (sp.Min, sp.DiracDelta), (sp.Heaviside,)]:
-        assert local.has_any(e, types) == e.has(*types)
+        assert walks.has_any(e, types) == e.has(*types)
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -98,7 +98,7 @@ def test_a_large_closed_form_of_the_derivative_stands_for_quadrature_only_inside
     direction = {k: int(k == "ax") for k in at}
     der = ddenote_program(loaded.program, at, direction)
     assert der.method == "closed_form"
-    assert local.size(der.expr, theorem.SYMBOLIC_OPS) >= theorem.SYMBOLIC_OPS  # too large for simplify
+    assert walks.size(der.expr, theorem.SYMBOLIC_OPS) >= theorem.SYMBOLIC_OPS  # too large for simplify
     q = _nearby(at, n=1, scale=1e-6)[0]
     closed = theorem._large_closed_form_at(der, q)
     assert closed is not None
@@ -153,8 +153,8 @@ def test_shared_free_symbols_are_sympys(seed):
     lam = sp.Lambda(x, x ** 3 - x - a)
     extra = [ImplicitRootFn(lam, b, -2, 2, -1, 0), sp.Integral(x * c, (x, 0, b)), sp.Lambda(x, x * a)]
     for f in [e, e + extra[0], e * extra[1], sp.exp(extra[0]) + extra[1] ** 2]:
-        assert local.free_symbols(f) == f.free_symbols
-    assert local.free_symbols(extra[2]) == extra[2].free_symbols
+        assert walks.free_symbols(f) == f.free_symbols
+    assert walks.free_symbols(extra[2]) == extra[2].free_symbols
 
 
 @pytest.mark.parametrize("seed", range(4))

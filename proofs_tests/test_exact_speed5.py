@@ -4,7 +4,7 @@
   once (``rational.rational_value``, ``rational.dual_derivative``) against sympy's substitution and
   derivative, for several points and tangents in turn (what Theorem 8.1's check asks for every
   partial derivative), and more points than are remembered;
-* ``local.size`` by distinct subtrees against the node-by-node count;
+* ``walks.size`` by distinct subtrees against the node-by-node count;
 * the sign probes' compiled conditions (``text.math_lambdify``) and the code printers without the
   ``re`` rewrite walk against ``sympy.lambdify``'s own source text;
 * remembered texts of cell relations and the point's 40-digit Floats against recomputing them.
@@ -18,7 +18,7 @@ from fractions import Fraction
 
 import sympy as sp
 
-from langur.symbolic import context, integrate, local, rational, text
+from langur.symbolic import context, integrate, rational, text, walks
 from langur.symbolic.context import Context
 from langur.timebox import Deadline
 
@@ -94,9 +94,9 @@ def test_size_by_distinct_subtrees_is_the_node_count():
             p, q = rng.choice(pool), rng.choice(pool)
             pool.append([p + q, p * q, p**2, sp.sin(p) + q][rng.randrange(4)])
         e = pool[-1]
-        assert local.tree_size(e) == _walked(e, 10**12)
-        for limit in (1, 7, 400, local.WALKED_SIZE, local.WALKED_SIZE + 1, 10**5, 10**9):
-            assert local.size(e, limit) == _walked(e, limit)
+        assert walks.tree_size(e) == _walked(e, 10**12)
+        for limit in (1, 7, 400, walks.WALKED_SIZE, walks.WALKED_SIZE + 1, 10**5, 10**9):
+            assert walks.size(e, limit) == _walked(e, limit)
 
 
 def _source(f) -> str:

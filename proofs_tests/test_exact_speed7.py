@@ -1,6 +1,6 @@
 """exact7 (issue 15): the exact engine's shortcuts give what the slow paths gave.
 
-* ``local.atoms_of(e, types)`` is sympy's ``e.atoms(*types)`` with each distinct subtree visited
+* ``walks.atoms_of(e, types)`` is sympy's ``e.atoms(*types)`` with each distinct subtree visited
   once (``quadrature.printable`` uses it: sympy's walk visits every repeat of a shared subtree);
   checked against sympy's own ``atoms`` on random trees with shared subtrees, on Piecewise /
   relational / Tuple trees, and on a real closed form (stylize/linear.lgr's ∂/∂ax).
@@ -23,9 +23,10 @@ import sympy as sp
 from langur.ddenote import ddenote_program
 from langur.frontend import load
 from langur.symbolic import local
-from langur.symbolic.local import atoms_of, monomials
+from langur.symbolic.local import monomials
 from langur.symbolic.quadrature import printable
 from langur.symbolic.quadrature.deltaproblems import _FORWARD_DETS
+from langur.symbolic.walks import atoms_of
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 x, y, a, b, c = sp.symbols("x y a b c")

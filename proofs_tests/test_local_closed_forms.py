@@ -1,7 +1,8 @@
-"""Closed forms decided at the evaluation point (langur/symbolic/local.py; issue 15): the polygon
-integral, the rational quadrature rules, the roots by formula and the exact directional derivative,
-each against an independent computation (scipy quadrature, numpy roots, sympy, an exact shoelace
-area of the clipped triangle in Fractions, the stylization kernel's own numpy reference)."""
+"""Closed forms decided at the evaluation point (langur/symbolic/local.py, exact_rules.py,
+root_formulas.py; issue 15): the polygon integral, the rational quadrature rules, the roots by
+formula and the exact directional derivative, each against an independent computation (scipy
+quadrature, numpy roots, sympy, an exact shoelace area of the clipped triangle in Fractions, the
+stylization kernel's own numpy reference)."""
 
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ from test_stylize import clip
 
 from langur.exact import exact_deriv
 from langur.frontend import load, load_text
-from langur.symbolic import local, rational
+from langur.symbolic import exact_rules, local, rational, root_formulas
 from langur.symbolic.context import Cond, Context
 from langur.timebox import Deadline
 
@@ -29,12 +30,12 @@ def test_newton_cotes_is_exact_for_polynomials_of_its_degree(d):
     rng = random.Random(d)
     w = sum(sp.Rational(rng.randint(-9, 9), rng.randint(1, 5)) * v**k for k in range(d + 1))
     a, b = sp.Rational(-1, 3), sp.Rational(7, 4)
-    assert sp.expand(local.newton_cotes(w, v, a, b, d)) == sp.integrate(w, (v, a, b))
+    assert sp.expand(exact_rules.newton_cotes(w, v, a, b, d)) == sp.integrate(w, (v, a, b))
 
 
 @pytest.mark.parametrize("d", range(1, 6))
 def test_the_triangle_rule_integrates_monomials_like_scipy(d):
-    rule = local.triangle_rule(d)
+    rule = exact_rules.triangle_rule(d)
     for a in range(d + 1):
         for b in range(d + 1 - a):
             ours = 0.5 * sum(float(w) * float(s) ** a * float(t) ** b for s, t, w in rule)
@@ -112,7 +113,7 @@ def test_closed_roots_and_poles_match_numpy():
     a, b = sp.symbols("a b", real=True)
     expr = a - b / (v**2 - 3 * v + a)  # numerator a·(v² − 3v + a) − b: degree 2
     at = {a: sp.Rational(1, 3), b: sp.Rational(5, 7)}
-    roots, poles = local.closed_roots(expr, v, lambda e: complex(e.xreplace(at).evalf(30)))
+    roots, poles = root_formulas.closed_roots(expr, v, lambda e: complex(e.xreplace(at).evalf(30)))
     num, _ = sp.fraction(sp.together(expr.xreplace(at)))
     want = sorted(np.roots([float(k) for k in sp.Poly(num, v).all_coeffs()]), key=lambda z: (z.real, z.imag))
     got = sorted((complex(r.xreplace(at).evalf(30)) for r in roots), key=lambda z: (z.real, z.imag))
@@ -124,7 +125,7 @@ def test_closed_roots_and_poles_match_numpy():
 
 def test_closed_roots_refuses_a_cubic_numerator():
     a = sp.Symbol("a", real=True)
-    assert local.closed_roots(v**3 - a * v + 1, v, lambda e: 1) is None
+    assert root_formulas.closed_roots(v**3 - a * v + 1, v, lambda e: 1) is None
 
 
 def test_dual_derivative_is_sympys_derivative():

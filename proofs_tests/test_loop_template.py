@@ -17,6 +17,7 @@ import random
 import pytest
 
 from langur import core, operational
+from langur.core import attributes, shapes
 from langur.diagnostics import LangurError
 from langur.frontend import clear_load_cache, load_text
 from langur.syntax import template
@@ -85,7 +86,7 @@ def _program(r: random.Random) -> str:
     return f"param a = 0.5\nparam b = 0.25\nint ([0, 1], [0, 1]) ({op} i in {lo}..{hi}: {body}) * (1 + b) d(x, y)\n"
 
 
-_ATTRIBUTES = core._SHAPE + ("_small", "_small_all")
+_ATTRIBUTES = shapes._SHAPE + ("_small", "_small_all")
 
 
 def _same_attributes(s: core.Term, t: core.Term) -> None:
@@ -101,7 +102,7 @@ def _same_attributes(s: core.Term, t: core.Term) -> None:
         seen.add((id(a), id(b)))
         assert {k: a.__dict__[k] for k in _ATTRIBUTES} == {k: b.__dict__[k] for k in _ATTRIBUTES}, (a, b)
         if type(a) is core.IfDiffeo:
-            assert core._diffeo_summary(a.psi) == core._diffeo_summary(b.psi)
+            assert attributes._diffeo_summary(a.psi) == attributes._diffeo_summary(b.psi)
         stack.extend(zip(core.children(a), core.children(b)))
 
 

@@ -111,7 +111,7 @@ def test_frozen_refuses_what_it_does_not_support():
 
 
 def _frozen_classes():
-    for mod in (core, surface, modules, primitives, diagnostics):
+    for mod in (core.terms, core.programs, surface, modules, primitives, diagnostics):
         for cls in vars(mod).values():
             if isinstance(cls, type) and cls.__module__ == mod.__name__ and dataclasses.is_dataclass(cls) \
                     and "__setattr__" in cls.__dict__ and cls.__setattr__.__module__ == "langur.records":

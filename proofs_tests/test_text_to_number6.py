@@ -18,6 +18,7 @@ from fractions import Fraction
 import pytest
 
 from langur import core, operational
+from langur.core import shapes
 from langur.frontend import clear_load_cache, load_text
 from langur.syntax import template
 from langur.syntax.printer import print_program
@@ -102,7 +103,7 @@ def _revalued(t: core.Term, r: random.Random) -> core.Term:
     return t
 
 
-_ATTRIBUTES = core._SHAPE + ("_small", "_small_all")
+_ATTRIBUTES = shapes._SHAPE + ("_small", "_small_all")
 
 
 def _same_everywhere(s: core.Term, t: core.Term) -> None:

@@ -17,6 +17,7 @@ from fractions import Fraction
 import pytest
 
 from langur import core
+from langur.core import shapes
 from langur.frontend import core_term_from_text
 from langur.syntax import affine
 from langur.syntax.parser import parse_term
@@ -79,7 +80,7 @@ def _core(text: str) -> core.Term:
     return core_term_from_text(text, variables=("x", "y"), params=("a",))
 
 
-_ATTRIBUTES = core._SHAPE + ("_small", "_small_all")
+_ATTRIBUTES = shapes._SHAPE + ("_small", "_small_all")
 
 
 def _same_everywhere(s: core.Term, t: core.Term) -> None:

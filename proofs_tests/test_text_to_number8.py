@@ -14,11 +14,12 @@ from fractions import Fraction
 import pytest
 
 from langur import core
+from langur.core import attributes, shapes
 from langur.diagnostics import LangurError
 from langur.frontend import clear_load_cache, core_term_from_text, load_text
 from langur.syntax import affine, template
 
-_ATTRIBUTES = core._SHAPE + ("_small", "_small_all")
+_ATTRIBUTES = shapes._SHAPE + ("_small", "_small_all")
 
 
 def _same(s: core.Term, t: core.Term) -> None:
@@ -32,7 +33,7 @@ def _same(s: core.Term, t: core.Term) -> None:
         assert a.span == b.span
         if type(a) is core.IfDiffeo:
             assert a.psi == b.psi
-            assert core._diffeo_summary(a.psi) == core._diffeo_summary(b.psi)
+            assert attributes._diffeo_summary(a.psi) == attributes._diffeo_summary(b.psi)
         stack.extend(zip(core.children(a), core.children(b)))
 
 

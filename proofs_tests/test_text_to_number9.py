@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 import sys
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
@@ -129,8 +130,8 @@ def test_a_shared_dependent_node_is_ordered_once_where_the_walk_first_meets_it()
 def test_shape_with_span_is_shape_of_with_the_span():
     x, a = core.Var("x"), core.Param("a")
     span = Span("p", 1, 2, 1, 9)
-    for t in (core.Add(x, core.Const(core.Fraction(1, 3)), span=span), core.Mul(a, x, span=span),
-              core.Pow(x, core.Fraction(-2), span=span), core.Prim("exp", x, span=span), core.Add(x, a)):
+    for t in (core.Add(x, core.Const(Fraction(1, 3)), span=span), core.Mul(a, x, span=span),
+              core.Pow(x, Fraction(-2), span=span), core.Prim("exp", x, span=span), core.Add(x, a)):
         expected = dict(core.shape_of(t), span=t.span)
         assert core.shape_with_span(t) == expected
         assert list(core.shape_with_span(t)) == list(expected)

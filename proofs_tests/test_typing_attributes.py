@@ -1,4 +1,4 @@
-"""The attributes a core node keeps (langur/core.py, "per-node attributes", issue 15) against the
+"""The attributes a core node keeps (langur/core/attributes.py, issue 15) against the
 walks they replace, and typing read off them (``typesys.well_typed``) against Fig. 6's rules
 applied one by one (an observer recording forces the rules: ``show --typing`` sees every one).
 

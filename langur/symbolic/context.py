@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from langur.memo import remember
-from langur.symbolic import local, rational
+from langur.symbolic import local, rational, walks
 from langur.symbolic.pieces import Psi
 from langur.timebox import Deadline
 
@@ -127,7 +127,7 @@ class Context:
             # each distinct subtree rebuilt once (sympy's xreplace rebuilds a subtree wherever it occurs:
             # a condition's root formulas repeat their parts); the same tree, except that equal Floats of
             # other precisions in ``expr`` would be taken for one another: then sympy's own
-            e = expr.xreplace(rule) if local.has_any(expr, (sp.Float,)) else local.shared_xreplace(expr, rule, False)
+            e = expr.xreplace(rule) if walks.has_any(expr, (sp.Float,)) else walks.shared_xreplace(expr, rule, False)
             try:
                 z = complex(e.evalf(30))
             except TypeError:
@@ -142,7 +142,7 @@ class Context:
         origin: −2⁻¹²⁶ ≈ −1.17549435082e-38)."""
         exact = {k: v for k, v in self.at.items() if isinstance(v, sp.Rational)}
         expr = sp.sympify(expr)
-        if exact and local.size(expr, local.LARGE_OPS) >= local.LARGE_OPS:
+        if exact and walks.size(expr, local.LARGE_OPS) >= local.LARGE_OPS:
             q = rational.float_value(expr, exact)  # a large rational form: its exact value's double
             if q is not None:
                 return complex(q)

@@ -22,7 +22,7 @@ import sympy as sp
 
 from langur.implicit import ImplicitRootFn
 from langur.memo import remember
-from langur.symbolic import local
+from langur.symbolic import walks
 from langur.symbolic.context import Cond, Context, Deferred
 from langur.symbolic.pieces import DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
@@ -168,7 +168,7 @@ def _constant_and_nonzero(comps: tuple, inputs: tuple, uprime) -> bool:
     comps = [sp.sympify(e) for e in comps]
     wanted = _differentiated(comps, inputs)
     point = {s: sp.Integer(0) if s == inputs[0] else q
-             for s, q in probe_point(set().union(*[local.free_symbols(e) for e in comps])).items()}
+             for s, q in probe_point(set().union(*[walks.free_symbols(e) for e in comps])).items()}
     values = []
     for i, e in enumerate(comps):
         row = []
@@ -189,7 +189,7 @@ def _constant_and_nonzero(comps: tuple, inputs: tuple, uprime) -> bool:
 def _derivative_symbols(e, u) -> set:
     """Symbols that ``∂e/∂u`` may hold (a superset: those of ``e``'s subterms that the product, power
     and sum rules carry into it)."""
-    if u not in local.free_symbols(e):
+    if u not in walks.free_symbols(e):
         return set()
     if e == u:
         return set()
@@ -198,18 +198,18 @@ def _derivative_symbols(e, u) -> set:
     if isinstance(e, sp.Mul):
         out: set = set()
         for k, f in enumerate(e.args):
-            if u in local.free_symbols(f):
+            if u in walks.free_symbols(f):
                 out |= _derivative_symbols(f, u)
-                out |= set().union(*[local.free_symbols(g) for m, g in enumerate(e.args) if m != k])
+                out |= set().union(*[walks.free_symbols(g) for m, g in enumerate(e.args) if m != k])
         return out
     if isinstance(e, sp.Pow) and e.exp.is_number:
-        return _derivative_symbols(e.base, u) | (local.free_symbols(e.base) if e.exp != 1 else set())
-    return set(local.free_symbols(e))  # (∂e/∂u has no symbol e lacks)
+        return _derivative_symbols(e.base, u) | (walks.free_symbols(e.base) if e.exp != 1 else set())
+    return set(walks.free_symbols(e))  # (∂e/∂u has no symbol e lacks)
 
 
 def _differentiated(comps: list, inputs: tuple) -> list[list[bool]]:
     """Which entries of DΨ̂⁻¹ :func:`_jacobian_entries` differentiates (the others are written 0)."""
-    free = [local.free_symbols(sp.sympify(e)) for e in comps]
+    free = [walks.free_symbols(sp.sympify(e)) for e in comps]
     n = len(comps)
     zero = [[u not in free[i] for u in inputs] for i in range(n)]
     skip = [[False] * n for _ in range(n)]
@@ -310,7 +310,7 @@ def _jacobian_values(J, uprime, ctx: Context, points) -> list:
         except Exception:  # noqa: BLE001 - then sympy's evalf, as for any other Jacobian
             fn = None
     else:
-        free = local.free_symbols(J)
+        free = walks.free_symbols(J)
         params = tuple(sorted((k for k in ctx.at if k in free), key=str))
         try:
             mp = shared_lambdify([*uprime, *params], J, "mpmath")

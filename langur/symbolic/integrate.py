@@ -44,7 +44,7 @@ import sympy as sp
 
 from langur.implicit import ImplicitRootFn
 from langur.memo import remember as _remember
-from langur.symbolic import delta, local, quadrature, regions
+from langur.symbolic import delta, quadrature, regions, walks
 from langur.symbolic.context import Cond, Context, Unsupported
 from langur.symbolic.nounits import units_unloaded
 from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
@@ -128,7 +128,7 @@ def _tidy(expr, ctx: Context):
     """A simpler equal form (checked at the evaluation point): sympy's simplify within
     :data:`TIDY_SECONDS`, or, for Piecewise conditions that are not polynomial, the Piecewise folded
     (:func:`_nonpolynomial_conditions`: the same form whatever the machine's load)."""
-    if not _TIDYING.get() or local.size(expr, 1000) >= 1000 or sp.count_ops(expr) > 300 \
+    if not _TIDYING.get() or walks.size(expr, 1000) >= 1000 or sp.count_ops(expr) > 300 \
             or len(expr.atoms(sp.Max, sp.Min)) > 2 or expr.has(ImplicitRootFn):
         # (size first: count_ops takes seconds on a large form.)  sympy's simplify is slow on
         # Max/Min and rarely helps there; it has no rule for an implicit root, whose values it

@@ -39,7 +39,7 @@ from typing import Sequence
 import sympy as sp
 
 from langur.memo import remember as _remember
-from langur.symbolic import elementary, local
+from langur.symbolic import elementary, exact_rules, local, walks
 from langur.symbolic.context import Cond, Context, Deferred, Unsupported, _made
 from langur.symbolic.solving import (
     _away_from_zero,
@@ -357,7 +357,7 @@ def _rational_probe(e):
     """``e``'s exact value (a sympy Rational) with each symbol replaced by a fixed rational of its
     own (from its name), or None when that is not a rational number (a root, a pole)."""
     e = sp.sympify(e)
-    z = e.xreplace(_probe_point(local.free_symbols(e)))
+    z = e.xreplace(_probe_point(walks.free_symbols(e)))
     return z if z.is_Rational else None
 
 
@@ -381,7 +381,7 @@ def _prefilter(conds, ctx: Context):
     kept = []
     for c in conds:
         e = sp.sympify(c.expr)
-        if not (local.free_symbols(e) - ctx.params):
+        if not (walks.free_symbols(e) - ctx.params):
             if not ctx.decide(e, c.strict):
                 return None
             continue
@@ -399,8 +399,8 @@ def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
     if weight == 0:  # (a Deferred weight is not 0)
         return sp.Integer(0)
     v, outer = variables[-1], list(variables[:-1])
-    dep = [c for c in conds if v in local.free_symbols(c.expr)]
-    rest = [c for c in conds if v not in local.free_symbols(c.expr)]
+    dep = [c for c in conds if v in walks.free_symbols(c.expr)]
+    rest = [c for c in conds if v not in walks.free_symbols(c.expr)]
     lo, hi = box[v]
     if not outer:
         if rest:
@@ -536,10 +536,10 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
         nonlocal F, made
         if made is None:
             w = sp.sympify(_made(weight))
-            made = (w, local.degree(w, frozenset((v,))) if large else None)
+            made = (w, walks.degree(w, frozenset((v,))) if large else None)
         w, deg = made
-        if deg is not None and deg <= local.MAX_DEGREE:  # a large polynomial: never expanded
-            return local.newton_cotes(w, v, a, b, deg)
+        if deg is not None and deg <= exact_rules.MAX_DEGREE:  # a large polynomial: never expanded
+            return exact_rules.newton_cotes(w, v, a, b, deg)
         F = F if F is not None else antiderivative(w, v, ctx)
         return F.xreplace({v: b}) - F.xreplace({v: a})
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
@@ -574,7 +574,7 @@ def integrate_region(conds: Sequence[Cond], weight, variables: Sequence, box: di
     others = []
     for c in conds:
         e = sp.sympify(c.expr)
-        if local.free_symbols(e) & set(variables):
+        if walks.free_symbols(e) & set(variables):
             others.append(c)
         elif e.is_number:
             if not ctx.decide(e, c.strict):

@@ -24,7 +24,7 @@ import sympy as sp
 
 from langur.implicit import unsolvable
 from langur.memo import remember as _remember
-from langur.symbolic import local
+from langur.symbolic import root_formulas, walks
 from langur.symbolic.context import Cond, Context, Unsupported, _floats40, nearly_real
 from langur.symbolic.text import math_lambdify, shared_lambdify
 
@@ -158,7 +158,7 @@ _VANISHES: dict = {}
 
 def _closed_roots(c: Cond, v, ctx: Context):
     """The roots, and the poles, of a condition (one of a large problem's) whose numerator and
-    denominator are of degree ≤ 2 in ``v`` (:func:`local.closed_roots`), the roots checked at the
+    denominator are of degree ≤ 2 in ``v`` (:func:`root_formulas.closed_roots`), the roots checked at the
     evaluation point; None when it is not of that shape."""
     if c.psi is not None:
         return None
@@ -166,7 +166,7 @@ def _closed_roots(c: Cond, v, ctx: Context):
     if key in _CLOSED_ROOTS:
         out = _CLOSED_ROOTS[key]
         return None if out is None else list(out)
-    found = local.closed_roots(c.expr, v, ctx.value)
+    found = root_formulas.closed_roots(c.expr, v, ctx.value)
     out = None
     if found is not None:
         roots, poles = found
@@ -399,7 +399,7 @@ def _probe_parameters(expr, ctx: Context) -> tuple:
     key = (expr, tuple(ctx.at))
     out = _PARAMETERS.get(key)
     if out is None:
-        free = local.free_symbols(expr)
+        free = walks.free_symbols(expr)
         out = tuple(sorted((k for k in ctx.at if k in free), key=str))
         _remember(_PARAMETERS, key, out)
     return out

@@ -23,8 +23,8 @@ from sympy.printing.pycode import MpmathPrinter, PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
 from ..memo import remember
-from .local import any_node, atoms_of
 from .pieces import Condition, DeltaPiece, Method, Piece, Psi
+from .walks import any_node, atoms_of
 
 
 class _Shared:

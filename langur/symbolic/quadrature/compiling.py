@@ -15,8 +15,8 @@ import numpy as np
 import sympy as sp
 
 from langur.memo import remember
-from langur.symbolic.local import atoms_of, free_symbols
 from langur.symbolic.text import shared_lambdify
+from langur.symbolic.walks import atoms_of, free_symbols
 
 
 def _num(expr, at: dict) -> float:

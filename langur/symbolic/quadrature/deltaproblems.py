@@ -14,12 +14,12 @@ import sympy as sp
 
 from langur.implicit import ImplicitRootFn
 from langur.memo import remember
-from langur.symbolic.local import free_symbols
 from langur.symbolic.pieces import DeltaPiece
 from langur.symbolic.quadrature.brackets import _implied_by_bracket
 from langur.symbolic.quadrature.compiling import COMPILED, _floats, _lambdify, _num
 from langur.symbolic.quadrature.nested import integrate_problem
 from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
+from langur.symbolic.walks import free_symbols
 from langur.sympy_bridge import magnitude
 
 

@@ -17,12 +17,12 @@ from scipy import optimize as so
 
 from langur.implicit import ImplicitRootFn
 from langur.memo import remember
-from langur.symbolic.local import free_symbols
 from langur.symbolic.quadrature.compiling import _floats, _lambdify
 from langur.symbolic.quadrature.fold import _fold_timeout
 from langur.symbolic.quadrature.kinks import RESULTANT_SECONDS, _kink_functions
 from langur.symbolic.quadrature.problem import NumProblem
 from langur.symbolic.quadrature.roots import _coefficients, _hidden_pairs, _roots, polynomial_roots
+from langur.symbolic.walks import free_symbols
 from langur.timebox import run_with_timeout
 
 #: Cells of the grid on which :func:`_add_fold_turns` looks for the fold curve's turning points

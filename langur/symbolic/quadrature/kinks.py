@@ -13,10 +13,10 @@ from sympy.polys.constructor import construct_domain
 from sympy.polys.polyerrors import CoercionFailed
 
 from langur.memo import make_room, remember
-from langur.symbolic.local import degree, free_symbols, rational_form
 from langur.symbolic.quadrature.compiling import COMPILED, _lambdify
 from langur.symbolic.quadrature.problem import NumProblem, _depends
 from langur.symbolic.quadrature.roots import _poly_roots, _roots
+from langur.symbolic.walks import degree, free_symbols, rational_form
 from langur.timebox import run_with_timeout
 
 #: CPU seconds sympy may spend on the critical points of one condition (:func:`_critical_points`):
@@ -351,7 +351,7 @@ def _critical_points(e: sp.Expr, v: sp.Symbol) -> list[sp.Expr]:
 def _solve_critical(e: sp.Expr, v: sp.Symbol) -> tuple[list[sp.Expr], bool]:
     """:func:`_critical_points`' answer, and whether it is final (not cut short by the time limit).
 
-    An expression of degree at most 1 in ``v`` (:func:`~langur.symbolic.local.degree`: an upper
+    An expression of degree at most 1 in ``v`` (:func:`~langur.symbolic.walks.degree`: an upper
     bound of the polynomial degree, from the tree, coefficients any expressions free of ``v``) has
     none, without building sympy's ``Poly`` (a millisecond per condition; the stylization kernel's
     half-planes are all affine): ``Poly(e, v)`` would have degree ≤ 1 and coefficients free of

@@ -11,12 +11,12 @@ from typing import Sequence
 import sympy as sp
 
 from langur.memo import remember
-from langur.symbolic.local import free_symbols, rational_form
 from langur.symbolic.pieces import Piece, Psi
 from langur.symbolic.quadrature.compiling import OnFirstCall, _floats, _lambdify, _num, _vectorize
 from langur.symbolic.quadrature.nested import integrate_problem
 from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
 from langur.symbolic.quadrature.tolerance import _OUTER
+from langur.symbolic.walks import free_symbols, rational_form
 
 
 def _psi_hints(psi: Psi | None, v: sp.Symbol, variables, level: int, at: dict):

@@ -14,8 +14,8 @@ import sympy as sp
 
 from langur.implicit import ImplicitRootFn
 from langur.memo import make_room
-from langur.symbolic.local import free_symbols
 from langur.symbolic.quadrature.roots import _poly_roots, _roots
+from langur.symbolic.walks import free_symbols
 
 
 @dataclass

@@ -16,10 +16,10 @@ import sympy as sp
 from scipy import optimize as so
 
 from langur.memo import remember
-from langur.symbolic import local
-from langur.symbolic.local import free_symbols
+from langur.symbolic import walks
 from langur.symbolic.quadrature.compiling import COMPILED, printable
 from langur.symbolic.text import shared_lambdify
+from langur.symbolic.walks import free_symbols
 
 GRID = 40
 
@@ -141,7 +141,7 @@ def _expanded_coefficients(expr, v) -> list | None:
     form whichever way they are built, so they are the same expressions (and compile to the same
     code) without ``Poly``'s construction of a polynomial ring over the other symbols (two thirds
     of the time of a condition's first compilation).  None for anything else (``Poly`` then)."""
-    if not local.rational_form(expr) or local.degree(expr, frozenset(free_symbols(expr))) is None:
+    if not walks.rational_form(expr) or walks.degree(expr, frozenset(free_symbols(expr))) is None:
         return None
     by_power: dict = {}
     for term in sp.Add.make_args(sp.expand(expr)):

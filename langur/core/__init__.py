@@ -1,0 +1,100 @@
+"""The core language Langur (paper §4; LANGUAGE.md §1), shared by every engine.
+
+    t, s, r ::= c | x | z | t + s | t · s | f(t) | t ^ k
+              | ifge0 t then s else r          -- t variable-free
+              | ifge0 ⌊Ψ⌋ then s else r        -- Ψ a C¹ diffeomorphism in the variables
+              | let z = t in s                 -- t variable-free
+    p       ::= int t d(x1, …, xn)
+
+The modules, each importing only those above it in this list:
+
+* :mod:`.attributes` — what a node keeps about itself, computed once when it is built (free
+  variables and parameters, size, depth, small exact value, typing's premises; issue 15);
+* :mod:`.sharing` — terms shared after inlining (§9) are DAGs: hashes kept, equality and passes
+  (:func:`shared`) once per distinct node;
+* :mod:`.terms` — §4.1: the term nodes (``Const`` … ``ImplicitRoot``; ``Diffeo`` with its inverse
+  branches, ``InverseBranch``), ``Term``, their :func:`children`;
+* :mod:`.shapes` — nodes built from a node of the same shape (a loop's copies, issue 15);
+* :mod:`.structural` — small constructors (:func:`const`, :func:`neg`, :func:`product`, …),
+  generic traversals (:func:`subterms`, :func:`substitute`, :func:`map_children`, …) and the
+  readers of the kept attributes (:func:`free_vars`, :func:`tree_size`, …);
+* :mod:`.programs` — §4.2: ``Program`` and the intervals of its domain (``Interval``).
+
+Here: every public name of these modules, as the rest of langur imports them
+(``from langur.core import Add``).
+"""
+
+from .attributes import (
+    INT_FRACTIONS,
+    SMALL,
+    SMALL_BITS,
+    SMALL_EXPONENT,
+    index_power_small,
+    int_fraction,
+    small_power,
+)
+from .programs import Interval, Program
+from .shapes import (
+    index_const,
+    like,
+    like_binary,
+    like_binary_many,
+    like_leaf,
+    like_power,
+    same_shape,
+    shape_of,
+    shape_with_span,
+)
+from .sharing import REPR_LIMIT, shared
+from .structural import (
+    all_small,
+    const,
+    depth,
+    diffeo_params,
+    diffeo_variables,
+    div,
+    extend_diffeo,
+    free_params,
+    free_vars,
+    has_calls,
+    map_children,
+    neg,
+    product,
+    small_value,
+    smooth,
+    sub,
+    substitute,
+    substitute_diffeo,
+    subterms,
+    tree_size,
+)
+from .terms import (
+    PI,
+    Add,
+    Call,
+    Const,
+    Diffeo,
+    IfDiffeo,
+    IfGe0,
+    ImplicitRoot,
+    InverseBranch,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Term,
+    TooManyRoots,
+    Var,
+    children,
+)
+
+__all__ = [
+    "INT_FRACTIONS", "PI", "REPR_LIMIT", "SMALL", "SMALL_BITS", "SMALL_EXPONENT", "Add", "Call", "Const", "Diffeo",
+    "IfDiffeo", "IfGe0", "ImplicitRoot", "Interval", "InverseBranch", "Let", "Mul", "Param", "Pow", "Prim", "Program",
+    "Term", "TooManyRoots", "Var", "all_small", "children", "const", "depth", "diffeo_params", "diffeo_variables", "div",
+    "extend_diffeo", "free_params", "free_vars", "has_calls", "index_const", "index_power_small", "int_fraction", "like",
+    "like_binary", "like_binary_many", "like_leaf", "like_power", "map_children", "neg", "product", "same_shape",
+    "shape_of", "shape_with_span", "shared", "small_power", "small_value", "smooth", "sub", "substitute",
+    "substitute_diffeo", "subterms", "tree_size",
+]

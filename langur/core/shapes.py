@@ -1,0 +1,171 @@
+"""Nodes built from a node of the same shape (issue 15): a loop's copies, and the affine completion
+of a condition of the same shape as one completed before (:func:`langur.syntax.affine.completed`).
+
+Such a node's attributes that depend on its shape only (:mod:`langur.core.attributes`: its
+classes, names, primitives, exponents and diffeos) are those of the node it copies; only those that
+depend on the values of its constants are computed.  Each function's node is equal, attributes
+included, to the one the constructor builds.
+"""
+
+from __future__ import annotations
+
+import operator
+
+from .attributes import _LEAF_ATTRS, _binary_value, _small_power, int_fraction
+from .terms import Add, Const, IfDiffeo, Mul, Pow, Prim, Term
+
+#: The attributes that depend on a term's shape only (its classes, names, primitives, exponents and
+#: diffeos), not on the values of its constants: all but ``_small`` and ``_small_all``.
+_SHAPE = ("_fv", "_fp", "_smooth", "_calls", "_size", "_depth", "_psi_vars", "_scoped", "_ops", "_binders", "_dfp")
+_shape = operator.itemgetter(*_SHAPE)
+_SHAPE_SPAN = (*_SHAPE, "span")
+_shape_span = operator.itemgetter(*_SHAPE_SPAN)
+
+
+def same_shape(t: "Term", s: "Term") -> bool:
+    """``t`` and ``s`` have the same attributes but those that depend on their constants' values
+    (then a node above one of them may be built by :func:`like` from a node above the other)."""
+    return _shape(t.__dict__) == _shape(s.__dict__)
+
+
+def shape_of(t: "Term") -> dict:
+    """What :func:`like` keeps of ``t`` (an ``Add``, ``Mul``, ``Pow``, ``Prim`` or ``IfDiffeo``):
+    the attributes of its shape, and its exponent or primitive."""
+    d = dict(zip(_SHAPE, _shape(t.__dict__)))
+    if type(t) is Pow:
+        d["exponent"] = t.exponent
+    elif type(t) is Prim:
+        d["op"] = t.op
+    elif type(t) is not Add and type(t) is not Mul and type(t) is not IfDiffeo:
+        raise TypeError(f"shape_of: not an Add, Mul, Pow, Prim or IfDiffeo: {t!r}")
+    return d
+
+
+def shape_with_span(t: "Term") -> dict:
+    """:func:`shape_of` ``t`` with its span: what :func:`like_binary` and :func:`like_power` copy
+    (an ``Add`` or ``Mul``, the most frequent, read in one call)."""
+    tt = type(t)
+    if tt is Add or tt is Mul:
+        return dict(zip(_SHAPE_SPAN, _shape_span(t.__dict__)))
+    d = shape_of(t)
+    d["span"] = t.span
+    return d
+
+
+def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
+    """The node of class ``cls`` with children ``kids`` (in the order of :func:`children`) and
+    ``span`` whose other fields and attributes of its shape are ``shape`` (:func:`shape_of` of a
+    node whose children had the :func:`same_shape` as ``kids``): only the attributes that depend on
+    its constants' values are computed (a loop's copies, issue 15).  Equal, attributes included,
+    to the node the constructor builds.
+
+    For an ``IfDiffeo``, ``kids`` is ``(psi, then, orelse)`` and ``psi`` must have what Ψ̂ gives the
+    node (``_diffeo_summary``) in common with the Ψ̂ of the node ``shape`` was taken from: the same
+    variables and the same shapes of its terms, whatever their constants (an affine completion of
+    a condition of the same shape, :func:`langur.syntax.affine.completed`)."""
+    new = cls.__new__(cls)
+    d = new.__dict__
+    d.update(shape)
+    d["span"] = span
+    if cls is Add or cls is Mul:
+        a, b = kids
+        d["left"], d["right"] = a, b
+        _binary_value(d, a.__dict__, b.__dict__, cls is Mul)
+        return new
+    if cls is IfDiffeo:
+        psi, a, b = kids
+        d["psi"], d["then"], d["orelse"] = psi, a, b
+        v = d["_small"] = False if not d["_fv"] and not d["_fp"] else None
+        d["_small_all"] = v is not False and a._small_all and b._small_all
+        return new
+    (a,) = kids
+    if cls is Pow:
+        d["base"] = a
+        d["_small"] = v = _small_power(a._small, shape["exponent"])
+    else:
+        d["arg"] = a
+        d["_small"] = v = False if a._small is not None else None
+    d["_small_all"] = v is not False and a._small_all
+    return new
+
+
+def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
+    """``like(cls, shape, (a, b), span)`` for an ``Add`` or a ``Mul`` whose ``shape`` also holds its
+    ``span`` (``dict(shape_of(t), span=…)``): a loop's copies build most of their nodes so, one call
+    each (issue 15)."""
+    new = _new(cls)
+    d = new.__dict__
+    d.update(shape)
+    d["left"] = a
+    d["right"] = b
+    a, b = a.__dict__, b.__dict__
+    x, y = a["_small"], b["_small"]
+    if (x is None or y is None) and x is not False and y is not False:
+        # (_binary_value's first case, written out: a copy's nodes over a variable or parameter)
+        d["_small"] = None
+        d["_small_all"] = a["_small_all"] and b["_small_all"]
+    else:
+        _binary_value(d, a, b, cls is Mul)
+    return new
+
+
+def like_binary_many(cls: type, shape: dict, lefts: list, rights: list) -> list:
+    """``[like_binary(cls, shape, a, b) for a, b in zip(lefts, rights)]`` in one loop (the same node
+    of all of a loop's copies at once, issue 15)."""
+    out = []
+    append = out.append
+    mul = cls is Mul
+    for a, b in zip(lefts, rights):
+        new = _new(cls)
+        d = new.__dict__
+        d.update(shape)
+        d["left"] = a
+        d["right"] = b
+        a, b = a.__dict__, b.__dict__
+        x, y = a["_small"], b["_small"]
+        if (x is None or y is None) and x is not False and y is not False:
+            d["_small"] = None
+            d["_small_all"] = a["_small_all"] and b["_small_all"]
+        else:
+            _binary_value(d, a, b, mul)
+        append(new)
+    return out
+
+def like_power(shape: dict, a: "Term", small) -> "Term":
+    """``like(Pow, shape, (a,), span)`` whose ``shape`` also holds its ``span``, with the small value
+    of ``a ^ k`` given (``small_power(small_value(a), k)``, which a copy may have computed already)."""
+    new = _new(Pow)
+    d = new.__dict__
+    d.update(shape)
+    d["base"] = a
+    d["_small"] = small
+    d["_small_all"] = small is not False and a._small_all
+    return new
+
+
+def like_leaf(c: Const, span) -> Const:
+    """``Const(c.value, span=span)``, its attributes copied from ``c`` (a loop's copy reads its
+    index at several places: one number, issue 15)."""
+    new = _new(Const)
+    d = new.__dict__
+    d.update(c.__dict__)
+    d["span"] = span
+    return new
+
+
+_new = object.__new__
+
+
+def index_const(value: int, span=None) -> Const:
+    """``Const(Fraction(value), span=span)`` for an int ``value`` (a loop's index in one of its
+    copies, issue 15): an integer of fewer than 1000 bits is its own small value, so its attributes
+    are written without the constructor's tests.  Equal, attributes included, to the constructor's."""
+    number = int_fraction(value)
+    if value.bit_length() >= 1000:
+        return Const(number, span=span)
+    new = _new(Const)
+    d = new.__dict__
+    d["value"], d["span"] = number, span
+    d.update(_LEAF_ATTRS)
+    d["_small"] = number
+    return new

@@ -1,0 +1,445 @@
+"""The terms of the core language Langur (paper §4.1; LANGUAGE.md §1), shared by every engine.
+
+    t, s, r ::= c | x | z | t + s | t · s | f(t) | t ^ k
+              | ifge0 t then s else r          -- t variable-free
+              | ifge0 ⌊Ψ⌋ then s else r        -- Ψ a C¹ diffeomorphism in the variables
+              | let z = t in s                 -- t variable-free
+    p       ::= int t d(x1, …, xn)
+
+The extension by smooth primitives ``f(t)`` and constant powers ``t ^ k`` is LANGUAGE.md §1's;
+``t / s`` is ``t · s ^ -1`` and ``t − s`` is ``t + (−1)·s``.
+
+Nodes are frozen dataclasses.  Every node may carry the source ``span`` it came from (for
+diagnostics); spans never take part in equality or hashing, so ``parse(print(t)) == t`` compares
+structure only.
+
+Programs ``p`` are declared in :mod:`langur.core.programs`.  A node computes the attributes it keeps
+when it is built, from its children's (:mod:`langur.core.attributes`; ``_annotate`` below for the
+nodes without arithmetic of their own), and its hash once (:mod:`langur.core.sharing`).
+
+``Call`` is not part of the paper's core: it appears only in a module's *elaborated* form (one
+module's definitions with calls into other modules left as links, for separate compilation, §9).
+``langur.syntax.inline.inline`` removes every ``Call``; the semantic functions ``denote`` and
+``ddenote`` see pure core terms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import field
+from fractions import Fraction
+from typing import Union
+
+from ..diagnostics import Span
+from ..records import frozen
+from .attributes import (
+    _EMPTY,
+    _INT_IDS,
+    _LEAF_ATTRS,
+    SMALL_BITS,
+    _binary,
+    _ifdiffeo,
+    _in_range,
+    _join,
+    _names,
+    _small_power,
+    _unary,
+)
+from .sharing import _sharing
+
+PI = "pi"  # the one named constant: Const(PI) is π
+
+
+def _span() -> Span | None:
+    return field(default=None, compare=False, repr=False)  # type: ignore[return-value]
+
+
+@frozen
+class Const:
+    """A constant ``c``: an exact rational, or the string ``"pi"`` for π."""
+
+    value: Fraction | str
+    span: Span | None = _span()
+
+    def __init__(self, value, span=None):
+        d = self.__dict__
+        d["value"], d["span"] = value, span
+        d.update(_LEAF_ATTRS)
+        if id(value) in _INT_IDS:  # (an integer of INT_FRACTIONS: small, without Fraction's properties)
+            d["_small"] = value
+        elif type(value) is not Fraction:
+            d["_small"] = d["_small_all"] = False
+        elif value.denominator.bit_length() > SMALL_BITS or value.numerator.bit_length() >= 1000:
+            d["_small"] = v = _in_range(value)
+            d["_small_all"] = v is not False
+        else:
+            d["_small"] = value
+
+
+@frozen
+class Var:
+    """A variable of integration ``x`` (or an input ``u`` of an inverse diffeomorphism)."""
+
+    name: str
+    span: Span | None = _span()
+
+    def __init__(self, name, span=None):
+        d = self.__dict__
+        d["name"], d["span"] = name, span
+        d.update(_LEAF_ATTRS)
+        d["_fv"] = _names(name)
+
+
+@frozen
+class Param:
+    """A parameter ``z`` (declared, or bound by ``let``)."""
+
+    name: str
+    span: Span | None = _span()
+
+    def __init__(self, name, span=None):
+        d = self.__dict__
+        d["name"], d["span"] = name, span
+        d.update(_LEAF_ATTRS)
+        d["_fp"] = _names(name)
+
+
+@frozen
+class Add:
+    left: "Term"
+    right: "Term"
+    span: Span | None = _span()
+
+    def __init__(self, left, right, span=None):
+        d = self.__dict__
+        d["left"], d["right"], d["span"] = left, right, span
+        _binary(d, left.__dict__, right.__dict__, False)
+
+
+@frozen
+class Mul:
+    left: "Term"
+    right: "Term"
+    span: Span | None = _span()
+
+    def __init__(self, left, right, span=None):
+        d = self.__dict__
+        d["left"], d["right"], d["span"] = left, right, span
+        _binary(d, left.__dict__, right.__dict__, True)
+
+
+@frozen
+class Prim:
+    """A smooth primitive applied to a term: ``op`` names an entry of
+    :data:`langur.primitives.REGISTRY`."""
+
+    op: str
+    arg: "Term"
+    span: Span | None = _span()
+
+    def __init__(self, op, arg, span=None):
+        d = self.__dict__
+        d["op"], d["arg"], d["span"] = op, arg, span
+        _unary(d, arg, False if arg._small is not None else None, True, op)
+
+
+@frozen
+class Pow:
+    """``base ^ exponent`` with a constant rational exponent (``t / s`` is ``t · s ^ -1``)."""
+
+    base: "Term"
+    exponent: Fraction
+    span: Span | None = _span()
+
+    def __init__(self, base, exponent, span=None):
+        d = self.__dict__
+        d["base"], d["exponent"], d["span"] = base, exponent, span
+        _unary(d, base, _small_power(base._small, exponent),
+               type(exponent) is Fraction or isinstance(exponent, Fraction), None)
+
+
+@frozen
+class IfGe0:
+    """``ifge0 cond then then else orelse`` with a variable-free ``cond`` (Fig. 6, conditional)."""
+
+    cond: "Term"
+    then: "Term"
+    orelse: "Term"
+    span: Span | None = _span()
+
+    def __init__(self, cond, then, orelse, span=None):
+        d = self.__dict__
+        d["cond"], d["then"], d["orelse"], d["span"] = cond, then, orelse, span
+        _annotate(self)
+
+
+@frozen
+class IfDiffeo:
+    """``ifge0 ⌊Ψ⌋ then then else orelse`` (Fig. 6, diffeomorphic conditional).
+
+    The condition is ``π₀Ψ̂ ≥ 0``, i.e. ``psi.forward[0] ≥ 0``.
+    """
+
+    psi: "Diffeo"
+    then: "Term"
+    orelse: "Term"
+    span: Span | None = _span()
+
+    def __init__(self, psi, then, orelse, span=None):
+        d = self.__dict__
+        d["psi"], d["then"], d["orelse"], d["span"] = psi, then, orelse, span
+        _ifdiffeo(d, psi, then.__dict__, orelse.__dict__)
+
+
+@frozen
+class Let:
+    """``let name = bound in body``: ``bound`` variable-free, ``name`` a parameter in ``body``."""
+
+    name: str
+    bound: "Term"
+    body: "Term"
+    span: Span | None = _span()
+
+    def __init__(self, name, bound, body, span=None):
+        d = self.__dict__
+        d["name"], d["bound"], d["body"], d["span"] = name, bound, body, span
+        _annotate(self)
+
+
+@frozen
+class Call:
+    """A call of ``def name`` of module ``module`` (elaborated form only; see module docstring).
+
+    ``args`` follow the def's argument kinds: a ``var`` argument is a term over variables, a
+    ``param`` argument a variable-free term.
+    """
+
+    module: str
+    name: str
+    args: tuple["Term", ...]
+    span: Span | None = _span()
+
+    def __init__(self, module, name, args, span=None):
+        d = self.__dict__
+        d["module"], d["name"], d["args"], d["span"] = module, name, args, span
+        _annotate(self)
+
+
+@frozen
+class ImplicitRoot:
+    """An implicit root (issue 18: an inverse branch with no closed form).
+
+    It occurs only in an :class:`InverseBranch`'s components and guards: ``equation`` is a smooth
+    term over ``Var(variable)`` (bound here), parameters and, for a condition in several variables,
+    Ψ̂⁻¹'s other inputs (the other variables' values), ``target`` a term over Ψ̂⁻¹'s inputs and
+    parameters, ``lo`` and ``hi`` over parameters and, for a condition split along a variable at
+    turning points that move with the others, Ψ̂⁻¹'s other inputs.
+
+    * ``index`` is None: the one ``x`` in ``[lo, hi]`` with ``equation(x) = target``, where
+      ``equation`` is strictly monotone on ``[lo, hi]`` (a piece between two turning points).  The
+      branch's guard says that ``target`` lies between ``equation(lo)`` and ``equation(hi)``, so the
+      root exists; outside it the root is undefined (NaN).
+    * ``index`` is k: the k-th (from 0, increasing) of the points of ``[lo, hi]`` where
+      ``equation − target`` changes sign, ``hi`` when there are only k or fewer; there must be at
+      most ``of`` of them, or the term is undefined and evaluating it raises :class:`TooManyRoots`
+      (a turning point that moves with the parameters, ``equation`` = ∂f/∂x).  ``slope`` is then
+      ∂equation/∂variable as a term (over the same names): where an interval enclosure of it
+      excludes 0 on a cell, ``equation`` has at most one zero there, so the engines certify that
+      they miss no sign change (issue 18); without it they refuse to evaluate the term.
+
+    Its derivative is the implicit function theorem's: ``∂x* = (∂target − ∂equation/∂θ · ∂θ) /
+    ∂equation/∂x`` at ``x*``.
+    """
+
+    equation: "Term"
+    variable: str
+    target: "Term"
+    lo: "Term"
+    hi: "Term"
+    index: int | None = None
+    of: int = 0
+    slope: "Term | None" = None
+    span: Span | None = _span()
+
+    def __init__(self, equation, variable, target, lo, hi, index=None, of=0, slope=None, span=None):
+        d = self.__dict__
+        d["equation"], d["variable"], d["target"], d["lo"], d["hi"] = equation, variable, target, lo, hi
+        d["index"], d["of"], d["slope"], d["span"] = index, of, slope, span
+        _annotate(self)
+
+
+class TooManyRoots(Exception):
+    """An indexed :class:`ImplicitRoot` met more sign changes than its ``of`` (the completion
+    split the domain into that many pieces at most), or sign changes it cannot certify it counted
+    all of; ``span``: the condition's place in the source (issue 18)."""
+
+    def __init__(self, message: str, span: Span | None = None):
+        super().__init__(message)
+        self.span = span
+
+
+Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot]
+
+
+@frozen
+class InverseBranch:
+    """One branch of Ψ̂⁻¹: ``variables[i] = components[i](u⃗; z⃗)`` where every guard is ``≥ 0``.
+
+    ``components`` are terms over ``Var(u)`` for the diffeo's ``inputs`` and over parameters.
+    ``guards`` (same kind of terms) say where this branch exists, e.g. ``u0 + a`` for the branch
+    ``x = sqrt(u0 + a)`` of ``x^2 - a``.  The branches' images partition (up to a null set) the part
+    of ℝⁿ the program integrates over, so that
+
+        ∫ h(x) δ(π₀Ψ̂(x)) dx = Σ_branches ∫_{guards ≥ 0} h(Ψ̂_b⁻¹(0, u')) |det DΨ̂_b⁻¹(0, u')| du'.
+    """
+
+    components: tuple["Term", ...]
+    guards: tuple["Term", ...] = ()
+
+    def __init__(self, components, guards=()):  # (frozen: the fields written directly, faster)
+        d = self.__dict__
+        d["components"], d["guards"] = components, guards
+
+
+@frozen
+class Diffeo:
+    """A (piecewise) C¹ diffeomorphism ``x⃗ ↦ Ψ̂(x⃗; z⃗)`` with its inverse branches (§4, §5).
+
+    * ``variables``: Ψ̂'s inputs x⃗, in order (after inlining: all variables of the program).
+    * ``forward``: Ψ̂'s components, terms over ``Var(x)`` and parameters; ``forward[0]`` = π₀Ψ̂ is
+      the condition.
+    * ``inputs``: the names of Ψ̂⁻¹'s inputs u⃗ (disjoint from ``variables`` and all parameters).
+    * ``branches``: Ψ̂⁻¹, one :class:`InverseBranch` per branch (one for a true diffeomorphism).
+    * ``solved_for``: for an automatically completed condition, the variable isolated from
+      π₀Ψ̂ = u₀ (then ``forward = (condition, the other variables in order)``); else ``None``.
+    * ``name``: the ``diffeo`` declaration's name, or ``None`` when completed.
+    * ``nonzero``: variable-free terms that must not vanish for Ψ̂ to be a diffeomorphism (a
+      parameter coefficient such as ``t`` in ``t*x - 1``).
+    """
+
+    variables: tuple[str, ...]
+    forward: tuple["Term", ...]
+    inputs: tuple[str, ...]
+    branches: tuple[InverseBranch, ...]
+    solved_for: str | None = None
+    name: str | None = None
+    nonzero: tuple["Term", ...] = ()
+    span: Span | None = _span()
+
+    def __init__(self, variables, forward, inputs, branches, solved_for=None, name=None, nonzero=(), span=None):
+        d = self.__dict__  # (frozen: the fields written directly, faster)
+        d["variables"], d["forward"], d["inputs"], d["branches"] = variables, forward, inputs, branches
+        d["solved_for"], d["name"], d["nonzero"], d["span"] = solved_for, name, nonzero, span
+
+    @property
+    def condition(self) -> "Term":
+        """π₀Ψ̂."""
+        return self.forward[0]
+
+
+_TERMS = (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot)
+
+for _cls in _TERMS:
+    _sharing(_cls, term=True)
+for _cls in (InverseBranch, Diffeo):
+    _sharing(_cls)
+
+
+def children(t: Term) -> tuple[Term, ...]:
+    """Direct subterms of ``t`` (the diffeo's own terms are not children: see ``diffeo_terms``)."""
+    match t:
+        case Const() | Var() | Param():
+            return ()
+        case Add(a, b) | Mul(a, b):
+            return (a, b)
+        case Prim(_, a) | Pow(a, _):
+            return (a,)
+        case IfGe0(c, a, b):
+            return (c, a, b)
+        case IfDiffeo(_, a, b):
+            return (a, b)
+        case Let(_, a, b):
+            return (a, b)
+        case Call(_, _, args):
+            return tuple(args)
+        case ImplicitRoot(eq, _, target, lo, hi, slope=slope):
+            return (eq, target, lo, hi) if slope is None else (eq, target, lo, hi, slope)
+    raise TypeError(f"not a core term: {t!r}")
+
+
+def _annotate(t: "Term") -> None:
+    """Compute and keep ``t``'s attributes from its children's (:mod:`langur.core.attributes`)."""
+    d = t.__dict__
+    if type(t) is IfDiffeo:
+        _ifdiffeo(d, t.psi, t.then.__dict__, t.orelse.__dict__)
+        return
+    kids = children(t)
+    fv = fp = pv = _EMPTY
+    for c in kids:
+        fv, fp, pv = _join(fv, c._fv), _join(fp, c._fp), _join(pv, c._psi_vars)
+    size, deep = 1, 0
+    for c in kids:
+        size += c._size
+        if c._depth > deep:
+            deep = c._depth
+    match t:
+        case Var(name):
+            fv = _names(name)
+        case Param(name):
+            fp = _names(name)
+        case Let(name, bound, body):
+            fp = _join(bound._fp, body._fp - {name} if name in body._fp else body._fp)
+        case ImplicitRoot(eq, x, target, lo, hi, slope=slope):  # binds its variable in its equation (and slope)
+            own = eq._fv if slope is None else _join(eq._fv, slope._fv)
+            fv = _join(_join(own - {x} if x in own else own, target._fv), _join(lo._fv, hi._fv))
+    d["_fv"], d["_fp"], d["_psi_vars"], d["_size"], d["_depth"] = fv, fp, pv, size, deep + 1
+    d["_smooth"] = not isinstance(t, (IfGe0, Call)) and all(c._smooth for c in kids)
+    d["_calls"] = isinstance(t, Call) or any(c._calls for c in kids)
+    match t:
+        case Const(value):
+            v = _in_range(value) if type(value) is Fraction else False
+        case Var() | Param():
+            v = None
+        case Add(a, b) | Mul(a, b):
+            x, y = a._small, b._small
+            if x is False or y is False:
+                v = False
+            elif x is None or y is None:
+                v = None
+            else:
+                v = _in_range(x + y if isinstance(t, Add) else x * y)
+        case Pow(a, k):
+            v = _small_power(a._small, k)
+        case _:
+            v = False if not fv and not fp else None
+    d["_small"] = v
+    d["_small_all"] = v is not False and all(c._small_all for c in kids)
+    scoped = all(c._scoped for c in kids)
+    ops = binders = dfp = _EMPTY
+    for c in kids:
+        ops, binders, dfp = _join(ops, c._ops), _join(binders, c._binders), _join(dfp, c._dfp)
+    match t:
+        case Prim(op, _):
+            ops = _join(ops, _names(op))
+        case Pow(_, k):
+            scoped = scoped and (type(k) is Fraction or isinstance(k, Fraction))
+        case IfGe0(c, _, _):
+            scoped = scoped and not c._fv
+        case Let(name, bound, body):
+            scoped = scoped and not bound._fv
+            binders = _join(binders, _names(name))
+            dfp = _join(bound._dfp, body._dfp - {name} if name in body._dfp else body._dfp)
+        case ImplicitRoot(eq, _, _, lo, hi, slope=slope):  # its bracket may move with Δ (issue 18)
+            scoped = scoped and not eq._binders and (slope is None or not slope._binders)
+    d["_scoped"], d["_ops"], d["_binders"], d["_dfp"] = scoped, ops, binders, dfp
+
+
+def _setstate(self, state: dict) -> None:  # unpickled: the attributes computed again
+    self.__dict__.update(state)
+    if type(self) in (Const, Var, Param):
+        self.__init__(**state)
+    elif type(self) in _TERMS:
+        _annotate(self)
+
+
+for _cls in _TERMS:
+    _cls.__setstate__ = _setstate
