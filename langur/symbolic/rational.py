@@ -125,7 +125,7 @@ class Arithmetic:
     :func:`_node_walk`) are written once over these operations.
 
     Declared per mode: ``const(n, d)`` (the rational n/d, d > 0), ``read(z)`` (a point's value of a
-    symbol), ``total(values)`` and ``product(values)`` (of a non-empty list), ``add(x, y)`` and
+    symbol), ``total(values)`` and ``product(values)`` (of a non-empty iterable), ``add(x, y)`` and
     ``mul(x, y)`` (the same of two), ``raise_(x, k)`` (xᵏ for k ≥ 1), ``inverse(x)``, ``sign(x)``
     (−1, 0 or 1), ``neg(x)``, ``scale(x, k)`` (k·x for an integer k; only the slopes use it), ``failure`` (the exception the operations raise where the
     mode cannot decide: a reciprocal or a sign near 0) and ``points`` (the values of subtrees
@@ -243,6 +243,7 @@ class _Tape:
             const, read, total, product = arith.const, arith.read, arith.total, arith.product
             power, magnitude = arith.power, arith.magnitude
             vals = []
+            at = vals.__getitem__
             known = _point_memo(arith, point)
             for node, (kind, args, k) in zip(self.nodes, self.ops):
                 v = known.get(node)
@@ -254,9 +255,9 @@ class _Tape:
                             raise _NotRational()
                         v = read(point[k])
                     elif kind == _ADD:
-                        v = total([vals[j] for j in args])
+                        v = total(map(at, args))
                     elif kind == _MUL:
-                        v = product([vals[j] for j in args])
+                        v = product(map(at, args))
                     elif kind == _POW:
                         v = power(vals[args[0]], k)
                     else:
@@ -329,37 +330,42 @@ def _operands(node) -> tuple:
 
 
 def _node_walk(arith: Arithmetic):
-    """``value_of(e, memo, point)``: ``e`` at ``point`` in ``arith``, recursively over its
+    """``value_at(e, memo, point)``: ``e`` at ``point`` in ``arith``, recursively over its
     distinct subtrees (their values remembered in ``memo``); :class:`_NotRational` when ``e`` is
     not a form of rationals, symbols, +, ·, integer powers and ``Abs`` or a symbol has no value,
     the arithmetic's failure where it cannot decide.  (The arithmetic's operations are bound once,
-    here.)"""
+    here, and the memo and the point once per call: a sum's or a product's operands are walked as
+    the arithmetic folds them.)"""
     const, read, total, product = arith.const, arith.read, arith.total, arith.product
     power, magnitude = arith.power, arith.magnitude
 
-    def value_of(e, memo: dict, point: dict):
-        hit = memo.get(e)
-        if hit is not None:
-            return hit
-        if isinstance(e, sp.Rational):
-            out = const(int(e.p), int(e.q))
-        elif isinstance(e, sp.Symbol):
-            if e not in point:
+    def value_at(e, memo: dict, point: dict):
+        known = memo.get
+
+        def value_of(e):
+            hit = known(e)
+            if hit is not None:
+                return hit
+            if isinstance(e, sp.Rational):
+                out = const(int(e.p), int(e.q))
+            elif isinstance(e, sp.Symbol):
+                if e not in point:
+                    raise _NotRational()
+                out = read(point[e])
+            elif isinstance(e, sp.Add):
+                out = total(map(value_of, e.args))
+            elif isinstance(e, sp.Mul):
+                out = product(map(value_of, e.args))
+            elif isinstance(e, sp.Pow) and e.exp.is_Integer:
+                out = power(value_of(e.base), int(e.exp))
+            elif isinstance(e, sp.Abs):
+                out = magnitude(value_of(e.args[0]))
+            else:
                 raise _NotRational()
-            out = read(point[e])
-        elif isinstance(e, sp.Add):
-            out = total([value_of(a, memo, point) for a in e.args])
-        elif isinstance(e, sp.Mul):
-            out = product([value_of(a, memo, point) for a in e.args])
-        elif isinstance(e, sp.Pow) and e.exp.is_Integer:
-            out = power(value_of(e.base, memo, point), int(e.exp))
-        elif isinstance(e, sp.Abs):
-            out = magnitude(value_of(e.args[0], memo, point))
-        else:
-            raise _NotRational()
-        memo[e] = out
-        return out
-    return value_of
+            memo[e] = out
+            return out
+        return value_of(e)
+    return value_at
 
 
 #: Points whose values of subtrees are kept, per arithmetic.
