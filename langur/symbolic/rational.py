@@ -127,12 +127,13 @@ class Arithmetic:
     Declared per mode: ``const(n, d)`` (the rational n/d, d > 0), ``read(z)`` (a point's value of a
     symbol), ``total(values)`` and ``product(values)`` (of a non-empty iterable), ``add(x, y)`` and
     ``mul(x, y)`` (the same of two), ``raise_(x, k)`` (xᵏ for k ≥ 1), ``inverse(x)``, ``sign(x)``
-    (−1, 0 or 1), ``neg(x)``, ``scale(x, k)`` (k·x for an integer k; only the slopes use it), ``failure`` (the exception the operations raise where the
-    mode cannot decide: a reciprocal or a sign near 0) and ``points`` (the values of subtrees
-    remembered by point, for :func:`_point_memo`; a dict of its own unless given).  Derived here, the same for every
-    mode: ``power`` (xᵏ for any integer k: undefined at 0 for k < 1), ``magnitude`` (|x|,
-    differentiable only away from 0), ``zero`` and ``one``, and the mode's recursive walk
-    ``value_of``."""
+    (−1, 0 or 1), ``neg(x)``, ``scale(x, k)`` (k·x for an integer k; only the slopes use it),
+    ``failure`` (the exception the operations raise where the mode cannot decide: a reciprocal or
+    a sign at or near 0) and ``points`` (the values of subtrees remembered by point, for
+    :func:`_point_memo`; a dict of its own unless given).  Derived here, the same for every mode:
+    ``power`` (xᵏ for any integer k: undefined at 0 for k < 1), ``magnitude`` (|x|, differentiable
+    only away from 0), ``zero`` and ``one``, and the mode's recursive walk ``value_of(e, memo,
+    point)`` (:func:`_node_walk`)."""
 
     def __init__(self, name: str, *, const: Callable, read: Callable, total: Callable, product: Callable,
                  add: Callable, mul: Callable, raise_: Callable, inverse: Callable, sign: Callable, neg: Callable,
@@ -291,8 +292,10 @@ class _Tape:
                 for i, j in enumerate(args):
                     if d[j] is not None:
                         last = i
-                v = None  # Σᵢ dᵢ·Πⱼ≠ᵢ vⱼ as d ← d·vᵢ + v·dᵢ, v ← v·vᵢ (v: the product so far, None: 1;
-                for i in range(last + 1):  # needed up to the last dᵢ ≠ 0)
+                # Σᵢ dᵢ·Πⱼ≠ᵢ vⱼ as d ← d·vᵢ + v·dᵢ, v ← v·vᵢ (v: the product so far, None for 1;
+                # needed up to the last dᵢ ≠ 0)
+                v = None
+                for i in range(last + 1):
                     j = args[i]
                     if out is not None:
                         out = mul(out, vals[j])
