@@ -146,7 +146,7 @@ def test_tape_values_are_shared_with_exact_values_at_the_point():
     d = rational.dual_derivative(f, point, tangent)
     assert d == Fraction(str(sp.diff(f, A).xreplace(point)))
     # the tape left its subtrees' values for the other form at the same point
-    memo = rational._point_values(point)
+    memo = rational._point_memo(rational.EXACT, point)
     assert memo.get(A * B - C) is not None and memo.get(f) is not None
     assert rational.rational_value(g, point) == Fraction(str(g.xreplace(point)))
 

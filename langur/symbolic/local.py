@@ -35,6 +35,7 @@ import sympy as sp
 
 from langur.memo import remember
 from langur.symbolic.exact_rules import MAX_DEGREE, _q, triangle_rule
+from langur.symbolic.rational import residue
 from langur.symbolic.walks import degree, exact_at, free_symbols, has_any, mentions, size, tree_size
 
 #: Conditions (plus weight) at least this large (tree nodes) take the local path (the ray-traced
@@ -325,28 +326,9 @@ def _rests(term) -> list:
 def _residue(e, point: dict, memo: dict):
     """``e``'s value at the point modulo :data:`_PRIME` (``point``: the symbols' residues), for a
     form of rationals, symbols, + , · and integer powers; None for anything else or when a
-    denominator is divisible by the prime.  Equal expressions have equal residues."""
-    if e.is_Rational:
-        q = int(e.q) % _PRIME
-        return None if q == 0 else int(e.p) * pow(q, -1, _PRIME) % _PRIME
-    hit = memo.get(e)
-    if hit is not None or e in memo:
-        return hit
-    out = None
-    if e.is_Symbol:
-        out = point.get(e)
-    elif e.is_Add or e.is_Mul:
-        vals = [_residue(a, point, memo) for a in e.args]
-        if None not in vals:
-            out = 0 if e.is_Add else 1
-            for v in vals:
-                out = (out + v) % _PRIME if e.is_Add else out * v % _PRIME
-    elif e.is_Pow and e.exp.is_Integer:
-        v = _residue(e.base, point, memo)
-        if v is not None and (v != 0 or e.exp > 0):
-            out = pow(v, int(e.exp), _PRIME)
-    memo[e] = out
-    return out
+    denominator is divisible by the prime (:func:`langur.symbolic.rational.residue`: the walk of
+    the exact values in the arithmetic modulo the prime).  Equal expressions have equal residues."""
+    return residue(e, point, memo, _PRIME)
 
 
 def monomials(w, x, y) -> dict:

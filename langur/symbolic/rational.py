@@ -5,12 +5,27 @@ by dual numbers over the rationals.  Theorem 8.1's check (:mod:`langur.theorem`)
 closed form of ⟦p⟧ that :mod:`langur.symbolic.local` builds for large problems (the stylization
 kernel's triangle, §10.3.1; the ray-traced triangle, §10.2), and :mod:`langur.symbolic.regions`
 decides the relations of its parameter cell at the point with :func:`rational_value`.
+
+Such a form is walked in two ways: flattened once into a list of operations (:class:`_Tape`, for the
+values at a point and the slope along a tangent) or recursively over its distinct subtrees
+(:func:`_node_walk`).  Each walk is written once, over an :class:`Arithmetic`: the operations a mode
+computes with and the failure it raises where it cannot go on.  The modes are three arithmetics:
+
+* :data:`EXACT`: reduced integer pairs (the exact values: :func:`rational_value`,
+  :func:`dual_derivative`);
+* :data:`BALLS`: fixed-point intervals that hold the exact value, for its double or its sign with
+  less work (:func:`float_value`, :func:`sign_value`, :func:`dual_derivative_float`; the exact
+  pairs where a ball cannot decide);
+* :func:`residues`: values modulo a prime, which tell sympy expressions apart
+  (``local._near_form``'s size certificate, :func:`residue`).
 """
 
 from __future__ import annotations
 
 import math
 from fractions import Fraction
+from functools import lru_cache
+from typing import Callable
 
 import sympy as sp
 
@@ -20,11 +35,11 @@ from langur.memo import remember
 def rational_value(expr, point: dict, memo: dict | None = None):
     """``expr`` at ``point`` (symbols → Rationals) as an exact Fraction, for forms built from
     rationals, symbols, +, ·, integer powers and ``Abs``; None otherwise (or on a division by 0).
-    The values of subtrees are remembered per point (:func:`_point_values`): a closed form, the
+    The values of subtrees are remembered per point (:func:`_point_memo`): a closed form, the
     relations of its cell and the closed forms of the other partial derivatives share their
     subtrees.  (``memo``, a dict of the caller's for the same purpose, is not needed any more.)"""
     try:
-        n, d = _value_of(sp.sympify(expr), _point_values(point), point)
+        n, d = _value_at(EXACT, expr, point)
         return Fraction(n, d)
     except (_NotRational, ZeroDivisionError):
         return None
@@ -39,11 +54,123 @@ def dual_derivative(expr, point: dict, tangent: dict):
     derivative's Theorem 8.1 check differentiates the same closed form of ⟦p⟧ at the same
     points); a subtree whose derivative along the line is 0 costs no arithmetic."""
     try:
-        tape = _Tape.of(sp.sympify(expr))
-        n, d = tape.slope(tape.values(point), tangent)
+        n, d = _slope_at(EXACT, expr, point, tangent)
         return Fraction(n, d)
     except (_NotRational, ZeroDivisionError):
         return None
+
+
+def dual_derivative_float(expr, point: dict, tangent: dict) -> float | None:
+    """``float(dual_derivative(expr, point, tangent))`` (the same double; None where that is
+    None), from balls when they decide it, else from the exact value."""
+    return _decided(lambda: _double(_slope_at(BALLS, expr, point, tangent)),
+                    lambda: dual_derivative(expr, point, tangent), float)
+
+
+def float_value(expr, point: dict) -> float | None:
+    """``float(rational_value(expr, point))`` (the same double; None where that is None), from
+    balls when they decide it, else from the exact value."""
+    return _decided(lambda: _double(_value_at(BALLS, expr, point)), lambda: rational_value(expr, point), float)
+
+
+def sign_value(expr, point: dict) -> int | None:
+    """The sign (−1, 0, 1) of ``rational_value(expr, point)`` (None where that is None), from
+    balls when they decide it, else from the exact value."""
+    return _decided(lambda: _sign(_value_at(BALLS, expr, point)), lambda: rational_value(expr, point),
+                    lambda q: (q > 0) - (q < 0))
+
+
+def residue(e, point: dict, memo: dict, prime: int):
+    """``e``'s value at the point modulo ``prime`` (``point``: the symbols' residues; ``memo``: the
+    residues of subtrees already walked, the caller's) for a form of rationals, symbols, +, · and
+    integer powers; None for anything else, a symbol without a residue, or where a denominator is
+    divisible by the prime.  Equal expressions have equal residues (a ring homomorphism)."""
+    try:
+        return residues(prime).value_of(e, memo, point)
+    except (_NotRational, _NoResidue):
+        return None
+
+
+def _decided(by_balls, exact, of_exact):
+    """``by_balls()`` when the balls decide it; None for a form that is not rational; else
+    ``of_exact`` of the exact value ``exact()`` (None where that is None)."""
+    try:
+        return by_balls()
+    except _NotRational:
+        return None
+    except _Uncertain:
+        pass
+    value = exact()
+    return None if value is None else of_exact(value)
+
+
+def _value_at(arith: "Arithmetic", expr, point: dict):
+    """``expr`` at ``point`` in ``arith`` (the values of subtrees remembered per point)."""
+    return arith.value_of(sp.sympify(expr), _point_memo(arith, point), point)
+
+
+def _slope_at(arith: "Arithmetic", expr, point: dict, tangent: dict):
+    """The derivative of ``expr`` along ``tangent`` at ``point`` in ``arith`` (:meth:`_Tape.slope`)."""
+    tape = _Tape.of(sp.sympify(expr))
+    return tape.slope(tape.values(point, arith), tangent, arith)
+
+
+class _NotRational(Exception):
+    """The form is not one of rationals, symbols, +, ·, integer powers and ``Abs``, or a symbol has
+    no rational value at the point (or, in :data:`EXACT`, the form is undefined there)."""
+
+
+class Arithmetic:
+    """How one mode computes with the values of a form's subtrees: the walks (:class:`_Tape`,
+    :func:`_node_walk`) are written once over these operations.
+
+    Declared per mode: ``const(n, d)`` (the rational n/d, d > 0), ``read(z)`` (a point's value of a
+    symbol), ``total(values)`` and ``product(values)`` (of a non-empty iterable), ``add(x, y)`` and
+    ``mul(x, y)`` (the same of two), ``raise_(x, k)`` (xᵏ for k ≥ 1), ``inverse(x)``, ``sign(x)``
+    (−1, 0 or 1), ``neg(x)``, ``scale(x, k)`` (k·x for an integer k; only the slopes use it),
+    ``failure`` (the exception the operations raise where the mode cannot decide: a reciprocal or
+    a sign at or near 0) and ``points`` (the values of subtrees remembered by point, for
+    :func:`_point_memo`; a dict of its own unless given).  Derived here, the same for every mode:
+    ``power`` (xᵏ for any integer k: undefined at 0 for k < 1), ``magnitude`` (|x|, differentiable
+    only away from 0), ``zero`` and ``one``, and the mode's recursive walk ``value_of(e, memo,
+    point)`` (:func:`_node_walk`)."""
+
+    def __init__(self, name: str, *, const: Callable, read: Callable, total: Callable, product: Callable,
+                 add: Callable, mul: Callable, raise_: Callable, inverse: Callable, sign: Callable, neg: Callable,
+                 failure: type, scale: Callable | None = None, points: dict | None = None):
+        self.name = name
+        self.const, self.read, self.total, self.product = const, read, total, product
+        self.add, self.mul, self.raise_, self.inverse = add, mul, raise_, inverse
+        self.sign, self.neg, self.scale, self.failure = sign, neg, scale, failure
+        self.points = {} if points is None else points
+        self.zero, self.one = const(0, 1), const(1, 1)
+        self.power = _power_of(raise_, inverse, self.one)
+        self.magnitude = _magnitude_of(sign, neg, failure)
+        self.value_of = _node_walk(self)
+
+    def __repr__(self) -> str:
+        return f"Arithmetic({self.name})"
+
+
+def _power_of(raise_, inverse, one):
+    """xᵏ for an integer k from xᵏ (k ≥ 1) and 1/x: for k < 1 the reciprocal of x⁻ᵏ (x⁰ = 1), the
+    arithmetic's failure where that is (or may be) 0."""
+    def power(x, k: int):
+        if k >= 1:
+            return raise_(x, k)
+        y = inverse(raise_(x, -k) if k else x)
+        return y if k else one
+    return power
+
+
+def _magnitude_of(sign, neg, failure):
+    """|x| where it is differentiable (away from 0; the arithmetic's failure at 0)."""
+    def magnitude(x):
+        s = sign(x)
+        if s == 0:
+            raise failure()  # (not differentiable there)
+        return x if s > 0 else neg(x)
+    return magnitude
 
 
 _RAT, _SYM, _ADD, _MUL, _POW, _ABS = range(6)
@@ -55,7 +182,7 @@ class _Tape:
     """A form of rationals, symbols, +, ·, integer powers and ``Abs`` as a list of operations over
     its distinct subtrees, children before parents (the form itself last): ``(kind, operand
     indices, payload)`` with the payload a rational's integer pair, a symbol, or a power's
-    exponent; and its values by point."""
+    exponent; and its values by arithmetic and point."""
 
     def __init__(self, expr):
         index: dict = {}
@@ -73,8 +200,7 @@ class _Tape:
                 continue
             stack.append((node, True))
             stack.extend((a, False) for a in _operands(node) if a not in index)
-        self._values: dict = {}
-        self._balls: dict = {}
+        self._values: dict = {}  # arithmetic -> point key -> values
 
     @staticmethod
     def _op(node, index):
@@ -103,193 +229,96 @@ class _Tape:
             raise tape
         return tape
 
-    def values(self, point: dict) -> list:
-        """The value of every operation at ``point`` (remembered for the last few points), sharing
-        the values of subtrees at the point with :func:`rational_value` (:func:`_point_values`): the
-        Theorem 8.1 check differentiates ⟦p⟧'s closed form and evaluates ⦇p⦈'s and its cell's
-        relations at the same points, and they share their subtrees (a polygon's vertices and their
-        powers, the weights' coefficients)."""
+    def values(self, point: dict, arith: "Arithmetic") -> list:
+        """The value of every operation at ``point`` in ``arith`` (remembered for the last few
+        points), sharing the values of subtrees at the point with the recursive walk
+        (:func:`_point_memo`): the Theorem 8.1 check differentiates ⟦p⟧'s closed form and
+        evaluates ⦇p⦈'s and its cell's relations at the same points, and they share their
+        subtrees (a polygon's vertices and their powers, the weights' coefficients)."""
+        memo = self._values.get(arith)
+        if memo is None:
+            memo = self._values[arith] = {}
         key = _point_key(point)
-        vals = self._values.get(key)
+        vals = memo.get(key)
         if vals is None:
+            const, read, total, product = arith.const, arith.read, arith.total, arith.product
+            power, magnitude = arith.power, arith.magnitude
             vals = []
-            known = _point_values(point)
-            for node, (kind, args, k) in zip(self.nodes, self.ops):
-                v = known.get(node)
-                if v is not None:
-                    vals.append(v)
-                    continue
-                if kind == _RAT:
-                    v = k
-                elif kind == _SYM:
-                    if k not in point:
-                        raise _NotRational()
-                    v = _rational(point[k])
-                elif kind == _ADD:
-                    v = _ZERO
-                    for j in args:
-                        v = _qadd(v, vals[j])
-                elif kind == _MUL:
-                    v = _ONE
-                    for j in args:
-                        v = _qmul(v, vals[j])
-                elif kind == _POW:
-                    b = vals[args[0]]
-                    if b[0] == 0 and k < 1:
-                        raise _NotRational()
-                    v = _qpow(b, k)
-                else:
-                    a = vals[args[0]]
-                    if a[0] == 0:
-                        raise _NotRational()  # (not differentiable there)
-                    v = (abs(a[0]), a[1])
-                vals.append(v)
-                known[node] = v
-            remember(self._values, key, vals, VALUE_POINTS)
-        return vals
-
-    def slope(self, vals: list, tangent: dict):
-        """The derivative along ``tangent`` (forward mode, ``None`` standing for 0)."""
-        d: list = []
-        for kind, args, k in self.ops:
-            if kind == _RAT:
-                out = None
-            elif kind == _SYM:
-                t = _rational(tangent.get(k, 0))
-                out = t if t[0] else None
-            elif kind == _ADD:
-                out = None
-                for j in args:
-                    dj = d[j]
-                    if dj is not None:
-                        out = dj if out is None else _qadd(out, dj)
-            elif kind == _MUL:
-                out = None
-                last = -1
-                for i, j in enumerate(args):
-                    if d[j] is not None:
-                        last = i
-                v = _ONE  # Σᵢ dᵢ·Πⱼ≠ᵢ vⱼ as d ← d·vᵢ + v·dᵢ, v ← v·vᵢ (v needed up to the last dᵢ ≠ 0)
-                for i in range(last + 1):
-                    j = args[i]
-                    if out is not None:
-                        out = _qmul(out, vals[j])
-                    dj = d[j]
-                    if dj is not None:
-                        term = _qmul(v, dj)
-                        out = term if out is None else _qadd(out, term)
-                    if i < last:
-                        v = _qmul(v, vals[j])
-                if out is not None:
-                    for i in range(last + 1, len(args)):
-                        out = _qmul(out, vals[args[i]])
-            elif kind == _POW:
-                db = d[args[0]]
-                out = None if db is None else _qmul(_qmul((k, 1), _qpow(vals[args[0]], k - 1)), db)
-            else:
-                da = d[args[0]]
-                out = da if da is None or vals[args[0]][0] > 0 else (-da[0], da[1])
-            if out is not None and out[0] == 0:
-                out = None
-            d.append(out)
-        return d[-1] or _ZERO
-
-
-    def balls(self, point: dict) -> list:
-        """Every operation's value at ``point`` as a ball (:func:`_bmul`), remembered for the last
-        few points and sharing the balls of subtrees at the point with :func:`float_value`
-        (:func:`_point_balls`); :class:`_Uncertain` where a ball holds 0 and a sign is needed."""
-        key = _point_key(point)
-        vals = self._balls.get(key)
-        if vals is None:
-            vals = []
-            known = _point_balls(point)
+            at = vals.__getitem__
+            known = _point_memo(arith, point)
             for node, (kind, args, k) in zip(self.nodes, self.ops):
                 v = known.get(node)
                 if v is None:
                     if kind == _RAT:
-                        v = _bconst(*k)
+                        v = const(*k)
                     elif kind == _SYM:
                         if k not in point:
                             raise _NotRational()
-                        v = _bconst(*_rational(point[k]))
+                        v = read(point[k])
                     elif kind == _ADD:
-                        m = r = 0
-                        for j in args:
-                            a, s = vals[j]
-                            m += a
-                            r += s
-                        v = (m, r)
+                        v = total(map(at, args))
                     elif kind == _MUL:
-                        v = vals[args[0]]
-                        for j in args[1:]:
-                            v = _bmul(v, vals[j])
+                        v = product(map(at, args))
                     elif kind == _POW:
-                        v = _bpow(vals[args[0]], k)
+                        v = power(vals[args[0]], k)
                     else:
-                        a, r = vals[args[0]]
-                        if abs(a) <= r:
-                            raise _Uncertain()
-                        v = (abs(a), r)
+                        v = magnitude(vals[args[0]])
                     known[node] = v
                 vals.append(v)
-            remember(self._balls, key, vals, VALUE_POINTS)
+            remember(memo, key, vals, VALUE_POINTS)
         return vals
 
-    def ball_slope(self, vals: list, tangent: dict):
-        """:meth:`slope` in balls (``None`` standing for an exact 0)."""
+    def slope(self, vals: list, tangent: dict, arith: "Arithmetic"):
+        """The derivative along ``tangent`` in ``arith`` (forward mode over the values ``vals``,
+        ``None`` standing for an exact 0)."""
+        read, add, mul, power, sign, neg, scale = (arith.read, arith.add, arith.mul, arith.power, arith.sign,
+                                                   arith.neg, arith.scale)
+        zero, one = arith.zero, arith.one
         d: list = []
         for kind, args, k in self.ops:
             if kind == _RAT:
                 out = None
             elif kind == _SYM:
-                t = _rational(tangent.get(k, 0))
-                out = _bconst(*t) if t[0] else None
+                out = read(tangent.get(k, 0))
             elif kind == _ADD:
                 out = None
-                m = r = 0
                 for j in args:
                     dj = d[j]
                     if dj is not None:
-                        out = True
-                        m += dj[0]
-                        r += dj[1]
-                if out is not None:
-                    out = (m, r)
+                        out = dj if out is None else add(out, dj)
             elif kind == _MUL:
                 out = None
                 last = -1
                 for i, j in enumerate(args):
                     if d[j] is not None:
                         last = i
-                v = None  # (the product of the values so far; None: 1)
+                # Σᵢ dᵢ·Πⱼ≠ᵢ vⱼ as d ← d·vᵢ + v·dᵢ, v ← v·vᵢ (v: the product so far, None for 1;
+                # needed up to the last dᵢ ≠ 0)
+                v = None
                 for i in range(last + 1):
                     j = args[i]
                     if out is not None:
-                        out = _bmul(out, vals[j])
+                        out = mul(out, vals[j])
                     dj = d[j]
                     if dj is not None:
-                        term = dj if v is None else _bmul(v, dj)
-                        out = term if out is None else (out[0] + term[0], out[1] + term[1])
+                        term = dj if v is None else mul(v, dj)
+                        out = term if out is None else add(out, term)
                     if i < last:
-                        v = vals[j] if v is None else _bmul(v, vals[j])
+                        v = vals[j] if v is None else mul(v, vals[j])
                 if out is not None:
                     for i in range(last + 1, len(args)):
-                        out = _bmul(out, vals[args[i]])
+                        out = mul(out, vals[args[i]])
             elif kind == _POW:
                 db = d[args[0]]
-                if db is None:
-                    out = None
-                else:
-                    p = _bpow(vals[args[0]], k - 1)
-                    out = _bmul((k * p[0], abs(k) * p[1]), db)
+                # (k·xᵏ⁻¹·dx; x¹'s slope is dx, also at x = 0)
+                out = None if db is None else mul(scale(one if k == 1 else power(vals[args[0]], k - 1), k), db)
             else:
                 da = d[args[0]]
-                out = da if da is None or vals[args[0]][0] > 0 else (-da[0], da[1])
-            if out is not None and out == (0, 0):
+                out = da if da is None or sign(vals[args[0]]) > 0 else neg(da)
+            if out is not None and out == zero:
                 out = None
             d.append(out)
-        return d[-1] or (0, 0)
+        return d[-1] or zero
 
 
 def _operands(node) -> tuple:
@@ -302,6 +331,63 @@ def _operands(node) -> tuple:
         return (node.base,)
     raise _NotRational()
 
+
+def _node_walk(arith: Arithmetic):
+    """``value_at(e, memo, point)``: ``e`` at ``point`` in ``arith``, recursively over its
+    distinct subtrees (their values remembered in ``memo``); :class:`_NotRational` when ``e`` is
+    not a form of rationals, symbols, +, ·, integer powers and ``Abs`` or a symbol has no value,
+    the arithmetic's failure where it cannot decide.  (The arithmetic's operations are bound once,
+    here, and the memo and the point once per call: a sum's or a product's operands are walked as
+    the arithmetic folds them.)"""
+    const, read, total, product = arith.const, arith.read, arith.total, arith.product
+    power, magnitude = arith.power, arith.magnitude
+
+    def value_at(e, memo: dict, point: dict):
+        known = memo.get
+
+        def value_of(e):
+            hit = known(e)
+            if hit is not None:
+                return hit
+            if isinstance(e, sp.Rational):
+                out = const(int(e.p), int(e.q))
+            elif isinstance(e, sp.Symbol):
+                if e not in point:
+                    raise _NotRational()
+                out = read(point[e])
+            elif isinstance(e, sp.Add):
+                out = total(map(value_of, e.args))
+            elif isinstance(e, sp.Mul):
+                out = product(map(value_of, e.args))
+            elif isinstance(e, sp.Pow) and e.exp.is_Integer:
+                out = power(value_of(e.base), int(e.exp))
+            elif isinstance(e, sp.Abs):
+                out = magnitude(value_of(e.args[0]))
+            else:
+                raise _NotRational()
+            memo[e] = out
+            return out
+        return value_of(e)
+    return value_at
+
+
+#: Points whose values of subtrees are kept, per arithmetic.
+VALUE_POINTS = 8
+
+
+def _point_key(point: dict):
+    return frozenset(point.items())
+
+
+def _point_memo(arith: Arithmetic, point: dict) -> dict:
+    """The remembered values of subtrees at ``point`` in ``arith`` (a new dict for a new point; the
+    few most recent points are kept, a point's dict dropped with it)."""
+    key = _point_key(point)
+    memo = arith.points.pop(key, None)  # (moved to the end: the oldest point is dropped first)
+    return remember(arith.points, key, {} if memo is None else memo, VALUE_POINTS)
+
+
+# Exact: reduced integer pairs ``(numerator, denominator > 0)``.
 
 def _qadd(x, y):
     """``x + y`` for reduced integer pairs ``(numerator, denominator > 0)``, reduced (Henrici's
@@ -336,14 +422,28 @@ def _qmul(x, y):
 
 
 _gcd = math.gcd
-
-
-def _qpow(x, k: int):
-    n, d = (x[0] ** k, x[1] ** k) if k >= 0 else (x[1] ** -k, x[0] ** -k)
-    return (-n, -d) if d < 0 else (n, d)
-
-
 _ZERO, _ONE = (0, 1), (1, 1)
+
+
+def _qsum(xs):
+    v = _ZERO
+    for x in xs:
+        v = _qadd(v, x)
+    return v
+
+
+def _qprod(xs):
+    v = _ONE
+    for x in xs:
+        v = _qmul(v, x)
+    return v
+
+
+def _qinv(x):
+    n, d = x
+    if n == 0:
+        raise _NotRational()
+    return (-d, -n) if n < 0 else (d, n)
 
 
 def _rational(z) -> tuple[int, int]:
@@ -353,61 +453,13 @@ def _rational(z) -> tuple[int, int]:
     return int(z.p), int(z.q)
 
 
-#: Exact values of subtrees (reduced integer pairs, :func:`_qadd`) by evaluation point, the
-#: few most recent points (a point's dict is dropped with it).
+#: Exact values of subtrees (reduced integer pairs, :func:`_qadd`) by evaluation point.
 _VALUES: dict = {}
-#: Points whose values are kept.
-VALUE_POINTS = 8
-def _point_key(point: dict):
-    return frozenset(point.items())
 
-
-def _point_values(point: dict) -> dict:
-    """The remembered values of subtrees at ``point`` (a new dict for a new point)."""
-    key = _point_key(point)
-    memo = _VALUES.pop(key, None)  # (moved to the end: the oldest point is dropped first)
-    return remember(_VALUES, key, {} if memo is None else memo, VALUE_POINTS)
-
-
-def _value_of(e, memo: dict, point: dict):
-    """``e`` at ``point`` as a reduced integer pair (:class:`_NotRational` when it is not a form
-    of rationals, symbols, +, ·, integer powers and ``Abs``, or is undefined there)."""
-    hit = memo.get(e)
-    if hit is not None:
-        return hit
-    if isinstance(e, sp.Rational):
-        out = (int(e.p), int(e.q))
-    elif isinstance(e, sp.Symbol):
-        if e not in point:
-            raise _NotRational()
-        out = _rational(point[e])
-    elif isinstance(e, sp.Add):
-        out = _ZERO
-        for a in e.args:
-            out = _qadd(out, _value_of(a, memo, point))
-    elif isinstance(e, sp.Mul):
-        out = _ONE
-        for a in e.args:
-            out = _qmul(out, _value_of(a, memo, point))
-    elif isinstance(e, sp.Pow) and e.exp.is_Integer:
-        bv = _value_of(e.base, memo, point)
-        k = int(e.exp)
-        if bv[0] == 0 and k < 1:
-            raise _NotRational()
-        out = _qpow(bv, k)
-    elif isinstance(e, sp.Abs):
-        av = _value_of(e.args[0], memo, point)
-        if av[0] == 0:
-            raise _NotRational()  # (not differentiable there)
-        out = (abs(av[0]), av[1])
-    else:
-        raise _NotRational()
-    memo[e] = out
-    return out
-
-
-class _NotRational(Exception):
-    pass
+EXACT = Arithmetic(
+    "exact", const=lambda n, d: (n, d), read=_rational, total=_qsum, product=_qprod, add=_qadd, mul=_qmul,
+    raise_=lambda x, k: (x[0] ** k, x[1] ** k), inverse=_qinv, sign=lambda x: (x[0] > 0) - (x[0] < 0),
+    neg=lambda x: (-x[0], x[1]), scale=lambda x, k: _qmul((k, 1), x), failure=_NotRational, points=_VALUES)
 
 
 # Balls: the same values, bounded with less work.  Theorem 8.1's check reads of these exact
@@ -438,6 +490,15 @@ def _bconst(n: int, d: int):
     return m, (1 if rem else 0)
 
 
+def _bsum(xs):
+    """A ball holding every sum of points of the balls ``xs``: the centres' and the radii's sums."""
+    m = r = 0
+    for a, s in xs:
+        m += a
+        r += s
+    return m, r
+
+
 def _bmul(x, y):
     """A ball holding every product of points of balls ``x`` and ``y``: the centres' product
     ab·2⁻²ᴾ is within |a|s + |b|r + rs (in 2⁻²ᴾ) of each, and shifting it down by P floors
@@ -450,17 +511,21 @@ def _bmul(x, y):
     return p >> _P, (1 if p & _MASK else 0)
 
 
+def _bprod(xs):
+    it = iter(xs)
+    v = next(it)
+    for y in it:
+        v = _bmul(v, y)
+    return v
+
+
 def _bpow(x, k: int):
-    """A ball holding xᵏ for every point x of ball ``x`` (k an integer): |(a + δ)ᵏ − aᵏ| ≤
-    (|a| + |δ|)ᵏ − |a|ᵏ for k ≥ 1; a negative power is the reciprocal (:func:`_binv`) of the
-    positive one; :class:`_Uncertain` for k < 1 when the ball holds 0."""
-    a, r = x
-    if k < 1:
-        if abs(a) <= r:
-            raise _Uncertain()
-        return (_SCALE, 0) if k == 0 else _binv(_bpow(x, -k))
+    """A ball holding xᵏ for every point x of ball ``x`` (k ≥ 1 an integer): |(a + δ)ᵏ − aᵏ| ≤
+    (|a| + |δ|)ᵏ − |a|ᵏ.  (A power below 1 is the reciprocal, :func:`_binv`, of one above:
+    :class:`Arithmetic`'s ``power``.)"""
     if k == 1:
         return x
+    a, r = x
     c = a ** k  # (in 2⁻ᵏᴾ)
     shift = (k - 1) * _P
     if r:
@@ -496,6 +561,7 @@ def _double(ball) -> float:
 
 
 def _sign(ball) -> int:
+    """The sign of every point of ``ball`` (:class:`_Uncertain` when they differ)."""
     m, r = ball
     if m > r:
         return 1
@@ -506,84 +572,55 @@ def _sign(ball) -> int:
     raise _Uncertain()
 
 
-def _decided(by_balls, exact, of_exact):
-    """``by_balls()`` when the balls decide it; None for a form that is not rational; else
-    ``of_exact`` of the exact value ``exact()`` (None where that is None)."""
-    try:
-        return by_balls()
-    except _NotRational:
-        return None
-    except _Uncertain:
-        pass
-    value = exact()
-    return None if value is None else of_exact(value)
-
-
-def dual_derivative_float(expr, point: dict, tangent: dict) -> float | None:
-    """``float(dual_derivative(expr, point, tangent))`` (the same double; None where that is
-    None), from balls when they decide it, else from the exact value."""
-    def by_balls():
-        tape = _Tape.of(sp.sympify(expr))
-        return _double(tape.ball_slope(tape.balls(point), tangent))
-    return _decided(by_balls, lambda: dual_derivative(expr, point, tangent), float)
-
-
-def float_value(expr, point: dict) -> float | None:
-    """``float(rational_value(expr, point))`` (the same double; None where that is None), from
-    balls when they decide it, else from the exact value."""
-    return _decided(lambda: _double(_ball_of(sp.sympify(expr), _point_balls(point), point)),
-                    lambda: rational_value(expr, point), float)
-
-
-def sign_value(expr, point: dict) -> int | None:
-    """The sign (−1, 0, 1) of ``rational_value(expr, point)`` (None where that is None), from
-    balls when they decide it, else from the exact value."""
-    return _decided(lambda: _sign(_ball_of(sp.sympify(expr), _point_balls(point), point)),
-                    lambda: rational_value(expr, point), lambda q: (q > 0) - (q < 0))
-
-
 #: Balls of subtrees by evaluation point, as :data:`_VALUES`.
 _BALLS: dict = {}
 
+BALLS = Arithmetic(
+    "balls", const=_bconst, read=lambda z: _bconst(*_rational(z)), total=_bsum, product=_bprod,
+    add=lambda x, y: (x[0] + y[0], x[1] + y[1]), mul=_bmul, raise_=_bpow,
+    inverse=_binv, sign=_sign, neg=lambda x: (-x[0], x[1]), scale=lambda x, k: (k * x[0], abs(k) * x[1]),
+    failure=_Uncertain, points=_BALLS)
 
-def _point_balls(point: dict) -> dict:
-    """The remembered balls of subtrees at ``point`` (a new dict for a new point)."""
-    key = _point_key(point)
-    memo = _BALLS.pop(key, None)  # (moved to the end: the oldest point is dropped first)
-    return remember(_BALLS, key, {} if memo is None else memo, VALUE_POINTS)
+
+# Residues: values modulo a prime.  Equal expressions have equal values, so equal residues; values
+# that differ differ modulo a large prime but for a coincidence (``local._near_form`` tells sympy's
+# terms apart by them, and counts a coincidence against itself).
+
+class _NoResidue(Exception):
+    """No residue: the prime divides a denominator, a power below 1 of 0, or |·|."""
 
 
-def _ball_of(e, memo: dict, point: dict):
-    """:func:`_value_of` in balls (:class:`_Uncertain` where a ball holds 0 and a sign is needed)."""
-    hit = memo.get(e)
-    if hit is not None:
-        return hit
-    if isinstance(e, sp.Rational):
-        out = _bconst(int(e.p), int(e.q))
-    elif isinstance(e, sp.Symbol):
-        if e not in point:
-            raise _NotRational()
-        out = _bconst(*_rational(point[e]))
-    elif isinstance(e, sp.Add):
-        m = r = 0
-        for a in e.args:
-            b, s = _ball_of(a, memo, point)
-            m += b
-            r += s
-        out = (m, r)
-    elif isinstance(e, sp.Mul):
-        args = e.args
-        out = _ball_of(args[0], memo, point)
-        for a in args[1:]:
-            out = _bmul(out, _ball_of(a, memo, point))
-    elif isinstance(e, sp.Pow) and e.exp.is_Integer:
-        out = _bpow(_ball_of(e.base, memo, point), int(e.exp))
-    elif isinstance(e, sp.Abs):
-        a, r = _ball_of(e.args[0], memo, point)
-        if abs(a) <= r:
-            raise _Uncertain()
-        out = (abs(a), r)
-    else:
-        raise _NotRational()
-    memo[e] = out
-    return out
+@lru_cache(maxsize=None)
+def residues(prime: int) -> Arithmetic:
+    """The arithmetic modulo ``prime`` (a point's values given as residues)."""
+    def const(n, d):
+        q = d % prime
+        if q == 0:
+            raise _NoResidue()
+        return n * pow(q, -1, prime) % prime
+
+    def total(xs):
+        out = 0
+        for v in xs:
+            out = (out + v) % prime
+        return out
+
+    def product(xs):
+        out = 1
+        for v in xs:
+            out = out * v % prime
+        return out
+
+    def inverse(v):
+        if v == 0:
+            raise _NoResidue()
+        return pow(v, -1, prime)
+
+    def sign(v):
+        raise _NoResidue()  # (no order modulo a prime: no |·|)
+
+    return Arithmetic(
+        f"residues mod {prime}", const=const, read=lambda z: z, total=total, product=product,
+        add=lambda u, v: (u + v) % prime, mul=lambda u, v: u * v % prime,
+        raise_=lambda v, k: pow(v, k, prime), inverse=inverse, sign=sign, neg=lambda v: -v % prime,
+        failure=_NoResidue)
