@@ -23,7 +23,8 @@ Every table reuses the measurements of the scripts that own them:
   (the target's command) and ``... deriv ...`` (the derivative, as the peers compute it), and a fresh
   Python process per peer running ``peer_programs/NAME_fig1.py`` (imports the peer, computes the value
   and the derivative in θ at θ = 0.5, as the peer's README does), all with compiled modules kept
-  (as installed), interleaved round by round; medians of wall (the target's measure) and CPU.
+  (as installed), interleaved round by round; medians of wall (the target's measure) and CPU; and
+  ``python -c "import numpy"``, the floor under all three.
 * **The Monte Carlo path's import**, CPU beyond numpy's (``bench_text_to_number.import_time``).
 * **The exact engine's ``deriv`` per example** (``bench_symbolic.bench_examples``: each example in a
   fresh process, its partial derivatives in turn): median, max, how many over 1 s; minutes of CPU,
@@ -161,6 +162,7 @@ def run_one_shot(peers: dict, rounds: int) -> dict:
                                                  base)}
         for p, path in peers.items():
             commands[p] = ((os.path.join(PROGRAMS, f"{p}_fig1.py"),), {**base, "PYTHONPATH": os.path.abspath(path)})
+        commands["python -c 'import numpy' (the floor: every system imports numpy)"] = (("-c", "import numpy"), base)
         outputs = {}
         for name, (argv, env) in commands.items():  # the warm-up writes the compiled modules
             outputs[name] = subprocess.run([sys.executable, *argv], cwd=ROOT, env=env, check=True,
