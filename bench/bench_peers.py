@@ -12,7 +12,8 @@ size, CPU time (the machine is shared), the median of a few repetitions.
   moves by 1, 10 samples.  In Langur the loop is the paper's finite loop (§9), unrolled by the
   front end, ``sum i in 10..9+n: …``, with the aᵢ = 1/i + (a − 1) moved by one parameter a at a = 1
   (daᵢ/da = 1, the same deltas).  The peers build the same sum through their APIs, as their
-  authors' microbenchmarks do.  Times: compile (the derivative built: Langur's text to compiled
+  authors' microbenchmarks do: the programs ``bench/peer_programs/potto_mb1.py`` and ``teg_mb1.py``
+  (they import the peer; none of its code is here).  Times: compile (the derivative built: Langur's text to compiled
   program, the peers' symbolic derivative) and evaluate (10 samples).
 * **Microbenchmark 2** (Fig. 17): 90 jumps (i = 10 … 99) shaded by one shader, swapped n times:
   Langur loads the scene and links each swapped shader module (separate compilation, §9); the
@@ -26,6 +27,7 @@ of [−aᵢ, 1]; summed: Σᵢ [(aᵢ − aᵢ) + (aᵢ + aᵢ)] + Σᵢ 2·(1 +
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import os
 import statistics
 import sys
@@ -73,72 +75,38 @@ def langur_mb1(n: int, samples: int = 10):
     return c, e, est.value
 
 
-# -- Potto (its public API, as its authors' microbenchmarks use it) ---------------------------------
+# -- the peers: the programs a user of each writes (bench/peer_programs/), timed here ------------------
 
-def potto_integral(first: int, last: int):
-    """Potto's ∫₋₁¹ Σᵢ H(x + aᵢ)·f(aᵢ, x) dx for i = first … last as a function of the shader f,
-    differentiated once (separate compilation); returns the derivative, the shader's variables,
-    the derivative context and the values (aᵢ = 1/i, daᵢ = 1)."""
-    from potto import App, BoundedLebesgue, Const, Function, Heaviside, Int, Shift, Sym, TegVar, Var, deriv
-
-    x, f = TegVar("x"), Var("f")
-    big, ctx, vals = Const(0), {}, {}
-    for i in range(first, last + 1):
-        a = Var(f"a{i}")
-        vals[a.name] = 1 / i
-        big += Heaviside(Shift((a,), (x,), Const(1))) * App(f, (a, x))
-        da = Sym(f"da{i}")
-        ctx[a.name] = da
-        vals[da] = 1
-    x0, a0 = TegVar("x0"), Var("a0")
-    ctx[x0.name], ctx[a0.name] = Sym("x0"), Sym("a0")
-    return deriv(Function((f,), Int(big, BoundedLebesgue(-1, 1, x))), ctx), (a0, x0), ctx, vals
+PROGRAMS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "peer_programs")
 
 
-def potto_applied(di, shader, ctx):
-    """The compiled integral's derivative applied to a shader and the shader's derivative."""
-    from potto import App, deriv
+def peer_program(name: str):
+    """``bench/peer_programs/NAME.py``, a program written against a peer's public API, as a module
+    (imported once; it imports its peer, so the peer's checkout must be on ``sys.path`` first)."""
+    key = f"_peer_program_{name}"
+    if key not in sys.modules:
+        spec = importlib.util.spec_from_file_location(key, os.path.join(PROGRAMS, f"{name}.py"))
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        sys.modules[key] = module
+    return sys.modules[key]
 
-    return App(di, (shader, deriv(shader, ctx)))
+
+def peer_mb1(name: str, n: int, samples: int = 10):
+    """Compile (the expression and its symbolic derivative built) and evaluate of a peer's
+    microbenchmark 1 (``peer_programs/NAME_mb1.py``), CPU medians of 3, and the derivative."""
+    prog = peer_program(f"{name}_mb1")
+    c, (expr, vals) = median(lambda: prog.program(n), 3)
+    e, value = median(lambda: prog.number(expr, vals, samples), 3)
+    return c, e, value
 
 
 def potto_mb1(n: int, samples: int = 10):
-    from potto import Function, VarVal, evaluate
+    return peer_mb1("potto", n, samples)
 
-    def build():
-        di, (a0, x0), ctx, vals = potto_integral(10, 9 + n)
-        s1, s2 = Function((a0, x0), a0 + x0), Function((a0, x0), a0 - x0)
-        return potto_applied(di, s1, ctx) + potto_applied(di, s2, ctx), VarVal(vals)
-
-    c, (expr, vals) = median(build, 3)
-    e, value = median(lambda: evaluate(expr, vals, samples), 3)
-    return c, e, float(value)
-
-
-# -- Teg --------------------------------------------------------------------------------------------
 
 def teg_mb1(n: int, samples: int = 10):
-    from teg import Const, IfElse, Teg, TegVar, Var
-    from teg.derivs.fwd_deriv import fwd_deriv
-    from teg.eval import evaluate
-    from teg.passes.reduce import reduce_to_base
-
-    x = TegVar("x")
-
-    def build():
-        ctx, total = [], Const(0)
-        for shade in (lambda a, x_: a + x_, lambda a, x_: a - x_):
-            big = Const(0)
-            for i in range(10, 10 + n):
-                a = Var(f"a{i}", float(1 / i))
-                big += IfElse(x + a > 0, 1, 0) * shade(a, x)
-                ctx.append((a, 1))
-            total += Teg(Const(-1), Const(1), big, x)
-        return reduce_to_base(fwd_deriv(total, ctx), True)
-
-    c, expr = median(build, 3)
-    e, value = median(lambda: evaluate(expr, backend="numpy", num_samples=samples), 3)
-    return c, e, float(value)
+    return peer_mb1("teg", n, samples)
 
 
 # -- microbenchmark 2: 90 jumps, n shader swaps ----------------------------------------------------
@@ -178,14 +146,16 @@ def langur_mb2(n: int, folder: str):
 
 
 def potto_mb2(n: int):
-    from potto import Function, VarVal, evaluate
+    from potto import Function, VarVal
+
+    prog = peer_program("potto_mb1")
 
     def run():
-        di, (a0, x0), ctx, vals = potto_integral(10, 99)  # compiled once
+        di, (a0, x0), ctx, vals = prog.integral(10, 99)  # compiled once
         total = 0.0
         for k in range(n + 1):  # each swap: the shader's derivative, applied to the compiled integral
             s = Function((a0, x0), a0 + x0) if k < n else Function((a0, x0), a0 - x0)
-            total += evaluate(potto_applied(di, s, ctx), VarVal(vals), 10)
+            total += prog.number(prog.applied(di, s, ctx), VarVal(vals), 10)
         return total
 
     t, _ = median(run, 1)
@@ -193,24 +163,13 @@ def potto_mb2(n: int):
 
 
 def teg_mb2(n: int):
-    from teg import Const, IfElse, Teg, TegVar, Var
-    from teg.derivs.fwd_deriv import fwd_deriv
-    from teg.eval import evaluate
-    from teg.passes.reduce import reduce_to_base
-
-    x = TegVar("x")
+    prog = peer_program("teg_mb1")
 
     def run():
         total = 0.0
         for k in range(n + 1):  # no separate compilation: each swap rebuilds and re-derives the integral
-            shade = (lambda a, x_: a + x_) if k < n else (lambda a, x_: a - x_)
-            big, ctx = Const(0), []
-            for i in range(10, 100):
-                a = Var(f"a{i}", float(1 / i))
-                big += IfElse(x + a > 0, 1, 0) * shade(a, x)
-                ctx.append((a, 1))
-            expr = reduce_to_base(fwd_deriv(Teg(Const(-1), Const(1), big, x), ctx), True)
-            total += evaluate(expr, backend="numpy", num_samples=10)
+            expr, ctx = prog.integral(10, 99, prog.plus if k < n else prog.minus)
+            total += prog.number(prog.derivative(expr, ctx))
         return total
 
     t, _ = median(run, 1)
