@@ -26,6 +26,7 @@ from langur.symbolic.quadrature.foldcurve import _add_fold_turns
 from langur.symbolic.quadrature.gausskronrod import UNVECTORIZABLE, _first_panel
 from langur.symbolic.quadrature.kinks import _breakpoints, _kink_functions
 from langur.symbolic.quadrature.problem import NumProblem, UndefinedIntegral
+from langur.symbolic.quadrature.rounding import uncertainty
 from langur.symbolic.quadrature.tolerance import _OUTER, BOUNDARY, EPSABS, NARROW
 
 
@@ -84,6 +85,9 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         eps = max(eps, FOLD_EPS * 10 ** (len(p.bounds) - 1 - level))
     total = 0.0
     err = 0.0
+    allow = 0.0  # the breakpoints' rounding times the integrand next to them (:mod:`.rounding`)
+    deltas: dict = {}  # breakpoint -> its uncertainty (each shared by two sub-intervals)
+    seen = [0.0]  # the largest finite |integrand| sampled on the current sub-interval
     for a, b in zip(pts, pts[1:]):
         if _coincide(b, a):
             continue
@@ -99,13 +103,15 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
                 tests.insert(0, failed)
             continue
         inside = _apart(a, sorted(q for q in kinks if a < q < b), b)
+        seen[0] = 0.0
         if last:
-            quick = _first_panel(p.vweight, prefix, a, b, eps) if p.vweight is not None and not inside else None
+            quick = _first_panel(p.vweight, prefix, a, b, eps, seen) if p.vweight is not None and not inside else None
             if quick is UNVECTORIZABLE:
                 p.vweight, quick = None, None
             if quick is not None:
                 total += quick[0]
                 err += quick[1]
+                allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], deltas)
                 continue
 
             def h(t):
@@ -114,10 +120,20 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
                 v = p.weight(*prefix, t)
                 if p.folds and not math.isfinite(v) and not all(c.f(*prefix, t) > BOUNDARY for c in here):
                     p.fold_hit = True  # the root at its turning point within rounding (see integrate_problem)
+                size = abs(v)
+                if size > seen[0] and size != math.inf:  # (NaN > s is false)
+                    seen[0] = size
                 return v
         else:
+            inner: list = []  # (t, the inner integral's rounding allowance at t)
+
             def h(t):
-                return _nested(p, level + 1, prefix + (t,))
+                v = _nested(p, level + 1, prefix + (t,))
+                inner.append((t, p.round_last[level + 1]))
+                size = abs(v)
+                if size > seen[0] and size != math.inf:
+                    seen[0] = size
+                return v
             if p.folds and len(p.bounds) >= 2:  # an inner integral at the fold within rounding (fold section)
                 h = _fold_outer(p, [a, *inside, b], hi - lo, h)
         try:
@@ -138,9 +154,56 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
             continue
         total += val
         err += e
+        allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], deltas)
+        if not last:  # the inner integrals' allowances, integrated over [a, b]
+            allow += _stepped(inner, [a, *inside, b])
     if level == 0:
-        p.errors.append(err)
+        p.errors.append(err + allow)
+    else:
+        p.round_last[level] = allow
     return total
+
+
+def _stepped(samples: list, cuts: list[float]) -> float:
+    """∫ of a nonnegative function known at the abscissae of ``samples`` (``(t, value)``, as an
+    outer level's ``quad`` asked for them) over [cuts[0], cuts[-1]], by a step rule that never
+    reaches across a cut (an outer kink, where an inner region and its allowance appear): within
+    each cell each gap between neighbouring samples counts the larger of its two values, and the
+    cell's ends the value of the sample nearest to them (:func:`~.fold._fold_allowance`'s rule,
+    cell by cell)."""
+    if not samples:
+        return 0.0
+    samples.sort()
+    out = 0.0
+    i, n = 0, len(samples)
+    for lo, hi in zip(cuts, cuts[1:]):
+        cell = []
+        while i < n and samples[i][0] <= hi:
+            if samples[i][0] >= lo:
+                cell.append(samples[i])
+            i += 1
+        if not cell:
+            continue
+        out += (cell[0][0] - lo) * cell[0][1] + (hi - cell[-1][0]) * cell[-1][1]
+        out += sum((t1 - t0) * max(v0, v1) for (t0, v0), (t1, v1) in zip(cell, cell[1:]))
+    return out
+
+
+def _ends(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, size: float,
+          deltas: dict) -> float:
+    """The change of ∫_a^b if its ends move by their rounding (:func:`~.rounding.uncertainty`,
+    remembered in ``deltas``): ``size`` (the largest |integrand| sampled on [a, b]) times both
+    ends' uncertainties; 0 where nothing was sampled (the fold's substitution keeps its own
+    allowance, :func:`_fold_innermost`)."""
+    if not size > 0.0:
+        return 0.0
+    out = 0.0
+    for t in (a, b):
+        d = deltas.get(t)
+        if d is None:
+            d = deltas[t] = uncertainty(p, level, prefix, t, span)
+        out += d
+    return size * out
 
 
 def _near(t: float, tangent: set) -> bool:
@@ -269,6 +332,7 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
         return v, 0.0
     p.errors.clear()
     p.narrow_allow = 0.0
+    p.round_last.clear()
     try:
         if p.folds and len(p.bounds) >= 2:  # (one coordinate: the fold is a point, quad resolves it)
             p.until = _fold_deadline()

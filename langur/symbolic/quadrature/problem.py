@@ -86,6 +86,11 @@ class NumProblem:
     fold_extra: float = 0.0
     #: the largest bound of an innermost piece left out by :func:`_narrow` (per innermost integral)
     narrow_allow: float = 0.0
+    #: level -> the allowance for the breakpoints' rounding (:mod:`.rounding`) of the integral over
+    #: that level last computed (:func:`_nested` integrates it over the outer variables)
+    round_last: dict = field(default_factory=dict)
+    #: level -> its conditions' magnitudes, compiled (:func:`~.rounding.uncertainty`)
+    sizes: dict = field(default_factory=dict, repr=False)
     _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
     _finders: dict = field(default_factory=dict, repr=False)  # level -> (condition, root finder)
     _tests: dict = field(default_factory=dict, repr=False)  # level -> :meth:`tests`
