@@ -26,6 +26,7 @@ import sys
 
 import sympy as sp
 
+from langur.implicit import ImplicitRootFn
 from langur.memo import remember
 from langur.symbolic.quadrature.compiling import COMPILED, _lambdify
 from langur.symbolic.quadrature.problem import NumCond, NumProblem
@@ -63,10 +64,11 @@ _SIZES: dict = {}
 def _size_function(p: NumProblem, c: NumCond):
     """``c``'s magnitude as a function of the level's variables (the parameters as trailing
     arguments when ``c`` has its parametric form, so other parameter points reuse the compiled
-    function); None when ``c`` has no expression."""
+    function); None when ``c`` has no expression or one through an implicit root (whose size is
+    the root solved again, at every breakpoint: its root finder's bracket is its uncertainty)."""
     expr = c.sym if c.sym is not None and p.sbounds is not None else c.expr
-    if expr is None:
-        return None
+    if expr is None or expr.has(ImplicitRootFn):
+        return None  # (an implicit root's magnitude is the root again: its own tolerance stands)
     m = _SIZES.get(expr)
     if m is None:
         m = magnitude(sp.sympify(expr))
