@@ -95,3 +95,19 @@ def test_the_inner_allowance_is_integrated_cell_by_cell():
     got = _stepped(samples, [0.0, 0.4, 0.5])
     assert got == pytest.approx(0.1, rel=1e-12)
     assert math.isclose(_stepped([(0.25, 2.0)], [0.0, 1.0]), 2.0)
+
+
+@pytest.mark.parametrize("width", [14, 15])
+def test_thinner_slivers_keep_the_closed_form(width):
+    # 10⁻¹⁵ wide at x = 1/2 is ~9 units in the last place: the two breakpoints coincide within
+    # 10⁻¹⁵ and the sub-interval was left out with nothing in the bound (quadrature 0 ± 1e-10
+    # against the closed form −1, and the derivative 1 instead of 0)
+    text = T4.replace("10000000000000", "1" + "0" * width)
+    loaded = load_text(text, "t.lgr")
+    at = loaded.param_values({})
+    d = exact_deriv(loaded.program, at, {"theta": 1})
+    assert d.value == 0.0
+    assert not any("internal error" in n for n in d.notes)
+    assert d.theorem_8_1 is not None and d.theorem_8_1.holds is True
+    mc = operational.estimate_derivative(loaded, at, {"theta": 1.0}, samples=20000, seed=5)
+    assert abs(mc.value - d.value) <= 5 * mc.stderr + 1e-9

@@ -39,12 +39,14 @@ ROUNDING = 8.0
 
 
 #: A condition is taken to have its root at t when it is zero there within :data:`AT_ROOT` times
-#: its rounding plus its slope times a root finder's tolerance (``brentq``'s xtol 10⁻¹⁵ and rtol
-#: 4ε, :data:`FINDER` relative to |t| for a root formula's roundings): a root of another condition
-#: 10⁻¹³ away is not this one's (the sliver ``θ − 10⁻¹³ ≤ x ≤ θ``).
+#: its rounding plus its slope times a root finder's tolerance (for a condition without a
+#: polynomial root finder ``brentq``'s xtol 10⁻¹⁵ and rtol 4ε, :data:`XTOL`; :data:`FINDER`·ε·|t|
+#: for a root formula's last roundings): a root of another condition 10⁻¹³ away is not this
+#: one's (the sliver ``θ − 10⁻¹³ ≤ x ≤ θ``).  Taking a condition for the root's that is not only
+#: widens the bound.
 AT_ROOT = 4.0
 XTOL = 2e-15
-FINDER = 16.0
+FINDER = 4.0
 
 
 #: Only a condition within this of 0 relative to its magnitude, or any condition at |t| below
@@ -90,7 +92,7 @@ def uncertainty(p: NumProblem, level: int, prefix: tuple, t: float, span: float)
         if not math.isfinite(v):
             continue
         m = size(*prefix, t)
-        if not math.isfinite(m) or (abs(v) > NEAR * m and abs(t) > NEAR_ZERO):
+        if not math.isfinite(m) or (abs(v) > NEAR * m and abs(t) > NEAR_ZERO):  # (c.roots: set by then)
             continue  # (far from its root: no difference quotient needed, see NEAR)
         step = 2.0 ** -26 * max(abs(t), span)
         up, down = c.f(*prefix, t + step), c.f(*prefix, t - step)
@@ -104,7 +106,7 @@ def uncertainty(p: NumProblem, level: int, prefix: tuple, t: float, span: float)
             continue
         if slope == 0.0 or not math.isfinite(slope):
             continue
-        if abs(v) > AT_ROOT * ROUNDING * EPS * m + abs(slope) * (XTOL + FINDER * EPS * abs(t)):
+        if abs(v) > AT_ROOT * ROUNDING * EPS * m + abs(slope) * ((0.0 if c.roots else XTOL) + FINDER * EPS * abs(t)):
             continue  # (its root is elsewhere)
         delta = max(delta, 4.0 * EPS * abs(t) + (abs(v) + ROUNDING * EPS * m) / abs(slope))
     return delta
