@@ -129,7 +129,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         else:
             inner: list = []  # (t, the inner integral's rounding allowance at t)
 
-            def h(t):
+            def h(t, inner=inner):
                 v = _nested(p, level + 1, prefix + (t,))
                 inner.append((t, p.round_last[level + 1]))
                 size = abs(v)
