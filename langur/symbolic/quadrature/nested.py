@@ -10,6 +10,8 @@ import math
 import time
 from typing import Callable
 
+import numpy as np
+
 from langur.symbolic.quadrature.adaptive import _name, _quad
 from langur.symbolic.quadrature.fold import (
     FOLD_END,
@@ -200,8 +202,14 @@ def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span:
     if not all(c.f(*prefix, m) >= 0 for c in p.here(level)):
         return 0.0
     try:
-        v = p.weight(*prefix, m) if level == len(p.bounds) - 1 else _nested(p, level + 1, prefix + (m,))
-    except (UndefinedIntegral, ArithmeticError, ValueError):
+        if level < len(p.bounds) - 1:
+            v = _nested(p, level + 1, prefix + (m,))
+        elif p.vweight is not None:  # (compiled already: the scalar weight may never be)
+            with np.errstate(all="ignore"):
+                v = float(np.asarray(p.vweight(*prefix, np.array([m])), dtype=float).reshape(-1)[0])
+        else:
+            v = p.weight(*prefix, m)
+    except (UndefinedIntegral, ArithmeticError, ValueError, TypeError, AttributeError):
         return 0.0
     if not math.isfinite(v):
         return 0.0

@@ -49,12 +49,11 @@ XTOL = 2e-15
 FINDER = 4.0
 
 
-#: Only a condition within this of 0 relative to its magnitude, or any condition at |t| below
-#: :data:`NEAR_ZERO`, may pass :data:`AT_ROOT`'s test (so the others need no difference quotient):
-#: for a polynomial of degree d, |c'(t)|·|t| ≤ d·|c|(t), so passing needs |v|/|c|(t) ≤ 32ε +
-#: d·(XTOL/|t| + 16ε) < 10⁻⁶ when |t| > 10⁻⁷ and d ≤ 8.
+#: A condition whose root is, by its linearization |c(t)|/|c'(t)|, farther from t than this
+#: times max(|t|, the range) is not asked for its magnitude (compiled only for the conditions that
+#: are): it could pass :data:`AT_ROOT`'s test only with a rounding noise ROUNDING·ε·|c|(t) above
+#: 10⁻⁶ of its slope times the range, a root known to no digit the quadrature could use.
 NEAR = 1e-6
-NEAR_ZERO = 1e-7
 
 
 EPS = sys.float_info.epsilon
@@ -84,17 +83,13 @@ def uncertainty(p: NumProblem, level: int, prefix: tuple, t: float, span: float)
     delta = 4.0 * EPS * abs(t)
     sizes = p.sizes.get(level)
     if sizes is None:
-        sizes = p.sizes[level] = [_size_function(p, c) for c in p.here(level)]
-    for c, size in zip(p.here(level), sizes):
-        if size is None:
-            continue
+        sizes = p.sizes[level] = [0] * len(p.here(level))  # (0: not compiled yet)
+    scale = max(abs(t), span)
+    for i, c in enumerate(p.here(level)):
         v = c.f(*prefix, t)
         if not math.isfinite(v):
             continue
-        m = size(*prefix, t)
-        if not math.isfinite(m) or (abs(v) > NEAR * m and abs(t) > NEAR_ZERO):  # (c.roots: set by then)
-            continue  # (far from its root: no difference quotient needed, see NEAR)
-        step = 2.0 ** -26 * max(abs(t), span)
+        step = 2.0 ** -26 * scale
         up, down = c.f(*prefix, t + step), c.f(*prefix, t - step)
         if math.isfinite(up) and math.isfinite(down):
             slope = (up - down) / (2.0 * step)
@@ -104,7 +99,15 @@ def uncertainty(p: NumProblem, level: int, prefix: tuple, t: float, span: float)
             slope = (v - down) / step
         else:
             continue
-        if slope == 0.0 or not math.isfinite(slope):
+        if slope == 0.0 or not math.isfinite(slope) or abs(v) > NEAR * scale * abs(slope):
+            continue
+        size = sizes[i]
+        if size == 0:
+            size = sizes[i] = _size_function(p, c)
+        if size is None:
+            continue
+        m = size(*prefix, t)
+        if not math.isfinite(m):
             continue
         if abs(v) > AT_ROOT * ROUNDING * EPS * m + abs(slope) * ((0.0 if c.roots else XTOL) + FINDER * EPS * abs(t)):
             continue  # (its root is elsewhere)
