@@ -73,9 +73,11 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         p._fixed_tangent[level] = set()
         fixed = p._fixed[level] = _breakpoints(p, level, prefix, False, p._fixed_tangent[level])
     moving, kinks = _breakpoints(p, level, prefix, True, tangent)
+    owners = {**fixed[0]}  # breakpoint -> the conditions it is a root of (:func:`~.rounding.uncertainty`)
+    for t, own in moving.items():
+        owners[t] = owners[t] | own if t in owners else own
     pts = {lo, hi}
-    pts.update(fixed[0])
-    pts.update(moving)
+    pts.update(owners)
     kinks.update(fixed[1])
     if tangent is not None:
         tangent.update(p._fixed_tangent[level])
@@ -93,7 +95,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     for a, b in zip(pts, pts[1:]):
         if _coincide(b, a):
             if b > a and not p.folds:
-                allow += _dropped(p, level, prefix, a, b, hi - lo, deltas)
+                allow += _dropped(p, level, prefix, a, b, hi - lo, deltas, owners)
             continue
         m = 0.5 * (a + b)
         failed = None
@@ -115,7 +117,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
             if quick is not None:
                 total += quick[0]
                 err += quick[1]
-                allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], deltas)
+                allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], deltas, owners)
                 continue
 
             def h(t):
@@ -158,7 +160,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
             continue
         total += val
         err += e
-        allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], deltas)
+        allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], deltas, owners)
         if not last:  # the inner integrals' allowances, integrated over [a, b]
             allow += _stepped(inner, [a, *inside, b])
     if level == 0:
@@ -193,7 +195,8 @@ def _stepped(samples: list, cuts: list[float]) -> float:
     return out
 
 
-def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, deltas: dict) -> float:
+def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, deltas: dict,
+             owners: dict) -> float:
     """What leaving out [a, b] (two breakpoints within :func:`_coincide`, not integrated) may
     change: nothing where a condition fails at its midpoint, else |h(m)|·(b − a) plus its ends'
     rounding (:func:`_ends`): the sliver ``θ − 10⁻¹⁵ ≤ x ≤ θ`` under the weight 10¹⁵ is all of a
@@ -214,13 +217,14 @@ def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span:
     if not math.isfinite(v):
         return 0.0
     inner = 0.0 if level == len(p.bounds) - 1 else p.round_last[level + 1]
-    return (abs(v) + inner) * (b - a) + _ends(p, level, prefix, a, b, span, abs(v), deltas)
+    return (abs(v) + inner) * (b - a) + _ends(p, level, prefix, a, b, span, abs(v), deltas, owners)
 
 
 def _ends(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, size: float,
-          deltas: dict) -> float:
+          deltas: dict, owners: dict) -> float:
     """The change of ∫_a^b if its ends move by their rounding (:func:`~.rounding.uncertainty`,
-    remembered in ``deltas``): ``size`` (the largest |integrand| sampled on [a, b]) times both
+    remembered in ``deltas``; ``owners``: the conditions each breakpoint is a root of, every
+    condition at the range's ends): ``size`` (the largest |integrand| sampled on [a, b]) times both
     ends' uncertainties; 0 where nothing was sampled (the fold's substitution keeps its own
     allowance, :func:`_fold_innermost`)."""
     if not size > 0.0:
@@ -229,7 +233,7 @@ def _ends(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: fl
     for t in (a, b):
         d = deltas.get(t)
         if d is None:
-            d = deltas[t] = uncertainty(p, level, prefix, t, span)
+            d = deltas[t] = uncertainty(p, level, prefix, t, span, owners.get(t))
         out += d
     return size * out
 

@@ -77,15 +77,20 @@ def _size_function(p: NumProblem, c: NumCond):
     return _lambdify(p.syms[: c.level + 1], m, p.at if expr is c.sym else {})
 
 
-def uncertainty(p: NumProblem, level: int, prefix: tuple, t: float, span: float) -> float:
+def uncertainty(p: NumProblem, level: int, prefix: tuple, t: float, span: float, owners=None) -> float:
     """δ at the breakpoint ``t`` of ``level`` (module doc); ``span`` the level's range (the central
-    difference's step is 2⁻²⁶ of max(|t|, span))."""
+    difference's step is 2⁻²⁶ of max(|t|, span)); ``owners``: the positions (in ``p.here(level)``) of
+    the conditions ``t`` was found as a root of, or None (a range's end: every condition is asked;
+    the stylization's large conditions, asked three times at each breakpoint, were 2 % of a partial
+    derivative's instructions)."""
     delta = 4.0 * EPS * abs(t)
     sizes = p.sizes.get(level)
     if sizes is None:
         sizes = p.sizes[level] = [0] * len(p.here(level))  # (0: not compiled yet)
     scale = max(abs(t), span)
-    for i, c in enumerate(p.here(level)):
+    here = p.here(level)
+    for i in (range(len(here)) if owners is None else owners):
+        c = here[i]
         v = c.f(*prefix, t)
         if not math.isfinite(v):
             continue
