@@ -14,7 +14,7 @@ from collections.abc import Mapping
 import sympy as sp
 
 from ..diagnostics import Span
-from ..sympy_bridge import symbol, to_sympy
+from ..sympy_bridge import magnitude, symbol, to_sympy
 from . import algebra
 from .algebra import vanishes
 from .collect import Occurrence
@@ -63,8 +63,12 @@ def orientation(c: Occurrence, g: Occurrence, branch, variables, fixed: dict | N
     e = restrict(dot, branch)
     if fixed:
         e = e.subs(fixed)
+    if e == 0:
+        return 0
     syms = e.free_symbols
-    vals = algebra.spot_values(e, syms, [gd.subs(fixed or {}) for gd in branch[1]], seed=7)
+    # each value against the size of its terms (magnitude): the normals of [x >= a] and
+    # [x / 10^6 >= b] have the dot product 10⁻⁶, small but not 0
+    vals = algebra.spot_values(e / magnitude(e), syms, [gd.subs(fixed or {}) for gd in branch[1]], seed=7)
     vals = [v.real for v in vals if abs(v.real) > 1e-9]
     if not vals:
         return 0
