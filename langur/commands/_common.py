@@ -134,9 +134,21 @@ def mc_decimals(stderr) -> int | None:
     return max(0, 1 - math.floor(math.log10(se)))
 
 
+#: Beyond these, an estimate and its standard error are written in scientific notation (a value of
+#: 3·10⁻⁷³ with ~70 zeros, or 20 digits of which the last 15 are noise, say less in more space).
+FIXED_DECIMALS, FIXED_DIGITS = 8, 10
+
+
+def scientific(value: float, stderr: float) -> bool:
+    """Whether :func:`fmt_mc` writes ``value ± stderr`` in scientific notation."""
+    d = mc_decimals(stderr)
+    return d is not None and math.isfinite(value) and (d > FIXED_DECIMALS or abs(value) >= 10.0 ** FIXED_DIGITS)
+
+
 def fmt_mc(value, stderr, decimals: int | None = None) -> str:
     """``value`` rounded to the place of its standard error's second significant digit
-    (``3.992 ± 0.031``, not ``3.992450112 ± 0.0305``)."""
+    (``3.992 ± 0.031``, not ``3.992450112 ± 0.0305``); in scientific notation when that place is
+    far from the decimal point (``2.91e-73 ± 2.4e-74``)."""
     d = mc_decimals(stderr) if decimals is None else decimals
     if d is None:
         return fmt(value)
@@ -144,12 +156,20 @@ def fmt_mc(value, stderr, decimals: int | None = None) -> str:
         f = float(value)
     except (TypeError, ValueError):
         return str(value)
+    if decimals is None and scientific(f, float(stderr)):
+        digits = math.floor(math.log10(abs(f))) - math.floor(math.log10(float(stderr))) + 1 if f else 0
+        return f"{f:.{max(0, digits)}e}"
     return f"{f:.{d}f}" if math.isfinite(f) else str(f)
 
 
-def fmt_se(stderr) -> str:
+def fmt_se(stderr, value=None) -> str:
+    """The standard error to two significant digits, written like :func:`fmt_mc` writes ``value``."""
     d = mc_decimals(stderr)
-    return fmt(stderr, 3) if d is None else f"{float(stderr):.{d}f}"
+    if d is None:
+        return fmt(stderr, 3)
+    if value is not None and scientific(float(value), float(stderr)):
+        return f"{float(stderr):.1e}"
+    return f"{float(stderr):.{d}f}"
 
 
 #: Engines agree when the Monte Carlo estimate is within this many standard errors of the exact value.

@@ -103,6 +103,9 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
     except TooManyRoots as e:  # moving turning points beyond the split, or not certified (issue 18)
         print(_too_many_roots(kind, "exact", e, program), file=sys.stderr)
         return None, 0
+    except api.ExactUnavailable as e:  # no value, in the engine's words (values too large for a float, …)
+        print(f"langur {kind}: no exact value: {e.reason}", file=sys.stderr)
+        return None, 0
     except LangurError as e:  # a bound of the exact engine's (T234): located, the other engine still runs
         print(f"{e}\nlangur {kind}: no exact value (the error above)", file=sys.stderr)
         return None, 0

@@ -116,8 +116,8 @@ def run(args) -> int:
         for note in exact.notes:
             print(f"                note: {note}")
     if mc is not None:
-        d = c.mc_decimals(mc.stderr)
-        print(f"  MC          : {c.fmt_mc(mc.value, mc.stderr)} ± {c.fmt_se(mc.stderr)} = regular "
+        d = None if c.scientific(mc.value, mc.stderr) else c.mc_decimals(mc.stderr)
+        print(f"  MC          : {c.fmt_mc(mc.value, mc.stderr)} ± {c.fmt_se(mc.stderr, mc.value)} = regular "
               f"{c.fmt_mc(mc.regular.value, mc.stderr, d)} + boundary {c.fmt_mc(mc.boundary.value, mc.stderr, d)}   "
               f"({mc.samples} samples, {mc.method}, seed {mc.seed})")
         print_mc_notes(mc, "                ")
@@ -125,7 +125,7 @@ def run(args) -> int:
         print("  agree       : " + c.agreement(exact.value, exact.error, mc.value, mc.stderr))
     if standard_ad is not None:
         print(f"  standard AD : {c.fmt_mc(standard_ad['value'], standard_ad['stderr'])} ± "
-              f"{c.fmt_se(standard_ad['stderr'])}"
+              f"{c.fmt_se(standard_ad['stderr'], standard_ad['value'])}"
               "   (deltas dropped: what PyTorch or JAX compute on the discretized integral)")
     if named is not None:
         print_named(named, 12)

@@ -73,7 +73,7 @@ def run(args) -> int:
         for note in exact.notes:
             print(f"          note: {note}")
     if mc is not None:
-        print(f"  MC    : {c.fmt_mc(mc.value, mc.stderr)} ± {c.fmt_se(mc.stderr)}   "
+        print(f"  MC    : {c.fmt_mc(mc.value, mc.stderr)} ± {c.fmt_se(mc.stderr, mc.value)}   "
               f"({mc.samples} samples, {mc.method}, seed {mc.seed})")
         print_mc_notes(mc, "          ")
     if exact is not None and mc is not None:

@@ -97,7 +97,7 @@ def tail_notes(f: np.ndarray) -> list[str]:
     n = len(f)
     bad = int(np.count_nonzero(~np.isfinite(f)))
     if bad:
-        return [f"{bad} of {n} samples are not finite: the integrand is undefined or infinite there"]
+        return [f"{bad} of {n} samples are not finite: the integrand is undefined, infinite or too large for a float there"]
     sq = np.square(f.astype(float))
     total = float(np.sum(sq))
     if n >= 100 and total > 0 and math.isfinite(total) and float(np.max(sq)) > DOMINANT * total:

@@ -39,8 +39,8 @@ Here: what the rest of langur imports.
 from langur.symbolic.quadrature.compiling import printable
 from langur.symbolic.quadrature.deltaproblems import quad_delta_pieces
 from langur.symbolic.quadrature.pieceproblems import quad_pieces
-from langur.symbolic.quadrature.problem import NumProblem, UndefinedIntegral
+from langur.symbolic.quadrature.problem import BeyondRange, NumProblem, UndefinedIntegral
 from langur.symbolic.quadrature.tolerance import looseness, outer_tolerance
 
-__all__ = ["NumProblem", "UndefinedIntegral", "looseness", "outer_tolerance", "printable", "quad_delta_pieces",
+__all__ = ["BeyondRange", "NumProblem", "UndefinedIntegral", "looseness", "outer_tolerance", "printable", "quad_delta_pieces",
            "quad_pieces"]

@@ -12,7 +12,7 @@ from typing import Callable
 
 from scipy import integrate as si
 
-from langur.symbolic.quadrature.problem import NumProblem, UndefinedIntegral
+from langur.symbolic.quadrature.problem import BeyondRange, NumProblem, UndefinedIntegral
 
 #: Rounds of splitting an interval at the abscissae where the integrand was found not finite.
 SPLIT_ROUNDS = 3
@@ -43,6 +43,7 @@ class _Finite:
         self.h = h
         self.bad: list[float] = []
         self.inner: str | None = None  # the first inner integral's reason for being undefined
+        self.undefined = False  # a NaN among the values (±inf alone: too large for a float, :class:`BeyondRange`)
 
     def __call__(self, t: float) -> float:
         try:
@@ -51,6 +52,7 @@ class _Finite:
             self.inner = self.inner or exc.reason
             return self._bad(t)
         if not math.isfinite(v):
+            self.undefined = self.undefined or v != v
             return self._bad(t)
         return v
 
@@ -155,6 +157,10 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
         singular += [t for t in g.bad if t not in singular]
     if g.inner:
         raise UndefinedIntegral(f"{g.inner} (for ever more values of {_name(p, level)} in [{a:.6g}, {b:.6g}])")
+    if not g.undefined:  # every value left out was ±inf: too large for a float, not a pole or NaN
+        raise BeyondRange(f"quadrature over {where}: the integrand's values are too large for a float "
+                          "(beyond ±1.8e308) at ever more points, so floating-point quadrature gives no value "
+                          "and no error bound (the integral may exist)")
     raise UndefinedIntegral(f"quadrature over {where}: the integrand is undefined (NaN) or infinite at ever "
                             "more points (on a set of positive measure, or near a point where the "
                             "integral diverges)")

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from typing import Callable, Sequence
 
+import mpmath
 import numpy as np
 import sympy as sp
 
@@ -86,17 +87,24 @@ def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., flo
     e = printable(sp.sympify(expr))
     free = free_symbols(e)  # (not cached by sympy: a walk of the distinct subtrees, once)
     params = tuple(k for k in at if k in free)
-    f, g = _compile(tuple(symbols) + params, e)
+    compiled = (tuple(symbols) + params, e)
+    f, g = _compile(*compiled)
     extra = tuple(float(at[k]) for k in params)
     if f is None and params:  # e.g. Heaviside of a parameter: decided once its value is known
-        f, g = _compile(tuple(symbols), printable(e.xreplace(_floats(at))))
+        compiled = (tuple(symbols), printable(e.xreplace(_floats(at))))
+        f, g = _compile(*compiled)
         extra = ()
     if f is not None:
+        rescue = OnFirstCall(lambda: _mpmath_of(*compiled))
+
         def call(*vals):
             try:
-                return float(f(*vals, *extra))
+                v = float(f(*vals, *extra))
             except (ValueError, ZeroDivisionError, OverflowError, TypeError):
-                return math.nan
+                v = math.nan
+            if v - v == 0.0:  # finite (the common case: one subtraction, no call)
+                return v
+            return _again(rescue, vals + extra, v)  # overflowed on the way? mpmath's exponents do not
         return call
 
     def slow(*vals):
@@ -107,6 +115,39 @@ def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., flo
         return v.real if abs(v.imag) <= 1e-12 * max(1.0, abs(v.real)) else math.nan
 
     return slow
+
+
+def _mpmath_of(args: tuple, e) -> Callable:
+    """``e`` compiled for ``mpmath`` (cached like :func:`_compile`'s functions)."""
+    key = ("mpmath", args, e)
+    hit = _COMPILED.get(key)
+    if hit is None:
+        hit = shared_lambdify(list(args), e, "mpmath")
+        remember(_COMPILED, key, hit, COMPILED)
+    return hit
+
+
+def _again(g: Callable, vals: tuple, v: float) -> float:
+    """The value ``math`` could not give (``v``: ±inf or NaN), computed again by mpmath.
+
+    ``math`` gives up where an intermediate value leaves the floating-point range although the
+    integrand's value does not: ``exp(800 x) · exp(−800 x + a)`` is ``inf · 0`` in floating point and
+    ``e^a`` in fact.  mpmath's numbers have unbounded exponents (and the same 53-bit precision), so
+    where mpmath finds a finite real value, that is the value, and one beyond a float's range is
+    ±inf with its sign (so a sample that is ±inf now means *too large for a float*, not a pole:
+    :class:`~.adaptive._Finite` tells the two apart).  Anywhere else (a pole, a point outside a
+    primitive's domain, a complex value) ``math``'s answer stands."""
+    try:
+        x = g(*[mpmath.mpf(u) for u in vals])  # (mpf arguments: a float's ** overflows like math's)
+        w = complex(x)  # (a finite mpf too large for a float becomes ±inf here)
+    except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+        return v
+    if w.imag != 0.0 and not abs(w.imag) <= 1e-12 * abs(w.real):
+        return v  # complex: outside a primitive's domain
+    r = w.real
+    if r - r == 0.0 or (math.isinf(r) and mpmath.isfinite(x)):
+        return r
+    return v
 
 
 class OnFirstCall:
