@@ -85,3 +85,20 @@ def test_tiny_and_huge_estimates_in_scientific_notation():
     assert (c.fmt_mc(2.911e-73, 2.4e-74), c.fmt_se(2.4e-74, 2.911e-73)) == ("2.91e-73", "2.4e-74")
     assert (c.fmt_mc(1.23456789e20, 1.5e17), c.fmt_se(1.5e17, 1.23456789e20)) == ("1.2346e+20", "1.5e+17")
     assert (c.fmt_mc(3.992450112, 0.0305), c.fmt_se(0.0305, 3.992450112)) == ("3.992", "0.030")  # as before
+
+
+def test_monte_carlo_says_when_a_delta_score_is_too_large_for_a_float():
+    # the delta on x + y = 2a + 1/2 is scored with exp(500 x + 500 y)·exp(−500 x − 500 y): inf·0 in doubles
+    # for x + y > 1.42, which is where that line lies (x + y = 1.5): the boundary estimate is NaN, and says why
+    from langur import operational
+
+    loaded = frontend.load_text("param a = 0.5\nint ([0, 1], [0, 1]) [x + y <= 2 * a + 0.5] * "
+                                "exp(500 * x + 500 * y) * exp(-500 * x - 500 * y) d(x, y)\n")
+    d = operational.estimate_derivative(loaded, {"a": 0.5}, {"a": 1.0}, samples=2000, seed=1)
+    assert not math.isfinite(d.boundary.value)
+    assert any("on the discontinuities are not finite" in n for n in d.notes)
+    ok = frontend.load_text("param a = 0.5\nint ([0, 1], [0, 1]) [x + y <= 2 * a + 0.5] d(x, y)\n")
+    d = operational.estimate_derivative(ok, {"a": 0.5}, {"a": 1.0}, samples=2000, seed=1)
+    assert not any("not finite" in n for n in d.notes)
+    # ∂/∂a of the area of {x + y ≤ 2a + 1/2} in [0,1]² at a = 1/2: (2 − 1.5)·2 = 1 (by hand)
+    assert abs(d.value - 1.0) <= 5 * d.stderr + 1e-9

@@ -92,12 +92,20 @@ DOMINANT = 0.5
 LOW_HITS = 30
 
 
+def _not_finite(f: np.ndarray, where: str = "samples") -> list[str]:
+    bad = int(np.count_nonzero(~np.isfinite(f)))
+    if bad:
+        return [f"{bad} of {len(f)} {where} are not finite: the integrand is undefined, infinite or too large "
+                "for a float there"]
+    return []
+
+
 def tail_notes(f: np.ndarray) -> list[str]:
     """What the samples themselves say about the estimate's variance (where they can tell)."""
     n = len(f)
-    bad = int(np.count_nonzero(~np.isfinite(f)))
+    bad = _not_finite(f)
     if bad:
-        return [f"{bad} of {n} samples are not finite: the integrand is undefined, infinite or too large for a float there"]
+        return bad
     sq = np.square(f.astype(float))
     total = float(np.sum(sq))
     if n >= 100 and total > 0 and math.isfinite(total) and float(np.max(sq)) > DOMINANT * total:
@@ -241,6 +249,8 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
     score = np.where(np.concatenate(oks) & inside,
                      np.concatenate(dps) * full(g, len(site)) * np.concatenate(ws), 0.0)
     starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    if notes is not None:  # (a delta's score too large for a float: the estimate is not a number)
+        notes += _not_finite(score, "samples on the discontinuities")
     if all(des.method == "exact" for _, des, _, _ in plan):  # one variable: every root once, exactly
         return float(np.sum(np.add.reduceat(score, starts))), 0.0
     total, var = 0.0, 0.0
