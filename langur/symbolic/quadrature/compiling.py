@@ -142,8 +142,8 @@ def _again(g: Callable, vals: tuple, v: float) -> float:
         w = complex(x)  # (a finite mpf too large for a float becomes ±inf here)
     except (ValueError, ZeroDivisionError, OverflowError, TypeError):
         return v
-    if w.imag != 0.0 and not abs(w.imag) <= 1e-12 * abs(w.real):
-        return v  # complex: outside a primitive's domain
+    if w.imag != 0.0:
+        return v  # complex: outside a primitive's domain (as math said)
     r = w.real
     if r - r == 0.0 or (math.isinf(r) and mpmath.isfinite(x)):
         return r
