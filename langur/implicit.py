@@ -27,11 +27,11 @@ from functools import lru_cache
 
 import mpmath
 import numpy as np
-import scipy.optimize as so
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
+from . import lazy
 from .core import TooManyRoots
 from .enclosures import DEPTH, _interval_fn, certified_brackets
 from .memo import make_room, remember
@@ -119,12 +119,24 @@ def _root_value(z, f, target, args):
 #: Brent's method as ``so.brentq`` runs it (its relative tolerance and iteration limit).
 _RTOL = 4 * np.finfo(float).eps
 _MAXITER = 100
-try:
-    from scipy.optimize import _zeros as _scipy_zeros
-    _BRENTQ = _scipy_zeros._brentq
-except (ImportError, AttributeError):  # a scipy without it: its public wrapper (the same root)
-    def _BRENTQ(g, a, b, xtol, rtol, maxiter, args, full_output, disp):
-        return so.brentq(g, a, b, args=args, xtol=xtol, rtol=rtol, maxiter=maxiter)
+
+# scipy.optimize, imported when a root is first solved (``langur.lazy``): its import (linprog,
+# linalg, …) costs ~0.3 s, and the commands that import this module through ``sympy_bridge`` for
+# an analysis that solves no implicit root (``deriv --engine mc`` of an affine program) never need it.
+so = lazy.module("scipy.optimize")
+_zeros = lazy.module("scipy.optimize._zeros")
+
+
+def _BRENTQ(g, a, b, xtol, rtol, maxiter, args, full_output, disp):
+    """scipy's C routine of Brent's method (resolved at the first call, then called directly);
+    its public wrapper, the same root, for a scipy without it."""
+    global _BRENTQ
+    try:
+        _BRENTQ = _zeros._brentq
+    except (ImportError, AttributeError):
+        def _BRENTQ(g, a, b, xtol, rtol, maxiter, args, full_output, disp):
+            return so.brentq(g, a, b, args=args, xtol=xtol, rtol=rtol, maxiter=maxiter)
+    return _BRENTQ(g, a, b, xtol, rtol, maxiter, args, full_output, disp)
 
 
 class ImplicitRootFn(sp.Function):

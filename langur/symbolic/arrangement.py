@@ -20,7 +20,12 @@ from math import gcd
 
 import numpy as np
 import sympy as sp
-from scipy.optimize import linprog
+
+from langur import lazy
+
+# scipy.optimize (for its linprog), imported at the first case split (``langur.lazy``): ~0.3 s of
+# import that the analyses importing this module through ``symbolic.pieces`` seldom need.
+so = lazy.module("scipy.optimize")
 
 #: More cells or planes than this: no case split (the engine's form is shown instead).
 MAX_CELLS = 48
@@ -82,7 +87,7 @@ def _point(signs, n: int) -> tuple[Fraction, ...] | None:
     # maximize t subject to sign·(c·p + d) ≥ t, t ≤ 1: t > 0 at the optimum iff the cell is open
     a_ub = np.array([[-s * c for c in pl.coeffs] + [1.0] for pl, s in signs])
     b_ub = np.array([s * pl.const for pl, s in signs], dtype=float)
-    res = linprog(np.r_[np.zeros(n), -1.0], A_ub=a_ub, b_ub=b_ub,
+    res = so.linprog(np.r_[np.zeros(n), -1.0], A_ub=a_ub, b_ub=b_ub,
                   bounds=[(None, None)] * n + [(None, 1.0)], method="highs")
     if res.status != 0 or res.x[-1] <= 1e-9:
         return None
