@@ -473,17 +473,23 @@ def _lark_side():
 
 def _driver():
     """The driver (called under _LOCK): of the data shipped with the package (read without lark),
-    or of the same data read off lark's parser when the shipped data is missing or stale."""
+    or of the same data read off lark's parser when the shipped data is missing, stale or
+    malformed."""
     global _DRIVER
     if _DRIVER is None:
-        data = lalr.load()
-        if data is None:
-            data = _lark_side()[1].driver_data(_lark())
-        callbacks = lalr.callbacks(data, _BUILDER) if data is not None else None
-        # (the unit rules' callbacks that return their child: see lalr.driver)
-        identities = (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp, (_BUILDER.name, "NAME"))
-        _DRIVER = (lalr.driver(data, callbacks, identities) if callbacks is not None else None) or False
+        _DRIVER = _drive(lalr.load()) or _drive(_lark_side()[1].driver_data(_lark())) or False
     return _DRIVER
+
+
+def _drive(data):
+    """:func:`lalr.driver` of ``data`` with the builder's callbacks, or ``None`` (no data, or data it
+    cannot drive)."""
+    callbacks = lalr.callbacks(data, _BUILDER) if data is not None else None
+    if callbacks is None:
+        return None
+    # (the unit rules' callbacks that return their child: see lalr.driver)
+    identities = (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp, (_BUILDER.name, "NAME"))
+    return lalr.driver(data, callbacks, identities)
 
 
 def _lark():

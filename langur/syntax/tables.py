@@ -208,7 +208,7 @@ def _check(path: Path, fmt: int) -> str | None:
     """What is wrong with the shipped file ``path`` (layout ``fmt``), or ``None``."""
     try:
         doc = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):
         return "missing or unreadable"
     if type(doc) is not dict or doc.get("format") != fmt:
         return "of another layout"
