@@ -253,7 +253,7 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
             out: dict = {}
             act.append(out)
             for symbol, code in row.items():
-                if type(code) is not int:
+                if type(code) is not int or code >= len(rows):
                     return None
                 if code >= 0:
                     out[symbol] = code

@@ -6,8 +6,9 @@ keywords, the soft keyword ``d``, precedence).  It is parsed with lark's LALR(1)
 built and nothing recurses in Python however deep the input nests.  A valid program is parsed by
 :mod:`langur.syntax.lalr`'s driver of those tables, generated from lark as data, without importing
 lark (issue 15, start-up); lark itself is imported only to report a syntax error (it parses the
-text again and raises the error the diagnostic is made from), or when the shipped data is stale.  Every node gets an exact
-:class:`~langur.diagnostics.Span` (1-based lines and columns, ``end_col`` exclusive).
+text again and raises the error the diagnostic is made from), or when the shipped data is stale.
+Every node gets an exact :class:`~langur.diagnostics.Span` (1-based lines and columns, ``end_col``
+exclusive).
 
 Public API::
 
