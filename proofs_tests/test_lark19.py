@@ -170,6 +170,7 @@ def _hostile(marker) -> dict[str, bytes]:
     right = {**good, "driver": {"lexer": {"__t": "tuple", "items": ["os", "system"]}, "rules": "touch x"}}
     bad_states = {**good, "driver": {**good["driver"], "states": [{"NAME": "x"}]}}
     bad_rule = {**good, "driver": {**good["driver"], "states": [{"NAME": -10_000}]}}
+    bad_shift = {**good, "driver": {**good["driver"], "states": [*good["driver"]["states"][:-1], {"NAME": 10**6}]}}
     return {
         "a pickle": pickle.dumps(_Plant(marker)),
         "garbage": b"\x00\x01 not json",
@@ -178,6 +179,7 @@ def _hostile(marker) -> dict[str, bytes]:
         "right digest, hostile data": json.dumps(right).encode(),
         "right digest, a state's action not a number": json.dumps(bad_states).encode(),
         "right digest, a rule that is not there": json.dumps(bad_rule).encode(),
+        "right digest, a shift to a state that is not there": json.dumps(bad_shift).encode(),
         "deeply nested json": b"[" * 100_000,
         "not an object": b"[1, 2]",
     }
