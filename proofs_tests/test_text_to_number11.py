@@ -28,23 +28,26 @@ from paths import REPO
 
 from langur import core
 from langur.diagnostics import LangurError, Span
-from langur.syntax import lalr, parser
-from langur.syntax.larkload import Token
+from langur.syntax import lalr, larkload, parser
+
+#: A token: the driver's (``lalr.Token``) or lark's own.
+Token = (lalr.Token, larkload.Token)
 
 FILES = sorted(p for p in REPO.rglob("*.lgr") if ".venv" not in p.parts)
 
 _SLOTS = ("type", "value", "start_pos", "end_pos", "line", "column", "end_line", "end_column")
 
 
-def _token(t: Token) -> tuple:
+def _token(t) -> tuple:
     return (str(t),) + tuple(getattr(t, k) for k in _SLOTS)
 
 
 def _recorded(text: str, start: str, lark: bool) -> tuple:
     """The tokens every callback receives, in order, and the result (as nested tuples with spans)
-    or the diagnostics: by the driver (``lark`` false) or by lark's own parser, both with the
-    parser's callbacks wrapped to record their arguments (so the driver calls even its unit rules'
-    callbacks: every token shifted reaches one)."""
+    or the diagnostics: by the driver (``lark`` false: its data as shipped, read without lark) or by
+    lark's own parser, both with each rule's callback (its whole wrapper chain) wrapped to record
+    its arguments (so the driver calls even its unit rules' callbacks: every token shifted reaches
+    one)."""
     seen: list[tuple] = []
     with parser._LOCK:
         lk = parser._parser()
@@ -61,7 +64,15 @@ def _recorded(text: str, start: str, lark: bool) -> tuple:
                 if lark:
                     out = ("ok", _tree(lk.parse(text, start=start)))
                 else:
-                    driver = lalr.driver(lk, ())
+                    data = lalr.load()
+                    assert data is not None
+                    ours = []
+                    for f in lalr.callbacks(data, parser._BUILDER):
+                        def wrapped(c, f=f):
+                            seen.extend(_token(x) for x in c if isinstance(x, Token))
+                            return f(c)
+                        ours.append(wrapped)
+                    driver = lalr.driver(data, ours, ())
                     assert driver is not None
                     got = driver(text, start)
                     out = ("failed",) if got is lalr.FAILED else ("ok", _tree(got))

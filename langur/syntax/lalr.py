@@ -1,35 +1,54 @@
-"""A lean driver of lark's LALR(1) tables for the parser's successful path (issue 15, loading).
+"""The parser's successful path without lark: a lean LALR(1) driver of tables generated from lark
+(issue 15, start-up and loading; the grammar of LANGUAGE.md §6 is ``grammar.lark``).
 
-lark's ``Lark.parse`` runs the lexer as a generator of tokens, feeds each through its parser state
-object (looking the reduction's callback up by its ``Rule``, whose hash and equality are Python
-methods) and counts lines token by token: about two thirds of parsing a small program, the
-callbacks that build the surface tree (``parser._Builder``) the last third.  :func:`driver` reads
-the *same* objects out of the parser lark built from the shipped tables — the lexer's terminals
-in its order, its keyword callback's literals, the ignored and newline-bearing terminals, the LALR
-action table and the callbacks — and runs them in one loop: the same tokens (``lark.Token``, with
-the same positions), the same shifts and reductions, the same callbacks called in the same order,
-so the same result or the same exception from a callback (E105, E106).  Two things are done
-another way than lark's runtime does them, for speed (front11, issue 15: matching was a fifth of
-parsing a small program): the one-character literal terminals are one character class of the
-lexer's pattern (at most one of them matches anywhere, so lark's order among them is moot), and a
-name is told from a keyword by a dict of the keywords' literals (what lark's ``UnlessCallback``
-finds by a full match of their alternation).  ``proofs_tests/test_text_to_number11.py`` compares
-every token with lark's.
+lark is the single source of the grammar, but importing it (~25 ms), deserializing its parser
+(~10 ms) and reading that parser's objects back into a driver (~4 ms) cost about 40 ms of every
+one-shot process for a parse that takes well under a millisecond.  So ``python -m
+langur.syntax.tables`` — run when the grammar changes — also reads, out of the parser lark builds,
+everything a successful parse needs and writes it as plain data (JSON, never a pickle: SECURITY.md)
+to ``grammar.driver.json`` (:data:`DATA`), stamped with the grammar's SHA-256: the lexer's terminals
+in the order lark's scanner tries them and their regular expressions, the keywords lark's
+``UnlessCallback`` tells from names, the ignored and newline-bearing terminals, the LALR action
+table, and for every rule the callback lark calls on its reduction and how lark's parse-tree
+builder shapes the children first (``_rule`` inlining, ``?rule``'s single child: its wrapper chain
+under ``tables.OPTIONS``).  This module loads that data and runs it with ``parser._Builder``'s
+callbacks; it never imports lark.  :class:`Token` is lark's token without lark: the same ``str``
+subclass with the same slots, built with the same positions.
 
-Only success is handled here: at a character no terminal matches or a token the table has no
-action for, :func:`driver`'s function returns :data:`FAILED` and the caller parses again with lark,
-which raises the error the diagnostics are made from (the callbacks keep no state between calls
-but the path, so running them again is harmless).  ``proofs_tests/test_lalr.py`` compares both on
-every example file, the hostile corpus and random programs.
+:func:`driver` runs the data in one loop: the same tokens as lark's lexer (type, text, positions),
+the same shifts and reductions, the same callbacks called in the same order on the same children,
+so the same result or the same exception from a callback (E105, E106).  Two things are done another
+way than lark's runtime does them, for speed (front11): the one-character literal terminals are one
+character class of the lexer's pattern (at most one of them matches anywhere, so lark's order among
+them is moot), and a name is told from a keyword by a dict of the keywords' literals (what lark's
+``UnlessCallback`` finds by a full match of their alternation).
+
+Only success is handled here: at a character no terminal matches or a token the table has no action
+for, :func:`driver`'s function returns :data:`FAILED`, and ``parser.py`` then imports lark and parses
+again with it, which raises the error the diagnostics are made from (the callbacks keep no state
+between calls but the path, so running them again is harmless).  That lazy import is the point (a
+valid program never pays for lark), not a way around an import cycle.  A missing, stale or
+malformed data file makes :func:`load` return ``None``: ``parser.py`` then builds lark's parser from
+the grammar and derives the same data from it in the process (``tables.driver_data``), slower, same
+behaviour.  ``proofs_tests/test_lalr.py`` and ``test_text_to_number11.py`` compare the driver with
+lark on every example file, the hostile corpus and random programs, token by token and tree by tree.
 """
 
 from __future__ import annotations
 
+import hashlib
+import json
 import re
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
-from .larkload import Lark, Token
+GRAMMAR = Path(__file__).with_name("grammar.lark")
+#: The driver's data, generated from lark by ``python -m langur.syntax.tables``.
+DATA = Path(__file__).with_name("grammar.driver.json")
+#: The layout of :data:`DATA` (a file of another layout is not read).
+DATA_FORMAT = 1
+MAX_DATA_BYTES = 1_000_000  # the shipped file is ~40 kB; anything far larger is not ours
 
 #: What the driver returns when lark must parse instead (an input with a syntax error).
 FAILED = object()
@@ -38,29 +57,137 @@ FAILED = object()
 SINGLE = "_1CHAR"
 
 
-def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | None:
-    """``parse(text, start)``: ``lark.parse(text, start=start)`` for a text without syntax errors,
-    :data:`FAILED` otherwise; ``None`` when ``lark`` is not built as Langur's parser is (LALR, basic
-    lexer, one compiled pattern, no post-lexer, only a keyword callback on terminals).
+def grammar_text() -> str:
+    return GRAMMAR.read_text(encoding="utf-8")
 
-    ``identities``: callbacks that return their one argument's only element (``lambda c: c[0]``),
-    or ``(callback, symbol)``: the callback does so for the rule whose one symbol is ``symbol``;
-    a one-symbol rule reduced with one of them only changes state (its value stays on the stack,
-    where the callback would have put it back): a unit rule of the precedence ladder (``term`` →
-    ``sum`` → ``product`` → ``unary`` → ``power``) is most reductions of a program."""
+
+def digest(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+class Token(str):
+    """A token as lark's ``lark.Token`` is one — a ``str`` of its text with the same slots, set to
+    the same values by the driver — so that ``parser._Builder``'s callbacks read it as they read
+    lark's (on the error path they receive lark's own)."""
+
+    __slots__ = ("type", "start_pos", "value", "line", "column", "end_line", "end_column", "end_pos")
+
+    def __new__(cls, type, value, start_pos=None, line=None, column=None, end_line=None, end_column=None,
+                end_pos=None):
+        inst = str.__new__(cls, value)
+        inst.type, inst.start_pos, inst.value, inst.line = type, start_pos, value, line
+        inst.column, inst.end_line, inst.end_column, inst.end_pos = column, end_line, end_column, end_pos
+        return inst
+
+    @classmethod
+    def new_borrow_pos(cls, type_: str, value: Any, borrow_t) -> Token:
+        return cls(type_, value, borrow_t.start_pos, borrow_t.line, borrow_t.column, borrow_t.end_line,
+                   borrow_t.end_column, borrow_t.end_pos)
+
+    def __repr__(self) -> str:
+        return f"Token({self.type!r}, {self.value!r})"
+
+    def __eq__(self, other) -> bool:  # (lark's: tokens of different types differ)
+        if isinstance(other, Token) and self.type != other.type:
+            return False
+        return str.__eq__(self, other)
+
+    __hash__ = str.__hash__
+
+
+class Tree:
+    """What lark's parse-tree builder makes for a rule without a callback (``Tree(name, children)``):
+    only the inlined ``_rule``s of Langur's grammar, whose children the parent's filter splices in."""
+
+    __slots__ = ("children", "data")
+
+    def __init__(self, data: str, children: list) -> None:
+        self.data, self.children = data, children
+
+    def __repr__(self) -> str:
+        return f"Tree({self.data!r}, {self.children!r})"
+
+
+def load(path: Path = DATA) -> dict | None:
+    """The driver's data, or ``None`` when the file is missing, too large, not JSON, of another
+    layout or made from another grammar (the caller then derives it from lark)."""
     try:
-        front = lark.parser
-        lexer, parser = front.lexer, front.parser.parser
-        scanner = lexer.scanner  # (builds the lexer's callbacks too)
-        if (front.lexer_conf.postlex is not None or len(scanner._mres) != 1
-                or any(type(cb).__name__ != "UnlessCallback" for cb in lexer.callback.values())):
+        if path.stat().st_size > MAX_DATA_BYTES:
             return None
-        pattern = scanner._mres[0]
-        ignored, newlines = frozenset(lexer.ignore_types), frozenset(lexer.newline_types)
-        terminals = list(scanner.terminals)
-        if "|".join(f"(?P<{t.name}>{t.pattern.to_regexp()})" for t in terminals) != pattern.pattern \
-                or not newlines <= ignored or any(t.name == SINGLE for t in terminals):
-            return None  # (not the scanner's pattern, or a token that may hold a line break)
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        if (type(doc) is not dict or doc.get("format") != DATA_FORMAT
+                or doc.get("grammar_sha256") != digest(grammar_text()) or type(doc.get("driver")) is not dict):
+            return None
+        return doc["driver"]
+    except (OSError, ValueError, RecursionError):
+        return None
+
+
+# How lark's parse-tree builder wraps a rule's callback (lark.parse_tree_builder, as read by
+# tables.driver_data): ``expand1`` — a ``?rule`` returns its only child without calling it;
+# ``filter`` — the children are filtered first, an inlined ``_rule``'s own children spliced in.
+def _expand_single_child(f: Callable) -> Callable:
+    def expand(children):
+        return children[0] if len(children) == 1 else f(children)
+    return expand
+
+
+def _child_filter(include: list, f: Callable) -> Callable:
+    include = [(int(i), bool(spliced)) for i, spliced in include]
+
+    def filtered(children):
+        out: list = []
+        for i, spliced in include:
+            if spliced:
+                if out:
+                    out += children[i].children
+                else:  # (lark's: the left recursion's list taken over)
+                    out = children[i].children
+            else:
+                out.append(children[i])
+        return f(out)
+    return filtered
+
+
+def callbacks(data: dict, builder: Any) -> list[Callable] | None:
+    """Each rule's callback, as lark's ``ParseTreeBuilder.create_callback`` makes it for the inline
+    transformer ``builder``: its method named by the rule (``None`` when ``builder`` has a method
+    named as a terminal: lark would call it on every such token, which the driver does not)."""
+    try:
+        if any(hasattr(builder, name) for name in data["terminal_names"]):
+            return None
+        out = []
+        for _origin, _symbols, name, chain in data["rules"]:
+            f = getattr(builder, name, None)
+            if f is None:
+                f = (lambda data: lambda children: Tree(data, children))(name)
+            for wrapper in chain:
+                if wrapper[0] == "expand1":
+                    f = _expand_single_child(f)
+                elif wrapper[0] == "filter":
+                    f = _child_filter(wrapper[1], f)
+                else:
+                    return None
+            out.append(f)
+        return out
+    except (KeyError, TypeError, ValueError, IndexError):
+        return None
+
+
+def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -> Callable[[str, str], Any] | None:
+    """``parse(text, start)``: what lark's ``parse(text, start=start)`` returns for a text without
+    syntax errors, :data:`FAILED` otherwise; ``None`` when ``data`` is malformed.
+
+    ``rule_callbacks``: :func:`callbacks`'s list (one per rule of ``data``).  ``identities``:
+    callbacks that return their one argument's only element (``lambda c: c[0]``), or ``(callback,
+    symbol)``: the callback does so for the rule whose one symbol is ``symbol``; a one-symbol rule
+    reduced with one of them only changes state (its value stays on the stack, where the callback
+    would have put it back): a unit rule of the precedence ladder (``term`` → ``sum`` → ``product``
+    → ``unary`` → ``power``) is most reductions of a program."""
+    try:
+        lexer = data["lexer"]
+        flags = int(lexer["flags"])
+        ignored = frozenset(lexer["ignore"])
         # one match per token: any run of ignored text (white space, comments) as lark's lexer would
         # cut it — atomic, never backtracked into (a comment is never cut short for a name in it) —
         # then the scanner's alternatives in its order, or nothing at the end of the text.  After
@@ -68,82 +195,76 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
         # out; a run of consecutive one-character literal terminals (``(``, ``+``, …: at most one
         # of them matches, whatever their order) is one character class, its terminal read off the
         # character (one failed alternative instead of one per terminal).
-        skip = "|".join(f"(?:{t.pattern.to_regexp()})" for t in lexer.terminals if t.name in ignored)
+        skip = "|".join(f"(?:{regexp})" for regexp in lexer["ignored_patterns"])
         parts: list[str] = []
         singles: dict[str, str] = {}
         run: list = []
 
         def close() -> None:
             if len(run) > 1:
-                singles.update((t.pattern.value, t.name) for t in run)
-                parts.append(f"(?P<{SINGLE}>[{''.join(re.escape(t.pattern.value) for t in run)}])")
+                singles.update((char, name) for name, _, char in run)
+                parts.append(f"(?P<{SINGLE}>[{''.join(re.escape(char) for _, _, char in run)}])")
             else:
-                parts.extend(f"(?P<{t.name}>{t.pattern.to_regexp()})" for t in run)
+                parts.extend(f"(?P<{name}>{regexp})" for name, regexp, _ in run)
             run.clear()
 
-        for t in terminals:
-            if t.name in ignored:
+        for name, regexp, char in lexer["terminals"]:  # (lark's scanner's order)
+            if name in ignored:
                 continue
-            if t.pattern.type == "str" and len(t.pattern.value) == 1 and not t.pattern.flags:
-                run.append(t)
+            if char is not None:  # a one-character literal
+                run.append((name, regexp, char))
                 continue
             close()
-            parts.append(f"(?P<{t.name}>{t.pattern.to_regexp()})")
+            parts.append(f"(?P<{name}>{regexp})")
         close()
         alternatives = "|".join(parts)
-        glued = re.compile(f"(?>(?:{skip})*)(?:{alternatives})?" if skip else f"(?:{alternatives})?", pattern.flags)
+        glued = re.compile(f"(?>(?:{skip})*)(?:{alternatives})?" if skip else f"(?:{alternatives})?", flags)
         # a name that is a keyword: its own terminal, as lark's UnlessCallback finds it (a full match
-        # of the keywords' literals: the one literal equal to the text)
+        # of the keywords' literals: the first literal equal to the text)
         keywords: dict[str, dict[str, str]] = {}
-        for name, cb in lexer.callback.items():
-            words = keywords[name] = {}
-            for t in cb.scanner.terminals:
-                if t.pattern.type != "str" or t.pattern.flags:
-                    return None
-                words.setdefault(t.pattern.value, t.name)
-        table = parser.parse_table
-        callbacks = parser.callbacks
-        starts, ends = dict(table.start_states), dict(table.end_states)
-        states = table.states  # state → terminal or nonterminal → (Shift, state) or (Reduce, Rule)
-        shift = next(a for row in states.values() for a, _ in row.values() if a.name == "Shift")
-    except (AttributeError, KeyError, TypeError, StopIteration, re.error):
-        return None
-    token_callbacks = {k: v for k, v in callbacks.items() if isinstance(k, str)}
-    if token_callbacks:
-        return None  # (no terminal of Langur's grammar has a callback of its own)
-    # lark's table resolved once into what the loop reads (the same shifts, reductions and gotos):
-    # per state (a list index), a terminal or nonterminal's action — the next state (an int) for a
-    # shift, (the rule's length, its callback, the goto of its nonterminal by state) for a
-    # reduction, and for a unit rule whose callback returns its child a dict (filled as met): the
-    # state a run of such reductions ends in and the look-ahead's action there, by the state below
-    # (the value stays on the stack)
-    try:
+        for name, words in lexer["keywords"].items():
+            keywords[name] = {}
+            for literal, terminal in words:
+                keywords[name].setdefault(literal, terminal)
+        starts, ends = dict(data["start_states"]), dict(data["end_states"])
+        rules, rows = data["rules"], data["states"]  # a state's row: symbol → state (shift) or -1 - rule
+        if len(rule_callbacks) != len(rules):
+            return None
+        # the table resolved once into what the loop reads (the same shifts, reductions and gotos):
+        # per state (a list index), a terminal or nonterminal's action — the next state (an int) for
+        # a shift, (the rule's length, its callback, the goto of its nonterminal by state) for a
+        # reduction, and for a unit rule whose callback returns its child a dict (filled as met): the
+        # state a run of such reductions ends in and the look-ahead's action there, by the state
+        # below (the value stays on the stack)
         gotos: dict[str, dict[int, int]] = {}  # by symbol (read for nonterminals only)
-        for state, row in states.items():
-            for symbol, (action, arg) in row.items():
-                if action is shift:
-                    gotos.setdefault(symbol, {})[state] = arg
-        act: list[dict | None] = [None] * (max(states) + 1)
+        for state, row in enumerate(rows):
+            for symbol, code in row.items():
+                if code >= 0:
+                    gotos.setdefault(symbol, {})[state] = code
+        reductions = []
+        for (origin, symbols, _, _), callback in zip(rules, rule_callbacks):
+            size = len(symbols)
+            if size == 1 and any(callback == f or f == (callback, symbols[0]) for f in identities):
+                size = -1
+            reductions.append((size, callback, gotos.get(origin, {})))
+        act: list[dict] = []
         unit_goto: dict[tuple[int, str], dict[int, int]] = {}  # a unit rule's goto, by (state, symbol)
-        rules: dict[int, tuple] = {}
-        for state, row in states.items():
-            out = act[state] = {}
-            for symbol, (action, arg) in row.items():
-                if action is shift:
-                    out[symbol] = arg
-                    continue
-                found = rules.get(id(arg))
-                if found is None:
-                    size, callback = len(arg.expansion), callbacks[arg]
-                    if size == 1 and any(callback == f or f == (callback, arg.expansion[0].name) for f in identities):
-                        size = -1
-                    found = rules[id(arg)] = (size, callback, gotos.get(arg.origin.name, {}))
-                if found[0] < 0:
-                    unit_goto[state, symbol] = found[2]
+        for state, row in enumerate(rows):
+            out: dict = {}
+            act.append(out)
+            for symbol, code in row.items():
+                if type(code) is not int or code >= len(rows):
+                    return None
+                if code >= 0:
+                    out[symbol] = code
+                elif reductions[-1 - code][0] < 0:
+                    unit_goto[state, symbol] = reductions[-1 - code][2]
                     out[symbol] = {}
                 else:
-                    out[symbol] = found
-    except (AttributeError, KeyError, TypeError, ValueError):
+                    out[symbol] = reductions[-1 - code]
+        if not all(0 <= s < len(act) for s in (*starts.values(), *ends.values())):
+            return None
+    except (KeyError, TypeError, ValueError, IndexError, AttributeError, re.error):
         return None
 
     new = str.__new__
@@ -154,7 +275,6 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
         state_stack, value_stack = [starts[start]], []
         push_state, push_value = state_stack.append, value_stack.append
         pos, line, line_start = 0, 1, 0
-        token = None
         while pos < end:
             m = match(text, pos)  # (never None: it may match ignored text alone, or nothing)
             kind = m.lastgroup
@@ -174,8 +294,8 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
                 kind = singles[value]
             elif kind in keywords:  # a name that is a keyword: its own terminal (lark's UnlessCallback)
                 kind = keywords[kind].get(value, kind)
-            # Token(kind, value, pos, line, column) with its end (no line break inside: checked
-            # above), without Token.__new__'s two Python calls (the same slots set to the same values)
+            # Token(kind, value, pos, line, column) with its end (no line break inside: checked by
+            # tables.driver_data), without Token.__new__'s Python call (the same slots, same values)
             token = new(Token, value)
             token.type, token.start_pos, token.value, token.line = kind, pos, value, line
             token.end_line, token.end_pos = line, nxt
@@ -210,8 +330,6 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
                     push_value(token)
                     break
         # the end of the input: its reductions one at a time, the end state checked after each
-        token = (Token.new_borrow_pos("$END", "", token) if token  # (as lark: a str's truth)
-                 else Token("$END", "", 0, 1, 1))
         end_state = ends[start]
         while True:
             state = state_stack[-1]
@@ -244,4 +362,4 @@ def driver(lark: Lark, identities: tuple = ()) -> Callable[[str, str], Any] | No
     return parse
 
 
-__all__ = ["FAILED", "driver"]
+__all__ = ["DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "driver", "grammar_text", "load"]

@@ -20,8 +20,9 @@ try:
     from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
     from lark.grammar import Rule
     from lark.lexer import TerminalDef
+    from lark.parse_tree_builder import ChildFilterLALR_NoPlaceholders, ExpandSingleChild
 finally:
     if _hidden and sys.modules.get("regex", 0) is None:
         del sys.modules["regex"]
 
-__all__ = ["Lark", "Rule", "TerminalDef", "Token", "UnexpectedCharacters", "UnexpectedInput", "UnexpectedToken"]
+__all__ = ["ChildFilterLALR_NoPlaceholders", "ExpandSingleChild", "Lark", "Rule", "TerminalDef", "Token", "UnexpectedCharacters", "UnexpectedInput", "UnexpectedToken"]

@@ -1,10 +1,14 @@
 """Parser of `.lgr` files (LANGUAGE.md §6) into the surface AST of :mod:`langur.syntax.surface`.
 
 The grammar is ``grammar.lark`` beside this file (its header documents the decisions: reserved
-keywords, the soft keyword ``d``, precedence).  It is parsed with lark's LALR(1) parser and an
-*inline* transformer: lark calls the callbacks below on every reduction, so no parse tree is
-built and nothing recurses in Python however deep the input nests.  Every node gets an exact
-:class:`~langur.diagnostics.Span` (1-based lines and columns, ``end_col`` exclusive).
+keywords, the soft keyword ``d``, precedence).  It is parsed with lark's LALR(1) tables and an
+*inline* transformer: the callbacks below are called on every reduction, so no parse tree is
+built and nothing recurses in Python however deep the input nests.  A valid program is parsed by
+:mod:`langur.syntax.lalr`'s driver of those tables, generated from lark as data, without importing
+lark (issue 15, start-up); lark itself is imported only to report a syntax error (it parses the
+text again and raises the error the diagnostic is made from), or when the shipped data is stale.
+Every node gets an exact :class:`~langur.diagnostics.Span` (1-based lines and columns, ``end_col``
+exclusive).
 
 Public API::
 
@@ -28,18 +32,17 @@ import gc
 import re
 import sys
 import threading
-from dataclasses import dataclass
 from fractions import Fraction
 
 from .. import gcpause
 from ..core import int_fraction
 from ..diagnostics import LangurError, Span, error
-from . import lalr, tables
+from . import lalr
 from .chains import LEVEL as _LEVEL
 from .chains import MAX_DEPTH
 from .chains import Chain as _Chain
 from .chains import Reduced as _R
-from .larkload import Lark, Token, UnexpectedCharacters, UnexpectedInput, UnexpectedToken
+from .lalr import Token
 from .surface import (
     Apply,
     BinOp,
@@ -103,12 +106,15 @@ _FLOAT_MAX = Fraction(sys.float_info.max)
 _FLOAT_MIN = Fraction(sys.float_info.min)  # the smallest normal double: below it precision is lost
 
 
-@dataclass
 class _Comparisons:
-    """A comparison chain inside brackets, before it becomes an Iverson bracket."""
+    """A comparison chain inside brackets, before it becomes an Iverson bracket (an intermediate
+    result of the parse, never compared: a plain class, not a dataclass, whose creation cost
+    ~0.5 ms of every start)."""
 
-    terms: list
-    ops: tuple[str, ...]
+    __slots__ = ("ops", "terms")
+
+    def __init__(self, terms: list, ops: tuple[str, ...]) -> None:
+        self.terms, self.ops = terms, ops
 
 
 def _shorten(text: str) -> str:
@@ -124,7 +130,7 @@ _CMP = {"<=": "<=", "≤": "<=", ">=": ">=", "≥": ">=", "<": "<", ">": ">"}
 
 
 def _start(x) -> tuple[int, int]:
-    if isinstance(x, Token):
+    if isinstance(x, str):  # a token: the driver's (lalr.Token) or lark's (on the error path)
         return x.line, x.column
     if isinstance(x, _R):
         return x.line, x.col
@@ -132,7 +138,7 @@ def _start(x) -> tuple[int, int]:
 
 
 def _end(x) -> tuple[int, int]:
-    if isinstance(x, Token):
+    if isinstance(x, str):  # a token: the driver's or lark's
         return x.end_line, x.end_column
     if isinstance(x, _R):
         return x.end_line, x.end_col
@@ -148,7 +154,7 @@ class _Builder:
     # -- helpers --
     def span(self, first, last) -> Span:
         # (_start and _end written out for the two kinds met on every term: an intermediate
-        # result or a token)
+        # result or the driver's token)
         tf, tl = type(first), type(last)
         if tf is _R or tf is _Chain:
             l1, c1 = first.line, first.col
@@ -447,20 +453,62 @@ class _Builder:
 
 
 _LOCK = threading.Lock()
-_PARSER: Lark | None = None
-#: lark's tables run by :mod:`langur.syntax.lalr` (None: lark parses every input itself)
+#: lark's parser, built on first need (None: not yet): a syntax error to report, FAST off, or stale
+#: shipped data
+_PARSER = None
+#: :mod:`langur.syntax.lalr`'s driver: its parse function, False when the tables cannot be driven
+#: (lark then parses every input), None when not made yet
 _DRIVER = None
 _BUILDER = _Builder()
 
 
-def _parser() -> Lark:
-    """The parser: from the tables shipped with the package (data, never a pickle: SECURITY.md),
-    or built from the grammar when they are missing or stale."""
-    global _PARSER, _DRIVER  # called under _LOCK
+def _lark_side():
+    """The modules that import lark — ``larkload`` (lark's classes) and ``tables`` (lark's parser
+    from the shipped tables or the grammar, and the driver's data derived from it) — imported on
+    first need only: to report a syntax error, with FAST off, or when the shipped data is stale.
+    The import is here, not at the top, so that parsing a valid program never imports lark
+    (issue 15: lark's import and deserialization were ~40 ms of every one-shot process); it is not
+    a way around an import cycle."""
+    from . import larkload, tables
+
+    return larkload, tables
+
+
+def _driver():
+    """The driver (called under _LOCK): of the data shipped with the package (read without lark),
+    or of the same data read off lark's parser when the shipped data is missing, stale or
+    malformed."""
+    global _DRIVER
+    if _DRIVER is None:
+        _DRIVER = _drive(lalr.load()) or _drive(_lark_side()[1].driver_data(_lark())) or False
+    return _DRIVER
+
+
+def _drive(data):
+    """:func:`lalr.driver` of ``data`` with the builder's callbacks, or ``None`` (no data, or data it
+    cannot drive)."""
+    callbacks = lalr.callbacks(data, _BUILDER) if data is not None else None
+    if callbacks is None:
+        return None
+    # (the unit rules' callbacks that return their child: see lalr.driver)
+    identities = (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp, (_BUILDER.name, "NAME"))
+    return lalr.driver(data, callbacks, identities)
+
+
+def _lark():
+    """lark's parser (called under _LOCK): from the tables shipped with the package (data, never a
+    pickle: SECURITY.md), or built from the grammar when they are missing or stale."""
+    global _PARSER
     if _PARSER is None:
+        tables = _lark_side()[1]
         _PARSER = tables.load(_BUILDER) or tables.build(transformer=_BUILDER)
-        _DRIVER = lalr.driver(_PARSER, (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp, (_BUILDER.name, "NAME")))
     return _PARSER
+
+
+def _parser():
+    """lark's parser, with the driver made too (the tests compare both)."""
+    _driver()
+    return _lark()
 
 
 # ----------------------------------------------------------------------------------------------
@@ -530,7 +578,10 @@ def _describe_found(tok: Token) -> str:
     return f"'{tok}'"
 
 
-def _convert(exc: UnexpectedInput, path: str) -> LangurError:
+def _convert(exc, path: str) -> LangurError:
+    """The diagnostic of lark's syntax error ``exc`` (a ``lark.exceptions.UnexpectedInput``)."""
+    larkload = _lark_side()[0]
+    UnexpectedToken, UnexpectedCharacters = larkload.UnexpectedToken, larkload.UnexpectedCharacters
     if isinstance(exc, UnexpectedToken):
         tok = exc.token
         expected = set(exc.accepts or exc.expected or ())
@@ -587,25 +638,27 @@ def _run(text: str, path: str, start: str):
     text = text.removeprefix("\ufeff")
     _check_size(text, path)
     with _LOCK:
-        parser = _parser()
+        driver = _driver()
         _BUILDER.path = path
         # The parse allocates many small objects and no cycles: pausing the cyclic collector
         # makes big inputs several times faster (a load has paused it already: no second pause).
-        try:
-            if not gc.isenabled():
-                return text, _parse(parser, text, start)
-            with gcpause.paused():
-                return text, _parse(parser, text, start)
-        except UnexpectedInput as exc:
-            raise _convert(exc, path) from None
+        if not gc.isenabled():
+            return text, _parse(driver, text, start, path)
+        with gcpause.paused():
+            return text, _parse(driver, text, start, path)
 
 
-def _parse(parser, text: str, start: str):
-    if _DRIVER is not None and FAST:
-        result = _DRIVER(text, start)
+def _parse(driver, text: str, start: str, path: str):
+    if driver and FAST:
+        result = driver(text, start)
         if result is not lalr.FAILED:
             return result
-    return parser.parse(text, start=start)  # (a syntax error: lark's exception)
+    # a syntax error (or FAST off): lark parses, and its exception is the diagnostic
+    larkload = _lark_side()[0]
+    try:
+        return _lark().parse(text, start=start)
+    except larkload.UnexpectedInput as exc:
+        raise _convert(exc, path) from None
 
 
 def _end_position(text: str) -> tuple[int, int]:

@@ -8,23 +8,31 @@ build a parser or fail, never run code.  The file records the SHA-256 of the gra
 from; a file that does not match the grammar, or does not decode, is ignored and the parser is
 built from the grammar (slower start-up, same parser).
 
+The same run also writes ``grammar.driver.json`` (:data:`lalr.DATA`): what :mod:`langur.syntax.lalr`'s
+driver needs to parse a valid program without importing lark (issue 15, start-up), read here out of
+the parser lark builds (:func:`driver_data`) — never written by hand.  This module imports lark: it
+is the generator's side, and at run time it is imported only on the parser's error path, or when
+the shipped files are stale.
+
 Regenerate after editing the grammar::
 
-    python -m langur.syntax.tables          # writes grammar.tables.json
-    python -m langur.syntax.tables --check  # exit 1 if the shipped tables do not match the grammar
+    python -m langur.syntax.tables          # writes grammar.tables.json and grammar.driver.json
+    python -m langur.syntax.tables --check  # exit 1 if the shipped files do not match the grammar
 """
 
 from __future__ import annotations
 
-import hashlib
 import json
+import re
 import sys
+from functools import partial
 from pathlib import Path
 from typing import Any
 
-from .larkload import Lark, Rule, TerminalDef
+from . import lalr
+from .lalr import digest, grammar_text
+from .larkload import ChildFilterLALR_NoPlaceholders, ExpandSingleChild, Lark, Rule, TerminalDef
 
-GRAMMAR = Path(__file__).with_name("grammar.lark")
 TABLES = Path(__file__).with_name("grammar.tables.json")
 FORMAT = 1
 MAX_TABLES_BYTES = 4_000_000  # the shipped file is ~100 kB; anything far larger is not ours
@@ -37,14 +45,6 @@ OPTIONS: dict[str, Any] = dict(
     keep_all_tokens=True,
     maybe_placeholders=False,
 )
-
-
-def grammar_text() -> str:
-    return GRAMMAR.read_text(encoding="utf-8")
-
-
-def digest(text: str) -> str:
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
 # lark's serialized form is nested dicts, lists, tuples, strings, numbers and booleans; dicts may
@@ -93,10 +93,101 @@ def build(text: str | None = None, **kwargs: Any) -> Lark:
     return Lark(grammar_text() if text is None else text, cache=False, **OPTIONS, **kwargs)
 
 
-def generate(text: str | None = None) -> dict[str, Any]:
+def generate(text: str | None = None, lark: Lark | None = None) -> dict[str, Any]:
+    """lark's tables (the contents of :data:`TABLES`) of the parser ``lark`` built from ``text``."""
     text = grammar_text() if text is None else text
-    data, memo = build(text).memo_serialize([TerminalDef, Rule])
+    data, memo = (lark or build(text)).memo_serialize([TerminalDef, Rule])
     return {"format": FORMAT, "grammar_sha256": digest(text), "data": _encode(data), "memo": _encode(memo)}
+
+
+def generate_driver(text: str | None = None, lark: Lark | None = None) -> dict[str, Any]:
+    """The contents of :data:`lalr.DATA` for the parser ``lark`` built from ``text``."""
+    text = grammar_text() if text is None else text
+    return {"format": lalr.DATA_FORMAT, "grammar_sha256": digest(text), "driver": driver_data(lark or build(text))}
+
+
+def driver_data(lark: Lark) -> dict[str, Any] | None:
+    """What :func:`lalr.driver` and :func:`lalr.callbacks` need, read out of the parser ``lark`` (built
+    with :data:`OPTIONS`), as plain data; ``None`` when ``lark`` is not built as Langur's parser is
+    (LALR, basic lexer, one compiled pattern, no post-lexer, only keyword callbacks on terminals,
+    no token that may hold a line break, rule callbacks wrapped only by lark's single-child
+    expansion and child filter without placeholders).
+
+    * ``lexer``: the scanner's terminals in its order as ``[name, regexp, char]`` (``char``: the
+      character of a one-character literal without flags, else ``None``), the ignored terminals'
+      names and patterns, the pattern's flags, and per terminal with a keyword callback (lark's
+      ``UnlessCallback``: ``NAME``) the ``[literal, terminal]`` pairs it tries in order;
+    * ``rules``: per rule ``[origin, symbols, callback name, wrapper chain]``, the chain in lark's
+      order (``["expand1"]``, ``["filter", [[index, spliced], …]]``);
+    * ``states``: per state (0, 1, …) its actions, ``symbol → next state`` for a shift (and a
+      nonterminal's goto) or ``−1 − rule`` for a reduction; ``start_states``, ``end_states``;
+    * ``terminal_names``: every terminal's name (an inline transformer with a method of that name
+      would get lark's token callback, which the driver does not make)."""
+    try:
+        front = lark.parser
+        lexer, parser = front.lexer, front.parser.parser
+        scanner = lexer.scanner  # (builds the lexer's callbacks too)
+        if (front.lexer_conf.postlex is not None or len(scanner._mres) != 1
+                or any(type(cb).__name__ != "UnlessCallback" for cb in lexer.callback.values())):
+            return None
+        pattern = scanner._mres[0]
+        ignored, newlines = frozenset(lexer.ignore_types), frozenset(lexer.newline_types)
+        terminals = list(scanner.terminals)
+        if "|".join(f"(?P<{t.name}>{t.pattern.to_regexp()})" for t in terminals) != pattern.pattern \
+                or not newlines <= ignored or any(t.name == lalr.SINGLE for t in terminals):
+            return None  # (not the scanner's pattern, or a token that may hold a line break)
+        scan = [[t.name, t.pattern.to_regexp(),
+                 t.pattern.value if t.pattern.type == "str" and len(t.pattern.value) == 1 and not t.pattern.flags
+                 else None] for t in terminals]
+        keywords: dict[str, list] = {}
+        for name, cb in lexer.callback.items():
+            for t in cb.scanner.terminals:
+                if t.pattern.type != "str" or t.pattern.flags:
+                    return None
+            keywords[name] = [[t.pattern.value, t.name] for t in cb.scanner.terminals]
+        lexer_data = {
+            "flags": pattern.flags,
+            "terminals": scan,
+            "ignore": sorted(ignored),
+            "ignored_patterns": [t.pattern.to_regexp() for t in lexer.terminals if t.name in ignored],
+            "keywords": keywords,
+        }
+        table = parser.parse_table
+        if any(isinstance(k, str) for k in parser.callbacks):
+            return None  # (a terminal with a callback of its own)
+        index = {}
+        rules = []
+        for rule, chain in lark._parse_tree_builder.rule_builders:
+            index[rule] = len(rules)
+            rules.append([rule.origin.name, [s.name for s in rule.expansion],
+                          rule.alias or rule.options.template_source or rule.origin.name, _chain(chain)])
+            if rules[-1][3] is None:
+                return None
+        shift = next(a for row in table.states.values() for a, _ in row.values() if a.name == "Shift")
+        if sorted(table.states) != list(range(len(table.states))):
+            return None
+        states = [{symbol: arg if action is shift else -1 - index[arg] for symbol, (action, arg) in row.items()}
+                  for _, row in sorted(table.states.items())]
+        return {"lexer": lexer_data, "rules": rules, "states": states,
+                "start_states": dict(table.start_states), "end_states": dict(table.end_states),
+                "terminal_names": sorted(t.name for t in lark.terminals)}
+    except (AttributeError, KeyError, TypeError, StopIteration, re.error):
+        return None
+
+
+def _chain(chain: list) -> list | None:
+    """lark's wrapper chain of a rule's callback as data, or ``None`` for a wrapper the driver does
+    not make (placeholders, positions, ambiguity: none is used under :data:`OPTIONS`)."""
+    out: list = []
+    for w in chain:
+        if w is ExpandSingleChild:
+            out.append(["expand1"])
+        elif isinstance(w, partial) and w.func is ChildFilterLALR_NoPlaceholders and not w.keywords \
+                and len(w.args) == 1:
+            out.append(["filter", [[i, bool(spliced)] for i, spliced in w.args[0]]])
+        else:
+            return None
+    return out
 
 
 def load(transformer: Any, path: Path = TABLES) -> Lark | None:
@@ -113,23 +204,43 @@ def load(transformer: Any, path: Path = TABLES) -> Lark | None:
         return None
 
 
+def _check(path: Path, fmt: int) -> str | None:
+    """What is wrong with the shipped file ``path`` (layout ``fmt``), or ``None``."""
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return "missing or unreadable"
+    if type(doc) is not dict or doc.get("format") != fmt:
+        return "of another layout"
+    if doc.get("grammar_sha256") != digest(grammar_text()):
+        return "made from another grammar"
+    return None
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if argv == ["--check"]:
-        try:
-            doc = json.loads(TABLES.read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            print(f"{TABLES}: missing or unreadable; run python -m langur.syntax.tables", file=sys.stderr)
-            return 1
-        if doc.get("grammar_sha256") != digest(grammar_text()):
-            print(f"{TABLES}: made from another grammar; run python -m langur.syntax.tables", file=sys.stderr)
-            return 1
-        return 0
+        status = 0
+        for path, fmt in ((TABLES, FORMAT), (lalr.DATA, lalr.DATA_FORMAT)):
+            wrong = _check(path, fmt)
+            if wrong is None and path == lalr.DATA:
+                data = lalr.load()
+                if data is None or lalr.driver(data, lalr.callbacks(data, object()) or []) is None:
+                    wrong = "not a driver's data"
+            if wrong is not None:
+                print(f"{path}: {wrong}; run python -m langur.syntax.tables", file=sys.stderr)
+                status = 1
+        return status
     if argv:
         print("usage: python -m langur.syntax.tables [--check]", file=sys.stderr)
         return 2
-    TABLES.write_text(json.dumps(generate(), separators=(",", ":"), sort_keys=True) + "\n", encoding="utf-8")
-    print(f"wrote {TABLES}")
+    lark = build()  # (both files from one parser)
+    driver = generate_driver(lark=lark)
+    if driver["driver"] is None:
+        print("lark's parser is not one langur.syntax.lalr can drive: only lark's tables written", file=sys.stderr)
+    for path, doc in ((TABLES, generate(lark=lark)), (lalr.DATA, driver)):
+        path.write_text(json.dumps(doc, separators=(",", ":"), sort_keys=True) + "\n", encoding="utf-8")
+        print(f"wrote {path}")
     return 0
 
 

@@ -1,0 +1,247 @@
+"""A valid program is parsed without importing lark (issue 15, start-up; branch lark19).
+
+``python -m langur.syntax.tables`` writes ``grammar.driver.json`` (``lalr.DATA``): the lexer, the
+LALR table and each rule's callback with lark's shaping of its children, read out of the parser lark
+builds; ``langur/syntax/lalr.py`` drives that data without lark, and ``parser.py`` imports lark only
+when the driver fails (a syntax error, whose diagnostic lark's exception gives) or the data is stale.
+
+* In a fresh process, parsing every valid example (and a whole ``langur eval … --engine mc``) leaves
+  ``lark`` out of ``sys.modules``; a syntax error still gives lark's own diagnostic (the one lark
+  alone gives, ``parser.FAST`` off), and imports lark to make it.
+* The shipped data is what lark's parser gives: the same lexer and rules as the data read off a
+  parser built from the grammar now, and the same trees (spans included) on every file.
+* A missing, stale, malformed or hostile data file is never trusted: ``lalr.load`` refuses it, the
+  data is read off lark's parser instead (same trees), ``tables --check`` fails on it.
+* ``lalr.Token`` is read as ``lark.Token`` is: the same slots, equality, hash, repr, positions.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import pickle
+import subprocess
+import sys
+
+import pytest
+from paths import REPO
+
+from langur.diagnostics import LangurError, Span
+from langur.syntax import lalr, larkload, parser, tables
+
+FILES = sorted(p for p in REPO.rglob("*.lgr") if ".venv" not in p.parts)
+SHIPPED = lalr.DATA
+
+
+def _tree(x):
+    """``x`` as nested tuples, spans and every field included."""
+    if isinstance(x, Span):
+        return ("Span", x.path, x.line, x.col, x.end_line, x.end_col)
+    if dataclasses.is_dataclass(x) and not isinstance(x, type):
+        return (type(x).__name__,) + tuple((f.name, _tree(getattr(x, f.name))) for f in dataclasses.fields(x))
+    if isinstance(x, (tuple, list)):
+        return (type(x).__name__,) + tuple(_tree(v) for v in x)
+    return (type(x).__name__, x)
+
+
+def _outcome(parse, text: str, path: str = "f.lgr"):
+    try:
+        return ("ok", _tree(parse(text, path)))
+    except LangurError as e:
+        return ("error", [d.format() for d in e.diagnostics])
+
+
+def _run(code: str) -> dict:
+    r = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+_VALID_FILES = r"""
+import json, pathlib, sys
+from langur.syntax import parser
+from langur.diagnostics import LangurError
+ok = 0
+for p in sorted(pathlib.Path("examples").rglob("*.lgr")):
+    try:
+        parser.parse_module(p.read_text(encoding="utf-8"), str(p))
+        ok += 1
+    except LangurError as e:
+        if any(d.code.startswith("E10") for d in e.diagnostics):
+            continue  # (a syntax error on purpose: lark reports it; checked alone below)
+        raise
+    assert "lark" not in sys.modules, p
+print(json.dumps({"ok": ok, "lark": "lark" in sys.modules}))
+"""
+
+
+def test_valid_examples_are_parsed_without_importing_lark():
+    out = _run(_VALID_FILES)
+    assert out["ok"] >= 20 and out["lark"] is False
+
+
+def test_a_one_shot_eval_does_not_import_lark():
+    code = ("import json, runpy, sys\nsys.argv = ['langur', 'eval', 'examples/fig1.lgr', '--engine', 'mc']\n"
+            "try:\n    runpy.run_module('langur', run_name='__main__')\nexcept SystemExit as e:\n"
+            "    assert not e.code, e.code\nprint()\nprint(json.dumps({'lark': 'lark' in sys.modules}))")
+    assert _run(code) == {"lark": False}
+
+
+_BROKEN = ["int ([0, 1]) x + d(x)\n", "param a = \n", "int ([0, 1]) x $ 2 d(x)\n", "int ([0, 1]) (x d(x)\n",
+           "param a = 1\nint ([0, 1]) let in = 2 in x d(x)", "int ([0, 1]) x d(x) junk\n", "int",
+           "int ([0, 1]) x ^ é d(x)\n", "def f(x: var) = \n"]
+
+
+def test_a_syntax_error_gives_lark_s_diagnostic_and_imports_lark():
+    code = ("import json, sys\nfrom langur.syntax import parser\nfrom langur.diagnostics import LangurError\n"
+            f"out = []\nfor text in {_BROKEN!r}:\n"
+            "    row = []\n"
+            "    for fast in (True, False):\n"
+            "        parser.FAST = fast\n"
+            "        lark_before = 'lark' in sys.modules\n"
+            "        try:\n            parser.parse_module(text, 'bad.lgr'); row.append(None)\n"
+            "        except LangurError as e:\n            row.append([d.format() for d in e.diagnostics])\n"
+            "        row.append(lark_before)\n"
+            "    out.append(row)\n"
+            "print(json.dumps({'out': out, 'lark': 'lark' in sys.modules}))")
+    got = _run(code)
+    assert got["lark"] is True
+    for i, (text, (fast, before, slow, _)) in enumerate(zip(_BROKEN, got["out"])):
+        assert fast is not None and fast == slow, text  # the driver's path gives lark's own diagnostic
+        assert fast[0].startswith("bad.lgr:") and " error E10" in fast[0], fast
+        if i == 0:
+            assert before is False  # (lark not imported before the first error)
+
+
+def test_the_shipped_data_is_read_off_lark_s_parser():
+    shipped = lalr.load()
+    assert shipped is not None
+    fresh = tables.driver_data(tables.build())
+    # lark numbers its states in set order (two generations differ there), not its lexer or rules
+    assert shipped["lexer"] == json.loads(json.dumps(fresh["lexer"]))
+    assert shipped["rules"] == json.loads(json.dumps(fresh["rules"]))
+    assert shipped["terminal_names"] == fresh["terminal_names"]
+    assert len(shipped["states"]) == len(fresh["states"])
+    # the splicing of inlined rules and the single-child expansion are in the data (not vacuous)
+    chains = [w[0] for rule in shipped["rules"] for w in rule[3]]
+    assert "filter" in chains and "expand1" in chains
+    drivers = []
+    for data in (shipped, json.loads(json.dumps(fresh))):
+        drivers.append(lalr.driver(data, lalr.callbacks(data, parser._BUILDER), ()))
+    parsed = 0
+    with parser._LOCK:
+        for path in FILES:
+            text = path.read_text(encoding="utf-8")
+            outs = []
+            for d in drivers:
+                parser._BUILDER.path = str(path)
+                try:
+                    got = d(text, "start")
+                    outs.append("failed" if got is lalr.FAILED else _tree(got))
+                except LangurError as e:
+                    outs.append([x.format() for x in e.diagnostics])
+            assert outs[0] == outs[1], path
+            parsed += outs[0] != "failed"
+    assert parsed >= len(FILES) - 5
+
+
+@pytest.fixture
+def stale(tmp_path, monkeypatch):
+    """The driver's data file replaced by ``tmp_path/grammar.driver.json`` (written by the test) and
+    the parser's driver and lark parser made again."""
+    path = tmp_path / "grammar.driver.json"
+    monkeypatch.setattr(lalr, "DATA", path)
+    monkeypatch.setattr(lalr.load, "__defaults__", (path,))
+    monkeypatch.setattr(parser, "_DRIVER", None)
+    monkeypatch.setattr(parser, "_PARSER", None)
+    return path
+
+
+class _Plant:
+    def __init__(self, marker):
+        self.marker = marker
+
+    def __reduce__(self):
+        return (open, (str(self.marker), "w"))
+
+
+def _hostile(marker) -> dict[str, bytes]:
+    good = json.loads(SHIPPED.read_text(encoding="utf-8"))
+    right = {**good, "driver": {"lexer": {"__t": "tuple", "items": ["os", "system"]}, "rules": "touch x"}}
+    bad_states = {**good, "driver": {**good["driver"], "states": [{"NAME": "x"}]}}
+    bad_rule = {**good, "driver": {**good["driver"], "states": [{"NAME": -10_000}]}}
+    bad_shift = {**good, "driver": {**good["driver"], "states": [*good["driver"]["states"][:-1], {"NAME": 10**6}]}}
+    return {
+        "a pickle": pickle.dumps(_Plant(marker)),
+        "garbage": b"\x00\x01 not json",
+        "another grammar": json.dumps({**good, "grammar_sha256": "0"}).encode(),
+        "another layout": json.dumps({**good, "format": 99}).encode(),
+        "right digest, hostile data": json.dumps(right).encode(),
+        "right digest, a state's action not a number": json.dumps(bad_states).encode(),
+        "right digest, a rule that is not there": json.dumps(bad_rule).encode(),
+        "right digest, a shift to a state that is not there": json.dumps(bad_shift).encode(),
+        "deeply nested json": b"[" * 100_000,
+        "not an object": b"[1, 2]",
+    }
+
+
+@pytest.mark.parametrize("kind", list(_hostile("m")))
+def test_a_stale_or_hostile_data_file_is_refused_and_the_parse_is_the_same(stale, tmp_path, kind):
+    marker = tmp_path / "code-ran"
+    stale.write_bytes(_hostile(marker)[kind])
+    data = lalr.load()
+    if data is not None:  # (the digest is right: the driver refuses the data itself)
+        callbacks = lalr.callbacks(data, parser._BUILDER)
+        assert callbacks is None or lalr.driver(data, callbacks, ()) is None
+    text = FILES[0].read_text(encoding="utf-8")
+    with parser._LOCK:
+        d = parser._driver()  # read off lark's parser when the file is refused
+    assert d, "no driver: the data was not derived from lark's parser"
+    ours = _outcome(parser.parse_module, text)
+    parser.FAST = False
+    try:
+        theirs = _outcome(parser.parse_module, text)
+    finally:
+        parser.FAST = True
+    assert ours == theirs
+    assert not marker.exists()
+    assert tables.main(["--check"]) == 1
+
+
+def test_an_oversized_data_file_is_not_read(stale):
+    stale.write_bytes(b" " * (lalr.MAX_DATA_BYTES + 1))
+    assert lalr.load() is None
+    stale.unlink()
+    assert lalr.load() is None  # (missing)
+    assert tables.main(["--check"]) == 1
+
+
+def test_tables_check_covers_the_driver_data(stale, capsys):
+    stale.write_text("", encoding="utf-8")
+    assert tables.main(["--check"]) == 1
+    assert "grammar.driver.json" in capsys.readouterr().err
+    doc = tables.generate_driver()
+    stale.write_text(json.dumps(doc), encoding="utf-8")
+    assert tables.main(["--check"]) == 0
+    stale.write_text(json.dumps({**doc, "grammar_sha256": tables.digest(tables.grammar_text() + " ")}))
+    assert tables.main(["--check"]) == 1
+
+
+def test_the_driver_token_is_read_as_lark_s():
+    with parser._LOCK:
+        lk = parser._parser()
+    text = "param a = 1\r\nint ([0, 1])\t[x ≤ a] * x ^ 2 + d # c\n d(x)"
+    theirs = list(lk.lex(text))
+    for t in theirs:
+        ours = lalr.Token(t.type, t.value, t.start_pos, t.line, t.column, t.end_line, t.end_column, t.end_pos)
+        assert ours.__slots__ == larkload.Token.__slots__
+        for k in larkload.Token.__slots__:
+            assert getattr(ours, k) == getattr(t, k)
+        assert str(ours) == str(t) and repr(ours) == repr(t) and hash(ours) == hash(t)
+        assert ours == t and ours == str(t)
+        moved = lalr.Token.new_borrow_pos("NAME", "d", ours)
+        assert (moved.type, moved.line, moved.column, moved.end_pos) == ("NAME", t.line, t.column, t.end_pos)
+    # as lark's: tokens of different types are not == (and, str's __ne__ inherited, not != either)
+    for Token in (lalr.Token, larkload.Token):
+        assert not Token("A", "x") == Token("B", "x") and not Token("A", "x") != Token("B", "x")
+        assert Token("A", "x") == Token("A", "x") == "x"
