@@ -42,3 +42,23 @@ def test_a_nonlinear_condition_still_loads_sympy(tmp_path):
     assert seen["sympy"] and seen["status"] == 0
     mc = result["mc"]
     assert abs(mc["value"] - 3.141592653589793 / 16) <= 5 * mc["stderr"] + 1e-9  # a quarter disk of radius 1/2
+
+
+DERIV = """
+import json, sys
+from langur.cli import main
+status = main(["deriv", sys.argv[1], "--engine", "mc", "--json"])
+print(json.dumps({"status": status, "scipy": "scipy" in sys.modules, "scipy.optimize": "scipy.optimize" in sys.modules}))
+"""
+
+
+def test_deriv_by_monte_carlo_of_fig1_does_not_import_scipy():
+    # its analyses (transversality, integrability) need sympy, but neither solves an implicit root
+    # nor splits a case with a linear program: scipy.optimize's import is left to those who do
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    out = subprocess.run([sys.executable, "-c", DERIV, "examples/fig1.lgr"], capture_output=True, text=True,
+                         env=env, cwd=ROOT, timeout=120, check=True).stdout.strip().splitlines()
+    result, seen = json.loads(out[0]), json.loads(out[1])
+    assert seen == {"status": 0, "scipy": False, "scipy.optimize": False}
+    mc = result["mc"]
+    assert abs(mc["value"] - 1.0) <= 5 * mc["stderr"] + 1e-9  # d/dθ ∫₀¹ [x ≤ θ] dx = 1 (by hand)
