@@ -66,13 +66,13 @@ class OneSided:
         finite = self.below.is_finite and self.above.is_finite
         return bool(finite and sp.simplify(self.below - self.above) == 0)
 
-    def text(self) -> str:
-        """One line for the command's report."""
+    def text(self, why_not: str = "⦇p⦈ is not defined here (Theorem 8.1 holds for almost every value, "
+                                    "not at these)") -> str:
+        """One line for the command's report; ``why_not``: why ⦇p⦈ does not give the derivative."""
         if self.exists is None:
             return f"whether ⟦p⟧ is differentiable here was not decided ({self.why})"
         if self.exists:
-            return (f"⟦p⟧ is differentiable here: its one-sided derivatives are both {_show(self.above)}, "
-                    "but ⦇p⦈ is not defined here (Theorem 8.1 holds for almost every value, not at these)")
+            return f"⟦p⟧ is differentiable here: its one-sided derivatives are both {_show(self.above)}, but {why_not}"
         return (f"the derivative does not exist here: ⟦p⟧'s one-sided derivatives differ "
                 f"(from below {_show(self.below)}, from above {_show(self.above)})")
 

@@ -91,3 +91,22 @@ def test_deriv_says_which(capsys, tmp_path):
     # with the Monte Carlo engine alone nothing is decided, and nothing is claimed
     status, j = run_json(capsys, "deriv", str(f), "--wrt", "a", "--engine", "mc")
     assert j["one_sided"] is None and "not defined" in j["undefined"] and "exist" not in j["undefined"]
+
+
+def test_deriv_of_a_program_whose_derivative_denotation_is_not_an_integral(capsys, tmp_path):
+    # ⟦p⟧ = ∫₀¹ |x − a|^(-1/2) dx = 2√a + 2√(1 − a) (a in (0, 1)), so D⟦p⟧ = 1/√a − 1/√(1 − a) (by hand),
+    # while ⦇p⦈'s regular part −(1/2)|x − a|^(-3/2)·sign(a − x) is not integrable (X313): ⦇p⦈ gives no
+    # number, the derivative of ⟦p⟧'s closed form does
+    f = tmp_path / "root.lgr"
+    f.write_text("param a = 0.3\nint ([0, 1]) 1 / sqrt(abs(x - a)) d(x)\n")
+    status, j = run_json(capsys, "deriv", str(f), "--wrt", "a")
+    d = 1 / 0.3 ** 0.5 - 1 / 0.7 ** 0.5
+    assert status == 1 and j["exact"] is None and "X313" in j["undefined"]
+    assert j["one_sided"]["exists"] is True
+    assert j["one_sided"]["below"] == pytest.approx(d, abs=1e-12) and j["one_sided"]["above"] == pytest.approx(d, abs=1e-12)
+    assert "differentiable" in j["undefined"] and "not an integral" in j["undefined"]
+    # where ⟦p⟧ itself is not an integral (X311) there is nothing to differentiate: no one-sided derivatives
+    g = tmp_path / "pole.lgr"
+    g.write_text("param a = 0.3\nint ([0, 1]) 1 / (x - a) d(x)\n")
+    status, j = run_json(capsys, "deriv", str(g), "--wrt", "a")
+    assert status == 1 and j["one_sided"] is None and "X311" in j["undefined"]

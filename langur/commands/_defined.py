@@ -59,6 +59,7 @@ class Defined:
     findings: list[Finding] = field(default_factory=list)
     undefined: str | None = None  # why the integral does not exist
     infinite_variance: str | None = None  # why a Monte Carlo estimate of it has no finite variance
+    value_exists: bool = True  # (for a derivative: whether ⟦p⟧ itself is an integral; False: X311)
 
     def diagnostics(self) -> list[Diagnostic]:
         return [f.diagnostic() for f in self.findings]
@@ -194,6 +195,7 @@ def derivative(program, params, direction, path: str | None) -> Defined:
     out = value(program, params, path)
     if out.undefined is not None:
         out.undefined = "⟦p⟧ does not exist, so neither does its derivative: " + out.undefined
+        out.value_exists = False
         return out
     point = dict(params)
     res = singular.derivative_integrability(program, point, direction)

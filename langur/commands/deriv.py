@@ -66,8 +66,15 @@ def run(args) -> int:
         if defined.undefined is None and args.engine in ("both", "exact"):
             with progress.phase("one-sided derivatives of ⟦p⟧"):
                 sides = _defined.onesided.one_sided(program, params, direction)
+    elif defined.undefined is not None and defined.value_exists and args.engine in ("both", "exact"):
+        # X313: ⦇p⦈ is not an integral, but ⟦p⟧ is (∫₀¹ |x − a|^(-1/2) dx = 2√a + 2√(1 − a)): it may
+        # still be differentiable, which Theorem 8.1 cannot say and ⟦p⟧'s closed form can
+        with progress.phase("one-sided derivatives of ⟦p⟧"):
+            sides = _defined.onesided.one_sided(program, params, direction)
     defined.report(args.json)
     integral_undefined = defined.undefined  # X311/X313: the integral itself does not exist
+    if integral_undefined is not None and sides is not None:
+        integral_undefined += "; " + sides.text("⦇p⦈ is not an integral (Theorem 8.1 needs one)")
     undefined = integral_undefined or gate.undefined_here(sides)
     if undefined is not None:
         status = 1
