@@ -71,3 +71,13 @@ class LangurError(Exception):
 def error(span: Span | None, code: str, message: str, related: tuple[Span, ...] = ()) -> LangurError:
     """Build (not raise) a one-diagnostic :class:`LangurError`."""
     return LangurError(Diagnostic(span, "error", code, message, related))
+
+
+def located(err: LangurError, span: Span | None) -> LangurError:
+    """``err`` with ``span`` given to its diagnostics that have no place: an error about a term that
+    sympy built (a completion's inverse, with powers combined beyond T234's bound) is reported at
+    the source term it came from.  ``err`` itself when there is nothing to add."""
+    if span is None or all(d.span is not None for d in err.diagnostics):
+        return err
+    return LangurError([d if d.span is not None else Diagnostic(span, d.severity, d.code, d.message, d.related)
+                        for d in err.diagnostics])

@@ -71,3 +71,18 @@ def test_a_huge_power_in_a_condition_is_refused_when_it_is_loaded_or_checked(tex
         assert [d.code for d in e.diagnostics] == ["T234"]
     else:
         pytest.fail("no T234")
+
+
+def test_a_power_combined_by_the_completion_is_refused_at_its_condition():
+    # each factor is within the bound, but sympy combines the product into a^1200000 when it solves
+    # the condition for x: that power is refused too, located at the condition (it was <unknown>:1:1)
+    product = " * ".join(["a^4000"] * 300)
+    text = f"param a = 0.7\nint ([0, 1]) [x <= {product}] d(x)\n"
+    loaded = load_text(text, "t.lgr")
+    with pytest.raises(LangurError) as info:
+        tv.check_loaded(loaded, at={"a": 0.7}, sources={"t.lgr": text})
+    (d,) = info.value.diagnostics
+    assert d.code == "T234" and d.format().startswith("t.lgr:2:14: error T234")  # 2:14: the condition's bracket
+    with pytest.raises(LangurError) as info:  # the exact engine, which decomposes the same completion
+        exact_deriv(loaded.program, {"a": Fraction(7, 10)}, {"a": 1})
+    assert [d.format()[:20] for d in info.value.diagnostics] == ["t.lgr:2:14: error T2"]

@@ -37,7 +37,7 @@ from ..core import (
     shared,
     subterms,
 )
-from ..diagnostics import Span
+from ..diagnostics import LangurError, Span, located
 from ..sympy_bridge import NotSmooth, denote, exact_number, symbol, to_sympy
 from .algebra import Undecided, vanishes
 
@@ -137,7 +137,10 @@ class _Collector:
         if set(psi.variables) != set(self.variables):
             psi = extend_diffeo(psi, tuple(self.variables))
         f = to_sympy(psi.forward[0], env)
-        branches = zero_set_branches(psi, env)
+        try:
+            branches = zero_set_branches(psi, env)
+        except LangurError as e:  # (Ψ̂'s inverse was built by sympy: its terms have no place)
+            raise located(e, node.psi.span or node.span) from None
         occ = Occurrence(
             index=len(self.occurrences),
             psi=psi,

@@ -44,6 +44,7 @@ from ..core import (
     shared,
     smooth,
 )
+from ..diagnostics import LangurError, located
 from ..sympy_bridge import FUNCTIONS, const_expr, denote, symbol, symbols
 from .pieces import Branch, Condition, Piece, Psi
 
@@ -243,7 +244,10 @@ def decompose(t: Term, ctx: Ctx | None = None) -> list[Piece]:
             return normalize(select(smooth_value(c, ctx), decompose(a, ctx), decompose(b, ctx), ctx.at,
                                     _gate_pieces))
         case IfDiffeo(psi, a, b):  # Fig. 7, diffeomorphic conditional: [Φ ≥ 0]·⟦s⟧ + [−Φ > 0]·⟦r⟧
-            c = condition_of(psi, ctx, t.span)
+            try:
+                c = condition_of(psi, ctx, t.span)
+            except LangurError as e:  # (Ψ̂'s inverse was built by sympy: its terms have no place)
+                raise located(e, t.span) from None
             return normalize(with_conditions(decompose(a, ctx), (c,))
                              + with_conditions(decompose(b, ctx), (complement(c),)))
         case Let(name, bound, body):  # Fig. 7, let: ⟦s⟧ with z ↦ ⟦t⟧
