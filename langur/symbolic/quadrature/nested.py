@@ -10,6 +10,8 @@ import math
 import time
 from typing import Callable
 
+import numpy as np
+
 from langur.symbolic.quadrature.adaptive import _name, _quad
 from langur.symbolic.quadrature.fold import (
     FOLD_END,
@@ -26,6 +28,7 @@ from langur.symbolic.quadrature.foldcurve import _add_fold_turns
 from langur.symbolic.quadrature.gausskronrod import UNVECTORIZABLE, _first_panel
 from langur.symbolic.quadrature.kinks import _breakpoints, _kink_functions
 from langur.symbolic.quadrature.problem import NumProblem, UndefinedIntegral
+from langur.symbolic.quadrature.rounding import uncertainty
 from langur.symbolic.quadrature.tolerance import _OUTER, BOUNDARY, EPSABS, NARROW
 
 
@@ -70,9 +73,11 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         p._fixed_tangent[level] = set()
         fixed = p._fixed[level] = _breakpoints(p, level, prefix, False, p._fixed_tangent[level])
     moving, kinks = _breakpoints(p, level, prefix, True, tangent)
+    owners = {**fixed[0]}  # breakpoint -> the conditions it is a root of (:func:`~.rounding.uncertainty`)
+    for t, own in moving.items():
+        owners[t] = owners[t] | own if t in owners else own
     pts = {lo, hi}
-    pts.update(fixed[0])
-    pts.update(moving)
+    pts.update(owners)
     kinks.update(fixed[1])
     if tangent is not None:
         tangent.update(p._fixed_tangent[level])
@@ -84,8 +89,13 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         eps = max(eps, FOLD_EPS * 10 ** (len(p.bounds) - 1 - level))
     total = 0.0
     err = 0.0
+    allow = 0.0  # the breakpoints' rounding times the integrand next to them (:mod:`.rounding`)
+    deltas: dict = {}  # breakpoint -> its uncertainty (each shared by two sub-intervals)
+    seen = [0.0]  # the largest finite |integrand| sampled on the current sub-interval
     for a, b in zip(pts, pts[1:]):
         if _coincide(b, a):
+            if b > a and not p.folds:
+                allow += _dropped(p, level, prefix, a, b, hi - lo, deltas, owners)
             continue
         m = 0.5 * (a + b)
         failed = None
@@ -99,13 +109,15 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
                 tests.insert(0, failed)
             continue
         inside = _apart(a, sorted(q for q in kinks if a < q < b), b)
+        seen[0] = 0.0
         if last:
-            quick = _first_panel(p.vweight, prefix, a, b, eps) if p.vweight is not None and not inside else None
+            quick = _first_panel(p.vweight, prefix, a, b, eps, seen) if p.vweight is not None and not inside else None
             if quick is UNVECTORIZABLE:
                 p.vweight, quick = None, None
             if quick is not None:
                 total += quick[0]
                 err += quick[1]
+                allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], deltas, owners)
                 continue
 
             def h(t):
@@ -114,10 +126,20 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
                 v = p.weight(*prefix, t)
                 if p.folds and not math.isfinite(v) and not all(c.f(*prefix, t) > BOUNDARY for c in here):
                     p.fold_hit = True  # the root at its turning point within rounding (see integrate_problem)
+                size = abs(v)
+                if size > seen[0] and size != math.inf:  # (NaN > s is false)
+                    seen[0] = size
                 return v
         else:
-            def h(t):
-                return _nested(p, level + 1, prefix + (t,))
+            inner: list = []  # (t, the inner integral's rounding allowance at t)
+
+            def h(t, inner=inner):
+                v = _nested(p, level + 1, prefix + (t,))
+                inner.append((t, p.round_last[level + 1]))
+                size = abs(v)
+                if size > seen[0] and size != math.inf:
+                    seen[0] = size
+                return v
             if p.folds and len(p.bounds) >= 2:  # an inner integral at the fold within rounding (fold section)
                 h = _fold_outer(p, [a, *inside, b], hi - lo, h)
         try:
@@ -138,9 +160,82 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
             continue
         total += val
         err += e
+        allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], deltas, owners)
+        if not last:  # the inner integrals' allowances, integrated over [a, b]
+            allow += _stepped(inner, [a, *inside, b])
     if level == 0:
-        p.errors.append(err)
+        p.errors.append(err + allow)
+    else:
+        p.round_last[level] = allow
     return total
+
+
+def _stepped(samples: list, cuts: list[float]) -> float:
+    """∫ of a nonnegative function known at the abscissae of ``samples`` (``(t, value)``, as an
+    outer level's ``quad`` asked for them) over [cuts[0], cuts[-1]], by a step rule that never
+    reaches across a cut (an outer kink, where an inner region and its allowance appear): within
+    each cell each gap between neighbouring samples counts the larger of its two values, and the
+    cell's ends the value of the sample nearest to them (:func:`~.fold._fold_allowance`'s rule,
+    cell by cell)."""
+    if not samples:
+        return 0.0
+    samples.sort()
+    out = 0.0
+    i, n = 0, len(samples)
+    for lo, hi in zip(cuts, cuts[1:]):
+        cell = []
+        while i < n and samples[i][0] <= hi:
+            if samples[i][0] >= lo:
+                cell.append(samples[i])
+            i += 1
+        if not cell:
+            continue
+        out += (cell[0][0] - lo) * cell[0][1] + (hi - cell[-1][0]) * cell[-1][1]
+        out += sum((t1 - t0) * max(v0, v1) for (t0, v0), (t1, v1) in zip(cell, cell[1:]))
+    return out
+
+
+def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, deltas: dict,
+             owners: dict) -> float:
+    """What leaving out [a, b] (two breakpoints within :func:`_coincide`, not integrated) may
+    change: nothing where a condition fails at its midpoint, else |h(m)|·(b − a) plus its ends'
+    rounding (:func:`_ends`): the sliver ``θ − 10⁻¹⁵ ≤ x ≤ θ`` under the weight 10¹⁵ is all of a
+    delta piece.  0 where h(m) is not finite or not defined (left out as before, no bound)."""
+    m = 0.5 * (a + b)
+    if not all(c.f(*prefix, m) >= 0 for c in p.here(level)):
+        return 0.0
+    try:
+        if level < len(p.bounds) - 1:
+            v = _nested(p, level + 1, prefix + (m,))
+        elif p.vweight is not None:  # (compiled already: the scalar weight may never be)
+            with np.errstate(all="ignore"):
+                v = float(np.asarray(p.vweight(*prefix, np.array([m])), dtype=float).reshape(-1)[0])
+        else:
+            v = p.weight(*prefix, m)
+    except (UndefinedIntegral, ArithmeticError, ValueError, TypeError, AttributeError):
+        return 0.0
+    if not math.isfinite(v):
+        return 0.0
+    inner = 0.0 if level == len(p.bounds) - 1 else p.round_last[level + 1]
+    return (abs(v) + inner) * (b - a) + _ends(p, level, prefix, a, b, span, abs(v), deltas, owners)
+
+
+def _ends(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, size: float,
+          deltas: dict, owners: dict) -> float:
+    """The change of ∫_a^b if its ends move by their rounding (:func:`~.rounding.uncertainty`,
+    remembered in ``deltas``; ``owners``: the conditions each breakpoint is a root of, every
+    condition at the range's ends): ``size`` (the largest |integrand| sampled on [a, b]) times both
+    ends' uncertainties; 0 where nothing was sampled (the fold's substitution keeps its own
+    allowance, :func:`_fold_innermost`)."""
+    if not size > 0.0:
+        return 0.0
+    out = 0.0
+    for t in (a, b):
+        d = deltas.get(t)
+        if d is None:
+            d = deltas[t] = uncertainty(p, level, prefix, t, span, owners.get(t))
+        out += d
+    return size * out
 
 
 def _near(t: float, tangent: set) -> bool:
@@ -269,6 +364,7 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
         return v, 0.0
     p.errors.clear()
     p.narrow_allow = 0.0
+    p.round_last.clear()
     try:
         if p.folds and len(p.bounds) >= 2:  # (one coordinate: the fold is a point, quad resolves it)
             p.until = _fold_deadline()
