@@ -28,7 +28,7 @@ from langur.symbolic.quadrature.foldcurve import _add_fold_turns
 from langur.symbolic.quadrature.gausskronrod import UNVECTORIZABLE, _first_panel
 from langur.symbolic.quadrature.kinks import _breakpoints, _kink_functions
 from langur.symbolic.quadrature.problem import NumProblem, UndefinedIntegral
-from langur.symbolic.quadrature.rounding import uncertainty
+from langur.symbolic.quadrature.rounding import REACH, end_allowance, flat_size, uncertainty
 from langur.symbolic.quadrature.tolerance import _OUTER, BOUNDARY, EPSABS, NARROW
 
 
@@ -59,6 +59,7 @@ def _apart(a: float, inside: list[float], b: float) -> list[float]:
 def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     lo, hi = p.bounds[level]
     if not hi > lo:
+        p.round_last[level] = 0.0  # (read by the outer level, :func:`_stepped`)
         return 0.0
     here = p.here(level)
     tests, reorder = p.tests(level)
@@ -95,7 +96,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     for a, b in zip(pts, pts[1:]):
         if _coincide(b, a):
             if b > a and not p.folds:
-                allow += _dropped(p, level, prefix, a, b, hi - lo, deltas, owners)
+                allow += _dropped(p, level, prefix, a, b, hi - lo, eps, deltas, owners)
             continue
         m = 0.5 * (a + b)
         failed = None
@@ -117,7 +118,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
             if quick is not None:
                 total += quick[0]
                 err += quick[1]
-                allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], deltas, owners)
+                allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], eps, deltas, owners)
                 continue
 
             def h(t):
@@ -160,7 +161,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
             continue
         total += val
         err += e
-        allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], deltas, owners)
+        allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], eps, deltas, owners)
         if not last:  # the inner integrals' allowances, integrated over [a, b]
             allow += _stepped(inner, [a, *inside, b])
     if level == 0:
@@ -195,47 +196,66 @@ def _stepped(samples: list, cuts: list[float]) -> float:
     return out
 
 
-def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, deltas: dict,
-             owners: dict) -> float:
+def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, eps: float,
+             deltas: dict, owners: dict) -> float:
     """What leaving out [a, b] (two breakpoints within :func:`_coincide`, not integrated) may
-    change: nothing where a condition fails at its midpoint, else |h(m)|·(b − a) plus its ends'
-    rounding (:func:`_ends`): the sliver ``θ − 10⁻¹⁵ ≤ x ≤ θ`` under the weight 10¹⁵ is all of a
-    delta piece.  0 where h(m) is not finite or not defined (left out as before, no bound)."""
+    change: nothing where a condition fails at its midpoint m, else (b − a + δ_a + δ_b)·2·|h| when
+    the integrand is bounded and nearly constant at m and at m ± D, D = :data:`~.rounding.REACH`
+    times the larger of the width and the ends' rounding (:func:`~.rounding.flat_size`): the sliver
+    ``θ − 10⁻¹⁵ ≤ x ≤ θ`` under the weight 10¹⁵ is all of a delta piece.  0 where it is not (left out
+    as before, no bound): a piece a unit in the last place wide next to the island's 1/√R reads
+    |h(m)| = 4.5·10¹⁵ from R's rounding noise, a size that says nothing about its integral."""
     m = 0.5 * (a + b)
     if not all(c.f(*prefix, m) >= 0 for c in p.here(level)):
         return 0.0
-    try:
-        if level < len(p.bounds) - 1:
-            v = _nested(p, level + 1, prefix + (m,))
-        elif p.vweight is not None:  # (compiled already: the scalar weight may never be)
-            with np.errstate(all="ignore"):
-                v = float(np.asarray(p.vweight(*prefix, np.array([m])), dtype=float).reshape(-1)[0])
-        else:
-            v = p.weight(*prefix, m)
-    except (UndefinedIntegral, ArithmeticError, ValueError, TypeError, AttributeError):
-        return 0.0
-    if not math.isfinite(v):
-        return 0.0
-    inner = 0.0 if level == len(p.bounds) - 1 else p.round_last[level + 1]
-    return (abs(v) + inner) * (b - a) + _ends(p, level, prefix, a, b, span, abs(v), deltas, owners)
-
-
-def _ends(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, size: float,
-          deltas: dict, owners: dict) -> float:
-    """The change of ∫_a^b if its ends move by their rounding (:func:`~.rounding.uncertainty`,
-    remembered in ``deltas``; ``owners``: the conditions each breakpoint is a root of, every
-    condition at the range's ends): ``size`` (the largest |integrand| sampled on [a, b]) times both
-    ends' uncertainties; 0 where nothing was sampled (the fold's substitution keeps its own
-    allowance, :func:`_fold_innermost`)."""
-    if not size > 0.0:
-        return 0.0
-    out = 0.0
+    ds = []
     for t in (a, b):
         d = deltas.get(t)
         if d is None:
             d = deltas[t] = uncertainty(p, level, prefix, t, span, owners.get(t))
-        out += d
-    return size * out
+        ds.append(d)
+    reach = REACH * max(b - a, ds[0], ds[1], 4.0 * math.ulp(m))
+    try:
+        size = flat_size(_sampler(p, level, prefix)([m - reach, m, m + reach]))
+    except (UndefinedIntegral, ArithmeticError, ValueError, TypeError, AttributeError):
+        return 0.0
+    if size is None:
+        return 0.0
+    inner = 0.0 if level == len(p.bounds) - 1 else p.round_last[level + 1]
+    return (size + inner) * 2.0 * (b - a + ds[0] + ds[1])
+
+
+def _ends(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, size: float, eps: float,
+          deltas: dict, owners: dict) -> float:
+    """The change of ∫_a^b if its ends move by their rounding (:func:`~.rounding.uncertainty`,
+    remembered in ``deltas``; ``owners``: the conditions each breakpoint is a root of, every
+    condition at the range's ends), where the integrand is bounded next to them
+    (:func:`~.rounding.end_allowance`, ``size`` the largest |integrand| sampled on [a, b]); 0 where
+    nothing was sampled (the fold's substitution keeps its own allowance, :func:`_fold_innermost`)."""
+    if not size > 0.0:
+        return 0.0
+    ds = []
+    for t in (a, b):
+        d = deltas.get(t)
+        if d is None:
+            d = deltas[t] = uncertainty(p, level, prefix, t, span, owners.get(t))
+        ds.append(d)
+    return end_allowance((ds[0], ds[1]), a, b, span, size, eps, _sampler(p, level, prefix))
+
+
+def _sampler(p: NumProblem, level: int, prefix: tuple) -> Callable[[list[float]], list[float]]:
+    """The integrand of ``level`` at a few abscissae (:func:`~.rounding.end_allowance`'s local
+    samples): the inner integrals, or the weight (vectorized when it is: the scalar weight may not
+    be compiled yet)."""
+    if level < len(p.bounds) - 1:
+        return lambda ts: [_nested(p, level + 1, prefix + (t,)) for t in ts]
+    if p.vweight is not None:
+        def vectorized(ts):
+            with np.errstate(all="ignore"):
+                y = np.asarray(p.vweight(*prefix, np.array(ts)), dtype=float)
+            return [float(v) for v in np.broadcast_to(y, (len(ts),))]
+        return vectorized
+    return lambda ts: [p.weight(*prefix, t) for t in ts]
 
 
 def _near(t: float, tangent: set) -> bool:

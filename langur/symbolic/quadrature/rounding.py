@@ -15,8 +15,10 @@ zero within its rounding and a root finder's tolerance, :func:`~langur.sympy_bri
 magnitude (the size of the terms whose rounding the float value carries: the parameters'
 values, the coefficients, the cancellation in the sum) and c'(t) a central difference; the root
 finders' own tolerances (``brentq``'s xtol, the quadratic formula's roundings) show in |c(t)|.
-The nested integrator multiplies δ by the largest |h| sampled next to the end and carries inner
-levels' allowances outward (:func:`~.nested._nested`).
+:func:`end_allowance` turns δ into an amount of integral: 2δ times |h| sampled next to the end
+where h is bounded there, nothing at a singular end (its docstring says why); the nested
+integrator adds it to the level's error and carries inner levels' allowances outward
+(:func:`~.nested._nested`).
 """
 
 from __future__ import annotations
@@ -118,3 +120,76 @@ def uncertainty(p: NumProblem, level: int, prefix: tuple, t: float, span: float,
             continue  # (its root is elsewhere)
         delta = max(delta, 4.0 * EPS * abs(t) + (abs(v) + ROUNDING * EPS * m) / abs(slope))
     return delta
+
+
+#: :func:`end_allowance` accepts the rough estimate (both ends' δ times the largest |integrand|
+#: sampled on the sub-interval) without looking closer when it is below this fraction of the
+#: level's tolerance: it cannot change what the bound says.
+QUIET = 1e-3
+
+
+#: The local samples of :func:`end_allowance` lie at d, 2d and 4d inward from the end, d =
+#: min(REACH·δ, width/8): far enough from the end that a condition's rounding noise (at most δ
+#: times its slope) does not decide the integrand's value there, near enough to see its growth.
+REACH = 16.0
+
+
+#: An end where the integrand sampled nearer to it is more than GROWTH times its value farther
+#: away (d against 2d, 2d against 4d, d against 4d) is a singular end (|h| ~ s^-α with α above
+#: log2(1.25) ≈ 0.32): there the breakpoint's rounding is not counted (:func:`end_allowance`).
+GROWTH = 1.25
+
+
+def end_allowance(deltas: tuple[float, float], a: float, b: float, span: float, size: float, eps: float,
+                  sample) -> float:
+    """What moving the ends of the sub-interval [a, b] by their rounding ``deltas`` (δ_a, δ_b,
+    :func:`uncertainty`) may change in ∫_a^b h, h bounded near the end (paper §8.2's ⟦p⟧ at a point;
+    the module's error analysis: nested quadrature's error is ``quad``'s estimate per level plus
+    the allowances of :func:`~.nested.integrate_problem`, none of which sees where an end is).
+
+    The true boundary lies within δ of the float end e, so the change is the integral of |h| over
+    part of [e − δ, e + δ]: at most 2δ·max |h| there where h is bounded at that scale (the weight is
+    one expression on both sides of a condition's root, so it is continuous across e).  That
+    maximum is read from ``sample`` (a list of abscissae ↦ the integrand's values there) at d, 2d and
+    4d inward from e (:data:`REACH`), not from the largest value sampled anywhere on [a, b]: next to
+    an integrable singularity at e that largest value is the singularity's (4.5·10¹⁵ in
+    test_undefined_sliver's island, 1/√ at a root of its guard) and times δ it made a bound of 8.46
+    on −0.66.  Where the three samples grow towards e by more than :data:`GROWTH` (|h| ~ s^-α,
+    α > 0.32), or one is not finite or not defined, the end is singular and nothing is added: there
+    the weight's singularity is the condition's root computed again from the same float expression
+    (the island's 1/(6√R) at R's root), so it moves with the breakpoint; its mass next to the end,
+    2A√δ for A/√s, is the error of evaluating a singular weight in floating point, which this
+    module does not count anywhere (nor at an integrable singularity inside a sub-interval,
+    :func:`~.adaptive._quad`).  Below that growth, |h| ≤ max(samples)·(1 − α)⁻¹ ≤ 1.47·max on
+    the δ-strip, within the factor 2 taken.  When the rough estimate (2(δ_a + δ_b) times ``size``,
+    the largest |h| sampled on [a, b]) is below :data:`QUIET` times the level's tolerance ``eps``,
+    it is the allowance, unsampled (an ordinary program: δ ~ 10⁻¹⁶, nothing to look at)."""
+    if not size > 0.0:
+        return 0.0
+    rough = 2.0 * (deltas[0] + deltas[1]) * size
+    if rough <= QUIET * eps:
+        return rough
+    out = 0.0
+    for end, side, delta in ((a, 1.0, deltas[0]), (b, -1.0, deltas[1])):
+        d = max(min(REACH * delta, span / 4.0), 4.0 * math.ulp(end))  # (distinct floats)
+        try:
+            near, mid, far = (abs(v) for v in sample([end + side * d, end + 2.0 * side * d, end + 4.0 * side * d]))
+        except (ArithmeticError, ValueError, TypeError, AttributeError):  # (UndefinedIntegral is a ValueError)
+            continue
+        if not (math.isfinite(near) and math.isfinite(mid) and math.isfinite(far)):
+            continue
+        if near > GROWTH * mid or mid > GROWTH * far or near > GROWTH * far:
+            continue  # a singular end (docstring)
+        out += 2.0 * delta * max(near, mid, far)
+    return out
+
+
+def flat_size(values: list[float]) -> float | None:
+    """The largest of ``values`` (the integrand at a point and at both sides of it) when all are
+    finite and none is more than :data:`GROWTH` times another, i.e. the integrand is bounded and
+    nearly constant there at the scale of the samples; None otherwise (a singularity, or rounding
+    noise deciding the value)."""
+    sizes = [abs(v) for v in values]
+    if not all(math.isfinite(v) for v in sizes) or max(sizes) > GROWTH * min(sizes):
+        return None
+    return max(sizes)
