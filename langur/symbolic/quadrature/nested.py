@@ -96,7 +96,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     for a, b in zip(pts, pts[1:]):
         if _coincide(b, a):
             if b > a and not p.folds:
-                allow += _dropped(p, level, prefix, a, b, hi - lo, eps, deltas, owners)
+                allow += _dropped(p, level, prefix, a, b, hi - lo, deltas, owners)
             continue
         m = 0.5 * (a + b)
         failed = None
@@ -118,7 +118,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
             if quick is not None:
                 total += quick[0]
                 err += quick[1]
-                allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], eps, deltas, owners)
+                allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], eps * max(1.0, abs(quick[0])), deltas, owners)
                 continue
 
             def h(t):
@@ -161,7 +161,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
             continue
         total += val
         err += e
-        allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], eps, deltas, owners)
+        allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], eps * max(1.0, abs(val)), deltas, owners)
         if not last:  # the inner integrals' allowances, integrated over [a, b]
             allow += _stepped(inner, [a, *inside, b])
     if level == 0:
@@ -196,8 +196,8 @@ def _stepped(samples: list, cuts: list[float]) -> float:
     return out
 
 
-def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, eps: float,
-             deltas: dict, owners: dict) -> float:
+def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, deltas: dict,
+             owners: dict) -> float:
     """What leaving out [a, b] (two breakpoints within :func:`_coincide`, not integrated) may
     change: nothing where a condition fails at its midpoint m, else (b − a + δ_a + δ_b)·2·|h| when
     the integrand is bounded and nearly constant at m and at m ± D, D = :data:`~.rounding.REACH`
@@ -208,15 +208,10 @@ def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span:
     m = 0.5 * (a + b)
     if not all(c.f(*prefix, m) >= 0 for c in p.here(level)):
         return 0.0
-    ds = []
-    for t in (a, b):
-        d = deltas.get(t)
-        if d is None:
-            d = deltas[t] = uncertainty(p, level, prefix, t, span, owners.get(t))
-        ds.append(d)
+    ds = _rounding(p, level, prefix, (a, b), span, deltas, owners)
     reach = REACH * max(b - a, ds[0], ds[1], 4.0 * math.ulp(m))
     try:
-        size = flat_size(_sampler(p, level, prefix)([m - reach, m, m + reach]))
+        size = flat_size(_sampler(p, level, prefix)([m - reach, m + reach, m]))  # (m last: round_last)
     except (UndefinedIntegral, ArithmeticError, ValueError, TypeError, AttributeError):
         return 0.0
     if size is None:
@@ -225,22 +220,31 @@ def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span:
     return (size + inner) * 2.0 * (b - a + ds[0] + ds[1])
 
 
-def _ends(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, size: float, eps: float,
+def _ends(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, size: float, tol: float,
           deltas: dict, owners: dict) -> float:
     """The change of ∫_a^b if its ends move by their rounding (:func:`~.rounding.uncertainty`,
     remembered in ``deltas``; ``owners``: the conditions each breakpoint is a root of, every
     condition at the range's ends), where the integrand is bounded next to them
-    (:func:`~.rounding.end_allowance`, ``size`` the largest |integrand| sampled on [a, b]); 0 where
+    (:func:`~.rounding.end_allowance`, ``size`` the largest |integrand| sampled on [a, b], ``tol``
+    the tolerance ``quad`` was asked for there); 0 where
     nothing was sampled (the fold's substitution keeps its own allowance, :func:`_fold_innermost`)."""
     if not size > 0.0:
         return 0.0
-    ds = []
-    for t in (a, b):
+    ds = _rounding(p, level, prefix, (a, b), span, deltas, owners)
+    return end_allowance(ds, a, b, span, size, tol, _sampler(p, level, prefix))
+
+
+def _rounding(p: NumProblem, level: int, prefix: tuple, ends: tuple[float, float], span: float, deltas: dict,
+              owners: dict) -> tuple[float, float]:
+    """The two ends' rounding (:func:`~.rounding.uncertainty`), remembered in ``deltas`` (a
+    breakpoint ends two sub-intervals)."""
+    out = []
+    for t in ends:
         d = deltas.get(t)
         if d is None:
             d = deltas[t] = uncertainty(p, level, prefix, t, span, owners.get(t))
-        ds.append(d)
-    return end_allowance((ds[0], ds[1]), a, b, span, size, eps, _sampler(p, level, prefix))
+        out.append(d)
+    return out[0], out[1]
 
 
 def _sampler(p: NumProblem, level: int, prefix: tuple) -> Callable[[list[float]], list[float]]:

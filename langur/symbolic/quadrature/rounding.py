@@ -122,10 +122,12 @@ def uncertainty(p: NumProblem, level: int, prefix: tuple, t: float, span: float,
     return delta
 
 
-#: :func:`end_allowance` accepts the rough estimate (both ends' δ times the largest |integrand|
-#: sampled on the sub-interval) without looking closer when it is below this fraction of the
-#: level's tolerance: it cannot change what the bound says.
-QUIET = 1e-3
+#: :func:`end_allowance` takes the rough estimate (both ends' δ times the largest |integrand|
+#: sampled on the sub-interval) as the allowance, without sampling next to the ends, when it is
+#: below this fraction of the tolerance ``quad`` was asked for on the sub-interval
+#: (max(eps, eps·|value|)): it is then a small share of what the bound already allows, whatever
+#: the integrand does next to the ends.
+QUIET = 0.1
 
 
 #: The local samples of :func:`end_allowance` lie at d, 2d and 4d inward from the end, d =
@@ -140,7 +142,7 @@ REACH = 16.0
 GROWTH = 1.25
 
 
-def end_allowance(deltas: tuple[float, float], a: float, b: float, span: float, size: float, eps: float,
+def end_allowance(deltas: tuple[float, float], a: float, b: float, span: float, size: float, tol: float,
                   sample) -> float:
     """What moving the ends of the sub-interval [a, b] by their rounding ``deltas`` (δ_a, δ_b,
     :func:`uncertainty`) may change in ∫_a^b h, h bounded near the end (paper §8.2's ⟦p⟧ at a point;
@@ -162,20 +164,26 @@ def end_allowance(deltas: tuple[float, float], a: float, b: float, span: float, 
     module does not count anywhere (nor at an integrable singularity inside a sub-interval,
     :func:`~.adaptive._quad`).  Below that growth, |h| ≤ max(samples)·(1 − α)⁻¹ ≤ 1.47·max on
     the δ-strip, within the factor 2 taken.  When the rough estimate (2(δ_a + δ_b) times ``size``,
-    the largest |h| sampled on [a, b]) is below :data:`QUIET` times the level's tolerance ``eps``,
-    it is the allowance, unsampled (an ordinary program: δ ~ 10⁻¹⁶, nothing to look at)."""
+    the largest |h| sampled on [a, b]) is below :data:`QUIET` times ``tol``, the tolerance ``quad``
+    was asked for on [a, b], it is the allowance, unsampled (an ordinary program: δ ~ 10⁻¹⁵ of a
+    sub-interval of width ~1, nothing to look at).  ``span`` is the level's range (the samples stay
+    within a quarter of it); ``sample`` is called once, with the six abscissae of both ends."""
     if not size > 0.0:
         return 0.0
     rough = 2.0 * (deltas[0] + deltas[1]) * size
-    if rough <= QUIET * eps:
+    if rough <= QUIET * tol:
         return rough
-    out = 0.0
-    for end, side, delta in ((a, 1.0, deltas[0]), (b, -1.0, deltas[1])):
+    ends = ((a, 1.0, deltas[0]), (b, -1.0, deltas[1]))
+    ts = []
+    for end, side, delta in ends:
         d = max(min(REACH * delta, span / 4.0), 4.0 * math.ulp(end))  # (distinct floats)
-        try:
-            near, mid, far = (abs(v) for v in sample([end + side * d, end + 2.0 * side * d, end + 4.0 * side * d]))
-        except (ArithmeticError, ValueError, TypeError, AttributeError):  # (UndefinedIntegral is a ValueError)
-            continue
+        ts += [end + side * d, end + 2.0 * side * d, end + 4.0 * side * d]
+    try:
+        values = [abs(v) for v in sample(ts)]
+    except (ArithmeticError, ValueError, TypeError, AttributeError):  # (UndefinedIntegral is a ValueError)
+        return 0.0
+    out = 0.0
+    for (_, _, delta), (near, mid, far) in zip(ends, (values[:3], values[3:])):
         if not (math.isfinite(near) and math.isfinite(mid) and math.isfinite(far)):
             continue
         if near > GROWTH * mid or mid > GROWTH * far or near > GROWTH * far:
