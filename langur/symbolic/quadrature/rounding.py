@@ -130,9 +130,12 @@ def uncertainty(p: NumProblem, level: int, prefix: tuple, t: float, span: float,
 QUIET = 0.1
 
 
-#: The local samples of :func:`end_allowance` lie at d, 2d and 4d inward from the end, d =
-#: min(REACH·δ, width/8): far enough from the end that a condition's rounding noise (at most δ
-#: times its slope) does not decide the integrand's value there, near enough to see its growth.
+#: The local samples of :func:`end_allowance` lie at d, 2d and 4d inward from the end, d = REACH·δ
+#: (at least 4 units in the last place, at most a quarter of the level's range): far enough from
+#: the end that a condition's rounding noise (at most δ times its slope) does not decide the
+#: integrand's value there, near enough to see its growth.  They may lie past the other end of a
+#: sub-interval narrower than 64δ (the weight is one expression there too): sampled inside it, at
+#: fractions of a width of a few units in the last place, the island's 1/√R read only R's noise.
 REACH = 16.0
 
 
