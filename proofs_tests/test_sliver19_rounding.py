@@ -108,11 +108,20 @@ def test_l_family_derivative_is_one_and_agrees_with_monte_carlo(k):
 
 def test_a_bounded_end_counts_twice_its_rounding_times_the_integrand():
     # a constant 10¹³ next to both ends: 2δ·10¹³ per end, read from samples next to the end
-    got = end_allowance((1e-15, 3e-15), 0.4, 0.5, 1.0, 1e13, 1e-11, lambda ts: [1e13] * len(ts))
+    got = end_allowance((1e-15, 3e-15), 0.4, 0.5, (0.0, 1.0), 1e13, 1e-11, lambda ts: [1e13] * len(ts))
     assert got == pytest.approx(2 * (1e-15 + 3e-15) * 1e13, rel=1e-12)
     # a weight vanishing at the end (x − 0.4 near 0.4) is bounded: the largest of its samples
-    got = end_allowance((1e-3, 0.0), 0.4, 0.5, 1.0, 1e9, 1e-11, lambda ts: [1e9 * (t - 0.4) for t in ts])
+    got = end_allowance((1e-3, 0.0), 0.4, 0.5, (0.0, 1.0), 1e9, 1e-11, lambda ts: [1e9 * (t - 0.4) for t in ts])
     assert 0 < got <= 2 * 1e-3 * 1e9 * 0.064 * 1.000001
+
+
+def test_the_samples_stay_inside_the_range():
+    # a breakpoint at 0.9 known to ±0.01 under a weight 1 defined only on the box [0, 1]: 16δ = 0.16 would
+    # sample outside the box (NaN: a bounded end taken for a singular one); inside, the end counts 2δ·1
+    def h(ts):
+        return [1.0 if 0.0 <= t <= 1.0 else math.nan for t in ts]
+
+    assert end_allowance((0.01, 0.0), 0.9, 0.95, (0.0, 1.0), 1.0, 1e-11, h) == pytest.approx(0.02, rel=1e-12)
 
 
 def test_a_singular_end_does_not_multiply_the_singularity():
@@ -123,10 +132,10 @@ def test_a_singular_end_does_not_multiply_the_singularity():
     def h(ts):
         return [1 / math.sqrt(t - a) if t > a else math.nan for t in ts]
 
-    got = end_allowance((1e-13, 1e-16), a, b, 1.0, 4.5e15, 1e-11, h)
+    got = end_allowance((1e-13, 1e-16), a, b, (0.0, 1.0), 4.5e15, 1e-11, h)
     assert got == pytest.approx(2 * 1e-16 * max(abs(v) for v in h([b - 16e-16, b - 32e-16, b - 64e-16])), rel=1e-9)
     # a pole (grows like 1/s) likewise
-    got = end_allowance((1e-13, 0.0), a, b, 1.0, 1e20, 1e-11, lambda ts: [1 / (t - a) for t in ts])
+    got = end_allowance((1e-13, 0.0), a, b, (0.0, 1.0), 1e20, 1e-11, lambda ts: [1 / (t - a) for t in ts])
     assert got == 0.0
 
 
@@ -135,7 +144,7 @@ def test_an_ordinary_bound_is_taken_unsampled():
     def never(ts):
         raise AssertionError("sampled")
 
-    assert end_allowance((1e-16, 1e-16), 0.0, 1.0, 1.0, 2.0, 1e-11, never) == pytest.approx(8e-16)
+    assert end_allowance((1e-16, 1e-16), 0.0, 1.0, (0.0, 1.0), 2.0, 1e-11, never) == pytest.approx(8e-16)
 
 
 def test_flat_size():

@@ -211,7 +211,8 @@ def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span:
     ds = _rounding(p, level, prefix, (a, b), span, deltas, owners)
     reach = REACH * max(b - a, ds[0], ds[1], 4.0 * math.ulp(m))
     try:
-        size = flat_size(_sampler(p, level, prefix)([m - reach, m + reach, m]))  # (m last: round_last)
+        lo, hi = p.bounds[level]  # (the samples inside the range, as :func:`~.rounding.end_allowance`'s;
+        size = flat_size(_sampler(p, level, prefix)([max(lo, m - reach), min(hi, m + reach), m]))  # m last: round_last)
     except (UndefinedIntegral, ArithmeticError, ValueError, TypeError, AttributeError):
         return 0.0
     if size is None:
@@ -231,7 +232,7 @@ def _ends(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: fl
     if not size > 0.0:
         return 0.0
     ds = _rounding(p, level, prefix, (a, b), span, deltas, owners)
-    return end_allowance(ds, a, b, span, size, tol, _sampler(p, level, prefix))
+    return end_allowance(ds, a, b, p.bounds[level], size, tol, _sampler(p, level, prefix))
 
 
 def _rounding(p: NumProblem, level: int, prefix: tuple, ends: tuple[float, float], span: float, deltas: dict,

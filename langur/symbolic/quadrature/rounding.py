@@ -131,7 +131,7 @@ QUIET = 0.1
 
 
 #: The local samples of :func:`end_allowance` lie at d, 2d and 4d inward from the end, d = REACH·δ
-#: (at least 4 units in the last place, at most a quarter of the level's range): far enough from
+#: (at least 4 units in the last place, the farthest sample inside the level's range): far enough from
 #: the end that a condition's rounding noise (at most δ times its slope) does not decide the
 #: integrand's value there, near enough to see its growth.  They may lie past the other end of a
 #: sub-interval narrower than 64δ (the weight is one expression there too): sampled inside it, at
@@ -145,8 +145,8 @@ REACH = 16.0
 GROWTH = 1.25
 
 
-def end_allowance(deltas: tuple[float, float], a: float, b: float, span: float, size: float, tol: float,
-                  sample) -> float:
+def end_allowance(deltas: tuple[float, float], a: float, b: float, bounds: tuple[float, float], size: float,
+                  tol: float, sample) -> float:
     """What moving the ends of the sub-interval [a, b] by their rounding ``deltas`` (δ_a, δ_b,
     :func:`uncertainty`) may change in ∫_a^b h, h bounded near the end (paper §8.2's ⟦p⟧ at a point;
     the module's error analysis: nested quadrature's error is ``quad``'s estimate per level plus
@@ -169,8 +169,9 @@ def end_allowance(deltas: tuple[float, float], a: float, b: float, span: float, 
     the δ-strip, within the factor 2 taken.  When the rough estimate (2(δ_a + δ_b) times ``size``,
     the largest |h| sampled on [a, b]) is below :data:`QUIET` times ``tol``, the tolerance ``quad``
     was asked for on [a, b], it is the allowance, unsampled (an ordinary program: δ ~ 10⁻¹⁵ of a
-    sub-interval of width ~1, nothing to look at).  ``span`` is the level's range (the samples stay
-    within a quarter of it); ``sample`` is called once, with the six abscissae of both ends."""
+    sub-interval of width ~1, nothing to look at).  ``bounds`` is the level's range (the samples stay
+    inside it: the weight may not be defined outside the box, and a sample there would make a bounded end look
+    singular); ``sample`` is called once, with the six abscissae of both ends."""
     if not size > 0.0:
         return 0.0
     rough = 2.0 * (deltas[0] + deltas[1]) * size
@@ -179,7 +180,8 @@ def end_allowance(deltas: tuple[float, float], a: float, b: float, span: float, 
     ends = ((a, 1.0, deltas[0]), (b, -1.0, deltas[1]))
     ts = []
     for end, side, delta in ends:
-        d = max(min(REACH * delta, span / 4.0), 4.0 * math.ulp(end))  # (distinct floats)
+        room = bounds[1] - end if side > 0 else end - bounds[0]  # (the samples inside the range)
+        d = max(min(REACH * delta, room / 4.0), 4.0 * math.ulp(end))  # (distinct floats)
         ts += [end + side * d, end + 2.0 * side * d, end + 4.0 * side * d]
     try:
         values = [abs(v) for v in sample(ts)]
