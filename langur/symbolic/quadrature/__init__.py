@@ -30,6 +30,8 @@ The modules, each importing only those above it in this list:
 * :mod:`.fold` — integration next to a delta's fold (substitution, allowances, time limit);
 * :mod:`.foldcurve` — where the fold curve turns (outer kinks, guards through turning points);
 * :mod:`.brackets` — what an implicit root's bracket implies;
+* :mod:`.rounding` — how far a breakpoint's float may be from the true boundary (the error bound's
+  share for the breakpoints' rounding, whatever the program's scale);
 * :mod:`.nested` — the nested integral of one problem;
 * :mod:`.pieceproblems`, :mod:`.deltaproblems` — the pieces' and delta pieces' fronts.
 

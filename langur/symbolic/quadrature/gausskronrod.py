@@ -78,12 +78,13 @@ def _gk21_panel(y, half: float):
 UNVECTORIZABLE = "unvectorizable"
 
 
-def _first_panel(vw: Callable, prefix: tuple, a: float, b: float, eps: float):
+def _first_panel(vw: Callable, prefix: tuple, a: float, b: float, eps: float, top: list | None = None):
     """``(value, error)`` of ∫_a^b when QUADPACK's ``dqagse`` (scipy's ``quad``) would stop after
     its first 21-point panel — the panel's error estimate within ``max(eps, eps·|value|)`` and not
     saturated, every value finite — computed with the weight vectorized (one numpy call instead
     of 21 Python calls); None otherwise (then ``quad`` integrates it as before), and
-    :data:`UNVECTORIZABLE` when the vectorized weight raises (its problem stops trying)."""
+    :data:`UNVECTORIZABLE` when the vectorized weight raises (its problem stops trying).  ``top``,
+    when given, gets the largest |value| of the panel as its first item (:mod:`.rounding`)."""
     centre, half = 0.5 * (a + b), 0.5 * (b - a)
     t = centre + half * _X21
     try:
@@ -103,6 +104,8 @@ def _first_panel(vw: Callable, prefix: tuple, a: float, b: float, eps: float):
             return None
     result, abserr, resasc = _gk21_panel(y, half)
     if (abserr <= max(eps, eps * abs(result)) and abserr != resasc) or abserr == 0.0:
+        if top is not None:
+            top[0] = float(np.abs(y).max())
         return float(result), float(abserr)
     return None
 

@@ -379,22 +379,25 @@ def _solve_critical(e: sp.Expr, v: sp.Symbol) -> tuple[list[sp.Expr], bool]:
 
 
 def _breakpoints(p: NumProblem, level: int, prefix: tuple, vary: bool,
-                 tangent: set | None = None) -> tuple[set, set]:
+                 tangent: set | None = None) -> tuple[dict, set]:
     """``level``'s breakpoints in (lo, hi) at the outer abscissae ``prefix`` (roots of its
-    conditions, from their polynomial root finders, a grid search, or their Psi's inverse) and its
+    conditions, each with the positions in :meth:`~.problem.NumProblem.here` of the conditions it is
+    a root of, from their polynomial root finders, a grid search, or their Psi's inverse) and its
     kinks (:func:`_kink_functions`): those that depend on the outer variables (``vary``), or those
     that do not — the same at every outer abscissa, so :func:`_nested` finds them once per problem
     (the same numbers: the same functions of the same arguments).  ``tangent``, when given, gets
     the kinks that are tangency points (``p.kink_tangent``)."""
     lo, hi = p.bounds[level]
-    pts: set = set()
+    pts: dict = {}
     points, hinted, kink_fns, tangents = p.moving(level, vary)
-    for roots in points:
-        pts.update(r for r in roots(*prefix) if lo < r < hi)
-    for c in hinted:
+    for i, roots in points:
+        for r in roots(*prefix):
+            if lo < r < hi:
+                pts.setdefault(r, set()).add(i)
+    for i, c in hinted:
         for r in c.hints(*prefix):
             if lo < r < hi:
-                pts.add(r)
+                pts.setdefault(r, set()).add(i)
     kinks: set = set()
     for roots, is_tangent in zip(kink_fns, tangents):
         found = [r for r in roots(*prefix) if lo < r < hi]

@@ -10,6 +10,8 @@ import math
 import time
 from typing import Callable
 
+import numpy as np
+
 from langur.symbolic.quadrature.adaptive import _name, _quad
 from langur.symbolic.quadrature.fold import (
     FOLD_END,
@@ -26,6 +28,7 @@ from langur.symbolic.quadrature.foldcurve import _add_fold_turns
 from langur.symbolic.quadrature.gausskronrod import UNVECTORIZABLE, _first_panel
 from langur.symbolic.quadrature.kinks import _breakpoints, _kink_functions
 from langur.symbolic.quadrature.problem import NumProblem, UndefinedIntegral
+from langur.symbolic.quadrature.rounding import REACH, end_allowance, flat_size, uncertainty
 from langur.symbolic.quadrature.tolerance import _OUTER, BOUNDARY, EPSABS, NARROW
 
 
@@ -56,6 +59,7 @@ def _apart(a: float, inside: list[float], b: float) -> list[float]:
 def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     lo, hi = p.bounds[level]
     if not hi > lo:
+        p.round_last[level] = 0.0  # (read by the outer level, :func:`_stepped`)
         return 0.0
     here = p.here(level)
     tests, reorder = p.tests(level)
@@ -70,9 +74,11 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         p._fixed_tangent[level] = set()
         fixed = p._fixed[level] = _breakpoints(p, level, prefix, False, p._fixed_tangent[level])
     moving, kinks = _breakpoints(p, level, prefix, True, tangent)
+    owners = {**fixed[0]}  # breakpoint -> the conditions it is a root of (:func:`~.rounding.uncertainty`)
+    for t, own in moving.items():
+        owners[t] = owners[t] | own if t in owners else own
     pts = {lo, hi}
-    pts.update(fixed[0])
-    pts.update(moving)
+    pts.update(owners)
     kinks.update(fixed[1])
     if tangent is not None:
         tangent.update(p._fixed_tangent[level])
@@ -84,8 +90,13 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         eps = max(eps, FOLD_EPS * 10 ** (len(p.bounds) - 1 - level))
     total = 0.0
     err = 0.0
+    allow = 0.0  # the breakpoints' rounding times the integrand next to them (:mod:`.rounding`)
+    deltas: dict = {}  # breakpoint -> its uncertainty (each shared by two sub-intervals)
+    seen = [0.0]  # the largest finite |integrand| sampled on the current sub-interval
     for a, b in zip(pts, pts[1:]):
         if _coincide(b, a):
+            if b > a and not p.folds:
+                allow += _dropped(p, level, prefix, a, b, hi - lo, deltas, owners)
             continue
         m = 0.5 * (a + b)
         failed = None
@@ -99,13 +110,15 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
                 tests.insert(0, failed)
             continue
         inside = _apart(a, sorted(q for q in kinks if a < q < b), b)
+        seen[0] = 0.0
         if last:
-            quick = _first_panel(p.vweight, prefix, a, b, eps) if p.vweight is not None and not inside else None
+            quick = _first_panel(p.vweight, prefix, a, b, eps, seen) if p.vweight is not None and not inside else None
             if quick is UNVECTORIZABLE:
                 p.vweight, quick = None, None
             if quick is not None:
                 total += quick[0]
                 err += quick[1]
+                allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], eps * max(1.0, abs(quick[0])), deltas, owners)
                 continue
 
             def h(t):
@@ -114,10 +127,20 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
                 v = p.weight(*prefix, t)
                 if p.folds and not math.isfinite(v) and not all(c.f(*prefix, t) > BOUNDARY for c in here):
                     p.fold_hit = True  # the root at its turning point within rounding (see integrate_problem)
+                size = abs(v)
+                if size > seen[0] and size != math.inf:  # (NaN > s is false)
+                    seen[0] = size
                 return v
         else:
-            def h(t):
-                return _nested(p, level + 1, prefix + (t,))
+            inner: list = []  # (t, the inner integral's rounding allowance at t)
+
+            def h(t, inner=inner):
+                v = _nested(p, level + 1, prefix + (t,))
+                inner.append((t, p.round_last[level + 1]))
+                size = abs(v)
+                if size > seen[0] and size != math.inf:
+                    seen[0] = size
+                return v
             if p.folds and len(p.bounds) >= 2:  # an inner integral at the fold within rounding (fold section)
                 h = _fold_outer(p, [a, *inside, b], hi - lo, h)
         try:
@@ -138,9 +161,106 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
             continue
         total += val
         err += e
+        allow += _ends(p, level, prefix, a, b, hi - lo, seen[0], eps * max(1.0, abs(val)), deltas, owners)
+        if not last:  # the inner integrals' allowances, integrated over [a, b]
+            allow += _stepped(inner, [a, *inside, b])
     if level == 0:
-        p.errors.append(err)
+        p.errors.append(err + allow)
+    else:
+        p.round_last[level] = allow
     return total
+
+
+def _stepped(samples: list, cuts: list[float]) -> float:
+    """∫ of a nonnegative function known at the abscissae of ``samples`` (``(t, value)``, as an
+    outer level's ``quad`` asked for them) over [cuts[0], cuts[-1]], by a step rule that never
+    reaches across a cut (an outer kink, where an inner region and its allowance appear): within
+    each cell each gap between neighbouring samples counts the larger of its two values, and the
+    cell's ends the value of the sample nearest to them (:func:`~.fold._fold_allowance`'s rule,
+    cell by cell)."""
+    if not samples:
+        return 0.0
+    samples.sort()
+    out = 0.0
+    i, n = 0, len(samples)
+    for lo, hi in zip(cuts, cuts[1:]):
+        cell = []
+        while i < n and samples[i][0] <= hi:
+            if samples[i][0] >= lo:
+                cell.append(samples[i])
+            i += 1
+        if not cell:
+            continue
+        out += (cell[0][0] - lo) * cell[0][1] + (hi - cell[-1][0]) * cell[-1][1]
+        out += sum((t1 - t0) * max(v0, v1) for (t0, v0), (t1, v1) in zip(cell, cell[1:]))
+    return out
+
+
+def _dropped(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, deltas: dict,
+             owners: dict) -> float:
+    """What leaving out [a, b] (two breakpoints within :func:`_coincide`, not integrated) may
+    change: nothing where a condition fails at its midpoint m, else (b − a + δ_a + δ_b)·2·|h| when
+    the integrand is bounded and nearly constant at m and at m ± D, D = :data:`~.rounding.REACH`
+    times the larger of the width and the ends' rounding (:func:`~.rounding.flat_size`): the sliver
+    ``θ − 10⁻¹⁵ ≤ x ≤ θ`` under the weight 10¹⁵ is all of a delta piece.  0 where it is not (left out
+    as before, no bound): a piece a unit in the last place wide next to the island's 1/√R reads
+    |h(m)| = 4.5·10¹⁵ from R's rounding noise, a size that says nothing about its integral."""
+    m = 0.5 * (a + b)
+    if not all(c.f(*prefix, m) >= 0 for c in p.here(level)):
+        return 0.0
+    ds = _rounding(p, level, prefix, (a, b), span, deltas, owners)
+    reach = REACH * max(b - a, ds[0], ds[1], 4.0 * math.ulp(m))
+    try:
+        lo, hi = p.bounds[level]  # (the samples inside the range, as :func:`~.rounding.end_allowance`'s;
+        size = flat_size(_sampler(p, level, prefix)([max(lo, m - reach), min(hi, m + reach), m]))  # m last: round_last)
+    except (UndefinedIntegral, ArithmeticError, ValueError, TypeError, AttributeError):
+        return 0.0
+    if size is None:
+        return 0.0
+    inner = 0.0 if level == len(p.bounds) - 1 else p.round_last[level + 1]
+    return (size + inner) * 2.0 * (b - a + ds[0] + ds[1])
+
+
+def _ends(p: NumProblem, level: int, prefix: tuple, a: float, b: float, span: float, size: float, tol: float,
+          deltas: dict, owners: dict) -> float:
+    """The change of ∫_a^b if its ends move by their rounding (:func:`~.rounding.uncertainty`,
+    remembered in ``deltas``; ``owners``: the conditions each breakpoint is a root of, every
+    condition at the range's ends), where the integrand is bounded next to them
+    (:func:`~.rounding.end_allowance`, ``size`` the largest |integrand| sampled on [a, b], ``tol``
+    the tolerance ``quad`` was asked for there); 0 where
+    nothing was sampled (the fold's substitution keeps its own allowance, :func:`_fold_innermost`)."""
+    if not size > 0.0:
+        return 0.0
+    ds = _rounding(p, level, prefix, (a, b), span, deltas, owners)
+    return end_allowance(ds, a, b, p.bounds[level], size, tol, _sampler(p, level, prefix))
+
+
+def _rounding(p: NumProblem, level: int, prefix: tuple, ends: tuple[float, float], span: float, deltas: dict,
+              owners: dict) -> tuple[float, float]:
+    """The two ends' rounding (:func:`~.rounding.uncertainty`), remembered in ``deltas`` (a
+    breakpoint ends two sub-intervals)."""
+    out = []
+    for t in ends:
+        d = deltas.get(t)
+        if d is None:
+            d = deltas[t] = uncertainty(p, level, prefix, t, span, owners.get(t))
+        out.append(d)
+    return out[0], out[1]
+
+
+def _sampler(p: NumProblem, level: int, prefix: tuple) -> Callable[[list[float]], list[float]]:
+    """The integrand of ``level`` at a few abscissae (:func:`~.rounding.end_allowance`'s local
+    samples): the inner integrals, or the weight (vectorized when it is: the scalar weight may not
+    be compiled yet)."""
+    if level < len(p.bounds) - 1:
+        return lambda ts: [_nested(p, level + 1, prefix + (t,)) for t in ts]
+    if p.vweight is not None:
+        def vectorized(ts):
+            with np.errstate(all="ignore"):
+                y = np.asarray(p.vweight(*prefix, np.array(ts)), dtype=float)
+            return [float(v) for v in np.broadcast_to(y, (len(ts),))]
+        return vectorized
+    return lambda ts: [p.weight(*prefix, t) for t in ts]
 
 
 def _near(t: float, tangent: set) -> bool:
@@ -269,6 +389,7 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
         return v, 0.0
     p.errors.clear()
     p.narrow_allow = 0.0
+    p.round_last.clear()
     try:
         if p.folds and len(p.bounds) >= 2:  # (one coordinate: the fold is a point, quad resolves it)
             p.until = _fold_deadline()

@@ -97,6 +97,11 @@ class NumProblem:
     fold_extra: float = 0.0
     #: the largest bound of an innermost piece left out by :func:`_narrow` (per innermost integral)
     narrow_allow: float = 0.0
+    #: level -> the allowance for the breakpoints' rounding (:mod:`.rounding`) of the integral over
+    #: that level last computed (:func:`_nested` integrates it over the outer variables)
+    round_last: dict = field(default_factory=dict)
+    #: level -> its conditions' magnitudes, compiled (:func:`~.rounding.uncertainty`)
+    sizes: dict = field(default_factory=dict, repr=False)
     _here: dict = field(default_factory=dict, repr=False)  # level -> its conditions
     _finders: dict = field(default_factory=dict, repr=False)  # level -> (condition, root finder)
     _tests: dict = field(default_factory=dict, repr=False)  # level -> :meth:`tests`
@@ -140,8 +145,8 @@ class NumProblem:
         return out
 
     def moving(self, level: int, vary: bool) -> tuple[list, list, list, list]:
-        """``level``'s root functions of its conditions (``prefix ↦ roots``: polynomial finder or
-        grid search) that depend on the outer variables (``vary``) or do not, the conditions whose
+        """``level``'s root functions of its conditions (each with its condition's position in
+        :meth:`here`; ``prefix ↦ roots``: polynomial finder or grid search) that depend on the outer variables (``vary``) or do not, the conditions whose
         Psi hints do or do not, and the kink functions (:attr:`kinks`, already computed; ``prefix
         ↦ roots``) that do or do not, with whether each is a tangency kink (:attr:`kink_tangent`).
         A moving function that depends on some of the outer
@@ -151,15 +156,15 @@ class NumProblem:
         if out is None:
             lo, hi = self.bounds[level]
             points = []
-            for c, f in self.finders(level):
+            for i, (c, f) in enumerate(self.finders(level)):
                 deps = _depends(c.expr, self.syms, level)
                 if bool(deps) != vary:
                     continue
                 if f is None:
                     def f(*prefix, c=c):
                         return _roots(lambda t: c.f(*prefix, t), lo, hi)
-                points.append(_by_outer(f, deps, level))
-            hinted = [c for c in self.here(level) if c.hints is not None and c.hints_vary == vary]
+                points.append((i, _by_outer(f, deps, level)))
+            hinted = [(i, c) for i, c in enumerate(self.here(level)) if c.hints is not None and c.hints_vary == vary]
             kinks, tangent = [], []
             tangents = self.kink_tangent.get(level, ())
             for k, ((kf, roots), deps) in enumerate(zip(self.kinks[level], self.kink_vary[level])):
