@@ -50,6 +50,8 @@ LAZY: dict[tuple[str, str], str] = {
     ("langur.commands._engines", "langur.operational"): "not for --engine exact",
     ("langur.commands.render", "langur.exact_batch"): "sympy (0.8 s): only with --exact",
     ("langur.commands._engines", "langur.engines"): "the exact engine (sympy): only when --engine names another engine",
+    ("langur.syntax.parser", "langur.syntax.larkload"): "lark (~35 ms): only to report a syntax error, or stale tables",
+    ("langur.syntax.parser", "langur.syntax.tables"): "lark (~35 ms): only to report a syntax error, or stale tables",
 }
 
 

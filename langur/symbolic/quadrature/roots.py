@@ -86,7 +86,9 @@ def _hidden_pairs(g: Callable[[float], float], xs: list, vals: list, flat: bool 
         if (left is None or sign * left >= sign * v) and (right is None or sign * right >= sign * v):
             a, b = xs[max(j - 1, 0)], xs[min(j + 1, n - 1)]
             try:
-                opt = so.minimize_scalar(lambda t, sign=sign: sign * g(t), bounds=(a, b), method="bounded",
+                # (float(t): scipy passes numpy scalars, on which a compiled ``math`` function's powers of
+                # negatives are numpy's NaN with a RuntimeWarning, not Python's complex number)
+                opt = so.minimize_scalar(lambda t, sign=sign: sign * g(float(t)), bounds=(a, b), method="bounded",
                                          options={"xatol": 1e-13 * max(1.0, abs(a), abs(b))})
             except (ValueError, ArithmeticError):
                 continue
