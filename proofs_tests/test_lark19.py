@@ -17,7 +17,6 @@ when the driver fails (a syntax error, whose diagnostic lark's exception gives) 
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import pickle
 import subprocess
@@ -25,23 +24,12 @@ import sys
 
 import pytest
 from paths import REPO
+from test_lalr import FILES, _tree  # (the example files, and a surface tree as nested tuples with its spans)
 
-from langur.diagnostics import LangurError, Span
+from langur.diagnostics import LangurError
 from langur.syntax import lalr, larkload, parser, tables
 
-FILES = sorted(p for p in REPO.rglob("*.lgr") if ".venv" not in p.parts)
 SHIPPED = lalr.DATA
-
-
-def _tree(x):
-    """``x`` as nested tuples, spans and every field included."""
-    if isinstance(x, Span):
-        return ("Span", x.path, x.line, x.col, x.end_line, x.end_col)
-    if dataclasses.is_dataclass(x) and not isinstance(x, type):
-        return (type(x).__name__,) + tuple((f.name, _tree(getattr(x, f.name))) for f in dataclasses.fields(x))
-    if isinstance(x, (tuple, list)):
-        return (type(x).__name__,) + tuple(_tree(v) for v in x)
-    return (type(x).__name__, x)
 
 
 def _outcome(parse, text: str, path: str = "f.lgr"):

@@ -19,13 +19,12 @@ import math
 
 import pytest
 import sympy as sp
+from test_scale18_rounding import _problem  # a NumProblem of polynomial conditions
 
 from langur import operational
 from langur.exact import exact_deriv
 from langur.frontend import load_text
-from langur.symbolic.quadrature.compiling import _lambdify
 from langur.symbolic.quadrature.nested import integrate_problem
-from langur.symbolic.quadrature.problem import NumCond, NumProblem
 from langur.symbolic.quadrature.rounding import end_allowance, flat_size
 
 SLIVER = "param t = 0.5\nint ([0, 1], [0, 1]) [x <= t] * [x - t + y / 10^{k} >= 0] d(x, y)\n"
@@ -34,15 +33,6 @@ SCALES = [6, 10, 13, 14]
 
 x, y = sp.symbols("x y", real=True)
 EPS = 2.0 ** -52
-
-
-def _problem(conds, weight, bounds, syms):
-    """A NumProblem of polynomial conditions ``expr >= 0`` (each at the level of its last variable)."""
-    out = []
-    for e in conds:
-        lv = max(i for i, s in enumerate(syms) if s in e.free_symbols)
-        out.append(NumCond(_lambdify(syms[: lv + 1], e, {}), lv, None, e, sym=e))
-    return NumProblem(out, _lambdify(syms, weight, {}), bounds, syms=list(syms), at={}, sbounds=list(bounds))
 
 
 def _cap(k: int) -> float:
