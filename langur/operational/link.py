@@ -37,7 +37,7 @@ its inlined form ``Loaded.program`` instead; ``cache_stats()["last_link"]`` says
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from ..core import (
     Call,
@@ -57,12 +57,13 @@ from ..core import (
 )
 from ..memo import remember
 from ..modules import Loaded
+from ..records import record
 from .compile import compile_term
 from .point import UNLINKED, Linking, Unit
 from .sample import SiteSampler
 
 
-@dataclass
+@record
 class Site:
     """One delta: its canonical Ψ̂'s sampler and the program parameters its condition reads."""
 
@@ -70,7 +71,7 @@ class Site:
     deps: frozenset[str]
 
 
-@dataclass
+@record
 class Linked:
     """A program ready to evaluate (§9): its body's unit, the :class:`Linking` it runs under, and more."""
 
@@ -86,7 +87,7 @@ SAMPLER_CAPACITY = 4096
 LINKED_CAPACITY = 16  # linked programs kept (each holds its samplers); compiled units are kept
 
 
-@dataclass
+@record
 class CompileCache:
     """Compiled units, linked programs and samplers (§9), owned by whoever evaluates: every
     function here takes one (``cache=``); the public ones default to :data:`CACHE`.
