@@ -39,6 +39,7 @@ from __future__ import annotations
 
 from dataclasses import field
 
+from .. import gcpause
 from ..core import (
     Call,
     Diffeo,
@@ -194,7 +195,11 @@ def link(loaded: Loaded, sites: str = "inlined", cache: CompileCache = CACHE) ->
     keys = _def_keys(loaded)
     prog_key = ("program", loaded.main.name, loaded.main.source_hash, _import_signature(loaded.main, loaded))
     link_key = ("link", sites, prog_key, frozenset(keys.items()))
-    return cache.find(link_key) or cache.keep(link_key, _link(loaded, sites, keys, prog_key, cache))
+    found = cache.find(link_key)
+    if found:
+        return found
+    with gcpause.paused():  # compiling builds many closures and tables, few cycles (issue 15: ~6 % of MB1)
+        return cache.keep(link_key, _link(loaded, sites, keys, prog_key, cache))
 
 
 def _check_linkable(loaded: Loaded, sites: str) -> None:
