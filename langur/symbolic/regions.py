@@ -41,6 +41,7 @@ import sympy as sp
 from langur.memo import remember as _remember
 from langur.symbolic import elementary, exact_rules, local, walks
 from langur.symbolic.context import Cond, Context, Deferred, Unsupported, _made
+from langur.symbolic.definite import definite as _definite
 from langur.symbolic.solving import (
     _away_from_zero,
     _closed_roots,
@@ -423,7 +424,7 @@ def integrate_vars(conds, weight, variables: Sequence, box: dict, ctx: Context):
                     continue
                 if F is None:
                     F = antiderivative(weight, v, ctx)
-                g = F.xreplace({v: u}) - F.xreplace({v: l})
+                g = _definite(F, v, l, u, ctx)
                 total += integrate_vars(rest + case, g, outer, box, ctx)
     return total
 
@@ -470,7 +471,7 @@ def _outermost(conds, weight, v, lo, hi, ctx: Context):
                 continue  # empty for every parameter value
             if F is None:
                 F = antiderivative(weight, v, sub)
-            total += F.xreplace({v: top}) - F.xreplace({v: A})
+            total += _definite(F, v, A, top, ctx)
         ctx.cell.extend(r for r in sub.cell if r not in ctx.cell)
         return total
     except Unsupported:
@@ -541,7 +542,7 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
         if deg is not None and deg <= exact_rules.MAX_DEGREE:  # a large polynomial: never expanded
             return exact_rules.newton_cotes(w, v, a, b, deg)
         F = F if F is not None else antiderivative(w, v, ctx)
-        return F.xreplace({v: b}) - F.xreplace({v: a})
+        return _definite(F, v, a, b, ctx)
     for (a, ea), (b, eb) in zip(uniq, uniq[1:]):
         m = (a + b) / 2
         ok = True

@@ -1,0 +1,108 @@
+"""``F(b) − F(a)`` for an antiderivative ``F`` in ``v``: the fundamental theorem of calculus with its
+ends taken from inside the interval.
+
+``F`` is continuous on the closed interval wherever the integrand is integrable there, so ``F(b)``
+is ``F``'s value at ``b`` — except where ``F``'s formula is an indeterminate form at the end
+itself: ``∫₀¹ log|x − a| dx`` has ``F = (x − a)·log(x − a) − x`` on ``x > a``, whose lower end
+``x = Max(0, a)`` is ``a`` when ``a > 0``, and ``F(a)`` is ``0·log 0`` there, which sympy evaluates
+to NaN although the limit is ``−a``.  Such an end is evaluated as the one-sided limit
+``lim_{ε→0⁺} F(b − ε)`` (``F(a + ε)`` at the lower end), with the end's ``Max``/``Min`` taken as
+the argument it is at the evaluation point (the comparisons recorded in the cell, so the closed
+form is claimed only where that choice holds).  Only formulas with a ``log`` or a non-integer or
+negative power can be such forms; a polynomial's, an exponential's … ends are substituted as
+before, at no cost.  The closed form is cross-checked by quadrature like every other
+(``integrate._exact_piece``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+
+from langur.symbolic.context import Context, Unsupported
+from langur.symbolic.readable import resolve
+
+#: Seconds sympy's ``limit`` may take at one end (it is fast on the forms it can do).
+LIMIT_CAP = 0.5
+
+
+def definite(F, v, lo, hi, ctx: Context):
+    """``F(hi⁻) − F(lo⁺)`` (see the module's docstring)."""
+    if not _may_be_indeterminate(F, v):
+        return F.xreplace({v: hi}) - F.xreplace({v: lo})
+    return at_end(F, v, hi, -1, ctx) - at_end(F, v, lo, +1, ctx)
+
+
+def at_end(F, v, end, side: int, ctx: Context):
+    """``F`` at ``end`` of the interval, approached from ``side`` (+1: from above, the lower end;
+    −1: from below, the upper end): ``F(end)``, or its one-sided limit where ``F(end)`` is an
+    indeterminate form at the evaluation point."""
+    value = F.xreplace({v: end})
+    if not _may_be_indeterminate(F, v):
+        return value
+    if value.has(sp.nan, sp.zoo):
+        pass  # (indeterminate whatever the parameters: e.g. (y − y)·log(y − y) at an outer variable's end)
+    elif sp.sympify(value).free_symbols - set(ctx.at) or _finite_here(value, ctx):
+        return value  # (an outer variable's end not seen to be indeterminate: substituted as before)
+    here = _resolved(sp.sympify(end), ctx)
+    if here is None:
+        return value
+    eps = sp.Dummy("eps", positive=True)
+    try:
+        limit = ctx.deadline.run(lambda: sp.limit(F.xreplace({v: here + side * eps}), eps, 0, "+"),
+                                 cap=min(LIMIT_CAP, max(0.0, ctx.deadline.remaining())))
+    except TimeoutError:
+        return value
+    except Exception:  # noqa: BLE001 - sympy raises all sorts of errors on hard inputs
+        return value
+    if limit.has(sp.Limit, sp.nan, sp.zoo, sp.oo, -sp.oo) or v in limit.free_symbols:
+        return value
+    if not (limit.free_symbols - set(ctx.at)) and not _finite_here(limit, ctx):
+        return value
+    return limit
+
+
+def _may_be_indeterminate(F, v) -> bool:
+    """Whether ``F`` has a ``log`` or a negative or non-integer power of something in ``v``: the
+    only ways an elementary antiderivative's formula becomes 0·∞ or ∞ − ∞ at a point where the
+    function itself is continuous."""
+    for node in sp.preorder_traversal(F):
+        if isinstance(node, sp.log) and v in node.free_symbols:
+            return True
+        if isinstance(node, sp.Pow) and v in node.base.free_symbols and \
+                not (node.exp.is_Integer and node.exp >= 0):
+            return True
+    return False
+
+
+def _finite_here(expr, ctx: Context) -> bool:
+    try:
+        z = ctx.value(expr)
+    except (TypeError, ValueError, ZeroDivisionError, Unsupported):
+        return False
+    return math.isfinite(z.real) and math.isfinite(z.imag)
+
+
+def _resolved(end, ctx: Context):
+    """``end`` with each ``Max``/``Min`` replaced by the argument it is at the evaluation point, the
+    comparisons that choice rests on recorded in the cell; None when one is a tie there (then no
+    single formula holds on both sides)."""
+    if not end.has(sp.Max, sp.Min):
+        return end
+    for node in sp.preorder_traversal(end):
+        if isinstance(node, (sp.Max, sp.Min)):
+            args = node.args
+            for i in range(len(args)):
+                for j in range(i + 1, len(args)):
+                    d = args[i] - args[j]
+                    if d.free_symbols - set(ctx.at):
+                        return None  # (an outer variable: not decided at the point)
+                    try:
+                        z = ctx.value(d)
+                    except (TypeError, ValueError, ZeroDivisionError):
+                        return None
+                    if abs(z.real) < 1e-25:
+                        return None
+                    ctx.record(">", d if z.real > 0 else -d)
+    return resolve(end, ctx.at)
