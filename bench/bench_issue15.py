@@ -26,7 +26,9 @@ Every table reuses the measurements of the scripts that own them:
   Python process per peer running ``peer_programs/NAME_fig1.py`` (imports the peer, computes the value
   and the derivative in θ at θ = 0.5, as the peer's README does), all with compiled modules kept
   (as installed), interleaved round by round; medians of wall (the target's measure) and CPU; and
-  ``python -c "import numpy"``, the floor under all three.
+  ``python -c "import numpy"``, the floor under all three.  ``--instructions K``: each one-shot
+  process's instructions executed as well (valgrind's cachegrind, median of K runs), which the
+  machine's load does not change.
 * **The Monte Carlo path's import**, CPU beyond numpy's (``bench_text_to_number.import_time``).
 * **The exact engine's ``deriv`` per example** (``bench_symbolic.bench_examples``: each example in a
   fresh process, its partial derivatives in turn): median, max, how many over 1 s; minutes of CPU,
@@ -43,6 +45,7 @@ import argparse
 import json
 import os
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
@@ -160,7 +163,7 @@ def run_mb2(swaps: int, peers: dict, peer_swaps: int) -> dict:
 
 # -- one-shot processes and the import ------------------------------------------------------------------
 
-def run_one_shot(peers: dict, rounds: int) -> dict:
+def run_one_shot(peers: dict, rounds: int, instructions: int = 0) -> dict:
     """Every system's one-shot process, round by round (each round runs each once, in turn), with
     compiled modules kept in a temporary ``PYTHONPYCACHEPREFIX`` (one warm-up run each first)."""
     print(f"\n## One-shot processes: fig1's program, wall and CPU seconds, medians of {rounds} rounds\n")
@@ -193,7 +196,40 @@ def run_one_shot(peers: dict, rounds: int) -> dict:
               f"| {printed} |")
     print(f"\nload average during the rounds: {min(loads):.1f}–{max(loads):.1f}")
     out["loads"] = [min(loads), max(loads)]
+    if instructions:
+        out["instructions"] = run_instructions(commands, base, instructions)
     return out
+
+
+def run_instructions(commands: dict, base: dict, reps: int) -> dict:
+    """Each one-shot process's instructions executed (valgrind's cachegrind, ``PYTHONHASHSEED=0``,
+    compiled modules kept), median of ``reps`` runs: the machine's load does not change them, so two
+    systems compare within a few per cent where wall medians on a shared machine do not (what varies
+    between runs is Python's start-up: site's ``.pth`` files, hashing of the paths)."""
+    if shutil.which("valgrind") is None:
+        print("\n(instructions: valgrind not found, not measured)")
+        return {}
+    print(f"\n### The same processes' instructions executed (cachegrind, median of {reps})\n")
+    print("| process | instructions (M) | / langur eval's |")
+    print("|---|---:|---:|")
+    counts: dict = {}
+    with tempfile.TemporaryDirectory() as cache:
+        for name, (argv, env) in commands.items():
+            env = {**env, "PYTHONHASHSEED": "0", "PYTHONPYCACHEPREFIX": cache}
+            env.pop("PYTHONDONTWRITEBYTECODE", None)
+            subprocess.run([sys.executable, *argv], cwd=ROOT, env=env, check=True, capture_output=True)
+            runs = []
+            for _ in range(reps):
+                r = subprocess.run(["valgrind", "--tool=cachegrind", "--cache-sim=no", "--cachegrind-out-file=/dev/null",
+                                    sys.executable, *argv], cwd=ROOT, env=env, check=True, capture_output=True,
+                                   text=True)
+                refs = [line for line in r.stderr.splitlines() if "I   refs" in line or "I refs" in line]
+                runs.append(int(refs[-1].split(":")[1].replace(",", "").strip()))
+            counts[name] = statistics.median(runs)
+    ours = counts.get("langur eval --engine mc")
+    for name, n in counts.items():
+        print(f"| {name} | {n / 1e6:,.0f} | {n / ours:.2f} |")
+    return counts
 
 
 def run_import(reps: int) -> dict:
@@ -304,6 +340,8 @@ def main(argv=None) -> None:
     ap.add_argument("--peer-swaps", type=int, default=5,
                     help="the peers' swaps, scaled to --swaps (default 5: at 50 Teg takes over 5 CPU minutes)")
     ap.add_argument("--json", metavar="OUT.json", help="also write every number measured")
+    ap.add_argument("--instructions", type=int, default=0, metavar="K",
+                    help="also count each one-shot process's instructions (valgrind), median of K runs")
     args = ap.parse_args(argv)
     peers = {p: getattr(args, p) for p in PEERS if getattr(args, p)}
     sys.setrecursionlimit(10**6)  # (the peers' expression trees are deep)
@@ -317,7 +355,7 @@ def main(argv=None) -> None:
         plot(m["mb1"], args.plot)
         print(f"\nplot: {args.plot}")
     m["mb2"] = run_mb2(m["swaps"], peers, min(args.peer_swaps, m["swaps"]))
-    m["one_shot"] = run_one_shot(peers, args.rounds or (3 if args.quick else 9))
+    m["one_shot"] = run_one_shot(peers, args.rounds or (3 if args.quick else 9), args.instructions)
     m["import"] = run_import(args.reps)
     if not args.skip_exact:
         m["exact"] = run_exact(args.exact_limit)
