@@ -469,12 +469,51 @@ def undefined_part(w: sp.Expr, region: Region) -> Blowup | None:
         return None
     vals = _numpy(w, region.xs)(pts[inner])
     bad = np.flatnonzero(np.isnan(vals))
-    if len(bad) < 2:  # one grid point may sit exactly on a zero of an argument
-        return None
-    p = tuple(sp.Float(float(v), DIGITS) for v in pts[inner][bad[len(bad) // 2]])
-    if math.isfinite(_value(w, region.xs, p)):
-        return None  # numpy's NaN was a 0·∞ it cannot resolve, not an undefined value
-    return Blowup(w, p, "undefined", None, None, None, Verdict.DIVERGENT, Verdict.DIVERGENT)
+    if len(bad) >= 2:  # (one grid point may sit exactly on a zero of an argument)
+        p = tuple(sp.Float(float(v), DIGITS) for v in pts[inner][bad[len(bad) // 2]])
+        if not math.isfinite(_value(w, region.xs, p)):  # (else numpy's NaN was a 0·∞ it cannot resolve)
+            return Blowup(w, p, "undefined", None, None, None, Verdict.DIVERGENT, Verdict.DIVERGENT)
+    return _outside_a_domain(w, region, pts[inner])
+
+
+#: The real domains of the partial functions sympy writes a weight with: where the argument lies
+#: strictly outside, with 50 digits (``sp.Float``) or numpy's values alike.
+_OUTSIDE = ((sp.log, lambda v: v < 0), (sp.asin, lambda v: abs(v) > 1), (sp.acos, lambda v: abs(v) > 1),
+            (sp.atanh, lambda v: abs(v) > 1), (sp.acosh, lambda v: v < 1))
+
+
+def _partial_arguments(w: sp.Expr) -> list[tuple[sp.Expr, object]]:
+    """``(argument, outside)`` for each subterm of ``w`` defined on part of ℝ only: ``log``,
+    ``asin``, ``acos``, ``atanh``, ``acosh`` and fractional powers (LANGUAGE.md §1: undefined at a
+    negative base, whatever the denominator of the exponent)."""
+    out = []
+    for node in sp.preorder_traversal(w):
+        if isinstance(node, sp.Pow) and node.exp.is_Rational and not node.exp.is_Integer:
+            out.append((node.base, lambda v: v < 0))
+            continue
+        for fn, outside in _OUTSIDE:
+            if isinstance(node, fn):
+                out.append((node.args[0], outside))
+    return out
+
+
+def _outside_a_domain(w: sp.Expr, region: Region, pts: np.ndarray) -> Blowup | None:
+    """A primitive of ``w`` applied outside its domain at points strictly inside the region, where
+    ``w``'s value is real all the same: ``sqrt(x)·sqrt(x − 1)`` at x < 0 is (i√|x|)(i√(1 − x)),
+    a real number to complex arithmetic, but undefined (LANGUAGE.md §1), as the Monte Carlo
+    engine's NaN says.  Each argument is valued on the grid (a set of positive measure: it is
+    continuous) and the example confirmed with 50 digits."""
+    for arg, outside in _partial_arguments(w):
+        with np.errstate(all="ignore"):
+            vals = _numpy(arg, region.xs)(pts)
+            hit = np.flatnonzero(outside(np.nan_to_num(vals, nan=0.0)) & np.isfinite(vals))
+        if len(hit) < 2:
+            continue
+        p = tuple(sp.Float(float(v), DIGITS) for v in pts[hit[len(hit) // 2]])
+        a = _value(arg, region.xs, p)
+        if math.isfinite(a) and outside(a) and abs(a) > 1e-30:
+            return Blowup(w, p, "undefined", None, None, None, Verdict.DIVERGENT, Verdict.DIVERGENT)
+    return None
 
 
 def blowups(w: sp.Expr, region: Region) -> list[Blowup]:
