@@ -14,10 +14,16 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from langur.symbolic import cse
+from langur.symbolic import cse, text
 from langur.symbolic.text import shared_lambdify
 
 x, y, z = sp.symbols("x y z", real=True)
+
+
+@pytest.fixture(autouse=True)
+def _every_size(monkeypatch):
+    """Short code rewritten too (the engine leaves code under ``text.SHARED_CODE`` characters as it is)."""
+    monkeypatch.setattr(text, "SHARED_CODE", 0)
 
 
 def _bound_names(f) -> list[str]:

@@ -65,7 +65,6 @@ def _rewritten(source: str, args: list[str]):
     if rewritten is None:
         return None
     ret.value = rewritten
-    ast.fix_missing_locations(tree)
     return tree
 
 
@@ -73,90 +72,98 @@ class _Rewriter:
     def __init__(self, args: set[str]):
         self.args = args
         self.ids: dict = {}  # structural key -> number
-        self.count: dict[int, int] = {}
-        self.node_id: dict[int, int] = {}  # id(node) -> number
-        self.varying: set[int] = set()  # numbers of the subtrees that mention an argument
+        self.count: list[int] = []  # occurrences, by number
+        self.varying: list[bool] = []  # whether the subtree mentions an argument, by number
         self.names: dict[int, str] = {}
 
     def run(self, expr):
         self._key(expr)
-        if not any(n >= 2 and i in self.varying for i, n in self.count.items()):
+        if not any(n >= 2 and v for n, v in zip(self.count, self.varying)):
             return None
         return self._rebuild(expr)
 
     def _key(self, node) -> int:
         """A number per distinct subtree (structurally: kinds, operators, names, constants with their
-        types); counts the occurrences."""
-        if isinstance(node, ast.Name):
+        types), kept on the node as ``_langur_cse``; counts the occurrences."""
+        t = type(node)
+        key = self._key
+        if t is ast.BinOp:
+            a, b = key(node.left), key(node.right)
+            k = (1, type(node.op), a, b)
+            varying = self.varying[a] or self.varying[b]
+        elif t is ast.Name:
             if node.id.startswith(PREFIX):
                 raise _Refused()
-            k = ("N", node.id)
-        elif isinstance(node, ast.Constant):
-            k = ("C", type(node.value), repr(node.value))
-        elif isinstance(node, ast.BinOp):
-            k = ("B", type(node.op), self._key(node.left), self._key(node.right))
-        elif isinstance(node, ast.UnaryOp):
-            k = ("U", type(node.op), self._key(node.operand))
-        elif isinstance(node, ast.Attribute):
-            k = ("A", self._key(node.value), node.attr)
-        elif isinstance(node, ast.Compare):
+            k = (2, node.id)
+            varying = node.id in self.args
+        elif t is ast.Constant:
+            k = (3, type(node.value), repr(node.value))
+            varying = False
+        elif t is ast.UnaryOp:
+            a = key(node.operand)
+            k = (4, type(node.op), a)
+            varying = self.varying[a]
+        elif t is ast.Call:
+            if any(type(a) is ast.Starred for a in node.args) or any(kw.arg is None for kw in node.keywords):
+                raise _Refused()
+            parts = [key(node.func), *[key(a) for a in node.args]]
+            named = tuple((kw.arg, key(kw.value)) for kw in node.keywords)
+            k = (5, tuple(parts), named)
+            varying = any(self.varying[a] for a in parts) or any(self.varying[a] for _, a in named)
+        elif t is ast.Attribute:
+            a = key(node.value)
+            k = (6, a, node.attr)
+            varying = self.varying[a]
+        elif t is ast.Compare:
             if len(node.ops) != 1:
                 raise _Refused()  # a chain stops at its first false comparison
-            k = ("O", type(node.ops[0]), self._key(node.left), self._key(node.comparators[0]))
-        elif isinstance(node, ast.Call):
-            if any(isinstance(a, ast.Starred) for a in node.args) or any(kw.arg is None for kw in node.keywords):
+            a, b = key(node.left), key(node.comparators[0])
+            k = (7, type(node.ops[0]), a, b)
+            varying = self.varying[a] or self.varying[b]
+        elif t is ast.List or t is ast.Tuple:
+            if any(type(a) is ast.Starred for a in node.elts):
                 raise _Refused()
-            k = ("F", self._key(node.func), tuple(self._key(a) for a in node.args),
-                 tuple((kw.arg, self._key(kw.value)) for kw in node.keywords))
-        elif isinstance(node, (ast.List, ast.Tuple)):
-            if any(isinstance(a, ast.Starred) for a in node.elts):
-                raise _Refused()
-            k = ("L", type(node), tuple(self._key(a) for a in node.elts))
+            parts = [key(a) for a in node.elts]
+            k = (8, t, tuple(parts))
+            varying = any(self.varying[a] for a in parts)
         else:
             raise _Refused()  # IfExp, BoolOp, Lambda, comprehensions, subscripts, …
         i = self.ids.get(k)
         if i is None:
-            i = self.ids[k] = len(self.ids)
-            if (k[0] == "N" and node.id in self.args) or any(
-                    isinstance(part, int) and part in self.varying for part in _parts(k)):
-                self.varying.add(i)
-        self.node_id[id(node)] = i
-        self.count[i] = self.count.get(i, 0) + 1
+            i = self.ids[k] = len(self.count)
+            self.count.append(0)
+            self.varying.append(varying)
+        node._langur_cse = i
+        self.count[i] += 1
         return i
 
     def _rebuild(self, node):
-        i = self.node_id[id(node)]
-        if isinstance(node, (ast.Name, ast.Constant, ast.Attribute)) or self.count[i] < 2 or i not in self.varying:
+        i = node._langur_cse
+        t = type(node)
+        if t is ast.Name or t is ast.Constant or t is ast.Attribute or self.count[i] < 2 or not self.varying[i]:
             return self._children(node)
         name = self.names.get(i)
         if name is not None:  # a later occurrence: its value
-            return ast.Name(id=name, ctx=ast.Load())
+            return ast.copy_location(ast.Name(id=name, ctx=ast.Load()), node)
         name = self.names[i] = f"{PREFIX}{len(self.names)}"
-        return ast.NamedExpr(target=ast.Name(id=name, ctx=ast.Store()), value=self._children(node))
+        target = ast.copy_location(ast.Name(id=name, ctx=ast.Store()), node)
+        return ast.copy_location(ast.NamedExpr(target=target, value=self._children(node)), node)
 
     def _children(self, node):
-        if isinstance(node, ast.BinOp):
+        t = type(node)
+        if t is ast.BinOp:
             node.left = self._rebuild(node.left)
             node.right = self._rebuild(node.right)
-        elif isinstance(node, ast.UnaryOp):
+        elif t is ast.UnaryOp:
             node.operand = self._rebuild(node.operand)
-        elif isinstance(node, ast.Compare):
+        elif t is ast.Compare:
             node.left = self._rebuild(node.left)
             node.comparators = [self._rebuild(node.comparators[0])]
-        elif isinstance(node, ast.Call):
+        elif t is ast.Call:
             node.func = self._rebuild(node.func)
             node.args = [self._rebuild(a) for a in node.args]
             for kw in node.keywords:
                 kw.value = self._rebuild(kw.value)
-        elif isinstance(node, (ast.List, ast.Tuple)):
+        elif t is ast.List or t is ast.Tuple:
             node.elts = [self._rebuild(a) for a in node.elts]
         return node
-
-
-def _parts(k: tuple):
-    """The numbers of a key's children (nested in tuples for calls and lists)."""
-    for part in k[1:]:
-        if isinstance(part, tuple):
-            yield from _parts((None, *part))
-        else:
-            yield part

@@ -228,6 +228,11 @@ def _namespace(module: str) -> dict:
     return dict(ns)
 
 
+#: Source text (characters) from which :func:`_generated`'s code evaluates each repeated
+#: subexpression once (shorter code has little to share, and parsing it costs more than it saves).
+SHARED_CODE = 1000
+
+
 def _generated(args: list, expr, printer, module: str):
     """What ``sympy.lambdify(args, expr, modules=[module], printer=printer, use_imps=False)`` makes for
     plain ``args`` (:func:`_plain_arguments`) and an ``expr`` without :func:`_rewritten` nodes: the same
@@ -255,7 +260,8 @@ def _generated(args: list, expr, printer, module: str):
     local: dict = {}
     # (math and numpy: each repeated subexpression evaluated once, the same values and exceptions;
     # the text kept for tracebacks is lambdify's, whose line the rewritten code keeps)
-    tree = evaluated_once(source, [a.name for a in args]) if module in ("math", "numpy") else None
+    tree = evaluated_once(source, [a.name for a in args]) \
+        if module in ("math", "numpy") and len(source) >= SHARED_CODE else None
     code = None
     if tree is not None:
         try:
