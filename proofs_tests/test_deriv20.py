@@ -146,3 +146,26 @@ def test_stylize_weight_evaluated_once_with_sympys_values():
         with np.errstate(all="ignore"):
             g, want = np.asarray(ours(xv, t, *values), dtype=float), np.asarray(theirs(xv, t, *values), dtype=float)
         assert g.view(np.uint64).tolist() == want.view(np.uint64).tolist()
+
+
+def test_substituted_conditions_are_sympys_and_remembered():
+    """A condition with the point's 30-digit Floats substituted (the quadrature's problems): sympy's
+    ``xreplace`` with the same rule, the same object when asked again at the same point, a new one
+    at another point; an expression holding Floats is substituted afresh each time (sympy's equality
+    does not see a Float's precision)."""
+    from langur.symbolic.quadrature import compiling
+    from langur.symbolic.quadrature.compiling import _floats, substituted
+
+    a, b = sp.symbols("a b", real=True)
+    cond = (a - x) * (y - b) - (b + 2 * a) * (x - 3 * y)
+    at = {a: sp.Rational(1, 10), b: sp.Rational(3, 20)}
+    got = substituted(cond, at)
+    assert got == cond.xreplace({a: sp.Float(0.1, 30), b: sp.Float(0.15, 30)}) == cond.xreplace(_floats(at))
+    assert substituted(cond, dict(at)) is got
+    other = substituted(cond, {a: sp.Rational(1, 10), b: sp.Rational(1, 5)})
+    assert other != got and other == cond.xreplace({a: sp.Float(0.1, 30), b: sp.Float(0.2, 30)})
+    floaty = cond + sp.Float("0.5", 15) * x
+    first = substituted(floaty, at)
+    assert first == floaty.xreplace(_floats(at))
+    assert (cond, tuple(at.items())) in compiling._SUBSTITUTED
+    assert not any(k[0] == floaty for k in compiling._SUBSTITUTED)
