@@ -23,6 +23,7 @@ from sympy.printing.pycode import MpmathPrinter, PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
 from ..memo import remember
+from .cse import evaluated_once
 from .pieces import Condition, DeltaPiece, Method, Piece, Psi
 from .walks import any_node, atoms_of
 
@@ -227,10 +228,16 @@ def _namespace(module: str) -> dict:
     return dict(ns)
 
 
+#: Source text (characters) from which :func:`_generated`'s code evaluates each repeated
+#: subexpression once (shorter code has little to share, and parsing it costs more than it saves).
+SHARED_CODE = 1000
+
+
 def _generated(args: list, expr, printer, module: str):
     """What ``sympy.lambdify(args, expr, modules=[module], printer=printer, use_imps=False)`` makes for
     plain ``args`` (:func:`_plain_arguments`) and an ``expr`` without :func:`_rewritten` nodes: the same
-    source text, namespace and function.  Its two walks of the tree with its repeats are not made:
+    source text, namespace and values (for ``math`` and ``numpy`` the function evaluates each repeated
+    subexpression once: :func:`langur.symbolic.cse.evaluated_once`, the same values and exceptions).  Its two walks of the tree with its repeats are not made:
     ``atoms(Symbol)`` for the namespace (here each distinct subtree once: :func:`atoms_of`) and the
     replacement of ``Subs`` nodes (there are none) — two thirds of lambdify's time on a stylize
     partial derivative's integrands, each ~10⁴ nodes over a few hundred distinct ones."""
@@ -251,7 +258,17 @@ def _generated(args: list, expr, printer, module: str):
     namespace.update({"builtins": builtins, "range": range})
     filename = f"<lambdifygenerated-langur-{next(_GENERATED)}>"
     local: dict = {}
-    exec(compile(source, filename, "exec"), namespace, local)
+    # (math and numpy: each repeated subexpression evaluated once, the same values and exceptions;
+    # the text kept for tracebacks is lambdify's, whose line the rewritten code keeps)
+    tree = evaluated_once(source, [a.name for a in args]) \
+        if module in ("math", "numpy") and len(source) >= SHARED_CODE else None
+    code = None
+    if tree is not None:
+        try:
+            code = compile(tree, filename, "exec")
+        except (RecursionError, SyntaxError, ValueError):
+            code = None  # (lambdify's own text, compiled as before)
+    exec(code or compile(source, filename, "exec"), namespace, local)
     linecache.cache[filename] = (len(source), None, source.splitlines(True), filename)
     func = local["_lambdifygenerated"]
     weakref.finalize(func, linecache.cache.pop, filename, None)

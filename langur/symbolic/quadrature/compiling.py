@@ -17,7 +17,7 @@ import sympy as sp
 
 from langur.memo import remember
 from langur.symbolic.text import shared_lambdify
-from langur.symbolic.walks import atoms_of, free_symbols
+from langur.symbolic.walks import atoms_of, free_symbols, has_any
 
 
 def _num(expr, at: dict) -> float:
@@ -41,6 +41,30 @@ def _floats(at: dict) -> dict:
         out = {k: sp.Float(float(v), 30) for k, v in at.items()}
         if key is not None:
             remember(_FLOATS, key, out, 64)
+    return out
+
+
+#: :func:`substituted`'s expressions by (expression, point); at most :data:`SUBSTITUTED` kept.
+_SUBSTITUTED: dict = {}
+SUBSTITUTED = 4096
+
+
+def substituted(expr: sp.Expr, at: dict) -> sp.Expr:
+    """``expr.xreplace(_floats(at))`` (the point's 30-digit Floats substituted), remembered by the
+    expression and the point: each problem of a program (⟦p⟧ near the point, its quadrature
+    cross-check, each partial derivative's regular and delta pieces) substitutes the same
+    conditions at the same point, and sympy's ``xreplace`` rebuilds them each time; it is a pure
+    function of the two (the same rule gives an equal tree).  Not for an expression holding Floats
+    (sympy's equality does not see their precision)."""
+    if has_any(expr, (sp.Float,)):
+        return expr.xreplace(_floats(at))
+    try:
+        key = (expr, tuple(at.items()))
+        out = _SUBSTITUTED.get(key)
+    except TypeError:  # (an unhashable value: substituted each time)
+        return expr.xreplace(_floats(at))
+    if out is None:
+        out = remember(_SUBSTITUTED, key, expr.xreplace(_floats(at)), SUBSTITUTED)
     return out
 
 

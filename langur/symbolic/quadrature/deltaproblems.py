@@ -16,7 +16,7 @@ from langur.implicit import ImplicitRootFn
 from langur.memo import remember
 from langur.symbolic.pieces import DeltaPiece
 from langur.symbolic.quadrature.brackets import _implied_by_bracket
-from langur.symbolic.quadrature.compiling import COMPILED, _floats, _lambdify, _num
+from langur.symbolic.quadrature.compiling import COMPILED, _lambdify, _num, substituted
 from langur.symbolic.quadrature.nested import integrate_problem
 from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
 from langur.symbolic.walks import free_symbols
@@ -117,7 +117,7 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
                     break
                 continue  # vanishes identically on the zero set: 0 >= 0 is TRUE (paper convention)
             lv = _level(se, uprime)
-            conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, se.xreplace(_floats(at)), sym=_parametric(se)))
+            conds.append(NumCond(_lambdify(uprime[: lv + 1], se, at), lv, None, substituted(se, at), sym=_parametric(se)))
         if empty:
             continue
         problems.append(NumProblem(conds, _Weight(piece, variables, uprime, xs, at), bounds, syms=uprime, at=dict(at),

@@ -12,7 +12,13 @@ import sympy as sp
 
 from langur.memo import remember
 from langur.symbolic.pieces import Piece, Psi
-from langur.symbolic.quadrature.compiling import OnFirstCall, _floats, _lambdify, _num, _vectorize
+from langur.symbolic.quadrature.compiling import (
+    OnFirstCall,
+    _lambdify,
+    _num,
+    _vectorize,
+    substituted,
+)
 from langur.symbolic.quadrature.nested import integrate_problem
 from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
 from langur.symbolic.quadrature.tolerance import _OUTER
@@ -60,7 +66,7 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
         lv = _level(c.expr, variables)
         hints, vary = _psi_hints(c.psi, variables[lv], variables, lv, at) if lv >= 0 else (None, True)
         expr = sp.sympify(c.expr)
-        conds.append(NumCond(_lambdify(variables[: lv + 1], expr, at), lv, hints, expr.xreplace(_floats(at)),
+        conds.append(NumCond(_lambdify(variables[: lv + 1], expr, at), lv, hints, substituted(expr, at),
                              sym=_parametric(expr), hints_vary=vary))
     bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in box]
     vweight = _vectorize(variables, piece.weight, at) if variables else None
