@@ -18,6 +18,7 @@ import sympy as sp
 from langur import exact as api
 from langur import frontend
 from langur.cli import main
+from langur.symbolic import elementary
 from langur.symbolic.context import Context
 from langur.symbolic.definite import at_end
 from langur.symbolic.pieces import Method
@@ -84,3 +85,25 @@ def test_deriv_decides_the_one_sided_derivatives(capsys, tmp_path):
     assert status == 1 and j["exact"] is None and "X313" in j["undefined"]
     assert j["one_sided"]["exists"] is True
     assert j["one_sided"]["below"] == pytest.approx(d, abs=1e-12) == j["one_sided"]["above"]
+
+
+def test_a_power_times_a_log_of_the_same_affine_function_has_its_closed_form():
+    # ∫₀¹ √x·log x dx = [x^{3/2}(2/3·log x − 4/9)]₀¹ = −4/9 (by hand; hopeless() called it a product
+    # of two non-polynomial factors and the piece went to quadrature)
+    r = _exact("param a = 0.3\nint ([0, 1]) sqrt(x) * log(x) + a d(x)\n", {"a": 0.3})
+    assert r.method is Method.CLOSED_FORM
+    assert sp.simplify(sp.sympify(r.expr) - (sp.Symbol("a") - sp.Rational(4, 9))) == 0
+    # ∫₀¹ [x ≥ a](x − a)² log(x − a) dx = ∫₀^{1−a} t² log t dt = (1 − a)³ log(1 − a)/3 − (1 − a)³/9
+    a = 0.3
+    r = _exact(f"param a = {a}\nint ([0, 1]) [x >= a] * (x - a)^2 * log(x - a) d(x)\n", {"a": a})
+    assert r.method is Method.CLOSED_FORM
+    assert abs(float(r.value) - ((1 - a) ** 3 * math.log(1 - a) / 3 - (1 - a) ** 3 / 9)) <= 1e-12
+
+
+@pytest.mark.parametrize("w", ["sqrt(x)*log(x)", "(x - a)**(3/2)*log(x - a)**2", "x*sqrt(2*x + 1)*log(2*x + 1)",
+                               "log(x)/x", "log(x)**3/x", "x**2*log(3 - x)", "(x + 1)**(-2)*log(x + 1)"])
+def test_power_log_antiderivatives_differentiate_back(w):
+    x = sp.Symbol("x")
+    w = sp.sympify(w)
+    F = elementary.power_log_antiderivative(w, x)
+    assert F is not None and sp.simplify(sp.diff(F, x) - w) == 0

@@ -29,10 +29,11 @@ is reported hopeless, with the reason.  The test is conservative about what it c
 forms: a weight it lets through is still verified by differentiation
 (:func:`~langur.symbolic.regions._derivative_matches`).
 
-Three classical shapes are integrated here without sympy's ``integrate`` (milliseconds, and
+Four classical shapes are integrated here without sympy's ``integrate`` (milliseconds, and
 within no time budget): a polynomial times ``exp``/``sin``/``cos``/``sinh``/``cosh`` of an affine
 argument (:func:`exponential_antiderivative`, by parts), a polynomial times a rational power of an
-affine function (:func:`affine_power_antiderivative`, substitution), and a polynomial times a
+affine function (:func:`affine_power_antiderivative`, substitution), the same times powers of its
+logarithm (:func:`power_log_antiderivative`, substitution and parts), and a polynomial times a
 normal density (:func:`gaussian_antiderivative`, completing the square: ``erf``).
 """
 
@@ -260,6 +261,62 @@ def affine_power_antiderivative(w, v, divisors: list | None = None):
         for (n,), coeff in p.terms():
             e = f.exp + n + 1
             total += coeff * f.base ** e / (e * k)
+    return total
+
+
+def power_log_antiderivative(w, v, divisors=None):
+    """The antiderivative of ``w`` in ``v`` when every term of ``w`` is a polynomial in ``v`` times
+    powers and logarithms of one affine function ``u = k·v + c``: ``u^r·log(u)^m`` (``r``
+    rational, ``m`` a non-negative integer; ``√x·log x``, ``log(x)/x``, ``x²·log(x − a)²``, which
+    :func:`hopeless` would call a product of two non-polynomial factors); None for other shapes.
+    With ``v = (u − c)/k`` the term is a sum of ``u^s·log(u)^m``, each integrated by parts:
+    ``∫ u^s log^m u du = u^(s+1) Σⱼ (−1)ʲ m!/(m − j)! log^(m−j)(u) / (s + 1)^(j+1)`` for ``s ≠ −1``,
+    ``log^(m+1)(u)/(m + 1)`` for ``s = −1``.  Each ``k`` is appended to ``divisors`` (the form needs
+    ``k ≠ 0``)."""
+    if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS:
+        return None
+    u = sp.Dummy("u", positive=True)
+    total = sp.Integer(0)
+    for t in sp.Add.make_args(sp.expand(w, power_exp=False, log=False, multinomial=False)):
+        factors = [f for f in sp.Mul.make_args(t) if v in f.free_symbols]
+        logs = [f for f in factors if isinstance(f, sp.log) or (isinstance(f, sp.Pow) and isinstance(f.base, sp.log)
+                                                               and f.exp.is_Integer and f.exp > 0)]
+        powers = [f for f in factors if isinstance(f, sp.Pow) and not isinstance(f.base, sp.log)
+                  and f.exp.is_Rational and not (f.exp.is_Integer and f.exp >= 0)]
+        if not logs and not powers:
+            plain = polynomial_antiderivative(t, v)
+            if plain is None:
+                return None
+            total += plain
+            continue
+        inner = {(f.args[0] if isinstance(f, sp.log) else f.base.args[0]) for f in logs} | {f.base for f in powers}
+        if len(inner) != 1 or len(logs) > 1 or len(powers) > 1:
+            return None
+        base = inner.pop()
+        kc = _affine(base, v)
+        if kc is None:
+            return None
+        k, c = kc
+        m = 0 if not logs else (1 if isinstance(logs[0], sp.log) else int(logs[0].exp))
+        r = powers[0].exp if powers else sp.Integer(0)
+        rest = sp.Mul(*[g for g in sp.Mul.make_args(t) if g not in logs and g not in powers])
+        try:
+            p = sp.Poly(sp.expand(rest.xreplace({v: (u - c) / k})), u)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            return None
+        if any(u in coeff.free_symbols or v in coeff.free_symbols for coeff in p.all_coeffs()):
+            return None
+        if divisors is not None:
+            divisors.append(k)
+        L = sp.log(base)
+        for (n,), coeff in p.terms():
+            s = r + n
+            if s == -1:
+                total += coeff * L ** (m + 1) / ((m + 1) * k)
+            else:
+                acc = sum((-1) ** j * sp.factorial(m) / sp.factorial(m - j) * L ** (m - j) / (s + 1) ** (j + 1)
+                          for j in range(m + 1))
+                total += coeff * base ** (s + 1) * acc / k
     return total
 
 

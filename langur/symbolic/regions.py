@@ -237,7 +237,8 @@ def antiderivative(w, v, ctx: Context):
     quick = elementary.polynomial_antiderivative(w, v)
     if quick is not None:  # exact, in microseconds: never waits for sympy nor for the budget
         return quick
-    for by_parts in (elementary.exponential_antiderivative, elementary.affine_power_antiderivative):
+    for by_parts in (elementary.exponential_antiderivative, elementary.affine_power_antiderivative,
+                     elementary.power_log_antiderivative):
         divisors: list = []
         quick = by_parts(w, v, divisors)  # correct by construction where no divisor vanishes
         if quick is not None and all(_nonzero_here(k, ctx) for k in divisors):
