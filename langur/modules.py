@@ -9,12 +9,12 @@ the pure core language.  A module's elaborated form depends only on its own text
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 
 from .core import Diffeo, Program, Term
 from .diagnostics import Span
-from .records import frozen
+from .records import frozen, mutable
 
 
 @frozen
@@ -32,7 +32,7 @@ class CoreDef:
     span: Span | None = field(default=None, compare=False, repr=False)
 
 
-@dataclass
+@mutable
 class ElaboratedModule:
     name: str  # the module's name: its file stem, or the NAME of --module NAME=PATH
     path: str
@@ -46,7 +46,7 @@ class ElaboratedModule:
     diffeo_params: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
 
-@dataclass
+@mutable
 class Loaded:
     main: ElaboratedModule
     modules: dict[str, ElaboratedModule]  # every module reached, the main one included

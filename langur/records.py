@@ -1,4 +1,5 @@
-"""``@frozen``: ``@dataclass(frozen=True)`` without generated source (issue 15, start-up).
+"""``@frozen``: ``@dataclass(frozen=True)`` without generated source (issue 15, start-up); ``@mutable``:
+``@dataclass`` likewise.
 
 ``dataclasses.dataclass`` writes each method it adds as Python source and compiles it with
 ``exec`` when the class is created: six compilations per frozen class (``__init__``, ``__repr__``,
@@ -83,6 +84,44 @@ def frozen(cls):
     return cls
 
 
+def mutable(cls):
+    """``@dataclass`` for ``cls`` (a mutable record: ``eq=True``, not frozen), without compiling
+    generated source, as :func:`frozen` does for frozen ones: the same ``__init__``, ``__eq__`` and
+    ``__repr__``, fields assignable, and ``__hash__`` None (instances unhashable, as ``dataclass``
+    makes a mutable class that compares by value)."""
+    own_doc = cls.__dict__.get("__doc__")
+    if own_doc is None:
+        cls.__doc__ = "?"
+    cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
+    fields = dataclasses.fields(cls)
+    if hasattr(cls, "__post_init__") or any(b is not object and dataclasses.is_dataclass(b) for b in cls.__mro__[1:]):
+        raise TypeError(f"{cls.__name__}: @mutable supports plain records only (no __post_init__, no base record)")
+    if "__hash__" in cls.__dict__ or "__eq__" in cls.__dict__:
+        raise TypeError(f"{cls.__name__}: @mutable writes __eq__ and __hash__ itself")
+    key = _getter(tuple(f.name for f in fields if f.compare))
+    shown = tuple(f.name for f in fields if f.repr)
+
+    if "__init__" not in cls.__dict__:
+        cls.__init__ = _init(cls.__qualname__, fields)
+
+    def __eq__(self, other):
+        if other.__class__ is self.__class__:
+            return key(self) == key(other)
+        return NotImplemented
+
+    @reprlib.recursive_repr()
+    def __repr__(self):
+        return self.__class__.__qualname__ + "(" + ", ".join(f"{n}={getattr(self, n)!r}" for n in shown) + ")"
+
+    for fn in (__eq__, __repr__):
+        fn.__qualname__ = f"{cls.__qualname__}.{fn.__name__}"
+        setattr(cls, fn.__name__, fn)
+    cls.__hash__ = None
+    if own_doc is None:
+        cls.__doc__ = cls.__name__ + str(inspect.signature(cls)).replace(" -> None", "")
+    return cls
+
+
 def _getter(names: tuple[str, ...]):
     """The tuple of the fields ``names`` of a record (always a tuple, as dataclass compares)."""
     if len(names) >= 2:
@@ -143,4 +182,4 @@ def _init(qualname: str, fields) -> object:
     return __init__
 
 
-__all__ = ["frozen"]
+__all__ = ["frozen", "mutable"]

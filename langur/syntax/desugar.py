@@ -33,7 +33,7 @@ Def calls are left as ``Call(module, name, args)`` links (separate compilation, 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from fractions import Fraction
 
 from .. import typesys as ty
@@ -66,6 +66,7 @@ from ..core import (
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
+from ..records import frozen, mutable
 from . import kinks, loops, template, vectors
 from .completion import complete, diffeo
 from .inline import expand_calls, inline
@@ -106,7 +107,7 @@ class _TooManyPieces(Exception):
 RESERVED = frozenset(PRIMITIVES) | frozenset(ALL_PRIMITIVES) | frozenset(SUGAR_FUNCTIONS) | {"pi"}
 
 
-@dataclass(frozen=True)
+@frozen
 class DefSig:
     """A def's signature: where it lives and its arguments' kinds (what a call site needs)."""
 
@@ -115,7 +116,7 @@ class DefSig:
     args: tuple[tuple[str, str], ...]
 
 
-@dataclass(frozen=True)
+@frozen
 class DiffeoSig:
     """A checked ``diffeo`` declaration with its parameters' names in declaration order."""
 
@@ -123,7 +124,7 @@ class DiffeoSig:
     params: tuple[str, ...]
 
 
-@dataclass
+@mutable
 class Env:
     """What a module's terms can call: defs and diffeos (local and imported), by local name."""
 
@@ -138,7 +139,7 @@ _new = object.__new__
 _ZERO, _ONE, _MINUS_ONE = INT_FRACTIONS[0], INT_FRACTIONS[1], Fraction(-1)
 
 
-@dataclass(frozen=True)
+@frozen
 class Scope:
     """Δ (``variables``, in order), Γ (``gamma``), the numeric box for completion, and where we are."""
 

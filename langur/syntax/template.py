@@ -29,7 +29,7 @@ random loop bodies.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 
 from ..core import (
@@ -59,6 +59,7 @@ from ..core import (
     small_power,
     small_value,
 )
+from ..records import mutable
 from . import affine
 
 #: Build a loop's copies from its first (False: every copy desugared from the surface, as the
@@ -69,7 +70,7 @@ ENABLED = True
 STATS = {"instantiated": 0, "refused": 0, "shifted": 0}
 
 
-@dataclass
+@mutable
 class Record:
     """What desugaring the first copy of a loop's body showed: the ``Const`` leaves its index became
     (kept alive, so their ids stay theirs), the conditionals it completed (the ``IfDiffeo`` node's id →

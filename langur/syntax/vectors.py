@@ -24,19 +24,19 @@ function here returns the result or raises :class:`VectorError` with the diagnos
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from fractions import Fraction
 
 from .. import typesys as ty
 from ..core import Add, Mul, Pow, Term, free_params, neg, sub
 from ..diagnostics import Diagnostic, Span
+from ..records import frozen
 from .loops import balanced
 
 #: Component names, in order: ``u.x`` is the first component, ``u.w`` the fourth.
 COMPONENTS = ("x", "y", "z", "w")
 
 
-@dataclass(frozen=True)
+@frozen
 class Vec:
     """A vector value during desugaring: its components, core terms."""
 
@@ -47,7 +47,7 @@ class Vec:
 POISON = Vec(())
 
 
-@dataclass(frozen=True)
+@frozen
 class VecName:
     """A let-bound vector: its value, the parameters its components mention, and the name of an
     inner ``let`` that rebinds one of them (then the vector may no longer be used: T233)."""
