@@ -31,8 +31,18 @@ import reprlib
 from operator import attrgetter
 
 _MISSING = dataclasses.MISSING
-#: how dataclass's signatures show a default factory
-_FACTORY = getattr(dataclasses, "_HAS_DEFAULT_FACTORY", "<factory>")
+
+
+class _Factory:
+    def __repr__(self) -> str:
+        return "<factory>"
+
+
+#: The default of a field with a ``default_factory`` in a written-out ``__init__`` (dataclass's own
+#: marker, shown as ``<factory>`` in signatures): ``def __init__(self, xs=FACTORY)`` then
+#: ``xs = list() if xs is FACTORY else xs``, as dataclass's generated ``__init__`` does.
+FACTORY = getattr(dataclasses, "_HAS_DEFAULT_FACTORY", None) or _Factory()
+_FACTORY = FACTORY
 
 
 def frozen(cls):
@@ -182,4 +192,4 @@ def _init(qualname: str, fields) -> object:
     return __init__
 
 
-__all__ = ["frozen", "mutable"]
+__all__ = ["FACTORY", "frozen", "mutable"]

@@ -150,9 +150,33 @@ def test_front_end_records_are_the_dataclasses_they_were(cls):
     theirs = [(f.name, f.default, f.default_factory, f.compare, f.repr, f.hash) for f in dataclasses.fields(twin)]
     assert ours == theirs
     assert cls.__match_args__ == twin.__match_args__
-    assert str(inspect.signature(cls)) == str(inspect.signature(twin))
+    ours, theirs = inspect.signature(cls).parameters.values(), inspect.signature(twin).parameters.values()
+    assert [(p.name, p.kind, p.default) for p in ours] == [(p.name, p.kind, p.default) for p in theirs]
     assert (cls.__hash__ is None) == (twin.__hash__ is None) == (not is_frozen)
     assert cls.__eq__.__module__ == cls.__repr__.__module__ == "langur.records"
+    # built alike: required fields only (positionally, by name), then every field given
+    fields = dataclasses.fields(cls)
+    required = [object() for f in fields if f.default is dataclasses.MISSING
+                and f.default_factory is dataclasses.MISSING]
+    names = [f.name for f in fields]
+    given = [object() for _ in fields]
+    for args, kwargs in ((required, {}), ((), dict(zip(names, required))), (given, {}),
+                         ((), dict(zip(names, given))), (given[:1], dict(zip(names[1:], given[1:])))):
+        a, b = cls(*args, **kwargs), twin(*args, **kwargs)
+        assert [getattr(a, n) for n in names] == [getattr(b, n) for n in names]
+        assert repr(a) == repr(b).replace(twin.__qualname__, cls.__qualname__, 1)
+    one, two = cls(*required), cls(*required)  # a default factory's value is fresh per instance
+    for f in fields:
+        if f.default_factory is not dataclasses.MISSING:
+            assert getattr(one, f.name) is not getattr(two, f.name)
+    with pytest.raises(TypeError):
+        cls(*given, object())
+    if fields and required:
+        with pytest.raises(TypeError):
+            cls(*required[:-1])
+    if is_frozen:
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            setattr(one, names[0], 1)
 
 
 def test_records_in_use_behave_as_before():

@@ -66,7 +66,7 @@ from ..core import (
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
-from ..records import frozen, mutable
+from ..records import FACTORY, frozen, mutable
 from . import kinks, loops, template, vectors
 from .completion import complete, diffeo
 from .inline import expand_calls, inline
@@ -115,6 +115,10 @@ class DefSig:
     name: str
     args: tuple[tuple[str, str], ...]
 
+    def __init__(self, module, name, args):
+        d = self.__dict__
+        d["module"], d["name"], d["args"] = module, name, args
+
 
 @frozen
 class DiffeoSig:
@@ -122,6 +126,10 @@ class DiffeoSig:
 
     diffeo: Diffeo
     params: tuple[str, ...]
+
+    def __init__(self, diffeo, params):
+        d = self.__dict__
+        d["diffeo"], d["params"] = diffeo, params
 
 
 @mutable
@@ -133,6 +141,13 @@ class Env:
     diffeos: dict[str, DiffeoSig] = field(default_factory=dict)
     poisoned: set[str] = field(default_factory=set)  # names whose declaration failed: no cascades
     bodies: dict[tuple[str, str], object] = field(default_factory=dict)  # (module, def) -> CoreDef
+
+    def __init__(self, module, defs=FACTORY, diffeos=FACTORY, poisoned=FACTORY, bodies=FACTORY):
+        self.module = module
+        self.defs = {} if defs is FACTORY else defs
+        self.diffeos = {} if diffeos is FACTORY else diffeos
+        self.poisoned = set() if poisoned is FACTORY else poisoned
+        self.bodies = {} if bodies is FACTORY else bodies
 
 
 _new = object.__new__
@@ -151,6 +166,14 @@ class Scope:
     hidden_vars: frozenset[str] = frozenset()  # variables not allowed here (domain bounds)
     consts: Mapping[str, Fraction] = field(default_factory=dict)  # loop indices and their values (§9)
     vectors: Mapping[str, VecName] = field(default_factory=dict)  # let-bound vectors (vectors.VecName)
+
+    def __init__(self, variables, gamma, box=(), where="this term", in_program=True, hidden_vars=frozenset(),
+                 consts=FACTORY, vectors=FACTORY):
+        d = self.__dict__
+        d["variables"], d["gamma"], d["box"], d["where"] = variables, gamma, box, where
+        d["in_program"], d["hidden_vars"] = in_program, hidden_vars
+        d["consts"] = {} if consts is FACTORY else consts
+        d["vectors"] = {} if vectors is FACTORY else vectors
 
     def with_param(self, name: str) -> Scope:
         """``name`` bound by a real ``let``: it hides an index or vector of that name, and the vectors

@@ -207,6 +207,9 @@ class Budget:
     nodes: int = 0
     exhausted: bool = False
 
+    def __init__(self, copies=0, nodes=0, exhausted=False):
+        self.copies, self.nodes, self.exhausted = copies, nodes, exhausted
+
     def charge(self, count: int, size: int) -> str | None:
         """Take ``count`` copies of a body of ``size`` surface nodes: None within the bound, else why
         not (and the budget is exhausted)."""

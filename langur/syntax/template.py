@@ -59,7 +59,7 @@ from ..core import (
     small_power,
     small_value,
 )
-from ..records import mutable
+from ..records import FACTORY, mutable
 from . import affine
 
 #: Build a loop's copies from its first (False: every copy desugared from the surface, as the
@@ -81,6 +81,12 @@ class Record:
     leaves: dict[int, Const] = field(default_factory=dict)
     completions: dict[int, tuple[IfDiffeo, Term, tuple[str, ...], tuple]] = field(default_factory=dict)
     unsafe: bool = False
+
+    def __init__(self, index, leaves=FACTORY, completions=FACTORY, unsafe=False):
+        self.index = index
+        self.leaves = {} if leaves is FACTORY else leaves
+        self.completions = {} if completions is FACTORY else completions
+        self.unsafe = unsafe
 
 
 def _diffeo_terms(psi: Diffeo) -> tuple[Term, ...]:

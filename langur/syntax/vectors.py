@@ -42,6 +42,9 @@ class Vec:
 
     parts: tuple[Term, ...]
 
+    def __init__(self, parts):
+        self.__dict__["parts"] = parts
+
 
 #: The value of a vector expression whose error has been reported: every use of it is silent.
 POISON = Vec(())
@@ -55,6 +58,10 @@ class VecName:
     vec: Vec
     params: frozenset[str]
     shadowed_by: str | None = None
+
+    def __init__(self, vec, params, shadowed_by=None):
+        d = self.__dict__
+        d["vec"], d["params"], d["shadowed_by"] = vec, params, shadowed_by
 
     @staticmethod
     def of(vec: Vec) -> VecName:
