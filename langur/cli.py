@@ -157,12 +157,18 @@ def add_common(p: argparse.ArgumentParser, *, params=True, mc=False) -> None:
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     """The parser; with ``argv``, only the command it names is imported and given its arguments
     (start-up: ``langur eval`` does not import the modules of ``check``, ``fuzz``, ``reproduce`` …;
-    the others keep their one-line help)."""
+    the others keep their one-line help).  When the command is ``argv``'s first word, nothing
+    before it can ask for the list of commands (``langur --help eval`` can), and the other
+    commands' parsers are not made at all (start-up: each is an ``ArgumentParser`` whose help
+    strings go through ``gettext``'s search for translations)."""
     chosen = _command_of(argv)
+    alone = chosen is not None and argv[0] == chosen
     parser = _Parser(prog="langur", description="Langur: differentiating integrals with parametric discontinuities.")
     parser.add_argument("--version", action="version", version=f"langur {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name, help_ in COMMANDS.items():
+        if alone and name != chosen:
+            continue
         p = sub.add_parser(name, help=help_, description=help_)
         if chosen is None or name == chosen:
             mod = importlib.import_module(f"langur.commands.{name}")

@@ -9,10 +9,10 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from .records import frozen
 
 
-@dataclass(frozen=True)
+@frozen
 class Code:
     """A diagnostic code: ``summary`` is its one-line meaning; ``name`` and ``severity`` the
     linter's rule name and default level (SARIF), for the X3xx codes the linter may grade."""

@@ -49,7 +49,7 @@ from .core import Diffeo, Term, free_params
 from .diagnostics import Diagnostic, LangurError, Span
 from .memo import remember
 from .modules import ElaboratedModule, Loaded
-from .records import mutable
+from .records import record
 from .syntax.desugar import Desugarer, DiffeoSig, Env, Scope
 from .syntax.elaborate import elaborate
 from .syntax.inline import inline
@@ -64,7 +64,7 @@ __all__ = ["CACHE", "LoadCache", "clear_load_cache", "core_term_from_text", "loa
 CAPACITY = 512
 
 
-@mutable
+@record
 class LoadCache:
     """Parsed and elaborated modules kept across loads (module docstring, "Incremental loading").
 

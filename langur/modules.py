@@ -14,7 +14,7 @@ from fractions import Fraction
 
 from .core import Diffeo, Program, Term
 from .diagnostics import Span
-from .records import FACTORY, frozen, mutable
+from .records import FACTORY, frozen, record
 
 
 @frozen
@@ -32,7 +32,7 @@ class CoreDef:
     span: Span | None = field(default=None, compare=False, repr=False)
 
 
-@mutable
+@record
 class ElaboratedModule:
     """One module elaborated (desugared and typed): its params, diffeos and defs, what it imports,
     and its program with calls left as links."""
@@ -54,7 +54,7 @@ class ElaboratedModule:
         self.diffeo_params = {} if diffeo_params is FACTORY else diffeo_params
 
 
-@mutable
+@record
 class Loaded:
     """What a load gives: the main module, every module reached, the main program inlined, and its
     parameters."""

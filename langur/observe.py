@@ -18,12 +18,14 @@ from __future__ import annotations
 import functools
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import field
+
+from .records import record
 
 _STATE: dict = {"steps": None, "depth": 0, "counting": 0}
 
 
-@dataclass
+@record
 class Step:
     """One rule applied: ``rule`` (e.g. ``"Fig. 8, product"``) to ``term`` at nesting ``depth``;
     ``result`` what the case returned (when it returns something)."""

@@ -1,26 +1,31 @@
-"""``@frozen``: ``@dataclass(frozen=True)`` without generated source (issue 15, start-up); ``@mutable``:
-``@dataclass`` likewise.
+"""``@frozen`` and ``@record``: ``@dataclass(frozen=True)`` and ``@dataclass`` without generated
+source (issue 15, start-up).
 
 ``dataclasses.dataclass`` writes each method it adds as Python source and compiles it with
 ``exec`` when the class is created: six compilations per frozen class (``__init__``, ``__repr__``,
-``__eq__``, ``__hash__``, ``__setattr__``, ``__delattr__``), about a millisecond of CPU per class.
-The core and surface syntax declare some fifty node classes, so every process that reads a program
-paid ~50 ms of compiling before its first line was parsed: a sixth of a one-shot ``langur eval``.
+``__eq__``, ``__hash__``, ``__setattr__``, ``__delattr__``), three per plain one, about a
+millisecond of CPU per class.  The core and surface syntax declare some fifty node classes, so
+every process that reads a program paid ~50 ms of compiling before its first line was parsed: a
+sixth of a one-shot ``langur eval``; the engines' results, the catalogue of codes and the
+commands' records some sixty compilations more.
 
-:func:`frozen` lets ``dataclass`` collect the fields (so ``dataclasses.fields``, ``replace``,
-``is_dataclass`` and ``match`` work as before) but asks it for no method, and attaches the same
-methods as closures over the field names, compiling nothing.  They behave as ``dataclass``'s do:
-``__init__`` takes the fields positionally or by name with their defaults (a class's own
-``__init__`` is kept), ``__eq__`` compares the tuples of the fields with ``compare=True`` when the
-classes are the same (``NotImplemented`` otherwise), ``__hash__`` hashes that tuple (so hashes, and
-the order of sets and dicts keyed by nodes, are unchanged), ``__repr__`` writes the fields with
-``repr=True`` (``...`` on recursion), assigning or deleting a field raises
-``dataclasses.FrozenInstanceError``.  ``proofs_tests/test_records.py`` compares them with
-``dataclass(frozen=True)``'s on the same classes.
+:func:`frozen` and :func:`record` let ``dataclass`` collect the fields (so ``dataclasses.fields``,
+``replace``, ``is_dataclass`` and ``match`` work as before) but ask it for no method, and attach
+the same methods as closures over the field names, compiling nothing.  They behave as
+``dataclass``'s do: ``__init__`` takes the fields positionally or by name with their defaults (a
+class's own ``__init__`` is kept), ``__eq__`` compares the tuples of the fields with
+``compare=True`` when the classes are the same (``NotImplemented`` otherwise), ``__repr__`` writes
+the fields with ``repr=True`` (``...`` on recursion).  A frozen record's ``__hash__`` hashes that
+tuple (so hashes, and the order of sets and dicts keyed by nodes, are unchanged), and assigning or
+deleting a field raises ``dataclasses.FrozenInstanceError``; a plain record with ``eq`` is
+unhashable, as a plain dataclass is.  ``eq=False`` (``@frozen(eq=False)``) keeps identity's
+equality and hash.  A record may extend a record (its fields after the base's, as ``dataclass``
+orders them).  ``proofs_tests/test_records.py`` compares them with ``dataclass``'s on the same
+classes.
 
-Only the features the node classes use are supported (fields with a default or a
-``default_factory``; no ``InitVar``, ``KW_ONLY``, ``__post_init__``, slots or inheritance between
-records): anything else is refused when the class is created.
+Only the features Langur's records use are supported (fields with a default or a
+``default_factory``; no ``InitVar``, ``KW_ONLY``, ``__post_init__`` or slots): anything else is
+refused when the class is created.
 """
 
 from __future__ import annotations
@@ -38,22 +43,43 @@ class _Factory:
         return "<factory>"
 
 
-#: The default of a field with a ``default_factory`` in a written-out ``__init__`` (dataclass's own
-#: marker, shown as ``<factory>`` in signatures): ``def __init__(self, xs=FACTORY)`` then
-#: ``xs = list() if xs is FACTORY else xs``, as dataclass's generated ``__init__`` does.
+#: How dataclass's signatures show a default factory, and the default of such a field in a record's
+#: written-out ``__init__`` (dataclass's own marker): ``def __init__(self, xs=FACTORY)`` then
+#: ``xs = [] if xs is FACTORY else xs``, as dataclass's generated ``__init__`` does.
 FACTORY = getattr(dataclasses, "_HAS_DEFAULT_FACTORY", None) or _Factory()
 _FACTORY = FACTORY
 
 
-def frozen(cls):
-    """``@dataclass(frozen=True)`` for ``cls``, without compiling generated source (see above)."""
+def frozen(cls=None, *, eq: bool = True):
+    """``@dataclass(frozen=True)`` (or ``@frozen(eq=False)``: ``dataclass(frozen=True, eq=False)``)
+    for ``cls``, without compiling generated source (see above)."""
+    if cls is None:
+        return lambda c: _make(c, frozen=True, eq=eq)
+    return _make(cls, frozen=True, eq=eq)
+
+
+def record(cls=None, *, eq: bool = True):
+    """``@dataclass`` (or ``@record(eq=False)``: ``dataclass(eq=False)``) for ``cls``, without
+    compiling generated source (see above)."""
+    if cls is None:
+        return lambda c: _make(c, frozen=False, eq=eq)
+    return _make(cls, frozen=False, eq=eq)
+
+
+def _make(cls, frozen: bool, eq: bool):
     own_doc = cls.__dict__.get("__doc__")
     if own_doc is None:  # (dataclass would write one from object's signature, tokenizing it: later)
         cls.__doc__ = "?"
+    if hasattr(cls, "__post_init__") or "__slots__" in cls.__dict__:
+        raise TypeError(f"{cls.__name__}: records support plain fields only (no __post_init__, no slots)")
+    for base in cls.__mro__[1:-1]:
+        if dataclasses.is_dataclass(base) and \
+                base.__dict__.get("_record_frozen", base.__dataclass_params__.frozen) is not frozen:
+            raise TypeError(f"{cls.__name__}: a record extends only records frozen as it is "
+                            f"({base.__name__} is {'not ' if frozen else ''}frozen)")
     cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
+    cls._record_frozen = frozen
     fields = dataclasses.fields(cls)
-    if hasattr(cls, "__post_init__") or any(b is not object and dataclasses.is_dataclass(b) for b in cls.__mro__[1:]):
-        raise TypeError(f"{cls.__name__}: @frozen supports plain records only (no __post_init__, no base record)")
     names = tuple(f.name for f in fields)
     compared = tuple(f.name for f in fields if f.compare)
     key = _getter(compared)
@@ -86,48 +112,19 @@ def frozen(cls):
             raise dataclasses.FrozenInstanceError(f"cannot delete field {name!r}")
         super(cls, self).__delattr__(name)
 
-    for fn in (__eq__, __hash__, __repr__, __setattr__, __delattr__):
+    methods = [__repr__]
+    if eq:
+        methods.append(__eq__)
+        if frozen:
+            methods.append(__hash__)
+        elif "__hash__" not in cls.__dict__:  # (dataclass's rule: eq without frozen, unhashable)
+            cls.__hash__ = None
+    if frozen:
+        methods += [__setattr__, __delattr__]
+    for fn in methods:
         fn.__qualname__ = f"{cls.__qualname__}.{fn.__name__}"
         setattr(cls, fn.__name__, fn)
     if own_doc is None:  # dataclass's default docstring: the class's name and signature
-        cls.__doc__ = cls.__name__ + str(inspect.signature(cls)).replace(" -> None", "")
-    return cls
-
-
-def mutable(cls):
-    """``@dataclass`` for ``cls`` (a mutable record: ``eq=True``, not frozen), without compiling
-    generated source, as :func:`frozen` does for frozen ones: the same ``__init__``, ``__eq__`` and
-    ``__repr__``, fields assignable, and ``__hash__`` None (instances unhashable, as ``dataclass``
-    makes a mutable class that compares by value)."""
-    own_doc = cls.__dict__.get("__doc__")
-    if own_doc is None:
-        cls.__doc__ = "?"
-    cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
-    fields = dataclasses.fields(cls)
-    if hasattr(cls, "__post_init__") or any(b is not object and dataclasses.is_dataclass(b) for b in cls.__mro__[1:]):
-        raise TypeError(f"{cls.__name__}: @mutable supports plain records only (no __post_init__, no base record)")
-    if "__hash__" in cls.__dict__ or "__eq__" in cls.__dict__:
-        raise TypeError(f"{cls.__name__}: @mutable writes __eq__ and __hash__ itself")
-    key = _getter(tuple(f.name for f in fields if f.compare))
-    shown = tuple(f.name for f in fields if f.repr)
-
-    if "__init__" not in cls.__dict__:
-        cls.__init__ = _init(cls.__qualname__, fields)
-
-    def __eq__(self, other):
-        if other.__class__ is self.__class__:
-            return key(self) == key(other)
-        return NotImplemented
-
-    @reprlib.recursive_repr()
-    def __repr__(self):
-        return self.__class__.__qualname__ + "(" + ", ".join(f"{n}={getattr(self, n)!r}" for n in shown) + ")"
-
-    for fn in (__eq__, __repr__):
-        fn.__qualname__ = f"{cls.__qualname__}.{fn.__name__}"
-        setattr(cls, fn.__name__, fn)
-    cls.__hash__ = None
-    if own_doc is None:
         cls.__doc__ = cls.__name__ + str(inspect.signature(cls)).replace(" -> None", "")
     return cls
 
@@ -192,4 +189,4 @@ def _init(qualname: str, fields) -> object:
     return __init__
 
 
-__all__ = ["FACTORY", "frozen", "mutable"]
+__all__ = ["FACTORY", "frozen", "record"]

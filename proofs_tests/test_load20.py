@@ -1,17 +1,12 @@
 """Issue 15 (branch load20): the front end's remaining ``dataclass`` records built without generated
-source (``langur.records.frozen`` / ``mutable``: ~1 ms of every start each), and the same behaviour.
-
-``mutable`` is compared with ``dataclass`` (eq, not frozen) on the same class, as ``test_records``
-compares ``frozen`` with ``dataclass(frozen=True)``: what a user of the class can observe.  Then the
-front end's records, each against a ``dataclass`` twin made from its own fields.
-"""
+source (``langur.records.frozen`` / ``record``: ~1 ms of every start each), and the same behaviour:
+each against a ``dataclass`` twin made from its own fields (``test_records`` compares the decorators
+themselves with ``dataclass``), and as the front end uses them."""
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import inspect
-import pickle
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -19,109 +14,10 @@ import pytest
 
 from langur import frontend, modules
 from langur.core import Const
-from langur.records import mutable
 from langur.syntax import desugar, loops, template, vectors
 
-
-def _make(deco):
-    @deco
-    class Rec:
-        value: Fraction
-        name: str = "x"
-        items: list = field(default_factory=list)
-        span: object = field(default=None, compare=False, repr=False)
-
-    @deco
-    class Box:
-        """A box of one record."""
-
-        inner: object
-
-    return Rec, Box
-
-
-def _observe(Rec, Box) -> list:
-    """What a user sees of the two classes, as plain values."""
-    out = []
-    a, b, c = Rec(Fraction(1, 2), span=3), Rec(Fraction(1, 2), "x", [], 4), Rec(value=Fraction(2))
-    out += [repr(a), repr(c), a == b, a != c, a.span, b.span, a.items is not b.items, Rec.__hash__, Box.__hash__]
-    for x in (a, Box(a)):
-        try:
-            hash(x)
-            out.append("hashable")
-        except TypeError as e:
-            out.append(str(e))
-    out += [a.__eq__(1), Box(a) == Box(b), Rec.__match_args__, Rec.__doc__, Box.__doc__]
-    for bad in ((), (1, 2, 3, 4, 5)):
-        try:
-            Rec(*bad)
-            out.append("built")
-        except TypeError:
-            out.append("TypeError")
-    for kwargs in ({"value": 1, "nope": 2}, {"value": 1, "name": "y"}):
-        try:
-            out.append(repr(Rec(**kwargs)))
-        except TypeError:
-            out.append("TypeError")
-    try:
-        Rec(1, value=2)
-    except TypeError:
-        out.append("TypeError duplicate")
-    a.value = Fraction(7)  # mutable: fields assignable, new attributes too
-    a.other = 1
-    del a.other
-    a.items.append(1)
-    out += [repr(a), a == b, str(inspect.signature(Rec))]
-    out += [repr(dataclasses.replace(a, value=Fraction(5))), [f.name for f in dataclasses.fields(a)],
-            dataclasses.is_dataclass(a), copy.deepcopy(Box(a)) == Box(a), copy.copy(a) == a]
-    match a:
-        case Rec(v, n, items):
-            out.append(("match", v, n, items))
-    box = Box(None)
-    box.inner = box  # recursion in repr
-    out.append(repr(box))
-    nan = float("nan")
-    out.append(Rec(nan) == Rec(nan))
-    x = Rec(nan)
-    out.append(x == Rec(x.value))
-    return out
-
-
-def test_mutable_matches_dataclass():
-    assert _observe(*_make(dataclass)) == _observe(*_make(mutable))
-
-
-@mutable
-class _Pickled:
-    value: int
-    span: object = field(default=None, compare=False, repr=False)
-
-
-def test_mutable_pickles():
-    a = _Pickled(3, span=(1, 2))
-    b = pickle.loads(pickle.dumps(a))
-    assert b == a and b.span == (1, 2) and repr(b) == "_Pickled(value=3)"
-
-
-def test_mutable_refuses_what_it_does_not_support():
-    with pytest.raises(TypeError):
-        @mutable
-        class WithPost:
-            a: int
-
-            def __post_init__(self):
-                pass
-    with pytest.raises(TypeError):
-        @mutable
-        class WithHash:
-            a: int
-
-            def __hash__(self):
-                return 0
-
-
 FROZEN = [desugar.DefSig, desugar.DiffeoSig, desugar.Scope, vectors.Vec, vectors.VecName]
-MUTABLE = [desugar.Env, loops.Budget, template.Record, modules.ElaboratedModule, modules.Loaded,
+PLAIN = [desugar.Env, loops.Budget, template.Record, modules.ElaboratedModule, modules.Loaded,
            frontend.LoadCache]
 
 
@@ -137,7 +33,7 @@ def _fresh_fields(cls):
         yield g
 
 
-@pytest.mark.parametrize("cls", FROZEN + MUTABLE, ids=lambda c: c.__qualname__)
+@pytest.mark.parametrize("cls", FROZEN + PLAIN, ids=lambda c: c.__qualname__)
 def test_front_end_records_are_the_dataclasses_they_were(cls):
     """Each record against a ``dataclass`` twin (frozen or not, as it was): the same fields (names,
     defaults, compare, repr), ``match`` arguments, constructor signature and hashability; and it was

@@ -1,5 +1,6 @@
-"""``langur.records.frozen`` behaves as ``dataclass(frozen=True)`` (issue 15, start-up), and lark is
-imported without the ``regex`` module only where Langur's grammar does not need it.
+"""``langur.records.frozen`` and ``record`` behave as ``dataclass(frozen=True)`` and ``dataclass``
+(issue 15, start-up), and lark is imported without the ``regex`` module only where Langur's grammar
+does not need it.
 
 Each check builds the same class twice, once with each decorator, and compares what a user of the
 class can observe: construction (positional, by name, defaults, errors), equality, hashes (the
@@ -22,7 +23,7 @@ from fractions import Fraction
 import pytest
 
 from langur import core, diagnostics, modules, primitives
-from langur.records import frozen
+from langur.records import frozen, record
 from langur.syntax import surface
 
 
@@ -94,10 +95,25 @@ class _Pickled:
     span: object = field(default=None, compare=False, repr=False)
 
 
+@record
+class _PickledPlain:
+    value: int
+    notes: list = field(default_factory=list)
+
+
+@frozen
+class _PickledSub(_Pickled):
+    wrt: str = "a"
+
+
 def test_frozen_pickles():
     a = _Pickled(3, span=(1, 2))
     b = pickle.loads(pickle.dumps(a))
     assert b == a and b.span == (1, 2) and hash(b) == hash(a) and repr(b) == "_Pickled(value=3)"
+    c = _PickledSub(4, wrt="b")
+    assert pickle.loads(pickle.dumps(c)) == c and repr(c) == "_PickledSub(value=4, wrt='b')"
+    p = _PickledPlain(5, ["n"])
+    assert pickle.loads(pickle.dumps(p)) == p and repr(p) == "_PickledPlain(value=5, notes=['n'])"
 
 
 def test_frozen_refuses_what_it_does_not_support():
@@ -108,6 +124,101 @@ def test_frozen_refuses_what_it_does_not_support():
 
             def __post_init__(self):
                 pass
+
+
+def _make_plain(deco, sub_deco):
+    @deco
+    class Est:
+        """An estimate."""
+
+        value: float
+        notes: list = field(default_factory=list)
+        memo: dict = field(default_factory=dict, compare=False, repr=False)
+
+    @sub_deco
+    class Deriv(Est):
+        wrt: str = "a"
+
+    return Est, Deriv
+
+
+def _observe_plain(Est, Deriv, frozen_: bool) -> list:
+    """What a user sees of a record and of a record extending it."""
+    out = []
+    a, b, d = Est(1.5), Est(1.5, []), Deriv(2.0, ["n"], wrt="b")
+    out += [repr(a), repr(d), a == b, a == Est(2.0), d == Deriv(2.0, ["n"], {"m": 1}, "b"), d == Est(2.0, ["n"]),
+            Est.__match_args__, Deriv.__match_args__, Est.__doc__, Deriv.__doc__,
+            [f.name for f in dataclasses.fields(d)], str(inspect.signature(Deriv)), a.notes is not b.notes]
+    try:
+        out.append(hash(a) == hash(b) and hash(d) == hash(Deriv(2.0, ["n"], wrt="b")))
+    except TypeError as e:
+        out.append(str(e))
+    for action in (lambda: setattr(a, "value", 3.0), lambda: setattr(d, "wrt", "c"), lambda: setattr(a, "other", 1)):
+        try:
+            action()
+            out.append("assigned")
+        except dataclasses.FrozenInstanceError as e:
+            out.append(str(e))
+    out += [repr(dataclasses.replace(d, wrt="z")), dataclasses.asdict(d) if not frozen_ else None,
+            copy.deepcopy(d) == d]
+    for bad in ((), (1, [], {}, "w", 5)):
+        try:
+            Deriv(*bad)
+            out.append("built")
+        except TypeError:
+            out.append("TypeError")
+    match d:
+        case Deriv(v, n, w):
+            out.append(("match", v, n, w))
+    return out
+
+
+_PLAIN = {"plain": (_make_plain(dataclass, dataclass), _make_plain(record, record)),
+          "frozen": (_make_plain(dataclass(frozen=True), dataclass(frozen=True)), _make_plain(frozen, frozen))}
+
+
+@pytest.mark.parametrize("kind", sorted(_PLAIN))
+def test_records_with_a_base_match_dataclass(kind):
+    theirs, ours = _PLAIN[kind]
+    assert _observe_plain(*theirs, kind == "frozen") == _observe_plain(*ours, kind == "frozen")
+
+
+def _observe_identity(Tape) -> list:
+    a, b = Tape((1,)), Tape((1,))
+    out = [a == b, a == a, hash(a) == object.__hash__(a), repr(a), Tape.__eq__ is object.__eq__]
+    try:
+        a.steps = ()
+        out.append("assigned")
+    except dataclasses.FrozenInstanceError as e:
+        out.append(str(e))
+    return out
+
+
+def test_frozen_without_eq_matches_dataclass():
+    def make(deco):
+        @deco
+        class Tape:
+            steps: tuple
+
+        return Tape
+
+    assert _observe_identity(make(dataclass(frozen=True, eq=False))) == _observe_identity(make(frozen(eq=False)))
+
+
+def test_records_refuse_mixed_frozenness():
+    @frozen
+    class Base:
+        a: int
+
+    with pytest.raises(TypeError):
+        @record
+        class Sub(Base):
+            b: int = 0
+    with pytest.raises(TypeError):
+        @frozen
+        class Slotted:
+            __slots__ = ("a",)
+            a: int
 
 
 def _frozen_classes():

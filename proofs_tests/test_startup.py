@@ -62,3 +62,20 @@ def test_deriv_by_monte_carlo_of_fig1_does_not_import_scipy():
     assert seen == {"status": 0, "scipy": False, "scipy.optimize": False}
     mc = result["mc"]
     assert abs(mc["value"] - 1.0) <= 5 * mc["stderr"] + 1e-9  # d/dθ ∫₀¹ [x ≤ θ] dx = 1 (by hand)
+
+
+def test_the_parser_of_one_command_and_the_list_of_all():
+    """``langur eval …`` makes the parser of ``eval`` alone (start-up); wherever the list of commands
+    can be asked for (no command first, or ``--help`` before it) every command is in it."""
+    from langur import cli
+
+    alone = cli.build_parser(["eval", "x.lgr"])
+    (sub,) = [a for a in alone._actions if a.dest == "command"]
+    assert list(sub.choices) == ["eval"]
+    for argv in (["--help", "eval"], ["--version"], []):
+        every = cli.build_parser(argv)
+        (sub,) = [a for a in every._actions if a.dest == "command"]
+        assert list(sub.choices) == list(cli.COMMANDS), argv
+    r = subprocess.run([sys.executable, "-m", "langur", "--help", "eval"], capture_output=True, text=True,
+                       cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)}, timeout=120)
+    assert r.returncode == 0 and all(name in r.stdout for name in cli.COMMANDS)

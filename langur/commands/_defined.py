@@ -30,7 +30,7 @@ divergent quadrature) can still say undefined.  When the integral exists but its
 from __future__ import annotations
 
 import sys
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 
 from .. import lazy
@@ -38,6 +38,7 @@ from ..core import IfDiffeo, const, small_value, substitute, subterms
 from ..diagnostics import Diagnostic
 from ..lint import bounded
 from ..lint.findings import Finding
+from ..records import record
 from ..syntax.printer import print_program
 
 # The analyses (sympy), imported when a program needs them (``langur.lazy``): an integrand that
@@ -52,7 +53,7 @@ transversality = lazy.module("langur.transversality")
 onesided = lazy.module("langur.onesided")
 
 
-@dataclass
+@record
 class Defined:
     """What the analysis says about one integral the command is about to compute."""
 
@@ -125,7 +126,7 @@ def completed_here(program, params) -> tuple[object, tuple[str, ...]]:
     return changed, tuple(r.note() for r in done)
 
 
-@dataclass
+@record
 class Transversal:
     """X301 findings of the program (none: ⦇p⦈ is the derivative) and its rewrite."""
 

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 
 from ..diagnostics import Diagnostic, Span
+from ..records import record
 
 
-@dataclass
+@record
 class Finding:
     """One diagnostic of the checker, with what ``--prove`` needs (the parameters it is about)."""
 

@@ -21,11 +21,12 @@ from __future__ import annotations
 import math
 import weakref
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import field
 
 import numpy as np
 
 from ..core import diffeo_params, free_params
+from ..records import frozen
 from ..values import ParameterError
 from .estimate import LOW_HITS, _inside, prepare
 from .link import CACHE, CompileCache, Linked
@@ -36,7 +37,7 @@ from .sample import design
 CHUNK = 1_000_000
 
 
-@dataclass(frozen=True)
+@frozen
 class BatchEstimate:
     """Estimates at P parameter points: arrays of shape (P,).  ``params`` holds each parameter's
     value per point (broadcast); ``value``/``stderr`` estimate ⟦p⟧.  With a direction,

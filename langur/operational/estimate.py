@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from .. import gcpause
 from ..core import Program, tree_size
 from ..modules import Loaded
 from ..values import ParameterError, check_values
@@ -130,11 +131,12 @@ def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, see
     analysis; the result's ``finite_variance`` is then False).  The result's ``notes`` also say
     what the samples show: non-finite values, or one sample dominating the sum of squares.
     ``cache``: where compiled units and linked programs are kept (§9)."""
-    linked, p = prepare(program_or_loaded, params, sites, cache=cache)
-    rng = np.random.default_rng(seed)
-    notes: list[str] = []
-    with np.errstate(all="ignore"):
-        value, se, n = _over_domain(linked, p, rng, samples, method, 0, notes, mode=VALUE)
+    with gcpause.paused():  # (the samples' arrays and the points hold no cycles)
+        linked, p = prepare(program_or_loaded, params, sites, cache=cache)
+        rng = np.random.default_rng(seed)
+        notes: list[str] = []
+        with np.errstate(all="ignore"):
+            value, se, n = _over_domain(linked, p, rng, samples, method, 0, notes, mode=VALUE)
     return ValueEstimate(value, se, n, seed, method, **_variance(notes, infinite_variance))
 
 
@@ -161,14 +163,15 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
 
     ``sites`` (for a Loaded only): where the zero-set samplers come from, see :func:`.link.link`;
     ``infinite_variance`` and ``notes``: as :func:`estimate_value` (for the regular part)."""
-    linked, p = prepare(program_or_loaded, params, sites, direction, cache)
-    dp = {k: float(v) for k, v in direction.items() if float(v) != 0.0}
-    rng = np.random.default_rng(seed)
-    with np.errstate(all="ignore"):
-        # regular part: the tangent with every delta dropped (Dˢ), over the domain design
-        notes: list[str] = []
-        reg, reg_se, n = _over_domain(linked, p, rng, samples, method, 1, notes, dparams=dp, mode=TANGENT)
-        bnd, bnd_var = _boundary(linked, p, dp, rng, samples, method, notes)
+    with gcpause.paused():  # (the samples' arrays and the points hold no cycles)
+        linked, p = prepare(program_or_loaded, params, sites, direction, cache)
+        dp = {k: float(v) for k, v in direction.items() if float(v) != 0.0}
+        rng = np.random.default_rng(seed)
+        with np.errstate(all="ignore"):
+            # regular part: the tangent with every delta dropped (Dˢ), over the domain design
+            notes: list[str] = []
+            reg, reg_se, n = _over_domain(linked, p, rng, samples, method, 1, notes, dparams=dp, mode=TANGENT)
+            bnd, bnd_var = _boundary(linked, p, dp, rng, samples, method, notes)
     bnd_se = math.sqrt(bnd_var)
     return DerivativeEstimate(reg + bnd, math.sqrt(reg_se ** 2 + bnd_var), n, seed, method,
                               regular=Estimate(reg, reg_se), boundary=Estimate(bnd, bnd_se),

@@ -23,13 +23,13 @@ last place (glibc's: less than one).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
 
 from ..core import Add, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var
 from ..primitives import REGISTRY
+from ..records import frozen
 from .consts import const_value
 
 INF = np.inf
@@ -58,7 +58,7 @@ def tape_of(terms, certified: bool = False) -> "_Tape":
     return _build(tuple(terms), certified)
 
 
-@dataclass(frozen=True, eq=False)
+@frozen(eq=False)
 class _Tape:
     """Terms as a straight line: one step per structurally distinct subterm (children first),
     each step a rule below applied to the enclosures of earlier steps; ``drop[i]``: the steps

@@ -10,7 +10,6 @@ program).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
@@ -34,6 +33,7 @@ from ..core import (
     free_vars,
 )
 from ..primitives import REGISTRY
+from ..records import frozen
 from .interval import tape_of
 from .link import collect_sites
 from .point import DELTA, TANGENT, VALUE
@@ -183,7 +183,7 @@ def evaluate(t: Term, rho: dict, gamma: dict, dgamma: dict, mode: int = VALUE, s
     return go(t, gamma, dgamma)
 
 
-@dataclass(frozen=True)
+@frozen
 class NaiveDerivative(Estimate):
     """⦇p⦈ ≈ ``value`` ± ``stderr`` = ``regular`` + ``boundary`` (the two parts' estimates)."""
 

@@ -15,6 +15,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..records import record
+
 VALUE, TANGENT, DELTA = 0, 1, 2
 NAN = float("nan")
 
@@ -81,7 +83,7 @@ _VALUES = "values"
 Fn = Callable[[Point, Linking], tuple]
 
 
-@dataclass
+@record
 class Unit:
     """A compiled term: ``fn`` and its slots in pre-order: ``("site", None, ())`` or
     ``("call", (module, def), which arguments are plain variables)``."""

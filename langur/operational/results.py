@@ -5,10 +5,12 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
+
+from ..records import frozen
 
 
-@dataclass(frozen=True)
+@frozen
 class Estimate:
     """An unbiased estimate and its standard error."""
 
@@ -19,7 +21,7 @@ class Estimate:
         return {"value": self.value, "stderr": self.stderr}
 
 
-@dataclass(frozen=True)
+@frozen
 class ValueEstimate(Estimate):
     """⟦p⟧ ≈ ``value`` ± ``stderr`` from ``samples`` points of a ``method`` design drawn with
     ``seed``.  ``finite_variance`` is False when the caller's analysis knows the integrand is not
@@ -44,7 +46,7 @@ class ValueEstimate(Estimate):
         return {**super().to_json(), **self._tail()}
 
 
-@dataclass(frozen=True)
+@frozen
 class DerivativeEstimate(ValueEstimate):
     """⦇p⦈(γ, γ') ≈ ``regular`` + ``boundary`` (Theorem 7.1's split: the delta-free tangent and the
     zero-set estimates); ``standard_ad`` is the regular part alone (the paper's Dˢ)."""

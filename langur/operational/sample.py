@@ -20,11 +20,11 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from ..core import Diffeo, Var
+from ..records import record
 from .compile import compile_term
 from .interval import enclose, enclose_all, tape_of
 from .point import TANGENT, UNLINKED, VALUE, Point, full
@@ -37,7 +37,7 @@ STRATIFIED_REPLICATES = 32
 
 # -- designs in the unit cube ---------------------------------------------------------------------
 
-@dataclass
+@record
 class Design:
     """``points`` (N, m) in [0,1]^m and the estimator of the mean of f over the cube."""
 

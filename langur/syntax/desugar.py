@@ -66,7 +66,7 @@ from ..core import (
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
-from ..records import FACTORY, frozen, mutable
+from ..records import FACTORY, frozen, record
 from . import kinks, loops, template, vectors
 from .completion import complete, diffeo
 from .inline import expand_calls, inline
@@ -132,7 +132,7 @@ class DiffeoSig:
         d["diffeo"], d["params"] = diffeo, params
 
 
-@mutable
+@record
 class Env:
     """What a module's terms can call: defs and diffeos (local and imported), by local name."""
 
@@ -473,8 +473,8 @@ class Desugarer:
 
     def note_completion(self, node: IfDiffeo, cond: Term, variables: tuple[str, ...], box) -> None:
         """Tell the loops being watched that ``node`` completes ``cond`` over ``variables``."""
-        for record in self.records.values():
-            record.completions[id(node)] = (node, cond, variables, box)
+        for watched in self.records.values():
+            watched.completions[id(node)] = (node, cond, variables, box)
 
     def unsafe(self, *sts: STerm, sc: Scope | None = None) -> None:
         """The desugaring depends on the value of a watched loop index: on every watched one (no

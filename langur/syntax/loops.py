@@ -26,7 +26,7 @@ from fractions import Fraction
 
 from ..core import Add, Const, Mul, Term
 from ..diagnostics import Span
-from ..records import mutable
+from ..records import record
 from .chains import CHAIN_BALANCE
 from .surface import BinOp, Name, Neg, Num, STerm
 
@@ -198,7 +198,7 @@ def size(st: STerm) -> int:
     return n
 
 
-@mutable
+@record
 class Budget:
     """What the loops of one module have written out so far (T225); once the bound is hit it is
     ``exhausted`` and every later loop is skipped (one diagnostic, no cascade)."""

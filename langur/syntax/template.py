@@ -59,7 +59,7 @@ from ..core import (
     small_power,
     small_value,
 )
-from ..records import FACTORY, mutable
+from ..records import FACTORY, record
 from . import affine
 
 #: Build a loop's copies from its first (False: every copy desugared from the surface, as the
@@ -70,7 +70,7 @@ ENABLED = True
 STATS = {"instantiated": 0, "refused": 0, "shifted": 0}
 
 
-@mutable
+@record
 class Record:
     """What desugaring the first copy of a loop's body showed: the ``Const`` leaves its index became
     (kept alive, so their ids stay theirs), the conditionals it completed (the ``IfDiffeo`` node's id →
