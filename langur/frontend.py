@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import hashlib
 import os
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 
 from . import gcpause
@@ -49,6 +49,7 @@ from .core import Diffeo, Term, free_params
 from .diagnostics import Diagnostic, LangurError, Span
 from .memo import remember
 from .modules import ElaboratedModule, Loaded
+from .records import record
 from .syntax.desugar import Desugarer, DiffeoSig, Env, Scope
 from .syntax.elaborate import elaborate
 from .syntax.inline import inline
@@ -63,7 +64,7 @@ __all__ = ["CACHE", "LoadCache", "clear_load_cache", "core_term_from_text", "loa
 CAPACITY = 512
 
 
-@dataclass
+@record
 class LoadCache:
     """Parsed and elaborated modules kept across loads (module docstring, "Incremental loading").
 

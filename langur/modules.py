@@ -9,12 +9,12 @@ the pure core language.  A module's elaborated form depends only on its own text
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 
 from .core import Diffeo, Program, Term
 from .diagnostics import Span
-from .records import frozen
+from .records import FACTORY, frozen, record
 
 
 @frozen
@@ -32,8 +32,11 @@ class CoreDef:
     span: Span | None = field(default=None, compare=False, repr=False)
 
 
-@dataclass
+@record
 class ElaboratedModule:
+    """One module elaborated (desugared and typed): its params, diffeos and defs, what it imports,
+    and its program with calls left as links."""
+
     name: str  # the module's name: its file stem, or the NAME of --module NAME=PATH
     path: str
     source_hash: str  # sha256 of the file's bytes
@@ -45,13 +48,24 @@ class ElaboratedModule:
     # each declared diffeo's parameter names in declaration order (a Diffeo value does not keep it)
     diffeo_params: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
+    def __init__(self, name, path, source_hash, params, diffeos, defs, imports, program, diffeo_params=FACTORY):
+        self.name, self.path, self.source_hash, self.params = name, path, source_hash, params
+        self.diffeos, self.defs, self.imports, self.program = diffeos, defs, imports, program
+        self.diffeo_params = {} if diffeo_params is FACTORY else diffeo_params
 
-@dataclass
+
+@record
 class Loaded:
+    """What a load gives: the main module, every module reached, the main program inlined, and its
+    parameters."""
+
     main: ElaboratedModule
     modules: dict[str, ElaboratedModule]  # every module reached, the main one included
     program: Program | None  # the main program, fully inlined: pure core, no Call nodes
     params: dict[str, Fraction | None]  # the program's parameters with defaults, declaration order
+
+    def __init__(self, main, modules, program, params):
+        self.main, self.modules, self.program, self.params = main, modules, program, params
 
     def param_values(self, overrides: dict[str, float] | None = None) -> dict[str, Fraction | float]:
         """Defaults overridden by ``overrides``; raises ``KeyError`` naming a missing value."""

@@ -36,8 +36,18 @@ import reprlib
 from operator import attrgetter
 
 _MISSING = dataclasses.MISSING
-#: how dataclass's signatures show a default factory
-_FACTORY = getattr(dataclasses, "_HAS_DEFAULT_FACTORY", "<factory>")
+
+
+class _Factory:
+    def __repr__(self) -> str:
+        return "<factory>"
+
+
+#: How dataclass's signatures show a default factory, and the default of such a field in a record's
+#: written-out ``__init__`` (dataclass's own marker): ``def __init__(self, xs=FACTORY)`` then
+#: ``xs = [] if xs is FACTORY else xs``, as dataclass's generated ``__init__`` does.
+FACTORY = getattr(dataclasses, "_HAS_DEFAULT_FACTORY", None) or _Factory()
+_FACTORY = FACTORY
 
 
 def frozen(cls=None, *, eq: bool = True):
@@ -179,4 +189,4 @@ def _init(qualname: str, fields) -> object:
     return __init__
 
 
-__all__ = ["frozen", "record"]
+__all__ = ["FACTORY", "frozen", "record"]

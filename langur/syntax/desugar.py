@@ -33,7 +33,7 @@ Def calls are left as ``Call(module, name, args)`` links (separate compilation, 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from fractions import Fraction
 
 from .. import typesys as ty
@@ -66,6 +66,7 @@ from ..core import (
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..modules import ElaboratedModule
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
+from ..records import FACTORY, frozen, record
 from . import kinks, loops, template, vectors
 from .completion import complete, diffeo
 from .inline import expand_calls, inline
@@ -106,7 +107,7 @@ class _TooManyPieces(Exception):
 RESERVED = frozenset(PRIMITIVES) | frozenset(ALL_PRIMITIVES) | frozenset(SUGAR_FUNCTIONS) | {"pi"}
 
 
-@dataclass(frozen=True)
+@frozen
 class DefSig:
     """A def's signature: where it lives and its arguments' kinds (what a call site needs)."""
 
@@ -114,16 +115,24 @@ class DefSig:
     name: str
     args: tuple[tuple[str, str], ...]
 
+    def __init__(self, module, name, args):
+        d = self.__dict__
+        d["module"], d["name"], d["args"] = module, name, args
 
-@dataclass(frozen=True)
+
+@frozen
 class DiffeoSig:
     """A checked ``diffeo`` declaration with its parameters' names in declaration order."""
 
     diffeo: Diffeo
     params: tuple[str, ...]
 
+    def __init__(self, diffeo, params):
+        d = self.__dict__
+        d["diffeo"], d["params"] = diffeo, params
 
-@dataclass
+
+@record
 class Env:
     """What a module's terms can call: defs and diffeos (local and imported), by local name."""
 
@@ -133,12 +142,19 @@ class Env:
     poisoned: set[str] = field(default_factory=set)  # names whose declaration failed: no cascades
     bodies: dict[tuple[str, str], object] = field(default_factory=dict)  # (module, def) -> CoreDef
 
+    def __init__(self, module, defs=FACTORY, diffeos=FACTORY, poisoned=FACTORY, bodies=FACTORY):
+        self.module = module
+        self.defs = {} if defs is FACTORY else defs
+        self.diffeos = {} if diffeos is FACTORY else diffeos
+        self.poisoned = set() if poisoned is FACTORY else poisoned
+        self.bodies = {} if bodies is FACTORY else bodies
+
 
 _new = object.__new__
 _ZERO, _ONE, _MINUS_ONE = INT_FRACTIONS[0], INT_FRACTIONS[1], Fraction(-1)
 
 
-@dataclass(frozen=True)
+@frozen
 class Scope:
     """Δ (``variables``, in order), Γ (``gamma``), the numeric box for completion, and where we are."""
 
@@ -150,6 +166,14 @@ class Scope:
     hidden_vars: frozenset[str] = frozenset()  # variables not allowed here (domain bounds)
     consts: Mapping[str, Fraction] = field(default_factory=dict)  # loop indices and their values (§9)
     vectors: Mapping[str, VecName] = field(default_factory=dict)  # let-bound vectors (vectors.VecName)
+
+    def __init__(self, variables, gamma, box=(), where="this term", in_program=True, hidden_vars=frozenset(),
+                 consts=FACTORY, vectors=FACTORY):
+        d = self.__dict__
+        d["variables"], d["gamma"], d["box"], d["where"] = variables, gamma, box, where
+        d["in_program"], d["hidden_vars"] = in_program, hidden_vars
+        d["consts"] = {} if consts is FACTORY else consts
+        d["vectors"] = {} if vectors is FACTORY else vectors
 
     def with_param(self, name: str) -> Scope:
         """``name`` bound by a real ``let``: it hides an index or vector of that name, and the vectors
@@ -449,8 +473,8 @@ class Desugarer:
 
     def note_completion(self, node: IfDiffeo, cond: Term, variables: tuple[str, ...], box) -> None:
         """Tell the loops being watched that ``node`` completes ``cond`` over ``variables``."""
-        for record in self.records.values():
-            record.completions[id(node)] = (node, cond, variables, box)
+        for watched in self.records.values():
+            watched.completions[id(node)] = (node, cond, variables, box)
 
     def unsafe(self, *sts: STerm, sc: Scope | None = None) -> None:
         """The desugaring depends on the value of a watched loop index: on every watched one (no

@@ -26,6 +26,7 @@ from fractions import Fraction
 
 from ..core import Add, Const, Mul, Term
 from ..diagnostics import Span
+from ..records import record
 from .chains import CHAIN_BALANCE
 from .surface import BinOp, Name, Neg, Num, STerm
 
@@ -197,7 +198,7 @@ def size(st: STerm) -> int:
     return n
 
 
-@dataclasses.dataclass
+@record
 class Budget:
     """What the loops of one module have written out so far (T225); once the bound is hit it is
     ``exhausted`` and every later loop is skipped (one diagnostic, no cascade)."""
@@ -205,6 +206,9 @@ class Budget:
     copies: int = 0
     nodes: int = 0
     exhausted: bool = False
+
+    def __init__(self, copies=0, nodes=0, exhausted=False):
+        self.copies, self.nodes, self.exhausted = copies, nodes, exhausted
 
     def charge(self, count: int, size: int) -> str | None:
         """Take ``count`` copies of a body of ``size`` surface nodes: None within the bound, else why

@@ -120,6 +120,8 @@ class IfLogic:
 
 @frozen
 class LetIn:
+    """``let name = bound in body``."""
+
     name: str
     bound: "STerm"
     body: "STerm"
@@ -243,6 +245,8 @@ class ParamDecl:
 
 @frozen
 class ParamItem:
+    """``param a = 1, b``: one declaration line of parameters."""
+
     decls: tuple[ParamDecl, ...]
     span: Span | None = _span()
 
@@ -266,6 +270,8 @@ class DiffeoDecl:
 
 @frozen
 class DefArg:
+    """An argument of a ``def``: its name and kind (``var`` or ``param``)."""
+
     name: Ident
     kind: str  # "var" | "param"
     span: Span | None = _span()
@@ -273,6 +279,8 @@ class DefArg:
 
 @frozen
 class DefDecl:
+    """``def name(args) = body``."""
+
     name: Ident
     args: tuple[DefArg, ...]
     body: STerm
@@ -281,6 +289,8 @@ class DefDecl:
 
 @frozen
 class ImportName:
+    """``name [as alias]`` in an import."""
+
     name: Ident
     alias: Ident | None
     span: Span | None = _span()
@@ -300,6 +310,8 @@ Item = Union[ParamItem, DiffeoDecl, DefDecl, ImportItem]
 
 @frozen
 class Interval:
+    """``[lo, hi]``: one interval of a program's domain."""
+
     lo: STerm
     hi: STerm
     span: Span | None = _span()

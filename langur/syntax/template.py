@@ -29,7 +29,7 @@ random loop bodies.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 from fractions import Fraction
 
 from ..core import (
@@ -59,6 +59,7 @@ from ..core import (
     small_power,
     small_value,
 )
+from ..records import FACTORY, record
 from . import affine
 
 #: Build a loop's copies from its first (False: every copy desugared from the surface, as the
@@ -69,7 +70,7 @@ ENABLED = True
 STATS = {"instantiated": 0, "refused": 0, "shifted": 0}
 
 
-@dataclass
+@record
 class Record:
     """What desugaring the first copy of a loop's body showed: the ``Const`` leaves its index became
     (kept alive, so their ids stay theirs), the conditionals it completed (the ``IfDiffeo`` node's id →
@@ -80,6 +81,12 @@ class Record:
     leaves: dict[int, Const] = field(default_factory=dict)
     completions: dict[int, tuple[IfDiffeo, Term, tuple[str, ...], tuple]] = field(default_factory=dict)
     unsafe: bool = False
+
+    def __init__(self, index, leaves=FACTORY, completions=FACTORY, unsafe=False):
+        self.index = index
+        self.leaves = {} if leaves is FACTORY else leaves
+        self.completions = {} if completions is FACTORY else completions
+        self.unsafe = unsafe
 
 
 def _diffeo_terms(psi: Diffeo) -> tuple[Term, ...]:

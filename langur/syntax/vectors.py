@@ -24,30 +24,33 @@ function here returns the result or raises :class:`VectorError` with the diagnos
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from fractions import Fraction
 
 from .. import typesys as ty
 from ..core import Add, Mul, Pow, Term, free_params, neg, sub
 from ..diagnostics import Diagnostic, Span
+from ..records import frozen
 from .loops import balanced
 
 #: Component names, in order: ``u.x`` is the first component, ``u.w`` the fourth.
 COMPONENTS = ("x", "y", "z", "w")
 
 
-@dataclass(frozen=True)
+@frozen
 class Vec:
     """A vector value during desugaring: its components, core terms."""
 
     parts: tuple[Term, ...]
+
+    def __init__(self, parts):
+        self.__dict__["parts"] = parts
 
 
 #: The value of a vector expression whose error has been reported: every use of it is silent.
 POISON = Vec(())
 
 
-@dataclass(frozen=True)
+@frozen
 class VecName:
     """A let-bound vector: its value, the parameters its components mention, and the name of an
     inner ``let`` that rebinds one of them (then the vector may no longer be used: T233)."""
@@ -55,6 +58,10 @@ class VecName:
     vec: Vec
     params: frozenset[str]
     shadowed_by: str | None = None
+
+    def __init__(self, vec, params, shadowed_by=None):
+        d = self.__dict__
+        d["vec"], d["params"], d["shadowed_by"] = vec, params, shadowed_by
 
     @staticmethod
     def of(vec: Vec) -> VecName:
