@@ -52,6 +52,8 @@ from enum import Enum
 import numpy as np
 import sympy as sp
 
+from ..symbolic.walks import atoms_of
+
 #: Digits of the high-precision evaluations.
 DIGITS = 50
 #: Grid points per dimension (the grid has at most a few thousand points).
@@ -487,7 +489,7 @@ def _partial_arguments(w: sp.Expr) -> list[tuple[sp.Expr, object]]:
     ``asin``, ``acos``, ``atanh``, ``acosh`` and fractional powers (LANGUAGE.md §1: undefined at a
     negative base, whatever the denominator of the exponent)."""
     out = []
-    for node in sp.preorder_traversal(w):
+    for node in atoms_of(w, (sp.Pow, *(fn for fn, _ in _OUTSIDE))):  # (each distinct subterm once)
         if isinstance(node, sp.Pow) and node.exp.is_Rational and not node.exp.is_Integer:
             out.append((node.base, lambda v: v < 0))
             continue

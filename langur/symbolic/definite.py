@@ -22,9 +22,12 @@ import sympy as sp
 
 from langur.symbolic.context import Context, Unsupported
 from langur.symbolic.readable import resolve
+from langur.symbolic.walks import any_node, atoms_of, has_any
 
 #: Seconds sympy's ``limit`` may take at one end (it is fast on the forms it can do).
 LIMIT_CAP = 0.5
+#: What sympy makes of 0·∞ and ∞ − ∞ (NaN) and of log 0, 1/0 (complex infinity).
+_INDETERMINATE = (type(sp.nan), type(sp.zoo))
 
 
 def definite(F, v, lo, hi, ctx: Context):
@@ -41,7 +44,7 @@ def at_end(F, v, end, side: int, ctx: Context):
     value = F.xreplace({v: end})
     if not _may_be_indeterminate(F, v):
         return value
-    if value.has(sp.nan, sp.zoo):
+    if has_any(value, _INDETERMINATE):
         pass  # (indeterminate whatever the parameters: e.g. (y − y)·log(y − y) at an outer variable's end)
     elif sp.sympify(value).free_symbols - set(ctx.at) or _finite_here(value, ctx):
         return value  # (an outer variable's end not seen to be indeterminate: substituted as before)
@@ -56,7 +59,7 @@ def at_end(F, v, end, side: int, ctx: Context):
         return value
     except Exception:  # noqa: BLE001 - sympy raises all sorts of errors on hard inputs
         return value
-    if limit.has(sp.Limit, sp.nan, sp.zoo, sp.oo, -sp.oo) or v in limit.free_symbols:
+    if has_any(limit, (sp.Limit, *_INDETERMINATE, type(sp.oo), type(-sp.oo))) or v in limit.free_symbols:
         return value
     if not (limit.free_symbols - set(ctx.at)) and not _finite_here(limit, ctx):
         return value
@@ -67,13 +70,9 @@ def _may_be_indeterminate(F, v) -> bool:
     """Whether ``F`` has a ``log`` or a negative or non-integer power of something in ``v``: the
     only ways an elementary antiderivative's formula becomes 0·∞ or ∞ − ∞ at a point where the
     function itself is continuous."""
-    for node in sp.preorder_traversal(F):
-        if isinstance(node, sp.log) and v in node.free_symbols:
-            return True
-        if isinstance(node, sp.Pow) and v in node.base.free_symbols and \
-                not (node.exp.is_Integer and node.exp >= 0):
-            return True
-    return False
+    return any_node(F, lambda node: (isinstance(node, sp.log) and v in node.free_symbols) or
+                    (isinstance(node, sp.Pow) and not (node.exp.is_Integer and node.exp >= 0)
+                     and v in node.base.free_symbols))  # (each distinct subterm once)
 
 
 def _finite_here(expr, ctx: Context) -> bool:
@@ -88,21 +87,21 @@ def _resolved(end, ctx: Context):
     """``end`` with each ``Max``/``Min`` replaced by the argument it is at the evaluation point, the
     comparisons that choice rests on recorded in the cell; None when one is a tie there (then no
     single formula holds on both sides)."""
-    if not end.has(sp.Max, sp.Min):
+    extrema = atoms_of(end, (sp.Max, sp.Min))
+    if not extrema:
         return end
-    for node in sp.preorder_traversal(end):
-        if isinstance(node, (sp.Max, sp.Min)):
-            args = node.args
-            for i in range(len(args)):
-                for j in range(i + 1, len(args)):
-                    d = args[i] - args[j]
-                    if d.free_symbols - set(ctx.at):
-                        return None  # (an outer variable: not decided at the point)
-                    try:
-                        z = ctx.value(d)
-                    except (TypeError, ValueError, ZeroDivisionError):
-                        return None
-                    if abs(z.real) < 1e-25:
-                        return None
-                    ctx.record(">", d if z.real > 0 else -d)
+    for node in extrema:
+        args = node.args
+        for i in range(len(args)):
+            for j in range(i + 1, len(args)):
+                d = args[i] - args[j]
+                if d.free_symbols - set(ctx.at):
+                    return None  # (an outer variable: not decided at the point)
+                try:
+                    z = ctx.value(d)
+                except (TypeError, ValueError, ZeroDivisionError):
+                    return None
+                if abs(z.real) < 1e-25:
+                    return None
+                ctx.record(">", d if z.real > 0 else -d)
     return resolve(end, ctx.at)
