@@ -128,6 +128,8 @@ def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., flo
                 v = math.nan
             if v - v == 0.0:  # finite (the common case: one subtraction, no call)
                 return v
+            if _off_the_reals(compiled, vals + extra):
+                return v  # mpmath's value is not real either (:func:`_off_the_reals`): _again's answer
             return _again(rescue, vals + extra, v)  # overflowed on the way? mpmath's exponents do not
         return call
 
@@ -149,6 +151,87 @@ def _mpmath_of(args: tuple, e) -> Callable:
         hit = shared_lambdify(list(args), e, "mpmath")
         remember(_COMPILED, key, hit, COMPILED)
     return hit
+
+
+#: :func:`_complex_term`'s answers by (arguments, expression).
+_COMPLEX_TERMS: dict = {}
+#: The least |imaginary part| :func:`_off_the_reals` accepts as certainly not 0 once mpmath's value
+#: is converted to a Python complex (far above the smallest normal double, 2.2e-308).
+_VISIBLE = 1e-250
+
+
+def _off_the_reals(compiled: tuple, vals: tuple) -> bool:
+    """Whether :func:`_again` is certain to return ``math``'s non-finite value at ``vals`` without
+    computing anything: the expression is ``A + c·s**q`` (:func:`_complex_term`) and ``s < 0``
+    here.  mpmath then evaluates ``A`` (sums, products and integer powers of real numbers and of
+    the arguments: a finite real mpf, or a ZeroDivisionError) and ``s**q`` as a complex number
+    ``|s|^q·e^{iqπ}``, whose imaginary part is not 0 (q is not an integer: |sin qπ| ≥ 2/d for
+    q = p/d); the sum's imaginary part is exactly ``c·Im(s**q)`` (adding a real number leaves it
+    as it is), at least ``|c|·|s|^q·2/d``; when that is above :data:`_VISIBLE` it is still not 0
+    as a Python complex, so ``_again`` returns ``v`` (or mpmath raised first: ``v`` too).  Below
+    it (a tiny ``|s|``: the imaginary part may round to 0 in a double), and for any other
+    expression, :func:`_again` decides as before.  The cubic conditions' turning values
+    ``x³ − a ± (2√3/9)·x^{3/2}`` of the kinks (issue 18) are of this shape: 1,000 mpmath
+    evaluations per partial derivative of turning2d, all of them NaN again (issue 15)."""
+    shape = _COMPLEX_TERMS.get(compiled, 0)
+    if shape == 0:
+        shape = remember(_COMPLEX_TERMS, compiled, _complex_term(*compiled), COMPILED)
+    if shape is None:
+        return False
+    i, c, q, d = shape
+    s = vals[i]
+    if not (s < 0.0 and math.isfinite(s)):
+        return False
+    try:
+        size = c * (-s) ** q * (2.0 / d)
+    except OverflowError:  # |s|^q beyond a double: so is the imaginary part (±inf: not 0)
+        return True
+    return size >= _VISIBLE
+
+
+def _complex_term(args: tuple, e) -> tuple | None:
+    """``(i, |c|, q, d)`` when ``e`` is ``A + c·s**q``: ``s`` the ``i``-th of ``args`` (a symbol),
+    ``q = p/d`` a rational that is not an integer, ``c`` a non-zero real number, ``A`` built from
+    ``args``, rationals, floats and real constants (positive rationals to rational powers) by
+    sums, products and integer powers only (:func:`_real_parts`); None otherwise."""
+    index = {a: k for k, a in enumerate(args)}
+    found = None
+    for t in (e.args if isinstance(e, sp.Add) else (e,)):
+        if _real_parts(t, index):
+            continue
+        if found is not None:
+            return None  # (two such terms could cancel each other's imaginary parts)
+        factors = t.args if isinstance(t, sp.Mul) else (t,)
+        powers = [f for f in factors if isinstance(f, sp.Pow) and f.base in index and f.exp.is_Rational
+                  and not f.exp.is_Integer]
+        if len(powers) != 1:
+            return None
+        rest = [f for f in factors if f is not powers[0]]
+        if not all(_real_parts(f, {}) for f in rest):
+            return None
+        c = abs(float(sp.Mul(*rest)))
+        if not (c > 0.0 and math.isfinite(c)):
+            return None
+        pw = powers[0]
+        found = (index[pw.base], c, float(pw.exp), int(pw.exp.q))
+    return found
+
+
+def _real_parts(e, index: dict) -> bool:
+    """Whether ``e`` is built from the symbols of ``index``, rationals, floats and positive
+    rationals to rational powers by sums, products and integer powers: real wherever mpmath
+    evaluates it at real arguments (or a ZeroDivisionError)."""
+    if isinstance(e, (sp.Rational, sp.Float)):
+        return True
+    if isinstance(e, sp.Symbol):
+        return e in index
+    if isinstance(e, (sp.Add, sp.Mul)):
+        return all(_real_parts(a, index) for a in e.args)
+    if isinstance(e, sp.Pow):
+        if e.exp.is_Integer:
+            return _real_parts(e.base, index)
+        return isinstance(e.base, sp.Rational) and e.base > 0 and isinstance(e.exp, sp.Rational)
+    return False
 
 
 def _again(g: Callable, vals: tuple, v: float) -> float:
