@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import dataclasses
 import inspect
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 
 import pytest
+from test_records import _fresh_fields  # (a dataclass twin's fields, made from a record's)
 
 from langur import frontend, modules
 from langur.core import Const
@@ -19,18 +20,6 @@ from langur.syntax import desugar, loops, template, vectors
 FROZEN = [desugar.DefSig, desugar.DiffeoSig, desugar.Scope, vectors.Vec, vectors.VecName]
 PLAIN = [desugar.Env, loops.Budget, template.Record, modules.ElaboratedModule, modules.Loaded,
            frontend.LoadCache]
-
-
-def _fresh_fields(cls):
-    for f in dataclasses.fields(cls):
-        kw = {"compare": f.compare, "repr": f.repr, "hash": f.hash}
-        if f.default is not dataclasses.MISSING:
-            kw["default"] = f.default
-        if f.default_factory is not dataclasses.MISSING:
-            kw["default_factory"] = f.default_factory
-        g = field(**kw)
-        g.name = f.name
-        yield g
 
 
 @pytest.mark.parametrize("cls", FROZEN + PLAIN, ids=lambda c: c.__qualname__)

@@ -223,6 +223,18 @@ def exponential_antiderivative(w, v, divisors: list | None = None):
     return total
 
 
+def _in_u(rest, v, u, k, c):
+    """``rest`` (a factor of a term) as a polynomial in ``u = k·v + c`` (``v = (u − c)/k``), or None
+    when it is not one."""
+    try:
+        p = sp.Poly(sp.expand(rest.xreplace({v: (u - c) / k})), u)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return None
+    if any(u in coeff.free_symbols or v in coeff.free_symbols for coeff in p.all_coeffs()):
+        return None
+    return p
+
+
 def affine_power_antiderivative(w, v, divisors: list | None = None):
     """The antiderivative of ``w`` in ``v`` when every term of ``w`` is a polynomial in ``v`` times
     at most one power ``(k·v + c)^r`` (``r`` rational, not an integer): with ``u = k·v + c`` the
@@ -251,12 +263,8 @@ def affine_power_antiderivative(w, v, divisors: list | None = None):
         k, c = kc
         if divisors is not None:
             divisors.append(k)
-        rest = sp.Mul(*[g for g in sp.Mul.make_args(t) if g is not f])
-        try:
-            p = sp.Poly(sp.expand(rest.xreplace({v: (u - c) / k})), u)
-        except (sp.PolynomialError, sp.GeneratorsNeeded):
-            return None
-        if any(u in coeff.free_symbols or v in coeff.free_symbols for coeff in p.all_coeffs()):
+        p = _in_u(sp.Mul(*[g for g in sp.Mul.make_args(t) if g is not f]), v, u, k, c)
+        if p is None:
             return None
         for (n,), coeff in p.terms():
             e = f.exp + n + 1
@@ -299,12 +307,8 @@ def power_log_antiderivative(w, v, divisors=None):
         k, c = kc
         m = 0 if not logs else (1 if isinstance(logs[0], sp.log) else int(logs[0].exp))
         r = powers[0].exp if powers else sp.Integer(0)
-        rest = sp.Mul(*[g for g in sp.Mul.make_args(t) if g not in logs and g not in powers])
-        try:
-            p = sp.Poly(sp.expand(rest.xreplace({v: (u - c) / k})), u)
-        except (sp.PolynomialError, sp.GeneratorsNeeded):
-            return None
-        if any(u in coeff.free_symbols or v in coeff.free_symbols for coeff in p.all_coeffs()):
+        p = _in_u(sp.Mul(*[g for g in sp.Mul.make_args(t) if g not in logs and g not in powers]), v, u, k, c)
+        if p is None:
             return None
         if divisors is not None:
             divisors.append(k)
