@@ -22,7 +22,7 @@ import sympy as sp
 
 from langur.symbolic.context import Context, Unsupported
 from langur.symbolic.readable import resolve
-from langur.symbolic.walks import any_node, atoms_of, has_any
+from langur.symbolic.walks import any_node, atoms_of, has_any, mentions
 
 #: Seconds sympy's ``limit`` may take at one end (it is fast on the forms it can do).
 LIMIT_CAP = 0.5
@@ -34,16 +34,21 @@ def definite(F, v, lo, hi, ctx: Context):
     """``F(hi⁻) − F(lo⁺)`` (see the module's docstring)."""
     if not _may_be_indeterminate(F, v):
         return F.xreplace({v: hi}) - F.xreplace({v: lo})
-    return at_end(F, v, hi, -1, ctx) - at_end(F, v, lo, +1, ctx)
+    return _from_inside(F, v, hi, -1, ctx) - _from_inside(F, v, lo, +1, ctx)
 
 
 def at_end(F, v, end, side: int, ctx: Context):
     """``F`` at ``end`` of the interval, approached from ``side`` (+1: from above, the lower end;
     −1: from below, the upper end): ``F(end)``, or its one-sided limit where ``F(end)`` is an
     indeterminate form at the evaluation point."""
-    value = F.xreplace({v: end})
     if not _may_be_indeterminate(F, v):
-        return value
+        return F.xreplace({v: end})
+    return _from_inside(F, v, end, side, ctx)
+
+
+def _from_inside(F, v, end, side: int, ctx: Context):
+    """:func:`at_end` for an ``F`` that may be an indeterminate form there."""
+    value = F.xreplace({v: end})
     if has_any(value, _INDETERMINATE):
         pass  # (indeterminate whatever the parameters: e.g. (y − y)·log(y − y) at an outer variable's end)
     elif sp.sympify(value).free_symbols - set(ctx.at) or _finite_here(value, ctx):
@@ -70,9 +75,10 @@ def _may_be_indeterminate(F, v) -> bool:
     """Whether ``F`` has a ``log`` or a negative or non-integer power of something in ``v``: the
     only ways an elementary antiderivative's formula becomes 0·∞ or ∞ − ∞ at a point where the
     function itself is continuous."""
-    return any_node(F, lambda node: (isinstance(node, sp.log) and v in node.free_symbols) or
+    vs, memo = frozenset((v,)), {}  # (each distinct subterm once, its free symbols once)
+    return any_node(F, lambda node: (isinstance(node, sp.log) and mentions(node, vs, memo)) or
                     (isinstance(node, sp.Pow) and not (node.exp.is_Integer and node.exp >= 0)
-                     and v in node.base.free_symbols))  # (each distinct subterm once)
+                     and mentions(node.base, vs, memo)))
 
 
 def _finite_here(expr, ctx: Context) -> bool:
