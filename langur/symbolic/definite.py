@@ -22,7 +22,7 @@ import sympy as sp
 
 from langur.symbolic.context import Context, Unsupported
 from langur.symbolic.readable import resolve
-from langur.symbolic.walks import any_node, atoms_of, has_any, mentions
+from langur.symbolic.walks import atoms_of, has_any, mentions
 
 #: Seconds sympy's ``limit`` may take at one end (it is fast on the forms it can do).
 LIMIT_CAP = 0.5
@@ -32,27 +32,29 @@ _INDETERMINATE = (type(sp.nan), type(sp.zoo))
 
 def definite(F, v, lo, hi, ctx: Context):
     """``F(hi⁻) − F(lo⁺)`` (see the module's docstring)."""
-    if not _may_be_indeterminate(F, v):
+    singular = _singular_arguments(F, v)
+    if not singular:
         return F.xreplace({v: hi}) - F.xreplace({v: lo})
-    return _from_inside(F, v, hi, -1, ctx) - _from_inside(F, v, lo, +1, ctx)
+    return _from_inside(F, v, hi, -1, ctx, singular) - _from_inside(F, v, lo, +1, ctx, singular)
 
 
 def at_end(F, v, end, side: int, ctx: Context):
     """``F`` at ``end`` of the interval, approached from ``side`` (+1: from above, the lower end;
     −1: from below, the upper end): ``F(end)``, or its one-sided limit where ``F(end)`` is an
     indeterminate form at the evaluation point."""
-    if not _may_be_indeterminate(F, v):
+    singular = _singular_arguments(F, v)
+    if not singular:
         return F.xreplace({v: end})
-    return _from_inside(F, v, end, side, ctx)
+    return _from_inside(F, v, end, side, ctx, singular)
 
 
-def _from_inside(F, v, end, side: int, ctx: Context):
-    """:func:`at_end` for an ``F`` that may be an indeterminate form there."""
+def _from_inside(F, v, end, side: int, ctx: Context, singular: list):
+    """:func:`at_end` for an ``F`` with ``singular`` arguments (:func:`_singular_arguments`)."""
     value = F.xreplace({v: end})
     if has_any(value, _INDETERMINATE):
         pass  # (indeterminate whatever the parameters: e.g. (y − y)·log(y − y) at an outer variable's end)
-    elif sp.sympify(value).free_symbols - set(ctx.at) or _finite_here(value, ctx):
-        return value  # (an outer variable's end not seen to be indeterminate: substituted as before)
+    elif sp.sympify(value).free_symbols - set(ctx.at) or not _vanishes_here(singular, v, end, ctx):
+        return value  # (an outer variable's end not seen to be indeterminate, or no singular argument 0 here)
     here = _resolved(sp.sympify(end), ctx)
     if here is None:
         return value
@@ -71,14 +73,32 @@ def _from_inside(F, v, end, side: int, ctx: Context):
     return limit
 
 
-def _may_be_indeterminate(F, v) -> bool:
-    """Whether ``F`` has a ``log`` or a negative or non-integer power of something in ``v``: the
-    only ways an elementary antiderivative's formula becomes 0·∞ or ∞ − ∞ at a point where the
-    function itself is continuous."""
-    vs, memo = frozenset((v,)), {}  # (each distinct subterm once, its free symbols once)
-    return any_node(F, lambda node: (isinstance(node, sp.log) and mentions(node, vs, memo)) or
-                    (isinstance(node, sp.Pow) and not (node.exp.is_Integer and node.exp >= 0)
-                     and mentions(node.base, vs, memo)))
+def _singular_arguments(F, v) -> list:
+    """The arguments in ``v`` of ``F``'s logarithms and negative or non-integer powers: the only
+    ways an elementary antiderivative's formula becomes 0·∞ or ∞ − ∞ at a point where the function
+    itself is continuous (where one of them is 0).  Each distinct subterm looked at once."""
+    vs, memo = frozenset((v,)), {}
+    out = []
+    for node in atoms_of(F, (sp.log, sp.Pow)):
+        arg = node.args[0] if isinstance(node, sp.log) else node.base
+        if isinstance(node, sp.Pow) and node.exp.is_Integer and node.exp >= 0:
+            continue
+        if mentions(arg, vs, memo):
+            out.append(arg)
+    return out
+
+
+def _vanishes_here(singular: list, v, end, ctx: Context) -> bool:
+    """Whether one of the ``singular`` arguments is 0 (or not valued) at ``end`` at the point:
+    the small arguments are valued, not the whole formula."""
+    for arg in singular:
+        try:
+            z = ctx.value(arg.xreplace({v: end}))
+        except (TypeError, ValueError, ZeroDivisionError, Unsupported):
+            return True
+        if not (math.isfinite(z.real) and math.isfinite(z.imag)) or abs(z) < 1e-20:
+            return True
+    return False
 
 
 def _finite_here(expr, ctx: Context) -> bool:

@@ -41,6 +41,8 @@ from __future__ import annotations
 
 import sympy as sp
 
+from langur.symbolic.walks import any_node
+
 #: Functions that are exponentials of an affine argument for this purpose (their products with
 #: polynomials integrate by parts in elementary terms).
 EXPONENTIAL = (sp.exp, sp.sin, sp.cos, sp.sinh, sp.cosh)
@@ -281,8 +283,8 @@ def power_log_antiderivative(w, v, divisors=None):
     ``∫ u^s log^m u du = u^(s+1) Σⱼ (−1)ʲ m!/(m − j)! log^(m−j)(u) / (s + 1)^(j+1)`` for ``s ≠ −1``,
     ``log^(m+1)(u)/(m + 1)`` for ``s = −1``.  Each ``k`` is appended to ``divisors`` (the form needs
     ``k ≠ 0``)."""
-    if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS:
-        return None
+    if v not in w.free_symbols or not any_node(w, lambda node: isinstance(node, sp.log)) or sp.count_ops(w) > MAX_OPS:
+        return None  # (without a logarithm: affine_power_antiderivative's, or sympy's)
     u = sp.Dummy("u", positive=True)
     total = sp.Integer(0)
     for t in sp.Add.make_args(sp.expand(w, power_exp=False, log=False, multinomial=False)):
