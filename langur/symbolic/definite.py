@@ -53,8 +53,10 @@ def _from_inside(F, v, end, side: int, ctx: Context, singular: list):
     value = F.xreplace({v: end})
     if has_any(value, _INDETERMINATE):
         pass  # (indeterminate whatever the parameters: e.g. (y − y)·log(y − y) at an outer variable's end)
-    elif sp.sympify(value).free_symbols - set(ctx.at) or not _vanishes_here(singular, v, end, ctx):
-        return value  # (an outer variable's end not seen to be indeterminate, or no singular argument 0 here)
+    elif sp.sympify(value).free_symbols - set(ctx.at) or not _vanishes_here(singular, v, end, ctx) \
+            or _finite_here(value, ctx):
+        return value  # (an outer variable's end not seen to be indeterminate; no singular argument 0 here; or
+        # F's value there is a number all the same: √0 = 0)
     here = _resolved(sp.sympify(end), ctx)
     if here is None:
         return value
