@@ -52,6 +52,7 @@ from enum import Enum
 import numpy as np
 import sympy as sp
 
+from ..primitives import REGISTRY
 from ..symbolic.walks import atoms_of
 
 #: Digits of the high-precision evaluations.
@@ -478,15 +479,16 @@ def undefined_part(w: sp.Expr, region: Region) -> Blowup | None:
     return _outside_a_domain(w, region, pts[inner])
 
 
-#: The real domains of the partial functions sympy writes a weight with: where the argument lies
-#: strictly outside, with 50 digits (``sp.Float``) or numpy's values alike.
-_OUTSIDE = ((sp.log, lambda v: v < 0), (sp.asin, lambda v: abs(v) > 1), (sp.acos, lambda v: abs(v) > 1),
-            (sp.atanh, lambda v: abs(v) > 1), (sp.acosh, lambda v: v < 1))
+#: The primitives defined on part of ℝ only, as sympy writes them in a weight, each with where its
+#: argument lies strictly outside its domain (``langur.primitives``' entries: log, asin, acos, atanh;
+#: ``sqrt`` is a fractional power to sympy, below).
+_OUTSIDE = tuple((getattr(sp, p.sympy), p.domain.outside_closure) for p in REGISTRY.values()
+                 if isinstance(getattr(sp, p.sympy, None), type) and not p.domain.everywhere and not p.domain.poles)
 
 
 def _partial_arguments(w: sp.Expr) -> list[tuple[sp.Expr, object]]:
-    """``(argument, outside)`` for each subterm of ``w`` defined on part of ℝ only: ``log``,
-    ``asin``, ``acos``, ``atanh``, ``acosh`` and fractional powers (LANGUAGE.md §1: undefined at a
+    """``(argument, outside)`` for each subterm of ``w`` defined on part of ℝ only: the primitives
+    of :data:`_OUTSIDE` and fractional powers (LANGUAGE.md §1: undefined at a
     negative base, whatever the denominator of the exponent)."""
     out = []
     for node in atoms_of(w, (sp.Pow, *(fn for fn, _ in _OUTSIDE))):  # (each distinct subterm once)
