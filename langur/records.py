@@ -33,7 +33,8 @@ from __future__ import annotations
 import abc
 import dataclasses
 import inspect
-import reprlib
+import re
+from _thread import get_ident
 from operator import attrgetter
 
 _MISSING = dataclasses.MISSING
@@ -93,9 +94,17 @@ def _make(cls, frozen: bool, eq: bool, slots: bool = False):
     def __hash__(self):
         return hash(key(self))
 
-    @reprlib.recursive_repr()
-    def __repr__(self):
-        return self.__class__.__qualname__ + "(" + ", ".join(f"{n}={getattr(self, n)!r}" for n in shown) + ")"
+    running = set()
+
+    def __repr__(self):  # (``...`` on recursion, as reprlib.recursive_repr, without its wrapper per class)
+        mark = id(self), get_ident()
+        if mark in running:
+            return "..."
+        running.add(mark)
+        try:
+            return self.__class__.__qualname__ + "(" + ", ".join(f"{n}={getattr(self, n)!r}" for n in shown) + ")"
+        finally:
+            running.discard(mark)
 
     field_names = frozenset(names)
 
@@ -198,7 +207,7 @@ _PROBE = dataclasses.dataclass(init=False, repr=False, eq=False)(
 _PARAMS = _PROBE.__dataclass_params__
 _FIELD = dataclasses.fields(_PROBE)[0]._field_type
 #: Annotations that are not plain fields to ``dataclass`` (refused: records have plain fields only).
-_PSEUDO = ("ClassVar", "InitVar", "KW_ONLY")
+_PSEUDO = re.compile("ClassVar|InitVar|KW_ONLY")
 
 
 def _collect(cls, frozen: bool) -> tuple:
@@ -222,8 +231,8 @@ def _collect(cls, frozen: bool) -> tuple:
     namespace = cls.__dict__
     annotations = namespace.get("__annotations__", {})
     for name, kind in annotations.items():
-        text = kind if isinstance(kind, str) else getattr(kind, "__name__", "") or repr(kind)
-        if any(p in text for p in _PSEUDO) or kind is dataclasses.KW_ONLY or isinstance(kind, dataclasses.InitVar):
+        text = kind if kind.__class__ is str else getattr(kind, "__name__", "") or repr(kind)
+        if _PSEUDO.search(text) or kind is dataclasses.KW_ONLY or isinstance(kind, dataclasses.InitVar):
             raise TypeError(f"{cls.__name__}.{name}: records support plain fields only (no {text})")
         default = namespace.get(name, _MISSING)
         if isinstance(default, dataclasses.Field):
