@@ -72,15 +72,12 @@ def record(cls=None, *, eq: bool = True):
 
 def _make(cls, frozen: bool, eq: bool, slots: bool = False):
     own_doc = cls.__dict__.get("__doc__")
-    if hasattr(cls, "__post_init__") or "__slots__" in cls.__dict__:
-        raise TypeError(f"{cls.__name__}: records support plain fields only (no __post_init__, no slots)")
-    fields = _collect(cls, frozen)
-    names = tuple(f.name for f in fields)
+    if "__slots__" in cls.__dict__:
+        raise TypeError(f"{cls.__name__}: records support plain fields only (no slots)")
+    fields, names, compared, shown = _collect(cls, frozen)
     if slots:
         cls = _slotted(cls, names)
-    compared = tuple(f.name for f in fields if f.compare)
     key = _getter(compared)
-    shown = tuple(f.name for f in fields if f.repr)
 
     if "__init__" not in cls.__dict__:
         cls.__init__ = _init(cls.__qualname__, fields)
@@ -136,8 +133,9 @@ def _make(cls, frozen: bool, eq: bool, slots: bool = False):
                 object.__setattr__(self, n, v)
 
         methods += [__getstate__, __setstate__]
+    prefix = cls.__qualname__ + "."
     for fn in methods:
-        fn.__qualname__ = f"{cls.__qualname__}.{fn.__name__}"
+        fn.__qualname__ = prefix + fn.__name__
         setattr(cls, fn.__name__, fn)
     if own_doc is None:  # dataclass's default docstring: the class's name and signature, when read
         cls.__doc__ = _Doc(cls)
@@ -218,17 +216,25 @@ def _collect(cls, frozen: bool) -> tuple:
     ``dataclasses.Field`` named, typed and marked as ``dataclass`` marks it; a field's class
     attribute its default (none for a factory); ``__dataclass_fields__``, ``__dataclass_params__``
     and ``__match_args__`` set, so ``dataclasses.fields``, ``replace``, ``is_dataclass`` and
-    ``match`` work as on a dataclass.  Returns the fields, in order."""
+    ``match`` work as on a dataclass.  Returns the fields in order, and the names of all, of those
+    compared and of those shown (``repr``).  A class with ``__post_init__`` is refused."""
     fields = {}
+    abstract = False
     for base in cls.__mro__[-1:0:-1]:
-        base_fields = base.__dict__.get("__dataclass_fields__")
+        namespace = base.__dict__
+        if "__post_init__" in namespace:
+            raise TypeError(f"{cls.__name__}: records support plain fields only (no __post_init__)")
+        abstract = abstract or "__abstractmethods__" in namespace
+        base_fields = namespace.get("__dataclass_fields__")
         if base_fields is None:
             continue
-        if base.__dict__.get("_record_frozen", base.__dataclass_params__.frozen) is not frozen:
+        if namespace.get("_record_frozen", base.__dataclass_params__.frozen) is not frozen:
             raise TypeError(f"{cls.__name__}: a record extends only records frozen as it is "
                             f"({base.__name__} is {'not ' if frozen else ''}frozen)")
         fields.update(base_fields)
     namespace = cls.__dict__
+    if "__post_init__" in namespace:
+        raise TypeError(f"{cls.__name__}: records support plain fields only (no __post_init__)")
     annotations = namespace.get("__annotations__", {})
     for name, kind in annotations.items():
         text = kind if kind.__class__ is str else getattr(kind, "__name__", "") or repr(kind)
@@ -256,10 +262,20 @@ def _collect(cls, frozen: bool) -> tuple:
     cls.__dataclass_params__ = _PARAMS
     cls._record_frozen = frozen
     out = tuple(fields.values())
+    names, compared, shown, positional = [], [], [], []
+    for f in out:
+        names.append(f.name)
+        if f.compare:
+            compared.append(f.name)
+        if f.repr:
+            shown.append(f.name)
+        if f.init and not f.kw_only:
+            positional.append(f.name)
     if "__match_args__" not in namespace:
-        cls.__match_args__ = tuple(f.name for f in out if f.init and not f.kw_only)
-    abc.update_abstractmethods(cls)
-    return out
+        cls.__match_args__ = tuple(positional)
+    if abstract or "__abstractmethods__" in namespace:
+        abc.update_abstractmethods(cls)
+    return out, tuple(names), tuple(compared), tuple(shown)
 
 
 def _getter(names: tuple[str, ...]):
