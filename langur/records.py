@@ -9,23 +9,28 @@ every process that reads a program paid ~50 ms of compiling before its first lin
 sixth of a one-shot ``langur eval``; the engines' results, the catalogue of codes and the
 commands' records some sixty compilations more.
 
-:func:`frozen` and :func:`record` let ``dataclass`` collect the fields (so ``dataclasses.fields``,
-``replace``, ``is_dataclass`` and ``match`` work as before) but ask it for no method, and attach
-the same methods as closures over the field names, compiling nothing.  They behave as
-``dataclass``'s do: ``__init__`` takes the fields positionally or by name with their defaults (a
-class's own ``__init__`` is kept), ``__eq__`` compares the tuples of the fields with
-``compare=True`` when the classes are the same (``NotImplemented`` otherwise), ``__repr__`` writes
-the fields with ``repr=True`` (``...`` on recursion).  A frozen record's ``__hash__`` hashes that
-tuple (so hashes, and the order of sets and dicts keyed by nodes, are unchanged), and assigning or
-deleting a field raises ``dataclasses.FrozenInstanceError``; a plain record with ``eq`` is
-unhashable, as a plain dataclass is.  ``eq=False`` (``@frozen(eq=False)``) keeps identity's
-equality and hash.  A record may extend a record (its fields after the base's, as ``dataclass``
-orders them).  ``proofs_tests/test_records.py`` compares them with ``dataclass``'s on the same
-classes.
+:func:`frozen` and :func:`record` collect the fields themselves, as ``dataclass(init=False,
+repr=False, eq=False)`` would (``dataclasses.Field`` objects in ``__dataclass_fields__``, so
+``dataclasses.fields``, ``replace``, ``is_dataclass`` and ``match`` work as before; calling
+``dataclass`` for that cost ~0.1 M instructions a class, resolving each string annotation against
+the module), and attach the same methods as closures over the field names, compiling nothing.
+They behave as ``dataclass``'s do: ``__init__`` takes the fields positionally or by name with their
+defaults (a class's own ``__init__`` is kept; ``inspect.signature`` of the class is dataclass's,
+made when asked), ``__eq__`` compares the tuples of the fields with ``compare=True`` when the
+classes are the same (``NotImplemented`` otherwise), ``__repr__`` writes the fields with
+``repr=True`` (``...`` on recursion).  A frozen record's ``__hash__`` hashes that tuple (so hashes,
+and the order of sets and dicts keyed by nodes, are unchanged), and assigning or deleting a field
+raises ``dataclasses.FrozenInstanceError``; a plain record with ``eq`` is unhashable, as a plain
+dataclass is.  ``eq=False`` (``@frozen(eq=False)``) keeps identity's equality and hash.  A record
+may extend a record (its fields after the base's, as ``dataclass`` orders them).
+``@frozen(slots=True)`` is ``dataclass(frozen=True, slots=True)`` for a class that writes its own
+``__init__`` (the Monte Carlo engine's evaluation point, built at every call of a def).
+``proofs_tests/test_records.py`` and ``test_oneshot22.py`` compare them with ``dataclass``'s on
+the same classes.
 
 Only the features Langur's records use are supported (fields with a default or a
-``default_factory``; no ``InitVar``, ``KW_ONLY``, ``__post_init__`` or slots): anything else is
-refused when the class is created.
+``default_factory``; no ``ClassVar``, ``InitVar``, ``KW_ONLY`` or ``__post_init__``; slots only
+frozen, with an own ``__init__``): anything else is refused when the class is created.
 """
 
 from __future__ import annotations
