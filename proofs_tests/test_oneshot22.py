@@ -66,7 +66,8 @@ def _observe_slotted(Pt) -> list:
            repr(dataclasses.replace(c, mode=5)).replace(name, "Pt"), repr(a.moved()).replace(name, "Pt"),
            dataclasses.is_dataclass(a)]
     # (not a new attribute: Python 3.11's slotted frozen dataclass raises TypeError from its
-    # __setattr__'s super() there, CPython gh-90055; a record raises FrozenInstanceError, below)
+    # __setattr__'s super(), which names the class from before slots=True made it again; a record
+    # raises FrozenInstanceError, below)
     for action in (lambda: setattr(a, "mode", 3), lambda: delattr(a, "vars")):
         try:
             action()
