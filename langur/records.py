@@ -9,30 +9,37 @@ every process that reads a program paid ~50 ms of compiling before its first lin
 sixth of a one-shot ``langur eval``; the engines' results, the catalogue of codes and the
 commands' records some sixty compilations more.
 
-:func:`frozen` and :func:`record` let ``dataclass`` collect the fields (so ``dataclasses.fields``,
-``replace``, ``is_dataclass`` and ``match`` work as before) but ask it for no method, and attach
-the same methods as closures over the field names, compiling nothing.  They behave as
-``dataclass``'s do: ``__init__`` takes the fields positionally or by name with their defaults (a
-class's own ``__init__`` is kept), ``__eq__`` compares the tuples of the fields with
-``compare=True`` when the classes are the same (``NotImplemented`` otherwise), ``__repr__`` writes
-the fields with ``repr=True`` (``...`` on recursion).  A frozen record's ``__hash__`` hashes that
-tuple (so hashes, and the order of sets and dicts keyed by nodes, are unchanged), and assigning or
-deleting a field raises ``dataclasses.FrozenInstanceError``; a plain record with ``eq`` is
-unhashable, as a plain dataclass is.  ``eq=False`` (``@frozen(eq=False)``) keeps identity's
-equality and hash.  A record may extend a record (its fields after the base's, as ``dataclass``
-orders them).  ``proofs_tests/test_records.py`` compares them with ``dataclass``'s on the same
-classes.
+:func:`frozen` and :func:`record` collect the fields themselves, as ``dataclass(init=False,
+repr=False, eq=False)`` would (``dataclasses.Field`` objects in ``__dataclass_fields__``, so
+``dataclasses.fields``, ``replace``, ``is_dataclass`` and ``match`` work as before; calling
+``dataclass`` for that cost ~0.1 M instructions a class, resolving each string annotation against
+the module), and attach the same methods as closures over the field names, compiling nothing.
+They behave as ``dataclass``'s do: ``__init__`` takes the fields positionally or by name with their
+defaults (a class's own ``__init__`` is kept; ``inspect.signature`` of the class is dataclass's,
+made when asked), ``__eq__`` compares the tuples of the fields with ``compare=True`` when the
+classes are the same (``NotImplemented`` otherwise), ``__repr__`` writes the fields with
+``repr=True`` (``...`` on recursion).  A frozen record's ``__hash__`` hashes that tuple (so hashes,
+and the order of sets and dicts keyed by nodes, are unchanged), and assigning or deleting a field
+raises ``dataclasses.FrozenInstanceError``; a plain record with ``eq`` is unhashable, as a plain
+dataclass is.  ``eq=False`` (``@frozen(eq=False)``) keeps identity's equality and hash.  A record
+may extend a record (its fields after the base's, as ``dataclass`` orders them).
+``@frozen(slots=True)`` is ``dataclass(frozen=True, slots=True)`` for a class that writes its own
+``__init__`` (the Monte Carlo engine's evaluation point, built at every call of a def).
+``proofs_tests/test_records.py`` and ``test_oneshot22.py`` compare them with ``dataclass``'s on
+the same classes.
 
 Only the features Langur's records use are supported (fields with a default or a
-``default_factory``; no ``InitVar``, ``KW_ONLY``, ``__post_init__`` or slots): anything else is
-refused when the class is created.
+``default_factory``; no ``ClassVar``, ``InitVar``, ``KW_ONLY`` or ``__post_init__``; slots only
+frozen, with an own ``__init__``): anything else is refused when the class is created.
 """
 
 from __future__ import annotations
 
+import abc
 import dataclasses
 import inspect
-import reprlib
+import re
+from _thread import get_ident
 from operator import attrgetter
 
 _MISSING = dataclasses.MISSING
@@ -50,12 +57,14 @@ FACTORY = getattr(dataclasses, "_HAS_DEFAULT_FACTORY", None) or _Factory()
 _FACTORY = FACTORY
 
 
-def frozen(cls=None, *, eq: bool = True):
-    """``@dataclass(frozen=True)`` (or ``@frozen(eq=False)``: ``dataclass(frozen=True, eq=False)``)
-    for ``cls``, without compiling generated source (see above)."""
+def frozen(cls=None, *, eq: bool = True, slots: bool = False):
+    """``@dataclass(frozen=True)`` (or ``@frozen(eq=False)``: ``dataclass(frozen=True, eq=False)``;
+    ``@frozen(slots=True)``: ``dataclass(frozen=True, slots=True)``, whose class must then write its
+    own ``__init__``, setting each field with ``object.__setattr__``) for ``cls``, without
+    compiling generated source (see above)."""
     if cls is None:
-        return lambda c: _make(c, frozen=True, eq=eq)
-    return _make(cls, frozen=True, eq=eq)
+        return lambda c: _make(c, frozen=True, eq=eq, slots=slots)
+    return _make(cls, frozen=True, eq=eq, slots=slots)
 
 
 def record(cls=None, *, eq: bool = True):
@@ -66,27 +75,18 @@ def record(cls=None, *, eq: bool = True):
     return _make(cls, frozen=False, eq=eq)
 
 
-def _make(cls, frozen: bool, eq: bool):
+def _make(cls, frozen: bool, eq: bool, slots: bool = False):
     own_doc = cls.__dict__.get("__doc__")
-    if own_doc is None:  # (dataclass would write one from object's signature, tokenizing it: later)
-        cls.__doc__ = "?"
-    if hasattr(cls, "__post_init__") or "__slots__" in cls.__dict__:
-        raise TypeError(f"{cls.__name__}: records support plain fields only (no __post_init__, no slots)")
-    for base in cls.__mro__[1:-1]:
-        if dataclasses.is_dataclass(base) and \
-                base.__dict__.get("_record_frozen", base.__dataclass_params__.frozen) is not frozen:
-            raise TypeError(f"{cls.__name__}: a record extends only records frozen as it is "
-                            f"({base.__name__} is {'not ' if frozen else ''}frozen)")
-    cls = dataclasses.dataclass(cls, init=False, repr=False, eq=False)
-    cls._record_frozen = frozen
-    fields = dataclasses.fields(cls)
-    names = tuple(f.name for f in fields)
-    compared = tuple(f.name for f in fields if f.compare)
+    if "__slots__" in cls.__dict__:
+        raise TypeError(f"{cls.__name__}: records support plain fields only (no slots)")
+    fields, names, compared, shown = _collect(cls, frozen)
+    if slots:
+        cls = _slotted(cls, names)
     key = _getter(compared)
-    shown = tuple(f.name for f in fields if f.repr)
 
     if "__init__" not in cls.__dict__:
         cls.__init__ = _init(cls.__qualname__, fields)
+        cls.__signature__ = _Signature(cls.__init__, fields)
 
     def __eq__(self, other):
         if other.__class__ is self.__class__:
@@ -96,9 +96,17 @@ def _make(cls, frozen: bool, eq: bool):
     def __hash__(self):
         return hash(key(self))
 
-    @reprlib.recursive_repr()
-    def __repr__(self):
-        return self.__class__.__qualname__ + "(" + ", ".join(f"{n}={getattr(self, n)!r}" for n in shown) + ")"
+    running = set()
+
+    def __repr__(self):  # (``...`` on recursion, as reprlib.recursive_repr, without its wrapper per class)
+        mark = id(self), get_ident()
+        if mark in running:
+            return "..."
+        running.add(mark)
+        try:
+            return self.__class__.__qualname__ + "(" + ", ".join(f"{n}={getattr(self, n)!r}" for n in shown) + ")"
+        finally:
+            running.discard(mark)
 
     field_names = frozenset(names)
 
@@ -121,12 +129,158 @@ def _make(cls, frozen: bool, eq: bool):
             cls.__hash__ = None
     if frozen:
         methods += [__setattr__, __delattr__]
+    if frozen and slots:  # (as dataclass: a frozen slotted instance is unpickled field by field)
+        def __getstate__(self):
+            return [getattr(self, n) for n in names]
+
+        def __setstate__(self, state):
+            for n, v in zip(names, state):
+                object.__setattr__(self, n, v)
+
+        methods += [__getstate__, __setstate__]
+    prefix = cls.__qualname__ + "."
     for fn in methods:
-        fn.__qualname__ = f"{cls.__qualname__}.{fn.__name__}"
+        fn.__qualname__ = prefix + fn.__name__
         setattr(cls, fn.__name__, fn)
-    if own_doc is None:  # dataclass's default docstring: the class's name and signature
-        cls.__doc__ = cls.__name__ + str(inspect.signature(cls)).replace(" -> None", "")
+    if own_doc is None:  # dataclass's default docstring: the class's name and signature, when read
+        cls.__doc__ = _Doc(cls)
     return cls
+
+
+def _slotted(cls, names: tuple[str, ...]):
+    """``cls`` made again with ``__slots__`` for its fields, as ``dataclass(slots=True)`` makes it:
+    the fields' class attributes (their defaults) dropped, as they would clash with the slots."""
+    if "__init__" not in cls.__dict__:
+        raise TypeError(f"{cls.__name__}: a slotted record writes its own __init__")
+    namespace = {k: v for k, v in cls.__dict__.items() if k not in names and k not in ("__dict__", "__weakref__")}
+    namespace["__slots__"] = tuple(n for n in names if n not in _slot_names(cls.__mro__[1:]))
+    new = type(cls)(cls.__name__, cls.__bases__, namespace)
+    new.__qualname__ = cls.__qualname__
+    return new
+
+
+def _slot_names(bases) -> set:
+    return {n for b in bases for n in b.__dict__.get("__slots__", ())}
+
+
+class _Signature:
+    """``inspect.signature`` of a record whose ``__init__`` is :func:`_init`'s, made when asked
+    (``inspect`` reads a class's ``__signature__`` first): dataclass's signature, the fields with
+    their defaults and annotations (a factory shown as dataclass shows it).  Building it for every
+    record at start-up cost ~3 M instructions of a one-shot ``langur eval``.  A subclass with an
+    ``__init__`` of its own is not described by it (None: ``inspect`` looks further)."""
+
+    def __init__(self, init, fields):
+        self.init, self.fields, self.made = init, fields, None
+
+    def __get__(self, instance, owner):
+        if instance is not None or owner.__init__ is not self.init:
+            return None
+        if self.made is None:
+            params = []  # (the class's signature: without ``self``)
+            for f in self.fields:
+                if not f.init:
+                    continue
+                default = f.default if f.default is not _MISSING else \
+                    _FACTORY if f.default_factory is not _MISSING else inspect.Parameter.empty
+                params.append(inspect.Parameter(f.name, inspect.Parameter.POSITIONAL_OR_KEYWORD, annotation=f.type,
+                                                default=default))
+            self.made = inspect.Signature(params, return_annotation=None)
+        return self.made
+
+
+class _Doc:
+    """dataclass's default docstring of a record that has none (its name and signature), written
+    when read (``type.__doc__`` calls a descriptor found in the class's own namespace)."""
+
+    def __init__(self, cls):
+        self.cls, self.text = cls, None
+
+    def __get__(self, instance, owner):
+        if self.text is None:
+            self.text = self.cls.__name__ + str(inspect.signature(self.cls)).replace(" -> None", "")
+        return self.text
+
+
+#: What ``dataclass(cls, init=False, repr=False, eq=False)`` gives every record: its parameters
+#: (``__dataclass_params__``, shared: they are the same for all) and the marker of a real field
+#: (``Field._field_type``), read off one such dataclass instead of named from dataclasses' internals.
+_PROBE = dataclasses.dataclass(init=False, repr=False, eq=False)(
+    type("_Probe", (), {"__annotations__": {"x": "int"}, "__doc__": "A probe."}))
+_PARAMS = _PROBE.__dataclass_params__
+_FIELD = dataclasses.fields(_PROBE)[0]._field_type
+#: Annotations that are not plain fields to ``dataclass`` (refused: records have plain fields only).
+_PSEUDO = re.compile("ClassVar|InitVar|KW_ONLY")
+
+
+def _collect(cls, frozen: bool) -> tuple:
+    """What ``dataclass(cls, init=False, repr=False, eq=False)`` does to ``cls``, done directly
+    (issue 15, start-up: ``dataclass`` resolves each string annotation against the module to rule
+    out ``ClassVar``/``InitVar``/``KW_ONLY``, ~0.1 M instructions a class; records refuse those
+    outright): the fields, the bases' first (a record's base is a record frozen as it is), each a
+    ``dataclasses.Field`` named, typed and marked as ``dataclass`` marks it; a field's class
+    attribute its default (none for a factory); ``__dataclass_fields__``, ``__dataclass_params__``
+    and ``__match_args__`` set, so ``dataclasses.fields``, ``replace``, ``is_dataclass`` and
+    ``match`` work as on a dataclass.  Returns the fields in order, and the names of all, of those
+    compared and of those shown (``repr``).  A class with ``__post_init__`` is refused."""
+    fields = {}
+    abstract = False
+    for base in cls.__mro__[-1:0:-1]:
+        namespace = base.__dict__
+        if "__post_init__" in namespace:
+            raise TypeError(f"{cls.__name__}: records support plain fields only (no __post_init__)")
+        abstract = abstract or "__abstractmethods__" in namespace
+        base_fields = namespace.get("__dataclass_fields__")
+        if base_fields is None:
+            continue
+        if namespace.get("_record_frozen", base.__dataclass_params__.frozen) is not frozen:
+            raise TypeError(f"{cls.__name__}: a record extends only records frozen as it is "
+                            f"({base.__name__} is {'not ' if frozen else ''}frozen)")
+        fields.update(base_fields)
+    namespace = cls.__dict__
+    if "__post_init__" in namespace:
+        raise TypeError(f"{cls.__name__}: records support plain fields only (no __post_init__)")
+    annotations = namespace.get("__annotations__", {})
+    for name, kind in annotations.items():
+        text = kind if kind.__class__ is str else getattr(kind, "__name__", "") or repr(kind)
+        if _PSEUDO.search(text) or kind is dataclasses.KW_ONLY or isinstance(kind, dataclasses.InitVar):
+            raise TypeError(f"{cls.__name__}.{name}: records support plain fields only (no {text})")
+        default = namespace.get(name, _MISSING)
+        if isinstance(default, dataclasses.Field):
+            f = default
+            if f.default is _MISSING:
+                delattr(cls, name)
+            else:
+                setattr(cls, name, f.default)
+        else:
+            f = dataclasses.field(default=default)
+        if f.default_factory is _MISSING and f.default.__class__.__hash__ is None:
+            raise ValueError(f"mutable default {type(f.default)} for field {name} is not allowed: use default_factory")
+        f.name, f.type, f._field_type = name, kind, _FIELD
+        if f.kw_only is _MISSING:
+            f.kw_only = False
+        fields[name] = f
+    for name, value in namespace.items():
+        if isinstance(value, dataclasses.Field) and name not in annotations:
+            raise TypeError(f"{name!r} is a field but has no type annotation")
+    cls.__dataclass_fields__ = fields
+    cls.__dataclass_params__ = _PARAMS
+    cls._record_frozen = frozen
+    out = tuple(fields.values())
+    names, compared, shown, positional = [], [], [], []
+    for f in out:
+        names.append(f.name)
+        if f.compare:
+            compared.append(f.name)
+        if f.repr:
+            shown.append(f.name)
+        if f.init and not f.kw_only:
+            positional.append(f.name)
+    if "__match_args__" not in namespace:
+        cls.__match_args__ = tuple(positional)
+    if abstract or "__abstractmethods__" in namespace:
+        abc.update_abstractmethods(cls)
+    return out, tuple(names), tuple(compared), tuple(shown)
 
 
 def _getter(names: tuple[str, ...]):
@@ -151,7 +305,6 @@ def _init(qualname: str, fields) -> object:
         elif not f.init:
             raise TypeError(f"{qualname}: field {f.name} has init=False and no default")
     hidden = tuple(f.name for f in fields if not f.init)
-    types = {f.name: f.type for f in fields}
     n = len(names)
 
     def __init__(self, *args, **kwargs):
@@ -178,13 +331,6 @@ def _init(qualname: str, fields) -> object:
             factory, v = defaults[name]
             d[name] = v() if factory else v
 
-    params = [inspect.Parameter("self", inspect.Parameter.POSITIONAL_OR_KEYWORD)]
-    for name in names:
-        default = defaults.get(name)
-        params.append(inspect.Parameter(name, inspect.Parameter.POSITIONAL_OR_KEYWORD, annotation=types[name],
-                                        default=inspect.Parameter.empty if default is None
-                                        else (_FACTORY if default[0] else default[1])))
-    __init__.__signature__ = inspect.Signature(params, return_annotation=None)
     __init__.__qualname__ = f"{qualname}.__init__"
     return __init__
 

@@ -22,13 +22,17 @@ process is starved or blocked.  :class:`Deadline` and :func:`budget` count CPU s
 forms on a loaded machine as on an idle one (a wall-clock budget ran out sooner under load, and
 the answer changed from a closed form to quadrature), while every sympy call stays bounded in both
 CPU and wall time (a deadline is also over once its wall-clock backstop has passed).
+
+Signals go through ``_signal``, the C module that the standard ``signal`` wraps: the same functions,
+with plain integers where ``signal`` returns its enums (handlers, signal numbers) — building those
+enums at import was ~3 M instructions of every ``langur`` process (issue 15, one-shot start-up).
 """
 
 from __future__ import annotations
 
+import _signal as signal  # (the C module the standard ``signal`` wraps: see the end of the docstring)
 import _weakrefset
 import gc
-import signal
 import sys
 import threading
 import time

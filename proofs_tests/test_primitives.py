@@ -25,7 +25,7 @@ from langur.denote import denote_program
 from langur.frontend import core_term_from_text
 from langur.lint.domains import _Eval
 from langur.operational import naive
-from langur.operational.sample import enclose
+from langur.operational.interval import enclose
 from langur.primitives import ALL_PRIMITIVES, PRIMITIVES, REGISTRY, Image, Inverse, Periodic
 from langur.sympy_bridge import FUNCTIONS, from_sympy, to_sympy
 from langur.syntax.printer import print_core

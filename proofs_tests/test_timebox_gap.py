@@ -4,7 +4,7 @@ exception from elsewhere (an outer limit of the other timer firing then) still d
 puts the old handler back.  Before, both escaped the ``finally``: a command printed an uncaught
 ``_Expired`` traceback under load (test_hostile's ``show`` past its budget, seen by split14).
 
-The gap is hit deterministically: ``signal.setitimer`` is wrapped so that the arming call itself
+The gap is hit deterministically: timebox's ``setitimer`` is wrapped so that the arming call itself
 delivers the signal (the handler just installed is called) or raises the outer exception."""
 
 import signal
@@ -29,7 +29,7 @@ def clean_alarm():
 
 
 def _arming(monkeypatch, then):
-    real = signal.setitimer
+    real = timebox.signal.setitimer  # (timebox's own: ``_signal``, which ``signal`` wraps)
 
     def setitimer(which, seconds, interval=0.0):
         out = real(which, seconds, interval)
@@ -37,7 +37,7 @@ def _arming(monkeypatch, then):
             then()
         return out
 
-    monkeypatch.setattr(signal, "setitimer", setitimer)
+    monkeypatch.setattr(timebox.signal, "setitimer", setitimer)
 
 
 def test_the_limit_firing_as_it_is_armed_is_a_timeout(monkeypatch, clean_alarm):

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import lazy
 from ..core import (
     Add,
     Call,
@@ -52,10 +53,13 @@ from ..core import (
 from ..primitives import REGISTRY
 from .consts import const_value
 from .dual import dadd, dmul, power, power_derivative, select
-from .interval import tape_of
 from .point import DELTA, Fn, Linking, Point, Unit
-from .roots import compile_root, compile_sign_change
 from .sharing import KEYS, Sharing, constant, evaluated_once
+
+# Implicit roots (issue 18) and their interval tapes, imported when a program has one: an affine
+# program's conditions are completed in closed form (start-up of a one-shot ``langur eval``, issue 15).
+interval = lazy.module("langur.operational.interval")
+roots = lazy.module("langur.operational.roots")
 
 # -- the compiler: one match over the core AST, Fig. 8's order -----------------------------------
 
@@ -222,10 +226,11 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             # ⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ') / ∂f/∂x at x* (implicit function theorem)
             parts = (_compile(equation, ctx), variable, _compile(target, ctx), _compile(lo, ctx), _compile(hi, ctx))
             if index is None:
-                return compile_root(*parts)
+                return roots.compile_root(*parts)
             others = tuple(sorted(free_vars(equation) - {variable}))  # Ψ̂⁻¹'s other inputs it moves with
-            return compile_sign_change(*parts, index, of, None if slope is None else tape_of([equation, slope], True),
-                                        t.span, others, equation)
+            return roots.compile_sign_change(*parts, index, of,
+                                              None if slope is None else interval.tape_of([equation, slope], True),
+                                              t.span, others, equation)
     raise TypeError(f"not a core term: {t!r}")
 
 

@@ -11,17 +11,19 @@ deltas of ⦇t⦈ (Fig. 8).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 
 import numpy as np
 
-from ..records import record
+from ..records import FACTORY, frozen, record
 
 VALUE, TANGENT, DELTA = 0, 1, 2
 NAN = float("nan")
+#: How the frozen, slotted records below set their fields (as dataclass's generated ``__init__`` does).
+_set = object.__setattr__
 
 
-@dataclass(frozen=True, slots=True)
+@frozen(slots=True)
 class Linking:
     """Where a unit sits in a linked program (§9, linking): the global id of its first site
     (``base``), its slot → site offset table (``offsets``; None: slot = offset) and the linked
@@ -31,12 +33,17 @@ class Linking:
     offsets: list | None = None
     units: dict | None = None
 
+    def __init__(self, base=0, offsets=None, units=None):  # (records: a slotted record writes its own)
+        _set(self, "base", base)
+        _set(self, "offsets", offsets)
+        _set(self, "units", units)
+
 
 #: A unit run on its own: no calls to resolve, its sites numbered by its own slots.
 UNLINKED = Linking()
 
 
-@dataclass(frozen=True, slots=True)
+@frozen(slots=True)
 class Point:
     """The evaluation point (§9: what a separately compiled unit reads when run): ρ (``vars``), a
     direction in the variables ρ' (``dvars``), γ (``params``), γ' (``dparams``), the mode, in
@@ -54,6 +61,18 @@ class Point:
     root: tuple | None = None
     #: values of the shared subterms already evaluated at this point (see :func:`evaluated_once`)
     memo: dict = field(default_factory=dict, compare=False, repr=False)
+
+    def __init__(self, vars, params, dvars=FACTORY, dparams=FACTORY, mode=VALUE, site=None,  # noqa: A002
+                 sites=frozenset(), root=None, memo=FACTORY):  # noqa: B008 (immutable)
+        _set(self, "vars", vars)
+        _set(self, "params", params)
+        _set(self, "dvars", {} if dvars is FACTORY else dvars)
+        _set(self, "dparams", {} if dparams is FACTORY else dparams)
+        _set(self, "mode", mode)
+        _set(self, "site", site)
+        _set(self, "sites", sites)
+        _set(self, "root", root)
+        _set(self, "memo", {} if memo is FACTORY else memo)
 
     def values(self) -> Point:
         """The same point and parameters without any derivative (conditions are values only)."""

@@ -23,11 +23,15 @@ import math
 
 import numpy as np
 
+from .. import lazy
 from ..core import Diffeo, Var
 from ..records import record
 from .compile import compile_term
-from .interval import enclose, enclose_all, tape_of
 from .point import TANGENT, UNLINKED, VALUE, Point, full
+
+# Interval enclosures of a zero set's other coordinates, imported when a site's condition is not
+# completed by variables alone (start-up of a one-shot ``langur eval`` on an affine program, issue 15).
+interval = lazy.module("langur.operational.interval")
 
 METHODS = ("uniform", "stratified", "qmc")
 QMC_RANDOMIZATIONS = 32
@@ -170,7 +174,7 @@ class SiteSampler:
         npts = next(iter(box.values()))[0].shape[0]
         los, his = [], []
         for _, var, term in self.coords:
-            lo, hi = box[var] if var is not None else enclose(term, box, params)
+            lo, hi = box[var] if var is not None else interval.enclose(term, box, params)
             los.append(np.broadcast_to(lo, (npts, 1)))
             his.append(np.broadcast_to(hi, (npts, 1)))
         if not los:
@@ -227,7 +231,7 @@ class SiteSampler:
         for j, (u, _, _) in enumerate(self.coords):
             cell[u] = (edges[:, j, cells[:, j]], edges[:, j, cells[:, j] + 1])  # (P, K)
         meets = np.zeros((npts, len(cells)), dtype=bool)
-        found = iter(enclose_all(self.enclosures, cell, params))  # every branch's terms: one tape
+        found = iter(interval.enclose_all(self.enclosures, cell, params))  # every branch's terms: one tape
         for b in self.psi.branches:
             meets |= self._meets(b, found, box)
         any_cell = meets.any(axis=1)
@@ -241,7 +245,7 @@ class SiteSampler:
         """One enclosure tape of every branch's components and guards, in order (they share most
         of their subterms: the conic of Fig. 14's four terms have 403 distinct ones of 1,313)."""
         if self._enclosures is None:
-            self._enclosures = tape_of(t for b in self.psi.branches for t in (*b.components, *b.guards))
+            self._enclosures = interval.tape_of(t for b in self.psi.branches for t in (*b.components, *b.guards))
         return self._enclosures
 
     def _meets(self, branch, found, box) -> np.ndarray:
