@@ -36,14 +36,16 @@ from fractions import Fraction
 from .. import lazy
 from ..core import IfDiffeo, const, small_value, substitute, subterms
 from ..diagnostics import Diagnostic
-from ..lint import affineclear, bounded
+from ..lint import bounded
 from ..lint.findings import Finding
 from ..records import record
 from ..syntax.printer import print_program
 
 # The analyses (sympy), imported when a program needs them (``langur.lazy``): an integrand that
 # ``langur.lint.bounded`` shows bounded on a rational box needs none of them for its value, and a
-# program whose conditions ``langur.lint.affineclear`` decides needs none for its derivative.
+# program whose conditions ``langur.lint.affineclear`` decides needs none for its derivative (itself
+# sympy-free, deferred only because ``eval`` never asks it).
+affineclear = lazy.module("langur.lint.affineclear")
 blowup = lazy.module("langur.lint.blowup")
 emptydomain = lazy.module("langur.lint.emptydomain")
 fix = lazy.module("langur.lint.fix")
