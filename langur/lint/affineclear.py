@@ -247,10 +247,9 @@ def _rank(rows: list[list[Fraction]]) -> int:
 
 
 def _terms_clear(program: Program, point: Mapping[str, Fraction]) -> dict[int, _Condition]:
-    """Every condition read (by id), after the checks of the integrand's terms: bounded, smooth
-    primitives, integer powers ≥ 0, conditionals on the parameters away from their switch."""
-    if not bounded.bounded(program.body):
-        raise _Undecided
+    """Every condition read (by id), after the checks of the integrand's terms: smooth
+    primitives, conditionals on the parameters away from their switch (the rest:
+    :func:`langur.lint.bounded.bounded`, checked first)."""
     conditions = {}
     for u in subterms(program.body):
         match u:
@@ -282,7 +281,7 @@ def derivative_bounded(program: Program, point: Mapping[str, object]) -> bool:
     ``D_γ c / |∂_x c|`` has a constant, nonzero denominator and multiplies a bounded jump."""
     try:
         _bounded_conditions(program, {k: _value(v) for k, v in point.items()})
-    except _Undecided:
+    except (_Undecided, RecursionError):  # (a term nested too deep to read recursively)
         return False
     return True
 
@@ -308,5 +307,5 @@ def nothing_to_find(program: Program, point: Mapping[str, object]) -> bool:
         if not all(_pair_clear(conditions[i], conditions[j]) for i, j in pairs):
             return False
         return all(_family_clear([conditions[i] for i in fam], box) for fam in families)
-    except _Undecided:
+    except (_Undecided, RecursionError):  # (a term nested too deep to read recursively)
         return False
