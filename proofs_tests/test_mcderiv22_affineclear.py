@@ -160,3 +160,22 @@ def test_three_variables():
         point = _point(loaded, {"t": t})
         if affineclear.nothing_to_find(loaded.program, point):
             assert _full(loaded, point) == [], t
+
+
+def test_powers_of_nonzero_constants_are_bounded():
+    """MB1's ``1/i`` is a constant: ``langur.lint.bounded`` skips the integrability analysis for
+    it (which finds nothing there), but not a power of 0 or a fractional power of a negative."""
+    from fractions import Fraction
+
+    from langur.core import Const, Pow
+    from langur.lint import bounded
+
+    loaded = frontend.load_text(mb1(8))
+    point = loaded.param_values({})
+    assert bounded.nothing_to_find(loaded.program, point)
+    res = singular.value_integrability(loaded.program, point)
+    assert res.blowups == [] and res.note is None
+    assert bounded.bounded(Pow(Const(Fraction(10)), Fraction(-1)))
+    assert bounded.bounded(Pow(Const(Fraction(2)), Fraction(-1, 2)))
+    assert not bounded.bounded(Pow(Const(Fraction(0)), Fraction(-1)))
+    assert not bounded.bounded(Pow(Const(Fraction(-2)), Fraction(1, 2)))
