@@ -65,6 +65,13 @@ CASES = [
     ("two lines through a corner", TWO_LINES, {"t": 1, "s": 0}, False),  # X303
     ("three lines through a point", "param t = 0.5\nint ([0, 1], [0, 1]) [x <= t] * [y <= t] * [x + y <= 2*t] d(x, y)",
      {}, False),  # X303 for every t
+    ("bounds as factors", "param t = 0.5\nint [0 <= x] * [x <= 1] * [x <= t] d(x)", {}, True),
+    ("bounds as factors, jump on one", "param t = 0.5\nint [0 <= x] * [x <= 1] * [x <= t] d(x)", {"t": 1}, False),  # X305
+    ("a branch on the parameter", "param t = 0.5\nint ([0, 1]) (if t >= 0.2 then [x <= t] else [x >= t]) * [x <= 0.5] d(x)",
+     {}, False),  # X305: x = t meets x = 1/2
+    ("an abs window on both ends", "param t = 0.5\nint ([0, 1]) [abs(x - t) <= 0.5] d(x)", {}, False),  # X305 twice
+    ("a min kink", "param t = 0.3\nint ([0, 1]) [min(x, t) <= 0.2] * x d(x)", {}, True),
+    ("a max square", "param t = 0.3\nint ([0, 1], [0, 1]) [max(x, y) <= t] * [x + y >= 0.1] d(x, y)", {}, True),
     ("opposite sides", "param t = 0.5\nint ([0, 1], [0, 1]) [x + y <= t] * [x + y >= t] d(x, y)", {}, False),  # X301
 ]
 
