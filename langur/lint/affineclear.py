@@ -34,8 +34,9 @@ none of it can happen when :func:`nothing_to_find` says ``True``:
   than :data:`MARGIN`, is nothing; anything else is not decided;
 * **the rest**: no parameter coefficient (``Diffeo.nonzero`` empty: no X306), no implicit root (no
   turning point: X305/X306 of :mod:`langur.lint.tangent`), a constant slope (no double root, X315),
-  primitives defined on all of ℝ and integer powers ≥ 0 (no X307), a rational non-empty box (no
-  X314), and :func:`derivative_bounded` (no X311, X312, X313).
+  primitives defined on all of ℝ, integer powers ≥ 0 and powers of nonzero constants (no X307),
+  a rational non-empty box (no X314), and :func:`derivative_bounded` (no X311, X312, X313).
+  A ``let`` around a condition, a declared diffeomorphism, a parametric box are not decided.
 
 The parameter values are those the analysis uses: a float as its decimal text (``0.1`` is 1/10,
 ``langur.lint.algebra.exact``).  What the analysis says of itself — X310, its CPU budget spent —
