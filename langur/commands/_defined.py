@@ -42,7 +42,10 @@ from ..records import record
 from ..syntax.printer import print_program
 
 # The analyses (sympy), imported when a program needs them (``langur.lazy``): an integrand that
-# ``langur.lint.bounded`` shows bounded on a rational box needs none of them.
+# ``langur.lint.bounded`` shows bounded on a rational box needs none of them for its value, and a
+# program whose conditions ``langur.lint.affineclear`` decides needs none for its derivative (itself
+# sympy-free, deferred only because ``eval`` never asks it).
+affineclear = lazy.module("langur.lint.affineclear")
 blowup = lazy.module("langur.lint.blowup")
 emptydomain = lazy.module("langur.lint.emptydomain")
 fix = lazy.module("langur.lint.fix")
@@ -156,6 +159,9 @@ def transversal(loaded, path: str | None, at=None) -> Transversal:
     """X301: is ⦇p⦈ the derivative of this program?  With the rewrite when it is not.  With ``at``,
     also X305: is it the derivative at those parameter values?"""
 
+    if at is not None and loaded.program is not None and \
+            affineclear.nothing_to_find(loaded.program, {k: float(v) for k, v in at.items()}):
+        return Transversal()  # affine conditions: the analysis would find nothing (no sympy)
     sources = _sources(path)
     checked = transversality.check_loaded(loaded, at=None if at is None else {k: float(v) for k, v in at.items()},
                            sources=sources)
@@ -199,6 +205,8 @@ def derivative(program, params, direction, path: str | None) -> Defined:
         out.value_exists = False
         return out
     point = dict(params)
+    if affineclear.derivative_bounded(program, point):  # bounded integrand and derivative: no X313
+        return out
     res = singular.derivative_integrability(program, point, direction)
     found = singular.findings_of(res, program, point, _sources(path), "X313")
     out.findings += found
