@@ -107,3 +107,122 @@ def test_the_bisection_stops_at_neighbouring_doubles():
     (t,) = got
     assert abs(t - r) <= 2 * math.ulp(r)  # the boundary, to the last place or so
     assert new.calls < old.calls - 20  # (80 halvings before, about 52 now)
+
+
+# --- compiling._off_the_reals with a polynomial base (``√(r² − u₁²) ± 1``, the disk's delta piece) ---
+
+import mpmath  # noqa: E402
+import sympy as sp  # noqa: E402
+
+from langur.symbolic.quadrature import compiling  # noqa: E402
+from langur.symbolic.text import shared_lambdify  # noqa: E402
+
+x, y, r = sp.symbols("x y r", real=True)
+
+
+def _rescued(args, e, vals):
+    """The unchanged path: ``math``, then (non-finite) mpmath's value as ``_again`` takes it."""
+    f = shared_lambdify(list(args), e, "math")
+    try:
+        v = float(f(*vals))
+    except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+        v = math.nan
+    if v - v == 0.0:
+        return v
+    return compiling._again(shared_lambdify(list(args), e, "mpmath"), tuple(vals), v)
+
+
+def _same(got: float, want: float) -> bool:
+    return (math.isnan(got) and math.isnan(want)) or got.hex() == want.hex()
+
+
+def _random_base(rng: random.Random):
+    """A polynomial in x, y, r with rational coefficients (degree ≤ 3), not a number."""
+    syms = [x, y, r]
+    while True:
+        b = sum(sp.Rational(rng.randint(-9, 9), rng.randint(1, 7)) * rng.choice(syms) ** rng.randint(0, 3)
+                * rng.choice(syms + [sp.Integer(1)]) for _ in range(rng.randint(1, 4)))
+        if not b.is_number and b.free_symbols:
+            return b
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_polynomial_bases_give_the_rescues_values(seed):
+    rng = random.Random(100 + seed)
+    for _ in range(6):
+        base = _random_base(rng)
+        A = sp.Rational(rng.randint(-5, 5), rng.randint(1, 4)) + rng.choice([0, x, y * r, x ** 2])
+        c = rng.choice([sp.Integer(1), sp.Integer(-1), sp.Rational(3, 7), -2 * sp.sqrt(3) / 9])
+        q = rng.choice([sp.Rational(1, 2), sp.Rational(3, 2), sp.Rational(1, 3), sp.Rational(-1, 2)])
+        e = A + c * base ** q
+        f = compiling._lambdify([x, y], e, {r: 0.75})
+        for _ in range(15):
+            vals = [rng.uniform(-2, 2), rng.uniform(-2, 2)]
+            full = tuple(vals + [0.75])
+            assert _same(f(*vals), _rescued((x, y, r), e, full)), (e, full)
+
+
+@pytest.mark.parametrize("sign", [1, -1])
+def test_the_disk_edge(sign, monkeypatch):
+    """``1 ± √(r² − u²)`` (the disk's delta piece): NaN beyond u = r without mpmath's second
+    evaluation (fails on the old code: each one re-evaluated); next to u = r, where the double and
+    mpmath's value of r² − u² could differ in sign, rescued as before; every value the rescue's."""
+    u = sp.Symbol("u1", real=True)
+    e = 1 + sign * sp.sqrt(r ** 2 - u ** 2)
+    f = compiling._lambdify([u], e, {r: 0.5})
+    calls = []
+    real_again = compiling._again
+
+    def counted(*args):
+        calls.append(args)
+        return real_again(*args)
+    monkeypatch.setattr(compiling, "_again", counted)
+    far = [0.5 + k / 16 for k in range(1, 8)] + [-0.5 - k / 16 for k in range(1, 8)]
+    assert all(math.isnan(f(v)) for v in far)
+    assert calls == []  # (the old code: one rescue each)
+    near = [math.nextafter(0.5, 1.0), math.nextafter(math.nextafter(0.5, 1.0), 1.0), 0.5 + 1e-15,
+            math.nextafter(-0.5, -1.0)]
+    for v in near + far + [0.0, 0.25, 0.5, -0.5]:
+        assert _same(f(v), _rescued((u, r), e, (v, 0.5)))
+    # next to the edge the certificate declines (mpmath's value there is not the double one's to be sure)
+    base = compiling._COMPLEX_TERMS[((u, r), e)][0]
+    assert base.size((math.nextafter(0.5, 1.0), 0.5), 0.5) is None
+    assert base.size((0.6, 0.5), 0.5) is not None
+
+
+def test_the_certificate_against_mpmath_at_the_sign_change():
+    """Where :class:`compiling._Base` says mpmath's B is negative, it is (mpmath at 53 bits, as the
+    rescue computes it), and its size is within the bounds given; sampled next to the zero sets of
+    a few polynomials, where the double and mpmath's values differ most."""
+    rng = random.Random(7)
+    for base in [x ** 2 - 2, r ** 2 - x ** 2 - y ** 2, x ** 3 - x * y + y ** 3 - sp.Rational(1, 10),
+                 sp.Rational(1, 3) * x - sp.Rational(2, 7) * y ** 2 + r]:
+        cert = compiling._Base((x, y, r), base)
+        mp = shared_lambdify([x, y, r], base, "mpmath")
+        certified = 0
+        for _ in range(400):
+            yv, rv = rng.uniform(-1.5, 1.5), rng.uniform(0.1, 1.5)
+            # x next to a root of B in x (bisected in doubles), moved by a few units in the last place
+            g = shared_lambdify([x], base.subs({y: yv, r: rv}), "math")
+            lo, hi = rng.choice([(0.0, 3.0), (-3.0, 0.0), (-3.0, 3.0)])
+            if (g(lo) < 0) == (g(hi) < 0):
+                continue
+            for _ in range(80):
+                mid = 0.5 * (lo + hi)
+                if (g(mid) < 0) == (g(lo) < 0):
+                    lo = mid
+                else:
+                    hi = mid
+            for k in range(-6, 7):
+                xv = lo + k * math.ulp(lo) * rng.choice([1, 3, 100, 10 ** 6])
+                vals = (xv, yv, rv)
+                for q in (0.5, -0.5):
+                    size = cert.size(vals, q)
+                    if size is None:
+                        continue
+                    certified += 1
+                    with mpmath.workprec(53):
+                        b = mp(*[mpmath.mpf(v) for v in vals])
+                    assert b < 0
+                    assert (abs(b) >= size) if q > 0 else (abs(b) <= size)
+        assert certified > 100
