@@ -210,8 +210,9 @@ class _Base:
     sum a sum of sizes).
 
     Evaluated in doubles and by mpmath at 53 bits, every operation of the tree rounds (by at most
-    one unit in the last place: ``math``'s powers; half a unit elsewhere), so each value is within
-    γ·M of the exact ``B`` — γ = n·ε/(1 − n·ε) for n roundings, here n = 2·(nodes) + 2, ε = 2⁻⁵² —
+    one unit in the last place: ``math``'s powers; half a unit elsewhere; a rational constant up to
+    three times in mpmath: its numerator, its denominator, their quotient), so each value is within
+    γ·M of the exact ``B`` — γ = n·ε/(1 − n·ε) for n roundings, here n = 4·(nodes) + 4, ε = 2⁻⁵² —
     and the two within 2γ·M of each other (Higham, *Accuracy and Stability of Numerical
     Algorithms*, §3.1, applied node by node; M's own double is within γ·M of M, so 2γ·M/(1 − γ)
     bounds it from the double).  Where the double ``B`` is below −2 times that bound, mpmath's
@@ -221,7 +222,7 @@ class _Base:
     def __init__(self, args: tuple, base):
         self.b = shared_lambdify(list(args), base, "math")
         self.m = shared_lambdify(list(args), magnitude(base), "math")
-        n = 2 * sum(1 for _ in sp.preorder_traversal(base)) + 2
+        n = 4 * sum(1 for _ in sp.preorder_traversal(base)) + 4
         gamma = n * EPS / (1.0 - n * EPS)
         self.slack = 2.0 * gamma / (1.0 - gamma)
 
