@@ -18,6 +18,7 @@ import sympy as sp
 from langur.memo import remember
 from langur.symbolic.text import shared_lambdify
 from langur.symbolic.walks import atoms_of, free_symbols, has_any
+from langur.sympy_bridge import magnitude
 
 
 def _num(expr, at: dict) -> float:
@@ -172,21 +173,75 @@ def _off_the_reals(compiled: tuple, vals: tuple) -> bool:
     it (a tiny ``|s|``: the imaginary part may round to 0 in a double), and for any other
     expression, :func:`_again` decides as before.  The cubic conditions' turning values
     ``x³ − a ± (2√3/9)·x^{3/2}`` of the kinks (issue 18) are of this shape: 1,000 mpmath
-    evaluations per partial derivative of turning2d, all of them NaN again (issue 15)."""
+    evaluations per partial derivative of turning2d, all of them NaN again (issue 15).
+
+    ``s`` may also be a polynomial ``B`` of the arguments (:class:`_Base`: ``√(r² − u₁²) ± 1``,
+    the disk's delta piece, 2,820 mpmath evaluations per partial derivative): then mpmath's value
+    of ``B`` is not the double one, and ``s < 0`` is taken only where the double value is below
+    0 by more than twice the bound of both evaluations' rounding (:meth:`_Base.size`), and ``|s|``
+    as the least size mpmath's value can have (deriv22)."""
     shape = _COMPLEX_TERMS.get(compiled, 0)
     if shape == 0:
         shape = remember(_COMPLEX_TERMS, compiled, _complex_term(*compiled), COMPILED)
     if shape is None:
         return False
     i, c, q, d = shape
-    s = vals[i]
-    if not (s < 0.0 and math.isfinite(s)):
-        return False
+    if type(i) is int:
+        s = vals[i]
+        if not (s < 0.0 and math.isfinite(s)):
+            return False
+        size = -s
+    else:
+        size = i.size(vals, q)
+        if size is None:
+            return False
     try:
-        size = c * (-s) ** q * (2.0 / d)
+        size = c * size ** q * (2.0 / d)
     except OverflowError:  # |s|^q beyond a double: so is the imaginary part (±inf: not 0)
         return True
     return size >= _VISIBLE
+
+
+class _Base:
+    """A base ``B`` of :func:`_complex_term` that is not an argument: a polynomial of the arguments
+    with rational coefficients (sums, products, powers with exponents ≥ 0; no Float, whose printed
+    forms for ``math`` and for mpmath could differ), compiled for ``math`` with its magnitude
+    ``M`` (:func:`~langur.sympy_bridge.magnitude`: the same tree over the absolute values, every
+    sum a sum of sizes).
+
+    Evaluated in doubles and by mpmath at 53 bits, every operation of the tree rounds (by at most
+    one unit in the last place: ``math``'s powers; half a unit elsewhere; a rational constant up to
+    three times in mpmath: its numerator, its denominator, their quotient), so each value is within
+    γ·M of the exact ``B`` — γ = n·ε/(1 − n·ε) for n roundings, here n = 4·(nodes) + 4, ε = 2⁻⁵² —
+    and the two within 2γ·M of each other (Higham, *Accuracy and Stability of Numerical
+    Algorithms*, §3.1, applied node by node; M's own double is within γ·M of M, so 2γ·M/(1 − γ)
+    bounds it from the double).  Where the double ``B`` is below −2 times that bound, mpmath's
+    ``B`` is negative and its size within half of the double's either way.  Only where the double
+    M is a normal number well above underflow (:data:`_NORMAL`) and both values are finite."""
+
+    def __init__(self, args: tuple, base):
+        self.b = shared_lambdify(list(args), base, "math")
+        self.m = shared_lambdify(list(args), magnitude(base), "math")
+        n = 4 * sum(1 for _ in sp.preorder_traversal(base)) + 4
+        gamma = n * EPS / (1.0 - n * EPS)
+        self.slack = 2.0 * gamma / (1.0 - gamma)
+
+    def size(self, vals: tuple, q: float) -> float | None:
+        """The least (q > 0) or greatest (q < 0) size of mpmath's ``B`` at ``vals`` when it is certainly
+        below 0 there, else None."""
+        try:
+            b, m = float(self.b(*vals)), float(self.m(*vals))
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            return None
+        err = self.slack * m
+        if not (math.isfinite(b) and math.isfinite(err) and m >= _NORMAL and b < -2.0 * err):
+            return None
+        return -b - err if q > 0 else -b + err
+
+
+#: The least magnitude :class:`_Base` certifies a sign at (far from underflow: relative rounding).
+_NORMAL = 1e-280
+EPS = 2.0 ** -52
 
 
 def _complex_term(args: tuple, e) -> tuple | None:
@@ -202,8 +257,8 @@ def _complex_term(args: tuple, e) -> tuple | None:
         if found is not None:
             return None  # (two such terms could cancel each other's imaginary parts)
         factors = t.args if isinstance(t, sp.Mul) else (t,)
-        powers = [f for f in factors if isinstance(f, sp.Pow) and f.base in index and f.exp.is_Rational
-                  and not f.exp.is_Integer]
+        powers = [f for f in factors if isinstance(f, sp.Pow) and (f.base in index or (not f.base.is_number and _polynomial(f.base, index)))
+                  and f.exp.is_Rational and not f.exp.is_Integer]
         if len(powers) != 1:
             return None
         rest = [f for f in factors if f is not powers[0]]
@@ -213,8 +268,23 @@ def _complex_term(args: tuple, e) -> tuple | None:
         if not (c > 0.0 and math.isfinite(c)):
             return None
         pw = powers[0]
-        found = (index[pw.base], c, float(pw.exp), int(pw.exp.q))
+        base = index[pw.base] if pw.base in index else _Base(args, pw.base)
+        found = (base, c, float(pw.exp), int(pw.exp.q))
     return found
+
+
+def _polynomial(e, index: dict) -> bool:
+    """Whether ``e`` is a polynomial of the symbols of ``index`` (at least one of them) with rational
+    coefficients: rationals, symbols, sums, products and powers with exponents ≥ 0 (:class:`_Base`)."""
+    if isinstance(e, sp.Rational):
+        return True
+    if isinstance(e, sp.Symbol):
+        return e in index
+    if isinstance(e, (sp.Add, sp.Mul)):
+        return all(_polynomial(a, index) for a in e.args) and not e.is_number
+    if isinstance(e, sp.Pow):
+        return e.exp.is_Integer and e.exp >= 0 and _polynomial(e.base, index) and not e.is_number
+    return False
 
 
 def _real_parts(e, index: dict) -> bool:
