@@ -210,15 +210,28 @@ def completed(cond: Term, variables: tuple[str, ...], solved: tuple, c0: Fractio
 def solved_at(cond: Term, variables: tuple[str, ...], solved: tuple, constant: Fraction) -> Diffeo:
     """The completion of ``cond``, whose shape :func:`solve` solved (``solved``), where the solved
     variable's solution has the constant term ``constant`` (``−c₀/a``)."""
+    return _solved_at(cond, variables, solved, (constant.numerator, constant.denominator), constant)
+
+
+def solved_at_ratio(cond: Term, variables: tuple[str, ...], solved: tuple, num: int, den: int) -> Diffeo:
+    """:func:`solved_at` with the constant given in lowest terms, ``num / den`` (``den > 0``): its
+    ``Fraction`` is made only when its branches are new (a loop's copies add up their constants in
+    integers, issue 15)."""
+    return _solved_at(cond, variables, solved, (num, den), None)
+
+
+def _solved_at(cond: Term, variables: tuple[str, ...], solved: tuple, key: tuple[int, int],
+               constant: Fraction | None) -> Diffeo:
+    """:func:`solved_at` with the constant's numerator and denominator ``key`` (and the constant
+    itself, or None)."""
     v, a, inputs, others, terms, renamed, known = solved
-    key = (constant.numerator, constant.denominator)  # (two ints hash in C; a Fraction in Python)
-    branches = known.get(key)
+    branches = known.get(key)  # (two ints hash in C; a Fraction in Python)
     if branches is None:
         make_room(known, 4096, at_once=True)
         parts = known.get(_PARTS)
         if parts is None:
             parts = known[_PARTS] = _atoms(terms)
-        branches = known[key] = _branches(constant, parts, renamed, known)
+        branches = known[key] = _branches(Fraction(*key) if constant is None else constant, parts, renamed, known)
     # (positional: a keyword call costs a loop's copy more than the record's own init)
     return Diffeo(tuple(variables), (cond,) + others, inputs, branches, v, None, (), getattr(cond, "span", None))
 

@@ -31,6 +31,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import field
 from fractions import Fraction
+from math import gcd
 
 from ..core import (
     Add,
@@ -247,8 +248,8 @@ class Template:
 
     def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int], psi: Diffeo):
         """For a condition completed again: its solved shape, the constant term of its solution
-        without the changing constant summands, and those summands' steps with their factors in
-        it, when :func:`affine.summands` finds them and the first copy's condition completed by
+        without the changing constant summands (numerator and denominator, in lowest terms), and
+        those summands' steps with their factors in it, when :func:`affine.summands` finds them and the first copy's condition completed by
         the affine path (``psi``, which keeps what it solved); else None."""
         dep = self.dependent
         parts = affine.summands(cond, lambda u: dep.get(id(u), False))
@@ -265,7 +266,8 @@ class Template:
         for u, factor in parts:  # each summand's step, its factor in the solution and whether it is 1 or −1
             f = -factor if a == 1 else -factor / a  # when ±1
             moves.append((own[id(u)], f, -1 if f == -1 else (1 if f == 1 else 0)))
-        return solved, -c0 if a == 1 else -c0 / a, tuple(moves)
+        base = -c0 if a == 1 else -c0 / a
+        return solved, base.numerator, base.denominator, tuple(moves)
 
     def at(self, value: int) -> Term | None:
         """The copy for the index's ``value``: the first copy with its index leaves replaced by
@@ -320,14 +322,15 @@ class Template:
                 cond = vals[c]
                 psi = None
                 if shifted is not None:  # the same shape: the constant term moved by the summands' change
-                    solved, constant, parts = shifted
+                    solved, num, den, parts = shifted
                     for j, factor, sign in parts:
                         new = small_value(vals[j])
                         if new is None or new is False:
                             break
-                        constant = constant - new if sign < 0 else constant + (new if sign > 0 else factor * new)
+                        num, den = _moved(num, den, new, factor, sign)
                     else:
-                        psi = affine.solved_at(cond, variables, solved, constant)
+                        g = gcd(num, den)
+                        psi = affine.solved_at_ratio(cond, variables, solved, num // g, den // g)
                         STATS["shifted"] += 1
                         if same[c] and same[a] and same[b]:
                             # Ψ̂ of the first's shape (affine.completed of a condition of its shape): so is the node
@@ -448,15 +451,16 @@ class Template:
                     cond = conds[j]
                     psi = None
                     if shifted is not None:
-                        solved, constant, parts = shifted
+                        solved, num, den, parts = shifted
                         for jj, factor, sign in parts:
                             col = cols[jj]
                             new = small_value(col[j] if type(col) is list else col)
                             if new is None or new is False:
                                 break
-                            constant = constant - new if sign < 0 else constant + (new if sign > 0 else factor * new)
+                            num, den = _moved(num, den, new, factor, sign)
                         else:
-                            psi = affine.solved_at(cond, variables, solved, constant)
+                            g = gcd(num, den)
+                            psi = affine.solved_at_ratio(cond, variables, solved, num // g, den // g)
                             shifted_count += 1
                             if sc[j] and sa[j] and sb[j]:
                                 node = like(IfDiffeo, shape, (psi, xs[j], ys[j]), span)
@@ -502,6 +506,17 @@ class Template:
         STATS["instantiated"] += m
         STATS["shifted"] += shifted_count
         return cols[n - 1]
+
+
+def _moved(num: int, den: int, new: Fraction, factor: Fraction, sign: int) -> tuple[int, int]:
+    """``num / den + factor·new`` (``sign``: 1 when ``factor`` is 1, −1 when it is −1, else 0) as
+    a numerator and a positive denominator, not reduced: a condition's constant term in a loop's
+    copy, added up in integers (``Fraction``'s operators are Python code that reduces at every
+    step, issue 15)."""
+    if sign == 0:
+        new = factor * new
+    p, q = new.numerator, new.denominator
+    return (num * q - p * den if sign < 0 else num * q + p * den), den * q
 
 
 # the kinds of step of Template.steps
