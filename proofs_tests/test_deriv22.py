@@ -113,23 +113,12 @@ def test_the_bisection_stops_at_neighbouring_doubles():
 
 import mpmath  # noqa: E402
 import sympy as sp  # noqa: E402
+from test_deriv21 import _rescued  # noqa: E402  (the unchanged path: math, then mpmath as _again takes it)
 
 from langur.symbolic.quadrature import compiling  # noqa: E402
 from langur.symbolic.text import shared_lambdify  # noqa: E402
 
 x, y, r = sp.symbols("x y r", real=True)
-
-
-def _rescued(args, e, vals):
-    """The unchanged path: ``math``, then (non-finite) mpmath's value as ``_again`` takes it."""
-    f = shared_lambdify(list(args), e, "math")
-    try:
-        v = float(f(*vals))
-    except (ValueError, ZeroDivisionError, OverflowError, TypeError):
-        v = math.nan
-    if v - v == 0.0:
-        return v
-    return compiling._again(shared_lambdify(list(args), e, "mpmath"), tuple(vals), v)
 
 
 def _same(got: float, want: float) -> bool:

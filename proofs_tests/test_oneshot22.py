@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_records import _fresh_fields  # (a dataclass twin's fields, made from a record's)
 
 from langur import records
 from langur.operational import point
@@ -193,18 +194,6 @@ def test_point_and_linking_are_their_dataclasses():
         ours.mode = 2
     bound = ours.bind("z", 1.0, None)
     assert bound.params == {"a": 0.5, "z": 1.0} and bound.root == ({"a": 0.5}, {}) and ours.values() is ours
-
-
-def _fresh_fields(cls):
-    for f in dataclasses.fields(cls):
-        kw = {"compare": f.compare, "repr": f.repr, "hash": f.hash}
-        if f.default is not dataclasses.MISSING:
-            kw["default"] = f.default
-        if f.default_factory is not dataclasses.MISSING:
-            kw["default_factory"] = f.default_factory
-        g = field(**kw)
-        g.name = f.name
-        yield g
 
 
 def _twin(cls):
