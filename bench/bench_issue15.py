@@ -94,15 +94,21 @@ def peer_mb1(name: str, n: int, reps: int) -> dict:
 def run_mb1(sizes, peers: dict, reps: int, peer_reps: int) -> dict:
     out: dict = {"langur": [], **{p: [] for p in peers}}
     print(f"\n## Microbenchmark 1 (Fig. 16): n jumps, 2n deltas, 10 samples — ms CPU ({load()})\n")
-    for n in sizes:  # interleaved: every system at this n before the next n
+    for n in sizes:  # Langur first at every n, before a peer is imported: the peers run in this process, and
+        # Langur's numbers should not depend on what they leave in its heap (Teg's expression trees at
+        # n = 49 and 100, …).  (Interleaved by n, two runs gave n = 49 14.7 and 24.4 ms; Langur first, 20.4
+        # ms: this machine's CPU seconds vary by ±20 % run to run even for a plain loop; minima over
+        # alternated processes (bench_text_to_number.py --against) and instruction counts are steadier.)
         r = ttn.mb1(n, reps)
         r["without"], r["loadavg"] = r["link"] + r["eval"], os.getloadavg()[0]
         out["langur"].append(r)
+        print(f"(langur at n = {n} measured, {load()})", flush=True)
+    for n in sizes:
         for p in peers:
             q = peer_mb1(p, n, peer_reps)
             q["loadavg"] = os.getloadavg()[0]
             out[p].append(q)
-        print(f"(n = {n} measured, {load()})", flush=True)
+        print(f"(the peers at n = {n} measured, {load()})", flush=True)
     print(f"\nLangur: medians of {reps} (the front end's caches emptied before each load); text to number = "
           f"load + link + eval, without the front end = link + eval.\n")
     print("| n | load (front end) | link (compile) | eval | **text to number** | without front end "
@@ -131,24 +137,32 @@ def run_mb1(sizes, peers: dict, reps: int, peer_reps: int) -> dict:
 
 # -- microbenchmark 2 ---------------------------------------------------------------------------------
 
-def run_mb2(swaps: int, peers: dict, peer_swaps: int) -> dict:
-    """Langur at ``swaps``; each peer at ``peer_swaps`` (each of its swaps costs the same: Potto
-    evaluates the swapped shader's derivative applied to the integral compiled once, Teg rebuilds and
-    re-derives the whole integral), scaled to ``swaps`` by (swaps + 1) / (peer_swaps + 1) — the
-    number of shaders evaluated — when the two differ."""
-    print(f"\n## Microbenchmark 2 (Fig. 17): 90 jumps, {swaps} shader swaps, 10 samples each — s CPU, one run\n")
-    out = {}
+def langur_mb2(swaps: int) -> dict:
+    """Langur's microbenchmark 2 at ``swaps``, incremental and from scratch (measured before any peer
+    is imported into this process: see :func:`run_mb1`)."""
     inc, stats = ttn.mb2(swaps, True)
-    out["langur"] = {"total": inc, "load": stats["load"], "without": inc - stats["load"]}
+    scratch, stats2 = ttn.mb2(swaps, False)
+    return {"langur": {"total": inc, "load": stats["load"], "without": inc - stats["load"],
+                       "elaborated": stats["elaborated"], "reused": stats["reused"], "loadavg": os.getloadavg()[0]},
+            "langur_scratch": {"total": scratch, "load": stats2["load"], "loadavg": os.getloadavg()[0]}}
+
+
+def run_mb2(swaps: int, peers: dict, peer_swaps: int, langur: dict) -> dict:
+    """Langur at ``swaps`` (:func:`langur_mb2`'s numbers); each peer at ``peer_swaps`` (each of its swaps
+    costs the same: Potto evaluates the swapped shader's derivative applied to the integral compiled
+    once, Teg rebuilds and re-derives the whole integral), scaled to ``swaps`` by (swaps + 1) /
+    (peer_swaps + 1) — the number of shaders evaluated — when the two differ."""
+    print(f"\n## Microbenchmark 2 (Fig. 17): 90 jumps, {swaps} shader swaps, 10 samples each — s CPU, one run\n")
+    out = dict(langur)
+    ours, scratch = out["langur"], out["langur_scratch"]
+    inc = ours["total"]
     print("| system | text to number | of which loading (front end) | without front end | ratio to langur "
           "| load avg |\n|---|---:|---:|---:|---:|---:|")
-    print(f"| langur, incremental front end | **{inc:.3f}** | {stats['load']:.3f} ({stats['elaborated']} modules "
-          f"elaborated, {stats['reused']} reused) | {inc - stats['load']:.3f} | 1 | {os.getloadavg()[0]:.1f} |",
+    print(f"| langur, incremental front end | **{inc:.3f}** | {ours['load']:.3f} ({ours['elaborated']} modules "
+          f"elaborated, {ours['reused']} reused) | {ours['without']:.3f} | 1 | {ours['loadavg']:.1f} |")
+    print(f"| langur, every load from scratch | {scratch['total']:.3f} | {scratch['load']:.3f} | "
+          f"{scratch['total'] - scratch['load']:.3f} | {scratch['total'] / inc:.2f} | {scratch['loadavg']:.1f} |",
           flush=True)
-    scratch, stats = ttn.mb2(swaps, False)
-    out["langur_scratch"] = {"total": scratch, "load": stats["load"]}
-    print(f"| langur, every load from scratch | {scratch:.3f} | {stats['load']:.3f} | {scratch - stats['load']:.3f} "
-          f"| {scratch / inc:.2f} | {os.getloadavg()[0]:.1f} |", flush=True)
     for p in peers:
         measured = {"potto": potto_mb2, "teg": teg_mb2}[p](peer_swaps)
         t = measured * (swaps + 1) / (peer_swaps + 1)
@@ -350,11 +364,12 @@ def main(argv=None) -> None:
     _describe(peers)
     sizes = (1, 10, 49) if args.quick else ttn.SIZES
     m: dict = {"swaps": args.swaps or (5 if args.quick else 50)}
+    ours_mb2 = langur_mb2(m["swaps"])  # (before any peer is imported into this process: see run_mb1)
     m["mb1"] = run_mb1(sizes, peers, args.reps, args.peer_reps)
     if args.plot:
         plot(m["mb1"], args.plot)
         print(f"\nplot: {args.plot}")
-    m["mb2"] = run_mb2(m["swaps"], peers, min(args.peer_swaps, m["swaps"]))
+    m["mb2"] = run_mb2(m["swaps"], peers, min(args.peer_swaps, m["swaps"]), ours_mb2)
     m["one_shot"] = run_one_shot(peers, args.rounds or (3 if args.quick else 9), args.instructions)
     m["import"] = run_import(args.reps)
     if not args.skip_exact:
