@@ -60,11 +60,8 @@ def test_shape_values_are_the_rescues(seed, monkeypatch):
                 assert math.isnan(got)
 
 
-def test_no_mpmath_evaluation_below_zero(monkeypatch):
-    """At s < 0 the expression's value is NaN without mpmath's second evaluation (fails on the old
-    code, which re-evaluates every non-finite value)."""
-    e = -a + 2 * sp.sqrt(3) * x ** sp.Rational(3, 2) / 9 + x ** 3
-    f = compiling._lambdify([x], e, {a: 0.1})
+def _count_again(monkeypatch) -> list:
+    """The arguments of every call of ``compiling._again`` (mpmath's second evaluation) from now on."""
     calls = []
     real_again = compiling._again
 
@@ -72,6 +69,15 @@ def test_no_mpmath_evaluation_below_zero(monkeypatch):
         calls.append(args)
         return real_again(*args)
     monkeypatch.setattr(compiling, "_again", counted)
+    return calls
+
+
+def test_no_mpmath_evaluation_below_zero(monkeypatch):
+    """At s < 0 the expression's value is NaN without mpmath's second evaluation (fails on the old
+    code, which re-evaluates every non-finite value)."""
+    e = -a + 2 * sp.sqrt(3) * x ** sp.Rational(3, 2) / 9 + x ** 3
+    f = compiling._lambdify([x], e, {a: 0.1})
+    calls = _count_again(monkeypatch)
     assert all(math.isnan(f(-k / 10)) for k in range(1, 10))
     assert calls == []
     assert f(0.5) == pytest.approx(-0.1 + 2 * math.sqrt(3) / 9 * 0.5 ** 1.5 + 0.125, rel=1e-15)

@@ -113,7 +113,7 @@ def test_the_bisection_stops_at_neighbouring_doubles():
 
 import mpmath  # noqa: E402
 import sympy as sp  # noqa: E402
-from test_deriv21 import _rescued  # noqa: E402  (the unchanged path: math, then mpmath as _again takes it)
+from test_deriv21 import _count_again, _rescued  # noqa: E402  (the unchanged path: math, then mpmath as _again takes it)
 
 from langur.symbolic.quadrature import compiling  # noqa: E402
 from langur.symbolic.text import shared_lambdify  # noqa: E402
@@ -159,13 +159,7 @@ def test_the_disk_edge(sign, monkeypatch):
     u = sp.Symbol("u1", real=True)
     e = 1 + sign * sp.sqrt(r ** 2 - u ** 2)
     f = compiling._lambdify([u], e, {r: 0.5})
-    calls = []
-    real_again = compiling._again
-
-    def counted(*args):
-        calls.append(args)
-        return real_again(*args)
-    monkeypatch.setattr(compiling, "_again", counted)
+    calls = _count_again(monkeypatch)
     far = [0.5 + k / 16 for k in range(1, 8)] + [-0.5 - k / 16 for k in range(1, 8)]
     assert all(math.isnan(f(v)) for v in far)
     assert calls == []  # (the old code: one rescue each)
