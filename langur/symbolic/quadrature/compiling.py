@@ -15,6 +15,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from langur.implicit import ImplicitRootFn
 from langur.memo import remember
 from langur.symbolic.text import shared_lambdify
 from langur.symbolic.walks import atoms_of, free_symbols, has_any
@@ -179,12 +180,20 @@ def _off_the_reals(compiled: tuple, vals: tuple) -> bool:
     the disk's delta piece, 2,820 mpmath evaluations per partial derivative): then mpmath's value
     of ``B`` is not the double one, and ``s < 0`` is taken only where the double value is below
     0 by more than twice the bound of both evaluations' rounding (:meth:`_Base.size`), and ``|s|``
-    as the least size mpmath's value can have (deriv22)."""
+    as the least size mpmath's value can have (deriv22).
+
+    The expression may also be ``A + c·R`` with ``R`` an implicit root of a polynomial equation
+    (:class:`_RootTerm`: ``root(y: y³ − x·y − a + x³ = 0 in [−1, sign_change₀(…)]) ± 1``, turning2d's
+    substituted box conditions, 1,194 mpmath evaluations per partial derivative, every one NaN
+    again): when the equation has certainly the same sign at both ends of the root's bracket, in
+    doubles and in mpmath alike, mpmath finds no root either, and ``A + c·NaN`` is NaN (deriv23)."""
     shape = _COMPLEX_TERMS.get(compiled, 0)
     if shape == 0:
         shape = remember(_COMPLEX_TERMS, compiled, _complex_term(*compiled), COMPILED)
     if shape is None:
         return False
+    if type(shape) is _RootTerm:
+        return shape.no_root(vals)
     i, c, q, d = shape
     if type(i) is int:
         s = vals[i]
@@ -239,16 +248,92 @@ class _Base:
         return -b - err if q > 0 else -b + err
 
 
+    def sign(self, vals: tuple) -> int:
+        """The sign (±1) that the exact ``B``, its double and mpmath's ``B`` at 53 bits (and that value
+        rounded to a double) all have at ``vals``, when the double is farther from 0 than twice the
+        bound of both evaluations' rounding (as :meth:`size`); 0 when that is not certain."""
+        try:
+            b, m = float(self.b(*vals)), float(self.m(*vals))
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            return 0
+        err = self.slack * m
+        if not (math.isfinite(b) and math.isfinite(err) and m >= _NORMAL and abs(b) > 2.0 * err):
+            return 0
+        return 1 if b > 0 else -1
+
+
 #: The least magnitude :class:`_Base` certifies a sign at (far from underflow: relative rounding).
 _NORMAL = 1e-280
 EPS = 2.0 ** -52
 
 
-def _complex_term(args: tuple, e) -> tuple | None:
+class _RootTerm:
+    """The implicit root ``R`` of a term ``c·R`` of :func:`_complex_term`'s ``A + c·R``:
+    ``root(x: f(x; v) = t in [lo, hi])`` (index −1: Brent's method in its bracket,
+    :func:`langur.implicit.double_root`), ``f`` a polynomial of ``x`` and of arguments ``v`` of the
+    compiled function with rational coefficients (:func:`_polynomial`), ``t`` an integer, each end an
+    integer, an argument, or an indexed root (a sign change, :func:`langur.implicit._indexed_at`)
+    whose target and ends are integers or arguments and whose other symbols are arguments.
+
+    **Why mpmath's ``R`` is NaN where :meth:`no_root` says so.**  Compiled for mpmath, ``R`` is the
+    same :meth:`~langur.implicit.ImplicitRootFn._imp_` call with mpf arguments: its ``t``, ends and
+    values are converted by ``float`` to the doubles ``math`` has (an indexed root is found from those
+    doubles: the same double), and ``double_root`` evaluates ``f`` — now with mpmath's arithmetic —
+    at both ends, returning NaN when the two values minus ``t`` have the same sign and neither is 0
+    (or when an evaluation raises).  :meth:`_Base.sign` certifies that sign for ``f − t`` at each end:
+    the exact value's, so mpmath's (rounded to a double: not 0, the same sign) too.  Then mpmath's
+    ``A + c·R`` is NaN (``A`` is a real mpf, ±inf or NaN from real arguments, or it raised
+    ZeroDivisionError), and :func:`_again` returns ``math``'s value."""
+
+    def __init__(self, args: tuple, root):
+        lam, target, lo, hi, index, _ = root.args
+        (x,), f = lam.variables, lam.expr
+        free = sorted(f.free_symbols - {x}, key=str)  # (the values ``_imp_`` is called with)
+        index_of = {a: k for k, a in enumerate(args)}
+        if not (index < 0 and target.is_Integer and all(s in index_of for s in free)
+                and _polynomial(f - target, {x: 0, **{s: 0 for s in free}})):
+            raise ValueError("not a root of a polynomial equation in the arguments")
+        self.values = tuple(index_of[s] for s in free)
+        self.ends = tuple(_end(args, index_of, e) for e in (lo, hi))
+        self.equation = _Base((x, *free), f - target)
+
+    def no_root(self, vals: tuple) -> bool:
+        """Whether mpmath's ``R`` at ``vals`` is certainly NaN (class doc)."""
+        try:
+            a, b = (float(end(vals)) for end in self.ends)
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError, ArithmeticError):
+            return False
+        if not (math.isfinite(a) and math.isfinite(b)):
+            return False
+        rest = tuple(vals[k] for k in self.values)
+        sa = self.equation.sign((a, *rest))
+        return sa != 0 and sa == self.equation.sign((b, *rest))
+
+
+def _end(args: tuple, index_of: dict, e) -> Callable[[tuple], float]:
+    """An end of a :class:`_RootTerm`'s bracket as a function of the compiled function's
+    arguments, giving the double ``_imp_`` gets for it under ``math`` and under mpmath alike."""
+    if e.is_Integer:
+        value = float(e)
+        return lambda vals: value
+    if e in index_of:
+        k = index_of[e]
+        return lambda vals: vals[k]
+    if isinstance(e, ImplicitRootFn):
+        _, target, lo, hi, index, _ = e.args
+        if index >= 0 and all(a.is_Integer or a in index_of for a in (target, lo, hi)) \
+                and all(s in index_of for s in e.free_symbols):
+            fn = shared_lambdify(list(args), e, "math")  # (the same ``_imp_`` call, with the doubles)
+            return lambda vals: fn(*vals)
+    raise ValueError("an end that is not an integer, an argument or an indexed root of them")
+
+
+def _complex_term(args: tuple, e) -> tuple | _RootTerm | None:
     """``(i, |c|, q, d)`` when ``e`` is ``A + c·s**q``: ``s`` the ``i``-th of ``args`` (a symbol),
     ``q = p/d`` a rational that is not an integer, ``c`` a non-zero real number, ``A`` built from
     ``args``, rationals, floats and real constants (positive rationals to rational powers) by
-    sums, products and integer powers only (:func:`_real_parts`); None otherwise."""
+    sums, products and integer powers only (:func:`_real_parts`); a :class:`_RootTerm` when ``e`` is
+    ``A + c·R``, ``c`` a real constant and ``R`` an implicit root of its kind; None otherwise."""
     index = {a: k for k, a in enumerate(args)}
     found = None
     for t in (e.args if isinstance(e, sp.Add) else (e,)):
@@ -257,6 +342,15 @@ def _complex_term(args: tuple, e) -> tuple | None:
         if found is not None:
             return None  # (two such terms could cancel each other's imaginary parts)
         factors = t.args if isinstance(t, sp.Mul) else (t,)
+        roots = [f for f in factors if isinstance(f, ImplicitRootFn)]
+        if roots:  # ``c·R``: mpmath's value is NaN where R's is (whatever A's)
+            if len(roots) != 1 or not all(_real_parts(f, {}) for f in factors if f is not roots[0]):
+                return None
+            try:
+                found = _RootTerm(args, roots[0])
+            except Exception:  # noqa: BLE001 - not of the kind (or not compilable): _again decides
+                return None
+            continue
         powers = [f for f in factors if isinstance(f, sp.Pow) and (f.base in index or (not f.base.is_number and _polynomial(f.base, index)))
                   and f.exp.is_Rational and not f.exp.is_Integer]
         if len(powers) != 1:
