@@ -16,11 +16,11 @@ from fractions import Fraction
 
 import pytest
 import sympy as sp
+from test_deriv21 import _count_again, _rescued  # (the unchanged path: math, then mpmath as _again takes it)
 
 from langur.implicit import implicit_root
 from langur.symbolic.quadrature import compiling
 from langur.symbolic.text import shared_lambdify
-from test_deriv21 import _count_again, _rescued  # (the unchanged path: math, then mpmath as _again takes it)
 
 x, a, Y = sp.symbols("x a Y")
 
