@@ -247,7 +247,6 @@ class _Base:
             return None
         return -b - err if q > 0 else -b + err
 
-
     def sign(self, vals: tuple) -> int:
         """The sign (±1) that the exact ``B``, its double and mpmath's ``B`` at 53 bits (and that value
         rounded to a double) all have at ``vals``, when the double is farther from 0 than twice the
