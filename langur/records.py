@@ -38,7 +38,6 @@ from __future__ import annotations
 import abc
 import dataclasses
 import inspect
-import re
 from _thread import get_ident
 from operator import attrgetter
 
@@ -209,8 +208,6 @@ _PROBE = dataclasses.dataclass(init=False, repr=False, eq=False)(
     type("_Probe", (), {"__annotations__": {"x": "int"}, "__doc__": "A probe."}))
 _PARAMS = _PROBE.__dataclass_params__
 _FIELD = dataclasses.fields(_PROBE)[0]._field_type
-#: Annotations that are not plain fields to ``dataclass`` (refused: records have plain fields only).
-_PSEUDO = re.compile("ClassVar|InitVar|KW_ONLY")
 
 
 def _collect(cls, frozen: bool) -> tuple:
@@ -243,7 +240,8 @@ def _collect(cls, frozen: bool) -> tuple:
     annotations = namespace.get("__annotations__", {})
     for name, kind in annotations.items():
         text = kind if kind.__class__ is str else getattr(kind, "__name__", "") or repr(kind)
-        if _PSEUDO.search(text) or kind is dataclasses.KW_ONLY or isinstance(kind, dataclasses.InitVar):
+        if "ClassVar" in text or "InitVar" in text or "KW_ONLY" in text or kind is dataclasses.KW_ONLY or \
+                isinstance(kind, dataclasses.InitVar):  # (not plain fields to dataclass: refused)
             raise TypeError(f"{cls.__name__}.{name}: records support plain fields only (no {text})")
         default = namespace.get(name, _MISSING)
         if isinstance(default, dataclasses.Field):
