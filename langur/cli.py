@@ -13,7 +13,6 @@ that reach this level are collected and printed as one note, never as raw warnin
 
 from __future__ import annotations
 
-import argparse
 import gc
 import importlib
 import json
@@ -23,9 +22,16 @@ import sys
 import warnings
 from collections import Counter
 
-from . import __version__, gcpause, progress
+from . import __version__, gcpause, lazy, progress
+from .arguments import Arguments
 from .diagnostics import LangurError
 from .timebox import run_with_timeout
+
+#: argparse only when a command line is not plain (help, usage errors, …): a plain one is read by
+#: :class:`~langur.arguments.Arguments` (issue 15, start-up: argparse with gettext and locale, 16 M
+#: instructions of a one-shot ``langur eval``).
+argparse = lazy.module("argparse")
+cliparser = lazy.module("langur.cliparser")
 
 COMMANDS = {
     "check": "parse, type-check and lint for transversality",
@@ -49,11 +55,6 @@ class UsageError(Exception):
 MAX_SAMPLES = 10_000_000
 #: Seeds are non-negative integers below 2⁶⁴ (numpy's SeedSequence, hypothesis).
 MAX_SEED = 2**64 - 1
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str):  # argparse's own usage errors: status 2, one line, no traceback
-        self.exit(2, f"{self.prog}: error: {message} (see `{self.prog} --help`)\n")
 
 
 def count(low: int, high: int, what: str = "a count"):
@@ -163,9 +164,10 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     strings go through ``gettext``'s search for translations)."""
     chosen = _command_of(argv)
     alone = chosen is not None and argv[0] == chosen
-    parser = _Parser(prog="langur", description="Langur: differentiating integrals with parametric discontinuities.")
+    parser = cliparser.Parser(prog="langur", description="Langur: differentiating integrals with parametric "
+                              "discontinuities.")
     parser.add_argument("--version", action="version", version=f"langur {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=cliparser.Parser)
     for name, help_ in COMMANDS.items():
         if alone and name != chosen:
             continue
@@ -175,6 +177,24 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
             mod.add_arguments(p)
             p.set_defaults(_run=mod.run)
     return parser
+
+
+#: The options of the command line's parser itself (argparse matches every word against them too).
+TOP_OPTIONS = ("-h", "--help", "--version")
+
+
+def read_plain(argv: list[str]):
+    """``argv``'s attributes as ``build_parser(argv).parse_args(argv)`` gives them, read without
+    argparse when the command is ``argv``'s first word and the rest is plain
+    (:mod:`langur.arguments`); None otherwise."""
+    chosen = _command_of(argv)
+    if chosen is None or argv[0] != chosen:
+        return None
+    mod = importlib.import_module(f"langur.commands.{chosen}")
+    arguments = Arguments()
+    mod.add_arguments(arguments)
+    arguments.set_defaults(_run=mod.run)
+    return arguments.parse(argv[1:], {"command": chosen}, TOP_OPTIONS)
 
 
 def _command_of(argv: list[str] | None) -> str | None:
@@ -202,10 +222,12 @@ def main(argv: list[str] | None = None) -> int:
     own_process = argv is None  # (the console script, python -m langur: not a caller's process)
     argv = sys.argv[1:] if argv is None else list(argv)
     with gcpause.paused():  # the command's modules imported without cyclic collections (issue 15, start-up)
-        parser = build_parser(argv)
+        args = read_plain(argv)
+        parser = build_parser(argv) if args is None else None
         if own_process:  # what the imports built lives as long as the process: no collection scans it again
             gc.freeze()
-    args = parser.parse_args(argv)
+    if args is None:
+        args = parser.parse_args(argv)
     if not getattr(args, "_run", None):
         parser.print_help(sys.stderr)
         return 2

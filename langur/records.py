@@ -38,8 +38,8 @@ from __future__ import annotations
 import abc
 import dataclasses
 import inspect
-import re
 from _thread import get_ident
+from dataclasses import KW_ONLY, Field, InitVar, field
 from operator import attrgetter
 
 _MISSING = dataclasses.MISSING
@@ -209,8 +209,6 @@ _PROBE = dataclasses.dataclass(init=False, repr=False, eq=False)(
     type("_Probe", (), {"__annotations__": {"x": "int"}, "__doc__": "A probe."}))
 _PARAMS = _PROBE.__dataclass_params__
 _FIELD = dataclasses.fields(_PROBE)[0]._field_type
-#: Annotations that are not plain fields to ``dataclass`` (refused: records have plain fields only).
-_PSEUDO = re.compile("ClassVar|InitVar|KW_ONLY")
 
 
 def _collect(cls, frozen: bool) -> tuple:
@@ -243,17 +241,18 @@ def _collect(cls, frozen: bool) -> tuple:
     annotations = namespace.get("__annotations__", {})
     for name, kind in annotations.items():
         text = kind if kind.__class__ is str else getattr(kind, "__name__", "") or repr(kind)
-        if _PSEUDO.search(text) or kind is dataclasses.KW_ONLY or isinstance(kind, dataclasses.InitVar):
+        if "ClassVar" in text or "InitVar" in text or "KW_ONLY" in text or kind is KW_ONLY or \
+                isinstance(kind, InitVar):  # (not plain fields to dataclass: refused)
             raise TypeError(f"{cls.__name__}.{name}: records support plain fields only (no {text})")
         default = namespace.get(name, _MISSING)
-        if isinstance(default, dataclasses.Field):
+        if isinstance(default, Field):
             f = default
             if f.default is _MISSING:
                 delattr(cls, name)
             else:
                 setattr(cls, name, f.default)
         else:
-            f = dataclasses.field(default=default)
+            f = field(default=default)
         if f.default_factory is _MISSING and f.default.__class__.__hash__ is None:
             raise ValueError(f"mutable default {type(f.default)} for field {name} is not allowed: use default_factory")
         f.name, f.type, f._field_type = name, kind, _FIELD
@@ -261,7 +260,7 @@ def _collect(cls, frozen: bool) -> tuple:
             f.kw_only = False
         fields[name] = f
     for name, value in namespace.items():
-        if isinstance(value, dataclasses.Field) and name not in annotations:
+        if isinstance(value, Field) and name not in annotations:
             raise TypeError(f"{name!r} is a field but has no type annotation")
     cls.__dataclass_fields__ = fields
     cls.__dataclass_params__ = _PARAMS
