@@ -6,7 +6,7 @@
     front end       syntax/*, typesys, frontend
     exact engine    denote, ddenote, onesided, symbolic/*          Monte Carlo engine  operational/*
     linter          transversality, lint/*
-    top             exact, theorem, reproduce, strategies/*, fuzz/*, commands/*, cli, __main__
+    top             exact, theorem, reproduce, strategies/*, fuzz/*, commands/*, cli, arguments, cliparser, __main__
 
 A module imports only from its own layer or below; the Monte Carlo engine imports only the core
 layer (no sympy, no exact engine: the engines stay independent); there is no import cycle; and a
@@ -36,7 +36,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("linter", ("langur.transversality", "langur.lint")),
     ("top", ("langur.exact", "langur.steps", "langur.theorem", "langur.reproduce", "langur.reference", "langur.engines",
              "langur.strategies", "langur.fuzz", "langur.commands",
-             "langur.cli", "langur.__main__")),
+             "langur.cli", "langur.arguments", "langur.cliparser", "langur.__main__")),
 ]
 #: The Monte Carlo engine sits beside the exact engine but reads the core layer only.
 MONTE_CARLO = "langur.operational"
