@@ -36,6 +36,7 @@ lark on every example file, the hostile corpus and random programs, token by tok
 
 from __future__ import annotations
 
+import _sre
 import hashlib
 import re
 import sys
@@ -166,8 +167,44 @@ def scanner(lexer: dict) -> dict:
         keywords[name] = {}
         for literal, terminal in words:
             keywords[name].setdefault(literal, terminal)
-    return {"pattern": f"(?>(?:{skip})*)(?:{alternatives})?" if skip else f"(?:{alternatives})?",
-            "flags": int(lexer["flags"]), "singles": singles, "keywords": keywords}
+    pattern = f"(?>(?:{skip})*)(?:{alternatives})?" if skip else f"(?:{alternatives})?"
+    flags = int(lexer["flags"])
+    return {"pattern": pattern, "flags": flags, "singles": singles, "keywords": keywords,
+            "compiled": compiled(pattern, flags)}
+
+
+def _engine() -> list:
+    """What a compiled pattern's code is valid for: the regular expression engine's version and
+    word size, and the interpreter."""
+    return [_sre.MAGIC, _sre.CODESIZE, sys.implementation.cache_tag]
+
+
+def compiled(pattern: str, flags: int) -> dict:
+    """``re.compile(pattern, flags)``'s work done once, by the generator: the engine's code of the
+    pattern and its groups, as ``re._compiler.compile`` passes them to ``_sre.compile``, stamped
+    with :func:`_engine` (compiling the pattern was most of the driver's start-up, ~2.5 M
+    instructions of Python code in ``re._parser``/``re._compiler`` per process; the driver makes the
+    pattern from this code when the stamp is its own, else it compiles the pattern)."""
+    tree = re._parser.parse(pattern, flags)  # (re's own compiler, as re.compile calls it)
+    groupindex = dict(tree.state.groupdict)
+    indexgroup = [None] * tree.state.groups
+    for name, i in groupindex.items():
+        indexgroup[i] = name
+    return {"engine": _engine(), "flags": flags | tree.state.flags, "code": [int(c) for c in re._compiler._code(tree, flags)],
+            "groups": tree.state.groups - 1, "groupindex": groupindex, "indexgroup": indexgroup}
+
+
+def glued(lexer: dict) -> re.Pattern:
+    """The lexer's pattern (:func:`scanner`'s): made by the engine from the generator's code
+    (:func:`compiled`) when that code is for this engine and interpreter, else compiled."""
+    c = lexer.get("compiled")
+    if type(c) is dict and c.get("engine") == _engine():
+        try:
+            return _sre.compile(lexer["pattern"], c["flags"], list(c["code"]), c["groups"], dict(c["groupindex"]),
+                                tuple(c["indexgroup"]))
+        except (TypeError, ValueError, RuntimeError, KeyError):  # (the engine refuses code it cannot run)
+            pass
+    return re.compile(lexer["pattern"], lexer["flags"])
 
 
 #: A table's code for "no action" (an input with a syntax error there).
@@ -266,7 +303,7 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     the table)."""
     try:
         lexer = data["scanner"]
-        glued = re.compile(lexer["pattern"], lexer["flags"])
+        match = glued(lexer).match
         singles, keywords = lexer["singles"], lexer["keywords"]
         starts, ends = data["start_states"], data["end_states"]
         rules, symbols = data["rules"], data["symbols"]
@@ -301,7 +338,7 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     new = str.__new__
 
     def parse(text: str, start: str) -> Any:
-        match, end = glued.match, len(text)
+        end = len(text)
         state_stack, value_stack = [starts[start]], []
         push_state, push_value = state_stack.append, value_stack.append
         pos, line, line_start = 0, 1, 0
@@ -392,4 +429,4 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     return parse
 
 
-__all__ = ["DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "driver", "grammar_text", "load", "pack", "scanner", "unpack"]
+__all__ = ["DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "compiled", "driver", "glued", "grammar_text", "load", "pack", "scanner", "unpack"]
