@@ -328,7 +328,8 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
                 reductions.append((len(expansion), callback, goto))
         # (the table's codes are not checked one by one here — a pass over them cost more than the
         # rest of the start-up: the table is the package's own generated module, which ``tables
-        # --check`` and the tests check, or the one packed from lark's parser in this process)
+        # --check`` and the tests check, or the one packed from lark's parser in this process; a
+        # code naming a rule or a state that is not there makes the parse FAILED: lark parses)
         if "$END" not in columns \
                 or not all(type(s) is int and 0 <= s < n_states for s in (*starts.values(), *ends.values())):
             return None
@@ -338,6 +339,12 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     new = str.__new__
 
     def parse(text: str, start: str) -> Any:
+        try:
+            return run(text, start)
+        except (IndexError, KeyError):  # a table that names a rule or a state not there: lark parses
+            return FAILED
+
+    def run(text: str, start: str) -> Any:
         end = len(text)
         state_stack, value_stack = [starts[start]], []
         push_state, push_value = state_stack.append, value_stack.append

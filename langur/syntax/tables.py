@@ -248,6 +248,16 @@ def _check(path: Path, fmt: int) -> str | None:
     return None
 
 
+def _same_driver(data: dict) -> bool:
+    """``data`` has what :func:`driver_data` reads off a parser built now: the same lexer, rules,
+    symbols and number of states (lark numbers its states in set order: the tables themselves may
+    differ between two generations by a renumbering)."""
+    fresh = driver_data(build())
+    keys = ("lexer", "rules", "terminal_names", "scanner", "symbols")
+    return fresh is not None and all(data.get(k) == fresh[k] for k in keys) \
+        and len(data["actions"]) == len(fresh["actions"])
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if argv == ["--check"]:
@@ -256,8 +266,8 @@ def main(argv: list[str] | None = None) -> int:
         data = lalr.load()
         if data is None:
             wrongs.append((lalr.DATA, "missing, broken, of another layout or made from another grammar"))
-        elif lalr.driver(data, lalr.callbacks(data, object()) or []) is None:
-            wrongs.append((lalr.DATA, "not a driver's data"))
+        elif lalr.driver(data, lalr.callbacks(data, object()) or []) is None or not _same_driver(data):
+            wrongs.append((lalr.DATA, "not the driver's data of lark's parser"))
         for path, wrong in wrongs:
             if wrong is not None:
                 print(f"{path}: {wrong}; run python -m langur.syntax.tables", file=sys.stderr)
