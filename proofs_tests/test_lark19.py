@@ -31,6 +31,7 @@ from test_lalr import FILES, _tree  # (the example files, and a surface tree as 
 from langur.diagnostics import LangurError
 from langur.syntax import lalr, larkload, parser, tables
 
+
 def _outcome(parse, text: str, path: str = "f.lgr"):
     try:
         return ("ok", _tree(parse(text, path)))
