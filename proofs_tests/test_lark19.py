@@ -217,7 +217,7 @@ def test_a_pattern_s_code_for_another_engine_is_compiled_from_the_pattern():
     expected = re.compile(scanner["pattern"], scanner["flags"])
     made = lalr.glued(scanner)
     assert made is not expected  # (made by the engine from the shipped code, not re's cache)
-    other = {**scanner, "compiled": {**scanner["compiled"], "engine": [0, 0, "cpython-00"]}}
+    other = {**scanner, "compiled": {**scanner["compiled"], "engine": (0, 0, "cpython-00")}}
     assert lalr.glued(other) is expected  # (re.compile's, from its cache)
     refused = {**scanner, "compiled": {**scanner["compiled"], "code": [10**6, 1, 2]}}
     assert lalr.glued(refused) is expected

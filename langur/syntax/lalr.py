@@ -173,10 +173,10 @@ def scanner(lexer: dict) -> dict:
             "compiled": compiled(pattern, flags)}
 
 
-def _engine() -> list:
+def _engine() -> tuple:
     """What a compiled pattern's code is valid for: the regular expression engine's version and
     word size, and the interpreter."""
-    return [_sre.MAGIC, _sre.CODESIZE, sys.implementation.cache_tag]
+    return (_sre.MAGIC, _sre.CODESIZE, sys.implementation.cache_tag)
 
 
 def compiled(pattern: str, flags: int) -> dict:
@@ -190,8 +190,9 @@ def compiled(pattern: str, flags: int) -> dict:
     indexgroup = [None] * tree.state.groups
     for name, i in groupindex.items():
         indexgroup[i] = name
-    return {"engine": _engine(), "flags": flags | tree.state.flags, "code": [int(c) for c in re._compiler._code(tree, flags)],
-            "groups": tree.state.groups - 1, "groupindex": groupindex, "indexgroup": indexgroup}
+    code = tuple(int(c) for c in re._compiler._code(tree, flags))
+    return {"engine": _engine(), "flags": flags | tree.state.flags, "code": code, "groups": tree.state.groups - 1,
+            "groupindex": groupindex, "indexgroup": tuple(indexgroup)}
 
 
 def glued(lexer: dict) -> re.Pattern:

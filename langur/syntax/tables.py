@@ -193,17 +193,28 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
             return None
         states = [{symbol: arg if action is shift else -1 - index[arg] for symbol, (action, arg) in row.items()}
                   for _, row in sorted(table.states.items())]
-        # (as plain data: lark's names are its Token, a str subclass; JSON's round trip makes them str)
+        # (as plain data: lark's names are its Token, a str subclass; JSON's round trip makes them str,
+        # and every list a tuple: one constant of the generated module, not a list built at import)
         data = json.loads(json.dumps({
             "lexer": lexer_data, "rules": rules, "states": states,
             "start_states": dict(table.start_states), "end_states": dict(table.end_states),
-            "terminal_names": sorted(t.name for t in lark.terminals)}))
-        symbols = sorted({"$END", *data["terminal_names"], *(rule[0] for rule in data["rules"]),
-                          *(symbol for row in data["states"] for symbol in row)})
+            "terminal_names": sorted(t.name for t in lark.terminals)}), object_hook=_tuples)
+        data = {**data, "states": [dict(row) for row in data["states"]]}
+        symbols = tuple(sorted({"$END", *data["terminal_names"], *(rule[0] for rule in data["rules"]),
+                          *(symbol for row in data["states"] for symbol in row)}))
         return {**data, "scanner": lalr.scanner(data["lexer"]), "symbols": symbols,
                 "actions": lalr.pack(data["states"], symbols)}
     except (AttributeError, KeyError, TypeError, StopIteration, re.error):
         return None
+
+
+def _tuples(x: dict) -> dict:
+    """``json``'s ``object_hook``: an object's arrays as tuples (nested ones too)."""
+    return {k: _tuple(v) for k, v in x.items()}
+
+
+def _tuple(x: Any) -> Any:
+    return tuple(_tuple(v) for v in x) if isinstance(x, list) else x
 
 
 def _chain(chain: list) -> list | None:
