@@ -5,8 +5,8 @@ lark is the single source of the grammar, but importing it (~25 ms), deserializi
 (~10 ms) and reading that parser's objects back into a driver (~4 ms) cost about 40 ms of every
 one-shot process for a parse that takes well under a millisecond.  So ``python -m
 langur.syntax.tables`` — run when the grammar changes — also reads, out of the parser lark builds,
-everything a successful parse needs and writes it as plain data (JSON, never a pickle: SECURITY.md)
-to ``grammar.driver.json`` (:data:`DATA`), stamped with the grammar's SHA-256: the lexer's terminals
+everything a successful parse needs and writes it as plain data (literals, never a pickle: SECURITY.md)
+to the module ``grammar_driver.py`` (:data:`DATA`), stamped with the grammar's SHA-256: the lexer's terminals
 in the order lark's scanner tries them and their regular expressions, the keywords lark's
 ``UnlessCallback`` tells from names, the ignored and newline-bearing terminals, the LALR action
 table, and for every rule the callback lark calls on its reduction and how lark's parse-tree
@@ -23,12 +23,20 @@ character class of the lexer's pattern (at most one of them matches anywhere, so
 them is moot), and a name is told from a keyword by a dict of the keywords' literals (what lark's
 ``UnlessCallback`` finds by a full match of their alternation).
 
+The data is left as the generator wrote it, so that a process's start-up resolves nothing (issue 15,
+parser23: the JSON file's decoding and the table's resolution were 14 M instructions of the
+one-shot ``langur eval``): the module is literals compiled to its ``.pyc`` like any module (its load
+an unmarshal); the table is one ``bytes`` constant, a column of 16-bit codes per symbol, indexed
+as it is (:func:`pack`); the lexer's pattern comes with the regular expression engine's code for
+it, made by ``re``'s own compiler at generation and used when this interpreter's engine is the one
+it was made for (:func:`compiled`, :func:`glued`), else the pattern is compiled.
+
 Only success is handled here: at a character no terminal matches or a token the table has no action
 for, :func:`driver`'s function returns :data:`FAILED`, and ``parser.py`` then imports lark and parses
 again with it, which raises the error the diagnostics are made from (the callbacks keep no state
 between calls but the path, so running them again is harmless).  That lazy import is the point (a
 valid program never pays for lark), not a way around an import cycle.  A missing, stale or
-malformed data file makes :func:`load` return ``None``: ``parser.py`` then builds lark's parser from
+malformed data module makes :func:`load` return ``None``: ``parser.py`` then builds lark's parser from
 the grammar and derives the same data from it in the process (``tables.driver_data``), slower, same
 behaviour.  ``proofs_tests/test_lalr.py`` and ``test_text_to_number11.py`` compare the driver with
 lark on every example file, the hostile corpus and random programs, token by token and tree by tree.

@@ -8,7 +8,7 @@ build a parser or fail, never run code.  The file records the SHA-256 of the gra
 from; a file that does not match the grammar, or does not decode, is ignored and the parser is
 built from the grammar (slower start-up, same parser).
 
-The same run also writes ``grammar.driver.json`` (:data:`lalr.DATA`): what :mod:`langur.syntax.lalr`'s
+The same run also writes ``grammar_driver.py`` (:data:`lalr.DATA`, a module of literals): what :mod:`langur.syntax.lalr`'s
 driver needs to parse a valid program without importing lark (issue 15, start-up), read here out of
 the parser lark builds (:func:`driver_data`) — never written by hand.  This module imports lark: it
 is the generator's side, and at run time it is imported only on the parser's error path, or when
@@ -16,7 +16,7 @@ the shipped files are stale.
 
 Regenerate after editing the grammar::
 
-    python -m langur.syntax.tables          # writes grammar.tables.json and grammar.driver.json
+    python -m langur.syntax.tables          # writes grammar.tables.json and grammar_driver.py
     python -m langur.syntax.tables --check  # exit 1 if the shipped files do not match the grammar
 """
 
