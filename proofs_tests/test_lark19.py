@@ -1,6 +1,6 @@
 """A valid program is parsed without importing lark (issue 15, start-up; branch lark19).
 
-``python -m langur.syntax.tables`` writes ``grammar.driver.json`` (``lalr.DATA``): the lexer, the
+``python -m langur.syntax.tables`` writes ``grammar_driver.py`` (``lalr.DATA``): the lexer, the
 LALR table and each rule's callback with lark's shaping of its children, read out of the parser lark
 builds; ``langur/syntax/lalr.py`` drives that data without lark, and ``parser.py`` imports lark only
 when the driver fails (a syntax error, whose diagnostic lark's exception gives) or the data is stale.
@@ -10,17 +10,19 @@ when the driver fails (a syntax error, whose diagnostic lark's exception gives) 
   alone gives, ``parser.FAST`` off), and imports lark to make it.
 * The shipped data is what lark's parser gives: the same lexer and rules as the data read off a
   parser built from the grammar now, and the same trees (spans included) on every file.
-* A missing, stale, malformed or hostile data file is never trusted: ``lalr.load`` refuses it, the
-  data is read off lark's parser instead (same trees), ``tables --check`` fails on it.
+* A missing, stale or malformed data module is never trusted: ``lalr.load`` or ``lalr.driver``
+  refuses it, the data is read off lark's parser instead (same trees), ``tables --check`` fails on
+  it; the lexer's shipped engine code is used only by the engine it was made for.
 * ``lalr.Token`` is read as ``lark.Token`` is: the same slots, equality, hash, repr, positions.
 """
 
 from __future__ import annotations
 
 import json
-import pickle
+import re
 import subprocess
 import sys
+import types
 
 import pytest
 from paths import REPO
@@ -28,8 +30,6 @@ from test_lalr import FILES, _tree  # (the example files, and a surface tree as 
 
 from langur.diagnostics import LangurError
 from langur.syntax import lalr, larkload, parser, tables
-
-SHIPPED = lalr.DATA
 
 
 def _outcome(parse, text: str, path: str = "f.lgr"):
@@ -106,15 +106,16 @@ def test_the_shipped_data_is_read_off_lark_s_parser():
     assert shipped is not None
     fresh = tables.driver_data(tables.build())
     # lark numbers its states in set order (two generations differ there), not its lexer or rules
-    assert shipped["lexer"] == json.loads(json.dumps(fresh["lexer"]))
-    assert shipped["rules"] == json.loads(json.dumps(fresh["rules"]))
-    assert shipped["terminal_names"] == fresh["terminal_names"]
-    assert len(shipped["states"]) == len(fresh["states"])
+    for key in ("lexer", "rules", "terminal_names", "scanner", "symbols", "start_states", "end_states"):
+        if key not in ("start_states", "end_states"):
+            assert shipped[key] == fresh[key], key
+    assert len(lalr.unpack(shipped["actions"], shipped["symbols"])) == len(fresh["states"])
+    assert lalr.unpack(fresh["actions"], fresh["symbols"]) == fresh["states"]
     # the splicing of inlined rules and the single-child expansion are in the data (not vacuous)
     chains = [w[0] for rule in shipped["rules"] for w in rule[3]]
     assert "filter" in chains and "expand1" in chains
     drivers = []
-    for data in (shipped, json.loads(json.dumps(fresh))):
+    for data in (shipped, fresh):
         drivers.append(lalr.driver(data, lalr.callbacks(data, parser._BUILDER), ()))
     parsed = 0
     with parser._LOCK:
@@ -134,57 +135,70 @@ def test_the_shipped_data_is_read_off_lark_s_parser():
 
 
 @pytest.fixture
-def stale(tmp_path, monkeypatch):
-    """The driver's data file replaced by ``tmp_path/grammar.driver.json`` (written by the test) and
-    the parser's driver and lark parser made again."""
-    path = tmp_path / "grammar.driver.json"
-    monkeypatch.setattr(lalr, "DATA", path)
-    monkeypatch.setattr(lalr.load, "__defaults__", (path,))
+def stale(monkeypatch):
+    """A function that puts a module in place of the generated ``grammar_driver`` (``None``: no
+    such module), with the parser's driver and lark parser made again."""
+    import langur.syntax
+
     monkeypatch.setattr(parser, "_DRIVER", None)
     monkeypatch.setattr(parser, "_PARSER", None)
-    return path
+
+    def put(module):
+        monkeypatch.delattr(langur.syntax, "grammar_driver", raising=False)
+        monkeypatch.setitem(sys.modules, "langur.syntax.grammar_driver", module)
+        if module is not None:
+            monkeypatch.setattr(langur.syntax, "grammar_driver", module, raising=False)
+    return put
 
 
-class _Plant:
-    def __init__(self, marker):
-        self.marker = marker
+def _module(**changes) -> types.ModuleType:
+    """The generated module's source with ``changes`` to its data, run as a module."""
+    import langur.syntax.grammar_driver as shipped
 
-    def __reduce__(self):
-        return (open, (str(self.marker), "w"))
+    module = types.ModuleType("langur.syntax.grammar_driver")
+    for name in ("FORMAT", "GRAMMAR_SHA256", "BYTEORDER", "DRIVER", "ACTIONS"):
+        setattr(module, name, changes.get(name, getattr(shipped, name)))
+    for name, value in changes.items():
+        if value is _GONE:
+            delattr(module, name)
+    return module
 
 
-def _hostile(marker) -> dict[str, bytes]:
-    good = json.loads(SHIPPED.read_text(encoding="utf-8"))
-    right = {**good, "driver": {"lexer": {"__t": "tuple", "items": ["os", "system"]}, "rules": "touch x"}}
-    bad_states = {**good, "driver": {**good["driver"], "states": [{"NAME": "x"}]}}
-    bad_rule = {**good, "driver": {**good["driver"], "states": [{"NAME": -10_000}]}}
-    bad_shift = {**good, "driver": {**good["driver"], "states": [*good["driver"]["states"][:-1], {"NAME": 10**6}]}}
+_GONE = object()
+
+
+def _hostile() -> dict:
+    import langur.syntax.grammar_driver as shipped
+
+    good = shipped.DRIVER
     return {
-        "a pickle": pickle.dumps(_Plant(marker)),
-        "garbage": b"\x00\x01 not json",
-        "another grammar": json.dumps({**good, "grammar_sha256": "0"}).encode(),
-        "another layout": json.dumps({**good, "format": 99}).encode(),
-        "right digest, hostile data": json.dumps(right).encode(),
-        "right digest, a state's action not a number": json.dumps(bad_states).encode(),
-        "right digest, a rule that is not there": json.dumps(bad_rule).encode(),
-        "right digest, a shift to a state that is not there": json.dumps(bad_shift).encode(),
-        "deeply nested json": b"[" * 100_000,
-        "not an object": b"[1, 2]",
+        "no module": None,
+        "another grammar": _module(GRAMMAR_SHA256="0"),
+        "another layout": _module(FORMAT=99),
+        "another byte order": _module(BYTEORDER="middle"),
+        "no table": _module(ACTIONS=_GONE),
+        "right digest, hostile data": _module(DRIVER={"lexer": ("os", "system"), "rules": "touch x"}),
+        "right digest, a table cut short": _module(ACTIONS=shipped.ACTIONS[:-2]),
+        "right digest, no rules (every parse fails: lark parses)": _module(DRIVER={**good, "rules": []}),
+        "right digest, a start state that is not there": _module(DRIVER={**good, "start_states": {"start": 10**6}}),
+        "right digest, a pattern's code that the engine refuses": _module(DRIVER={**good, "scanner": {
+            **good["scanner"], "compiled": {**good["scanner"]["compiled"], "code": [10**6, 1, 2]}}}),
     }
 
 
-@pytest.mark.parametrize("kind", list(_hostile("m")))
-def test_a_stale_or_hostile_data_file_is_refused_and_the_parse_is_the_same(stale, tmp_path, kind):
-    marker = tmp_path / "code-ran"
-    stale.write_bytes(_hostile(marker)[kind])
+@pytest.mark.parametrize("kind", list(_hostile()))
+def test_a_stale_or_broken_data_module_is_refused_and_the_parse_is_the_same(stale, kind):
+    stale(_hostile()[kind])
     data = lalr.load()
-    if data is not None:  # (the digest is right: the driver refuses the data itself)
+    if data is not None:  # (the digest is right: the driver refuses the data, or fails every parse)
         callbacks = lalr.callbacks(data, parser._BUILDER)
-        assert callbacks is None or lalr.driver(data, callbacks, ()) is None
+        drive = None if callbacks is None else lalr.driver(data, callbacks, ())
+        text = FILES[0].read_text(encoding="utf-8")
+        assert drive is None or drive(text, "start") is lalr.FAILED or kind.endswith("refuses"), kind
     text = FILES[0].read_text(encoding="utf-8")
     with parser._LOCK:
-        d = parser._driver()  # read off lark's parser when the file is refused
-    assert d, "no driver: the data was not derived from lark's parser"
+        d = parser._driver()
+    assert d, "no driver"
     ours = _outcome(parser.parse_module, text)
     parser.FAST = False
     try:
@@ -192,27 +206,32 @@ def test_a_stale_or_hostile_data_file_is_refused_and_the_parse_is_the_same(stale
     finally:
         parser.FAST = True
     assert ours == theirs
-    assert not marker.exists()
-    assert tables.main(["--check"]) == 1
+    if not kind.endswith("refuses"):
+        assert tables.main(["--check"]) == 1
 
 
-def test_an_oversized_data_file_is_not_read(stale):
-    stale.write_bytes(b" " * (lalr.MAX_DATA_BYTES + 1))
-    assert lalr.load() is None
-    stale.unlink()
-    assert lalr.load() is None  # (missing)
-    assert tables.main(["--check"]) == 1
+def test_a_pattern_s_code_for_another_engine_is_compiled_from_the_pattern():
+    data = lalr.load()
+    assert data is not None
+    scanner = data["scanner"]
+    expected = re.compile(scanner["pattern"], scanner["flags"])
+    made = lalr.glued(scanner)
+    assert made is not expected  # (made by the engine from the shipped code, not re's cache)
+    other = {**scanner, "compiled": {**scanner["compiled"], "engine": (0, 0, "cpython-00")}}
+    assert lalr.glued(other) is expected  # (re.compile's, from its cache)
+    refused = {**scanner, "compiled": {**scanner["compiled"], "code": [10**6, 1, 2]}}
+    assert lalr.glued(refused) is expected
 
 
 def test_tables_check_covers_the_driver_data(stale, capsys):
-    stale.write_text("", encoding="utf-8")
+    stale(_module(GRAMMAR_SHA256=tables.digest(tables.grammar_text() + " ")))
     assert tables.main(["--check"]) == 1
-    assert "grammar.driver.json" in capsys.readouterr().err
+    assert "grammar_driver.py" in capsys.readouterr().err
     doc = tables.generate_driver()
-    stale.write_text(json.dumps(doc), encoding="utf-8")
+    module = types.ModuleType("generated")
+    exec(compile(tables.driver_module(doc), "generated", "exec"), module.__dict__)
+    stale(module)
     assert tables.main(["--check"]) == 0
-    stale.write_text(json.dumps({**doc, "grammar_sha256": tables.digest(tables.grammar_text() + " ")}))
-    assert tables.main(["--check"]) == 1
 
 
 def test_the_driver_token_is_read_as_lark_s():

@@ -52,6 +52,8 @@ LAZY: dict[tuple[str, str], str] = {
     ("langur.commands._engines", "langur.engines"): "the exact engine (sympy): only when --engine names another engine",
     ("langur.syntax.parser", "langur.syntax.larkload"): "lark (~35 ms): only to report a syntax error, or stale tables",
     ("langur.syntax.parser", "langur.syntax.tables"): "lark (~35 ms): only to report a syntax error, or stale tables",
+    ("langur.syntax.lalr", "langur.syntax.grammar_driver"): "the generated tables: read on the first parse; a missing "
+    "or broken module is refused (the data is then read off lark)",
 }
 
 

@@ -183,11 +183,10 @@ def test_one_character_literals_are_one_class_read_as_lark_reads_them():
     terminal lark's own lexer gives it (alone, and before a digit, a dot and a name)."""
     with parser._LOCK:
         lk = parser._parser()
-        driver = parser._DRIVER
-    found = {type(c.cell_contents): c.cell_contents for c in driver.__closure__ or ()
-             if isinstance(c.cell_contents, (re.Pattern, dict))
-             and (isinstance(c.cell_contents, re.Pattern) or all(len(k) == 1 for k in c.cell_contents))}
-    pattern, singles = found[re.Pattern], found[dict]
+    data = lalr.load()
+    assert data is not None
+    pattern, singles = lalr.glued(data["scanner"]), data["scanner"]["singles"]
+    assert isinstance(pattern, re.Pattern)
     assert f"(?P<{lalr.SINGLE}>[" in pattern.pattern
     assert len(singles) >= 15 and set(singles) >= set("()[],;:=+-*/^&|<>.")
     for ch, name in singles.items():

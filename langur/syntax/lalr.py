@@ -5,8 +5,8 @@ lark is the single source of the grammar, but importing it (~25 ms), deserializi
 (~10 ms) and reading that parser's objects back into a driver (~4 ms) cost about 40 ms of every
 one-shot process for a parse that takes well under a millisecond.  So ``python -m
 langur.syntax.tables`` — run when the grammar changes — also reads, out of the parser lark builds,
-everything a successful parse needs and writes it as plain data (JSON, never a pickle: SECURITY.md)
-to ``grammar.driver.json`` (:data:`DATA`), stamped with the grammar's SHA-256: the lexer's terminals
+everything a successful parse needs and writes it as plain data (literals, never a pickle: SECURITY.md)
+to the module ``grammar_driver.py`` (:data:`DATA`), stamped with the grammar's SHA-256: the lexer's terminals
 in the order lark's scanner tries them and their regular expressions, the keywords lark's
 ``UnlessCallback`` tells from names, the ignored and newline-bearing terminals, the LALR action
 table, and for every rule the callback lark calls on its reduction and how lark's parse-tree
@@ -23,12 +23,20 @@ character class of the lexer's pattern (at most one of them matches anywhere, so
 them is moot), and a name is told from a keyword by a dict of the keywords' literals (what lark's
 ``UnlessCallback`` finds by a full match of their alternation).
 
+The data is left as the generator wrote it, so that a process's start-up resolves nothing (issue 15,
+parser23: the JSON file's decoding and the table's resolution were 14 M instructions of the
+one-shot ``langur eval``): the module is literals compiled to its ``.pyc`` like any module (its load
+an unmarshal); the table is one ``bytes`` constant, a column of 16-bit codes per symbol, indexed
+as it is (:func:`pack`); the lexer's pattern comes with the regular expression engine's code for
+it, made by ``re``'s own compiler at generation and used when this interpreter's engine is the one
+it was made for (:func:`compiled`, :func:`glued`), else the pattern is compiled.
+
 Only success is handled here: at a character no terminal matches or a token the table has no action
 for, :func:`driver`'s function returns :data:`FAILED`, and ``parser.py`` then imports lark and parses
 again with it, which raises the error the diagnostics are made from (the callbacks keep no state
 between calls but the path, so running them again is harmless).  That lazy import is the point (a
 valid program never pays for lark), not a way around an import cycle.  A missing, stale or
-malformed data file makes :func:`load` return ``None``: ``parser.py`` then builds lark's parser from
+malformed data module makes :func:`load` return ``None``: ``parser.py`` then builds lark's parser from
 the grammar and derives the same data from it in the process (``tables.driver_data``), slower, same
 behaviour.  ``proofs_tests/test_lalr.py`` and ``test_text_to_number11.py`` compare the driver with
 lark on every example file, the hostile corpus and random programs, token by token and tree by tree.
@@ -36,19 +44,20 @@ lark on every example file, the hostile corpus and random programs, token by tok
 
 from __future__ import annotations
 
+import _sre
 import hashlib
-import json
 import re
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 GRAMMAR = Path(__file__).with_name("grammar.lark")
-#: The driver's data, generated from lark by ``python -m langur.syntax.tables``.
-DATA = Path(__file__).with_name("grammar.driver.json")
-#: The layout of :data:`DATA` (a file of another layout is not read).
-DATA_FORMAT = 1
-MAX_DATA_BYTES = 1_000_000  # the shipped file is ~40 kB; anything far larger is not ours
+#: The driver's data: a Python module of literals (compiled to a ``.pyc`` like every module: its load
+#: is an unmarshal), generated from lark by ``python -m langur.syntax.tables``, never edited by hand.
+DATA = Path(__file__).with_name("grammar_driver.py")
+#: The layout of :data:`DATA` (a module of another layout is not read).
+DATA_FORMAT = 2
 
 #: What the driver returns when lark must parse instead (an input with a syntax error).
 FAILED = object()
@@ -58,7 +67,8 @@ SINGLE = "_1CHAR"
 
 
 def grammar_text() -> str:
-    return GRAMMAR.read_text(encoding="utf-8")
+    with open(GRAMMAR, encoding="utf-8") as f:
+        return f.read()
 
 
 def digest(text: str) -> str:
@@ -108,19 +118,129 @@ class Tree:
         return f"Tree({self.data!r}, {self.children!r})"
 
 
-def load(path: Path = DATA) -> dict | None:
-    """The driver's data, or ``None`` when the file is missing, too large, not JSON, of another
-    layout or made from another grammar (the caller then derives it from lark)."""
+def load(module: Any = None) -> dict | None:
+    """The driver's data — ``DRIVER`` of the generated module :data:`DATA` (or of ``module``), its
+    table ``ACTIONS`` included — or ``None`` when the module is missing or broken, of another layout,
+    made from another grammar or for another byte order (the caller then derives the data from
+    lark)."""
     try:
-        if path.stat().st_size > MAX_DATA_BYTES:
+        if module is None:
+            from . import grammar_driver as module  # (the generated data, read on the first parse)
+        if (module.FORMAT != DATA_FORMAT or module.BYTEORDER != sys.byteorder
+                or module.GRAMMAR_SHA256 != digest(grammar_text())):
             return None
-        doc = json.loads(path.read_text(encoding="utf-8"))
-        if (type(doc) is not dict or doc.get("format") != DATA_FORMAT
-                or doc.get("grammar_sha256") != digest(grammar_text()) or type(doc.get("driver")) is not dict):
-            return None
-        return doc["driver"]
-    except (OSError, ValueError, RecursionError):
+        return {**module.DRIVER, "actions": module.ACTIONS}
+    except Exception:  # noqa: BLE001 - a missing or broken module: the data is derived from lark instead
         return None
+
+
+def scanner(lexer: dict) -> dict:
+    """What the driver's lexer runs, made from the lexer's data (``tables.driver_data``'s
+    ``lexer``) once, by the generator: ``pattern`` — one match per token: any run of ignored text
+    (white space, comments) as lark's lexer would cut it — atomic, never backtracked into (a comment
+    is never cut short for a name in it) — then the scanner's alternatives in its order, or nothing
+    at the end of the text.  After that run no ignored terminal can match (the run would have taken
+    it), so they are left out; a run of consecutive one-character literal terminals (``(``, ``+``,
+    …: at most one of them matches, whatever their order) is one character class, group
+    :data:`SINGLE`, its terminal read off the character (``singles``: one failed alternative
+    instead of one per terminal).  ``keywords``: per terminal with lark's ``UnlessCallback``
+    (``NAME``), its text → the keyword's terminal, as that callback finds it (a full match of the
+    keywords' literals: the first literal equal to the text).  ``flags``: the pattern's."""
+    ignored = frozenset(lexer["ignore"])
+    skip = "|".join(f"(?:{regexp})" for regexp in lexer["ignored_patterns"])
+    parts: list[str] = []
+    singles: dict[str, str] = {}
+    run: list = []
+
+    def close() -> None:
+        if len(run) > 1:
+            singles.update((char, name) for name, _, char in run)
+            parts.append(f"(?P<{SINGLE}>[{''.join(re.escape(char) for _, _, char in run)}])")
+        else:
+            parts.extend(f"(?P<{name}>{regexp})" for name, regexp, _ in run)
+        run.clear()
+
+    for name, regexp, char in lexer["terminals"]:  # (lark's scanner's order)
+        if name in ignored:
+            continue
+        if char is not None:  # a one-character literal
+            run.append((name, regexp, char))
+            continue
+        close()
+        parts.append(f"(?P<{name}>{regexp})")
+    close()
+    alternatives = "|".join(parts)
+    keywords: dict[str, dict[str, str]] = {}
+    for name, words in lexer["keywords"].items():
+        keywords[name] = {}
+        for literal, terminal in words:
+            keywords[name].setdefault(literal, terminal)
+    pattern = f"(?>(?:{skip})*)(?:{alternatives})?" if skip else f"(?:{alternatives})?"
+    flags = int(lexer["flags"])
+    return {"pattern": pattern, "flags": flags, "singles": singles, "keywords": keywords,
+            "compiled": compiled(pattern, flags)}
+
+
+def _engine() -> tuple:
+    """What a compiled pattern's code is valid for: the regular expression engine's version and
+    word size, and the interpreter."""
+    return (_sre.MAGIC, _sre.CODESIZE, sys.implementation.cache_tag)
+
+
+def compiled(pattern: str, flags: int) -> dict:
+    """``re.compile(pattern, flags)``'s work done once, by the generator: the engine's code of the
+    pattern and its groups, as ``re._compiler.compile`` passes them to ``_sre.compile``, stamped
+    with :func:`_engine` (compiling the pattern was most of the driver's start-up, ~2.5 M
+    instructions of Python code in ``re._parser``/``re._compiler`` per process; the driver makes the
+    pattern from this code when the stamp is its own, else it compiles the pattern)."""
+    tree = re._parser.parse(pattern, flags)  # (re's own compiler, as re.compile calls it)
+    groupindex = dict(tree.state.groupdict)
+    indexgroup = [None] * tree.state.groups
+    for name, i in groupindex.items():
+        indexgroup[i] = name
+    code = tuple(int(c) for c in re._compiler._code(tree, flags))
+    return {"engine": _engine(), "flags": flags | tree.state.flags, "code": code, "groups": tree.state.groups - 1,
+            "groupindex": groupindex, "indexgroup": tuple(indexgroup)}
+
+
+def glued(lexer: dict) -> re.Pattern:
+    """The lexer's pattern (:func:`scanner`'s): made by the engine from the generator's code
+    (:func:`compiled`) when that code is for this engine and interpreter, else compiled."""
+    c = lexer.get("compiled")
+    if type(c) is dict and c.get("engine") == _engine():
+        try:
+            return _sre.compile(lexer["pattern"], c["flags"], list(c["code"]), c["groups"], dict(c["groupindex"]),
+                                tuple(c["indexgroup"]))
+        except (TypeError, ValueError, RuntimeError, KeyError):  # (the engine refuses code it cannot run)
+            pass
+    return re.compile(lexer["pattern"], lexer["flags"])
+
+
+#: A table's code for "no action" (an input with a syntax error there).
+NO_ACTION = -32768
+
+
+def pack(states: list[dict[str, int]], symbols: list[str]) -> bytes:
+    """The table's rows (per state, ``symbol → code``: the next state for a shift or a goto,
+    ``-1 - rule`` for a reduction) as one column per symbol of ``symbols``, each a run of 16-bit
+    codes by state (:data:`NO_ACTION` where the row has none), in this machine's byte order: the
+    generator's form of the table, which the driver indexes as it is (:func:`driver`)."""
+    index = {symbol: i for i, symbol in enumerate(symbols)}
+    codes = [NO_ACTION] * (len(symbols) * len(states))
+    for state, row in enumerate(states):
+        for symbol, code in row.items():
+            if not NO_ACTION < code < -NO_ACTION:
+                raise ValueError(f"a code beyond 16 bits: {code}")
+            codes[index[symbol] * len(states) + state] = code
+    return b"".join(code.to_bytes(2, sys.byteorder, signed=True) for code in codes)
+
+
+def unpack(actions: bytes, symbols: list[str]) -> list[dict[str, int]]:
+    """The rows :func:`pack` packed (for the tests and the generator's check)."""
+    table = memoryview(actions).cast("h")
+    n_states = len(table) // len(symbols) if symbols else 0
+    return [{symbol: table[i * n_states + state] for i, symbol in enumerate(symbols)
+             if table[i * n_states + state] != NO_ACTION} for state in range(n_states)]
 
 
 # How lark's parse-tree builder wraps a rule's callback (lark.parse_tree_builder, as read by
@@ -183,95 +303,58 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     symbol)``: the callback does so for the rule whose one symbol is ``symbol``; a one-symbol rule
     reduced with one of them only changes state (its value stays on the stack, where the callback
     would have put it back): a unit rule of the precedence ladder (``term`` → ``sum`` → ``product``
-    → ``unary`` → ``power``) is most reductions of a program."""
+    → ``unary`` → ``power``) is most reductions of a program.
+
+    The data is read as the generator left it (:func:`scanner`, :func:`pack`): the table is one
+    column of 16-bit codes per symbol (``symbols``), indexed by state as it is — the next state
+    (≥ 0) for a shift or a goto, ``-1 - rule`` (``~rule``) for a reduction, :data:`NO_ACTION` for
+    none — and only the rules are joined to their callbacks here (one pass over the rules, none over
+    the table)."""
     try:
-        lexer = data["lexer"]
-        flags = int(lexer["flags"])
-        ignored = frozenset(lexer["ignore"])
-        # one match per token: any run of ignored text (white space, comments) as lark's lexer would
-        # cut it — atomic, never backtracked into (a comment is never cut short for a name in it) —
-        # then the scanner's alternatives in its order, or nothing at the end of the text.  After
-        # that run no ignored terminal can match (the run would have taken it), so they are left
-        # out; a run of consecutive one-character literal terminals (``(``, ``+``, …: at most one
-        # of them matches, whatever their order) is one character class, its terminal read off the
-        # character (one failed alternative instead of one per terminal).
-        skip = "|".join(f"(?:{regexp})" for regexp in lexer["ignored_patterns"])
-        parts: list[str] = []
-        singles: dict[str, str] = {}
-        run: list = []
-
-        def close() -> None:
-            if len(run) > 1:
-                singles.update((char, name) for name, _, char in run)
-                parts.append(f"(?P<{SINGLE}>[{''.join(re.escape(char) for _, _, char in run)}])")
-            else:
-                parts.extend(f"(?P<{name}>{regexp})" for name, regexp, _ in run)
-            run.clear()
-
-        for name, regexp, char in lexer["terminals"]:  # (lark's scanner's order)
-            if name in ignored:
-                continue
-            if char is not None:  # a one-character literal
-                run.append((name, regexp, char))
-                continue
-            close()
-            parts.append(f"(?P<{name}>{regexp})")
-        close()
-        alternatives = "|".join(parts)
-        glued = re.compile(f"(?>(?:{skip})*)(?:{alternatives})?" if skip else f"(?:{alternatives})?", flags)
-        # a name that is a keyword: its own terminal, as lark's UnlessCallback finds it (a full match
-        # of the keywords' literals: the first literal equal to the text)
-        keywords: dict[str, dict[str, str]] = {}
-        for name, words in lexer["keywords"].items():
-            keywords[name] = {}
-            for literal, terminal in words:
-                keywords[name].setdefault(literal, terminal)
-        starts, ends = dict(data["start_states"]), dict(data["end_states"])
-        rules, rows = data["rules"], data["states"]  # a state's row: symbol → state (shift) or -1 - rule
-        if len(rule_callbacks) != len(rules):
+        lexer = data["scanner"]
+        match = glued(lexer).match
+        singles, keywords = lexer["singles"], lexer["keywords"]
+        starts, ends = data["start_states"], data["end_states"]
+        rules, symbols = data["rules"], data["symbols"]
+        table = memoryview(data["actions"]).cast("h")
+        n_rules, n_states = len(rules), len(table) // len(symbols)
+        if len(rule_callbacks) != n_rules or len(table) != n_states * len(symbols):
             return None
-        # the table resolved once into what the loop reads (the same shifts, reductions and gotos):
-        # per state (a list index), a terminal or nonterminal's action — the next state (an int) for
-        # a shift, (the rule's length, its callback, the goto of its nonterminal by state) for a
-        # reduction, and for a unit rule whose callback returns its child a dict (filled as met): the
-        # state a run of such reductions ends in and the look-ahead's action there, by the state
-        # below (the value stays on the stack)
-        gotos: dict[str, dict[int, int]] = {}  # by symbol (read for nonterminals only)
-        for state, row in enumerate(rows):
-            for symbol, code in row.items():
-                if code >= 0:
-                    gotos.setdefault(symbol, {})[state] = code
-        reductions = []
-        for (origin, symbols, _, _), callback in zip(rules, rule_callbacks):
-            size = len(symbols)
-            if size == 1 and any(callback == f or f == (callback, symbols[0]) for f in identities):
-                size = -1
-            reductions.append((size, callback, gotos.get(origin, {})))
-        act: list[dict] = []
-        unit_goto: dict[tuple[int, str], dict[int, int]] = {}  # a unit rule's goto, by (state, symbol)
-        for state, row in enumerate(rows):
-            out: dict = {}
-            act.append(out)
-            for symbol, code in row.items():
-                if type(code) is not int or code >= len(rows):
-                    return None
-                if code >= 0:
-                    out[symbol] = code
-                elif reductions[-1 - code][0] < 0:
-                    unit_goto[state, symbol] = reductions[-1 - code][2]
-                    out[symbol] = {}
-                else:
-                    out[symbol] = reductions[-1 - code]
-        if not all(0 <= s < len(act) for s in (*starts.values(), *ends.values())):
+        # a symbol's column: its code by state
+        columns = {symbol: table[i * n_states:(i + 1) * n_states] for i, symbol in enumerate(symbols)}
+        # per rule: (its length, its callback, its nonterminal's goto by state); a unit rule whose
+        # callback returns its child: (-1, a memo filled as met, the goto) — the memo holds, by (the
+        # state below, the look-ahead), the state a run of such reductions ends in and the look-ahead's
+        # code there (the value stays on the stack)
+        idents = {f for f in identities if type(f) is not tuple}
+        ident_of = {f[1]: f[0] for f in identities if type(f) is tuple}
+        reductions: list[tuple] = []
+        for (origin, expansion, _, _), callback in zip(rules, rule_callbacks):
+            goto = columns[origin]
+            if len(expansion) == 1 and (callback in idents or ident_of.get(expansion[0]) == callback):
+                reductions.append((-1, {}, goto))
+            else:
+                reductions.append((len(expansion), callback, goto))
+        # (the table's codes are not checked one by one here — a pass over them cost more than the
+        # rest of the start-up: the table is the package's own generated module, which ``tables
+        # --check`` and the tests check, or the one packed from lark's parser in this process; a
+        # code naming a rule or a state that is not there makes the parse FAILED: lark parses)
+        if "$END" not in columns \
+                or not all(type(s) is int and 0 <= s < n_states for s in (*starts.values(), *ends.values())):
             return None
     except (KeyError, TypeError, ValueError, IndexError, AttributeError, re.error):
         return None
 
     new = str.__new__
-    Tuple, Dict = tuple, dict
 
     def parse(text: str, start: str) -> Any:
-        match, end = glued.match, len(text)
+        try:
+            return run(text, start)
+        except (IndexError, KeyError):  # a table that names a rule or a state not there: lark parses
+            return FAILED
+
+    def run(text: str, start: str) -> Any:
+        end = len(text)
         state_stack, value_stack = [starts[start]], []
         push_state, push_value = state_stack.append, value_stack.append
         pos, line, line_start = 0, 1, 0
@@ -301,65 +384,65 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
             token.end_line, token.end_pos = line, nxt
             token.column, token.end_column = pos - line_start + 1, nxt - line_start + 1
             pos = nxt
-            code = act[state_stack[-1]].get(kind)
+            column = columns[kind]
+            code = column[state_stack[-1]]
             while True:  # the reductions this token's look-ahead calls for, then its shift
-                if type(code) is Tuple:
-                    size, callback, goto = code
-                    if size:
-                        s = value_stack[-size:]
-                        del state_stack[-size:]
-                        del value_stack[-size:]
-                    else:
-                        s = []
-                    push_value(callback(s))
-                    state = goto[state_stack[-1]]
-                    push_state(state)
-                    code = act[state].get(kind)
-                elif type(code) is Dict:  # a run of unit reductions: the state after it and the action
-                    # there, by the state below
-                    below = state_stack[-2]
-                    found = code.get(below)
-                    if found is None:
-                        top = unit_run(state_stack[-1], below, kind)
-                        found = code[below] = (top, act[top].get(kind))
-                    state_stack[-1], code = found
-                elif code is None:
-                    return FAILED
-                else:  # a shift
+                if code >= 0:  # a shift
                     push_state(code)
                     push_value(token)
                     break
-        # the end of the input: its reductions one at a time, the end state checked after each
-        end_state = ends[start]
-        while True:
-            state = state_stack[-1]
-            code = act[state].get("$END")
-            if type(code) is Tuple:
-                size, callback, goto = code
-                if size:
+                if code == NO_ACTION:
+                    return FAILED
+                size, callback, goto = reductions[~code]
+                if size > 0:
                     s = value_stack[-size:]
                     del state_stack[-size:]
                     del value_stack[-size:]
-                else:
-                    s = []
+                    push_value(callback(s))
+                elif size == 0:
+                    push_value(callback([]))
+                else:  # a run of unit reductions: the state after it and the code there, by the state below
+                    below = state_stack[-2]
+                    found = callback.get((below, kind))
+                    if found is None:
+                        found = callback[below, kind] = unit_run(goto[below], below, kind)
+                    state_stack[-1], code = found
+                    continue
+                state = goto[state_stack[-1]]
+                push_state(state)
+                code = column[state]
+        # the end of the input: its reductions one at a time, the end state checked after each
+        end_state, column = ends[start], columns["$END"]
+        while True:
+            code = column[state_stack[-1]]
+            if code >= 0 or code == NO_ACTION:  # a shift of $END, or no action
+                return FAILED
+            size, callback, goto = reductions[~code]
+            if size > 0:
+                s = value_stack[-size:]
+                del state_stack[-size:]
+                del value_stack[-size:]
                 push_value(callback(s))
                 push_state(goto[state_stack[-1]])
-            elif type(code) is Dict:
-                state_stack[-1] = unit_goto[state, "$END"][state_stack[-2]]
-            else:  # no action, or a shift of $END
-                return FAILED
+            elif size == 0:
+                push_value(callback([]))
+                push_state(goto[state_stack[-1]])
+            else:
+                state_stack[-1] = goto[state_stack[-2]]
             if state_stack[-1] == end_state:
                 return value_stack[-1]
 
-    def unit_run(state: int, below: int, kind: str) -> int:
-        """The state a run of unit reductions from ``state`` (``below`` under it) ends in before
-        the look-ahead ``kind``'s next action."""
-        top = unit_goto[state, kind][below]
-        while type(act[top].get(kind)) is Dict:
-            top = unit_goto[top, kind][below]
-        return top
+    def unit_run(top: int, below: int, kind: str) -> tuple[int, int]:
+        """The state a run of unit reductions ends in (``top`` after the first, ``below`` under it)
+        and the look-ahead ``kind``'s code there."""
+        column = columns[kind]
+        code = column[top]
+        while code < 0 and code != NO_ACTION and reductions[~code][0] < 0:
+            top = reductions[~code][2][below]
+            code = column[top]
+        return top, code
 
     return parse
 
 
-__all__ = ["DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "driver", "grammar_text", "load"]
+__all__ = ["DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "compiled", "driver", "glued", "grammar_text", "load", "pack", "scanner", "unpack"]
