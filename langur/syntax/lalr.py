@@ -27,9 +27,10 @@ The data is left as the generator wrote it, so that a process's start-up resolve
 parser23: the JSON file's decoding and the table's resolution were 14 M instructions of the
 one-shot ``langur eval``): the module is literals compiled to its ``.pyc`` like any module (its load
 an unmarshal); the table is one ``bytes`` constant, a column of 16-bit codes per symbol, indexed
-as it is (:func:`pack`); the lexer's pattern comes with the regular expression engine's code for
-it, made by ``re``'s own compiler at generation and used when this interpreter's engine is the one
-it was made for (:func:`compiled`, :func:`glued`), else the pattern is compiled.
+as it is (:func:`pack`); the lexer's pattern is glued by the generator and compiled by ``re`` once
+per process (:func:`glued`; shipping the engine's compiled code instead would save ~2.5 M
+instructions through the private ``_sre.compile``, whose code is not promised to be the same across
+patch releases of one interpreter: not done).
 
 Only success is handled here: at a character no terminal matches or a token the table has no action
 for, :func:`driver`'s function returns :data:`FAILED`, and ``parser.py`` then imports lark and parses
@@ -44,7 +45,6 @@ lark on every example file, the hostile corpus and random programs, token by tok
 
 from __future__ import annotations
 
-import _sre
 import hashlib
 import re
 import sys
@@ -177,42 +177,11 @@ def scanner(lexer: dict) -> dict:
             keywords[name].setdefault(literal, terminal)
     pattern = f"(?>(?:{skip})*)(?:{alternatives})?" if skip else f"(?:{alternatives})?"
     flags = int(lexer["flags"])
-    return {"pattern": pattern, "flags": flags, "singles": singles, "keywords": keywords,
-            "compiled": compiled(pattern, flags)}
-
-
-def _engine() -> tuple:
-    """What a compiled pattern's code is valid for: the regular expression engine's version and
-    word size, and the interpreter."""
-    return (_sre.MAGIC, _sre.CODESIZE, sys.implementation.cache_tag)
-
-
-def compiled(pattern: str, flags: int) -> dict:
-    """``re.compile(pattern, flags)``'s work done once, by the generator: the engine's code of the
-    pattern and its groups, as ``re._compiler.compile`` passes them to ``_sre.compile``, stamped
-    with :func:`_engine` (compiling the pattern was most of the driver's start-up, ~2.5 M
-    instructions of Python code in ``re._parser``/``re._compiler`` per process; the driver makes the
-    pattern from this code when the stamp is its own, else it compiles the pattern)."""
-    tree = re._parser.parse(pattern, flags)  # (re's own compiler, as re.compile calls it)
-    groupindex = dict(tree.state.groupdict)
-    indexgroup = [None] * tree.state.groups
-    for name, i in groupindex.items():
-        indexgroup[i] = name
-    code = tuple(int(c) for c in re._compiler._code(tree, flags))
-    return {"engine": _engine(), "flags": flags | tree.state.flags, "code": code, "groups": tree.state.groups - 1,
-            "groupindex": groupindex, "indexgroup": tuple(indexgroup)}
+    return {"pattern": pattern, "flags": flags, "singles": singles, "keywords": keywords}
 
 
 def glued(lexer: dict) -> re.Pattern:
-    """The lexer's pattern (:func:`scanner`'s): made by the engine from the generator's code
-    (:func:`compiled`) when that code is for this engine and interpreter, else compiled."""
-    c = lexer.get("compiled")
-    if type(c) is dict and c.get("engine") == _engine():
-        try:
-            return _sre.compile(lexer["pattern"], c["flags"], list(c["code"]), c["groups"], dict(c["groupindex"]),
-                                tuple(c["indexgroup"]))
-        except (TypeError, ValueError, RuntimeError, KeyError):  # (the engine refuses code it cannot run)
-            pass
+    """The lexer's pattern (:func:`scanner`'s), compiled."""
     return re.compile(lexer["pattern"], lexer["flags"])
 
 
@@ -445,4 +414,4 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     return parse
 
 
-__all__ = ["DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "compiled", "driver", "glued", "grammar_text", "load", "pack", "scanner", "unpack"]
+__all__ = ["DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "driver", "glued", "grammar_text", "load", "pack", "scanner", "unpack"]
