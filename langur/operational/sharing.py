@@ -6,7 +6,22 @@ from __future__ import annotations
 
 import itertools
 
-from ..core import Add, Call, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var
+from ..core import (
+    Add,
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    ImplicitRoot,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Term,
+    Var,
+    keep_memo,
+)
 from ..primitives import REGISTRY
 from .consts import const_value
 from .dual import power
@@ -85,10 +100,13 @@ def constant(t: Term):
     number that only depends on the term), else None."""
     if t._fv or t._fp or t._calls:
         return None
-    d = t.__dict__
-    v = d.get("_folded", _NOT_YET)
+    memo = t._memo
+    if memo is None:
+        memo = {}
+        keep_memo(t, memo)
+    v = memo.get("folded", _NOT_YET)
     if v is _NOT_YET:
-        v = d["_folded"] = _fold(t)
+        v = memo["folded"] = _fold(t)
     return v
 
 
