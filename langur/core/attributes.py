@@ -4,8 +4,8 @@ Every pass of the front end asks the same questions of a term — its free varia
 whether it is smooth or calls a def, its size and depth, its exact value when it is a constant — and
 a walk per question per pass costs Python's price per node each time.  A term is immutable, so each
 answer is computed once, bottom-up, when the node is built (its children already carry theirs) and
-kept in a slot of the node under a name starting with ``_`` (:data:`KEPT`; never compared, hashed
-nor pickled: a pickled node is rebuilt by its constructor, which recomputes them).  The functions of
+kept in its ``__dict__`` under a name starting with ``_`` (never compared, hashed nor pickled:
+unpickling recomputes them, ``__setstate__`` in :mod:`langur.core.terms`).  The functions of
 :mod:`langur.core.structural` (``free_vars``, ``free_params``, ``smooth``, ``has_calls``,
 ``tree_size``, ``depth``, ``small_value``, ``all_small``, ``diffeo_variables``) read them.
 
@@ -89,47 +89,33 @@ _LEAF_ATTRS = {"_fv": _EMPTY, "_fp": _EMPTY, "_smooth": True, "_calls": False, "
                "_scoped": True, "_ops": _EMPTY, "_binders": _EMPTY, "_dfp": _EMPTY}
 
 
-#: The attributes every term keeps, in the order of :data:`_LEAF_ATTRS` (a slot each,
-#: :mod:`langur.core.slots`).
-KEPT = tuple(_LEAF_ATTRS)
+def _binary(d: dict, a: dict, b: dict, mul: bool) -> None:
+    """The attributes of ``t + s`` or ``t · s`` (``d``) from those of ``t`` (``a``) and ``s`` (``b``)."""
+    x, y = a["_fv"], b["_fv"]
+    d["_fv"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_fp"], b["_fp"]
+    d["_fp"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    d["_smooth"] = a["_smooth"] and b["_smooth"]
+    d["_calls"] = a["_calls"] or b["_calls"]
+    d["_size"] = 1 + a["_size"] + b["_size"]
+    x, y = a["_depth"], b["_depth"]
+    d["_depth"] = 1 + (x if x > y else y)
+    _binary_value(d, a, b, mul)
+    x, y = a["_psi_vars"], b["_psi_vars"]
+    d["_psi_vars"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    d["_scoped"] = a["_scoped"] and b["_scoped"]
+    x, y = a["_ops"], b["_ops"]
+    d["_ops"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_binders"], b["_binders"]
+    d["_binders"] = x if (not y or x is y) else (y if not x else _join(x, y))
+    x, y = a["_dfp"], b["_dfp"]
+    d["_dfp"] = x if (not y or x is y) else (y if not x else _join(x, y))
 
 
-def _leaf(t) -> None:
-    """A leaf's attributes (:data:`_LEAF_ATTRS`), written on ``t``."""
-    (t._fv, t._fp, t._smooth, t._calls, t._size, t._depth, t._small, t._small_all, t._psi_vars,
-     t._scoped, t._ops, t._binders, t._dfp) = _LEAF_VALUES
-
-
-_LEAF_VALUES = tuple(_LEAF_ATTRS.values())
-
-
-def _binary(t, a, b, mul: bool) -> None:
-    """The attributes of ``t + s`` or ``t · s`` (``t``) from those of ``t`` (``a``) and ``s`` (``b``)."""
-    x, y = a._fv, b._fv
-    t._fv = x if (not y or x is y) else (y if not x else _join(x, y))
-    x, y = a._fp, b._fp
-    t._fp = x if (not y or x is y) else (y if not x else _join(x, y))
-    t._smooth = a._smooth and b._smooth
-    t._calls = a._calls or b._calls
-    t._size = 1 + a._size + b._size
-    x, y = a._depth, b._depth
-    t._depth = 1 + (x if x > y else y)
-    _binary_value(t, a, b, mul)
-    x, y = a._psi_vars, b._psi_vars
-    t._psi_vars = x if (not y or x is y) else (y if not x else _join(x, y))
-    t._scoped = a._scoped and b._scoped
-    x, y = a._ops, b._ops
-    t._ops = x if (not y or x is y) else (y if not x else _join(x, y))
-    x, y = a._binders, b._binders
-    t._binders = x if (not y or x is y) else (y if not x else _join(x, y))
-    x, y = a._dfp, b._dfp
-    t._dfp = x if (not y or x is y) else (y if not x else _join(x, y))
-
-
-def _binary_value(t, a, b, mul: bool) -> None:
-    """The attributes of ``t + s`` or ``t · s`` (``t``) that depend on the values of its constants
+def _binary_value(d: dict, a: dict, b: dict, mul: bool) -> None:
+    """The attributes of ``t + s`` or ``t · s`` (``d``) that depend on the values of its constants
     (``_small``, ``_small_all``), from those of ``t`` (``a``) and ``s`` (``b``)."""
-    x, y = a._small, b._small
+    x, y = a["_small"], b["_small"]
     if x is None or y is None:
         v = False if x is False or y is False else None
     elif x is False or y is False:
@@ -138,8 +124,9 @@ def _binary_value(t, a, b, mul: bool) -> None:
         v = y if x.numerator == x.denominator else (x if y.numerator == y.denominator else _in_range(x * y))
     else:
         v = y if not x else (x if not y else _in_range(x + y))
-    t._small = v
-    t._small_all = v is not False and a._small_all and b._small_all
+    d["_small"] = v
+    d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
+
 
 
 def index_power_small(value: int, n: int):
@@ -178,16 +165,17 @@ def _small_power(x, k):
     return False
 
 
-def _unary(t, a, small, scoped: bool, op: str | None) -> None:
-    """The attributes of ``f(t)`` or ``t ^ k`` (``t``) from those of ``t`` (``a``), with its small
+def _unary(d: dict, a, small, scoped: bool, op: str | None) -> None:
+    """The attributes of ``f(t)`` or ``t ^ k`` (``d``) from those of ``t`` (``a``), with its small
     value, whether its own premise holds (a rational exponent) and its primitive."""
-    t._fv, t._fp, t._psi_vars = a._fv, a._fp, a._psi_vars
-    t._smooth, t._calls, t._size, t._depth = a._smooth, a._calls, a._size + 1, a._depth + 1
-    t._small = small
-    t._small_all = small is not False and a._small_all
-    t._scoped = scoped and a._scoped
-    t._ops = a._ops if op is None else _join(a._ops, _names(op))
-    t._binders, t._dfp = a._binders, a._dfp
+    d["_fv"], d["_fp"], d["_psi_vars"] = a._fv, a._fp, a._psi_vars
+    d["_smooth"], d["_calls"], d["_size"], d["_depth"] = a._smooth, a._calls, a._size + 1, a._depth + 1
+    d["_small"] = small
+    d["_small_all"] = small is not False and a._small_all
+    d["_scoped"] = scoped and a._scoped
+    d["_ops"] = a._ops if op is None else _join(a._ops, _names(op))
+    d["_binders"], d["_dfp"] = a._binders, a._dfp
+
 
 
 _INTERNED_SETS: dict = {}
@@ -240,23 +228,24 @@ def _branch_summary(b, inputs: tuple[str, ...], n: int) -> tuple:
     return found[1:]
 
 
-def _ifdiffeo(t, psi, a, b) -> None:
-    """The attributes of ``ifge0 ⌊Ψ⌋ then s else r`` (``t``) from Ψ's and those of ``s`` (``a``)
+def _ifdiffeo(d: dict, psi, a: dict, b: dict) -> None:
+    """The attributes of ``ifge0 ⌊Ψ⌋ then s else r`` (``d``) from Ψ's and those of ``s`` (``a``)
     and ``r`` (``b``)."""
     fp, xs, pv, cond, scoped, ops, dfp = _diffeo_summary(psi)
-    t._fv = fv = _join(_join(a._fv, b._fv), xs)
-    t._fp = fp = _join(_join(a._fp, b._fp), fp)
-    t._psi_vars = _join(_join(a._psi_vars, b._psi_vars), pv)
-    t._smooth = False
-    t._calls = a._calls or b._calls
-    t._size = 1 + a._size + b._size
-    t._depth = 1 + max(a._depth, b._depth, cond)
-    t._small = v = False if not fv and not fp else None
-    t._small_all = v is not False and a._small_all and b._small_all
-    t._scoped = scoped and a._scoped and b._scoped
-    t._ops = _join(_join(a._ops, b._ops), ops)
-    t._binders = _join(a._binders, b._binders)
-    t._dfp = _join(_join(a._dfp, b._dfp), dfp)
+    d["_fv"] = fv = _join(_join(a["_fv"], b["_fv"]), xs)
+    d["_fp"] = fp = _join(_join(a["_fp"], b["_fp"]), fp)
+    d["_psi_vars"] = _join(_join(a["_psi_vars"], b["_psi_vars"]), pv)
+    d["_smooth"] = False
+    d["_calls"] = a["_calls"] or b["_calls"]
+    d["_size"] = 1 + a["_size"] + b["_size"]
+    d["_depth"] = 1 + max(a["_depth"], b["_depth"], cond)
+    d["_small"] = v = False if not fv and not fp else None
+    d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
+    d["_scoped"] = scoped and a["_scoped"] and b["_scoped"]
+    d["_ops"] = _join(_join(a["_ops"], b["_ops"]), ops)
+    d["_binders"] = _join(a["_binders"], b["_binders"])
+    d["_dfp"] = _join(_join(a["_dfp"], b["_dfp"]), dfp)
+
 
 
 def _diffeo_scoped(psi) -> bool:

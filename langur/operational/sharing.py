@@ -6,22 +6,7 @@ from __future__ import annotations
 
 import itertools
 
-from ..core import (
-    Add,
-    Call,
-    Const,
-    IfDiffeo,
-    IfGe0,
-    ImplicitRoot,
-    Let,
-    Mul,
-    Param,
-    Pow,
-    Prim,
-    Term,
-    Var,
-    keep_memo,
-)
+from ..core import Add, Call, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var
 from ..primitives import REGISTRY
 from .consts import const_value
 from .dual import power
@@ -100,13 +85,10 @@ def constant(t: Term):
     number that only depends on the term), else None."""
     if t._fv or t._fp or t._calls:
         return None
-    memo = t._memo
-    if memo is None:
-        memo = {}
-        keep_memo(t, memo)
-    v = memo.get("folded", _NOT_YET)
+    d = t.__dict__
+    v = d.get("_folded", _NOT_YET)
     if v is _NOT_YET:
-        v = memo["folded"] = _fold(t)
+        v = d["_folded"] = _fold(t)
     return v
 
 
