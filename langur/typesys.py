@@ -26,6 +26,12 @@ from fractions import Fraction
 from . import lazy, observe
 from .codes import CODES
 from .core import (
+    BINDERS,
+    DFP,
+    FP,
+    FV,
+    OPS,
+    SCOPED,
     Add,
     Call,
     Const,
@@ -44,6 +50,7 @@ from .core import (
     all_small,
     diffeo_variables,
     free_vars,
+    keep_typed,
     shared,
     subterms,
 )
@@ -196,8 +203,7 @@ def reject_not_smooth(span, name: str, detail: str) -> Diagnostic:
 #: While :func:`type_program` runs: its judgements checked so far, by the identities of
 #: ``(t, Δ, Γ, out)`` (the objects kept alive with them, so that an identity stays theirs).
 _CHECKING = threading.local()
-#: The attribute under which a node keeps the contexts (Δ, Γ) it was found well typed in.
-_TYPED = "_typed"
+# A node keeps the contexts (Δ, Γ) it was found well typed in as ``_typed`` (``core.keep_typed``).
 _LEAVES = (Const, Var, Param)
 
 
@@ -224,8 +230,8 @@ def well_typed(delta: frozenset[str], gamma: frozenset[str], t: Term) -> bool:
     rules one by one and reports what they find (it finds nothing when this holds:
     ``proofs_tests/test_typing_attributes.py`` compares the two)."""
     try:
-        return (t._scoped and t._fv <= delta and t._fp <= gamma and t._dfp <= gamma
-                and t._ops <= _KNOWN_PRIMITIVES and t._binders.isdisjoint(delta))
+        return (t._shape[SCOPED] and t._shape[FV] <= delta and t._shape[FP] <= gamma and t._shape[DFP] <= gamma
+                and t._shape[OPS] <= _KNOWN_PRIMITIVES and t._shape[BINDERS].isdisjoint(delta))
     except AttributeError:  # not a core term: the rules say why
         return False
 
@@ -252,7 +258,7 @@ def _remembered(fn):
         key = (id(t), id(delta), id(gamma))
         if key in visited:
             return None
-        known = t.__dict__.get(_TYPED)
+        known = t._typed
         if known is not None and (delta, gamma) in known:
             return None
         visited[key] = (t, delta, gamma)
@@ -387,9 +393,8 @@ def type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
                 single = alone.get(key)
                 if single is None:
                     single = alone[key] = _interned(frozenset({(delta, gamma_)}))
-                d = t.__dict__
-                known = d.get(_TYPED)
-                d[_TYPED] = single if known is None or known is single else _interned(known | single)
+                known = t._typed
+                keep_typed(t, single if known is None or known is single else _interned(known | single))
     finally:
         _CHECKING.visited = outer
     return out

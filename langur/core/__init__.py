@@ -10,6 +10,7 @@ The modules, each importing only those above it in this list:
 
 * :mod:`.attributes` — what a node keeps about itself, computed once when it is built (free
   variables and parameters, size, depth, small exact value, typing's premises; issue 15);
+* :mod:`.slots` — term nodes stored in slots, without a ``__dict__`` per node (issue 15);
 * :mod:`.sharing` — terms shared after inlining (§9) are DAGs: hashes kept, equality and passes
   (:func:`shared`) once per distinct node;
 * :mod:`.terms` — §4.1: the term nodes (``Const`` … ``ImplicitRoot``; ``Diffeo`` with its inverse
@@ -25,12 +26,24 @@ Here: every public name of these modules, as the rest of langur imports them
 """
 
 from .attributes import (
+    BINDERS,
+    CALLS,
+    DEPTH,
+    DFP,
+    FP,
+    FV,
     INT_FRACTIONS,
+    OPS,
+    PSI_VARS,
+    SCOPED,
+    SIZE,
     SMALL,
     SMALL_BITS,
     SMALL_EXPONENT,
+    SMOOTH,
     index_power_small,
     int_fraction,
+    kept_attributes,
     small_power,
 )
 from .programs import Interval, Program
@@ -46,6 +59,7 @@ from .shapes import (
     shape_with_span,
 )
 from .sharing import REPR_LIMIT, shared
+from .slots import keep_memo, keep_typed
 from .structural import (
     all_small,
     const,
@@ -90,10 +104,11 @@ from .terms import (
 )
 
 __all__ = [
+    "BINDERS", "CALLS", "DEPTH", "DFP", "FP", "FV", "OPS", "PSI_VARS", "SCOPED", "SIZE", "SMOOTH",
     "INT_FRACTIONS", "PI", "REPR_LIMIT", "SMALL", "SMALL_BITS", "SMALL_EXPONENT", "Add", "Call", "Const", "Diffeo",
     "IfDiffeo", "IfGe0", "ImplicitRoot", "Interval", "InverseBranch", "Let", "Mul", "Param", "Pow", "Prim", "Program",
     "Term", "TooManyRoots", "Var", "all_small", "children", "const", "depth", "diffeo_params", "diffeo_variables", "div",
-    "extend_diffeo", "free_params", "free_vars", "has_calls", "index_const", "index_power_small", "int_fraction", "like",
+    "extend_diffeo", "free_params", "free_vars", "has_calls", "index_const", "index_power_small", "int_fraction", "keep_memo", "keep_typed", "kept_attributes", "like",
     "like_binary", "like_binary_many", "like_leaf", "like_power", "map_children", "neg", "product", "same_shape",
     "shape_of", "shape_with_span", "shared", "small_power", "small_value", "smooth", "sub", "substitute",
     "substitute_diffeo", "subterms", "tree_size",

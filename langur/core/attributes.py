@@ -4,16 +4,20 @@ Every pass of the front end asks the same questions of a term — its free varia
 whether it is smooth or calls a def, its size and depth, its exact value when it is a constant — and
 a walk per question per pass costs Python's price per node each time.  A term is immutable, so each
 answer is computed once, bottom-up, when the node is built (its children already carry theirs) and
-kept in its ``__dict__`` under a name starting with ``_`` (never compared, hashed nor pickled:
-unpickling recomputes them, ``__setstate__`` in :mod:`langur.core.terms`).  The functions of
-:mod:`langur.core.structural` (``free_vars``, ``free_params``, ``smooth``, ``has_calls``,
-``tree_size``, ``depth``, ``small_value``, ``all_small``, ``diffeo_variables``) read them.
+kept on the node (never compared, hashed nor pickled: a pickled node is rebuilt by its
+constructor, which recomputes them).  Those that depend on the node's shape only — its classes,
+names, primitives, exponents and diffeos, not the values of its constants — are kept together as
+one tuple, ``t._shape``, read at the indices :data:`FV` … :data:`DFP` (a loop's copies share their
+template's tuple, :mod:`langur.core.shapes`; a parent reads a child's in one access); its small
+value as ``t._small`` and ``t._small_all``.  The functions of :mod:`langur.core.structural`
+(``free_vars``, ``free_params``, ``smooth``, ``has_calls``, ``tree_size``, ``depth``,
+``small_value``, ``all_small``, ``diffeo_variables``) read them.
 
 Also kept, for typing (``langur.typesys.well_typed``): the premises of Fig. 6's rules that do not
-depend on the context Δ; Γ (``_scoped``: conditions of ``ifge0``, bounds of ``let``, a diffeo's
-own terms are where they must be, exponents are rational), the primitives used (``_ops``), the
-names ``let`` binds (``_binders``) and the parameters of the diffeos' inverse branches, guards and
-``nonzero`` terms (``_dfp``, beside ``free_params``): then ``Δ; Γ ⊢ t`` holds when these and the
+depend on the context Δ; Γ (``SCOPED``: conditions of ``ifge0``, bounds of ``let``, a diffeo's
+own terms are where they must be, exponents are rational), the primitives used (``OPS``), the
+names ``let`` binds (``BINDERS``) and the parameters of the diffeos' inverse branches, guards and
+``nonzero`` terms (``DFP``, beside ``free_params``): then ``Δ; Γ ⊢ t`` holds when these and the
 free variables and parameters fit the context, without a walk.
 
 Here: the arithmetic of those attributes, from the children's to the parent's.  It names no node
@@ -84,38 +88,63 @@ def _in_range(v: Fraction):
     return False
 
 
-_LEAF_ATTRS = {"_fv": _EMPTY, "_fp": _EMPTY, "_smooth": True, "_calls": False, "_size": 1, "_depth": 1,
-               "_small": None, "_small_all": True, "_psi_vars": _EMPTY,
-               "_scoped": True, "_ops": _EMPTY, "_binders": _EMPTY, "_dfp": _EMPTY}
+# The indices of ``t._shape``:
+FV = 0  #: free variables (a frozenset of names)
+FP = 1  #: free parameters
+SMOOTH = 2  #: no ``ifge0``, no call (bool)
+CALLS = 3  #: calls a def (bool)
+SIZE = 4  #: nodes, written out as a tree
+DEPTH = 5  #: depth (a diffeo's condition counted for a completed one)
+PSI_VARS = 6  #: the variable lists of its diffeos (``diffeo_variables``)
+SCOPED = 7  #: typing's premises that do not depend on Δ; Γ hold (above)
+OPS = 8  #: the primitives used
+BINDERS = 9  #: the names ``let`` binds
+DFP = 10  #: the parameters of its diffeos' inverse branches, guards and ``nonzero`` terms
+#: The slots a term keeps them in (:mod:`langur.core.slots`).
+_KEPT = ("_shape", "_small", "_small_all")
+_SHAPE_NAMES = ("_fv", "_fp", "_smooth", "_calls", "_size", "_depth", "_psi_vars", "_scoped", "_ops", "_binders", "_dfp")
 
 
-def _binary(d: dict, a: dict, b: dict, mul: bool) -> None:
-    """The attributes of ``t + s`` or ``t · s`` (``d``) from those of ``t`` (``a``) and ``s`` (``b``)."""
-    x, y = a["_fv"], b["_fv"]
-    d["_fv"] = x if (not y or x is y) else (y if not x else _join(x, y))
-    x, y = a["_fp"], b["_fp"]
-    d["_fp"] = x if (not y or x is y) else (y if not x else _join(x, y))
-    d["_smooth"] = a["_smooth"] and b["_smooth"]
-    d["_calls"] = a["_calls"] or b["_calls"]
-    d["_size"] = 1 + a["_size"] + b["_size"]
-    x, y = a["_depth"], b["_depth"]
-    d["_depth"] = 1 + (x if x > y else y)
-    _binary_value(d, a, b, mul)
-    x, y = a["_psi_vars"], b["_psi_vars"]
-    d["_psi_vars"] = x if (not y or x is y) else (y if not x else _join(x, y))
-    d["_scoped"] = a["_scoped"] and b["_scoped"]
-    x, y = a["_ops"], b["_ops"]
-    d["_ops"] = x if (not y or x is y) else (y if not x else _join(x, y))
-    x, y = a["_binders"], b["_binders"]
-    d["_binders"] = x if (not y or x is y) else (y if not x else _join(x, y))
-    x, y = a["_dfp"], b["_dfp"]
-    d["_dfp"] = x if (not y or x is y) else (y if not x else _join(x, y))
+def kept_attributes(t) -> dict:
+    """Every attribute ``t`` keeps, by name (``_fv`` … ``_dfp`` for the entries of ``_shape``,
+    ``_small``, ``_small_all``): for reading them all at once, as tests and tools do (the passes
+    read one at its index)."""
+    out = dict(zip(_SHAPE_NAMES, t._shape))
+    out["_small"], out["_small_all"] = t._small, t._small_all
+    return out
+
+#: ``_shape`` of a constant (a variable's has its name as FV, a parameter's as FP).
+_LEAF_SHAPE = (_EMPTY, _EMPTY, True, False, 1, 1, _EMPTY, True, _EMPTY, _EMPTY, _EMPTY)
 
 
-def _binary_value(d: dict, a: dict, b: dict, mul: bool) -> None:
-    """The attributes of ``t + s`` or ``t · s`` (``d``) that depend on the values of its constants
+def _leaf(t, shape: tuple) -> None:
+    """A leaf's attributes, written on ``t``: ``shape`` and no small value (a constant's is set by
+    its constructor)."""
+    t._shape = shape
+    t._small = None
+    t._small_all = True
+
+
+def _binary(t, a, b, mul: bool) -> None:
+    """The attributes of ``t + s`` or ``t · s`` (``t``) from those of ``t`` (``a``) and ``s`` (``b``):
+    the sets joined, the flags combined, size and depth counted."""
+    fa, pa, sma, ca, za, da, psa, sca, oa, ba, dfa = a._shape
+    fb, pb, smb, cb, zb, db, psb, scb, ob, bb, dfb = b._shape
+    t._shape = (fa if (not fb or fa is fb) else (fb if not fa else _join(fa, fb)),
+                pa if (not pb or pa is pb) else (pb if not pa else _join(pa, pb)),
+                sma and smb, ca or cb, 1 + za + zb, 1 + (da if da > db else db),
+                psa if (not psb or psa is psb) else (psb if not psa else _join(psa, psb)),
+                sca and scb,
+                oa if (not ob or oa is ob) else (ob if not oa else _join(oa, ob)),
+                ba if (not bb or ba is bb) else (bb if not ba else _join(ba, bb)),
+                dfa if (not dfb or dfa is dfb) else (dfb if not dfa else _join(dfa, dfb)))
+    _binary_value(t, a, b, mul)
+
+
+def _binary_value(t, a, b, mul: bool) -> None:
+    """The attributes of ``t + s`` or ``t · s`` (``t``) that depend on the values of its constants
     (``_small``, ``_small_all``), from those of ``t`` (``a``) and ``s`` (``b``)."""
-    x, y = a["_small"], b["_small"]
+    x, y = a._small, b._small
     if x is None or y is None:
         v = False if x is False or y is False else None
     elif x is False or y is False:
@@ -124,9 +153,8 @@ def _binary_value(d: dict, a: dict, b: dict, mul: bool) -> None:
         v = y if x.numerator == x.denominator else (x if y.numerator == y.denominator else _in_range(x * y))
     else:
         v = y if not x else (x if not y else _in_range(x + y))
-    d["_small"] = v
-    d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
-
+    t._small = v
+    t._small_all = v is not False and a._small_all and b._small_all
 
 
 def index_power_small(value: int, n: int):
@@ -165,17 +193,13 @@ def _small_power(x, k):
     return False
 
 
-def _unary(d: dict, a, small, scoped: bool, op: str | None) -> None:
-    """The attributes of ``f(t)`` or ``t ^ k`` (``d``) from those of ``t`` (``a``), with its small
+def _unary(t, a, small, scoped: bool, op: str | None) -> None:
+    """The attributes of ``f(t)`` or ``t ^ k`` (``t``) from those of ``t`` (``a``), with its small
     value, whether its own premise holds (a rational exponent) and its primitive."""
-    d["_fv"], d["_fp"], d["_psi_vars"] = a._fv, a._fp, a._psi_vars
-    d["_smooth"], d["_calls"], d["_size"], d["_depth"] = a._smooth, a._calls, a._size + 1, a._depth + 1
-    d["_small"] = small
-    d["_small_all"] = small is not False and a._small_all
-    d["_scoped"] = scoped and a._scoped
-    d["_ops"] = a._ops if op is None else _join(a._ops, _names(op))
-    d["_binders"], d["_dfp"] = a._binders, a._dfp
-
+    fv, fp, sm, c, z, d, ps, sc, o, bi, df = a._shape
+    t._shape = (fv, fp, sm, c, z + 1, d + 1, ps, scoped and sc, o if op is None else _join(o, _names(op)), bi, df)
+    t._small = small
+    t._small_all = small is not False and a._small_all
 
 
 _INTERNED_SETS: dict = {}
@@ -198,15 +222,15 @@ def _diffeo_summary(psi) -> tuple:
     if found is None:
         fp = ops = dfp = _EMPTY
         for f in psi.forward:
-            fp = _join(fp, f._fp)
+            fp = _join(fp, f._shape[FP])
         for u in psi.forward + psi.nonzero:
-            ops, dfp = _join(ops, u._ops), _join(dfp, _join(u._fp, u._dfp))
+            ops, dfp = _join(ops, u._shape[OPS]), _join(dfp, _join(u._shape[FP], u._shape[DFP]))
         scoped = _diffeo_scoped(psi)
         for b in psi.branches:  # (a branch shared by several Diffeos is summarized once)
             b_ops, b_dfp, b_scoped = _branch_summary(b, psi.inputs, len(psi.variables))
             ops, dfp, scoped = _join(ops, b_ops), _join(dfp, b_dfp), scoped and b_scoped
         found = d["_summary"] = (fp, _interned_set(psi.variables), _interned_set((psi.variables,)),
-                                 psi.forward[0]._depth if psi.name is None else 1, scoped, ops, dfp)
+                                 psi.forward[0]._shape[DEPTH] if psi.name is None else 1, scoped, ops, dfp)
     return found
 
 
@@ -221,31 +245,24 @@ def _branch_summary(b, inputs: tuple[str, ...], n: int) -> tuple:
         us = frozenset(inputs)
         scoped = len(b.components) == n
         for u in b.components + b.guards:
-            ops, dfp = _join(ops, u._ops), _join(dfp, _join(u._fp, u._dfp))
-            if scoped and not (u._scoped and not u._binders and u._fv <= us):
+            ops, dfp = _join(ops, u._shape[OPS]), _join(dfp, _join(u._shape[FP], u._shape[DFP]))
+            if scoped and not (u._shape[SCOPED] and not u._shape[BINDERS] and u._shape[FV] <= us):
                 scoped = False
         found = d["_summary"] = ((inputs, n), ops, dfp, scoped)
     return found[1:]
 
 
-def _ifdiffeo(d: dict, psi, a: dict, b: dict) -> None:
-    """The attributes of ``ifge0 ⌊Ψ⌋ then s else r`` (``d``) from Ψ's and those of ``s`` (``a``)
+def _ifdiffeo(t, psi, a, b) -> None:
+    """The attributes of ``ifge0 ⌊Ψ⌋ then s else r`` (``t``) from Ψ's and those of ``s`` (``a``)
     and ``r`` (``b``)."""
     fp, xs, pv, cond, scoped, ops, dfp = _diffeo_summary(psi)
-    d["_fv"] = fv = _join(_join(a["_fv"], b["_fv"]), xs)
-    d["_fp"] = fp = _join(_join(a["_fp"], b["_fp"]), fp)
-    d["_psi_vars"] = _join(_join(a["_psi_vars"], b["_psi_vars"]), pv)
-    d["_smooth"] = False
-    d["_calls"] = a["_calls"] or b["_calls"]
-    d["_size"] = 1 + a["_size"] + b["_size"]
-    d["_depth"] = 1 + max(a["_depth"], b["_depth"], cond)
-    d["_small"] = v = False if not fv and not fp else None
-    d["_small_all"] = v is not False and a["_small_all"] and b["_small_all"]
-    d["_scoped"] = scoped and a["_scoped"] and b["_scoped"]
-    d["_ops"] = _join(_join(a["_ops"], b["_ops"]), ops)
-    d["_binders"] = _join(a["_binders"], b["_binders"])
-    d["_dfp"] = _join(_join(a["_dfp"], b["_dfp"]), dfp)
-
+    fv = _join(_join(a._shape[FV], b._shape[FV]), xs)
+    fp = _join(_join(a._shape[FP], b._shape[FP]), fp)
+    t._shape = (fv, fp, False, a._shape[CALLS] or b._shape[CALLS], 1 + a._shape[SIZE] + b._shape[SIZE], 1 + max(a._shape[DEPTH], b._shape[DEPTH], cond),
+                _join(_join(a._shape[PSI_VARS], b._shape[PSI_VARS]), pv), scoped and a._shape[SCOPED] and b._shape[SCOPED],
+                _join(_join(a._shape[OPS], b._shape[OPS]), ops), _join(a._shape[BINDERS], b._shape[BINDERS]), _join(_join(a._shape[DFP], b._shape[DFP]), dfp))
+    t._small = v = False if not fv and not fp else None
+    t._small_all = v is not False and a._small_all and b._small_all
 
 
 def _diffeo_scoped(psi) -> bool:
@@ -258,9 +275,9 @@ def _diffeo_scoped(psi) -> bool:
     if len(xs) != n or len(psi.forward) != n or len(psi.inputs) != n:
         return False
     for f in psi.forward:  # (loops, not all() over generators: every completed condition comes here)
-        if not (f._scoped and not f._binders and f._fv <= xs):
+        if not (f._shape[SCOPED] and not f._shape[BINDERS] and f._shape[FV] <= xs):
             return False
     for z in psi.nonzero:
-        if not (z._scoped and not z._binders and not z._fv):
+        if not (z._shape[SCOPED] and not z._shape[BINDERS] and not z._shape[FV]):
             return False
     return True  # (the branches' premise: _branch_summary)

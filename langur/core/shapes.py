@@ -2,8 +2,8 @@
 of a condition of the same shape as one completed before (:func:`langur.syntax.affine.completed`).
 
 Such a node's attributes that depend on its shape only (:mod:`langur.core.attributes`: its
-classes, names, primitives, exponents and diffeos) are those of the node it copies; only those that
-depend on the values of its constants are computed.  Each function's node is equal, attributes
+classes, names, primitives, exponents and diffeos, the tuple ``_shape``) are those of the node it
+copies, the same tuple; only those that depend on the values of its constants are computed.  Each function's node is equal, attributes
 included, to the one the constructor builds.
 """
 
@@ -11,27 +11,27 @@ from __future__ import annotations
 
 import operator
 
-from .attributes import _LEAF_ATTRS, _binary_value, _small_power, int_fraction
+from .attributes import _LEAF_SHAPE, FP, FV, _binary_value, _leaf, _small_power, int_fraction
+from .slots import _built
 from .terms import Add, Const, IfDiffeo, Mul, Pow, Prim, Term
 
-#: The attributes that depend on a term's shape only (its classes, names, primitives, exponents and
-#: diffeos), not on the values of its constants: all but ``_small`` and ``_small_all``.
-_SHAPE = ("_fv", "_fp", "_smooth", "_calls", "_size", "_depth", "_psi_vars", "_scoped", "_ops", "_binders", "_dfp")
-_shape = operator.itemgetter(*_SHAPE)
-_SHAPE_SPAN = (*_SHAPE, "span")
-_shape_span = operator.itemgetter(*_SHAPE_SPAN)
+#: What a shape (:func:`shape_with_span`) gives a node: its attributes of the shape, and its span.
+_shape_span = operator.itemgetter("_shape", "span")
+#: All that a constant keeps (:func:`like_leaf` copies it).
+_LEAF_COPY = ("value", "span", "_shape", "_small", "_small_all", "_hash", "_typed", "_memo")
+_leaf_copy = operator.attrgetter(*_LEAF_COPY)
 
 
 def same_shape(t: "Term", s: "Term") -> bool:
     """``t`` and ``s`` have the same attributes but those that depend on their constants' values
     (then a node above one of them may be built by :func:`like` from a node above the other)."""
-    return _shape(t.__dict__) == _shape(s.__dict__)
+    return t._shape == s._shape
 
 
 def shape_of(t: "Term") -> dict:
     """What :func:`like` keeps of ``t`` (an ``Add``, ``Mul``, ``Pow``, ``Prim`` or ``IfDiffeo``):
     the attributes of its shape, and its exponent or primitive."""
-    d = dict(zip(_SHAPE, _shape(t.__dict__)))
+    d = {"_shape": t._shape}
     if type(t) is Pow:
         d["exponent"] = t.exponent
     elif type(t) is Prim:
@@ -46,7 +46,7 @@ def shape_with_span(t: "Term") -> dict:
     (an ``Add`` or ``Mul``, the most frequent, read in one call)."""
     tt = type(t)
     if tt is Add or tt is Mul:
-        return dict(zip(_SHAPE_SPAN, _shape_span(t.__dict__)))
+        return {"_shape": t._shape, "span": t.span}
     d = shape_of(t)
     d["span"] = t.span
     return d
@@ -63,50 +63,51 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
     node (``_diffeo_summary``) in common with the Ψ̂ of the node ``shape`` was taken from: the same
     variables and the same shapes of its terms, whatever their constants (an affine completion of
     a condition of the same shape, :func:`langur.syntax.affine.completed`)."""
-    new = cls.__new__(cls)
-    d = new.__dict__
-    d.update(shape)
-    d["span"] = span
+    new = _new(cls.__base__)
+    new._shape = shape["_shape"]
+    new.span, new._hash, new._typed, new._memo = span, None, None, None
     if cls is Add or cls is Mul:
         a, b = kids
-        d["left"], d["right"] = a, b
-        _binary_value(d, a.__dict__, b.__dict__, cls is Mul)
-        return new
+        new.left, new.right = a, b
+        _binary_value(new, a, b, cls is Mul)
+        return _built(new, cls)
     if cls is IfDiffeo:
         psi, a, b = kids
-        d["psi"], d["then"], d["orelse"] = psi, a, b
-        v = d["_small"] = False if not d["_fv"] and not d["_fp"] else None
-        d["_small_all"] = v is not False and a._small_all and b._small_all
-        return new
+        new.psi, new.then, new.orelse = psi, a, b
+        v = new._small = False if not new._shape[FV] and not new._shape[FP] else None
+        new._small_all = v is not False and a._small_all and b._small_all
+        return _built(new, cls)
     (a,) = kids
     if cls is Pow:
-        d["base"] = a
-        d["_small"] = v = _small_power(a._small, shape["exponent"])
+        new.base = a
+        new.exponent = shape["exponent"]
+        new._small = v = _small_power(a._small, shape["exponent"])
     else:
-        d["arg"] = a
-        d["_small"] = v = False if a._small is not None else None
-    d["_small_all"] = v is not False and a._small_all
-    return new
+        new.arg = a
+        new.op = shape["op"]
+        new._small = v = False if a._small is not None else None
+    new._small_all = v is not False and a._small_all
+    return _built(new, cls)
+
+
+
 
 
 def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
     """``like(cls, shape, (a, b), span)`` for an ``Add`` or a ``Mul`` whose ``shape`` also holds its
     ``span`` (``dict(shape_of(t), span=…)``): a loop's copies build most of their nodes so, one call
     each (issue 15)."""
-    new = _new(cls)
-    d = new.__dict__
-    d.update(shape)
-    d["left"] = a
-    d["right"] = b
-    a, b = a.__dict__, b.__dict__
-    x, y = a["_small"], b["_small"]
+    new = _new(cls.__base__)
+    new._shape, new.span = _shape_span(shape)
+    new.left, new.right, new._hash, new._typed, new._memo = a, b, None, None, None
+    x, y = a._small, b._small
     if (x is None or y is None) and x is not False and y is not False:
         # (_binary_value's first case, written out: a copy's nodes over a variable or parameter)
-        d["_small"] = None
-        d["_small_all"] = a["_small_all"] and b["_small_all"]
+        new._small = None
+        new._small_all = a._small_all and b._small_all
     else:
-        _binary_value(d, a, b, cls is Mul)
-    return new
+        _binary_value(new, a, b, cls is Mul)
+    return _built(new, cls)
 
 
 def like_binary_many(cls: type, shape: dict, lefts: list, rights: list) -> list:
@@ -115,45 +116,47 @@ def like_binary_many(cls: type, shape: dict, lefts: list, rights: list) -> list:
     out = []
     append = out.append
     mul = cls is Mul
+    _layout = cls.__base__
+    values = _shape_span(shape)
     for a, b in zip(lefts, rights):
-        new = _new(cls)
-        d = new.__dict__
-        d.update(shape)
-        d["left"] = a
-        d["right"] = b
-        a, b = a.__dict__, b.__dict__
-        x, y = a["_small"], b["_small"]
+        new = _new(_layout)
+        new._shape, new.span = values
+        new.left, new.right, new._hash, new._typed, new._memo = a, b, None, None, None
+        x, y = a._small, b._small
         if (x is None or y is None) and x is not False and y is not False:
-            d["_small"] = None
-            d["_small_all"] = a["_small_all"] and b["_small_all"]
+            new._small = None
+            new._small_all = a._small_all and b._small_all
         else:
-            _binary_value(d, a, b, mul)
+            _binary_value(new, a, b, mul)
+        new.__class__ = cls  # (_built, written out: t is an Add or a Mul)
         append(new)
     return out
+
 
 def like_power(shape: dict, a: "Term", small) -> "Term":
     """``like(Pow, shape, (a,), span)`` whose ``shape`` also holds its ``span``, with the small value
     of ``a ^ k`` given (``small_power(small_value(a), k)``, which a copy may have computed already)."""
-    new = _new(Pow)
-    d = new.__dict__
-    d.update(shape)
-    d["base"] = a
-    d["_small"] = small
-    d["_small_all"] = small is not False and a._small_all
-    return new
+    new = _new(_POW)
+    new._shape, new.span = _shape_span(shape)
+    new.base, new.exponent, new._hash, new._typed, new._memo = a, shape["exponent"], None, None, None
+    new._small = small
+    new._small_all = small is not False and a._small_all
+    return _built(new, Pow)
 
 
 def like_leaf(c: Const, span) -> Const:
     """``Const(c.value, span=span)``, its attributes copied from ``c`` (a loop's copy reads its
     index at several places: one number, issue 15)."""
-    new = _new(Const)
-    d = new.__dict__
-    d.update(c.__dict__)
-    d["span"] = span
-    return new
+    new = _new(_CONST)
+    (new.value, new.span, new._shape, new._small, new._small_all, new._hash, new._typed,
+     new._memo) = _leaf_copy(c)
+    new.span = span
+    return _built(new, Const)
 
 
 _new = object.__new__
+_POW = Pow.__base__
+_CONST = Const.__base__
 
 
 def index_const(value: int, span=None) -> Const:
@@ -163,9 +166,8 @@ def index_const(value: int, span=None) -> Const:
     number = int_fraction(value)
     if value.bit_length() >= 1000:
         return Const(number, span=span)
-    new = _new(Const)
-    d = new.__dict__
-    d["value"], d["span"] = number, span
-    d.update(_LEAF_ATTRS)
-    d["_small"] = number
-    return new
+    new = _new(_CONST)
+    new.value, new.span, new._hash, new._typed, new._memo = number, span, None, None, None
+    _leaf(new, _LEAF_SHAPE)
+    new._small = number
+    return _built(new, Const)

@@ -12,23 +12,35 @@ from __future__ import annotations
 import functools
 import threading
 
+from .attributes import SIZE
+from .slots import _keep_hash
+
 _EQUAL = threading.local()
 
 
 def _sharing(cls, term: bool = False):
     """Give the record class ``cls`` a kept hash, DAG equality, a pickled state without the kept
-    attributes and, for a term class (``term``: its nodes keep their size), a ``repr`` that
-    summarizes a term too large to write out."""
+    attributes and, for a term class (``term``: its nodes are slotted, :mod:`langur.core.slots`,
+    keep their size and are pickled by their constructor), a ``repr`` that summarizes a term too
+    large to write out."""
     field_hash, field_eq = cls.__hash__, cls.__eq__
     leaf = cls.__name__ in ("Const", "Var", "Param")
 
-    def __hash__(self):
-        try:
-            return self.__dict__["_hash"]
-        except KeyError:
-            h = field_hash(self)
-            object.__setattr__(self, "_hash", h)
+    if term:
+        def __hash__(self):
+            h = self._hash
+            if h is None:
+                h = field_hash(self)
+                _keep_hash(self, h)
             return h
+    else:
+        def __hash__(self):
+            try:
+                return self.__dict__["_hash"]
+            except KeyError:
+                h = field_hash(self)
+                object.__setattr__(self, "_hash", h)
+                return h
 
     def __eq__(self, other):
         if self is other:
@@ -39,7 +51,7 @@ def _sharing(cls, term: bool = False):
             return field_eq(self, other)
         if hash(self) != hash(other):
             return False
-        if self.__dict__.get("_size", REPR_LIMIT) < 64:  # small written out: compared as a tree
+        if (self._shape[SIZE] if term else REPR_LIMIT) < 64:  # small written out: compared as a tree
             return field_eq(self, other)
         # Two DAGs equal node for node: each pair of nodes is compared once (while the outermost
         # comparison runs), not once per path.
@@ -65,11 +77,13 @@ def _sharing(cls, term: bool = False):
     field_repr = cls.__repr__
 
     def __repr__(self):  # written out, a shared term can have 2^40 nodes
-        if term and self._size > REPR_LIMIT:  # (its tree_size)
-            return f"<{cls.__name__}: {self._size:,} nodes written out>"
+        if term and self._shape[SIZE] > REPR_LIMIT:  # (its tree_size)
+            return f"<{cls.__name__}: {self._shape[SIZE]:,} nodes written out>"
         return field_repr(self)
 
-    cls.__hash__, cls.__eq__, cls.__getstate__, cls.__repr__ = __hash__, __eq__, __getstate__, __repr__
+    cls.__hash__, cls.__eq__, cls.__repr__ = __hash__, __eq__, __repr__
+    if not term:  # (a term is pickled by its constructor: slots.slotted)
+        cls.__getstate__ = __getstate__
     return cls
 
 

@@ -9,13 +9,14 @@
 The extension by smooth primitives ``f(t)`` and constant powers ``t ^ k`` is LANGUAGE.md §1's;
 ``t / s`` is ``t · s ^ -1`` and ``t − s`` is ``t + (−1)·s``.
 
-Nodes are frozen dataclasses.  Every node may carry the source ``span`` it came from (for
-diagnostics); spans never take part in equality or hashing, so ``parse(print(t)) == t`` compares
-structure only.
+Nodes are frozen dataclasses, stored in slots (:mod:`langur.core.slots`).  Every node may carry the
+source ``span`` it came from (for diagnostics); spans never take part in equality or hashing, so
+``parse(print(t)) == t`` compares structure only.
 
 Programs ``p`` are declared in :mod:`langur.core.programs`.  A node computes the attributes it keeps
 when it is built, from its children's (:mod:`langur.core.attributes`; ``_annotate`` below for the
-nodes without arithmetic of their own), and its hash once (:mod:`langur.core.sharing`).
+nodes without arithmetic of their own), and its hash once (:mod:`langur.core.sharing`).  Each
+constructor (``__new__``) fills a node of its class's layout and returns it :func:`_built`.
 
 ``Call`` is not part of the paper's core: it appears only in a module's *elaborated* form (one
 module's definitions with calls into other modules left as links, for separate compilation, §9).
@@ -34,17 +35,32 @@ from ..records import frozen
 from .attributes import (
     _EMPTY,
     _INT_IDS,
-    _LEAF_ATTRS,
+    _LEAF_SHAPE,
+    BINDERS,
+    CALLS,
+    DEPTH,
+    DFP,
+    FP,
+    FV,
+    OPS,
+    PSI_VARS,
+    SCOPED,
+    SIZE,
     SMALL_BITS,
+    SMOOTH,
     _binary,
     _ifdiffeo,
     _in_range,
     _join,
+    _leaf,
     _names,
     _small_power,
     _unary,
 )
 from .sharing import _sharing
+from .slots import _built, _slotted
+
+_new = object.__new__
 
 PI = "pi"  # the one named constant: Const(PI) is π
 
@@ -60,19 +76,20 @@ class Const:
     value: Fraction | str
     span: Span | None = _span()
 
-    def __init__(self, value, span=None):
-        d = self.__dict__
-        d["value"], d["span"] = value, span
-        d.update(_LEAF_ATTRS)
+    def __new__(cls, value, span=None):
+        t = _new(cls.__base__)
+        t.value, t.span, t._hash, t._typed, t._memo = value, span, None, None, None
+        _leaf(t, _LEAF_SHAPE)
         if id(value) in _INT_IDS:  # (an integer of INT_FRACTIONS: small, without Fraction's properties)
-            d["_small"] = value
+            t._small = value
         elif type(value) is not Fraction:
-            d["_small"] = d["_small_all"] = False
+            t._small = t._small_all = False
         elif value.denominator.bit_length() > SMALL_BITS or value.numerator.bit_length() >= 1000:
-            d["_small"] = v = _in_range(value)
-            d["_small_all"] = v is not False
+            t._small = v = _in_range(value)
+            t._small_all = v is not False
         else:
-            d["_small"] = value
+            t._small = value
+        return _built(t, cls)
 
 
 @frozen
@@ -82,11 +99,11 @@ class Var:
     name: str
     span: Span | None = _span()
 
-    def __init__(self, name, span=None):
-        d = self.__dict__
-        d["name"], d["span"] = name, span
-        d.update(_LEAF_ATTRS)
-        d["_fv"] = _names(name)
+    def __new__(cls, name, span=None):
+        t = _new(cls.__base__)
+        t.name, t.span, t._hash, t._typed, t._memo = name, span, None, None, None
+        _leaf(t, (_names(name), *_LEAF_SHAPE[FP:]))
+        return _built(t, cls)
 
 
 @frozen
@@ -96,11 +113,11 @@ class Param:
     name: str
     span: Span | None = _span()
 
-    def __init__(self, name, span=None):
-        d = self.__dict__
-        d["name"], d["span"] = name, span
-        d.update(_LEAF_ATTRS)
-        d["_fp"] = _names(name)
+    def __new__(cls, name, span=None):
+        t = _new(cls.__base__)
+        t.name, t.span, t._hash, t._typed, t._memo = name, span, None, None, None
+        _leaf(t, (_EMPTY, _names(name), *_LEAF_SHAPE[SMOOTH:]))
+        return _built(t, cls)
 
 
 @frozen
@@ -109,10 +126,11 @@ class Add:
     right: "Term"
     span: Span | None = _span()
 
-    def __init__(self, left, right, span=None):
-        d = self.__dict__
-        d["left"], d["right"], d["span"] = left, right, span
-        _binary(d, left.__dict__, right.__dict__, False)
+    def __new__(cls, left, right, span=None):
+        t = _new(cls.__base__)
+        t.left, t.right, t.span, t._hash, t._typed, t._memo = left, right, span, None, None, None
+        _binary(t, left, right, False)
+        return _built(t, cls)
 
 
 @frozen
@@ -121,10 +139,11 @@ class Mul:
     right: "Term"
     span: Span | None = _span()
 
-    def __init__(self, left, right, span=None):
-        d = self.__dict__
-        d["left"], d["right"], d["span"] = left, right, span
-        _binary(d, left.__dict__, right.__dict__, True)
+    def __new__(cls, left, right, span=None):
+        t = _new(cls.__base__)
+        t.left, t.right, t.span, t._hash, t._typed, t._memo = left, right, span, None, None, None
+        _binary(t, left, right, True)
+        return _built(t, cls)
 
 
 @frozen
@@ -136,10 +155,11 @@ class Prim:
     arg: "Term"
     span: Span | None = _span()
 
-    def __init__(self, op, arg, span=None):
-        d = self.__dict__
-        d["op"], d["arg"], d["span"] = op, arg, span
-        _unary(d, arg, False if arg._small is not None else None, True, op)
+    def __new__(cls, op, arg, span=None):
+        t = _new(cls.__base__)
+        t.op, t.arg, t.span, t._hash, t._typed, t._memo = op, arg, span, None, None, None
+        _unary(t, arg, False if arg._small is not None else None, True, op)
+        return _built(t, cls)
 
 
 @frozen
@@ -150,11 +170,12 @@ class Pow:
     exponent: Fraction
     span: Span | None = _span()
 
-    def __init__(self, base, exponent, span=None):
-        d = self.__dict__
-        d["base"], d["exponent"], d["span"] = base, exponent, span
-        _unary(d, base, _small_power(base._small, exponent),
+    def __new__(cls, base, exponent, span=None):
+        t = _new(cls.__base__)
+        t.base, t.exponent, t.span, t._hash, t._typed, t._memo = base, exponent, span, None, None, None
+        _unary(t, base, _small_power(base._small, exponent),
                type(exponent) is Fraction or isinstance(exponent, Fraction), None)
+        return _built(t, cls)
 
 
 @frozen
@@ -166,10 +187,11 @@ class IfGe0:
     orelse: "Term"
     span: Span | None = _span()
 
-    def __init__(self, cond, then, orelse, span=None):
-        d = self.__dict__
-        d["cond"], d["then"], d["orelse"], d["span"] = cond, then, orelse, span
-        _annotate(self)
+    def __new__(cls, cond, then, orelse, span=None):
+        t = _new(cls.__base__)
+        t.cond, t.then, t.orelse, t.span, t._hash, t._typed, t._memo = cond, then, orelse, span, None, None, None
+        _annotate(t, cls)
+        return _built(t, cls)
 
 
 @frozen
@@ -184,10 +206,11 @@ class IfDiffeo:
     orelse: "Term"
     span: Span | None = _span()
 
-    def __init__(self, psi, then, orelse, span=None):
-        d = self.__dict__
-        d["psi"], d["then"], d["orelse"], d["span"] = psi, then, orelse, span
-        _ifdiffeo(d, psi, then.__dict__, orelse.__dict__)
+    def __new__(cls, psi, then, orelse, span=None):
+        t = _new(cls.__base__)
+        t.psi, t.then, t.orelse, t.span, t._hash, t._typed, t._memo = psi, then, orelse, span, None, None, None
+        _ifdiffeo(t, psi, then, orelse)
+        return _built(t, cls)
 
 
 @frozen
@@ -199,10 +222,11 @@ class Let:
     body: "Term"
     span: Span | None = _span()
 
-    def __init__(self, name, bound, body, span=None):
-        d = self.__dict__
-        d["name"], d["bound"], d["body"], d["span"] = name, bound, body, span
-        _annotate(self)
+    def __new__(cls, name, bound, body, span=None):
+        t = _new(cls.__base__)
+        t.name, t.bound, t.body, t.span, t._hash, t._typed, t._memo = name, bound, body, span, None, None, None
+        _annotate(t, cls)
+        return _built(t, cls)
 
 
 @frozen
@@ -218,10 +242,11 @@ class Call:
     args: tuple["Term", ...]
     span: Span | None = _span()
 
-    def __init__(self, module, name, args, span=None):
-        d = self.__dict__
-        d["module"], d["name"], d["args"], d["span"] = module, name, args, span
-        _annotate(self)
+    def __new__(cls, module, name, args, span=None):
+        t = _new(cls.__base__)
+        t.module, t.name, t.args, t.span, t._hash, t._typed, t._memo = module, name, args, span, None, None, None
+        _annotate(t, cls)
+        return _built(t, cls)
 
 
 @frozen
@@ -260,11 +285,17 @@ class ImplicitRoot:
     slope: "Term | None" = None
     span: Span | None = _span()
 
-    def __init__(self, equation, variable, target, lo, hi, index=None, of=0, slope=None, span=None):
-        d = self.__dict__
-        d["equation"], d["variable"], d["target"], d["lo"], d["hi"] = equation, variable, target, lo, hi
-        d["index"], d["of"], d["slope"], d["span"] = index, of, slope, span
-        _annotate(self)
+    def __new__(cls, equation, variable, target, lo, hi, index=None, of=0, slope=None, span=None):
+        t = _new(cls.__base__)
+        t.equation, t.variable, t.target, t.lo, t.hi = equation, variable, target, lo, hi
+        t.index, t.of, t.slope, t.span, t._hash, t._typed, t._memo = index, of, slope, span, None, None, None
+        _annotate(t, cls)
+        return _built(t, cls)
+
+
+#: The classes above as nodes stored in slots (:mod:`langur.core.slots`).
+Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot = _slotted(
+    (Const, Var, Param), (Add, Mul), (Prim, Pow), (IfGe0, IfDiffeo, Let, Call, ImplicitRoot))
 
 
 class TooManyRoots(Exception):
@@ -366,80 +397,49 @@ def children(t: Term) -> tuple[Term, ...]:
     raise TypeError(f"not a core term: {t!r}")
 
 
-def _annotate(t: "Term") -> None:
-    """Compute and keep ``t``'s attributes from its children's (:mod:`langur.core.attributes`)."""
-    d = t.__dict__
-    if type(t) is IfDiffeo:
-        _ifdiffeo(d, t.psi, t.then.__dict__, t.orelse.__dict__)
-        return
-    kids = children(t)
+def _annotate(t, cls: type) -> None:
+    """Compute and keep the attributes of ``t``, being built as a ``cls`` (an ``IfGe0``, ``Let``,
+    ``Call`` or ``ImplicitRoot``: the nodes without arithmetic of their own), from its children's
+    (:mod:`langur.core.attributes`)."""
+    if cls is IfGe0:
+        kids = (t.cond, t.then, t.orelse)
+    elif cls is Let:
+        kids = (t.bound, t.body)
+    elif cls is Call:
+        kids = tuple(t.args)
+    else:  # ImplicitRoot
+        kids = (t.equation, t.target, t.lo, t.hi) if t.slope is None else (t.equation, t.target, t.lo, t.hi, t.slope)
     fv = fp = pv = _EMPTY
     for c in kids:
-        fv, fp, pv = _join(fv, c._fv), _join(fp, c._fp), _join(pv, c._psi_vars)
+        fv, fp, pv = _join(fv, c._shape[FV]), _join(fp, c._shape[FP]), _join(pv, c._shape[PSI_VARS])
     size, deep = 1, 0
     for c in kids:
-        size += c._size
-        if c._depth > deep:
-            deep = c._depth
-    match t:
-        case Var(name):
-            fv = _names(name)
-        case Param(name):
-            fp = _names(name)
-        case Let(name, bound, body):
-            fp = _join(bound._fp, body._fp - {name} if name in body._fp else body._fp)
-        case ImplicitRoot(eq, x, target, lo, hi, slope=slope):  # binds its variable in its equation (and slope)
-            own = eq._fv if slope is None else _join(eq._fv, slope._fv)
-            fv = _join(_join(own - {x} if x in own else own, target._fv), _join(lo._fv, hi._fv))
-    d["_fv"], d["_fp"], d["_psi_vars"], d["_size"], d["_depth"] = fv, fp, pv, size, deep + 1
-    d["_smooth"] = not isinstance(t, (IfGe0, Call)) and all(c._smooth for c in kids)
-    d["_calls"] = isinstance(t, Call) or any(c._calls for c in kids)
-    match t:
-        case Const(value):
-            v = _in_range(value) if type(value) is Fraction else False
-        case Var() | Param():
-            v = None
-        case Add(a, b) | Mul(a, b):
-            x, y = a._small, b._small
-            if x is False or y is False:
-                v = False
-            elif x is None or y is None:
-                v = None
-            else:
-                v = _in_range(x + y if isinstance(t, Add) else x * y)
-        case Pow(a, k):
-            v = _small_power(a._small, k)
-        case _:
-            v = False if not fv and not fp else None
-    d["_small"] = v
-    d["_small_all"] = v is not False and all(c._small_all for c in kids)
-    scoped = all(c._scoped for c in kids)
+        size += c._shape[SIZE]
+        if c._shape[DEPTH] > deep:
+            deep = c._shape[DEPTH]
+    if cls is Let:
+        bound, body, name = t.bound, t.body, t.name
+        fp = _join(bound._shape[FP], body._shape[FP] - {name} if name in body._shape[FP] else body._shape[FP])
+    elif cls is ImplicitRoot:  # binds its variable in its equation (and slope)
+        eq, x, slope = t.equation, t.variable, t.slope
+        own = eq._shape[FV] if slope is None else _join(eq._shape[FV], slope._shape[FV])
+        fv = _join(_join(own - {x} if x in own else own, t.target._shape[FV]), _join(t.lo._shape[FV], t.hi._shape[FV]))
+    smooth = cls is not IfGe0 and cls is not Call and all(c._shape[SMOOTH] for c in kids)
+    calls = cls is Call or any(c._shape[CALLS] for c in kids)
+    t._small = v = False if not fv and not fp else None
+    t._small_all = v is not False and all(c._small_all for c in kids)
+    scoped = all(c._shape[SCOPED] for c in kids)
     ops = binders = dfp = _EMPTY
     for c in kids:
-        ops, binders, dfp = _join(ops, c._ops), _join(binders, c._binders), _join(dfp, c._dfp)
-    match t:
-        case Prim(op, _):
-            ops = _join(ops, _names(op))
-        case Pow(_, k):
-            scoped = scoped and (type(k) is Fraction or isinstance(k, Fraction))
-        case IfGe0(c, _, _):
-            scoped = scoped and not c._fv
-        case Let(name, bound, body):
-            scoped = scoped and not bound._fv
-            binders = _join(binders, _names(name))
-            dfp = _join(bound._dfp, body._dfp - {name} if name in body._dfp else body._dfp)
-        case ImplicitRoot(eq, _, _, lo, hi, slope=slope):  # its bracket may move with Δ (issue 18)
-            scoped = scoped and not eq._binders and (slope is None or not slope._binders)
-    d["_scoped"], d["_ops"], d["_binders"], d["_dfp"] = scoped, ops, binders, dfp
+        ops, binders, dfp = _join(ops, c._shape[OPS]), _join(binders, c._shape[BINDERS]), _join(dfp, c._shape[DFP])
+    if cls is IfGe0:
+        scoped = scoped and not t.cond._shape[FV]
+    elif cls is Let:
+        scoped = scoped and not bound._shape[FV]
+        binders = _join(binders, _names(name))
+        dfp = _join(bound._shape[DFP], body._shape[DFP] - {name} if name in body._shape[DFP] else body._shape[DFP])
+    elif cls is ImplicitRoot:  # its bracket may move with Δ (issue 18)
+        scoped = scoped and not eq._shape[BINDERS] and (slope is None or not slope._shape[BINDERS])
+    t._shape = (fv, fp, smooth, calls, size, deep + 1, pv, scoped, ops, binders, dfp)
 
 
-def _setstate(self, state: dict) -> None:  # unpickled: the attributes computed again
-    self.__dict__.update(state)
-    if type(self) in (Const, Var, Param):
-        self.__init__(**state)
-    elif type(self) in _TERMS:
-        _annotate(self)
-
-
-for _cls in _TERMS:
-    _cls.__setstate__ = _setstate

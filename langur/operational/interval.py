@@ -27,7 +27,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..core import Add, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var
+from ..core import Add, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var, keep_memo
 from ..primitives import REGISTRY
 from ..records import frozen
 from .consts import const_value
@@ -79,13 +79,15 @@ class _Tape:
 
 def _tape(t: Term, certified: bool = False) -> _Tape:
     """The tape of ``t``, built once and kept on the node (as core's derived facts are)."""
-    slot = "_certified_tape" if certified else "_enclosure_tape"
-    try:
-        return t.__dict__[slot]
-    except KeyError:
-        tape = _build((t,), certified)
-        object.__setattr__(t, slot, tape)
-        return tape
+    key = "certified tape" if certified else "enclosure tape"
+    memo = t._memo
+    if memo is None:
+        memo = {}
+        keep_memo(t, memo)
+    tape = memo.get(key)
+    if tape is None:
+        tape = memo[key] = _build((t,), certified)
+    return tape
 
 
 def _build(terms: tuple[Term, ...], certified: bool = False) -> _Tape:

@@ -6,7 +6,26 @@ from __future__ import annotations
 
 import itertools
 
-from ..core import Add, Call, Const, IfDiffeo, IfGe0, ImplicitRoot, Let, Mul, Param, Pow, Prim, Term, Var
+from ..core import (
+    CALLS,
+    FP,
+    FV,
+    PSI_VARS,
+    Add,
+    Call,
+    Const,
+    IfDiffeo,
+    IfGe0,
+    ImplicitRoot,
+    Let,
+    Mul,
+    Param,
+    Pow,
+    Prim,
+    Term,
+    Var,
+    keep_memo,
+)
 from ..primitives import REGISTRY
 from .consts import const_value
 from .dual import power
@@ -47,7 +66,7 @@ class Sharing:
 
     def shared(self, t: Term) -> bool:
         # pure: no site nor call below (the kept attributes: no diffeomorphic conditional, no call)
-        return self.refs.get(id(t), 0) > 1 and not t._psi_vars and not t._calls
+        return self.refs.get(id(t), 0) > 1 and not t._shape[PSI_VARS] and not t._shape[CALLS]
 
 
 _LEAVES = (Const, Var, Param)
@@ -83,12 +102,15 @@ _NOT_YET = object()
 def constant(t: Term):
     """:func:`_fold` of ``t`` when it has no variable, parameter or call (kept on the node: a
     number that only depends on the term), else None."""
-    if t._fv or t._fp or t._calls:
+    if t._shape[FV] or t._shape[FP] or t._shape[CALLS]:
         return None
-    d = t.__dict__
-    v = d.get("_folded", _NOT_YET)
+    memo = t._memo
+    if memo is None:
+        memo = {}
+        keep_memo(t, memo)
+    v = memo.get("folded", _NOT_YET)
     if v is _NOT_YET:
-        v = d["_folded"] = _fold(t)
+        v = memo["folded"] = _fold(t)
     return v
 
 
