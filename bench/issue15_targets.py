@@ -112,11 +112,8 @@ def targets(m: dict) -> list[tuple[str, str, str, str]]:
         rows.append((f"one-shot `langur eval examples/fig1.lgr --engine mc` ≤ {ONE_SHOT_S:g} s wall", "not measured",
                      "", _mark(None)))
     elif mine.get("walls"):
-        shown, ratio, mark = _within(mine["walls"], ONE_SHOT_S, slow, 1, "s wall", 3)
-        loads = shots.get("loads")
-        at = f" (load {loads[0]:.1f}–{loads[1]:.1f})" if loads else ""
         rows.append((f"one-shot `langur eval examples/fig1.lgr --engine mc` ≤ {ONE_SHOT_S:g} s wall",
-                     f"{shown}{at}; CPU {mine['cpu']:.3f} s", ratio, mark))
+                     *_one_shot(mine, shots.get("loads"), slow)))
     else:
         loads = shots.get("loads")
         at = f" (load {loads[0]:.1f}–{loads[1]:.1f})" if loads else ""
@@ -153,6 +150,18 @@ def targets(m: dict) -> list[tuple[str, str, str, str]]:
                      f"max {ex['max']:.2f} s, median {ex['median']:.2f} s of {ex['count']}",
                      f"{ex['over']} over", _mark(ex["max"] <= EXACT_S and not ex["failed"])))
     return rows
+
+
+def _one_shot(mine: dict, loads, slowdown: float) -> tuple[str, str, str]:
+    """≤ 0.3 s wall from rounds: the band runs from the least CPU seconds (÷ the host's slowdown: on an
+    idle host a process's wall time is its CPU time and little more, and never less) to the typical
+    wall time (the median over rounds: on a loaded host the process also waits for a core)."""
+    low = min(mine.get("cpus") or [mine["cpu"]]) / slowdown
+    typical = statistics.median(mine["walls"])
+    at = f" (load {loads[0]:.1f}–{loads[1]:.1f})" if loads else ""
+    shown = (f"least {min(mine['walls']):.3f} s, typical {typical:.3f} s wall of {len(mine['walls'])}{at}; "
+             f"least CPU {low * slowdown:.3f} s" + (f" ÷ host slowdown {slowdown:.2f} = {low:.3f} s" if slowdown > 1 else ""))
+    return shown, f"{low / ONE_SHOT_S:.2f}–{typical / ONE_SHOT_S:.2f} of the target", verdict(low, typical, ONE_SHOT_S)
 
 
 def _peer_ratio(q: dict, r: dict, ratio: float) -> tuple[str, str, str]:

@@ -29,17 +29,19 @@ import time
 
 CLOCK = time.process_time
 
-#: The calibration loop's least CPU seconds (of 5 calls, the least of 25 such measurements) on the host
-#: issue 15's numbers were taken on (2 KVM cores of an Intel Xeon, Python 3.11.7), at load average
-#: 0.2–2 on 2026-11-28; :func:`slowdown` reads a run's calibration against it.
-REFERENCE_CALIBRATION_S = 0.0040
+#: The calibration loop's least CPU seconds (:func:`calibrate`, least of 5 calls) on the host issue 15's
+#: numbers were taken on (2 KVM cores of an Intel Xeon, Python 3.11.7): the least of 218 measurements
+#: every 5 s over 12:22–12:43 UTC on 2026-11-28, at load average 3–11 (5.66 ms; the median 6.0 ms,
+#: the most 11.9 ms; the least hardly moves with the load: 5.66 ms at load 3.4, 5.72 ms at 9.5);
+#: :func:`slowdown` reads a run's calibration against it.
+REFERENCE_CALIBRATION_S = 0.0056
 
 BORDERLINE = "borderline"
 
 
 def calibration_work() -> int:
     """The calibration loop: a fixed piece of interpreter work (tuples, a small dict, ``str`` of ints, a
-    call per item), ≈ 4 ms on the reference host; its result is returned so that nothing is skipped."""
+    call per item), ≈ 5.7 ms on the reference host; its result is returned so that nothing is skipped."""
     counts: dict = {}
     total = 0
     for i in range(20000):

@@ -155,13 +155,19 @@ def test_peer_ratio_from_paired_rounds():
 def test_mb2_import_and_one_shot_from_rounds():
     m = {"swaps": 50, "mb2": {"langur": {"total": 0.9, "rounds": [0.8, 0.9, 1.3]}},
          "import": {"beyond": 0.03, "rounds": [0.02, 0.03, 0.05]},
-         "one_shot": {"langur eval --engine mc": {"wall": 0.35, "cpu": 0.2, "walls": [0.25, 0.35, 0.7]}}}
+         "one_shot": {"langur eval --engine mc": {"wall": 0.35, "cpu": 0.2, "walls": [0.25, 0.35, 0.7],
+                                                  "cpus": [0.2, 0.22, 0.21]}}}
     assert _row(m, "MB2")[3] == "✓"  # typical 0.9 s ≤ 1 s (the old code said ✓ from its one run too)
     m["mb2"]["langur"]["rounds"] = [0.8, 1.1, 1.3]
     assert _row(m, "MB2")[2:] == ("0.80–1.10 of the target", "borderline")
     assert _row(m, "import")[3] == "✓"
-    # one-shot: least 0.25 s ≤ 0.3 < typical 0.35 s wall: borderline (the old code: median 0.35, ✗)
-    assert _row(m, "one-shot `langur eval")[3] == "borderline"
+    # one-shot: least CPU 0.2 s ≤ 0.3 < typical 0.35 s wall: borderline (the old code: median 0.35, ✗)
+    assert _row(m, "one-shot `langur eval")[2:] == ("0.67–1.17 of the target", "borderline")
+    shot = m["one_shot"]["langur eval --engine mc"]
+    shot["walls"] = [0.2, 0.25, 0.28]  # typical 0.25 s wall: ✓
+    assert _row(m, "one-shot `langur eval")[3] == "✓"
+    shot["walls"], shot["cpus"] = [0.5, 0.6, 0.7], [0.32, 0.33, 0.4]  # even the least CPU over 0.3 s: ✗
+    assert _row(m, "one-shot `langur eval")[3] == "✗"
 
 
 def test_faster_than_a_peer_combines_paired_rounds_and_instructions():
