@@ -607,9 +607,18 @@ def main(argv=None) -> None:
         return
     _describe(peers)
     sizes = (1, 10, 49) if args.quick else ttn.SIZES
-    m: dict = {"swaps": args.swaps or (5 if args.quick else 50)}
+    m: dict = {"swaps": args.swaps or (5 if args.quick else 50), "wall": {}}
+    clock = [time.perf_counter()]
+
+    def took(section: str) -> None:  # (the sections' wall time, printed at the end)
+        now = time.perf_counter()
+        m["wall"][section] = now - clock[0]
+        clock[0] = now
+
     ours_mb2 = langur_mb2(m["swaps"], args.mb2_rounds)  # (before any peer is imported into this process: see run_mb1)
+    took("Langur's microbenchmark 2")
     m["mb1"] = run_mb1(sizes, peers, args.reps, args.peer_reps)
+    took("microbenchmark 1's rounds")
     if args.plot:
         plot(m["mb1"], args.plot)
         print(f"\nplot: {args.plot}")
@@ -625,14 +634,19 @@ def main(argv=None) -> None:
             if r["n"] in counted:
                 r["share_instructions"], r["instructions"] = counted[r["n"]]["share"], counted[r["n"]]
         counts = shots() if shots else None
+    took("the peers' microbenchmark 2 and the instruction counts beside it")
     m["one_shot"] = run_one_shot(peers, args.rounds or (3 if args.quick else 9), counts)
     m["import"] = run_import(args.reps)
+    took("the one-shot processes and the import")
     if not args.skip_exact:
         m["exact"] = run_exact(args.exact_limit, args.exact_again)
+        took("the exact engine")
     host()
     m["calibrations"], m["slowdown"] = CALIBRATIONS, slowdown(CALIBRATIONS)
     print_host(m)
     print_targets(m)
+    print(f"\nwall time: {sum(m['wall'].values()) / 60:.1f} min (" + ", ".join(f"{k} {v / 60:.1f}" for k, v in
+                                                                     m["wall"].items()) + f"; {load()} at the end)")
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(m, fh, indent=1, default=str)
