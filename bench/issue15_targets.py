@@ -11,9 +11,13 @@ two programs; borderline when the limit lies inside what was measured."""
 
 from __future__ import annotations
 
+import os
 import statistics
+import sys
 
-from steady import all_of, band, combine, verdict
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # (steady, beside this file, run as a script with -P)
+
+from steady import all_of, band, combine, verdict  # noqa: E402
 
 PEERS = ("potto", "teg")
 
@@ -214,3 +218,25 @@ def _exact(ex: dict, slowdown: float) -> tuple[str, str, str]:
     mark = "✗" if ex["failed"] else verdict(low, high, EXACT_S)
     return shown, f"{len(over)} over in every run" + (f", not finished: {', '.join(ex['failed'])}" if ex["failed"] else ""), mark
 
+
+
+def main(argv=None) -> None:
+    """``python bench/issue15_targets.py RUN.json``: the targets table again from a run's ``--json`` (with
+    this version's verdicts; the host's slowdown recomputed from the run's calibrations)."""
+    import argparse
+    import json
+
+    from steady import slowdown
+
+    ap = argparse.ArgumentParser(description=main.__doc__)
+    ap.add_argument("json", help="the file bench_issue15.py --json wrote")
+    m = json.load(open(ap.parse_args(argv).json))
+    if m.get("calibrations"):
+        m["slowdown"] = slowdown(m["calibrations"])
+    print("| target | measured | ratio | |\n|---|---|---|---|")
+    for row in targets(m):
+        print("| " + " | ".join(row) + " |")
+
+
+if __name__ == "__main__":
+    main()

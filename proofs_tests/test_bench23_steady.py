@@ -202,3 +202,19 @@ def test_exact_deriv_from_the_slowest_partials_measured_again():
     ex["again"]["quadratic ∂ax"] = [0.5, 0.5, 0.5]
     ex["failed"] = ["slow.lgr"]  # an unfinished example fails the target whatever the rest
     assert _row({"exact": ex}, "exact")[3] == "✗"
+
+
+def test_targets_table_again_from_a_runs_json(tmp_path, capsys):
+    import json
+
+    import issue15_targets
+
+    # MB1 n = 49 in rounds 18, 22, 25 ms; the run's calibrations: least 6.72 ms = 1.2 × the reference 5.6 ms
+    run = {"mb1": {"langur": [_mb1(49, [0.018, 0.022, 0.025], [0.3] * 3)]},
+           "calibrations": [0.0070, 1.2 * steady.REFERENCE_CALIBRATION_S, 0.0090]}
+    path = tmp_path / "run.json"
+    path.write_text(json.dumps(run))
+    issue15_targets.main([str(path)])
+    (line,) = [x for x in capsys.readouterr().out.splitlines() if x.startswith("| MB1 n = 49, text")]
+    # least 18 ms ÷ 1.2 = 15.0 ms, typical 22 ms: 0.75–1.10 of the target, borderline
+    assert "least ÷ 1.20 = 15.0 ms" in line and line.endswith("| 0.75–1.10 of the target | borderline |")
