@@ -219,7 +219,6 @@ def _exact(ex: dict, slowdown: float) -> tuple[str, str, str]:
     return shown, f"{len(over)} over in every run" + (f", not finished: {', '.join(ex['failed'])}" if ex["failed"] else ""), mark
 
 
-
 def main(argv=None) -> None:
     """``python bench/issue15_targets.py RUN.json``: the targets table again from a run's ``--json`` (with
     this version's verdicts; the host's slowdown recomputed from the run's calibrations)."""

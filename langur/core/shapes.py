@@ -90,9 +90,6 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
     return _built(new, cls)
 
 
-
-
-
 def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
     """``like(cls, shape, (a, b), span)`` for an ``Add`` or a ``Mul`` whose ``shape`` also holds its
     ``span`` (``dict(shape_of(t), span=…)``): a loop's copies build most of their nodes so, one call
