@@ -45,6 +45,7 @@ from ..core import (
     smooth,
 )
 from ..diagnostics import LangurError, located
+from ..memo import remember
 from ..sympy_bridge import FUNCTIONS, const_expr, denote, symbol, symbols
 from .pieces import Branch, Condition, Piece, Psi
 
@@ -78,8 +79,28 @@ class Ctx:
 # Conditions and Ψ̂
 
 
+#: :func:`psi_of`'s answers by (Diffeo, the context's let bindings, point and variables): the same
+#: diffeomorphic conditions are made into Ψ̂ again for ⟦p⟧, each piece of ⦇p⦈ and the check (raytrace
+#: ∂t: 32 times, 9 distinct).  Not kept when a binding or the point holds a Float (sympy's equality
+#: does not see a Float's precision); at most :data:`PSIS` kept (the oldest dropped).
+_PSIS: dict = {}
+PSIS = 1024
+
+
 def psi_of(diffeo: Diffeo, ctx: Ctx) -> Psi:
-    """The core Diffeo (extended to the program's variables) as a sympy ``Psi``, all branches."""
+    """The core Diffeo (extended to the program's variables) as a sympy ``Psi``, all branches
+    (remembered, :data:`_PSIS`)."""
+    values = (*ctx.env.values(), *(ctx.at.values() if ctx.at is not None else ()))
+    if any(isinstance(v, sp.Basic) and v.has(sp.Float) or isinstance(v, float) for v in values):
+        return _psi_of(diffeo, ctx)
+    key = (diffeo, tuple(ctx.env.items()), None if ctx.at is None else tuple(ctx.at.items()), ctx.variables)
+    hit = _PSIS.get(key)
+    if hit is None:
+        hit = remember(_PSIS, key, _psi_of(diffeo, ctx), PSIS)
+    return hit
+
+
+def _psi_of(diffeo: Diffeo, ctx: Ctx) -> Psi:
     if ctx.variables is not None and tuple(diffeo.variables) != tuple(ctx.variables):
         diffeo = extend_diffeo(diffeo, tuple(ctx.variables))
     branches = tuple(

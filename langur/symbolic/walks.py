@@ -18,6 +18,8 @@ from functools import lru_cache
 
 import sympy as sp
 
+from langur.memo import remember
+
 
 def degree(e, vs: frozenset, memo: dict | None = None, seen: dict | None = None) -> int | None:
     """Total degree of ``e`` as a polynomial in the symbols ``vs`` (coefficients any expressions
@@ -66,14 +68,22 @@ def mentions(e, vs, memo: dict) -> bool:
 #: Limits up to which :func:`size` counts node by node; beyond, it sums over distinct subtrees.
 WALKED_SIZE = 4096
 
+#: :func:`tree_size` of the trees :func:`size` measured beyond :data:`WALKED_SIZE`, by expression
+#: (equal trees have the same size); at most :data:`FREE` kept (the oldest dropped).
+_SIZES: dict = {}
+
 
 def size(e, limit: int) -> int:
     """Number of nodes of the tree ``e``, counted up to ``limit`` (cheaper than ``count_ops``):
     ``min(number of nodes, limit)``.  A large limit (the closed forms printed or not, 10⁵ nodes) is
     checked by summing the sizes of the distinct subtrees (:func:`tree_size`) rather than visiting
-    10⁵ nodes."""
+    10⁵ nodes; that sum is remembered by expression, :data:`_SIZES`: the same closed forms and
+    integrands are measured again by each choice of method)."""
     if limit > WALKED_SIZE:
-        return min(tree_size(e), limit)
+        n = _SIZES.get(e)
+        if n is None:
+            n = remember(_SIZES, e, tree_size(e), FREE)
+        return min(n, limit)
     n, stack = 0, [e]
     while stack and n < limit:
         node = stack.pop()
@@ -141,9 +151,19 @@ def _iterable(a) -> bool:
     return isinstance(a, (tuple, list, set, frozenset))
 
 
+#: :func:`has_any`'s answers by (expression, classes): equal trees have nodes of the same classes
+#: (sympy's equality tells a Float from a rational); at most :data:`FREE` kept (the oldest dropped).
+_HAS: dict = {}
+
+
 def has_any(e, types: tuple) -> bool:
-    """``e.has(*types)`` for classes ``types``, each distinct subtree visited once (:func:`any_node`)."""
-    return any_node(e, lambda node: isinstance(node, types))
+    """``e.has(*types)`` for classes ``types``, each distinct subtree visited once (:func:`any_node`),
+    remembered (:data:`_HAS`)."""
+    key = (e, types)
+    hit = _HAS.get(key)
+    if hit is None:
+        hit = remember(_HAS, key, any_node(e, lambda node: isinstance(node, types)), FREE)
+    return hit
 
 
 @lru_cache(maxsize=None)
@@ -153,11 +173,28 @@ def _plain_free_symbols(cls) -> bool:
     return owner is sp.Basic
 
 
+#: :func:`free_symbols`' answers by expression (sympy's equality: equal trees have the same free
+#: symbols): the same conditions, weights and integrands are asked for again by each step of a
+#: decomposition, compilation and quadrature set-up (raytrace ∂t: 1,289 calls, 231 distinct
+#: expressions); at most :data:`FREE` kept (the oldest dropped).
+_FREE: dict = {}
+FREE = 4096
+
+
 def free_symbols(e) -> set:
     """``e.free_symbols`` for a tree of symbols and numbers under ordinary functions and operators,
     each distinct subtree visited once (sympy recomputes it for every occurrence: seconds for the
-    ~10³-node integrands of a stylize partial derivative).  A node with bound symbols (a Lambda,
-    an implicit root, an Integral) is asked for its own ``free_symbols``."""
+    ~10³-node integrands of a stylize partial derivative), remembered by expression (:data:`_FREE`;
+    a new set each time, as sympy gives it).  A node with bound symbols (a Lambda, an implicit
+    root, an Integral) is asked for its own ``free_symbols``."""
+    hit = _FREE.get(e)
+    if hit is None:
+        hit = remember(_FREE, e, frozenset(_walked_free_symbols(e)), FREE)
+    return set(hit)
+
+
+def _walked_free_symbols(e) -> set:
+    """:func:`free_symbols` walked: each distinct subtree visited once."""
     out: set = set()
     seen: set = set()
     stack = [e]
