@@ -212,8 +212,19 @@ def polynomial_roots(cs: Sequence[float]) -> list[float]:
             return [re, re] if im <= REAL_SLACK * (1.0 + math.hypot(re, im)) else []
         q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
         return [q / a, c / q] if q != 0.0 else [0.0, 0.0]
-    out = np.roots(np.array(cs, dtype=float))
+    out = _companion_roots(cs) if cs[-1] != 0.0 else np.roots(np.array(cs, dtype=float))
     return [float(r.real) for r in out if abs(r.imag) <= REAL_SLACK * (1 + abs(r))]
+
+
+def _companion_roots(cs: Sequence[float]):
+    """``numpy.roots(cs)`` for finite coefficients, the first and the last not 0 (degree ≥ 3): the same
+    array — numpy's own steps for them (its companion matrix, ones below the diagonal and
+    ``-p[1:] / p[0]`` in the first row, and its eigenvalues by ``numpy.linalg.eigvals``), without its
+    checks and trimming of zeros (about a quarter of its time; turning2d ∂a solves ~1,000 cubics)."""
+    p = np.array(cs, dtype=float)
+    a = np.diag(np.ones((len(p) - 2,), p.dtype), -1)
+    a[0, :] = -p[1:] / p[0]
+    return np.linalg.eigvals(a)
 
 
 def _poly_roots(expr, syms: Sequence[sp.Symbol], level: int, at: dict | None = None):
