@@ -94,7 +94,10 @@ def psi_of(diffeo: Diffeo, ctx: Ctx) -> Psi:
     if any(isinstance(v, sp.Basic) and v.has(sp.Float) or isinstance(v, float) for v in values):
         return _psi_of(diffeo, ctx)
     key = (diffeo, tuple(ctx.env.items()), None if ctx.at is None else tuple(ctx.at.items()), ctx.variables)
-    hit = _PSIS.get(key)
+    try:
+        hit = _PSIS.get(key)
+    except TypeError:  # (a value without a hash: not remembered)
+        return _psi_of(diffeo, ctx)
     if hit is None:
         hit = remember(_PSIS, key, _psi_of(diffeo, ctx), PSIS)
     return hit
