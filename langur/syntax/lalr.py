@@ -57,14 +57,10 @@ GRAMMAR = Path(__file__).with_name("grammar.lark")
 #: is an unmarshal), generated from lark by ``python -m langur.syntax.tables``, never edited by hand.
 DATA = Path(__file__).with_name("grammar_driver.py")
 #: The layout of :data:`DATA` (a module of another layout is not read).
-DATA_FORMAT = 2
+DATA_FORMAT = 3
 
 #: What the driver returns when lark must parse instead (an input with a syntax error).
 FAILED = object()
-
-#: The group of the lexer's pattern that holds the one-character literal terminals.
-SINGLE = "_1CHAR"
-
 
 def grammar_text() -> str:
     with open(GRAMMAR, encoding="utf-8") as f:
@@ -75,19 +71,18 @@ def digest(text: str) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
-class Token(str):
-    """A token as lark's ``lark.Token`` is one — a ``str`` of its text with the same slots, set to
-    the same values by the driver — so that ``parser._Builder``'s callbacks read it as they read
-    lark's (on the error path they receive lark's own)."""
+class Token:
+    """A token as the callbacks read lark's ``lark.Token`` (on the error path they receive lark's
+    own): its terminal ``type``, its text ``value`` and its positions, the same attributes set to
+    the same values by the driver — but not a ``str`` (parse24: a ``str`` subclass cost ≈ 2.4 k
+    instructions a token to make; the callbacks read ``value``)."""
 
-    __slots__ = ("type", "start_pos", "value", "line", "column", "end_line", "end_column", "end_pos")
+    __slots__ = ("column", "end_column", "end_line", "end_pos", "line", "start_pos", "type", "value")
 
-    def __new__(cls, type, value, start_pos=None, line=None, column=None, end_line=None, end_column=None,
-                end_pos=None):
-        inst = str.__new__(cls, value)
-        inst.type, inst.start_pos, inst.value, inst.line = type, start_pos, value, line
-        inst.column, inst.end_line, inst.end_column, inst.end_pos = column, end_line, end_column, end_pos
-        return inst
+    def __init__(self, type, value, start_pos=None, line=None, column=None, end_line=None, end_column=None,
+                 end_pos=None):
+        self.type, self.value, self.start_pos, self.line = type, value, start_pos, line
+        self.column, self.end_line, self.end_column, self.end_pos = column, end_line, end_column, end_pos
 
     @classmethod
     def new_borrow_pos(cls, type_: str, value: Any, borrow_t) -> Token:
@@ -96,13 +91,6 @@ class Token(str):
 
     def __repr__(self) -> str:
         return f"Token({self.type!r}, {self.value!r})"
-
-    def __eq__(self, other) -> bool:  # (lark's: tokens of different types differ)
-        if isinstance(other, Token) and self.type != other.type:
-            return False
-        return str.__eq__(self, other)
-
-    __hash__ = str.__hash__
 
 
 class Tree:
@@ -134,56 +122,253 @@ def load(module: Any = None) -> dict | None:
         return None
 
 
-def scanner(lexer: dict) -> dict:
+def scanner(lexer: dict) -> dict | None:
     """What the driver's lexer runs, made from the lexer's data (``tables.driver_data``'s
-    ``lexer``) once, by the generator: ``pattern`` — one match per token: any run of ignored text
-    (white space, comments) as lark's lexer would cut it — atomic, never backtracked into (a comment
-    is never cut short for a name in it) — then the scanner's alternatives in its order, or nothing
-    at the end of the text.  After that run no ignored terminal can match (the run would have taken
-    it), so they are left out; a run of consecutive one-character literal terminals (``(``, ``+``,
-    …: at most one of them matches, whatever their order) is one character class, group
-    :data:`SINGLE`, its terminal read off the character (``singles``: one failed alternative
-    instead of one per terminal).  ``keywords``: per terminal with lark's ``UnlessCallback``
-    (``NAME``), its text → the keyword's terminal, as that callback finds it (a full match of the
-    keywords' literals: the first literal equal to the text).  ``flags``: the pattern's."""
+    ``lexer``) once, by the generator (parse24: the whole text cut by one ``findall``, each token's
+    terminal told from its text by two dicts, no match object per token):
+
+    * ``pattern``: per token three groups — any run of ignored text (white space, comments) as
+      lark's lexer would cut it (atomic, never backtracked into: a comment is never cut short for a
+      name in it); the token, by the scanner's alternatives in its order (no group per terminal:
+      the text names it, below); or one character no terminal matches (the input is not valid) —
+      and at the end of the text, nothing.  After the ignored run no ignored terminal can match,
+      so they are left out of the alternatives.
+    * ``literals``: a token's text → its terminal, for the terminals whose texts are a fixed set
+      (lark's string terminals, a regular expression that is an alternation of literals such as
+      ``LE``'s ``<=|≤``) and the keywords lark's ``UnlessCallback`` tells from a ``NAME`` (a full
+      match of the keywords' literals: the first literal equal to the text).  A text is one
+      terminal's only: two terminals with one text make the data ``None``.
+    * ``first``: for the other terminals (``NAME``, ``NUMBER``), a token's first character → its
+      terminal, from a superset of the characters each can start with (:func:`first_chars`); the
+      sets must be disjoint (else ``None``): a token whose text is no literal came from the one
+      terminal that can start with its first character.
+
+    ``None`` when a terminal's expression is beyond :func:`first_chars`' reading, or flags other
+    than ``re.UNICODE`` are set: the driver then does not run (lark parses)."""
     ignored = frozenset(lexer["ignore"])
+    flags = int(lexer["flags"])
+    if flags & ~re.UNICODE:
+        return None
     skip = "|".join(f"(?:{regexp})" for regexp in lexer["ignored_patterns"])
     parts: list[str] = []
-    singles: dict[str, str] = {}
-    run: list = []
+    literals: dict[str, str] = {}
+    first: dict[str, str] = {}
+
+    def literal(text: str, name: str) -> bool:
+        return literals.setdefault(text, name) == name
+
+    run: list[str] = []  # consecutive one-character literals: one character class (at most one of them
+    # matches anywhere, whatever their order: one failed alternative instead of one per terminal)
 
     def close() -> None:
-        if len(run) > 1:
-            singles.update((char, name) for name, _, char in run)
-            parts.append(f"(?P<{SINGLE}>[{''.join(re.escape(char) for _, _, char in run)}])")
-        else:
-            parts.extend(f"(?P<{name}>{regexp})" for name, regexp, _ in run)
+        parts.append(f"[{''.join(re.escape(c) for c in run)}]" if len(run) > 1 else f"(?:{re.escape(run[0])})")
         run.clear()
 
-    for name, regexp, char in lexer["terminals"]:  # (lark's scanner's order)
+    for name, regexp, value in lexer["terminals"]:  # (lark's scanner's order)
         if name in ignored:
             continue
-        if char is not None:  # a one-character literal
-            run.append((name, regexp, char))
+        if value is not None and len(value) == 1:
+            run.append(value)
+        else:
+            if run:
+                close()
+            parts.append(f"(?:{regexp})")
+        texts = {value} if value is not None else finite(regexp)
+        if texts is not None:
+            if not all(literal(text, name) for text in texts):
+                return None
             continue
+        chars = first_chars(regexp)
+        if chars is None or any(first.setdefault(c, name) != name for c in chars):
+            return None
+    if run:
         close()
-        parts.append(f"(?P<{name}>{regexp})")
-    close()
-    alternatives = "|".join(parts)
-    keywords: dict[str, dict[str, str]] = {}
     for name, words in lexer["keywords"].items():
-        keywords[name] = {}
-        for literal, terminal in words:
-            keywords[name].setdefault(literal, terminal)
-    pattern = f"(?>(?:{skip})*)(?:{alternatives})?" if skip else f"(?:{alternatives})?"
-    flags = int(lexer["flags"])
-    return {"pattern": pattern, "flags": flags, "singles": singles, "keywords": keywords}
+        for text, terminal in words:
+            if first.get(text[:1]) != name or (text in literals and literals[text] != terminal):
+                return None
+            literals.setdefault(text, terminal)
+    # each literal text alone is cut and named so by the scanner's alternatives in their order (its
+    # first alternative that matches there matches all of it: the literal's terminal, or the one
+    # whose keyword it is)
+    keyword_of = {text: name for name, words in lexer["keywords"].items() for text, _ in words}
+    order = [(name, re.compile(regexp, flags)) for name, regexp, _ in lexer["terminals"] if name not in ignored]
+    for text, terminal in literals.items():
+        found = next(((name, m.end()) for name, r in order if (m := r.match(text))), None)
+        if found != (keyword_of.get(text, terminal), len(text)):
+            return None
+    token = "|".join(parts)
+    pattern = f"((?>(?:{skip})*))(?:({token})|([\\s\\S]))?" if skip else f"()(?:({token})|([\\s\\S]))?"
+    return {"pattern": pattern, "flags": flags, "literals": literals, "first": first}
+
+
+# The regular expressions of terminals as far as the scanner reads them (:func:`first_chars`,
+# :func:`finite`): characters, escaped punctuation and control characters, character classes
+# without negation, groups ``(?:…)``, look-aheads ``(?=…)``/``(?!…)`` (read as matching nothing:
+# they only narrow), alternation and the quantifiers ``* + ? {m,n}`` (lazy or not).  Anything else
+# (``.``, ``\\d``, a negated class, a back-reference, a named group) is beyond it: ``None``.
+_ESCAPES = {"t": "\t", "n": "\n", "r": "\r", "f": "\f", "v": "\v", "a": "\a"}
+
+
+class _Beyond(Exception):
+    """A regular expression beyond what the scanner reads."""
+
+
+def _read(regexp: str) -> list:
+    """The alternation ``regexp`` as ``[sequence, …]``, each ``[(atom, at_least, at_most), …]``, an
+    atom ``("chars", set)``, ``("group", alternation)`` or ``("look",)``."""
+    pos = 0
+
+    def char() -> str:
+        nonlocal pos
+        c = regexp[pos]
+        pos += 1
+        if c != "\\":
+            return c
+        e = regexp[pos]
+        pos += 1
+        if e in _ESCAPES:
+            return _ESCAPES[e]
+        if e.isalnum():
+            raise _Beyond(regexp)
+        return e
+
+    def klass() -> set:
+        nonlocal pos
+        if regexp[pos] == "^":
+            raise _Beyond(regexp)
+        out: set = set()
+        while regexp[pos] != "]" or not out:
+            lo = char()
+            if regexp[pos] == "-" and regexp[pos + 1] != "]":
+                pos += 1
+                hi = char()
+                if ord(hi) - ord(lo) > 1024:
+                    raise _Beyond(regexp)
+                out.update(map(chr, range(ord(lo), ord(hi) + 1)))
+            else:
+                out.add(lo)
+        pos += 1
+        return out
+
+    def alternation() -> list:
+        nonlocal pos
+        seqs = [sequence()]
+        while pos < len(regexp) and regexp[pos] == "|":
+            pos += 1
+            seqs.append(sequence())
+        return seqs
+
+    def sequence() -> list:
+        nonlocal pos
+        items: list = []
+        while pos < len(regexp) and regexp[pos] not in "|)":
+            c = regexp[pos]
+            if c == "(":
+                head = regexp[pos:pos + 3]
+                if head not in ("(?:", "(?=", "(?!"):
+                    raise _Beyond(regexp)
+                pos += 3
+                inner = alternation()
+                if regexp[pos] != ")":
+                    raise _Beyond(regexp)
+                pos += 1
+                atom = ("group", inner) if head == "(?:" else ("look",)
+            elif c == "[":
+                pos += 1
+                atom = ("chars", klass())
+            elif c in ".^$*+?{":
+                raise _Beyond(regexp)
+            else:
+                atom = ("chars", {char()})
+            low, high = 1, 1
+            if pos < len(regexp) and regexp[pos] in "*+?{":
+                q = regexp[pos]
+                pos += 1
+                if q == "{":
+                    close = regexp.index("}", pos)
+                    lo_hi = regexp[pos:close].split(",")
+                    pos = close + 1
+                    low = int(lo_hi[0] or 0)
+                    high = int(lo_hi[-1]) if lo_hi[-1] else None
+                else:
+                    low, high = (0, None) if q == "*" else (1, None) if q == "+" else (0, 1)
+                if pos < len(regexp) and regexp[pos] == "?":
+                    pos += 1
+            items.append((atom, low, high))
+        return items
+
+    try:
+        out = alternation()
+    except (IndexError, ValueError) as e:
+        raise _Beyond(regexp) from e
+    if pos != len(regexp):
+        raise _Beyond(regexp)
+    return out
+
+
+def _first(seqs: list) -> tuple[set, bool]:
+    """A superset of the first characters of what ``seqs`` matches, and whether it matches ``""``."""
+    chars: set = set()
+    empty = False
+    for seq in seqs:
+        for atom, low, _ in seq:
+            if atom[0] == "look":
+                continue
+            c, e = (atom[1], False) if atom[0] == "chars" else _first(atom[1])
+            chars |= c
+            if not e and low > 0:
+                break
+        else:
+            empty = True
+    return chars, empty
+
+
+def first_chars(regexp: str) -> set | None:
+    """A superset of the characters a non-empty match of ``regexp`` starts with, or ``None`` (an
+    expression beyond the scanner's reading, or one that matches the empty text)."""
+    try:
+        chars, empty = _first(_read(regexp))
+    except _Beyond:
+        return None
+    return None if empty else chars
+
+
+def finite(regexp: str) -> set | None:
+    """The texts ``regexp`` matches when it is an alternation of literals (``<=|≤``), else ``None``."""
+    def texts(seqs: list) -> set | None:
+        out: set = set()
+        for seq in seqs:
+            words = {""}
+            for atom, low, high in seq:
+                if low != 1 or high != 1 or atom[0] == "look":
+                    return None
+                if atom[0] == "chars":
+                    if len(atom[1]) != 1:
+                        return None
+                    inner = set(atom[1])
+                else:
+                    inner = texts(atom[1])
+                    if inner is None:
+                        return None
+                words = {w + x for w in words for x in inner}
+            out |= words
+        return out
+
+    try:
+        return texts(_read(regexp))
+    except _Beyond:
+        return None
 
 
 def glued(lexer: dict) -> re.Pattern:
     """The lexer's pattern (:func:`scanner`'s), compiled."""
     return re.compile(lexer["pattern"], lexer["flags"])
 
+
+#: About how many characters of the text the driver's lexer cuts at a time (a piece ends after a
+#: line break: no token holds one), so that a huge file is not held as one list of all its tokens.
+CHUNK = 1 << 16
 
 #: A table's code for "no action" (an input with a syntax error there).
 NO_ACTION = -32768
@@ -281,8 +466,8 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     the table)."""
     try:
         lexer = data["scanner"]
-        match = glued(lexer).match
-        singles, keywords = lexer["singles"], lexer["keywords"]
+        findall = glued(lexer).findall
+        literals, first = lexer["literals"], lexer["first"]
         starts, ends = data["start_states"], data["end_states"]
         rules, symbols = data["rules"], data["symbols"]
         table = memoryview(data["actions"]).cast("h")
@@ -314,7 +499,7 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     except (KeyError, TypeError, ValueError, IndexError, AttributeError, re.error):
         return None
 
-    new = str.__new__
+    new = object.__new__
 
     def parse(text: str, start: str) -> Any:
         try:
@@ -324,62 +509,72 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
 
     def run(text: str, start: str) -> Any:
         end = len(text)
-        state_stack, value_stack = [starts[start]], []
+        state = starts[start]
+        state_stack, value_stack = [state], []
         push_state, push_value = state_stack.append, value_stack.append
-        pos, line, line_start = 0, 1, 0
-        while pos < end:
-            m = match(text, pos)  # (never None: it may match ignored text alone, or nothing)
-            kind = m.lastgroup
-            if kind is None:  # no terminal after the ignored text: the end, or a character none matches
-                if m.end() != end:
-                    return FAILED
-                break  # ($END takes the last token's position, as in lark)
-            begin, nxt = m.span(kind)
-            if begin != pos:  # ignored text first: its lines counted as lark's lexer counts them
-                k = text.count("\n", pos, begin)
-                if k:
-                    line += k
-                    line_start = text.rindex("\n", pos, begin) + 1
-                pos = begin
-            value = text[pos:nxt]
-            if kind == SINGLE:
-                kind = singles[value]
-            elif kind in keywords:  # a name that is a keyword: its own terminal (lark's UnlessCallback)
-                kind = keywords[kind].get(value, kind)
-            # Token(kind, value, pos, line, column) with its end (no line break inside: checked by
-            # tables.driver_data), without Token.__new__'s Python call (the same slots, same values)
-            token = new(Token, value)
-            token.type, token.start_pos, token.value, token.line = kind, pos, value, line
-            token.end_line, token.end_pos = line, nxt
-            token.column, token.end_column = pos - line_start + 1, nxt - line_start + 1
-            pos = nxt
-            column = columns[kind]
-            code = column[state_stack[-1]]
-            while True:  # the reductions this token's look-ahead calls for, then its shift
-                if code >= 0:  # a shift
-                    push_state(code)
-                    push_value(token)
-                    break
-                if code == NO_ACTION:
-                    return FAILED
-                size, callback, goto = reductions[~code]
-                if size > 0:
-                    s = value_stack[-size:]
-                    del state_stack[-size:]
-                    del value_stack[-size:]
-                    push_value(callback(s))
-                elif size == 0:
-                    push_value(callback([]))
-                else:  # a run of unit reductions: the state after it and the code there, by the state below
-                    below = state_stack[-2]
-                    found = callback.get((below, kind))
-                    if found is None:
-                        found = callback[below, kind] = unit_run(goto[below], below, kind)
-                    state_stack[-1], code = found
-                    continue
-                state = goto[state_stack[-1]]
-                push_state(state)
+        pos, line, line_start, begin = 0, 1, 0, 0
+        while True:  # the text in pieces of about CHUNK characters cut after a line break
+            if end - begin <= CHUNK:
+                stop = end
+            else:
+                stop = text.find("\n", begin + CHUNK) + 1 or end
+            # (the pieces ``findall`` cuts tile the text: ignored run, token or bad character)
+            for ignored, value, bad in findall(text, begin, stop):
+                if ignored:  # its lines counted as lark's lexer counts them
+                    if "\n" in ignored:
+                        line += ignored.count("\n")
+                        line_start = pos + ignored.rindex("\n") + 1
+                    pos += len(ignored)
+                if not value:
+                    if bad:  # a character no terminal matches
+                        return FAILED
+                    continue  # (the end of the piece)
+                kind = literals.get(value) or first[value[0]]
+                # Token(kind, value, pos, line, column, line, end column, end) without a Python call
+                # (no line break inside: checked by tables.driver_data)
+                # (one store a statement: a tuple's unpacking into slots costs more)
+                token = new(Token)
+                token.type = kind
+                token.value = value
+                token.start_pos = pos
+                token.line = line
+                token.end_line = line
+                token.column = pos - line_start + 1
+                pos += len(value)
+                token.end_pos = pos
+                token.end_column = pos - line_start + 1
+                column = columns[kind]
                 code = column[state]
+                while True:  # the reductions this token's look-ahead calls for, then its shift
+                    if code >= 0:  # a shift
+                        push_state(code)
+                        push_value(token)
+                        state = code
+                        break
+                    if code == NO_ACTION:
+                        return FAILED
+                    size, callback, goto = reductions[~code]
+                    if size > 0:
+                        s = value_stack[-size:]
+                        del state_stack[-size:]
+                        del value_stack[-size:]
+                        push_value(callback(s))
+                    elif size == 0:
+                        push_value(callback([]))
+                    else:  # a run of unit reductions: the state after it and the code there, by the state below
+                        below = state_stack[-2]
+                        found = callback.get((below, kind))
+                        if found is None:
+                            found = callback[below, kind] = unit_run(goto[below], below, kind)
+                        state, code = found
+                        state_stack[-1] = state
+                        continue
+                    state = goto[state_stack[-1]]
+                    push_state(state)
+                    code = column[state]
+            if stop == end:
+                break
+            begin = stop
         # the end of the input: its reductions one at a time, the end state checked after each
         end_state, column = ends[start], columns["$END"]
         while True:
@@ -414,4 +609,4 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     return parse
 
 
-__all__ = ["DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "driver", "glued", "grammar_text", "load", "pack", "scanner", "unpack"]
+__all__ = ["CHUNK", "DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "driver", "glued", "grammar_text", "finite", "first_chars", "load", "pack", "scanner", "unpack"]
