@@ -508,6 +508,7 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
             return FAILED
 
     def run(text: str, start: str) -> Any:
+        no_action = NO_ACTION
         end = len(text)
         state = starts[start]
         state_stack, value_stack = [state], []
@@ -551,10 +552,13 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
                         push_value(token)
                         state = code
                         break
-                    if code == NO_ACTION:
+                    if code == no_action:
                         return FAILED
                     size, callback, goto = reductions[~code]
-                    if size > 0:
+                    if size == 1:  # (a leaf: most reductions of a program)
+                        value_stack[-1] = callback([value_stack[-1]])
+                        state_stack.pop()
+                    elif size > 0:
                         s = value_stack[-size:]
                         del state_stack[-size:]
                         del value_stack[-size:]
