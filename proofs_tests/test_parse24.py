@@ -78,6 +78,7 @@ def test_first_characters_of_the_grammar_s_expressions():
     assert lalr.first_chars("a?b*c") == {"a", "b", "c"}
     assert lalr.first_chars("(?!x)[xy]z") == {"x", "y"}  # (a look-ahead only narrows: a superset)
     assert lalr.first_chars(r"\t\.") == {"\t"}
+    assert lalr.first_chars("#[^\n]*") == {"#"}
     for beyond in (".", r"\d+", "[^a]", "(a)", "(?P<x>a)", "a|", "x*", "(?:a)?", r"\1", "a{0,2}"):
         assert lalr.first_chars(beyond) is None, beyond  # (beyond the reading, or matches "")
 
@@ -126,6 +127,19 @@ def test_the_scanner_refuses_what_it_cannot_name_by_the_text():
     assert lalr.scanner({**_lexer([["NAME", NAME, None]]), "flags": re.IGNORECASE}) is None
     # a keyword whose first character NAME cannot start with
     assert lalr.scanner(_lexer([["NAME", NAME, None]], {"NAME": [["1f", "IF"]]})) is None
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.text(alphabet=" \t\f\r\n#ab1(", max_size=30), st.integers(0, 30))
+def test_the_ignored_run_is_cut_as_lark_cuts_it(text, at):
+    """The scanner's run of ignored text (white space as one class repeated, then comments each
+    followed by white space) ends where lark's alternation of the ignored terminals ends."""
+    data = lalr.load()
+    assert data is not None
+    at = min(at, len(text))
+    lark_s = re.compile("(?>(?:" + "|".join(f"(?:{r})" for r in data["lexer"]["ignored_patterns"]) + ")*)")
+    ours = re.compile(data["scanner"]["pattern"], data["scanner"]["flags"])
+    assert ours.match(text, at).end(1) == lark_s.match(text, at).end()
 
 
 def test_the_shipped_scanner_is_read_off_the_grammar():

@@ -149,7 +149,14 @@ def scanner(lexer: dict) -> dict | None:
     flags = int(lexer["flags"])
     if flags & ~re.UNICODE:
         return None
-    skip = "|".join(f"(?:{regexp})" for regexp in lexer["ignored_patterns"])
+    skip = f"(?:{'|'.join(f'(?:{regexp})' for regexp in lexer['ignored_patterns'])})*"
+    runs = [r for r in lexer["ignored_patterns"] if r.endswith("+") and _one_class(r[:-1])]
+    others = [r for r in lexer["ignored_patterns"] if r not in runs[:1]]
+    if runs and all(first_chars(r) is not None for r in others):
+        # ``(?:C+|O|…)*`` as ``C*(?:(?:O|…)C*)*`` (C a character class, each O never empty): the same
+        # texts, the same greedy extent, and the common run of white space one quick repeat of a class
+        c = runs[0][:-1]
+        skip = f"{c}*(?:(?:{'|'.join(f'(?:{r})' for r in others)}){c}*)*" if others else f"{c}*"
     parts: list[str] = []
     literals: dict[str, str] = {}
     first: dict[str, str] = {}
@@ -198,15 +205,16 @@ def scanner(lexer: dict) -> dict | None:
         if found != (keyword_of.get(text, terminal), len(text)):
             return None
     token = "|".join(parts)
-    pattern = f"((?>(?:{skip})*))(?:({token})|([\\s\\S]))?" if skip else f"()(?:({token})|([\\s\\S]))?"
+    pattern = f"((?>{skip}))(?:({token})|([\\s\\S]))?"
     return {"pattern": pattern, "flags": flags, "literals": literals, "first": first}
 
 
 # The regular expressions of terminals as far as the scanner reads them (:func:`first_chars`,
-# :func:`finite`): characters, escaped punctuation and control characters, character classes
-# without negation, groups ``(?:…)``, look-aheads ``(?=…)``/``(?!…)`` (read as matching nothing:
-# they only narrow), alternation and the quantifiers ``* + ? {m,n}`` (lazy or not).  Anything else
-# (``.``, ``\\d``, a negated class, a back-reference, a named group) is beyond it: ``None``.
+# :func:`finite`): characters, escaped punctuation and control characters, character classes (a
+# negated one only after the first character), groups ``(?:…)``, look-aheads ``(?=…)``/``(?!…)``
+# (read as matching nothing: they only narrow), alternation and the quantifiers ``* + ? {m,n}``
+# (lazy or not).  Anything else
+# (``.``, ``\\d``, a back-reference, a capturing or named group) is beyond it: ``None``.
 _ESCAPES = {"t": "\t", "n": "\n", "r": "\r", "f": "\f", "v": "\v", "a": "\a"}
 
 
@@ -216,7 +224,8 @@ class _Beyond(Exception):
 
 def _read(regexp: str) -> list:
     """The alternation ``regexp`` as ``[sequence, …]``, each ``[(atom, at_least, at_most), …]``, an
-    atom ``("chars", set)``, ``("group", alternation)`` or ``("look",)``."""
+    atom ``("chars", set)``, ``("other", set)`` (a negated class), ``("group", alternation)`` or
+    ``("look",)``."""
     pos = 0
 
     def char() -> str:
@@ -233,10 +242,10 @@ def _read(regexp: str) -> list:
             raise _Beyond(regexp)
         return e
 
-    def klass() -> set:
+    def klass() -> tuple:
         nonlocal pos
-        if regexp[pos] == "^":
-            raise _Beyond(regexp)
+        negated = regexp[pos] == "^"
+        pos += negated
         out: set = set()
         while regexp[pos] != "]" or not out:
             lo = char()
@@ -249,7 +258,7 @@ def _read(regexp: str) -> list:
             else:
                 out.add(lo)
         pos += 1
-        return out
+        return ("other", out) if negated else ("chars", out)
 
     def alternation() -> list:
         nonlocal pos
@@ -276,7 +285,7 @@ def _read(regexp: str) -> list:
                 atom = ("group", inner) if head == "(?:" else ("look",)
             elif c == "[":
                 pos += 1
-                atom = ("chars", klass())
+                atom = klass()
             elif c in ".^$*+?{":
                 raise _Beyond(regexp)
             else:
@@ -315,6 +324,8 @@ def _first(seqs: list) -> tuple[set, bool]:
         for atom, low, _ in seq:
             if atom[0] == "look":
                 continue
+            if atom[0] == "other":  # (a negated class: its characters are not listed)
+                raise _Beyond("a negated class first")
             c, e = (atom[1], False) if atom[0] == "chars" else _first(atom[1])
             chars |= c
             if not e and low > 0:
@@ -322,6 +333,15 @@ def _first(seqs: list) -> tuple[set, bool]:
         else:
             empty = True
     return chars, empty
+
+
+def _one_class(regexp: str) -> bool:
+    """``regexp`` is one character class (or one character), matched once."""
+    try:
+        seqs = _read(regexp)
+    except _Beyond:
+        return False
+    return len(seqs) == 1 and len(seqs[0]) == 1 and seqs[0][0][0][0] == "chars" and seqs[0][0][1:] == (1, 1)
 
 
 def first_chars(regexp: str) -> set | None:
@@ -341,7 +361,7 @@ def finite(regexp: str) -> set | None:
         for seq in seqs:
             words = {""}
             for atom, low, high in seq:
-                if low != 1 or high != 1 or atom[0] == "look":
+                if low != 1 or high != 1 or atom[0] in ("look", "other"):
                     return None
                 if atom[0] == "chars":
                     if len(atom[1]) != 1:
