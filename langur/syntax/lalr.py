@@ -575,17 +575,7 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
                     if code == no_action:
                         return FAILED
                     size, callback, goto = reductions[~code]
-                    if size == 1:  # (a leaf: most reductions of a program)
-                        value_stack[-1] = callback([value_stack[-1]])
-                        state_stack.pop()
-                    elif size > 0:
-                        s = value_stack[-size:]
-                        del state_stack[-size:]
-                        del value_stack[-size:]
-                        push_value(callback(s))
-                    elif size == 0:
-                        push_value(callback([]))
-                    else:  # a run of unit reductions: the state after it and the code there, by the state below
+                    if size < 0:  # a run of unit reductions: the state after it and the code there, by the state below
                         below = state_stack[-2]
                         found = callback.get((below, kind))
                         if found is None:
@@ -593,6 +583,16 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
                         state, code = found
                         state_stack[-1] = state
                         continue
+                    if size == 1:  # (a leaf: most other reductions of a program)
+                        value_stack[-1] = callback([value_stack[-1]])
+                        state_stack.pop()
+                    elif size:
+                        s = value_stack[-size:]
+                        del state_stack[-size:]
+                        del value_stack[-size:]
+                        push_value(callback(s))
+                    else:
+                        push_value(callback([]))
                     state = goto[state_stack[-1]]
                     push_state(state)
                     code = column[state]
