@@ -4,7 +4,7 @@
 character no terminal matches) and names each token by its text: a dict of the literal texts
 (string terminals, alternations of literals such as ``<=|≤``, the keywords of ``NAME``) and, for
 the other terminals, a dict of first characters read off their regular expressions by the
-generator (:func:`lalr.first_chars`, a superset of what each can start with; the sets must be
+generator (:func:`scangen.first_chars`, a superset of what each can start with; the sets must be
 disjoint).  Checked here against independent references: the regular expression engine itself
 (what a pattern matches starts with a character of its set; a finite pattern matches exactly its
 texts), lark's parser (trees with every span and diagnostics, on texts with random ignored runs,
@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 from paths import REPO
 
 from langur.diagnostics import LangurError, Span
-from langur.syntax import lalr, parser
+from langur.syntax import lalr, parser, scangen
 
 FILES = sorted(p for p in REPO.rglob("*.lgr") if ".venv" not in p.parts)
 NAME = "[A-Za-z_][A-Za-z0-9_]*"
@@ -72,23 +72,23 @@ def _driven(monkeypatch) -> list:
 
 
 def test_first_characters_of_the_grammar_s_expressions():
-    assert lalr.first_chars(NAME) == set("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")
-    assert lalr.first_chars(NUMBER) == set("0123456789.")
-    assert lalr.first_chars("(?:>=|≥)") == {">", "≥"}
-    assert lalr.first_chars("a?b*c") == {"a", "b", "c"}
-    assert lalr.first_chars("(?!x)[xy]z") == {"x", "y"}  # (a look-ahead only narrows: a superset)
-    assert lalr.first_chars(r"\t\.") == {"\t"}
-    assert lalr.first_chars("#[^\n]*") == {"#"}
+    assert scangen.first_chars(NAME) == set("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")
+    assert scangen.first_chars(NUMBER) == set("0123456789.")
+    assert scangen.first_chars("(?:>=|≥)") == {">", "≥"}
+    assert scangen.first_chars("a?b*c") == {"a", "b", "c"}
+    assert scangen.first_chars("(?!x)[xy]z") == {"x", "y"}  # (a look-ahead only narrows: a superset)
+    assert scangen.first_chars(r"\t\.") == {"\t"}
+    assert scangen.first_chars("#[^\n]*") == {"#"}
     for beyond in (".", r"\d+", "[^a]", "(a)", "(?P<x>a)", "a|", "x*", "(?:a)?", r"\1", "a{0,2}"):
-        assert lalr.first_chars(beyond) is None, beyond  # (beyond the reading, or matches "")
+        assert scangen.first_chars(beyond) is None, beyond  # (beyond the reading, or matches "")
 
 
 def test_finite_patterns_are_their_texts():
-    assert lalr.finite("(?:<=|≤)") == {"<=", "≤"}
-    assert lalr.finite(r"\.\.") == {".."}
-    assert lalr.finite("a(?:b|cd)") == {"ab", "acd"}
+    assert scangen.finite("(?:<=|≤)") == {"<=", "≤"}
+    assert scangen.finite(r"\.\.") == {".."}
+    assert scangen.finite("a(?:b|cd)") == {"ab", "acd"}
     for infinite in (NAME, NUMBER, "a?", "a+", "[ab]", "(?=a)a"):
-        assert lalr.finite(infinite) is None, infinite
+        assert scangen.finite(infinite) is None, infinite
 
 
 _PATTERNS = [NAME, NUMBER, "(?:>=|≥)", "(?:<=|≤)", r"\.\.", "a(?:b|cd)", "x?[0-3]+y*", "(?:ab|b)+c?"]
@@ -99,8 +99,8 @@ _PATTERNS = [NAME, NUMBER, "(?:>=|≥)", "(?:<=|≤)", r"\.\.", "a(?:b|cd)", "x?
 def test_what_a_pattern_matches_starts_with_one_of_its_first_characters(pattern, text):
     m = re.match(pattern, text)
     if m is not None and m.end() > 0:
-        assert text[0] in lalr.first_chars(pattern)
-    texts = lalr.finite(pattern)
+        assert text[0] in scangen.first_chars(pattern)
+    texts = scangen.finite(pattern)
     if texts is not None:  # a finite pattern matches exactly its texts
         assert (re.fullmatch(pattern, text) is not None) == (text in texts)
 
@@ -111,7 +111,7 @@ def _lexer(terminals, keywords=None) -> dict:
 
 
 def test_the_scanner_refuses_what_it_cannot_name_by_the_text():
-    fine = lalr.scanner(_lexer([["NAME", NAME, None], ["PLUS", r"\+", "+"], ["WS", "[ ]+", None]],
+    fine = scangen.scanner(_lexer([["NAME", NAME, None], ["PLUS", r"\+", "+"], ["WS", "[ ]+", None]],
                                {"NAME": [["if", "IF"]]}))
     assert fine is not None and fine["literals"] == {"+": "PLUS", "if": "IF"} and fine["first"]["q"] == "NAME"
     assert re.findall(fine["pattern"], "a +if ?") == [("", "a", ""), (" ", "+", ""), ("", "if", ""), (" ", "", "?"),
@@ -123,10 +123,10 @@ def test_the_scanner_refuses_what_it_cannot_name_by_the_text():
         [["LT", "<", "<"], ["LE", "<=", "<="]],  # "<=" never cut as one token: LT comes first
     ]
     for terminals in refused:
-        assert lalr.scanner(_lexer(terminals)) is None, terminals
-    assert lalr.scanner({**_lexer([["NAME", NAME, None]]), "flags": re.IGNORECASE}) is None
+        assert scangen.scanner(_lexer(terminals)) is None, terminals
+    assert scangen.scanner({**_lexer([["NAME", NAME, None]]), "flags": re.IGNORECASE}) is None
     # a keyword whose first character NAME cannot start with
-    assert lalr.scanner(_lexer([["NAME", NAME, None]], {"NAME": [["1f", "IF"]]})) is None
+    assert scangen.scanner(_lexer([["NAME", NAME, None]], {"NAME": [["1f", "IF"]]})) is None
 
 
 @settings(max_examples=300, deadline=None)
@@ -146,7 +146,7 @@ def test_the_shipped_scanner_is_read_off_the_grammar():
     data = lalr.load()
     assert data is not None
     sc = data["scanner"]
-    assert sc == lalr.scanner(data["lexer"])
+    assert sc == scangen.scanner(data["lexer"])
     assert set(sc["first"].values()) == {"NAME", "NUMBER"}
     assert {sc["literals"][t] for t in ("<=", "≤", ">=", "≥", "..", "d", "sum", "(")} == \
         {"LE", "GE", "DOTDOT", "D", "SUM", "LPAR"}

@@ -30,7 +30,7 @@ from pathlib import Path
 from pprint import pformat
 from typing import Any
 
-from . import lalr
+from . import lalr, scangen
 from .lalr import digest, grammar_text
 from .larkload import ChildFilterLALR_NoPlaceholders, ExpandSingleChild, Lark, Rule, TerminalDef
 
@@ -146,7 +146,7 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
     * ``terminal_names``: every terminal's name (an inline transformer with a method of that name
       would get lark's token callback, which the driver does not make);
     * ``scanner``, ``symbols``, ``actions``: the lexer's pattern resolved from the above
-      (:func:`lalr.scanner`), and the table packed by symbol (:func:`lalr.pack`): what the driver
+      (:func:`scangen.scanner`), and the table packed by symbol (:func:`lalr.pack`): what the driver
       runs as it is, so that its start-up resolves nothing."""
     try:
         front = lark.parser
@@ -201,7 +201,7 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
         data = {**data, "states": [dict(row) for row in data["states"]]}
         symbols = tuple(sorted({"$END", *data["terminal_names"], *(rule[0] for rule in data["rules"]),
                           *(symbol for row in data["states"] for symbol in row)}))
-        scan = lalr.scanner(data["lexer"])
+        scan = scangen.scanner(data["lexer"])
         if scan is None:
             return None  # (a terminal the scanner cannot tell by its text)
         return {**data, "scanner": scan, "symbols": symbols, "actions": lalr.pack(data["states"], symbols)}
