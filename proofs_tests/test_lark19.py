@@ -13,7 +13,7 @@ when the driver fails (a syntax error, whose diagnostic lark's exception gives) 
 * A missing, stale or malformed data module is never trusted: ``lalr.load`` or ``lalr.driver``
   refuses it, the data is read off lark's parser instead (same trees), ``tables --check`` fails on
   it; the lexer's shipped engine code is used only by the engine it was made for.
-* ``lalr.Token`` is read as ``lark.Token`` is: the same slots, equality, hash, repr, positions.
+* ``lalr.Token`` is read as ``lark.Token`` is: the same slots with the same values, repr, positions.
 """
 
 from __future__ import annotations
@@ -218,20 +218,17 @@ def test_tables_check_covers_the_driver_data(stale, capsys):
 
 
 def test_the_driver_token_is_read_as_lark_s():
+    """The callbacks read a token's ``type``, ``value`` and positions: the driver's token has every slot
+    of lark's with the same value (parse24: not a ``str``; its ``value`` is the text)."""
     with parser._LOCK:
         lk = parser._parser()
     text = "param a = 1\r\nint ([0, 1])\t[x ≤ a] * x ^ 2 + d # c\n d(x)"
     theirs = list(lk.lex(text))
     for t in theirs:
         ours = lalr.Token(t.type, t.value, t.start_pos, t.line, t.column, t.end_line, t.end_column, t.end_pos)
-        assert ours.__slots__ == larkload.Token.__slots__
+        assert sorted(ours.__slots__) == sorted(larkload.Token.__slots__)
         for k in larkload.Token.__slots__:
             assert getattr(ours, k) == getattr(t, k)
-        assert str(ours) == str(t) and repr(ours) == repr(t) and hash(ours) == hash(t)
-        assert ours == t and ours == str(t)
+        assert ours.value == str(t) and type(ours.value) is str and repr(ours) == repr(t)
         moved = lalr.Token.new_borrow_pos("NAME", "d", ours)
         assert (moved.type, moved.line, moved.column, moved.end_pos) == ("NAME", t.line, t.column, t.end_pos)
-    # as lark's: tokens of different types are not == (and, str's __ne__ inherited, not != either)
-    for Token in (lalr.Token, larkload.Token):
-        assert not Token("A", "x") == Token("B", "x") and not Token("A", "x") != Token("B", "x")
-        assert Token("A", "x") == Token("A", "x") == "x"

@@ -2,8 +2,8 @@
 the table of small integer Fractions, against independent references.
 
 * ``syntax/lalr.py``'s lexer matches the one-character literal terminals (``(``, ``+``, …) as one
-  character class (:data:`lalr.SINGLE`) and finds keywords by a dict instead of lark's
-  ``UnlessCallback``: every token that reaches a callback is lark's own lexer's token — type, text,
+  character class and names a token by its text (parse24: literals and keywords by a dict instead of
+  lark's ``UnlessCallback``, ``NAME`` and ``NUMBER`` by their first character): every token that reaches a callback is lark's own lexer's token — type, text,
   offsets, lines and columns, ends included — on every ``.lgr`` file of the repository and on texts
   made to stress the lexer (CRLF, tabs, form feeds, comments, Unicode comparisons, ``..`` beside
   numbers, names that begin or extend a keyword, the soft keyword ``d``).
@@ -39,7 +39,7 @@ _SLOTS = ("type", "value", "start_pos", "end_pos", "line", "column", "end_line",
 
 
 def _token(t) -> tuple:
-    return (str(t),) + tuple(getattr(t, k) for k in _SLOTS)
+    return (t.value,) + tuple(getattr(t, k) for k in _SLOTS)
 
 
 def _recorded(text: str, start: str, lark: bool) -> tuple:
@@ -179,21 +179,23 @@ def test_tokens_are_larks_on_random_spacings():
 
 
 def test_one_character_literals_are_one_class_read_as_lark_reads_them():
-    """The driver's pattern has the character class, and its table of characters gives each one the
-    terminal lark's own lexer gives it (alone, and before a digit, a dot and a name)."""
+    """The driver's pattern has the character class, and its table of texts gives each one-character
+    literal the terminal lark's own lexer gives it (alone, and before a digit, a dot and a name)."""
     with parser._LOCK:
         lk = parser._parser()
     data = lalr.load()
     assert data is not None
-    pattern, singles = lalr.glued(data["scanner"]), data["scanner"]["singles"]
+    pattern, literals = lalr.glued(data["scanner"]), data["scanner"]["literals"]
     assert isinstance(pattern, re.Pattern)
-    assert f"(?P<{lalr.SINGLE}>[" in pattern.pattern
+    singles = {text: name for text, name in literals.items() if len(text) == 1 and not text.isalnum()}
+    klass = re.search(r"\|\[((?:\\.|[^]\\])+)\]\)", pattern.pattern)  # (the alternatives' one class)
+    assert klass is not None and set(re.findall(r"\\?(.)", klass.group(1))) == set(singles) - {"≤", "≥"}
     assert len(singles) >= 15 and set(singles) >= set("()[],;:=+-*/^&|<>.")
     for ch, name in singles.items():
-        for after in ("", "1", ".", "x", " "):
+        for after in ("", "1", ".", "x", " ", "="):
             first = next(iter(lk.lex(ch + after)))
-            if first.type in ("DOTDOT", "NUMBER", "GE", "LE"):  # a longer terminal first: lark's order
-                assert (ch + after).startswith(str(first)) and len(first) > 1
+            if first.type in ("DOTDOT", "NUMBER", "GE", "LE") and len(first) > 1:  # a longer terminal first
+                assert (ch + after).startswith(str(first))
                 continue
             assert (first.type, str(first)) == (name, ch)
 

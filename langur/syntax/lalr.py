@@ -12,16 +12,17 @@ in the order lark's scanner tries them and their regular expressions, the keywor
 table, and for every rule the callback lark calls on its reduction and how lark's parse-tree
 builder shapes the children first (``_rule`` inlining, ``?rule``'s single child: its wrapper chain
 under ``tables.OPTIONS``).  This module loads that data and runs it with ``parser._Builder``'s
-callbacks; it never imports lark.  :class:`Token` is lark's token without lark: the same ``str``
-subclass with the same slots, built with the same positions.
+callbacks; it never imports lark.  :class:`Token` carries what the callbacks read of lark's token
+(``type``, ``value``, the same positions), in slots: not a ``str`` (parse24).
 
 :func:`driver` runs the data in one loop: the same tokens as lark's lexer (type, text, positions),
 the same shifts and reductions, the same callbacks called in the same order on the same children,
-so the same result or the same exception from a callback (E105, E106).  Two things are done another
-way than lark's runtime does them, for speed (front11): the one-character literal terminals are one
-character class of the lexer's pattern (at most one of them matches anywhere, so lark's order among
-them is moot), and a name is told from a keyword by a dict of the keywords' literals (what lark's
-``UnlessCallback`` finds by a full match of their alternation).
+so the same result or the same exception from a callback (E105, E106).  The lexer is done another
+way than lark's runtime does it, for speed (front11, parse24): one ``findall`` of the generator's
+pattern cuts the text into ignored runs and tokens (the one-character literal terminals one
+character class: at most one of them matches anywhere), and a token's terminal is read off its text
+(``scangen``: a dict of the literal texts and keywords, what lark's ``UnlessCallback`` finds by a
+full match of their alternation, and a dict of first characters for ``NAME`` and ``NUMBER``).
 
 The data is left as the generator wrote it, so that a process's start-up resolves nothing (issue 15,
 parser23: the JSON file's decoding and the table's resolution were 14 M instructions of the
@@ -57,14 +58,10 @@ GRAMMAR = Path(__file__).with_name("grammar.lark")
 #: is an unmarshal), generated from lark by ``python -m langur.syntax.tables``, never edited by hand.
 DATA = Path(__file__).with_name("grammar_driver.py")
 #: The layout of :data:`DATA` (a module of another layout is not read).
-DATA_FORMAT = 2
+DATA_FORMAT = 3
 
 #: What the driver returns when lark must parse instead (an input with a syntax error).
 FAILED = object()
-
-#: The group of the lexer's pattern that holds the one-character literal terminals.
-SINGLE = "_1CHAR"
-
 
 def grammar_text() -> str:
     with open(GRAMMAR, encoding="utf-8") as f:
@@ -75,19 +72,18 @@ def digest(text: str) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
-class Token(str):
-    """A token as lark's ``lark.Token`` is one — a ``str`` of its text with the same slots, set to
-    the same values by the driver — so that ``parser._Builder``'s callbacks read it as they read
-    lark's (on the error path they receive lark's own)."""
+class Token:
+    """A token as the callbacks read lark's ``lark.Token`` (on the error path they receive lark's
+    own): its terminal ``type``, its text ``value`` and its positions, the same attributes set to
+    the same values by the driver — but not a ``str`` (parse24: a ``str`` subclass cost ≈ 2.4 k
+    instructions a token to make; the callbacks read ``value``)."""
 
-    __slots__ = ("type", "start_pos", "value", "line", "column", "end_line", "end_column", "end_pos")
+    __slots__ = ("column", "end_column", "end_line", "end_pos", "line", "start_pos", "type", "value")
 
-    def __new__(cls, type, value, start_pos=None, line=None, column=None, end_line=None, end_column=None,
-                end_pos=None):
-        inst = str.__new__(cls, value)
-        inst.type, inst.start_pos, inst.value, inst.line = type, start_pos, value, line
-        inst.column, inst.end_line, inst.end_column, inst.end_pos = column, end_line, end_column, end_pos
-        return inst
+    def __init__(self, type, value, start_pos=None, line=None, column=None, end_line=None, end_column=None,
+                 end_pos=None):
+        self.type, self.value, self.start_pos, self.line = type, value, start_pos, line
+        self.column, self.end_line, self.end_column, self.end_pos = column, end_line, end_column, end_pos
 
     @classmethod
     def new_borrow_pos(cls, type_: str, value: Any, borrow_t) -> Token:
@@ -96,13 +92,6 @@ class Token(str):
 
     def __repr__(self) -> str:
         return f"Token({self.type!r}, {self.value!r})"
-
-    def __eq__(self, other) -> bool:  # (lark's: tokens of different types differ)
-        if isinstance(other, Token) and self.type != other.type:
-            return False
-        return str.__eq__(self, other)
-
-    __hash__ = str.__hash__
 
 
 class Tree:
@@ -134,56 +123,14 @@ def load(module: Any = None) -> dict | None:
         return None
 
 
-def scanner(lexer: dict) -> dict:
-    """What the driver's lexer runs, made from the lexer's data (``tables.driver_data``'s
-    ``lexer``) once, by the generator: ``pattern`` — one match per token: any run of ignored text
-    (white space, comments) as lark's lexer would cut it — atomic, never backtracked into (a comment
-    is never cut short for a name in it) — then the scanner's alternatives in its order, or nothing
-    at the end of the text.  After that run no ignored terminal can match (the run would have taken
-    it), so they are left out; a run of consecutive one-character literal terminals (``(``, ``+``,
-    …: at most one of them matches, whatever their order) is one character class, group
-    :data:`SINGLE`, its terminal read off the character (``singles``: one failed alternative
-    instead of one per terminal).  ``keywords``: per terminal with lark's ``UnlessCallback``
-    (``NAME``), its text → the keyword's terminal, as that callback finds it (a full match of the
-    keywords' literals: the first literal equal to the text).  ``flags``: the pattern's."""
-    ignored = frozenset(lexer["ignore"])
-    skip = "|".join(f"(?:{regexp})" for regexp in lexer["ignored_patterns"])
-    parts: list[str] = []
-    singles: dict[str, str] = {}
-    run: list = []
-
-    def close() -> None:
-        if len(run) > 1:
-            singles.update((char, name) for name, _, char in run)
-            parts.append(f"(?P<{SINGLE}>[{''.join(re.escape(char) for _, _, char in run)}])")
-        else:
-            parts.extend(f"(?P<{name}>{regexp})" for name, regexp, _ in run)
-        run.clear()
-
-    for name, regexp, char in lexer["terminals"]:  # (lark's scanner's order)
-        if name in ignored:
-            continue
-        if char is not None:  # a one-character literal
-            run.append((name, regexp, char))
-            continue
-        close()
-        parts.append(f"(?P<{name}>{regexp})")
-    close()
-    alternatives = "|".join(parts)
-    keywords: dict[str, dict[str, str]] = {}
-    for name, words in lexer["keywords"].items():
-        keywords[name] = {}
-        for literal, terminal in words:
-            keywords[name].setdefault(literal, terminal)
-    pattern = f"(?>(?:{skip})*)(?:{alternatives})?" if skip else f"(?:{alternatives})?"
-    flags = int(lexer["flags"])
-    return {"pattern": pattern, "flags": flags, "singles": singles, "keywords": keywords}
-
-
 def glued(lexer: dict) -> re.Pattern:
-    """The lexer's pattern (:func:`scanner`'s), compiled."""
+    """The lexer's pattern (``scangen.scanner``'s), compiled."""
     return re.compile(lexer["pattern"], lexer["flags"])
 
+
+#: About how many characters of the text the driver's lexer cuts at a time (a piece ends after a
+#: line break: no token holds one), so that a huge file is not held as one list of all its tokens.
+CHUNK = 1 << 16
 
 #: A table's code for "no action" (an input with a syntax error there).
 NO_ACTION = -32768
@@ -274,15 +221,15 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     would have put it back): a unit rule of the precedence ladder (``term`` → ``sum`` → ``product``
     → ``unary`` → ``power``) is most reductions of a program.
 
-    The data is read as the generator left it (:func:`scanner`, :func:`pack`): the table is one
+    The data is read as the generator left it (``scangen.scanner``, :func:`pack`): the table is one
     column of 16-bit codes per symbol (``symbols``), indexed by state as it is — the next state
     (≥ 0) for a shift or a goto, ``-1 - rule`` (``~rule``) for a reduction, :data:`NO_ACTION` for
     none — and only the rules are joined to their callbacks here (one pass over the rules, none over
     the table)."""
     try:
         lexer = data["scanner"]
-        match = glued(lexer).match
-        singles, keywords = lexer["singles"], lexer["keywords"]
+        findall = glued(lexer).findall
+        literals, first = lexer["literals"], lexer["first"]
         starts, ends = data["start_states"], data["end_states"]
         rules, symbols = data["rules"], data["symbols"]
         table = memoryview(data["actions"]).cast("h")
@@ -314,7 +261,7 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     except (KeyError, TypeError, ValueError, IndexError, AttributeError, re.error):
         return None
 
-    new = str.__new__
+    new = object.__new__
 
     def parse(text: str, start: str) -> Any:
         try:
@@ -323,63 +270,77 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
             return FAILED
 
     def run(text: str, start: str) -> Any:
+        no_action = NO_ACTION
         end = len(text)
-        state_stack, value_stack = [starts[start]], []
+        state = starts[start]
+        state_stack, value_stack = [state], []
         push_state, push_value = state_stack.append, value_stack.append
-        pos, line, line_start = 0, 1, 0
-        while pos < end:
-            m = match(text, pos)  # (never None: it may match ignored text alone, or nothing)
-            kind = m.lastgroup
-            if kind is None:  # no terminal after the ignored text: the end, or a character none matches
-                if m.end() != end:
-                    return FAILED
-                break  # ($END takes the last token's position, as in lark)
-            begin, nxt = m.span(kind)
-            if begin != pos:  # ignored text first: its lines counted as lark's lexer counts them
-                k = text.count("\n", pos, begin)
-                if k:
-                    line += k
-                    line_start = text.rindex("\n", pos, begin) + 1
-                pos = begin
-            value = text[pos:nxt]
-            if kind == SINGLE:
-                kind = singles[value]
-            elif kind in keywords:  # a name that is a keyword: its own terminal (lark's UnlessCallback)
-                kind = keywords[kind].get(value, kind)
-            # Token(kind, value, pos, line, column) with its end (no line break inside: checked by
-            # tables.driver_data), without Token.__new__'s Python call (the same slots, same values)
-            token = new(Token, value)
-            token.type, token.start_pos, token.value, token.line = kind, pos, value, line
-            token.end_line, token.end_pos = line, nxt
-            token.column, token.end_column = pos - line_start + 1, nxt - line_start + 1
-            pos = nxt
-            column = columns[kind]
-            code = column[state_stack[-1]]
-            while True:  # the reductions this token's look-ahead calls for, then its shift
-                if code >= 0:  # a shift
-                    push_state(code)
-                    push_value(token)
-                    break
-                if code == NO_ACTION:
-                    return FAILED
-                size, callback, goto = reductions[~code]
-                if size > 0:
-                    s = value_stack[-size:]
-                    del state_stack[-size:]
-                    del value_stack[-size:]
-                    push_value(callback(s))
-                elif size == 0:
-                    push_value(callback([]))
-                else:  # a run of unit reductions: the state after it and the code there, by the state below
-                    below = state_stack[-2]
-                    found = callback.get((below, kind))
-                    if found is None:
-                        found = callback[below, kind] = unit_run(goto[below], below, kind)
-                    state_stack[-1], code = found
-                    continue
-                state = goto[state_stack[-1]]
-                push_state(state)
+        pos, line, line_start, begin = 0, 1, 0, 0
+        while True:  # the text in pieces of about CHUNK characters cut after a line break
+            if end - begin <= CHUNK:
+                stop = end
+            else:
+                stop = text.find("\n", begin + CHUNK) + 1 or end
+            # (the pieces ``findall`` cuts tile the text: ignored run, token or bad character)
+            for ignored, value, bad in findall(text, begin, stop):
+                if ignored:  # its lines counted as lark's lexer counts them
+                    if "\n" in ignored:
+                        line += ignored.count("\n")
+                        line_start = pos + ignored.rindex("\n") + 1
+                    pos += len(ignored)
+                if not value:
+                    if bad:  # a character no terminal matches
+                        return FAILED
+                    continue  # (the end of the piece)
+                kind = literals.get(value) or first[value[0]]
+                # Token(kind, value, pos, line, column, line, end column, end) without a Python call
+                # (no line break inside: checked by tables.driver_data)
+                # (one store a statement: a tuple's unpacking into slots costs more)
+                token = new(Token)
+                token.type = kind
+                token.value = value
+                token.start_pos = pos
+                token.line = line
+                token.end_line = line
+                token.column = pos - line_start + 1
+                pos += len(value)
+                token.end_pos = pos
+                token.end_column = pos - line_start + 1
+                column = columns[kind]
                 code = column[state]
+                while True:  # the reductions this token's look-ahead calls for, then its shift
+                    if code >= 0:  # a shift
+                        push_state(code)
+                        push_value(token)
+                        state = code
+                        break
+                    if code == no_action:
+                        return FAILED
+                    size, callback, goto = reductions[~code]
+                    if size < 0:  # a run of unit reductions: the state after it and the code there, by the state below
+                        below = state_stack[-2]
+                        found = callback.get((below, kind))
+                        if found is None:
+                            found = callback[below, kind] = unit_run(goto[below], below, kind)
+                        state, code = found
+                        state_stack[-1] = state
+                        continue
+                    if size == 1:  # (a leaf: most other reductions of a program)
+                        value_stack[-1] = callback([value_stack[-1]])
+                        state_stack.pop()
+                    elif size:
+                        s = value_stack[-size:]
+                        del state_stack[-size:]
+                        del value_stack[-size:]
+                        push_value(callback(s))
+                    else:
+                        push_value(callback([]))
+                    state = goto[state_stack[-1]]
+                    push_state(state)
+                    code = column[state]
+            if stop == end:
+                break
+            begin = stop
         # the end of the input: its reductions one at a time, the end state checked after each
         end_state, column = ends[start], columns["$END"]
         while True:
@@ -414,4 +375,4 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     return parse
 
 
-__all__ = ["DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "driver", "glued", "grammar_text", "load", "pack", "scanner", "unpack"]
+__all__ = ["CHUNK", "DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "driver", "glued", "grammar_text", "load", "pack", "unpack"]

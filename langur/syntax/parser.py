@@ -130,7 +130,7 @@ _CMP = {"<=": "<=", "≤": "<=", ">=": ">=", "≥": ">=", "<": "<", ">": ">"}
 
 
 def _start(x) -> tuple[int, int]:
-    if isinstance(x, str):  # a token: the driver's (lalr.Token) or lark's (on the error path)
+    if type(x) is Token or isinstance(x, str):  # a token: the driver's (lalr.Token) or lark's (a str, on the error path)
         return x.line, x.column
     if isinstance(x, _R):
         return x.line, x.col
@@ -138,7 +138,7 @@ def _start(x) -> tuple[int, int]:
 
 
 def _end(x) -> tuple[int, int]:
-    if isinstance(x, str):  # a token: the driver's or lark's
+    if type(x) is Token or isinstance(x, str):  # a token: the driver's or lark's
         return x.end_line, x.end_column
     if isinstance(x, _R):
         return x.end_line, x.end_col
@@ -192,11 +192,11 @@ class _Builder:
                      "count only the depth of their balanced tree)")
 
     def ident(self, t: Token) -> Ident:
-        return Ident(str(t), self.tok_span(t))
+        return Ident(t.value, self.tok_span(t))
 
     def number(self, t: Token) -> Fraction:
         """The exact value of a decimal literal (E106 when too long or its exponent too large)."""
-        text = str(t)
+        text = t.value
         if len(text) <= _SHORT and text.isdigit():  # an integer of at most 300 digits: a double's range
             return Fraction(int(text))
         mantissa, _, exp = text.lower().partition("e")
@@ -268,7 +268,7 @@ class _Builder:
         return tuple(x for x in c if isinstance(x, DefArg))
 
     def defarg(self, c):
-        return DefArg(self.ident(c[0]), str(c[2]), self.span(c[0], c[2]))
+        return DefArg(self.ident(c[0]), c[2].value, self.span(c[0], c[2]))
 
     def import_item(self, c):
         names = tuple(x for x in c[3:] if isinstance(x, ImportName))
@@ -306,7 +306,7 @@ class _Builder:
 
     def name(self, c):
         t = c[0]
-        return t if t.type == "NAME" else Token.new_borrow_pos("NAME", str(t), t)
+        return t if t.type == "NAME" else Token.new_borrow_pos("NAME", t.value, t)
 
     def cmp(self, c):
         return c[0]
@@ -320,7 +320,7 @@ class _Builder:
 
     def binop(self, c):
         left, op, right = c
-        op = op.value  # (a token's text: its `value` slot, as str(op) would copy it)
+        op = op.value  # (a token's text)
         level = _LEVEL.get(op)
         if level is None:  # ^: right-associative and bounded by real nesting
             return self.term(lambda sp: BinOp(op, left.node, right.node, sp), left, right, (left, right))
@@ -354,7 +354,7 @@ class _Builder:
     def apply(self, c):
         args = c[2] if isinstance(c[2], list) else []
         nsp = self.tok_span(c[0])
-        return self.term(lambda sp: Apply(str(c[0]), tuple(a.node for a in args), sp, nsp), c[0], c[-1], args)
+        return self.term(lambda sp: Apply(c[0].value, tuple(a.node for a in args), sp, nsp), c[0], c[-1], args)
 
     def paren(self, c):
         left, inner, right = c  # ( term ): two tokens around the term
@@ -362,7 +362,7 @@ class _Builder:
 
     def chain(self, c):
         """``t0 op0 t1 op1 t2 …``: its terms and comparison operators."""
-        return _Comparisons([x for x in c if isinstance(x, _R)], tuple(_CMP[str(x)] for x in c[1::2]))
+        return _Comparisons([x for x in c if isinstance(x, _R)], tuple(_CMP[x.value] for x in c[1::2]))
 
     def iverson(self, c):
         ch = c[1]
@@ -404,13 +404,13 @@ class _Builder:
         name, bound, body = c[1], c[3], c[5]
         nsp = self.tok_span(name)
         return self.term(
-            lambda sp: LetIn(str(name), bound.node, body.node, sp, nsp), c[0], body, (bound, body)
+            lambda sp: LetIn(name.value, bound.node, body.node, sp, nsp), c[0], body, (bound, body)
         )
 
     def loop(self, c):
         # SUM|PROD name IN term DOTDOT term COLON term (§9, the finite loop)
-        op, name, lo, hi, body, nsp = str(c[0]), c[1], c[3], c[5], c[7], self.tok_span(c[1])
-        return self.term(lambda sp: Loop(op, str(name), lo.node, hi.node, body.node, sp, nsp), c[0], body,
+        op, name, lo, hi, body, nsp = c[0].value, c[1], c[3], c[5], c[7], self.tok_span(c[1])
+        return self.term(lambda sp: Loop(op, name.value, lo.node, hi.node, body.node, sp, nsp), c[0], body,
                          (lo, hi, body))
 
     def vector(self, c):
@@ -421,7 +421,7 @@ class _Builder:
     def component(self, c):
         # atom . name
         base, name, nsp = c[0], c[2], self.tok_span(c[2])
-        return self.term(lambda sp: Component(base.node, str(name), sp, nsp), base, name, (base,))
+        return self.term(lambda sp: Component(base.node, name.value, sp, nsp), base, name, (base,))
 
     def ifge0(self, c):
         cond, then, orelse = c[1], c[3], c[5]
@@ -430,7 +430,7 @@ class _Builder:
         )
 
     def ifcmp(self, c):
-        left, op, right, then, orelse = c[1], _CMP[str(c[2])], c[3], c[5], c[7]
+        left, op, right, then, orelse = c[1], _CMP[c[2].value], c[3], c[5], c[7]
         return self.term(
             lambda sp: IfCmp(left.node, op, right.node, then.node, orelse.node, sp),
             c[0],
@@ -444,7 +444,7 @@ class _Builder:
         nsp = self.tok_span(c[0])
         return self.term(
             lambda sp: DiffeoApp(
-                str(c[0]), tuple(v.node for v in variables), tuple(p.node for p in params), sp, nsp
+                c[0].value, tuple(v.node for v in variables), tuple(p.node for p in params), sp, nsp
             ),
             c[0],
             c[-1],

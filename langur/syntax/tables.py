@@ -30,7 +30,7 @@ from pathlib import Path
 from pprint import pformat
 from typing import Any
 
-from . import lalr
+from . import lalr, scangen
 from .lalr import digest, grammar_text
 from .larkload import ChildFilterLALR_NoPlaceholders, ExpandSingleChild, Lark, Rule, TerminalDef
 
@@ -135,8 +135,8 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
     no token that may hold a line break, rule callbacks wrapped only by lark's single-child
     expansion and child filter without placeholders).
 
-    * ``lexer``: the scanner's terminals in its order as ``[name, regexp, char]`` (``char``: the
-      character of a one-character literal without flags, else ``None``), the ignored terminals'
+    * ``lexer``: the scanner's terminals in its order as ``[name, regexp, literal]`` (``literal``: the
+      text of a string terminal without flags, else ``None``), the ignored terminals'
       names and patterns, the pattern's flags, and per terminal with a keyword callback (lark's
       ``UnlessCallback``: ``NAME``) the ``[literal, terminal]`` pairs it tries in order;
     * ``rules``: per rule ``[origin, symbols, callback name, wrapper chain]``, the chain in lark's
@@ -146,7 +146,7 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
     * ``terminal_names``: every terminal's name (an inline transformer with a method of that name
       would get lark's token callback, which the driver does not make);
     * ``scanner``, ``symbols``, ``actions``: the lexer's pattern resolved from the above
-      (:func:`lalr.scanner`), and the table packed by symbol (:func:`lalr.pack`): what the driver
+      (:func:`scangen.scanner`), and the table packed by symbol (:func:`lalr.pack`): what the driver
       runs as it is, so that its start-up resolves nothing."""
     try:
         front = lark.parser
@@ -159,11 +159,10 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
         ignored, newlines = frozenset(lexer.ignore_types), frozenset(lexer.newline_types)
         terminals = list(scanner.terminals)
         if "|".join(f"(?P<{t.name}>{t.pattern.to_regexp()})" for t in terminals) != pattern.pattern \
-                or not newlines <= ignored or any(t.name == lalr.SINGLE for t in terminals):
+                or not newlines <= ignored:
             return None  # (not the scanner's pattern, or a token that may hold a line break)
         scan = [[t.name, t.pattern.to_regexp(),
-                 t.pattern.value if t.pattern.type == "str" and len(t.pattern.value) == 1 and not t.pattern.flags
-                 else None] for t in terminals]
+                 t.pattern.value if t.pattern.type == "str" and not t.pattern.flags else None] for t in terminals]
         keywords: dict[str, list] = {}
         for name, cb in lexer.callback.items():
             for t in cb.scanner.terminals:
@@ -202,8 +201,10 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
         data = {**data, "states": [dict(row) for row in data["states"]]}
         symbols = tuple(sorted({"$END", *data["terminal_names"], *(rule[0] for rule in data["rules"]),
                           *(symbol for row in data["states"] for symbol in row)}))
-        return {**data, "scanner": lalr.scanner(data["lexer"]), "symbols": symbols,
-                "actions": lalr.pack(data["states"], symbols)}
+        scan = scangen.scanner(data["lexer"])
+        if scan is None:
+            return None  # (a terminal the scanner cannot tell by its text)
+        return {**data, "scanner": scan, "symbols": symbols, "actions": lalr.pack(data["states"], symbols)}
     except (AttributeError, KeyError, TypeError, StopIteration, re.error):
         return None
 
