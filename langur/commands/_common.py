@@ -2,14 +2,23 @@
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import sys
 from fractions import Fraction
 
-from .. import frontend, progress
+# numpy before the front end, three imports deep rather than six (issue 15, one-shot start-up): numpy's
+# own import nests some sixty Python frames, and begun under the front end's chain of imports
+# (frontend → typesys → primitives) its typing stubs ran where CPython's frame stack needs a second
+# 16 kB chunk, mapped and unmapped again some two hundred times (≈ 400 page faults of a one-shot
+# ``langur eval``).  Every command that loads a program needs numpy.
+import numpy  # noqa: F401
+
+from .. import frontend, lazy, progress
 from ..cli import UsageError, parse_assignments, parse_modules
+
+#: json only for ``--json`` output (as in :mod:`langur.cli`).
+json = lazy.module("json")
 
 
 def load(args, path: str | None = None):

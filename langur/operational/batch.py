@@ -30,6 +30,7 @@ from ..records import frozen
 from ..values import ParameterError
 from .estimate import LOW_HITS, _inside, prepare
 from .link import CACHE, CompileCache, Linked
+from .pcg64 import Stream
 from .point import DELTA, TANGENT, VALUE, Point, full
 from .sample import design
 
@@ -140,7 +141,7 @@ def _box(linked: Linked, grid: dict, npts: int) -> tuple[np.ndarray, np.ndarray]
 
 def _chunk(linked: Linked, grid: dict, dp: dict | None, samples: int, seed: int, method: str) -> dict:
     npts = len(next(iter(grid.values())))
-    rng = np.random.default_rng(seed)
+    rng = Stream(seed)  # numpy's default_rng(seed), its draws without numpy.random
     m = len(linked.variables)
     d = design(rng, m, samples, method)
     n = d.points.shape[0]

@@ -12,6 +12,7 @@ from ..core import Program, tree_size
 from ..modules import Loaded
 from ..values import ParameterError, check_values
 from .link import CACHE, CompileCache, Linked, compile_program, link
+from .pcg64 import Stream
 from .point import DELTA, TANGENT, VALUE, Point, full
 from .results import DerivativeEstimate, Estimate, ValueEstimate
 from .sample import design, evaluate_box
@@ -133,7 +134,7 @@ def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, see
     ``cache``: where compiled units and linked programs are kept (§9)."""
     with gcpause.paused():  # (the samples' arrays and the points hold no cycles)
         linked, p = prepare(program_or_loaded, params, sites, cache=cache)
-        rng = np.random.default_rng(seed)
+        rng = Stream(seed)  # numpy's default_rng(seed), its draws without numpy.random
         notes: list[str] = []
         with np.errstate(all="ignore"):
             value, se, n = _over_domain(linked, p, rng, samples, method, 0, notes, mode=VALUE)
@@ -166,7 +167,7 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
     with gcpause.paused():  # (the samples' arrays and the points hold no cycles)
         linked, p = prepare(program_or_loaded, params, sites, direction, cache)
         dp = {k: float(v) for k, v in direction.items() if float(v) != 0.0}
-        rng = np.random.default_rng(seed)
+        rng = Stream(seed)  # numpy's default_rng(seed), its draws without numpy.random
         with np.errstate(all="ignore"):
             # regular part: the tangent with every delta dropped (Dˢ), over the domain design
             notes: list[str] = []

@@ -27,6 +27,7 @@ from .. import lazy
 from ..core import Diffeo, Var
 from ..records import record
 from .compile import compile_term
+from .pcg64 import Stream, numpy_generator
 from .point import TANGENT, UNLINKED, VALUE, Point, full
 
 # Interval enclosures of a zero set's other coordinates, imported when a site's condition is not
@@ -67,7 +68,7 @@ class Design:
         return est, se
 
 
-def design(rng: np.random.Generator, m: int, samples: int, method: str) -> Design:
+def design(rng: Stream | np.random.Generator, m: int, samples: int, method: str) -> Design:
     """``samples`` points (or the nearest count the method supports) in [0,1]^m."""
     if method not in METHODS:
         raise ValueError(f"unknown Monte Carlo method {method!r} (one of {', '.join(METHODS)})")
@@ -90,7 +91,7 @@ def design(rng: np.random.Generator, m: int, samples: int, method: str) -> Desig
 
     k = QMC_RANDOMIZATIONS if samples >= 2 * QMC_RANDOMIZATIONS else 2
     level = max(0, math.floor(math.log2(samples / k)))
-    blocks = [qmc.Sobol(m, scramble=True, seed=rng, bits=64).random_base2(level) for _ in range(k)]
+    blocks = [qmc.Sobol(m, scramble=True, seed=numpy_generator(rng), bits=64).random_base2(level) for _ in range(k)]
     return Design(np.concatenate(blocks), "qmc", k)
 
 
