@@ -85,7 +85,7 @@ def test_the_data_module_is_literals_only():
         assert isinstance(statement, ast.Assign) and len(statement.targets) == 1, ast.dump(statement)[:80]
         names.add(statement.targets[0].id)
         ast.literal_eval(statement.value)  # (raises on anything but a literal)
-    assert names == {"FORMAT", "GRAMMAR_SHA256", "BYTEORDER", "DRIVER", "ACTIONS"}
+    assert names == {"FORMAT", "GRAMMAR", "BYTEORDER", "DRIVER", "ACTIONS"}
 
 
 def test_a_valid_parse_imports_neither_json_nor_lark():

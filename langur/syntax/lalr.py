@@ -6,7 +6,7 @@ lark is the single source of the grammar, but importing it (~25 ms), deserializi
 one-shot process for a parse that takes well under a millisecond.  So ``python -m
 langur.syntax.tables`` — run when the grammar changes — also reads, out of the parser lark builds,
 everything a successful parse needs and writes it as plain data (literals, never a pickle: SECURITY.md)
-to the module ``grammar_driver.py`` (:data:`DATA`), stamped with the grammar's SHA-256: the lexer's terminals
+to the module ``grammar_driver.py`` (:data:`DATA`), stamped with the grammar's text (compared as it is on load: a stale module is not read): the lexer's terminals
 in the order lark's scanner tries them and their regular expressions, the keywords lark's
 ``UnlessCallback`` tells from names, the ignored and newline-bearing terminals, the LALR action
 table, and for every rule the callback lark calls on its reduction and how lark's parse-tree
@@ -46,7 +46,6 @@ lark on every example file, the hostile corpus and random programs, token by tok
 
 from __future__ import annotations
 
-import hashlib
 import re
 import sys
 from collections.abc import Callable
@@ -58,7 +57,7 @@ GRAMMAR = Path(__file__).with_name("grammar.lark")
 #: is an unmarshal), generated from lark by ``python -m langur.syntax.tables``, never edited by hand.
 DATA = Path(__file__).with_name("grammar_driver.py")
 #: The layout of :data:`DATA` (a module of another layout is not read).
-DATA_FORMAT = 3
+DATA_FORMAT = 4
 
 #: What the driver returns when lark must parse instead (an input with a syntax error).
 FAILED = object()
@@ -66,10 +65,6 @@ FAILED = object()
 def grammar_text() -> str:
     with open(GRAMMAR, encoding="utf-8") as f:
         return f.read()
-
-
-def digest(text: str) -> str:
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
 class Token:
@@ -116,7 +111,7 @@ def load(module: Any = None) -> dict | None:
         if module is None:
             from . import grammar_driver as module  # (the generated data, read on the first parse)
         if (module.FORMAT != DATA_FORMAT or module.BYTEORDER != sys.byteorder
-                or module.GRAMMAR_SHA256 != digest(grammar_text())):
+                or module.GRAMMAR != grammar_text()):
             return None
         return {**module.DRIVER, "actions": module.ACTIONS}
     except Exception:  # noqa: BLE001 - a missing or broken module: the data is derived from lark instead
@@ -375,4 +370,4 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     return parse
 
 
-__all__ = ["CHUNK", "DATA", "FAILED", "Token", "Tree", "callbacks", "digest", "driver", "glued", "grammar_text", "load", "pack", "unpack"]
+__all__ = ["CHUNK", "DATA", "FAILED", "Token", "Tree", "callbacks", "driver", "glued", "grammar_text", "load", "pack", "unpack"]

@@ -22,6 +22,7 @@ Regenerate after editing the grammar::
 
 from __future__ import annotations
 
+import hashlib
 import json
 import re
 import sys
@@ -31,7 +32,7 @@ from pprint import pformat
 from typing import Any
 
 from . import lalr, scangen
-from .lalr import digest, grammar_text
+from .lalr import grammar_text
 from .larkload import ChildFilterLALR_NoPlaceholders, ExpandSingleChild, Lark, Rule, TerminalDef
 
 TABLES = Path(__file__).with_name("grammar.tables.json")
@@ -94,6 +95,13 @@ def build(text: str | None = None, **kwargs: Any) -> Lark:
     return Lark(grammar_text() if text is None else text, cache=False, **OPTIONS, **kwargs)
 
 
+def digest(text: str) -> str:
+    """The grammar's SHA-256, which lark's tables (:data:`TABLES`) carry; the driver's module
+    carries the grammar's text itself, compared as it is by :func:`lalr.load` (no digest — and no
+    ``hashlib``, whose import loads OpenSSL — in a process that only parses)."""
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
 def generate(text: str | None = None, lark: Lark | None = None) -> dict[str, Any]:
     """lark's tables (the contents of :data:`TABLES`) of the parser ``lark`` built from ``text``."""
     text = grammar_text() if text is None else text
@@ -104,7 +112,7 @@ def generate(text: str | None = None, lark: Lark | None = None) -> dict[str, Any
 def generate_driver(text: str | None = None, lark: Lark | None = None) -> dict[str, Any]:
     """The contents of :data:`lalr.DATA` for the parser ``lark`` built from ``text``."""
     text = grammar_text() if text is None else text
-    return {"format": lalr.DATA_FORMAT, "grammar_sha256": digest(text), "driver": driver_data(lark or build(text))}
+    return {"format": lalr.DATA_FORMAT, "grammar": text, "driver": driver_data(lark or build(text))}
 
 
 def driver_module(doc: dict[str, Any]) -> str:
@@ -121,7 +129,7 @@ def driver_module(doc: dict[str, Any]) -> str:
         "# The LALR driver's data (langur/syntax/lalr.py), read out of the parser lark builds; literals only.\n"
         "# fmt: off\n"
         f"FORMAT = {doc['format']!r}\n"
-        f"GRAMMAR_SHA256 = {doc['grammar_sha256']!r}\n"
+        f"GRAMMAR = {doc['grammar']!r}\n"
         f"BYTEORDER = {sys.byteorder!r}\n"
         f"DRIVER = {pformat(driver, width=120, sort_dicts=True)}\n"
         f"ACTIONS = (\n{lines})\n"
