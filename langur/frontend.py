@@ -25,7 +25,7 @@ form depends only on its name, its path, its bytes and the *signatures* of the m
 (their defs' argument lists and their diffeos: calls stay links), so :data:`CACHE` keeps it under
 exactly these: loading a scene again after a shader swap re-elaborates the new shader only, and a
 module whose imported signatures change (an edited dependency) is elaborated again.  Parsed
-modules are kept by path and content hash.  Only modules elaborated without any diagnostic are
+modules are kept by path and content (the bytes themselves, compared as they are).  Only modules elaborated without any diagnostic are
 kept, so every error is reported as on a first load.  :func:`load_stats` says what was
 elaborated and how many modules were reused, as ``operational.cache_stats`` does for compiling.
 ``langur.syntax.diffeo.complete`` also keeps its memo of completed conditions.
@@ -38,7 +38,6 @@ those are shared by name with the importing program).
 
 from __future__ import annotations
 
-import hashlib
 import os
 from dataclasses import field
 from fractions import Fraction
@@ -68,9 +67,11 @@ CAPACITY = 512
 class LoadCache:
     """Parsed and elaborated modules kept across loads (module docstring, "Incremental loading").
 
-    ``parsed``: ``ModuleS`` by (path, sha256); ``modules``: elaborated module by (name, path,
-    sha256, the signatures of its imports); ``elaborated``: the names of the modules elaborated
-    since the last reset; ``reused``: how many modules were taken from here instead."""
+    ``parsed``: ``ModuleS`` by (path, bytes); ``modules``: elaborated module by (name, path,
+    bytes, the signatures of its imports) — a file's bytes themselves, compared as they are, are its
+    identity (exact, and no ``hashlib``, whose import loads OpenSSL, in a one-shot process);
+    ``elaborated``: the names of the modules elaborated since the last reset; ``reused``: how many
+    modules were taken from here instead."""
 
     parsed: dict = field(default_factory=dict)
     modules: dict = field(default_factory=dict)
@@ -158,21 +159,20 @@ class _Loader:
         self.ok: dict[tuple[str, str], bool] = {}  # (name, path) -> loadable
 
     def module(self, name: str, path: str, data: bytes, span: Span | None) -> ElaboratedModule | None:
-        digest = hashlib.sha256(data).hexdigest()
-        key = self.key(name, path, data, digest) if self.loadable(name, path, data, digest, ()) else None
+        key = self.key(name, path, data) if self.loadable(name, path, data, ()) else None
         if key is not None and key in CACHE.modules:
             self.done[name] = CACHE.modules[key]
             CACHE.reused += 1
             return self.done[name]
         try:
-            mod = self.parse(path, data, digest)
+            mod = self.parse(path, data)
         except LangurError as e:
             self.errors.extend(e.diagnostics)
             return None
         self.stack.append(name)
         n_errors = len(self.errors)
         try:
-            elab = elaborate(mod, name, path, digest, lambda m, sp: self.resolve(m, sp, path), self.errors)
+            elab = elaborate(mod, name, path, data, lambda m, sp: self.resolve(m, sp, path), self.errors)
         finally:
             self.stack.pop()
         self.done[name] = elab
@@ -181,7 +181,7 @@ class _Loader:
             remember(CACHE.modules, key, elab, CAPACITY)
         return elab
 
-    def key(self, name: str, path: str, data: bytes, digest: str) -> tuple | None:
+    def key(self, name: str, path: str, data: bytes) -> tuple | None:
         """What module ``name``'s elaborated form depends on: its name, path and bytes and the
         signatures of the modules it imports (their defs' arguments, their diffeos), which are
         loaded here first, in the order ``elaborate`` would load them.  None (and nothing loaded)
@@ -190,7 +190,7 @@ class _Loader:
         sigs = []
         self.stack.append(name)
         try:
-            for item in self.parse(path, data, digest).items:
+            for item in self.parse(path, data).items:
                 if isinstance(item, ImportItem):
                     dep = self.resolve(item.module.name, item.module.span, path)
                     sigs.append(dep and _signature(dep, tuple(imp.name.name for imp in item.names)))
@@ -201,17 +201,17 @@ class _Loader:
             self.done.clear()
             self.done.update(done)
             return None
-        return name, path, digest, tuple(sigs)
+        return name, path, data, tuple(sigs)
 
-    def parse(self, path: str, data: bytes, digest: str) -> ModuleS:
-        key = (path, digest)
+    def parse(self, path: str, data: bytes) -> ModuleS:
+        key = (path, data)
         mod = CACHE.parsed.get(key)
         if mod is None:
             mod = parse_bytes(data, path)
             remember(CACHE.parsed, key, mod, CAPACITY)
         return mod
 
-    def loadable(self, name: str, path: str, data: bytes, digest: str, visiting: tuple[str, ...]) -> bool:
+    def loadable(self, name: str, path: str, data: bytes, visiting: tuple[str, ...]) -> bool:
         """Module ``name`` and everything it imports parse, can be read and form no cycle."""
         key = (name, path)
         if key in self.ok:
@@ -219,7 +219,7 @@ class _Loader:
         if name in visiting:
             return False
         try:
-            mod = self.parse(path, data, digest)
+            mod = self.parse(path, data)
         except LangurError:
             return False
         ok = True
@@ -234,7 +234,7 @@ class _Loader:
             except OSError:
                 ok = False
                 break
-            if not self.loadable(dep, dpath, ddata, hashlib.sha256(ddata).hexdigest(), visiting + (name,)):
+            if not self.loadable(dep, dpath, ddata, visiting + (name,)):
                 ok = False
                 break
         self.ok[key] = ok

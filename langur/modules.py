@@ -39,7 +39,7 @@ class ElaboratedModule:
 
     name: str  # the module's name: its file stem, or the NAME of --module NAME=PATH
     path: str
-    source_hash: str  # sha256 of the file's bytes
+    source: bytes  # the file's bytes: the module's identity in the load and link caches, compared as they are
     params: dict[str, Fraction | None]  # declared params with their defaults (None: no default)
     diffeos: dict[str, Diffeo]  # declared (and checked) diffeos, in the declaration's own names
     defs: dict[str, CoreDef]
@@ -48,8 +48,8 @@ class ElaboratedModule:
     # each declared diffeo's parameter names in declaration order (a Diffeo value does not keep it)
     diffeo_params: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
-    def __init__(self, name, path, source_hash, params, diffeos, defs, imports, program, diffeo_params=FACTORY):
-        self.name, self.path, self.source_hash, self.params = name, path, source_hash, params
+    def __init__(self, name, path, source, params, diffeos, defs, imports, program, diffeo_params=FACTORY):
+        self.name, self.path, self.source, self.params = name, path, source, params
         self.diffeos, self.defs, self.imports, self.program = diffeos, defs, imports, program
         self.diffeo_params = {} if diffeo_params is FACTORY else diffeo_params
 

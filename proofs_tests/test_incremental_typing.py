@@ -122,7 +122,7 @@ def test_inlining_a_program_without_calls_returns_it_and_depth_is_checked_every_
     body = Var("x")
     for _ in range(60):
         body = Mul(body, Var("x"))
-    m = ElaboratedModule(name="m", path="m.lgr", source_hash="h", params={}, diffeos={},
+    m = ElaboratedModule(name="m", path="m.lgr", source=b"h", params={}, diffeos={},
                          defs={"f": CoreDef("m", "f", (("x", "var"),), body)}, imports={}, program=None)
     # f(t) is t substituted 61 levels down: 61 + 61 > 100, whatever t kept from before
     deep = _program(Add(t, Call("m", "f", (t,))))

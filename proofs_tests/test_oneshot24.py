@@ -5,7 +5,8 @@
   generator draw for draw — seeds at the edges of SeedSequence's 32-bit words, shapes across the
   block's rows and lanes, successive calls, the hand-over to numpy's generator (``Stream.numpy``,
   and a call beyond ``MOST_DRAWS``), and every design of ``operational.sample``;
-* the one-shot process imports neither ``numpy.random`` nor ``json``, and imports numpy before the
+* the one-shot process imports neither ``numpy.random`` nor ``json`` nor ``hashlib`` (OpenSSL: the
+  front end keys modules by their bytes, the parser compares the grammar's text), and imports numpy before the
   front end (at a shallow depth of nested imports: ``commands/_common``'s comment says why).
 """
 
@@ -105,7 +106,7 @@ import sys
 from langur.cli import main
 status = main(sys.argv[1:])
 names = list(sys.modules)
-imported = [m for m in ("numpy.random", "json", "secrets") if m in sys.modules]
+imported = [m for m in ("numpy.random", "json", "secrets", "hashlib") if m in sys.modules]
 import json
 print(json.dumps({"status": status, "imported": imported,
                   "numpy_first": names.index("numpy") < names.index("langur.frontend")}))

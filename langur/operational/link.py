@@ -2,7 +2,7 @@
 
 Every module's elaborated form (``Loaded.modules[name]``: its defs with ``Call`` links and its
 program) is compiled *per def* into a :class:`~langur.operational.point.Unit` and cached under
-a key made of what determines the def's elaborated form: ``(module name, module source_hash,
+a key made of what determines the def's elaborated form: ``(module name, module source,
 def name, import signature)`` — the module's own text and the *signatures* (argument kinds,
 declared diffeos) of what it imports, never the imported bodies (modules.py: "a module's
 elaborated form depends only on its own text and the signatures of what it imports").  A
@@ -193,7 +193,7 @@ def link(loaded: Loaded, sites: str = "inlined", cache: CompileCache = CACHE) ->
     variables and box when it inlines, see langur.syntax.inline)."""
     _check_linkable(loaded, sites)
     keys = _def_keys(loaded)
-    prog_key = ("program", loaded.main.name, loaded.main.source_hash, _import_signature(loaded.main, loaded))
+    prog_key = ("program", loaded.main.name, loaded.main.source, _import_signature(loaded.main, loaded))
     link_key = ("link", sites, prog_key, frozenset(keys.items()))
     found = cache.find(link_key)
     if found:
@@ -236,7 +236,7 @@ def _def_keys(loaded: Loaded) -> dict:
     for m in loaded.modules.values():
         sig = _import_signature(m, loaded)
         for d in m.defs.values():
-            keys[(m.name, d.name)] = ("def", m.name, m.source_hash, d.name, sig)
+            keys[(m.name, d.name)] = ("def", m.name, m.source, d.name, sig)
     return keys
 
 

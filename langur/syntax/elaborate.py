@@ -30,7 +30,7 @@ diffeo = lazy.module("langur.syntax.diffeo")
 Resolver = Callable[[str, Span | None], "ElaboratedModule | None"]
 
 
-def elaborate(mod: ModuleS, name: str, path: str, source_hash: str, resolve: Resolver,
+def elaborate(mod: ModuleS, name: str, path: str, source: bytes, resolve: Resolver,
               errors: list[Diagnostic]) -> ElaboratedModule:
     """Elaborate ``mod``; diagnostics are appended to ``errors`` (the result is then partial)."""
     env = Env(module=name)
@@ -118,7 +118,7 @@ def elaborate(mod: ModuleS, name: str, path: str, source_hash: str, resolve: Res
     _check_recursion(name, defs, errors)
 
     program = _program(mod.program, ds, module_params, errors) if mod.program is not None else None
-    return ElaboratedModule(name=name, path=path, source_hash=source_hash, params=params, diffeos=diffeos, defs=defs,
+    return ElaboratedModule(name=name, path=path, source=source, params=params, diffeos=diffeos, defs=defs,
                       imports=imports, program=program, diffeo_params=diffeo_params)
 
 
