@@ -68,8 +68,12 @@ _SMALL_INT = int(SMALL)
 #: constructor is Python code (≈ 4.8 k instructions a call) where this is one subscript (issue 15).
 #: A ``Fraction`` is immutable: sharing one is invisible.
 INT_FRACTIONS: tuple[Fraction, ...] = tuple(Fraction(i) for i in range(128))
-#: Their identities (the table keeps them alive): a ``Const`` of one of them is small (``Const``).
-_INT_IDS = frozenset(map(id, INT_FRACTIONS))
+#: ``Fraction(-1)``, one object: the factor of every negation (``core.neg``, the desugarer's ``t − s``
+#: and ``−t``), which :func:`_binary_value` recognizes by identity (issue 15).
+MINUS_ONE = Fraction(-1)
+#: Their identities (the tables keep them alive): a ``Const`` of one of them is small (``Const``).
+_INT_IDS = frozenset(map(id, INT_FRACTIONS + (MINUS_ONE,)))
+_ZERO_F, _ONE_F = INT_FRACTIONS[0], INT_FRACTIONS[1]
 
 
 def int_fraction(i: int) -> Fraction:
@@ -117,6 +121,27 @@ def kept_attributes(t) -> dict:
 _LEAF_SHAPE = (_EMPTY, _EMPTY, True, False, 1, 1, _EMPTY, True, _EMPTY, _EMPTY, _EMPTY)
 
 
+_VAR_SHAPES: dict[str, tuple] = {}
+_PARAM_SHAPES: dict[str, tuple] = {}
+
+
+def _var_shape(name: str) -> tuple:
+    """``_shape`` of ``Var(name)``, one tuple per name (a parent whose children share theirs skips
+    nothing, but a leaf is built without making a tuple, issue 15)."""
+    s = _VAR_SHAPES.get(name)
+    if s is None:
+        s = remember(_VAR_SHAPES, name, (_names(name), *_LEAF_SHAPE[FP:]), 4096, at_once=True)
+    return s
+
+
+def _param_shape(name: str) -> tuple:
+    """``_shape`` of ``Param(name)``, one tuple per name."""
+    s = _PARAM_SHAPES.get(name)
+    if s is None:
+        s = remember(_PARAM_SHAPES, name, (_EMPTY, _names(name), *_LEAF_SHAPE[SMOOTH:]), 4096, at_once=True)
+    return s
+
+
 def _leaf(t, shape: tuple) -> None:
     """A leaf's attributes, written on ``t``: ``shape`` and no small value (a constant's is set by
     its constructor)."""
@@ -128,8 +153,14 @@ def _leaf(t, shape: tuple) -> None:
 def _binary(t, a, b, mul: bool) -> None:
     """The attributes of ``t + s`` or ``t · s`` (``t``) from those of ``t`` (``a``) and ``s`` (``b``):
     the sets joined, the flags combined, size and depth counted."""
-    fa, pa, sma, ca, za, da, psa, sca, oa, ba, dfa = a._shape
-    fb, pb, smb, cb, zb, db, psb, scb, ob, bb, dfb = b._shape
+    sa, sb = a._shape, b._shape
+    if sb is _LEAF_SHAPE or sa is _LEAF_SHAPE:  # a constant (a negation's −1, a product by a number)
+        fa, pa, sma, ca, za, da, psa, sca, oa, ba, dfa = sa if sb is _LEAF_SHAPE else sb
+        t._shape = (fa, pa, sma, ca, za + 2, da + 1, psa, sca, oa, ba, dfa)  # (the constant's depth is 1)
+        _binary_value(t, a, b, mul)
+        return
+    fa, pa, sma, ca, za, da, psa, sca, oa, ba, dfa = sa
+    fb, pb, smb, cb, zb, db, psb, scb, ob, bb, dfb = sb
     t._shape = (fa if (not fb or fa is fb) else (fb if not fa else _join(fa, fb)),
                 pa if (not pb or pa is pb) else (pb if not pa else _join(pa, pb)),
                 sma and smb, ca or cb, 1 + za + zb, 1 + (da if da > db else db),
@@ -150,7 +181,18 @@ def _binary_value(t, a, b, mul: bool) -> None:
     elif x is False or y is False:
         v = False
     elif mul:  # (x, y small: a product by 1 or a sum with 0 is the other, already in range)
-        v = y if x.numerator == x.denominator else (x if y.numerator == y.denominator else _in_range(x * y))
+        if x is _ONE_F:  # (the shared objects first, by identity: no call of Fraction's Python code)
+            v = y
+        elif y is _ONE_F:
+            v = x
+        elif x is MINUS_ONE:  # a negation: −y, small as y is (the range is symmetric)
+            v = y if y is _ZERO_F else -y
+        else:
+            v = y if x.numerator == x.denominator else (x if y.numerator == y.denominator else _in_range(x * y))
+    elif x is _ZERO_F:
+        v = y
+    elif y is _ZERO_F:
+        v = x
     else:
         v = y if not x else (x if not y else _in_range(x + y))
     t._small = v
