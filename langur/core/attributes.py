@@ -142,14 +142,6 @@ def _param_shape(name: str) -> tuple:
     return s
 
 
-def _leaf(t, shape: tuple) -> None:
-    """A leaf's attributes, written on ``t``: ``shape`` and no small value (a constant's is set by
-    its constructor)."""
-    t._shape = shape
-    t._small = None
-    t._small_all = True
-
-
 def _binary(t, a, b, mul: bool) -> None:
     """The attributes of ``t + s`` or ``t · s`` (``t``) from those of ``t`` (``a``) and ``s`` (``b``):
     the sets joined, the flags combined, size and depth counted."""
@@ -298,6 +290,11 @@ def _ifdiffeo(t, psi, a, b) -> None:
     """The attributes of ``ifge0 ⌊Ψ⌋ then s else r`` (``t``) from Ψ's and those of ``s`` (``a``)
     and ``r`` (``b``)."""
     fp, xs, pv, cond, scoped, ops, dfp = _diffeo_summary(psi)
+    if a._shape is _LEAF_SHAPE and b._shape is _LEAF_SHAPE:  # both branches constants ([…] is 1 or 0): the same, joined
+        t._shape = (xs, fp, False, False, 3, 1 + (cond if cond > 1 else 1), pv, scoped, ops, _EMPTY, dfp)
+        t._small = v = False if not xs and not fp else None
+        t._small_all = v is not False and a._small_all and b._small_all
+        return
     fv = _join(_join(a._shape[FV], b._shape[FV]), xs)
     fp = _join(_join(a._shape[FP], b._shape[FP]), fp)
     t._shape = (fv, fp, False, a._shape[CALLS] or b._shape[CALLS], 1 + a._shape[SIZE] + b._shape[SIZE], 1 + max(a._shape[DEPTH], b._shape[DEPTH], cond),

@@ -103,7 +103,7 @@ class Var:
     def __new__(cls, name, span=None):
         t = _new(cls.__base__)
         t.name, t.span, t._hash, t._typed, t._memo = name, span, None, None, None
-        t._shape, t._small, t._small_all = _var_shape(name), None, True  # (attributes._leaf, written out)
+        t._shape, t._small, t._small_all = _var_shape(name), None, True  # (a leaf's attributes: its shape, no small value but a constant's)
         t.__class__ = cls
         return t
 

@@ -245,12 +245,12 @@ class Desugarer:
     def term(self, st: STerm, sc: Scope) -> Term:
         """The core term of the real-valued surface term ``st``; a vector here is T226."""
         t = self.value(st, sc)
+        if type(t) is not Vec:  # (a core term: no equality test with POISON, two Python calls each)
+            return t
         if t == vectors.POISON:
             return Const(Fraction(0), span=getattr(st, "span", None))
-        if isinstance(t, Vec):
-            span = getattr(st, "span", None)
-            return self.fail(ty.reject_vector(span, len(t.parts)), span)
-        return t
+        span = getattr(st, "span", None)
+        return self.fail(ty.reject_vector(span, len(t.parts)), span)
 
     def value(self, st: STerm, sc: Scope) -> Term | Vec:
         """The core term of the surface term ``st``, or the vector of core terms it denotes
@@ -276,7 +276,7 @@ class Desugarer:
                 if op == "*":
                     return Mul(left, right, span)
                 if op == "/":
-                    return Mul(left, Pow(right, _MINUS_ONE, span=span), span=span)
+                    return Mul(left, Pow(right, _MINUS_ONE, span), span)
                 raise ValueError(f"unknown operator {op}")
             case Num(v):
                 # a decimal literal, read exactly
