@@ -153,6 +153,12 @@ def _binary(t, a, b, mul: bool) -> None:
         return
     fa, pa, sma, ca, za, da, psa, sca, oa, ba, dfa = sa
     fb, pb, smb, cb, zb, db, psb, scb, ob, bb, dfb = sb
+    if not (psb or ob or bb or dfb):  # (most terms: no diffeo, primitive nor let on the right)
+        t._shape = (fa if (not fb or fa is fb) else (fb if not fa else _join(fa, fb)),
+                    pa if (not pb or pa is pb) else (pb if not pa else _join(pa, pb)),
+                    sma and smb, ca or cb, 1 + za + zb, 1 + (da if da > db else db), psa, sca and scb, oa, ba, dfa)
+        _binary_value(t, a, b, mul)
+        return
     t._shape = (fa if (not fb or fa is fb) else (fb if not fa else _join(fa, fb)),
                 pa if (not pb or pa is pb) else (pb if not pa else _join(pa, pb)),
                 sma and smb, ca or cb, 1 + za + zb, 1 + (da if da > db else db),
