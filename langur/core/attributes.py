@@ -259,7 +259,16 @@ def _diffeo_summary(psi) -> tuple:
     its own premises hold (``_diffeo_scoped``), the primitives and parameters of all its terms."""
     d = psi.__dict__
     found = d.get("_summary")
-    if found is None:
+    if found is None and len(psi.forward) == 1 and not psi.nonzero and len(psi.branches) == 1:
+        # (a condition completed over one variable, the most frequent: the loops below written out)
+        shape = psi.forward[0]._shape
+        fp, ops = shape[FP], shape[OPS]
+        dfp = _join(fp, shape[DFP])
+        b_ops, b_dfp, b_scoped = _branch_summary(psi.branches[0], psi.inputs, len(psi.variables))
+        found = d["_summary"] = (fp, _interned_set(psi.variables), _interned_set((psi.variables,)),
+                                 shape[DEPTH] if psi.name is None else 1, _diffeo_scoped(psi) and b_scoped,
+                                 _join(ops, b_ops), _join(dfp, b_dfp))
+    elif found is None:
         fp = ops = dfp = _EMPTY
         for f in psi.forward:
             fp = _join(fp, f._shape[FP])
