@@ -26,12 +26,6 @@ from fractions import Fraction
 from . import lazy, observe
 from .codes import CODES
 from .core import (
-    BINDERS,
-    DFP,
-    FP,
-    FV,
-    OPS,
-    SCOPED,
     Add,
     Call,
     Const,
@@ -230,10 +224,11 @@ def well_typed(delta: frozenset[str], gamma: frozenset[str], t: Term) -> bool:
     rules one by one and reports what they find (it finds nothing when this holds:
     ``proofs_tests/test_typing_attributes.py`` compares the two)."""
     try:
-        return (t._shape[SCOPED] and t._shape[FV] <= delta and t._shape[FP] <= gamma and t._shape[DFP] <= gamma
-                and t._shape[OPS] <= _KNOWN_PRIMITIVES and t._shape[BINDERS].isdisjoint(delta))
+        fv, fp, _, _, _, _, _, scoped, ops, binders, dfp = t._shape  # (core.attributes FV … DFP, in order: one read)
     except AttributeError:  # not a core term: the rules say why
         return False
+    return (scoped and fv <= delta and fp <= gamma and dfp <= gamma and ops <= _KNOWN_PRIMITIVES
+            and binders.isdisjoint(delta))
 
 
 def _remembered(fn):

@@ -33,6 +33,7 @@ from .attributes import (
     FP,
     FV,
     INT_FRACTIONS,
+    MINUS_ONE,
     OPS,
     PSI_VARS,
     SCOPED,
@@ -105,7 +106,7 @@ from .terms import (
 
 __all__ = [
     "BINDERS", "CALLS", "DEPTH", "DFP", "FP", "FV", "OPS", "PSI_VARS", "SCOPED", "SIZE", "SMOOTH",
-    "INT_FRACTIONS", "PI", "REPR_LIMIT", "SMALL", "SMALL_BITS", "SMALL_EXPONENT", "Add", "Call", "Const", "Diffeo",
+    "INT_FRACTIONS", "MINUS_ONE", "PI", "REPR_LIMIT", "SMALL", "SMALL_BITS", "SMALL_EXPONENT", "Add", "Call", "Const", "Diffeo",
     "IfDiffeo", "IfGe0", "ImplicitRoot", "Interval", "InverseBranch", "Let", "Mul", "Param", "Pow", "Prim", "Program",
     "Term", "TooManyRoots", "Var", "all_small", "children", "const", "depth", "diffeo_params", "diffeo_variables", "div",
     "extend_diffeo", "free_params", "free_vars", "has_calls", "index_const", "index_power_small", "int_fraction", "keep_memo", "keep_typed", "kept_attributes", "like",

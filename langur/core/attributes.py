@@ -68,8 +68,12 @@ _SMALL_INT = int(SMALL)
 #: constructor is Python code (≈ 4.8 k instructions a call) where this is one subscript (issue 15).
 #: A ``Fraction`` is immutable: sharing one is invisible.
 INT_FRACTIONS: tuple[Fraction, ...] = tuple(Fraction(i) for i in range(128))
-#: Their identities (the table keeps them alive): a ``Const`` of one of them is small (``Const``).
-_INT_IDS = frozenset(map(id, INT_FRACTIONS))
+#: ``Fraction(-1)``, one object: the factor of every negation (``core.neg``, the desugarer's ``t − s``
+#: and ``−t``), which :func:`_binary_value` recognizes by identity (issue 15).
+MINUS_ONE = Fraction(-1)
+#: Their identities (the tables keep them alive): a ``Const`` of one of them is small (``Const``).
+_INT_IDS = frozenset(map(id, INT_FRACTIONS + (MINUS_ONE,)))
+_ZERO_F, _ONE_F = INT_FRACTIONS[0], INT_FRACTIONS[1]
 
 
 def int_fraction(i: int) -> Fraction:
@@ -117,19 +121,44 @@ def kept_attributes(t) -> dict:
 _LEAF_SHAPE = (_EMPTY, _EMPTY, True, False, 1, 1, _EMPTY, True, _EMPTY, _EMPTY, _EMPTY)
 
 
-def _leaf(t, shape: tuple) -> None:
-    """A leaf's attributes, written on ``t``: ``shape`` and no small value (a constant's is set by
-    its constructor)."""
-    t._shape = shape
-    t._small = None
-    t._small_all = True
+_VAR_SHAPES: dict[str, tuple] = {}
+_PARAM_SHAPES: dict[str, tuple] = {}
+
+
+def _var_shape(name: str) -> tuple:
+    """``_shape`` of ``Var(name)``, one tuple per name (a parent whose children share theirs skips
+    nothing, but a leaf is built without making a tuple, issue 15)."""
+    s = _VAR_SHAPES.get(name)
+    if s is None:
+        s = remember(_VAR_SHAPES, name, (_names(name), *_LEAF_SHAPE[FP:]), 4096, at_once=True)
+    return s
+
+
+def _param_shape(name: str) -> tuple:
+    """``_shape`` of ``Param(name)``, one tuple per name."""
+    s = _PARAM_SHAPES.get(name)
+    if s is None:
+        s = remember(_PARAM_SHAPES, name, (_EMPTY, _names(name), *_LEAF_SHAPE[SMOOTH:]), 4096, at_once=True)
+    return s
 
 
 def _binary(t, a, b, mul: bool) -> None:
     """The attributes of ``t + s`` or ``t · s`` (``t``) from those of ``t`` (``a``) and ``s`` (``b``):
     the sets joined, the flags combined, size and depth counted."""
-    fa, pa, sma, ca, za, da, psa, sca, oa, ba, dfa = a._shape
-    fb, pb, smb, cb, zb, db, psb, scb, ob, bb, dfb = b._shape
+    sa, sb = a._shape, b._shape
+    if sb is _LEAF_SHAPE or sa is _LEAF_SHAPE:  # a constant (a negation's −1, a product by a number)
+        fa, pa, sma, ca, za, da, psa, sca, oa, ba, dfa = sa if sb is _LEAF_SHAPE else sb
+        t._shape = (fa, pa, sma, ca, za + 2, da + 1, psa, sca, oa, ba, dfa)  # (the constant's depth is 1)
+        _binary_value(t, a, b, mul)
+        return
+    fa, pa, sma, ca, za, da, psa, sca, oa, ba, dfa = sa
+    fb, pb, smb, cb, zb, db, psb, scb, ob, bb, dfb = sb
+    if not (psb or ob or bb or dfb):  # (most terms: no diffeo, primitive nor let on the right)
+        t._shape = (fa if (not fb or fa is fb) else (fb if not fa else _join(fa, fb)),
+                    pa if (not pb or pa is pb) else (pb if not pa else _join(pa, pb)),
+                    sma and smb, ca or cb, 1 + za + zb, 1 + (da if da > db else db), psa, sca and scb, oa, ba, dfa)
+        _binary_value(t, a, b, mul)
+        return
     t._shape = (fa if (not fb or fa is fb) else (fb if not fa else _join(fa, fb)),
                 pa if (not pb or pa is pb) else (pb if not pa else _join(pa, pb)),
                 sma and smb, ca or cb, 1 + za + zb, 1 + (da if da > db else db),
@@ -150,7 +179,18 @@ def _binary_value(t, a, b, mul: bool) -> None:
     elif x is False or y is False:
         v = False
     elif mul:  # (x, y small: a product by 1 or a sum with 0 is the other, already in range)
-        v = y if x.numerator == x.denominator else (x if y.numerator == y.denominator else _in_range(x * y))
+        if x is _ONE_F:  # (the shared objects first, by identity: no call of Fraction's Python code)
+            v = y
+        elif y is _ONE_F:
+            v = x
+        elif x is MINUS_ONE:  # a negation: −y, small as y is (the range is symmetric)
+            v = y if y is _ZERO_F else -y
+        else:
+            v = y if x.numerator == x.denominator else (x if y.numerator == y.denominator else _in_range(x * y))
+    elif x is _ZERO_F:
+        v = y
+    elif y is _ZERO_F:
+        v = x
     else:
         v = y if not x else (x if not y else _in_range(x + y))
     t._small = v
@@ -219,7 +259,16 @@ def _diffeo_summary(psi) -> tuple:
     its own premises hold (``_diffeo_scoped``), the primitives and parameters of all its terms."""
     d = psi.__dict__
     found = d.get("_summary")
-    if found is None:
+    if found is None and len(psi.forward) == 1 and not psi.nonzero and len(psi.branches) == 1:
+        # (a condition completed over one variable, the most frequent: the loops below written out)
+        shape = psi.forward[0]._shape
+        fp, ops = shape[FP], shape[OPS]
+        dfp = _join(fp, shape[DFP])
+        b_ops, b_dfp, b_scoped = _branch_summary(psi.branches[0], psi.inputs, len(psi.variables))
+        found = d["_summary"] = (fp, _interned_set(psi.variables), _interned_set((psi.variables,)),
+                                 shape[DEPTH] if psi.name is None else 1, _diffeo_scoped(psi) and b_scoped,
+                                 _join(ops, b_ops), _join(dfp, b_dfp))
+    elif found is None:
         fp = ops = dfp = _EMPTY
         for f in psi.forward:
             fp = _join(fp, f._shape[FP])
@@ -256,6 +305,11 @@ def _ifdiffeo(t, psi, a, b) -> None:
     """The attributes of ``ifge0 ⌊Ψ⌋ then s else r`` (``t``) from Ψ's and those of ``s`` (``a``)
     and ``r`` (``b``)."""
     fp, xs, pv, cond, scoped, ops, dfp = _diffeo_summary(psi)
+    if a._shape is _LEAF_SHAPE and b._shape is _LEAF_SHAPE:  # both branches constants ([…] is 1 or 0): the same, joined
+        t._shape = (xs, fp, False, False, 3, 1 + (cond if cond > 1 else 1), pv, scoped, ops, _EMPTY, dfp)
+        t._small = v = False if not xs and not fp else None
+        t._small_all = v is not False and a._small_all and b._small_all
+        return
     fv = _join(_join(a._shape[FV], b._shape[FV]), xs)
     fp = _join(_join(a._shape[FP], b._shape[FP]), fp)
     t._shape = (fv, fp, False, a._shape[CALLS] or b._shape[CALLS], 1 + a._shape[SIZE] + b._shape[SIZE], 1 + max(a._shape[DEPTH], b._shape[DEPTH], cond),

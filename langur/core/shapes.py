@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import operator
 
-from .attributes import _LEAF_SHAPE, FP, FV, _binary_value, _leaf, _small_power, int_fraction
-from .slots import _built
+from .attributes import _LEAF_SHAPE, FP, FV, _binary_value, _small_power, int_fraction
 from .terms import Add, Const, IfDiffeo, Mul, Pow, Prim, Term
 
 #: What a shape (:func:`shape_with_span`) gives a node: its attributes of the shape, and its span.
@@ -70,13 +69,15 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
         a, b = kids
         new.left, new.right = a, b
         _binary_value(new, a, b, cls is Mul)
-        return _built(new, cls)
+        new.__class__ = cls  # (_built, written out)
+        return new
     if cls is IfDiffeo:
         psi, a, b = kids
         new.psi, new.then, new.orelse = psi, a, b
         v = new._small = False if not new._shape[FV] and not new._shape[FP] else None
         new._small_all = v is not False and a._small_all and b._small_all
-        return _built(new, cls)
+        new.__class__ = cls  # (_built, written out)
+        return new
     (a,) = kids
     if cls is Pow:
         new.base = a
@@ -87,7 +88,8 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
         new.op = shape["op"]
         new._small = v = False if a._small is not None else None
     new._small_all = v is not False and a._small_all
-    return _built(new, cls)
+    new.__class__ = cls  # (_built, written out)
+    return new
 
 
 def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
@@ -104,7 +106,8 @@ def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
         new._small_all = a._small_all and b._small_all
     else:
         _binary_value(new, a, b, cls is Mul)
-    return _built(new, cls)
+    new.__class__ = cls  # (_built, written out)
+    return new
 
 
 def like_binary_many(cls: type, shape: dict, lefts: list, rights: list) -> list:
@@ -138,7 +141,8 @@ def like_power(shape: dict, a: "Term", small) -> "Term":
     new.base, new.exponent, new._hash, new._typed, new._memo = a, shape["exponent"], None, None, None
     new._small = small
     new._small_all = small is not False and a._small_all
-    return _built(new, Pow)
+    new.__class__ = Pow  # (_built, written out)
+    return new
 
 
 def like_leaf(c: Const, span) -> Const:
@@ -148,7 +152,8 @@ def like_leaf(c: Const, span) -> Const:
     (new.value, new.span, new._shape, new._small, new._small_all, new._hash, new._typed,
      new._memo) = _leaf_copy(c)
     new.span = span
-    return _built(new, Const)
+    new.__class__ = Const  # (_built, written out)
+    return new
 
 
 _new = object.__new__
@@ -165,6 +170,6 @@ def index_const(value: int, span=None) -> Const:
         return Const(number, span=span)
     new = _new(_CONST)
     new.value, new.span, new._hash, new._typed, new._memo = number, span, None, None, None
-    _leaf(new, _LEAF_SHAPE)
-    new._small = number
-    return _built(new, Const)
+    new._shape, new._small, new._small_all = _LEAF_SHAPE, number, True  # (a leaf's attributes: its shape, no small value but a constant's)
+    new.__class__ = Const  # (_built, written out)
+    return new

@@ -12,7 +12,7 @@ from fractions import Fraction
 from typing import Callable
 
 from ..diagnostics import Span
-from .attributes import CALLS, DEPTH, FP, FV, PSI_VARS, SIZE, SMOOTH
+from .attributes import CALLS, DEPTH, FP, FV, MINUS_ONE, PSI_VARS, SIZE, SMOOTH
 from .terms import (
     Add,
     Call,
@@ -32,7 +32,7 @@ from .terms import (
     children,
 )
 
-_MINUS_ONE = Fraction(-1)
+_MINUS_ONE = MINUS_ONE
 
 
 def const(v: int | Fraction | str) -> Const:
@@ -47,7 +47,7 @@ def product(factors: list[Term], span: Span | None = None) -> Term:
     """``f1·f2·…·fn``, grouped from the left."""
     out = factors[0]
     for f in factors[1:]:
-        out = Mul(out, f, span=span)
+        out = Mul(out, f, span)
     return out
 
 

@@ -16,7 +16,7 @@ source ``span`` it came from (for diagnostics); spans never take part in equalit
 Programs ``p`` are declared in :mod:`langur.core.programs`.  A node computes the attributes it keeps
 when it is built, from its children's (:mod:`langur.core.attributes`; ``_annotate`` below for the
 nodes without arithmetic of their own), and its hash once (:mod:`langur.core.sharing`).  Each
-constructor (``__new__``) fills a node of its class's layout and returns it :func:`_built`.
+constructor (``__new__``) fills a node of its class's layout and returns it as a node of its class (``slots._built``, written out).
 
 ``Call`` is not part of the paper's core: it appears only in a module's *elaborated* form (one
 module's definitions with calls into other modules left as links, for separate compilation, §9).
@@ -52,13 +52,14 @@ from .attributes import (
     _ifdiffeo,
     _in_range,
     _join,
-    _leaf,
     _names,
+    _param_shape,
     _small_power,
     _unary,
+    _var_shape,
 )
 from .sharing import _sharing
-from .slots import _built, _slotted
+from .slots import _slotted
 
 _new = object.__new__
 
@@ -78,18 +79,18 @@ class Const:
 
     def __new__(cls, value, span=None):
         t = _new(cls.__base__)
-        t.value, t.span, t._hash, t._typed, t._memo = value, span, None, None, None
-        _leaf(t, _LEAF_SHAPE)
-        if id(value) in _INT_IDS:  # (an integer of INT_FRACTIONS: small, without Fraction's properties)
-            t._small = value
+        t.value, t.span, t._hash, t._typed, t._memo, t._shape = value, span, None, None, None, _LEAF_SHAPE
+        if id(value) in _INT_IDS:  # (an integer of INT_FRACTIONS, or −1: small, without Fraction's properties)
+            t._small, t._small_all = value, True
         elif type(value) is not Fraction:
             t._small = t._small_all = False
         elif value.denominator.bit_length() > SMALL_BITS or value.numerator.bit_length() >= 1000:
             t._small = v = _in_range(value)
             t._small_all = v is not False
         else:
-            t._small = value
-        return _built(t, cls)
+            t._small, t._small_all = value, True
+        t.__class__ = cls  # (slots._built, written out here and below: every node is built so)
+        return t
 
 
 @frozen
@@ -102,8 +103,9 @@ class Var:
     def __new__(cls, name, span=None):
         t = _new(cls.__base__)
         t.name, t.span, t._hash, t._typed, t._memo = name, span, None, None, None
-        _leaf(t, (_names(name), *_LEAF_SHAPE[FP:]))
-        return _built(t, cls)
+        t._shape, t._small, t._small_all = _var_shape(name), None, True  # (a leaf's attributes: its shape, no small value but a constant's)
+        t.__class__ = cls
+        return t
 
 
 @frozen
@@ -116,8 +118,9 @@ class Param:
     def __new__(cls, name, span=None):
         t = _new(cls.__base__)
         t.name, t.span, t._hash, t._typed, t._memo = name, span, None, None, None
-        _leaf(t, (_EMPTY, _names(name), *_LEAF_SHAPE[SMOOTH:]))
-        return _built(t, cls)
+        t._shape, t._small, t._small_all = _param_shape(name), None, True
+        t.__class__ = cls
+        return t
 
 
 @frozen
@@ -130,7 +133,8 @@ class Add:
         t = _new(cls.__base__)
         t.left, t.right, t.span, t._hash, t._typed, t._memo = left, right, span, None, None, None
         _binary(t, left, right, False)
-        return _built(t, cls)
+        t.__class__ = cls
+        return t
 
 
 @frozen
@@ -143,7 +147,8 @@ class Mul:
         t = _new(cls.__base__)
         t.left, t.right, t.span, t._hash, t._typed, t._memo = left, right, span, None, None, None
         _binary(t, left, right, True)
-        return _built(t, cls)
+        t.__class__ = cls
+        return t
 
 
 @frozen
@@ -159,7 +164,8 @@ class Prim:
         t = _new(cls.__base__)
         t.op, t.arg, t.span, t._hash, t._typed, t._memo = op, arg, span, None, None, None
         _unary(t, arg, False if arg._small is not None else None, True, op)
-        return _built(t, cls)
+        t.__class__ = cls
+        return t
 
 
 @frozen
@@ -175,7 +181,8 @@ class Pow:
         t.base, t.exponent, t.span, t._hash, t._typed, t._memo = base, exponent, span, None, None, None
         _unary(t, base, _small_power(base._small, exponent),
                type(exponent) is Fraction or isinstance(exponent, Fraction), None)
-        return _built(t, cls)
+        t.__class__ = cls
+        return t
 
 
 @frozen
@@ -191,7 +198,8 @@ class IfGe0:
         t = _new(cls.__base__)
         t.cond, t.then, t.orelse, t.span, t._hash, t._typed, t._memo = cond, then, orelse, span, None, None, None
         _annotate(t, cls)
-        return _built(t, cls)
+        t.__class__ = cls
+        return t
 
 
 @frozen
@@ -210,7 +218,8 @@ class IfDiffeo:
         t = _new(cls.__base__)
         t.psi, t.then, t.orelse, t.span, t._hash, t._typed, t._memo = psi, then, orelse, span, None, None, None
         _ifdiffeo(t, psi, then, orelse)
-        return _built(t, cls)
+        t.__class__ = cls
+        return t
 
 
 @frozen
@@ -226,7 +235,8 @@ class Let:
         t = _new(cls.__base__)
         t.name, t.bound, t.body, t.span, t._hash, t._typed, t._memo = name, bound, body, span, None, None, None
         _annotate(t, cls)
-        return _built(t, cls)
+        t.__class__ = cls
+        return t
 
 
 @frozen
@@ -246,7 +256,8 @@ class Call:
         t = _new(cls.__base__)
         t.module, t.name, t.args, t.span, t._hash, t._typed, t._memo = module, name, args, span, None, None, None
         _annotate(t, cls)
-        return _built(t, cls)
+        t.__class__ = cls
+        return t
 
 
 @frozen
@@ -290,7 +301,8 @@ class ImplicitRoot:
         t.equation, t.variable, t.target, t.lo, t.hi = equation, variable, target, lo, hi
         t.index, t.of, t.slope, t.span, t._hash, t._typed, t._memo = index, of, slope, span, None, None, None
         _annotate(t, cls)
-        return _built(t, cls)
+        t.__class__ = cls
+        return t
 
 
 #: The classes above as nodes stored in slots (:mod:`langur.core.slots`).

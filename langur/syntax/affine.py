@@ -97,7 +97,7 @@ _ZERO, _ONE = Fraction(0), Fraction(1)
 
 def _linear(t: Term, linear) -> Linear | None:
     """One node of :func:`linear` (``linear`` reads the children)."""
-    v = small_value(t)
+    v = t._small  # (core.small_value, read in place: every node of every condition comes here)
     if v is not None and v is not False:
         return {}, v  # a constant whose exact value the node keeps: the same rational, no walk
     match t:

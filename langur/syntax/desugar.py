@@ -39,6 +39,7 @@ from fractions import Fraction
 from .. import typesys as ty
 from ..core import (
     INT_FRACTIONS,
+    MINUS_ONE,
     PI,
     Add,
     Call,
@@ -151,7 +152,7 @@ class Env:
 
 
 _new = object.__new__
-_ZERO, _ONE, _MINUS_ONE = INT_FRACTIONS[0], INT_FRACTIONS[1], Fraction(-1)
+_ZERO, _ONE, _MINUS_ONE = INT_FRACTIONS[0], INT_FRACTIONS[1], MINUS_ONE
 
 
 @frozen
@@ -244,12 +245,12 @@ class Desugarer:
     def term(self, st: STerm, sc: Scope) -> Term:
         """The core term of the real-valued surface term ``st``; a vector here is T226."""
         t = self.value(st, sc)
+        if type(t) is not Vec:  # (a core term: no equality test with POISON, two Python calls each)
+            return t
         if t == vectors.POISON:
             return Const(Fraction(0), span=getattr(st, "span", None))
-        if isinstance(t, Vec):
-            span = getattr(st, "span", None)
-            return self.fail(ty.reject_vector(span, len(t.parts)), span)
-        return t
+        span = getattr(st, "span", None)
+        return self.fail(ty.reject_vector(span, len(t.parts)), span)
 
     def value(self, st: STerm, sc: Scope) -> Term | Vec:
         """The core term of the surface term ``st``, or the vector of core terms it denotes
@@ -269,26 +270,26 @@ class Desugarer:
                 if isinstance(left, Vec) or isinstance(right, Vec):
                     return self.vector_op(vectors.binop, op, left, right, span, (a.span, b.span))
                 if op == "+":
-                    return Add(left, right, span=span)
+                    return Add(left, right, span)  # (the span by position: a keyword costs a node ~1 k instructions)
                 if op == "-":
-                    return Add(left, neg(right), span=span)
+                    return Add(left, neg(right), span)
                 if op == "*":
-                    return Mul(left, right, span=span)
+                    return Mul(left, right, span)
                 if op == "/":
-                    return Mul(left, Pow(right, _MINUS_ONE, span=span), span=span)
+                    return Mul(left, Pow(right, _MINUS_ONE, span), span)
                 raise ValueError(f"unknown operator {op}")
             case Num(v):
                 # a decimal literal, read exactly
-                return Const(v, span=span)
+                return Const(v, span)
             case Neg(Num(v)):
                 # a negative literal is Const(-k)
-                return Const(-v, span=span)
+                return Const(-v, span)
             case Neg(a):
                 # unary −t is (−1)·t; −u of a vector is each component's
                 arg = self.value(a, sc)
                 if isinstance(arg, Vec):
                     return vectors.negate(arg)
-                return Mul(Const(_MINUS_ONE), arg, span=span)
+                return Mul(Const(_MINUS_ONE), arg, span)
             case Apply("dot" | "cross" as f, args):
                 # dot(u, v) is u1·v1 + … + un·vn; cross(u, v) of 3-vectors
                 if len(args) != 2:
@@ -496,10 +497,10 @@ class Desugarer:
     def name(self, st: Name, sc: Scope) -> Term | Vec:
         n, span = st.name, st.span
         if n in sc.variables:
-            return Var(n, span=span)
+            return Var(n, span)
         if n in sc.consts:
             # a loop's index: the number it stands for in this copy of the body (§9)
-            c = Const(sc.consts[n], span=span)
+            c = Const(sc.consts[n], span)
             record = self.records.get(n)
             if record is not None:
                 record.leaves[id(c)] = c
@@ -511,7 +512,7 @@ class Desugarer:
                 return vectors.POISON
             return bound.vec
         if n in sc.gamma:
-            return Param(n, span=span)
+            return Param(n, span)
         if n == "pi":
             return Const(PI, span=span)
         if n in self.env.poisoned:
@@ -536,7 +537,7 @@ class Desugarer:
                                      f"exact value has more than {loops.MAX_BITS} bits"), st.span)
         if k is None:
             return self.fail(ty.reject_exponent(getattr(st.right, "span", st.span)), st.span)
-        return Pow(base, k, span=st.span)
+        return Pow(base, k, st.span)
 
     def apply(self, st: Apply, sc: Scope) -> Term:
         name, span = st.name, st.span
@@ -632,7 +633,7 @@ class Desugarer:
         IfDiffeo (Fig. 6, conditional / diffeomorphic conditional)."""
         cond = kinks.cancelled(cond) if self.splitting else cond  # a kink split's flat piece
         if not free_vars(cond):
-            return IfGe0(cond, then, orelse, span=span)
+            return IfGe0(cond, then, orelse, span)
         if smooth(cond):  # no conditional and no call inside: completed as it is
             self.count_piece()
             return self.completed(cond, then, orelse, sc, span, cond_span)
@@ -713,7 +714,7 @@ class Desugarer:
             self.pending.append((psi, diagnostic))
             self.unsafe()
             return IfDiffeo(psi, then, orelse, span=span)
-        node = IfDiffeo(psi, then, orelse, span=span)
+        node = IfDiffeo(psi, then, orelse, span)
         if self.records:
             self.note_completion(node, cond, sc.variables, sc.box)
         return node

@@ -64,6 +64,11 @@ MAX_INLINED_DEPTH = 400
 def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program:
     """``program`` with every ``Call`` inlined (recursively), a call with the same arguments as an
     earlier one shared; raises LangurError (T207, T217, T221, T230)."""
+    bounds = [b for pair in program.box for b in pair]
+    body = program.body
+    if not has_calls(body) and not any(has_calls(b) for b in bounds) and \
+            max([depth(body), *map(depth, bounds)]) <= MAX_INLINED_DEPTH:
+        return program  # no call, not too deep (_too_large's measure without a call is the depth): as it is
     lookup = lambda m, n: modules[m].defs.get(n) if m in modules else None  # noqa: E731
     try:
         too_large = _too_large(program, lookup)

@@ -257,13 +257,13 @@ def balanced(terms: list[Term], op: str, span: Span | None = None) -> Term:
     if len(terms) <= CHAIN_BALANCE:
         out = terms[0]
         for t in terms[1:]:
-            out = make(out, t, span=span)
+            out = make(out, t, span)
         return out
 
     def halve(lo: int, hi: int) -> Term:
         if hi - lo == 1:
             return terms[lo]
         mid = lo + (hi - lo) // 2
-        return make(halve(lo, mid), halve(mid, hi), span=span)
+        return make(halve(lo, mid), halve(mid, hi), span)
 
     return halve(0, len(terms))

@@ -28,6 +28,7 @@ random loop bodies.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import field
 from fractions import Fraction
@@ -62,6 +63,11 @@ from ..core import (
 )
 from ..records import FACTORY, record
 from . import affine
+
+#: ``core.index_power_small``, each (index, exponent) computed once per load: a module's loops often
+#: run over the same indices (MB1's two sums; each copy's ``1/i`` is a ``Fraction`` made in Python,
+#: issue 15).  An ``lru_cache`` of a ``langur.syntax`` module, so emptied with the front end's memos.
+_index_power = functools.lru_cache(maxsize=1024)(index_power_small)
 
 #: Build a loop's copies from its first (False: every copy desugared from the surface, as the
 #: tests compare).
@@ -308,7 +314,7 @@ class Template:
                             if small is None:
                                 e = self.exponents[power]
                                 small = powers[power] = (small_power(vals[a]._small, arg) if e is None
-                                                         else index_power_small(value, e))
+                                                         else _index_power(value, e))
                         vals[i] = like_power(shape, vals[a], small)
                     else:
                         vals[i] = like(cls, shape, (vals[a],), shape["span"])
@@ -426,7 +432,7 @@ class Template:
                         e = self.exponents[power]
                         smalls = powers[power] = (
                             [small_power(x._small, arg) for x in xs] if e is None
-                            else [index_power_small(v, e) for v in values])
+                            else [_index_power(v, e) for v in values])
                 else:
                     smalls = [None] * m
                 out, flags = [], []
