@@ -59,7 +59,7 @@ from ..core import (
 from ..memo import remember
 from ..modules import Loaded
 from ..records import record
-from .compile import compile_term
+from .compile import compile_pure, compile_term
 from .point import UNLINKED, Linking, Unit
 from .sample import SiteSampler
 
@@ -177,7 +177,8 @@ def _compile_inlined(program: Program, cache: CompileCache) -> Linked:
 
 def _box(box) -> list:
     """The box's bounds, each compiled as a unit of its own (pure core, run unlinked, §9)."""
-    return [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in box]
+    fns = compile_pure([t for bounds in box for t in bounds])
+    return list(zip(fns[::2], fns[1::2]))
 
 
 # -- linking separately compiled modules --------------------------------------------------------

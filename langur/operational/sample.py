@@ -26,7 +26,7 @@ import numpy as np
 from .. import lazy
 from ..core import Diffeo, Var
 from ..records import record
-from .compile import compile_term
+from .compile import compile_pure
 from .point import TANGENT, UNLINKED, VALUE, Point, full
 
 # Interval enclosures of a zero set's other coordinates, imported when a site's condition is not
@@ -137,16 +137,23 @@ class SiteSampler:
     def condition(self):
         """π₀Ψ̂ compiled (on first use: a site the direction does not move is never compiled)."""
         if self._condition is None:
-            self._condition = compile_term(self.psi.forward[0]).fn
+            self._compile()
         return self._condition
 
     @property
     def branches(self):
         """Each inverse branch's components and guards, compiled on first use."""
         if self._branches is None:
-            self._branches = [([compile_term(c).fn for c in b.components], [compile_term(g).fn for g in b.guards])
-                              for b in self.psi.branches]
+            self._compile()
         return self._branches
+
+    def _compile(self) -> None:
+        """π₀Ψ̂ and every inverse branch's components and guards, compiled together (a site whose
+        zero set is sampled needs both: its points and D_γ π₀Ψ̂·γ' there)."""
+        branches = self.psi.branches
+        fns = iter(compile_pure([self.psi.forward[0], *(t for b in branches for t in (*b.components, *b.guards))]))
+        self._condition = next(fns)
+        self._branches = [([next(fns) for _ in b.components], [next(fns) for _ in b.guards]) for b in branches]
 
     def vanishing(self, params: dict):
         """Where one of Ψ̂'s ``nonzero`` coefficients (``Diffeo.nonzero``: what the completion
@@ -156,7 +163,7 @@ class SiteSampler:
         if not self.psi.nonzero:
             return False
         if self._nonzero is None:
-            self._nonzero = [compile_term(n).fn for n in self.psi.nonzero]
+            self._nonzero = compile_pure(self.psi.nonzero)
         env = Point({}, params, mode=VALUE)
         out = False
         for fn in self._nonzero:
