@@ -31,6 +31,8 @@ run exactly the same floating-point operations (bit-identical linking, Theorem 9
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .. import lazy
@@ -52,7 +54,7 @@ from ..core import (
 )
 from ..primitives import REGISTRY
 from .consts import const_value
-from .dual import dadd, dmul, power, power_derivative, select
+from .dual import power, power_derivative, select
 from .point import DELTA, Fn, Linking, Point, Unit
 from .sharing import KEYS, Sharing, constant, evaluated_once
 
@@ -75,12 +77,15 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
     return Unit(fn, ctx.slots)
 
 
-def compile_pure(terms) -> list[Fn]:
+def compile_pure(terms) -> tuple[list[Fn], bool]:
     """:func:`compile_term`'s closures of several terms without sites or calls (a zero set's
     condition and inverse branches, a box's bounds: run unlinked), each compiled on its own, all
-    under one ``errstate``."""
+    under one ``errstate``; and whether they all give the same doubles run on Python floats as on
+    numpy arrays of one point (:attr:`Sharing.numbers`)."""
     with np.errstate(all="ignore"):
-        return [_compile(t, _Ctx([], None, Sharing(t))) for t in terms]
+        sharings = [Sharing(t) for t in terms]
+        fns = [_compile(t, _Ctx([], None, sh)) for t, sh in zip(terms, sharings)]
+    return fns, all(sh.numbers for sh in sharings)
 
 
 class _Ctx:
@@ -138,11 +143,13 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             return _mul(_compile(left, ctx), _compile(right, ctx), constant(left), constant(right))
         case IfGe0(cond, then, orelse):
             # Fig. 8, conditional on parameters: ⦇s⦈ if ⟦t⟧(·,γ) ≥ 0 else ⦇r⦈
+            ctx.sharing.numbers = False
             return _ifge0(_compile(cond, ctx), _compile(then, ctx), _compile(orelse, ctx))
         case IfDiffeo():
             # Fig. 8, diffeomorphic conditional: (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·D_γπ₀Ψ̂·γ'·(⟦s⟧−⟦r⟧)
             slot = len(ctx.slots)
             ctx.slots.append(("site", None, ()))
+            ctx.sharing.numbers = False
             fc = _compile(t.psi.forward[0], _Ctx([], ctx.local, ctx.sharing))
             return _ifdiffeo(slot, fc, _compile(t.then, ctx), _compile(t.orelse, ctx))
         case Let(name, bound, body):
@@ -150,18 +157,23 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             return _let(name, _compile(bound, ctx), _compile(body, ctx.bind(name)))
         case Prim(op, arg):
             # extension (§1): smooth primitive, chain rule ⦇f(t)⦈ = f'(⟦t⟧)·⦇t⦈
+            ctx.sharing.numbers = False
             return _primitive(_compile(arg, ctx), REGISTRY[op])
         case Pow(base, k):
             # extension (§1): constant power, ⦇t^k⦈ = k·⟦t⟧^(k−1)·⦇t⦈
+            if k not in _EXACT_POWERS:
+                ctx.sharing.numbers = False
             return _power(_compile(base, ctx), k)
         case Call(module, name, args):
             # §9, separate compilation: a link to a separately compiled def (see link.py)
             slot = len(ctx.slots)
+            ctx.sharing.numbers = False
             ctx.slots.append(("call", (module, name), tuple(isinstance(a, Var) for a in args)))
             return _compile_call(slot, module, name, args, ctx)
         case ImplicitRoot(equation, variable, target, lo, hi, index, of, slope):
             # issue 18, implicit root (a Ψ̂⁻¹ component): x* in [lo, hi] with f(x*) = ⟦target⟧;
             # ⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ') / ∂f/∂x at x* (implicit function theorem)
+            ctx.sharing.numbers = False
             parts = (_compile(equation, ctx), variable, _compile(target, ctx), _compile(lo, ctx), _compile(hi, ctx))
             if index is None:
                 return roots.compile_root(*parts)
@@ -191,7 +203,24 @@ def _module_parameter(name: str) -> Fn:
     return lambda pt, lk: (pt.root[0][name], pt.root[1].get(name))
 
 
+#: The constant powers whose value and derivative (:func:`~.dual.power`: ``a``, ``a·a``, ``1/a``, ``1``;
+#: ``1``, ``2·a``, ``−v·v``, ``0``) IEEE 754 rounds correctly whatever runs them (:attr:`Sharing.numbers`).
+_EXACT_POWERS = (1, 2, -1, 0)
+
+
+def _unit(c, unit: float) -> bool:
+    """Whether the constant ``c`` is exactly ``unit``, −0.0 for a sum, 1.0 for a product: x + (−0.0)
+    and x · 1.0 are x bit for bit for every double x (IEEE 754 round to nearest: ±0, ±∞ and NaN
+    included), so the operation is left out and the same numbers come out (an affine condition's
+    completion ends in ``+ (−1)·0``)."""
+    return c == unit and math.copysign(1.0, c) == math.copysign(1.0, unit)
+
+
 def _add(f: Fn, g: Fn, cl, cr) -> Fn:
+    if cr is not None and _unit(cr, -0.0):
+        return f
+    if cl is not None and _unit(cl, -0.0):
+        return g
     if cr is not None:  # t + c (⦇c⦈ = 0): the same operation, one call fewer
         def add_constant(pt, lk):
             a, da = f(pt, lk)
@@ -206,11 +235,16 @@ def _add(f: Fn, g: Fn, cl, cr) -> Fn:
     def add(pt, lk):
         a, da = f(pt, lk)
         b, db = g(pt, lk)
-        return a + b, dadd(da, db)
+        # (dual.dadd written out: one call fewer per sum)
+        return a + b, (db if da is None else da if db is None else da + db)
     return add
 
 
 def _mul(f: Fn, g: Fn, cl, cr) -> Fn:
+    if cr is not None and _unit(cr, 1.0):  # (⦇t⦈·1.0 is ⦇t⦈ too)
+        return f
+    if cl is not None and _unit(cl, 1.0):
+        return g
     if cr is not None:  # t · c (⦇c⦈ = 0): ⦇t⦈·c
         def mul_constant(pt, lk):
             a, da = f(pt, lk)
@@ -225,7 +259,10 @@ def _mul(f: Fn, g: Fn, cl, cr) -> Fn:
     def mul(pt, lk):
         a, da = f(pt, lk)
         b, db = g(pt, lk)
-        return a * b, dmul(da, b, db, a)
+        # (dual.dmul written out: one call fewer per product)
+        if da is None:
+            return a * b, (None if db is None else db * a)
+        return a * b, (da * b if db is None else da * b + db * a)
     return mul
 
 
@@ -247,7 +284,7 @@ def _ifdiffeo(slot: int, fc: Fn, fs: Fn, fr: Fn) -> Fn:
         m = c >= 0
         s, ds = fs(pt, lk)
         r, dr = fr(pt, lk)
-        d = select(m, ds, dr)
+        d = None if ds is None and dr is None else select(m, ds, dr)
         if pt.mode == DELTA:
             gid = lk.base + (slot if lk.offsets is None else lk.offsets[slot])
             if gid in pt.sites:

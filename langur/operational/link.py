@@ -177,7 +177,7 @@ def _compile_inlined(program: Program, cache: CompileCache) -> Linked:
 
 def _box(box) -> list:
     """The box's bounds, each compiled as a unit of its own (pure core, run unlinked, §9)."""
-    fns = compile_pure([t for bounds in box for t in bounds])
+    fns = compile_pure([t for bounds in box for t in bounds])[0]
     return list(zip(fns[::2], fns[1::2]))
 
 

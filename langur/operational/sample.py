@@ -122,6 +122,7 @@ class SiteSampler:
         self._branches = None
         self._enclosures = None
         self._nonzero = None
+        self.on_numbers = False
         self.has_guards = any(b.guards for b in psi.branches)
         coords = []
         for i in range(1, len(psi.forward)):
@@ -141,6 +142,15 @@ class SiteSampler:
         return self._condition
 
     @property
+    def numbers(self) -> bool:
+        """Whether π₀Ψ̂ and every inverse branch's components and guards give the same doubles run on
+        Python floats as on arrays (:attr:`~.sharing.Sharing.numbers`): a zero set's point in one
+        variable is then found on numbers, without numpy's cost per call on arrays of one element."""
+        if self._branches is None:
+            self._compile()
+        return self.on_numbers
+
+    @property
     def branches(self):
         """Each inverse branch's components and guards, compiled on first use."""
         if self._branches is None:
@@ -151,7 +161,9 @@ class SiteSampler:
         """π₀Ψ̂ and every inverse branch's components and guards, compiled together (a site whose
         zero set is sampled needs both: its points and D_γ π₀Ψ̂·γ' there)."""
         branches = self.psi.branches
-        fns = iter(compile_pure([self.psi.forward[0], *(t for b in branches for t in (*b.components, *b.guards))]))
+        terms = [self.psi.forward[0], *(t for b in branches for t in (*b.components, *b.guards))]
+        fns, self.on_numbers = compile_pure(terms)
+        fns = iter(fns)
         self._condition = next(fns)
         self._branches = [([next(fns) for _ in b.components], [next(fns) for _ in b.guards]) for b in branches]
 
@@ -163,7 +175,7 @@ class SiteSampler:
         if not self.psi.nonzero:
             return False
         if self._nonzero is None:
-            self._nonzero = compile_pure(self.psi.nonzero)
+            self._nonzero = compile_pure(self.psi.nonzero)[0]
         env = Point({}, params, mode=VALUE)
         out = False
         for fn in self._nonzero:
@@ -276,7 +288,9 @@ class SiteSampler:
         """
         n = unit.shape[0]
         if not region and not self.coords:  # one variable: the zero set is points, u' has no coordinate
-            return 1.0, self._map({self.psi.inputs[0]: np.zeros(n)}, n, params, None)
+            # (on the number 0 where the branches give the same doubles on numbers as on arrays)
+            zero = 0.0 if n == 1 and self.numbers else np.zeros(n)
+            return 1.0, self._map({self.psi.inputs[0]: zero}, n, params, None)
         lo = np.array([[r[0] for r in region]], dtype=float).reshape(1, len(region))
         hi = np.array([[r[1] for r in region]], dtype=float).reshape(1, len(region))
         if len(self.coords) == 1 and self.has_guards:
@@ -407,7 +421,10 @@ class SiteSampler:
         return u, factor
 
     def dpsi(self, x: dict, params: dict, dparams: dict):
-        """D_γ π₀Ψ̂ · γ' at the points ``x`` (forward mode in the parameters)."""
+        """D_γ π₀Ψ̂ · γ' at the points ``x`` (forward mode in the parameters); at one point on
+        numbers where π₀Ψ̂ gives the same doubles on numbers as on arrays (:attr:`numbers`)."""
+        if self.numbers and all(type(v) is np.ndarray and v.shape == (1,) for v in x.values()):
+            x = {k: float(v[0]) for k, v in x.items()}
         d = self.condition(Point(x, params, dparams=dparams, mode=TANGENT), UNLINKED)[1]
         return 0.0 if d is None else d
 

@@ -53,6 +53,13 @@ class Sharing:
     def __init__(self, t: Term):
         self.refs: dict[int, int] = {}
         self.compiled: dict[tuple, Fn] = {}
+        #: whether every closure compiled with it gives the same doubles run on Python floats as on
+        #: numpy arrays of one point: only sums, products, constants, variables, parameters and the
+        #: powers 0, ±1, 2 (IEEE 754 rounds them correctly in every implementation; numpy's loops
+        #: for the primitives and other powers may differ from its scalar ones in the last bit).
+        #: The compiler clears it where it meets anything else (a zero set's point in one variable
+        #: is then computed on numbers, sample.py).
+        self.numbers = True
         self.keep = t  # the term stays alive, so the ids above stay its own
         if t._shape[SIZE] > SMALL_TERM:
             self._count(t)
