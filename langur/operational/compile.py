@@ -136,11 +136,15 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
         case Add():
             # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈
             left, right = t.left, t.right
-            return _add(_compile(left, ctx), _compile(right, ctx), constant(left), constant(right))
+            cl, cr = constant(left), constant(right)  # (a constant operand is folded into the closure)
+            return _add(_compile(left, ctx) if cl is None or cr is not None else None,
+                        _compile(right, ctx) if cr is None else None, cl, cr)
         case Mul():
             # Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
             left, right = t.left, t.right
-            return _mul(_compile(left, ctx), _compile(right, ctx), constant(left), constant(right))
+            cl, cr = constant(left), constant(right)  # (a constant operand is folded into the closure)
+            return _mul(_compile(left, ctx) if cl is None or cr is not None else None,
+                        _compile(right, ctx) if cr is None else None, cl, cr)
         case IfGe0(cond, then, orelse):
             # Fig. 8, conditional on parameters: ⦇s⦈ if ⟦t⟧(·,γ) ≥ 0 else ⦇r⦈
             ctx.sharing.numbers = False
@@ -216,7 +220,7 @@ def _unit(c, unit: float) -> bool:
     return c == unit and math.copysign(1.0, c) == math.copysign(1.0, unit)
 
 
-def _add(f: Fn, g: Fn, cl, cr) -> Fn:
+def _add(f: Fn | None, g: Fn | None, cl, cr) -> Fn:
     if cr is not None and _unit(cr, -0.0):
         return f
     if cl is not None and _unit(cl, -0.0):
@@ -240,7 +244,7 @@ def _add(f: Fn, g: Fn, cl, cr) -> Fn:
     return add
 
 
-def _mul(f: Fn, g: Fn, cl, cr) -> Fn:
+def _mul(f: Fn | None, g: Fn | None, cl, cr) -> Fn:
     if cr is not None and _unit(cr, 1.0):  # (⦇t⦈·1.0 is ⦇t⦈ too)
         return f
     if cl is not None and _unit(cl, 1.0):

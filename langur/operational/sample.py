@@ -333,11 +333,14 @@ class SiteSampler:
         if len(order) == 1:  # one variable: x = Ψ̂⁻¹(0) and dx/du0 from one forward-mode pass
             tenv = Point(inputs, params, dvars={order[0]: 1.0}, mode=TANGENT)
             for comps, guards in self.branches:
-                valid = np.ones(n, dtype=bool)
+                valid = np.empty(n, dtype=bool)  # (np.ones without its Python frame)
+                valid.fill(True)
                 for g in guards:
                     valid &= np.asarray(g(tenv, UNLINKED)[0]) >= 0
                 v, d = comps[0](tenv, UNLINKED)
-                out.append(({self.variables[0]: full(v, n)}, np.abs(full(d, n)), valid))
+                # |dx/du0|: of a number, the number's abs (the same double as np.abs: the sign bit cleared)
+                weight = full(abs(d), n) if type(d) is float else np.abs(full(d, n))
+                out.append(({self.variables[0]: full(v, n)}, weight, valid))
             return out
         for comps, guards in self.branches:
             env = Point(inputs, params)

@@ -118,7 +118,8 @@ _NOT_YET = object()
 def constant(t: Term):
     """:func:`_fold` of ``t`` when it has no variable, parameter or call (kept on the node: a
     number that only depends on the term), else None."""
-    if t._shape[FV] or t._shape[FP] or t._shape[CALLS]:
+    shape = t._shape
+    if shape[FV] or shape[FP] or shape[CALLS]:
         return None
     memo = t._memo
     if memo is None:
