@@ -333,7 +333,7 @@ def collect_sites(t: Term, varmap: dict, parammap: dict, variables: tuple[str, .
     match t:
         case IfDiffeo():
             psi = t.psi
-            ren = {v: Var(varmap[v]) for v in psi.variables if v in varmap and varmap[v] != v} if varmap else None
+            ren = {v: Var(varmap[v]) for v in psi.variables if v in varmap and varmap[v] != v} if varmap else {}
             canon = substitute_diffeo(psi, ren, parammap) if ren or parammap else psi
             canon = extend_diffeo(canon, variables)
             sampler = SiteSampler(canon, variables) if cache is None else cache.sampler(canon, variables)
