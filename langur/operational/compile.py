@@ -31,6 +31,8 @@ run exactly the same floating-point operations (bit-identical linking, Theorem 9
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .. import lazy
@@ -52,7 +54,7 @@ from ..core import (
 )
 from ..primitives import REGISTRY
 from .consts import const_value
-from .dual import dadd, dmul, power, power_derivative, select
+from .dual import power, power_derivative, select
 from .point import DELTA, Fn, Linking, Point, Unit
 from .sharing import KEYS, Sharing, constant, evaluated_once
 
@@ -69,10 +71,21 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
     ``local``: for a def body, its param arguments; any other parameter it reads (its module's
     declared params) is then looked up among the program's parameters (``point.root``), so a
     linked call binds only its arguments.  ``None``: every parameter is in ``point.params``."""
-    ctx = _Ctx([], local, Sharing(t))
     with np.errstate(all="ignore"):  # constants are folded now (a NaN is a value, as when evaluated)
+        ctx = _Ctx([], local, Sharing(t))
         fn = _compile(t, ctx)
     return Unit(fn, ctx.slots)
+
+
+def compile_pure(terms) -> tuple[list[Fn], bool]:
+    """:func:`compile_term`'s closures of several terms without sites or calls (a zero set's
+    condition and inverse branches, a box's bounds: run unlinked), each compiled on its own, all
+    under one ``errstate``; and whether they all give the same doubles run on Python floats as on
+    numpy arrays of one point (:attr:`Sharing.numbers`)."""
+    with np.errstate(all="ignore"):
+        sharings = [Sharing(t) for t in terms]
+        fns = [_compile(t, _Ctx([], None, sh)) for t, sh in zip(terms, sharings)]
+    return fns, all(sh.numbers for sh in sharings)
 
 
 class _Ctx:
@@ -92,7 +105,7 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
         c = constant(t)
         if c is not None:
             # a constant: its value computed now, by the same operations its closures would run
-            return lambda pt, lk: (c, None)
+            return _constant(c)
     sharing = ctx.sharing
     if sharing.shared(t):
         key = (id(t), ctx.local)
@@ -104,126 +117,67 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
 
 
 def _compile_node(t: Term, ctx: _Ctx) -> Fn:
+    # (each rule's closure is made by a function of its own below: the closures' variables are then
+    # that function's, not cells this function would make at every call, one per variable of every case;
+    # the frequent nodes' fields are read after the match, not bound by it: a class pattern that binds
+    # fields makes a set of their names at every match)
     match t:
         case Const():
             # Fig. 7/8, constant: ⟦c⟧ = c, ⦇c⦈ = 0
-            c = const_value(t)
-            return lambda pt, lk: (c, None)
-        case Var(name):
+            return _constant(const_value(t))
+        case Var():
             # Fig. 7/8, variable: ⟦x⟧ = ρ(x), ⦇x⦈ = 0 (a direction in the variables only for Jacobians)
-            return lambda pt, lk: (pt.vars[name], pt.dvars.get(name))
-        case Param(name):
+            return _variable(t.name)
+        case Param():
             # Fig. 7/8, parameter: ⟦z⟧ = γ(z), ⦇z⦈ = γ'(z)
-            if ctx.local is not None and name not in ctx.local:
-                return lambda pt, lk: (pt.root[0][name], pt.root[1].get(name))
-            return lambda pt, lk: (pt.params[name], pt.dparams.get(name))
-        case Add(left, right):
+            if ctx.local is not None and t.name not in ctx.local:
+                return _module_parameter(t.name)
+            return _parameter(t.name)
+        case Add():
             # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈
-            f, g = _compile(left, ctx), _compile(right, ctx)
-            cl, cr = constant(left), constant(right)
-            if cr is not None:  # t + c (⦇c⦈ = 0): the same operation, one call fewer
-                def add_constant(pt, lk):
-                    a, da = f(pt, lk)
-                    return a + cr, da
-                return add_constant
-            if cl is not None:
-                def constant_add(pt, lk):
-                    b, db = g(pt, lk)
-                    return cl + b, db
-                return constant_add
-
-            def add(pt, lk):
-                a, da = f(pt, lk)
-                b, db = g(pt, lk)
-                return a + b, dadd(da, db)
-            return add
-        case Mul(left, right):
+            left, right = t.left, t.right
+            cl, cr = constant(left), constant(right)  # (a constant operand is folded into the closure)
+            return _add(_compile(left, ctx) if cl is None or cr is not None else None,
+                        _compile(right, ctx) if cr is None else None, cl, cr)
+        case Mul():
             # Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
-            f, g = _compile(left, ctx), _compile(right, ctx)
-            cl, cr = constant(left), constant(right)
-            if cr is not None:  # t · c (⦇c⦈ = 0): ⦇t⦈·c
-                def mul_constant(pt, lk):
-                    a, da = f(pt, lk)
-                    return a * cr, (None if da is None else da * cr)
-                return mul_constant
-            if cl is not None:
-                def constant_mul(pt, lk):
-                    b, db = g(pt, lk)
-                    return cl * b, (None if db is None else db * cl)
-                return constant_mul
-
-            def mul(pt, lk):
-                a, da = f(pt, lk)
-                b, db = g(pt, lk)
-                return a * b, dmul(da, b, db, a)
-            return mul
+            left, right = t.left, t.right
+            cl, cr = constant(left), constant(right)  # (a constant operand is folded into the closure)
+            return _mul(_compile(left, ctx) if cl is None or cr is not None else None,
+                        _compile(right, ctx) if cr is None else None, cl, cr)
         case IfGe0(cond, then, orelse):
             # Fig. 8, conditional on parameters: ⦇s⦈ if ⟦t⟧(·,γ) ≥ 0 else ⦇r⦈
-            fc, fs, fr = _compile(cond, ctx), _compile(then, ctx), _compile(orelse, ctx)
-
-            def ifge0(pt, lk):
-                c, _ = fc(pt.values(), lk)
-                if np.ndim(c) == 0:
-                    return fs(pt, lk) if c >= 0 else fr(pt, lk)
-                s, ds = fs(pt, lk)
-                r, dr = fr(pt, lk)
-                m = c >= 0
-                return np.where(m, s, r), select(m, ds, dr)
-            return ifge0
-        case IfDiffeo(psi, then, orelse):
+            ctx.sharing.numbers = False
+            return _ifge0(_compile(cond, ctx), _compile(then, ctx), _compile(orelse, ctx))
+        case IfDiffeo():
             # Fig. 8, diffeomorphic conditional: (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·D_γπ₀Ψ̂·γ'·(⟦s⟧−⟦r⟧)
             slot = len(ctx.slots)
             ctx.slots.append(("site", None, ()))
-            fc = _compile(psi.forward[0], _Ctx([], ctx.local, ctx.sharing))
-            fs, fr = _compile(then, ctx), _compile(orelse, ctx)
-
-            def ifdiffeo(pt, lk):
-                c, _ = fc(pt.values(), lk)
-                m = c >= 0
-                s, ds = fs(pt, lk)
-                r, dr = fr(pt, lk)
-                d = select(m, ds, dr)
-                if pt.mode == DELTA:
-                    gid = lk.base + (slot if lk.offsets is None else lk.offsets[slot])
-                    if gid in pt.sites:
-                        jump = np.where(pt.site == gid, s - r, 0.0)
-                        d = jump if d is None else d + jump
-                return np.where(m, s, r), d
-            return ifdiffeo
+            ctx.sharing.numbers = False
+            fc = _compile(t.psi.forward[0], _Ctx([], ctx.local, ctx.sharing))
+            return _ifdiffeo(slot, fc, _compile(t.then, ctx), _compile(t.orelse, ctx))
         case Let(name, bound, body):
             # Fig. 8, let: ⦇s⦈(ρ, γ[z ↦ ⟦t⟧], γ'[z ↦ ⦇t⦈])
-            fb, fbody = _compile(bound, ctx), _compile(body, ctx.bind(name))
-
-            def let(pt, lk):
-                v, d = fb(pt, lk)
-                return fbody(pt.bind(name, v, d), lk)
-            return let
+            return _let(name, _compile(bound, ctx), _compile(body, ctx.bind(name)))
         case Prim(op, arg):
             # extension (§1): smooth primitive, chain rule ⦇f(t)⦈ = f'(⟦t⟧)·⦇t⦈
-            f, prim = _compile(arg, ctx), REGISTRY[op]
-
-            def primitive(pt, lk):
-                a, da = f(pt, lk)
-                v = prim.value(a)
-                return v, (None if da is None else prim.derivative(a, v) * da)
-            return primitive
+            ctx.sharing.numbers = False
+            return _primitive(_compile(arg, ctx), REGISTRY[op])
         case Pow(base, k):
             # extension (§1): constant power, ⦇t^k⦈ = k·⟦t⟧^(k−1)·⦇t⦈
-            f = _compile(base, ctx)
-
-            def pow_(pt, lk):
-                a, da = f(pt, lk)
-                v = power(a, k)
-                return v, (None if da is None else power_derivative(a, k, v) * da)
-            return pow_
+            if k not in _EXACT_POWERS:
+                ctx.sharing.numbers = False
+            return _power(_compile(base, ctx), k)
         case Call(module, name, args):
             # §9, separate compilation: a link to a separately compiled def (see link.py)
             slot = len(ctx.slots)
+            ctx.sharing.numbers = False
             ctx.slots.append(("call", (module, name), tuple(isinstance(a, Var) for a in args)))
             return _compile_call(slot, module, name, args, ctx)
         case ImplicitRoot(equation, variable, target, lo, hi, index, of, slope):
             # issue 18, implicit root (a Ψ̂⁻¹ component): x* in [lo, hi] with f(x*) = ⟦target⟧;
             # ⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ') / ∂f/∂x at x* (implicit function theorem)
+            ctx.sharing.numbers = False
             parts = (_compile(equation, ctx), variable, _compile(target, ctx), _compile(lo, ctx), _compile(hi, ctx))
             if index is None:
                 return roots.compile_root(*parts)
@@ -232,6 +186,139 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
                                               None if slope is None else interval.tape_of([equation, slope], True),
                                               t.span, others, equation)
     raise TypeError(f"not a core term: {t!r}")
+
+
+# -- the rules' closures (made by _compile_node, one function per rule) ---------------------------
+
+def _constant(c) -> Fn:
+    return lambda pt, lk: (c, None)
+
+
+def _variable(name: str) -> Fn:
+    return lambda pt, lk: (pt.vars[name], pt.dvars.get(name))
+
+
+def _parameter(name: str) -> Fn:
+    return lambda pt, lk: (pt.params[name], pt.dparams.get(name))
+
+
+def _module_parameter(name: str) -> Fn:
+    """A def body's read of its module's declared parameter: the program's (γ, γ')."""
+    return lambda pt, lk: (pt.root[0][name], pt.root[1].get(name))
+
+
+#: The constant powers whose value and derivative (:func:`~.dual.power`: ``a``, ``a·a``, ``1/a``, ``1``;
+#: ``1``, ``2·a``, ``−v·v``, ``0``) IEEE 754 rounds correctly whatever runs them (:attr:`Sharing.numbers`).
+_EXACT_POWERS = (1, 2, -1, 0)
+
+
+def _unit(c, unit: float) -> bool:
+    """Whether the constant ``c`` is exactly ``unit``, −0.0 for a sum, 1.0 for a product: x + (−0.0)
+    and x · 1.0 are x bit for bit for every double x (IEEE 754 round to nearest: ±0, ±∞ and NaN
+    included), so the operation is left out and the same numbers come out (an affine condition's
+    completion ends in ``+ (−1)·0``)."""
+    return c == unit and math.copysign(1.0, c) == math.copysign(1.0, unit)
+
+
+def _add(f: Fn | None, g: Fn | None, cl, cr) -> Fn:
+    if cr is not None and _unit(cr, -0.0):
+        return f
+    if cl is not None and _unit(cl, -0.0):
+        return g
+    if cr is not None:  # t + c (⦇c⦈ = 0): the same operation, one call fewer
+        def add_constant(pt, lk):
+            a, da = f(pt, lk)
+            return a + cr, da
+        return add_constant
+    if cl is not None:
+        def constant_add(pt, lk):
+            b, db = g(pt, lk)
+            return cl + b, db
+        return constant_add
+
+    def add(pt, lk):
+        a, da = f(pt, lk)
+        b, db = g(pt, lk)
+        # (dual.dadd written out: one call fewer per sum)
+        return a + b, (db if da is None else da if db is None else da + db)
+    return add
+
+
+def _mul(f: Fn | None, g: Fn | None, cl, cr) -> Fn:
+    if cr is not None and _unit(cr, 1.0):  # (⦇t⦈·1.0 is ⦇t⦈ too)
+        return f
+    if cl is not None and _unit(cl, 1.0):
+        return g
+    if cr is not None:  # t · c (⦇c⦈ = 0): ⦇t⦈·c
+        def mul_constant(pt, lk):
+            a, da = f(pt, lk)
+            return a * cr, (None if da is None else da * cr)
+        return mul_constant
+    if cl is not None:
+        def constant_mul(pt, lk):
+            b, db = g(pt, lk)
+            return cl * b, (None if db is None else db * cl)
+        return constant_mul
+
+    def mul(pt, lk):
+        a, da = f(pt, lk)
+        b, db = g(pt, lk)
+        # (dual.dmul written out: one call fewer per product)
+        if da is None:
+            return a * b, (None if db is None else db * a)
+        return a * b, (da * b if db is None else da * b + db * a)
+    return mul
+
+
+def _ifge0(fc: Fn, fs: Fn, fr: Fn) -> Fn:
+    def ifge0(pt, lk):
+        c, _ = fc(pt.values(), lk)
+        if np.ndim(c) == 0:
+            return fs(pt, lk) if c >= 0 else fr(pt, lk)
+        s, ds = fs(pt, lk)
+        r, dr = fr(pt, lk)
+        m = c >= 0
+        return np.where(m, s, r), select(m, ds, dr)
+    return ifge0
+
+
+def _ifdiffeo(slot: int, fc: Fn, fs: Fn, fr: Fn) -> Fn:
+    def ifdiffeo(pt, lk):
+        c, _ = fc(pt.values(), lk)
+        m = c >= 0
+        s, ds = fs(pt, lk)
+        r, dr = fr(pt, lk)
+        d = None if ds is None and dr is None else select(m, ds, dr)
+        if pt.mode == DELTA:
+            gid = lk.base + (slot if lk.offsets is None else lk.offsets[slot])
+            if gid in pt.sites:
+                jump = np.where(pt.site == gid, s - r, 0.0)
+                d = jump if d is None else d + jump
+        return np.where(m, s, r), d
+    return ifdiffeo
+
+
+def _let(name: str, fb: Fn, fbody: Fn) -> Fn:
+    def let(pt, lk):
+        v, d = fb(pt, lk)
+        return fbody(pt.bind(name, v, d), lk)
+    return let
+
+
+def _primitive(f: Fn, prim) -> Fn:
+    def primitive(pt, lk):
+        a, da = f(pt, lk)
+        v = prim.value(a)
+        return v, (None if da is None else prim.derivative(a, v) * da)
+    return primitive
+
+
+def _power(f: Fn, k) -> Fn:
+    def pow_(pt, lk):
+        a, da = f(pt, lk)
+        v = power(a, k)
+        return v, (None if da is None else power_derivative(a, k, v) * da)
+    return pow_
 
 
 def _compile_call(slot: int, module: str, name: str, args, ctx: _Ctx) -> Fn:

@@ -209,23 +209,25 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
     plan = []  # (site id, design, volume, [(x, weight, valid, dpsi)])
     point = design(rng, m, samples, method) if m == 0 else None  # (one variable: one point, no draw)
     for k, site in enumerate(linked.sites):
-        if not (site.deps & live):
+        if site.deps.isdisjoint(live):
             continue  # D_γ π₀Ψ̂·γ' ≡ 0: the delta's coefficient vanishes identically
-        if site.sampler.vanishing(p):  # Ψ̂ is no diffeomorphism here: ⦇p⦈ is not defined
+        sampler = site.sampler
+        if sampler.vanishing(p):  # Ψ̂ is no diffeomorphism here: ⦇p⦈ is not defined
             if notes is not None:
                 notes.append(VANISHING_NOTE)
             return math.nan, math.nan
         des = point if point is not None else design(rng, m, samples, method)
-        region = site.sampler.region(box, p) if m else ()
-        if region and any(math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b) for a, b in region):
-            # no finite box encloses this zero set's coordinates (a pole of Ψ̂'s other components
-            # over the domain): no uniform design can sample it, so the estimate is undefined
-            return math.nan, math.nan
-        region = site.sampler.shrink(region, box, p)
-        if region and any(not (b > a) for a, b in region):
-            continue
-        volume, branches = site.sampler.points(des.points, region, p)
-        plan.append((k, des, volume, [(xb, w, ok, site.sampler.dpsi(xb, p, dp)) for xb, w, ok in branches]))
+        region = sampler.region(box, p) if m else ()
+        if region:  # (one variable: no u'-box to enclose nor shrink)
+            if any(math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b) for a, b in region):
+                # no finite box encloses this zero set's coordinates (a pole of Ψ̂'s other components
+                # over the domain): no uniform design can sample it, so the estimate is undefined
+                return math.nan, math.nan
+            region = sampler.shrink(region, box, p)
+            if region and any(not (b > a) for a, b in region):
+                continue
+        volume, branches = sampler.points(des.points, region, p)
+        plan.append((k, des, volume, [(xb, w, ok, sampler.dpsi(xb, p, dp)) for xb, w, ok in branches]))
     if not plan:
         return 0.0, 0.0
     # lay out every (site, branch) block of points one after the other: site ids, points, weights

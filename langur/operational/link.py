@@ -41,17 +41,19 @@ from dataclasses import field
 
 from .. import gcpause
 from ..core import (
+    SMOOTH,
+    Add,
     Call,
     Diffeo,
     IfDiffeo,
     Let,
+    Mul,
     Program,
     Term,
     Var,
     children,
     extend_diffeo,
     free_params,
-    smooth,
     substitute,
     substitute_diffeo,
     subterms,
@@ -59,7 +61,7 @@ from ..core import (
 from ..memo import remember
 from ..modules import Loaded
 from ..records import record
-from .compile import compile_term
+from .compile import compile_pure, compile_term
 from .point import UNLINKED, Linking, Unit
 from .sample import SiteSampler
 
@@ -177,7 +179,8 @@ def _compile_inlined(program: Program, cache: CompileCache) -> Linked:
 
 def _box(box) -> list:
     """The box's bounds, each compiled as a unit of its own (pure core, run unlinked, §9)."""
-    return [(compile_term(lo).fn, compile_term(hi).fn) for lo, hi in box]
+    fns = compile_pure([t for bounds in box for t in bounds])[0]
+    return list(zip(fns[::2], fns[1::2]))
 
 
 # -- linking separately compiled modules --------------------------------------------------------
@@ -328,14 +331,16 @@ def collect_sites(t: Term, varmap: dict, parammap: dict, variables: tuple[str, .
     """Append the canonical site of every diffeomorphic conditional of ``t``, in pre-order (its
     sampler from ``cache``; without one, a sampler of its own)."""
     match t:
-        case IfDiffeo(psi, then, orelse):
-            ren = {v: Var(varmap[v]) for v in psi.variables if v in varmap and varmap[v] != v}
+        case IfDiffeo():
+            psi = t.psi
+            ren = {v: Var(varmap[v]) for v in psi.variables if v in varmap and varmap[v] != v} if varmap else {}
             canon = substitute_diffeo(psi, ren, parammap) if ren or parammap else psi
             canon = extend_diffeo(canon, variables)
             sampler = SiteSampler(canon, variables) if cache is None else cache.sampler(canon, variables)
             out.append(Site(sampler, free_params(canon.forward[0])))
-            collect_sites(then, varmap, parammap, variables, defs, out, cache)
-            collect_sites(orelse, varmap, parammap, variables, defs, out, cache)
+            for c in (t.then, t.orelse):
+                if not c._shape[SMOOTH]:  # (a smooth branch has no site: not walked)
+                    collect_sites(c, varmap, parammap, variables, defs, out, cache)
         case Let(name, bound, body):
             collect_sites(bound, varmap, parammap, variables, defs, out, cache)
             inner = {**parammap, name: substitute(bound, {}, parammap) if parammap else bound}
@@ -349,8 +354,12 @@ def collect_sites(t: Term, varmap: dict, parammap: dict, variables: tuple[str, .
                 else:
                     pm[argname] = substitute(a, {}, parammap) if parammap else a
             collect_sites(d.body, vm, pm, variables, defs, out, cache)
-        case _ if smooth(t):
+        case _ if t._shape[SMOOTH]:  # (``smooth(t)``, read off the node's kept attributes)
             return  # no conditional and no call: no site below
+        case Add() | Mul():  # (the spine of a sum of many conditionals: its smooth side not walked)
+            for c in (t.left, t.right):
+                if not c._shape[SMOOTH]:
+                    collect_sites(c, varmap, parammap, variables, defs, out, cache)
         case _:
             for c in children(t):
                 collect_sites(c, varmap, parammap, variables, defs, out, cache)

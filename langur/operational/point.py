@@ -113,6 +113,8 @@ class Unit:
 
 def full(v, n: int) -> np.ndarray:
     """``v`` (a scalar, None for 0, or an array of n values) as an array of n floats."""
-    if type(v) is np.ndarray and v.shape == (n,):
-        return v
-    return np.full(n, 0.0 if v is None else v, dtype=float)
+    if type(v) is np.ndarray:
+        return v if v.shape == (n,) else np.full(n, v, dtype=float)
+    out = np.empty(n)  # (np.full's own work without its Python frame: a number converted as it does)
+    out.fill(0.0 if v is None else v)
+    return out

@@ -26,7 +26,7 @@ import numpy as np
 from .. import lazy
 from ..core import Diffeo, Var
 from ..records import record
-from .compile import compile_term
+from .compile import compile_pure
 from .pcg64 import Stream, numpy_generator
 from .point import TANGENT, UNLINKED, VALUE, Point, full
 
@@ -123,6 +123,7 @@ class SiteSampler:
         self._branches = None
         self._enclosures = None
         self._nonzero = None
+        self.on_numbers = False
         self.has_guards = any(b.guards for b in psi.branches)
         coords = []
         for i in range(1, len(psi.forward)):
@@ -138,16 +139,34 @@ class SiteSampler:
     def condition(self):
         """π₀Ψ̂ compiled (on first use: a site the direction does not move is never compiled)."""
         if self._condition is None:
-            self._condition = compile_term(self.psi.forward[0]).fn
+            self._compile()
         return self._condition
+
+    @property
+    def numbers(self) -> bool:
+        """Whether π₀Ψ̂ and every inverse branch's components and guards give the same doubles run on
+        Python floats as on arrays (:attr:`~.sharing.Sharing.numbers`): a zero set's point in one
+        variable is then found on numbers, without numpy's cost per call on arrays of one element."""
+        if self._branches is None:
+            self._compile()
+        return self.on_numbers
 
     @property
     def branches(self):
         """Each inverse branch's components and guards, compiled on first use."""
         if self._branches is None:
-            self._branches = [([compile_term(c).fn for c in b.components], [compile_term(g).fn for g in b.guards])
-                              for b in self.psi.branches]
+            self._compile()
         return self._branches
+
+    def _compile(self) -> None:
+        """π₀Ψ̂ and every inverse branch's components and guards, compiled together (a site whose
+        zero set is sampled needs both: its points and D_γ π₀Ψ̂·γ' there)."""
+        branches = self.psi.branches
+        terms = [self.psi.forward[0], *(t for b in branches for t in (*b.components, *b.guards))]
+        fns, self.on_numbers = compile_pure(terms)
+        fns = iter(fns)
+        self._condition = next(fns)
+        self._branches = [([next(fns) for _ in b.components], [next(fns) for _ in b.guards]) for b in branches]
 
     def vanishing(self, params: dict):
         """Where one of Ψ̂'s ``nonzero`` coefficients (``Diffeo.nonzero``: what the completion
@@ -157,7 +176,7 @@ class SiteSampler:
         if not self.psi.nonzero:
             return False
         if self._nonzero is None:
-            self._nonzero = [compile_term(n).fn for n in self.psi.nonzero]
+            self._nonzero = compile_pure(self.psi.nonzero)[0]
         env = Point({}, params, mode=VALUE)
         out = False
         for fn in self._nonzero:
@@ -270,7 +289,9 @@ class SiteSampler:
         """
         n = unit.shape[0]
         if not region and not self.coords:  # one variable: the zero set is points, u' has no coordinate
-            return 1.0, self._map({self.psi.inputs[0]: np.zeros(n)}, n, params, None)
+            # (on the number 0 where the branches give the same doubles on numbers as on arrays)
+            zero = 0.0 if n == 1 and self.numbers else np.zeros(n)
+            return 1.0, self._map({self.psi.inputs[0]: zero}, n, params, None)
         lo = np.array([[r[0] for r in region]], dtype=float).reshape(1, len(region))
         hi = np.array([[r[1] for r in region]], dtype=float).reshape(1, len(region))
         if len(self.coords) == 1 and self.has_guards:
@@ -313,11 +334,14 @@ class SiteSampler:
         if len(order) == 1:  # one variable: x = Ψ̂⁻¹(0) and dx/du0 from one forward-mode pass
             tenv = Point(inputs, params, dvars={order[0]: 1.0}, mode=TANGENT)
             for comps, guards in self.branches:
-                valid = np.ones(n, dtype=bool)
+                valid = np.empty(n, dtype=bool)  # (np.ones without its Python frame)
+                valid.fill(True)
                 for g in guards:
                     valid &= np.asarray(g(tenv, UNLINKED)[0]) >= 0
                 v, d = comps[0](tenv, UNLINKED)
-                out.append(({self.variables[0]: full(v, n)}, np.abs(full(d, n)), valid))
+                # |dx/du0|: of a number, the number's abs (the same double as np.abs: the sign bit cleared)
+                weight = full(abs(d), n) if type(d) is float else np.abs(full(d, n))
+                out.append(({self.variables[0]: full(v, n)}, weight, valid))
             return out
         for comps, guards in self.branches:
             env = Point(inputs, params)
@@ -401,7 +425,10 @@ class SiteSampler:
         return u, factor
 
     def dpsi(self, x: dict, params: dict, dparams: dict):
-        """D_γ π₀Ψ̂ · γ' at the points ``x`` (forward mode in the parameters)."""
+        """D_γ π₀Ψ̂ · γ' at the points ``x`` (forward mode in the parameters); at one point on
+        numbers where π₀Ψ̂ gives the same doubles on numbers as on arrays (:attr:`numbers`)."""
+        if self.numbers and all(type(v) is np.ndarray and v.shape == (1,) for v in x.values()):
+            x = {k: float(v[0]) for k, v in x.items()}
         d = self.condition(Point(x, params, dparams=dparams, mode=TANGENT), UNLINKED)[1]
         return 0.0 if d is None else d
 

@@ -5,12 +5,14 @@ floating-point operations their closures would run (bit-identical linking, Theor
 from __future__ import annotations
 
 import itertools
+from operator import attrgetter
 
 from ..core import (
     CALLS,
     FP,
     FV,
     PSI_VARS,
+    SIZE,
     Add,
     Call,
     Const,
@@ -34,6 +36,11 @@ from .point import Fn
 #: Keys of shared subterms in :attr:`Point.memo`, unique across every compiled unit (units
 #: compiled apart may be evaluated at one point).
 KEYS = itertools.count()
+#: A term of at most this many nodes written out (``tree_size``) is compiled as a tree, without
+#: looking for its shared subterms: evaluated as a tree it costs at most that many nodes per point,
+#: and the same numbers (sharing only saves evaluations); most conditions and inverse branches of
+#: zero sets are this small, and the walk that counts references costs about what it could save.
+SMALL_TERM = 16
 
 
 class Sharing:
@@ -46,54 +53,63 @@ class Sharing:
     def __init__(self, t: Term):
         self.refs: dict[int, int] = {}
         self.compiled: dict[tuple, Fn] = {}
+        #: whether every closure compiled with it gives the same doubles run on Python floats as on
+        #: numpy arrays of one point: only sums, products, constants, variables, parameters and the
+        #: powers 0, ±1, 2 (IEEE 754 rounds them correctly in every implementation; numpy's loops
+        #: for the primitives and other powers may differ from its scalar ones in the last bit).
+        #: The compiler clears it where it meets anything else (a zero set's point in one variable
+        #: is then computed on numbers, sample.py).
+        self.numbers = True
         self.keep = t  # the term stays alive, so the ids above stay its own
-        self._count(t)
+        if t._shape[SIZE] > SMALL_TERM:
+            self._count(t)
 
     def _count(self, root: Term) -> None:
         refs = self.refs
         refs[id(root)] = 1
         stack = [root]
+        pop, push, leaves, children = stack.pop, stack.append, _LEAVES, _CHILDREN
         while stack:  # each distinct node expanded once (its children's references counted)
-            for c in _children(stack.pop()):
-                if type(c) in _LEAVES:
+            t = pop()
+            for c in children[type(t)](t):
+                if type(c) in leaves:
                     continue  # never shared
-                n = refs.get(id(c))
+                shape = c._shape
+                if not (shape[FV] or shape[FP] or shape[CALLS]) and constant(c) is not None:
+                    continue  # folded when compiled: never asked whether it is shared
+                k = id(c)
+                n = refs.get(k)
                 if n is None:
-                    refs[id(c)] = 1
-                    stack.append(c)
+                    refs[k] = 1
+                    push(c)
                 else:
-                    refs[id(c)] = n + 1
+                    refs[k] = n + 1
 
     def shared(self, t: Term) -> bool:
         # pure: no site nor call below (the kept attributes: no diffeomorphic conditional, no call)
         return self.refs.get(id(t), 0) > 1 and not t._shape[PSI_VARS] and not t._shape[CALLS]
 
 
-_LEAVES = (Const, Var, Param)
+#: (a set: ``type(c) in`` it is one hashed lookup, where a tuple compares the class with each in turn)
+_LEAVES = frozenset((Const, Var, Param))
 
-
-def _children(t: Term) -> tuple:
-    """The subterms a unit evaluates (a conditional's condition, not the rest of its Ψ̂), by the
-    node's exact class (the node classes have no subclasses): :class:`Sharing` asks it of every
-    node of every unit compiled."""
-    tt = type(t)
-    if tt is Add or tt is Mul:
-        return (t.left, t.right)
-    if tt is IfDiffeo:
-        return (t.psi.forward[0], t.then, t.orelse)
-    if tt is Pow:
-        return (t.base,)
-    if tt is Prim:
-        return (t.arg,)
-    if tt is IfGe0:
-        return (t.cond, t.then, t.orelse)
-    if tt is Let:
-        return (t.bound, t.body)
-    if tt is Call:
-        return tuple(t.args)
-    if tt is ImplicitRoot:
-        return (t.equation, t.target, t.lo, t.hi)
-    return ()
+#: The subterms a unit evaluates (a conditional's condition, not the rest of its Ψ̂), by the node's
+#: exact class (the node classes have no subclasses): :class:`Sharing` asks it of every node of every
+#: unit compiled (a table of field getters: no Python call for a sum or a product).
+_CHILDREN = {
+    Add: attrgetter("left", "right"),
+    Mul: attrgetter("left", "right"),
+    IfDiffeo: lambda t: (t.psi.forward[0], t.then, t.orelse),
+    Pow: lambda t: (t.base,),
+    Prim: lambda t: (t.arg,),
+    IfGe0: attrgetter("cond", "then", "orelse"),
+    Let: attrgetter("bound", "body"),
+    Call: lambda t: tuple(t.args),
+    ImplicitRoot: attrgetter("equation", "target", "lo", "hi"),
+    Const: lambda t: (),
+    Var: lambda t: (),
+    Param: lambda t: (),
+}
 
 
 _NOT_YET = object()
@@ -102,7 +118,8 @@ _NOT_YET = object()
 def constant(t: Term):
     """:func:`_fold` of ``t`` when it has no variable, parameter or call (kept on the node: a
     number that only depends on the term), else None."""
-    if t._shape[FV] or t._shape[FP] or t._shape[CALLS]:
+    shape = t._shape
+    if shape[FV] or shape[FP] or shape[CALLS]:
         return None
     memo = t._memo
     if memo is None:
