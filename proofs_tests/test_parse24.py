@@ -13,7 +13,6 @@ stray characters and texts longer than the lexer's piece), and the generator's r
 
 from __future__ import annotations
 
-import dataclasses
 import random
 import re
 
@@ -21,23 +20,14 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from paths import REPO
+from test_lalr import _tree  # (surface trees as nested tuples, spans included)
 
-from langur.diagnostics import LangurError, Span
+from langur.diagnostics import LangurError
 from langur.syntax import lalr, parser, scangen
 
 FILES = sorted(p for p in REPO.rglob("*.lgr") if ".venv" not in p.parts)
 NAME = "[A-Za-z_][A-Za-z0-9_]*"
 NUMBER = r"(?:[0-9]+(?:\.(?!\.)[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
-
-
-def _tree(x):
-    if isinstance(x, Span):
-        return ("Span", x.path, x.line, x.col, x.end_line, x.end_col)
-    if dataclasses.is_dataclass(x) and not isinstance(x, type):
-        return (type(x).__name__,) + tuple((f.name, _tree(getattr(x, f.name))) for f in dataclasses.fields(x))
-    if isinstance(x, (tuple, list)):
-        return (type(x).__name__,) + tuple(_tree(v) for v in x)
-    return (type(x).__name__, x)
 
 
 def _outcome(text: str, fast: bool):
