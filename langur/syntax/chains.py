@@ -8,7 +8,7 @@ what every term rule of the parser returns: the surface node, its source extent 
 
 from __future__ import annotations
 
-from ..diagnostics import Span
+from ..diagnostics import Span, SpanSlots
 from .surface import BinOp
 
 #: Deepest term nesting accepted (E105).
@@ -86,7 +86,14 @@ class Chain(Reduced):
             node, depth = first.node, first.depth
             path, line, col = self.builder.path, first.line, first.col
             for op, r in rest:  # (the span from `first` to `r`, both Reduced: builder.span written out)
-                node = BinOp(op, node, r.node, Span(path, line, col, r.end_line, r.end_col))
+                s = SpanSlots()  # (a Span made without a Python call: see SpanSlots)
+                s.path = path
+                s.line = line
+                s.col = col
+                s.end_line = r.end_line
+                s.end_col = r.end_col
+                s.__class__ = Span
+                node = BinOp(op, node, r.node, s)
                 d = r.depth
                 depth = 1 + (depth if depth > d else d)
             self._node, self._depth = node, depth

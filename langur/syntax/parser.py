@@ -36,7 +36,7 @@ from fractions import Fraction
 
 from .. import gcpause
 from ..core import int_fraction
-from ..diagnostics import LangurError, Span, error
+from ..diagnostics import LangurError, Span, SpanSlots, error
 from . import lalr
 from .chains import LEVEL as _LEVEL
 from .chains import MAX_DEPTH
@@ -168,10 +168,24 @@ class _Builder:
             l2, c2 = last.end_line, last.end_column
         else:
             l2, c2 = _end(last)
-        return Span(self.path, l1, c1, l2, c2)
+        s = SpanSlots()  # (a Span made without a Python call: see SpanSlots)
+        s.path = self.path
+        s.line = l1
+        s.col = c1
+        s.end_line = l2
+        s.end_col = c2
+        s.__class__ = Span
+        return s
 
     def tok_span(self, t: Token) -> Span:
-        return Span(self.path, t.line, t.column, t.end_line, t.end_column)
+        s = SpanSlots()
+        s.path = self.path
+        s.line = t.line
+        s.col = t.column
+        s.end_line = t.end_line
+        s.end_col = t.end_column
+        s.__class__ = Span
+        return s
 
     def term(self, make, first, last, subs) -> _R:
         """Build a term node spanning ``first``..``last`` with subterm results ``subs``."""
@@ -343,13 +357,25 @@ class _Builder:
             value = int_fraction(value)
         else:
             value = self.number(t)
-        line, col, end_line, end_col = t.line, t.column, t.end_line, t.end_column
-        return _R(Num(value, Span(self.path, line, col, end_line, end_col)), line, col, end_line, end_col, 1)
+        s = SpanSlots()
+        s.path = self.path
+        s.line = line = t.line
+        s.col = col = t.column
+        s.end_line = end_line = t.end_line
+        s.end_col = end_col = t.end_column
+        s.__class__ = Span
+        return _R(Num(value, s), line, col, end_line, end_col, 1)
 
     def var(self, c):
         t = c[0]
-        line, col, end_line, end_col = t.line, t.column, t.end_line, t.end_column
-        return _R(Name(t.value, Span(self.path, line, col, end_line, end_col)), line, col, end_line, end_col, 1)
+        s = SpanSlots()
+        s.path = self.path
+        s.line = line = t.line
+        s.col = col = t.column
+        s.end_line = end_line = t.end_line
+        s.end_col = end_col = t.end_column
+        s.__class__ = Span
+        return _R(Name(t.value, s), line, col, end_line, end_col, 1)
 
     def apply(self, c):
         args = c[2] if isinstance(c[2], list) else []
