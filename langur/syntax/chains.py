@@ -16,15 +16,12 @@ MAX_DEPTH = 200
 
 
 class Reduced:
-    __slots__ = ("col", "depth", "end_col", "end_line", "line", "node")
+    """A term rule's result: ``node``, the extent of its source text (``line``, ``col``,
+    ``end_line``, ``end_col``, parentheses included) and ``depth``.  Made field by field, without an
+    ``__init__`` (``r = Reduced()`` then one store a field: a Python ``__init__`` call cost more
+    than the stores, parse25)."""
 
-    def __init__(self, node, line, col, end_line, end_col, depth):
-        self.node = node
-        self.line = line
-        self.col = col
-        self.end_line = end_line
-        self.end_col = end_col
-        self.depth = depth
+    __slots__ = ("col", "depth", "end_col", "end_line", "line", "node")
 
 
 #: Chains of at most this many operands keep the grammar's left-nested shape; longer ones are

@@ -35,7 +35,7 @@ import threading
 from fractions import Fraction
 
 from .. import gcpause
-from ..core import int_fraction
+from ..core import INT_FRACTIONS, int_fraction
 from ..diagnostics import LangurError, Span, SpanSlots, error
 from . import lalr
 from .chains import LEVEL as _LEVEL
@@ -104,6 +104,9 @@ MAX_EXPONENT = 1000
 _SHORT = 300
 _FLOAT_MAX = Fraction(sys.float_info.max)
 _FLOAT_MIN = Fraction(sys.float_info.min)  # the smallest normal double: below it precision is lost
+#: The literals ``0`` … ``127`` (as written without leading zeros) and their values, the shared
+#: ``INT_FRACTIONS`` (a literal's value is then one lookup).
+_SMALL_INTS = dict(zip(map(str, range(len(INT_FRACTIONS))), INT_FRACTIONS))
 
 
 class _Comparisons:
@@ -198,7 +201,14 @@ class _Builder:
         depth += 1
         if depth > MAX_DEPTH:
             raise self.too_deep(sp)
-        return _R(make(sp), sp.line, sp.col, sp.end_line, sp.end_col, depth)
+        r = _R()
+        r.node = make(sp)
+        r.line = sp.line
+        r.col = sp.col
+        r.end_line = sp.end_line
+        r.end_col = sp.end_col
+        r.depth = depth
+        return r
 
     def too_deep(self, sp: Span) -> LangurError:
         return error(sp, "E105", f"nesting too deep: terms may nest at most {MAX_DEPTH} levels (parentheses, "
@@ -351,12 +361,13 @@ class _Builder:
 
     def num(self, c):  # (term(): a leaf's span is its token's, its depth 1)
         t = c[0]
-        text = t.value  # (number()'s first case written out: a short integer)
-        if len(text) <= _SHORT and text.isdigit():
-            value = int(text)
-            value = int_fraction(value)
-        else:
-            value = self.number(t)
+        value = _SMALL_INTS.get(t.value)  # (0 … 127 written as Python writes them: one lookup)
+        if value is None:
+            text = t.value  # (number()'s first case written out: a short integer)
+            if len(text) <= _SHORT and text.isdigit():
+                value = int_fraction(int(text))
+            else:
+                value = self.number(t)
         s = SpanSlots()
         s.path = self.path
         s.line = line = t.line
@@ -364,7 +375,14 @@ class _Builder:
         s.end_line = end_line = t.end_line
         s.end_col = end_col = t.end_column
         s.__class__ = Span
-        return _R(Num(value, s), line, col, end_line, end_col, 1)
+        r = _R()
+        r.node = Num(value, s)
+        r.line = line
+        r.col = col
+        r.end_line = end_line
+        r.end_col = end_col
+        r.depth = 1
+        return r
 
     def var(self, c):
         t = c[0]
@@ -375,7 +393,14 @@ class _Builder:
         s.end_line = end_line = t.end_line
         s.end_col = end_col = t.end_column
         s.__class__ = Span
-        return _R(Name(t.value, s), line, col, end_line, end_col, 1)
+        r = _R()
+        r.node = Name(t.value, s)
+        r.line = line
+        r.col = col
+        r.end_line = end_line
+        r.end_col = end_col
+        r.depth = 1
+        return r
 
     def apply(self, c):
         args = c[2] if isinstance(c[2], list) else []
@@ -384,7 +409,14 @@ class _Builder:
 
     def paren(self, c):
         left, inner, right = c  # ( term ): two tokens around the term
-        return _R(inner.node, left.line, left.column, right.end_line, right.end_column, inner.depth)
+        r = _R()
+        r.node = inner.node
+        r.line = left.line
+        r.col = left.column
+        r.end_line = right.end_line
+        r.end_col = right.end_column
+        r.depth = inner.depth
+        return r
 
     def chain(self, c):
         """``t0 op0 t1 op1 t2 …``: its terms and comparison operators."""
