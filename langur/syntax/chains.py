@@ -32,6 +32,22 @@ CHAIN_BALANCE = 32
 LEVEL = {"+": "sum", "-": "sum", "*": "product", "/": "product"}
 
 
+class Built(Reduced):
+    """A chain of at most :data:`CHAIN_BALANCE` operands at one ``level``, its tree built link by
+    link as the parser reduces them (``node``, ``depth``: the grammar's left-nested tree, as
+    :class:`Chain` builds it), its links kept in ``items`` as :class:`Chain` keeps them, in case it
+    grows longer.  Only while nothing can be pending: no operand a :class:`Chain` (whose ``node``
+    may raise E105 when first read) and the tree within :data:`MAX_DEPTH`; otherwise the parser
+    makes a :class:`Chain` of its items (issue 15, parse25: no call of ``append``, ``node``,
+    ``depth``, ``_build`` per chain).  Made field by field, as :class:`Reduced`."""
+
+    __slots__ = ("items", "level")
+
+
+#: A chain's first operand's operator (as :class:`Chain` records it).
+FIRST = {"sum": "+", "product": "*"}
+
+
 class Chain(Reduced):
     """``t1 op t2 op … tn`` at one precedence level (``+``/``-`` or ``*``/``/``), collected link by
     link as the LALR parser reduces the grammar's left recursion, and built into a tree when first

@@ -40,6 +40,9 @@ from ..diagnostics import LangurError, Span, SpanSlots, error
 from . import lalr
 from .chains import LEVEL as _LEVEL
 from .chains import MAX_DEPTH
+from .chains import CHAIN_BALANCE as _BALANCE
+from .chains import FIRST as _FIRST
+from .chains import Built as _Built
 from .chains import Chain as _Chain
 from .chains import Reduced as _R
 from .lalr import Token
@@ -159,13 +162,13 @@ class _Builder:
         # (_start and _end written out for the two kinds met on every term: an intermediate
         # result or the driver's token)
         tf, tl = type(first), type(last)
-        if tf is _R or tf is _Chain:
+        if tf is _R or tf is _Built or tf is _Chain:
             l1, c1 = first.line, first.col
         elif tf is Token:
             l1, c1 = first.line, first.column
         else:
             l1, c1 = _start(first)
-        if tl is _R or tl is _Chain:
+        if tl is _R or tl is _Built or tl is _Chain:
             l2, c2 = last.end_line, last.end_col
         elif tl is Token:
             l2, c2 = last.end_line, last.end_column
@@ -348,10 +351,45 @@ class _Builder:
         level = _LEVEL.get(op)
         if level is None:  # ^: right-associative and bounded by real nesting
             return self.term(lambda sp: BinOp(op, left.node, right.node, sp), left, right, (left, right))
-        if type(left) is _Chain and left.level == level:  # the grammar's left recursion: one more link
+        tl = type(left)
+        if tl is _Chain and left.level == level:  # the grammar's left recursion: one more link
             left.append(op, right)
             return left
-        chain = _Chain(self, level, left)
+        items = left.items if tl is _Built and left.level == level else None  # (one more link, or a new chain)
+        if tl is not _Chain and type(right) is not _Chain and (items is None or len(items) < _BALANCE):
+            # built now (chains.Built): the grammar's left-nested tree, as Chain._build makes it
+            d = right.depth
+            depth = left.depth
+            depth = 1 + (depth if depth > d else d)
+            if depth <= MAX_DEPTH:
+                s = SpanSlots()  # (from the chain's first operand to `right`)
+                s.path = self.path
+                s.line = left.line
+                s.col = left.col
+                s.end_line = right.end_line
+                s.end_col = right.end_col
+                s.__class__ = Span
+                node = BinOp(op, left.node, right.node, s)
+                if items is None:
+                    b = _Built()
+                    b.level = level
+                    b.items = [(_FIRST[level], left), (op, right)]
+                    b.line = left.line
+                    b.col = left.col
+                else:
+                    b = left
+                    items.append((op, right))
+                b.node = node
+                b.depth = depth
+                b.end_line = right.end_line
+                b.end_col = right.end_col
+                return b
+        # built when first read (a chain too long or too deep, or an operand whose node may raise E105)
+        if items is None:
+            chain = _Chain(self, level, left)
+        else:
+            chain = _Chain(self, level, items[0][1])
+            chain.items = items
         chain.append(op, right)
         return chain
 
