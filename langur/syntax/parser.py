@@ -50,6 +50,7 @@ from .surface import (
     Apply,
     BinOp,
     Component,
+    Fields,
     DefArg,
     DefDecl,
     DiffeoApp,
@@ -369,7 +370,12 @@ class _Builder:
                 s.end_line = right.end_line
                 s.end_col = right.end_col
                 s.__class__ = Span
-                node = BinOp(op, left.node, right.node, s)
+                node = Fields()  # (BinOp(op, left.node, right.node, s) without a Python call: see surface.Fields)
+                node.op = op
+                node.left = left.node
+                node.right = right.node
+                node.span = s
+                node.__class__ = BinOp
                 if items is None:
                     b = _Built()
                     b.level = level
@@ -413,8 +419,12 @@ class _Builder:
         s.end_line = end_line = t.end_line
         s.end_col = end_col = t.end_column
         s.__class__ = Span
+        n = Fields()  # (Num(value, s) without a Python call: see surface.Fields)
+        n.value = value
+        n.span = s
+        n.__class__ = Num
         r = _R()
-        r.node = Num(value, s)
+        r.node = n
         r.line = line
         r.col = col
         r.end_line = end_line
@@ -431,8 +441,12 @@ class _Builder:
         s.end_line = end_line = t.end_line
         s.end_col = end_col = t.end_column
         s.__class__ = Span
+        n = Fields()  # (Name(t.value, s) without a Python call: see surface.Fields)
+        n.name = t.value
+        n.span = s
+        n.__class__ = Name
         r = _R()
-        r.node = Name(t.value, s)
+        r.node = n
         r.line = line
         r.col = col
         r.end_line = end_line
