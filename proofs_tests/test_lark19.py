@@ -13,7 +13,7 @@ when the driver fails (a syntax error, whose diagnostic lark's exception gives) 
 * A missing, stale or malformed data module is never trusted: ``lalr.load`` or ``lalr.driver``
   refuses it, the data is read off lark's parser instead (same trees), ``tables --check`` fails on
   it; the lexer's shipped engine code is used only by the engine it was made for.
-* ``lalr.Token`` is read as ``lark.Token`` is: the same slots with the same values, repr, positions.
+* The driver's token is lark's as ``lalr.token`` reads it (a tuple of ``lark.Token``'s slots: parse25).
 """
 
 from __future__ import annotations
@@ -218,17 +218,28 @@ def test_tables_check_covers_the_driver_data(stale, capsys):
 
 
 def test_the_driver_token_is_read_as_lark_s():
-    """The callbacks read a token's ``type``, ``value`` and positions: the driver's token has every slot
-    of lark's with the same value (parse24: not a ``str``; its ``value`` is the text)."""
+    """The callbacks read a token by index (``lalr.TOKEN``: every slot of lark's token, parse25): the
+    driver hands them, for every token lark's lexer makes, that token as ``lalr.token`` reads it —
+    the same type, text (a ``str``) and positions (parse24: not a ``str``; parse25: a tuple)."""
+    assert sorted(lalr.TOKEN) == sorted(larkload.Token.__slots__)
+    text = "param a = 1\r\nint ([0, 1])\t[x ≤ a] * x ^ 2 + d # c\n d(x)"
+    data = lalr.load()
+    seen: list = []
+    callbacks = []
+    for f in lalr.callbacks(data, parser._BUILDER):
+        def recording(c, f=f):
+            seen.extend(x for x in c if type(x) is tuple and len(x) == len(lalr.TOKEN) and type(x[0]) is str)
+            return f(c)
+        callbacks.append(recording)
     with parser._LOCK:
         lk = parser._parser()
-    text = "param a = 1\r\nint ([0, 1])\t[x ≤ a] * x ^ 2 + d # c\n d(x)"
-    theirs = list(lk.lex(text))
-    for t in theirs:
-        ours = lalr.Token(t.type, t.value, t.start_pos, t.line, t.column, t.end_line, t.end_column, t.end_pos)
-        assert sorted(ours.__slots__) == sorted(larkload.Token.__slots__)
-        for k in larkload.Token.__slots__:
-            assert getattr(ours, k) == getattr(t, k)
-        assert ours.value == str(t) and type(ours.value) is str and repr(ours) == repr(t)
-        moved = lalr.Token.new_borrow_pos("NAME", "d", ours)
-        assert (moved.type, moved.line, moved.column, moved.end_pos) == ("NAME", t.line, t.column, t.end_pos)
+        parser._BUILDER.path = "t.lgr"
+        assert lalr.driver(data, callbacks, ())(text, "start") is not lalr.FAILED
+    theirs = [lalr.token(t) for t in lk.lex(text)]
+    assert all(type(t[1]) is str and t[1] == str(lark) for t, lark in zip(theirs, lk.lex(text)))
+    first: dict = {}
+    for t in seen:  # (each token as first handed over: `d`, a name here, is handed on as NAME)
+        first.setdefault(t[6], t)
+    assert sorted(first.values(), key=lambda t: t[6]) == theirs
+    named = [t for t in seen if t[1] == "d"]
+    assert [t[0] for t in named] == ["D", "NAME", "D"] and named[0][1:] == named[1][1:]  # (the last: `d(x)`)

@@ -12,8 +12,8 @@ in the order lark's scanner tries them and their regular expressions, the keywor
 table, and for every rule the callback lark calls on its reduction and how lark's parse-tree
 builder shapes the children first (``_rule`` inlining, ``?rule``'s single child: its wrapper chain
 under ``tables.OPTIONS``).  This module loads that data and runs it with ``parser._Builder``'s
-callbacks; it never imports lark.  :class:`Token` carries what the callbacks read of lark's token
-(``type``, ``value``, the same positions), in slots: not a ``str`` (parse24).
+callbacks; it never imports lark.  A token is a tuple of lark's token's attributes (:data:`TOKEN`;
+not a ``str`` since parse24, not an object since parse25).
 
 :func:`driver` runs the data in one loop: the same tokens as lark's lexer (type, text, positions),
 the same shifts and reductions, the same callbacks called in the same order on the same children,
@@ -67,26 +67,18 @@ def grammar_text() -> str:
         return f.read()
 
 
-class Token:
-    """A token as the callbacks read lark's ``lark.Token`` (on the error path they receive lark's
-    own): its terminal ``type``, its text ``value`` and its positions, the same attributes set to
-    the same values by the driver — but not a ``str`` (parse24: a ``str`` subclass cost ≈ 2.4 k
-    instructions a token to make; the callbacks read ``value``)."""
+#: A token as the callbacks receive it: a tuple of lark's token's attributes, in this order (the
+#: driver makes one with one tuple display per token: parse25 — a slotted ``Token`` object cost
+#: ≈ 1.9 k instructions a token, a tuple ≈ 0.3 k; lark's own tokens are given to the callbacks as
+#: such tuples too, by :func:`token`).  The callbacks index it: ``t[0]`` its terminal, ``t[1]`` its
+#: text, ``t[2]``, ``t[3]`` its first line and column, ``t[4]``, ``t[5]`` its last line and the
+#: column after it (1-based), ``t[6]``, ``t[7]`` its offsets in the text (start, end).
+TOKEN = ("type", "value", "line", "column", "end_line", "end_column", "start_pos", "end_pos")
 
-    __slots__ = ("column", "end_column", "end_line", "end_pos", "line", "start_pos", "type", "value")
 
-    def __init__(self, type, value, start_pos=None, line=None, column=None, end_line=None, end_column=None,
-                 end_pos=None):
-        self.type, self.value, self.start_pos, self.line = type, value, start_pos, line
-        self.column, self.end_line, self.end_column, self.end_pos = column, end_line, end_column, end_pos
-
-    @classmethod
-    def new_borrow_pos(cls, type_: str, value: Any, borrow_t) -> Token:
-        return cls(type_, value, borrow_t.start_pos, borrow_t.line, borrow_t.column, borrow_t.end_line,
-                   borrow_t.end_column, borrow_t.end_pos)
-
-    def __repr__(self) -> str:
-        return f"Token({self.type!r}, {self.value!r})"
+def token(t: Any) -> tuple:
+    """lark's token ``t`` (or any object with :data:`TOKEN`'s attributes) as the driver's tuple."""
+    return (t.type, t.value, t.line, t.column, t.end_line, t.end_column, t.start_pos, t.end_pos)
 
 
 class Tree:
@@ -256,8 +248,6 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     except (KeyError, TypeError, ValueError, IndexError, AttributeError, re.error):
         return None
 
-    new = object.__new__
-
     def parse(text: str, start: str) -> Any:
         try:
             return run(text, start)
@@ -288,19 +278,10 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
                         return FAILED
                     continue  # (the end of the piece)
                 kind = literals.get(value) or first[value[0]]
-                # Token(kind, value, pos, line, column, line, end column, end) without a Python call
-                # (no line break inside: checked by tables.driver_data)
-                # (one store a statement: a tuple's unpacking into slots costs more)
-                token = new(Token)
-                token.type = kind
-                token.value = value
-                token.start_pos = pos
-                token.line = line
-                token.end_line = line
-                token.column = pos - line_start + 1
-                pos += len(value)
-                token.end_pos = pos
-                token.end_column = pos - line_start + 1
+                # the token (TOKEN's fields; no line break inside: checked by tables.driver_data)
+                after = pos + len(value)
+                token = (kind, value, line, pos - line_start + 1, line, after - line_start + 1, pos, after)
+                pos = after
                 column = columns[kind]
                 code = column[state]
                 while True:  # the reductions this token's look-ahead calls for, then its shift
@@ -370,4 +351,4 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
     return parse
 
 
-__all__ = ["CHUNK", "DATA", "FAILED", "Token", "Tree", "callbacks", "driver", "glued", "grammar_text", "load", "pack", "unpack"]
+__all__ = ["CHUNK", "DATA", "FAILED", "TOKEN", "Tree", "callbacks", "driver", "glued", "grammar_text", "load", "pack", "token", "unpack"]

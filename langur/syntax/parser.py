@@ -45,7 +45,6 @@ from .chains import FIRST as _FIRST
 from .chains import Built as _Built
 from .chains import Chain as _Chain
 from .chains import Reduced as _R
-from .lalr import Token
 from .surface import (
     Apply,
     BinOp,
@@ -137,16 +136,16 @@ _CMP = {"<=": "<=", "≤": "<=", ">=": ">=", "≥": ">=", "<": "<", ">": ">"}
 
 
 def _start(x) -> tuple[int, int]:
-    if type(x) is Token or isinstance(x, str):  # a token: the driver's (lalr.Token) or lark's (a str, on the error path)
-        return x.line, x.column
+    if type(x) is tuple:  # a token (lalr.TOKEN: lark's too, given to the callbacks so by _FromLark)
+        return x[2], x[3]
     if isinstance(x, _R):
         return x.line, x.col
     return x.span.line, x.span.col  # a node (Ident, ParamDecl, …)
 
 
 def _end(x) -> tuple[int, int]:
-    if type(x) is Token or isinstance(x, str):  # a token: the driver's or lark's
-        return x.end_line, x.end_column
+    if type(x) is tuple:  # a token
+        return x[4], x[5]
     if isinstance(x, _R):
         return x.end_line, x.end_col
     return x.span.end_line, x.span.end_col
@@ -165,14 +164,14 @@ class _Builder:
         tf, tl = type(first), type(last)
         if tf is _R or tf is _Built or tf is _Chain:
             l1, c1 = first.line, first.col
-        elif tf is Token:
-            l1, c1 = first.line, first.column
+        elif tf is tuple:  # a token (lalr.TOKEN)
+            l1, c1 = first[2], first[3]
         else:
             l1, c1 = _start(first)
         if tl is _R or tl is _Built or tl is _Chain:
             l2, c2 = last.end_line, last.end_col
-        elif tl is Token:
-            l2, c2 = last.end_line, last.end_column
+        elif tl is tuple:
+            l2, c2 = last[4], last[5]
         else:
             l2, c2 = _end(last)
         s = SpanSlots()  # (a Span made without a Python call: see SpanSlots)
@@ -184,13 +183,13 @@ class _Builder:
         s.__class__ = Span
         return s
 
-    def tok_span(self, t: Token) -> Span:
+    def tok_span(self, t: tuple) -> Span:
         s = SpanSlots()
         s.path = self.path
-        s.line = t.line
-        s.col = t.column
-        s.end_line = t.end_line
-        s.end_col = t.end_column
+        s.line = t[2]
+        s.col = t[3]
+        s.end_line = t[4]
+        s.end_col = t[5]
         s.__class__ = Span
         return s
 
@@ -219,12 +218,12 @@ class _Builder:
                      "calls, conditionals, lets and powers inside one another; long sums and products "
                      "count only the depth of their balanced tree)")
 
-    def ident(self, t: Token) -> Ident:
-        return Ident(t.value, self.tok_span(t))
+    def ident(self, t: tuple) -> Ident:
+        return Ident(t[1], self.tok_span(t))
 
-    def number(self, t: Token) -> Fraction:
+    def number(self, t: tuple) -> Fraction:
         """The exact value of a decimal literal (E106 when too long or its exponent too large)."""
-        text = t.value
+        text = t[1]
         if len(text) <= _SHORT and text.isdigit():  # an integer of at most 300 digits: a double's range
             return Fraction(int(text))
         mantissa, _, exp = text.lower().partition("e")
@@ -288,7 +287,7 @@ class _Builder:
         return (c[0], c[1], c[2])  # ( terms ): kept with its tokens for spans
 
     def def_item(self, c):
-        args = c[3] if isinstance(c[3], tuple) else ()
+        args = c[3] if len(c) == 7 else ()  # DEF name ( defargs? ) = term
         body = c[-1]
         return DefDecl(self.ident(c[1]), args, body.node, self.span(c[0], body))
 
@@ -296,7 +295,7 @@ class _Builder:
         return tuple(x for x in c if isinstance(x, DefArg))
 
     def defarg(self, c):
-        return DefArg(self.ident(c[0]), c[2].value, self.span(c[0], c[2]))
+        return DefArg(self.ident(c[0]), c[2][1], self.span(c[0], c[2]))
 
     def import_item(self, c):
         names = tuple(x for x in c[3:] if isinstance(x, ImportName))
@@ -327,14 +326,14 @@ class _Builder:
         return Interval(c[1].node, c[3].node, self.span(c[0], c[-1]))
 
     def names(self, c):
-        return [self.ident(x) for x in c if x.type != "COMMA"]
+        return [self.ident(x) for x in c if x[0] != "COMMA"]
 
     def terms(self, c):
         return [x for x in c if isinstance(x, _R)]
 
     def name(self, c):
         t = c[0]
-        return t if t.type == "NAME" else Token.new_borrow_pos("NAME", t.value, t)
+        return t if t[0] == "NAME" else ("NAME", *t[1:])  # (`d` where it is a name)
 
     def cmp(self, c):
         return c[0]
@@ -348,7 +347,7 @@ class _Builder:
 
     def binop(self, c):
         left, op, right = c
-        op = op.value  # (a token's text)
+        op = op[1]  # (a token's text)
         level = _LEVEL.get(op)
         if level is None:  # ^: right-associative and bounded by real nesting
             return self.term(lambda sp: BinOp(op, left.node, right.node, sp), left, right, (left, right))
@@ -405,19 +404,19 @@ class _Builder:
 
     def num(self, c):  # (term(): a leaf's span is its token's, its depth 1)
         t = c[0]
-        value = _SMALL_INTS.get(t.value)  # (0 … 127 written as Python writes them: one lookup)
+        value = _SMALL_INTS.get(t[1])  # (0 … 127 written as Python writes them: one lookup)
         if value is None:
-            text = t.value  # (number()'s first case written out: a short integer)
+            text = t[1]  # (number()'s first case written out: a short integer)
             if len(text) <= _SHORT and text.isdigit():
                 value = int_fraction(int(text))
             else:
                 value = self.number(t)
         s = SpanSlots()
         s.path = self.path
-        s.line = line = t.line
-        s.col = col = t.column
-        s.end_line = end_line = t.end_line
-        s.end_col = end_col = t.end_column
+        s.line = line = t[2]
+        s.col = col = t[3]
+        s.end_line = end_line = t[4]
+        s.end_col = end_col = t[5]
         s.__class__ = Span
         n = Fields()  # (Num(value, s) without a Python call: see surface.Fields)
         n.value = value
@@ -436,13 +435,13 @@ class _Builder:
         t = c[0]
         s = SpanSlots()
         s.path = self.path
-        s.line = line = t.line
-        s.col = col = t.column
-        s.end_line = end_line = t.end_line
-        s.end_col = end_col = t.end_column
+        s.line = line = t[2]
+        s.col = col = t[3]
+        s.end_line = end_line = t[4]
+        s.end_col = end_col = t[5]
         s.__class__ = Span
-        n = Fields()  # (Name(t.value, s) without a Python call: see surface.Fields)
-        n.name = t.value
+        n = Fields()  # (Name(t[1], s) without a Python call: see surface.Fields)
+        n.name = t[1]
         n.span = s
         n.__class__ = Name
         r = _R()
@@ -457,22 +456,22 @@ class _Builder:
     def apply(self, c):
         args = c[2] if isinstance(c[2], list) else []
         nsp = self.tok_span(c[0])
-        return self.term(lambda sp: Apply(c[0].value, tuple(a.node for a in args), sp, nsp), c[0], c[-1], args)
+        return self.term(lambda sp: Apply(c[0][1], tuple(a.node for a in args), sp, nsp), c[0], c[-1], args)
 
     def paren(self, c):
         left, inner, right = c  # ( term ): two tokens around the term
         r = _R()
         r.node = inner.node
-        r.line = left.line
-        r.col = left.column
-        r.end_line = right.end_line
-        r.end_col = right.end_column
+        r.line = left[2]
+        r.col = left[3]
+        r.end_line = right[4]
+        r.end_col = right[5]
         r.depth = inner.depth
         return r
 
     def chain(self, c):
         """``t0 op0 t1 op1 t2 …``: its terms and comparison operators."""
-        return _Comparisons([x for x in c if isinstance(x, _R)], tuple(_CMP[x.value] for x in c[1::2]))
+        return _Comparisons([x for x in c if isinstance(x, _R)], tuple(_CMP[x[1]] for x in c[1::2]))
 
     def iverson(self, c):
         ch = c[1]
@@ -514,13 +513,13 @@ class _Builder:
         name, bound, body = c[1], c[3], c[5]
         nsp = self.tok_span(name)
         return self.term(
-            lambda sp: LetIn(name.value, bound.node, body.node, sp, nsp), c[0], body, (bound, body)
+            lambda sp: LetIn(name[1], bound.node, body.node, sp, nsp), c[0], body, (bound, body)
         )
 
     def loop(self, c):
         # SUM|PROD name IN term DOTDOT term COLON term (§9, the finite loop)
-        op, name, lo, hi, body, nsp = c[0].value, c[1], c[3], c[5], c[7], self.tok_span(c[1])
-        return self.term(lambda sp: Loop(op, name.value, lo.node, hi.node, body.node, sp, nsp), c[0], body,
+        op, name, lo, hi, body, nsp = c[0][1], c[1], c[3], c[5], c[7], self.tok_span(c[1])
+        return self.term(lambda sp: Loop(op, name[1], lo.node, hi.node, body.node, sp, nsp), c[0], body,
                          (lo, hi, body))
 
     def vector(self, c):
@@ -531,7 +530,7 @@ class _Builder:
     def component(self, c):
         # atom . name
         base, name, nsp = c[0], c[2], self.tok_span(c[2])
-        return self.term(lambda sp: Component(base.node, name.value, sp, nsp), base, name, (base,))
+        return self.term(lambda sp: Component(base.node, name[1], sp, nsp), base, name, (base,))
 
     def ifge0(self, c):
         cond, then, orelse = c[1], c[3], c[5]
@@ -540,7 +539,7 @@ class _Builder:
         )
 
     def ifcmp(self, c):
-        left, op, right, then, orelse = c[1], _CMP[c[2].value], c[3], c[5], c[7]
+        left, op, right, then, orelse = c[1], _CMP[c[2][1]], c[3], c[5], c[7]
         return self.term(
             lambda sp: IfCmp(left.node, op, right.node, then.node, orelse.node, sp),
             c[0],
@@ -554,7 +553,7 @@ class _Builder:
         nsp = self.tok_span(c[0])
         return self.term(
             lambda sp: DiffeoApp(
-                c[0].value, tuple(v.node for v in variables), tuple(p.node for p in params), sp, nsp
+                c[0][1], tuple(v.node for v in variables), tuple(p.node for p in params), sp, nsp
             ),
             c[0],
             c[-1],
@@ -570,6 +569,24 @@ _PARSER = None
 #: (lark then parses every input), None when not made yet
 _DRIVER = None
 _BUILDER = _Builder()
+
+
+class _FromLark:
+    """The builder as lark's parser calls it (a syntax error to report, FAST off, stale shipped
+    data): each rule's method of :data:`_BUILDER`, given lark's tokens (a ``str`` subclass) as the
+    driver gives its own, tuples of :data:`lalr.TOKEN` (:func:`lalr.token`).  A name the builder has
+    no method for raises AttributeError, as on the builder itself (lark then builds a tree, or makes
+    no token callback)."""
+
+    def __getattr__(self, name: str):
+        method = getattr(_BUILDER, name)
+
+        def callback(children):
+            return method([lalr.token(x) if isinstance(x, str) else x for x in children])
+        return callback
+
+
+_FROM_LARK = _FromLark()
 
 
 def _lark_side():
@@ -611,7 +628,7 @@ def _lark():
     global _PARSER
     if _PARSER is None:
         tables = _lark_side()[1]
-        _PARSER = tables.load(_BUILDER) or tables.build(transformer=_BUILDER)
+        _PARSER = tables.load(_FROM_LARK) or tables.build(transformer=_FROM_LARK)
     return _PARSER
 
 
@@ -677,7 +694,7 @@ def _describe_expected(expected: set[str]) -> str:
     return ", ".join(parts[:-1]) + " or " + parts[-1]
 
 
-def _describe_found(tok: Token) -> str:
+def _describe_found(tok) -> str:  # (lark's token: the error is lark's)
     if tok.type == "$END":
         return "end of input"
     if tok.type == "NAME":
