@@ -12,7 +12,6 @@ from dataclasses import field
 
 from .records import frozen
 
-
 #: How :class:`Span`'s ``__init__`` sets its frozen slots (as dataclass's generated ``__init__`` does).
 _set = object.__setattr__
 

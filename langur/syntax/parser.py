@@ -38,10 +38,10 @@ from .. import gcpause
 from ..core import INT_FRACTIONS, int_fraction
 from ..diagnostics import LangurError, Span, SpanSlots, error
 from . import lalr
-from .chains import LEVEL as _LEVEL
-from .chains import MAX_DEPTH
 from .chains import CHAIN_BALANCE as _BALANCE
 from .chains import FIRST as _FIRST
+from .chains import LEVEL as _LEVEL
+from .chains import MAX_DEPTH
 from .chains import Built as _Built
 from .chains import Chain as _Chain
 from .chains import Reduced as _R
@@ -49,11 +49,11 @@ from .surface import (
     Apply,
     BinOp,
     Component,
-    Fields,
     DefArg,
     DefDecl,
     DiffeoApp,
     DiffeoDecl,
+    Fields,
     Ident,
     IfCmp,
     IfGe0S,
