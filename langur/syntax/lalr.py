@@ -301,10 +301,12 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
                         state, code = found
                         state_stack[-1] = state
                         continue
-                    if size == 1:  # (a leaf: most other reductions of a program)
+                    if size == 1:  # (a leaf: most other reductions of a program; the top replaced)
                         value_stack[-1] = callback([value_stack[-1]])
-                        state_stack.pop()
-                    elif size:
+                        state_stack[-1] = state = goto[state_stack[-2]]
+                        code = column[state]
+                        continue
+                    if size:
                         s = value_stack[-size:]
                         del state_stack[-size:]
                         del value_stack[-size:]
