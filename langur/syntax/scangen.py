@@ -23,7 +23,7 @@ def scanner(lexer: dict) -> dict | None:
       lark's lexer would cut it (atomic, never backtracked into: a comment is never cut short for a
       name in it); the token, by the scanner's alternatives in its order (no group per terminal:
       the text names it, below); or one character no terminal matches (the input is not valid) —
-      and at the end of the text, nothing.  After the ignored run no ignored terminal can match,
+      at the end of the text, nothing (``\\Z``).  After the ignored run no ignored terminal can match,
       so they are left out of the alternatives.
     * ``literals``: a token's text → its terminal, for the terminals whose texts are a fixed set
       (lark's string terminals, a regular expression that is an alternation of literals such as
@@ -97,7 +97,9 @@ def scanner(lexer: dict) -> dict | None:
         if found != (keyword_of.get(text, terminal), len(text)):
             return None
     token = "|".join(parts)
-    pattern = f"((?>{skip}))(?:({token})|([\\s\\S]))?"
+    # (the end of the text an alternative of its own, not ``(…)?``: the same matches, and the regular
+    # expression engine makes no repeat of the group per token — parse25: ≈ −17 % of ``findall``)
+    pattern = f"((?>{skip}))(?:({token})|([\\s\\S])|\\Z)"
     return {"pattern": pattern, "flags": flags, "literals": literals, "first": first}
 
 
