@@ -20,6 +20,7 @@ import copy
 import dataclasses
 import pickle
 import random
+import re
 from fractions import Fraction
 
 import pytest
@@ -288,3 +289,31 @@ def test_a_too_deep_chain_is_reported_where_it_was():
     ok = parser.parse_module(f"int ([0, 1]) {deep} + 1 d(x)", "t.lgr")
     assert type(ok.program.body) is BinOp
     assert error(f"int ([0, 1]) {power} + 1 ) d(x)").startswith(f"t.lgr:1:{col + len(power) + 5}: error E10")
+
+
+# -- the lexer's pattern -------------------------------------------------------------------------
+
+
+def test_the_pattern_cuts_as_parse24_s_did():
+    """The shipped pattern (parse25: the end of the text an alternative, a comment's run unrolled
+    once) cuts every text as parse24's form of it did — ``((?>C*(?:OC*)*))(?:(T)|([\\s\\S]))?`` —
+    on random texts over the grammar's characters, comments, line breaks and stray characters,
+    whole and between random bounds (the driver's pieces)."""
+    data = lalr.load()
+    pattern = data["scanner"]["pattern"]
+    skip_end = pattern.index("))(?:(")
+    c = pattern[4:pattern.index("*")]  # ((?>C* …
+    assert c == "[ \t\x0c\r\n]" and pattern.endswith(r"|([\s\S])|\Z)")
+    token = pattern[skip_end + len("))(?:("):-len(r")|([\s\S])|\Z)")]
+    old = rf"((?>{c}*(?:(?:#[^\n]*){c}*)*))(?:({token})|([\s\S]))?"
+    ours, theirs = re.compile(pattern, data["scanner"]["flags"]), re.compile(old, data["scanner"]["flags"])
+    rng = random.Random(25)
+    pieces = ["x", "ab_1", "12", "1.5e3", ".5", "..", ".", "<=", "≤", ">=", "<", "(", ")", "[", "]", ",", ";",
+              "+", "-", "*", "/", "^", "&", "|", " ", "  ", "\t", "\n", "\r\n", "\f", "# c", "#", "# x # y\n",
+              "@", "é", "\x0b", "let", "d", "sum"]
+    for _ in range(3000):
+        text = "".join(rng.choice(pieces) for _ in range(rng.randrange(12)))
+        assert ours.findall(text) == theirs.findall(text), text
+        a = rng.randrange(len(text) + 1)
+        b = rng.randrange(a, len(text) + 1)
+        assert ours.findall(text, a, b) == theirs.findall(text, a, b), (text, a, b)

@@ -46,9 +46,12 @@ def scanner(lexer: dict) -> dict | None:
     others = [r for r in lexer["ignored_patterns"] if r not in runs[:1]]
     if runs and all(first_chars(r) is not None and not _alternatives(r) for r in others):
         # ``(?:C+|O|…)*`` as ``C*(?:(?:O|…)C*)*`` (C a character class, each O never empty): the same
-        # texts, the same greedy extent, and the common run of white space one quick repeat of a class
+        # texts, the same greedy extent, and the common run of white space one quick repeat of a class;
+        # that ``(?:X)*`` written ``(?:X(?:X)*|)`` (the same matches in the same order of preference: the
+        # engine then tries a comment's first character without entering a repeat, parse25)
         c = runs[0][:-1]
-        skip = f"{c}*(?:(?:{'|'.join(others)}){c}*)*" if others else f"{c}*"
+        o = f"(?:{'|'.join(others)}){c}*"
+        skip = f"{c}*(?:{o}(?:{o})*|)" if others else f"{c}*"
     parts: list[str] = []
     literals: dict[str, str] = {}
     first: dict[str, str] = {}
