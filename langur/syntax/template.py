@@ -130,7 +130,58 @@ class Template:
         it has an index leaf below it (in a conditional: in its branches or in the condition it was
         completed from) or a conditional on the parameters; the other nodes are shared by the copies.
         :attr:`order`: the dependent nodes children first, left to right, each once (a recursive
-        walk's post-order), which :meth:`_compile` turns into steps without a walk of its own."""
+        walk's post-order), which :meth:`_compile` turns into steps without a walk of its own.
+        (A recursive walk, the cheapest in Python, down to :data:`_MARK_DEPTH` levels; below, the
+        same walk with a stack of its own, from the start: no recursion on a term's depth.)"""
+        dep, leaves, completions, order = self.dependent, self.record.leaves, self.record.completions, self.order
+
+        def mark(u: Term, depth: int) -> bool:
+            key = id(u)
+            d = dep.get(key)
+            if d is not None:
+                return d
+            tu = type(u)
+            if tu is Add or tu is Mul:
+                if depth > _MARK_DEPTH:
+                    raise _Deep
+                d = mark(u.left, depth + 1)
+                if mark(u.right, depth + 1):
+                    d = True
+            elif tu is Const or tu is Var or tu is Param:
+                d = dep[key] = key in leaves
+                if d:
+                    order.append(u)
+                return d
+            else:
+                if depth > _MARK_DEPTH:
+                    raise _Deep
+                # (a conditional on the parameters is copied too: the desugarer lifts such a
+                # conditional out of a condition by its identity, `desugar._put`, which must not meet
+                # it in two copies)
+                d = tu is IfGe0
+                for c in _kids(u, completions):
+                    if mark(c, depth + 1):
+                        d = True
+            dep[key] = d
+            if d:
+                order.append(u)
+            if tu is IfDiffeo and key not in completions:
+                # a Ψ̂ not completed here (there is none while the record is safe): its terms must not
+                # mention the index
+                if any(self._has_leaf(t) for t in _diffeo_terms(u.psi)):
+                    self.usable = False
+            return d
+
+        try:
+            mark(root, 0)
+        except _Deep:
+            dep.clear()
+            order.clear()
+            self.usable = True
+            self._mark_deep(root)
+
+    def _mark_deep(self, root: Term) -> None:
+        """:meth:`_mark`'s walk with a stack of its own (a first copy deeper than :data:`_MARK_DEPTH`)."""
         dep, leaves, completions = self.dependent, self.record.leaves, self.record.completions
         order = self.order
         stack: list[Term] = [root]
@@ -158,8 +209,6 @@ class Template:
             if pending:
                 continue
             stack.pop()
-            # (a conditional on the parameters is copied too: the desugarer lifts such a conditional
-            # out of a condition by its identity, `desugar._put`, which must not meet it in two copies)
             d = tu is IfGe0
             if not d:
                 for c in kids:
@@ -170,8 +219,6 @@ class Template:
             if d:
                 order.append(u)
             if tu is IfDiffeo and key not in completions:
-                # a Ψ̂ not completed here (there is none while the record is safe): its terms must not
-                # mention the index
                 if any(self._has_leaf(t) for t in _diffeo_terms(u.psi)):
                     self.usable = False
 
@@ -213,8 +260,11 @@ class Template:
 
         for u in self.order:  # post-order over the dependent nodes, left to right (_mark's)
             tu = type(u)
-            if tu is Add or tu is Mul:
-                step = (_BINARY, tu, shape_with_span(u), ref(u.left), ref(u.right))
+            if tu is Add or tu is Mul:  # (ref and shape_with_span written out: most steps)
+                a, b = id(u.left), id(u.right)
+                a = own[a] if dep[a] else (slot.get(a) or ref(u.left))  # (a shared slot is < 0: true)
+                b = own[b] if dep[b] else (slot.get(b) or ref(u.right))
+                step = (_BINARY, tu, {"_shape": u._shape, "span": u.span}, a, b)
             elif tu is Const:
                 step = (_LEAF, u.span)
             elif tu is Pow:
@@ -453,28 +503,38 @@ class Template:
                 conds, xs, ys = (col if type(col) is list else [col] * m for col in (cols[c], cols[a], cols[b]))
                 sc, sa, sb = (s if type(s) is list else [s] * m for s in (same[c], same[a], same[b]))
                 out, flags = [], []
-                for j in range(m):
-                    cond = conds[j]
-                    psi = None
-                    if shifted is not None:
-                        solved, num, den, parts = shifted
+                if shifted is not None:
+                    # each copy's constant term in integers (the copies whose summands all have a small
+                    # value), then their Ψ̂ built in one loop
+                    solved, num0, den0, parts = shifted
+                    keys: list = []
+                    for j in range(m):
+                        num, den = num0, den0
                         for jj, factor, sign in parts:
                             col = cols[jj]
-                            new = small_value(col[j] if type(col) is list else col)
+                            new = (col[j] if type(col) is list else col)._small  # (core.small_value)
                             if new is None or new is False:
+                                keys.append(None)
                                 break
                             num, den = _moved(num, den, new, factor, sign)
                         else:
                             g = gcd(num, den)
-                            psi = affine.solved_at_ratio(cond, variables, solved, num // g, den // g)
-                            shifted_count += 1
-                            if sc[j] and sa[j] and sb[j]:
-                                node = like(IfDiffeo, shape, (psi, xs[j], ys[j]), span)
-                                notes[j].append((node, cond, variables, box))
-                                out.append(node)
-                                flags.append(True)
-                                continue
-                    if psi is None:
+                            keys.append((num // g, den // g))
+                    psis = affine.solved_at_ratios(conds, variables, solved, keys)
+                else:
+                    psis = [None] * m
+                for j in range(m):
+                    cond = conds[j]
+                    psi = psis[j]
+                    if psi is not None:
+                        shifted_count += 1
+                        if sc[j] and sa[j] and sb[j]:
+                            node = like(IfDiffeo, shape, (psi, xs[j], ys[j]), span)
+                            notes[j].append((node, cond, variables, box))
+                            out.append(node)
+                            flags.append(True)
+                            continue
+                    else:
                         psi = self.complete(cond, variables, box)
                         if psi is None:
                             return None
@@ -523,6 +583,14 @@ def _moved(num: int, den: int, new: Fraction, factor: Fraction, sign: int) -> tu
         new = factor * new
     p, q = new.numerator, new.denominator
     return (num * q - p * den if sign < 0 else num * q + p * den), den * q
+
+
+#: How deep :meth:`Template._mark` recurses before it walks the first copy again with a stack of its own.
+_MARK_DEPTH = 200
+
+
+class _Deep(Exception):
+    """A first copy deeper than :data:`_MARK_DEPTH` (:meth:`Template._mark`)."""
 
 
 # the kinds of step of Template.steps
