@@ -175,7 +175,9 @@ def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = fro
     found = solve(cond, variables, avoid)
     if found is None:
         return None
-    psi = completed(cond, variables, *found)
+    solved, c0 = found  # (completed and solved_at written out: every completion of a new shape)
+    constant = -c0 if solved[1] == 1 else -c0 / solved[1]
+    psi = _solved_at(cond, variables, solved, (constant.numerator, constant.denominator), constant)
     if not avoid:  # (kept for a loop's template, which completes this shape again: `solved_by`)
         psi.__dict__["_solved"] = found
     return psi
