@@ -130,8 +130,9 @@ class Template:
         of more than one copy pays it once, issue 15): each node marked in post-order, left to right,
         and a dependent node's step made as soon as its children are, so the steps, their slots and
         the shared nodes' slots are those of :meth:`_compile` after :meth:`_mark`.  Down to
-        :data:`_MARK_DEPTH` levels; a deeper first copy is marked by :meth:`_mark` (a stack of its own,
-        no recursion on a term's depth) and compiled on first use."""
+        :data:`_MARK_DEPTH` levels; a deeper first copy (or one met with the interpreter's recursion
+        limit near) is marked by :meth:`_mark` (a stack of its own, no recursion on a term's depth) and
+        compiled on first use."""
         dep, leaves, completions = self.dependent, self.record.leaves, self.record.completions
         own: dict[int, int] = {}  # a dependent node's step
         slot: dict[int, int] = {}
@@ -221,7 +222,7 @@ class Template:
 
         try:
             walk(root, 0)
-        except _Deep:
+        except (_Deep, RecursionError):  # (deep, or called near the interpreter's limit already)
             dep.clear()
             self.usable = True
             self._mark(root)
