@@ -227,6 +227,7 @@ class Template:
             self.usable = True
             self._mark(root)
             return
+        self.order = first  # (the dependent nodes in post-order: _mark's order)
         self._compiled(steps, first, shared, powers)
 
     def _mark(self, root: Term) -> None:
