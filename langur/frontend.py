@@ -117,7 +117,7 @@ def load_text(text: str, path: str = "<string>", modules: dict[str, str] | None 
 
 def load_bytes(data: bytes, path: str = "<bytes>", modules: dict[str, str] | None = None) -> Loaded:
     """Load a module given as bytes (UTF-8; a decoding error is the parser's E101)."""
-    with gcpause.paused():  # loading builds many small objects and no cycles
+    with gcpause.kept():  # loading builds many small objects and no cycles, most of them kept
         return _load_bytes(data, path, modules)
 
 

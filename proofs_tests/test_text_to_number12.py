@@ -36,10 +36,10 @@ def _collector(on: bool):
 
 @pytest.fixture
 def pauses(monkeypatch):
-    """How many times ``gcpause.paused`` is entered (the real one, counted, whoever calls it: the
+    """How many times ``gcpause.paused`` (or ``kept``) is entered (the real one, counted, whoever calls it: the
     module attribute is replaced), and whether the collector was on inside each driver call."""
     seen = {"paused": 0, "inside": []}
-    real = gcpause.paused
+    real, real_kept = gcpause.paused, gcpause.kept
 
     @contextlib.contextmanager
     def counted():
@@ -47,7 +47,14 @@ def pauses(monkeypatch):
         with real():
             yield
 
+    @contextlib.contextmanager
+    def counted_kept():  # (a load's pause, whose objects are kept: test_load25)
+        seen["paused"] += 1
+        with real_kept():
+            yield
+
     monkeypatch.setattr(parser.gcpause, "paused", counted)
+    monkeypatch.setattr(parser.gcpause, "kept", counted_kept)
     with parser._LOCK:
         parser._parser()  # (built on first use: the driver exists from here on)
     driver = parser._DRIVER

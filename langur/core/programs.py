@@ -4,7 +4,6 @@ with its domain.
 
 from __future__ import annotations
 
-import functools
 from dataclasses import replace
 
 from ..diagnostics import Span
@@ -12,6 +11,21 @@ from ..records import frozen
 from .sharing import _sharing
 from .structural import product
 from .terms import Mul, Term, _span
+
+
+class _computed_once:
+    """``functools.cached_property`` without its lock (Python 3.11 takes an ``RLock`` on every first
+    read; 3.12 dropped it): the value computed on first read and kept in the instance's ``__dict__``,
+    where later reads find it (a program's body is read once per load, issue 15)."""
+
+    def __init__(self, func):
+        self.func, self.name, self.__doc__ = func, func.__name__, func.__doc__
+
+    def __get__(self, instance, owner=None):
+        if instance is None:
+            return self
+        value = instance.__dict__[self.name] = self.func(instance)
+        return value
 
 
 @frozen
@@ -58,7 +72,7 @@ class Program:
         d = self.__dict__
         d["integrand"], d["variables"], d["box"], d["domain"], d["span"] = integrand, variables, box, domain, span
 
-    @functools.cached_property
+    @_computed_once
     def body(self) -> "Term":
         """``[x1 ≥ l1]·[u1 ≥ x1]·…·integrand`` (the domain's indicators first, in order)."""
         if not self.domain:

@@ -117,11 +117,14 @@ def like_binary_many(cls: type, shape: dict, lefts: list, rights: list) -> list:
     append = out.append
     mul = cls is Mul
     _layout = cls.__base__
-    values = _shape_span(shape)
+    kept, span = _shape_span(shape)
     for a, b in zip(lefts, rights):
         new = _new(_layout)
-        new._shape, new.span = values
-        new.left, new.right, new._hash, new._typed, new._memo = a, b, None, None, None
+        new._shape = kept
+        new.span = span
+        new.left = a
+        new.right = b
+        new._hash = new._typed = new._memo = None
         x, y = a._small, b._small
         if (x is None or y is None) and x is not False and y is not False:
             new._small = None

@@ -96,58 +96,63 @@ _ZERO, _ONE = Fraction(0), Fraction(1)
 
 
 def _linear(t: Term, linear) -> Linear | None:
-    """One node of :func:`linear` (``linear`` reads the children)."""
+    """One node of :func:`linear` (``linear`` reads the children).  (By the node's class, the most
+    frequent first, rather than a ``match``, whose class patterns test each class in turn and read
+    the fields by name: every node of every condition comes here, issue 15.)"""
     v = t._small  # (core.small_value, read in place: every node of every condition comes here)
     if v is not None and v is not False:
         return {}, v  # a constant whose exact value the node keeps: the same rational, no walk
-    match t:
-        case Const(value) if type(value) is Fraction or isinstance(value, Fraction):
+    tt = type(t)
+    if tt is Add:
+        la, lb = linear(t.left), linear(t.right)
+        if la is None or lb is None:
+            return None
+        ca, cb = la[1], lb[1]
+        constant = cb if not ca else (ca if not cb else ca + cb)
+        if not lb[0] or not la[0]:  # (forms are never changed once built: they may be shared)
+            return (la[0] or lb[0]), constant
+        coeffs = dict(la[0])
+        for k, c in lb[0].items():
+            if k not in coeffs:
+                coeffs[k] = c
+                continue
+            s = coeffs[k] + c
+            if s:
+                coeffs[k] = s
+            else:
+                del coeffs[k]
+        return coeffs, constant
+    if tt is Var:
+        return {("v", t.name): _ONE}, _ZERO
+    if tt is Param:
+        return {("p", t.name): _ONE}, _ZERO
+    if tt is Mul:
+        la = linear(t.left)
+        lb = linear(t.right) if la is not None else None
+        if la is None or lb is None:
+            return None
+        if la[0] and lb[0]:
+            return None  # a product of two non-constant forms is not affine
+        c, form = (la[1], lb) if not la[0] else (lb[1], la)
+        if not c:
+            return {}, _ZERO
+        if c == 1:
+            return form
+        return {k: c * v for k, v in form[0].items()}, c * form[1]
+    if tt is Pow:
+        k = t.exponent
+        lb = linear(t.base)
+        if lb is None:
+            return None
+        if k == 1:
+            return lb
+        if lb[0] or k.denominator != 1 or abs(k) > MAX_EXPONENT or (k < 0 and lb[1] == 0):
+            return None
+        return {}, lb[1] ** int(k)
+    if tt is Const:
+        value = t.value
+        if type(value) is Fraction or isinstance(value, Fraction):
             return {}, value
-        case Var(name):
-            return {("v", name): _ONE}, _ZERO
-        case Param(name):
-            return {("p", name): _ONE}, _ZERO
-        case Add(a, b):
-            la, lb = linear(a), linear(b)
-            if la is None or lb is None:
-                return None
-            ca, cb = la[1], lb[1]
-            constant = cb if not ca else (ca if not cb else ca + cb)
-            if not lb[0] or not la[0]:  # (forms are never changed once built: they may be shared)
-                return (la[0] or lb[0]), constant
-            coeffs = dict(la[0])
-            for k, c in lb[0].items():
-                if k not in coeffs:
-                    coeffs[k] = c
-                    continue
-                s = coeffs[k] + c
-                if s:
-                    coeffs[k] = s
-                else:
-                    del coeffs[k]
-            return coeffs, constant
-        case Mul(a, b):
-            la = linear(a)
-            lb = linear(b) if la is not None else None
-            if la is None or lb is None:
-                return None
-            if la[0] and lb[0]:
-                return None  # a product of two non-constant forms is not affine
-            c, form = (la[1], lb) if not la[0] else (lb[1], la)
-            if not c:
-                return {}, _ZERO
-            if c == 1:
-                return form
-            return {k: c * v for k, v in form[0].items()}, c * form[1]
-        case Pow(base, k):
-            lb = linear(base)
-            if lb is None:
-                return None
-            if k == 1:
-                return lb
-            if lb[0] or k.denominator != 1 or abs(k) > MAX_EXPONENT or (k < 0 and lb[1] == 0):
-                return None
-            return {}, lb[1] ** int(k)
     return None
 
 
@@ -170,7 +175,9 @@ def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = fro
     found = solve(cond, variables, avoid)
     if found is None:
         return None
-    psi = completed(cond, variables, *found)
+    solved, c0 = found  # (completed and solved_at written out: every completion of a new shape)
+    constant = -c0 if solved[1] == 1 else -c0 / solved[1]
+    psi = _solved_at(cond, variables, solved, (constant.numerator, constant.denominator), constant)
     if not avoid:  # (kept for a loop's template, which completes this shape again: `solved_by`)
         psi.__dict__["_solved"] = found
     return psi
@@ -218,6 +225,29 @@ def solved_at_ratio(cond: Term, variables: tuple[str, ...], solved: tuple, num: 
     ``Fraction`` is made only when its branches are new (a loop's copies add up their constants in
     integers, issue 15)."""
     return _solved_at(cond, variables, solved, (num, den), None)
+
+
+def solved_at_ratios(conds: list, variables: tuple[str, ...], solved: tuple, keys: list) -> list:
+    """``[solved_at_ratio(cond, variables, solved, *key) for cond, key in zip(conds, keys)]`` in one
+    loop, None where a key is None (a loop's copies whose conditions have one solved shape and
+    differ in their constants, issue 15)."""
+    v, a, inputs, others, terms, renamed, known = solved
+    variables = tuple(variables)
+    out = []
+    append = out.append
+    for cond, key in zip(conds, keys):
+        if key is None:
+            append(None)
+            continue
+        branches = known.get(key)
+        if branches is None:
+            make_room(known, 4096, at_once=True)
+            parts = known.get(_PARTS)
+            if parts is None:
+                parts = known[_PARTS] = _atoms(terms)
+            branches = known[key] = _branches(Fraction(*key), parts, renamed, known)
+        append(Diffeo(variables, (cond,) + others, inputs, branches, v, None, (), getattr(cond, "span", None)))
+    return out
 
 
 def _solved_at(cond: Term, variables: tuple[str, ...], solved: tuple, key: tuple[int, int],

@@ -119,18 +119,124 @@ class Template:
         #: Ψ̂ from elsewhere): refuse to instantiate
         self.usable = True
         self.order: list[Term] = []
-        self._mark(body)
-        #: what :meth:`at` builds (:meth:`_compile`, on first use)
+        #: what :meth:`at` builds (:meth:`_plan`; after :meth:`_mark`, by :meth:`_compile` on first use)
         self.shared: list[Term] = []
         self.steps: list[tuple] | None = None
         self.first: list[Term] = []  # the first copy's node of each step
+        self._plan(body)
+
+    def _plan(self, root: Term) -> None:
+        """:meth:`_mark` and :meth:`_compile` in one recursive walk (the cheapest in Python; every loop
+        of more than one copy pays it once, issue 15): each node marked in post-order, left to right,
+        and a dependent node's step made as soon as its children are, so the steps, their slots and
+        the shared nodes' slots are those of :meth:`_compile` after :meth:`_mark`.  Down to
+        :data:`_MARK_DEPTH` levels; a deeper first copy (or one met with the interpreter's recursion
+        limit near) is marked by :meth:`_mark` (a stack of its own, no recursion on a term's depth) and
+        compiled on first use."""
+        dep, leaves, completions = self.dependent, self.record.leaves, self.record.completions
+        own: dict[int, int] = {}  # a dependent node's step
+        slot: dict[int, int] = {}
+        shared: list[Term] = []
+        first: list[Term] = []
+        steps: list[tuple] = []
+        powers: dict[Fraction, int] = {}
+
+        def ref(c: Term) -> int:  # (as _compile's)
+            key = id(c)
+            if dep[key]:
+                return own[key]
+            found = slot.get(key)
+            if found is None:
+                found = slot[key] = -1 - len(shared)
+                shared.append(c)
+            return found
+
+        def walk(u: Term, depth: int):
+            """``u``'s step when it is dependent, else None."""
+            key = id(u)
+            d = dep.get(key)
+            if d is not None:
+                return own[key] if d else None
+            tu = type(u)
+            if tu is Const or tu is Var or tu is Param:
+                if key in leaves:
+                    dep[key] = True
+                    own[key] = len(steps)
+                    steps.append((_LEAF, u.span))
+                    first.append(u)
+                    return own[key]
+                dep[key] = False
+                return None
+            if depth > _MARK_DEPTH:
+                raise _Deep
+            if tu is Add or tu is Mul:
+                a, b = walk(u.left, depth + 1), walk(u.right, depth + 1)
+                if a is None and b is None:
+                    dep[key] = False
+                    return None
+                step = (_BINARY, tu, {"_shape": u._shape, "span": u.span},
+                        ref(u.left) if a is None else a, ref(u.right) if b is None else b)
+            elif tu is Pow or tu is Prim:
+                a = walk(u.base if tu is Pow else u.arg, depth + 1)
+                if a is None:
+                    dep[key] = False
+                    return None
+                if tu is Pow:
+                    # a power of the index itself (1/i): its value is computed once per copy and exponent
+                    power = powers.setdefault(u.exponent, len(powers)) if steps[a][0] is _LEAF else -1
+                    step = (_UNARY, tu, shape_with_span(u), a, u.exponent, power)
+                else:
+                    step = (_UNARY, tu, shape_with_span(u), a, u.op, -1)
+            else:
+                # (a conditional on the parameters is copied too: the desugarer lifts such a
+                # conditional out of a condition by its identity, `desugar._put`, which must not meet
+                # it in two copies)
+                d = tu is IfGe0
+                for c in _kids(u, completions):
+                    if walk(c, depth + 1) is not None:
+                        d = True
+                found = completions.get(key) if tu is IfDiffeo else None
+                if tu is IfDiffeo and found is None:
+                    # a Ψ̂ not completed here (there is none while the record is safe): its terms must
+                    # not mention the index
+                    if any(self._has_leaf(t) for t in _diffeo_terms(u.psi)):
+                        self.usable = False
+                if not d:
+                    dep[key] = False
+                    return None
+                if tu is IfDiffeo:
+                    if found is not None and dep[id(found[1])]:
+                        _, cond, variables, box = found
+                        step = (_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
+                                self._shifted(cond, variables, own, u.psi), shape_of(u))
+                    else:
+                        step = (_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse),
+                                None if found is None else found[1:])
+                else:
+                    step = (_OTHER, u, {id(c): own[id(c)] for c in children(u) if dep[id(c)]})
+            dep[key] = True
+            own[key] = len(steps)
+            steps.append(step)
+            first.append(u)
+            return own[key]
+
+        try:
+            walk(root, 0)
+        except (_Deep, RecursionError):  # (deep, or called near the interpreter's limit already)
+            dep.clear()
+            self.usable = True
+            self._mark(root)
+            return
+        self.order = first  # (the dependent nodes in post-order: _mark's order)
+        self._compiled(steps, first, shared, powers)
 
     def _mark(self, root: Term) -> None:
         """:attr:`dependent`: whether each distinct node of the first copy is built anew in each copy:
         it has an index leaf below it (in a conditional: in its branches or in the condition it was
         completed from) or a conditional on the parameters; the other nodes are shared by the copies.
         :attr:`order`: the dependent nodes children first, left to right, each once (a recursive
-        walk's post-order), which :meth:`_compile` turns into steps without a walk of its own."""
+        walk's post-order), which :meth:`_compile` turns into steps without a walk of its own.  (With
+        a stack of its own: a first copy deeper than :data:`_MARK_DEPTH`, :meth:`_plan`.)"""
         dep, leaves, completions = self.dependent, self.record.leaves, self.record.completions
         order = self.order
         stack: list[Term] = [root]
@@ -158,8 +264,6 @@ class Template:
             if pending:
                 continue
             stack.pop()
-            # (a conditional on the parameters is copied too: the desugarer lifts such a conditional
-            # out of a condition by its identity, `desugar._put`, which must not meet it in two copies)
             d = tu is IfGe0
             if not d:
                 for c in kids:
@@ -170,8 +274,6 @@ class Template:
             if d:
                 order.append(u)
             if tu is IfDiffeo and key not in completions:
-                # a Ψ̂ not completed here (there is none while the record is safe): its terms must not
-                # mention the index
                 if any(self._has_leaf(t) for t in _diffeo_terms(u.psi)):
                     self.usable = False
 
@@ -213,8 +315,11 @@ class Template:
 
         for u in self.order:  # post-order over the dependent nodes, left to right (_mark's)
             tu = type(u)
-            if tu is Add or tu is Mul:
-                step = (_BINARY, tu, shape_with_span(u), ref(u.left), ref(u.right))
+            if tu is Add or tu is Mul:  # (ref and shape_with_span written out: most steps)
+                a, b = id(u.left), id(u.right)
+                a = own[a] if dep[a] else (slot.get(a) or ref(u.left))  # (a shared slot is < 0: true)
+                b = own[b] if dep[b] else (slot.get(b) or ref(u.right))
+                step = (_BINARY, tu, {"_shape": u._shape, "span": u.span}, a, b)
             elif tu is Const:
                 step = (_LEAF, u.span)
             elif tu is Pow:
@@ -241,6 +346,10 @@ class Template:
             own[id(u)] = len(steps)
             steps.append(step)
             first.append(u)
+        self._compiled(steps, first, shared, powers)
+
+    def _compiled(self, steps: list[tuple], first: list[Term], shared: list[Term], powers: dict) -> None:
+        """Keep what :meth:`_compile` (or :meth:`_plan`) made."""
         self.first, self.steps = first, steps
         self.shared = shared[::-1]
         self.powers = len(powers)
@@ -434,6 +543,11 @@ class Template:
                             [small_power(x._small, arg) for x in xs] if e is None
                             else [_index_power(v, e) for v in values])
                 else:
+                    smalls = None
+                if smalls is not None and same[a] is True:  # (the index's powers, 1/i: one call a copy)
+                    cols[i], same[i] = [like_power(shape, x, small) for x, small in zip(xs, smalls)], True
+                    continue
+                if smalls is None:
                     smalls = [None] * m
                 out, flags = [], []
                 for x, p, small in zip(xs, sa, smalls):
@@ -453,28 +567,38 @@ class Template:
                 conds, xs, ys = (col if type(col) is list else [col] * m for col in (cols[c], cols[a], cols[b]))
                 sc, sa, sb = (s if type(s) is list else [s] * m for s in (same[c], same[a], same[b]))
                 out, flags = [], []
-                for j in range(m):
-                    cond = conds[j]
-                    psi = None
-                    if shifted is not None:
-                        solved, num, den, parts = shifted
+                if shifted is not None:
+                    # each copy's constant term in integers (the copies whose summands all have a small
+                    # value), then their Ψ̂ built in one loop
+                    solved, num0, den0, parts = shifted
+                    keys: list = []
+                    for j in range(m):
+                        num, den = num0, den0
                         for jj, factor, sign in parts:
                             col = cols[jj]
-                            new = small_value(col[j] if type(col) is list else col)
+                            new = (col[j] if type(col) is list else col)._small  # (core.small_value)
                             if new is None or new is False:
+                                keys.append(None)
                                 break
                             num, den = _moved(num, den, new, factor, sign)
                         else:
                             g = gcd(num, den)
-                            psi = affine.solved_at_ratio(cond, variables, solved, num // g, den // g)
-                            shifted_count += 1
-                            if sc[j] and sa[j] and sb[j]:
-                                node = like(IfDiffeo, shape, (psi, xs[j], ys[j]), span)
-                                notes[j].append((node, cond, variables, box))
-                                out.append(node)
-                                flags.append(True)
-                                continue
-                    if psi is None:
+                            keys.append((num // g, den // g))
+                    psis = affine.solved_at_ratios(conds, variables, solved, keys)
+                else:
+                    psis = [None] * m
+                for j in range(m):
+                    cond = conds[j]
+                    psi = psis[j]
+                    if psi is not None:
+                        shifted_count += 1
+                        if sc[j] and sa[j] and sb[j]:
+                            node = like(IfDiffeo, shape, (psi, xs[j], ys[j]), span)
+                            notes[j].append((node, cond, variables, box))
+                            out.append(node)
+                            flags.append(True)
+                            continue
+                    else:
                         psi = self.complete(cond, variables, box)
                         if psi is None:
                             return None
@@ -523,6 +647,14 @@ def _moved(num: int, den: int, new: Fraction, factor: Fraction, sign: int) -> tu
         new = factor * new
     p, q = new.numerator, new.denominator
     return (num * q - p * den if sign < 0 else num * q + p * den), den * q
+
+
+#: How deep :meth:`Template._mark` recurses before it walks the first copy again with a stack of its own.
+_MARK_DEPTH = 200
+
+
+class _Deep(Exception):
+    """A first copy deeper than :data:`_MARK_DEPTH` (:meth:`Template._mark`)."""
 
 
 # the kinds of step of Template.steps
