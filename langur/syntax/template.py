@@ -205,13 +205,7 @@ class Template:
                     dep[key] = False
                     return None
                 if tu is IfDiffeo:
-                    if found is not None and dep[id(found[1])]:
-                        _, cond, variables, box = found
-                        step = (_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
-                                self._shifted(cond, variables, own, u.psi), shape_of(u))
-                    else:
-                        step = (_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse),
-                                None if found is None else found[1:])
+                    step = self._conditional_step(u, found, ref, own)
                 else:
                     step = (_OTHER, u, {id(c): own[id(c)] for c in children(u) if dep[id(c)]})
             dep[key] = True
@@ -333,20 +327,25 @@ class Template:
             elif tu is Prim:
                 step = (_UNARY, tu, shape_with_span(u), ref(u.arg), u.op, -1)
             elif tu is IfDiffeo:
-                found = completions.get(id(u))
-                if found is not None and dep[id(found[1])]:
-                    _, cond, variables, box = found
-                    step = (_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
-                            self._shifted(cond, variables, own, u.psi), shape_of(u))
-                else:
-                    step = (_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse),
-                            None if found is None else found[1:])
+                step = self._conditional_step(u, completions.get(id(u)), ref, own)
             else:
                 step = (_OTHER, u, {id(c): ref(c) for c in children(u) if dep[id(c)]})
             own[id(u)] = len(steps)
             steps.append(step)
             first.append(u)
         self._compiled(steps, first, shared, powers)
+
+    def _conditional_step(self, u: IfDiffeo, found: tuple | None, ref: Callable[[Term], int],
+                          own: dict[int, int]) -> tuple:
+        """A dependent conditional's step (:meth:`_plan`'s and :meth:`_compile`'s): completed again in
+        each copy when the condition it was completed from (``found``, the record's) changes with the
+        index, else the conditional copied with its Ψ̂ (and ``found``'s condition, variables and box
+        for the enclosing loop's record)."""
+        if found is not None and self.dependent[id(found[1])]:
+            _, cond, variables, box = found
+            return (_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
+                    self._shifted(cond, variables, own, u.psi), shape_of(u))
+        return (_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse), None if found is None else found[1:])
 
     def _compiled(self, steps: list[tuple], first: list[Term], shared: list[Term], powers: dict) -> None:
         """Keep what :meth:`_compile` (or :meth:`_plan`) made."""
