@@ -109,19 +109,19 @@ def test_affine_power_antiderivative_declines_other_shapes():
 def test_antiderivatives_learned_in_one_process_are_handed_on(monkeypatch):
     # langur fuzz's workers hand back what sympy found (langur/fuzz/compare.py), and the units forked
     # after them start with it: here the hand-over itself, on a weight that needs sympy
-    from langur.symbolic import context, regions
+    from langur.symbolic import antiderivatives, context
     from langur.timebox import Deadline
 
-    monkeypatch.setattr(regions, "_CACHE", {})
-    known = regions.antiderivatives_known()
+    monkeypatch.setattr(antiderivatives, "_CACHE", {})
+    known = antiderivatives.antiderivatives_known()
     w = x / (1 + x**2)
-    F = regions.antiderivative(w, x, context.Context({}, Deadline(20.0), frozenset()))
-    learned = regions.antiderivatives_since(known)
+    F = antiderivatives.antiderivative(w, x, context.Context({}, Deadline(20.0), frozenset()))
+    learned = antiderivatives.antiderivatives_since(known)
     assert learned and all(k[0] == w for k in learned)
-    monkeypatch.setattr(regions, "_CACHE", {})
-    regions.learn_antiderivatives(learned)
+    monkeypatch.setattr(antiderivatives, "_CACHE", {})
+    antiderivatives.learn_antiderivatives(learned)
     # with no time at all, the learned answer is still there (sympy is not asked again)
-    again = regions.antiderivative(w, x, context.Context({}, Deadline(0.0), frozenset()))
+    again = antiderivatives.antiderivative(w, x, context.Context({}, Deadline(0.0), frozenset()))
     assert sp.simplify(again - F) == 0 and sp.simplify(sp.diff(F, x) - w) == 0
 
 

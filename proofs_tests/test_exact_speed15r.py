@@ -30,7 +30,7 @@ from langur.ddenote import ddenote_program
 from langur.denote import denote_program
 from langur.exact import exact_deriv
 from langur.frontend import load, load_text
-from langur.symbolic import context, delta, regions, solving
+from langur.symbolic import antiderivatives, context, delta, regions, solving
 from langur.symbolic import decompose as decompose_module
 from langur.symbolic.context import Cond, Context
 from langur.sympy_bridge import symbol
@@ -47,7 +47,7 @@ def _ctx(**at) -> Context:
 
 def _forget() -> None:
     """Drop the memos that would hand a second run the first run's answers."""
-    for memo in (solving._SOLVED, context._VALUES, regions._CACHE, solving._VANISHES, solving._CLOSED_ROOTS, regions._MATCHES,
+    for memo in (solving._SOLVED, context._VALUES, antiderivatives._CACHE, solving._VANISHES, solving._CLOSED_ROOTS, antiderivatives._MATCHES,
                  delta._SIMPLIFIED, denote_module._remembered, denote_module._DECOMPOSED, ddenote_module._NORMAL_FORMS):
         memo.clear()
 
@@ -296,14 +296,14 @@ def test_derivative_matches_is_remembered_with_the_same_verdicts(monkeypatch):
     u = symbol("u1")
     w = r / sp.sqrt(r ** 2 - u ** 2)
     calls = []
-    real = regions._derivative_matches_here
-    monkeypatch.setattr(regions, "_derivative_matches_here", lambda *args: calls.append(1) or real(*args))
-    regions._MATCHES.clear()
+    real = antiderivatives._derivative_matches_here
+    monkeypatch.setattr(antiderivatives, "_derivative_matches_here", lambda *args: calls.append(1) or real(*args))
+    antiderivatives._MATCHES.clear()
     good = r * sp.asin(u / sp.Abs(r))
-    assert regions._derivative_matches(good, w, u, ctx) is True
-    assert regions._derivative_matches(good, w, u, ctx) is True
+    assert antiderivatives._derivative_matches(good, w, u, ctx) is True
+    assert antiderivatives._derivative_matches(good, w, u, ctx) is True
     assert len(calls) == 1
-    assert regions._derivative_matches(sp.Integer(0), w, u, ctx) is False
-    assert regions._derivative_matches(u * r, w, u, ctx) is False
-    assert regions._derivative_matches(good, w, u, _ctx(r=0.25)) is True  # another point: computed
+    assert antiderivatives._derivative_matches(sp.Integer(0), w, u, ctx) is False
+    assert antiderivatives._derivative_matches(u * r, w, u, ctx) is False
+    assert antiderivatives._derivative_matches(good, w, u, _ctx(r=0.25)) is True  # another point: computed
     assert len(calls) == 4

@@ -10,7 +10,7 @@ import time
 import pytest
 import sympy as sp
 
-from langur.symbolic import delta, regions, solving
+from langur.symbolic import antiderivatives, delta, regions, solving
 from langur.symbolic.context import Cond, Context, Unsupported
 from langur.symbolic.pieces import Branch, DeltaPiece, Psi
 from langur.timebox import Deadline, run_with_timeout
@@ -125,12 +125,12 @@ def test_parameter_only_condition_stays_exact():
 
 def test_antiderivative_rejects_non_elementary_and_non_smooth():
     with pytest.raises(Unsupported):
-        regions.antiderivative(sp.exp(x**3), x, ctx())
+        antiderivatives.antiderivative(sp.exp(x**3), x, ctx())
     with pytest.raises(Unsupported):
-        regions.antiderivative(sp.Abs(x), x, ctx())
+        antiderivatives.antiderivative(sp.Abs(x), x, ctx())
     # shifted Gaussian by completing the square: d/dx F = w
     w = sp.exp(-(x - theta) ** 2 / 50) * sp.exp(-(x - 2) ** 2 / 50)
-    F = regions.antiderivative(w, x, ctx(theta=1))
+    F = antiderivatives.antiderivative(w, x, ctx(theta=1))
     assert F.has(sp.erf)
     assert sp.N((sp.diff(F, x) - w).subs({x: 0.3, theta: 1.7})) == pytest.approx(0, abs=1e-14)
 
@@ -221,8 +221,8 @@ def test_sympy_integrate_under_a_deadline_falls_back():
     # x·eˣ needs no sympy (integration by parts, symbolic/elementary.py), x/(1 + x²) does
     c = Context({}, Deadline(0.0), frozenset())
     with pytest.raises(Unsupported):
-        regions.antiderivative(x / (1 + x**2), x, c)
-    F = regions.antiderivative(x * sp.exp(x), x, c)
+        antiderivatives.antiderivative(x / (1 + x**2), x, c)
+    F = antiderivatives.antiderivative(x * sp.exp(x), x, c)
     assert sp.simplify(sp.diff(F, x) - x * sp.exp(x)) == 0
 
 

@@ -12,7 +12,7 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from langur.symbolic import regions
+from langur.symbolic import antiderivatives, regions
 from langur.symbolic.integrate import (
     ALL_PARAMS,
     CELL_PREFIX,
@@ -276,7 +276,7 @@ def test_non_elementary_weight_falls_back_to_quadrature():
 def test_time_limit_falls_back_to_quadrature(monkeypatch):
     # ∫₀¹ x/(1 + x²) dx = log(2)/2, computed by quadrature when there is no time for sympy (a
     # polynomial times exp or sin of an affine argument needs no sympy: symbolic/elementary.py).
-    monkeypatch.setattr(regions, "_CACHE", {})  # no antiderivative remembered from other tests
+    monkeypatch.setattr(antiderivatives, "_CACHE", {})  # no antiderivative remembered from other tests
     res = integrate_pieces([Piece((), x / (1 + x**2))], (x,), ((0, 1),), {}, timeout=1e-6)
     assert res.method == "quadrature"
     assert res.value == pytest.approx(math.log(2) / 2, abs=1e-9)

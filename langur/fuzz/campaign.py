@@ -13,7 +13,7 @@ import time
 from dataclasses import dataclass, field
 
 from ..frontend import load_text
-from ..symbolic import regions
+from ..symbolic import antiderivatives
 from ..transversality import check_loaded
 from . import cluster, counterexamples, coverage, pool
 from .compare import PHASES, THEOREM_OUTCOMES, ProgramResult, compare_engine, compare_text
@@ -249,19 +249,19 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
 
     def covered(text: str) -> ProgramResult:  # in a worker: both engines run here, every rule is seen
         coverage.reset()
-        known = regions.antiderivatives_known()
+        known = antiderivatives.antiderivatives_known()
         modules = set(sys.modules)
         cpu = time.process_time()
         with coverage.recording():
             res = unit(text, False)
         res.cpu_seconds = time.process_time() - cpu
         res.coverage = dict(coverage.counts())
-        res.learned = regions.antiderivatives_since(known)
+        res.learned = antiderivatives.antiderivatives_since(known)
         res.imported = _modules_since(modules)
         return res
 
     def arrived(res: ProgramResult) -> None:  # in this process: later workers are forked knowing them
-        regions.learn_antiderivatives(res.learned)
+        antiderivatives.learn_antiderivatives(res.learned)
         if res.learned and workers_pool is not None:  # and the running workers take them in
             workers_pool.tell(res.learned)
         _import_all(res.imported)
@@ -284,7 +284,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     elif workers > 0:  # units start as the programs are generated
         _warm_up(lint)
         workers_pool = pool.Pool(covered, workers=workers, limit=timeout, on_time_limit=_time_limited,
-                                 on_error=_unit_error, progress=arrived, told=regions.learn_antiderivatives)
+                                 on_error=_unit_error, progress=arrived, told=antiderivatives.learn_antiderivatives)
         generate(workers_pool.submit)
         summary.results = workers_pool.finish()
     else:

@@ -1,7 +1,7 @@
 """Deciding early that sympy will not find an antiderivative (issue 15, the exact engine's time).
 
 The exact engine asks sympy for antiderivatives of smooth weights in one variable
-(:func:`langur.symbolic.regions.antiderivative`).  When there is none in elementary terms, sympy's
+(:func:`langur.symbolic.antiderivatives.antiderivative`).  When there is none in elementary terms, sympy's
 algorithms (heuristic Risch, full Risch, Meijer G) do not say so quickly: they run until their
 time limit, seconds per weight, and the piece then falls back to quadrature anyway.
 :func:`hopeless` recognises the commonest shapes of such weights from their structure alone, so
@@ -27,7 +27,7 @@ rational factor (``√x·eˣ`` is erf, ``eˣ/x`` is Ei), two *other* factors (``
 is reported hopeless, with the reason.  The test is conservative about what it calls hopeless
 (only these shapes; a factor it does not classify leaves the term to sympy), never about closed
 forms: a weight it lets through is still verified by differentiation
-(:func:`~langur.symbolic.regions._derivative_matches`).
+(:func:`~langur.symbolic.antiderivatives._derivative_matches`).
 
 Four classical shapes are integrated here without sympy's ``integrate`` (milliseconds, and
 within no time budget): a polynomial times ``exp``/``sin``/``cos``/``sinh``/``cosh`` of an affine
