@@ -181,7 +181,7 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     null set of them: :func:`langur.operational.signchanges.certified_brackets`).  The Monte Carlo
     engine certifies the same way on its own (:mod:`langur.operational.signchanges`).  ``box``:
     ``g_iv`` and ``dg_iv`` enclose the equation for every value of its other symbols in a box
-    (:func:`langur.implicit._box_brackets`): nothing is decided by ``g``'s values (a point of unknown sign at an end
+    (:func:`langur.implicit.lambdified._box_brackets`): nothing is decided by ``g``'s values (a point of unknown sign at an end
     of the domain is refused too), so the brackets hold for every point of the box."""
     lo, hi = float(mpmath.mpf(lo)), float(mpmath.mpf(hi))
     if not hi > lo:  # an empty interval (a moving end past the other): no sign change

@@ -5,8 +5,8 @@ Each time ⟦p⟧ or ⦇p⦈ is built (the value, the derivative, Theorem 8.1's 
 implicit root's equation gets a new bound Dummy, and :mod:`langur.implicit` named it by a new key:
 turning2d compiled ``3*_y**2 - x`` under twelve keys and certified its boxes again for each.  Now an
 equation that differs from an earlier one only in its bound variable's identity gets the earlier
-key (:func:`langur.implicit._form`), and keys whose compiled functions are the same code share their
-certified boxes and roots (:func:`langur.implicit._same_code`).  Checked here: which equations are
+key (:func:`langur.implicit.equations.form`), and keys whose compiled functions are the same code share their
+certified boxes and roots (:func:`langur.implicit.lambdified._same_code`).  Checked here: which equations are
 merged and which are not; roots through the shared keys bitwise those solved with nothing shared
 and nothing remembered, and the roots themselves (closed forms, mpmath's ``polyroots`` at 50 digits);
 no box certified twice for one code; and the root's free symbols and printed text, now kept per
@@ -23,8 +23,7 @@ import pytest
 import sympy as sp
 from sympy.printing.str import StrPrinter
 
-from langur import implicit
-from langur.implicit import implicit_root
+from langur.implicit import evalf, implicit_root, lambdified
 
 Y, U, V, A = sp.symbols("y u v a", real=True)
 TURNING = 3 * Y**2 - U  # turning2d's ∂/∂y: sign changes ∓sqrt(u/3)
@@ -39,16 +38,16 @@ def _indexed(eq, k, of, **kw):
 def _key(root):
     lam = root.args[0]
     (x,), f = lam.variables, lam.expr
-    return implicit._indexed_key(lam, sorted(f.free_symbols - {x}, key=str))
+    return lambdified.indexed_key(lam, sorted(f.free_symbols - {x}, key=str))
 
 
 def _isolated(monkeypatch):
     """Nothing shared and nothing remembered from here on (restored by ``monkeypatch``; the keys
     made meanwhile stay, as keys are never reused, so the caches by key stay right)."""
     for name in ("_BY_FORM", "_SAME", "_BY_CODE", "_BOXES", "_ROOTS"):
-        monkeypatch.setattr(implicit, name, {})
-    implicit._compiled.cache_clear()
-    implicit._brackets_of.cache_clear()
+        monkeypatch.setattr(lambdified, name, {})
+    lambdified._compiled.cache_clear()
+    lambdified._brackets_of.cache_clear()
 
 
 def _same_bits(xs, ys) -> bool:
@@ -94,11 +93,12 @@ def test_roots_through_shared_keys_are_the_roots_solved_apart(monkeypatch, eq, o
     for k in range(of):  # the two builds of one index: one key, the same numbers
         assert _same_bits(shared[2 * k], shared[2 * k + 1])
     _isolated(monkeypatch)
-    monkeypatch.setattr(implicit, "_form", lambda lam, free: None)  # every build its own key
-    monkeypatch.setattr(implicit, "_same_code", lambda key: key)  # and its own boxes
-    keys = len(implicit._INDEXED)
+    monkeypatch.setattr(lambdified, "form", lambda lam, free: None)  # every build its own key
+    monkeypatch.setattr(evalf, "form", lambda lam, free: None)
+    monkeypatch.setattr(lambdified, "_same_code", lambda key: key)  # and its own boxes
+    keys = len(lambdified._INDEXED)
     apart = solve_all()
-    assert len(implicit._INDEXED) == keys + 2 * of
+    assert len(lambdified._INDEXED) == keys + 2 * of
     for p, q in zip(shared, apart, strict=True):
         assert _same_bits(p, q)
     # and they are the roots: the k-th real root of eq(·, u) on [-2, 2] (50-digit polyroots), else 2
@@ -125,33 +125,33 @@ def test_the_same_code_under_other_names_shares_its_boxes(monkeypatch):
     other = _indexed(3 * Y**2 + U, 0, 2)
     ku, kv, ko = _key(in_u), _key(in_v), _key(other)
     assert len({ku, kv, ko}) == 3
-    assert implicit._same_code(ku) == ku and implicit._same_code(kv) == ku
-    assert implicit._same_code(ko) == ko
+    assert lambdified._same_code(ku) == ku and lambdified._same_code(kv) == ku
+    assert lambdified._same_code(ko) == ko
     fu = sp.lambdify([U], in_u, modules="math")
     fv = sp.lambdify([V], in_v, modules="math")
     us = [0.3, 0.31, 0.7, -0.4, 1e-5, 0.05]
     first = [fu(u) for u in us]
-    boxes = len(implicit._BOXES)
+    boxes = len(lambdified._BOXES)
     second = [fv(u) for u in us]  # the other sign change, through the boxes the first certified
-    assert len(implicit._BOXES) == boxes > 0
+    assert len(lambdified._BOXES) == boxes > 0
     assert [math.isclose(r, -math.sqrt(u / 3), rel_tol=4e-16) if u > 0 else r == 2.0 for r, u in zip(first, us)] \
         == [True] * len(us)
     assert [math.isclose(r, math.sqrt(u / 3), rel_tol=4e-16) if u > 0 else r == 2.0 for r, u in zip(second, us)] \
         == [True] * len(us)
     _isolated(monkeypatch)
-    monkeypatch.setattr(implicit, "_same_code", lambda key: key)
+    monkeypatch.setattr(lambdified, "_same_code", lambda key: key)
     alone = sp.lambdify([V], _indexed(TURNING.xreplace({U: V}), 1, 2), modules="math")
     assert _same_bits(second, [alone(u) for u in us])
 
 
 def test_code_signatures_tell_constants_of_other_types_apart():
-    assert implicit._code_of(eval("lambda x: x + 1")) == implicit._code_of(eval("lambda z: z + 1"))  # noqa: S307
-    assert implicit._code_of(eval("lambda x: x + 1")) != implicit._code_of(eval("lambda x: x + 1.0"))  # noqa: S307
-    assert implicit._code_of(eval("lambda x: x + 0.0")) != implicit._code_of(eval("lambda x: x + -0.0"))  # noqa: S307
-    assert implicit._code_of(eval("lambda x: sin(x)", {"sin": math.sin})) \
-        != implicit._code_of(eval("lambda x: sin(x)", {"sin": math.cos}))  # noqa: S307 - the objects named
+    assert lambdified._code_of(eval("lambda x: x + 1")) == lambdified._code_of(eval("lambda z: z + 1"))  # noqa: S307
+    assert lambdified._code_of(eval("lambda x: x + 1")) != lambdified._code_of(eval("lambda x: x + 1.0"))  # noqa: S307
+    assert lambdified._code_of(eval("lambda x: x + 0.0")) != lambdified._code_of(eval("lambda x: x + -0.0"))  # noqa: S307
+    assert lambdified._code_of(eval("lambda x: sin(x)", {"sin": math.sin})) \
+        != lambdified._code_of(eval("lambda x: sin(x)", {"sin": math.cos}))  # noqa: S307 - the objects named
     c = 2.0
-    assert implicit._code_of(lambda x: x + c) is implicit._NO_CODE  # a closure: not compared
+    assert lambdified._code_of(lambda x: x + c) is lambdified._NO_CODE  # a closure: not compared
 
 
 def test_free_symbols_kept_per_root_are_sympys():
@@ -283,13 +283,13 @@ def test_evalf_through_shared_shapes_is_evalf_apart(monkeypatch):
     shared = [values(first), values(again)]
     assert shared[0] == shared[1]
     _isolated(monkeypatch)
-    monkeypatch.setattr(implicit, "_canonical_shape", lambda x, shape: (x, shape))
-    monkeypatch.setattr(implicit, "_SHAPES", {})
-    implicit._evalf.cache_clear()
-    implicit._shape_compiled.cache_clear()
-    implicit._brackets_at.cache_clear()
+    monkeypatch.setattr(evalf, "_canonical_shape", lambda x, shape: (x, shape))
+    monkeypatch.setattr(evalf, "_SHAPES", {})
+    evalf.evalf_root.cache_clear()
+    evalf._shape_compiled.cache_clear()
+    evalf._brackets_at.cache_clear()
     alone = values(builds()[1])
-    implicit._evalf.cache_clear()
+    evalf.evalf_root.cache_clear()
     assert alone == shared[0]
     for (u, a), row in zip(points, shared[0]):
         with mpmath.workdps(50):

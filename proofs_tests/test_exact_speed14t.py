@@ -5,7 +5,7 @@ turning2d's delta piece has the condition ``root(_y: _y**3 - _y*u1 - a + u1**3 =
 on its zero set's coordinate u1; looking for a closed form, :func:`langur.symbolic.solving._roots`
 asked sympy's ``solve`` for its roots in u1, which spent 0.1–0.2 s before raising "No algorithms are
 implemented to solve equation …" (the piece then goes to quadrature, and the message is printed as a
-note).  :func:`langur.implicit.unsolvable` now gives that message from the shape ``k·x* + c`` without
+note).  :func:`langur.symbolic.unsolvable.unsolvable` now gives that message from the shape ``k·x* + c`` without
 asking.  Checked here against sympy itself: on random equations of that shape sympy's ``solve``
 raises exactly the message predicted; shapes outside it are not predicted; ``_roots`` raises the same
 ``Unsupported`` as before without calling ``solve``; turning2d's derivative and its notes unchanged
@@ -20,8 +20,8 @@ import random
 import pytest
 import sympy as sp
 
-from langur import implicit
-from langur.implicit import implicit_root, unsolvable
+from langur.implicit import implicit_root
+from langur.symbolic.unsolvable import NO_ALGORITHM, unsolvable
 
 Y, U, V, A = sp.symbols("y u1 v a", real=True)
 
@@ -123,7 +123,7 @@ def test_turning2d_note_unchanged():
     assert len(notes) == 1
     lhs = notes[0].split("cannot solve ", 1)[1].split(" = 0 for u1: ", 1)
     assert lhs[1] == "No algorithms are implemented to solve equation " + lhs[0]
-    assert implicit.NO_ALGORITHM.strip() == "No algorithms are implemented to solve equation"
+    assert NO_ALGORITHM.strip() == "No algorithms are implemented to solve equation"
 
 
 def test_theorem_forms_remembered(monkeypatch):

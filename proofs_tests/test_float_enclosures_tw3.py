@@ -20,10 +20,10 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from langur import enclosures, floativ, implicit
+from langur import enclosures, floativ
 from langur.core import TooManyRoots
 from langur.enclosures import LOOSE, _interval_fn, _uncertified, certified_brackets
-from langur.implicit import implicit_root
+from langur.implicit import implicit_root, lambdified
 
 
 def _old_certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid=16, depth=30, what="the equation",
@@ -262,15 +262,15 @@ def test_remembered_roots_are_the_roots_solved_again_with_mpmath_alone(monkeypat
     for a in (0.1, -0.02):
         first = _roots(us, a)
         monkeypatch.setattr(floativ, "compile_enclosure", lambda fn, n: None)  # mpmath alone
-        implicit._compiled.cache_clear()
-        implicit._brackets_of.cache_clear()
-        implicit._BOXES.clear()
-        implicit._ROOTS.clear()
+        lambdified._compiled.cache_clear()
+        lambdified._brackets_of.cache_clear()
+        lambdified._BOXES.clear()
+        lambdified._ROOTS.clear()
         again = _roots(us, a)
         monkeypatch.undo()
-        implicit._compiled.cache_clear()
-        implicit._brackets_of.cache_clear()
-        implicit._BOXES.clear()
+        lambdified._compiled.cache_clear()
+        lambdified._brackets_of.cache_clear()
+        lambdified._BOXES.clear()
         for p, q in zip(first, again):
             assert all((math.isnan(x) and math.isnan(y)) or (x == y and math.copysign(1, x) == math.copysign(1, y))
                        for x, y in zip(p, q))
@@ -305,9 +305,9 @@ def test_roots_of_functions_with_the_same_code_are_not_confused():
 
     for make in (closure, defaults):
         for c in (0.5, -0.25, 0.5, 1.5):
-            root = implicit._solve(make(c), 0, -2.0, 2.0, -1, 0)
+            root = lambdified._solve(make(c), 0, -2.0, 2.0, -1, 0)
             assert abs(root**3 + root - c) < 1e-14, (make, c, root)
     # the same code and namespace with other values: remembered apart
     f = eval("lambda z, c: z**3 + z - c")  # noqa: S307 - a constant text
-    got = [implicit._solve(f, 0, -2.0, 2.0, -1, 0, c) for c in (0.5, -0.25, 0.5)]
+    got = [lambdified._solve(f, 0, -2.0, 2.0, -1, 0, c) for c in (0.5, -0.25, 0.5)]
     assert got[0] == got[2] != got[1] and abs(got[1] ** 3 + got[1] + 0.25) < 1e-14

@@ -13,10 +13,9 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from langur import implicit
 from langur.core import TooManyRoots
 from langur.enclosures import _interval_fn, certified_brackets
-from langur.implicit import implicit_root
+from langur.implicit import evalf, implicit_root, lambdified
 from langur.sturm import sturm_brackets
 
 
@@ -72,15 +71,15 @@ def _indexed(u_values):
 
 def test_box_certificates_give_the_roots_each_value_certified_alone_gives(monkeypatch):
     us = np.concatenate([np.linspace(-1, 1, 41), [1e-30, 1e-12, 3e-7, 0.0, -1e-15]])
-    implicit._BOXES.clear()
-    implicit._brackets_of.cache_clear()
+    lambdified._BOXES.clear()
+    lambdified._brackets_of.cache_clear()
     boxed = _indexed(us)
-    assert any(v is not None for v in implicit._BOXES.values())  # some boxes certified
-    monkeypatch.setattr(implicit, "BOX_LEVELS", range(0))  # no boxes: each value alone
-    monkeypatch.setattr(implicit, "_exact_brackets", lambda *args: None)  # and no Sturm sequence
-    implicit._brackets_of.cache_clear()
+    assert any(v is not None for v in lambdified._BOXES.values())  # some boxes certified
+    monkeypatch.setattr(lambdified, "BOX_LEVELS", range(0))  # no boxes: each value alone
+    monkeypatch.setattr(lambdified, "_exact_brackets", lambda *args: None)  # and no Sturm sequence
+    lambdified._brackets_of.cache_clear()
     alone = _indexed(us)
-    implicit._brackets_of.cache_clear()
+    lambdified._brackets_of.cache_clear()
     want = np.where(us > 0, np.sqrt(np.maximum(us, 0) / 3), 1.0)  # no sign change: the domain's end
     want = np.array([np.where(us > 0, -want, 1.0), want])
     assert np.allclose(boxed, alone, rtol=0, atol=1e-14) and np.allclose(boxed, want, rtol=0, atol=1e-14)
@@ -90,7 +89,7 @@ def test_an_equation_with_float_constants_is_compiled_once_for_all_their_values(
     # as a linter's spot values put numbers for a parameter into one root's equation
     z, b = sp.Symbol("z"), sp.Symbol("b")
     root = implicit_root(z**3 - b * z, z, sp.Float(0.01), sp.Integer(-1), sp.Integer(1), index=2, of=3)
-    before = implicit._shape_compiled.cache_info().misses
+    before = evalf._shape_compiled.cache_info().misses
     for c in (0.1, 0.2, 0.3, 0.45):
         r = root.subs(b, sp.Float(c))
         got = float(r.evalf(30))
@@ -98,4 +97,4 @@ def test_an_equation_with_float_constants_is_compiled_once_for_all_their_values(
         assert got == pytest.approx(roots[-1], abs=1e-13) and len(roots) == 3
         with mpmath.workdps(40):  # high precision: the root to 30 digits
             assert abs(r.evalf(30) ** 3 - sp.Float(c) * r.evalf(30) - sp.Float(0.01)) < 1e-25
-    assert implicit._shape_compiled.cache_info().misses - before <= 1
+    assert evalf._shape_compiled.cache_info().misses - before <= 1

@@ -11,8 +11,8 @@ import numpy as np
 import scipy.optimize as so
 import sympy as sp
 
-from langur import implicit
-from langur.implicit import bracketed_root, double_root, implicit_root
+from langur.implicit import implicit_root, lambdified
+from langur.implicit.solvers import bracketed_root, double_root
 
 
 def _slow_double_root(f, target, lo, hi):
@@ -78,7 +78,7 @@ def test_lambdified_roots_scalar_and_array_are_the_slow_path(monkeypatch):
     def solve():
         return [(f(us, 0.3), [float(f(float(v), 0.3)) for v in us]) for f in fns]
     fast = solve()
-    monkeypatch.setattr(implicit, "double_root", _slow_path)
+    monkeypatch.setattr(lambdified, "double_root", _slow_path)
     slow = solve()
     for (fa, fs), (sa, ss) in zip(fast, slow):
         assert all(_same(p, q) for p, q in zip(list(fa) + fs, list(sa) + ss))

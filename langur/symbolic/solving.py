@@ -22,11 +22,11 @@ from dataclasses import dataclass
 import mpmath
 import sympy as sp
 
-from langur.implicit import unsolvable
 from langur.memo import remember as _remember
 from langur.symbolic import root_formulas, walks
 from langur.symbolic.context import Cond, Context, Unsupported, _floats40, nearly_real
 from langur.symbolic.text import math_lambdify, shared_lambdify
+from langur.symbolic.unsolvable import unsolvable
 
 # ------------------------------------------------------------------------------------------
 # Solving one condition for one variable.
@@ -143,7 +143,7 @@ def _roots(c: Cond, v, ctx: Context, tidy: bool = True):
 
 def _solve(expr, v, tidy: bool):
     """sympy's ``solve`` as :func:`_roots` asks it, or its failure when it is known from the shape
-    (:func:`langur.implicit.unsolvable`: 0.1–0.2 s saved each time, the same message)."""
+    (:func:`langur.symbolic.unsolvable.unsolvable`: 0.1–0.2 s saved each time, the same message)."""
     known = unsolvable(expr, v)
     if known is not None:
         raise NotImplementedError(known)

@@ -269,9 +269,9 @@ EPS = 2.0 ** -52
 class _RootTerm:
     """The implicit root ``R`` of a term ``c·R`` of :func:`_complex_term`'s ``A + c·R``:
     ``root(x: f(x; v) = t in [lo, hi])`` (index −1: Brent's method in its bracket,
-    :func:`langur.implicit.double_root`), ``f`` a polynomial of ``x`` and of arguments ``v`` of the
+    :func:`langur.implicit.solvers.double_root`), ``f`` a polynomial of ``x`` and of arguments ``v`` of the
     compiled function with rational coefficients (:func:`_polynomial`), ``t`` an integer, each end an
-    integer, an argument, or an indexed root (a sign change, :func:`langur.implicit._indexed_at`)
+    integer, an argument, or an indexed root (a sign change, :func:`langur.implicit.lambdified._indexed_at`)
     whose target and ends are integers or arguments and whose other symbols are arguments.
 
     **Why mpmath's ``R`` is NaN where :meth:`no_root` says so.**  Compiled for mpmath, ``R`` is the
