@@ -3,8 +3,9 @@ form of rationals, symbols, +, ·, integer powers and ``Abs`` evaluated at a rat
 integer pairs (Henrici's reduced additions) instead of sympy's nodes, and differentiated along a line
 by dual numbers over the rationals.  Theorem 8.1's check (:mod:`langur.theorem`) differentiates the
 closed form of ⟦p⟧ that :mod:`langur.symbolic.local` builds for large problems (the stylization
-kernel's triangle, §10.3.1; the ray-traced triangle, §10.2), and :mod:`langur.symbolic.regions`
-decides the relations of its parameter cell at the point with :func:`rational_value`.
+kernel's triangle, §10.3.1; the ray-traced triangle, §10.2), decides the relations of its parameter
+cell at the point with :func:`sign_value`, and :mod:`langur.symbolic.context` takes such a form's
+value at the point with :func:`float_value`.
 
 Such a form is walked in two ways: flattened once into a list of operations (:class:`_Tape`, for the
 values at a point and the slope along a tangent) or recursively over its distinct subtrees
@@ -32,12 +33,12 @@ import sympy as sp
 from langur.memo import remember
 
 
-def rational_value(expr, point: dict, memo: dict | None = None):
+def rational_value(expr, point: dict):
     """``expr`` at ``point`` (symbols → Rationals) as an exact Fraction, for forms built from
     rationals, symbols, +, ·, integer powers and ``Abs``; None otherwise (or on a division by 0).
     The values of subtrees are remembered per point (:func:`_point_memo`): a closed form, the
     relations of its cell and the closed forms of the other partial derivatives share their
-    subtrees.  (``memo``, a dict of the caller's for the same purpose, is not needed any more.)"""
+    subtrees."""
     try:
         n, d = _value_at(EXACT, expr, point)
         return Fraction(n, d)
