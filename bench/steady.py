@@ -9,7 +9,7 @@ in the next.  Three tools, each measured in the same run as what it judges:
   lets it run) and its *typical* value (the median over rounds) bound it.  A limit between them is
   ``borderline``: the margin is inside the spread that was measured, so a ✓ or ✗ would be a coin flip.
 * **A calibration loop** (:func:`calibrate`), a fixed piece of pure-Python work timed beside every
-  round: its least over the run says how fast the host was, and its value beside a round how fast the
+  round (:func:`host`, each time kept in :data:`CALIBRATIONS`): its least over the run says how fast the host was, and its value beside a round how fast the
   host was *then*.  :data:`REFERENCE_CALIBRATION_S` is the loop's least on the host where issue 15's
   targets were measured, idle; a run whose fastest loop is ``f`` times slower widens the band's low
   end by ``f`` (:func:`slowdown`), never its high end: a slow host makes a verdict borderline, never ✓.
@@ -22,6 +22,7 @@ in the next.  Three tools, each measured in the same run as what it judges:
 
 from __future__ import annotations
 
+import os
 import shutil
 import statistics
 import subprocess
@@ -59,6 +60,22 @@ def calibrate(reps: int = 5, clock=CLOCK) -> float:
         calibration_work()
         best = min(best, clock() - t0)
     return best
+
+
+#: Every calibration of the run (:func:`host`), in order: :func:`slowdown` reads them.
+CALIBRATIONS: list = []
+
+
+def host() -> float:
+    """The calibration loop timed now (appended to :data:`CALIBRATIONS`): how fast the host runs."""
+    c = calibrate()
+    CALIBRATIONS.append(c)
+    return c
+
+
+def load_average() -> str:
+    """The host's load average over the last minute, as printed beside every table."""
+    return f"load average {os.getloadavg()[0]:.1f}"
 
 
 def slowdown(calibrations, reference: float = REFERENCE_CALIBRATION_S) -> float:
