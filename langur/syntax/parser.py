@@ -615,11 +615,7 @@ def _drive(data):
     """:func:`lalr.driver` of ``data`` with the builder's callbacks, or ``None`` (no data, or data it
     cannot drive)."""
     callbacks = lalr.callbacks(data, _BUILDER) if data is not None else None
-    if callbacks is None:
-        return None
-    # (the unit rules' callbacks that return their child: see lalr.driver)
-    identities = (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp, (_BUILDER.name, "NAME"))
-    return lalr.driver(data, callbacks, identities)
+    return None if callbacks is None else lalr.driver(data, callbacks)
 
 
 def _lark():
