@@ -402,7 +402,7 @@ class _Builder:
         arg = c[1]
         return self.term(lambda sp: Neg(arg.node, sp), c[0], arg, (arg,))
 
-    def num(self, c):  # (term(): a leaf's span is its token's, its depth 1)
+    def num(self, c):
         t = c[0]
         value = _SMALL_INTS.get(t[1])  # (0 … 127 written as Python writes them: one lookup)
         if value is None:
@@ -411,28 +411,20 @@ class _Builder:
                 value = int_fraction(int(text))
             else:
                 value = self.number(t)
-        s = SpanSlots()
-        s.path = self.path
-        s.line = line = t[2]
-        s.col = col = t[3]
-        s.end_line = end_line = t[4]
-        s.end_col = end_col = t[5]
-        s.__class__ = Span
-        n = Fields()  # (Num(value, s) without a Python call: see surface.Fields)
+        n = Fields()  # (Num(value, span): see leaf)
         n.value = value
-        n.span = s
-        n.__class__ = Num
-        r = _R()
-        r.node = n
-        r.line = line
-        r.col = col
-        r.end_line = end_line
-        r.end_col = end_col
-        r.depth = 1
-        return r
+        return self.leaf(t, n, Num)
 
     def var(self, c):
         t = c[0]
+        n = Fields()  # (Name(t[1], span): see leaf)
+        n.name = t[1]
+        return self.leaf(t, n, Name)
+
+    def leaf(self, t: tuple, node: Fields, cls: type) -> _R:
+        """The term of the token ``t``: ``node`` (its fields but its span set) made a ``cls`` with
+        the token's span, at depth 1 (``term()`` without a Python call of the node's ``__init__``,
+        see ``surface.Fields``, nor of the span's, see ``SpanSlots``)."""
         s = SpanSlots()
         s.path = self.path
         s.line = line = t[2]
@@ -440,12 +432,10 @@ class _Builder:
         s.end_line = end_line = t[4]
         s.end_col = end_col = t[5]
         s.__class__ = Span
-        n = Fields()  # (Name(t[1], s) without a Python call: see surface.Fields)
-        n.name = t[1]
-        n.span = s
-        n.__class__ = Name
+        node.span = s
+        node.__class__ = cls
         r = _R()
-        r.node = n
+        r.node = node
         r.line = line
         r.col = col
         r.end_line = end_line
