@@ -9,7 +9,8 @@ everything a successful parse needs and writes it as plain data (literals, never
 to the module ``grammar_driver.py`` (:data:`DATA`), stamped with the grammar's text (compared as it is on load: a stale module is not read): the lexer's terminals
 in the order lark's scanner tries them and their regular expressions, the keywords lark's
 ``UnlessCallback`` tells from names, the ignored and newline-bearing terminals, the LALR action
-table, and for every rule the callback lark calls on its reduction and how lark's parse-tree
+table (lark's, with its unit reductions by rules whose callback gives back its child folded in:
+``tables.fold_units``, parse26), and for every rule the callback lark calls on its reduction and how lark's parse-tree
 builder shapes the children first (``_rule`` inlining, ``?rule``'s single child: its wrapper chain
 under ``tables.OPTIONS``).  This module loads that data and runs it with ``parser._Builder``'s
 callbacks; it never imports lark.  A token is a tuple of lark's token's attributes (:data:`TOKEN`;
@@ -56,8 +57,9 @@ GRAMMAR = Path(__file__).with_name("grammar.lark")
 #: The driver's data: a Python module of literals (compiled to a ``.pyc`` like every module: its load
 #: is an unmarshal), generated from lark by ``python -m langur.syntax.tables``, never edited by hand.
 DATA = Path(__file__).with_name("grammar_driver.py")
-#: The layout of :data:`DATA` (a module of another layout is not read).
-DATA_FORMAT = 4
+#: The layout of :data:`DATA` (a module of another layout is not read; 5: the table's unit reductions
+#: folded, :data:`ACCEPT` at its end states).
+DATA_FORMAT = 5
 
 #: What the driver returns when lark must parse instead (an input with a syntax error).
 FAILED = object()
