@@ -1,5 +1,5 @@
 """The parse per token, third cut (issue 15, branch parse26): lark's unit reductions folded into the
-generated LALR table (``tables.fold_units``).
+generated LALR table (``tables.fold_units``), the table then minimized (``tables.minimized``).
 
 A reduction by a rule ``A → B`` whose callback gives back its one child (the precedence ladder
 ``term`` → ``sum`` → ``product`` → ``unary`` → ``power`` → ``atom``, ``cond → term``, ``cmp``, ``name →
@@ -13,7 +13,9 @@ things computed apart from the generator:
   automaton (run here on lark's parse table and lark's tokens, unit reductions and all) reduces by
   them, and stops where it stops: on every file, truncations and token deletions of them and random
   token sequences, for both start symbols;
-* ``fold_units`` on small tables written out by hand (a fold, a fold refused: two gotos on one symbol).
+* ``fold_units`` on small tables written out by hand (a fold, a fold refused: two gotos on one symbol);
+* ``minimized`` (states that act alike merged, unreached ones dropped) by hand, and the shipped table
+  minimal.
 """
 
 from __future__ import annotations
@@ -228,3 +230,27 @@ def test_fold_units_keeps_its_gotos_and_refuses_two_on_one_symbol():
     got = tables.fold_units(table, _RULES, _TERMINALS, {5})
     assert got[0]["A"] == 2 and len(got) == len(table)  # (0, A) left as it is
     assert got[2] == table[2]
+
+
+def test_minimized_merges_states_that_act_alike_and_drops_unreached_ones():
+    table = [
+        {"a": 1, "b": 2, "A": 3},  # 0
+        {"c": 4},  # 1 ─┐ alike only if 4 and 5 are: they are (both reduce by rule 0 on $END)
+        {"c": 5},  # 2 ─┘
+        {"c": 6},  # 3: leads to 6, which acts otherwise
+        {"$END": -1},  # 4
+        {"$END": -1},  # 5
+        {"$END": -2},  # 6
+        {"a": 0},  # 7: reached from nowhere
+    ]
+    rows, number = tables.minimized(table, [0])
+    assert number == {0: 0, 1: 1, 2: 1, 3: 2, 4: 3, 5: 3, 6: 4}
+    assert rows == [{"a": 1, "b": 1, "A": 2}, {"c": 3}, {"c": 4}, {"$END": -1}, {"$END": -2}]
+    assert tables.minimized(rows, [0]) == (rows, {i: i for i in range(5)})  # (already minimal)
+
+
+def test_the_shipped_table_is_minimal():
+    data = _data()
+    rows = lalr.unpack(data["actions"], data["symbols"])
+    again, number = tables.minimized(rows, list(data["start_states"].values()))
+    assert again == rows and len(set(number.values())) == len(rows)

@@ -7,7 +7,8 @@ Checked here, each against something computed apart from the code under test:
 * the shipped table is lark's automaton: walked from the start states side by side with the parse
   table of a parser lark builds now (read off lark's own objects, not through ``tables.driver_data``),
   every shift, goto and reduction agrees (lark numbers its states in set order: the walk pairs them;
-  since parse26 with lark's unit reductions by identity callbacks folded in, ``tables.fold_units``);
+  since parse26 with lark's unit reductions by identity callbacks folded in, ``tables.fold_units``,
+  and states that act alike merged, ``tables.minimized``);
 * ``lalr.unpack(lalr.pack(rows))`` gives the rows back, for random rows with extreme codes;
 * the module is data: every statement assigns a literal (``ast.literal_eval``), no import, no call;
 * parsing a valid program imports neither ``json`` nor ``lark``.
@@ -38,7 +39,9 @@ def test_the_shipped_table_is_lark_s_automaton():
     reductions by rules whose callback gives back its one child folded in (``tables.fold_units``):
     an entry ``s --Y--> t`` where ``t`` has such a reduction leads to a state of ours paired with
     ``(s, t)``, whose action on a terminal is lark's after those reductions (each one: pop ``t``,
-    goto from ``s``), and lark's end states accept at the end of the input."""
+    goto from ``s``), and lark's end states accept at the end of the input; and states that act
+    alike are one (``tables.minimized``): a state of ours may be paired with several, each
+    checked."""
     data = _shipped()
     rows = lalr.unpack(data["actions"], data["symbols"])
     lark = tables.build()
@@ -62,16 +65,15 @@ def test_the_shipped_table_is_lark_s_automaton():
         folded = any(unit(*act) for symbol, act in table.states[state].items() if str(symbol) in terminals)
         return (below, state) if folded else (None, state)
 
-    pairs = {}  # shipped state → (lark's state below, lark's state) or (None, lark's state)
+    pairs: set = set()  # (shipped state, (lark's state below, lark's state) or (None, lark's state))
     todo = []
     for start, lark_state in table.start_states.items():
         todo.append((data["start_states"][start], (None, lark_state)))
     while todo:
         ours, theirs = todo.pop()
-        if ours in pairs:
-            assert pairs[ours] == theirs
+        if (ours, theirs) in pairs:
             continue
-        pairs[ours] = theirs
+        pairs.add((ours, theirs))
         below, entry = theirs
         bases = set()
         for a in terminals:  # lark's action on `a` after the unit reductions, with its state then
@@ -102,10 +104,10 @@ def test_the_shipped_table_is_lark_s_automaton():
         assert set(rows[ours]) - terminals == set(gotos), ours
         for z, (u, goto) in gotos.items():
             todo.append((rows[ours][z], entered(u, goto)))
-    assert {state for _, state in pairs.values()} == set(table.states)  # every state of lark's met
-    assert len(set(pairs.values())) == len(pairs)
+    assert {state for _, (_, state) in pairs} == set(table.states)  # every state of lark's met
+    assert {ours for ours, _ in pairs} == set(range(len(rows)))  # and every one of ours
     for start, lark_state in table.end_states.items():
-        assert pairs[data["end_states"][start]] == (None, lark_state)
+        assert (data["end_states"][start], (None, lark_state)) in pairs
 
 
 @settings(max_examples=60, deadline=None)

@@ -152,7 +152,7 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
     * ``states``: per state (0, 1, …) its actions, ``symbol → next state`` for a shift (and a
       nonterminal's goto) or ``−1 − rule`` for a reduction, lark's with its unit reductions by
       identity callbacks folded in (:func:`fold_units`: more states, :data:`lalr.ACCEPT` at the
-      end); ``start_states``, ``end_states``;
+      end), then :func:`minimized`; ``start_states``, ``end_states``;
     * ``terminal_names``: every terminal's name (an inline transformer with a method of that name
       would get lark's token callback, which the driver does not make);
     * ``scanner``, ``symbols``, ``actions``: the lexer's pattern resolved from the above
@@ -214,9 +214,11 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
         scan = scangen.scanner(data["lexer"])
         if scan is None:
             return None  # (a terminal the scanner cannot tell by its text)
-        folded = fold_units(data["states"], data["rules"], {"$END", *data["terminal_names"]},
-                            set(data["end_states"].values()))
-        return {**data, "states": folded, "scanner": scan, "symbols": symbols, "actions": lalr.pack(folded, symbols)}
+        folded, number = minimized(fold_units(data["states"], data["rules"], {"$END", *data["terminal_names"]},
+                                              set(data["end_states"].values())), list(data["start_states"].values()))
+        return {**data, "states": folded, "scanner": scan, "symbols": symbols, "actions": lalr.pack(folded, symbols),
+                "start_states": {start: number[state] for start, state in data["start_states"].items()},
+                "end_states": {start: number[state] for start, state in data["end_states"].items()}}
     except (AttributeError, KeyError, TypeError, StopIteration, re.error):
         return None
 
@@ -307,6 +309,36 @@ def fold_units(states: list[dict[str, int]], rules: list, terminals: set[str], e
         row.update((z, entry(u, z, states[u][z])) for z, u in gotos.items())
         out.append(row)
     return out
+
+
+def minimized(states: list[dict[str, int]], starts: list[int]) -> tuple[list[dict[str, int]], dict[int, int]]:
+    """The table ``states`` with the states no entry reaches from ``starts`` dropped and the states
+    that act alike merged — Moore's partition refinement: two states are one when each symbol has
+    the same reduction (or none, or :data:`lalr.ACCEPT`) in both, or leads to states that are one —
+    and each kept state's new number (:func:`fold_units` leaves many states that differ only by the
+    state they were entered from, and some of lark's unreached).  The blocks are numbered in the
+    order of their first state."""
+    reached, todo = set(), list(starts)
+    while todo:
+        state = todo.pop()
+        if state not in reached:
+            reached.add(state)
+            todo += [code for code in states[state].values() if code >= 0]
+    order = sorted(reached)
+    block = dict.fromkeys(order, 0)
+    while True:
+        keys: dict[tuple, int] = {}
+        refined = {state: keys.setdefault(tuple(sorted(
+            (symbol, code < 0, code if code < 0 else block[code]) for symbol, code in states[state].items())), len(keys))
+            for state in order}
+        if len(keys) == len(set(block.values())):
+            break
+        block = refined
+    rows: list[dict[str, int]] = []
+    for state in order:
+        if block[state] == len(rows):
+            rows.append({symbol: code if code < 0 else block[code] for symbol, code in states[state].items()})
+    return rows, block
 
 
 def _gotos(states: list[dict[str, int]], bases: set[int], terminals: set[str]) -> dict[str, int] | None:
