@@ -331,6 +331,8 @@ class _Builder:
     def terms(self, c):
         return [x for x in c if isinstance(x, _R)]
 
+    # (``name`` of a NAME, ``cmp``, ``plain`` and ``cond_term`` give back their one child: the driver's
+    # table never reduces by them — ``tables.IDENTITIES``, folded by ``tables.fold_units`` — lark does)
     def name(self, c):
         t = c[0]
         return t if t[0] == "NAME" else ("NAME", *t[1:])  # (`d` where it is a name)
