@@ -115,7 +115,7 @@ def test_the_shipped_data_is_read_off_lark_s_parser():
     assert "filter" in chains and "expand1" in chains
     drivers = []
     for data in (shipped, fresh):
-        drivers.append(lalr.driver(data, lalr.callbacks(data, parser._BUILDER), ()))
+        drivers.append(lalr.driver(data, lalr.callbacks(data, parser._BUILDER)))
     parsed = 0
     with parser._LOCK:
         for path in FILES:
@@ -189,7 +189,7 @@ def test_a_stale_or_broken_data_module_is_refused_and_the_parse_is_the_same(stal
     data = lalr.load()
     if data is not None:  # (the grammar is right: the driver refuses the data, or fails every parse)
         callbacks = lalr.callbacks(data, parser._BUILDER)
-        drive = None if callbacks is None else lalr.driver(data, callbacks, ())
+        drive = None if callbacks is None else lalr.driver(data, callbacks)
         text = FILES[0].read_text(encoding="utf-8")
         assert drive is None or drive(text, "start") is lalr.FAILED, kind
     text = FILES[0].read_text(encoding="utf-8")
@@ -234,7 +234,7 @@ def test_the_driver_token_is_read_as_lark_s():
     with parser._LOCK:
         lk = parser._parser()
         parser._BUILDER.path = "t.lgr"
-        assert lalr.driver(data, callbacks, ())(text, "start") is not lalr.FAILED
+        assert lalr.driver(data, callbacks)(text, "start") is not lalr.FAILED
     theirs = [lalr.token(t) for t in lk.lex(text)]
     assert all(type(t[1]) is str and t[1] == str(lark) for t, lark in zip(theirs, lk.lex(text)))
     first: dict = {}

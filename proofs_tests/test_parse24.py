@@ -204,7 +204,7 @@ def test_a_token_s_positions_from_its_offset():
                           if type(x) is tuple and len(x) == len(lalr.TOKEN) and type(x[0]) is str)
             return f(c)
         callbacks.append(recording)
-    drive = lalr.driver(data, callbacks, ())
+    drive = lalr.driver(data, callbacks)
     rng = random.Random(24)
     for text in _TEXTS:
         words = [w for w in _PIECES.split(text) if w]

@@ -6,7 +6,9 @@ Checked here, each against something computed apart from the code under test:
 
 * the shipped table is lark's automaton: walked from the start states side by side with the parse
   table of a parser lark builds now (read off lark's own objects, not through ``tables.driver_data``),
-  every shift, goto and reduction agrees (lark numbers its states in set order: the walk pairs them);
+  every shift, goto and reduction agrees (lark numbers its states in set order: the walk pairs them;
+  since parse26 with lark's unit reductions by identity callbacks folded in, ``tables.fold_units``,
+  and states that act alike merged, ``tables.minimized``);
 * ``lalr.unpack(lalr.pack(rows))`` gives the rows back, for random rows with extreme codes;
 * the module is data: every statement assigns a literal (``ast.literal_eval``), no import, no call;
 * parsing a valid program imports neither ``json`` nor ``lark``.
@@ -33,6 +35,13 @@ def _shipped() -> dict:
 
 
 def test_the_shipped_table_is_lark_s_automaton():
+    """Walked beside lark's table from the start states.  Since parse26 the table has lark's unit
+    reductions by rules whose callback gives back its one child folded in (``tables.fold_units``):
+    an entry ``s --Y--> t`` where ``t`` has such a reduction leads to a state of ours paired with
+    ``(s, t)``, whose action on a terminal is lark's after those reductions (each one: pop ``t``,
+    goto from ``s``), and lark's end states accept at the end of the input; and states that act
+    alike are one (``tables.minimized``): a state of ours may be paired with several, each
+    checked."""
     data = _shipped()
     rows = lalr.unpack(data["actions"], data["symbols"])
     lark = tables.build()
@@ -41,30 +50,64 @@ def test_the_shipped_table_is_lark_s_automaton():
     for i, (origin, expansion, _, _) in enumerate(data["rules"]):
         rule_index[(origin, tuple(expansion))] = i
     assert len(rule_index) == len(data["rules"])
-    pairs = {}  # shipped state → lark's state
+    units = {(data["rules"][i][0], tuple(data["rules"][i][1])) for i in tables.identity_rules(data["rules"])}
+    assert {("power", ("atom",)), ("name", ("NAME",)), ("cmp", ("GE",))} <= units
+    terminals = {"$END", *data["terminal_names"]}
+    ends = set(table.end_states.values())
+
+    def key(rule):
+        return (str(rule.origin.name), tuple(str(s.name) for s in rule.expansion))
+
+    def unit(action, arg) -> bool:
+        return action.name != "Shift" and key(arg) in units
+
+    def entered(below, state):  # what an entry of lark's from `below` to `state` is paired with
+        folded = any(unit(*act) for symbol, act in table.states[state].items() if str(symbol) in terminals)
+        return (below, state) if folded else (None, state)
+
+    pairs: set = set()  # (shipped state, (lark's state below, lark's state) or (None, lark's state))
     todo = []
     for start, lark_state in table.start_states.items():
-        todo.append((data["start_states"][start], lark_state))
+        todo.append((data["start_states"][start], (None, lark_state)))
     while todo:
         ours, theirs = todo.pop()
-        if ours in pairs:
-            assert pairs[ours] == theirs
+        if (ours, theirs) in pairs:
             continue
-        pairs[ours] = theirs
-        lark_row = table.states[theirs]
-        assert set(rows[ours]) == {str(symbol) for symbol in lark_row}, ours
-        for symbol, (action, arg) in lark_row.items():
-            code = rows[ours][str(symbol)]
-            if action.name == "Shift":
+        pairs.add((ours, theirs))
+        below, entry = theirs
+        bases = set()
+        for a in terminals:  # lark's action on `a` after the unit reductions, with its state then
+            state = entry
+            while True:
+                act = table.states[state].get(a)
+                if a == "$END" and state in ends:
+                    act = "accept"
+                elif act is not None and unit(*act):
+                    assert below is not None, (ours, a)  # (every such reduction folded)
+                    state = table.states[below][act[1].origin.name][1]
+                    continue
+                break
+            code = rows[ours].get(a)
+            if act is None:
+                assert code is None, (ours, a)
+            elif act == "accept":
+                assert code == lalr.ACCEPT
+            elif act[0].name == "Shift":
                 assert code >= 0
-                todo.append((code, arg))
+                bases.add(state)
+                todo.append((code, entered(state, act[1])))
             else:
-                rule = (str(arg.origin.name), tuple(str(s.name) for s in arg.expansion))
-                assert code == -1 - rule_index[rule], (ours, symbol)
-    assert len(pairs) == len(rows) == len(table.states)  # every state met, one for one
-    assert len(set(pairs.values())) == len(pairs)
+                assert code == -1 - rule_index[key(act[1])], (ours, a)
+                if not act[1].expansion:
+                    bases.add(state)
+        gotos = {str(z): (u, act[1]) for u in bases for z, act in table.states[u].items() if str(z) not in terminals}
+        assert set(rows[ours]) - terminals == set(gotos), ours
+        for z, (u, goto) in gotos.items():
+            todo.append((rows[ours][z], entered(u, goto)))
+    assert {state for _, (_, state) in pairs} == set(table.states)  # every state of lark's met
+    assert {ours for ours, _ in pairs} == set(range(len(rows)))  # and every one of ours
     for start, lark_state in table.end_states.items():
-        assert pairs[data["end_states"][start]] == lark_state
+        assert (data["end_states"][start], (None, lark_state)) in pairs
 
 
 @settings(max_examples=60, deadline=None)

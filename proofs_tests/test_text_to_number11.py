@@ -8,7 +8,8 @@ the table of small integer Fractions, against independent references.
   made to stress the lexer (CRLF, tabs, form feeds, comments, Unicode comparisons, ``..`` beside
   numbers, names that begin or extend a keyword, the soft keyword ``d``).
 * The driver treats ``name -> NAME`` as a unit rule (its callback would return the token itself):
-  the callback is no longer called for a name, and the trees with their spans are lark's.
+  the callback is no longer called for a name, and the trees with their spans are lark's (since
+  parse26 every such rule is folded into the generated table: ``tables.fold_units``).
 * The end of the input is reduced outside the token loop: a text that ends early is still handed
   to lark (:data:`lalr.FAILED`), whose diagnostic is the one reported.
 * ``core.INT_FRACTIONS``: ``Fraction(i)`` for 0 … 127, read by the parser's integer literals, a
@@ -28,7 +29,7 @@ from paths import REPO
 
 from langur import core
 from langur.diagnostics import LangurError, Span
-from langur.syntax import lalr, larkload, parser
+from langur.syntax import lalr, larkload, parser, tables
 
 
 def _is_token(x) -> bool:
@@ -52,15 +53,21 @@ def _recorded(text: str, start: str, lark: bool) -> tuple:
     """The tokens every callback receives, in order, and the result (as nested tuples with spans)
     or the diagnostics: by the driver (``lark`` false: its data as shipped, read without lark) or by
     lark's own parser, both with each rule's callback (its whole wrapper chain) wrapped to record
-    its arguments (so the driver calls even its unit rules' callbacks: every token shifted reaches
-    one)."""
+    its arguments (every token shifted reaches one), but for the rules whose callback gives back
+    its one child, which the driver's table no longer reduces by (``tables.fold_units``, parse26)."""
     seen: list[tuple] = []
     with parser._LOCK:
         lk = parser._parser()
         callbacks = lk.parser.parser.parser.callbacks
         saved = dict(callbacks)
         try:
+            data = lalr.load()
+            assert data is not None
+            rules = data["rules"]  # (the driver's table calls no rule giving back its one child: parse26)
+            folded = {(rules[i][0], tuple(rules[i][1])) for i in tables.identity_rules(rules)}
             for rule, f in saved.items():
+                if (rule.origin.name, tuple(s.name for s in rule.expansion)) in folded:
+                    continue
                 def wrapped(c, f=f):
                     seen.extend(_token(x) for x in c if _is_token(x))
                     return f(c)
@@ -70,15 +77,13 @@ def _recorded(text: str, start: str, lark: bool) -> tuple:
                 if lark:
                     out = ("ok", _tree(lk.parse(text, start=start)))
                 else:
-                    data = lalr.load()
-                    assert data is not None
                     ours = []
                     for f in lalr.callbacks(data, parser._BUILDER):
                         def wrapped(c, f=f):
                             seen.extend(_token(x) for x in c if _is_token(x))
                             return f(c)
                         ours.append(wrapped)
-                    driver = lalr.driver(data, ours, ())
+                    driver = lalr.driver(data, ours)
                     assert driver is not None
                     got = driver(text, start)
                     out = ("failed",) if got is lalr.FAILED else ("ok", _tree(got))

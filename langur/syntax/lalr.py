@@ -9,7 +9,8 @@ everything a successful parse needs and writes it as plain data (literals, never
 to the module ``grammar_driver.py`` (:data:`DATA`), stamped with the grammar's text (compared as it is on load: a stale module is not read): the lexer's terminals
 in the order lark's scanner tries them and their regular expressions, the keywords lark's
 ``UnlessCallback`` tells from names, the ignored and newline-bearing terminals, the LALR action
-table, and for every rule the callback lark calls on its reduction and how lark's parse-tree
+table (lark's, with its unit reductions by rules whose callback gives back its child folded in:
+``tables.fold_units``, parse26), and for every rule the callback lark calls on its reduction and how lark's parse-tree
 builder shapes the children first (``_rule`` inlining, ``?rule``'s single child: its wrapper chain
 under ``tables.OPTIONS``).  This module loads that data and runs it with ``parser._Builder``'s
 callbacks; it never imports lark.  A token is a tuple of lark's token's attributes (:data:`TOKEN`;
@@ -56,8 +57,9 @@ GRAMMAR = Path(__file__).with_name("grammar.lark")
 #: The driver's data: a Python module of literals (compiled to a ``.pyc`` like every module: its load
 #: is an unmarshal), generated from lark by ``python -m langur.syntax.tables``, never edited by hand.
 DATA = Path(__file__).with_name("grammar_driver.py")
-#: The layout of :data:`DATA` (a module of another layout is not read).
-DATA_FORMAT = 4
+#: The layout of :data:`DATA` (a module of another layout is not read; 5: the table's unit reductions
+#: folded, :data:`ACCEPT` at its end states).
+DATA_FORMAT = 5
 
 #: What the driver returns when lark must parse instead (an input with a syntax error).
 FAILED = object()
@@ -121,6 +123,10 @@ CHUNK = 1 << 16
 
 #: A table's code for "no action" (an input with a syntax error there).
 NO_ACTION = -32768
+#: A table's code, in the ``$END`` column only, for "the input is parsed": the end states' (lark's
+#: parser accepts on entering one at the end of the input) and the folded states' whose unit
+#: reductions lead to one (``tables.fold_units``).
+ACCEPT = -32767
 
 
 def pack(states: list[dict[str, int]], symbols: list[str]) -> bytes:
@@ -197,27 +203,23 @@ def callbacks(data: dict, builder: Any) -> list[Callable] | None:
         return None
 
 
-def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -> Callable[[str, str], Any] | None:
+def driver(data: dict, rule_callbacks: list[Callable]) -> Callable[[str, str], Any] | None:
     """``parse(text, start)``: what lark's ``parse(text, start=start)`` returns for a text without
     syntax errors, :data:`FAILED` otherwise; ``None`` when ``data`` is malformed.
-
-    ``rule_callbacks``: :func:`callbacks`'s list (one per rule of ``data``).  ``identities``:
-    callbacks that return their one argument's only element (``lambda c: c[0]``), or ``(callback,
-    symbol)``: the callback does so for the rule whose one symbol is ``symbol``; a one-symbol rule
-    reduced with one of them only changes state (its value stays on the stack, where the callback
-    would have put it back): a unit rule of the precedence ladder (``term`` → ``sum`` → ``product``
-    → ``unary`` → ``power``) is most reductions of a program.
+    ``rule_callbacks``: :func:`callbacks`'s list (one per rule of ``data``).
 
     The data is read as the generator left it (``scangen.scanner``, :func:`pack`): the table is one
     column of 16-bit codes per symbol (``symbols``), indexed by state as it is — the next state
     (≥ 0) for a shift or a goto, ``-1 - rule`` (``~rule``) for a reduction, :data:`NO_ACTION` for
-    none — and only the rules are joined to their callbacks here (one pass over the rules, none over
-    the table)."""
+    none, :data:`ACCEPT` at the end of the input — and only the rules are joined to their callbacks
+    here (one pass over the rules, none over the table).  The table has no reduction by a rule whose
+    callback gives back its one child (``tables.fold_units``: the precedence ladder ``term`` → ``sum``
+    → ``product`` → ``unary`` → ``power``, most reductions of a program, costs no step here)."""
     try:
         lexer = data["scanner"]
         findall = glued(lexer).findall
         literals, first = lexer["literals"], lexer["first"]
-        starts, ends = data["start_states"], data["end_states"]
+        starts = data["start_states"]
         rules, symbols = data["rules"], data["symbols"]
         table = memoryview(data["actions"]).cast("h")
         n_rules, n_states = len(rules), len(table) // len(symbols)
@@ -225,25 +227,14 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
             return None
         # a symbol's column: its code by state
         columns = {symbol: table[i * n_states:(i + 1) * n_states] for i, symbol in enumerate(symbols)}
-        # per rule: (its length, its callback, its nonterminal's goto by state); a unit rule whose
-        # callback returns its child: (-1, a memo filled as met, the goto) — the memo holds, by (the
-        # state below, the look-ahead), the state a run of such reductions ends in and the look-ahead's
-        # code there (the value stays on the stack)
-        idents = {f for f in identities if type(f) is not tuple}
-        ident_of = {f[1]: f[0] for f in identities if type(f) is tuple}
-        reductions: list[tuple] = []
-        for (origin, expansion, _, _), callback in zip(rules, rule_callbacks):
-            goto = columns[origin]
-            if len(expansion) == 1 and (callback in idents or ident_of.get(expansion[0]) == callback):
-                reductions.append((-1, {}, goto))
-            else:
-                reductions.append((len(expansion), callback, goto))
+        # per rule: its length, its callback, its nonterminal's goto by state
+        reductions = [(len(expansion), callback, columns[origin])
+                      for (origin, expansion, _, _), callback in zip(rules, rule_callbacks)]
         # (the table's codes are not checked one by one here — a pass over them cost more than the
         # rest of the start-up: the table is the package's own generated module, which ``tables
         # --check`` and the tests check, or the one packed from lark's parser in this process; a
         # code naming a rule or a state that is not there makes the parse FAILED: lark parses)
-        if "$END" not in columns \
-                or not all(type(s) is int and 0 <= s < n_states for s in (*starts.values(), *ends.values())):
+        if "$END" not in columns or not all(type(s) is int and 0 <= s < n_states for s in starts.values()):
             return None
     except (KeyError, TypeError, ValueError, IndexError, AttributeError, re.error):
         return None
@@ -284,73 +275,49 @@ def driver(data: dict, rule_callbacks: list[Callable], identities: tuple = ()) -
                 pos = after
                 column = columns[kind]
                 code = column[state]
-                while True:  # the reductions this token's look-ahead calls for, then its shift
-                    if code >= 0:  # a shift
-                        push_state(code)
-                        push_value(token)
-                        state = code
-                        break
+                while code < 0:  # the reductions this token's look-ahead calls for, then its shift
                     if code == no_action:
                         return FAILED
                     size, callback, goto = reductions[~code]
-                    if size < 0:  # a run of unit reductions: the state after it and the code there, by the state below
-                        below = state_stack[-2]
-                        found = callback.get((below, kind))
-                        if found is None:
-                            found = callback[below, kind] = unit_run(goto[below], below, kind)
-                        state, code = found
-                        state_stack[-1] = state
-                        continue
-                    if size == 1:  # (a leaf: most other reductions of a program; the top replaced)
+                    if size == 1:  # (a leaf: most reductions of a program; the top replaced)
                         value_stack[-1] = callback([value_stack[-1]])
                         state_stack[-1] = state = goto[state_stack[-2]]
-                        code = column[state]
-                        continue
-                    if size:
-                        s = value_stack[-size:]
-                        del state_stack[-size:]
-                        del value_stack[-size:]
-                        push_value(callback(s))
                     else:
-                        push_value(callback([]))
-                    state = goto[state_stack[-1]]
-                    push_state(state)
+                        if size:
+                            s = value_stack[-size:]
+                            del state_stack[-size:]
+                            del value_stack[-size:]
+                            push_value(callback(s))
+                        else:
+                            push_value(callback([]))
+                        state = goto[state_stack[-1]]
+                        push_state(state)
                     code = column[state]
+                push_state(code)  # its shift
+                push_value(token)
+                state = code
             if stop == end:
                 break
             begin = stop
-        # the end of the input: its reductions one at a time, the end state checked after each
-        end_state, column = ends[start], columns["$END"]
+        # the end of the input: its reductions until the parse is accepted
+        column = columns["$END"]
         while True:
             code = column[state_stack[-1]]
+            if code == ACCEPT:
+                return value_stack[-1]
             if code >= 0 or code == NO_ACTION:  # a shift of $END, or no action
                 return FAILED
             size, callback, goto = reductions[~code]
-            if size > 0:
+            if size:
                 s = value_stack[-size:]
                 del state_stack[-size:]
                 del value_stack[-size:]
                 push_value(callback(s))
-                push_state(goto[state_stack[-1]])
-            elif size == 0:
-                push_value(callback([]))
-                push_state(goto[state_stack[-1]])
             else:
-                state_stack[-1] = goto[state_stack[-2]]
-            if state_stack[-1] == end_state:
-                return value_stack[-1]
-
-    def unit_run(top: int, below: int, kind: str) -> tuple[int, int]:
-        """The state a run of unit reductions ends in (``top`` after the first, ``below`` under it)
-        and the look-ahead ``kind``'s code there."""
-        column = columns[kind]
-        code = column[top]
-        while code < 0 and code != NO_ACTION and reductions[~code][0] < 0:
-            top = reductions[~code][2][below]
-            code = column[top]
-        return top, code
+                push_value(callback([]))
+            push_state(goto[state_stack[-1]])
 
     return parse
 
 
-__all__ = ["CHUNK", "DATA", "FAILED", "TOKEN", "Tree", "callbacks", "driver", "glued", "grammar_text", "load", "pack", "token", "unpack"]
+__all__ = ["ACCEPT", "CHUNK", "DATA", "FAILED", "TOKEN", "Tree", "callbacks", "driver", "glued", "grammar_text", "load", "pack", "token", "unpack"]

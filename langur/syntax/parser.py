@@ -331,6 +331,8 @@ class _Builder:
     def terms(self, c):
         return [x for x in c if isinstance(x, _R)]
 
+    # (``name`` of a NAME, ``cmp``, ``plain`` and ``cond_term`` give back their one child: the driver's
+    # table never reduces by them — ``tables.IDENTITIES``, folded by ``tables.fold_units`` — lark does)
     def name(self, c):
         t = c[0]
         return t if t[0] == "NAME" else ("NAME", *t[1:])  # (`d` where it is a name)
@@ -402,7 +404,7 @@ class _Builder:
         arg = c[1]
         return self.term(lambda sp: Neg(arg.node, sp), c[0], arg, (arg,))
 
-    def num(self, c):  # (term(): a leaf's span is its token's, its depth 1)
+    def num(self, c):
         t = c[0]
         value = _SMALL_INTS.get(t[1])  # (0 … 127 written as Python writes them: one lookup)
         if value is None:
@@ -411,28 +413,20 @@ class _Builder:
                 value = int_fraction(int(text))
             else:
                 value = self.number(t)
-        s = SpanSlots()
-        s.path = self.path
-        s.line = line = t[2]
-        s.col = col = t[3]
-        s.end_line = end_line = t[4]
-        s.end_col = end_col = t[5]
-        s.__class__ = Span
-        n = Fields()  # (Num(value, s) without a Python call: see surface.Fields)
+        n = Fields()  # (Num(value, span): see leaf)
         n.value = value
-        n.span = s
-        n.__class__ = Num
-        r = _R()
-        r.node = n
-        r.line = line
-        r.col = col
-        r.end_line = end_line
-        r.end_col = end_col
-        r.depth = 1
-        return r
+        return self.leaf(t, n, Num)
 
     def var(self, c):
         t = c[0]
+        n = Fields()  # (Name(t[1], span): see leaf)
+        n.name = t[1]
+        return self.leaf(t, n, Name)
+
+    def leaf(self, t: tuple, node: Fields, cls: type) -> _R:
+        """The term of the token ``t``: ``node`` (its fields but its span set) made a ``cls`` with
+        the token's span, at depth 1 (``term()`` without a Python call of the node's ``__init__``,
+        see ``surface.Fields``, nor of the span's, see ``SpanSlots``)."""
         s = SpanSlots()
         s.path = self.path
         s.line = line = t[2]
@@ -440,12 +434,10 @@ class _Builder:
         s.end_line = end_line = t[4]
         s.end_col = end_col = t[5]
         s.__class__ = Span
-        n = Fields()  # (Name(t[1], s) without a Python call: see surface.Fields)
-        n.name = t[1]
-        n.span = s
-        n.__class__ = Name
+        node.span = s
+        node.__class__ = cls
         r = _R()
-        r.node = n
+        r.node = node
         r.line = line
         r.col = col
         r.end_line = end_line
@@ -615,11 +607,7 @@ def _drive(data):
     """:func:`lalr.driver` of ``data`` with the builder's callbacks, or ``None`` (no data, or data it
     cannot drive)."""
     callbacks = lalr.callbacks(data, _BUILDER) if data is not None else None
-    if callbacks is None:
-        return None
-    # (the unit rules' callbacks that return their child: see lalr.driver)
-    identities = (_BUILDER.plain, _BUILDER.cond_term, _BUILDER.cmp, (_BUILDER.name, "NAME"))
-    return lalr.driver(data, callbacks, identities)
+    return None if callbacks is None else lalr.driver(data, callbacks)
 
 
 def _lark():

@@ -150,7 +150,9 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
     * ``rules``: per rule ``[origin, symbols, callback name, wrapper chain]``, the chain in lark's
       order (``["expand1"]``, ``["filter", [[index, spliced], …]]``);
     * ``states``: per state (0, 1, …) its actions, ``symbol → next state`` for a shift (and a
-      nonterminal's goto) or ``−1 − rule`` for a reduction; ``start_states``, ``end_states``;
+      nonterminal's goto) or ``−1 − rule`` for a reduction, lark's with its unit reductions by
+      identity callbacks folded in (:func:`fold_units`: more states, :data:`lalr.ACCEPT` at the
+      end), then :func:`minimized`; ``start_states``, ``end_states``;
     * ``terminal_names``: every terminal's name (an inline transformer with a method of that name
       would get lark's token callback, which the driver does not make);
     * ``scanner``, ``symbols``, ``actions``: the lexer's pattern resolved from the above
@@ -212,9 +214,142 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
         scan = scangen.scanner(data["lexer"])
         if scan is None:
             return None  # (a terminal the scanner cannot tell by its text)
-        return {**data, "scanner": scan, "symbols": symbols, "actions": lalr.pack(data["states"], symbols)}
+        folded, number = minimized(fold_units(data["states"], data["rules"], {"$END", *data["terminal_names"]},
+                                              set(data["end_states"].values())), list(data["start_states"].values()))
+        return {**data, "states": folded, "scanner": scan, "symbols": symbols, "actions": lalr.pack(folded, symbols),
+                "start_states": {start: number[state] for start, state in data["start_states"].items()},
+                "end_states": {start: number[state] for start, state in data["end_states"].items()}}
     except (AttributeError, KeyError, TypeError, StopIteration, re.error):
         return None
+
+
+#: The rules whose callback gives back its one child unchanged, by callback name (and, for ``name``,
+#: the one symbol it does so for): ``parser._Builder``'s ``plain`` (the precedence ladder ``term`` →
+#: ``sum`` → ``product`` → ``unary`` → ``power`` → ``atom``), ``cond_term``, ``cmp``, and ``name`` of a
+#: ``NAME`` token (a ``D`` is made a ``NAME``).  lark's ``?rule`` of one symbol (its ``expand1``
+#: wrapper gives back an only child) is one too.  :func:`fold_units` takes them out of the table.
+IDENTITIES: dict[str, str | None] = {"plain": None, "cond_term": None, "cmp": None, "name": "NAME"}
+
+
+def identity_rules(rules: list) -> set[int]:
+    """The indices of the rules of ``rules`` (:func:`driver_data`'s) whose callback gives back its one
+    child unchanged (:data:`IDENTITIES`)."""
+    out = set()
+    for i, (_origin, symbols, name, chain) in enumerate(rules):
+        if len(symbols) != 1:
+            continue
+        expand1 = [tuple(w) for w in chain] == [("expand1",)]
+        if expand1 or (not chain and name in IDENTITIES and IDENTITIES[name] in (None, symbols[0])):
+            out.add(i)
+    return out
+
+
+def fold_units(states: list[dict[str, int]], rules: list, terminals: set[str], ends: set[int]) -> list[dict[str, int]]:
+    """The LALR table ``states`` (:func:`driver_data`'s rows) with its unit reductions folded in: the
+    standard elimination of chain rules from an LR table (Aho and Ullman, *The Theory of Parsing*,
+    §7.3: a reduction by a rule ``A → B`` whose semantic action is the identity costs the parser
+    only a change of state, which can be decided when the state is entered).
+
+    A unit reduction by an identity rule (:func:`identity_rules`) in state ``t``, entered from
+    ``s`` by symbol ``Y``, pops ``t`` and enters ``goto(s, A)`` from the same ``s``: where the run
+    of such reductions ends depends on ``s`` and the look-ahead only.  So every entry ``s --Y--> t``
+    of the table whose ``t`` has an identity reduction is redirected to a new state ``(s, Y)``
+    whose action on each terminal is the one the run ends with (a shift — itself redirected —, a
+    reduction by another rule or no action), and whose goto on a nonterminal is that of the state
+    the run ends in before a shift (or an empty reduction).  When two such states have a goto on the
+    same nonterminal, ``(s, Y)`` is left as it was (its unit reductions then run as reductions,
+    their callbacks giving back the child).  The end states get :data:`lalr.ACCEPT` in their
+    ``$END`` column (lark's parser accepts on entering one at the end of the input, after a
+    reduction); a run at the end of the input stops there, as lark's does.
+
+    The new table makes the parser call the same other callbacks on the same children in the same
+    order, and stop at the same token when the input has an error (``proofs_tests/test_parse26.py``
+    runs it beside lark's automaton).  The new states come after the old ones, in the order of
+    ``(s, Y)``; the old states no entry leads to any longer are kept (not renumbered)."""
+    units = identity_rules(rules)
+
+    def run(s: int, t: int, a: str) -> tuple[int, int]:
+        """The state the run of unit reductions from ``t`` (entered from ``s``) on ``a`` ends in, and
+        the code of ``a`` there."""
+        while True:
+            if a == "$END" and t in ends:
+                return t, lalr.ACCEPT
+            code = states[t].get(a, lalr.NO_ACTION)
+            if code >= 0 or code == lalr.NO_ACTION or ~code not in units:
+                return t, code
+            t = states[s][rules[~code][0]]
+
+    def has_unit(t: int) -> bool:
+        return any(code < 0 and ~code in units for symbol, code in states[t].items() if symbol in terminals)
+
+    folds: dict[tuple[int, str], tuple[dict[str, tuple[int, int]], dict[str, int]]] = {}
+    for s, row in enumerate(states):
+        for symbol, t in row.items():
+            if t < 0 or not has_unit(t):
+                continue
+            ends_in = {a: run(s, t, a) for a in sorted(terminals)}
+            # the states a goto may be taken from later: where the run ends before a shift or an empty reduction
+            bases = {u for u, code in ends_in.values()
+                     if code >= 0 or (code != lalr.NO_ACTION and code != lalr.ACCEPT and not rules[~code][1])}
+            gotos = _gotos(states, bases, terminals)
+            if gotos is not None:
+                folds[s, symbol] = ends_in, gotos
+    number = {key: len(states) + i for i, key in enumerate(sorted(folds))}
+
+    def entry(s: int, symbol: str, code: int) -> int:
+        """The code of ``symbol`` in ``s`` once entries are redirected to the new states."""
+        return number.get((s, symbol), code) if code >= 0 else code
+
+    out = [{symbol: entry(s, symbol, code) for symbol, code in row.items()} for s, row in enumerate(states)]
+    for e in ends:
+        out[e]["$END"] = lalr.ACCEPT
+    for s, symbol in sorted(folds):
+        ends_in, gotos = folds[s, symbol]
+        row = {a: entry(u, a, code) for a, (u, code) in ends_in.items() if code != lalr.NO_ACTION}
+        row.update((z, entry(u, z, states[u][z])) for z, u in gotos.items())
+        out.append(row)
+    return out
+
+
+def minimized(states: list[dict[str, int]], starts: list[int]) -> tuple[list[dict[str, int]], dict[int, int]]:
+    """The table ``states`` with the states no entry reaches from ``starts`` dropped and the states
+    that act alike merged — Moore's partition refinement: two states are one when each symbol has
+    the same reduction (or none, or :data:`lalr.ACCEPT`) in both, or leads to states that are one —
+    and each kept state's new number (:func:`fold_units` leaves many states that differ only by the
+    state they were entered from, and some of lark's unreached).  The blocks are numbered in the
+    order of their first state."""
+    reached, todo = set(), list(starts)
+    while todo:
+        state = todo.pop()
+        if state not in reached:
+            reached.add(state)
+            todo += [code for code in states[state].values() if code >= 0]
+    order = sorted(reached)
+    block = dict.fromkeys(order, 0)
+    while True:
+        keys: dict[tuple, int] = {}
+        refined = {state: keys.setdefault(tuple(sorted(
+            (symbol, code < 0, code if code < 0 else block[code]) for symbol, code in states[state].items())), len(keys))
+            for state in order}
+        if len(keys) == len(set(block.values())):
+            break
+        block = refined
+    rows: list[dict[str, int]] = []
+    for state in order:
+        if block[state] == len(rows):
+            rows.append({symbol: code if code < 0 else block[code] for symbol, code in states[state].items()})
+    return rows, block
+
+
+def _gotos(states: list[dict[str, int]], bases: set[int], terminals: set[str]) -> dict[str, int] | None:
+    """For :func:`fold_units`: each nonterminal's state among ``bases`` with a goto on it, or ``None``
+    when two of them have one on the same nonterminal."""
+    gotos: dict[str, int] = {}
+    for u in sorted(bases):
+        for z, g in states[u].items():
+            if z not in terminals and g >= 0 and gotos.setdefault(z, u) != u:
+                return None
+    return gotos
 
 
 def _tuples(x: dict) -> dict:
