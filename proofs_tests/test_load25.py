@@ -5,9 +5,9 @@
   by generation), so no young collection traverses them; the collector's state is restored, a
   caller's frozen objects stay frozen, and nothing is moved when the collector was off or the block
   raised.
-* ``template.Template._plan``: marking and compiling a loop's first copy in one recursive walk gives
-  the steps, slots, shared nodes and dependencies that the stack walk (``_mark``) and ``_compile``
-  give, on random loop bodies (test_loop_template's generator); a first copy deeper than the walk's
+* ``template.Template._plan``: planning a loop's first copy in one recursive walk gives the steps,
+  slots, shared nodes and dependencies that its walk with a stack of its own gives (load26: the two
+  walks make their steps by one function; before, the stack walk ``_mark`` and ``_compile``), on random loop bodies (test_loop_template's generator); a first copy deeper than the walk's
   bound takes the stack walk, and its copies are still those desugaring each one gives.
 * ``affine.solved_at_ratios``: each Ψ̂ is ``solved_at_ratio``'s (None where a key is None), and
   equal keys share their inverse branches as one by one.
@@ -117,18 +117,13 @@ def test_a_callers_frozen_objects_stay_frozen():
 # --- template._plan -----------------------------------------------------------------------------
 
 def _by_stack_walk(plan: template.Template) -> template.Template:
-    """The same first copy planned by ``_mark`` (the stack walk) and ``_compile``."""
+    """The same first copy planned by the walk with a stack of its own."""
     bound = template._MARK_DEPTH
     template._MARK_DEPTH = -1  # (every node is deeper: _plan falls back at once)
     try:
-        other = template.Template(plan.body, plan.record, plan.complete, plan.completed)
+        return template.Template(plan.body, plan.record, plan.complete, plan.completed)
     finally:
         template._MARK_DEPTH = bound
-    if type(plan.body) not in (Const, Var, Param):  # (a leaf is planned without a walk)
-        assert other.steps is None  # not compiled yet: the stack walk's path
-    if other.steps is None and other.usable and other.dependent[id(other.body)]:
-        other._compile()
-    return other
 
 
 def _same_plan(a: template.Template, b: template.Template) -> None:
@@ -175,8 +170,13 @@ def test_a_first_copy_deeper_than_the_walk_takes_the_stack_walk(monkeypatch):
         deep = f"(x - {deep})"
     text = f"param a = 0.5\nint ([0, 1]) (sum i in 1..3: [x + i/4 >= a] * {deep}) d(x)\n"
     marked = []
-    real = template.Template._mark
-    monkeypatch.setattr(template.Template, "_mark", lambda self, root: (marked.append(1), real(self, root)))
+
+    class Deep(template._Deep):  # (what the recursive walk raises past _MARK_DEPTH, caught by _plan)
+        def __init__(self, *args):
+            marked.append(1)
+            super().__init__(*args)
+
+    monkeypatch.setattr(template, "_Deep", Deep)
     new, new_errors = _load(text, True)
     assert marked  # the stack walk was taken
     old, old_errors = _load(text, False)

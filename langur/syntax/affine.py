@@ -231,7 +231,7 @@ def solved_at_ratios(conds: list, variables: tuple[str, ...], solved: tuple, key
     """``[solved_at_ratio(cond, variables, solved, *key) for cond, key in zip(conds, keys)]`` in one
     loop, None where a key is None (a loop's copies whose conditions have one solved shape and
     differ in their constants, issue 15)."""
-    v, a, inputs, others, terms, renamed, known = solved
+    v, a, inputs, others, parts, renamed, known = solved
     variables = tuple(variables)
     out = []
     append = out.append
@@ -242,9 +242,6 @@ def solved_at_ratios(conds: list, variables: tuple[str, ...], solved: tuple, key
         branches = known.get(key)
         if branches is None:
             make_room(known, 4096, at_once=True)
-            parts = known.get(_PARTS)
-            if parts is None:
-                parts = known[_PARTS] = _atoms(terms)
             branches = known[key] = _branches(Fraction(*key), parts, renamed, known)
         append(Diffeo(variables, (cond,) + others, inputs, branches, v, None, (), getattr(cond, "span", None)))
     return out
@@ -254,13 +251,10 @@ def _solved_at(cond: Term, variables: tuple[str, ...], solved: tuple, key: tuple
                constant: Fraction | None) -> Diffeo:
     """:func:`solved_at` with the constant's numerator and denominator ``key`` (and the constant
     itself, or None)."""
-    v, a, inputs, others, terms, renamed, known = solved
+    v, a, inputs, others, parts, renamed, known = solved
     branches = known.get(key)  # (two ints hash in C; a Fraction in Python)
     if branches is None:
         make_room(known, 4096, at_once=True)
-        parts = known.get(_PARTS)
-        if parts is None:
-            parts = known[_PARTS] = _atoms(terms)
         branches = known[key] = _branches(Fraction(*key) if constant is None else constant, parts, renamed, known)
     # (positional: a keyword call costs a loop's copy more than the record's own init)
     return Diffeo(tuple(variables), (cond,) + others, inputs, branches, v, None, (), getattr(cond, "span", None))
@@ -301,10 +295,6 @@ def summands(cond: Term, moving) -> list[tuple[Term, Fraction]] | None:
     return out
 
 
-#: Where a solved shape's branches by constant (:func:`_solve`'s last element) keep its ``c·atom`` parts.
-_PARTS = "parts"
-
-
 def _branches(constant: Fraction, parts: tuple, renamed: tuple, known: dict) -> tuple[InverseBranch, ...]:
     """Ψ̂⁻¹ of a completed affine condition: its one branch, the solution ``constant + Σ c·atom``
     (``parts``: :func:`_atoms`) in place of the solved variable.  Built once per shape and constant
@@ -322,10 +312,9 @@ def _branches(constant: Fraction, parts: tuple, renamed: tuple, known: dict) -> 
 def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, params: frozenset, avoid: frozenset):
     """What :func:`complete` needs of a condition's shape: the variable ``v`` solved for, its
     coefficient ``a``, Ψ̂⁻¹'s inputs, Ψ̂'s other components (``Var`` of the other variables), the
-    terms ``(atom, kind, −c/a)`` of the solution but its constant, Ψ̂⁻¹'s components (None where
-    the solution goes) and the inverse branches built so far by their constant, with the ``c·atom``
-    parts under :data:`_PARTS` (:func:`solved_at`); None when no variable can be isolated (or one is
-    not among ``variables``)."""
+    ``c·atom`` parts of the solution but its constant (:func:`_atoms`), Ψ̂⁻¹'s components (None where
+    the solution goes) and the inverse branches built so far by their constant (:func:`solved_at`);
+    None when no variable can be isolated (or one is not among ``variables``)."""
     if not occurring <= set(variables):
         return None
     form = dict(coeffs)
@@ -345,7 +334,7 @@ def _solve(variables: tuple[str, ...], coeffs: tuple, occurring: frozenset, para
             terms.append((name, "p", over(c)))
         elif name != v:
             terms.append((renamed[name], "v", over(c)))
-    return (v, a, inputs, tuple(Var(x) for x in others), tuple(terms),
+    return (v, a, inputs, tuple(Var(x) for x in others), _atoms(tuple(terms)),
             tuple(None if x == v else Var(renamed[x]) for x in variables), {})
 
 
@@ -404,7 +393,8 @@ _SUMS = "sums"
 @functools.lru_cache(maxsize=1024)
 def _atoms(terms: tuple[tuple[str, str, Fraction], ...]) -> tuple[Term, ...]:
     """The ``c·atom`` of :func:`_ordered` in sympy's order: the same for every condition of one
-    shape (a loop's copies differ in their constant only), so built once and shared (issue 15)."""
+    shape (a loop's copies differ in their constant only), so built once with the shape
+    (:func:`_solve`) and shared, also by shapes whose solutions have the same terms (issue 15)."""
     parts: list[Term] = []
     kept = [t for t in terms if t[2]]
     for name, kind, c in (sorted(kept, key=_sort_key) if len(kept) > 1 else kept):

@@ -10,7 +10,7 @@ with the first copy, as an inlined def body shares its subterms, but for conditi
 parameters, which the desugarer may lift out of a condition by their identity), and every condition that
 contains them is completed again by the same function the desugarer calls
 (``langur.syntax.completion.complete``) — so each copy is the term desugaring it would give.
-The first copy is compiled into *steps* (:meth:`Template._compile`) that :meth:`Template.at` runs
+The first copy is compiled into *steps* (:meth:`Template._plan`) that :meth:`Template.at` runs
 in one loop; a node whose children keep the first copy's shape is built by ``core.like`` (its
 shape's attributes copied), and a condition that differs from the first's only in constant
 summands keeps the first's solved affine shape (``affine.summands``, ``affine.solved_at``): the
@@ -119,29 +119,37 @@ class Template:
         #: Ψ̂ from elsewhere): refuse to instantiate
         self.usable = True
         self.order: list[Term] = []
-        #: what :meth:`at` builds (:meth:`_plan`; after :meth:`_mark`, by :meth:`_compile` on first use)
+        #: what :meth:`at` builds (:meth:`_plan`)
         self.shared: list[Term] = []
-        self.steps: list[tuple] | None = None
+        self.steps: list[tuple] = []
         self.first: list[Term] = []  # the first copy's node of each step
         self._plan(body)
 
     def _plan(self, root: Term) -> None:
-        """:meth:`_mark` and :meth:`_compile` in one recursive walk (the cheapest in Python; every loop
-        of more than one copy pays it once, issue 15): each node marked in post-order, left to right,
-        and a dependent node's step made as soon as its children are, so the steps, their slots and
-        the shared nodes' slots are those of :meth:`_compile` after :meth:`_mark`.  Down to
-        :data:`_MARK_DEPTH` levels; a deeper first copy (or one met with the interpreter's recursion
-        limit near) is marked by :meth:`_mark` (a stack of its own, no recursion on a term's depth) and
-        compiled on first use."""
+        """:attr:`dependent`, :attr:`order` and the steps :meth:`at` runs, in one walk of the first
+        copy.  A node is dependent — built anew in each copy — when it has an index leaf below it (in
+        a conditional: in its branches or in the condition it was completed from) or is a conditional
+        on the parameters; the other nodes are shared by the copies.  Each dependent node becomes a
+        step (``step``) once its children are walked, children first, left to right (a recursive
+        walk's post-order, :attr:`order`): its node is built at its index of a list, and it reads its
+        children's slots there — a dependent child's step, a shared child at a negative index
+        (:attr:`shared`, in reverse) — so :meth:`at` is one loop, with no recursion and no lookup by
+        identity.
+
+        The walk recurses down to :data:`_MARK_DEPTH` levels (the cheapest walk in Python: every loop
+        of more than one copy pays it once, issue 15); a deeper first copy (or one met with the
+        interpreter's recursion limit near) is walked again with a stack of its own, which makes the
+        same steps in the same order (no recursion on a term's depth)."""
         dep, leaves, completions = self.dependent, self.record.leaves, self.record.completions
         own: dict[int, int] = {}  # a dependent node's step
-        slot: dict[int, int] = {}
+        slot: dict[int, int] = {}  # a shared node's slot
         shared: list[Term] = []
-        first: list[Term] = []
+        first: list[Term] = []  # the first copy's node of each step
         steps: list[tuple] = []
-        powers: dict[Fraction, int] = {}
+        powers: dict[Fraction, int] = {}  # the exponents of the index's powers, each a slot of at()'s
 
-        def ref(c: Term) -> int:  # (as _compile's)
+        def ref(c: Term) -> int:
+            """A walked child's slot: its step, or (shared) its slot among the shared nodes, from the end."""
             key = id(c)
             if dep[key]:
                 return own[key]
@@ -151,7 +159,48 @@ class Template:
                 shared.append(c)
             return found
 
-        def walk(u: Term, depth: int):
+        def step(u: Term, tu: type, a: int | None = None, b: int | None = None) -> int:
+            """The step of the dependent node ``u`` (of class ``tu``), its children walked (``a``,
+            ``b``: the first two's steps when the walk has them at hand, else None)."""
+            if tu is Add or tu is Mul:
+                made = (_BINARY, tu, {"_shape": u._shape, "span": u.span},
+                        ref(u.left) if a is None else a, ref(u.right) if b is None else b)
+            elif tu is Pow:
+                base = ref(u.base) if a is None else a
+                # a power of the index itself (1/i): its value is computed once per copy and exponent
+                power = powers.setdefault(u.exponent, len(powers)) if base >= 0 and steps[base][0] is _LEAF else -1
+                made = (_UNARY, tu, shape_with_span(u), base, u.exponent, power)
+            elif tu is Prim:
+                made = (_UNARY, tu, shape_with_span(u), ref(u.arg) if a is None else a, u.op, -1)
+            elif tu is IfDiffeo:
+                made = self._conditional_step(u, completions.get(id(u)), ref, own)
+            elif tu is Const or tu is Var or tu is Param:
+                made = (_LEAF, u.span)  # (an index leaf)
+            else:
+                made = (_OTHER, u, {id(c): own[id(c)] for c in children(u) if dep[id(c)]})
+            key = id(u)
+            dep[key] = True
+            own[key] = found = len(steps)
+            steps.append(made)
+            first.append(u)
+            return found
+
+        def kept(u: Term, tu: type, kids: tuple) -> bool:
+            """Whether the node ``u`` (not a leaf) is copied, its children ``kids`` (:func:`_kids`) walked."""
+            if tu is IfDiffeo and id(u) not in completions and any(self._has_leaf(t) for t in _diffeo_terms(u.psi)):
+                # a Ψ̂ not completed here (there is none while the record is safe): its terms must
+                # not mention the index
+                self.usable = False
+            # (a conditional on the parameters is copied too: the desugarer lifts such a conditional
+            # out of a condition by its identity, `desugar._put`, which must not meet it in two copies)
+            if tu is IfGe0:
+                return True
+            for c in kids:
+                if dep[id(c)]:
+                    return True
+            return False
+
+        def walk(u: Term, depth: int) -> int | None:
             """``u``'s step when it is dependent, else None."""
             key = id(u)
             d = dep.get(key)
@@ -160,116 +209,72 @@ class Template:
             tu = type(u)
             if tu is Const or tu is Var or tu is Param:
                 if key in leaves:
-                    dep[key] = True
-                    own[key] = len(steps)
-                    steps.append((_LEAF, u.span))
-                    first.append(u)
-                    return own[key]
+                    return step(u, tu)
                 dep[key] = False
                 return None
             if depth > _MARK_DEPTH:
                 raise _Deep
+            # (the most frequent nodes with their children's steps at hand)
             if tu is Add or tu is Mul:
                 a, b = walk(u.left, depth + 1), walk(u.right, depth + 1)
-                if a is None and b is None:
-                    dep[key] = False
-                    return None
-                step = (_BINARY, tu, {"_shape": u._shape, "span": u.span},
-                        ref(u.left) if a is None else a, ref(u.right) if b is None else b)
             elif tu is Pow or tu is Prim:
-                a = walk(u.base if tu is Pow else u.arg, depth + 1)
-                if a is None:
-                    dep[key] = False
-                    return None
-                if tu is Pow:
-                    # a power of the index itself (1/i): its value is computed once per copy and exponent
-                    power = powers.setdefault(u.exponent, len(powers)) if steps[a][0] is _LEAF else -1
-                    step = (_UNARY, tu, shape_with_span(u), a, u.exponent, power)
-                else:
-                    step = (_UNARY, tu, shape_with_span(u), a, u.op, -1)
+                a, b = walk(u.base if tu is Pow else u.arg, depth + 1), None
             else:
-                # (a conditional on the parameters is copied too: the desugarer lifts such a
-                # conditional out of a condition by its identity, `desugar._put`, which must not meet
-                # it in two copies)
-                d = tu is IfGe0
-                for c in _kids(u, completions):
-                    if walk(c, depth + 1) is not None:
-                        d = True
-                found = completions.get(key) if tu is IfDiffeo else None
-                if tu is IfDiffeo and found is None:
-                    # a Ψ̂ not completed here (there is none while the record is safe): its terms must
-                    # not mention the index
-                    if any(self._has_leaf(t) for t in _diffeo_terms(u.psi)):
-                        self.usable = False
-                if not d:
-                    dep[key] = False
-                    return None
-                if tu is IfDiffeo:
-                    step = self._conditional_step(u, found, ref, own)
-                else:
-                    step = (_OTHER, u, {id(c): own[id(c)] for c in children(u) if dep[id(c)]})
-            dep[key] = True
-            own[key] = len(steps)
-            steps.append(step)
-            first.append(u)
-            return own[key]
+                kids = _kids(u, completions)
+                for c in kids:
+                    walk(c, depth + 1)
+                if kept(u, tu, kids):
+                    return step(u, tu)
+                a = b = None
+            if a is None and b is None:
+                dep[key] = False
+                return None
+            return step(u, tu, a, b)
 
         try:
             walk(root, 0)
         except (_Deep, RecursionError):  # (deep, or called near the interpreter's limit already)
-            dep.clear()
+            for table in (dep, own, slot, powers, shared, first, steps):
+                table.clear()
             self.usable = True
-            self._mark(root)
-            return
-        self.order = first  # (the dependent nodes in post-order: _mark's order)
-        self._compiled(steps, first, shared, powers)
-
-    def _mark(self, root: Term) -> None:
-        """:attr:`dependent`: whether each distinct node of the first copy is built anew in each copy:
-        it has an index leaf below it (in a conditional: in its branches or in the condition it was
-        completed from) or a conditional on the parameters; the other nodes are shared by the copies.
-        :attr:`order`: the dependent nodes children first, left to right, each once (a recursive
-        walk's post-order), which :meth:`_compile` turns into steps without a walk of its own.  (With
-        a stack of its own: a first copy deeper than :data:`_MARK_DEPTH`, :meth:`_plan`.)"""
-        dep, leaves, completions = self.dependent, self.record.leaves, self.record.completions
-        order = self.order
-        stack: list[Term] = [root]
-        while stack:  # (a node whose children are not all marked yet stays under them, marked after)
-            u = stack[-1]
-            key = id(u)
-            if key in dep:
+            stack: list[Term] = [root]
+            while stack:  # (a node whose children are not all walked yet stays under them, made after)
+                u = stack[-1]
+                if id(u) in dep:
+                    stack.pop()
+                    continue
+                tu = type(u)
+                if tu is Const or tu is Var or tu is Param:
+                    stack.pop()
+                    if id(u) in leaves:
+                        step(u, tu)
+                    else:
+                        dep[id(u)] = False
+                    continue
+                kids = _kids(u, completions)
+                pending = False
+                for c in reversed(kids):  # (the leftmost child on top: walked first)
+                    if id(c) not in dep:
+                        stack.append(c)
+                        pending = True
+                if pending:
+                    continue
                 stack.pop()
-                continue
-            tu = type(u)
-            if tu is Const or tu is Var or tu is Param:
-                stack.pop()
-                if key in leaves:
-                    dep[key] = True
-                    order.append(u)
+                if kept(u, tu, kids):
+                    step(u, tu)
                 else:
-                    dep[key] = False
-                continue
-            kids = _kids(u, completions)
-            pending = False
-            for c in reversed(kids):  # (the leftmost child on top: walked first)
-                if id(c) not in dep:
-                    stack.append(c)
-                    pending = True
-            if pending:
-                continue
-            stack.pop()
-            d = tu is IfGe0
-            if not d:
-                for c in kids:
-                    if dep[id(c)]:
-                        d = True
-                        break
-            dep[key] = d
-            if d:
-                order.append(u)
-            if tu is IfDiffeo and key not in completions:
-                if any(self._has_leaf(t) for t in _diffeo_terms(u.psi)):
-                    self.usable = False
+                    dep[id(u)] = False
+        self.order = first  # (the dependent nodes in post-order)
+        self.first, self.steps = first, steps
+        self.shared = shared[::-1]
+        self.powers = len(powers)
+        #: each power's exponent as an int when it is an integer (then computed in integers,
+        #: core.index_power_small), else None
+        self.exponents = [int(k) if k.denominator == 1 else None for k in powers]
+        # what each copy starts from: no node of its own yet, the shared ones at the end (and they
+        # have the first copy's shape)
+        self.start = [None] * len(steps) + self.shared
+        self.start_same = [False] * len(steps) + [True] * len(self.shared)
 
     def _has_leaf(self, t: Term) -> bool:
         leaves = self.record.leaves
@@ -281,63 +286,9 @@ class Template:
             stack.extend(_kids(u, {}))
         return False
 
-    def _compile(self) -> None:
-        """:attr:`steps`: the nodes each copy builds anew, children before parents (in the order the
-        first copy's recursive walk met them), each as a step over the slots of a list: the step's
-        own node at its index, the shared nodes it reads at negative indices (:attr:`shared`, in
-        reverse); so :meth:`at` is one loop, with no recursion and no lookup by identity.  A
-        conditional completed again whose condition's changing parts are constant summands
-        (:func:`affine.summands`: ``[x + 1/i + a - 1 >= 0]``) keeps its shape solved
-        (:func:`affine.solve`): a copy then only adds up its constant term (issue 15)."""
-        dep, completions = self.dependent, self.record.completions
-        slot: dict[int, int] = {}
-        shared: list[Term] = []
-        own: dict[int, int] = {}  # a dependent node's step
-        first: list[Term] = []  # the first copy's node of each step
-        steps: list[tuple] = []
-        powers: dict[Fraction, int] = {}  # the exponents of the index's powers, each a slot of at()'s
-
-        def ref(c: Term) -> int:
-            key = id(c)
-            if dep[key]:
-                return own[key]
-            found = slot.get(key)
-            if found is None:  # a shared child: its slot among the shared nodes, from the end
-                found = slot[key] = -1 - len(shared)
-                shared.append(c)
-            return found
-
-        for u in self.order:  # post-order over the dependent nodes, left to right (_mark's)
-            tu = type(u)
-            if tu is Add or tu is Mul:  # (ref and shape_with_span written out: most steps)
-                a, b = id(u.left), id(u.right)
-                a = own[a] if dep[a] else (slot.get(a) or ref(u.left))  # (a shared slot is < 0: true)
-                b = own[b] if dep[b] else (slot.get(b) or ref(u.right))
-                step = (_BINARY, tu, {"_shape": u._shape, "span": u.span}, a, b)
-            elif tu is Const:
-                step = (_LEAF, u.span)
-            elif tu is Pow:
-                base = ref(u.base)
-                # a power of the index itself (1/i): its value is computed once per copy and exponent
-                if base >= 0 and steps[base][0] is _LEAF:
-                    power = powers.setdefault(u.exponent, len(powers))
-                else:
-                    power = -1
-                step = (_UNARY, tu, shape_with_span(u), base, u.exponent, power)
-            elif tu is Prim:
-                step = (_UNARY, tu, shape_with_span(u), ref(u.arg), u.op, -1)
-            elif tu is IfDiffeo:
-                step = self._conditional_step(u, completions.get(id(u)), ref, own)
-            else:
-                step = (_OTHER, u, {id(c): ref(c) for c in children(u) if dep[id(c)]})
-            own[id(u)] = len(steps)
-            steps.append(step)
-            first.append(u)
-        self._compiled(steps, first, shared, powers)
-
     def _conditional_step(self, u: IfDiffeo, found: tuple | None, ref: Callable[[Term], int],
                           own: dict[int, int]) -> tuple:
-        """A dependent conditional's step (:meth:`_plan`'s and :meth:`_compile`'s): completed again in
+        """A dependent conditional's step (:meth:`_plan`'s): completed again in
         each copy when the condition it was completed from (``found``, the record's) changes with the
         index, else the conditional copied with its Ψ̂ (and ``found``'s condition, variables and box
         for the enclosing loop's record)."""
@@ -346,19 +297,6 @@ class Template:
             return (_COMPLETE, u.span, ref(cond), ref(u.then), ref(u.orelse), variables, box,
                     self._shifted(cond, variables, own, u.psi), shape_of(u))
         return (_CONDITIONAL, u.psi, u.span, ref(u.then), ref(u.orelse), None if found is None else found[1:])
-
-    def _compiled(self, steps: list[tuple], first: list[Term], shared: list[Term], powers: dict) -> None:
-        """Keep what :meth:`_compile` (or :meth:`_plan`) made."""
-        self.first, self.steps = first, steps
-        self.shared = shared[::-1]
-        self.powers = len(powers)
-        #: each power's exponent as an int when it is an integer (then computed in integers,
-        #: core.index_power_small), else None
-        self.exponents = [int(k) if k.denominator == 1 else None for k in powers]
-        # what each copy starts from: no node of its own yet, the shared ones at the end (and they
-        # have the first copy's shape)
-        self.start = [None] * len(steps) + self.shared
-        self.start_same = [False] * len(steps) + [True] * len(self.shared)
 
     def _shifted(self, cond: Term, variables: tuple[str, ...], own: dict[int, int], psi: Diffeo):
         """For a condition completed again: its solved shape, the constant term of its solution
@@ -388,8 +326,6 @@ class Template:
         ``value`` and its conditions over them completed again; None when one does not complete."""
         if not self.dependent[id(self.body)]:
             return self.body  # the index does not occur: every copy is the first
-        if self.steps is None:
-            self._compile()
         steps, first = self.steps, self.first
         n = len(steps)
         vals = self.start[:]  # (each step's node at its index, shared nodes from the end)
@@ -483,8 +419,6 @@ class Template:
         all are built, copy by copy in the order :meth:`at` would."""
         if not self.dependent[id(self.body)]:
             return [self.body] * len(values)
-        if self.steps is None:
-            self._compile()
         steps, first = self.steps, self.first
         m = len(values)
         n = len(steps)
@@ -648,12 +582,12 @@ def _moved(num: int, den: int, new: Fraction, factor: Fraction, sign: int) -> tu
     return (num * q - p * den if sign < 0 else num * q + p * den), den * q
 
 
-#: How deep :meth:`Template._mark` recurses before it walks the first copy again with a stack of its own.
+#: How deep :meth:`Template._plan` recurses before it walks the first copy again with a stack of its own.
 _MARK_DEPTH = 200
 
 
 class _Deep(Exception):
-    """A first copy deeper than :data:`_MARK_DEPTH` (:meth:`Template._mark`)."""
+    """A first copy deeper than :data:`_MARK_DEPTH` (:meth:`Template._plan`)."""
 
 
 # the kinds of step of Template.steps
