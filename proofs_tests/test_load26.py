@@ -262,15 +262,7 @@ def test_a_solved_shape_keeps_its_parts_and_branches_are_built_of_them():
         psi = affine.complete(cond, variables)
         solution = psi.branches[0].components[variables.index(psi.solved_for)]
         # the branch's solution is built of the shape's parts, by identity
-        atoms = []
-        stack = [solution]
-        while stack:
-            u = stack.pop()
-            if type(u) is Add:
-                stack += [u.right, u.left]
-            elif type(u) is not Const:
-                atoms.append(u)
-        assert [id(u) for u in atoms] == [id(u) for u in parts]
+        assert [id(u) for u in _atoms_of(psi, variables)] == [id(u) for u in parts]
         # and it is the solution solved by hand
         v, coeffs, constant = _solution_by_hand(cond, variables)
         assert psi.solved_for == v
