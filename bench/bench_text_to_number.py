@@ -55,10 +55,10 @@ SIZES = (1, 10, 25, 49, 100)
 CLOCK = time.process_time
 
 
-def _median(f, reps: int, setup=None):
-    """Median CPU time of ``f()`` over ``reps`` calls, and its last result; the previous call's
-    result is dropped and ``setup()`` called before the clock starts (freeing a whole loaded
-    program is not the next load's work)."""
+def _times(f, reps: int, setup=None) -> tuple[list[float], object]:
+    """The CPU times of ``reps`` calls of ``f()``, and its last result; the previous call's result
+    is dropped and ``setup()`` called before the clock starts (freeing a whole loaded program is
+    not the next load's work)."""
     ts, out = [], None
     for _ in range(reps):
         out = None
@@ -67,6 +67,12 @@ def _median(f, reps: int, setup=None):
         t0 = CLOCK()
         out = f()
         ts.append(CLOCK() - t0)
+    return ts, out
+
+
+def _median(f, reps: int, setup=None):
+    """Median CPU time of ``f()`` over ``reps`` calls (:func:`_times`), and its last result."""
+    ts, out = _times(f, reps, setup)
     return statistics.median(ts), out
 
 

@@ -32,16 +32,9 @@ CLOCK = ttn.CLOCK
 
 
 def _least(f, reps: int, setup=None):
-    """``bench_text_to_number._median``'s twin giving the least CPU seconds of ``reps`` calls."""
-    best, out = float("inf"), None
-    for _ in range(reps):
-        out = None
-        if setup is not None:
-            setup()
-        t0 = CLOCK()
-        out = f()
-        best = min(best, CLOCK() - t0)
-    return best, out
+    """``bench_text_to_number._median`` giving the least CPU seconds of ``reps`` calls instead."""
+    ts, out = ttn._times(f, reps, setup)
+    return min(ts), out
 
 
 def langur_mb1(n: int, reps: int) -> dict:
