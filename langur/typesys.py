@@ -224,8 +224,8 @@ def well_typed(delta: frozenset[str], gamma: frozenset[str], t: Term) -> bool:
     rules one by one and reports what they find (it finds nothing when this holds:
     ``proofs_tests/test_typing_attributes.py`` compares the two)."""
     try:
-        fv, fp, _, _, _, _, _, scoped, ops, binders, dfp = t._shape  # (core.attributes FV … DFP, in order: one read)
-    except AttributeError:  # not a core term: the rules say why
+        fv, fp, _, _, _, _, _, scoped, ops, binders, dfp = t.shape  # (core.attributes FV … DFP, in order: one read)
+    except (AttributeError, TypeError, ValueError):  # not a core term (no ``shape``, or an array's): the rules say why
         return False
     return (scoped and fv <= delta and fp <= gamma and dfp <= gamma and ops <= _KNOWN_PRIMITIVES
             and binders.isdisjoint(delta))

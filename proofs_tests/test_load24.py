@@ -118,13 +118,13 @@ def test_sums_products_and_negations_keep_the_attributes_and_values_of_a_walk():
 def test_variables_and_parameters_share_one_shape_per_name():
     for make, name in ((Var, "x"), (Var, "zz_load24"), (Param, "a"), (Param, "pp_load24")):
         t, s = make(name), make(name, None)
-        assert t._shape is s._shape  # one tuple per name
+        assert t.shape is s.shape  # one tuple per name
         w = _walk(t)
         kept = core.kept_attributes(t)
         assert (kept["_fv"], kept["_fp"], kept["_size"], kept["_depth"], kept["_smooth"], kept["_calls"]) == (
             w["fv"], w["fp"], 1, 1, True, False)
         assert core.small_value(t) is None and core.all_small(t)
-    assert Var("a")._shape != Param("a")._shape
+    assert Var("a").shape != Param("a").shape
 
 
 def test_minus_one_is_shared_and_a_negation_is_exact():

@@ -82,7 +82,7 @@ def _check_plan(plan: template.Template) -> None:
         if type(u) in (Const, Var, Param):
             assert kind == "leaf" and step[1] is u.span
         elif type(u) in (Add, Mul):
-            assert kind == "binary" and step[1] is type(u) and step[2] == {"_shape": u._shape, "span": u.span}
+            assert kind == "binary" and step[1] is type(u) and step[2] == {"shape": u.shape, "span": u.span}
             assert node(step[3]) is u.left and node(step[4]) is u.right
         elif type(u) in (Pow, Prim):
             child = u.base if type(u) is Pow else u.arg

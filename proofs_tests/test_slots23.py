@@ -1,7 +1,7 @@
 """Term nodes without a ``__dict__`` (slots23, issue 15: loading at small n).
 
 Core terms keep their fields and the attributes they compute when built in slots
-(``langur.core.slots``), the attributes of their shape as one tuple ``_shape`` shared by a loop's
+(``langur.core.slots``), the attributes of their shape as one tuple ``shape`` shared by a loop's
 copies (``langur.core.attributes``).  Checked here: no node has a ``__dict__`` whichever way it is
 built; what the nodes keep equals an independent recursive walk over their fields; they stay
 frozen, equal, hashable, picklable and copyable as the dataclasses they were; the memos start empty
@@ -133,13 +133,13 @@ def test_copies_share_their_templates_shape_and_equal_the_constructors_nodes():
     for c, left in zip(copies, lefts):
         made = Add(left, a)
         assert c == made and core.kept_attributes(c) == core.kept_attributes(made)
-        assert c._shape is first._shape  # (one tuple for all the copies)
+        assert c.shape is first.shape  # (one tuple for all the copies)
         assert _walk(c)["size"] == core.tree_size(c) == 5
 
 
 def test_nodes_stay_frozen_records():
     t = Let("c", Param("a"), Add(Param("c"), Var("x")))
-    for name in ("name", "bound", "span", "_shape", "_small", "_hash", "_typed", "_memo", "anything"):
+    for name in ("name", "bound", "span", "shape", "_small", "_hash", "_typed", "_memo", "anything"):
         with pytest.raises(dataclasses.FrozenInstanceError):
             setattr(t, name, None)
         with pytest.raises(dataclasses.FrozenInstanceError):

@@ -22,7 +22,11 @@ The modules, each importing only those above it in this list:
 * :mod:`.programs` — §4.2: ``Program`` and the intervals of its domain (``Interval``).
 
 Here: every public name of these modules, as the rest of langur imports them
-(``from langur.core import Add``).
+(``from langur.core import Add``).  Besides its fields, every term node ``t`` has one public
+attribute, ``t.shape``: the tuple of what :mod:`.attributes` keeps about its shape, read at the
+indices exported here (``t.shape[SMOOTH]``, :data:`FV` … :data:`DFP`), as the engines, the front end
+and the type system do in their loops over every node; elsewhere the readers of
+:mod:`.structural` (``smooth(t)``, ``free_vars(t)``, …) say the same.
 """
 
 from .attributes import (

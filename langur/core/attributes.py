@@ -7,11 +7,17 @@ answer is computed once, bottom-up, when the node is built (its children already
 kept on the node (never compared, hashed nor pickled: a pickled node is rebuilt by its
 constructor, which recomputes them).  Those that depend on the node's shape only — its classes,
 names, primitives, exponents and diffeos, not the values of its constants — are kept together as
-one tuple, ``t._shape``, read at the indices :data:`FV` … :data:`DFP` (a loop's copies share their
+one tuple, ``t.shape``, read at the indices :data:`FV` … :data:`DFP` (a loop's copies share their
 template's tuple, :mod:`langur.core.shapes`; a parent reads a child's in one access); its small
 value as ``t._small`` and ``t._small_all``.  The functions of :mod:`langur.core.structural`
 (``free_vars``, ``free_params``, ``smooth``, ``has_calls``, ``tree_size``, ``depth``,
 ``small_value``, ``all_small``, ``diffeo_variables``) read them.
+
+``t.shape`` is public, like the node's fields (read only: a node is frozen), and so are the indices
+(exported by :mod:`langur.core`): code outside the core that reads an entry in a loop over every node
+(the Monte Carlo engine's link, its sharing pass, the type system's ``well_typed``, the front end's
+loop template) reads ``t.shape[SMOOTH]`` or unpacks the tuple in place, one attribute access, where
+a call of ``smooth(t)`` would cost a Python call per node.
 
 Also kept, for typing (``langur.typesys.well_typed``): the premises of Fig. 6's rules that do not
 depend on the context Δ; Γ (``SCOPED``: conditions of ``ifge0``, bounds of ``let``, a diffeo's
@@ -92,7 +98,7 @@ def _in_range(v: Fraction):
     return False
 
 
-# The indices of ``t._shape``:
+# The indices of ``t.shape``:
 FV = 0  #: free variables (a frozenset of names)
 FP = 1  #: free parameters
 SMOOTH = 2  #: no ``ifge0``, no call (bool)
@@ -105,19 +111,19 @@ OPS = 8  #: the primitives used
 BINDERS = 9  #: the names ``let`` binds
 DFP = 10  #: the parameters of its diffeos' inverse branches, guards and ``nonzero`` terms
 #: The slots a term keeps them in (:mod:`langur.core.slots`).
-_KEPT = ("_shape", "_small", "_small_all")
+_KEPT = ("shape", "_small", "_small_all")
 _SHAPE_NAMES = ("_fv", "_fp", "_smooth", "_calls", "_size", "_depth", "_psi_vars", "_scoped", "_ops", "_binders", "_dfp")
 
 
 def kept_attributes(t) -> dict:
-    """Every attribute ``t`` keeps, by name (``_fv`` … ``_dfp`` for the entries of ``_shape``,
+    """Every attribute ``t`` keeps, by name (``_fv`` … ``_dfp`` for the entries of ``shape``,
     ``_small``, ``_small_all``): for reading them all at once, as tests and tools do (the passes
     read one at its index)."""
-    out = dict(zip(_SHAPE_NAMES, t._shape))
+    out = dict(zip(_SHAPE_NAMES, t.shape))
     out["_small"], out["_small_all"] = t._small, t._small_all
     return out
 
-#: ``_shape`` of a constant (a variable's has its name as FV, a parameter's as FP).
+#: ``shape`` of a constant (a variable's has its name as FV, a parameter's as FP).
 _LEAF_SHAPE = (_EMPTY, _EMPTY, True, False, 1, 1, _EMPTY, True, _EMPTY, _EMPTY, _EMPTY)
 
 
@@ -126,7 +132,7 @@ _PARAM_SHAPES: dict[str, tuple] = {}
 
 
 def _var_shape(name: str) -> tuple:
-    """``_shape`` of ``Var(name)``, one tuple per name (a parent whose children share theirs skips
+    """``shape`` of ``Var(name)``, one tuple per name (a parent whose children share theirs skips
     nothing, but a leaf is built without making a tuple, issue 15)."""
     s = _VAR_SHAPES.get(name)
     if s is None:
@@ -135,7 +141,7 @@ def _var_shape(name: str) -> tuple:
 
 
 def _param_shape(name: str) -> tuple:
-    """``_shape`` of ``Param(name)``, one tuple per name."""
+    """``shape`` of ``Param(name)``, one tuple per name."""
     s = _PARAM_SHAPES.get(name)
     if s is None:
         s = remember(_PARAM_SHAPES, name, (_EMPTY, _names(name), *_LEAF_SHAPE[SMOOTH:]), 4096, at_once=True)
@@ -145,21 +151,21 @@ def _param_shape(name: str) -> tuple:
 def _binary(t, a, b, mul: bool) -> None:
     """The attributes of ``t + s`` or ``t · s`` (``t``) from those of ``t`` (``a``) and ``s`` (``b``):
     the sets joined, the flags combined, size and depth counted."""
-    sa, sb = a._shape, b._shape
+    sa, sb = a.shape, b.shape
     if sb is _LEAF_SHAPE or sa is _LEAF_SHAPE:  # a constant (a negation's −1, a product by a number)
         fa, pa, sma, ca, za, da, psa, sca, oa, ba, dfa = sa if sb is _LEAF_SHAPE else sb
-        t._shape = (fa, pa, sma, ca, za + 2, da + 1, psa, sca, oa, ba, dfa)  # (the constant's depth is 1)
+        t.shape = (fa, pa, sma, ca, za + 2, da + 1, psa, sca, oa, ba, dfa)  # (the constant's depth is 1)
         _binary_value(t, a, b, mul)
         return
     fa, pa, sma, ca, za, da, psa, sca, oa, ba, dfa = sa
     fb, pb, smb, cb, zb, db, psb, scb, ob, bb, dfb = sb
     if not (psb or ob or bb or dfb):  # (most terms: no diffeo, primitive nor let on the right)
-        t._shape = (fa if (not fb or fa is fb) else (fb if not fa else _join(fa, fb)),
+        t.shape = (fa if (not fb or fa is fb) else (fb if not fa else _join(fa, fb)),
                     pa if (not pb or pa is pb) else (pb if not pa else _join(pa, pb)),
                     sma and smb, ca or cb, 1 + za + zb, 1 + (da if da > db else db), psa, sca and scb, oa, ba, dfa)
         _binary_value(t, a, b, mul)
         return
-    t._shape = (fa if (not fb or fa is fb) else (fb if not fa else _join(fa, fb)),
+    t.shape = (fa if (not fb or fa is fb) else (fb if not fa else _join(fa, fb)),
                 pa if (not pb or pa is pb) else (pb if not pa else _join(pa, pb)),
                 sma and smb, ca or cb, 1 + za + zb, 1 + (da if da > db else db),
                 psa if (not psb or psa is psb) else (psb if not psa else _join(psa, psb)),
@@ -236,8 +242,8 @@ def _small_power(x, k):
 def _unary(t, a, small, scoped: bool, op: str | None) -> None:
     """The attributes of ``f(t)`` or ``t ^ k`` (``t``) from those of ``t`` (``a``), with its small
     value, whether its own premise holds (a rational exponent) and its primitive."""
-    fv, fp, sm, c, z, d, ps, sc, o, bi, df = a._shape
-    t._shape = (fv, fp, sm, c, z + 1, d + 1, ps, scoped and sc, o if op is None else _join(o, _names(op)), bi, df)
+    fv, fp, sm, c, z, d, ps, sc, o, bi, df = a.shape
+    t.shape = (fv, fp, sm, c, z + 1, d + 1, ps, scoped and sc, o if op is None else _join(o, _names(op)), bi, df)
     t._small = small
     t._small_all = small is not False and a._small_all
 
@@ -261,7 +267,7 @@ def _diffeo_summary(psi) -> tuple:
     found = d.get("_summary")
     if found is None and len(psi.forward) == 1 and not psi.nonzero and len(psi.branches) == 1:
         # (a condition completed over one variable, the most frequent: the loops below written out)
-        shape = psi.forward[0]._shape
+        shape = psi.forward[0].shape
         fp, ops = shape[FP], shape[OPS]
         dfp = _join(fp, shape[DFP])
         b_ops, b_dfp, b_scoped = _branch_summary(psi.branches[0], psi.inputs, len(psi.variables))
@@ -271,15 +277,15 @@ def _diffeo_summary(psi) -> tuple:
     elif found is None:
         fp = ops = dfp = _EMPTY
         for f in psi.forward:
-            fp = _join(fp, f._shape[FP])
+            fp = _join(fp, f.shape[FP])
         for u in psi.forward + psi.nonzero:
-            ops, dfp = _join(ops, u._shape[OPS]), _join(dfp, _join(u._shape[FP], u._shape[DFP]))
+            ops, dfp = _join(ops, u.shape[OPS]), _join(dfp, _join(u.shape[FP], u.shape[DFP]))
         scoped = _diffeo_scoped(psi)
         for b in psi.branches:  # (a branch shared by several Diffeos is summarized once)
             b_ops, b_dfp, b_scoped = _branch_summary(b, psi.inputs, len(psi.variables))
             ops, dfp, scoped = _join(ops, b_ops), _join(dfp, b_dfp), scoped and b_scoped
         found = d["_summary"] = (fp, _interned_set(psi.variables), _interned_set((psi.variables,)),
-                                 psi.forward[0]._shape[DEPTH] if psi.name is None else 1, scoped, ops, dfp)
+                                 psi.forward[0].shape[DEPTH] if psi.name is None else 1, scoped, ops, dfp)
     return found
 
 
@@ -294,8 +300,8 @@ def _branch_summary(b, inputs: tuple[str, ...], n: int) -> tuple:
         us = frozenset(inputs)
         scoped = len(b.components) == n
         for u in b.components + b.guards:
-            ops, dfp = _join(ops, u._shape[OPS]), _join(dfp, _join(u._shape[FP], u._shape[DFP]))
-            if scoped and not (u._shape[SCOPED] and not u._shape[BINDERS] and u._shape[FV] <= us):
+            ops, dfp = _join(ops, u.shape[OPS]), _join(dfp, _join(u.shape[FP], u.shape[DFP]))
+            if scoped and not (u.shape[SCOPED] and not u.shape[BINDERS] and u.shape[FV] <= us):
                 scoped = False
         found = d["_summary"] = ((inputs, n), ops, dfp, scoped)
     return found[1:]
@@ -305,16 +311,16 @@ def _ifdiffeo(t, psi, a, b) -> None:
     """The attributes of ``ifge0 ⌊Ψ⌋ then s else r`` (``t``) from Ψ's and those of ``s`` (``a``)
     and ``r`` (``b``)."""
     fp, xs, pv, cond, scoped, ops, dfp = _diffeo_summary(psi)
-    if a._shape is _LEAF_SHAPE and b._shape is _LEAF_SHAPE:  # both branches constants ([…] is 1 or 0): the same, joined
-        t._shape = (xs, fp, False, False, 3, 1 + (cond if cond > 1 else 1), pv, scoped, ops, _EMPTY, dfp)
+    if a.shape is _LEAF_SHAPE and b.shape is _LEAF_SHAPE:  # both branches constants ([…] is 1 or 0): the same, joined
+        t.shape = (xs, fp, False, False, 3, 1 + (cond if cond > 1 else 1), pv, scoped, ops, _EMPTY, dfp)
         t._small = v = False if not xs and not fp else None
         t._small_all = v is not False and a._small_all and b._small_all
         return
-    fv = _join(_join(a._shape[FV], b._shape[FV]), xs)
-    fp = _join(_join(a._shape[FP], b._shape[FP]), fp)
-    t._shape = (fv, fp, False, a._shape[CALLS] or b._shape[CALLS], 1 + a._shape[SIZE] + b._shape[SIZE], 1 + max(a._shape[DEPTH], b._shape[DEPTH], cond),
-                _join(_join(a._shape[PSI_VARS], b._shape[PSI_VARS]), pv), scoped and a._shape[SCOPED] and b._shape[SCOPED],
-                _join(_join(a._shape[OPS], b._shape[OPS]), ops), _join(a._shape[BINDERS], b._shape[BINDERS]), _join(_join(a._shape[DFP], b._shape[DFP]), dfp))
+    fv = _join(_join(a.shape[FV], b.shape[FV]), xs)
+    fp = _join(_join(a.shape[FP], b.shape[FP]), fp)
+    t.shape = (fv, fp, False, a.shape[CALLS] or b.shape[CALLS], 1 + a.shape[SIZE] + b.shape[SIZE], 1 + max(a.shape[DEPTH], b.shape[DEPTH], cond),
+                _join(_join(a.shape[PSI_VARS], b.shape[PSI_VARS]), pv), scoped and a.shape[SCOPED] and b.shape[SCOPED],
+                _join(_join(a.shape[OPS], b.shape[OPS]), ops), _join(a.shape[BINDERS], b.shape[BINDERS]), _join(_join(a.shape[DFP], b.shape[DFP]), dfp))
     t._small = v = False if not fv and not fp else None
     t._small_all = v is not False and a._small_all and b._small_all
 
@@ -329,9 +335,9 @@ def _diffeo_scoped(psi) -> bool:
     if len(xs) != n or len(psi.forward) != n or len(psi.inputs) != n:
         return False
     for f in psi.forward:  # (loops, not all() over generators: every completed condition comes here)
-        if not (f._shape[SCOPED] and not f._shape[BINDERS] and f._shape[FV] <= xs):
+        if not (f.shape[SCOPED] and not f.shape[BINDERS] and f.shape[FV] <= xs):
             return False
     for z in psi.nonzero:
-        if not (z._shape[SCOPED] and not z._shape[BINDERS] and not z._shape[FV]):
+        if not (z.shape[SCOPED] and not z.shape[BINDERS] and not z.shape[FV]):
             return False
     return True  # (the branches' premise: _branch_summary)

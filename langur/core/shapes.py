@@ -2,7 +2,7 @@
 of a condition of the same shape as one completed before (:func:`langur.syntax.affine.completed`).
 
 Such a node's attributes that depend on its shape only (:mod:`langur.core.attributes`: its
-classes, names, primitives, exponents and diffeos, the tuple ``_shape``) are those of the node it
+classes, names, primitives, exponents and diffeos, the tuple ``shape``) are those of the node it
 copies, the same tuple; only those that depend on the values of its constants are computed.  Each function's node is equal, attributes
 included, to the one the constructor builds.
 """
@@ -15,22 +15,22 @@ from .attributes import _LEAF_SHAPE, FP, FV, _binary_value, _small_power, int_fr
 from .terms import Add, Const, IfDiffeo, Mul, Pow, Prim, Term
 
 #: What a shape (:func:`shape_with_span`) gives a node: its attributes of the shape, and its span.
-_shape_span = operator.itemgetter("_shape", "span")
+_shape_span = operator.itemgetter("shape", "span")
 #: All that a constant keeps (:func:`like_leaf` copies it).
-_LEAF_COPY = ("value", "span", "_shape", "_small", "_small_all", "_hash", "_typed", "_memo")
+_LEAF_COPY = ("value", "span", "shape", "_small", "_small_all", "_hash", "_typed", "_memo")
 _leaf_copy = operator.attrgetter(*_LEAF_COPY)
 
 
 def same_shape(t: "Term", s: "Term") -> bool:
     """``t`` and ``s`` have the same attributes but those that depend on their constants' values
     (then a node above one of them may be built by :func:`like` from a node above the other)."""
-    return t._shape == s._shape
+    return t.shape == s.shape
 
 
 def shape_of(t: "Term") -> dict:
     """What :func:`like` keeps of ``t`` (an ``Add``, ``Mul``, ``Pow``, ``Prim`` or ``IfDiffeo``):
     the attributes of its shape, and its exponent or primitive."""
-    d = {"_shape": t._shape}
+    d = {"shape": t.shape}
     if type(t) is Pow:
         d["exponent"] = t.exponent
     elif type(t) is Prim:
@@ -45,7 +45,7 @@ def shape_with_span(t: "Term") -> dict:
     (an ``Add`` or ``Mul``, the most frequent, read in one call)."""
     tt = type(t)
     if tt is Add or tt is Mul:
-        return {"_shape": t._shape, "span": t.span}
+        return {"shape": t.shape, "span": t.span}
     d = shape_of(t)
     d["span"] = t.span
     return d
@@ -63,7 +63,7 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
     variables and the same shapes of its terms, whatever their constants (an affine completion of
     a condition of the same shape, :func:`langur.syntax.affine.completed`)."""
     new = _new(cls.__base__)
-    new._shape = shape["_shape"]
+    new.shape = shape["shape"]
     new.span, new._hash, new._typed, new._memo = span, None, None, None
     if cls is Add or cls is Mul:
         a, b = kids
@@ -74,7 +74,7 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
     if cls is IfDiffeo:
         psi, a, b = kids
         new.psi, new.then, new.orelse = psi, a, b
-        v = new._small = False if not new._shape[FV] and not new._shape[FP] else None
+        v = new._small = False if not new.shape[FV] and not new.shape[FP] else None
         new._small_all = v is not False and a._small_all and b._small_all
         new.__class__ = cls  # (_built, written out)
         return new
@@ -97,7 +97,7 @@ def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
     ``span`` (``dict(shape_of(t), span=…)``): a loop's copies build most of their nodes so, one call
     each (issue 15)."""
     new = _new(cls.__base__)
-    new._shape, new.span = _shape_span(shape)
+    new.shape, new.span = _shape_span(shape)
     new.left, new.right, new._hash, new._typed, new._memo = a, b, None, None, None
     x, y = a._small, b._small
     if (x is None or y is None) and x is not False and y is not False:
@@ -120,7 +120,7 @@ def like_binary_many(cls: type, shape: dict, lefts: list, rights: list) -> list:
     kept, span = _shape_span(shape)
     for a, b in zip(lefts, rights):
         new = _new(_layout)
-        new._shape = kept
+        new.shape = kept
         new.span = span
         new.left = a
         new.right = b
@@ -140,7 +140,7 @@ def like_power(shape: dict, a: "Term", small) -> "Term":
     """``like(Pow, shape, (a,), span)`` whose ``shape`` also holds its ``span``, with the small value
     of ``a ^ k`` given (``small_power(small_value(a), k)``, which a copy may have computed already)."""
     new = _new(_POW)
-    new._shape, new.span = _shape_span(shape)
+    new.shape, new.span = _shape_span(shape)
     new.base, new.exponent, new._hash, new._typed, new._memo = a, shape["exponent"], None, None, None
     new._small = small
     new._small_all = small is not False and a._small_all
@@ -152,7 +152,7 @@ def like_leaf(c: Const, span) -> Const:
     """``Const(c.value, span=span)``, its attributes copied from ``c`` (a loop's copy reads its
     index at several places: one number, issue 15)."""
     new = _new(_CONST)
-    (new.value, new.span, new._shape, new._small, new._small_all, new._hash, new._typed,
+    (new.value, new.span, new.shape, new._small, new._small_all, new._hash, new._typed,
      new._memo) = _leaf_copy(c)
     new.span = span
     new.__class__ = Const  # (_built, written out)
@@ -173,6 +173,6 @@ def index_const(value: int, span=None) -> Const:
         return Const(number, span=span)
     new = _new(_CONST)
     new.value, new.span, new._hash, new._typed, new._memo = number, span, None, None, None
-    new._shape, new._small, new._small_all = _LEAF_SHAPE, number, True  # (a leaf's attributes: its shape, no small value but a constant's)
+    new.shape, new._small, new._small_all = _LEAF_SHAPE, number, True  # (a leaf's attributes: its shape, no small value but a constant's)
     new.__class__ = Const  # (_built, written out)
     return new

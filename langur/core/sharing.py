@@ -51,7 +51,7 @@ def _sharing(cls, term: bool = False):
             return field_eq(self, other)
         if hash(self) != hash(other):
             return False
-        if (self._shape[SIZE] if term else REPR_LIMIT) < 64:  # small written out: compared as a tree
+        if (self.shape[SIZE] if term else REPR_LIMIT) < 64:  # small written out: compared as a tree
             return field_eq(self, other)
         # Two DAGs equal node for node: each pair of nodes is compared once (while the outermost
         # comparison runs), not once per path.
@@ -77,8 +77,8 @@ def _sharing(cls, term: bool = False):
     field_repr = cls.__repr__
 
     def __repr__(self):  # written out, a shared term can have 2^40 nodes
-        if term and self._shape[SIZE] > REPR_LIMIT:  # (its tree_size)
-            return f"<{cls.__name__}: {self._shape[SIZE]:,} nodes written out>"
+        if term and self.shape[SIZE] > REPR_LIMIT:  # (its tree_size)
+            return f"<{cls.__name__}: {self.shape[SIZE]:,} nodes written out>"
         return field_repr(self)
 
     cls.__hash__, cls.__eq__, cls.__repr__ = __hash__, __eq__, __repr__

@@ -5,7 +5,7 @@ A node of a frozen record keeps its fields and the attributes it computes when i
 fill entry by entry and collect.  Term nodes keep them in slots instead: :func:`_slotted` makes the
 record classes again over a few *layouts*, classes that only declare the slots — every field of the
 classes of a group (leaves, sums and products, unary nodes, the others), and the attributes every
-term keeps (:data:`_KEPT`: the tuple ``_shape`` and the small value; :data:`_MEMOS`).  A slot a class has no field for stays empty (reading it
+term keeps (:data:`_KEPT`: the tuple ``shape`` and the small value; :data:`_MEMOS`).  A slot a class has no field for stays empty (reading it
 is an ``AttributeError``, as for an attribute it does not have).
 
 A frozen record refuses assignment by its own ``__setattr__``, which every assignment then calls;

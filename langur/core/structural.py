@@ -76,35 +76,35 @@ def subterms(t: Term):
 def free_vars(t: Term) -> frozenset[str]:
     """Names of variables occurring in ``t`` (including in diffeomorphic conditions; an implicit
     root binds its variable in its equation)."""
-    return t._shape[FV]
+    return t.shape[FV]
 
 
 def free_params(t: Term) -> frozenset[str]:
     """Names of parameters occurring free in ``t`` (``let`` binds its name in its body; a
     diffeomorphic conditional's include its condition's)."""
-    return t._shape[FP]
+    return t.shape[FP]
 
 
 def smooth(t: Term) -> bool:
     """No conditional and no call in ``t``: ⟦t⟧ is a smooth expression (where it is defined)."""
-    return t._shape[SMOOTH]
+    return t.shape[SMOOTH]
 
 
 def has_calls(t: Term) -> bool:
     """Whether ``t`` contains a ``Call``."""
-    return t._shape[CALLS]
+    return t.shape[CALLS]
 
 
 def tree_size(t: Term) -> int:
     """The number of nodes of ``t`` counted once per path (its size written out as a tree)."""
-    return t._shape[SIZE]
+    return t.shape[SIZE]
 
 
 def depth(t: Term) -> int:
     """The nesting depth of ``t`` (a leaf is 1); a completed condition (``Diffeo.name`` None)
     counts as a child of its conditional, a declared diffeo as a leaf: what the inlined program's
     depth limit (T230, ``langur.syntax.inline``) measures."""
-    return t._shape[DEPTH]
+    return t.shape[DEPTH]
 
 
 def small_value(t: Term):
@@ -123,7 +123,7 @@ def all_small(t: Term) -> bool:
 
 def diffeo_variables(t: Term) -> frozenset[tuple[str, ...]]:
     """The variable lists of the diffeomorphic conditionals in ``t``."""
-    return t._shape[PSI_VARS]
+    return t.shape[PSI_VARS]
 
 
 def diffeo_params(psi: Diffeo) -> frozenset[str]:

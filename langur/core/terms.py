@@ -79,7 +79,7 @@ class Const:
 
     def __new__(cls, value, span=None):
         t = _new(cls.__base__)
-        t.value, t.span, t._hash, t._typed, t._memo, t._shape = value, span, None, None, None, _LEAF_SHAPE
+        t.value, t.span, t._hash, t._typed, t._memo, t.shape = value, span, None, None, None, _LEAF_SHAPE
         if id(value) in _INT_IDS:  # (an integer of INT_FRACTIONS, or −1: small, without Fraction's properties)
             t._small, t._small_all = value, True
         elif type(value) is not Fraction:
@@ -103,7 +103,7 @@ class Var:
     def __new__(cls, name, span=None):
         t = _new(cls.__base__)
         t.name, t.span, t._hash, t._typed, t._memo = name, span, None, None, None
-        t._shape, t._small, t._small_all = _var_shape(name), None, True  # (a leaf's attributes: its shape, no small value but a constant's)
+        t.shape, t._small, t._small_all = _var_shape(name), None, True  # (a leaf's attributes: its shape, no small value but a constant's)
         t.__class__ = cls
         return t
 
@@ -118,7 +118,7 @@ class Param:
     def __new__(cls, name, span=None):
         t = _new(cls.__base__)
         t.name, t.span, t._hash, t._typed, t._memo = name, span, None, None, None
-        t._shape, t._small, t._small_all = _param_shape(name), None, True
+        t.shape, t._small, t._small_all = _param_shape(name), None, True
         t.__class__ = cls
         return t
 
@@ -423,35 +423,35 @@ def _annotate(t, cls: type) -> None:
         kids = (t.equation, t.target, t.lo, t.hi) if t.slope is None else (t.equation, t.target, t.lo, t.hi, t.slope)
     fv = fp = pv = _EMPTY
     for c in kids:
-        fv, fp, pv = _join(fv, c._shape[FV]), _join(fp, c._shape[FP]), _join(pv, c._shape[PSI_VARS])
+        fv, fp, pv = _join(fv, c.shape[FV]), _join(fp, c.shape[FP]), _join(pv, c.shape[PSI_VARS])
     size, deep = 1, 0
     for c in kids:
-        size += c._shape[SIZE]
-        if c._shape[DEPTH] > deep:
-            deep = c._shape[DEPTH]
+        size += c.shape[SIZE]
+        if c.shape[DEPTH] > deep:
+            deep = c.shape[DEPTH]
     if cls is Let:
         bound, body, name = t.bound, t.body, t.name
-        fp = _join(bound._shape[FP], body._shape[FP] - {name} if name in body._shape[FP] else body._shape[FP])
+        fp = _join(bound.shape[FP], body.shape[FP] - {name} if name in body.shape[FP] else body.shape[FP])
     elif cls is ImplicitRoot:  # binds its variable in its equation (and slope)
         eq, x, slope = t.equation, t.variable, t.slope
-        own = eq._shape[FV] if slope is None else _join(eq._shape[FV], slope._shape[FV])
-        fv = _join(_join(own - {x} if x in own else own, t.target._shape[FV]), _join(t.lo._shape[FV], t.hi._shape[FV]))
-    smooth = cls is not IfGe0 and cls is not Call and all(c._shape[SMOOTH] for c in kids)
-    calls = cls is Call or any(c._shape[CALLS] for c in kids)
+        own = eq.shape[FV] if slope is None else _join(eq.shape[FV], slope.shape[FV])
+        fv = _join(_join(own - {x} if x in own else own, t.target.shape[FV]), _join(t.lo.shape[FV], t.hi.shape[FV]))
+    smooth = cls is not IfGe0 and cls is not Call and all(c.shape[SMOOTH] for c in kids)
+    calls = cls is Call or any(c.shape[CALLS] for c in kids)
     t._small = v = False if not fv and not fp else None
     t._small_all = v is not False and all(c._small_all for c in kids)
-    scoped = all(c._shape[SCOPED] for c in kids)
+    scoped = all(c.shape[SCOPED] for c in kids)
     ops = binders = dfp = _EMPTY
     for c in kids:
-        ops, binders, dfp = _join(ops, c._shape[OPS]), _join(binders, c._shape[BINDERS]), _join(dfp, c._shape[DFP])
+        ops, binders, dfp = _join(ops, c.shape[OPS]), _join(binders, c.shape[BINDERS]), _join(dfp, c.shape[DFP])
     if cls is IfGe0:
-        scoped = scoped and not t.cond._shape[FV]
+        scoped = scoped and not t.cond.shape[FV]
     elif cls is Let:
-        scoped = scoped and not bound._shape[FV]
+        scoped = scoped and not bound.shape[FV]
         binders = _join(binders, _names(name))
-        dfp = _join(bound._shape[DFP], body._shape[DFP] - {name} if name in body._shape[DFP] else body._shape[DFP])
+        dfp = _join(bound.shape[DFP], body.shape[DFP] - {name} if name in body.shape[DFP] else body.shape[DFP])
     elif cls is ImplicitRoot:  # its bracket may move with Δ (issue 18)
-        scoped = scoped and not eq._shape[BINDERS] and (slope is None or not slope._shape[BINDERS])
-    t._shape = (fv, fp, smooth, calls, size, deep + 1, pv, scoped, ops, binders, dfp)
+        scoped = scoped and not eq.shape[BINDERS] and (slope is None or not slope.shape[BINDERS])
+    t.shape = (fv, fp, smooth, calls, size, deep + 1, pv, scoped, ops, binders, dfp)
 
 

@@ -339,7 +339,7 @@ def collect_sites(t: Term, varmap: dict, parammap: dict, variables: tuple[str, .
             sampler = SiteSampler(canon, variables) if cache is None else cache.sampler(canon, variables)
             out.append(Site(sampler, free_params(canon.forward[0])))
             for c in (t.then, t.orelse):
-                if not c._shape[SMOOTH]:  # (a smooth branch has no site: not walked)
+                if not c.shape[SMOOTH]:  # (a smooth branch has no site: not walked)
                     collect_sites(c, varmap, parammap, variables, defs, out, cache)
         case Let(name, bound, body):
             collect_sites(bound, varmap, parammap, variables, defs, out, cache)
@@ -354,11 +354,11 @@ def collect_sites(t: Term, varmap: dict, parammap: dict, variables: tuple[str, .
                 else:
                     pm[argname] = substitute(a, {}, parammap) if parammap else a
             collect_sites(d.body, vm, pm, variables, defs, out, cache)
-        case _ if t._shape[SMOOTH]:  # (``smooth(t)``, read off the node's kept attributes)
+        case _ if t.shape[SMOOTH]:  # (``smooth(t)``, read off the node's kept attributes)
             return  # no conditional and no call: no site below
         case Add() | Mul():  # (the spine of a sum of many conditionals: its smooth side not walked)
             for c in (t.left, t.right):
-                if not c._shape[SMOOTH]:
+                if not c.shape[SMOOTH]:
                     collect_sites(c, varmap, parammap, variables, defs, out, cache)
         case _:
             for c in children(t):

@@ -61,7 +61,7 @@ class Sharing:
         #: is then computed on numbers, sample.py).
         self.numbers = True
         self.keep = t  # the term stays alive, so the ids above stay its own
-        if t._shape[SIZE] > SMALL_TERM:
+        if t.shape[SIZE] > SMALL_TERM:
             self._count(t)
 
     def _count(self, root: Term) -> None:
@@ -74,7 +74,7 @@ class Sharing:
             for c in children[type(t)](t):
                 if type(c) in leaves:
                     continue  # never shared
-                shape = c._shape
+                shape = c.shape
                 if not (shape[FV] or shape[FP] or shape[CALLS]) and constant(c) is not None:
                     continue  # folded when compiled: never asked whether it is shared
                 k = id(c)
@@ -87,7 +87,7 @@ class Sharing:
 
     def shared(self, t: Term) -> bool:
         # pure: no site nor call below (the kept attributes: no diffeomorphic conditional, no call)
-        return self.refs.get(id(t), 0) > 1 and not t._shape[PSI_VARS] and not t._shape[CALLS]
+        return self.refs.get(id(t), 0) > 1 and not t.shape[PSI_VARS] and not t.shape[CALLS]
 
 
 #: (a set: ``type(c) in`` it is one hashed lookup, where a tuple compares the class with each in turn)
@@ -118,7 +118,7 @@ _NOT_YET = object()
 def constant(t: Term):
     """:func:`_fold` of ``t`` when it has no variable, parameter or call (kept on the node: a
     number that only depends on the term), else None."""
-    shape = t._shape
+    shape = t.shape
     if shape[FV] or shape[FP] or shape[CALLS]:
         return None
     memo = t._memo

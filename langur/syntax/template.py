@@ -163,7 +163,7 @@ class Template:
             """The step of the dependent node ``u`` (of class ``tu``), its children walked (``a``,
             ``b``: the first two's steps when the walk has them at hand, else None)."""
             if tu is Add or tu is Mul:
-                made = (_BINARY, tu, {"_shape": u._shape, "span": u.span},
+                made = (_BINARY, tu, {"shape": u.shape, "span": u.span},
                         ref(u.left) if a is None else a, ref(u.right) if b is None else b)
             elif tu is Pow:
                 base = ref(u.base) if a is None else a
