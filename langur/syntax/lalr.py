@@ -128,6 +128,10 @@ NO_ACTION = -32768
 #: reductions lead to one (``tables.fold_units``).
 ACCEPT = -32767
 
+#: What the driver's lexer adds after the last piece ``findall`` cuts (``ignored`` None: not one of
+#: them): the look-ahead ``$END``, whose reductions the driver makes as a token's, then accepts.
+_END_OF_INPUT = (None, "", "")
+
 
 def pack(states: list[dict[str, int]], symbols: list[str]) -> bytes:
     """The table's rows (per state, ``symbol → code``: the next state for a shift or a goto,
@@ -214,7 +218,9 @@ def driver(data: dict, rule_callbacks: list[Callable]) -> Callable[[str, str], A
     none, :data:`ACCEPT` at the end of the input — and only the rules are joined to their callbacks
     here (one pass over the rules, none over the table).  The table has no reduction by a rule whose
     callback gives back its one child (``tables.fold_units``: the precedence ladder ``term`` → ``sum``
-    → ``product`` → ``unary`` → ``power``, most reductions of a program, costs no step here)."""
+    → ``product`` → ``unary`` → ``power``, most reductions of a program, costs no step here).
+    The end of the input is read as one more look-ahead, ``$END`` (:data:`_END_OF_INPUT`): its
+    reductions are made by the same loop as a token's, until its column says :data:`ACCEPT`."""
     try:
         lexer = data["scanner"]
         findall = glued(lexer).findall
@@ -246,7 +252,7 @@ def driver(data: dict, rule_callbacks: list[Callable]) -> Callable[[str, str], A
             return FAILED
 
     def run(text: str, start: str) -> Any:
-        no_action = NO_ACTION
+        accept = ACCEPT
         end = len(text)
         state = starts[start]
         state_stack, value_stack = [state], []
@@ -258,26 +264,32 @@ def driver(data: dict, rule_callbacks: list[Callable]) -> Callable[[str, str], A
             else:
                 stop = text.find("\n", begin + CHUNK) + 1 or end
             # (the pieces ``findall`` cuts tile the text: ignored run, token or bad character)
-            for ignored, value, bad in findall(text, begin, stop):
+            pieces = findall(text, begin, stop)
+            if stop == end:
+                pieces.append(_END_OF_INPUT)
+            for ignored, value, bad in pieces:
                 if ignored:  # its lines counted as lark's lexer counts them
                     if "\n" in ignored:
                         line += ignored.count("\n")
                         line_start = pos + ignored.rindex("\n") + 1
                     pos += len(ignored)
-                if not value:
-                    if bad:  # a character no terminal matches
-                        return FAILED
-                    continue  # (the end of the piece)
-                kind = literals.get(value) or first[value[0]]
-                # the token (TOKEN's fields; no line break inside: checked by tables.driver_data)
-                after = pos + len(value)
-                token = (kind, value, line, pos - line_start + 1, line, after - line_start + 1, pos, after)
-                pos = after
+                if value:
+                    kind = literals.get(value) or first[value[0]]
+                    # the token (TOKEN's fields; no line break inside: checked by tables.driver_data)
+                    after = pos + len(value)
+                    token = (kind, value, line, pos - line_start + 1, line, after - line_start + 1, pos, after)
+                    pos = after
+                elif bad:  # a character no terminal matches
+                    return FAILED
+                elif ignored is None:  # the end of the input: $END, a look-ahead like a token's
+                    kind = token = "$END"
+                else:
+                    continue  # (the end of a piece)
                 column = columns[kind]
                 code = column[state]
-                while code < 0:  # the reductions this token's look-ahead calls for, then its shift
-                    if code == no_action:
-                        return FAILED
+                while code < 0:  # the reductions this look-ahead calls for, then its shift
+                    if code <= accept:  # no action or, at $END only, accepted (the two codes below every rule's)
+                        return value_stack[-1] if code == ACCEPT and kind == "$END" else FAILED
                     size, callback, goto = reductions[~code]
                     if size == 1:  # (a leaf: most reductions of a program; the top replaced)
                         value_stack[-1] = callback([value_stack[-1]])
@@ -293,29 +305,12 @@ def driver(data: dict, rule_callbacks: list[Callable]) -> Callable[[str, str], A
                         state = goto[state_stack[-1]]
                         push_state(state)
                     code = column[state]
-                push_state(code)  # its shift
+                push_state(code)  # its shift (of $END: the input ends where the grammar does not)
                 push_value(token)
                 state = code
             if stop == end:
-                break
+                return FAILED  # (not accepted: $END was shifted)
             begin = stop
-        # the end of the input: its reductions until the parse is accepted
-        column = columns["$END"]
-        while True:
-            code = column[state_stack[-1]]
-            if code == ACCEPT:
-                return value_stack[-1]
-            if code >= 0 or code == NO_ACTION:  # a shift of $END, or no action
-                return FAILED
-            size, callback, goto = reductions[~code]
-            if size:
-                s = value_stack[-size:]
-                del state_stack[-size:]
-                del value_stack[-size:]
-                push_value(callback(s))
-            else:
-                push_value(callback([]))
-            push_state(goto[state_stack[-1]])
 
     return parse
 
