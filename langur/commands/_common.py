@@ -15,7 +15,7 @@ from fractions import Fraction
 import numpy  # noqa: F401
 
 from .. import frontend, lazy, progress
-from ..cli import UsageError, parse_assignments, parse_modules
+from ..cli import UsageError, parse_assignments, parse_modules, read_source
 
 #: json only for ``--json`` output (as in :mod:`langur.cli`).
 json = lazy.module("json")
@@ -30,7 +30,7 @@ def load(args, path: str | None = None):
         if not os.path.isfile(mpath):
             raise UsageError(f"--module {name}={mpath}: no such file")
     if path == "-":
-        data = sys.stdin.buffer.read()
+        data = read_source(sys.stdin.buffer, "<stdin>")
         loader = getattr(frontend, "load_bytes", None)
         if loader is not None:
             return loader(data, "<stdin>", modules=modules)
@@ -41,7 +41,7 @@ def load(args, path: str | None = None):
         raise UsageError(f"{path}: is a directory")
     try:
         with open(path, "rb") as fh:
-            data = fh.read()
+            data = read_source(fh, path)
     except OSError as e:  # as for a missing file: status 2 (langur check reports it as E109)
         raise UsageError(f"{path}: cannot read this file ({e.strerror or type(e).__name__})") from None
     with progress.phase("reading and type-checking"):

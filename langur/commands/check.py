@@ -23,7 +23,7 @@ import sys
 from pathlib import Path
 
 from .. import __version__, frontend
-from ..cli import UsageError, add_common, add_timeout, parse_assignments, parse_modules
+from ..cli import UsageError, add_common, add_timeout, parse_assignments, parse_modules, read_source
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..lint import config as cfgmod
 from ..lint import fix as fixmod
@@ -210,21 +210,21 @@ def run(args) -> int:
 
     # Read everything first: a usage problem (bad config) stops before output; a file that cannot
     # be read is reported with the others (E109).
-    inputs = []  # (name, data, configuration), or (name, None, the E109 diagnostic)
+    inputs = []  # (name, data or E108's LangurError, configuration), or (name, None, the E109 diagnostic)
     for f in files:
-        if f == "-":
-            name = args.stdin_filename or STDIN_NAME
-            data = sys.stdin.buffer.read()
-            where = args.stdin_filename or os.getcwd()
-        else:
-            name = f
-            try:
+        stdin = f == "-"
+        name, where = (args.stdin_filename or STDIN_NAME, args.stdin_filename or os.getcwd()) if stdin else (f, f)
+        try:
+            if stdin:
+                data = read_source(sys.stdin.buffer, name)
+            else:
                 with open(f, "rb") as fh:
-                    data = fh.read()
-            except OSError as e:
-                inputs.append((f, None, unreadable(f, e)))
-                continue
-            where = f
+                    data = read_source(fh, f)
+        except OSError as e:
+            inputs.append((f, None, unreadable(f, e)))
+            continue
+        except LangurError as e:  # too large to read (E108): reported with the others
+            data = e
         try:
             cfg = cfgmod.Config() if args.isolated else cfgmod.find_config(where)
         except cfgmod.ConfigError as e:
@@ -239,6 +239,9 @@ def run(args) -> int:
     for name, data, cfg in inputs:
         if data is None:
             reports.append(Report(cfg))
+            continue
+        if isinstance(data, LangurError):
+            reports.extend(Report(d) for d in data.diagnostics)
             continue
         try:
             run_with_timeout(lambda n=name, d=data, c=cfg: _check_one(args, n, d, c, modules, at, used_at, fixes,
