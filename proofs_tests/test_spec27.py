@@ -9,7 +9,10 @@ Fixed here (each test fails on main at 1ca536d):
 * ``render --npz OUT`` wrote ``OUT.npz`` and reported ``OUT``;
 * ``plot --seed -1`` was accepted (the convergence plot then failed as an internal error);
 * ``eval/deriv --json`` gave ``exact: null`` without the one-line reason on standard error;
-* an endless input (``/dev/zero``, a pipe that never closes) was read until memory ran out.
+* an endless input (``/dev/zero``, a pipe that never closes) was read until memory ran out;
+* ``--module NAME=PATH`` naming a module the program does not import was silently ignored (a typo
+  left the shader unswapped); now a usage error naming the modules imported;
+* ``check --fix --in-place`` with ``FILE.bak`` a directory was an internal error.
 """
 
 from __future__ import annotations
@@ -123,6 +126,30 @@ def test_plot_seed_is_a_seed(capsys, tmp_path):
     assert status == 2 and out == ""
     assert "argument --seed: a seed must be between 0 and" in one_line(err)
     assert not (tmp_path / "c.png").exists()
+
+
+def test_a_module_option_nothing_imports_is_a_usage_error(capsys):
+    renderer, lin = EXAMPLES / "renderer.lgr", EXAMPLES / "lin_shader.lgr"
+    status, out, err = run(capsys, "eval", renderer, "--module", f"shadr={lin}", "--samples", "100")
+    assert status == 2 and out == ""
+    assert one_line(err) == f"langur eval: error: --module shadr={lin}: {renderer} imports no module shadr " \
+                            "(it imports: shader)"
+    status, _, err = run(capsys, "deriv", FIG1, "--module", f"shader={lin}")
+    assert status == 2 and "imports no module shader (it imports: none)" in one_line(err)
+    # the name it does import swaps the shader: at c = −1 the lit half x + y ≥ 1 of the pixel (area ½) is
+    # shaded 1 by the constant shader (value ½) and 1/(√2·(x + y − 1) + 2) ≤ ½ by the linear one (value ≤ ¼)
+    status, out, _ = run(capsys, "eval", renderer, "--module", f"shader={lin}", "--engine", "exact", "--json")
+    assert status == 0 and 0 < json.loads(out)["exact"]["value"] < 0.25
+
+
+def test_fix_in_place_with_a_backup_that_is_a_directory_is_refused(capsys, tmp_path):
+    f = tmp_path / "co.lgr"
+    f.write_text("param a = 0.5\nint ([0, 1]) [x >= a] * [x >= a] d(x)\n")  # X301: a rewrite to write
+    (tmp_path / "co.lgr.bak").mkdir()
+    status, out, err = run(capsys, "check", f, "--isolated", "--fix", "--in-place")
+    assert status == 2 and out == ""
+    assert one_line(err) == f"langur check: error: {f}.bak: Is a directory: not overwritten"
+    assert f.read_text() == "param a = 0.5\nint ([0, 1]) [x >= a] * [x >= a] d(x)\n"
 
 
 # -- JSON: exact is null only with a one-line reason on standard error -----------------------------

@@ -266,11 +266,16 @@ def run(args) -> int:
                     fixmod.check_writable(f, args.in_place)
                 except fixmod.FixError as e:
                     raise UsageError(str(e)) from None
+                except OSError as e:  # FILE.bak a directory, …: nothing written, one line
+                    raise UsageError(f"{e.filename or f.path}: {e.strerror}: not overwritten") from None
         for f in fixes:
             if f.path == STDIN_NAME:
                 sys.stdout.write(f.after)
                 continue
-            dest = fixmod.write(f, args.in_place)
+            try:
+                dest = fixmod.write(f, args.in_place)
+            except OSError as e:  # a folder that cannot be written, a full disk
+                raise UsageError(f"{e.filename or f.path}: cannot write the rewrite ({e.strerror})") from None
             how = "printed whole, defs inlined" if f.whole else f"{len(f.rewritten.replaced)} subterm(s)"
             print(f"{f.path}: transverse rewrite (paper §7.3.2, {how}) written to {dest}"
                   + (f" (backup {f.path}.bak)" if args.in_place else ""), file=sys.stderr)
