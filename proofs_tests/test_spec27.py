@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import io
 import json
+import math
 import os
 
 import pytest
@@ -284,3 +285,28 @@ def test_ifge0_tests_greater_or_equal(capsys, tmp_path):
 def test_every_subcommand_has_help(capsys, command):
     status, out, _ = run(capsys, command, "--help")
     assert status == 0 and out.startswith(f"usage: langur {command}")
+
+
+def test_a_quadrature_answer_carries_its_error_bound(capsys, tmp_path):
+    # CLI.md: method "quadrature", then an "error" field bounds the estimate.  [sin(10xy) ≥ 0] on the
+    # unit square: 10xy ∈ [0, π] ∪ [2π, 3π] (10xy ≤ 10 < 4π), so the value is A(π/10) − A(2π/10) + A(3π/10)
+    # with A(t) = |{xy ≤ t}| = t − t·ln t (t ≤ 1); sympy cannot solve sin(10xy) ≥ 0 for y in closed form
+    f = tmp_path / "sin.lgr"
+    f.write_text("int ([0, 1], [0, 1]) ifge0 sin(x * y * 10) then 1 else 0 d(x, y)\n")
+    status, out, _ = run(capsys, "eval", f, "--engine", "exact", "--json")
+    ex = json.loads(out)["exact"]
+    area = lambda t: t - t * math.log(t)  # noqa: E731
+    by_hand = area(math.pi / 10) - area(2 * math.pi / 10) + area(3 * math.pi / 10)
+    assert status == 0 and ex["method"] == "quadrature"
+    assert 0 < ex["error"] < 1e-6 and abs(ex["value"] - by_hand) <= ex["error"] + 1e-12
+
+
+def test_regular_plus_boundary_is_the_value(capsys):
+    # Fig. 9 at θ = 0: ⦇p⦈ of [y < x + θ]·(1 + θ + x + y) on [−1, 1]².  Regular part: ∂θ of the weight is 1,
+    # over {y < x}: area 2.  Boundary: the line y = x (|∂Φ/∂y| = 1) carries 1 + 2x, ∫₋₁¹ (1 + 2x) dx = 2.
+    status, out, _ = run(capsys, "deriv", FIG9, "--json", "--no-theorem", "--samples", "4000")
+    r = json.loads(out)
+    ex, mc = r["exact"], r["mc"]
+    assert status == 0 and (ex["value"], ex["regular"], ex["boundary"]) == (4.0, 2.0, 2.0)
+    assert mc["value"] == mc["regular"]["value"] + mc["boundary"]["value"]
+    assert abs(mc["value"] - 4.0) <= 5 * mc["stderr"]
