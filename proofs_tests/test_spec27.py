@@ -12,7 +12,9 @@ Fixed here (each test fails on main at 1ca536d):
 * an endless input (``/dev/zero``, a pipe that never closes) was read until memory ran out;
 * ``--module NAME=PATH`` naming a module the program does not import was silently ignored (a typo
   left the shader unswapped); now a usage error naming the modules imported;
-* ``check --fix --in-place`` with ``FILE.bak`` a directory was an internal error.
+* ``check --fix --in-place`` with ``FILE.bak`` a directory was an internal error;
+* ``check --diff --json`` (or ``--fix`` of standard input with ``--json``) printed a diff or a program
+  where ``--json`` promises one JSON object on standard output, nothing else.
 """
 
 from __future__ import annotations
@@ -151,6 +153,19 @@ def test_fix_in_place_with_a_backup_that_is_a_directory_is_refused(capsys, tmp_p
     assert status == 2 and out == ""
     assert one_line(err) == f"langur check: error: {f}.bak: Is a directory: not overwritten"
     assert f.read_text() == "param a = 0.5\nint ([0, 1]) [x >= a] * [x >= a] d(x)\n"
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["--diff", "--json"], "--diff prints a diff on standard output: it does not go with --json"),
+    (["--diff", "--format", "sarif"], "--diff prints a diff on standard output: it does not go with --format sarif"),
+    (["--fix", "--format", "json"], "--fix of standard input prints the program on standard output: it does not "
+     "go with --format json"),
+])
+def test_check_json_is_never_mixed_with_a_rewrite_on_standard_output(capsys, monkeypatch, argv, says):
+    text = b"param a = 0.5\nint ([0, 1]) [x >= a] * [x >= a] d(x)\n"  # X301: there is a rewrite
+    monkeypatch.setattr("sys.stdin", io.TextIOWrapper(io.BytesIO(text)))
+    status, out, err = run(capsys, "check", "-", "--isolated", *argv)
+    assert status == 2 and out == "" and says in one_line(err)
 
 
 # -- JSON: exact is null only with a one-line reason on standard error -----------------------------

@@ -197,6 +197,10 @@ def run(args) -> int:
         raise UsageError("--in-place goes with --fix")
     if args.json and args.format not in (None, "json"):
         raise UsageError(f"--json and --format {args.format} contradict each other")
+    if fmt in ("json", "sarif") and (args.diff or (args.fix and "-" in args.files)):
+        # standard output would carry a diff or a program, not the one JSON object (CLI.md)
+        what = "--diff prints a diff" if args.diff else "--fix of standard input prints the program"
+        raise UsageError(f"{what} on standard output: it does not go with {'--json' if args.json else '--format ' + fmt}")
     at = parse_assignments(args.at, "--at")
     modules = parse_modules(args.module)
     for name, mpath in modules.items():
