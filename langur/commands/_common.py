@@ -15,7 +15,7 @@ from fractions import Fraction
 import numpy  # noqa: F401
 
 from .. import frontend, lazy, progress
-from ..cli import UsageError, parse_assignments, parse_modules
+from ..cli import UsageError, parse_assignments, parse_modules, read_source
 
 #: json only for ``--json`` output (as in :mod:`langur.cli`).
 json = lazy.module("json")
@@ -30,22 +30,24 @@ def load(args, path: str | None = None):
         if not os.path.isfile(mpath):
             raise UsageError(f"--module {name}={mpath}: no such file")
     if path == "-":
-        data = sys.stdin.buffer.read()
-        loader = getattr(frontend, "load_bytes", None)
-        if loader is not None:
-            return loader(data, "<stdin>", modules=modules)
-        return frontend.load_text(data.decode("utf-8", errors="replace"), "<stdin>", modules=modules)
-    if not os.path.lexists(path):
+        path, data = "<stdin>", read_source(sys.stdin.buffer, "<stdin>")
+    elif not os.path.lexists(path):
         raise UsageError(f"{path}: no such file")
-    if os.path.isdir(path):
+    elif os.path.isdir(path):
         raise UsageError(f"{path}: is a directory")
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read()
-    except OSError as e:  # as for a missing file: status 2 (langur check reports it as E109)
-        raise UsageError(f"{path}: cannot read this file ({e.strerror or type(e).__name__})") from None
+    else:
+        try:
+            with open(path, "rb") as fh:
+                data = read_source(fh, path)
+        except OSError as e:  # as for a missing file: status 2 (langur check reports it as E109)
+            raise UsageError(f"{path}: cannot read this file ({e.strerror or type(e).__name__})") from None
     with progress.phase("reading and type-checking"):
-        return frontend.load_bytes(data, path, modules=modules)
+        loaded = frontend.load_bytes(data, path, modules=modules)
+    for name, mpath in modules.items():  # a --module nothing imports would be silently ignored
+        if loaded.modules.get(name) in (None, loaded.main):
+            imported = ", ".join(n for n, m in loaded.modules.items() if m is not loaded.main) or "none"
+            raise UsageError(f"--module {name}={mpath}: {path} imports no module {name} (it imports: {imported})")
+    return loaded
 
 
 def require_program(loaded, path: str):

@@ -83,6 +83,12 @@ class Undefined(str):
     the domain): an answer, printed as such, with exit status 1."""
 
 
+def say_undefined(kind: str, reason: str) -> None:
+    """With ``--json``, why ``exact`` is null: one line on standard error (CLI.md, JSON shapes; the
+    text output prints it in its ``exact`` line)."""
+    print(f"langur {kind}: no exact value: undefined: {' '.join(reason.split())}", file=sys.stderr)
+
+
 def run_exact(kind: str, program, params, direction=None, *, theorem: bool = True):
     """The symbolic reference's answer as CLI.md's ``exact`` object, or ``(None, status)``, or
     ``(Undefined(reason), 1)`` when the integral does not exist.

@@ -23,7 +23,7 @@ import sys
 from pathlib import Path
 
 from .. import __version__, frontend
-from ..cli import UsageError, add_common, add_timeout, parse_assignments, parse_modules
+from ..cli import UsageError, add_common, add_timeout, parse_assignments, parse_modules, read_source
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..lint import config as cfgmod
 from ..lint import fix as fixmod
@@ -197,6 +197,10 @@ def run(args) -> int:
         raise UsageError("--in-place goes with --fix")
     if args.json and args.format not in (None, "json"):
         raise UsageError(f"--json and --format {args.format} contradict each other")
+    if fmt in ("json", "sarif") and (args.diff or (args.fix and "-" in args.files)):
+        # standard output would carry a diff or a program, not the one JSON object (CLI.md)
+        what = "--diff prints a diff" if args.diff else "--fix of standard input prints the program"
+        raise UsageError(f"{what} on standard output: it does not go with {'--json' if args.json else '--format ' + fmt}")
     at = parse_assignments(args.at, "--at")
     modules = parse_modules(args.module)
     for name, mpath in modules.items():
@@ -210,21 +214,21 @@ def run(args) -> int:
 
     # Read everything first: a usage problem (bad config) stops before output; a file that cannot
     # be read is reported with the others (E109).
-    inputs = []  # (name, data, configuration), or (name, None, the E109 diagnostic)
+    inputs = []  # (name, data or E108's LangurError, configuration), or (name, None, the E109 diagnostic)
     for f in files:
-        if f == "-":
-            name = args.stdin_filename or STDIN_NAME
-            data = sys.stdin.buffer.read()
-            where = args.stdin_filename or os.getcwd()
-        else:
-            name = f
-            try:
+        stdin = f == "-"
+        name, where = (args.stdin_filename or STDIN_NAME, args.stdin_filename or os.getcwd()) if stdin else (f, f)
+        try:
+            if stdin:
+                data = read_source(sys.stdin.buffer, name)
+            else:
                 with open(f, "rb") as fh:
-                    data = fh.read()
-            except OSError as e:
-                inputs.append((f, None, unreadable(f, e)))
-                continue
-            where = f
+                    data = read_source(fh, f)
+        except OSError as e:
+            inputs.append((f, None, unreadable(f, e)))
+            continue
+        except LangurError as e:  # too large to read (E108): reported with the others
+            data = e
         try:
             cfg = cfgmod.Config() if args.isolated else cfgmod.find_config(where)
         except cfgmod.ConfigError as e:
@@ -239,6 +243,9 @@ def run(args) -> int:
     for name, data, cfg in inputs:
         if data is None:
             reports.append(Report(cfg))
+            continue
+        if isinstance(data, LangurError):
+            reports.extend(Report(d) for d in data.diagnostics)
             continue
         try:
             run_with_timeout(lambda n=name, d=data, c=cfg: _check_one(args, n, d, c, modules, at, used_at, fixes,
@@ -263,11 +270,16 @@ def run(args) -> int:
                     fixmod.check_writable(f, args.in_place)
                 except fixmod.FixError as e:
                     raise UsageError(str(e)) from None
+                except OSError as e:  # FILE.bak a directory, …: nothing written, one line
+                    raise UsageError(f"{e.filename or f.path}: {e.strerror}: not overwritten") from None
         for f in fixes:
             if f.path == STDIN_NAME:
                 sys.stdout.write(f.after)
                 continue
-            dest = fixmod.write(f, args.in_place)
+            try:
+                dest = fixmod.write(f, args.in_place)
+            except OSError as e:  # a folder that cannot be written, a full disk
+                raise UsageError(f"{e.filename or f.path}: cannot write the rewrite ({e.strerror})") from None
             how = "printed whole, defs inlined" if f.whole else f"{len(f.rewritten.replaced)} subterm(s)"
             print(f"{f.path}: transverse rewrite (paper §7.3.2, {how}) written to {dest}"
                   + (f" (backup {f.path}.bak)" if args.in_place else ""), file=sys.stderr)

@@ -19,6 +19,7 @@ from ._engines import (
     print_named,
     run_exact,
     run_mc,
+    say_undefined,
 )
 
 
@@ -101,6 +102,8 @@ def run(args) -> int:
     if undefined is None and exact is None and mc is None and named is None:  # no engine asked for gave a number
         status = 1
     if args.json:
+        if undefined is not None:
+            say_undefined("deriv", undefined)
         c.dump_json({"params": params, "direction": direction, "exact": exact.to_json() if exact else None,
                      "mc": mc.to_json(standard_ad=False) if mc is not None else None,
                      "standard_ad": standard_ad, "theorem_8_1": theorem.to_json() if theorem else None,
@@ -170,6 +173,7 @@ def _not_transverse(args, gate, params, direction, program, engine) -> int:
             reference = None
         named, _ = _ask(engine, program, params, direction, reference)
     if args.json:
+        say_undefined("deriv", gate.reason())
         c.dump_json({"params": params, "direction": direction, "exact": None, "mc": None, "standard_ad": None,
                      "theorem_8_1": None, "undefined": gate.reason(), "rewrite": gate.shown,
                      "diagnostics": [f.diagnostic().to_json() for f in gate.findings],

@@ -17,6 +17,7 @@ from ._engines import (
     print_named,
     run_exact,
     run_mc,
+    say_undefined,
 )
 
 
@@ -58,6 +59,8 @@ def run(args) -> int:
     if undefined is None and exact is None and mc is None and named is None:  # no engine asked for gave a number
         status = 1
     if args.json:
+        if undefined is not None:
+            say_undefined("eval", undefined)
         c.dump_json({"params": params, "exact": exact.to_json() if exact is not None else None,
                      "mc": mc.to_json() if mc is not None else None, "undefined": undefined,
                      **({"engine": named} if named is not None else {}), "recompleted": list(recompleted),

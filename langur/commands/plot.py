@@ -15,8 +15,9 @@ import os
 import sys
 
 from .. import progress
-from ..cli import UsageError, add_common, add_timeout
+from ..cli import UsageError, add_common, add_timeout, seed
 from . import _common as c
+from ._outputs import inputs_of, output_file
 
 KINDS = ("auto", "curves", "surfaces", "flat", "convergence", "all")
 GREEK = {"alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "theta": "θ", "mu": "μ", "sigma": "σ",
@@ -33,7 +34,8 @@ def add_arguments(p):
                    help="curves (one variable), surfaces, flat or convergence (two variables), or all; "
                    "default: curves or surfaces")
     add_common(p, mc=False)
-    p.add_argument("--seed", type=int, default=0, metavar="S", help="seed of the convergence plot")
+    p.add_argument("--seed", type=seed, default=0, metavar="S",
+                   help="seed of the convergence plot, a non-negative integer")
     add_timeout(p, "plot", "for the whole command, in seconds")
 
 
@@ -49,14 +51,17 @@ def _name(x: str) -> str:
     return GREEK.get(x, x)
 
 
-def _outputs(args, kind: str) -> list[tuple[str, str]]:
+def _outputs(args, kind: str, inputs: list[str]) -> list[tuple[str, str]]:
+    """The pictures to write, each checked before any work (:func:`~langur.commands._outputs.output_file`)."""
     base = args.out or os.path.splitext(os.path.basename(args.file))[0] + ".png"
-    if base.endswith(".lgr") or (args.file != "-" and os.path.abspath(base) == os.path.abspath(args.file)):
-        raise UsageError(f"-o {base}: refusing to write a picture over a program")
+    stem, ext = os.path.splitext(base)  # a name without extension gets .png, as the drawing libraries add it
     if kind != "all":
-        return [(kind, base)]
-    stem, ext = os.path.splitext(base)
-    return [(k, f"{stem}_{k}{ext or '.png'}") for k in ("surfaces", "flat", "convergence")]
+        outs = [(kind, stem + (ext or ".png"))]
+    else:
+        outs = [(k, f"{stem}_{k}{ext or '.png'}") for k in ("surfaces", "flat", "convergence")]
+    for _, out in outs:
+        output_file(out, inputs, "-o", f"-o {out}: refusing to write a picture over a program")
+    return outs
 
 
 def run(args) -> int:
@@ -72,6 +77,7 @@ def run(args) -> int:
     if (kind == "curves") != (n == 1):
         raise UsageError(f"--kind {kind} is for {'one' if kind == 'curves' else 'two'}-variable programs; "
                          f"{args.file} has {n}")
+    outputs = _outputs(args, kind, inputs_of(args, loaded))
     geometry = _viz()
     wrt = ", ".join(_name(k) for k, v in direction.items() if v) or "γ'"
     where = ", ".join(f"{_name(k)} = {v:g}" for k, v in params.items()) or "no parameters"
@@ -79,7 +85,7 @@ def run(args) -> int:
     with progress.phase("exact engine (sympy)"):
         s = geometry.scene(program, params, direction)
     written = []
-    for k, out in _outputs(args, kind):
+    for k, out in outputs:
         with progress.phase(f"drawing {k}"):
             if k == "curves":
                 importlib.import_module("viz.curves").save(s, out, title, wrt)

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import importlib
 import math
-import os
 import sys
 import time
 
@@ -24,6 +23,7 @@ from ..cli import UsageError, add_common, add_timeout, samples, seed
 from ..operational.batch import estimate_batch
 from ..operational.sample import METHODS
 from . import _common as c
+from ._outputs import inputs_of, output_file
 
 #: Most grid points per axis, and most samples in all (points × samples per point).
 MAX_AXIS = 2000
@@ -82,11 +82,6 @@ def _summary(a: np.ndarray) -> dict:
             "nan": int(a.size - finite.size)}
 
 
-def _refuse_overwrite(path: str, program: str) -> None:
-    if path.endswith(".lgr") or (program != "-" and os.path.abspath(path) == os.path.abspath(program)):
-        raise UsageError(f"{path}: refusing to write over a program")
-
-
 def run(args) -> int:
     loaded = c.load(args)
     c.require_program(loaded, args.file)
@@ -94,9 +89,14 @@ def run(args) -> int:
     if xs.size * ys.size * args.samples > MAX_TOTAL:
         raise UsageError(f"{xs.size} × {ys.size} points × {args.samples} samples is more than {MAX_TOTAL:,} "
                          "samples in all: fewer points or fewer --samples")
-    for path in (args.out, args.npz):
-        if path:
-            _refuse_overwrite(path, args.file)
+    inputs = inputs_of(args, loaded)
+    npz = _npz_path(args.npz) if args.npz else None
+    for option, given, path in (("-o", args.out, args.out), ("--npz", args.npz, npz)):
+        if given:
+            refusal = f"{given}: refusing to write over a program"
+            if given.endswith(".lgr"):
+                raise UsageError(refusal)
+            output_file(path, inputs, option, refusal)
     painter = _painter() if args.out else None
     base = {k: float(v) for k, v in c.param_values(args, loaded).items() if k not in (xn, yn)}
     direction = c.direction(args, loaded) if (args.wrt or args.dir) else None
@@ -123,9 +123,9 @@ def run(args) -> int:
     if args.exact:
         report["exact"] = _exact(loaded, grid, direction, mc, shape, arrays)
     written = []
-    if args.npz:
-        np.savez_compressed(args.npz, **arrays)
-        written.append(args.npz)
+    if npz:
+        np.savez_compressed(npz, **arrays)
+        written.append(npz)
     if painter is not None:
         with progress.phase("drawing"):
             written.append(_draw(painter, args, arrays, direction, (xn, yn), xs, ys))
@@ -136,6 +136,11 @@ def run(args) -> int:
         _print(args, report, X.size)
     sys.stdout.flush()
     return 0
+
+
+def _npz_path(path: str) -> str:
+    """The file ``numpy.savez_compressed(path)`` writes: ``.npz`` appended when missing."""
+    return path if path.endswith(".npz") else path + ".npz"
 
 
 def _exact(loaded, grid, direction, mc, shape, arrays) -> dict:

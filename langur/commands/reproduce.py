@@ -8,6 +8,7 @@ from .. import progress, reproduce
 from ..cli import MAX_SAMPLES, UsageError, samples, seed
 from ..reproduce import EXPERIMENTS
 from . import _common as c
+from ._outputs import output_folder
 
 
 def add_arguments(p):
@@ -39,6 +40,8 @@ def run(args) -> int:
     except FileNotFoundError as e:
         raise UsageError(str(e)) from None
     draw = _painter() if args.out else None
+    if args.out:
+        output_folder(args.out, "--out")
     results = []
     for name in names:
         (ex,) = reproduce.run([name], args.samples, args.seed)
