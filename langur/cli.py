@@ -249,10 +249,26 @@ def print_diagnostics(err: LangurError, as_json: bool) -> None:
 RECURSION_LIMIT = 20_000
 
 
+#: The status of a command whose standard output was closed before it finished (``langur check … |
+#: head``): 1, the contract's status for an answer not given (CLI.md: 0, 1 or 2 only), never 0 — its
+#: findings were not all read, and ``set -o pipefail`` must see it; nothing is printed (as ``cat`` or
+#: ``grep`` print nothing when a closed pipe stops them).
+BROKEN_PIPE = 1
+
+
 def main(argv: list[str] | None = None) -> int:
-    sys.setrecursionlimit(max(sys.getrecursionlimit(), RECURSION_LIMIT))
     own_process = argv is None  # (the console script, python -m langur: not a caller's process)
-    argv = sys.argv[1:] if argv is None else list(argv)
+    try:
+        return _main(sys.argv[1:] if argv is None else list(argv), own_process)
+    except BrokenPipeError:  # from the command or from printing its diagnostics
+        if own_process:  # the interpreter's last flush of standard output would fail again (Python's
+            # documented recipe, "Note on SIGPIPE" in the signal module's docs): it goes to /dev/null
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return BROKEN_PIPE
+
+
+def _main(argv: list[str], own_process: bool) -> int:
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), RECURSION_LIMIT))
     with gcpause.paused():  # the command's modules imported without cyclic collections (issue 15, start-up)
         args = read_plain(argv)
         parser = build_parser(argv) if args is None else None
@@ -291,7 +307,7 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:
-        return 0
+        raise  # (main's: standard output closed is not a bug)
     except MemoryError:
         print(f"langur {args.command}: error: out of memory (fewer --samples, or a smaller program)",
               file=sys.stderr)
