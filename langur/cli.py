@@ -17,14 +17,13 @@ import gc
 import importlib
 import math
 import os
-import stat
 import sys
 import warnings
 from collections import Counter
 
 from . import __version__, gcpause, lazy, progress
 from .arguments import Arguments
-from .diagnostics import LangurError, Span, error
+from .diagnostics import LangurError
 from .timebox import run_with_timeout
 
 #: argparse only when a command line is not plain (help, usage errors, …): a plain one is read by
@@ -132,35 +131,6 @@ def parse_assignments(values: list[str] | None, what: str) -> dict[str, float]:
                                  "are finite real numbers)")
             out[name.strip()] = value
     return out
-
-
-#: Most bytes a source (a FILE, standard input) may have: a program has at most a million characters
-#: outside comments and white space (E108, ``langur.syntax.parser``), so this leaves room for
-#: comments; past it the input is refused, E108 (``/dev/zero`` or an endless pipe would fill memory).
-MAX_SOURCE_BYTES = 64 * 2**20
-
-
-def read_source(fh, path: str) -> bytes:
-    """All of ``fh`` (opened in binary mode, or standard input's buffer) as bytes; a LangurError
-    E108 at ``path:1:1`` past :data:`MAX_SOURCE_BYTES` (a regular file is judged by its size before
-    it is read, anything else after that many bytes)."""
-    try:
-        st = os.fstat(fh.fileno())
-    except (OSError, ValueError):  # no file descriptor (an io.BytesIO)
-        st = None
-    if st is not None and stat.S_ISREG(st.st_mode):
-        if st.st_size <= MAX_SOURCE_BYTES:
-            return fh.read()
-    else:
-        chunks, size = [], 0
-        while size <= MAX_SOURCE_BYTES:
-            chunk = fh.read(1 << 20)
-            if not chunk:
-                return b"".join(chunks)
-            chunks.append(chunk)
-            size += len(chunk)
-    raise error(Span(path, 1, 1, 1, 1), "E108", f"source too large: more than {MAX_SOURCE_BYTES:,} bytes (a program "
-                "has at most 1,000,000 characters outside comments and white space)")
 
 
 def parse_modules(values: list[str] | None) -> dict[str, str]:

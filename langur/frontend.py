@@ -49,6 +49,7 @@ from .diagnostics import Diagnostic, LangurError, Span
 from .memo import remember
 from .modules import ElaboratedModule, Loaded
 from .records import record
+from .source import read_file
 from .syntax.desugar import Desugarer, DiffeoSig, Env, Scope
 from .syntax.elaborate import elaborate
 from .syntax.inline import inline
@@ -100,8 +101,7 @@ load_stats, reset_load_stats, clear_load_cache = CACHE.stats, CACHE.reset_stats,
 def load(path: str, modules: dict[str, str] | None = None) -> Loaded:
     """Load the module in the file ``path`` and everything it imports."""
     try:
-        with open(path, "rb") as f:
-            data = f.read()
+        data = read_file(path)
     except FileNotFoundError:
         raise LangurError(ty.diag(Span(path, 1, 1, 1, 1), "T218", f"module not found: no file {path}")) from None
     except OSError as e:
@@ -229,9 +229,8 @@ class _Loader:
             dep = item.module.name
             dpath = self.overrides.get(dep) or os.path.join(os.path.dirname(path), dep + ".lgr")
             try:
-                with open(dpath, "rb") as f:
-                    ddata = f.read()
-            except OSError:
+                ddata = read_file(dpath)
+            except (OSError, LangurError):
                 ok = False
                 break
             if not self.loadable(dep, dpath, ddata, visiting + (name,)):
@@ -255,14 +254,16 @@ class _Loader:
             return self.done[name]
         where = "given by --module" if name in self.overrides else "beside the importing file"
         try:
-            with open(path, "rb") as f:
-                data = f.read()
+            data = read_file(path)
         except FileNotFoundError:
             self.errors.append(ty.diag(span, "T218", f"module `{name}` not found: no file {path} ({where})"))
             return None
         except OSError as e:
             self.errors.append(ty.diag(span, "T223", f"module `{name}`: cannot read {path} ({where}): "
                                        f"{e.strerror or type(e).__name__}"))
+            return None
+        except LangurError as e:  # E108: too large to be a program
+            self.errors.extend(e.diagnostics)
             return None
         return self.module(name, path, data, span)
 

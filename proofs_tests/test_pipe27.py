@@ -76,3 +76,32 @@ def test_in_process_caller_keeps_its_stdout(monkeypatch):
     assert cli.main(["eval", "--engine", "mc", "--samples", "100", FIG1]) == 1
     after = os.fstat(1)
     assert (before.st_dev, before.st_ino) == (after.st_dev, after.st_ino)
+
+
+# -- an imported module is read bounded too (E108), as FILE and standard input are -----------------
+
+def test_an_imported_module_over_the_limit_is_E108(tmp_path):
+    """``from big import f`` where big.lgr is a sparse file over the limit, and where it is a link
+    to /dev/zero (endless): E108 at big.lgr:1:1, status 1, in bounded memory (the process is given
+    1 GB of address space: reading /dev/zero to the end would exceed it)."""
+    from langur import source
+
+    (tmp_path / "main.lgr").write_text("from big import f\nint ([0, 1]) f(x) d(x)\n")
+    with open(tmp_path / "big.lgr", "wb") as fh:
+        fh.truncate(source.MAX_SOURCE_BYTES + 1)
+    (tmp_path / "zero").mkdir()
+    (tmp_path / "zero" / "main.lgr").write_text("from big import f\nint ([0, 1]) f(x) d(x)\n")
+    os.symlink("/dev/zero", tmp_path / "zero" / "big.lgr")
+
+    def limited():
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, (1 << 30, 1 << 30))
+
+    for folder in (tmp_path, tmp_path / "zero"):
+        for command in (["eval", "main.lgr"], ["check", "--isolated", "main.lgr"]):
+            p = subprocess.run([sys.executable, "-P", "-m", "langur", *command], capture_output=True, text=True,
+                               cwd=folder, env={**os.environ, "PYTHONPATH": ROOT}, timeout=300, preexec_fn=limited)
+            report = p.stdout if command[0] == "check" else p.stderr
+            assert p.returncode == 1, (command, p.returncode, p.stderr)
+            assert f"big.lgr:1:1: error E108 source too large: more than {source.MAX_SOURCE_BYTES:,} bytes" in report, report
+            assert "Traceback" not in p.stderr and "out of memory" not in p.stderr and "internal error" not in p.stderr

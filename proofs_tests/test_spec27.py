@@ -27,7 +27,7 @@ import os
 import pytest
 from paths import DEGENERATE, EXAMPLES
 
-from langur import cli
+from langur import cli, source
 from langur.cli import main
 
 FIG1 = str(EXAMPLES / "fig1.lgr")
@@ -226,13 +226,13 @@ def test_an_endless_standard_input_is_E108(capsys, monkeypatch, command):
     status, out, err = run(capsys, command, "-", "--isolated") if command == "check" else run(capsys, command, "-")
     assert status == 1
     text = out if command == "check" else err
-    assert text.startswith(f"<stdin>:1:1: error E108 source too large: more than {cli.MAX_SOURCE_BYTES:,} bytes")
+    assert text.startswith(f"<stdin>:1:1: error E108 source too large: more than {source.MAX_SOURCE_BYTES:,} bytes")
 
 
 def test_a_file_over_the_limit_is_E108_without_reading_it(capsys, tmp_path):
     big = tmp_path / "big.lgr"
     with open(big, "wb") as fh:  # sparse: its size says it all
-        fh.truncate(cli.MAX_SOURCE_BYTES + 1)
+        fh.truncate(source.MAX_SOURCE_BYTES + 1)
     status, _, err = run(capsys, "eval", big)
     assert status == 1 and one_line(err).startswith(f"{big}:1:1: error E108 source too large")
     status, out, _ = run(capsys, "check", big, DEGENERATE / "coincident.lgr", "--isolated")

@@ -15,7 +15,8 @@ from fractions import Fraction
 import numpy  # noqa: F401
 
 from .. import frontend, lazy, progress
-from ..cli import UsageError, parse_assignments, parse_modules, read_source
+from ..cli import UsageError, parse_assignments, parse_modules
+from ..source import read_source
 
 #: json only for ``--json`` output (as in :mod:`langur.cli`).
 json = lazy.module("json")

@@ -23,12 +23,13 @@ import sys
 from pathlib import Path
 
 from .. import __version__, frontend
-from ..cli import UsageError, add_common, add_timeout, parse_assignments, parse_modules, read_source
+from ..cli import UsageError, add_common, add_timeout, parse_assignments, parse_modules
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..lint import config as cfgmod
 from ..lint import fix as fixmod
 from ..lint.formats import Report, known_codes, render
 from ..lint.noqa import suppressed
+from ..source import read_source
 from ..timebox import run_with_timeout
 from ..transversality import check_library, check_loaded, point_of
 from ._prove import Prover
