@@ -168,3 +168,16 @@ def test_the_standard_ad_campaign_of_engines_md_shrinks_to_the_program_it_shows(
     assert "derivative wrt a: exact 1 (error 0), standard-ad 0 ± 0" in r.stdout
     counts = dict(re.findall(r"^  (agree|discrepancy)\s+(\d+)$", r.stdout, re.M))
     assert counts == {"agree": "3", "discrepancy": "3"}, r.stdout
+
+
+def test_reproduce_help_names_every_figure_its_out_folder_gets(helps):
+    # commands.md names the pictures `reproduce --out` writes; their figure numbers, read off the
+    # names (fig1_abcd.png, risk_fig2.png, …), are the ones `--help` must announce
+    text = (DOCS / "commands.md").read_text(encoding="utf-8")
+    section = text.split("## langur reproduce", 1)[1].split("\n## ", 1)[0]
+    pictures = set(re.findall(r"`(\w+\.png)`", section))
+    assert {"fig1_abcd.png", "renderer_fig13.png", "raytrace_fig14.png"} <= pictures
+    figures = {int(n) for p in pictures for n in re.findall(r"fig(\d+)", p)}
+    usage = " ".join(langur("reproduce", "--help").stdout.split())
+    announced = re.search(r"--out DIR also write each experiment's pictures \(Fig\. ([\d, ]+)\)", usage).group(1)
+    assert {int(n) for n in announced.split(", ")} == figures
