@@ -181,3 +181,42 @@ def test_reproduce_help_names_every_figure_its_out_folder_gets(helps):
     usage = " ".join(langur("reproduce", "--help").stdout.split())
     announced = re.search(r"--out DIR also write each experiment's pictures \(Fig\. ([\d, ]+)\)", usage).group(1)
     assert {int(n) for n in announced.split(", ")} == figures
+
+
+def test_the_readmes_python_example_gives_the_numbers_its_comment_says():
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    code = re.search(r"### From Python\n\n```python\n(.*?)```", text, re.S).group(1)
+    assert "# 1, 0, 1, 0" in code
+    cwd = os.getcwd()
+    os.chdir(REPO)
+    try:
+        scope: dict = {}
+        exec(compile(code, "README.md", "exec"), scope)  # the page's own example
+    finally:
+        os.chdir(cwd)
+    d = scope["d"]
+    # by hand (Fig. 1): ⟦p⟧ = θ on [0, 1], so ⦇p⦈ = 1, all of it the delta at x = θ; standard AD 0
+    assert (d.value, d.regular.value, d.boundary.value, d.standard_ad) == (1, 0, 1, 0)
+    from langur import operational
+    from langur.frontend import load
+
+    mc = operational.estimate_derivative(load(str(REPO / "examples/fig1.lgr")), {"theta": 0.5}, {"theta": 1},
+                                         samples=10_000, seed=0)
+    assert mc.value == 1 and mc.boundary.value == 1 and mc.regular.value == 0
+
+
+def test_the_readmes_check_of_the_degenerate_folder_finds_x301_in_coincident_and_nested():
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    assert "langur check examples/degenerate/*.lgr        # coincident and nested: X301 errors" in text
+    files = sorted(str(p.relative_to(REPO)) for p in (REPO / "examples/degenerate").glob("*.lgr"))
+    r = langur("check", *files)
+    errors = {line.split(":")[0] for line in r.stdout.splitlines() if " error X301 " in line}
+    assert r.returncode == 1 and errors == {"examples/degenerate/coincident.lgr", "examples/degenerate/nested.lgr"}
+    assert not [line for line in r.stdout.splitlines() if " error " in line and " X301 " not in line]
+
+
+def test_the_tour_says_check_is_silent_on_a_clean_program():
+    assert "langur check examples/fig1.lgr                 # parse, type (Fig. 6, 11), lint (Def. 7.2): silent when clean" \
+        in (DOCS / "README.md").read_text(encoding="utf-8")
+    r = langur("check", "examples/fig1.lgr")
+    assert (r.returncode, r.stdout, r.stderr) == (0, "", "")
