@@ -220,3 +220,10 @@ def test_the_tour_says_check_is_silent_on_a_clean_program():
         in (DOCS / "README.md").read_text(encoding="utf-8")
     r = langur("check", "examples/fig1.lgr")
     assert (r.returncode, r.stdout, r.stderr) == (0, "", "")
+
+
+def test_security_md_counts_the_hostile_corpus_test_hostile_runs():
+    import test_hostile
+
+    said = re.search(r"runs a corpus of (\d+)\s+hostile files", (REPO / "SECURITY.md").read_text(encoding="utf-8"))
+    assert said and int(said.group(1)) == len(test_hostile.CORPUS)
