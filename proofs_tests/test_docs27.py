@@ -227,3 +227,20 @@ def test_security_md_counts_the_hostile_corpus_test_hostile_runs():
 
     said = re.search(r"runs a corpus of (\d+)\s+hostile files", (REPO / "SECURITY.md").read_text(encoding="utf-8"))
     assert said and int(said.group(1)) == len(test_hostile.CORPUS)
+
+
+def test_every_install_hint_installs_from_the_clone_as_the_readme_does():
+    # README.md's set-up installs the clone (`pip install -e .`, extras as `-e '.[NAME]'`); a hint
+    # naming the distribution (`pip install 'langur-workbench[…]'`) would ask a package index instead
+    import tomllib
+
+    extras = set(tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))["project"]["optional-dependencies"])
+    hints = []
+    for path in sorted((REPO / "langur").rglob("*.py")):
+        for hint in re.findall(r"pip install ([^\"'`)]*(?:'[^']*')?)", path.read_text(encoding="utf-8")):
+            hints.append((path.relative_to(REPO).as_posix(), hint.strip()))
+    assert len(hints) >= 6
+    for where, hint in hints:
+        assert "langur-workbench" not in hint, f"{where}: pip install {hint}"
+        for extra in re.findall(r"-e '\.\[(\w+)\]'", hint):
+            assert extra in extras, f"{where}: pip install {hint}: no such extra"
