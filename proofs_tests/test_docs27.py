@@ -166,8 +166,11 @@ def test_the_standard_ad_campaign_of_engines_md_shrinks_to_the_program_it_shows(
     # by hand: ∫₀¹ [x ≤ a] dx = a, so its derivative in a is 1; standard AD, deltas dropped, says 0
     assert program == "param a = 0.37\nint ([0, 1])\n  [x <= a]\nd(x)\n"
     assert "derivative wrt a: exact 1 (error 0), standard-ad 0 ± 0" in r.stdout
-    counts = dict(re.findall(r"^  (agree|discrepancy)\s+(\d+)$", r.stdout, re.M))
-    assert counts == {"agree": "3", "discrepancy": "3"}, r.stdout
+    counts = {k: int(v) for k, v in re.findall(r"^  (agree|discrepancy|timeout)\s+(\d+)$", r.stdout, re.M)}
+    # three agree, three disagree; a unit killed on a starved machine is a timeout instead (commands.md)
+    assert sum(counts.values()) == 6 and counts["discrepancy"] >= 1, r.stdout
+    if counts["timeout"] == 0:
+        assert counts == {"agree": 3, "discrepancy": 3, "timeout": 0}, r.stdout
 
 
 def test_reproduce_help_names_every_figure_its_out_folder_gets(helps):
