@@ -39,7 +39,7 @@ def add_arguments(p):
                         "0 runs in this process (default: the core count)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the units on the Dask distributed cluster at ADDRESS (e.g. tcp://host:8786) "
-                        "instead of local workers (needs the cluster extra: pip install 'langur-workbench[cluster]')")
+                        "instead of local workers (needs the cluster extra: pip install -e '.[cluster]')")
     p.add_argument("--hypothesis-dir", metavar="DIR",
                    help="hypothesis's storage folder (default $HYPOTHESIS_STORAGE_DIRECTORY, else "
                         "~/.cache/langur/hypothesis; never the current folder unless asked)")

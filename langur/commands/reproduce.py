@@ -18,7 +18,7 @@ def add_arguments(p):
                    help=f"Monte Carlo samples, 100 to {MAX_SAMPLES:,} (default 100000)")
     p.add_argument("--seed", type=seed, default=0, metavar="S", help="random seed, a non-negative integer (default 0)")
     p.add_argument("--json", action="store_true", help="one JSON object on standard output")
-    p.add_argument("--out", metavar="DIR", help="also write each experiment's pictures (Fig. 1, 2, 3, 9) to DIR "
+    p.add_argument("--out", metavar="DIR", help="also write each experiment's pictures (Fig. 1, 2, 3, 9, 13, 14) to DIR "
                    "(needs the plot extra: pip install -e '.[plot]')")
 
 

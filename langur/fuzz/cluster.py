@@ -1,5 +1,5 @@
 """Campaign units on a Dask distributed cluster (``langur fuzz --scheduler ADDRESS``; the
-``cluster`` extra: ``pip install 'langur-workbench[cluster]'``).
+``cluster`` extra: ``pip install -e '.[cluster]'`` in the clone).
 
 The same units as :mod:`langur.fuzz.pool` — one program, both engines, a verdict — submitted to
 an existing distributed engine instead of a home-made one: each task runs its unit in a forked
@@ -23,7 +23,7 @@ def _distributed():
     try:
         import distributed
     except ImportError:  # pragma: no cover - depends on the environment
-        raise MissingCluster("--scheduler needs dask.distributed: pip install 'langur-workbench[cluster]' "
+        raise MissingCluster("--scheduler needs dask.distributed: pip install -e '.[cluster]' in the clone "
                              "(or pip install 'dask[distributed]')") from None
     return distributed
 

@@ -47,7 +47,7 @@ try:
     import hypothesis  # noqa: F401
 except ImportError as e:  # pragma: no cover - depends on the environment
     raise ImportError("langur.strategies needs hypothesis, a dependency of Langur missing from this "
-                      "environment: pip install hypothesis (or pip install langur-workbench)") from e
+                      "environment: pip install hypothesis (or pip install -e . in the clone)") from e
 
 from .programs import GENERIC, PARAMS, VARIABLES, Generated, cores, programs, render, texts
 
