@@ -42,7 +42,6 @@ from ..core import (
     Program,
     Term,
     Var,
-    shared,
 )
 from ..primitives import REGISTRY
 from .findings import Finding, quote
@@ -64,19 +63,86 @@ def _scalar(t: Term, params: Mapping[str, float]) -> float:
     return float(np.asarray(out).reshape(-1)[0])
 
 
+def _operands(t: Term) -> tuple[Term, ...]:
+    """The subterms :meth:`_Eval.value` evaluates to evaluate ``t`` (a diffeomorphic condition's
+    own term included)."""
+    match t:
+        case Add(a, b) | Mul(a, b):
+            return (a, b)
+        case Prim(_, a) | Pow(a, _):
+            return (a,)
+        case IfGe0(c, s, r):
+            return (c, s, r)
+        case IfDiffeo(psi, s, r):
+            return (psi.forward[0], s, r)
+        case Let(_, bound, body):
+            return (bound, body)
+    return ()
+
+
+def _uses(t: Term) -> dict[int, int]:
+    """How many times each node of ``t`` that is used more than once (a DAG after inlining) is an
+    operand of another (by identity, each distinct node's operands counted once)."""
+    count: dict[int, int] = {}
+    stack = [t]
+    while stack:
+        for u in _operands(stack.pop()):
+            n = count.get(id(u), 0)
+            count[id(u)] = n + 1
+            if not n:
+                stack.append(u)
+    return {k: n for k, n in count.items() if n > 1}
+
+
+#: Most sample arrays (4096 doubles, 32 kB each) the evaluation keeps for shared nodes at once
+#: (128 MB): past it a shared node is evaluated again where it is used (time, which the linter's
+#: budget bounds, instead of memory).
+MEMO_ARRAYS = 4096
+
+
 class _Eval:
-    def __init__(self, xs: dict[str, np.ndarray], params: Mapping[str, float], mask, report=True):
+    """One evaluation at the sample points, under one binding of the parameters.
+
+    A node used more than once (``uses``: a DAG after inlining) keeps its value per mask until it
+    has been used as many times as it is an operand: a node is evaluated under a given mask at most
+    once per parent, so dropping it then loses no reuse.  Other nodes keep nothing, so a tree of
+    any size holds O(depth) arrays at once, not one per node (a sum of 10⁵ terms held 3 GB)."""
+
+    def __init__(self, xs: dict[str, np.ndarray], params: Mapping[str, float], mask, report=True,
+                 uses: dict[int, int] | None = None):
         self.xs = xs
         self.params = dict(params)
         self.report = report
-        self.bad: list[tuple[Term, str, np.ndarray]] = []
+        self.bad: dict[tuple[int, str], tuple[Term, str, np.ndarray]] = {}  # the first of each (node, why)
+        self.uses = {} if uses is None else uses
+        self.memo: dict[tuple[int, int], list] = {}  # (id(t), id(mask)) → [mask, value, uses left]
+        self.kept = [0]  # memoized arrays of this scope and those around it
 
     def flag(self, t: Term, why: str, where: np.ndarray):
-        if self.report and where.any():
-            self.bad.append((t, why, where))
+        if self.report and (id(t), why) not in self.bad and where.any():
+            self.bad[id(t), why] = (t, why, where)
 
-    @shared
     def value(self, t: Term, mask: np.ndarray):
+        """⟦t⟧ at the sample points (Fig. 7), computed once per mask for a node used more than
+        once."""
+        uses = self.uses.get(id(t))
+        if uses is None:
+            return self._value(t, mask)
+        key = (id(t), id(mask))
+        hit = self.memo.get(key)
+        if hit is not None and hit[0] is mask:  # (the mask is kept alive with it: its id is its own)
+            hit[2] -= 1
+            if not hit[2]:  # its last use
+                del self.memo[key]
+                self.kept[0] -= 1
+            return hit[1]
+        out = self._value(t, mask)
+        if self.kept[0] < MEMO_ARRAYS:
+            self.memo[key] = [mask, out, uses - 1]
+            self.kept[0] += 1
+        return out
+
+    def _value(self, t: Term, mask: np.ndarray):
         """⟦t⟧ at the sample points (Fig. 7), flagging primitives applied outside their domain on
         the points of ``mask`` (those where this subterm is actually evaluated)."""
         match t:
@@ -137,7 +203,10 @@ class _Eval:
                 # a new scope, never a mutation: the pass is memoized per node and evaluator
                 inner = copy.copy(self)
                 inner.params = {**self.params, name: float(np.asarray(self.value(bound, mask)).reshape(-1)[0])}
-                return inner.value(body, mask)
+                inner.memo = {}
+                out = inner.value(body, mask)
+                self.kept[0] -= len(inner.memo)  # (dropped with the scope)
+                return out
             case Call():
                 raise _Skip("call")
         raise TypeError(f"not a core term: {t!r}")
@@ -158,7 +227,7 @@ def domain_findings(program: Program | None, point: Mapping[str, object] | None,
         return []
     rng = np.random.default_rng(0)
     xs = {x: rng.uniform(lo, hi, SAMPLES) for x, (lo, hi) in zip(program.variables, bounds)}
-    ev = _Eval(xs, params, None)
+    ev = _Eval(xs, params, None, uses=_uses(program.body))
     mask = np.ones(SAMPLES, dtype=bool)
     try:
         with np.errstate(all="ignore"):
@@ -166,12 +235,7 @@ def domain_findings(program: Program | None, point: Mapping[str, object] | None,
     except _Skip:
         return []
     out = []
-    seen = set()
-    for t, why, where in ev.bad:
-        key = (id(t), why)
-        if key in seen:
-            continue
-        seen.add(key)
+    for t, why, where in ev.bad.values():
         k = int(np.argmax(where))
         example = ", ".join(f"{x} = {xs[x][k]:.3g}" for x in program.variables)
         span = t.span
