@@ -32,15 +32,15 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..core import Pow, Prim, Program, subterms
+from ..core import IfDiffeo, IfGe0, Let, Pow, Prim, Program, Term, children, subterms
 from ..ddenote import ddenote
 from ..denote import denote, program_box
 from ..diagnostics import Span
 from ..primitives import REGISTRY, Domain
-from ..symbolic.decompose import Ctx, decompose
+from ..symbolic.decompose import Ctx, decide, decompose, smooth_value
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import Deadline
-from .blowup import Blowup, Region, Undecidable, Verdict, blowups
+from .blowup import Blowup, Region, Undecidable, Verdict, blowups, undefined_part
 from .findings import Finding, quote
 
 #: CPU seconds for the whole analysis of one integral (beyond: nothing is claimed).
@@ -134,6 +134,70 @@ def _delta_pieces(deltas, xs, box, at, out: Integrability) -> None:
             out.blowups += [(b, part) for b in blowups(w, region)]
 
 
+def _applications(t: Term, ctx: Ctx) -> list[tuple[sp.Expr, tuple[sp.Expr, ...]]]:
+    """Each application of a primitive defined on part of ℝ only (``log``, ``sqrt``, a fractional
+    power, …) in ``t``, as ``(⟦application⟧, path)``: ``path`` are the conditions ``c ≥ 0`` of the
+    branches of the conditionals enclosing it, the only ones that cut the set where it is evaluated
+    (Fig. 7: ⟦ifge0 t then s else r⟧ evaluates the branch taken; ⟦t · s⟧ = ⟦t⟧ · ⟦s⟧ evaluates both
+    factors, so a bracket factor ``[x >= 0] * log(x)`` does not keep ``log`` from x < 0, where the
+    product is 0 · undefined: undefined, LANGUAGE.md §1).  A variable-free condition is decided at
+    the evaluation point, as :func:`~langur.symbolic.decompose.decompose` does; the term of a
+    diffeomorphic condition is evaluated wherever its conditional is."""
+    out: list[tuple[sp.Expr, tuple[sp.Expr, ...]]] = []
+    seen: set = set()
+    alive = [ctx]  # the contexts stay alive, so that their identities stay theirs
+    stack: list[tuple[Term, Ctx, tuple[sp.Expr, ...]]] = [(t, ctx, ())]
+    while stack:
+        u, c, path = stack.pop()
+        if (id(u), id(c), path) in seen:
+            continue
+        seen.add((id(u), id(c), path))
+        match u:
+            case Prim(op, a) if not REGISTRY[op].domain.everywhere and not REGISTRY[op].domain.poles:
+                # LANGUAGE.md §1, a primitive: undefined outside its domain
+                out.append((smooth_value(u, c), path))
+                stack.append((a, c, path))
+            case Pow(a, k) if k.denominator != 1:
+                # LANGUAGE.md §1, a fractional power: undefined at a negative base
+                out.append((smooth_value(u, c), path))
+                stack.append((a, c, path))
+            case IfGe0(cond, a, b):
+                # Fig. 7, conditional on a variable-free condition: the branch taken (both, undecided)
+                chosen = decide(smooth_value(cond, c), c.at)
+                stack += [(cond, c, path)] + ([(a, c, path)] if chosen is not False else []) + \
+                    ([(b, c, path)] if chosen is not True else [])
+            case IfDiffeo(psi, a, b):
+                # Fig. 7, diffeomorphic conditional: s where π₀Ψ̂ ≥ 0, r where π₀Ψ̂ < 0
+                phi = smooth_value(psi.forward[0], c)
+                stack += [(psi.forward[0], c, path), (a, c, path + (phi,)), (b, c, path + (-phi,))]
+            case Let(name, bound, body):
+                # Fig. 7, let: the body with z ↦ ⟦t⟧
+                alive.append(c.bind(name, smooth_value(bound, c)))
+                stack += [(bound, c, path), (body, alive[-1], path)]
+            case _:
+                stack += [(k, c, path) for k in children(u)]
+    return out
+
+
+def _evaluated_outside(program: Program, ctx: Ctx, xs, box, at, out: Integrability) -> None:
+    """A primitive applied outside its domain on a set of positive measure of where it is
+    evaluated (:func:`_applications`): the integrand is undefined there, the integral does not
+    exist.  The pieces' weights (:func:`_pieces`) cannot show it when a bracket factor's 0
+    multiplies the application away (sympy's ``0·log(x)`` is 0)."""
+    for w, path in _applications(program.body, ctx):
+        w = sp.sympify(w).xreplace(at)
+        if not (w.free_symbols & set(xs)):
+            continue
+        try:
+            region = Region(xs, box, [sp.sympify(c).xreplace(at) for c in path])
+        except Undecidable:
+            continue
+        bad = None if region.empty else undefined_part(w, region)
+        if bad is not None:
+            out.blowups.append((bad, "the integrand"))
+            return
+
+
 def _num(e) -> float:
     try:
         z = complex(sp.sympify(e).evalf(30))
@@ -163,7 +227,10 @@ def value_integrability(program: Program, point: Mapping[str, object]) -> Integr
 
     def run(out: Integrability) -> None:
         ctx = Ctx(at=at, variables=tuple(program.variables))
-        _pieces(decompose(program.body, ctx), xs, _box(program, ctx, at), at, "the integrand", out)
+        box = _box(program, ctx, at)
+        _pieces(decompose(program.body, ctx), xs, box, at, "the integrand", out)
+        if out.verdict is not Verdict.DIVERGENT:
+            _evaluated_outside(program, ctx, xs, box, at, out)
 
     return _guarded("⟦p⟧", run)
 
