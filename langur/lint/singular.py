@@ -136,8 +136,10 @@ def _delta_pieces(deltas, xs, box, at, out: Integrability) -> None:
 
 def _applications(t: Term, ctx: Ctx) -> list[tuple[sp.Expr, tuple[sp.Expr, ...]]]:
     """Each application of a primitive defined on part of ℝ only (``log``, ``sqrt``, a fractional
-    power, …) in ``t``, as ``(⟦application⟧, path)``: ``path`` are the conditions ``c ≥ 0`` of the
-    branches of the conditionals enclosing it, the only ones that cut the set where it is evaluated
+    power, …) in ``t``, as ``(weight, path)`` per Def. 6.2 piece of the application (its argument's
+    own discontinuities split it, as :func:`~langur.symbolic.decompose.decompose` does): ``path``
+    are the piece's conditions and the conditions ``c ≥ 0`` of the branches of the conditionals
+    enclosing the application, the only ones that cut the set where it is evaluated
     (Fig. 7: ⟦ifge0 t then s else r⟧ evaluates the branch taken; ⟦t · s⟧ = ⟦t⟧ · ⟦s⟧ evaluates both
     factors, so a bracket factor ``[x >= 0] * log(x)`` does not keep ``log`` from x < 0, where the
     product is 0 · undefined: undefined, LANGUAGE.md §1).  A variable-free condition is decided at
@@ -155,11 +157,11 @@ def _applications(t: Term, ctx: Ctx) -> list[tuple[sp.Expr, tuple[sp.Expr, ...]]
         match u:
             case Prim(op, a) if not REGISTRY[op].domain.everywhere and not REGISTRY[op].domain.poles:
                 # LANGUAGE.md §1, a primitive: undefined outside its domain
-                out.append((smooth_value(u, c), path))
+                out += [(pc.weight, path + tuple(cd.expr for cd in pc.conditions)) for pc in decompose(u, c)]
                 stack.append((a, c, path))
             case Pow(a, k) if k.denominator != 1:
                 # LANGUAGE.md §1, a fractional power: undefined at a negative base
-                out.append((smooth_value(u, c), path))
+                out += [(pc.weight, path + tuple(cd.expr for cd in pc.conditions)) for pc in decompose(u, c)]
                 stack.append((a, c, path))
             case IfGe0(cond, a, b):
                 # Fig. 7, conditional on a variable-free condition: the branch taken (both, undecided)
