@@ -5,15 +5,18 @@ results assume it (Prop. 7.1 and Theorem 7.1: "if ⟦t⟧ is locally integrable"
 (Fig. 8, Theorem 7.1) exists only when the regular part f of ⦇t⦈ is integrable and every delta
 term's weight h is integrable on its zero set; the derivative can fail to exist where the value
 exists: ``log(abs(x - a))`` is integrable, its ⦇·⦈ in ``a`` is ``-1/(x - a)``, which is not
-(its principal value is not an integral), and ``[x >= a] / sqrt(x - a)`` puts δ(x − a) on a
-weight that is infinite there.
+(its principal value is not an integral), and ``if x >= a then 1 / sqrt(x - a) else 0`` puts
+δ(x − a) on a weight that is infinite there.
 
 This module decomposes the integrand at the parameter values in force into simply decomposable
 pieces (Def. 6.2; ``langur.symbolic.decompose``, and ``langur.ddenote`` for ⦇t⦈'s normal form)
 and asks :mod:`langur.lint.blowup` where each piece's weight blows up on its region and whether
 it is integrable there (the order of the singularity against the codimension of the set it sits
-on).  Delta terms are pulled back to their zero set through the inverse branch
-``x = Ψ̂_b⁻¹(0, u′)`` (LANGUAGE.md §4) when Ψ̂ was completed by solving for one variable (then u′
+on), and checks each application of a primitive defined on part of ℝ only on the set where it
+is evaluated: the box cut by the conditions of the conditionals enclosing it, not by a bracket
+factor beside it (``[x >= 0] * log(x)`` on [−1, 1] is undefined, LANGUAGE.md §1, §3; a piece's
+weight ``0 · log(x)`` is 0 to sympy and cannot show it).  Delta terms are pulled back to their
+zero set through the inverse branch ``x = Ψ̂_b⁻¹(0, u′)`` (LANGUAGE.md §4) when Ψ̂ was completed by solving for one variable (then u′
 are the other variables and their box is the box's); in one variable the weight is evaluated at
 the root.  The Jacobian ``|det DΨ̂_b⁻¹|`` is left out (its folds, ``1/sqrt`` at the rim of a
 disk, are integrable).
