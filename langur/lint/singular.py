@@ -16,9 +16,9 @@ on), and checks each application of a primitive defined on part of ℝ only on t
 is evaluated: the box cut by the conditions of the conditionals enclosing it, not by a bracket
 factor beside it (``[x >= 0] * log(x)`` on [−1, 1] is undefined, LANGUAGE.md §1, §3; a piece's
 weight ``0 · log(x)`` is 0 to sympy and cannot show it).  Delta terms are pulled back to their
-zero set through the inverse branch ``x = Ψ̂_b⁻¹(0, u′)`` (LANGUAGE.md §4) when Ψ̂ was completed by solving for one variable (then u′
-are the other variables and their box is the box's); in one variable the weight is evaluated at
-the root.  The Jacobian ``|det DΨ̂_b⁻¹|`` is left out (its folds, ``1/sqrt`` at the rim of a
+zero set through the inverse branch ``x = Ψ̂_b⁻¹(0, u′)`` (LANGUAGE.md §4) when Ψ̂ was completed
+by solving for one variable (then u′ are the other variables and their box is the box's); in one
+variable the weight is evaluated at the root.  The Jacobian ``|det DΨ̂_b⁻¹|`` is left out (its folds, ``1/sqrt`` at the rim of a
 disk, are integrable).
 
 Findings (``docs/CODES.md``): X311 (error) the value does not exist; X313 (error) the derivative
