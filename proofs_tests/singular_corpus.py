@@ -72,7 +72,10 @@ CORPUS = [
      math.pi / 4 + math.log(2) / 2, False),
     ("moving_circle", program("a = 0.5", "[0, 1], [0, 1]", "1 / (x^2 + y^2 - a^2)", "x, y"), "D", "D", None, False),
     # ∫_{quarter disk of radius a} (a² − r²)^(−1/2) = (π/2)·∫₀^a r (a² − r²)^(−1/2) dr = (π/2)·a
-    ("rim_root_pole", program("a = 0.5", "[0, 1], [0, 1]", "[x^2 + y^2 <= a^2] / sqrt(a^2 - x^2 - y^2)", "x, y"),
+    # (a conditional: the bracket form [x^2 + y^2 <= a^2] / sqrt(…) evaluates sqrt outside the
+    # disk too, where it is undefined, LANGUAGE.md §3: no integral, X311, test_guard27)
+    ("rim_root_pole", program("a = 0.5", "[0, 1], [0, 1]",
+                              "if x^2 + y^2 <= a^2 then 1 / sqrt(a^2 - x^2 - y^2) else 0", "x, y"),
      "I", "D", math.pi * 0.5 / 2, True),
     # ∫∫_[0,1]² log(x² + y²) = log 2 + π/2 − 3
     ("log_corner", program("", "[0, 1], [0, 1]", "log(x^2 + y^2)", "x, y"), "I", None,
@@ -81,8 +84,9 @@ CORPUS = [
     ("anisotropic", program("", "[0, 1], [0, 1]", "1 / (x + y^2)", "x, y"), "?", None, None, True),
     ("moving_line", program("a = 0.25", "[0, 1], [0, 1]", "1 / (x - y - a)", "x, y"), "D", "D", None, False),
     ("moving_edge", program("a = 0.5", "[0, 1], [0, 1]", "1 / (x - a)", "x, y"), "D", "D", None, False),
-    # ∫∫_{y > x} (y − x)^(−1/2) = ∫₀¹ 2√(1 − x) dx = 4/3
-    ("wedge_root_pole", program("", "[0, 1], [0, 1]", "[y >= x] / sqrt(y - x)", "x, y"), "I", None, 4 / 3, False),
+    # ∫∫_{y > x} (y − x)^(−1/2) = ∫₀¹ 2√(1 − x) dx = 4/3 (a conditional, as rim_root_pole)
+    ("wedge_root_pole", program("", "[0, 1], [0, 1]", "if y >= x then 1 / sqrt(y - x) else 0", "x, y"), "I", None,
+     4 / 3, False),
     ("tan_line", program("", "[0, 1], [0, 1]", "tan(x + y)", "x, y"), "D", None, None, False),
     # Σ_k ∫∫ (xy)^k = Σ 1/(k + 1)² = π²/6: a simple pole at the corner (1, 1) of ℝ²
     ("basel", program("", "[0, 1], [0, 1]", "1 / (1 - x*y)", "x, y"), "I", None, math.pi ** 2 / 6, True),

@@ -4,9 +4,10 @@ real number (LANGUAGE.md §1; X311 of ``langur.lint.blowup``).
 ``sqrt(x)·sqrt(x − 1)`` at x < 0 is (i√|x|)·(i√(1 − x)) = −√(x² − x) to sympy and numpy's complex
 arithmetic, a real number, so the integrability analysis used to find nothing undefined and the
 exact engine reported ∫₋₂⁰ of it as a number, while the Monte Carlo engine (real arithmetic) said
-NaN.  Each primitive's argument is now checked on its own.  The product with a condition keeps
-its meaning (CODES.md, X311): ``[x >= a] · log(x − a)`` evaluates ``log`` only where the
-condition holds.
+NaN.  Each primitive's argument is now checked on its own.  A bracket factor is not a guard
+(LANGUAGE.md §3, ⟦t · s⟧ = ⟦t⟧ · ⟦s⟧; CODES.md, X311): ``[x >= a] · log(x − a)`` is
+0 · undefined at x < a; only the conditional ``if x >= a then log(x - a) else 0`` evaluates
+``log`` only where the condition holds (test_guard27).
 """
 
 from __future__ import annotations
@@ -44,9 +45,12 @@ def test_roots_of_non_negatives_keep_their_value(capsys, tmp_path):
     assert abs(j["exact"]["value"] - (3 * math.sqrt(2) / 4 - math.log(math.sqrt(2) + 1) / 4)) <= 1e-12
 
 
-def test_a_condition_still_guards_its_factor(capsys, tmp_path):
-    # ∫₀¹ [x ≥ a]·log(x − a) dx = [(x − a) log(x − a) − x]_a^1 = (1 − a) log(1 − a) − (1 − a) (by hand)
+def test_a_conditional_guards_its_branch(capsys, tmp_path):
+    # ∫₀¹ (if x ≥ a then log(x − a) else 0) dx = [(x − a) log(x − a) − x]_a^1 = (1 − a) log(1 − a) − (1 − a)
+    # (by hand); the product [x >= a] * log(x - a) evaluates log at x < a too: undefined (X311)
     a = 0.3
-    status, j = _eval(capsys, tmp_path, f"param a = {a}\nint ([0, 1]) [x >= a] * log(x - a) d(x)\n")
+    status, j = _eval(capsys, tmp_path, f"param a = {a}\nint ([0, 1]) if x >= a then log(x - a) else 0 d(x)\n")
     assert status == 0 and j["undefined"] is None
     assert abs(j["exact"]["value"] - ((1 - a) * math.log(1 - a) - (1 - a))) <= 1e-12
+    status, j = _eval(capsys, tmp_path, f"param a = {a}\nint ([0, 1]) [x >= a] * log(x - a) d(x)\n")
+    assert status == 1 and j["exact"] is None and "X311" in j["undefined"]

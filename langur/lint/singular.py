@@ -5,17 +5,20 @@ results assume it (Prop. 7.1 and Theorem 7.1: "if ⟦t⟧ is locally integrable"
 (Fig. 8, Theorem 7.1) exists only when the regular part f of ⦇t⦈ is integrable and every delta
 term's weight h is integrable on its zero set; the derivative can fail to exist where the value
 exists: ``log(abs(x - a))`` is integrable, its ⦇·⦈ in ``a`` is ``-1/(x - a)``, which is not
-(its principal value is not an integral), and ``[x >= a] / sqrt(x - a)`` puts δ(x − a) on a
-weight that is infinite there.
+(its principal value is not an integral), and ``if x >= a then 1 / sqrt(x - a) else 0`` puts
+δ(x − a) on a weight that is infinite there.
 
 This module decomposes the integrand at the parameter values in force into simply decomposable
 pieces (Def. 6.2; ``langur.symbolic.decompose``, and ``langur.ddenote`` for ⦇t⦈'s normal form)
 and asks :mod:`langur.lint.blowup` where each piece's weight blows up on its region and whether
 it is integrable there (the order of the singularity against the codimension of the set it sits
-on).  Delta terms are pulled back to their zero set through the inverse branch
-``x = Ψ̂_b⁻¹(0, u′)`` (LANGUAGE.md §4) when Ψ̂ was completed by solving for one variable (then u′
-are the other variables and their box is the box's); in one variable the weight is evaluated at
-the root.  The Jacobian ``|det DΨ̂_b⁻¹|`` is left out (its folds, ``1/sqrt`` at the rim of a
+on), and checks each application of a primitive defined on part of ℝ only on the set where it
+is evaluated: the box cut by the conditions of the conditionals enclosing it, not by a bracket
+factor beside it (``[x >= 0] * log(x)`` on [−1, 1] is undefined, LANGUAGE.md §1, §3; a piece's
+weight ``0 · log(x)`` is 0 to sympy and cannot show it).  Delta terms are pulled back to their
+zero set through the inverse branch ``x = Ψ̂_b⁻¹(0, u′)`` (LANGUAGE.md §4) when Ψ̂ was completed
+by solving for one variable (then u′ are the other variables and their box is the box's); in one
+variable the weight is evaluated at the root.  The Jacobian ``|det DΨ̂_b⁻¹|`` is left out (its folds, ``1/sqrt`` at the rim of a
 disk, are integrable).
 
 Findings (``docs/CODES.md``): X311 (error) the value does not exist; X313 (error) the derivative
@@ -32,15 +35,15 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..core import Pow, Prim, Program, subterms
+from ..core import IfDiffeo, IfGe0, Let, Pow, Prim, Program, Term, children, subterms
 from ..ddenote import ddenote
 from ..denote import denote, program_box
 from ..diagnostics import Span
 from ..primitives import REGISTRY, Domain
-from ..symbolic.decompose import Ctx, decompose
+from ..symbolic.decompose import Ctx, decide, decompose, smooth_value
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import Deadline
-from .blowup import Blowup, Region, Undecidable, Verdict, blowups
+from .blowup import Blowup, Region, Undecidable, Verdict, blowups, undefined_part
 from .findings import Finding, quote
 
 #: CPU seconds for the whole analysis of one integral (beyond: nothing is claimed).
@@ -134,6 +137,72 @@ def _delta_pieces(deltas, xs, box, at, out: Integrability) -> None:
             out.blowups += [(b, part) for b in blowups(w, region)]
 
 
+def _applications(t: Term, ctx: Ctx) -> list[tuple[sp.Expr, tuple[sp.Expr, ...]]]:
+    """Each application of a primitive defined on part of ℝ only (``log``, ``sqrt``, a fractional
+    power, …) in ``t``, as ``(weight, path)`` per Def. 6.2 piece of the application (its argument's
+    own discontinuities split it, as :func:`~langur.symbolic.decompose.decompose` does): ``path``
+    are the piece's conditions and the conditions ``c ≥ 0`` of the branches of the conditionals
+    enclosing the application, the only ones that cut the set where it is evaluated
+    (Fig. 7: ⟦ifge0 t then s else r⟧ evaluates the branch taken; ⟦t · s⟧ = ⟦t⟧ · ⟦s⟧ evaluates both
+    factors, so a bracket factor ``[x >= 0] * log(x)`` does not keep ``log`` from x < 0, where the
+    product is 0 · undefined: undefined, LANGUAGE.md §1).  A variable-free condition is decided at
+    the evaluation point, as :func:`~langur.symbolic.decompose.decompose` does; the term of a
+    diffeomorphic condition is evaluated wherever its conditional is."""
+    out: list[tuple[sp.Expr, tuple[sp.Expr, ...]]] = []
+    seen: set = set()
+    alive = [ctx]  # the contexts stay alive, so that their identities stay theirs
+    stack: list[tuple[Term, Ctx, tuple[sp.Expr, ...]]] = [(t, ctx, ())]
+    while stack:
+        u, c, path = stack.pop()
+        if (id(u), id(c), path) in seen:
+            continue
+        seen.add((id(u), id(c), path))
+        match u:
+            case Prim(op, a) if not REGISTRY[op].domain.everywhere and not REGISTRY[op].domain.poles:
+                # LANGUAGE.md §1, a primitive: undefined outside its domain
+                out += [(pc.weight, path + tuple(cd.expr for cd in pc.conditions)) for pc in decompose(u, c)]
+                stack.append((a, c, path))
+            case Pow(a, k) if k.denominator != 1:
+                # LANGUAGE.md §1, a fractional power: undefined at a negative base
+                out += [(pc.weight, path + tuple(cd.expr for cd in pc.conditions)) for pc in decompose(u, c)]
+                stack.append((a, c, path))
+            case IfGe0(cond, a, b):
+                # Fig. 7, conditional on a variable-free condition: the branch taken (both, undecided)
+                chosen = decide(smooth_value(cond, c), c.at)
+                stack += [(cond, c, path)] + ([(a, c, path)] if chosen is not False else []) + \
+                    ([(b, c, path)] if chosen is not True else [])
+            case IfDiffeo(psi, a, b):
+                # Fig. 7, diffeomorphic conditional: s where π₀Ψ̂ ≥ 0, r where π₀Ψ̂ < 0
+                phi = smooth_value(psi.forward[0], c)
+                stack += [(psi.forward[0], c, path), (a, c, path + (phi,)), (b, c, path + (-phi,))]
+            case Let(name, bound, body):
+                # Fig. 7, let: the body with z ↦ ⟦t⟧
+                alive.append(c.bind(name, smooth_value(bound, c)))
+                stack += [(bound, c, path), (body, alive[-1], path)]
+            case _:
+                stack += [(k, c, path) for k in children(u)]
+    return out
+
+
+def _evaluated_outside(program: Program, ctx: Ctx, xs, box, at, out: Integrability) -> None:
+    """A primitive applied outside its domain on a set of positive measure of where it is
+    evaluated (:func:`_applications`): the integrand is undefined there, the integral does not
+    exist.  The pieces' weights (:func:`_pieces`) cannot show it when a bracket factor's 0
+    multiplies the application away (sympy's ``0·log(x)`` is 0)."""
+    for w, path in _applications(program.body, ctx):
+        w = sp.sympify(w).xreplace(at)
+        if not (w.free_symbols & set(xs)):
+            continue
+        try:
+            region = Region(xs, box, [sp.sympify(c).xreplace(at) for c in path])
+        except Undecidable:
+            continue
+        bad = None if region.empty else undefined_part(w, region)
+        if bad is not None:
+            out.blowups.append((bad, "the integrand"))
+            return
+
+
 def _num(e) -> float:
     try:
         z = complex(sp.sympify(e).evalf(30))
@@ -163,7 +232,10 @@ def value_integrability(program: Program, point: Mapping[str, object]) -> Integr
 
     def run(out: Integrability) -> None:
         ctx = Ctx(at=at, variables=tuple(program.variables))
-        _pieces(decompose(program.body, ctx), xs, _box(program, ctx, at), at, "the integrand", out)
+        box = _box(program, ctx, at)
+        _pieces(decompose(program.body, ctx), xs, box, at, "the integrand", out)
+        if out.verdict is not Verdict.DIVERGENT:
+            _evaluated_outside(program, ctx, xs, box, at, out)
 
     return _guarded("⟦p⟧", run)
 
