@@ -197,7 +197,7 @@ def reject_not_smooth(span, name: str, detail: str) -> Diagnostic:
 #: While :func:`type_program` runs: its judgements checked so far, by the identities of
 #: ``(t, Δ, Γ, out)`` (the objects kept alive with them, so that an identity stays theirs).
 _CHECKING = threading.local()
-# A node keeps the contexts (Δ, Γ) it was found well typed in as ``_typed`` (``core.keep_typed``).
+# A node keeps the contexts (Δ, Γ) it was found well typed in as ``t.typed`` (``core.keep_typed``).
 _LEAVES = (Const, Var, Param)
 
 
@@ -253,7 +253,7 @@ def _remembered(fn):
         key = (id(t), id(delta), id(gamma))
         if key in visited:
             return None
-        known = t._typed
+        known = t.typed
         if known is not None and (delta, gamma) in known:
             return None
         visited[key] = (t, delta, gamma)
@@ -388,7 +388,7 @@ def type_program(p: Program, gamma: frozenset[str]) -> list[Diagnostic]:
                 single = alone.get(key)
                 if single is None:
                     single = alone[key] = _interned(frozenset({(delta, gamma_)}))
-                known = t._typed
+                known = t.typed
                 keep_typed(t, single if known is None or known is single else _interned(known | single))
     finally:
         _CHECKING.visited = outer

@@ -128,7 +128,7 @@ def test_variables_and_parameters_share_one_shape_per_name():
 
 
 def test_minus_one_is_shared_and_a_negation_is_exact():
-    assert MINUS_ONE == -1 and Const(MINUS_ONE)._small == -1 and core.all_small(Const(MINUS_ONE))
+    assert MINUS_ONE == -1 and Const(MINUS_ONE).small == -1 and core.all_small(Const(MINUS_ONE))
     for v in (Fraction(0), Fraction(1), Fraction(3, 7), Fraction(-5, 2), Fraction(10**300)):
         n = core.neg(Const(v))
         assert n.left.value is MINUS_ONE

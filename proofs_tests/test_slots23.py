@@ -139,7 +139,7 @@ def test_copies_share_their_templates_shape_and_equal_the_constructors_nodes():
 
 def test_nodes_stay_frozen_records():
     t = Let("c", Param("a"), Add(Param("c"), Var("x")))
-    for name in ("name", "bound", "span", "shape", "_small", "_hash", "_typed", "_memo", "anything"):
+    for name in ("name", "bound", "span", "shape", "small", "_hash", "typed", "memo", "anything"):
         with pytest.raises(dataclasses.FrozenInstanceError):
             setattr(t, name, None)
         with pytest.raises(dataclasses.FrozenInstanceError):
@@ -161,13 +161,13 @@ def test_pickled_and_copied_nodes_are_rebuilt_by_their_constructors():
 
 def test_memos_start_empty_and_are_written_by_their_writers():
     t = Add(Var("x"), Param("a"))
-    assert (t._hash, t._typed, t._memo) == (None, None, None)
+    assert (t._hash, t.typed, t.memo) == (None, None, None)
     h = hash(t)
     assert t._hash == h == hash((t.left, t.right))
     core.keep_memo(t, {"k": 1})
     core.keep_typed(t, frozenset({(frozenset(), frozenset({"a"}))}))
-    assert t._memo == {"k": 1} and t._typed == {(frozenset(), frozenset({"a"}))}
+    assert t.memo == {"k": 1} and t.typed == {(frozenset(), frozenset({"a"}))}
     loaded = frontend.load_text("param a = 1\nint ([0, 1]) x * a + x d(x)\n")
     for u in core.subterms(loaded.program.body):  # (a load hashes nodes, keeps no engine's memo)
-        assert u._memo is None and u._hash in (None, hash(tuple(getattr(u, f.name) for f in dataclasses.fields(u)
+        assert u.memo is None and u._hash in (None, hash(tuple(getattr(u, f.name) for f in dataclasses.fields(u)
                                                                  if f.compare)))

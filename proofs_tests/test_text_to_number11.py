@@ -342,4 +342,4 @@ def test_consts_of_the_table_have_the_constructors_attributes():
         apart = Fraction(i * 3, 3)  # (a distinct object of the same value)
         assert apart is not f
         ours, ref = core.Const(f), core.Const(apart)
-        assert core.kept_attributes(ours) == core.kept_attributes(ref) and ours._small is f
+        assert core.kept_attributes(ours) == core.kept_attributes(ref) and ours.small is f

@@ -76,7 +76,7 @@ def test_the_builders_give_what_the_constructors_give(seed):
             a = _revalued(t.base, r)
             if not core.same_shape(a, t.base):
                 continue
-            built = core.like_power(_with_span(t, span), a, core.small_power(a._small, t.exponent))
+            built = core.like_power(_with_span(t, span), a, core.small_power(a.small, t.exponent))
             made = core.Pow(a, t.exponent, span=span)
         elif type(t) is core.Const:
             built, made = core.like_leaf(t, span), core.Const(t.value, span=span)

@@ -22,11 +22,22 @@ The modules, each importing only those above it in this list:
 * :mod:`.programs` — §4.2: ``Program`` and the intervals of its domain (``Interval``).
 
 Here: every public name of these modules, as the rest of langur imports them
-(``from langur.core import Add``).  Besides its fields, every term node ``t`` has one public
-attribute, ``t.shape``: the tuple of what :mod:`.attributes` keeps about its shape, read at the
-indices exported here (``t.shape[SMOOTH]``, :data:`FV` … :data:`DFP`), as the engines, the front end
-and the type system do in their loops over every node; elsewhere the readers of
-:mod:`.structural` (``smooth(t)``, ``free_vars(t)``, …) say the same.
+(``from langur.core import Add``).  Besides its fields, every term node ``t`` has these public
+attributes, read only (a node is frozen) and read in place by the passes that visit every node
+(one attribute access where a reader function would cost a call per node):
+
+* ``t.shape``: the tuple of what :mod:`.attributes` keeps about its shape, read at the indices
+  exported here (``t.shape[SMOOTH]``, :data:`FV` … :data:`DFP`), as the engines, the front end and
+  the type system do; elsewhere the readers of :mod:`.structural` (``smooth(t)``,
+  ``free_vars(t)``, …) say the same;
+* ``t.small`` and ``t.small_all``: what :func:`small_value` and :func:`all_small` return (the
+  front end's linear forms and loop template read them);
+* two memos written after the node is built, each only by its writer: ``t.typed``, the contexts
+  the type system found ``t`` well typed in (:func:`keep_typed`), and ``t.memo``, the engines' dict
+  of facts derived from ``t`` (``None`` until :func:`keep_memo` keeps one).
+
+A node's other attribute (``_hash``) is the core's own.  A ``Diffeo`` keeps what the front end
+solved to complete it by :func:`keep_solved`, read back by :func:`kept_solved`.
 """
 
 from .attributes import (
@@ -106,6 +117,8 @@ from .terms import (
     TooManyRoots,
     Var,
     children,
+    keep_solved,
+    kept_solved,
 )
 
 __all__ = [
@@ -113,7 +126,8 @@ __all__ = [
     "INT_FRACTIONS", "MINUS_ONE", "PI", "REPR_LIMIT", "SMALL", "SMALL_BITS", "SMALL_EXPONENT", "Add", "Call", "Const", "Diffeo",
     "IfDiffeo", "IfGe0", "ImplicitRoot", "Interval", "InverseBranch", "Let", "Mul", "Param", "Pow", "Prim", "Program",
     "Term", "TooManyRoots", "Var", "all_small", "children", "const", "depth", "diffeo_params", "diffeo_variables", "div",
-    "extend_diffeo", "free_params", "free_vars", "has_calls", "index_const", "index_power_small", "int_fraction", "keep_memo", "keep_typed", "kept_attributes", "like",
+    "extend_diffeo", "free_params", "free_vars", "has_calls", "index_const", "index_power_small", "int_fraction", "keep_memo", "keep_solved", "keep_typed", "kept_attributes",
+    "kept_solved", "like",
     "like_binary", "like_binary_many", "like_leaf", "like_power", "map_children", "neg", "product", "same_shape",
     "shape_of", "shape_with_span", "shared", "small_power", "small_value", "smooth", "sub", "substitute",
     "substitute_diffeo", "subterms", "tree_size",

@@ -9,7 +9,7 @@ constructor, which recomputes them).  Those that depend on the node's shape only
 names, primitives, exponents and diffeos, not the values of its constants — are kept together as
 one tuple, ``t.shape``, read at the indices :data:`FV` … :data:`DFP` (a loop's copies share their
 template's tuple, :mod:`langur.core.shapes`; a parent reads a child's in one access); its small
-value as ``t._small`` and ``t._small_all``.  The functions of :mod:`langur.core.structural`
+value as ``t.small`` and ``t.small_all``.  The functions of :mod:`langur.core.structural`
 (``free_vars``, ``free_params``, ``smooth``, ``has_calls``, ``tree_size``, ``depth``,
 ``small_value``, ``all_small``, ``diffeo_variables``) read them.
 
@@ -17,7 +17,9 @@ value as ``t._small`` and ``t._small_all``.  The functions of :mod:`langur.core.
 (exported by :mod:`langur.core`): code outside the core that reads an entry in a loop over every node
 (the Monte Carlo engine's link, its sharing pass, the type system's ``well_typed``, the front end's
 loop template) reads ``t.shape[SMOOTH]`` or unpacks the tuple in place, one attribute access, where
-a call of ``smooth(t)`` would cost a Python call per node.
+a call of ``smooth(t)`` would cost a Python call per node.  ``t.small`` and ``t.small_all`` are
+public for the same reason (``small_value(t)`` and ``all_small(t)``, read in place by the front
+end's linear forms, ``syntax.affine``, and its loop template).
 
 Also kept, for typing (``langur.typesys.well_typed``): the premises of Fig. 6's rules that do not
 depend on the context Δ; Γ (``SCOPED``: conditions of ``ifge0``, bounds of ``let``, a diffeo's
@@ -111,16 +113,16 @@ OPS = 8  #: the primitives used
 BINDERS = 9  #: the names ``let`` binds
 DFP = 10  #: the parameters of its diffeos' inverse branches, guards and ``nonzero`` terms
 #: The slots a term keeps them in (:mod:`langur.core.slots`).
-_KEPT = ("shape", "_small", "_small_all")
+_KEPT = ("shape", "small", "small_all")
 _SHAPE_NAMES = ("_fv", "_fp", "_smooth", "_calls", "_size", "_depth", "_psi_vars", "_scoped", "_ops", "_binders", "_dfp")
 
 
 def kept_attributes(t) -> dict:
     """Every attribute ``t`` keeps, by name (``_fv`` … ``_dfp`` for the entries of ``shape``,
-    ``_small``, ``_small_all``): for reading them all at once, as tests and tools do (the passes
+    ``small``, ``small_all``): for reading them all at once, as tests and tools do (the passes
     read one at its index)."""
     out = dict(zip(_SHAPE_NAMES, t.shape))
-    out["_small"], out["_small_all"] = t._small, t._small_all
+    out["small"], out["small_all"] = t.small, t.small_all
     return out
 
 #: ``shape`` of a constant (a variable's has its name as FV, a parameter's as FP).
@@ -178,8 +180,8 @@ def _binary(t, a, b, mul: bool) -> None:
 
 def _binary_value(t, a, b, mul: bool) -> None:
     """The attributes of ``t + s`` or ``t · s`` (``t``) that depend on the values of its constants
-    (``_small``, ``_small_all``), from those of ``t`` (``a``) and ``s`` (``b``)."""
-    x, y = a._small, b._small
+    (``small``, ``small_all``), from those of ``t`` (``a``) and ``s`` (``b``)."""
+    x, y = a.small, b.small
     if x is None or y is None:
         v = False if x is False or y is False else None
     elif x is False or y is False:
@@ -199,8 +201,8 @@ def _binary_value(t, a, b, mul: bool) -> None:
         v = x
     else:
         v = y if not x else (x if not y else _in_range(x + y))
-    t._small = v
-    t._small_all = v is not False and a._small_all and b._small_all
+    t.small = v
+    t.small_all = v is not False and a.small_all and b.small_all
 
 
 def index_power_small(value: int, n: int):
@@ -244,8 +246,8 @@ def _unary(t, a, small, scoped: bool, op: str | None) -> None:
     value, whether its own premise holds (a rational exponent) and its primitive."""
     fv, fp, sm, c, z, d, ps, sc, o, bi, df = a.shape
     t.shape = (fv, fp, sm, c, z + 1, d + 1, ps, scoped and sc, o if op is None else _join(o, _names(op)), bi, df)
-    t._small = small
-    t._small_all = small is not False and a._small_all
+    t.small = small
+    t.small_all = small is not False and a.small_all
 
 
 _INTERNED_SETS: dict = {}
@@ -313,16 +315,16 @@ def _ifdiffeo(t, psi, a, b) -> None:
     fp, xs, pv, cond, scoped, ops, dfp = _diffeo_summary(psi)
     if a.shape is _LEAF_SHAPE and b.shape is _LEAF_SHAPE:  # both branches constants ([…] is 1 or 0): the same, joined
         t.shape = (xs, fp, False, False, 3, 1 + (cond if cond > 1 else 1), pv, scoped, ops, _EMPTY, dfp)
-        t._small = v = False if not xs and not fp else None
-        t._small_all = v is not False and a._small_all and b._small_all
+        t.small = v = False if not xs and not fp else None
+        t.small_all = v is not False and a.small_all and b.small_all
         return
     fv = _join(_join(a.shape[FV], b.shape[FV]), xs)
     fp = _join(_join(a.shape[FP], b.shape[FP]), fp)
     t.shape = (fv, fp, False, a.shape[CALLS] or b.shape[CALLS], 1 + a.shape[SIZE] + b.shape[SIZE], 1 + max(a.shape[DEPTH], b.shape[DEPTH], cond),
                 _join(_join(a.shape[PSI_VARS], b.shape[PSI_VARS]), pv), scoped and a.shape[SCOPED] and b.shape[SCOPED],
                 _join(_join(a.shape[OPS], b.shape[OPS]), ops), _join(a.shape[BINDERS], b.shape[BINDERS]), _join(_join(a.shape[DFP], b.shape[DFP]), dfp))
-    t._small = v = False if not fv and not fp else None
-    t._small_all = v is not False and a._small_all and b._small_all
+    t.small = v = False if not fv and not fp else None
+    t.small_all = v is not False and a.small_all and b.small_all
 
 
 def _diffeo_scoped(psi) -> bool:

@@ -17,7 +17,7 @@ from .terms import Add, Const, IfDiffeo, Mul, Pow, Prim, Term
 #: What a shape (:func:`shape_with_span`) gives a node: its attributes of the shape, and its span.
 _shape_span = operator.itemgetter("shape", "span")
 #: All that a constant keeps (:func:`like_leaf` copies it).
-_LEAF_COPY = ("value", "span", "shape", "_small", "_small_all", "_hash", "_typed", "_memo")
+_LEAF_COPY = ("value", "span", "shape", "small", "small_all", "_hash", "typed", "memo")
 _leaf_copy = operator.attrgetter(*_LEAF_COPY)
 
 
@@ -64,7 +64,7 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
     a condition of the same shape, :func:`langur.syntax.affine.completed`)."""
     new = _new(cls.__base__)
     new.shape = shape["shape"]
-    new.span, new._hash, new._typed, new._memo = span, None, None, None
+    new.span, new._hash, new.typed, new.memo = span, None, None, None
     if cls is Add or cls is Mul:
         a, b = kids
         new.left, new.right = a, b
@@ -74,20 +74,20 @@ def like(cls: type, shape: dict, kids: tuple, span) -> "Term":
     if cls is IfDiffeo:
         psi, a, b = kids
         new.psi, new.then, new.orelse = psi, a, b
-        v = new._small = False if not new.shape[FV] and not new.shape[FP] else None
-        new._small_all = v is not False and a._small_all and b._small_all
+        v = new.small = False if not new.shape[FV] and not new.shape[FP] else None
+        new.small_all = v is not False and a.small_all and b.small_all
         new.__class__ = cls  # (_built, written out)
         return new
     (a,) = kids
     if cls is Pow:
         new.base = a
         new.exponent = shape["exponent"]
-        new._small = v = _small_power(a._small, shape["exponent"])
+        new.small = v = _small_power(a.small, shape["exponent"])
     else:
         new.arg = a
         new.op = shape["op"]
-        new._small = v = False if a._small is not None else None
-    new._small_all = v is not False and a._small_all
+        new.small = v = False if a.small is not None else None
+    new.small_all = v is not False and a.small_all
     new.__class__ = cls  # (_built, written out)
     return new
 
@@ -98,12 +98,12 @@ def like_binary(cls: type, shape: dict, a: "Term", b: "Term") -> "Term":
     each (issue 15)."""
     new = _new(cls.__base__)
     new.shape, new.span = _shape_span(shape)
-    new.left, new.right, new._hash, new._typed, new._memo = a, b, None, None, None
-    x, y = a._small, b._small
+    new.left, new.right, new._hash, new.typed, new.memo = a, b, None, None, None
+    x, y = a.small, b.small
     if (x is None or y is None) and x is not False and y is not False:
         # (_binary_value's first case, written out: a copy's nodes over a variable or parameter)
-        new._small = None
-        new._small_all = a._small_all and b._small_all
+        new.small = None
+        new.small_all = a.small_all and b.small_all
     else:
         _binary_value(new, a, b, cls is Mul)
     new.__class__ = cls  # (_built, written out)
@@ -124,11 +124,11 @@ def like_binary_many(cls: type, shape: dict, lefts: list, rights: list) -> list:
         new.span = span
         new.left = a
         new.right = b
-        new._hash = new._typed = new._memo = None
-        x, y = a._small, b._small
+        new._hash = new.typed = new.memo = None
+        x, y = a.small, b.small
         if (x is None or y is None) and x is not False and y is not False:
-            new._small = None
-            new._small_all = a._small_all and b._small_all
+            new.small = None
+            new.small_all = a.small_all and b.small_all
         else:
             _binary_value(new, a, b, mul)
         new.__class__ = cls  # (_built, written out: t is an Add or a Mul)
@@ -141,9 +141,9 @@ def like_power(shape: dict, a: "Term", small) -> "Term":
     of ``a ^ k`` given (``small_power(small_value(a), k)``, which a copy may have computed already)."""
     new = _new(_POW)
     new.shape, new.span = _shape_span(shape)
-    new.base, new.exponent, new._hash, new._typed, new._memo = a, shape["exponent"], None, None, None
-    new._small = small
-    new._small_all = small is not False and a._small_all
+    new.base, new.exponent, new._hash, new.typed, new.memo = a, shape["exponent"], None, None, None
+    new.small = small
+    new.small_all = small is not False and a.small_all
     new.__class__ = Pow  # (_built, written out)
     return new
 
@@ -152,8 +152,8 @@ def like_leaf(c: Const, span) -> Const:
     """``Const(c.value, span=span)``, its attributes copied from ``c`` (a loop's copy reads its
     index at several places: one number, issue 15)."""
     new = _new(_CONST)
-    (new.value, new.span, new.shape, new._small, new._small_all, new._hash, new._typed,
-     new._memo) = _leaf_copy(c)
+    (new.value, new.span, new.shape, new.small, new.small_all, new._hash, new.typed,
+     new.memo) = _leaf_copy(c)
     new.span = span
     new.__class__ = Const  # (_built, written out)
     return new
@@ -172,7 +172,7 @@ def index_const(value: int, span=None) -> Const:
     if value.bit_length() >= 1000:
         return Const(number, span=span)
     new = _new(_CONST)
-    new.value, new.span, new._hash, new._typed, new._memo = number, span, None, None, None
-    new.shape, new._small, new._small_all = _LEAF_SHAPE, number, True  # (a leaf's attributes: its shape, no small value but a constant's)
+    new.value, new.span, new._hash, new.typed, new.memo = number, span, None, None, None
+    new.shape, new.small, new.small_all = _LEAF_SHAPE, number, True  # (a leaf's attributes: its shape, no small value but a constant's)
     new.__class__ = Const  # (_built, written out)
     return new

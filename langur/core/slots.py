@@ -12,9 +12,11 @@ A frozen record refuses assignment by its own ``__setattr__``, which every assig
 the layout has Python's own, so a node is filled as an instance of the layout (one store per slot,
 the interpreter's cheapest, when the code that fills the nodes meets one type: a layout per group of
 classes that share that code) and then given its class (:func:`_built`).  Its ``_hash``, typing memo
-(``_typed``) and engines' memos (``_memo``, a dict made when one is kept) start at ``None`` and are
+(``typed``) and engines' memos (``memo``, a dict made when one is kept) start at ``None`` and are
 written later by :data:`_keep_hash`, :data:`keep_typed` and :data:`keep_memo` (the node is frozen:
-an attribute that is not a field is still written only by these).
+an attribute that is not a field is still written only by these).  ``typed`` and ``memo`` are
+public (read in place by the type system and the engines, :mod:`langur.core`); ``_hash`` is
+read only here (:mod:`.sharing`).
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from .attributes import _KEPT
 #: What a term keeps besides its fields and :data:`_KEPT`, written after it is built: its hash
 #: (:mod:`langur.core.sharing`), the contexts it was typed in (``langur.typesys``) and a dict of
 #: the engines' derived facts (``None`` until one is kept).
-_MEMOS = ("_hash", "_typed", "_memo")
+_MEMOS = ("_hash", "typed", "memo")
 
 
 class _Kept:
@@ -38,8 +40,8 @@ class _Kept:
 
 #: ``_keep_hash(t, h)``: write a built node's ``_hash`` (and so ``keep_typed``, ``keep_memo``).
 _keep_hash = _Kept._hash.__set__
-keep_typed = _Kept._typed.__set__
-keep_memo = _Kept._memo.__set__
+keep_typed = _Kept.typed.__set__
+keep_memo = _Kept.memo.__set__
 
 
 def _built(t, cls: type):

@@ -113,12 +113,12 @@ def small_value(t: Term):
     with a denominator of at most ``SMALL_BITS`` bits, integer powers up to ``SMALL_EXPONENT``);
     ``None`` when ``t`` is not constant; ``False`` when it is but not decided so (π, primitives,
     fractional powers, large values)."""
-    return t._small
+    return t.small
 
 
 def all_small(t: Term) -> bool:
     """Every subterm of ``t`` has a :func:`small_value` that is not ``False``."""
-    return t._small_all
+    return t.small_all
 
 
 def diffeo_variables(t: Term) -> frozenset[tuple[str, ...]]:

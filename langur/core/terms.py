@@ -79,16 +79,16 @@ class Const:
 
     def __new__(cls, value, span=None):
         t = _new(cls.__base__)
-        t.value, t.span, t._hash, t._typed, t._memo, t.shape = value, span, None, None, None, _LEAF_SHAPE
+        t.value, t.span, t._hash, t.typed, t.memo, t.shape = value, span, None, None, None, _LEAF_SHAPE
         if id(value) in _INT_IDS:  # (an integer of INT_FRACTIONS, or −1: small, without Fraction's properties)
-            t._small, t._small_all = value, True
+            t.small, t.small_all = value, True
         elif type(value) is not Fraction:
-            t._small = t._small_all = False
+            t.small = t.small_all = False
         elif value.denominator.bit_length() > SMALL_BITS or value.numerator.bit_length() >= 1000:
-            t._small = v = _in_range(value)
-            t._small_all = v is not False
+            t.small = v = _in_range(value)
+            t.small_all = v is not False
         else:
-            t._small, t._small_all = value, True
+            t.small, t.small_all = value, True
         t.__class__ = cls  # (slots._built, written out here and below: every node is built so)
         return t
 
@@ -102,8 +102,8 @@ class Var:
 
     def __new__(cls, name, span=None):
         t = _new(cls.__base__)
-        t.name, t.span, t._hash, t._typed, t._memo = name, span, None, None, None
-        t.shape, t._small, t._small_all = _var_shape(name), None, True  # (a leaf's attributes: its shape, no small value but a constant's)
+        t.name, t.span, t._hash, t.typed, t.memo = name, span, None, None, None
+        t.shape, t.small, t.small_all = _var_shape(name), None, True  # (a leaf's attributes: its shape, no small value but a constant's)
         t.__class__ = cls
         return t
 
@@ -117,8 +117,8 @@ class Param:
 
     def __new__(cls, name, span=None):
         t = _new(cls.__base__)
-        t.name, t.span, t._hash, t._typed, t._memo = name, span, None, None, None
-        t.shape, t._small, t._small_all = _param_shape(name), None, True
+        t.name, t.span, t._hash, t.typed, t.memo = name, span, None, None, None
+        t.shape, t.small, t.small_all = _param_shape(name), None, True
         t.__class__ = cls
         return t
 
@@ -131,7 +131,7 @@ class Add:
 
     def __new__(cls, left, right, span=None):
         t = _new(cls.__base__)
-        t.left, t.right, t.span, t._hash, t._typed, t._memo = left, right, span, None, None, None
+        t.left, t.right, t.span, t._hash, t.typed, t.memo = left, right, span, None, None, None
         _binary(t, left, right, False)
         t.__class__ = cls
         return t
@@ -145,7 +145,7 @@ class Mul:
 
     def __new__(cls, left, right, span=None):
         t = _new(cls.__base__)
-        t.left, t.right, t.span, t._hash, t._typed, t._memo = left, right, span, None, None, None
+        t.left, t.right, t.span, t._hash, t.typed, t.memo = left, right, span, None, None, None
         _binary(t, left, right, True)
         t.__class__ = cls
         return t
@@ -162,8 +162,8 @@ class Prim:
 
     def __new__(cls, op, arg, span=None):
         t = _new(cls.__base__)
-        t.op, t.arg, t.span, t._hash, t._typed, t._memo = op, arg, span, None, None, None
-        _unary(t, arg, False if arg._small is not None else None, True, op)
+        t.op, t.arg, t.span, t._hash, t.typed, t.memo = op, arg, span, None, None, None
+        _unary(t, arg, False if arg.small is not None else None, True, op)
         t.__class__ = cls
         return t
 
@@ -178,8 +178,8 @@ class Pow:
 
     def __new__(cls, base, exponent, span=None):
         t = _new(cls.__base__)
-        t.base, t.exponent, t.span, t._hash, t._typed, t._memo = base, exponent, span, None, None, None
-        _unary(t, base, _small_power(base._small, exponent),
+        t.base, t.exponent, t.span, t._hash, t.typed, t.memo = base, exponent, span, None, None, None
+        _unary(t, base, _small_power(base.small, exponent),
                type(exponent) is Fraction or isinstance(exponent, Fraction), None)
         t.__class__ = cls
         return t
@@ -196,7 +196,7 @@ class IfGe0:
 
     def __new__(cls, cond, then, orelse, span=None):
         t = _new(cls.__base__)
-        t.cond, t.then, t.orelse, t.span, t._hash, t._typed, t._memo = cond, then, orelse, span, None, None, None
+        t.cond, t.then, t.orelse, t.span, t._hash, t.typed, t.memo = cond, then, orelse, span, None, None, None
         _annotate(t, cls)
         t.__class__ = cls
         return t
@@ -216,7 +216,7 @@ class IfDiffeo:
 
     def __new__(cls, psi, then, orelse, span=None):
         t = _new(cls.__base__)
-        t.psi, t.then, t.orelse, t.span, t._hash, t._typed, t._memo = psi, then, orelse, span, None, None, None
+        t.psi, t.then, t.orelse, t.span, t._hash, t.typed, t.memo = psi, then, orelse, span, None, None, None
         _ifdiffeo(t, psi, then, orelse)
         t.__class__ = cls
         return t
@@ -233,7 +233,7 @@ class Let:
 
     def __new__(cls, name, bound, body, span=None):
         t = _new(cls.__base__)
-        t.name, t.bound, t.body, t.span, t._hash, t._typed, t._memo = name, bound, body, span, None, None, None
+        t.name, t.bound, t.body, t.span, t._hash, t.typed, t.memo = name, bound, body, span, None, None, None
         _annotate(t, cls)
         t.__class__ = cls
         return t
@@ -254,7 +254,7 @@ class Call:
 
     def __new__(cls, module, name, args, span=None):
         t = _new(cls.__base__)
-        t.module, t.name, t.args, t.span, t._hash, t._typed, t._memo = module, name, args, span, None, None, None
+        t.module, t.name, t.args, t.span, t._hash, t.typed, t.memo = module, name, args, span, None, None, None
         _annotate(t, cls)
         t.__class__ = cls
         return t
@@ -299,7 +299,7 @@ class ImplicitRoot:
     def __new__(cls, equation, variable, target, lo, hi, index=None, of=0, slope=None, span=None):
         t = _new(cls.__base__)
         t.equation, t.variable, t.target, t.lo, t.hi = equation, variable, target, lo, hi
-        t.index, t.of, t.slope, t.span, t._hash, t._typed, t._memo = index, of, slope, span, None, None, None
+        t.index, t.of, t.slope, t.span, t._hash, t.typed, t.memo = index, of, slope, span, None, None, None
         _annotate(t, cls)
         t.__class__ = cls
         return t
@@ -379,6 +379,19 @@ class Diffeo:
         return self.forward[0]
 
 
+def keep_solved(psi: Diffeo, found) -> None:
+    """Keep on ``psi`` what the front end solved to make it, for :func:`kept_solved` to read back
+    (``syntax.affine.complete`` keeps its condition's shape solved and constant term, which a loop's
+    template asks for again, issue 15).  A memo, not a field: never compared nor hashed, and not
+    pickled (a ``Diffeo`` pickles no ``_`` key of its ``__dict__``, :mod:`.sharing`)."""
+    psi.__dict__["_solved"] = found
+
+
+def kept_solved(psi: Diffeo):
+    """What :func:`keep_solved` kept on ``psi``, or ``None``."""
+    return psi.__dict__.get("_solved")
+
+
 _TERMS = (Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot)
 
 for _cls in _TERMS:
@@ -438,8 +451,8 @@ def _annotate(t, cls: type) -> None:
         fv = _join(_join(own - {x} if x in own else own, t.target.shape[FV]), _join(t.lo.shape[FV], t.hi.shape[FV]))
     smooth = cls is not IfGe0 and cls is not Call and all(c.shape[SMOOTH] for c in kids)
     calls = cls is Call or any(c.shape[CALLS] for c in kids)
-    t._small = v = False if not fv and not fp else None
-    t._small_all = v is not False and all(c._small_all for c in kids)
+    t.small = v = False if not fv and not fp else None
+    t.small_all = v is not False and all(c.small_all for c in kids)
     scoped = all(c.shape[SCOPED] for c in kids)
     ops = binders = dfp = _EMPTY
     for c in kids:

@@ -80,7 +80,7 @@ class _Tape:
 def _tape(t: Term, certified: bool = False) -> _Tape:
     """The tape of ``t``, built once and kept on the node (as core's derived facts are)."""
     key = "certified tape" if certified else "enclosure tape"
-    memo = t._memo
+    memo = t.memo
     if memo is None:
         memo = {}
         keep_memo(t, memo)

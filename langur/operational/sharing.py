@@ -121,7 +121,7 @@ def constant(t: Term):
     shape = t.shape
     if shape[FV] or shape[FP] or shape[CALLS]:
         return None
-    memo = t._memo
+    memo = t.memo
     if memo is None:
         memo = {}
         keep_memo(t, memo)

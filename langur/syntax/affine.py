@@ -39,6 +39,8 @@ from ..core import (
     Var,
     free_params,
     free_vars,
+    keep_solved,
+    kept_solved,
     like_binary,
     shape_with_span,
     small_value,
@@ -99,7 +101,7 @@ def _linear(t: Term, linear) -> Linear | None:
     """One node of :func:`linear` (``linear`` reads the children).  (By the node's class, the most
     frequent first, rather than a ``match``, whose class patterns test each class in turn and read
     the fields by name: every node of every condition comes here, issue 15.)"""
-    v = t._small  # (core.small_value, read in place: every node of every condition comes here)
+    v = t.small  # (core.small_value, read in place: every node of every condition comes here)
     if v is not None and v is not False:
         return {}, v  # a constant whose exact value the node keeps: the same rational, no walk
     tt = type(t)
@@ -179,7 +181,7 @@ def complete(cond: Term, variables: tuple[str, ...], avoid: frozenset[str] = fro
     constant = -c0 if solved[1] == 1 else -c0 / solved[1]
     psi = _solved_at(cond, variables, solved, (constant.numerator, constant.denominator), constant)
     if not avoid:  # (kept for a loop's template, which completes this shape again: `solved_by`)
-        psi.__dict__["_solved"] = found
+        keep_solved(psi, found)
     return psi
 
 
@@ -187,7 +189,7 @@ def solved_by(psi: Diffeo, cond: Term, variables: tuple[str, ...]) -> tuple[tupl
     """``solve(cond, variables)``, read off ``psi`` when :func:`complete` made it from that ``cond``
     (the same object) over those ``variables`` (isolating any): no second walk (a loop's template,
     issue 15)."""
-    found = psi.__dict__.get("_solved")
+    found = kept_solved(psi)
     if found is not None and psi.forward[0] is cond and psi.variables == tuple(variables):
         return found
     return solve(cond, tuple(variables))

@@ -352,12 +352,12 @@ class Template:
                 if same[a]:
                     if cls is Pow:
                         if power < 0:
-                            small = small_power(vals[a]._small, arg)
+                            small = small_power(vals[a].small, arg)
                         else:
                             small = powers[power]
                             if small is None:
                                 e = self.exponents[power]
-                                small = powers[power] = (small_power(vals[a]._small, arg) if e is None
+                                small = powers[power] = (small_power(vals[a].small, arg) if e is None
                                                          else _index_power(value, e))
                         vals[i] = like_power(shape, vals[a], small)
                     else:
@@ -473,7 +473,7 @@ class Template:
                     if smalls is None:
                         e = self.exponents[power]
                         smalls = powers[power] = (
-                            [small_power(x._small, arg) for x in xs] if e is None
+                            [small_power(x.small, arg) for x in xs] if e is None
                             else [_index_power(v, e) for v in values])
                 else:
                     smalls = None
@@ -486,7 +486,7 @@ class Template:
                 for x, p, small in zip(xs, sa, smalls):
                     if p:
                         if cls is Pow:
-                            out.append(like_power(shape, x, small_power(x._small, arg) if power < 0 else small))
+                            out.append(like_power(shape, x, small_power(x.small, arg) if power < 0 else small))
                         else:
                             out.append(like(cls, shape, (x,), shape["span"]))
                     elif cls is Pow:
@@ -509,7 +509,7 @@ class Template:
                         num, den = num0, den0
                         for jj, factor, sign in parts:
                             col = cols[jj]
-                            new = (col[j] if type(col) is list else col)._small  # (core.small_value)
+                            new = (col[j] if type(col) is list else col).small  # (core.small_value)
                             if new is None or new is False:
                                 keys.append(None)
                                 break
