@@ -21,6 +21,7 @@ from fractions import Fraction
 
 import pytest
 from paths import EXAMPLES, REPO
+from test_shape27 import _nodes  # (every node of a term, its diffeos' terms included)
 
 from langur import core, frontend, observe, typesys
 from langur.core import Add, Const, Diffeo, IfDiffeo, Mul, Param, Pow, Var, children
@@ -33,20 +34,6 @@ from langur.syntax import affine
 _PRIVATE = ("shape", "small", "small_all", "memo", "typed", "hash", "solved", "summary")
 _READ = re.compile(r"(?<!self)\._(%s)\b" % "|".join(_PRIVATE))
 _KEY = re.compile(r"[\"']_(%s)[\"']" % "|".join(_PRIVATE))
-
-
-def _nodes(root) -> list:
-    out, seen, stack = [], set(), [root]
-    while stack:
-        t = stack.pop()
-        if id(t) in seen:
-            continue
-        seen.add(id(t))
-        out.append(t)
-        stack.extend(children(t))
-        if type(t) is IfDiffeo:
-            stack.extend(t.psi.forward)
-    return out
 
 
 @pytest.fixture(scope="module")

@@ -26,22 +26,12 @@ import os
 
 import pytest
 from paths import DEGENERATE, EXAMPLES
+from test_cli_contract import run  # (status, stdout, stderr) of ``langur ARGV`` in this process
 
 from langur import cli, source
-from langur.cli import main
 
 FIG1 = str(EXAMPLES / "fig1.lgr")
 FIG9 = str(EXAMPLES / "fig9.lgr")
-
-
-def run(capsys, *argv):
-    """(status, stdout, stderr) of ``langur ARGV``; argparse's refusals exit through SystemExit."""
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as e:
-        status = e.code
-    out = capsys.readouterr()
-    return status, out.out, out.err
 
 
 def one_line(err: str) -> str:

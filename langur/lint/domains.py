@@ -42,6 +42,7 @@ from ..core import (
     Program,
     Term,
     Var,
+    children,
 )
 from ..primitives import REGISTRY
 from .findings import Finding, quote
@@ -64,20 +65,9 @@ def _scalar(t: Term, params: Mapping[str, float]) -> float:
 
 
 def _operands(t: Term) -> tuple[Term, ...]:
-    """The subterms :meth:`_Eval.value` evaluates to evaluate ``t`` (a diffeomorphic condition's
-    own term included)."""
-    match t:
-        case Add(a, b) | Mul(a, b):
-            return (a, b)
-        case Prim(_, a) | Pow(a, _):
-            return (a,)
-        case IfGe0(c, s, r):
-            return (c, s, r)
-        case IfDiffeo(psi, s, r):
-            return (psi.forward[0], s, r)
-        case Let(_, bound, body):
-            return (bound, body)
-    return ()
+    """The subterms :meth:`_Eval.value` evaluates to evaluate ``t``: its children
+    (``core.children``) and, for a diffeomorphic condition, the condition's own term."""
+    return (t.psi.forward[0], *children(t)) if type(t) is IfDiffeo else children(t)
 
 
 def _uses(t: Term) -> dict[int, int]:
