@@ -134,11 +134,15 @@ def parse_assignments(values: list[str] | None, what: str) -> dict[str, float]:
 
 
 def parse_modules(values: list[str] | None) -> dict[str, str]:
+    """``--module NAME=PATH`` options as ``{NAME: PATH}``; a usage error when one is not of that
+    form or PATH is not a file (missing, or a directory, a device such as /dev/zero, a pipe)."""
     out: dict[str, str] = {}
     for value in values or []:
         name, eq, path = value.partition("=")
         if not eq or not name or not path:
             raise UsageError(f"--module expects NAME=PATH, got {value!r}")
+        if not os.path.isfile(path):
+            raise UsageError(f"--module {value}: " + ("not a regular file" if os.path.exists(path) else "no such file"))
         out[name] = path
     return out
 

@@ -105,3 +105,18 @@ def test_an_imported_module_over_the_limit_is_E108(tmp_path):
             assert p.returncode == 1, (command, p.returncode, p.stderr)
             assert f"big.lgr:1:1: error E108 source too large: more than {source.MAX_SOURCE_BYTES:,} bytes" in report, report
             assert "Traceback" not in p.stderr and "out of memory" not in p.stderr and "internal error" not in p.stderr
+
+
+# -- --module's PATH: a regular file, or a usage error saying what it is (check and the others alike) --
+
+@pytest.mark.parametrize("command", ["check", "eval", "show"])
+def test_module_path_must_be_a_regular_file(capsys, tmp_path, command):
+    from test_cli_contract import run
+
+    main_file = tmp_path / "main.lgr"
+    main_file.write_text("from shade import f\nparam a = 0.5\nint ([0, 1]) f(x) * [x <= a] d(x)\n")
+    for path, says in (("/dev/zero", "not a regular file"), (str(tmp_path), "not a regular file"),
+                       (str(tmp_path / "missing.lgr"), "no such file")):
+        status, out, err = run(capsys, command, main_file, "--module", f"shade={path}")
+        assert status == 2, (path, status, out, err)
+        assert err.strip() == f"langur {command}: error: --module shade={path}: {says}", err

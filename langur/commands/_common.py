@@ -27,9 +27,6 @@ def load(args, path: str | None = None):
 
     path = path if path is not None else args.file
     modules = parse_modules(getattr(args, "module", None))
-    for name, mpath in modules.items():
-        if not os.path.isfile(mpath):
-            raise UsageError(f"--module {name}={mpath}: no such file")
     if path == "-":
         path, data = "<stdin>", read_source(sys.stdin.buffer, "<stdin>")
     elif not os.path.lexists(path):

@@ -204,9 +204,6 @@ def run(args) -> int:
         raise UsageError(f"{what} on standard output: it does not go with {'--json' if args.json else '--format ' + fmt}")
     at = parse_assignments(args.at, "--at")
     modules = parse_modules(args.module)
-    for name, mpath in modules.items():
-        if not os.path.isfile(mpath):
-            raise UsageError(f"--module {name}={mpath}: no such file")
     files = _expand(args.files)
     select, ignore = _codes(args.select), _codes(args.ignore)
     known = known_codes()
