@@ -4,7 +4,8 @@
 ``langur.typesys``); ``X3xx``: transversality and integrability (``langur check``, Def. 7.2,
 ``langur.lint``).  Every :class:`~langur.diagnostics.Diagnostic` carries a code of this catalogue;
 ``proofs_tests/test_codes.py`` checks that each is emitted somewhere, and ``test_docs`` that
-``docs/CODES.md`` documents each.
+``docs/CODES.md`` documents each.  A code's message built in more than one place is declared here
+too, once (X316's, below).
 """
 
 from __future__ import annotations
@@ -123,3 +124,25 @@ CODES: dict[str, Code] = _catalogue(
          "not reported is unchecked.",
          "error", "time-limit"),
 )
+
+
+
+# X316's texts (docs/CODES.md), declared here once for both engines: the exact engine's implicit
+# roots (:mod:`langur.implicit.equations`) and the Monte Carlo engine's (:mod:`langur.operational.roots`,
+# :mod:`langur.operational.naive`).  True of ``langur eval`` as of ``langur deriv``: a value needs
+# the ends of the condition's monotone pieces as much as a derivative does.
+
+def turning_points_beyond_split(count: int, of: int, where: str) -> str:
+    """X316: ``count`` turning points ``where`` (``on [-2, 2]``, ``on the domain``) at the parameter
+    values in force, more than the ``of`` the condition was split for."""
+    return (f"{count} turning points {where} at these parameter values, more than the {of} the condition "
+            "was split for: this engine cannot find the ends of the condition's monotone pieces here; split "
+            "the variable's domain (a sum of integrals over sub-intervals, each with at most that many "
+            "turning points)")
+
+
+#: X316: a condition split at turning points that move with the parameters, whose implicit root
+#: comes without the enclosure of its slope that certifies them.
+NO_SLOPE_TO_CERTIFY = ("a turning point that moves with the parameters has no ∂²/∂x² to certify that none is "
+                       "missed (an implicit root without its slope): this engine cannot find the ends of the "
+                       "condition's monotone pieces")

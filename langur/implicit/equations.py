@@ -16,6 +16,7 @@ from functools import lru_cache
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
+from langur.codes import turning_points_beyond_split
 from langur.core import TooManyRoots
 
 #: The source place of a root's equation (sympy terms carry none), by its bound variable (a
@@ -95,7 +96,4 @@ def polynomial_coefficients(x, f, free: tuple):
 def too_many_roots(count: int, a: float, b: float, of, x) -> TooManyRoots:
     """X316: ``count`` sign changes on ``[a, b]`` at these parameter values, more than the ``of``
     the condition was split for; located at the condition of the equation bound by ``x``."""
-    return TooManyRoots(f"{count} turning points on [{a:g}, {b:g}] at these parameter values, more than "
-                        f"the {int(of)} the condition was split for: Langur cannot differentiate it here; split the variable's "
-                        "domain (a sum of integrals over sub-intervals, each with at most that many turning points)",
-                        SPANS.get(x))
+    return TooManyRoots(turning_points_beyond_split(count, int(of), f"on [{a:g}, {b:g}]"), SPANS.get(x))

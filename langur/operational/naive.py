@@ -14,6 +14,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from ..codes import NO_SLOPE_TO_CERTIFY, turning_points_beyond_split
 from ..core import (
     Add,
     Call,
@@ -71,13 +72,10 @@ def _root(f, a: float, b: float, index: int | None, of: int, certify=None, span=
     (:mod:`langur.operational.signchanges`)."""
     if index is not None:
         if certify is None:
-            raise TooManyRoots("a turning point that moves with the parameters has no ∂²/∂x² to certify that none "
-                               "is missed: Langur cannot evaluate it", span)
+            raise TooManyRoots(NO_SLOPE_TO_CERTIFY, span)
         brackets = certify(a, b)
         if len(brackets) > of:
-            raise TooManyRoots(f"{len(brackets)} turning points on the domain at these parameter values, more than "
-                               f"the {of} the condition was split for: Langur cannot differentiate it here; split the variable's "
-                               "domain (a sum of integrals over sub-intervals, each with at most that many turning points)", span)
+            raise TooManyRoots(turning_points_beyond_split(len(brackets), of, "on the domain"), span)
         if index >= len(brackets):
             return b
         a, b = brackets[index]

@@ -9,6 +9,7 @@ import hashlib
 
 import numpy as np
 
+from ..codes import NO_SLOPE_TO_CERTIFY, turning_points_beyond_split
 from ..core import Term, TooManyRoots
 from ..memo import remember
 from .dual import dadd
@@ -76,8 +77,7 @@ def compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of
     def sign_change(pt, lk):
         vals = pt.values()
         if tape is None:
-            raise TooManyRoots("a turning point that moves with the parameters has no ∂²/∂x² to certify that none "
-                               "is missed (an implicit root without its slope): Langur cannot evaluate it", span)
+            raise TooManyRoots(NO_SLOPE_TO_CERTIFY, span)
         t, dt = ft(pt, lk)
         (lo, _), (hi, dhi) = flo(vals, lk), fhi(pt, lk)
         columns = [t, lo, hi] + [vals.vars[u] for u in others] + [v for v in vals.params.values() if np.ndim(v)]
@@ -107,10 +107,7 @@ def compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of
                                          lenient=bool(others))
             counts = np.bincount(r, minlength=len(tr))
             if np.any(counts > of):
-                raise TooManyRoots(f"{int(counts.max())} turning points on the domain at these parameter values, more "
-                                   f"than the {of} the condition was split for: Langur cannot differentiate it here; "
-                                   "split the variable's domain (a sum of integrals over sub-intervals, each with at "
-                                   "most that many turning points)", span)
+                raise TooManyRoots(turning_points_beyond_split(int(counts.max()), of, "on the domain"), span)
             roots = bisection(lambda at: value(at, r), tr[r], a, b)  # every sign change of every row at once
             found = (equation, r, counts, roots)
             remember(_SIGN_CHANGES, key, found, 8)
