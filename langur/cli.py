@@ -20,11 +20,15 @@ import os
 import sys
 import warnings
 from collections import Counter
+from typing import TYPE_CHECKING
 
 from . import __version__, gcpause, lazy, progress
 from .arguments import Arguments
 from .diagnostics import LangurError
 from .timebox import run_with_timeout
+
+if TYPE_CHECKING:
+    from .modules import Loaded
 
 #: argparse only when a command line is not plain (help, usage errors, …): a plain one is read by
 #: :class:`~langur.arguments.Arguments` (issue 15, start-up: argparse with gettext and locale, 16 M
@@ -145,6 +149,21 @@ def parse_modules(values: list[str] | None) -> dict[str, str]:
             raise UsageError(f"--module {value}: " + ("not a regular file" if os.path.exists(path) else "no such file"))
         out[name] = path
     return out
+
+
+def refuse_unimported_modules(modules: dict[str, str], loaded: list[tuple[str, Loaded]]) -> None:
+    """A usage error for the first ``--module NAME=PATH`` that none of the FILEs imports (it would be
+    silently ignored); ``loaded``: each FILE's path and :class:`~langur.modules.Loaded`.  With several
+    FILEs (``langur check``) a module may be meant for some of them only: refused only when no FILE
+    imports it."""
+    for name, mpath in modules.items():
+        if all(ld.modules.get(name) in (None, ld.main) for _, ld in loaded):
+            imported = ", ".join(dict.fromkeys(n for _, ld in loaded for n, m in ld.modules.items()
+                                               if m is not ld.main)) or "none"
+            paths = ", ".join(path for path, _ in loaded)
+            raise UsageError(f"--module {name}={mpath}: {paths} " + (
+                f"imports no module {name} (it imports: {imported})" if len(loaded) == 1
+                else f"import no module {name} (they import: {imported})"))
 
 
 def add_common(p: argparse.ArgumentParser, *, params=True, mc=False) -> None:

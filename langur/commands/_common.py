@@ -15,7 +15,7 @@ from fractions import Fraction
 import numpy  # noqa: F401
 
 from .. import frontend, lazy, progress
-from ..cli import UsageError, parse_assignments, parse_modules
+from ..cli import UsageError, parse_assignments, parse_modules, refuse_unimported_modules
 from ..source import read_source
 
 #: json only for ``--json`` output (as in :mod:`langur.cli`).
@@ -41,10 +41,7 @@ def load(args, path: str | None = None):
             raise UsageError(f"{path}: cannot read this file ({e.strerror or type(e).__name__})") from None
     with progress.phase("reading and type-checking"):
         loaded = frontend.load_bytes(data, path, modules=modules)
-    for name, mpath in modules.items():  # a --module nothing imports would be silently ignored
-        if loaded.modules.get(name) in (None, loaded.main):
-            imported = ", ".join(n for n, m in loaded.modules.items() if m is not loaded.main) or "none"
-            raise UsageError(f"--module {name}={mpath}: {path} imports no module {name} (it imports: {imported})")
+    refuse_unimported_modules(modules, [(path, loaded)])
     return loaded
 
 

@@ -23,7 +23,14 @@ import sys
 from pathlib import Path
 
 from .. import __version__, frontend
-from ..cli import UsageError, add_common, add_timeout, parse_assignments, parse_modules
+from ..cli import (
+    UsageError,
+    add_common,
+    add_timeout,
+    parse_assignments,
+    parse_modules,
+    refuse_unimported_modules,
+)
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..lint import config as cfgmod
 from ..lint import fix as fixmod
@@ -146,9 +153,10 @@ def _fix(fixmod, text, name, loaded, modules, at, sources):
         raise UsageError(str(e)) from None
 
 
-def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, reports: list) -> None:
-    """Check one FILE's contents (under its --timeout), appending to ``reports``, ``used_at`` and
-    ``fixes``."""
+def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, reports: list,
+               loaded_files: list) -> None:
+    """Check one FILE's contents (under its --timeout), appending to ``reports``, ``used_at``,
+    ``fixes`` and ``loaded_files`` (its name and :class:`~langur.modules.Loaded`, once loaded)."""
 
     text = data.decode("utf-8", errors="replace")
     sources = {name: text}
@@ -157,6 +165,7 @@ def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, re
     except LangurError as e:
         reports.extend(Report(d) for d in e.diagnostics)
         return
+    loaded_files.append((name, loaded))  # (as given: a rewrite below may inline what it imports)
     if (args.fix or args.diff) and loaded.program is not None:
         fixed = _fix(fixmod, text, name, loaded, modules, here_at(at, loaded), sources)
         if fixed is not None:
@@ -237,6 +246,7 @@ def run(args) -> int:
     reports: list[Report] = []
     used_at: set[str] = set()
     fixes: list = []  # the --fix / --diff rewrites (langur.lint.fix)
+    loaded_files: list = []  # (name, Loaded) of each FILE that loaded: what it imports
     unread = [name for name, data, _ in inputs if data is None]
     for name, data, cfg in inputs:
         if data is None:
@@ -247,7 +257,7 @@ def run(args) -> int:
             continue
         try:
             run_with_timeout(lambda n=name, d=data, c=cfg: _check_one(args, n, d, c, modules, at, used_at, fixes,
-                                                                       reports), args.timeout)
+                                                                       reports, loaded_files), args.timeout)
         except TimeoutError:
             reports.append(Report(Diagnostic(
                 Span(name, 1, 1, 1, 1), "error", "X399",
@@ -256,6 +266,8 @@ def run(args) -> int:
     unknown = sorted(set(at) - used_at)
     if unknown and not any(r.diagnostic.code[:1] in ("E", "T") for r in reports):
         raise UsageError(f"--at {unknown[0]}: no checked FILE declares this parameter")
+    if len(loaded_files) == len(inputs):  # (a FILE that did not load may import any module)
+        refuse_unimported_modules(modules, loaded_files)
 
     if args.diff:
         for f in fixes:
