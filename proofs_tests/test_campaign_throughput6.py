@@ -60,11 +60,11 @@ def test_box_cut_by_a_fixed_transcendental_condition_and_a_moving_plane():
         exact = (sf ** 3 - (sf - t) ** 3) / 6  # ∫_0^t (s − z)²/2 dz
         assert abs(val - exact) <= err + 1e-12
         # the tanh condition's root was found once for the innermost level, not per (x, y)
-        fixed_pts, _ = prob._fixed[2]
+        fixed_pts, _ = prob.fixed[2]
         assert len(fixed_pts) == 1 and abs(next(iter(fixed_pts)) - t) <= 1e-12
         for prefix in ((0.1, 0.2), (0.35, 0.05), (0.0, 0.7)):
             moving, kinks = _breakpoints(prob, 2, prefix, True)
-            fixed = prob._fixed[2]
+            fixed = prob.fixed[2]
             assert ({*prob.bounds[2], *fixed[0], *moving}, kinks | fixed[1]) == _all_breakpoints(prob, 2, prefix)
 
 
@@ -82,7 +82,7 @@ def test_breakpoints_split_is_exact_at_every_level_of_a_disc_in_a_slab():
     for level, prefixes in ((1, [(0.3,), (-0.6,)]), (2, [(0.3, 0.4), (-0.65, 0.9)])):
         for prefix in prefixes:
             moving, kinks = _breakpoints(prob, level, prefix, True)
-            fixed = prob._fixed[level]
+            fixed = prob.fixed[level]
             assert ({*prob.bounds[level], *fixed[0], *moving}, kinks | fixed[1]) == \
                 _all_breakpoints(prob, level, prefix)
 
@@ -131,5 +131,5 @@ def test_cylinder_in_a_box_whose_roots_skip_the_middle_variable():
     assert abs(val - 1.5 * math.pi * 0.36 / 2) <= err + 1e-12
     for prefix in ((0.2, 0.3), (0.2, 0.9), (-0.5, 0.1)):
         moving, kinks = _breakpoints(prob, 2, prefix, True)
-        fixed = prob._fixed[2]
+        fixed = prob.fixed[2]
         assert ({*prob.bounds[2], *fixed[0], *moving}, kinks | fixed[1]) == _all_breakpoints(prob, 2, prefix)

@@ -69,10 +69,10 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
             _add_fold_turns(p, level)
     last = level == len(p.bounds) - 1
     tangent = None if last or p.folds else set()  # (the innermost level has no kinks)
-    fixed = p._fixed.get(level)
+    fixed = p.fixed.get(level)
     if fixed is None:  # the first abscissa: what does not depend on the outer variables, once
-        p._fixed_tangent[level] = set()
-        fixed = p._fixed[level] = _breakpoints(p, level, prefix, False, p._fixed_tangent[level])
+        p.fixed_tangent[level] = set()
+        fixed = p.fixed[level] = _breakpoints(p, level, prefix, False, p.fixed_tangent[level])
     moving, kinks = _breakpoints(p, level, prefix, True, tangent)
     owners = {**fixed[0]}  # breakpoint -> the conditions it is a root of (:func:`~.rounding.uncertainty`)
     for t, own in moving.items():
@@ -81,7 +81,7 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
     pts.update(owners)
     kinks.update(fixed[1])
     if tangent is not None:
-        tangent.update(p._fixed_tangent[level])
+        tangent.update(p.fixed_tangent[level])
     pts = sorted(pts)
     eps = EPSABS * 10 ** (len(p.bounds) - 1 - level)  # inner levels tighter than outer ones
     if level == 0:
@@ -405,7 +405,7 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
         else:
             val = _nested(p, 0, ())
     finally:
-        p._moving.clear()  # the roots remembered by outer abscissae (the problem may be kept in _DONE)
+        p.forget_moving()  # (the problem may be kept in _DONE)
     err = sum(p.errors)
     err += p.narrow_allow * math.prod(hi - lo for lo, hi in p.bounds[:-1])  # (every innermost integral)
     if p.folds and len(p.bounds) >= 2:

@@ -109,9 +109,10 @@ class NumProblem:
     kink_vary: dict = field(default_factory=dict, repr=False)
     #: level -> the positions in :attr:`kinks` of its tangency kinks (:func:`_kink_functions`)
     kink_tangent: dict = field(default_factory=dict, repr=False)
-    #: level -> the breakpoints and kinks that do not depend on the outer variables (found once)
-    _fixed: dict = field(default_factory=dict, repr=False)
-    _fixed_tangent: dict = field(default_factory=dict, repr=False)  # level -> the tangency kinks among them
+    #: level -> the breakpoints and kinks that do not depend on the outer variables (found once, by
+    #: :func:`~.nested._nested` at its first abscissa), and the tangency kinks among them
+    fixed: dict = field(default_factory=dict, repr=False)
+    fixed_tangent: dict = field(default_factory=dict, repr=False)
     _moving: dict = field(default_factory=dict, repr=False)  # (level, vary) -> :meth:`moving`
 
     def here(self, level: int) -> list[NumCond]:
@@ -177,6 +178,11 @@ class NumProblem:
                 tangent.append(k in tangents)
             out = self._moving[(level, vary)] = (points, hinted, kinks, tangent)
         return out
+
+    def forget_moving(self) -> None:
+        """Forget :meth:`moving`'s functions and the roots they remember by outer abscissae (after an
+        integration: the problem may be kept, and those roots are of no use to another)."""
+        self._moving.clear()
 
 
 def _depends(expr, syms, level: int) -> tuple[int, ...]:
