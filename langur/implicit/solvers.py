@@ -18,6 +18,24 @@ import numpy as np
 
 from langur import lazy
 
+#: What ``f`` may raise at a bracket's end (outside its domain, a pole, too large): no root there.
+_FAILS = (ValueError, ZeroDivisionError, OverflowError, TypeError)
+
+
+def _by_the_ends(a, b, fa, fb, nan_refused: bool):
+    """The root when the bracket's ends decide it, from ``fa``, ``fb`` = f − target at ``a``, ``b``:
+    an end where that is 0; NaN where it has the same sign at both ends (no root), or with
+    ``nan_refused`` is NaN at one; None when a root lies strictly inside (the solvers' search).
+    Without it (:func:`bracketed_root`, as before the two shared this) a NaN end counts as
+    non-negative (``NaN < 0`` is false); :func:`double_root` refuses it (Brent's method needs signs)."""
+    if fa == 0:
+        return a
+    if fb == 0:
+        return b
+    if (nan_refused and (math.isnan(fa) or math.isnan(fb))) or not (fa < 0) ^ (fb < 0):
+        return math.nan
+    return None
+
 
 def bracketed_root(f, target, lo, hi, bits: int = 53):
     """The ``x`` in ``[lo, hi]`` with ``f(x) = target`` for ``f`` monotone there, to within
@@ -25,16 +43,13 @@ def bracketed_root(f, target, lo, hi, bits: int = 53):
     position with the Illinois rule, the bracket halved whenever two steps did not halve it;
     NaN when ``target`` is not between ``f(lo)`` and ``f(hi)`` (no root there)."""
     try:
-        a, b = lo, hi
+        a, b = lo, hi  # (the caller's numbers: mpmath's keep their precision)
         fa, fb = f(a) - target, f(b) - target
-    except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+    except _FAILS:
         return math.nan
-    if fa == 0:
-        return a
-    if fb == 0:
-        return b
-    if not (fa < 0) ^ (fb < 0):
-        return math.nan
+    decided = _by_the_ends(a, b, fa, fb, nan_refused=False)
+    if decided is not None:
+        return decided
     tol = abs(hi - lo) / 2 ** (bits + 8)
     side = 0  # the end kept by the last step (Illinois: its value is halved when kept twice)
     width = b - a
@@ -73,14 +88,11 @@ def double_root(f, target, lo, hi, args: tuple = ()):
     try:
         a, b = float(lo), float(hi)
         fa, fb = float(f(a, *args)) - target, float(f(b, *args)) - target
-    except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+    except _FAILS:
         return math.nan
-    if fa == 0:
-        return a
-    if fb == 0:
-        return b
-    if math.isnan(fa) or math.isnan(fb) or not (fa < 0) ^ (fb < 0):
-        return math.nan
+    decided = _by_the_ends(a, b, fa, fb, nan_refused=True)
+    if decided is not None:
+        return decided
     try:
         # scipy's C routine itself, as ``so.brentq`` calls it with these tolerances (its wrapper
         # only checks them and raises on NaN, which ``_root_value`` already does): the same root
