@@ -188,7 +188,9 @@ def agreement(exact_value, exact_error, mc_value, mc_stderr) -> str:
     slack = float(exact_error or 0.0) + 1e-12 * (1 + abs(float(exact_value)))
     se = float(mc_stderr)
     if not math.isfinite(diff) or not math.isfinite(se):
-        return "engines not compared (a value is not finite)"
+        which = [w for w, v in (("exact value", exact_value), ("Monte Carlo value", mc_value))
+                 if not math.isfinite(float(v))] or ["Monte Carlo standard error"]
+        return f"engines not compared (the {' and the '.join(which)} {'is' if len(which) == 1 else 'are'} not finite)"
     if se <= 0:
         ok = diff <= slack
         return (f"engines {'agree' if ok else 'DISAGREE'}: |exact − MC| = {diff:.2g} "

@@ -94,18 +94,37 @@ DOMINANT = 0.5
 LOW_HITS = 30
 
 
-def _not_finite(f: np.ndarray, where: str = "samples") -> list[str]:
-    bad = int(np.count_nonzero(~np.isfinite(f)))
-    if bad:
-        return [f"{bad} of {len(f)} {where} are not finite: the integrand is undefined, infinite or too large "
-                "for a float there"]
-    return []
+def _not_finite(f: np.ndarray, where: str = "samples", overflows=None) -> list[str]:
+    """The note on ``f``'s samples that are not finite, if any; ``overflows(bad)``: whether this
+    engine's arithmetic overflows where it computes the samples ``bad`` (a mask), when it can tell."""
+    bad = ~np.isfinite(f)
+    count = int(np.count_nonzero(bad))
+    if not count:
+        return []
+    if overflows is not None and overflows(bad):
+        return [f"{count} of {len(f)} {where} are not finite: this engine's floating-point arithmetic overflowed "
+                "computing them (a value beyond ±1.8e308 is inf, and inf·0 or inf − inf is NaN); the integrand "
+                "itself may be finite there"]
+    return [f"{count} of {len(f)} {where} are not finite: the integrand is undefined, infinite or too large "
+            "for a float there"]
 
 
-def tail_notes(f: np.ndarray) -> list[str]:
-    """What the samples themselves say about the estimate's variance (where they can tell)."""
+def _overflows(linked: Linked, x: dict, p: dict, bad: np.ndarray, **point) -> bool:
+    """Does the integrand's evaluation overflow (numpy's overflow flag: a result beyond ±1.8e308) at
+    the points ``bad`` of ``x``?  They are evaluated again, alone (the arithmetic is point by point:
+    the same operations on them as in the run over all points), only when some samples are not
+    finite; nothing of the estimate changes."""
+    seen: list[str] = []
+    with np.errstate(over="call", call=lambda kind, flag: seen.append(kind)):
+        _run(linked, {v: a[bad] for v, a in x.items()}, p, **point)
+    return bool(seen)
+
+
+def tail_notes(f: np.ndarray, overflows=None) -> list[str]:
+    """What the samples themselves say about the estimate's variance (where they can tell);
+    ``overflows``: as :func:`_not_finite`'s."""
     n = len(f)
-    bad = _not_finite(f)
+    bad = _not_finite(f, overflows=overflows)
     if bad:
         return bad
     sq = np.square(f.astype(float))
@@ -152,7 +171,7 @@ def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: 
         return (0.0, 0.0, n) if volume == 0.0 else (math.nan, math.nan, n)
     f = full(_run(linked, x, p, **point)[part], n)
     if notes is not None:
-        notes += tail_notes(np.asarray(f))
+        notes += tail_notes(np.asarray(f), lambda bad: _overflows(linked, x, p, bad, **point))
     mean, se = d.mean(f)
     return volume * mean, volume * se, n
 
