@@ -181,7 +181,7 @@ class NumProblem:
 
     def forget_moving(self) -> None:
         """Forget :meth:`moving`'s functions and the roots they remember by outer abscissae (after an
-        integration: the problem may be kept, and those roots are of no use to another)."""
+        integration: the problem may be kept, ``pieceproblems._DONE``, and they would be kept with it)."""
         self._moving.clear()
 
 
