@@ -3,7 +3,7 @@
 ``E1xx``: syntax (``langur.syntax.parser``); ``T2xx``: typing and elaboration (Fig. 6, 11;
 ``langur.typesys``); ``X3xx``: transversality and integrability (``langur check``, Def. 7.2,
 ``langur.lint``).  Every :class:`~langur.diagnostics.Diagnostic` carries a code of this catalogue;
-``proofs_tests/test_codes.py`` checks that each is emitted somewhere, and ``test_docs`` that
+``proofs_tests/test_check_cli.py`` checks that each is emitted somewhere and
 ``docs/CODES.md`` documents each.  A code's message built in more than one place is declared here
 too, once (X316's, below).
 """
@@ -126,7 +126,6 @@ CODES: dict[str, Code] = _catalogue(
 )
 
 
-
 # X316's texts (docs/CODES.md), declared here once for both engines: the exact engine's implicit
 # roots (:mod:`langur.implicit.equations`) and the Monte Carlo engine's (:mod:`langur.operational.roots`,
 # :mod:`langur.operational.naive`).  True of ``langur eval`` as of ``langur deriv``: a value needs
@@ -146,3 +145,12 @@ def turning_points_beyond_split(count: int, of: int, where: str) -> str:
 NO_SLOPE_TO_CERTIFY = ("a turning point that moves with the parameters has no ∂²/∂x² to certify that none is "
                        "missed (an implicit root without its slope): this engine cannot find the ends of the "
                        "condition's monotone pieces")
+
+
+def turning_points_uncertified(what: str, near: str, a: float, b: float) -> str:
+    """X316: the sign changes of ``what`` (∂f/∂x) near ``near`` in [a, b] not certified: there it
+    and its derivative both vanish, or their enclosures stay too wide."""
+    return (f"cannot certify the turning points (sign changes of {what}) near {near} in [{float(a):.12g}, "
+            f"{float(b):.12g}] at these parameter values: there {what} and its derivative both vanish (a "
+            "degenerate turning point) or their interval enclosures stay too wide; Langur refuses rather "
+            "than miss one")

@@ -23,6 +23,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from . import floativ
+from .codes import turning_points_uncertified
 from .core import TooManyRoots
 
 #: Cells of the grid of ``[lo, hi]`` on which an indexed root's sign changes are certified.
@@ -215,10 +216,7 @@ LOOSE = 2
 
 
 def _uncertified(what, a, b) -> TooManyRoots:
-    return TooManyRoots(f"cannot certify the turning points (sign changes of {what}) near x in "
-                        f"[{float(a):.12g}, {float(b):.12g}] at these parameter values: there it and its "
-                        "derivative both vanish (a degenerate turning point) or their interval enclosures "
-                        "stay too wide; Langur refuses rather than miss one")
+    return TooManyRoots(turning_points_uncertified(what, "x", a, b))
 
 
 def _sign_changes(g, g_sign, target, cells, what, lenient=False, box=False) -> list[tuple]:

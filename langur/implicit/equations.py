@@ -16,8 +16,8 @@ from functools import lru_cache
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from langur.codes import turning_points_beyond_split
-from langur.core import TooManyRoots
+from ..codes import turning_points_beyond_split
+from ..core import TooManyRoots
 
 #: The source place of a root's equation (sympy terms carry none), by its bound variable (a
 #: Dummy of its own, kept when parameter values are put in the equation).

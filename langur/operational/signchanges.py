@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..codes import turning_points_uncertified
 from ..core import TooManyRoots
 from .interval import enclose_all
 
@@ -100,11 +101,7 @@ def _at_rows(params: dict, rows: np.ndarray) -> dict:
 
 
 def _uncertified(what, x, a, b, span) -> TooManyRoots:
-    return TooManyRoots(
-        f"cannot certify the turning points (sign changes of {what}) near {x} in "
-        f"[{a:.12g}, {b:.12g}] at these parameter values: there {what} and its derivative both "
-        f"vanish (a degenerate turning point) or their interval enclosures stay too wide; Langur "
-        f"refuses rather than miss one", span)
+    return TooManyRoots(turning_points_uncertified(what, x, a, b), span)
 
 
 def _sign_changes(value, tape, x, target, params, r, a, b, direction, span, what, others, lenient):
