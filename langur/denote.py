@@ -20,8 +20,8 @@ from . import lazy, observe
 from .core import IfDiffeo, IfGe0, Program, subterms
 from .memo import remember
 from .symbolic import local
-from .symbolic.definedness import Undefined, has_partial, undefined_part
 from .symbolic.decompose import Ctx, decided_cell, decompose, smooth_value
+from .symbolic.definedness import Undefined, has_partial, undefined_part
 from .symbolic.pieces import Integral, Method
 from .sympy_bridge import at_symbols, denote, symbol, symbols
 from .timebox import Deadline

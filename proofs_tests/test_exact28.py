@@ -9,7 +9,7 @@ reading's number, −1, because its Def. 6.2 pieces have no piece where the brac
 
 Which tests are about the fix (they fail on main, a0eeb1e): every ``undefined`` case below
 (``test_bracket_factor_*``, ``test_the_library_agrees_with_the_commands`` on the programs
-test_guard27 finds undefined, ``test_undefined_*``, ``test_show_denotation_*``).  The others pin
+test_guard27 finds undefined, ``test_undefined_*``, ``test_show_*``).  The others pin
 the values that must not change (a guard, a bracket that is 0 only on a null set, a primitive
 defined on the bracket's zero piece); they pass on main too.
 """
@@ -20,6 +20,7 @@ import json
 import math
 
 import pytest
+from test_guard27 import PROGRAMS
 
 from langur import exact
 from langur.cli import main
@@ -27,8 +28,6 @@ from langur.ddenote import ddenote_program
 from langur.denote import denote_program
 from langur.frontend import load
 from langur.symbolic.quadrature import UndefinedIntegral
-
-from test_guard27 import PROGRAMS
 
 A = 0.5
 
@@ -191,3 +190,20 @@ def test_show_denotation_says_undefined(tmp_path):
     assert "⟦p⟧ = -1" not in text and len(undefined) == 1
     text = exact.show_derivative(program, {"a": 1}, params={"a": A}, undefined=undefined)
     assert "value at a = 0.5: undefined" in text and len(undefined) == 2
+
+
+def test_show_says_where_the_integrand_text_hides_an_undefined_value(tmp_path):
+    # sympy's text of log(x) − log(x) is 0; the line under it says where ⟦t⟧ is undefined (main: none)
+    program, _ = _program(tmp_path, "log(x) - log(x)")
+    text = exact.show_denotation(program, params={"a": A}, known_undefined="(given)")
+    lines = text.splitlines()
+    assert lines[0].endswith(" 0 d(x)")
+    assert lines[1] == ("  ⟦t⟧ is undefined on a set of positive measure: `log(x)` is evaluated outside its domain "
+                        "(its argument is negative), e.g. at x = -1/2")
+    assert lines[2] == "  value at a = 0.5: undefined: (given)"
+    assert "[[t]] is undefined" in exact.show_denotation(program, latex=True, params={"a": A})
+    text = exact.show_derivative(program, {"a": 1}, params={"a": A})
+    assert "⟦t⟧ is undefined on a set of positive measure (so is ⦇t⦈" in text
+    # a defined program has no such line
+    program, _ = _program(tmp_path, "if x >= 0 then log(x) else 0")
+    assert "undefined" not in exact.show_denotation(program, params={"a": A})
