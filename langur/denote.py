@@ -21,7 +21,6 @@ from .core import IfDiffeo, IfGe0, Program, subterms
 from .memo import remember
 from .symbolic import local
 from .symbolic.decompose import Ctx, decided_cell, decompose, smooth_value
-from .symbolic.definedness import Undefined, has_partial, undefined_part
 from .symbolic.pieces import Integral, Method
 from .sympy_bridge import at_symbols, denote, symbol, symbols
 from .timebox import Deadline
@@ -29,6 +28,8 @@ from .values import check_values
 
 #: scipy (0.3 s) only when integrating: read for its :func:`~langur.symbolic.quadrature.looseness`
 quadrature = lazy.module("langur.symbolic.quadrature")
+#: only when integrating (``langur check`` reads :func:`program_box` here and needs it not)
+definedness = lazy.module("langur.symbolic.definedness")
 
 __all__ = ["denote", "denote_program", "program_box", "symbol"]
 
@@ -93,14 +94,15 @@ def _decomposed(program: Program, ctx: Ctx) -> list:
 _PARTIAL: dict = {}
 
 
-def undefined_where(program: Program, ctx: Ctx) -> Undefined | None:
+def undefined_where(program: Program, ctx: Ctx) -> definedness.Undefined | None:
     """A primitive of the integrand evaluated outside its domain on a set of positive measure of the
     box at ``ctx.at`` (LANGUAGE.md §1, §3: ``[x >= 0] * log(x)`` on [−1, 1]), which the
     decomposition's pieces cannot show (:mod:`langur.symbolic.definedness`), or None."""
     partial = _PARTIAL.get(program)
     if partial is None:
-        partial = remember(_PARTIAL, program, has_partial(program.body), 64)
-    return undefined_part(program.body, ctx, program.variables, program_box(program, ctx)) if partial else None
+        partial = remember(_PARTIAL, program, definedness.has_partial(program.body), 64)
+    return definedness.undefined_part(program.body, ctx, program.variables, program_box(program, ctx)) \
+        if partial else None
 
 
 def require_defined(program: Program, ctx: Ctx) -> None:

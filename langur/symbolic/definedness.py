@@ -47,7 +47,7 @@ DIGITS = 40
 #: A fractional power: undefined at a negative base (LANGUAGE.md §1, whatever the denominator); a
 #: negative one also at 0.  A negative integer power (a division): at 0.
 _ROOT = Domain(0.0, math.inf, closed=True, why="its base is negative")
-_NEGATIVE_ROOT = Domain(0.0, math.inf, why="its base is not positive")
+_NEGATIVE_ROOT = Domain(0.0, math.inf, why="its base is negative")
 _DIVISION = Domain(poles=True, why="it divides by zero")
 
 
@@ -174,23 +174,26 @@ def undefined_part(t: Term, ctx: Ctx, variables: Sequence[str],
         return None
     for term, domain, v, path in found:
         v = sp.sympify(v).xreplace(at)
-        conds = [e for e in (sp.sympify(c).xreplace(at) for c in path) if e.free_symbols & set(xs)]
-        if any(not _at_least_zero(sp.sympify(c).xreplace(at)) for c in path
-               if not sp.sympify(c).xreplace(at).free_symbols & set(xs)):
-            continue  # (a condition that fails at these parameters: the application is not evaluated)
-        if v.free_symbols & set(xs):
+        exprs = [sp.sympify(c).xreplace(at) for c in path]
+        if (v.free_symbols | set().union(*(e.free_symbols for e in exprs))) - set(xs):
+            continue  # (a parameter without a value: nothing is decided)
+        conds = [e for e in exprs if e.free_symbols]
+        if not all(_at_least_zero(e) for e in exprs if not e.free_symbols):
+            continue  # (a branch not taken at these parameters: the application is not evaluated there)
+        if v.free_symbols:
             # a varying argument: outside the closure of the domain on an open set (its ends, and
-            # the poles of tan or of a division, are a null set)
-            beyond = [g for g in _beyond(domain, v) if _may_be_positive(g, xs, fbox)]
+            # the poles of tan or of a division, are a null set); the sets where it is beyond an end
+            beyond = [[g] for g in _beyond(domain, v) if _may_be_positive(g, xs, fbox)]
+            why = domain.why
         elif _constant_inside(domain, v):
             continue
-        else:
-            beyond = [sp.Integer(1)]  # a constant outside the domain: wherever the path holds
-        for g in beyond:
-            point = _witness(conds + ([g] if g != 1 else []), xs, ends, fbox)
+        else:  # a constant outside the domain: wherever the path holds
+            beyond = [[]]
+            why = domain.why if domain is _DIVISION else \
+                f"its {'base' if isinstance(term, Pow) else 'argument'} is {expr_text(v)} there"
+        for outside in beyond:
+            point = _witness(conds + outside, xs, ends, fbox)
             if point is not None:
-                why = domain.why if g != 1 or domain is _DIVISION else \
-                    f"its {'base' if isinstance(term, Pow) else 'argument'} is {expr_text(v)} there"
                 return Undefined(_what(term, v), why, tuple((str(x), p) for x, p in zip(xs, point)))
     return None
 
