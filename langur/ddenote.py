@@ -39,7 +39,7 @@ from .core import (
     Var,
     shared,
 )
-from .denote import point_free, program_box, zero_integral
+from .denote import point_free, program_box, require_defined, zero_integral
 from .memo import remember
 from .symbolic.decompose import (
     Ctx,
@@ -287,6 +287,7 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
     boundary = (integrate_delta_pieces(nf.deltas, variables, box, point, timeout=timeout, cell=cell,
                                        symbolic=symbolic)
                 if nf.deltas else zero_integral())
+    require_defined(program, ctx)  # ⦇p⦈ = ∫ ⦇t⦈ does not exist where ⟦p⟧ does not (T⟦t⟧ undefined)
     exact = regular.method == Method.CLOSED_FORM and boundary.method == Method.CLOSED_FORM
     expr = regular.expr + boundary.expr if regular.expr is not None and boundary.expr is not None else None
     return DerivativeResult(

@@ -28,6 +28,8 @@ from .values import check_values
 
 #: scipy (0.3 s) only when integrating: read for its :func:`~langur.symbolic.quadrature.looseness`
 quadrature = lazy.module("langur.symbolic.quadrature")
+#: only when integrating (``langur check`` reads :func:`program_box` here and needs it not)
+definedness = lazy.module("langur.symbolic.definedness")
 
 __all__ = ["denote", "denote_program", "program_box", "symbol"]
 
@@ -88,6 +90,29 @@ def _decomposed(program: Program, ctx: Ctx) -> list:
     return list(out)
 
 
+#: Whether a program applies a primitive defined on part of ℝ only, by program.
+_PARTIAL: dict = {}
+
+
+def undefined_where(program: Program, ctx: Ctx) -> definedness.Undefined | None:
+    """A primitive of the integrand evaluated outside its domain on a set of positive measure of the
+    box at ``ctx.at`` (LANGUAGE.md §1, §3: ``[x >= 0] * log(x)`` on [−1, 1]), which the
+    decomposition's pieces cannot show (:mod:`langur.symbolic.definedness`), or None."""
+    partial = _PARTIAL.get(program)
+    if partial is None:
+        partial = remember(_PARTIAL, program, definedness.has_partial(program.body), 64)
+    return definedness.undefined_part(program.body, ctx, program.variables, program_box(program, ctx)) \
+        if partial else None
+
+
+def require_defined(program: Program, ctx: Ctx) -> None:
+    """Raise :class:`~langur.symbolic.quadrature.UndefinedIntegral` where :func:`undefined_where`
+    finds a part of the box on which the integrand is undefined: ⟦p⟧ does not exist, nor does ⦇p⦈."""
+    bad = undefined_where(program, ctx)
+    if bad is not None:
+        raise quadrature.UndefinedIntegral(bad.reason)
+
+
 def zero_integral() -> Integral:
     return Integral(sp.Integer(0), 0.0, Method.CLOSED_FORM, 0.0, 0.0)
 
@@ -123,9 +148,11 @@ def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
     ctx = Ctx(at=point, variables=tuple(program.variables))
     pieces = _decomposed(program, ctx)
     if not pieces:
+        require_defined(program, ctx)
         return zero_integral()
     with local.cell_forms() if near else nullcontext():
         out = integrate_pieces(pieces, symbols(program.variables), program_box(program, ctx), point,
                                timeout=timeout, cell=decided_cell(program.body, ctx), symbolic=symbolic)
+    require_defined(program, ctx)  # (after: where the pieces show it, the integrator's words)
     remember(_remembered, key, (replace(out, notes=list(out.notes)), time_left), REMEMBERED)
     return out

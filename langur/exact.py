@@ -26,7 +26,8 @@ import sympy as sp
 
 from .core import Program
 from .ddenote import ddenote, ddenote_program
-from .denote import denote, denote_program
+from .denote import denote, denote_program, undefined_where
+from .symbolic.decompose import Ctx
 from .symbolic.integrate import for_reading
 from .symbolic.nounits import units_unloaded
 from .symbolic.pieces import Method
@@ -258,6 +259,7 @@ def show_denotation(program, latex: bool = False, params: Mapping[str, object] |
         lines = [f"[\\![p]\\!] = \\int_{{{_box_text(program, True)}}} {integrand} \\, d({xs})"]
     else:
         lines = [f"⟦p⟧ = int_{{{_box_text(program, False)}}} {integrand} d({xs})"]
+    lines += _undefined_lines(program, at, latex, "  ")
     if at is not None:
         r, why = (None, f"undefined: {known_undefined}") if known_undefined else \
             _evaluated(denote_program, program, at, undefined=undefined)
@@ -277,6 +279,23 @@ def show_denotation(program, latex: bool = False, params: Mapping[str, object] |
                          + ("" if r.method == Method.CLOSED_FORM else f" ± {r.error:.2g} (quadrature)"))
             lines += [f"  note: {n}" for n in r.notes]
     return ("\\\\\n" if latex else "\n").join(lines)
+
+
+def _undefined_lines(program, at: Mapping[str, object] | None, latex: bool, lead: str, what: str = "") -> list[str]:
+    """Where ⟦t⟧ is undefined although the text of ⟦t⟧ or ⦇t⦈ above reads as a number there (a
+    primitive outside its domain times a bracket's 0, sympy's ``log(x) − log(x)`` = 0:
+    :func:`~langur.denote.undefined_where`), as one line after ``lead``; none when it is defined."""
+    if at is None or any(v is None for v in at.values()):
+        return []
+    try:
+        bad = undefined_where(program, Ctx(at=at_symbols(at), variables=tuple(program.variables)))
+    except Exception:  # noqa: BLE001 - presentation only: the value line says what the engine found
+        return []
+    if bad is None:
+        return []
+    text = (f"⟦t⟧ is undefined on a set of positive measure{what}: `{bad.what}` is evaluated outside its "
+            f"domain ({bad.why}), e.g. at {bad.at}")
+    return [f"\\text{{{latex_text(text)}}}" if latex else lead + text]
 
 
 def _at_text(at: Mapping[str, object]) -> str:
@@ -336,6 +355,7 @@ def show_derivative(program, direction: Mapping[str, object], latex: bool = Fals
     else:
         lines.append(f"⦇p⦈ = ∫ f d({xs}) + Σ_k ∫ δ(Φ_k)·h_k d({xs})   with γ': {gp}")
         lines.append(f"regular part f = {pieces_text(nf.regular)}")
+    lines += _undefined_lines(program, at, latex, "", " (so is ⦇t⦈, whatever f reads there)")
     if not nf.deltas:
         lines.append("no delta terms" if not latex else "\\text{no delta terms}")
     for k, d in enumerate(nf.deltas, 1):

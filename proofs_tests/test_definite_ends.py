@@ -93,9 +93,11 @@ def test_a_power_times_a_log_of_the_same_affine_function_has_its_closed_form():
     r = _exact("param a = 0.3\nint ([0, 1]) sqrt(x) * log(x) + a d(x)\n", {"a": 0.3})
     assert r.method is Method.CLOSED_FORM
     assert sp.simplify(sp.sympify(r.expr) - (sp.Symbol("a") - sp.Rational(4, 9))) == 0
-    # ∫₀¹ [x ≥ a](x − a)² log(x − a) dx = ∫₀^{1−a} t² log t dt = (1 − a)³ log(1 − a)/3 − (1 − a)³/9
+    # ∫_a^1 (x − a)² log(x − a) dx = ∫₀^{1−a} t² log t dt = (1 − a)³ log(1 − a)/3 − (1 − a)³/9, written
+    # with the guard (the bracket factor [x >= a] * … evaluates log(x − a) at x < a: undefined,
+    # LANGUAGE.md §1, §3; test_exact28)
     a = 0.3
-    r = _exact(f"param a = {a}\nint ([0, 1]) [x >= a] * (x - a)^2 * log(x - a) d(x)\n", {"a": a})
+    r = _exact(f"param a = {a}\nint ([0, 1]) if x >= a then (x - a)^2 * log(x - a) else 0 d(x)\n", {"a": a})
     assert r.method is Method.CLOSED_FORM
     assert abs(float(r.value) - ((1 - a) ** 3 * math.log(1 - a) / 3 - (1 - a) ** 3 / 9)) <= 1e-12
 

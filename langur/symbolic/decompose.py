@@ -195,6 +195,14 @@ def apply_smooth(f: Callable[[sp.Expr], sp.Expr], ps: Sequence[Piece]) -> list[P
     """f(Σ_i Π_j [Φ_ij ≥ 0]·g_i), split over the sign patterns of the distinct conditions."""
     if not any(p.conditions for p in ps):
         return leaf(f(sp.Add(*[p.weight for p in ps])))
+    return normalize([Piece(pattern, f(value)) for pattern, value in sign_patterns(ps)])
+
+
+def sign_patterns(ps: Sequence[Piece]) -> list[tuple[tuple[Condition, ...], sp.Expr]]:
+    """Σ_i Π_j [Φ_ij ≥ 0]·g_i as its smooth value on each sign pattern of its distinct conditions
+    (every pattern, a value 0 included: the argument of a primitive, which sees its value there)."""
+    if not any(p.conditions for p in ps):
+        return [((), sp.Add(*[p.weight for p in ps]))]
     keys: list[Condition] = []
     for p in ps:
         for c in p.conditions:
@@ -206,9 +214,8 @@ def apply_smooth(f: Callable[[sp.Expr], sp.Expr], ps: Sequence[Piece]) -> list[P
     for signs in itertools.product((True, False), repeat=len(keys)):
         pattern = tuple(k if s else complement(k) for k, s in zip(keys, signs))
         holds = {c.expr for c in pattern}
-        value = sp.Add(*[p.weight for p in ps if all(c.expr in holds for c in p.conditions)])
-        out.append(Piece(pattern, f(value)))
-    return normalize(out)
+        out.append((pattern, sp.Add(*[p.weight for p in ps if all(c.expr in holds for c in p.conditions)])))
+    return out
 
 
 def decide(cond: sp.Expr, at: Mapping[sp.Symbol, sp.Expr] | None) -> bool | None:
