@@ -338,7 +338,7 @@ def _finished(result: ProgramResult, loaded, params, timeout: float, lint: bool,
 
 
 #: A comparison outside :data:`~.generate.SIGMA` standard errors is estimated again with this many
-#: times the samples, from another seed (:data:`RECHECK_SEED`), before it counts as a disagreement:
+#: times the samples, from another seed (the campaign's + :data:`RECHECK_SEED`), before it counts as a disagreement:
 #: the standard error of ``--method qmc`` and ``stratified`` is the spread of 32 replicates, whose
 #: means are far from normal for a discontinuous integrand — one jump a fraction 0.03 of an
 #: elementary interval of the nets from its end makes 97 % of them err the same way, so 32
@@ -366,14 +366,16 @@ def _estimates(loaded, floats: dict, params, p, samples: int, seed: int, method:
                "boundary": (m.boundary.value, m.boundary.stderr)}
 
 
-def _recheck(result, loaded, floats: dict, params, samples: int, method: str) -> None:
+def _recheck(result, loaded, floats: dict, params, samples: int, seed: int, method: str) -> None:
     """Each disagreeing row of :data:`ESTIMATED` estimated again (:data:`RECHECK_SAMPLES` times the
-    samples, another seed); the row takes the new estimate, and a finding keeps the first."""
+    samples, the campaign's seed moved by :data:`RECHECK_SEED`); the row takes the new estimate, and
+    a finding keeps the first."""
     more = max(samples, min(RECHECK_MOST, RECHECK_SAMPLES * samples))
     wrts = list(dict.fromkeys(r.wrt for r in result.rows if not r.ok and r.quantity in ESTIMATED))
     for wrt in wrts:
         i = -1 if wrt is None else list(params).index(wrt)
-        _, again = _estimates(loaded, floats, params, wrt, more, RECHECK_SEED + 1 + i, method)
+        again_seed = (seed + RECHECK_SEED + 1 + i) % 2 ** 64
+        _, again = _estimates(loaded, floats, params, wrt, more, again_seed, method)
         for r in result.rows:
             if r.wrt != wrt or r.ok or r.quantity not in again:
                 continue
@@ -427,7 +429,7 @@ def _compared(result, loaded, params, ex, exd, samples, seed, method) -> Program
         if r.quantity != "theorem_8_1":
             r.ok = agree(r.exact, r.error, r.mc, r.stderr)
     if not all(r.ok for r in rows):
-        _recheck(result, loaded, floats, params, samples, method)
+        _recheck(result, loaded, floats, params, samples, seed, method)
     if not all(r.ok for r in rows):
         result.status = "discrepancy"
     return result
