@@ -49,7 +49,8 @@ def add_arguments(p):
     p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
                    help="Monte Carlo sampling (default uniform; stratified and qmc estimate their standard "
                         "error from 32 independent randomizations, so the 5-sigma rule false-alarms "
-                        "≈ 2e-5 per comparison: a t distribution with 31 degrees of freedom)")
+                        "≈ 2e-5 per comparison when their means are near normal, more on discontinuous "
+                        "integrands; any comparison outside it is estimated again with 10 times the samples)")
     p.add_argument("--no-lint", action="store_true",
                    help="do not run the transversality linter (no program is discarded)")
     p.add_argument("--out", "--keep", dest="out", metavar="DIR",
@@ -64,6 +65,10 @@ def add_arguments(p):
     p.add_argument("--turning", action="store_true",
                    help="also draw conditions in one variable with no closed-form inverse "
                         "(x^3 - x, exp(x) + x: implicit roots between turning points)")
+    p.add_argument("--wide", action="store_true",
+                   help="also draw what the default draw never makes: loops, &/|/not, a let inside a factor, "
+                        "partial primitives under a guard, atan2's cut, erf/asin/acos/atanh/tan, a diffeo with a "
+                        "parametric Jacobian, boxes with both ends moving, programs without a domain")
     p.add_argument("--profile", action="store_true",
                    help="print where the programs' time went: front end, linter, the exact engine's "
                         "symbolic search, its quadratures and the rest of it, the Monte Carlo engine")
@@ -114,7 +119,7 @@ def run(args) -> int:
                                     workers=workers, shrink=not args.no_shrink,
                                     storage=args.hypothesis_dir, scheduler=args.scheduler,
                                     planned=bar.plan if bar is not None else None,
-                                    kinks=args.kinks, turning=args.turning)
+                                    kinks=args.kinks, turning=args.turning, wide=args.wide)
     except (fuzz.MissingHypothesis, fuzz.cluster.MissingCluster) as e:
         print(f"langur fuzz: error: {e}", file=sys.stderr)
         return 2

@@ -34,7 +34,10 @@ shrunk and written with both engines' numbers by :mod:`langur.fuzz.counterexampl
 
 Comparison (per program, value and the derivative in each parameter): agree iff
 ``|mc − exact| ≤ 5·stderr + 1e-9 + exact error bound + 1e-9·max(|mc|, |exact|)`` (the relative term
-covers one-variable deltas, which the Monte Carlo engine evaluates exactly, standard error 0).
+covers one-variable deltas, which the Monte Carlo engine evaluates exactly, standard error 0); a
+Monte Carlo estimate outside it is made again with ten times the samples from another seed, which
+must disagree too (:func:`langur.fuzz.compare._recheck`: replicate-based standard errors can
+understate the error of a discontinuous integrand).
 Compared separately: value, derivative, its regular part and its boundary (delta) part, standard
 AD = regular in each engine, and Theorem 8.1's check must hold (these programs are transverse).
 An exact engine that takes longer than ``timeout`` seconds on a program is a ``timeout``, not a

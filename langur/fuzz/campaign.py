@@ -224,7 +224,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
              keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform",
              engine=None, light: bool = False, workers: int = 0, shrink: bool = True,
              storage: str | None = None, scheduler=None, planned=None, kinks: bool = False,
-             turning: bool = False) -> FuzzSummary:
+             turning: bool = False, wide: bool = False) -> FuzzSummary:
     """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs), each a
     unit of :mod:`langur.fuzz.pool` (``workers`` processes; 0: in this process); on a failure
     hypothesis replays the same seed and shrinks it (``shrink``), and the minimal failing program
@@ -235,7 +235,8 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     ``distributed.Client``) to run the units on instead (:mod:`~langur.fuzz.cluster`);
     ``planned(n)``: called once the n distinct programs are generated; ``kinks``, ``turning``:
     also conditions with ``abs``/``min``/``max`` inside, or with no closed-form inverse (issue
-    18; :func:`~.generate.programs`).  A program
+    18; :func:`~.generate.programs`); ``wide``: the constructs the default draw never makes
+    (:mod:`langur.strategies.wide`).  A program
     is time-limited (``timeout``) when it runs past
     ``timeout`` seconds; time-limited programs are counted apart from the verdicts."""
     start = time.monotonic()
@@ -271,7 +272,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
 
     def generate(each=None) -> list[str]:
         with hypothesis_home(storage):
-            texts = generated(examples, seed, light, each=each, kinks=kinks, turning=turning)
+            texts = generated(examples, seed, light, each=each, kinks=kinks, turning=turning, wide=wide)
         if planned is not None:
             planned(len(texts))
         return texts
@@ -297,7 +298,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     if shrink and summary.failed:
         with hypothesis_home(storage):
             summary.minimal = _shrunk(summary, examples, seed, light, lambda t: unit(t, True),
-                                      kinks=kinks, turning=turning)
+                                      kinks=kinks, turning=turning, wide=wide)
     summary.seconds = time.monotonic() - start
     if keep:  # --out: each failure shrunk (langur.fuzz.counterexamples) and written with its numbers
         os.makedirs(keep, exist_ok=True)

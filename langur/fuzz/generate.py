@@ -83,7 +83,7 @@ MAX_VARIABLES, MAX_VARIABLES_LIGHT = 3, 2
 
 def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, max_params: int = 3,
              light: bool = False, kinks: bool = False, max_variables: int | None = None,
-             turning: bool = False):
+             turning: bool = False, wide: bool = False):
     """A hypothesis strategy of :class:`FuzzProgram` (well-typed, transverse at the defaults):
     :func:`langur.strategies.programs` without imported modules, printed.
 
@@ -93,13 +93,16 @@ def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, ma
     regions slowly: the fast property tests use it).  ``kinks`` adds conditions with ``abs``,
     ``min`` or ``max`` inside, ``turning`` conditions in one variable with no closed-form inverse
     (``v^3 - v``, ``exp(v) + v``: implicit roots); ``max_variables`` (1 to 3) bounds the dimension (default 3, and 2
-    for light programs: the exact engine's three-dimensional regions are its slowest)."""
+    for light programs: the exact engine's three-dimensional regions are its slowest); ``wide``
+    the constructs the default draw never makes (:mod:`langur.strategies.wide`: loops, ``&``/``|``/
+    ``not``, a ``let`` in a factor, guarded partial primitives, atan2's cut, more primitives, boxes
+    with both ends moving, programs without a domain)."""
     _hypothesis()
     if max_variables is None:
         max_variables = MAX_VARIABLES_LIGHT if light else MAX_VARIABLES
     return strategies.programs(max_summands=max_summands, max_factors=max_factors, max_conds=max_conds,
                                max_params=max_params, light=light, kinks=kinks, max_variables=max_variables,
-                               turning=turning, modules=False).map(_fuzz_program)
+                               turning=turning, wide=wide, modules=False).map(_fuzz_program)
 
 
 def _fuzz_program(g) -> FuzzProgram:

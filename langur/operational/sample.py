@@ -8,7 +8,11 @@
   means), never from points within one randomization: a stratum or net that puts a jump's
   points deterministically cannot make it 0 while the estimate is off (issue 13).  With a few
   dozen replicates the 5-sigma rule's false-alarm rate is that of a t distribution with R − 1
-  degrees of freedom (R = 32: about 2e-5 per comparison), not the normal's.
+  degrees of freedom (R = 32: about 2e-5 per comparison) when the replicates' means are close to
+  normal; for a discontinuous integrand they need not be: a jump 0.97 of the way through an
+  elementary interval of the nets makes 97 % of the scrambled nets err alike, so the spread of 32
+  of them can understate the error tenfold (``langur fuzz`` estimates such a comparison again with
+  ten times the samples before it calls it a disagreement: :mod:`langur.fuzz.compare`).
 * :class:`SiteSampler` samples the zero set {π₀Ψ̂ = 0} of one diffeomorphic conditional (a *site*)
   through every branch of Ψ̂⁻¹ and weighs each point by |det DΨ̂_b⁻¹(0, u')| computed by the
   engine's own forward mode (see the package docstring for the estimator).

@@ -38,6 +38,8 @@ class Scope:
     light: bool = False
     kinks: bool = False
     turning: bool = False
+    #: constructs the default draw never makes (:mod:`~.wide`)
+    wide: bool = False
     #: the variables whose domain bounds are constants (an implicit root needs a fixed bracket)
     fixed: tuple[str, ...] = ()
     #: the conditions drawn by :func:`turning_condition` (they stay in the program: in a ``def``
@@ -359,10 +361,24 @@ def _declarations() -> dict[str, S.DiffeoDecl]:
 DIFFEOS = _declarations()
 
 
+def _scaled() -> S.DiffeoDecl:
+    """``(x, y) ↦ (x − c·y − c, (1 + c)·y)``, inverse ``(u, v) ↦ (u + c·v/(1 + c) + c, v/(1 + c))``:
+    its inverse and |det DΨ̂⁻¹| = 1/(1 + c) depend on the parameter."""
+    x, y, u, v, c = (name(n) for n in "xyuvc")
+    one_c = T.add(num(1), c)
+    return _decl("scl", (sub(sub(x, mul(c, y)), c), mul(one_c, y)),
+                 (T.add(T.add(u, T.div(mul(c, v), one_c)), c), T.div(v, one_c)))
+
+
+#: Declared diffeomorphisms drawn only by wide programs (``Scope.wide``).
+WIDE_DIFFEOS = {"scl": _scaled()}
+
+
 def declared(scope: Scope) -> S.DiffeoApp:
     """``NAME(v, w; P)`` for a declared diffeo (two variables at least), declared in the scope."""
-    n = scope.pick(DIFFEOS)
-    decl = DIFFEOS[n]
+    known = {**DIFFEOS, **WIDE_DIFFEOS} if scope.wide else DIFFEOS
+    n = scope.pick(known)
+    decl = known[n]
     scope.diffeos[n] = decl
     v, w = scope.two_vars() if scope.draw(st.integers(0, 3)) == 3 else scope.variables[:2]
     p = scope.param()

@@ -18,6 +18,7 @@ from ..syntax import surface as S
 from ..syntax.printer import decimal, print_module_surface, print_term
 from . import conditions as C
 from . import terms as T
+from . import wide as W
 from .terms import call, mul, name, num
 
 #: Parameter names, and their defaults: irregular decimals drawn without replacement (no two
@@ -99,11 +100,14 @@ def factor(scope: C.Scope) -> S.STerm:
     smooth, ``[cond]``, ``if cond then … else …``, nested conditionals, a window, ``min``/``max``
     of two affine terms, a conditional on parameters only, a declared diffeo's ``ifge0``, and with
     ``scope.kinks`` a condition with ``abs``/``min``/``max`` inside, with ``scope.turning`` one
-    with no closed-form inverse (implicit roots)."""
+    with no closed-form inverse (implicit roots), with ``scope.wide`` a construct of :mod:`.wide`
+    (loops, ``&``/``|``/``not``, a ``let`` in a factor, guarded partial primitives, …)."""
     if scope.kinks and scope.index(4) == 3:
         return C.kink_condition(scope)
     if scope.turning and scope.index(4) == 3:
         return C.turning_condition(scope)
+    if scope.wide and scope.index(3) == 2:
+        return W.factor(scope)
     kind = scope.index(11)
     if kind <= 1:
         return C.smooth(scope)
@@ -131,15 +135,32 @@ def factor(scope: C.Scope) -> S.STerm:
     return S.IfGe0S(C.declared(scope), C.smooth(scope), _else(scope, 0, 1))
 
 
-#: Box kinds: constant, or a parametric bound (``[0, P + 1]``, ``[P - 1, 1]``); all in [-1, 2].
+#: Box kinds: constant, or a parametric bound (``[0, P + 1]``, ``[P - 1, 1]``; ``wide``: also both
+#: ends moving, ``[P - 1, Q + 1]`` and ``[-P, 2 * Q]``); all in [-1, 2].
 @st.composite
-def _interval(draw, params: tuple[str, ...]) -> S.Interval:
-    kind = draw(st.integers(0, 4))
+def _interval(draw, params: tuple[str, ...], wide: bool = False) -> S.Interval:
+    kind = draw(st.integers(0, 6 if wide else 4))
     if kind < 3:
         lo, hi = ((0, 1), (-1, 1), (0, 2))[kind]
         return S.Interval(num(lo), num(hi))
     p = name(draw(st.sampled_from(params)))
-    return S.Interval(num(0), T.offset(p, 1)) if kind == 3 else S.Interval(T.offset(p, -1), num(1))
+    if kind == 3:
+        return S.Interval(num(0), T.offset(p, 1))
+    if kind == 4:
+        return S.Interval(T.offset(p, -1), num(1))
+    q = name(draw(st.sampled_from(params)))
+    return S.Interval(T.offset(p, -1), T.offset(q, 1)) if kind == 5 else S.Interval(S.Neg(p), mul(num(2), q))
+
+
+def _bounded(domain: tuple[S.Interval, ...], variables: tuple[str, ...], body: S.STerm) -> S.STerm:
+    """``[lo1 <= x <= hi1] * … * (body)``: the box as brackets in the body (a program without a
+    domain, LANGUAGE.md §6: compactly supported by its own conditions)."""
+    out: S.STerm | None = None
+    for v, i in zip(variables, domain):
+        chain = S.Iverson((i.lo, name(v), i.hi), ("<=", "<="))
+        out = chain if out is None else mul(out, chain)
+    assert out is not None
+    return mul(out, body)
 
 
 @st.composite
@@ -204,7 +225,8 @@ def _sum(scope: C.Scope, summands: list[list[S.STerm]]) -> S.STerm:
 
 def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: int = 3, max_factors: int = 3,
              max_conds: int = 4, max_params: int = 3, light: bool = False, kinks: bool = True,
-             turning: bool = False, lets: bool = True, defs: bool = True, modules: bool = False, generic: bool = True):
+             turning: bool = False, lets: bool = True, defs: bool = True, modules: bool = False, generic: bool = True,
+             wide: bool = False):
     """A hypothesis strategy of :class:`Generated`: well-typed programs in ``min_variables`` to
     ``max_variables`` (≤ 3) variables, one to ``max_params`` parameters with generic defaults,
     sums of at most ``max_summands`` products of at most ``max_factors`` factors (:func:`factor`),
@@ -214,8 +236,11 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
     ``generic``: transverse at the defaults as far as :func:`~.terms.generic` sees (the rest is the
     linter's to find); ``light``: forms the exact engine integrates quickly; ``kinks``: conditions
     with ``abs``/``min``/``max`` inside; ``turning``: conditions in one variable with no closed-form
-    inverse (``v^3 - v``, ``exp(v) + v``: implicit roots, issue 18).  Shrinks towards one variable, one parameter, one smooth
-    factor."""
+    inverse (``v^3 - v``, ``exp(v) + v``: implicit roots, issue 18); ``wide``: the constructs of
+    :mod:`.wide` (loops, ``&``/``|``/``not``, a ``let`` inside a factor, guarded partial primitives,
+    atan2's cut, erf/asin/acos/atanh/tan, a diffeo with a parametric Jacobian), boxes with both ends
+    moving, and programs without a domain (the box as brackets in the body).  Shrinks towards one
+    variable, one parameter, one smooth factor; without ``wide`` a seed draws what it drew before."""
     if not 1 <= min_variables <= max_variables <= 3:
         raise ValueError("variables: 1 <= min_variables <= max_variables <= 3")
 
@@ -226,10 +251,10 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
         defaults = draw(st.lists(st.sampled_from(GENERIC), min_size=1, max_size=max_params, unique=True))
         params = list(PARAMS[:len(defaults)])
         variables = VARIABLES[:draw(st.integers(min_variables, max_variables))]
-        domain = tuple(draw(_interval(tuple(params))) for _ in variables)
+        domain = tuple(draw(_interval(tuple(params), wide)) for _ in variables)
         env = {p: float(d) for p, d in zip(params, defaults)}
         scope = C.Scope(draw, variables, env, list(params), light=light, kinks=kinks,
-                         turning=turning, fixed=tuple(v for v, i in zip(variables, domain)
+                         turning=turning, wide=wide, fixed=tuple(v for v, i in zip(variables, domain)
                                                       if not T.names_in(i.lo) | T.names_in(i.hi)))
         box = [(T.evaluate(i.lo, env), T.evaluate(i.hi, env)) for i in domain]
         let = None
@@ -254,9 +279,12 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
         body = _sum(scope, summands)
         if let is not None:
             body = S.LetIn(LET_NAME, let, body)
+        bounded = wide and not scope.implicit and scope.index(4) == 3  # implicit roots need a domain
+        if bounded:
+            body = _bounded(domain, variables, body)
         decls = S.ParamItem(tuple(S.ParamDecl(S.Ident(p), d) for p, d in zip(params, defaults)))
         items = [decls, *scope.diffeos.values(), *items]
-        prog = S.ProgramS(domain, body, tuple(S.Ident(v) for v in variables))
+        prog = S.ProgramS(None if bounded else domain, body, tuple(S.Ident(v) for v in variables))
         return Generated(S.ModuleS("main.lgr", tuple(items), prog), tuple(zip(params, defaults)), libraries)
 
     return program()

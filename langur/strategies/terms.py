@@ -110,6 +110,7 @@ def linear(coefs: dict[str, S.STerm | Fraction]) -> S.STerm:
 _PRIMS: dict[str, Callable[..., float]] = {
     "exp": math.exp, "log": math.log, "sin": math.sin, "cos": math.cos, "tan": math.tan,
     "sqrt": math.sqrt, "atan": math.atan, "tanh": math.tanh, "abs": abs, "min": min, "max": max,
+    "erf": math.erf, "asin": math.asin, "acos": math.acos, "atanh": math.atanh, "atan2": math.atan2,
 }
 
 _BINOPS: dict[str, Callable[[float, float], float]] = {

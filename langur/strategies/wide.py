@@ -1,0 +1,176 @@
+"""Constructs the default draw never makes (``programs(wide=True)``, ``langur fuzz --wide``): each
+well-typed (LANGUAGE.md §2, §6; docs/language.md) and registered in the scope like any condition
+(:meth:`~.conditions.Scope.register`), so the program stays generic at its defaults.
+
+* a finite loop (paper §9, unrolled by the front end): ``sum i in 1..n: [L CMP P + k + d*i] * v ^ i``
+  or its ``prod`` of ``1 + …`` — a jump per copy, each with its delta, the index an exponent;
+* conditions joined by ``&``, ``|`` and ``not`` (``[A | B]`` is ``1 − (1 − [A])·(1 − [B])``: its
+  delta terms carry the other condition's complement), as a bracket or as an ``if``'s condition;
+* a ``let`` inside a factor (Fig. 6 and 8, let): a parameter term bound to a fresh name that is a
+  condition's level, so the delta's speed ``D_γ π₀Ψ̂`` goes through the let's tangent (γ′[z ↦ ⦇t⦈]);
+* a partial primitive under a guard (LANGUAGE.md §1): ``if v >= P + k then log(v - (P + k) + c)
+  else …``, defined everywhere the guard selects it and undefined elsewhere on the box, where an
+  engine must not evaluate it into the answer;
+* ``atan2(v - (P + k), w - 3)``: a branch cut (a jump of 2π along ``v = P + k``) with its delta;
+* the primitives the default draw leaves out (``erf``, ``asin``, ``acos``, ``atanh``, ``tan``) as
+  smooth factors, and the monotone ones as conditions (completed by implicit roots);
+* ``ifge0`` on a parameter term written as such; a condition through a vector, ``[dot((v, w),
+  (c1, c2)) CMP P + k]``.
+
+A declared diffeomorphism whose inverse and Jacobian depend on its parameter
+(:data:`~.conditions.WIDE_DIFFEOS`) is drawn by :func:`~.conditions.declared`, boxes with both ends
+moving and programs without a domain (the box as brackets in the body) by
+:func:`langur.strategies.programs.programs`.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction as F
+
+from hypothesis import strategies as st
+
+from ..syntax import surface as S
+from . import conditions as C
+from . import terms as T
+from .terms import call, mul, name, num, offset, power, sub
+
+
+def _else(scope: C.Scope) -> S.STerm:
+    i = scope.index(3)
+    return num((0, F(1, 2))[i]) if i < 2 else C.smooth(scope)
+
+
+def loop(scope: C.Scope) -> S.Loop:
+    """``sum i in 1..n: [L CMP P + k + d*i] * v ^ i`` or ``prod i in 1..n: 1 + [L CMP P + k + d*i] * v ^ i``
+    (``L`` affine): ``n`` parallel zero sets, one per copy."""
+    lhs, cmp, rhs = C.affine(scope)
+    n = scope.pick((2, 3))
+    d = scope.pick((F(1, 5), F(-3, 10)))
+    op = scope.pick(("sum", "prod"))
+    v = name(scope.var())
+    for k in range(1, n + 1):
+        scope.register(sub(lhs, offset(rhs, d * k)), key=(lhs, rhs, "loop", d * k))
+    step = mul(num(d), name("i")) if d > 0 else mul(num(-d), name("i"))
+    level = S.BinOp("+" if d > 0 else "-", rhs, step)
+    term = mul(S.Iverson((lhs, level), (cmp,)), S.BinOp("^", v, name("i")))
+    return S.Loop(op, "i", num(1), num(n), term if op == "sum" else T.add(num(1), term))
+
+
+def _bracket(scope: C.Scope) -> S.Iverson:
+    lhs, cmp, rhs = C.condition(scope)
+    return S.Iverson((lhs, rhs), (cmp,))
+
+
+def logic(scope: C.Scope) -> S.STerm:
+    """``[A & B]``, ``[A | B]``, ``[not A]``, or ``if A & B then … else …`` (and ``|``, ``not``)."""
+    op = scope.pick(("or", "and", "not"))
+    parts = (_bracket(scope),) if op == "not" else (_bracket(scope), _bracket(scope))
+    cond = S.Logic(op, parts)
+    if scope.draw(st.booleans()):
+        return cond
+    return S.IfLogic(cond, C.smooth(scope), _else(scope))
+
+
+def let_level(scope: C.Scope) -> S.LetIn:
+    """``let tN = <parameter term> in [L CMP tN] * <smooth factor>`` (the smooth factor may use
+    ``tN`` too)."""
+    t = f"t{sum(1 for n in scope.names if n.startswith('t'))}"
+    p, q = scope.param(), scope.param()
+    forms = (lambda: T.add(mul(p, q), num(F(1, 10))),
+             lambda: sub(mul(num(2), p), num(F(1, 2))),
+             lambda: T.div(p, offset(q, 1)))
+    bound = forms[scope.index(len(forms))]()
+    scope.env[t] = T.evaluate(bound, scope.env)
+    scope.names.append(t)
+    try:
+        lhs, cmp, _ = C.affine(scope)
+        scope.register(sub(lhs, name(t)), key=(lhs, name(t), bound))
+        body = mul(S.Iverson((lhs, name(t)), (cmp,)), C.smooth(scope))
+    finally:
+        scope.names.remove(t)
+    return S.LetIn(t, bound, body)
+
+
+def guarded(scope: C.Scope) -> S.IfCmp:
+    """``if v >= P + k then f(v - (P + k) + c) else …`` (or ``<=`` with ``P + k - v``): ``f`` a
+    partial primitive (``log``, ``sqrt``, ``1/·``, ``·^1.5``) whose argument is at least ``c > 0``
+    where the guard holds and negative on part of the box."""
+    v = name(scope.var())
+    level = C.shifted_param(scope)
+    cmp = scope.pick((">=", "<="))
+    c = num(scope.pick((F(1, 10), F(1, 4))))
+    arg = T.add(sub(v, level), c) if cmp == ">=" else T.add(sub(level, v), c)
+    forms = (lambda: call("log", arg), lambda: call("sqrt", arg), lambda: T.div(num(1), arg),
+             lambda: power(arg, F(3, 2)))
+    scope.register(sub(v, level), key=(v, level))
+    return S.IfCmp(v, cmp, level, forms[scope.index(len(forms))](), _else(scope))
+
+
+def branch_cut(scope: C.Scope) -> S.STerm:
+    """``atan2(v - (P + k), w - 3)`` (``w`` a variable, < 0 on every box; or ``-1``): atan2's cut,
+    a jump of 2π along ``v = P + k``, times a smooth factor."""
+    v = name(scope.var())
+    level = C.shifted_param(scope)
+    second = sub(name(scope.var()), num(3)) if scope.draw(st.booleans()) else num(-1)
+    scope.register(sub(v, level), key=(v, level))
+    return mul(call("atan2", sub(v, level), second), C.smooth(scope))
+
+
+def primitive(scope: C.Scope) -> S.STerm:
+    """``erf``, ``asin``, ``acos``, ``atanh``, ``tan`` as smooth factors (arguments inside their
+    domains on every box in [-1, 2]), or the monotone ones against a parameter term as a condition
+    (``asin(v / 3)``, ``acos(v / 3)``, ``atanh(v / 3)``, ``tan(v / 2)``: no closed-form inverse
+    Langur uses, so implicit roots: on a variable with constant bounds, kept out of defs and
+    of programs without a domain like :func:`~.conditions.turning_condition`'s)."""
+    smooth = scope.draw(st.booleans()) or not scope.fixed
+    v = name(scope.var() if smooth else scope.pick(scope.fixed))
+    third = T.div(v, num(3))
+    if smooth:
+        p = scope.param()
+        forms = (lambda: call("erf", sub(v, p)), lambda: call("asin", third),
+                 lambda: call("acos", T.div(mul(p, v), num(3))), lambda: call("atanh", third),
+                 lambda: call("tan", T.div(v, num(2))))
+        return forms[scope.index(len(forms))]()
+    forms = (lambda: (call("asin", third), offset(scope.param(), F(-1, 2))),
+             lambda: (call("acos", third), offset(scope.param(), 1)),
+             lambda: (call("atanh", third), offset(scope.param(), F(-1, 2))),
+             lambda: (call("tan", T.div(v, num(2))), C.shifted_param(scope)))
+    lhs, rhs = forms[scope.index(len(forms))]()
+    cmp = scope.pick(("<=", ">="))
+    scope.register(sub(lhs, rhs), key=(lhs, rhs))
+    out = S.Iverson((lhs, rhs), (cmp,))
+    scope.implicit.append(out)
+    return out
+
+
+def param_ifge0(scope: C.Scope) -> S.IfGe0S:
+    """``ifge0 P - Q then … else …`` (Fig. 6's conditional on parameters, written with ``ifge0``)."""
+    p = scope.param()
+    q = scope.pick([n for n in scope.names if n != p.name] + ["0.5"])
+    rhs = num(F(1, 2)) if q == "0.5" else name(q)
+    scope.register(sub(p, rhs), key=(p, rhs))
+    return S.IfGe0S(sub(p, rhs), C.smooth(scope), _else(scope))
+
+
+def dot_condition(scope: C.Scope) -> S.Iverson:
+    """``[dot((v, w), (c1, c2)) CMP P + k]`` (a vector, desugared to ``c1*v + c2*w``); in one
+    variable ``[dot((v, 1), (c1, c2)) CMP P + k]``."""
+    v = scope.var()
+    w = scope.pick(u for u in scope.variables if u != v) if len(scope.variables) > 1 else None
+    c1, c2 = scope.pick(C.COEFFICIENTS), scope.pick((F(1), F(-1, 2)))
+    rhs = C.shifted_param(scope)
+    second = name(w) if w is not None else num(1)
+    lhs = call("dot", S.Vector((name(v), second)), S.Vector((num(c1), num(c2))))
+    flat = T.add(mul(num(c1), name(v)), mul(num(c2), second))
+    scope.register(sub(flat, rhs), key=(lhs, rhs))
+    return S.Iverson((lhs, rhs), (scope.pick(C.CMPS),))
+
+
+#: The wide factors by kind and weight (the first is what shrinking aims at; ``logic`` twice: three
+#: operators, two forms each).
+FACTORS = (loop, logic, let_level, guarded, branch_cut, primitive, logic, param_ifge0, dot_condition)
+
+
+def factor(scope: C.Scope) -> S.STerm:
+    """One factor of :data:`FACTORS`."""
+    return FACTORS[scope.index(len(FACTORS))](scope)
