@@ -13,6 +13,7 @@ from collections import Counter
 
 import pytest
 from hypothesis import HealthCheck, given, settings
+from test_strategies import _nodes  # (every surface node under a term)
 
 from langur import exact as api
 from langur import operational
@@ -26,18 +27,6 @@ from langur.syntax.parser import parse_module
 
 FAST = settings(max_examples=120, derandomize=True, database=None, deadline=None,
                 suppress_health_check=list(HealthCheck))
-
-
-def _nodes(t):
-    stack, out = [t], []
-    while stack:
-        u = stack.pop()
-        if isinstance(u, tuple):
-            stack.extend(u)
-        elif hasattr(u, "__dataclass_fields__"):
-            out.append(u)
-            stack.extend(getattr(u, f) for f in u.__dataclass_fields__ if f not in ("span", "name_span"))
-    return out
 
 
 @FAST
