@@ -32,11 +32,10 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from fractions import Fraction
 
 import sympy as sp
 
-from ..core import Add, Const, IfDiffeo, IfGe0, Let, Mul, Param, Pow, Prim, Program, Term, Var, children, subterms
+from ..core import IfDiffeo, IfGe0, Let, Pow, Prim, Program, Term, children, subterms
 from ..ddenote import ddenote
 from ..denote import denote, program_box
 from ..diagnostics import Span
@@ -45,6 +44,7 @@ from ..symbolic.decompose import Ctx, decide, decompose, smooth_value
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import Deadline
 from .blowup import Blowup, Region, Undecidable, Verdict, blowups, finite_on_box, undefined_part
+from .bounded import bounded
 from .findings import Finding, quote
 
 #: CPU seconds for the whole analysis of one integral (beyond: nothing is claimed).
@@ -141,51 +141,32 @@ def _delta_pieces(deltas, xs, box, at, out: Integrability) -> None:
             out.blowups += [(b, part) for b in blowups(w, region)]
 
 
-#: What a subterm can hold that :func:`value_integrability` looks for (:func:`_kinds`).
-PARTIAL, POLE = 1, 2
-
-
-def _kinds(t: Term) -> dict[int, int]:
-    """For each distinct node of ``t`` (by identity), whether it or a subterm, its diffeomorphic
-    conditions' terms included, is an application of a primitive defined on part of ℝ only or a
-    fractional power (:data:`PARTIAL`, what :func:`_applications` collects), or anything else a
-    weight could blow up through: a negative power, ``tan``, an implicit root (:data:`POLE`).  A
-    term with neither is built of +, ·, natural powers and primitives defined and finite on all of
-    ℝ (Fig. 7): every piece's weight is finite everywhere, nothing can be undefined — a sum of 10⁴
-    conditions need not be decomposed to learn it.  One walk over the DAG, children first."""
-    kinds: dict[int, int] = {}
+def _reaching(t: Term) -> set[int]:
+    """The nodes of ``t`` (by identity) that are or contain, their diffeomorphic conditions' terms
+    included, an application :func:`_applications` collects: its walk need not enter the others
+    (a sum of 10⁴ conditions with one ``log``).  One walk over the DAG, children first."""
+    done: dict[int, bool] = {}
     stack: list[tuple[Term, bool]] = [(t, False)]
     while stack:
         u, ready = stack.pop()
-        if id(u) in kinds:
+        if id(u) in done:
             continue
         below = children(u) + (tuple(u.psi.forward) if isinstance(u, IfDiffeo) else ())
         if not ready:
             stack.append((u, True))
-            stack += [(k, False) for k in below if id(k) not in kinds]
+            stack += [(k, False) for k in below if id(k) not in done]
             continue
-        k = 0
-        for b in below:
-            k |= kinds[id(b)]
         match u:
-            case Prim(op, _) if not REGISTRY[op].domain.everywhere:
-                k |= POLE if REGISTRY[op].domain.poles else PARTIAL
-            case Pow(b, e) if type(b.small) in (int, Fraction) and (e >= 0 or b.small != 0) and \
-                    (e.denominator == 1 or b.small > 0):
-                pass  # a power of a rational constant that is defined (1 / 30, 2 ^ (1/2))
-            case Pow(_, e) if e.denominator != 1:
-                k |= PARTIAL | (POLE if e < 0 else 0)
-            case Pow(_, e) if e < 0:
-                k |= POLE
-            case Const() | Var() | Param() | Add() | Mul() | Prim() | Pow() | IfGe0() | IfDiffeo() | Let():
-                pass
-            case _:  # an implicit root (its value can leave every bound), a call: not known to be tame
-                k |= POLE
-        kinds[id(u)] = k
-    return kinds
+            case Prim(op, _) if not REGISTRY[op].domain.everywhere and not REGISTRY[op].domain.poles:
+                done[id(u)] = True
+            case Pow(_, k) if k.denominator != 1:
+                done[id(u)] = True
+            case _:
+                done[id(u)] = any(done[id(k)] for k in below)
+    return {i for i, hit in done.items() if hit}
 
 
-def _applications(t: Term, ctx: Ctx, kinds: dict[int, int] | None = None) -> list[tuple[sp.Expr, tuple[sp.Expr, ...]]]:
+def _applications(t: Term, ctx: Ctx) -> list[tuple[sp.Expr, tuple[sp.Expr, ...]]]:
     """Each application of a primitive defined on part of ℝ only (``log``, ``sqrt``, a fractional
     power, …) in ``t``, as ``(weight, path)`` per Def. 6.2 piece of the application (its argument's
     own discontinuities split it, as :func:`~langur.symbolic.decompose.decompose` does): ``path``
@@ -197,13 +178,13 @@ def _applications(t: Term, ctx: Ctx, kinds: dict[int, int] | None = None) -> lis
     the evaluation point, as :func:`~langur.symbolic.decompose.decompose` does; the term of a
     diffeomorphic condition is evaluated wherever its conditional is."""
     out: list[tuple[sp.Expr, tuple[sp.Expr, ...]]] = []
-    kinds = _kinds(t) if kinds is None else kinds
+    reaching = _reaching(t)
     seen: set = set()
     alive = [ctx]  # the contexts stay alive, so that their identities stay theirs
     stack: list[tuple[Term, Ctx, tuple[sp.Expr, ...]]] = [(t, ctx, ())]
     while stack:
         u, c, path = stack.pop()
-        if not kinds[id(u)] & PARTIAL or (id(u), id(c), path) in seen:
+        if id(u) not in reaching or (id(u), id(c), path) in seen:
             continue  # (no application below u)
         seen.add((id(u), id(c), path))
         match u:
@@ -233,13 +214,12 @@ def _applications(t: Term, ctx: Ctx, kinds: dict[int, int] | None = None) -> lis
     return out
 
 
-def _evaluated_outside(program: Program, ctx: Ctx, xs, box, at, out: Integrability,
-                       kinds: dict[int, int] | None = None) -> None:
+def _evaluated_outside(program: Program, ctx: Ctx, xs, box, at, out: Integrability) -> None:
     """A primitive applied outside its domain on a set of positive measure of where it is
     evaluated (:func:`_applications`): the integrand is undefined there, the integral does not
     exist.  The pieces' weights (:func:`_pieces`) cannot show it when a bracket factor's 0
     multiplies the application away (sympy's ``0·log(x)`` is 0)."""
-    for w, path in _applications(program.body, ctx, kinds):
+    for w, path in _applications(program.body, ctx):
         w = sp.sympify(w).xreplace(at)
         if not (w.free_symbols & set(xs)):
             continue
@@ -281,14 +261,13 @@ def value_integrability(program: Program, point: Mapping[str, object]) -> Integr
     xs = symbols(program.variables)
 
     def run(out: Integrability) -> None:
-        kinds = _kinds(program.body)
-        if not kinds[id(program.body)]:
-            return  # every weight is finite everywhere, nothing is undefined (_kinds)
+        if bounded(program.body):
+            return  # a bounded integrand: nothing blows up, nothing is undefined (langur.lint.bounded)
         ctx = Ctx(at=at, variables=tuple(program.variables))
         box = _box(program, ctx, at)
         _pieces(decompose(program.body, ctx), xs, box, at, "the integrand", out)
         if out.verdict is not Verdict.DIVERGENT:
-            _evaluated_outside(program, ctx, xs, box, at, out, kinds)
+            _evaluated_outside(program, ctx, xs, box, at, out)
 
     return _guarded("⟦p⟧", run)
 
@@ -464,4 +443,9 @@ def findings_of(res: Integrability, program: Program, point, sources, code: str)
                                f"{what} blows up {where}{at_text} and the analysis cannot decide whether "
                                f"{res.what if code == 'X313' else 'the integral'} exists ({why}); the "
                                "engines' answers rely on their own diagnostics", (), tuple(point)))
+    if res.note is not None and not res.divergent:
+        # the analysis stopped (its CPU limit, a failure): what it did not reach is unchecked, said so
+        out.append(Finding(program.span, "warning", "X312",
+                           f"{res.note}{at_text}: whether {res.what if code == 'X313' else 'the integral'} exists "
+                           "is unchecked; the engines' answers rely on their own diagnostics", (), tuple(point)))
     return out
