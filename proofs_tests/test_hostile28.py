@@ -28,7 +28,7 @@ import sympy as sp
 
 from langur import frontend
 from langur.denote import denote_program
-from langur.lint import algebra, blowup, singular
+from langur.lint import algebra, blowup, doubleroot, singular
 from langur.symbolic.pieces import Method
 from langur.transversality import check_loaded
 
@@ -146,6 +146,19 @@ def test_an_integrability_analysis_stopped_by_its_limit_says_so(tmp_path, monkey
     monkeypatch.setattr(singular, "TIME_LIMIT", 0.0)
     found = [f for f in check_loaded(frontend.load_text(text, "p.lgr"), sources={"p.lgr": text}) if f.code == "X312"]
     assert len(found) == 1 and "unchecked" in found[0].message and "⟦p⟧" in found[0].message, found
+
+
+@pytest.mark.parametrize("limit, total, says", [(0.0, 15.0, "sympy took longer than 0 CPU s on 7 condition(s), the first at 1:1"),
+                                                 (2.0, 0.0, "stopped after 0 CPU s with 7 condition(s) left")])
+def test_a_per_condition_analysis_says_what_it_did_not_decide(monkeypatch, limit, total, says):
+    # The double-root check (X315) of 5 distinct conditions and the domain's 2 bounds (conditions of
+    # the inlined integrand, located at the program, 1:1), given no time per condition or in all:
+    # nothing decided, and one X310 says so, where it used to pass over them in silence.
+    monkeypatch.setattr(doubleroot, "TIME_LIMIT", limit)
+    monkeypatch.setattr(doubleroot, "TOTAL", total)
+    text = _dist(4)
+    found = doubleroot.double_root_findings(frontend.load_text(text, "p.lgr").program)
+    assert [(f.code, f.severity) for f in found] == [("X310", "warning")] and says in found[0].message, found
 
 
 def test_the_exact_engines_closed_forms_stop_at_the_calls_budget():
