@@ -206,3 +206,55 @@ def test_ten_thousand_distinct_conditions_within_cpu_and_memory(tmp_path, n):
     # as for 5 conditions, except that only the first 4,000 products are analysed (collect.MAX_PRODUCTS),
     # which X310 says: the last condition, x = 1 on the upper bound, is among those left unchecked
     assert found == [("X308", "warning", 1, _col(text, "[x - 0/")), ("X310", "warning", 1, 1)]
+
+
+def test_pairs_made_one_at_a_time_are_those_listed():
+    # A product of many conditions has its pairs made as the checks reach them (LISTED_PAIRS): the
+    # same checks in the same order, so the same findings, as when they are listed up front.
+    from langur.lint import classify
+
+    programs = [f"int ([0, 1]) {' * '.join(f'[x - {k}/6 >= 0]' for k in range(7))} * x d(x)\n",
+                "param a = 0.5\nint ([0, 1], [0, 1]) [x - a >= 0] * [x + y - 1 >= 0] * [y - a >= 0] * [x - y >= 0] d(x, y)\n",
+                (ROOT / "examples" / "degenerate" / "three_lines.lgr").read_text(encoding="utf-8")]
+    for text in programs:
+        loaded = frontend.load_text(text, "p.lgr")
+        listed = check_loaded(loaded, sources={"p.lgr": text})
+        old = classify.LISTED_PAIRS
+        try:
+            classify.LISTED_PAIRS = 0
+            made = check_loaded(loaded, sources={"p.lgr": text})
+        finally:
+            classify.LISTED_PAIRS = old
+        assert made == listed and listed, text
+
+
+PRODUCT = """
+import sys
+from langur.lint import classify
+classify.BUDGET = 2.0  # (the checker's 30 CPU s, shortened: what is measured is what comes before it)
+from langur.cli import main
+sys.exit(main(["check", "--format", "json", "--timeout", "3000", sys.argv[1]]))
+"""
+
+
+def test_a_product_of_3000_distinct_conditions_within_memory(tmp_path):
+    # 3000 conditions multiplied: 4.5 million pairs.  Listed up front they took 1.8 GB (main, before
+    # its budget's clock even started); made one at a time, 209 MB (measured).  Under 720 MB of
+    # address space the check ends, says that its budget stopped it (X310), and still finds the
+    # first condition's coincidence with the domain's bound (X308: the pairs come in order).
+    n = 3000
+    path = tmp_path / "product.lgr"
+    text = f"int ([0, 1]) {' * '.join(f'[x - {k}/{n} >= 0]' for k in range(n))} * x d(x)\n"
+    path.write_text(text, encoding="utf-8")
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (MEMORY_MB << 20, MEMORY_MB << 20))
+        resource.setrlimit(resource.RLIMIT_CPU, (CPU, CPU + 5))
+
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "OPENBLAS_NUM_THREADS": "1"}
+    r = subprocess.run([sys.executable, "-P", "-c", PRODUCT, str(path)], preexec_fn=limit, capture_output=True,
+                       text=True, env=env, timeout=3060)
+    assert r.returncode == 0 and "Traceback" not in r.stderr, f"exit {r.returncode}\n{r.stderr[-2000:]}"
+    found = json.loads(r.stdout)["diagnostics"]
+    assert [(d["code"], d["line"], d["col"]) for d in found] == [("X310", 1, 1), ("X308", 1, _col(text, "[x - 0/"))]
+    assert "stopped after 2 CPU s (its budget)" in found[0]["message"], found[0]["message"]
