@@ -8,6 +8,12 @@ included, as a user or a CI job meets it), the median of ``--repeat`` runs; the 
 ``eval`` is checked against the hand formula 2^(n-1)·a (∫₀¹ 2ⁿ·x·a dx) at a = 1/2.
 
     python3 bench/bench_hostile.py [--repeat 3] [--sizes 10,20,30,40]
+
+With ``--distinct 1000,3000,10000`` it prints instead, for sums of that many *distinct* conditions
+(``[x - k/n >= 0] * x``, fixed; ``[x - a * k/n >= 0] * x``, moving with a parameter;
+``[x >= k/n] / (x + 1)``, a weight with a pole off the domain), the CPU seconds and the maximum
+resident set of one ``langur check`` process each (``os.wait4``'s resource usage: CPU time, so that
+the numbers do not depend much on the machine's load) and the codes it reports.
 """
 
 from __future__ import annotations
@@ -38,6 +44,43 @@ def long_sum(n: int) -> str:
         " * [x <= a] d(x)\n"
 
 
+DISTINCT = {
+    "fixed": lambda n: "int ([0, 1]) " + " + ".join(f"[x - {k}/{n} >= 0] * x" for k in range(n)) + " d(x)\n",
+    "moving": lambda n: "param a = 0.25\nint ([0, 1]) " + " + ".join(f"[x - a * {k}/{n} >= 0] * x"
+                                                                   for k in range(n)) + " d(x)\n",
+    "pole": lambda n: "int ([0, 1]) " + " + ".join(f"[x >= {k}/{n}] / (x + 1)" for k in range(n)) + " d(x)\n",
+}
+
+
+def cpu_and_memory(path: Path, *args: str) -> tuple[float, float, str]:
+    """CPU seconds (user + system) and maximum resident set (MB) of one ``langur`` process, and its
+    output."""
+    with tempfile.TemporaryFile() as out:
+        p = subprocess.Popen([sys.executable, "-m", "langur", *args, str(path)], stdout=out, stderr=out)
+        _, status, usage = os.wait4(p.pid, 0)
+        p.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        text = out.read().decode("utf-8", errors="replace")
+    return usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024, text
+
+
+def distinct(sizes: list[int]) -> None:
+    print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}; "
+          "one `langur check --timeout 3000` process per row")
+    print()
+    print("| program | terms | CPU s | max RSS MB | reported |")
+    print("|---|---:|---:|---:|---|")
+    with tempfile.TemporaryDirectory() as tmp:
+        for kind, make in DISTINCT.items():
+            for n in sizes:
+                path = Path(tmp) / f"{kind}{n}.lgr"
+                path.write_text(make(n), encoding="utf-8")
+                cpu, rss, text = cpu_and_memory(path, "check", "--timeout", "3000")
+                codes = sorted(w.split()[1] for w in text.split(": ")[1:] if w.split()[:1] in (["warning"], ["error"]))
+                said = ", ".join(f"{c} ×{codes.count(c)}" for c in dict.fromkeys(codes)) or "nothing"
+                print(f"| {kind} | {n:,} | {cpu:.1f} | {rss:.0f} | {said} |", flush=True)
+
+
 def run(path: Path, *args: str) -> tuple[float, str]:
     start = time.perf_counter()
     r = subprocess.run([sys.executable, "-m", "langur", *args, str(path)], capture_output=True, text=True,
@@ -60,7 +103,11 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--sizes", default="10,20,30,40")
+    ap.add_argument("--distinct", default=None, help="sizes of the sums of distinct conditions (see above)")
     args = ap.parse_args()
+    if args.distinct:
+        distinct([int(s) for s in args.distinct.split(",")])
+        return
     sizes = [int(s) for s in args.sizes.split(",")]
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)

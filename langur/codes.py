@@ -102,8 +102,8 @@ CODES: dict[str, Code] = _catalogue(
     Code("X311", "The integrand is not integrable on the domain at the parameter values in force (a pole whose "
          "order reaches the codimension of the set it sits on): the integral does not exist.",
          "error", "not-integrable"),
-    Code("X312", "The integrand blows up on the domain and the analysis cannot decide whether it is integrable "
-         "there; the engines' answers rely on their own diagnostics.",
+    Code("X312", "The integrand blows up on the domain, or the analysis stopped (its time limit), and it cannot "
+         "decide whether it is integrable there; the engines' answers rely on their own diagnostics.",
          "warning", "integrability-undecided"),
     Code("X313", "The derivative denotation in a parameter is not an integral (its regular part is not integrable, "
          "or a delta term's weight is infinite or undefined on its zero set), although the value exists.",

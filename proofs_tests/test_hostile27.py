@@ -21,15 +21,23 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
+#: CPU seconds a check may use (``RLIMIT_CPU``; the 30,000-term sum takes 2.2, 2026-11-29), and its own
+#: ``--timeout`` (wall clock) far above it: a loaded machine slows the check down without it using
+#: more CPU, and must not stop it (X399) — the bound here is CPU time.
+CPU = 120
+TIMEOUT = 1200
+
+
 def _check(path: Path, limit_mb: int | None):
     def limit():
         if limit_mb is not None:
             resource.setrlimit(resource.RLIMIT_AS, (limit_mb << 20, limit_mb << 20))
+        resource.setrlimit(resource.RLIMIT_CPU, (CPU, CPU + 5))
 
     env = {**os.environ, "PYTHONPATH": str(ROOT), "OPENBLAS_NUM_THREADS": "1"}
     return subprocess.run(
-        [sys.executable, "-P", "-m", "langur", "check", "--format", "json", str(path)],
-        preexec_fn=limit, capture_output=True, text=True, env=env, timeout=300,
+        [sys.executable, "-P", "-m", "langur", "check", "--format", "json", str(path), "--timeout", str(TIMEOUT)],
+        preexec_fn=limit, capture_output=True, text=True, env=env, timeout=TIMEOUT + 60,
     )
 
 

@@ -62,6 +62,9 @@ SMOOTH = frozenset({"exp", "sin", "cos", "tanh", "atan", "erf"})
 #: full analysis (which caps its own work, and says so in an X310).
 MAX_PRODUCTS = 2000
 MAX_FAMILIES = 20000
+#: More pairs of multiplying conditions than this (counted with repeats): not vouched for here; the
+#: checker decides, within its budget (``langur.lint.classify``).
+MAX_PAIRS = 200_000
 
 #: A common point of a family this far outside the box (the analysis's tolerance is 1e-9) is
 #: outside it for the analysis too.
@@ -300,11 +303,14 @@ def nothing_to_find(program: Program, point: Mapping[str, object]) -> bool:
         n = len(program.variables)
         for p in products:
             ids = sorted(p)
+            if len(pairs) + len(ids) * (len(ids) - 1) // 2 > MAX_PAIRS:
+                return False  # (a product of 10⁴ conditions: 5·10⁷ pairs, gigabytes to list)
             pairs.update(itertools.combinations(ids, 2))
             for k in range(3, min(n + 1, len(ids)) + 1):
-                families.update(itertools.combinations(ids, k))
-                if len(families) > MAX_FAMILIES:
-                    return False
+                for fam in itertools.combinations(ids, k):  # (one at a time: C(10⁴, 3) would not end)
+                    families.add(fam)
+                    if len(families) > MAX_FAMILIES:
+                        return False
         if not all(_pair_clear(conditions[i], conditions[j]) for i, j in pairs):
             return False
         return all(_family_clear([conditions[i] for i in fam], box) for fam in families)

@@ -204,6 +204,31 @@ def _memo(fn):
     return wrapper
 
 
+def _distinct_monomials(expr: sp.Expr) -> bool:
+    """Is ``expr`` written as a sum of distinct monomials (products of natural powers of symbols)
+    with nonzero rational coefficients, ``-a·3/10`` or ``x² − 2·a + 1``?  Then it is a nonzero
+    polynomial, not identically zero: a proof read off the written form, with no arithmetic
+    (sympy's sums and products are usually collected this way; any other form says nothing)."""
+    seen = set()
+    for term in sp.Add.make_args(expr):
+        c, m = term.as_coeff_Mul()
+        if not c.is_Rational or c == 0:
+            return False
+        powers = {}
+        for f in sp.Mul.make_args(m):
+            base, k = f.as_base_exp()
+            if f == 1 and len(sp.Mul.make_args(m)) == 1:
+                continue  # the constant term
+            if not (base.is_Symbol and k.is_Integer and k > 0) or base in powers:
+                return False
+            powers[base] = k
+        key = frozenset(powers.items())
+        if key in seen:
+            return False
+        seen.add(key)
+    return True
+
+
 #: CPU seconds of the cheap proofs of a zero tried before ``simplify`` (:func:`_plainly_zero`).
 CHEAP_LIMIT = 0.2
 
@@ -231,6 +256,11 @@ def vanishes(
     symbols = tuple(symbols)
     if expr == 0:
         return True
+    if _distinct_monomials(expr):
+        # a nonzero polynomial (a nonzero number): a valid point's value is nonzero, or there is
+        # no valid point — "no" either way, without compiling it (a sum of 10⁴ distinct
+        # conditions against a domain's bound asks this 2·10⁴ times)
+        return False
     values = spot_values(expr, symbols, guards, seed)
     if not values:
         return False
@@ -307,7 +337,11 @@ def bad_parameters(
     eqs = [e for e in _equations(expr, inner, seed) if e != 0]
     if not eqs:
         return []
-    sols = timed(lambda: _solved_linearly(eqs, params) or sp.solve(eqs, params, dict=True))
+    # one parameter, equations affine in it with rational coefficients (a sum of conditions
+    # ``[x - a·k/n >= 0]``): the exact solution sympy's ``solve`` would give, without it
+    sols = _affine_solution(eqs, tuple(params)) if len(params) == 1 else None
+    if sols is None:
+        sols = timed(lambda: _solved_linearly(eqs, params) or sp.solve(eqs, params, dict=True))
     out = []
     for sol in sols:
         if not sol or any(v.has(sp.I) or v.free_symbols & set(inner) for v in sol.values()):

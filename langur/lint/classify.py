@@ -16,8 +16,9 @@ X305, X306, X308) and :mod:`langur.lint.nullsets` (failures on null sets, §7.3:
 
 from __future__ import annotations
 
+import heapq
 import itertools
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 
 import sympy as sp
 
@@ -36,6 +37,11 @@ from .nullsets import NULL_SET_CODES, NullSetChecks
 #: At most this many families of 3 to n+1 conditions are solved for a common point.
 MAX_FAMILIES = 400
 
+#: Pairs of multiplying conditions listed before the checks start (the product of 10⁴ distinct
+#: conditions has 5·10⁷: gigabytes); past this many (counted with repeats) they are made one at a
+#: time, in the same order, as the checks reach them within the budget.
+LISTED_PAIRS = 200_000
+
 #: CPU seconds the whole analysis of one program may take (beyond: X310, the rest unchecked); CPU
 #: time, as every limit of the checker, so that its findings do not change with the machine's load.
 BUDGET = 30.0
@@ -52,6 +58,17 @@ _FAILURES = (
     sp.PolynomialError,
     sp.SympifyError,
 )
+
+
+def _merged_pairs(products) -> Iterator[tuple[int, int]]:
+    """The distinct pairs of conditions multiplying in one of ``products``, in increasing order
+    (``sorted`` of their set), made one at a time: each product's pairs come in increasing order,
+    merged, repeats skipped."""
+    last = None
+    for pair in heapq.merge(*(itertools.combinations(sorted(p.ids), 2) for p in products)):
+        if pair != last:
+            last = pair
+            yield pair
 
 
 def _same_math(o: Occurrence):
@@ -181,9 +198,12 @@ class Checker(CoincidenceChecks, NullSetChecks):
         pairs: set[tuple[int, int]] = set()
         squared: dict[int, Span | None] = {}
         families: set[tuple[int, ...]] = set()
-        for p in sorted(col.products, key=lambda p: sorted(p.ids)):
+        products = sorted(col.products, key=lambda p: sorted(p.ids))
+        most = sum(len(p.ids) * (len(p.ids) - 1) // 2 for p in products)  # pairs, with repeats
+        for p in products:
             ids = sorted(p.ids)
-            pairs.update(itertools.combinations(ids, 2))
+            if most <= LISTED_PAIRS:
+                pairs.update(itertools.combinations(ids, 2))
             for i, site in sorted(p.squared, key=lambda s: (s[0], span_key(s[1]))):
                 squared.setdefault(i, site)
             # subfamilies of 3 ≤ k ≤ n+1 conditions (k = 2 is the pairs' tangency check)
@@ -197,13 +217,17 @@ class Checker(CoincidenceChecks, NullSetChecks):
         occ = col.occurrences
         key = [_same_math(o) for o in occ]
         steps = [(self.squared, (occ[i], site), ("squared", key[i])) for i, site in sorted(squared.items())]
-        steps += [(self.pair, (occ[i], occ[j]), ("pair", key[i], key[j])) for i, j in sorted(pairs)]
-        steps += [(self.report_kinks, (), None)]
-        steps += [
+        listed = sorted(pairs) if most <= LISTED_PAIRS else None
+        rest = [(self.report_kinks, (), None)]
+        rest += [
             (self.family, ([occ[i] for i in fam],), ("family", *(key[i] for i in fam)))
             for fam in sorted(families, key=lambda f: (len(f), f))
         ]
-        steps += [(self.nonzero, (o,), ("nonzero", key[i])) for i, o in enumerate(occ)]
+        rest += [(self.nonzero, (o,), ("nonzero", key[i])) for i, o in enumerate(occ)]
+        # the pairs in increasing order, listed, or made one at a time as the checks reach them
+        count = len(steps) + len(listed) + len(rest) if listed is not None else None
+        steps = itertools.chain(steps, ((self.pair, (occ[i], occ[j]), ("pair", key[i], key[j]))
+                                        for i, j in (listed if listed is not None else _merged_pairs(products))), rest)
         # A check whose conditions are, mathematically, ones already checked without a finding
         # (5000 copies of [x <= a] in one sum) is not repeated; one that found something is, so
         # that each copy is reported where it is written.
@@ -214,12 +238,14 @@ class Checker(CoincidenceChecks, NullSetChecks):
                 continue
             before = self._state()
             if clock.remaining() <= 0:
+                left = (f"{count - k} of {count} checks left" if count is not None else
+                        f"{k} checks done of at most {len(squared) + most + len(rest)}")
                 self.add(
                     self.program.span,
                     "warning",
                     "X310",
                     f"the transversality analysis stopped after {self.budget:g} CPU s (its budget) with "
-                    f"{len(steps) - k} of {len(steps)} checks left: the rest is unchecked",
+                    f"{left}: the rest is unchecked",
                 )
                 break
             try:

@@ -19,24 +19,26 @@ import sympy as sp
 
 from ..core import IfDiffeo, Program, subterms
 from ..sympy_bridge import NotSmooth, symbol, to_sympy
-from ..timebox import Deadline
 from .algebra import spot_values
-from .findings import Finding
+from .findings import Finding, PerCondition
 
-#: CPU seconds of sympy per condition.
+#: CPU seconds of sympy per condition, and for all the conditions of a program (past either: X310).
 TIME_LIMIT = 2.0
+TOTAL = 15.0
 
 
 def double_root_findings(program: Program) -> list[Finding]:
-    """One X315 error per completed condition whose zero set is a double root identically."""
+    """One X315 error per completed condition whose zero set is a double root identically; one
+    X310 when some condition could not be decided (:class:`~langur.lint.findings.PerCondition`)."""
     out, seen = [], set()
+    clock = PerCondition("whether a condition's zero set is a double root (X315)", TIME_LIMIT, TOTAL)
     for t in subterms(program.body):
         if not isinstance(t, IfDiffeo) or t.psi.solved_for is None or t.psi in seen:
             continue
         seen.add(t.psi)
         try:
-            degenerate = Deadline(TIME_LIMIT).run(lambda t=t: _double_root(t.psi))
-        except (TimeoutError, NotSmooth, TypeError, ValueError):
+            degenerate = clock.run(t.psi, t.span, lambda t=t: _double_root(t.psi))
+        except (NotSmooth, TypeError, ValueError):
             continue
         if degenerate:
             out.append(Finding(t.span, "error", "X315",
@@ -46,7 +48,7 @@ def double_root_findings(program: Program) -> list[Finding]:
                                "paper §5.2); write the condition so that it changes sign (e.g. without the square)",
                                (), tuple(sorted(s.name for s in to_sympy(t.psi.forward[0]).free_symbols
                                                  if s.name not in t.psi.variables))))
-    return out
+    return out + clock.unchecked(program.span)
 
 
 def _double_root(psi) -> bool:

@@ -6,6 +6,7 @@ from collections.abc import Mapping
 
 from ..diagnostics import Diagnostic, Span
 from ..records import record
+from ..timebox import Deadline
 
 
 @record
@@ -38,3 +39,43 @@ def quote(span: Span | None, sources: Mapping[str, str], *, limit: int | None = 
     end = span.end_col if span.end_line == span.line else len(line) + 1
     frag = line[span.col - 1 : end - 1].strip() + (" …" if span.end_line != span.line else "")
     return frag if limit is None or len(frag) <= limit else frag[: limit - 3] + "…"
+
+
+class PerCondition:
+    """The clock of an analysis run condition by condition (double roots, turning points): each
+    condition's sympy work within ``limit`` CPU seconds, all of them within ``total`` (a file with
+    10⁴ distinct conditions is not 10⁴ × ``limit``); what it could not decide is said in one X310
+    (:meth:`unchecked`) instead of being passed over in silence."""
+
+    def __init__(self, what: str, limit: float, total: float):
+        self.what, self.limit, self.total = what, limit, total
+        self.clock = Deadline(total)
+        self.undecided: dict = {}  # condition → its span, for the conditions whose check ran out of its limit
+        self.left = 0  # conditions not checked at all: the total was spent
+
+    def run(self, condition, span: Span | None, fn):
+        """``fn()``, the check of ``condition``, within the limits; None (and remembered) when it did
+        not finish or was not run."""
+        if self.clock.remaining() <= 0:
+            self.left += 1
+            return None
+        try:
+            return self.clock.run(fn, self.limit)
+        except TimeoutError:
+            self.undecided[condition] = span
+            return None
+
+    def unchecked(self, program_span: Span | None) -> list[Finding]:
+        """One X310 warning when some condition was not decided, else nothing."""
+        if not self.undecided and not self.left:
+            return []
+        parts = []
+        if self.undecided:
+            first = next((s for s in self.undecided.values() if s is not None), None)
+            parts.append(f"sympy took longer than {self.limit:g} CPU s on {len(self.undecided)} condition(s)"
+                         + (f", the first at {first.line}:{first.col}" if first is not None else ""))
+        if self.left:
+            parts.append(f"the analysis stopped after {self.total:g} CPU s with {self.left} condition(s) left")
+        span = next((s for s in self.undecided.values() if s is not None), program_span)
+        return [Finding(span, "warning", "X310", f"{self.what} is unchecked for some conditions "
+                                                   f"({'; '.join(parts)}): Theorem 8.1's assumption is unchecked there")]

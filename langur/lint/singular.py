@@ -43,7 +43,8 @@ from ..primitives import REGISTRY, Domain
 from ..symbolic.decompose import Ctx, decide, decompose, smooth_value
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import Deadline
-from .blowup import Blowup, Region, Undecidable, Verdict, blowups, undefined_part
+from .blowup import Blowup, Region, Undecidable, Verdict, blowups, finite_on_box, undefined_part
+from .bounded import bounded
 from .findings import Finding, quote
 
 #: CPU seconds for the whole analysis of one integral (beyond: nothing is claimed).
@@ -91,10 +92,11 @@ def _box(program: Program, ctx: Ctx, at: dict) -> list[tuple[sp.Expr, sp.Expr]]:
 
 
 def _pieces(pieces, xs, box, at, part: str, out: Integrability) -> None:
+    whole = tuple(tuple(side) for side in box)
     for pc in pieces:
         w = sp.sympify(pc.weight).xreplace(at)
-        if not (w.free_symbols & set(xs)):
-            continue
+        if not (w.free_symbols & set(xs)) or finite_on_box(w, xs, whole):
+            continue  # nothing blows up on any region of the box (blowup.finite_on_box)
         conds = [sp.sympify(c.expr).xreplace(at) for c in pc.conditions]
         try:
             region = Region(xs, box, conds)
@@ -130,11 +132,38 @@ def _delta_pieces(deltas, xs, box, at, out: Integrability) -> None:
                 continue
             uxs = tuple(x for x in xs if x != psi.solved_for)
             ubox = [box[xs.index(x)] for x in uxs]
+            if finite_on_box(w, uxs, tuple(tuple(side) for side in ubox)):
+                continue  # nothing blows up on any region of u′'s box (blowup.finite_on_box)
             try:
                 region = Region(uxs, ubox, conds)
             except Undecidable:
                 continue
             out.blowups += [(b, part) for b in blowups(w, region)]
+
+
+def _reaching(t: Term) -> set[int]:
+    """The nodes of ``t`` (by identity) that are or contain, their diffeomorphic conditions' terms
+    included, an application :func:`_applications` collects: its walk need not enter the others
+    (a sum of 10⁴ conditions with one ``log``).  One walk over the DAG, children first."""
+    done: dict[int, bool] = {}
+    stack: list[tuple[Term, bool]] = [(t, False)]
+    while stack:
+        u, ready = stack.pop()
+        if id(u) in done:
+            continue
+        below = children(u) + (tuple(u.psi.forward) if isinstance(u, IfDiffeo) else ())
+        if not ready:
+            stack.append((u, True))
+            stack += [(k, False) for k in below if id(k) not in done]
+            continue
+        match u:
+            case Prim(op, _) if not REGISTRY[op].domain.everywhere and not REGISTRY[op].domain.poles:
+                done[id(u)] = True
+            case Pow(_, k) if k.denominator != 1:
+                done[id(u)] = True
+            case _:
+                done[id(u)] = any(done[id(k)] for k in below)
+    return {i for i, hit in done.items() if hit}
 
 
 def _applications(t: Term, ctx: Ctx) -> list[tuple[sp.Expr, tuple[sp.Expr, ...]]]:
@@ -149,13 +178,14 @@ def _applications(t: Term, ctx: Ctx) -> list[tuple[sp.Expr, tuple[sp.Expr, ...]]
     the evaluation point, as :func:`~langur.symbolic.decompose.decompose` does; the term of a
     diffeomorphic condition is evaluated wherever its conditional is."""
     out: list[tuple[sp.Expr, tuple[sp.Expr, ...]]] = []
+    reaching = _reaching(t)
     seen: set = set()
     alive = [ctx]  # the contexts stay alive, so that their identities stay theirs
     stack: list[tuple[Term, Ctx, tuple[sp.Expr, ...]]] = [(t, ctx, ())]
     while stack:
         u, c, path = stack.pop()
-        if (id(u), id(c), path) in seen:
-            continue
+        if id(u) not in reaching or (id(u), id(c), path) in seen:
+            continue  # (no application below u)
         seen.add((id(u), id(c), path))
         match u:
             case Prim(op, a) if not REGISTRY[op].domain.everywhere and not REGISTRY[op].domain.poles:
@@ -231,6 +261,8 @@ def value_integrability(program: Program, point: Mapping[str, object]) -> Integr
     xs = symbols(program.variables)
 
     def run(out: Integrability) -> None:
+        if bounded(program.body):
+            return  # a bounded integrand: nothing blows up, nothing is undefined (langur.lint.bounded)
         ctx = Ctx(at=at, variables=tuple(program.variables))
         box = _box(program, ctx, at)
         _pieces(decompose(program.body, ctx), xs, box, at, "the integrand", out)
@@ -411,4 +443,9 @@ def findings_of(res: Integrability, program: Program, point, sources, code: str)
                                f"{what} blows up {where}{at_text} and the analysis cannot decide whether "
                                f"{res.what if code == 'X313' else 'the integral'} exists ({why}); the "
                                "engines' answers rely on their own diagnostics", (), tuple(point)))
+    if res.note is not None and not res.divergent:
+        # the analysis stopped (its CPU limit, a failure): what it did not reach is unchecked, said so
+        out.append(Finding(program.span, "warning", "X312",
+                           f"{res.note}{at_text}: whether {res.what if code == 'X313' else 'the integral'} exists "
+                           "is unchecked; the engines' answers rely on their own diagnostics", (), tuple(point)))
     return out

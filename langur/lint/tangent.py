@@ -21,11 +21,11 @@ import sympy as sp
 
 from ..core import IfDiffeo, ImplicitRoot, Program, TooManyRoots, subterms
 from ..sympy_bridge import NotSmooth, symbol, to_sympy
-from ..timebox import Deadline
-from .findings import Finding
+from .findings import Finding, PerCondition
 
-#: CPU seconds of sympy per condition.
+#: CPU seconds of sympy per condition, and for all the conditions of a program (past either: X310).
 TIME_LIMIT = 2.0
+TOTAL = 15.0
 #: |f(c)| below this (relative to the scale of f) at the parameters in force: a tangent root.
 TOLERANCE = 1e-9
 
@@ -34,6 +34,7 @@ def tangent_findings(program: Program, point: dict | None, explicit: bool) -> li
     """One finding per turning point of an implicitly completed condition on which a root can
     sit (X306), or sits at the parameter values in force (X305 with ``--at``, else X306)."""
     out, seen = [], set()
+    clock = PerCondition("whether a root sits on a turning point (X305, X306)", TIME_LIMIT, TOTAL)
     for t in subterms(program.body):
         if not isinstance(t, IfDiffeo) or t.psi in seen:
             continue
@@ -42,15 +43,15 @@ def tangent_findings(program: Program, point: dict | None, explicit: bool) -> li
         if not roots:
             continue
         try:
-            out += Deadline(TIME_LIMIT).run(lambda t=t, roots=roots: _findings(t, roots, point, explicit))
-        except (TimeoutError, NotSmooth, TypeError, ValueError, TooManyRoots):
+            out += clock.run(t.psi, t.span, lambda t=t, roots=roots: _findings(t, roots, point, explicit)) or []
+        except (NotSmooth, TypeError, ValueError, TooManyRoots):
             pass
         if len(t.psi.variables) > 1:
             try:
-                out += Deadline(TIME_LIMIT).run(lambda t=t: _critical_findings(t, program, point, explicit))
-            except (TimeoutError, NotSmooth, TypeError, ValueError, NotImplementedError):
+                out += clock.run(t.psi, t.span, lambda t=t: _critical_findings(t, program, point, explicit)) or []
+            except (NotSmooth, TypeError, ValueError, NotImplementedError):
                 continue
-    return out
+    return out + clock.unchecked(program.span)
 
 
 def _critical_findings(site: IfDiffeo, program: Program, point, explicit) -> list[Finding]:

@@ -327,6 +327,8 @@ def _closed_forms(make_problems, n: int, quads, ctx: Context, what: str, converg
             why.append(f"{what} {i}: {VALUE_ONLY}")
             continue
         try:
+            if ctx.deadline.remaining() <= 0:  # the call's one budget is spent (issue 15): quadrature
+                raise TimeoutError("time limit")  # (a piece's region work need not ask the deadline)
             problems, uvars, ubox = make_problems(i)
             exacts.append(_exact_piece(problems, uvars, ubox, ctx, quads[i], f"{what} {i}", converged[i]))
             why.append("")
