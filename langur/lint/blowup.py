@@ -309,6 +309,8 @@ def _touchings(g, gf, region: Region, pts, vals, inside) -> list[tuple[sp.Expr, 
                 continue
         if abs(float(np.nan_to_num(gf(np.asarray(x0)[None, :])[0], nan=1e300))) > 1e-5 * top:
             continue  # no zero near this start
+        if not region.inside(np.asarray(x0, dtype=float)[None, :], tol=1e-6)[0]:
+            continue  # the descent (bounded by the box only) left R̄ for a zero where w is not integrated
         if any(np.linalg.norm(x0 - q) < 1e-3 * region.scale for q in near):
             continue
         p = tuple(_snap(float(v), region.box[i], region.scale) for i, v in enumerate(x0))

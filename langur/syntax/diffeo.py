@@ -254,7 +254,7 @@ def _shape(e, v, interval) -> str:
     dom = sp.Interval(sp.nsimplify(lo), sp.nsimplify(hi))
     try:
         zeros = run_with_timeout(lambda: sp.solveset(d, v, dom), SHAPE_LIMIT, cpu=True)
-    except TimeoutError:
+    except (TimeoutError, ValueError):  # (ValueError: mpmath's erfinv asked outside [-1, 1] inside solveset)
         return ""
     rewrite = ("; Langur completes a condition only where a variable can be isolated in closed form "
                "(it occurs once under invertible steps, or in a polynomial of degree ≤ 2): rewrite the "

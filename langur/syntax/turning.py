@@ -15,7 +15,9 @@ condition is the sum over the roots ``Σ h(x*)/|f'(x*)|``, and no split point is
 of the program (the split lives in Ψ̂⁻¹ only), so the split adds no delta.
 
 The condition must be continuous on one interval of ``[lo, hi]`` (``sympy``'s
-``continuous_domain``; the brackets are limited to it: ``sqrt(x)`` on ``[-1, 1]`` uses ``[0, 1]``).
+``continuous_domain``, completed by the primitive registry where sympy does not know a function,
+``erf``: :mod:`langur.syntax.continuity`; the brackets are limited to it: ``sqrt(x)`` on ``[-1, 1]``
+uses ``[0, 1]``).
 Turning points are found exactly when ``∂f/∂x`` has no parameters and ``sympy.solveset`` solves it
 on the interval (time-boxed); one that has no closed form (a root of a quintic) is itself an
 implicit root of ``∂f/∂x`` in a rational bracket on which ``∂f/∂x`` changes sign (checked
@@ -54,7 +56,6 @@ import math
 from fractions import Fraction
 
 import sympy as sp
-from sympy.calculus.util import continuous_domain
 
 from ..core import (
     Add,
@@ -71,6 +72,7 @@ from ..core import (
 )
 from ..sympy_bridge import from_sympy
 from ..timebox import run_with_timeout
+from .continuity import continuous_domain
 from .monotone import _enclose, certify, rational
 
 #: CPU-second limit of the search for turning points (CPU: the split must not change with the load).
@@ -346,11 +348,11 @@ def _exact_ends(d, v, L, R) -> list[Term] | str | None:
     condition is evaluated); a reason when there are too many or infinitely many."""
     try:
         zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.Interval(L, R)), TURNING_LIMIT, cpu=True)
-    except TimeoutError:
+    except (TimeoutError, ValueError):  # (ValueError: mpmath's erfinv asked outside [-1, 1] inside solveset)
         return None
     if zeros is sp.S.EmptySet:
         points = []
-    elif isinstance(zeros, sp.FiniteSet) and all(z.is_real for z in zeros):
+    elif isinstance(zeros, sp.FiniteSet) and all(z.is_real or z.evalf(30).is_real for z in zeros):  # erfinv(π/6)/2
         if len(zeros) >= MAX_PIECES:
             return f"it has {len(zeros)} turning points (zeros of ∂/∂{v} = {d}) on the domain, more than {MAX_PIECES - 1}"
         points = sorted(zeros, key=lambda z: float(z))
