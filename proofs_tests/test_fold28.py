@@ -110,7 +110,7 @@ def test_a_nan_at_an_end_counts_zero_and_inside_it_is_bad():
 
 
 def test_an_interval_ending_at_the_fold_integrates():
-    """∫ over [F − w, F] of 1/√(3 − 10(t − a)²) = ∫ 1/√(20√0.3·s − 10s²) ds, s = F − t: by mpmath-free
+    """∫ over [F − w, F] of 1/√(3 − 10(t − a)²) = ∫ 1/√(20√0.3·s − 10s²) ds, s = F − t: by
     hand, (1/√10)·(π/2 − asin(1 − w/√0.3)) (the antiderivative of 1/√(2rs − s²) is asin((s − r)/r))."""
     r = math.sqrt(0.3)
     for w in (1e-5, 1e-7, 3e-8):
