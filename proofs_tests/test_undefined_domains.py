@@ -1,5 +1,5 @@
 """A primitive applied outside its domain is undefined even where complex arithmetic would give a
-real number (LANGUAGE.md §1; X311 of ``langur.lint.blowup``).
+real number (LANGUAGE.md §1; X311, ``langur.symbolic.definedness``).
 
 ``sqrt(x)·sqrt(x − 1)`` at x < 0 is (i√|x|)·(i√(1 − x)) = −√(x² − x) to sympy and numpy's complex
 arithmetic, a real number, so the integrability analysis used to find nothing undefined and the

@@ -53,7 +53,6 @@ import numpy as np
 import sympy as sp
 
 from ..primitives import REGISTRY
-from ..symbolic.walks import atoms_of
 
 #: Digits of the high-precision evaluations.
 DIGITS = 50
@@ -460,68 +459,6 @@ def decide(alpha_typ: float, alpha_max: float, codim: int, logarithmic: bool) ->
     return Verdict.UNDECIDED
 
 
-def undefined_part(w: sp.Expr, region: Region) -> Blowup | None:
-    """``w`` undefined (``log`` or ``sqrt`` of a negative number, …) at grid points strictly inside
-    the region: on a set of positive measure (the arguments are continuous), so the integral does
-    not exist.  The example point is returned exactly as sampled."""
-    pts, _ = region.grid()
-    margin = 1e-9 * region.scale
-    inner = np.all((pts > region.lo + margin) & (pts < region.hi - margin), axis=1)
-    for f in region._cfs:
-        with np.errstate(all="ignore"):
-            inner &= np.nan_to_num(f(pts), nan=-1.0) > margin
-    if not inner.any():
-        return None
-    vals = _numpy(w, region.xs)(pts[inner])
-    bad = np.flatnonzero(np.isnan(vals))
-    if len(bad) >= 2:  # (one grid point may sit exactly on a zero of an argument)
-        p = tuple(sp.Float(float(v), DIGITS) for v in pts[inner][bad[len(bad) // 2]])
-        if not math.isfinite(_value(w, region.xs, p)):  # (else numpy's NaN was a 0·∞ it cannot resolve)
-            return Blowup(w, p, "undefined", None, None, None, Verdict.DIVERGENT, Verdict.DIVERGENT)
-    return _outside_a_domain(w, region, pts[inner])
-
-
-#: The primitives defined on part of ℝ only, as sympy writes them in a weight, each with where its
-#: argument lies strictly outside its domain (``langur.primitives``' entries: log, asin, acos, atanh;
-#: ``sqrt`` is a fractional power to sympy, below).
-_OUTSIDE = tuple((getattr(sp, p.sympy), p.domain.outside_closure) for p in REGISTRY.values()
-                 if isinstance(getattr(sp, p.sympy, None), type) and not p.domain.everywhere and not p.domain.poles)
-
-
-def _partial_arguments(w: sp.Expr) -> list[tuple[sp.Expr, object]]:
-    """``(argument, outside)`` for each subterm of ``w`` defined on part of ℝ only: the primitives
-    of :data:`_OUTSIDE` and fractional powers (LANGUAGE.md §1: undefined at a
-    negative base, whatever the denominator of the exponent)."""
-    out = []
-    for node in atoms_of(w, (sp.Pow, *(fn for fn, _ in _OUTSIDE))):  # (each distinct subterm once)
-        if isinstance(node, sp.Pow) and node.exp.is_Rational and not node.exp.is_Integer:
-            out.append((node.base, lambda v: v < 0))
-            continue
-        for fn, outside in _OUTSIDE:
-            if isinstance(node, fn):
-                out.append((node.args[0], outside))
-    return out
-
-
-def _outside_a_domain(w: sp.Expr, region: Region, pts: np.ndarray) -> Blowup | None:
-    """A primitive of ``w`` applied outside its domain at points strictly inside the region, where
-    ``w``'s value is real all the same: ``sqrt(x)·sqrt(x − 1)`` at x < 0 is (i√|x|)(i√(1 − x)),
-    a real number to complex arithmetic, but undefined (LANGUAGE.md §1), as the Monte Carlo
-    engine's NaN says.  Each argument is valued on the grid (a set of positive measure: it is
-    continuous) and the example confirmed with 50 digits."""
-    for arg, outside in _partial_arguments(w):
-        with np.errstate(all="ignore"):
-            vals = _numpy(arg, region.xs)(pts)
-            hit = np.flatnonzero(outside(np.nan_to_num(vals, nan=0.0)) & np.isfinite(vals))
-        if len(hit) < 2:
-            continue
-        p = tuple(sp.Float(float(v), DIGITS) for v in pts[hit[len(hit) // 2]])
-        a = _value(arg, region.xs, p)
-        if math.isfinite(a) and outside(a) and abs(a) > 1e-30:
-            return Blowup(w, p, "undefined", None, None, None, Verdict.DIVERGENT, Verdict.DIVERGENT)
-    return None
-
-
 #: The sympy functions of the primitives defined and finite on all of ℝ (exp, sin, cos, tanh, atan, erf).
 _EVERYWHERE = tuple(getattr(sp, p.sympy) for p in REGISTRY.values()
                     if isinstance(getattr(sp, p.sympy, None), type) and p.domain.everywhere)
@@ -578,13 +515,10 @@ def _zero_free(g: sp.Expr, xs: tuple, box: tuple) -> bool:
 
 
 def blowups(w: sp.Expr, region: Region) -> list[Blowup]:
-    """Every place where ``w`` blows up on R̄ (or is undefined on part of it), with its verdict."""
+    """Every place where ``w`` blows up on R̄, with its verdict."""
     out: list[Blowup] = []
     if region.empty:
         return out
-    bad = undefined_part(w, region)
-    if bad is not None:
-        return [bad]
     for g in pole_bases(w, region.xs):
         try:
             found = sites(g, region)

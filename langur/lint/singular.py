@@ -12,10 +12,11 @@ This module decomposes the integrand at the parameter values in force into simpl
 pieces (Def. 6.2; ``langur.symbolic.decompose``, and ``langur.ddenote`` for ⦇t⦈'s normal form)
 and asks :mod:`langur.lint.blowup` where each piece's weight blows up on its region and whether
 it is integrable there (the order of the singularity against the codimension of the set it sits
-on), and checks each application of a primitive defined on part of ℝ only on the set where it
-is evaluated: the box cut by the conditions of the conditionals enclosing it, not by a bracket
-factor beside it (``[x >= 0] * log(x)`` on [−1, 1] is undefined, LANGUAGE.md §1, §3; a piece's
-weight ``0 · log(x)`` is 0 to sympy and cannot show it).  Delta terms are pulled back to their
+on), after asking the exact engine (``langur.symbolic.definedness``, through
+``langur.denote.undefined_where``) whether a primitive is applied outside its domain on a set of
+positive measure of where it is evaluated: the box cut by the conditions of the conditionals
+enclosing it, not by a bracket factor beside it (``[x >= 0] * log(x)`` on [−1, 1] is undefined,
+LANGUAGE.md §1, §3; a piece's weight ``0 · log(x)`` is 0 to sympy and cannot show it).  Delta terms are pulled back to their
 zero set through the inverse branch ``x = Ψ̂_b⁻¹(0, u′)`` (LANGUAGE.md §4) when Ψ̂ was completed
 by solving for one variable (then u′ are the other variables and their box is the box's); in one
 variable the weight is evaluated at the root.  The Jacobian ``|det DΨ̂_b⁻¹|`` is left out (its folds, ``1/sqrt`` at the rim of a
@@ -35,15 +36,16 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..core import IfDiffeo, IfGe0, Let, Pow, Prim, Program, Term, children, subterms
+from ..core import Pow, Prim, Program, Term, subterms
 from ..ddenote import ddenote
-from ..denote import denote, program_box
+from ..denote import denote, program_box, undefined_where
 from ..diagnostics import Span
 from ..primitives import REGISTRY, Domain
-from ..symbolic.decompose import Ctx, decide, decompose, smooth_value
+from ..symbolic.decompose import Ctx, decompose
+from ..symbolic.definedness import Undefined
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import Deadline
-from .blowup import Blowup, Region, Undecidable, Verdict, blowups, finite_on_box, undefined_part
+from .blowup import Blowup, Region, Undecidable, Verdict, blowups, finite_on_box
 from .bounded import bounded
 from .findings import Finding, quote
 
@@ -141,96 +143,21 @@ def _delta_pieces(deltas, xs, box, at, out: Integrability) -> None:
             out.blowups += [(b, part) for b in blowups(w, region)]
 
 
-def _reaching(t: Term) -> set[int]:
-    """The nodes of ``t`` (by identity) that are or contain, their diffeomorphic conditions' terms
-    included, an application :func:`_applications` collects: its walk need not enter the others
-    (a sum of 10⁴ conditions with one ``log``).  One walk over the DAG, children first."""
-    done: dict[int, bool] = {}
-    stack: list[tuple[Term, bool]] = [(t, False)]
-    while stack:
-        u, ready = stack.pop()
-        if id(u) in done:
-            continue
-        below = children(u) + (tuple(u.psi.forward) if isinstance(u, IfDiffeo) else ())
-        if not ready:
-            stack.append((u, True))
-            stack += [(k, False) for k in below if id(k) not in done]
-            continue
-        match u:
-            case Prim(op, _) if not REGISTRY[op].domain.everywhere and not REGISTRY[op].domain.poles:
-                done[id(u)] = True
-            case Pow(_, k) if k.denominator != 1:
-                done[id(u)] = True
-            case _:
-                done[id(u)] = any(done[id(k)] for k in below)
-    return {i for i, hit in done.items() if hit}
+@dataclass(frozen=True)
+class Outside(Blowup):
+    """The integrand undefined on a set of positive measure (shape "undefined"): ``application``,
+    the subterm evaluated outside its domain there (``base`` is its argument)."""
+
+    application: Term | None = None
 
 
-def _applications(t: Term, ctx: Ctx) -> list[tuple[sp.Expr, tuple[sp.Expr, ...]]]:
-    """Each application of a primitive defined on part of ℝ only (``log``, ``sqrt``, a fractional
-    power, …) in ``t``, as ``(weight, path)`` per Def. 6.2 piece of the application (its argument's
-    own discontinuities split it, as :func:`~langur.symbolic.decompose.decompose` does): ``path``
-    are the piece's conditions and the conditions ``c ≥ 0`` of the branches of the conditionals
-    enclosing the application, the only ones that cut the set where it is evaluated
-    (Fig. 7: ⟦ifge0 t then s else r⟧ evaluates the branch taken; ⟦t · s⟧ = ⟦t⟧ · ⟦s⟧ evaluates both
-    factors, so a bracket factor ``[x >= 0] * log(x)`` does not keep ``log`` from x < 0, where the
-    product is 0 · undefined: undefined, LANGUAGE.md §1).  A variable-free condition is decided at
-    the evaluation point, as :func:`~langur.symbolic.decompose.decompose` does; the term of a
-    diffeomorphic condition is evaluated wherever its conditional is."""
-    out: list[tuple[sp.Expr, tuple[sp.Expr, ...]]] = []
-    reaching = _reaching(t)
-    seen: set = set()
-    alive = [ctx]  # the contexts stay alive, so that their identities stay theirs
-    stack: list[tuple[Term, Ctx, tuple[sp.Expr, ...]]] = [(t, ctx, ())]
-    while stack:
-        u, c, path = stack.pop()
-        if id(u) not in reaching or (id(u), id(c), path) in seen:
-            continue  # (no application below u)
-        seen.add((id(u), id(c), path))
-        match u:
-            case Prim(op, a) if not REGISTRY[op].domain.everywhere and not REGISTRY[op].domain.poles:
-                # LANGUAGE.md §1, a primitive: undefined outside its domain
-                out += [(pc.weight, path + tuple(cd.expr for cd in pc.conditions)) for pc in decompose(u, c)]
-                stack.append((a, c, path))
-            case Pow(a, k) if k.denominator != 1:
-                # LANGUAGE.md §1, a fractional power: undefined at a negative base
-                out += [(pc.weight, path + tuple(cd.expr for cd in pc.conditions)) for pc in decompose(u, c)]
-                stack.append((a, c, path))
-            case IfGe0(cond, a, b):
-                # Fig. 7, conditional on a variable-free condition: the branch taken (both, undecided)
-                chosen = decide(smooth_value(cond, c), c.at)
-                stack += [(cond, c, path)] + ([(a, c, path)] if chosen is not False else []) + \
-                    ([(b, c, path)] if chosen is not True else [])
-            case IfDiffeo(psi, a, b):
-                # Fig. 7, diffeomorphic conditional: s where π₀Ψ̂ ≥ 0, r where π₀Ψ̂ < 0
-                phi = smooth_value(psi.forward[0], c)
-                stack += [(psi.forward[0], c, path), (a, c, path + (phi,)), (b, c, path + (-phi,))]
-            case Let(name, bound, body):
-                # Fig. 7, let: the body with z ↦ ⟦t⟧
-                alive.append(c.bind(name, smooth_value(bound, c)))
-                stack += [(bound, c, path), (body, alive[-1], path)]
-            case _:
-                stack += [(k, c, path) for k in children(u)]
-    return out
-
-
-def _evaluated_outside(program: Program, ctx: Ctx, xs, box, at, out: Integrability) -> None:
-    """A primitive applied outside its domain on a set of positive measure of where it is
-    evaluated (:func:`_applications`): the integrand is undefined there, the integral does not
-    exist.  The pieces' weights (:func:`_pieces`) cannot show it when a bracket factor's 0
+def _undefined(bad: Undefined) -> Outside:
+    """The exact engine's witness (:func:`~langur.denote.undefined_where`: an application evaluated
+    outside its domain on a set of positive measure of the box, where Fig. 7 evaluates it) as a
+    divergence at its point; the pieces' weights cannot show it when a bracket factor's 0
     multiplies the application away (sympy's ``0·log(x)`` is 0)."""
-    for w, path in _applications(program.body, ctx):
-        w = sp.sympify(w).xreplace(at)
-        if not (w.free_symbols & set(xs)):
-            continue
-        try:
-            region = Region(xs, box, [sp.sympify(c).xreplace(at) for c in path])
-        except Undecidable:
-            continue
-        bad = None if region.empty else undefined_part(w, region)
-        if bad is not None:
-            out.blowups.append((bad, "the integrand"))
-            return
+    return Outside(bad.argument, tuple(p for _, p in bad.point), "undefined", None, None, None,
+                   Verdict.DIVERGENT, Verdict.DIVERGENT, application=bad.application)
 
 
 def _num(e) -> float:
@@ -264,10 +191,11 @@ def value_integrability(program: Program, point: Mapping[str, object]) -> Integr
         if bounded(program.body):
             return  # a bounded integrand: nothing blows up, nothing is undefined (langur.lint.bounded)
         ctx = Ctx(at=at, variables=tuple(program.variables))
-        box = _box(program, ctx, at)
-        _pieces(decompose(program.body, ctx), xs, box, at, "the integrand", out)
-        if out.verdict is not Verdict.DIVERGENT:
-            _evaluated_outside(program, ctx, xs, box, at, out)
+        bad = undefined_where(program, ctx)
+        if bad is not None:
+            out.blowups.append((_undefined(bad), "the integrand"))
+            return
+        _pieces(decompose(program.body, ctx), xs, _box(program, ctx, at), at, "the integrand", out)
 
     return _guarded("⟦p⟧", run)
 
@@ -311,9 +239,16 @@ def _edge(domain: Domain, e: sp.Expr) -> sp.Expr:
 def _culprit(program: Program, b: Blowup, at: dict, sources: Mapping[str, str]) -> tuple[Span | None, str]:
     """The subterm of the user's text that is singular at the blow-up point: a division or
     negative power whose base vanishes there, a ``tan`` at a pole, a ``log``, ``sqrt`` or
-    fractional power of something vanishing there (what ⦇·⦈ differentiates into a pole); else
-    the program."""
+    fractional power of something vanishing there (what ⦇·⦈ differentiates into a pole); for an
+    integrand undefined on a set of positive measure, the application evaluated outside its
+    domain there; else the program."""
 
+    if isinstance(b, Outside):
+        t = b.application
+        if t is None or t.span is None:
+            return program.span, "the integrand"
+        text = quote(t.span, sources)
+        return t.span, f"`{text}`" if text else "a division"
     xs = symbols(program.variables)
     for t in subterms(program.body):
         base = None
@@ -335,10 +270,7 @@ def _culprit(program: Program, b: Blowup, at: dict, sources: Mapping[str, str]) 
                 if math.isnan(v):  # 0·∞ at the point itself (x·log x): look right next to it
                     v = _num(e.xreplace({x: c + eps for x, c in zip(xs, b.point)}))
                     v = v if abs(v) < 1e-20 else math.nan
-            if b.shape == "undefined":  # the primitive whose argument is out of its domain there
-                if not (math.isfinite(v) and v < 0 and not (isinstance(t, Prim) and REGISTRY[t.op].domain.poles)):
-                    continue
-            elif not (math.isfinite(v) and abs(v) < 1e-25):
+            if not (math.isfinite(v) and abs(v) < 1e-25):
                 continue
         text = quote(t.span, sources)
         return t.span, f"`{text}`" if text else "a division"

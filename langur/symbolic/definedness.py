@@ -17,8 +17,8 @@ where its argument has one smooth value per sign pattern of the argument's own c
 measure when a point strictly inside the box has every condition > 0 and the argument strictly
 outside the domain's closure (open sets: a neighbourhood of the point is such a set), or, for an
 argument constant there, the constant outside the domain (``log(max(x, 0))`` at x < 0, a division
-by a term that is 0 there).  The point is looked for on a grid — the linter's
-(``langur.lint.blowup.GRID``), so that what ``langur check`` reports as X311 the engine finds too —
+by a term that is 0 there).  The point is looked for on a grid (:data:`GRID`; ``langur check``
+reports X311 "undefined" from this same search, ``langur.lint.singular``, blaming the application) —
 and proved at its exact coordinates with 40 digits: undefined is said only with a witness.  An
 argument whose interval enclosure over the box lies in the domain is not sampled at all.
 """
@@ -39,7 +39,7 @@ from ..sympy_bridge import symbols
 from .decompose import Ctx, decide, decompose, sign_patterns, smooth_value
 from .text import expr_text
 
-#: Grid points per dimension of the box (as the linter's ``langur.lint.blowup.GRID``).
+#: Grid points per dimension of the box (the same as the linter's singularity grid, ``langur.lint.blowup.GRID``).
 GRID = {1: 401, 2: 41, 3: 15}
 #: Digits of the evaluation that proves a witness.
 DIGITS = 40
@@ -54,12 +54,15 @@ _DIVISION = Domain(poles=True, why="it divides by zero")
 @dataclass(frozen=True)
 class Undefined:
     """An application evaluated outside its domain on a set of positive measure of the box:
-    ``what`` (its text at the parameter values), the domain's ``why``, and a ``point`` of that set
-    (variable name → exact coordinate)."""
+    ``what`` (its text at the parameter values), the domain's ``why``, a ``point`` of that set
+    (variable name → exact coordinate), the ``application`` (the subterm of the program, for its
+    span) and its ``argument`` there (its value on the sign pattern, parameters substituted)."""
 
     what: str
     why: str
     point: tuple[tuple[str, sp.Expr], ...]
+    application: Term
+    argument: sp.Expr
 
     @property
     def at(self) -> str:
@@ -124,7 +127,7 @@ def applications(t: Term, ctx: Ctx) -> list[tuple[Term, Domain, sp.Expr, tuple[s
     seen: set = set()
     alive = [ctx]  # the contexts stay alive, so that their identities stay theirs
     stack: list[tuple[Term, Ctx, tuple[sp.Expr, ...]]] = [(t, ctx, ())]
-    while stack:
+    while stack:  # pre-order, in the order of the text (as ``core.subterms``): the first one found is blamed
         u, c, path = stack.pop()
         if not known[id(u)] or (id(u), id(c), path) in seen:
             continue
@@ -138,18 +141,18 @@ def applications(t: Term, ctx: Ctx) -> list[tuple[Term, Domain, sp.Expr, tuple[s
             case IfGe0(cond, a, b):
                 # Fig. 7, conditional on a variable-free condition: the branch taken (both, undecided)
                 chosen = decide(smooth_value(cond, c), c.at)
-                stack += [(cond, c, path)] + ([(a, c, path)] if chosen is not False else []) + \
-                    ([(b, c, path)] if chosen is not True else [])
+                stack += ([(b, c, path)] if chosen is not True else []) + \
+                    ([(a, c, path)] if chosen is not False else []) + [(cond, c, path)]
             case IfDiffeo(psi, a, b):
                 # Fig. 7, diffeomorphic conditional: s where π₀Ψ̂ ≥ 0, r where π₀Ψ̂ < 0
                 phi = smooth_value(psi.forward[0], c)
-                stack += [(psi.forward[0], c, path), (a, c, path + (phi,)), (b, c, path + (-phi,))]
+                stack += [(b, c, path + (-phi,)), (a, c, path + (phi,)), (psi.forward[0], c, path)]
             case Let(name, bound, body):
                 # Fig. 7, let: the body with z ↦ ⟦t⟧
                 alive.append(c.bind(name, smooth_value(bound, c)))
-                stack += [(bound, c, path), (body, alive[-1], path)]
+                stack += [(body, alive[-1], path), (bound, c, path)]
             case _:
-                stack += [(k, c, path) for k in children(u)]
+                stack += [(k, c, path) for k in reversed(children(u))]
     return out
 
 
@@ -194,7 +197,7 @@ def undefined_part(t: Term, ctx: Ctx, variables: Sequence[str],
         for outside in beyond:
             point = _witness(conds + outside, xs, ends, fbox)
             if point is not None:
-                return Undefined(_what(term, v), why, tuple((str(x), p) for x, p in zip(xs, point)))
+                return Undefined(_what(term, v), why, tuple((str(x), p) for x, p in zip(xs, point)), term, v)
     return None
 
 
