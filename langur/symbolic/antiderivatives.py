@@ -210,6 +210,9 @@ def antiderivative(w, v, ctx: Context):
         quick = elementary.gaussian_antiderivative(w, v)  # valid for all parameter values
         if quick is not None:
             return quick
+    split = elementary.sign_split(w, v)
+    if split is not None and all(_nonzero_here(k, ctx) for k in split.divisors):
+        return _sign_split_antiderivative(split, w, v, ctx)
     why = elementary.hopeless(w, v)
     if why:  # decided early: one short look by sympy's heuristics, then the piece's quadrature
         return _last_look(w, v, ctx, why)
@@ -270,6 +273,23 @@ def antiderivative(w, v, ctx: Context):
             continue
         return F
     raise Unsupported("; ".join(dict.fromkeys(reasons)) or f"no antiderivative of {w}")
+
+
+def _sign_split_antiderivative(split: elementary.SignSplit, w, v, ctx: Context):
+    """An antiderivative of ``P + sign(s)·Q`` (:func:`elementary.sign_split`: atan2's angle of an
+    affine ``y`` and its derivative): ``∫P + sign(s)·(G − G(s = 0))`` with ``G = ∫Q``, continuous
+    across s = 0 (so ``F(b) − F(a)`` holds on any interval, across s = 0 or ending on it) and of
+    derivative ``P + sign(s)·Q`` wherever s ≠ 0; P and Q are smooth and integrated as any weight.
+    Unsupported when G is not finite at s = 0; checked by differentiation like sympy's answers."""
+    G = antiderivative(split.Q, v, ctx)
+    zero = v - split.s  # (s = v + d)
+    at_zero = G.xreplace({v: zero})
+    if at_zero.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+        raise Unsupported(f"no antiderivative of {split.Q} in {v} finite at {v} = {zero}")
+    F = antiderivative(split.P, v, ctx) + sp.sign(split.s) * (G - at_zero)
+    if not _derivative_matches(F, w, v, ctx):
+        raise Unsupported(f"the antiderivative {F} of {w} in {v} fails d/d{v} F = w")
+    return F
 
 
 #: Seconds sympy's heuristics may spend on a weight :func:`elementary.hopeless` gave up on: a sum

@@ -39,6 +39,8 @@ normal density (:func:`gaussian_antiderivative`, completing the square: ``erf``)
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import sympy as sp
 
 from langur.symbolic.walks import any_node
@@ -373,3 +375,119 @@ def gaussian_antiderivative(w, v):
         inner = sp.Add(*[coeff * J[n] for (n,), coeff in p.terms()])
         total += sp.exp(C - B**2 / (4 * A)) * inner.xreplace({s: v + shift})
     return total
+
+
+@dataclass(frozen=True)
+class SignSplit:
+    """``w = P + sign(s)·Q`` wherever ``s ≠ 0`` (:func:`sign_split`): ``s`` affine in the variable,
+    ``P`` and ``Q`` free of ``|s|``; ``divisors``: what the identities divide by (non-zero needed)."""
+
+    s: sp.Expr
+    P: sp.Expr
+    Q: sp.Expr
+    divisors: tuple
+
+
+def _square_of_affine(e, v):
+    """``(A, s)`` with ``e = A·s²``, ``s = v + d`` (``A``, ``d`` free of ``v``, ``A`` a positive
+    number), else None."""
+    try:
+        p = sp.Poly(sp.expand(e), v)
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return None
+    if p.degree() != 2 or any(v in c.free_symbols for c in p.all_coeffs()):
+        return None
+    A, B, C = p.all_coeffs()
+    if not (A.is_number and A.is_positive) or sp.expand(B**2 - 4 * A * C) != 0:
+        return None
+    return A, v + sp.cancel(B / (2 * A))
+
+
+def _is_half_odd(e) -> bool:
+    return e.is_Rational and not e.is_Integer and (2 * e).is_Integer
+
+
+def sign_split(w, v) -> SignSplit | None:
+    """``w`` as ``P + sign(s)·Q`` when the only non-smooth-looking parts of it are the absolute
+    values hidden in atan2's desugaring (LANGUAGE.md §1: ``atan2(y, x)`` is ``acos(x/√(x² + y²))``
+    under ``[y ≥ 0]``) with ``y = s`` affine in ``v`` and ``x = c`` free of it: ``acos(c/√(c² + A·s²))``
+    (an even function of s) and the square roots ``√(A·s²/D)^(n/2)`` of its derivative
+    (``√(1 − c²/(c² + s²))`` = |s|/√(c² + s²)).  With |s| = sign(s)·s:
+
+    * ``acos(c/√(c² + U²)) = (π/2)(1 − sign c) + sign(s)·atan(U/c)``, U = √A·s (c ≠ 0);
+      ``asin = π/2 − acos``;
+    * ``(A·s²/D)^e = sign(s)·s^(2e)·(A/D)^e`` for 2e odd (sign(s)^(2e) = sign(s) where s ≠ 0).
+
+    Then ``P``, ``Q`` are the even and odd parts in sign(s) = ±1.  sympy's own antiderivatives of
+    such weights hold on one side of s = 0 only (``t·acos(−1/√(t² + 1)) − log(1/√(t² + 1))``), fail
+    the check by differentiation, and take it seconds to find or time out (``atan2(x − a, −1)``:
+    36 CPU s for its derivative).  None when ``w`` has no such part, or more than one ``s``."""
+    if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS or not any_node(
+            w, lambda e: isinstance(e, (sp.acos, sp.asin)) or (isinstance(e, sp.Pow) and _is_half_odd(e.exp))):
+        return None
+    found: dict = {}  # s → True (one s only)
+    divisors: list = []
+
+    def angle(f):
+        g = f.args[0]
+        if v not in g.free_symbols:
+            return None
+        c = sp.Mul(*[x for x in sp.Mul.make_args(g) if v not in x.free_symbols])
+        rest = [x for x in sp.Mul.make_args(g) if v in x.free_symbols]
+        if len(rest) != 1 or not (isinstance(rest[0], sp.Pow) and rest[0].exp == -sp.S.Half):
+            return None
+        sq = _square_of_affine(rest[0].base - c**2, v)
+        if sq is None:
+            return None
+        A, s = sq
+        found[s] = True
+        divisors.append(c)
+        out = sp.pi / 2 * (1 - sp.sign(c)) + sp.sign(s) * sp.atan(sp.sqrt(A) * s / c)
+        return out if isinstance(f, sp.acos) else sp.pi / 2 - out
+
+    def root(f):
+        if v not in f.base.free_symbols:
+            return None
+        n, d = sp.fraction(sp.together(f.base))
+        sq = _square_of_affine(n, v)
+        if sq is None:
+            return None
+        A, s = sq
+        found[s] = True
+        return sp.sign(s) * s ** (2 * f.exp) * (A / d) ** f.exp
+
+    def rewrite(e):
+        if isinstance(e, (sp.acos, sp.asin)):
+            return angle(e)
+        if isinstance(e, sp.Pow) and _is_half_odd(e.exp):
+            return root(e)
+        return None
+
+    memo: dict = {}
+
+    def walk(e):
+        if e in memo:
+            return memo[e]
+        if not e.args or v not in e.free_symbols:
+            out = e
+        else:
+            out = rewrite(e)
+            if out is None:
+                out = e.func(*[walk(a) for a in e.args])
+        memo[e] = out
+        return out
+
+    try:
+        rewritten = walk(w)
+    except (TypeError, ValueError):  # noqa: BLE001 - not this shape
+        return None
+    if len(found) != 1:
+        return None
+    s = next(iter(found))
+    sigma = sp.Dummy("sigma")
+    plain = rewritten.xreplace({sp.sign(s): sigma})
+    if plain.has(sp.sign) or plain.has(sp.Abs):
+        return None
+    up, down = plain.xreplace({sigma: sp.Integer(1)}), plain.xreplace({sigma: sp.Integer(-1)})
+    P, Q = sp.cancel((up + down) / 2), sp.cancel((up - down) / 2)
+    return SignSplit(s, P, Q, tuple(divisors))

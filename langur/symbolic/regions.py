@@ -221,10 +221,11 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
             if base is not None and _only_repeats(base, v, lo_v, hi_v, known, ctx):
                 rs = []  # k·√P whose P came before: P's roots, all repeats
             else:
-                rs = [] if _away_from_zero(c, v, lo_v, hi_v, ctx) else _roots(c, v, ctx, tidy=False)
+                rs = [] if _away_from_zero(c, v, lo_v, hi_v, ctx) else \
+                    _roots(c, v, ctx, tidy=False, within=(lo_v, hi_v))
                 if any(_inside(r, lo_v, hi_v, ctx) for r in rs) and \
                         not _only_repeats(c.expr, v, lo_v, hi_v, known, ctx):
-                    rs = _roots(c, v, ctx)
+                    rs = _roots(c, v, ctx, within=(lo_v, hi_v))
             unsure.append(c)
         seen.add(c.expr)
         for r in rs:

@@ -111,10 +111,13 @@ def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
 _SOLVED: dict = {}
 
 
-def _roots(c: Cond, v, ctx: Context, tidy: bool = True):
+def _roots(c: Cond, v, ctx: Context, tidy: bool = True, within: tuple[float, float] | None = None):
     """The real roots of ``c`` in ``v`` at the evaluation point (checked there); ``tidy``: sympy's
     solutions simplified (as they appear in closed forms), else as ``solve`` finds them without
-    its ``simplify`` pass (the same roots, several times cheaper: enough to learn where they are)."""
+    its ``simplify`` pass (the same roots, several times cheaper: enough to learn where they are).
+    ``within``: the interval ``(lo, hi)`` of ``v`` at the point; sympy's solutions of a periodic
+    condition are one period's, and their copies shifted by whole periods into it are added
+    (:func:`_periodic_copies`)."""
     psi = c.psi
     if psi is not None and psi.solved_for == v and psi.branches:
         sub = {psi.inputs[0]: sp.Integer(0)}
@@ -138,7 +141,63 @@ def _roots(c: Cond, v, ctx: Context, tidy: bool = True):
         _remember(_SOLVED, key, sols)
     if not isinstance(sols, list):
         raise Unsupported(f"infinitely many roots of {c.expr} in {v}")
-    return [r for r in sols if not isinstance(r, (dict, tuple)) and _vanishes_at(c.expr, v, r, ctx)]
+    found = [r for r in sols if not isinstance(r, (dict, tuple)) and _vanishes_at(c.expr, v, r, ctx)]
+    return found if within is None else found + _periodic_copies(c.expr, v, found, within, ctx)
+
+
+#: :func:`_period`'s answers by (expression, variable).
+_PERIODS: dict = {}
+#: Periods of a condition within one interval beyond which its roots are not enumerated (the
+#: piece goes to quadrature): each copy is a point of the closed form.
+MAX_PERIODS = 64
+
+
+def _period(expr, v):
+    """The period of ``expr`` in ``v`` when it holds a trigonometric function of ``v`` and sympy's
+    ``periodicity`` finds one (free of ``v``), else None; remembered by (expression, variable)."""
+    key = (expr, v)
+    if key in _PERIODS:
+        return _PERIODS[key]
+    out = None
+    if walks.any_node(expr, lambda e: isinstance(e, sp.functions.elementary.trigonometric.TrigonometricFunction)
+                      and v in e.free_symbols):
+        try:
+            out = sp.periodicity(expr, v)
+        except (NotImplementedError, ValueError, TypeError, RecursionError):
+            out = None
+        if out is not None and (out == 0 or v in out.free_symbols):
+            out = None
+    _remember(_PERIODS, key, out)
+    return out
+
+
+def _periodic_copies(expr, v, roots: list, within: tuple[float, float], ctx: Context) -> list:
+    """``r + k·T`` for each root ``r`` and each whole k ≠ 0 that puts it strictly inside
+    ``within`` at the evaluation point, T the period of ``expr`` in ``v`` (:func:`_period`; none
+    when it has none).  sympy's ``solve`` gives a periodic condition's roots in one period only
+    (sin(3z) = −0.16: −asin(0.16)/3 and (π + asin(0.16))/3), and a root between the interval's end
+    and the first of those — z = (asin(0.16) − π)/3 on [−1, 1], 0.0064 from −1 — lies where
+    :func:`_no_missed_root`'s equally spaced probes need not look."""
+    period = _period(expr, v) if roots else None
+    if period is None:
+        return []
+    try:
+        t = ctx.value(period)
+    except (TypeError, ValueError, ZeroDivisionError):
+        return []
+    if not nearly_real(t) or not math.isfinite(t.real) or t.real == 0:
+        return []
+    t_v, (lo, hi) = abs(t.real), within
+    if (hi - lo) / t_v > MAX_PERIODS:
+        raise Unsupported(f"{expr} has more than {MAX_PERIODS} periods in {v} between {lo:.6g} and {hi:.6g}")
+    step = period if t.real > 0 else -period
+    out = []
+    for r in roots:
+        z = ctx.value(r).real
+        for k in range(math.ceil((lo - z) / t_v), math.floor((hi - z) / t_v) + 1):
+            if k != 0 and lo < z + k * t_v < hi:
+                out.append(r + k * step)
+    return out
 
 
 def _solve(expr, v, tidy: bool):
