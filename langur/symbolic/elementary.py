@@ -35,6 +35,10 @@ argument (:func:`exponential_antiderivative`, by parts), a polynomial times a ra
 affine function (:func:`affine_power_antiderivative`, substitution), the same times powers of its
 logarithm (:func:`power_log_antiderivative`, substitution and parts), and a polynomial times a
 normal density (:func:`gaussian_antiderivative`, completing the square: ``erf``).
+
+One shape is rewritten first (:func:`sign_split`): atan2's angle ``acos(c/√(c² + y²))`` of an affine
+``y`` and the square roots of its derivative hide ``|y|``; written ``P + sign(y)·Q`` with ``P``, ``Q``
+smooth, each is integrated as any weight (:func:`langur.symbolic.antiderivatives.antiderivative`).
 """
 
 from __future__ import annotations
@@ -479,7 +483,7 @@ def sign_split(w, v) -> SignSplit | None:
 
     try:
         rewritten = walk(w)
-    except (TypeError, ValueError):  # noqa: BLE001 - not this shape
+    except (TypeError, ValueError):  # (not this shape)
         return None
     if len(found) != 1:
         return None

@@ -9,6 +9,8 @@ integration variable; LANGUAGE.md §3–§4).
   formulas of large problems (:func:`_closed_roots`), and the shortcuts that avoid a solve: a
   condition that stays away from 0 (:func:`_away_from_zero`), roots that can only repeat points
   already placed (:func:`_only_repeats`, :func:`_radicand`).
+* A periodic condition's roots, which sympy gives in one period, copied by whole periods over the
+  interval (:func:`_periodic_copies`).
 * Sign probes (:func:`_probe`) and the check that sympy missed no root (:func:`_no_missed_root`).
 
 Used by :mod:`langur.symbolic.regions`' iterated integration and generic 1-D method.
@@ -152,9 +154,14 @@ _PERIODS: dict = {}
 MAX_PERIODS = 64
 
 
-def _period(expr, v):
+#: CPU seconds sympy's ``periodicity`` may take on one condition (milliseconds on sin(3z) + 4/25).
+PERIOD_CAP = 1.0
+
+
+def _period(expr, v, ctx: Context):
     """The period of ``expr`` in ``v`` when it holds a trigonometric function of ``v`` and sympy's
-    ``periodicity`` finds one (free of ``v``), else None; remembered by (expression, variable)."""
+    ``periodicity`` finds one (free of ``v``) within :data:`PERIOD_CAP`, else None; remembered by
+    (expression, variable)."""
     key = (expr, v)
     if key in _PERIODS:
         return _PERIODS[key]
@@ -162,7 +169,9 @@ def _period(expr, v):
     if walks.any_node(expr, lambda e: isinstance(e, sp.functions.elementary.trigonometric.TrigonometricFunction)
                       and v in e.free_symbols):
         try:
-            out = sp.periodicity(expr, v)
+            out = ctx.deadline.run(lambda: sp.periodicity(expr, v), cap=PERIOD_CAP)
+        except TimeoutError:
+            return None  # (not remembered: another budget may see it through)
         except (NotImplementedError, ValueError, TypeError, RecursionError):
             out = None
         if out is not None and (out == 0 or v in out.free_symbols):
@@ -178,7 +187,7 @@ def _periodic_copies(expr, v, roots: list, within: tuple[float, float], ctx: Con
     (sin(3z) = −0.16: −asin(0.16)/3 and (π + asin(0.16))/3), and a root between the interval's end
     and the first of those — z = (asin(0.16) − π)/3 on [−1, 1], 0.0064 from −1 — lies where
     :func:`_no_missed_root`'s equally spaced probes need not look."""
-    period = _period(expr, v) if roots else None
+    period = _period(expr, v, ctx) if roots else None
     if period is None:
         return []
     try:
