@@ -366,7 +366,8 @@ def _large_closed_form_at(der, q: Mapping[str, float]) -> tuple[float, float] | 
 def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, notes: list[str],
                             across: bool = True):
     """D_γ expr · γ' at ``at``: differentiated symbolically in its local branch when ``at`` is not
-    on a switching set (returns that local derivative too), else by a central difference of the
+    on a switching set (returns that local derivative too; a large form along the line only),
+    else — or where that derivative is not a finite real number — by a central difference of the
     closed form evaluated with 30 digits (h = 1e-8: error O(h²) where it is differentiable) when
     the form holds on both sides (``across``); else ``(None, None)``."""
     try:
