@@ -73,7 +73,7 @@ from ..core import (
 from ..sympy_bridge import from_sympy
 from ..timebox import run_with_timeout
 from .continuity import continuous_domain
-from .monotone import _enclose, certify, rational
+from .monotone import Monotone, _enclose, certify, certify_derivative, rational
 
 #: CPU-second limit of the search for turning points (CPU: the split must not change with the load).
 TURNING_LIMIT = 4.0
@@ -349,15 +349,17 @@ def _exact_ends(d, v, L, R) -> list[Term] | str | None:
     try:
         zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.Interval(L, R)), TURNING_LIMIT, cpu=True)
     except (TimeoutError, ValueError):  # (ValueError: mpmath's erfinv asked outside [-1, 1] inside solveset)
-        return None
+        zeros = None
+    if zeros is None or isinstance(zeros, sp.ConditionSet):  # sympy cannot solve ∂f/∂x = 0: …
+        if not isinstance(certify_derivative(d, v, {v: (L, R)}), Monotone):
+            return None  # … the turning points are found numerically where evaluated
+        zeros = sp.S.EmptySet  # … but ∂f/∂x is proved of one strict sign on [L, R] (1/(erf(x) + 2)): none
     if zeros is sp.S.EmptySet:
         points = []
     elif isinstance(zeros, sp.FiniteSet) and all(z.is_real or z.evalf(30).is_real for z in zeros):  # erfinv(π/6)/2
         if len(zeros) >= MAX_PIECES:
             return f"it has {len(zeros)} turning points (zeros of ∂/∂{v} = {d}) on the domain, more than {MAX_PIECES - 1}"
         points = sorted(zeros, key=lambda z: float(z))
-    elif isinstance(zeros, sp.ConditionSet):
-        return None  # sympy cannot solve ∂f/∂x = 0: the turning points are found numerically
     else:
         return f"it has infinitely many turning points (zeros of ∂/∂{v} = {d}) on the domain: {zeros}"
     cuts = _sign_changes(d, v, [L] + [z for z in points if L < z < R] + [R])
