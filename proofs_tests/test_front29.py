@@ -15,6 +15,12 @@ bench/RESULTS.md, "Conditions the front end refused …").
 * A condition in two variables proved monotone only with ``erf`` in its derivative
   (``[x + y + erf(x + y) <= a]``) was split along a variable into eight pieces; now one branch.
 
+* ``asin``, ``acos``, ``atanh`` had no inverse in the registry (:mod:`langur.primitives`): a condition
+  on them was completed by an implicit root, and ``[asin(x*y) <= a]`` or an angular sector
+  ``[atan2(y, x) <= a]`` (``atan2`` is ``acos`` of ``x/sqrt(x^2 + y^2)`` on each side of its cut) was
+  refused; their inverses ``sin``, ``cos``, ``tanh`` (with the guards of the branch they invert on)
+  give closed forms.
+
 Every expected value is computed here independently with mpmath (roots by bisection, areas by
 hand), never read from an engine.
 """
@@ -159,3 +165,54 @@ def test_a_sum_under_erf_in_two_variables_is_one_implicit_branch():
     assert abs(exact_d.value - float(slope)) <= 1e-6 + exact_d.error
     mc_d = estimate_derivative(program, {"a": 0.3}, {"a": 1}, samples=4000, seed=3)
     assert abs(mc_d.value - float(slope)) <= 5 * mc_d.stderr + 1e-8
+
+
+# ---------------------------------------------------------------------------------------------
+# asin, acos, atanh inverted (the registry's inverses: sin, cos, tanh), so atan2 and asin(x·y) complete
+
+
+@pytest.mark.parametrize("cond, value, slope", [
+    # acos(x) ≤ a + 1 ⟺ x ≥ cos(a + 1): value 1 − cos(a + 1), derivative sin(a + 1)
+    ("acos(x) <= a + 1", lambda a: 1 - mp.cos(a + 1), lambda a: mp.sin(a + 1)),
+    # asin(x) ≤ a ⟺ x ≤ sin(a): value sin(a) + 1, derivative cos(a)
+    ("asin(x) <= a", lambda a: mp.sin(a) + 1, lambda a: mp.cos(a)),
+    # atanh(x/2) ≤ a ⟺ x ≤ 2·tanh(a): value 2·tanh(a) + 1, derivative 2·(1 − tanh(a)²)
+    ("atanh(x/2) <= a", lambda a: 2 * mp.tanh(a) + 1, lambda a: 2 * (1 - mp.tanh(a) ** 2)),
+])
+def test_inverse_trigonometric_conditions_in_closed_form(cond, value, slope):
+    text = f"param a = 0.3\nint ([-1, 1]) [{cond}] d(x)\n"
+    psi = _condition(_program(text), "x")
+    assert not _has_root(psi)  # before: an implicit root
+    a = mp.mpf("0.3")
+    _both_engines(text, 0.3, value(a), slope(a))
+
+
+def test_an_angular_sector_by_atan2():
+    # atan2(y, x) ≤ a on [-1, 1]², 0 ≤ a < π/4: all but the sector from the ray at angle a round to
+    # the negative x-axis, whose area is 2 − tan(a)/2 (the upper half less the triangle under the
+    # ray up to x = 1): area 2 + tan(a)/2, derivative 1/(2·cos(a)²).  Refused before (T207: acos
+    # had no inverse).
+    text = "param a = 0.3\nint ([-1, 1], [-1, 1]) [atan2(y, x) <= a] d(x, y)\n"
+    a = mp.mpf("0.3")
+    _two_variable_check(text, 2 + mp.tan(a) / 2, 1 / (2 * mp.cos(a) ** 2))
+
+
+def test_asin_of_a_product():
+    # asin(x·y) ≤ a ⟺ x·y ≤ s = sin(a): the complement is two hyperbolic corners of area
+    # (1 − s) + s·ln(s) each; area 2 + 2s − 2s·ln(s), derivative −2·ln(s)·cos(a).  Refused before.
+    text = "param a = 0.3\nint ([-1, 1], [-1, 1]) [asin(x * y) <= a] d(x, y)\n"
+    a = mp.mpf("0.3")
+    s = mp.sin(a)
+    _two_variable_check(text, 2 + 2 * s - 2 * s * mp.log(s), -2 * mp.log(s) * mp.cos(a))
+
+
+def _two_variable_check(text, value, slope):
+    program = _program(text)
+    exact_v = denote_program(program, {"a": 0.3})
+    assert abs(float(exact_v.value) - float(value)) <= 1e-7 + float(exact_v.error or 0), (exact_v.value, value)
+    exact_d = ddenote_program(program, {"a": 0.3}, {"a": 1})
+    assert abs(exact_d.value - float(slope)) <= 1e-7 + exact_d.error, (exact_d.value, slope)
+    mc_d = estimate_derivative(program, {"a": 0.3}, {"a": 1}, samples=4000, seed=3)
+    assert abs(mc_d.value - float(slope)) <= 5 * mc_d.stderr + 1e-8, (mc_d.value, slope)
+    mc_v = estimate_value(program, {"a": 0.3}, samples=20000, seed=3)
+    assert abs(mc_v.value - float(value)) <= 5 * mc_v.stderr + 1e-9, (mc_v.value, value)
