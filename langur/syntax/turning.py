@@ -21,7 +21,9 @@ uses ``[0, 1]``).
 Turning points are found exactly when ``∂f/∂x`` has no parameters and ``sympy.solveset`` solves it
 on the interval (time-boxed); one that has no closed form (a root of a quintic) is itself an
 implicit root of ``∂f/∂x`` in a rational bracket on which ``∂f/∂x`` changes sign (checked
-exactly).  Infinitely many, or more than :data:`MAX_PIECES` − 1, are refused.  When they move
+exactly); where sympy cannot solve it, there are none when interval enclosures prove ``∂f/∂x`` of
+one strict sign on the interval (:func:`langur.syntax.monotone.certify_derivative`:
+``1/(erf(x) + 2)``).  Infinitely many, or more than :data:`MAX_PIECES` − 1, are refused.  When they move
 with the parameters (``sin(a·x) − 0.5``: ``x = (π/2 + kπ)/a``; ``x^3 − a·x``) or sympy cannot
 solve for them, their number depends on θ, which the front end does not know (``--at``): the
 completion has :data:`MOVING_PIECES` branches whose ends are the k-th sign changes of ``∂f/∂x``
