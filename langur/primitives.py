@@ -210,13 +210,13 @@ def _entries() -> tuple[Primitive, ...]:
              exact=((_ZERO, _ZERO),)),
         prim("asin", True, np.arcsin, math.asin,
              lambda a, v: np.where(np.abs(a) < 1, 1.0 / np.sqrt(1.0 - a * a), NAN), _UNIT_CLOSED,
-             image=Image.INCREASING),
+             image=Image.INCREASING, inverse=Inverse("sin", lambda u, pi: pi ** 2 / 4 - u ** 2)),
         prim("acos", True, np.arccos, math.acos,
              lambda a, v: np.where(np.abs(a) < 1, -1.0 / np.sqrt(1.0 - a * a), NAN), _UNIT_CLOSED,
-             image=Image.DECREASING),
+             image=Image.DECREASING, inverse=Inverse("cos", lambda u, pi: u * (pi - u))),
         prim("atanh", True, _atanh, math.atanh,
              lambda a, v: np.where(np.abs(a) < 1, 1.0 / np.asarray(1.0 - a * a, dtype=float), NAN), _UNIT_OPEN,
-             image=Image.INCREASING),
+             image=Image.INCREASING, inverse=Inverse("tanh")),
     )
 
 

@@ -282,7 +282,9 @@ def _peel(a, target, v, variables: set, ranges):
         if len(with_v) != 1:
             raise _Unpeelable(f"{v} occurs in several terms of {a}")
         part = with_v[0]
-        rest = a - part if a.is_Add else a / part
+        # the other terms (factors) themselves: ``a / part`` would leave ``exp(1 - 2x)·exp(2x - 1)``
+        # for ``a = -exp(2x - 1)`` (sympy does not cancel it), a ``rest`` still in ``v``
+        rest = a.func(*(p for p in a.args if v not in p.free_symbols))
         if a.is_Add:
             return _peel(part, target - rest, v, variables, ranges)
         # a coefficient over parameters must not vanish (Diffeo.nonzero); one over other variables

@@ -23,12 +23,17 @@ import math
 import time
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import lru_cache
 
+import mpmath
 import sympy as sp
+
+from ..enclosures import _interval_fn
 
 #: Most sub-boxes the enclosure of ∂f/∂v is split into before giving up.
 MAX_BOXES = 256
-#: Seconds the certification may take.
+#: CPU seconds the certification may take (CPU, not wall clock: what a condition completes to must not change
+#: with the machine's load, as for every other limit of the completion).
 CERTIFY_LIMIT = 2.0
 
 
@@ -39,8 +44,11 @@ class Monotone:
     sign: int
 
 
-def rational(f: float) -> sp.Rational:
-    """The box end as a rational: the short one that prints as ``f`` (``0.1`` is 1/10), else exact."""
+def rational(f: float | sp.Rational) -> sp.Rational:
+    """The box end as a rational: the short one that prints as ``f`` (``0.1`` is 1/10), else exact
+    (a sympy rational: itself)."""
+    if isinstance(f, sp.Rational):
+        return f
     short = Fraction(f).limit_denominator(10**12)
     return sp.Rational(short if float(short) == f else Fraction(f))
 
@@ -48,7 +56,11 @@ def rational(f: float) -> sp.Rational:
 def certify(f: sp.Expr, v: sp.Symbol, box: dict[sp.Symbol, tuple[float, float]]) -> Monotone | str:
     """Prove that ``f`` is strictly monotone in ``v`` over ``box`` (every free symbol of ``f`` is a
     variable with an interval there, ``v``'s bounded): its sign, or the reason it is not proved."""
-    d = sp.diff(f, v)
+    return certify_derivative(sp.diff(f, v), v, box)
+
+
+def certify_derivative(d: sp.Expr, v: sp.Symbol, box: dict) -> Monotone | str:
+    """:func:`certify` given ``d`` = ∂f/∂v (the ends of ``box`` floats or sympy rationals)."""
     free = d.free_symbols
     unbounded = sorted(s.name for s in free if s not in box)
     if unbounded:
@@ -60,11 +72,11 @@ def certify(f: sp.Expr, v: sp.Symbol, box: dict[sp.Symbol, tuple[float, float]])
     if _both_signs_on_grid(d, start):
         return f"it is not monotone in {v}: ∂/∂{v} = {d} takes both signs on the box"
     boxes, signs, seen = [start], set(), {}
-    deadline = time.monotonic() + CERTIFY_LIMIT
+    deadline = time.process_time() + CERTIFY_LIMIT
     count = 1
     while boxes:
-        if time.monotonic() > deadline:
-            return f"Langur could not prove within {CERTIFY_LIMIT:g}s that ∂/∂{v} = {d} keeps one sign on the box"
+        if time.process_time() > deadline:
+            return f"Langur could not prove within {CERTIFY_LIMIT:g} CPU s that ∂/∂{v} = {d} keeps one sign on the box"
         b = boxes.pop()
         sign = _sign(d, b)
         if sign is not None:
@@ -124,6 +136,10 @@ def _bounds(b: dict) -> dict:
 
 
 def _enclose(e: sp.Expr, b: dict):
+    """An enclosure ``(lo, hi)`` of ``e`` over the box ``b`` (None: none found): sympy's
+    ``AccumBounds``; where it leaves a function unevaluated (it knows neither ``erf``, ``tanh``,
+    ``atan``, ``asin``, ``acos``, ``atanh`` nor a fractional power), mpmath's interval arithmetic
+    (:mod:`langur.enclosures`, rounded outward), its ends as exact binary floats."""
     try:
         r = e.subs(_bounds(b), simultaneous=True)
     except (TypeError, ValueError, ZeroDivisionError, AttributeError, NotImplementedError):
@@ -132,7 +148,36 @@ def _enclose(e: sp.Expr, b: dict):
         return r.min, r.max
     if r.is_number and r.is_extended_real and r.is_finite:
         return r, r
-    return None
+    if r.is_number or not r.has(sp.AccumBounds):
+        return None
+    return _enclose_mpmath(e, b)
+
+
+def _enclose_mpmath(e: sp.Expr, b: dict):
+    """``e`` over ``b`` by mpmath's interval arithmetic (every symbol of ``e`` has an interval in ``b``)."""
+    syms, fn = _mpmath_fn(e)
+    if not syms or any(s not in b for s in syms):
+        return None
+    r = fn(*(_iv(*b[s]) for s in syms))
+    if r is None or not (mpmath.isfinite(r.a) and mpmath.isfinite(r.b)):
+        return None
+    return sp.Float(r.a), sp.Float(r.b)
+
+
+@lru_cache(maxsize=256)
+def _mpmath_fn(e: sp.Expr):
+    """``e``'s symbols (sorted) and its enclosure on mpmath intervals of them, built once per ``e``."""
+    syms = tuple(sorted(e.free_symbols, key=lambda s: s.name))
+    return syms, (_interval_fn(syms[0], e, syms[1:]) if syms else None)
+
+
+def _iv(lo, hi):
+    """The interval ``[lo, hi]`` (sympy rationals or infinities) in mpmath, rounded outward."""
+    def end(x, side):
+        if x.is_infinite:
+            return mpmath.inf if x > 0 else -mpmath.inf
+        return getattr(mpmath.iv.mpf(int(x.p)) / int(x.q), side)
+    return mpmath.iv.mpf([end(lo, "a"), end(hi, "b")])
 
 
 def _sign(d: sp.Expr, b: dict) -> int | None:

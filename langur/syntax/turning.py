@@ -21,7 +21,9 @@ uses ``[0, 1]``).
 Turning points are found exactly when ``∂f/∂x`` has no parameters and ``sympy.solveset`` solves it
 on the interval (time-boxed); one that has no closed form (a root of a quintic) is itself an
 implicit root of ``∂f/∂x`` in a rational bracket on which ``∂f/∂x`` changes sign (checked
-exactly).  Infinitely many, or more than :data:`MAX_PIECES` − 1, are refused.  When they move
+exactly); where sympy cannot solve it, there are none when interval enclosures prove ``∂f/∂x`` of
+one strict sign on the interval (:func:`langur.syntax.monotone.certify_derivative`:
+``1/(erf(x) + 2)``).  Infinitely many, or more than :data:`MAX_PIECES` − 1, are refused.  When they move
 with the parameters (``sin(a·x) − 0.5``: ``x = (π/2 + kπ)/a``; ``x^3 − a·x``) or sympy cannot
 solve for them, their number depends on θ, which the front end does not know (``--at``): the
 completion has :data:`MOVING_PIECES` branches whose ends are the k-th sign changes of ``∂f/∂x``
@@ -73,7 +75,7 @@ from ..core import (
 from ..sympy_bridge import from_sympy
 from ..timebox import run_with_timeout
 from .continuity import continuous_domain
-from .monotone import _enclose, certify, rational
+from .monotone import Monotone, _enclose, certify, certify_derivative, rational
 
 #: CPU-second limit of the search for turning points (CPU: the split must not change with the load).
 TURNING_LIMIT = 4.0
@@ -349,15 +351,17 @@ def _exact_ends(d, v, L, R) -> list[Term] | str | None:
     try:
         zeros = run_with_timeout(lambda: sp.solveset(d, v, sp.Interval(L, R)), TURNING_LIMIT, cpu=True)
     except (TimeoutError, ValueError):  # (ValueError: mpmath's erfinv asked outside [-1, 1] inside solveset)
-        return None
+        zeros = None
+    if zeros is None or isinstance(zeros, sp.ConditionSet):  # sympy cannot solve ∂f/∂x = 0: …
+        if not isinstance(certify_derivative(d, v, {v: (L, R)}), Monotone):
+            return None  # … the turning points are found numerically where evaluated
+        zeros = sp.S.EmptySet  # … but ∂f/∂x is proved of one strict sign on [L, R] (1/(erf(x) + 2)): none
     if zeros is sp.S.EmptySet:
         points = []
     elif isinstance(zeros, sp.FiniteSet) and all(z.is_real or z.evalf(30).is_real for z in zeros):  # erfinv(π/6)/2
         if len(zeros) >= MAX_PIECES:
             return f"it has {len(zeros)} turning points (zeros of ∂/∂{v} = {d}) on the domain, more than {MAX_PIECES - 1}"
         points = sorted(zeros, key=lambda z: float(z))
-    elif isinstance(zeros, sp.ConditionSet):
-        return None  # sympy cannot solve ∂f/∂x = 0: the turning points are found numerically
     else:
         return f"it has infinitely many turning points (zeros of ∂/∂{v} = {d}) on the domain: {zeros}"
     cuts = _sign_changes(d, v, [L] + [z for z in points if L < z < R] + [R])
