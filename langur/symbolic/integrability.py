@@ -9,10 +9,10 @@ converge to that 0 without a warning; a closed form evaluated at the ends can to
 (``langur.lint.singular``, through :func:`piece_blowups` and :func:`blowups`).
 
 One simply decomposable piece ``Π [c ≥ 0] · w`` (Def. 6.2) at given parameter values is integrable
-on its closed region R̄ (the box cut by the conditions) unless ``w`` blows up somewhere on R̄.
-It can only blow up on the zero set of a *pole base* ``g``: the base of a negative power (``1/x^2`` is ``x^-2``, ``1/sqrt(x)`` is
-``x^(-1/2)``), ``cos`` of the argument of a ``tan``, or ``log(b)`` in a denominator.  Near a set S
-of codimension c in R̄ on which ``|w| ~ dist(·, S)^-α``,
+on its closed region R̄ (the box cut by the conditions) unless ``w`` blows up somewhere on R̄. It
+can only blow up on the zero set of a *pole base* ``g``: the base of a negative power (``1/x^2`` is
+``x^-2``, ``1/sqrt(x)`` is ``x^(-1/2)``), ``cos`` of the argument of a ``tan``, or ``log(b)`` in a
+denominator. Near a set S of codimension c in R̄ on which ``|w| ~ dist(·, S)^-α``,
 
     ∫ |w| < ∞  ⇔  α < c                                    (polar coordinates around S)
 
