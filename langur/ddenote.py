@@ -287,7 +287,8 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
     boundary = (integrate_delta_pieces(nf.deltas, variables, box, point, timeout=timeout, cell=cell,
                                        symbolic=symbolic)
                 if nf.deltas else zero_integral())
-    require_defined(program, ctx)  # ⦇p⦈ = ∫ ⦇t⦈ does not exist where ⟦p⟧ does not (T⟦t⟧ undefined)
+    # ⦇p⦈ = ∫ ⦇t⦈ does not exist where ⟦p⟧ does not (T⟦t⟧ undefined), nor where its regular part is not integrable
+    require_defined(program, ctx, nf.regular)
     exact = regular.method == Method.CLOSED_FORM and boundary.method == Method.CLOSED_FORM
     expr = regular.expr + boundary.expr if regular.expr is not None and boundary.expr is not None else None
     return DerivativeResult(

@@ -30,6 +30,8 @@ from .values import check_values
 quadrature = lazy.module("langur.symbolic.quadrature")
 #: only when integrating (``langur check`` reads :func:`program_box` here and needs it not)
 definedness = lazy.module("langur.symbolic.definedness")
+#: only when an integrand applies a primitive or power defined on part of ℝ (none blows up otherwise)
+integrability = lazy.module("langur.symbolic.integrability")
 
 __all__ = ["denote", "denote_program", "program_box", "symbol"]
 
@@ -94,21 +96,39 @@ def _decomposed(program: Program, ctx: Ctx) -> list:
 _PARTIAL: dict = {}
 
 
+def _partial(program: Program) -> bool:
+    """Whether the integrand applies a primitive or power defined on part of ℝ only (remembered)."""
+    partial = _PARTIAL.get(program)
+    return remember(_PARTIAL, program, definedness.has_partial(program.body), 64) if partial is None else partial
+
+
 def undefined_where(program: Program, ctx: Ctx) -> definedness.Undefined | None:
     """A primitive of the integrand evaluated outside its domain on a set of positive measure of the
     box at ``ctx.at`` (LANGUAGE.md §1, §3: ``[x >= 0] * log(x)`` on [−1, 1]), which the
     decomposition's pieces cannot show (:mod:`langur.symbolic.definedness`), or None."""
-    partial = _PARTIAL.get(program)
-    if partial is None:
-        partial = remember(_PARTIAL, program, definedness.has_partial(program.body), 64)
     return definedness.undefined_part(program.body, ctx, program.variables, program_box(program, ctx)) \
-        if partial else None
+        if _partial(program) else None
 
 
-def require_defined(program: Program, ctx: Ctx) -> None:
+def divergent_where(program: Program, ctx: Ctx, pieces: list | None = None,
+                    what: str = "the integrand") -> integrability.Divergent | None:
+    """Where ⟦t⟧ (or the ``pieces`` of ``what``: ⦇t⦈'s regular part) blows up at ``ctx.at`` too fast to
+    be integrable on the box (a principal value such as ∫₀¹ 1/t − 1/(1 − t) is no integral;
+    :mod:`langur.symbolic.integrability`), or None; only a primitive or power defined on part of ℝ
+    can blow up, and only a derivative of one."""
+    if not _partial(program):
+        return None
+    return integrability.divergence(_decomposed(program, ctx) if pieces is None else pieces, symbols(program.variables),
+                                    program_box(program, ctx), ctx.at or {}, what)
+
+
+def require_defined(program: Program, ctx: Ctx, regular: list | None = None) -> None:
     """Raise :class:`~langur.symbolic.quadrature.UndefinedIntegral` where :func:`undefined_where`
-    finds a part of the box on which the integrand is undefined: ⟦p⟧ does not exist, nor does ⦇p⦈."""
-    bad = undefined_where(program, ctx)
+    finds a part of the box on which the integrand is undefined, or :func:`divergent_where` a
+    blow-up it is not integrable at: ⟦p⟧ does not exist, nor does ⦇p⦈; with ``regular`` (⦇t⦈'s
+    regular part, Theorem 7.1), also where that is not integrable: ⦇p⦈ does not exist."""
+    bad = undefined_where(program, ctx) or divergent_where(program, ctx) or \
+        (divergent_where(program, ctx, regular, "the regular part of ⦇t⦈") if regular else None)
     if bad is not None:
         raise quadrature.UndefinedIntegral(bad.reason)
 

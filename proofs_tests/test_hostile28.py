@@ -28,7 +28,8 @@ import sympy as sp
 
 from langur import frontend
 from langur.denote import denote_program
-from langur.lint import algebra, blowup, doubleroot, singular
+from langur.lint import algebra, doubleroot, singular
+from langur.symbolic import integrability as blowup
 from langur.symbolic.pieces import Method
 from langur.transversality import check_loaded
 

@@ -20,7 +20,7 @@ from singular_corpus import CORPUS
 
 from langur import frontend
 from langur.lint import singular
-from langur.lint.blowup import Verdict
+from langur.symbolic.integrability import Verdict
 from langur.transversality import point_of
 
 VERDICT = {"D": Verdict.DIVERGENT, "I": Verdict.INTEGRABLE}

@@ -46,9 +46,9 @@ from ..syntax.printer import print_program
 # program whose conditions ``langur.lint.affineclear`` decides needs none for its derivative (itself
 # sympy-free, deferred only because ``eval`` never asks it).
 affineclear = lazy.module("langur.lint.affineclear")
-blowup = lazy.module("langur.lint.blowup")
 emptydomain = lazy.module("langur.lint.emptydomain")
 fix = lazy.module("langur.lint.fix")
+integrability = lazy.module("langur.symbolic.integrability")
 recomplete = lazy.module("langur.lint.recomplete")
 rewrite = lazy.module("langur.lint.rewrite")
 singular = lazy.module("langur.lint.singular")
@@ -189,7 +189,7 @@ def value(program, params, path: str | None) -> Defined:
     res = singular.value_integrability(program, point)
     out = Defined(emptydomain.empty_domain_findings(program, point) +
                   singular.findings_of(res, program, point, sources, "X311"))
-    if res.verdict is blowup.Verdict.DIVERGENT:
+    if res.verdict is integrability.Verdict.DIVERGENT:
         out.undefined = _short(out.findings[0])
         out.infinite_variance = "the integral itself does not exist"
     else:
@@ -210,7 +210,7 @@ def derivative(program, params, direction, path: str | None) -> Defined:
     res = singular.derivative_integrability(program, point, direction)
     found = singular.findings_of(res, program, point, _sources(path), "X313")
     out.findings += found
-    if res.verdict is blowup.Verdict.DIVERGENT:
+    if res.verdict is integrability.Verdict.DIVERGENT:
         out.undefined = _short(found[0])
         out.infinite_variance = "the derivative denotation is not an integral"
     else:

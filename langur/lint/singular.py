@@ -10,9 +10,9 @@ exists: ``log(abs(x - a))`` is integrable, its ⦇·⦈ in ``a`` is ``-1/(x - a)
 
 This module decomposes the integrand at the parameter values in force into simply decomposable
 pieces (Def. 6.2; ``langur.symbolic.decompose``, and ``langur.ddenote`` for ⦇t⦈'s normal form)
-and asks :mod:`langur.lint.blowup` where each piece's weight blows up on its region and whether
-it is integrable there (the order of the singularity against the codimension of the set it sits
-on), after asking the exact engine (``langur.symbolic.definedness``, through
+and asks the exact engine's :mod:`langur.symbolic.integrability` where each piece's weight blows up
+on its region and whether it is integrable there (the order of the singularity against the
+codimension of the set it sits on), after asking the exact engine (``langur.symbolic.definedness``, through
 ``langur.denote.undefined_where``) whether a primitive is applied outside its domain on a set of
 positive measure of where it is evaluated: the box cut by the conditions of the conditionals
 enclosing it, not by a bracket factor beside it (``[x >= 0] * log(x)`` on [−1, 1] is undefined,
@@ -43,9 +43,17 @@ from ..diagnostics import Span
 from ..primitives import REGISTRY, Domain
 from ..symbolic.decompose import Ctx, decompose
 from ..symbolic.definedness import Undefined
+from ..symbolic.integrability import (
+    Blowup,
+    Region,
+    Undecidable,
+    Verdict,
+    blowups,
+    finite_on_box,
+    piece_blowups,
+)
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import Deadline
-from .blowup import Blowup, Region, Undecidable, Verdict, blowups, finite_on_box
 from .bounded import bounded
 from .findings import Finding, quote
 
@@ -94,17 +102,8 @@ def _box(program: Program, ctx: Ctx, at: dict) -> list[tuple[sp.Expr, sp.Expr]]:
 
 
 def _pieces(pieces, xs, box, at, part: str, out: Integrability) -> None:
-    whole = tuple(tuple(side) for side in box)
-    for pc in pieces:
-        w = sp.sympify(pc.weight).xreplace(at)
-        if not (w.free_symbols & set(xs)) or finite_on_box(w, xs, whole):
-            continue  # nothing blows up on any region of the box (blowup.finite_on_box)
-        conds = [sp.sympify(c.expr).xreplace(at) for c in pc.conditions]
-        try:
-            region = Region(xs, box, conds)
-        except Undecidable:
-            continue
-        out.blowups += [(b, part) for b in blowups(w, region)]
+    for _, found in piece_blowups(pieces, xs, box, at):  # (the exact engine's analysis, piece by piece)
+        out.blowups += [(b, part) for b in found]
 
 
 def _delta_pieces(deltas, xs, box, at, out: Integrability) -> None:
@@ -135,7 +134,7 @@ def _delta_pieces(deltas, xs, box, at, out: Integrability) -> None:
             uxs = tuple(x for x in xs if x != psi.solved_for)
             ubox = [box[xs.index(x)] for x in uxs]
             if finite_on_box(w, uxs, tuple(tuple(side) for side in ubox)):
-                continue  # nothing blows up on any region of u′'s box (blowup.finite_on_box)
+                continue  # nothing blows up on any region of u′'s box (integrability.finite_on_box)
             try:
                 region = Region(uxs, ubox, conds)
             except Undecidable:

@@ -1,11 +1,18 @@
-"""Where an integrand blows up on its region, and whether it is integrable there.
+"""Whether an integrand is integrable on its region: an integral that does not exist (LANGUAGE.md §3).
 
-The mathematics behind X311–X313 (``langur.lint.singular``).  One simply decomposable piece
-``Π [c ≥ 0] · w`` (Def. 6.2) at given parameter values is integrable on its closed region R̄ (the
-box cut by the conditions) unless ``w`` blows up somewhere on R̄.  It can only blow up on the zero
-set of a *pole base* ``g``: the base of a negative power (``1/x^2`` is ``x^-2``, ``1/sqrt(x)`` is
-``x^(-1/2)``), ``cos`` of the argument of a ``tan``, or ``log(b)`` in a denominator.  Near a set S
-of codimension c in R̄ on which ``|w| ~ dist(·, S)^-α``,
+⟦int t d(x⃗)⟧ = ∫ ⟦t⟧ (Fig. 12) exists only when ⟦t⟧ is integrable on the box (Prop. 7.1, Theorem 7.1
+assume it: "if ⟦t⟧ is locally integrable").  A principal value is not an integral: ``1/t − 1/(1 − t)``
+on [0, 1] diverges at both ends although its symmetric cancellation is 0, and quadrature can
+converge to that 0 without a warning; a closed form evaluated at the ends can too (``x/(x²+y²)²`` on
+[−1, 1]², odd in x).  This module decides it, once, for the exact engine (:func:`divergence`, which
+``langur.denote.require_defined`` asks after integrating) and for the linter's X311–X313
+(``langur.lint.singular``, through :func:`piece_blowups` and :func:`blowups`).
+
+One simply decomposable piece ``Π [c ≥ 0] · w`` (Def. 6.2) at given parameter values is integrable
+on its closed region R̄ (the box cut by the conditions) unless ``w`` blows up somewhere on R̄. It
+can only blow up on the zero set of a *pole base* ``g``: the base of a negative power (``1/x^2`` is
+``x^-2``, ``1/sqrt(x)`` is ``x^(-1/2)``), ``cos`` of the argument of a ``tan``, or ``log(b)`` in a
+denominator. Near a set S of codimension c in R̄ on which ``|w| ~ dist(·, S)^-α``,
 
     ∫ |w| < ∞  ⇔  α < c                                    (polar coordinates around S)
 
@@ -36,6 +43,10 @@ a logarithm is singular at p: ``1/(x·log²x)`` measures α ≈ 0.9 but ``1/(x·
 diverges, so near c a logarithm leaves it undecided); otherwise undecided.  An anisotropic zero
 (``1/(x + y²)`` at the corner: α = 1 almost everywhere, 2 along the y-axis; it is integrable) is
 honestly undecided.
+
+The exact engine says "undefined" on a divergent verdict only (never on an undecided one), within
+:data:`TIME_LIMIT` CPU seconds per integral; beyond them it claims nothing, and its quadrature's own
+diagnostics stand.
 """
 
 from __future__ import annotations
@@ -45,7 +56,7 @@ import itertools
 import math
 import statistics
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from enum import Enum
 
@@ -53,6 +64,7 @@ import numpy as np
 import sympy as sp
 
 from ..primitives import REGISTRY
+from ..timebox import Deadline
 
 #: Digits of the high-precision evaluations.
 DIGITS = 50
@@ -549,3 +561,76 @@ def _judge(w: sp.Expr, g: sp.Expr, s: _Site, region: Region) -> Blowup:
     typ, top = statistics.median(alphas), max(alphas)
     return Blowup(g, s.point, s.shape, s.codim, typ, top, decide(typ, top, s.codim, logarithmic),
                   decide(2 * typ, 2 * top, s.codim, logarithmic), logarithmic, s.face)
+
+
+# ----------------------------------------------------------------------------------------------
+# The pieces of an integrand, and the exact engine's verdict
+
+#: CPU seconds the exact engine gives the analysis of one integral (beyond: nothing is claimed).
+TIME_LIMIT = 5.0
+
+
+def piece_blowups(pieces, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, sp.Expr]],
+                  at: Mapping[sp.Symbol, sp.Expr]) -> Iterator[tuple[sp.Expr, list[Blowup]]]:
+    """Each simply decomposable piece's weight (Def. 6.2: ``weight``, ``conditions``) at the parameter
+    values ``at`` (``box`` already at them) with its blow-ups on its region, piece by piece.  A piece
+    whose weight is constant in the variables or :func:`finite_on_box` is skipped (nothing blows up
+    on any region of the box), and so is a region the analysis cannot describe."""
+    whole = tuple(tuple(side) for side in box)
+    for pc in pieces:
+        w = sp.sympify(pc.weight).xreplace(at)
+        if not (w.free_symbols & set(xs)) or finite_on_box(w, xs, whole):
+            continue
+        conds = [sp.sympify(c.expr).xreplace(at) for c in pc.conditions]
+        try:
+            region = Region(xs, box, conds)
+        except Undecidable:
+            continue
+        yield w, blowups(w, region)
+
+
+@dataclass(frozen=True)
+class Divergent:
+    """``what`` (⟦t⟧, or ⦇t⦈'s regular part) is not integrable: its piece's weight ``weight`` blows up
+    as ``blowup`` says (a divergent verdict), over the variables ``names``."""
+
+    weight: sp.Expr
+    blowup: Blowup
+    names: tuple[str, ...]
+    what: str = "the integrand"
+
+    @property
+    def reason(self) -> str:
+        b = self.blowup
+        pt = ", ".join(_text(v) for v in b.point)
+        at = f"({', '.join(self.names)}) = ({pt})" if len(self.names) > 1 else f"{self.names[0]} = {pt}"
+        where = f"on the zero set of {sp.sstr(b.base)} (e.g. at {at})" if b.shape == "crossing" else f"at {at}"
+        return (f"{self.what} {sp.sstr(self.weight)} is not integrable: it blows up {where} like "
+                f"dist^-{b.alpha:.3g} near a set of codimension {b.codim}, and a singularity of order α is "
+                "integrable only when α is below that codimension: the integral diverges (a principal value "
+                "or a quadrature that converges to one is not ⟦p⟧)")
+
+
+def _text(v) -> str:
+    f = _num(v)
+    return f"{f:.6g}" if math.isfinite(f) else sp.sstr(v)
+
+
+def divergence(pieces, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, sp.Expr]],
+               at: Mapping[sp.Symbol, sp.Expr], what: str = "the integrand") -> Divergent | None:
+    """The first blow-up of the ``pieces`` of ``what`` (⟦t⟧'s, or ⦇t⦈'s regular part's, at the
+    parameter values ``at``) at which it is not integrable on the box, or None: integrable,
+    undecided, or not decided within :data:`TIME_LIMIT` CPU seconds (nothing is claimed then)."""
+    ends = [(sp.sympify(lo).xreplace(at), sp.sympify(hi).xreplace(at)) for lo, hi in box]
+
+    def first() -> Divergent | None:
+        for w, found in piece_blowups(pieces, tuple(xs), ends, at):
+            for b in found:
+                if b.verdict is Verdict.DIVERGENT:
+                    return Divergent(w, b, tuple(str(x) for x in xs), what)
+        return None
+
+    try:
+        return Deadline(TIME_LIMIT).run(first)
+    except Exception:  # noqa: BLE001 - time, or a case the analysis cannot evaluate: nothing is claimed
+        return None
