@@ -265,9 +265,9 @@ def more(scope: C.Scope) -> S.STerm:
 
 
 #: The wide factors by kind and weight (the first is what shrinking aims at; ``logic`` twice: three
-#: operators, two forms each).
+#: operators, two forms each; ``more`` twice: five kinds).
 FACTORS = (loop, logic, let_level, guarded, branch_cut, primitive, logic, param_ifge0, dot_condition,
-           erf_condition, more)
+           erf_condition, more, more)
 
 
 def factor(scope: C.Scope) -> S.STerm:
