@@ -186,3 +186,28 @@ def test_new_kinds_by_hand_in_both_engines(kind):
         m = operational.estimate_derivative(loaded, floats, {q: float(v) for q, v in direction.items()},
                                             samples=20000, seed=2)
         assert abs(m.value - d) <= 5 * m.stderr + 1e-7, p
+
+
+# ---------------------------------------------------------------------------------------------
+# The tester's own message: an exact engine killed by the wall-clock backstop
+# ---------------------------------------------------------------------------------------------
+
+def _waits(conn, program, params, timeout):  # an exact engine that computes nothing for a long time
+    import time
+
+    time.sleep(120)
+
+
+def test_a_wall_clock_kill_of_the_exact_engine_is_not_called_a_cpu_limit(monkeypatch):
+    # seed 1's #178 and #399, run alone with a 60 s limit on a machine at load 25, were reported as
+    # "exact engine took longer than 60 CPU seconds" after 250 s of wall clock (4·60 + 10, the
+    # backstop) with ≈ 13 CPU seconds in all
+    from langur.fuzz import compare, pool
+
+    monkeypatch.setattr(compare, "_exact_child", _waits)
+    monkeypatch.setattr(pool, "BACKSTOP", 0.0)  # the backstop at 10 s of wall clock
+    status, reason, _, _ = compare._exact_fork(None, {}, 60.0)
+    assert status == "timeout"
+    assert "CPU seconds (killed)" in reason and "wall clock" in reason and "longer than 60" not in reason, reason
+    seconds, cpu = reason.split("ran ")[1].split(" s (wall clock) with ")
+    assert 10 <= float(seconds) < 60 and float(cpu.split()[0]) < 1.0, reason
