@@ -238,8 +238,10 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
     with ``abs``/``min``/``max`` inside; ``turning``: conditions in one variable with no closed-form
     inverse (``v^3 - v``, ``exp(v) + v``: implicit roots, issue 18); ``wide``: the constructs of
     :mod:`.wide` (loops, ``&``/``|``/``not``, a ``let`` inside a factor, guarded partial primitives,
-    atan2's cut, erf/asin/acos/atanh/tan, a diffeo with a parametric Jacobian), boxes with both ends
-    moving, and programs without a domain (the box as brackets in the body).  Shrinks towards one
+    atan2's cut, erf/asin/acos/atanh/tan, a diffeo with a parametric Jacobian; ``erf`` conditions,
+    ``ifge0`` over the variables, nested loops, strict chains with ``pi``, ``cross`` and components,
+    negative exponents), boxes with both ends moving, and programs without a domain (the box as
+    brackets in the body).  Shrinks towards one
     variable, one parameter, one smooth factor; without ``wide`` a seed draws what it drew before."""
     if not 1 <= min_variables <= max_variables <= 3:
         raise ValueError("variables: 1 <= min_variables <= max_variables <= 3")

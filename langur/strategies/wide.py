@@ -15,7 +15,11 @@ well-typed (LANGUAGE.md §2, §6; docs/language.md) and registered in the scope 
 * the primitives the default draw leaves out (``erf``, ``asin``, ``acos``, ``atanh``, ``tan``) as
   smooth factors, and the monotone ones as conditions (completed by implicit roots);
 * ``ifge0`` on a parameter term written as such; a condition through a vector, ``[dot((v, w),
-  (c1, c2)) CMP P + k]``.
+  (c1, c2)) CMP P + k]``;
+* (fuzz29) ``erf`` in conditions (``erfinv``, an implicit root, turning points, a graph);
+  ``ifge0`` on a term over the variables; a nested loop whose inner bound is the outer index;
+  strict chains with ``pi``; a let-bound vector with ``cross`` and a component; negative and
+  negative fractional exponents.
 
 A declared diffeomorphism whose inverse and Jacobian depend on its parameter
 (:data:`~.conditions.WIDE_DIFFEOS`) is drawn by :func:`~.conditions.declared`, boxes with both ends
@@ -166,9 +170,104 @@ def dot_condition(scope: C.Scope) -> S.Iverson:
     return S.Iverson((lhs, rhs), (scope.pick(C.CMPS),))
 
 
+def erf_condition(scope: C.Scope) -> S.STerm:
+    """``erf`` in a condition (F3, completed since front28): on a variable with constant bounds,
+    ``[erf(v) CMP P - 1/2]`` (inverted by ``erfinv``), ``[erf(2*v) + v CMP P + k]`` (monotone, no
+    closed-form inverse: an implicit root) or ``[sin(3*erf(v)) CMP P - 1/2]`` (turning points at
+    ``erfinv(±π/6)``), kept out of defs and of programs without a domain like :func:`primitive`'s;
+    in two variables or more also the graph ``[w CMP erf(2*v) + P - 1/2]``; as a smooth
+    ``erf`` factor when no variable has constant bounds and there is no second variable."""
+    if len(scope.variables) > 1 and (not scope.fixed or scope.index(4) == 3):
+        v, w = scope.two_vars()
+        lhs, rhs = name(w), offset(T.add(call("erf", mul(num(2), name(v))), scope.param()), F(-1, 2))
+        cmp = scope.pick(C.CMPS)
+        scope.register(sub(lhs, rhs), key=(lhs, rhs))
+        return S.Iverson((lhs, rhs), (cmp,))
+    if not scope.fixed:
+        return call("erf", sub(name(scope.var()), scope.param()))
+    v = name(scope.pick(scope.fixed))
+    forms = (lambda: (call("erf", v), offset(scope.param(), F(-1, 2))),
+             lambda: (T.add(call("erf", mul(num(2), v)), v), C.shifted_param(scope, (F(0), F(3, 10), F(-1, 5)))),
+             lambda: (call("sin", mul(num(3), call("erf", v))), offset(scope.param(), F(-1, 2))))
+    lhs, rhs = forms[scope.index(len(forms))]()
+    cmp = scope.pick(("<=", ">="))
+    scope.register(sub(lhs, rhs), key=(lhs, rhs))
+    out = S.Iverson((lhs, rhs), (cmp,))
+    scope.implicit.append(out)
+    return out
+
+
+def variable_ifge0(scope: C.Scope) -> S.IfGe0S:
+    """``ifge0 L - R then … else …`` with ``L CMP R`` a condition over the variables (LANGUAGE.md §6:
+    a diffeomorphic conditional written with ``ifge0``, completed like a bracket)."""
+    lhs, cmp, rhs = C.condition(scope)
+    cond = sub(lhs, rhs) if cmp in (">=", ">") else sub(rhs, lhs)
+    return S.IfGe0S(cond, C.smooth(scope), _else(scope))
+
+
+def nested_loop(scope: C.Scope) -> S.Loop:
+    """``sum i in 1..2: sum j in 1..i: [L CMP P + k + 0.2*i - 0.1*j] * v ^ j`` (§9: an inner loop's
+    bound is the outer index; three copies, each a jump of its own)."""
+    lhs, cmp, rhs = C.affine(scope)
+    v = name(scope.var())
+    for i in (1, 2):
+        for j in range(1, i + 1):
+            scope.register(sub(lhs, offset(rhs, F(i, 5) - F(j, 10))), key=(lhs, rhs, "loop2", i, j))
+    level = S.BinOp("-", S.BinOp("+", rhs, mul(num(F(1, 5)), name("i"))), mul(num(F(1, 10)), name("j")))
+    inner = S.Loop("sum", "j", num(1), name("i"),
+                   mul(S.Iverson((lhs, level), (cmp,)), S.BinOp("^", v, name("j"))))
+    return S.Loop("sum", "i", num(1), num(2), inner)
+
+
+def strict_window(scope: C.Scope) -> S.Iverson:
+    """``[P + k < L < P + k + pi/8]`` or ``[P + k + pi/8 > L > P + k]``: a chain with strict
+    comparisons and the constant ``pi`` (two parallel jumps, like :func:`~.conditions.window`)."""
+    lhs, _, lo = C.affine(scope)
+    hi = T.add(lo, T.div(name("pi"), num(8)))
+    scope.register(sub(lhs, lo), key=(lhs, lo))
+    scope.register(sub(lhs, hi), key=(lhs, hi))
+    if scope.draw(st.booleans()):
+        return S.Iverson((lo, lhs, hi), ("<", "<"))
+    return S.Iverson((hi, lhs, lo), (">", ">"))
+
+
+def cross_condition(scope: C.Scope) -> S.LetIn:
+    """``let o = (P, 0.1, 0) in [cross((0.9, 0.3, 0) - o, (v, w, 0) - o).z CMP 0]``: a let-bound vector,
+    vector differences, ``cross`` and a component (docs/language.md, vectors): the side of the
+    line through (P, 0.1) and (0.9, 0.3), ``(0.9 - P)(w - 0.1) - 0.2(v - P)`` (``w`` the constant
+    0.5 in one variable)."""
+    v = name(scope.var())
+    w = name(scope.pick(u for u in scope.variables if u != v.name)) if len(scope.variables) > 1 else num(F(1, 2))
+    p = scope.param()
+    o = name("o")
+    z = num(0)
+    flat = sub(mul(sub(num(F(9, 10)), p), sub(w, num(F(1, 10)))), mul(num(F(1, 5)), sub(v, p)))
+    scope.register(flat, key=("cross", v, w, p))
+    lhs = S.Component(call("cross", sub(S.Vector((num(F(9, 10)), num(F(3, 10)), z)), o),
+                           sub(S.Vector((v, w, z)), o)), "z")
+    return S.LetIn("o", S.Vector((p, num(F(1, 10)), z)), S.Iverson((lhs, z), (scope.pick(C.CMPS),)))
+
+
+def powers(scope: C.Scope) -> S.STerm:
+    """Smooth factors with what :func:`~.conditions.smooth` never writes: a negative or negative
+    fractional exponent (``(v + 2) ^ -2``, ``(v + P + 1.5) ^ -0.5``) and ``pi`` (``cos(pi * v / 2)``)."""
+    v, p = name(scope.var()), scope.param()
+    forms = (lambda: power(offset(v, 2), -2), lambda: power(offset(T.add(v, p), F(3, 2)), F(-1, 2)),
+             lambda: call("cos", T.div(mul(name("pi"), v), num(2))))
+    return forms[scope.index(len(forms))]()
+
+
+def more(scope: C.Scope) -> S.STerm:
+    """One of fuzz29's additions besides ``erf`` conditions (one slot of :data:`FACTORS`, so that
+    fuzz28's constructs keep most of their share)."""
+    kinds = (variable_ifge0, nested_loop, strict_window, cross_condition, powers)
+    return kinds[scope.index(len(kinds))](scope)
+
+
 #: The wide factors by kind and weight (the first is what shrinking aims at; ``logic`` twice: three
-#: operators, two forms each).
-FACTORS = (loop, logic, let_level, guarded, branch_cut, primitive, logic, param_ifge0, dot_condition)
+#: operators, two forms each; ``more`` twice: five kinds).
+FACTORS = (loop, logic, let_level, guarded, branch_cut, primitive, logic, param_ifge0, dot_condition,
+           erf_condition, more, more)
 
 
 def factor(scope: C.Scope) -> S.STerm:
