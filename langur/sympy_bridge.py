@@ -119,10 +119,23 @@ def magnitude(expr: sp.Expr) -> sp.Expr:
 
 
 def derivative_function(op: str) -> Callable[[sp.Expr], sp.Expr]:
-    """f' as a sympy function, for the chain rule (LANGUAGE.md §1)."""
+    """f' as a sympy function, for the chain rule (LANGUAGE.md §1).
+
+    A radicand of f' in its argument (asin's and acos's 1 − y²) is put over one denominator when
+    the argument holds a root itself: atan2's angle acos(x/√(x² + y²)) (LANGUAGE.md §1's
+    desugaring) then has √(1 − w²) = |y|/√(x² + y²), the same function, which doubles evaluate near
+    the branch cut y = 0 instead of cancelling 1 − x²/(x² + y²) to 0 (an exact-engine quadrature
+    ending on the cut read the NaNs as "undefined")."""
     y = sp.Dummy("y", real=True)
     d = sp.diff(FUNCTIONS[op](y), y)
-    return lambda w: d.xreplace({y: w})
+    radicands = {p.base for p in d.atoms(sp.Pow) if not p.exp.is_integer and p.base != y and p.base.has(y)}
+
+    def at(w: sp.Expr) -> sp.Expr:
+        if radicands and any(not p.exp.is_integer for p in w.atoms(sp.Pow)):
+            return d.xreplace({r: sp.together(r.xreplace({y: w})) for r in radicands}).xreplace({y: w})
+        return d.xreplace({y: w})
+
+    return at
 
 
 _NO_ENV: Mapping[str, sp.Expr] = MappingProxyType({})

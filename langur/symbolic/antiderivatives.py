@@ -196,7 +196,11 @@ def antiderivative(w, v, ctx: Context):
     if v not in w.free_symbols:
         return w * v
     if _mentions_bad(w, v):
-        raise Unsupported(f"weight {w} is not smooth in {v}")
+        # (but |s| of one affine s, as the chain rule writes atan2's derivative, is sign(s)·s)
+        split = elementary.sign_split(w, v) if w.has(sp.Abs) else None
+        if split is None or not all(_nonzero_here(k, ctx) for k in split.divisors):
+            raise Unsupported(f"weight {w} is not smooth in {v}")
+        return _sign_split_antiderivative(split, w, v, ctx)
     quick = elementary.polynomial_antiderivative(w, v)
     if quick is not None:  # exact, in microseconds: never waits for sympy nor for the budget
         return quick

@@ -416,7 +416,8 @@ def sign_split(w, v) -> SignSplit | None:
     values hidden in atan2's desugaring (LANGUAGE.md §1: ``atan2(y, x)`` is ``acos(x/√(x² + y²))``
     under ``[y ≥ 0]``) with ``y = s`` affine in ``v`` and ``x = c`` free of it: ``acos(c/√(c² + A·s²))``
     (an even function of s) and the square roots ``√(A·s²/D)^(n/2)`` of its derivative
-    (``√(1 − c²/(c² + s²))`` = |s|/√(c² + s²)).  With |s| = sign(s)·s:
+    (``√(1 − c²/(c² + s²))`` = |s|/√(c² + s²), which the chain rule writes so:
+  :func:`langur.sympy_bridge.derivative_function`), or ``|A'·s|`` itself.  With |s| = sign(s)·s:
 
     * ``acos(c/√(c² + U²)) = (π/2)(1 − sign c) + sign(s)·atan(U/c)``, U = √A·s (c ≠ 0);
       ``asin = π/2 − acos``;
@@ -427,7 +428,8 @@ def sign_split(w, v) -> SignSplit | None:
     the check by differentiation, and take it seconds to find or time out (``atan2(x − a, −1)``:
     36 CPU s for its derivative).  None when ``w`` has no such part, or more than one ``s``."""
     if v not in w.free_symbols or sp.count_ops(w) > MAX_OPS or not any_node(
-            w, lambda e: isinstance(e, (sp.acos, sp.asin)) or (isinstance(e, sp.Pow) and _is_half_odd(e.exp))):
+            w, lambda e: isinstance(e, (sp.acos, sp.asin, sp.Abs))
+            or (isinstance(e, sp.Pow) and _is_half_odd(e.exp))):
         return None
     found: dict = {}  # s → True (one s only)
     divisors: list = []
@@ -460,9 +462,19 @@ def sign_split(w, v) -> SignSplit | None:
         found[s] = True
         return sp.sign(s) * s ** (2 * f.exp) * (A / d) ** f.exp
 
+    def absolute(f):
+        sq = _square_of_affine(f.args[0] ** 2, v)
+        if sq is None:
+            return None
+        A, s = sq
+        found[s] = True
+        return sp.sqrt(A) * sp.sign(s) * s
+
     def rewrite(e):
         if isinstance(e, (sp.acos, sp.asin)):
             return angle(e)
+        if isinstance(e, sp.Abs):
+            return absolute(e)
         if isinstance(e, sp.Pow) and _is_half_odd(e.exp):
             return root(e)
         return None

@@ -107,7 +107,9 @@ def pole_bases(w: sp.Expr, xs: Sequence[sp.Symbol]) -> list[sp.Expr]:
     for e in sp.preorder_traversal(w):
         g = None
         if isinstance(e, sp.Pow) and e.exp.is_number and e.exp < 0:
-            g = e.base
+            # (|h| vanishes where h does, and h's sign change shows the set crossing R: atan2's
+            # derivative y/(|y|·(x² + y²)), the chain rule's |y|/√(x² + y²) for √(1 − x²/(x² + y²)))
+            g = e.base.args[0] if isinstance(e.base, sp.Abs) else e.base
         elif isinstance(e, sp.tan):
             g = sp.cos(e.args[0])
         elif isinstance(e, (sp.atanh, sp.acoth)):
@@ -320,6 +322,7 @@ def _touchings(g, gf, region: Region, pts, vals, inside) -> list[tuple[sp.Expr, 
                 continue
         if abs(float(np.nan_to_num(gf(np.asarray(x0)[None, :])[0], nan=1e300))) > 1e-5 * top:
             continue  # no zero near this start
+        x0 = _polish(gf, np.asarray(x0, dtype=float), bounds, region.scale)
         if not region.inside(np.asarray(x0, dtype=float)[None, :], tol=1e-6)[0]:
             continue  # the descent (bounded by the box only) left R̄ for a zero where w is not integrated
         if any(np.linalg.norm(x0 - q) < 1e-3 * region.scale for q in near):
@@ -332,6 +335,27 @@ def _touchings(g, gf, region: Region, pts, vals, inside) -> list[tuple[sp.Expr, 
         if p not in out:
             out.append(p)
     return out
+
+
+def _polish(gf, x0: np.ndarray, bounds, scale: float, steps: int = 2) -> np.ndarray:
+    """Newton steps towards g = 0 from a minimum of g² (which L-BFGS-B leaves where g² ≈ 1e-18,
+    i.e. g ≈ 1e-9: too far for :func:`_snap`'s tolerance; on a condition's line y = 29/100 the
+    step lands on it to rounding), kept in the box; a step that does not reduce |g| is not taken."""
+    h = 1e-6 * scale
+    for _ in range(steps):
+        g0 = float(gf(x0[None, :])[0])
+        if not math.isfinite(g0) or g0 == 0:
+            break
+        eye = np.eye(len(x0)) * h
+        grad = (gf(x0[None, :] + eye) - gf(x0[None, :] - eye)) / (2 * h)
+        norm = float(np.dot(grad, grad))
+        if not np.all(np.isfinite(grad)) or norm == 0:
+            break
+        x1 = np.clip(x0 - g0 * grad / norm, [float(lo) for lo, _ in bounds], [float(hi) for _, hi in bounds])
+        if not abs(float(gf(x1[None, :])[0])) < abs(g0):
+            break
+        x0 = x1
+    return x0
 
 
 def _sphere(n: int, count: int, seed: int = 0) -> np.ndarray:
