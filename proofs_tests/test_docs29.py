@@ -154,3 +154,31 @@ def test_plots_default_picture_is_written_in_the_current_folder(tmp_path, monkey
                                                              "fig9_convergence.png"]
     text = " ".join((REPO / "docs/commands.md").read_text(encoding="utf-8").split())
     assert "(default: the file's name with `.png`, in the current folder)" in text
+
+
+def test_deriv_without_wrt_differentiates_in_the_only_parameter_as_commands_md_says():
+    from types import SimpleNamespace
+
+    from langur.cli import UsageError
+    from langur.commands._common import direction
+    from langur.frontend import load
+
+    none = SimpleNamespace(wrt=None, dir=None)
+    assert direction(none, load(str(REPO / "examples/fig1.lgr"))) == {"theta": 1.0}
+    with pytest.raises(UsageError, match="which derivative"):
+        direction(none, load(str(REPO / "examples/risk.lgr")))  # a, b, mu
+    text = " ".join((REPO / "docs/commands.md").read_text(encoding="utf-8").split())
+    assert "with neither, a program of one parameter is differentiated in it" in text
+
+
+def test_agreement_within_rounding_prints_the_raw_ratio_as_commands_md_says():
+    from langur.commands._common import AGREE_SE, agreement
+
+    text = " ".join((REPO / "docs/commands.md").read_text(encoding="utf-8").split())
+    shown = re.search(r"reads `(engines agree: \|exact − MC\| = ([\d.]+) SE)`.*?Monte Carlo ([\de.+-]+) ± ([\de.+-]+)\)",
+                      text)
+    ratio, mc, se = float(shown.group(2)), float(shown.group(3)), float(shown.group(4))
+    assert ratio > AGREE_SE and abs(mc / se - ratio) < 0.5  # the page's numbers are one another's
+    line = agreement(0.0, 0.0, mc, se)  # exact 0: the difference is rounding, 1e-12 of slack
+    assert line.startswith("engines agree: |exact − MC| = ") and float(line.split("= ")[1].split()[0]) > AGREE_SE
+    assert agreement(0.0, 0.0, 2e-9, 1e-10).startswith("engines DISAGREE")  # beyond rounding it does not
