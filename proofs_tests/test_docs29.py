@@ -182,3 +182,27 @@ def test_agreement_within_rounding_prints_the_raw_ratio_as_commands_md_says():
     line = agreement(0.0, 0.0, mc, se)  # exact 0: the difference is rounding, 1e-12 of slack
     assert line.startswith("engines agree: |exact − MC| = ") and float(line.split("= ")[1].split()[0]) > AGREE_SE
     assert agreement(0.0, 0.0, 2e-9, 1e-10).startswith("engines DISAGREE")  # beyond rounding it does not
+
+
+def _budgeted_in_cli() -> set[str]:
+    """The commands cli.py runs under one whole-command budget, with the terminal's status line."""
+    source = (REPO / "langur/cli.py").read_text(encoding="utf-8")
+    return set(re.findall(r'"(\w+)"', re.search(r"if args\.command in \(([^)]*)\):  # one budget", source).group(1)))
+
+
+def test_the_commands_with_a_status_line_are_the_ones_the_docs_name():
+    text = " ".join((REPO / "docs/commands.md").read_text(encoding="utf-8").split())
+    named = re.search(r"On a terminal, ((?:`\w+`,? (?:and )?)+)keep a status line", text).group(1)
+    assert set(re.findall(r"`(\w+)`", named)) == _budgeted_in_cli() == {"show", "eval", "deriv", "render"}
+
+
+@pytest.mark.xfail(strict=True, reason="plot accepts --timeout but cli.py does not enforce it (plot is not in its "
+                                       "tuple of budgeted commands): reported by docs29, a code fix")
+def test_plots_timeout_stops_it_as_the_docs_say(tmp_path, monkeypatch):
+    from langur.cli import main
+    from langur.commands import plot
+
+    monkeypatch.setattr(plot, "run", lambda args: time.sleep(3) or 0)  # a drawing that takes its time
+    start = time.monotonic()
+    status = main(["plot", str(REPO / "examples/fig1.lgr"), "--timeout", "0.5", "-o", str(tmp_path / "f.png")])
+    assert status == 1 and time.monotonic() - start < 2.5
