@@ -206,3 +206,18 @@ def test_plots_timeout_stops_it_as_the_docs_say(tmp_path, monkeypatch):
     start = time.monotonic()
     status = main(["plot", str(REPO / "examples/fig1.lgr"), "--timeout", "0.5", "-o", str(tmp_path / "f.png")])
     assert status == 1 and time.monotonic() - start < 2.5
+
+
+def test_every_program_a_command_on_the_pages_names_exists_from_the_repositorys_root():
+    # a reader runs them from the root (tutorial.md says so); CODES.md once wrote `degenerate/boundary.lgr`
+    pages = [*PAGES, *sorted((REPO / "examples").rglob("*.lgr"))]
+    named, missing = 0, []
+    for page in pages:
+        text = page.read_text(encoding="utf-8")
+        for command in re.findall(r"langur (?:check|show|eval|deriv|fuzz|reproduce|plot|render)\b[^`\n]*", text):
+            for path in re.findall(r"[\w./=-]+\.lgr", command):
+                named += 1
+                path = path.split("=")[-1]  # --module shader=examples/lin_shader.lgr
+                if not (REPO / path).is_file():
+                    missing.append(f"{page.relative_to(REPO)}: {path} in `{command.strip()}`")
+    assert named >= 50 and not missing, "\n".join(missing)
