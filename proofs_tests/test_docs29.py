@@ -221,3 +221,18 @@ def test_every_program_a_command_on_the_pages_names_exists_from_the_repositorys_
                 if not (REPO / path).is_file():
                     missing.append(f"{page.relative_to(REPO)}: {path} in `{command.strip()}`")
     assert named >= 50 and not missing, "\n".join(missing)
+
+
+def test_language_mds_pole_examples_are_refused_and_accepted_as_it_says():
+    from langur.diagnostics import LangurError
+    from langur.frontend import load_text
+
+    text = " ".join((REPO / "docs/language.md").read_text(encoding="utf-8").split())
+    refused = re.search(r"\(a pole inside the box: `(\[[^`]*\])` on `\[-1, 1\]²`\)", text).group(1)
+    accepted = re.search(r"in closed form, `(\[[^`]*\])`, is completed by that formula instead and accepted", text).group(1)
+    program = "param a = 0.5\nint ([-1, 1], [-1, 1]) {} d(x, y)\n"
+    with pytest.raises(LangurError) as e:
+        load_text(program.format(refused), "pole.lgr")
+    assert [d.code for d in e.value.diagnostics] == ["T207"]
+    assert "not on its whole interval" in e.value.diagnostics[0].message  # refused for the pole, as the page says
+    assert load_text(program.format(accepted), "pole.lgr").program is not None
