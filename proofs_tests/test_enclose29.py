@@ -134,8 +134,9 @@ def test_one_high_precision_evaluation():
     assert blowup._num is precise.real_value and blowup._value is precise.value_at
     assert blowup.DIGITS == precise.DIGITS == 50
     assert precise.real_value(sp.sqrt(2) ** 2 - 2) == 0.0  # sympy's exact 0
-    # cos(π/7)·4·… − … : a value a double cannot tell from 0, 50 digits can: 10^-40 by hand
-    assert precise.real_value(sp.Rational(1, 10) ** 40 + sp.sqrt(2) - sp.sqrt(2)) == pytest.approx(1e-40, rel=1e-12)
+    # exp(10^-40) - 1 = 10^-40 (1 + 5·10^-41 + …) by its series; in doubles exp(1e-40) is 1.0 and the difference 0
+    assert math.exp(1e-40) - 1 == 0.0
+    assert precise.real_value(sp.exp(sp.Rational(1, 10 ** 40)) - 1) == pytest.approx(1e-40, rel=1e-12)
     assert math.isnan(precise.real_value(sp.sqrt(-2)))  # complex: not a real value
     assert math.isnan(precise.real_value(sp.zoo)) and math.isnan(precise.real_value(sp.log(0)))
     assert precise.real_value(sp.Integer(10) ** 400) == sys.float_info.max  # defined, beyond doubles
