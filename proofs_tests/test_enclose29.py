@@ -208,3 +208,19 @@ def test_x307_still_samples_poles():
     assert "its argument crosses a pole (cos changes sign)" in f.message
     assert _findings("if x > 0 then log(x) else 0", "[-1, 1]", code="X307") == []
     assert _findings("log(x + 2)", "[-1, 1]", code="X307") == []
+
+
+def test_x311_reuses_x307s_search_only_for_the_same_question():
+    program = _loaded("log(x - a)", "[0, 1]").program
+    box = ((sp.Integer(0), sp.Integer(1)),)
+
+    def ctx(a):
+        return Ctx(at=at_symbols({"a": a}), variables=("x",))
+
+    parts = definedness.undefined_parts(program.body, ctx(0.5), ("x",), box)
+    assert len(parts) == 1 and definedness.undefined_part(program.body, ctx(0.5), ("x",), box) is parts[0]
+    # another point: searched again (log(x + 1/2) is defined on [0, 1]; log(x - 1/2) is not)
+    assert definedness.undefined_part(program.body, ctx(-0.5), ("x",), box) is None
+    # the same value as a Float of another precision is another question (sympy's == ignores precision)
+    other = Ctx(at={k: sp.Float(0.5, 30) for k in at_symbols({"a": 0.5})}, variables=("x",))
+    assert definedness._key(other, ("x",), box) != definedness._key(ctx(0.5), ("x",), box)

@@ -168,8 +168,22 @@ def undefined_part(t: Term, ctx: Ctx, variables: Sequence[str],
                    box: Sequence[tuple[sp.Expr, sp.Expr]]) -> Undefined | None:
     """An application in ``t`` evaluated outside its domain on a set of positive measure of the
     box (module docstring) at the parameter values ``ctx.at``: the first one found, in the order
-    of the text; None when none is found."""
+    of the text; None when none is found.  :func:`undefined_parts`' answer for the same question
+    when it was the last one asked (``langur check`` asks X307's, then X311's: one search)."""
+    if _LAST and _LAST[0] is t and _LAST[1] == _key(ctx, variables, box):
+        return _LAST[2][0] if _LAST[2] else None
     return next(iter(_undefined(t, ctx, variables, box, set()) or ()), None)
+
+
+#: :func:`undefined_parts`' last question and answer: ``[term, key, answer]`` (the term kept, so its
+#: identity stays its own).
+_LAST: list = []
+
+
+def _key(ctx: Ctx, variables: Sequence[str], box: Sequence[tuple[sp.Expr, sp.Expr]]) -> tuple:
+    """The rest of the question (``srepr``: a Float's precision counts, which sympy's equality ignores)."""
+    return (sp.srepr(sorted((ctx.at or {}).items(), key=str)), sp.srepr(sorted(ctx.env.items())),
+            tuple(variables), sp.srepr(tuple(map(tuple, box))))
 
 
 def undefined_parts(t: Term, ctx: Ctx, variables: Sequence[str],
@@ -181,12 +195,11 @@ def undefined_parts(t: Term, ctx: Ctx, variables: Sequence[str],
     or none of whose witnesses the grid finds, is not among them: nothing is claimed."""
     done: set[int] = set()
     found = _undefined(t, ctx, variables, box, done)
-    if found is None:
-        return None
-    out = []
-    for u in found:
+    out = None if found is None else []
+    for u in found or ():
         out.append(u)
         done.add(id(u.application))  # (its other sign patterns and paths are not looked at)
+    _LAST[:] = [t, _key(ctx, variables, box), out]
     return out
 
 
