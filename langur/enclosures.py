@@ -13,10 +13,16 @@ enclosures that bracket mpmath's decide first where they can (:mod:`langur.float
 
 Used by :mod:`langur.implicit` (``evalf`` and lambdified code of an indexed
 :class:`~langur.implicit.ImplicitRootFn`); the Monte Carlo engine certifies the same way on its
-own, vectorized (:mod:`langur.operational.signchanges`).
+own, vectorized (:mod:`langur.operational.signchanges`).  The same arithmetic over a box, every
+variable an interval (:func:`enclose`), proves a primitive's argument inside its domain for
+:mod:`langur.symbolic.definedness`.
 """
 
 from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Mapping
 
 import mpmath
 import sympy as sp
@@ -74,16 +80,75 @@ class _IntervalPrinter(PythonCodePrinter):
         return f"mpf({str(sp.Float(e, e._prec)).strip()!r})"
 
 
+def _on_intervals(xs: list, e: sp.Expr):
+    """``e`` compiled by lambdify to a function of mpmath intervals for ``xs``: every operation
+    mpmath's interval arithmetic (rounded outward), constants included (:class:`_IntervalPrinter`)."""
+    printer = _IntervalPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
+                                "user_functions": {k: k for k in _IV}})  # lambdify's own settings
+    return sp.lambdify(xs, e, modules=[_IV, mpmath.iv], printer=printer)
+
+
 def _interval_fn(x: sp.Symbol, e: sp.Expr, free: tuple = ()) -> _Enclosure:
     """``e`` (in ``x`` and the symbols ``free``) on mpmath intervals: ``X, *values ↦`` an interval
     containing ``e(X)`` at those values of ``free``; None where it cannot be enclosed.  Every
     operation is mpmath's interval arithmetic (rounded outward), constants included
-    (:class:`_IntervalPrinter`); a polynomial's also compiled to float enclosures that bracket
+    (:func:`_on_intervals`); a polynomial's also compiled to float enclosures that bracket
     mpmath's (:mod:`langur.floativ`), which decide first where they can."""
-    printer = _IntervalPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
-                                "user_functions": {k: k for k in _IV}})  # lambdify's own settings
-    fn = sp.lambdify([x, *free], e, modules=[_IV, mpmath.iv], printer=printer)
+    fn = _on_intervals([x, *free], e)
     return _Enclosure(fn, floativ.compile_enclosure(fn, 1 + len(free)))
+
+
+#: The functions an enclosure over a box may apply (mpmath's ``iv`` or :data:`_IV` enclose each
+#: soundly); anything else (``Max``, ``Piecewise``, ``Abs``, a relation: lambdify's text compares
+#: intervals, which is not interval arithmetic) is not enclosed.
+_BOX_FUNCTIONS = frozenset({sp.exp, sp.log, sp.sin, sp.cos, sp.tan, sp.tanh, sp.atan, sp.erf,
+                            sp.asin, sp.acos, sp.atanh})
+
+
+def _enclosable(e: sp.Expr, xs: tuple) -> bool:
+    """Whether :func:`enclose` can enclose ``e`` over a box of ``xs``: built of ``xs``, finite
+    numbers, π, e, +, ·, powers and :data:`_BOX_FUNCTIONS`."""
+    for n in sp.preorder_traversal(e):
+        if n.is_Symbol:
+            if n not in xs:
+                return False
+        elif n.is_Number:
+            if n.is_finite is not True:
+                return False
+        elif not (n.is_Add or n.is_Mul or n.is_Pow or n is sp.pi or n is sp.E or n.func in _BOX_FUNCTIONS):
+            return False
+    return True
+
+
+@functools.lru_cache(maxsize=1024)  # one condition bounds many applications
+def _box_fn(e: sp.Expr, xs: tuple) -> _Enclosure | None:
+    return _Enclosure(_on_intervals(list(xs), e), None) if _enclosable(e, xs) else None
+
+
+def enclose(e: sp.Expr, box: Mapping[sp.Symbol, tuple]):
+    """An interval (mpmath's) containing every real value of ``e`` on the closed box (symbol →
+    its ends; ``e`` in those symbols), or None (not enclosed: anything).  The same outward-rounded
+    interval arithmetic as :func:`_interval_fn`, every variable an interval.  An end is a double
+    (exact) or a sympy number (a rational exactly, as the interval quotient of its numerator and
+    denominator; another, ``pi/2``, widened to the doubles around it).  An enclosure with an
+    infinite end (a pole inside the box) is returned as it is; a complex one (a root of a negative
+    base) is None."""
+    xs = tuple(box)
+    fn = _box_fn(e, xs)
+    if fn is None:
+        return None
+    out = fn(*(mpmath.iv.mpf([_end(lo).a, _end(hi).b]) for lo, hi in box.values()))
+    return out if isinstance(out, mpmath.iv.mpf) else None
+
+
+def _end(v):
+    """An interval holding the box end ``v`` (:func:`enclose`)."""
+    if isinstance(v, sp.Rational):
+        return mpmath.iv.mpf(v.p) / mpmath.iv.mpf(v.q)
+    f = float(v)
+    if isinstance(v, (float, int)):
+        return mpmath.iv.mpf(f)
+    return mpmath.iv.mpf([math.nextafter(f, -math.inf), math.nextafter(f, math.inf)])
 
 
 class _Enclosure:

@@ -2,26 +2,29 @@
 
 LANGUAGE.md §1: where a primitive is applied outside its domain (log of a non-positive number,
 division by zero) the value is undefined, and "the checker warns when it can see it happen on the
-domain of integration".  It looks at the parameter values in force (defaults or ``--at``) and
-evaluates the integrand with numpy at random points of the box (fixed seed), each subterm only
-where it is evaluated (a branch of a conditional only where its condition selects it), and warns
-when a set of positive measure is out of the domain:
+domain of integration".  At the parameter values in force (defaults or ``--at``), each subterm
+where it is evaluated (a branch of a conditional only where its condition selects it, Fig. 7):
 
-* ``log``: argument < 0 (a zero on a null set is an integrable singularity and is not reported);
-* ``sqrt`` and fractional powers ``t ^ (p/q)``: base < 0;
-* division, ``t ^ k`` with k < 0: the base takes both signs (it crosses zero inside the region);
-* ``tan``: ``cos`` of the argument takes both signs (a pole inside the region);
-* ``asin``/``acos``/``atanh`` (inverse branches only): argument outside [-1, 1].
+* **outside the domain on a set of positive measure** (``log`` or ``sqrt`` of a negative number,
+  ``log(0)`` on a region, ``asin`` beyond [−1, 1], a fractional power ``t ^ (p/q)`` of a negative
+  base, a denominator that is 0 on a region): the exact engine decides it
+  (:func:`langur.symbolic.definedness.undefined_parts`, the decision X311 and ``eval`` use), and
+  its witness, a point where the argument is proved outside the domain, is the example; the ends
+  of the domain on a null set are not reported (an integrable singularity: ``log(x)`` on [0, 1]).
+  Where it cannot decide (an argument with too many discontinuities to split), the integrand's
+  values at random points of the box (numpy, fixed seed) outside the domain's closure are;
+* **a pole crossed** (a null set, reported all the same): a division or ``t ^ k`` with k < 0 whose
+  base takes both signs at the random points, ``tan`` whose argument's ``cos`` does.
 
-Each primitive's domain is read from its entry in ``langur.primitives``; the ends of an interval
-are a null set and are not reported.
-
-A sampling check can miss a tiny bad region: it reports what it sees, never claims absence.
+Each primitive's domain is read from its entry in ``langur.primitives``.  Both searches can miss
+a tiny bad region (the engine's grid, the random points): they report what they see, never claim
+absence.
 """
 
 from __future__ import annotations
 
 import copy
+import math
 from collections.abc import Mapping
 from fractions import Fraction
 
@@ -44,10 +47,13 @@ from ..core import (
     Var,
     children,
 )
-from ..primitives import REGISTRY
+from ..denote import program_box
+from ..primitives import REGISTRY, Domain
+from ..symbolic.decompose import Ctx
+from ..symbolic.definedness import Undefined, random_points, undefined_parts
+from ..symbolic.precise import real_value
+from ..sympy_bridge import at_symbols
 from .findings import Finding, quote
-
-SAMPLES = 4096
 
 
 class _Skip(Exception):
@@ -99,18 +105,32 @@ class _Eval:
     any size holds O(depth) arrays at once, not one per node (a sum of 10⁵ terms held 3 GB)."""
 
     def __init__(self, xs: dict[str, np.ndarray], params: Mapping[str, float], mask, report=True,
-                 uses: dict[int, int] | None = None):
+                 uses: dict[int, int] | None = None, undefined: dict[int, Undefined] | None = None):
         self.xs = xs
         self.params = dict(params)
         self.report = report
-        self.bad: dict[tuple[int, str], tuple[Term, str, np.ndarray]] = {}  # the first of each (node, why)
+        self.bad: dict[tuple[int, str], tuple[Term, str, str]] = {}  # the first of each (node, why): its example
+        self.undefined = undefined  # the exact engine's verdicts by node (None: not decided, sampled)
         self.uses = {} if uses is None else uses
         self.memo: dict[tuple[int, int], list] = {}  # (id(t), id(mask)) → [mask, value, uses left]
         self.kept = [0]  # memoized arrays of this scope and those around it
 
     def flag(self, t: Term, why: str, where: np.ndarray):
+        """``t`` is outside its domain at the sample points ``where`` (the first is the example)."""
         if self.report and (id(t), why) not in self.bad and where.any():
-            self.bad[id(t), why] = (t, why, where)
+            k = int(np.argmax(where))
+            self.bad[id(t), why] = (t, why, ", ".join(f"{x} = {v[k]:.3g}" for x, v in self.xs.items()))
+
+    def outside(self, t: Term, why, where):
+        """``t`` outside its domain on a set of positive measure: as the exact engine decides, with
+        its witness and ``why(witness)`` (its reason), or, where it did not decide, at the sample
+        points ``where()``."""
+        if self.undefined is None:
+            self.flag(t, why(None), where())
+            return
+        u = self.undefined.get(id(t))
+        if self.report and u is not None and (id(t), why(u)) not in self.bad:
+            self.bad[id(t), why(u)] = (t, why(u), ", ".join(f"{x} = {float(p):.3g}" for x, p in u.point))
 
     def value(self, t: Term, mask: np.ndarray):
         """⟦t⟧ at the sample points (Fig. 7), computed once per mask for a node used more than
@@ -157,12 +177,13 @@ class _Eval:
                 # LANGUAGE.md §1, primitive
                 v = self.value(a, mask)
                 domain = REGISTRY[op].domain
-                if domain.poles:  # tan: undefined where cos vanishes
+                if domain.poles:  # tan: undefined where cos vanishes (a pole crossed)
                     c = np.cos(v)
                     if (mask & (c > 0)).any() and (mask & (c < 0)).any():
                         self.flag(t, domain.why, mask & (c < 0))
-                else:
-                    self.flag(t, domain.why, mask & domain.outside_closure(v))
+                # outside the domain's closure; a constant argument at an end of it, or at a pole
+                # of tan, on a region (the engine's reason: "its argument is 0 there")
+                self.outside(t, lambda u: _primitive_why(domain, u), lambda: mask & domain.outside_closure(v))
                 return REGISTRY[op].value(v)
             case Pow(a, k):
                 # LANGUAGE.md §1, constant power (t / s is t · s^-1)
@@ -173,10 +194,10 @@ class _Eval:
                         "the denominator changes sign, so it divides by zero inside the region",
                         mask & (v < 0),
                     )
-                if k < 0:
+                if k < 0 and self.undefined is None:
                     self.flag(t, "the denominator is zero (division by zero)", mask & (v == 0))
-                if Fraction(k).denominator != 1:
-                    self.flag(t, "a fractional power of a negative base", mask & (v < 0))
+                if Fraction(k).denominator != 1 or self.undefined is not None:
+                    self.outside(t, _power_why, lambda: mask & (v < 0))
                 if Fraction(k).denominator != 1:
                     return np.power(np.where(v >= 0, v, np.nan), float(k))
                 return np.power(v, float(k))
@@ -202,6 +223,35 @@ class _Eval:
         raise TypeError(f"not a core term: {t!r}")
 
 
+def _primitive_why(domain: Domain, u: Undefined | None) -> str:
+    """Why a primitive is outside its domain: the domain's reason; for a constant argument in the
+    closure of the domain (``log(0)``, ``tan`` at a pole, on a region), the engine's ("its
+    argument is 0 there")."""
+    if u is None or u.argument.free_symbols:
+        return domain.why
+    z = real_value(u.argument)
+    return domain.why if math.isnan(z) or domain.outside_closure(z) else u.why
+
+
+def _power_why(u: Undefined | None) -> str:
+    """Why a power is outside its domain: its base 0 under a negative exponent, else negative."""
+    return "the denominator is zero (division by zero)" if u is not None and u.argument.is_zero \
+        else "a fractional power of a negative base"
+
+
+def _undefined(program: Program, point: Mapping[str, object]) -> dict[int, Undefined] | None:
+    """The exact engine's applications outside their domain (:func:`~langur.symbolic.definedness.undefined_parts`)
+    at ``point`` (as X311 asks, ``langur.lint.singular``), by node; None when it cannot decide."""
+    ctx = Ctx(at=at_symbols({k: v for k, v in point.items() if v is not None}), variables=tuple(program.variables))
+    try:
+        found = undefined_parts(program.body, ctx, program.variables, program_box(program, ctx))
+    except TimeoutError:  # (the analysis's budget: not the engine's failure)
+        raise
+    except Exception:  # noqa: BLE001 - the engine could not decide (sympy failed): the samples do
+        return None
+    return None if found is None else {id(u.application): u for u in found}
+
+
 def domain_findings(program: Program | None, point: Mapping[str, object] | None, sources: Mapping[str, str]):
     """X307 findings of ``program`` at the parameter ``point`` (nothing when a value is missing)."""
 
@@ -215,19 +265,17 @@ def domain_findings(program: Program | None, point: Mapping[str, object] | None,
         return []
     if not all(np.isfinite(lo) and np.isfinite(hi) and lo < hi for lo, hi in bounds):
         return []
-    rng = np.random.default_rng(0)
-    xs = {x: rng.uniform(lo, hi, SAMPLES) for x, (lo, hi) in zip(program.variables, bounds)}
-    ev = _Eval(xs, params, None, uses=_uses(program.body))
-    mask = np.ones(SAMPLES, dtype=bool)
+    pts = random_points(bounds)  # (the exact engine looks for its witnesses at the same points)
+    xs = {x: pts[:, i] for i, x in enumerate(program.variables)}
+    ev = _Eval(xs, params, None, uses=_uses(program.body), undefined=_undefined(program, point))
+    mask = np.ones(len(pts), dtype=bool)
     try:
         with np.errstate(all="ignore"):
             ev.value(program.body, mask)
     except _Skip:
         return []
     out = []
-    for t, why, where in ev.bad.values():
-        k = int(np.argmax(where))
-        example = ", ".join(f"{x} = {xs[x][k]:.3g}" for x in program.variables)
+    for t, why, example in ev.bad.values():
         span = t.span
         text = quote(span, sources, limit=None)
         what = f"`{text}`" if text else (f"`{t.op}`" if isinstance(t, Prim) else "a power")

@@ -17,32 +17,40 @@ where its argument has one smooth value per sign pattern of the argument's own c
 measure when a point strictly inside the box has every condition > 0 and the argument strictly
 outside the domain's closure (open sets: a neighbourhood of the point is such a set), or, for an
 argument constant there, the constant outside the domain (``log(max(x, 0))`` at x < 0, a division
-by a term that is 0 there).  The point is looked for on a grid (:data:`GRID`; ``langur check``
-reports X311 "undefined" from this same search, ``langur.lint.singular``, blaming the application) —
-and proved at its exact coordinates with 40 digits: undefined is said only with a witness.  An
-argument whose interval enclosure over the box lies in the domain is not sampled at all.
+by a term that is 0 there).  The point is looked for on a grid (:data:`GRID`), then, where the
+grid has none (a region thinner than its step), at :data:`SAMPLES` random points of the box, and
+proved at its exact coordinates with 50 digits (:mod:`langur.symbolic.precise`): undefined is
+said only with a witness.  An argument whose interval enclosure over the box lies in the domain
+(:func:`langur.enclosures.enclose`, mpmath's interval arithmetic) is not searched at all.
+``langur check`` reports X311 "undefined" from this same search (``langur.lint.singular``,
+blaming the application, through :func:`undefined_part`), and X307 from :func:`undefined_parts`,
+which finds every such application (``langur.lint.domains``).
 """
 
 from __future__ import annotations
 
+import fractions
 import functools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
 
 from ..core import IfDiffeo, IfGe0, Let, Pow, Prim, Term, children
+from ..enclosures import enclose
 from ..primitives import REGISTRY, Domain
 from ..sympy_bridge import symbols
 from .decompose import Ctx, decide, decompose, sign_patterns, smooth_value
+from .precise import real_value
 from .text import expr_text
 
-#: Grid points per dimension of the box (the same as the linter's singularity grid, ``langur.lint.blowup.GRID``).
+#: Grid points per dimension of the box (the same as the integrability analysis's grid, ``langur.symbolic.integrability.GRID``).
 GRID = {1: 401, 2: 41, 3: 15}
-#: Digits of the evaluation that proves a witness.
-DIGITS = 40
+#: Random points of the box where a witness the grid misses is looked for (:func:`random_points`;
+#: the linter's X307 evaluates the integrand at the same points, ``langur.lint.domains``).
+SAMPLES = 4096
 
 #: A fractional power: undefined at a negative base (LANGUAGE.md §1, whatever the denominator); a
 #: negative one also at 0.  A negative integer power (a division): at 0.
@@ -159,13 +167,52 @@ def applications(t: Term, ctx: Ctx) -> list[tuple[Term, Domain, sp.Expr, tuple[s
 def undefined_part(t: Term, ctx: Ctx, variables: Sequence[str],
                    box: Sequence[tuple[sp.Expr, sp.Expr]]) -> Undefined | None:
     """An application in ``t`` evaluated outside its domain on a set of positive measure of the
-    box (module docstring) at the parameter values ``ctx.at``; None when none is found."""
+    box (module docstring) at the parameter values ``ctx.at``: the first one found, in the order
+    of the text; None when none is found.  :func:`undefined_parts`' answer for the same question
+    when it was the last one asked (``langur check`` asks X307's, then X311's: one search)."""
+    if _LAST and _LAST[0] is t and _LAST[1] == _key(ctx, variables, box):
+        return _LAST[2][0] if _LAST[2] else None
+    return next(iter(_undefined(t, ctx, variables, box, set()) or ()), None)
+
+
+#: :func:`undefined_parts`' last question and answer: ``[term, key, answer]`` (the term kept, so its
+#: identity stays its own).
+_LAST: list = []
+
+
+def _key(ctx: Ctx, variables: Sequence[str], box: Sequence[tuple[sp.Expr, sp.Expr]]) -> tuple:
+    """The rest of the question (``srepr``: a Float's precision counts, which sympy's equality ignores)."""
+    return (sp.srepr(sorted((ctx.at or {}).items(), key=str)), sp.srepr(sorted(ctx.env.items())),
+            tuple(variables), sp.srepr(tuple(map(tuple, box))))
+
+
+def undefined_parts(t: Term, ctx: Ctx, variables: Sequence[str],
+                    box: Sequence[tuple[sp.Expr, sp.Expr]]) -> list[Undefined] | None:
+    """Every application in ``t`` evaluated outside its domain on a set of positive measure of
+    the box at ``ctx.at``, each once (its first witness), in the order of the text; None when
+    nothing can be decided (an argument with too many discontinuities to split, a bound of the
+    box not a finite number).  An application whose argument is in a parameter without a value,
+    or none of whose witnesses the grid finds, is not among them: nothing is claimed."""
+    done: set[int] = set()
+    found = _undefined(t, ctx, variables, box, done)
+    out = None if found is None else []
+    for u in found or ():
+        out.append(u)
+        done.add(id(u.application))  # (its other sign patterns and paths are not looked at)
+    _LAST[:] = [t, _key(ctx, variables, box), out]
+    return out
+
+
+def _undefined(t: Term, ctx: Ctx, variables: Sequence[str], box: Sequence[tuple[sp.Expr, sp.Expr]],
+               done: set[int]) -> Iterator[Undefined] | None:
+    """The applications of ``t`` found undefined (module docstring), lazily, skipping those whose
+    identity is in ``done`` when their turn comes; None when nothing can be decided."""
     try:
         found = applications(t, ctx)
     except NotImplementedError:  # (too many discontinuities to split an argument: nothing is claimed)
         return None
     if not found:
-        return None
+        return iter(())
     at = dict(ctx.at or {})
     xs = symbols(tuple(variables))
     ends = [(sp.sympify(lo).xreplace(at), sp.sympify(hi).xreplace(at)) for lo, hi in box]
@@ -175,7 +222,14 @@ def undefined_part(t: Term, ctx: Ctx, variables: Sequence[str],
         return None
     if not (np.all(np.isfinite(fbox)) and np.all(fbox[:, 0] < fbox[:, 1])):
         return None
+    return _witnessed(found, at, xs, ends, fbox, done)
+
+
+def _witnessed(found, at, xs, ends, fbox: np.ndarray, done: set[int]) -> Iterator[Undefined]:
+    """Each application of ``found`` (:func:`applications`) with a witness (module docstring)."""
     for term, domain, v, path in found:
+        if id(term) in done:
+            continue
         v = sp.sympify(v).xreplace(at)
         exprs = [sp.sympify(c).xreplace(at) for c in path]
         if (v.free_symbols | set().union(*(e.free_symbols for e in exprs))) - set(xs):
@@ -186,7 +240,7 @@ def undefined_part(t: Term, ctx: Ctx, variables: Sequence[str],
         if v.free_symbols:
             # a varying argument: outside the closure of the domain on an open set (its ends, and
             # the poles of tan or of a division, are a null set); the sets where it is beyond an end
-            beyond = [[g] for g in _beyond(domain, v) if _may_be_positive(g, xs, fbox)]
+            beyond = [[g] for g in _beyond(domain, v) if _may_be_positive(g, xs, ends)]
             why = domain.why
         elif _constant_inside(domain, v):
             continue
@@ -197,8 +251,8 @@ def undefined_part(t: Term, ctx: Ctx, variables: Sequence[str],
         for outside in beyond:
             point = _witness(conds + outside, xs, ends, fbox)
             if point is not None:
-                return Undefined(_what(term, v), why, tuple((str(x), p) for x, p in zip(xs, point)), term, v)
-    return None
+                yield Undefined(_what(term, v), why, tuple((str(x), p) for x, p in zip(xs, point)), term, v)
+                break
 
 
 def _what(term: Term, v: sp.Expr) -> str:
@@ -214,28 +268,20 @@ def _what(term: Term, v: sp.Expr) -> str:
     return expr_text(v)
 
 
-def _num(e: sp.Expr) -> complex:
-    try:
-        return complex(sp.N(e, DIGITS))
-    except (TypeError, ValueError, ZeroDivisionError, OverflowError):
-        return complex(math.nan)
-
-
 def _at_least_zero(e: sp.Expr) -> bool:
-    z = _num(e)
-    return z.imag == 0 and z.real >= 0
+    return real_value(e) >= 0
 
 
 def _constant_inside(domain: Domain, v: sp.Expr) -> bool:
     """A constant argument inside the domain (exactly)."""
-    z = _num(v)
-    if z.imag != 0 or not math.isfinite(z.real):
+    z = real_value(v)
+    if not math.isfinite(z):
         return False
     if domain.poles:  # a division: 0; tan: where cos is 0
         return v != 0 if domain is _DIVISION else sp.cos(v) != 0
-    if z.real == domain.lo or z.real == domain.hi:  # at an end: decided exactly
+    if z == domain.lo or z == domain.hi:  # at an end: decided exactly
         return domain.closed or v not in (sp.nsimplify(domain.lo), sp.nsimplify(domain.hi))
-    return domain.contains(z.real)
+    return domain.contains(z)
 
 
 def _beyond(domain: Domain, v: sp.Expr) -> list[sp.Expr]:
@@ -252,51 +298,12 @@ def _beyond(domain: Domain, v: sp.Expr) -> list[sp.Expr]:
 # Enclosures: a proof, without sampling, that g ≤ 0 on the box
 
 
-def _may_be_positive(g: sp.Expr, xs, fbox: np.ndarray) -> bool:
-    """False when an interval enclosure of ``g`` over the box proves ``g ≤ 0`` there."""
-    lo_hi = _enclose(g, dict(zip(xs, map(tuple, fbox))))
-    return lo_hi is None or lo_hi[1] > 0
-
-
-def _widen(lo: float, hi: float) -> tuple[float, float]:
-    """[lo, hi] rounded outward (a float operation is off by half a unit in the last place)."""
-    return (lo - 1e-12 * abs(lo) - 1e-300, hi + 1e-12 * abs(hi) + 1e-300)
-
-
-def _enclose(e: sp.Expr, box: Mapping) -> tuple[float, float] | None:
-    """An interval containing ``e`` on the box, or None (not enclosed: anything)."""
-    if e.is_Number or e is sp.pi or e is sp.E:
-        f = float(e)
-        return _widen(f, f) if math.isfinite(f) else None
-    if e.is_Symbol:
-        return box.get(e)
-    if e.is_Add or e.is_Mul:
-        parts = [_enclose(a, box) for a in e.args]
-        if any(p is None for p in parts):
-            return None
-        lo, hi = parts[0]
-        for a, b in parts[1:]:
-            if e.is_Add:
-                lo, hi = lo + a, hi + b
-            else:
-                products = [lo * a, lo * b, hi * a, hi * b]
-                lo, hi = min(products), max(products)
-        return _widen(lo, hi) if math.isfinite(lo) and math.isfinite(hi) else None
-    if e.is_Pow and e.exp.is_Rational:
-        base = _enclose(e.base, box)
-        if base is None:
-            return None
-        lo, hi, k = base[0], base[1], e.exp
-        if k.is_Integer and k > 0:
-            ends = (lo ** int(k), hi ** int(k))
-            if int(k) % 2 == 0 and lo <= 0 <= hi:
-                return _widen(0.0, max(ends))
-            return _widen(min(ends), max(ends))
-        if lo <= 0 and not (k > 0 and lo == 0):  # a root of a negative base, a pole at 0: not enclosed
-            return None
-        ends = (lo ** float(k), hi ** float(k))
-        return _widen(min(ends), max(ends))
-    return None
+def _may_be_positive(g: sp.Expr, xs, ends) -> bool:
+    """False when an interval enclosure of ``g`` over the box (its exact ``ends``;
+    :func:`langur.enclosures.enclose`: mpmath's interval arithmetic, rounded outward) proves
+    ``g ≤ 0`` there."""
+    bound = enclose(g, dict(zip(xs, ends)))
+    return bound is None or bound.b > 0
 
 
 # ----------------------------------------------------------------------------------------------
@@ -305,21 +312,56 @@ def _enclose(e: sp.Expr, box: Mapping) -> tuple[float, float] | None:
 
 @functools.lru_cache(maxsize=1024)  # one condition bounds many applications
 def _compiled(exprs: tuple, xs: tuple):
-    """``exprs`` compiled for numpy over ``xs`` (False: sympy cannot compile them)."""
+    """``exprs`` compiled for numpy over ``xs``, ``erf`` the primitive's own (numpy has none; sympy
+    would print ``math.erf``, which takes no array); False: sympy cannot compile them."""
     try:
-        return sp.lambdify(list(xs), list(exprs), modules="numpy")
+        return sp.lambdify(list(xs), list(exprs), modules=[{"erf": REGISTRY["erf"].value}, "numpy"])
     except Exception:  # noqa: BLE001 - sympy cannot print everything for numpy: nothing is claimed then
         return False
 
 
 def _witness(exprs: list[sp.Expr], xs, ends, fbox: np.ndarray) -> tuple[sp.Expr, ...] | None:
     """An exact point strictly inside the box where every ``e`` of ``exprs`` is > 0, proved with
-    :data:`DIGITS` digits (None when the grid has none)."""
+    :data:`~langur.symbolic.precise.DIGITS` digits: looked for on the grid (:data:`GRID`: round
+    coordinates), then, where it has none, at :func:`random_points` (a region thinner than the
+    grid's step: ``log(x)`` on [−0.001, 1]), each moved to a nearby short rational (None when
+    neither has one)."""
     n = len(xs)
     k = GRID.get(n, 7)
     axes = [np.linspace(lo, hi, k) for lo, hi in fbox]
     index = np.indices((k,) * n).reshape(n, -1).T  # each grid point's indices
     pts = np.stack([axes[i][index[:, i]] for i in range(n)], axis=1)
+    found = _proved(exprs, xs, pts, fbox, lambda h: tuple(lo + (hi - lo) * sp.Rational(int(i), k - 1)
+                                                           for (lo, hi), i in zip(ends, index[h])))
+    if found is None:
+        pts = random_points(fbox)
+        found = _proved(exprs, xs, pts, fbox, lambda h: _inside(tuple(map(_short, pts[h])), ends))
+    return found
+
+
+def random_points(fbox) -> np.ndarray:
+    """:data:`SAMPLES` points of the box ``fbox`` (rows: its sides' ends, doubles) uniformly at
+    random, one row each, the same every time (seed 0)."""
+    rng = np.random.default_rng(0)
+    return np.stack([rng.uniform(lo, hi, SAMPLES) for lo, hi in fbox], axis=1)
+
+
+def _short(v: float) -> sp.Rational:
+    """The rational nearest ``v`` with a denominator at most 10⁶ (a short text; within 10⁻⁶/q of ``v``)."""
+    return sp.Rational(fractions.Fraction(float(v)).limit_denominator(10 ** 6))
+
+
+def _inside(point: tuple[sp.Expr, ...], ends) -> tuple[sp.Expr, ...] | None:
+    """``point`` when it is strictly inside the box (proved), else None."""
+    inside = all(real_value(p - lo) > 0 and real_value(hi - p) > 0 for p, (lo, hi) in zip(point, ends))
+    return point if inside else None
+
+
+def _proved(exprs: list[sp.Expr], xs, pts: np.ndarray, fbox: np.ndarray, exact) -> tuple[sp.Expr, ...] | None:
+    """The exact point ``exact(h)`` of one of the points ``pts`` strictly inside the box where every
+    ``e`` of ``exprs`` is > 0 in doubles (the middle one, the first, the last), when it is proved
+    there; None (``exact`` may say None too)."""
+    n = len(xs)
     margin = 1e-9 * float(np.max(fbox[:, 1] - fbox[:, 0]))
     ok = np.all((pts > fbox[:, 0] + margin) & (pts < fbox[:, 1] - margin), axis=1)
     if exprs:
@@ -338,7 +380,9 @@ def _witness(exprs: list[sp.Expr], xs, ends, fbox: np.ndarray) -> tuple[sp.Expr,
             ok &= np.nan_to_num(np.asarray(val, dtype=float), nan=-1.0) > margin
     hits = np.flatnonzero(ok)
     for h in hits[[len(hits) // 2, 0, -1]] if len(hits) else ():
-        point = tuple(lo + (hi - lo) * sp.Rational(int(i), k - 1) for (lo, hi), i in zip(ends, index[h]))
+        point = exact(h)
+        if point is None:
+            continue
         sub = dict(zip(xs, point))
         if all(_proved_positive(e.xreplace(sub)) for e in exprs):
             return point
@@ -346,5 +390,4 @@ def _witness(exprs: list[sp.Expr], xs, ends, fbox: np.ndarray) -> tuple[sp.Expr,
 
 
 def _proved_positive(e: sp.Expr) -> bool:
-    z = _num(e)
-    return abs(z.imag) <= 1e-30 * max(1.0, abs(z.real)) and z.real > 1e-30
+    return real_value(e) > 1e-30

@@ -65,9 +65,10 @@ import sympy as sp
 
 from ..primitives import REGISTRY
 from ..timebox import Deadline
+from .precise import DIGITS
+from .precise import real_value as _num
+from .precise import value_at as _value
 
-#: Digits of the high-precision evaluations.
-DIGITS = 50
 #: Grid points per dimension (the grid has at most a few thousand points).
 GRID = {1: 401, 2: 41, 3: 15}
 #: Directions tried at a point (the first are the natural ones: axes, inward normals).
@@ -193,25 +194,6 @@ def _numpy(e: sp.Expr, xs) -> callable:
         return np.where(np.abs(v.imag) <= 1e-12 * np.maximum(1.0, np.abs(v.real)), v.real, np.nan)
 
     return call
-
-
-def _num(e) -> float:
-    """A real value with :data:`DIGITS` digits (NaN when complex, undefined or infinite; a finite
-    value beyond the range of doubles, ``10^400 · x``, is clamped to the largest double: it is
-    defined)."""
-    try:
-        re, im = sp.sympify(e).evalf(DIGITS).as_real_imag()
-        if not (re.is_Number and im.is_Number and re.is_finite and im.is_finite):
-            return math.nan
-        if abs(im) > sp.Float("1e-30") * max(1, abs(re)):
-            return math.nan
-        return max(-sys.float_info.max, min(sys.float_info.max, float(re)))
-    except (TypeError, ValueError, ZeroDivisionError, OverflowError, AttributeError):
-        return math.nan
-
-
-def _value(e: sp.Expr, xs, p: Sequence[sp.Expr]) -> float:
-    return _num(e.xreplace({x: sp.Float(v, DIGITS) if not isinstance(v, sp.Basic) else v for x, v in zip(xs, p)}))
 
 
 # ----------------------------------------------------------------------------------------------
