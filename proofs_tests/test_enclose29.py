@@ -23,8 +23,8 @@ import numpy as np
 import pytest
 import sympy as sp
 
-import langur.symbolic.integrability as blowup
 import langur.symbolic.definedness as definedness
+import langur.symbolic.integrability as blowup
 from langur import transversality as tv
 from langur.denote import undefined_where
 from langur.enclosures import enclose
