@@ -278,7 +278,7 @@ def _main(argv: list[str], own_process: bool) -> int:
             for quiet in (DeprecationWarning, PendingDeprecationWarning, FutureWarning):
                 warnings.simplefilter("ignore", quiet)  # about libraries' APIs, not the user's numbers
             try:
-                if args.command in ("show", "eval", "deriv", "render"):  # one budget for the whole command
+                if args.command in ("show", "eval", "deriv", "render", "plot"):  # one budget for the whole command
                     progress.enable(args.command, None if not getattr(args, "json", False) else False)
                     return int(run_with_timeout(lambda: args._run(args), args.timeout) or 0)
                 return int(args._run(args) or 0)

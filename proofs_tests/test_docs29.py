@@ -193,11 +193,9 @@ def _budgeted_in_cli() -> set[str]:
 def test_the_commands_with_a_status_line_are_the_ones_the_docs_name():
     text = " ".join((REPO / "docs/commands.md").read_text(encoding="utf-8").split())
     named = re.search(r"On a terminal, ((?:`\w+`,? (?:and )?)+)keep a status line", text).group(1)
-    assert set(re.findall(r"`(\w+)`", named)) == _budgeted_in_cli() == {"show", "eval", "deriv", "render"}
+    assert set(re.findall(r"`(\w+)`", named)) == _budgeted_in_cli() == {"show", "eval", "deriv", "render", "plot"}
 
 
-@pytest.mark.xfail(strict=True, reason="plot accepts --timeout but cli.py does not enforce it (plot is not in its "
-                                       "tuple of budgeted commands): reported by docs29, a code fix")
 def test_plots_timeout_stops_it_as_the_docs_say(tmp_path, monkeypatch):
     from langur.cli import main
     from langur.commands import plot
