@@ -26,7 +26,8 @@ across the shift's wrap at 0 ≡ 1 (the shift alone makes every face a jump: 20�
 smooth integrand, measured).  Every point stays uniform on [0, 1]^m and the replicates stay i.i.d.,
 so the estimate and the replicates' variance estimate stay unbiased.  The price is accuracy on
 smooth integrands: the tent doubles derivatives, 2–3× the error at the same number of samples
-(still 10–100× below uniform sampling's on smooth integrands; measured in bench/RESULTS.md).
+(in 1–3 variables still 60–200× below uniform sampling's for qmc, 4–300× for stratified: measured
+in bench/RESULTS.md, qmc29).
 
 The replicates' spread has R − 1 degrees of freedom, so their standard error is widened by
 :func:`.student.widening` (1.254 for R = 32): 5 of them are Student's t quantile at the normal 5σ
