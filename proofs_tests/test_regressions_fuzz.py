@@ -85,8 +85,8 @@ def test_min_kink_on_a_jump_exact(text, total, regular, boundary):
 # jump had both of its 2 points on one side (variance estimate 0); qmc: each scrambled 1-D Sobol'
 # net puts exactly ⌊nθ⌋ or ⌈nθ⌉ points in [0, θ], and all K = 16 randomizations could agree.  Now
 # both estimate the variance from 32 independent randomizations (stratified: replicates of a
-# jittered grid).  What remains for qmc: when nθ is within ~1/K of an integer, all replicates
-# may still agree (standard error 0, error below 1/n).  Hand values: ∫₀¹ [x ≤ θ] dx = θ;
+# jittered grid).  What remained (when nθ is within ~1/K of an integer all replicates could agree)
+# is fixed by shifting every replicate (qmc29: test_qmc29.py).  Hand values: ∫₀¹ [x ≤ θ] dx = θ;
 # D_a ∫₀^{a+1} exp(min(x, a)) dx has regular part ∫_a^{a+1} e^a dx = e^a (found by
 # `langur fuzz --method stratified --seed 41`).
 STDERR_CASES = [

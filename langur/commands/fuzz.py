@@ -48,9 +48,9 @@ def add_arguments(p):
                         "still shrunk, at most 40 candidates each)")
     p.add_argument("--method", choices=["uniform", "stratified", "qmc"], default="uniform",
                    help="Monte Carlo sampling (default uniform; stratified and qmc estimate their standard "
-                        "error from 32 independent randomizations, so the 5-sigma rule false-alarms "
-                        "≈ 2e-5 per comparison when their means are near normal, more on discontinuous "
-                        "integrands; any comparison outside it is estimated again with 10 times the samples)")
+                        "error from 32 independent, randomly shifted replicates, widened for their 31 "
+                        "degrees of freedom; any comparison outside 5 standard errors is estimated again "
+                        "with 10 times the samples)")
     p.add_argument("--no-lint", action="store_true",
                    help="do not run the transversality linter (no program is discarded)")
     p.add_argument("--out", "--keep", dest="out", metavar="DIR",

@@ -27,8 +27,8 @@ makes the output bit-identical (one ``np.random.default_rng(seed)``, never globa
 The estimator
 -------------
 Value.  With B = Program.box (evaluated at γ; the integrand vanishes outside it), V = vol(B)
-and points ρ₁…ρ_N of a design in B (i.i.d. uniform; or two uniform points in each of N/2 grid
-strata; or K independently scrambled Sobol' nets),
+and points ρ₁…ρ_N of a design in B (i.i.d. uniform; or R = 32 independent replicates of a jittered
+grid or of a scrambled Sobol' net, each randomly shifted and tent-transformed: :mod:`.replicates`),
 
     ⟦int t d(x⃗)⟧(γ) ≈ V · (1/N) Σᵢ ⟦t⟧(ρᵢ, γ).
 
@@ -56,8 +56,9 @@ diffeomorphic conditional; inside a def, each call is its own site), so
   (standard error 0, the sifting property).  Sites whose condition reads no parameter that γ'
   moves (such as a fixed domain bound) have D_γ π₀Ψ̂·γ' ≡ 0 and are skipped.
 
-Why unbiased: each design point is uniform on its box (stratified: on its stratum; scrambled
-Sobol': marginally uniform), so each term's expectation is the integral it estimates.  Nothing
+Why unbiased: each design point is uniform on its box (uniform: i.i.d.; stratified and qmc:
+marginally, through each replicate's random shift), so each term's expectation is the integral it
+estimates.  Nothing
 relies on a particular variable order, on Ψ̂'s other coordinates being the original variables, on
 a single root, or on fixed bounds: the domain's indicators [x ≥ l(γ)] are sites like any other
 (Leibniz rule), and points outside B score 0 through those indicators, evaluated at the point
@@ -77,8 +78,9 @@ rather than biased.  A ``var`` argument that is not
 a plain variable makes the program evaluate inlined (see :mod:`.link`).
 
 Standard errors and variance sources: the sample standard deviation over i.i.d. points / √N;
-for stratified designs Σ_h (f_h1 − f_h2)²/4 / S² (unbiased within-stratum variance); for
-randomized QMC the spread of the K = 16 independent randomizations' means / √K.  The regular
+for stratified and qmc designs the spread of the R = 32 independent replicates' means / √R,
+widened by Student's t for their R − 1 degrees of freedom (:mod:`.replicates`, :mod:`.student`;
+shifting each replicate keeps a jump from making them all err alike, finding F0).  The regular
 part, the value and each site use independent draws, so variances add.  Variance comes from the
 integrand's variation over B, from E_k's variation along each zero set (none in one variable),
 and from the Jacobian weights; a site whose enclosure U' is much larger than its zero set's image

@@ -1,18 +1,9 @@
 """Samplers: points in a box (the domain) and on the zero set of a condition (a delta's support).
 
 * :func:`design` draws points in the unit cube [0,1]^m — ``"uniform"`` (i.i.d.), ``"stratified"``
-  (R independent replicates of a jittered grid, one point per stratum) or ``"qmc"`` (randomized
-  quasi-Monte Carlo: K independently scrambled Sobol' nets, scipy.stats.qmc) — and knows how to
-  turn values at those points into an estimate of the mean with a standard error.  Stratified
-  and qmc estimate the variance from independent randomizations (the spread of the replicates'
-  means), never from points within one randomization: a stratum or net that puts a jump's
-  points deterministically cannot make it 0 while the estimate is off (issue 13).  With a few
-  dozen replicates the 5-sigma rule's false-alarm rate is that of a t distribution with R − 1
-  degrees of freedom (R = 32: about 2e-5 per comparison) when the replicates' means are close to
-  normal; for a discontinuous integrand they need not be: a jump 0.97 of the way through an
-  elementary interval of the nets makes 97 % of the scrambled nets err alike, so the spread of 32
-  of them can understate the error tenfold (``langur fuzz`` estimates such a comparison again with
-  ten times the samples before it calls it a disagreement: :mod:`langur.fuzz.compare`).
+  or ``"qmc"`` (independent replicates of jittered grids or scrambled Sobol' nets, each shifted and
+  tent-transformed so that a jump cannot make them err alike: :mod:`.replicates`) — and knows how
+  to turn values at those points into an estimate of the mean with a standard error.
 * :class:`SiteSampler` samples the zero set {π₀Ψ̂ = 0} of one diffeomorphic conditional (a *site*)
   through every branch of Ψ̂⁻¹ and weighs each point by |det DΨ̂_b⁻¹(0, u')| computed by the
   engine's own forward mode (see the package docstring for the estimator).
@@ -31,17 +22,17 @@ from .. import lazy
 from ..core import Diffeo, Var
 from ..records import record
 from .compile import compile_pure
-from .pcg64 import Stream, numpy_generator
+from .pcg64 import Stream
 from .point import TANGENT, UNLINKED, VALUE, Point, full
 
 # Interval enclosures of a zero set's other coordinates, imported when a site's condition is not
 # completed by variables alone (start-up of a one-shot ``langur eval`` on an affine program, issue 15).
 interval = lazy.module("langur.operational.interval")
+# The replicate designs (stratified, qmc) and their standard error, imported when first drawn: the
+# default uniform design never needs them (start-up of a one-shot ``langur eval``, issue 15).
+replicates = lazy.module("langur.operational.replicates")
 
 METHODS = ("uniform", "stratified", "qmc")
-QMC_RANDOMIZATIONS = 32
-#: Independent replicates of a stratified design (each a jittered grid, one point per stratum).
-STRATIFIED_REPLICATES = 32
 
 
 # -- designs in the unit cube ---------------------------------------------------------------------
@@ -61,12 +52,8 @@ class Design:
             return 0.0, 0.0
         if self.method == "exact" or n == 1 and self.method == "uniform" and self.points.shape[1] == 0:
             return float(f[0]) if n == 1 else float(np.mean(f)), 0.0
-        if self.method in ("stratified", "qmc"):
-            # the replicates' means are i.i.d. unbiased estimates: their spread is the variance
-            per = f.reshape(self.groups, -1).mean(axis=1)
-            est = float(np.mean(per))
-            se = float(np.std(per, ddof=1)) / math.sqrt(self.groups) if self.groups > 1 else float("inf")
-            return est, se
+        if self.method in ("stratified", "qmc"):  # the replicates' means are i.i.d. unbiased estimates
+            return replicates.mean(f, self.groups)
         est = float(np.mean(f))
         se = float(np.std(f, ddof=1)) / math.sqrt(n) if n > 1 else float("inf")
         return est, se
@@ -83,20 +70,8 @@ def design(rng: Stream | np.random.Generator, m: int, samples: int, method: str)
     samples = int(samples)
     if method == "uniform":
         return Design(rng.random((samples, m)), "uniform")
-    if method == "stratified":
-        reps = STRATIFIED_REPLICATES if samples >= 2 * STRATIFIED_REPLICATES else 2
-        per_axis = max(1, math.floor((samples / reps) ** (1.0 / m) + 1e-9))
-        strata = per_axis ** m
-        grid = np.stack(np.meshgrid(*([np.arange(per_axis)] * m), indexing="ij"), axis=-1).reshape(strata, m)
-        jitter = rng.random((reps, strata, m))
-        pts = (grid[None, :, :] + jitter) / per_axis
-        return Design(pts.reshape(reps * strata, m), "stratified", reps)
-    from scipy.stats import qmc  # randomized QMC: K independent scramblings
-
-    k = QMC_RANDOMIZATIONS if samples >= 2 * QMC_RANDOMIZATIONS else 2
-    level = max(0, math.floor(math.log2(samples / k)))
-    blocks = [qmc.Sobol(m, scramble=True, seed=numpy_generator(rng), bits=64).random_base2(level) for _ in range(k)]
-    return Design(np.concatenate(blocks), "qmc", k)
+    points, groups = (replicates.stratified if method == "stratified" else replicates.qmc)(rng, m, samples)
+    return Design(points, method, groups)
 
 
 # -- sampling the zero set of one condition -------------------------------------------------------
