@@ -343,13 +343,13 @@ def _finished(result: ProgramResult, loaded, params, timeout: float, lint: bool,
 
 #: A comparison outside :data:`~.generate.SIGMA` standard errors is estimated again with this many
 #: times the samples, from another seed (the campaign's + :data:`RECHECK_SEED`), before it counts as a disagreement:
-#: the standard error of ``--method qmc`` and ``stratified`` is the spread of 32 replicates, whose
-#: means are far from normal for a discontinuous integrand — one jump a fraction 0.03 of an
-#: elementary interval of the nets from its end makes 97 % of them err the same way, so 32
-#: replicates agree to 10⁻⁵ on a value 10⁻⁴ off (``langur fuzz --method qmc --kinks --seed 9``:
-#: a boundary part 11.5 "standard errors" from the exact engine's, which a hand computation
-#: confirms; fuzz28).  A real difference between the engines stays: it is 5 standard errors of the
-#: first estimate, so √10 × 5 of the second.
+#: a guard against a standard error that understates.  It was added for ``--method qmc``, whose 32
+#: scrambled nets all cut a jump at the same place of an elementary interval and agreed to 10⁻⁵
+#: on a value 10⁻⁴ off (``langur fuzz --method qmc --kinks --seed 9``, fuzz28); since qmc29 each
+#: replicate is randomly shifted and tent-transformed (``operational/replicates.py``), which
+#: removed that, and the recheck stays for what the ± still assumes (replicate means near
+#: normal: a narrow spike every replicate misses).  A real difference between the engines stays: it
+#: is 5 standard errors of the first estimate, so √10 × 5 of the second.
 RECHECK_SAMPLES = 10
 RECHECK_SEED = 1_000_003
 #: At most this many samples for a recheck (unless the campaign's own are more): memory.
