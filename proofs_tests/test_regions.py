@@ -127,7 +127,12 @@ def test_antiderivative_rejects_non_elementary_and_non_smooth():
     with pytest.raises(Unsupported):
         antiderivatives.antiderivative(sp.exp(x**3), x, ctx())
     with pytest.raises(Unsupported):
-        antiderivatives.antiderivative(sp.Abs(x), x, ctx())
+        antiderivatives.antiderivative(sp.Abs(sp.sin(x)), x, ctx())
+    # |x| of an affine x is sign(x)·x (elementary.sign_split): the antiderivative x·|x|/2, continuous
+    # across 0, so ∫_{-1}^{1} |x| dx = F(1) − F(−1) = 1 and ∫_{-1}^{1/2} = 1/2 + 1/8
+    F = antiderivatives.antiderivative(sp.Abs(x), x, ctx())
+    assert F.subs(x, 1) - F.subs(x, -1) == 1
+    assert F.subs(x, sp.Rational(1, 2)) - F.subs(x, -1) == sp.Rational(5, 8)
     # shifted Gaussian by completing the square: d/dx F = w
     w = sp.exp(-(x - theta) ** 2 / 50) * sp.exp(-(x - 2) ** 2 / 50)
     F = antiderivatives.antiderivative(w, x, ctx(theta=1))

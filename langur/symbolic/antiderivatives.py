@@ -191,7 +191,9 @@ def _finite(z: complex) -> bool:
 
 
 def antiderivative(w, v, ctx: Context):
-    """A smooth antiderivative of the smooth ``w`` in ``v`` (sympy, time-boxed), or Unsupported."""
+    """A smooth antiderivative of the smooth ``w`` in ``v`` (sympy, time-boxed), or Unsupported; of
+    ``P + sign(s)·Q`` (|s| of one affine s, atan2's angle and its derivative:
+    :func:`elementary.sign_split`) a continuous one, smooth where s ≠ 0."""
     w = sp.sympify(w)
     if v not in w.free_symbols:
         return w * v
