@@ -44,6 +44,17 @@ def _else(scope: C.Scope) -> S.STerm:
     return num((0, F(1, 2))[i]) if i < 2 else C.smooth(scope)
 
 
+def _implicit(scope: C.Scope, lhs: S.STerm, rhs: S.STerm) -> S.Iverson:
+    """``[lhs CMP rhs]`` (CMP ``<=`` or ``>=``), registered with the scope and kept among its
+    implicit conditions: a monotone primitive without a closed-form inverse Langur uses, completed
+    by an implicit root (LANGUAGE.md §6)."""
+    cmp = scope.pick(("<=", ">="))
+    scope.register(sub(lhs, rhs), key=(lhs, rhs))
+    out = S.Iverson((lhs, rhs), (cmp,))
+    scope.implicit.append(out)
+    return out
+
+
 def loop(scope: C.Scope) -> S.Loop:
     """``sum i in 1..n: [L CMP P + k + d*i] * v ^ i`` or ``prod i in 1..n: 1 + [L CMP P + k + d*i] * v ^ i``
     (``L`` affine): ``n`` parallel zero sets, one per copy."""
@@ -139,12 +150,7 @@ def primitive(scope: C.Scope) -> S.STerm:
              lambda: (call("acos", third), offset(scope.param(), 1)),
              lambda: (call("atanh", third), offset(scope.param(), F(-1, 2))),
              lambda: (call("tan", T.div(v, num(2))), C.shifted_param(scope)))
-    lhs, rhs = forms[scope.index(len(forms))]()
-    cmp = scope.pick(("<=", ">="))
-    scope.register(sub(lhs, rhs), key=(lhs, rhs))
-    out = S.Iverson((lhs, rhs), (cmp,))
-    scope.implicit.append(out)
-    return out
+    return _implicit(scope, *forms[scope.index(len(forms))]())
 
 
 def param_ifge0(scope: C.Scope) -> S.IfGe0S:
@@ -189,12 +195,7 @@ def erf_condition(scope: C.Scope) -> S.STerm:
     forms = (lambda: (call("erf", v), offset(scope.param(), F(-1, 2))),
              lambda: (T.add(call("erf", mul(num(2), v)), v), C.shifted_param(scope, (F(0), F(3, 10), F(-1, 5)))),
              lambda: (call("sin", mul(num(3), call("erf", v))), offset(scope.param(), F(-1, 2))))
-    lhs, rhs = forms[scope.index(len(forms))]()
-    cmp = scope.pick(("<=", ">="))
-    scope.register(sub(lhs, rhs), key=(lhs, rhs))
-    out = S.Iverson((lhs, rhs), (cmp,))
-    scope.implicit.append(out)
-    return out
+    return _implicit(scope, *forms[scope.index(len(forms))]())
 
 
 def variable_ifge0(scope: C.Scope) -> S.IfGe0S:
