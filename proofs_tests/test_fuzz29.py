@@ -15,10 +15,9 @@ from hypothesis import HealthCheck, find, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import brentq
 from scipy.special import erfinv
+from test_fuzz28 import by_hand_in_both_engines
 from test_strategies import _nodes  # (every surface node under a term)
 
-from langur import exact as api
-from langur import operational
 from langur.frontend import load_text
 from langur.fuzz.campaign import generated
 from langur.fuzz.generate import hypothesis_home
@@ -172,20 +171,7 @@ HAND = {
 @pytest.mark.parametrize("kind", sorted(HAND))
 def test_new_kinds_by_hand_in_both_engines(kind):
     text, value, derivs = HAND[kind]
-    loaded = load_text(text, path="hand.lgr")
-    params = loaded.param_values({})
-    floats = {k: float(v) for k, v in params.items()}
-    ex = api.exact_eval(loaded.program, params)
-    assert ex.value == pytest.approx(value, abs=1e-8)
-    mc = operational.estimate_value(loaded, floats, samples=20000, seed=1)
-    assert abs(mc.value - value) <= 5 * mc.stderr + 1e-9
-    for p, d in derivs.items():
-        direction = {q: (1 if q == p else 0) for q in params}
-        e = api.exact_deriv(loaded.program, params, direction)
-        assert e.value == pytest.approx(d, abs=1e-7), p
-        m = operational.estimate_derivative(loaded, floats, {q: float(v) for q, v in direction.items()},
-                                            samples=20000, seed=2)
-        assert abs(m.value - d) <= 5 * m.stderr + 1e-7, p
+    by_hand_in_both_engines(text, "hand.lgr", value, derivs, 1e-7, 1e-7)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -23,9 +23,9 @@ import re
 import subprocess
 import sys
 
-import mpmath
 import numpy as np
 import pytest
+from test_fuzz28 import QMC_FALSE_ALARM, _qmc_boundary_by_hand
 
 from langur import operational
 from langur.frontend import load_text
@@ -38,23 +38,7 @@ SAMPLES = 20000  # 32 nets of 512 points (qmc), 32 grids of 625 strata (stratifi
 #: 0.97 of the way through an elementary interval of the 512-point nets (and of a 625-stratum grid: 0.95)
 A97 = 0.30072265625  # = (153 + 0.97) / 512
 
-F0 = """param a = 0.23, b = 0.41
-int ([0, a + 1], [a - 1, 1])
-  0.7 * (if sqrt(x + 2) <= 2 * a + 1 then exp(0.5 * z - 2 * a) else 1) * (z + 2 * a) ^ 3 * [(x - b) ^ 2 + z ^ 2 <= 0.2]
-d(x, z)
-"""
-
-
-def _f0_boundary_by_hand() -> float:
-    """The delta of sqrt(x + 2) = 2a + 1, i.e. x = (2a + 1)² − 2 (speed 4(2a + 1)), over the disc's
-    chord in z, times the jump of the if (test_fuzz28's derivation)."""
-    mpmath.mp.dps = 30
-    a, b = mpmath.mpf("0.23"), mpmath.mpf("0.41")
-    s = 2 * a
-    x = (s + 1) ** 2 - 2
-    zr = mpmath.sqrt(mpmath.mpf("0.2") - (x - b) ** 2)
-    jump = mpmath.quad(lambda z: mpmath.mpf("0.7") * (mpmath.exp(z / 2 - s) - 1) * (z + s) ** 3, [-zr, zr])
-    return float(4 * (s + 1) * jump)
+F0 = QMC_FALSE_ALARM  # (test_fuzz28: the delta of sqrt(x + 2) = 2a + 1 over the disc's chord in z)
 
 
 # (name, program, direction (None: the value), part of the derivative, value by hand)
@@ -91,7 +75,7 @@ def _estimates(text: str, direction, part, method: str) -> tuple[np.ndarray, np.
 @pytest.mark.parametrize("case", CASES, ids=[c[0] for c in CASES])
 def test_the_printed_error_covers_the_value_by_hand_on_every_seed(case, method):
     name, text, direction, part, exact = case
-    exact = _f0_boundary_by_hand() if exact is None else exact
+    exact = _qmc_boundary_by_hand() if exact is None else exact
     values, ses = _estimates(text, direction, part, method)
     z = np.abs(values - exact) / ses
     assert np.all(ses > 0) and np.all(z <= 5), (name, method, np.max(z), int(np.sum(z > 5)))
