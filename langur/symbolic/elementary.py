@@ -417,7 +417,7 @@ def sign_split(w, v) -> SignSplit | None:
     under ``[y ≥ 0]``) with ``y = s`` affine in ``v`` and ``x = c`` free of it: ``acos(c/√(c² + A·s²))``
     (an even function of s) and the square roots ``√(A·s²/D)^(n/2)`` of its derivative
     (``√(1 − c²/(c² + s²))`` = |s|/√(c² + s²), which the chain rule writes so:
-  :func:`langur.sympy_bridge.derivative_function`), or ``|A'·s|`` itself.  With |s| = sign(s)·s:
+    :func:`langur.sympy_bridge.derivative_function`), or ``|A'·s|`` itself.  With |s| = sign(s)·s:
 
     * ``acos(c/√(c² + U²)) = (π/2)(1 − sign c) + sign(s)·atan(U/c)``, U = √A·s (c ≠ 0);
       ``asin = π/2 − acos``;
