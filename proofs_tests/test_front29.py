@@ -27,6 +27,7 @@ hand), never read from an engine.
 
 import mpmath as mp
 import pytest
+from test_front28 import _both_engines as front28_both_engines
 
 from langur.cli import main
 from langur.core import IfDiffeo, ImplicitRoot, Pow, Prim, subterms
@@ -57,15 +58,7 @@ def _has_root(psi):
 
 
 def _both_engines(text, a, value, slope):
-    program = _program(text)
-    exact_v = denote_program(program, {"a": a})
-    assert abs(float(exact_v.value) - float(value)) <= 1e-9 + float(exact_v.error or 0), (text, a, exact_v.value, value)
-    exact_d = ddenote_program(program, {"a": a}, {"a": 1})
-    assert abs(exact_d.value - float(slope)) <= 1e-8 * (1 + abs(float(slope))) + exact_d.error, (text, a, exact_d.value, slope)
-    mc_d = estimate_derivative(program, {"a": a}, {"a": 1}, samples=4000, seed=3)
-    assert abs(mc_d.value - float(slope)) <= 5 * mc_d.stderr + 1e-8 * (1 + abs(float(slope))), (text, a, mc_d.value, slope)
-    mc_v = estimate_value(program, {"a": a}, samples=20000, seed=3)
-    assert abs(mc_v.value - float(value)) <= 5 * mc_v.stderr + 1e-9, (text, a, mc_v.value, value)
+    front28_both_engines(text, a, value, slope, slope_tol=1e-8, samples=4000, seed=3)
 
 
 # ---------------------------------------------------------------------------------------------
