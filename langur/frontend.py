@@ -50,10 +50,11 @@ from .memo import remember
 from .modules import ElaboratedModule, Loaded
 from .records import record
 from .source import read_file
-from .syntax.desugar import Desugarer, DiffeoSig, Env, Scope
+from .syntax.desugar import Desugarer
 from .syntax.elaborate import elaborate
 from .syntax.inline import inline
 from .syntax.parser import parse_bytes, parse_term
+from .syntax.scope import DiffeoSig, Env, Scope
 from .syntax.support import numeric_box
 from .syntax.surface import ImportItem, ModuleS
 

@@ -22,7 +22,7 @@ from langur.diagnostics import LangurError
 from langur.fuzz.compare import compare_text
 from langur.fuzz.generate import programs
 from langur.operational import estimate_derivative
-from langur.syntax.desugar import MAX_PIECES
+from langur.syntax.conditionals import MAX_PIECES
 from langur.syntax.printer import print_core
 from langur.transversality import check_program
 

@@ -15,10 +15,10 @@ from test_records import _fresh_fields  # (a dataclass twin's fields, made from 
 
 from langur import frontend, modules
 from langur.core import Const
-from langur.syntax import desugar, loops, template, vectors
+from langur.syntax import loops, scope, template, vectors
 
-FROZEN = [desugar.DefSig, desugar.DiffeoSig, desugar.Scope, vectors.Vec, vectors.VecName]
-PLAIN = [desugar.Env, loops.Budget, template.Record, modules.ElaboratedModule, modules.Loaded,
+FROZEN = [scope.DefSig, scope.DiffeoSig, scope.Scope, vectors.Vec, vectors.VecName]
+PLAIN = [scope.Env, loops.Budget, template.Record, modules.ElaboratedModule, modules.Loaded,
            frontend.LoadCache]
 
 
@@ -68,10 +68,10 @@ def test_records_in_use_behave_as_before():
     """The records as the front end uses them: a Scope copied by ``with_index`` / ``with_param`` /
     ``replace`` compares and hashes by its fields; frozen ones refuse assignment; a Loaded compares
     equal to a second load of the same text (fields compared), and is unhashable."""
-    sc = desugar.Scope(variables=("x",), gamma=frozenset({"a"}))
+    sc = scope.Scope(variables=("x",), gamma=frozenset({"a"}))
     assert sc.with_index("i", 3).consts == {"i": 3} and sc.consts == {}
     assert sc.with_param("b").gamma == frozenset({"a", "b"})
-    assert dataclasses.replace(sc, where="here") == desugar.Scope(("x",), frozenset({"a"}), where="here")
+    assert dataclasses.replace(sc, where="here") == scope.Scope(("x",), frozenset({"a"}), where="here")
     with pytest.raises(dataclasses.FrozenInstanceError):
         sc.where = "there"
     v = vectors.Vec((Const(Fraction(1)),))

@@ -200,7 +200,7 @@ def test_microbenchmark_one_is_instantiated():
 
 def test_a_conditional_on_the_parameters_is_copied():
     # the loop's sum inside a condition: the desugarer lifts each `if a >= 0.2 …` out of the condition
-    # by its identity (desugar._put); copies sharing it would lift them all at once (another term)
+    # by its identity (conditionals.put); copies sharing it would lift them all at once (another term)
     text = ("param a = 0.5\nint ([0, 2]) [(sum i in 1..3: (if a >= 0.2 then x else 2*x) + i/4) >= 1]"
             " + (sum i in 1..3: [min(x, a + i/5) >= 0.4]) d(x)\n")
     new, _ = _load(text, True)

@@ -10,30 +10,18 @@ that concern names and sugar (unbound names, argument kinds, arity, ``let``, con
 variables, …) are applied here, on the surface AST, through the ``reject_*`` helpers of
 :mod:`langur.typesys` (which documents every T2xx code).
 
-Scopes (LANGUAGE.md §6, "A name in a term is …"):
-
-* a program's body: Δ = its variables; Γ = the module's declared params and ``let``-bound names;
-* a ``def`` body: Δ = its ``var`` arguments; Γ = its ``param`` arguments, the module's declared
-  params (shared by name with the program that inlines it) and ``let``-bound names;
-* a ``diffeo`` declaration: Δ = its variables (forward) or its inputs (inverse); Γ = its params;
-* a domain bound: Δ = ∅ (bounds are variable-free).
-
-Conditions over variables become ``IfDiffeo``: a declared diffeo application is instantiated
-(``langur.syntax.diffeo.instantiate``); any other condition is completed automatically
-(``langur.syntax.diffeo.complete``) over *all* of Δ.  In a program body a declared diffeo is
-extended by the identity to all the program's variables; in a ``def`` body it stays over its
-application's variables (the inliner renames and extends it at each call site).
-A condition over variables that calls defs of its own module is completed with those calls
-expanded (it is completed as a whole); calling an imported def there is a T207 (the module's
-elaborated form would depend on the imported body, not just its signature).
-Def calls are left as ``Call(module, name, args)`` links (separate compilation, §9);
-``langur.syntax.inline.inline`` (re-exported here as :func:`inline`) removes them.
+The class is one, its methods in three modules: this one (the sugar table, names, powers, calls,
+``let``, vectors), :mod:`langur.syntax.conditionals` (conditions: ``ifge0``, comparisons, Iverson
+brackets' conditions, completion, kinks, declared diffeos) and :mod:`langur.syntax.unrolling`
+(§9's loops).  What a name in a term is — Δ, Γ, a module's defs and diffeos — is
+:mod:`langur.syntax.scope`'s.  Def calls are left as ``Call(module, name, args)`` links (separate compilation, §9);
+``langur.syntax.inline.inline`` removes them.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import field, replace
+from dataclasses import replace
 from fractions import Fraction
 
 from .. import typesys as ty
@@ -55,22 +43,16 @@ from ..core import (
     Term,
     Var,
     free_vars,
-    int_fraction,
-    map_children,
     neg,
     product,
-    smooth,
     sub,
     subterms,
-    tree_size,
 )
-from ..diagnostics import Diagnostic, LangurError, Span
-from ..modules import ElaboratedModule
+from ..diagnostics import Diagnostic, Span
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
-from ..records import FACTORY, frozen, record
 from . import kinks, loops, template, vectors
-from .completion import complete, diffeo
-from .inline import expand_calls, inline
+from .conditionals import Conditionals, compare, join
+from .scope import SUGAR_FUNCTIONS, Env, Scope
 from .surface import (
     Apply,
     BinOp,
@@ -90,134 +72,13 @@ from .surface import (
     STerm,
     Vector,
 )
-from .vectors import Vec, VecName
+from .unrolling import Unrolling
+from .vectors import Vec
 
-#: Function names that are not primitives but sugar (LANGUAGE.md §6).
-SUGAR_FUNCTIONS = ("abs", "min", "max", "atan2", "dot", "cross")
-#: The conditions of a module split at their kinks (abs/min/max over the variables) have at most
-#: this many pieces in all (nested kinks double them at each level: the bound keeps the work bounded).
-MAX_PIECES = 128
-#: A condition with kinks is split only when written out as a tree it has at most this many nodes
-#: (the cube [max(max(abs(x), abs(y)), abs(z)) <= a] has 867; four nested abs over 10000).
-MAX_SPLIT_SIZE = 1000
-
-
-class _TooManyPieces(Exception):
-    pass
-#: Names a declaration may not take.
-RESERVED = frozenset(PRIMITIVES) | frozenset(ALL_PRIMITIVES) | frozenset(SUGAR_FUNCTIONS) | {"pi"}
-
-
-@frozen
-class DefSig:
-    """A def's signature: where it lives and its arguments' kinds (what a call site needs)."""
-
-    module: str
-    name: str
-    args: tuple[tuple[str, str], ...]
-
-    def __init__(self, module, name, args):
-        d = self.__dict__
-        d["module"], d["name"], d["args"] = module, name, args
-
-
-@frozen
-class DiffeoSig:
-    """A checked ``diffeo`` declaration with its parameters' names in declaration order."""
-
-    diffeo: Diffeo
-    params: tuple[str, ...]
-
-    def __init__(self, diffeo, params):
-        d = self.__dict__
-        d["diffeo"], d["params"] = diffeo, params
-
-
-@record
-class Env:
-    """What a module's terms can call: defs and diffeos (local and imported), by local name."""
-
-    module: str
-    defs: dict[str, DefSig] = field(default_factory=dict)
-    diffeos: dict[str, DiffeoSig] = field(default_factory=dict)
-    poisoned: set[str] = field(default_factory=set)  # names whose declaration failed: no cascades
-    bodies: dict[tuple[str, str], object] = field(default_factory=dict)  # (module, def) -> CoreDef
-
-    def __init__(self, module, defs=FACTORY, diffeos=FACTORY, poisoned=FACTORY, bodies=FACTORY):
-        self.module = module
-        self.defs = {} if defs is FACTORY else defs
-        self.diffeos = {} if diffeos is FACTORY else diffeos
-        self.poisoned = set() if poisoned is FACTORY else poisoned
-        self.bodies = {} if bodies is FACTORY else bodies
-
-
-_new = object.__new__
 _ZERO, _ONE, _MINUS_ONE = INT_FRACTIONS[0], INT_FRACTIONS[1], MINUS_ONE
 
 
-@frozen
-class Scope:
-    """Δ (``variables``, in order), Γ (``gamma``), the numeric box for completion, and where we are."""
-
-    variables: tuple[str, ...]
-    gamma: frozenset[str]
-    box: tuple[tuple[str, float, float], ...] = ()
-    where: str = "this term"
-    in_program: bool = True  # extend declared diffeos to all variables (program bodies)
-    hidden_vars: frozenset[str] = frozenset()  # variables not allowed here (domain bounds)
-    consts: Mapping[str, Fraction] = field(default_factory=dict)  # loop indices and their values (§9)
-    vectors: Mapping[str, VecName] = field(default_factory=dict)  # let-bound vectors (vectors.VecName)
-
-    def __init__(self, variables, gamma, box=(), where="this term", in_program=True, hidden_vars=frozenset(),
-                 consts=FACTORY, vectors=FACTORY):
-        d = self.__dict__
-        d["variables"], d["gamma"], d["box"], d["where"] = variables, gamma, box, where
-        d["in_program"], d["hidden_vars"] = in_program, hidden_vars
-        d["consts"] = {} if consts is FACTORY else consts
-        d["vectors"] = {} if vectors is FACTORY else vectors
-
-    def with_param(self, name: str) -> Scope:
-        """``name`` bound by a real ``let``: it hides an index or vector of that name, and the vectors
-        whose components mention the outer ``name`` can no longer be substituted here (T233)."""
-        vecs = {n: (replace(b, shadowed_by=name) if name in b.params and b.shadowed_by is None else b)
-                for n, b in self.vectors.items() if n != name}
-        consts = {n: v for n, v in self.consts.items() if n != name}
-        return replace(self, gamma=self.gamma | {name}, consts=consts, vectors=vecs)
-
-    def with_index(self, name: str, value: int) -> Scope:
-        """``name`` the index of a loop, the number ``value`` in this copy of its body (§9).  (Copied
-        field by field, as ``dataclasses.replace`` would with these two changed, without its walk
-        over the fields: every first copy of a loop's body, and every copy not built from it.)"""
-        vecs = {n: b for n, b in self.vectors.items() if n != name} if self.vectors else {}
-        new = _new(Scope)
-        d = new.__dict__
-        d.update(self.__dict__)
-        d["consts"], d["vectors"] = {**self.consts, name: int_fraction(value)}, vecs
-        return new
-
-    def with_vector(self, name: str, vec: Vec) -> Scope:
-        """``name`` bound to the vector ``vec`` by a ``let``."""
-        consts = {n: v for n, v in self.consts.items() if n != name}
-        return replace(self, consts=consts, vectors={**self.vectors, name: VecName.of(vec)})
-
-
-def _put(t: Term, old: Term, new: Term) -> Term:
-    """``t`` with the subterm ``old`` (by identity) replaced by ``new``."""
-    if t is old:
-        return new
-    return map_children(t, lambda c: _put(c, old, new))
-
-
-def _decided(t: Term, cond: Term, holds: bool) -> Term:
-    """``t`` where ``cond ≥ 0`` is known to hold (or not): each conditional over the variables on
-    ``cond`` replaced by its then-branch (else-branch), which it takes there."""
-    t = map_children(t, lambda c: _decided(c, cond, holds))
-    if isinstance(t, IfDiffeo) and t.psi.condition == cond:
-        return t.then if holds else t.orelse
-    return t
-
-
-class Desugarer:
+class Desugarer(Conditionals, Unrolling):
     """Desugars terms of one module; collects diagnostics instead of stopping at the first."""
 
     def __init__(self, env: Env, errors: list[Diagnostic] | None = None):
@@ -376,124 +237,6 @@ class Desugarer:
         except vectors.VectorError as e:
             self.errors.append(e.diagnostic)
             return vectors.POISON
-
-    def loop(self, st: Loop, sc: Scope) -> Term:
-        """§9's finite loop, unrolled: one copy of the body per value of the index, combined into a
-        balanced sum or product (:mod:`langur.syntax.loops`; T224 for a bound that is not an integer
-        constant, T225 past the bound on unrolling)."""
-        if self.budget.exhausted:
-            return Const(Fraction(0), span=st.span)
-        self.unsafe(st.lo, st.hi, sc=sc)  # an enclosing index as a number
-        try:
-            lo, hi = loops.bounds(st.lo, st.hi, sc.consts)
-        except loops.BoundError as e:
-            return self.fail(ty.reject_loop_bound(e.span, e.why), st.span)
-        except loops.TooLarge:
-            self.budget.exhausted = True
-            return self.fail(ty.reject_loop_too_large(join(st.lo, st.hi), f"a bound has more than {loops.MAX_BITS} "
-                                                      "bits"), st.span)
-        where = st.name_span or st.span
-        if st.index in sc.variables:
-            return self.fail(ty.reject_var_param_clash(where, st.index, "a loop's index has the name of a variable"),
-                             st.span)
-        if st.index == "pi":
-            return self.fail(ty.reject_duplicate(where, "name (reserved constant)", "pi"), st.span)
-        refused = self.budget.charge(max(0, hi - lo + 1), loops.size(st.body))
-        if refused:
-            return self.fail(ty.reject_loop_too_large(join(st.lo, st.hi), refused), st.span)
-        before = len(self.errors)
-        copies: list[Term] = []
-        plan: template.Template | None = None
-        charged = (0, 0)  # what desugaring the first copy took of the budget: each instantiated copy takes it too
-        for k in range(lo, hi + 1):
-            if plan is not None and k == lo + 1:
-                # every other copy at once when they all fit the budget and all complete (else one
-                # by one, below: a copy that does not complete is desugared, and reports why)
-                rest = hi - lo
-                if self.budget.again(charged[0] * rest, charged[1] * rest):
-                    built = plan.at_all(range(k, hi + 1))
-                    if built is not None:
-                        copies += built
-                        break
-                    self.budget.copies -= charged[0] * rest
-                    self.budget.nodes -= charged[1] * rest
-            if plan is not None:
-                if self.budget.again(*charged):
-                    copy = plan.at(k)
-                    if copy is not None:
-                        copies.append(copy)
-                        continue
-                    self.budget.copies -= charged[0]
-                    self.budget.nodes -= charged[1]
-                else:
-                    plan = None  # past the bound: desugared (and refused) as before
-            if k == lo and hi > lo and template.ENABLED:
-                # the first copy, watched: the others are built from it when its desugaring allows
-                first, plan, charged = self.first_copy(st, sc, k)
-                copies.append(first)
-            else:
-                copies.append(self.term(st.body, sc.with_index(st.index, k)))
-            if self.budget.exhausted:
-                break
-        self.errors[before:] = loops.once(self.errors[before:])  # the copies' diagnostics are the body's
-        if self.budget.exhausted:
-            return Const(Fraction(0), span=st.span)
-        return loops.balanced(copies, st.op, st.span)
-
-    def first_copy(self, st: Loop, sc: Scope, k: int) -> tuple[Term, template.Template | None, tuple[int, int]]:
-        """The first copy of a loop's body (index ``k``), desugared while a record watches; the
-        template of the others when its desugaring allows (:mod:`langur.syntax.template`), and
-        what it took of the budget."""
-        record = template.Record(st.index)
-        outer = self.records.get(st.index)
-        if outer is not None:
-            outer.unsafe = True  # an inner loop with the same index: the outer index is not watched here
-        self.records[st.index] = record
-        errors, pending, pieces = len(self.errors), len(self.pending or ()), self.pieces
-        copies, nodes = self.budget.copies, self.budget.nodes
-        try:
-            body = self.term(st.body, sc.with_index(st.index, k))
-        finally:
-            if outer is None:
-                del self.records[st.index]
-            else:
-                self.records[st.index] = outer
-        charged = (self.budget.copies - copies, self.budget.nodes - nodes)
-        if (record.unsafe or len(self.errors) > errors or len(self.pending or ()) != pending
-                or self.pieces != pieces or self.budget.exhausted):
-            return body, None, charged
-        plan = template.Template(body, record, self.complete_again, self.note_completion)
-        return body, (plan if plan.usable else None), charged
-
-    def complete_again(self, cond: Term, variables: tuple[str, ...], box) -> Diffeo | None:
-        """A copy's condition completed as :meth:`completed` would; None when it is not."""
-        try:
-            return complete(cond, variables, box)
-        except diffeo.CompletionError:
-            return None
-
-    def note_completion(self, node: IfDiffeo, cond: Term, variables: tuple[str, ...], box) -> None:
-        """Tell the loops being watched that ``node`` completes ``cond`` over ``variables``."""
-        for watched in self.records.values():
-            watched.completions[id(node)] = (node, cond, variables, box)
-
-    def unsafe(self, *sts: STerm, sc: Scope | None = None) -> None:
-        """The desugaring depends on the value of a watched loop index: on every watched one (no
-        ``sts``), or on those the surface terms ``sts`` mention (read as numbers)."""
-        if not self.records:
-            return
-        if not sts:
-            for record in self.records.values():
-                record.unsafe = True
-            return
-        for st in sts:
-            stack = [st]
-            while stack:
-                u = stack.pop()
-                if isinstance(u, Name) and u.name in self.records and (sc is None or u.name in sc.consts):
-                    self.records[u.name].unsafe = True
-                stack.extend(loops.children(u))
-
     def name(self, st: Name, sc: Scope) -> Term | Vec:
         n, span = st.name, st.span
         if n in sc.variables:
@@ -619,180 +362,6 @@ class Desugarer:
             return Vec(tuple(Let(st.name, bound, b, span=st.span) for b in body.parts))
         return Let(st.name, bound, body, span=st.span)
 
-    def if_chain(self, chain: Iverson, then: Term, orelse: Term, sc: Scope, span) -> Term:
-        """``if t0 op0 t1 op1 t2 … then s else r``: one conditional per comparison, nested."""
-        core = [self.term(u, sc) for u in chain.terms]
-        out = then
-        for i in reversed(range(len(chain.ops))):
-            out = self.conditional(compare(core[i], chain.ops[i], core[i + 1]), out, orelse, sc, span,
-                                   join(chain.terms[i], chain.terms[i + 1]))
-        return out
-
-    def conditional(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span=None) -> Term:
-        """``ifge0 cond then … else …``: IfGe0 when ``cond`` is variable-free, else the completed
-        IfDiffeo (Fig. 6, conditional / diffeomorphic conditional)."""
-        cond = kinks.cancelled(cond) if self.splitting else cond  # a kink split's flat piece
-        if not free_vars(cond):
-            return IfGe0(cond, then, orelse, span)
-        if smooth(cond):  # no conditional and no call inside: completed as it is
-            self.count_piece()
-            return self.completed(cond, then, orelse, sc, span, cond_span)
-        inner = next((u for u in subterms(cond) if isinstance(u, IfGe0) and not free_vars(u.cond)), None)
-        if inner is not None:
-            # a conditional on the parameters inside a condition over variables ([x < min(t, s)],
-            # a bound `if c < 0 then a else b`): constant in the variables, it is lifted out —
-            # ifge0 c' then (the condition with its then-branch) else (… with its else-branch)
-            return IfGe0(inner.cond,
-                         self.conditional(_put(cond, inner, inner.then), then, orelse, sc, span, cond_span),
-                         self.conditional(_put(cond, inner, inner.orelse), then, orelse, sc, span, cond_span),
-                         span=span)
-        kink = next((u for u in subterms(cond) if isinstance(u, IfDiffeo)), None)
-        if kink is not None and tree_size(cond) > MAX_SPLIT_SIZE:
-            # nested kinks (abs(abs(…) − c)) double the written-out condition at each level
-            return self.fail(ty.reject_condition(cond_span or cond.span or span, (
-                f"with its kinks (abs, min, max over the variables) written out it has more than {MAX_SPLIT_SIZE} "
-                "nodes: write it as a product or sum of simpler conditions ([max(A, B) <= s] is "
-                "[A <= s & B <= s], [min(A, B) <= s] is [A <= s | B <= s]: brackets that compare a min, max "
-                "or abs with a term are rewritten so by themselves)")), span)
-        if kink is not None:
-            self.unsafe()  # the split compares conditions
-            # a conditional over the variables inside a condition (abs, min, max: [abs(x - a) <= 0.2])
-            # splits the condition at the kink: ifge0 ⌊Ψ_k⌋ then (the condition with the kink's
-            # then-branch) else (… with its else-branch), each branch completed on its own.  The
-            # split's delta has weight (then − else) at the kink, which is 0 for a continuous
-            # abs/min/max (both branches agree there): the split adds no derivative
-            # (every conditional on the kink's condition in it takes the same branch: no repeated split)
-            # (at most MAX_PIECES pieces in all the module's conditions: each split doubles them)
-            c = kink.psi.condition
-            top, self.splitting = not self.splitting, True
-            self.sides.append((c, True))  # which piece: for the messages of a piece refused (T207)
-            try:
-                yes = self.conditional(_decided(cond, c, True), then, orelse, sc, span, cond_span)
-                self.sides[-1] = (c, False)
-                no = self.conditional(_decided(cond, c, False), then, orelse, sc, span, cond_span)
-                return IfDiffeo(kink.psi, yes, no, span=span)
-            except _TooManyPieces:
-                if not top:
-                    raise
-                return self.fail(ty.reject_condition(cond_span or cond.span or span, (
-                    f"split at their kinks (abs, min, max over the variables) the conditions have more than "
-                    f"{MAX_PIECES} pieces in all: write this one as a product or sum of simpler conditions")), span)
-            finally:
-                self.sides.pop()
-                if top:
-                    self.splitting = False
-        self.count_piece()
-        if any(isinstance(u, Call) for u in subterms(cond)):
-            self.unsafe()
-            # a condition is completed as a whole: expand the defs it calls first
-            cond, errs = expand_calls(cond, lambda m, n: self.env.bodies.get((m, n)), sc.variables, sc.box)
-            if errs:
-                self.errors.extend(errs)
-                return Const(Fraction(0), span=span)
-        return self.completed(cond, then, orelse, sc, span, cond_span)
-
-    def count_piece(self) -> None:
-        """One more piece of a condition split at its kinks (at most MAX_PIECES in all)."""
-        if self.splitting:
-            self.pieces += 1
-            if self.pieces > MAX_PIECES:
-                raise _TooManyPieces
-
-    def completed(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span) -> Term:
-        """``ifge0 ⌊Ψ⌋ then … else …`` with Ψ the completion of ``cond`` over the variables (a
-        pending one while the program's box is not known yet)."""
-        try:
-            psi = complete(cond, sc.variables, sc.box)
-        except diffeo.CompletionError as e:
-            why = kinks.on_piece(str(e), self.sides)
-            if not sc.in_program and "bounded" in why:
-                why += "; inside a def or diffeo the variables' domain is unknown: write this condition in the program"
-            diagnostic = ty.reject_condition(cond_span or cond.span or span, why)
-            if self.pending is None:
-                return self.fail(diagnostic, span)
-            psi = Diffeo(sc.variables, (cond,), (), ())  # completed by complete_pending
-            self.pending.append((psi, diagnostic))
-            self.unsafe()
-            return IfDiffeo(psi, then, orelse, span=span)
-        node = IfDiffeo(psi, then, orelse, span)
-        if self.records:
-            self.note_completion(node, cond, sc.variables, sc.box)
-        return node
-
-    def complete_pending(self, t: Term, variables: tuple[str, ...], box) -> Term:
-        """``t`` with the conditions left pending completed over the program's ``box`` (a periodic
-        condition needs its argument's range); those that still fail are reported (T207)."""
-        pending, self.pending = dict((id(psi), d) for psi, d in self.pending or ()), None
-        if not pending:
-            return t
-
-        def go(u: Term) -> Term:
-            u = map_children(u, go)
-            if not (isinstance(u, IfDiffeo) and id(u.psi) in pending):
-                return u
-            if box:
-                try:
-                    return replace(u, psi=complete(u.psi.forward[0], variables, box))
-                except diffeo.CompletionError as e:
-                    return self.fail(ty.reject_condition(pending[id(u.psi)].span, str(e)), u.span)
-            return self.fail(pending[id(u.psi)], u.span)
-
-        return go(t)
-
-    def diffeo_app(self, app: DiffeoApp, sc: Scope) -> Diffeo | None:
-        self.unsafe()  # a declared Ψ instantiated with its arguments' values
-        where = app.name_span or app.span
-        if app.name in self.env.poisoned:
-            return None
-        if app.name not in self.env.diffeos:
-            detail = ": it is a def, not a diffeo" if app.name in self.env.defs else ": no diffeo of that name in scope"
-            self.errors.append(ty.reject_unknown_function(where, app.name, detail))
-            return None
-        sig = self.env.diffeos[app.name]
-        n, m = len(sig.diffeo.variables), len(sig.params)
-        if len(app.variables) != n or len(app.params) != m:
-            self.errors.append(ty.diag(where, "T203", f"diffeo `{app.name}` takes {n} variable(s) and {m} "
-                                       f"parameter(s), got {len(app.variables)} and {len(app.params)}"))
-            return None
-        names: list[str] = []
-        for v in app.variables:
-            if not (isinstance(v, Name) and v.name in sc.variables):
-                self.errors.append(ty.reject_diffeo_args(getattr(v, "span", where), app.name,
-                                                         "this argument is not a variable of integration"))
-                return None
-            if v.name in names:
-                self.errors.append(ty.reject_diffeo_args(v.span, app.name, f"`{v.name}` is passed twice"))
-                return None
-            names.append(v.name)
-        params = []
-        for p, pname in zip(app.params, sig.params):
-            t = self.term(p, replace(sc, where=f"parameter `{pname}` of diffeo `{app.name}`"))
-            used = free_vars(t)
-            if used:
-                self.errors.append(ty.reject_param_arg_with_variables(getattr(p, "span", where), app.name, pname, used))
-                return None
-            params.append(t)
-        psi = diffeo.instantiate(sig.diffeo, sig.params, tuple(names), tuple(params),
-                                 sc.variables if sc.in_program else None)
-        return replace(psi, span=app.span)
-
-
-def join(a: STerm, b: STerm) -> Span | None:
-    """The span from the start of ``a`` to the end of ``b`` (a comparison's source text)."""
-    sa, sb = getattr(a, "span", None), getattr(b, "span", None)
-    if sa is None or sb is None:
-        return sa or sb
-    return Span(sa.path, sa.line, sa.col, sb.end_line, sb.end_col)
-
-
-def compare(left: Term, op: str, right: Term) -> Term:
-    """The condition of ``[left op right]``: ``left − right`` for ≥ and >, ``right − left`` for ≤ and <."""
-    if op in (">=", ">", "≥"):
-        return sub(left, right)
-    if op in ("<=", "<", "≤"):
-        return sub(right, left)
-    raise ValueError(f"unknown comparison {op}")
-
 
 def constant_value(st: STerm, consts: Mapping[str, Fraction] | None = None) -> Fraction | None:
     """The value of a constant rational surface expression (an exponent), or None; ``consts`` are
@@ -805,16 +374,4 @@ def is_smooth(t: Term) -> bool:
     return not any(isinstance(u, (IfGe0, IfDiffeo, Let, Call)) for u in subterms(t))
 
 
-__all__ = [
-    "DefSig",
-    "Desugarer",
-    "DiffeoSig",
-    "ElaboratedModule",
-    "Env",
-    "LangurError",
-    "Scope",
-    "compare",
-    "constant_value",
-    "inline",
-    "is_smooth",
-]
+__all__ = ["Desugarer", "constant_value", "is_smooth"]

@@ -19,7 +19,8 @@ from .. import typesys as ty
 from ..core import INT_FRACTIONS, Call, Const, Diffeo, Interval, Program, Var, sub, subterms
 from ..diagnostics import Diagnostic, Span
 from ..modules import CoreDef, ElaboratedModule
-from .desugar import RESERVED, DefSig, Desugarer, DiffeoSig, Env, Scope, is_smooth
+from .desugar import Desugarer, is_smooth
+from .scope import RESERVED, DefSig, DiffeoSig, Env, Scope
 from .support import infer_box, numeric_box
 from .surface import Apply, DefDecl, DiffeoDecl, ImportItem, ModuleS, ParamItem, ProgramS
 

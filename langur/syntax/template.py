@@ -192,7 +192,7 @@ class Template:
                 # not mention the index
                 self.usable = False
             # (a conditional on the parameters is copied too: the desugarer lifts such a conditional
-            # out of a condition by its identity, `desugar._put`, which must not meet it in two copies)
+            # out of a condition by its identity, `conditionals.put`, which must not meet it in two copies)
             if tu is IfGe0:
                 return True
             for c in kids:
