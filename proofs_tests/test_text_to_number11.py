@@ -29,7 +29,7 @@ from paths import REPO
 
 from langur import core
 from langur.diagnostics import LangurError, Span
-from langur.syntax import lalr, larkload, parser, tables
+from langur.syntax import builder, chains, lalr, larkload, parser, tables
 
 
 def _is_token(x) -> bool:
@@ -100,7 +100,7 @@ def _recorded(text: str, start: str, lark: bool) -> tuple:
 def _tree(x):
     if isinstance(x, Span):
         return ("Span", x.path, x.line, x.col, x.end_line, x.end_col)
-    if isinstance(x, parser._R):
+    if isinstance(x, chains.Reduced):
         return ("R", _tree(x.node), x.line, x.col, x.end_line, x.end_col, x.depth)
     if _is_token(x):
         return ("Token",) + _token(x)
@@ -215,14 +215,14 @@ def test_name_is_a_unit_rule_for_names():
     """The driver calls ``name``'s callback only for ``d`` (made a NAME), never for a NAME: lark calls
     it for both (so the count differs, and the trees do not)."""
     calls = []
-    original = parser._Builder.name
+    original = builder.Builder.name
 
     def counted(self, c):
         calls.append(c[0][0])  # (a token's type: lalr.TOKEN)
         return original(self, c)
 
     text = "param a = 1\nint ([0, 1]) d * a + x * [x >= a - 1] d(x, d)"
-    parser._Builder.name = counted
+    builder.Builder.name = counted
     try:
         with parser._LOCK:
             parser._PARSER = parser._DRIVER = None  # (the driver rebuilt with the counting callback)
@@ -234,7 +234,7 @@ def test_name_is_a_unit_rule_for_names():
         slow = _tree(parser.parse_module(text))
     finally:
         parser.FAST = True
-        parser._Builder.name = original
+        builder.Builder.name = original
         with parser._LOCK:
             parser._PARSER = parser._DRIVER = None
             parser._parser()

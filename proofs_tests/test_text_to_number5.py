@@ -6,7 +6,7 @@ references.
   parser's (``Lark.parse`` with the same callbacks) on texts with ignored runs everywhere, and it
   finishes by itself (never :data:`lalr.FAILED`, which would hand the text to lark) for a whole
   term, whose start rule ends in a unit reduction.
-* ``parser._Builder.number`` reads short integer literals directly: the same Fraction as Python's
+* ``builder.Builder.number`` reads short integer literals directly: the same Fraction as Python's
   own decimal reading, and the E106 bounds kept for long ones.
 * ``Span`` and the surface nodes with a written-out ``__init__`` take their fields as the generic
   record ``__init__`` does (by position, by name, defaults) and compare as before.
@@ -22,7 +22,7 @@ from fractions import Fraction
 import pytest
 
 from langur.diagnostics import LangurError, Span
-from langur.syntax import lalr, loops, parser, surface
+from langur.syntax import chains, lalr, loops, parser, surface
 from langur.syntax.parser import parse_bytes, parse_term
 
 
@@ -43,7 +43,7 @@ def _driver(text: str, start: str):
 
 def _tree(x):
     """A parse result as nested tuples with every span (the records' equality ignores spans)."""
-    if isinstance(x, parser._R):
+    if isinstance(x, chains.Reduced):
         return ("R", _tree(x.node), x.line, x.col, x.end_line, x.end_col, x.depth)
     if dataclasses.is_dataclass(x) and not isinstance(x, type):
         return (type(x).__name__,) + tuple(_tree(getattr(x, f.name)) for f in dataclasses.fields(x))

@@ -12,7 +12,7 @@ in the order lark's scanner tries them and their regular expressions, the keywor
 table (lark's, with its unit reductions by rules whose callback gives back its child folded in:
 ``tables.fold_units``, parse26), and for every rule the callback lark calls on its reduction and how lark's parse-tree
 builder shapes the children first (``_rule`` inlining, ``?rule``'s single child: its wrapper chain
-under ``tables.OPTIONS``).  This module loads that data and runs it with ``parser._Builder``'s
+under ``tables.OPTIONS``).  This module loads that data and runs it with ``builder.Builder``'s
 callbacks; it never imports lark.  A token is a tuple of lark's token's attributes (:data:`TOKEN`;
 not a ``str`` since parse24, not an object since parse25).
 
