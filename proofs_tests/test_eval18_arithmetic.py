@@ -2,10 +2,10 @@
 eval18).
 
 :mod:`langur.symbolic.rational` evaluates closed forms of rationals, symbols, +, ·, integer powers
-and ``Abs`` at a rational point in three modes — exact integer pairs (:data:`rational.EXACT`),
-fixed-point balls (:data:`rational.BALLS`) and residues modulo a prime (:func:`rational.residues`,
-``local._near_form``'s certificate) — each declared as an :class:`rational.Arithmetic` over which
-the tape (:class:`rational._Tape`: values and slopes) and the recursive walk are written once.
+and ``Abs`` at a rational point in three modes — exact integer pairs (:data:`exactpairs.EXACT`),
+fixed-point balls (:data:`balls.BALLS`) and residues modulo a prime (:func:`residues.residues`,
+``local._near_form``'s certificate) — each declared as an :class:`arithmetic.Arithmetic` over which
+the tape (:class:`tape.Tape`: values and slopes) and the recursive walk are written once.
 
 The references here are independent of those walks: sympy's own evaluation of the substituted form
 (``xreplace``: exact rationals, ``zoo``/``nan`` where it is undefined), sympy's ``diff`` along the
@@ -21,8 +21,13 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
-from langur.symbolic import local, rational
-from langur.symbolic.rational import BALL_BITS, BALLS, EXACT, Arithmetic, residue, residues
+from langur.symbolic import balls, exactpairs, local, rational
+from langur.symbolic.arithmetic import Arithmetic
+from langur.symbolic.balls import BALL_BITS, BALLS
+from langur.symbolic.exactpairs import EXACT
+from langur.symbolic.rational import residue
+from langur.symbolic.residues import NoResidue, residues
+from langur.symbolic.tape import TAPES, NotRational, Tape
 
 X, Y, Z = sp.symbols("x y z", real=True)
 S = sp.Symbol("s", real=True)
@@ -32,7 +37,7 @@ UNIT = Fraction(1, 2 ** BALL_BITS)
 
 
 def _clear():
-    for memo in (rational._TAPES, rational._VALUES, rational._BALLS):
+    for memo in (TAPES, exactpairs.VALUES, balls.BALL_VALUES):
         memo.clear()
 
 
@@ -150,9 +155,9 @@ def test_every_arithmetic_agrees_with_sympy_on_random_forms():
                 assert got is None, (e, point)
                 assert rational.dual_derivative(e, point, tangent) is None
                 assert rational.float_value(e, point) is None and rational.sign_value(e, point) is None
-                with pytest.raises((rational._NotRational, rational._Uncertain)):
+                with pytest.raises((NotRational, balls.Uncertain)):
                     BALLS.value_of(e, {}, point)
-                with pytest.raises((ZeroDivisionError, rational._NotRational)):
+                with pytest.raises((ZeroDivisionError, NotRational)):
                     fractions.value_of(e, {}, point)
                 continue
             counts["defined"] += 1
@@ -160,12 +165,12 @@ def test_every_arithmetic_agrees_with_sympy_on_random_forms():
             assert got == want, (e, point)
             # the fourth arithmetic, through both traversals
             assert fractions.value_of(e, {}, point) == want
-            tape = rational._Tape(e)
+            tape = Tape(e)
             assert tape.values(point, fractions)[-1] == want
             # balls hold the exact value (or cannot decide: a ball holding 0 under Abs or a reciprocal)
             try:
                 ball = BALLS.value_of(e, {}, point)
-            except rational._Uncertain:
+            except balls.Uncertain:
                 ball = None
             if ball is not None:
                 counts["ball decided"] += 1
@@ -192,7 +197,7 @@ def test_every_arithmetic_agrees_with_sympy_on_random_forms():
             assert rational.dual_derivative_float(e, point, tangent) == float(slope)
             try:
                 bslope = tape.slope(tape.values(point, BALLS), tangent, BALLS)
-            except rational._Uncertain:
+            except balls.Uncertain:
                 continue
             assert _inside(bslope, slope), (e, point, tangent, bslope)
     assert min(counts.values()) >= 50, counts
@@ -200,8 +205,8 @@ def test_every_arithmetic_agrees_with_sympy_on_random_forms():
 
 def test_each_arithmetic_fails_its_own_way_where_a_power_below_1_or_abs_meets_0():
     modulo = residues(PRIME)
-    for arith, zero, fails in ((EXACT, (0, 1), rational._NotRational), (BALLS, (0, 0), rational._Uncertain),
-                               (BALLS, (0, 5), rational._Uncertain), (modulo, 0, rational._NoResidue)):
+    for arith, zero, fails in ((EXACT, (0, 1), NotRational), (BALLS, (0, 0), balls.Uncertain),
+                               (BALLS, (0, 5), balls.Uncertain), (modulo, 0, NoResidue)):
         assert arith.failure is fails
         for k in (-2, -1, 0):
             with pytest.raises(fails):
@@ -217,7 +222,7 @@ def test_each_arithmetic_fails_its_own_way_where_a_power_below_1_or_abs_meets_0(
         assert _inside(BALLS.power(ball, k), three ** k)
     assert _inside(BALLS.magnitude(ball), -three)
     assert modulo.power(modulo.const(-3, 4), -3) == _mod(three ** -3)
-    with pytest.raises(rational._NoResidue):
+    with pytest.raises(NoResidue):
         modulo.magnitude(modulo.const(3, 4))
 
 
@@ -239,15 +244,15 @@ def test_the_public_readers_at_the_edges():
     first = sp.Mul(sp.Pow(unevaluated_zero, 1, evaluate=False), Y, evaluate=False)
     _clear()
     assert rational.dual_derivative(first, at, {X: 3}) == Fraction(-2)
-    tape = rational._Tape(first)
+    tape = Tape(first)
     assert _inside(tape.slope(tape.values(at, BALLS), {X: 3}, BALLS), Fraction(-2))
     assert rational.dual_derivative_float(first, at, {X: 3}) == -2.0
     # the order of the operands decides which failure comes first (the balls' _Uncertain falls back
     # to the exact values, a non-rational form is None)
     uncertain = sp.Abs(unevaluated_zero)
-    with pytest.raises(rational._Uncertain):
+    with pytest.raises(balls.Uncertain):
         BALLS.value_of(sp.Add(uncertain, sp.sqrt(Y), evaluate=False), {}, at)
-    with pytest.raises(rational._NotRational):
+    with pytest.raises(NotRational):
         BALLS.value_of(sp.Add(sp.sqrt(Y), uncertain, evaluate=False), {}, at)
 
 
@@ -284,7 +289,7 @@ def test_an_arithmetic_counts_the_operations_of_the_one_walk():
     names = ("const", "read", "total", "product", "add", "mul", "inverse", "sign", "neg", "scale")
     ops = {n: counted(n, getattr(EXACT, n)) for n in names}
     counting = Arithmetic("counting", raise_=counted("raise_", lambda x, k: (x[0] ** k, x[1] ** k)),
-                          failure=rational._NotRational, points={}, **ops)
+                          failure=NotRational, points={}, **ops)
     shared = X + Y
     e = sp.Mul(shared ** 2, sp.Abs(shared - 3), shared ** -1, evaluate=False)
     at = {X: sp.Rational(1, 3), Y: sp.Rational(5, 7)}
@@ -292,7 +297,7 @@ def test_an_arithmetic_counts_the_operations_of_the_one_walk():
     assert counting.value_of(e, {}, at) == EXACT.value_of(e, {}, at)
     assert calls["read"] == 2 and calls["total"] == 2 and calls["product"] == 1
     assert calls["raise_"] == 2 and calls["inverse"] == 1 and calls["sign"] == 1
-    tape = rational._Tape(e)
+    tape = Tape(e)
     calls.clear()
     assert tape.values(at, counting)[-1] == EXACT.value_of(e, {}, at)
     assert calls["read"] == 2 and calls["total"] == 2 and calls["product"] == 1

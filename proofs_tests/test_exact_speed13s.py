@@ -2,7 +2,7 @@
 integer powers of sums rebuilt without sympy's assumption queries in Newton–Cotes sums
 (``walks.shared_xreplace``), a polynomial condition's coefficients without ``Poly``
 (``quadrature.roots._expanded_coefficients``), the exact values of subtrees at a point shared between
-Theorem 8.1's dual derivatives and exact values (``rational._Tape.values``).  Each gives the same
+Theorem 8.1's dual derivatives and exact values (``tape.Tape.values``).  Each gives the same
 expressions and numbers as before; checked here against sympy's own ``xreplace``, ``Poly`` and
 ``integrate``, hand-solved roots, exact derivatives by sympy, the shoelace formula, an independent
 numpy integration of the kernel (proofs_tests/test_stylize.py) and the Monte Carlo engine."""
@@ -18,7 +18,7 @@ from test_stylize import clip, defaults, kernel
 
 from langur.exact import exact_deriv
 from langur.operational.batch import estimate_batch
-from langur.symbolic import exact_rules, local, rational, walks
+from langur.symbolic import exact_rules, exactpairs, local, rational, tape, walks
 from langur.symbolic.context import Cond, Context
 from langur.symbolic.quadrature import roots
 from langur.sympy_bridge import symbol
@@ -146,7 +146,7 @@ def test_tape_values_are_shared_with_exact_values_at_the_point():
     d = rational.dual_derivative(f, point, tangent)
     assert d == Fraction(str(sp.diff(f, A).xreplace(point)))
     # the tape left its subtrees' values for the other form at the same point
-    memo = rational._point_memo(rational.EXACT, point)
+    memo = tape.point_memo(exactpairs.EXACT, point)
     assert memo.get(A * B - C) is not None and memo.get(f) is not None
     assert rational.rational_value(g, point) == Fraction(str(g.xreplace(point)))
 

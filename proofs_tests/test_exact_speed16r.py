@@ -26,9 +26,9 @@ import pytest
 import sympy as sp
 
 from langur import theorem
-from langur.symbolic import rational
+from langur.symbolic import balls, exactpairs, rational, tape
+from langur.symbolic.balls import BALL_BITS
 from langur.symbolic.rational import (
-    BALL_BITS,
     dual_derivative,
     dual_derivative_float,
     float_value,
@@ -47,7 +47,7 @@ def _inside(ball, exact: Fraction) -> bool:
 
 
 def _ball(q: Fraction):
-    return rational._bconst(q.numerator, q.denominator)
+    return balls._bconst(q.numerator, q.denominator)
 
 
 def _random_rational(rng) -> Fraction:
@@ -62,22 +62,22 @@ def test_ball_operations_enclose_the_exact_results():
         p, q = _random_rational(rng), _random_rational(rng)
         bp, bq = _ball(p), _ball(q)
         assert _inside(bp, p) and _inside(bq, q)
-        assert _inside(rational._bmul(bp, bq), p * q)
+        assert _inside(balls._bmul(bp, bq), p * q)
         # widened balls: the enclosure holds for every point of the operands' balls
         wp, wq = (bp[0], bp[1] + rng.randint(0, 10 ** 6)), (bq[0], bq[1] + rng.randint(0, 10 ** 6))
         for dp in (-wp[1], 0, wp[1]):
             for dq in (-wq[1], 0, wq[1]):
                 a, b = Fraction(wp[0] + dp) * SCALE, Fraction(wq[0] + dq) * SCALE
-                assert _inside(rational._bmul(wp, wq), a * b)
+                assert _inside(balls._bmul(wp, wq), a * b)
                 for k in (2, 3, 5):
-                    assert _inside(rational._bpow(wp, k), a ** k)
+                    assert _inside(balls._bpow(wp, k), a ** k)
                 if a != 0 and abs(wp[0]) > wp[1]:
-                    assert _inside(rational._binv(wp), 1 / a)
-                    assert _inside(rational.BALLS.power(wp, -3), a ** -3)
-    with pytest.raises(rational._Uncertain):
-        rational._binv((5, 5))  # holds 0
-    with pytest.raises(rational._Uncertain):
-        rational.BALLS.power((0, 1), -2)
+                    assert _inside(balls._binv(wp), 1 / a)
+                    assert _inside(balls.BALLS.power(wp, -3), a ** -3)
+    with pytest.raises(balls.Uncertain):
+        balls._binv((5, 5))  # holds 0
+    with pytest.raises(balls.Uncertain):
+        balls.BALLS.power((0, 1), -2)
 
 
 def _random_form(rng, depth=0):
@@ -153,7 +153,7 @@ def _stylize_check(monkeypatch, exact_only: bool):
     from langur.exact import exact_deriv
     from langur.frontend import load
 
-    for memo in (rational._TAPES, rational._VALUES, rational._BALLS):
+    for memo in (tape.TAPES, exactpairs.VALUES, balls.BALL_VALUES):
         memo.clear()
     if exact_only:  # the old path: the exact Fractions' doubles and signs
         monkeypatch.setattr(theorem, "dual_derivative_float", lambda e, p, t: (

@@ -25,7 +25,7 @@ import sympy as sp
 from langur import denote, theorem
 from langur.exact import exact_deriv
 from langur.frontend import load
-from langur.symbolic import context, local, rational, walks
+from langur.symbolic import context, local, rational, tape, walks
 from langur.symbolic.context import Cond, Context
 from langur.symbolic.pieces import Condition, Piece
 from langur.symbolic.quadrature import compiling, nested, pieceproblems
@@ -149,7 +149,7 @@ def test_the_kernels_derivative_and_theorem_numbers_are_those_of_the_canonical_f
         local._near_form = fake
         try:
             denote._remembered.clear()
-            rational._TAPES.clear()
+            tape.TAPES.clear()
             r = exact_deriv(loaded.program, at, direction)
         finally:
             local._near_form = real

@@ -18,7 +18,7 @@ import pytest
 import sympy as sp
 from sympy.utilities.lambdify import implemented_function
 
-from langur.symbolic import local, rational, text
+from langur.symbolic import exactpairs, local, rational, text
 from langur.symbolic.context import Cond as local_cond
 from langur.symbolic.text import shared_lambdify
 
@@ -40,8 +40,8 @@ def test_rational_pairs_add_and_multiply_to_fractions_reduced(bits):
         p, q = _pair(rng, bits), _pair(rng, bits)
         if rng.random() < 0.2 and math.gcd(q[0], p[1]) == 1:
             q = (q[0], p[1])  # equal denominators
-        for got, want in ((rational._qadd(p, q), Fraction(*p) + Fraction(*q)),
-                          (rational._qmul(p, q), Fraction(*p) * Fraction(*q))):
+        for got, want in ((exactpairs.qadd(p, q), Fraction(*p) + Fraction(*q)),
+                          (exactpairs.qmul(p, q), Fraction(*p) * Fraction(*q))):
             assert got == (want.numerator, want.denominator)  # exact, reduced, denominator > 0
 
 
