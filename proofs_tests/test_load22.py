@@ -2,7 +2,7 @@
 
 ``template.Template`` completes a copy's condition that differs from the first copy's only in
 constant summands by moving the solution's constant term (``affine.summands``); the constant is
-now kept as a numerator and a denominator (``template._moved``) and the completion made by
+now kept as a numerator and a denominator (``copies.moved``) and the completion made by
 ``affine.solved_at_ratio``, which builds the ``Fraction`` only when the branch is new.  Checked
 here: the integer arithmetic against ``Fraction``'s; ``solved_at_ratio`` against ``solved_at``;
 and loops whose conditions shift with factors 1, −1 and others (``2*x + i``: the solution moves
@@ -20,6 +20,7 @@ from langur.core import Add, Const, Mul, Param, Var, free_vars
 from langur.frontend import clear_load_cache, load_text
 from langur.operational import estimate_value
 from langur.syntax import affine, template
+from langur.syntax.copies import STATS, moved
 
 
 def test_moved_is_fraction_arithmetic():
@@ -29,7 +30,7 @@ def test_moved_is_fraction_arithmetic():
         new = Fraction(r.randint(-50, 50), r.randint(1, 40))
         factor = Fraction(r.choice([1, -1, 2, -3]), r.choice([1, 1, 5]))
         sign = 1 if factor == 1 else (-1 if factor == -1 else 0)
-        num, den = template._moved(base.numerator, base.denominator, new, factor, sign)
+        num, den = moved(base.numerator, base.denominator, new, factor, sign)
         assert den > 0
         assert Fraction(num, den) == base + factor * new
 
@@ -70,9 +71,9 @@ def _load(text: str, enabled: bool):
 ])
 def test_copies_shifted_in_integers(cond, root):
     text = f"param a = 0.25\nint ([-30, 30]) sum i in 2..9: [{cond}] * (x + i) d(x)\n"
-    before = dict(template.STATS)
+    before = dict(STATS)
     built = _load(text, True)
-    assert template.STATS["shifted"] - before["shifted"] >= 7  # the copies took the integer path
+    assert STATS["shifted"] - before["shifted"] >= 7  # the copies took the integer path
     desugared = _load(text, False)
     assert built.program == desugared.program
     # the solution of each copy's condition, by hand: the branch's constant at u0 = 0 is the root

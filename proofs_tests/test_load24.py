@@ -22,7 +22,7 @@ from fractions import Fraction
 from langur import core, frontend
 from langur.core import MINUS_ONE, Add, Const, IfDiffeo, Mul, Param, Pow, Prim, Var
 from langur.core.attributes import SMALL, SMALL_BITS
-from langur.syntax import template
+from langur.syntax import copies
 
 _EMPTY = frozenset()
 
@@ -163,12 +163,12 @@ def test_inline_returns_a_program_without_calls_and_still_inlines_calls(tmp_path
 
 
 def test_powers_of_a_loop_index_memoized_per_load_and_emptied_with_the_front_ends_memos():
-    assert isinstance(template._index_power, functools._lru_cache_wrapper)
+    assert isinstance(copies.index_power, functools._lru_cache_wrapper)
     for v in (10, 11, 0, 3, 2**40):
         for e in (-2, -1, 1, 2):
             if v == 0 and e < 0:
                 continue
-            assert template._index_power(v, e) == core.index_power_small(v, e)
+            assert copies.index_power(v, e) == core.index_power_small(v, e)
     sys.path.insert(0, "bench")
     try:
         from bench_peers import langur_text
@@ -177,9 +177,9 @@ def test_powers_of_a_loop_index_memoized_per_load_and_emptied_with_the_front_end
         sys.path.remove("bench")
     text = langur_text(10)
     cold()
-    assert template._index_power.cache_info().currsize == 0  # cold() empties it
+    assert copies.index_power.cache_info().currsize == 0  # cold() empties it
     first = frontend.load_text(text)
-    assert template._index_power.cache_info().hits >= 9  # the second sum's copies find the first's
+    assert copies.index_power.cache_info().hits >= 9  # the second sum's copies find the first's
     frontend.CACHE.clear()
     again = frontend.load_text(text)  # with the memo warm: the same program
     cold()

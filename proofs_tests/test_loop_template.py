@@ -20,7 +20,7 @@ from langur import core, operational
 from langur.core import attributes
 from langur.diagnostics import LangurError
 from langur.frontend import clear_load_cache, load_text
-from langur.syntax import template
+from langur.syntax import copies, template
 from langur.syntax.printer import print_program
 
 
@@ -120,7 +120,7 @@ def _load(text: str, enabled: bool):
 @pytest.mark.parametrize("seed", range(4))
 def test_instantiated_copies_are_the_desugared_copies(seed):
     r = random.Random(seed)
-    before = dict(template.STATS)
+    before = dict(copies.STATS)
     loaded_ok = 0
     for _ in range(40):
         text = _program(r)
@@ -140,7 +140,7 @@ def test_instantiated_copies_are_the_desugared_copies(seed):
             y = operational.estimate_derivative(old, at, d, samples=200, seed=seed)
             assert (x.value, x.regular, x.boundary) == (y.value, y.regular, y.boundary), text
     assert loaded_ok >= 10
-    assert template.STATS["instantiated"] - before["instantiated"] >= 40  # the new path was taken
+    assert copies.STATS["instantiated"] - before["instantiated"] >= 40  # the new path was taken
 
 
 @pytest.mark.parametrize("cond, shifted", [
@@ -156,15 +156,15 @@ def test_conditions_of_one_shape_move_their_constant_term_only(cond, shifted):
     # adding up its constant term (affine.summands); the others by the completion itself: either
     # way the copies are those desugaring each one gives
     text = f"param a = 0.5\nint ([0, 1], [0, 1]) (sum i in 1..4: [{cond}] * (x + i)) d(x, y)\n"
-    before = dict(template.STATS)
+    before = dict(copies.STATS)
     new, new_errors = _load(text, True)
     old, old_errors = _load(text, False)
     assert new_errors == old_errors == []
     assert new.program == old.program
     _same_attributes(new.program.body, old.program.body)
     assert print_program(new.program) == print_program(old.program)
-    assert template.STATS["instantiated"] - before["instantiated"] == 3
-    assert template.STATS["shifted"] - before["shifted"] == shifted
+    assert copies.STATS["instantiated"] - before["instantiated"] == 3
+    assert copies.STATS["shifted"] - before["shifted"] == shifted
     at, d = new.param_values({}), {"a": 1.0}
     assert (operational.estimate_derivative(new, at, d, samples=50, seed=1).value
             == operational.estimate_derivative(old, at, d, samples=50, seed=1).value)
@@ -173,12 +173,12 @@ def test_conditions_of_one_shape_move_their_constant_term_only(cond, shifted):
 def test_a_copy_that_does_not_complete_is_desugared_and_refused():
     # i = 0: `0 * x - 1 >= 0` has no variable to isolate; the copies i = -1, 1 complete
     text = "int ([0, 2]) (sum i in -1..1: [i*x - 1 >= 0] * x) d(x)\n"
-    refused = template.STATS["refused"]
+    refused = copies.STATS["refused"]
     new, new_errors = _load(text, True)
     old, old_errors = _load(text, False)
     assert new is None and old is None
     assert new_errors == old_errors and "T207" in new_errors[0]
-    assert template.STATS["refused"] == refused + 1
+    assert copies.STATS["refused"] == refused + 1
 
 
 def test_microbenchmark_one_is_instantiated():
@@ -186,10 +186,10 @@ def test_microbenchmark_one_is_instantiated():
     n = 49
     text = (f"param a = 1\nint ([-1, 1]) (sum i in 10..{9 + n}: [x + 1/i + a - 1 >= 0] * (1/i + a - 1 + x))"
             f" + (sum i in 10..{9 + n}: [x + 1/i + a - 1 >= 0] * (1/i + a - 1 - x)) d(x)\n")
-    count, shifted = template.STATS["instantiated"], template.STATS["shifted"]
+    count, shifted = copies.STATS["instantiated"], copies.STATS["shifted"]
     new, _ = _load(text, True)
-    assert template.STATS["instantiated"] == count + 2 * (n - 1)
-    assert template.STATS["shifted"] == shifted + 2 * (n - 1)  # each copy's condition: its constant term
+    assert copies.STATS["instantiated"] == count + 2 * (n - 1)
+    assert copies.STATS["shifted"] == shifted + 2 * (n - 1)  # each copy's condition: its constant term
     old, _ = _load(text, False)
     assert new.program == old.program
     _same_attributes(new.program.body, old.program.body)

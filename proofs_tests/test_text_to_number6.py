@@ -19,7 +19,7 @@ import pytest
 
 from langur import core, operational
 from langur.frontend import clear_load_cache, load_text
-from langur.syntax import template
+from langur.syntax import copies, template
 from langur.syntax.printer import print_program
 
 
@@ -137,12 +137,12 @@ BIG = 2 ** 500 + 1  # 1/i and i^-2 have 501- and 1,001-bit denominators: not sma
 ], ids=["mb1", "three-exponents", "power-of-a-sum", "not-small", "zero"])
 def test_copies_with_powers_of_the_index_are_the_desugared_copies(lo, body):
     text = f"param a = 0.5\nint ([0, 1]) (sum i in {lo}..{lo + 3}: {body}) d(x)\n"
-    count = template.STATS["instantiated"]
+    count = copies.STATS["instantiated"]
     new = _load(text, True)
-    assert template.STATS["instantiated"] == count + 3  # (on: the copies but the first instantiated)
-    count = template.STATS["instantiated"]
+    assert copies.STATS["instantiated"] == count + 3  # (on: the copies but the first instantiated)
+    count = copies.STATS["instantiated"]
     old = _load(text, False)
-    assert template.STATS["instantiated"] == count  # (off: nothing instantiated)
+    assert copies.STATS["instantiated"] == count  # (off: nothing instantiated)
     assert new.program == old.program
     _same_everywhere(new.program.body, old.program.body)
     assert print_program(new.program) == print_program(old.program)
