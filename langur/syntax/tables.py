@@ -31,7 +31,7 @@ from pathlib import Path
 from pprint import pformat
 from typing import Any
 
-from . import lalr, scangen
+from . import lalr, larkload, scangen
 from .lalr import grammar_text
 from .larkload import ChildFilterLALR_NoPlaceholders, ExpandSingleChild, Lark, Rule, TerminalDef
 
@@ -162,10 +162,10 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
         front = lark.parser
         lexer, parser = front.lexer, front.parser.parser
         scanner = lexer.scanner  # (builds the lexer's callbacks too)
-        if (front.lexer_conf.postlex is not None or len(scanner._mres) != 1
+        if (front.lexer_conf.postlex is not None or len(larkload.scanner_patterns(scanner)) != 1
                 or any(type(cb).__name__ != "UnlessCallback" for cb in lexer.callback.values())):
             return None
-        pattern = scanner._mres[0]
+        pattern = larkload.scanner_patterns(scanner)[0]
         ignored, newlines = frozenset(lexer.ignore_types), frozenset(lexer.newline_types)
         terminals = list(scanner.terminals)
         if "|".join(f"(?P<{t.name}>{t.pattern.to_regexp()})" for t in terminals) != pattern.pattern \
@@ -191,7 +191,7 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
             return None  # (a terminal with a callback of its own)
         index = {}
         rules = []
-        for rule, chain in lark._parse_tree_builder.rule_builders:
+        for rule, chain in larkload.rule_wrappers(lark):
             index[rule] = len(rules)
             rules.append([rule.origin.name, [s.name for s in rule.expansion],
                           rule.alias or rule.options.template_source or rule.origin.name, _chain(chain)])
@@ -224,7 +224,7 @@ def driver_data(lark: Lark) -> dict[str, Any] | None:
 
 
 #: The rules whose callback gives back its one child unchanged, by callback name (and, for ``name``,
-#: the one symbol it does so for): ``parser._Builder``'s ``plain`` (the precedence ladder ``term`` →
+#: the one symbol it does so for): ``builder.Builder``'s ``plain`` (the precedence ladder ``term`` →
 #: ``sum`` → ``product`` → ``unary`` → ``power`` → ``atom``), ``cond_term``, ``cmp``, and ``name`` of a
 #: ``NAME`` token (a ``D`` is made a ``NAME``).  lark's ``?rule`` of one symbol (its ``expand1``
 #: wrapper gives back an only child) is one too.  :func:`fold_units` takes them out of the table.
@@ -385,7 +385,7 @@ def load(transformer: Any, path: Path = TABLES) -> Lark | None:
         doc = json.loads(path.read_text(encoding="utf-8"), object_hook=_tagged)
         if doc.get("format") != FORMAT or doc.get("grammar_sha256") != digest(grammar_text()):
             return None
-        return Lark._load_from_dict(doc["data"], doc["memo"], transformer=transformer)
+        return larkload.from_data(doc["data"], doc["memo"], transformer)
     except Exception:  # noqa: BLE001 - any defect in the data file: fall back to the grammar
         return None
 
