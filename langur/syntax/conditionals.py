@@ -1,5 +1,6 @@
 """Conditionals of the desugarer: ``ifge0`` and the comparisons, on the parameters or over the
-variables (Fig. 6, conditional and diffeomorphic conditional; §5.2, Def. 5.2).
+variables (§5.2 and Fig. 6, conditional and diffeomorphic conditional; Ψ̂ a C¹ diffeomorphism,
+Def. 3.4).
 
 A condition that is variable-free becomes ``IfGe0``.  A condition over variables becomes
 ``IfDiffeo``: a declared diffeo application is instantiated (``langur.syntax.diffeo.instantiate``,

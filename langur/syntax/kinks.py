@@ -1,7 +1,8 @@
 """Pieces of a condition split at its kinks whose variables cancel (issue 18; LANGUAGE.md §6).
 
 The desugarer splits a condition with ``abs``, ``min`` or ``max`` over the variables at each kink
-(``Desugarer.conditional``).  On a piece the variables may cancel: ``[abs(x) + abs(x - 1) <= a]``
+(``Desugarer.conditional``, in :mod:`langur.syntax.conditionals`).  On a piece the variables may
+cancel: ``[abs(x) + abs(x - 1) <= a]``
 between its kinks 0 and 1 is ``[x + (1 - x) <= a]``, i.e. ``[1 <= a]``, the flat bottom of the
 function.  Such a piece is no diffeomorphic condition (nothing can be solved for), but it is a
 plain conditional on the parameters (Fig. 6, conditional): :func:`cancelled` writes it without the

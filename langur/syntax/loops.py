@@ -1,6 +1,7 @@
 """The finite loop of §9 ("a finite looping construct that is syntactic sugar and is unrolled"):
 ``sum i in A..B: t`` and ``prod i in A..B: t``, helpers of the desugarer (``langur.syntax.desugar``,
-the one desugaring place, which unrolls the loop in :meth:`Desugarer.loop`).
+the one desugaring place, which unrolls the loop in :meth:`Desugarer.loop
+<langur.syntax.unrolling.Unrolling.loop>`).
 
 * The bounds ``A`` and ``B`` are integer constants: number literals and arithmetic of them and of
   the indices of enclosing loops (:func:`bounds`, T224 otherwise).  The loop has ``B - A + 1``

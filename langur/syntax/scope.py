@@ -1,7 +1,7 @@
 """Scopes of the desugarer: what a name in a term is (LANGUAGE.md §6, "A name in a term is …").
 
-Fig. 6's judgement Γ; Δ ⊢ t: Δ the variables of integration in scope, Γ the parameters.  Where each
-comes from:
+The typing judgement Δ; Γ ⊢ t : real (§5.1–5.2, Fig. 6): Δ the variables of integration in scope,
+Γ the parameters, disjoint.  Where each comes from:
 
 * a program's body: Δ = its variables; Γ = the module's declared params and ``let``-bound names;
 * a ``def`` body: Δ = its ``var`` arguments; Γ = its ``param`` arguments, the module's declared
