@@ -6,6 +6,7 @@ from collections.abc import Mapping
 
 from ..diagnostics import Diagnostic, Span
 from ..records import record
+from ..symbolic.nounits import units_unloaded
 from ..timebox import Deadline
 
 
@@ -60,7 +61,8 @@ class PerCondition:
             self.left += 1
             return None
         try:
-            return self.clock.run(fn, self.limit)
+            with units_unloaded():  # (as ``algebra.timed``: no import of physical units on the clock)
+                return self.clock.run(fn, self.limit)
         except TimeoutError:
             self.undecided[condition] = span
             return None
