@@ -4,9 +4,10 @@ The linter's limits count CPU seconds (langur/timebox.py), so a loaded machine d
 what still did was how close a question came to its limit: the z-depth shader against the ray
 tracer's triangle (examples/raytrace/scene.lgr, reported at shader.lgr:6:20) needed 1.8 to 12 CPU s
 of ``sympy.solve`` per pair, against a limit of 2 s, and was X304 or X310 with sympy's caches and
-the first ``simplify``'s import of physical units.  Here every limit is made 10× smaller by a clock
-that runs 10× fast (:func:`fast_cpu_clock`), and the findings must not change.  The solution sets
-are checked by hand.
+the first ``simplify``'s import of physical units.  Here each sympy question's limit is made 10×
+smaller by a CPU clock that runs 10× fast (:func:`fast_cpu_clock`; the whole analysis's 30 s as it
+is, :func:`whole_analysis_as_is`), and the findings must not change.  The solution sets are
+checked by hand.
 """
 
 from __future__ import annotations
