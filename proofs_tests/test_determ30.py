@@ -121,6 +121,18 @@ def test_a_system_is_solved_factor_by_factor():
     assert _as_sets(algebra.solve_by_factors([(a - b) * a, (a - b) * (a + 1)], [a, b])) == [[("a", "b")]]
 
 
+def test_an_equation_linear_in_its_first_parameter_is_solved_for_it():
+    # [x³ − x ≥ a] against [sqrt(x + 2) ≤ b + 1] (a generated program): they meet where
+    # a = x³ − x at x = (b + 1)² − 2; sympy's solve took ~1 CPU s of its 2 on the roots of a sextic in b
+    e = sp.expand(-a - (b + 1) ** 2 + ((b + 1) ** 2 - 2) ** 3 + 2)
+    (sol,) = algebra.solve_by_factors([e], [a, b])
+    x = (b + 1) ** 2 - 2
+    assert list(sol) == [a] and sp.expand(sol[a] - (x**3 - x)) == 0
+    # a linear equation, or one whose first parameter is not of degree 1: sympy's own answer
+    assert algebra.solve_by_factors([2 * a - 3 * b + 1], [a, b]) == [{a: 3 * b / 2 - sp.Rational(1, 2)}]
+    assert _as_sets(algebra.solve_by_factors([b - a**2], [a, b])) == [[("a", "-sqrt(b)")], [("a", "sqrt(b)")]]
+
+
 def test_what_is_not_a_polynomial_with_rational_coefficients_is_left_to_sympy():
     assert algebra.solve_by_factors([sp.sin(a) - b], [a, b]) is None
     assert algebra.solve_by_factors([sp.sqrt(2) * a - b], [a, b]) is None

@@ -407,10 +407,26 @@ def solve_by_factors(eqs: list[sp.Expr], unknowns: list[sp.Symbol]) -> list[dict
             return None
     found: list[dict] = []
     for choice in sorted((sorted(c, key=sp.default_sort_key) for c in choices), key=sp.default_sort_key):
-        for sol in sp.solve(choice, unknowns, dict=True, check=False) if choice else [{}]:
+        solved = _linear_in_one(choice[0], unknowns) if len(choice) == 1 else None
+        for sol in solved or (sp.solve(choice, unknowns, dict=True, check=False) if choice else [{}]):
             if sol not in found:
                 found.append(sol)
     return found
+
+
+def _linear_in_one(f: sp.Expr, unknowns: list[sp.Symbol]) -> list[dict[sp.Symbol, sp.Expr]] | None:
+    """``[{u: g}]`` for a polynomial ``f`` that is not linear but of degree 1 in its first unknown u,
+    with a nonzero number as coefficient: the whole zero set of ``f``, exactly, ``g`` factored as
+    sympy's ``solve`` writes it.  sympy finds the same only after solving for the other unknowns
+    (``a = ((b + 1)² − 2)³ − (b + 1)² + 2``: the roots of a sextic in b, ~1 CPU s); a linear
+    equation it solves at once (and writes expanded: left to it).  None otherwise."""
+    u = next((v for v in unknowns if f.has(v)), None)
+    if u is None or sp.Poly(f, *unknowns).total_degree() <= 1:
+        return None
+    p = sp.Poly(f, u)
+    if p.degree() != 1 or not p.LC().is_number or p.LC() == 0:
+        return None
+    return [{u: sp.factor(-p.TC() / p.LC())}]
 
 
 def _solved_linearly(eqs: list[sp.Expr], params: list[sp.Symbol]) -> list[dict] | None:
