@@ -120,7 +120,7 @@ CODES: dict[str, Code] = _catalogue(
          "A condition's zero set is a double root for every parameter value (its derivative in the solved "
          "variable vanishes on it): it is not a diffeomorphism anywhere and the derivative is not defined.",
          "error", "double-root-condition"),
-    Code("X399", "The check of this file did not finish within its time budget (--timeout, default 60 s): what was "
+    Code("X399", "The check of this file did not finish within its time budget (--timeout, default 60 CPU s): what was "
          "not reported is unchecked.",
          "error", "time-limit"),
 )

@@ -37,7 +37,7 @@ from ..lint import fix as fixmod
 from ..lint.formats import Report, known_codes, render
 from ..lint.noqa import suppressed
 from ..source import read_source
-from ..timebox import run_with_timeout
+from ..timebox import backstop, run_with_timeout
 from ..transversality import check_library, check_loaded, point_of
 from ._prove import Prover
 
@@ -50,7 +50,7 @@ def add_arguments(p):
         "files", nargs="+", metavar="FILE", help=".lgr files or directories to check (- reads standard input)"
     )
     add_common(p, params=True)
-    add_timeout(p, "check", "for each FILE, in seconds")
+    add_timeout(p, "check", "for each FILE, in CPU seconds (and at most 10 × SECONDS + 5 of wall clock)")
     p.add_argument(
         "--format",
         choices=FORMATS,
@@ -255,14 +255,14 @@ def run(args) -> int:
         if isinstance(data, LangurError):
             reports.extend(Report(d) for d in data.diagnostics)
             continue
-        try:
+        try:  # CPU seconds, as every limit of the linter: a busy machine does not change the findings
             run_with_timeout(lambda n=name, d=data, c=cfg: _check_one(args, n, d, c, modules, at, used_at, fixes,
-                                                                       reports, loaded_files), args.timeout)
+                                                                       reports, loaded_files), args.timeout, cpu=True)
         except TimeoutError:
             reports.append(Report(Diagnostic(
                 Span(name, 1, 1, 1, 1), "error", "X399",
-                f"the check did not finish within {args.timeout:g} s (--timeout): what was not reported "
-                "is unchecked")))
+                f"the check did not finish within {args.timeout:g} CPU s (--timeout; or {backstop(args.timeout):g} s "
+                "of wall clock): what was not reported is unchecked")))
     unknown = sorted(set(at) - used_at)
     if unknown and not any(r.diagnostic.code[:1] in ("E", "T") for r in reports):
         raise UsageError(f"--at {unknown[0]}: no checked FILE declares this parameter")

@@ -26,6 +26,7 @@ import mpmath
 import sympy as sp
 
 from ..memo import remember
+from ..symbolic.nounits import units_unloaded
 from ..sympy_bridge import magnitude
 from ..timebox import Deadline
 from ..timebox import run_with_timeout as _run_with_timeout  # nesting-safe SIGALRM limiter
@@ -58,7 +59,8 @@ def timed(fn: Callable[[], T], seconds: float = TIME_LIMIT) -> T:
     if left <= 0:
         raise BudgetSpent("the analysis's CPU budget was spent")
     try:
-        return _run_with_timeout(fn, left, cpu=True)
+        with units_unloaded():  # not the first simplify's import of physical units (~0.2 CPU s)
+            return _run_with_timeout(fn, left, cpu=True)
     except TimeoutError as e:
         if left < 0.99 * seconds:  # the enclosing budget, not this limit, ended it
             raise BudgetSpent("the analysis's CPU budget ran out") from e
@@ -341,7 +343,7 @@ def bad_parameters(
     # ``[x - a·k/n >= 0]``): the exact solution sympy's ``solve`` would give, without it
     sols = _affine_solution(eqs, tuple(params)) if len(params) == 1 else None
     if sols is None:
-        sols = timed(lambda: _solved_linearly(eqs, params) or sp.solve(eqs, params, dict=True))
+        sols = timed(lambda: _parameter_solutions(eqs, params))
     out = []
     for sol in sols:
         if not sol or any(v.has(sp.I) or v.free_symbols & set(inner) for v in sol.values()):
@@ -351,6 +353,80 @@ def bad_parameters(
         if vanishes(rest, inner + tuple(rest_params), [g.subs(sol) for g in guards], seed):
             out.append(sol)
     return out
+
+
+def _parameter_solutions(eqs: list[sp.Expr], params: list[sp.Symbol]) -> list[dict[sp.Symbol, sp.Expr]]:
+    """``sp.solve(eqs, params, dict=True)``, by the cheapest of :func:`_solved_linearly`,
+    :func:`solve_by_factors` and sympy's ``solve`` that applies."""
+    for way in (_solved_linearly, solve_by_factors):
+        sols = way(eqs, params)
+        if sols is not None:
+            return sols
+    return sp.solve(eqs, params, dict=True)
+
+
+#: At most this many choices of factors (:func:`solve_by_factors`) are solved one by one; past
+#: it sympy's ``solve`` takes the whole system (a hostile product of many factors).
+MAX_FACTOR_CHOICES = 64
+
+
+def solve_by_factors(eqs: list[sp.Expr], unknowns: list[sp.Symbol]) -> list[dict[sp.Symbol, sp.Expr]] | None:
+    """The solutions of a system of polynomials with rational coefficients, component by component:
+    each equation is factored into irreducible polynomials, and the system's zeros are those of
+    every smallest choice of factors that contains one factor of each equation; each choice is
+    solved by sympy's ``solve`` without its own check (each solution is exact, and the callers
+    verify what they keep).  None when an equation is not such a polynomial or there are more
+    than :data:`MAX_FACTOR_CHOICES` choices (sympy then solves the system as given).
+
+    What ``sp.solve`` of the whole system finds, at a fraction of its cost where it matters: a
+    factor common to the equations makes the system's zero set a curve or a surface, on which
+    sympy's Gröbner-basis solver spends seconds (the z-depth shader against a triangle's edge,
+    ``examples/raytrace/scene.lgr``: ``(zth − 3)·q(t)`` with q a cubic, and the pairs of
+    equations sharing q: 1.8 to 12 CPU s, past the 2 s limit, X310 or X304 with the machine's
+    load and sympy's caches), and its check of each cubic's roots in radicals costs ~0.3 s."""
+    factored = []
+    for e in eqs:
+        try:
+            poly = sp.Poly(e, *unknowns)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            return None
+        if poly.domain not in (sp.ZZ, sp.QQ):
+            return None
+        if poly.is_zero:
+            continue
+        if poly.is_ground:
+            return []  # a nonzero number: no solution
+        factored.append({f.as_expr() for f, _ in poly.factor_list()[1]})
+    choices: list[frozenset] = [frozenset()]
+    for factors in factored:
+        grown = set()
+        for choice in choices:
+            grown |= {choice} if choice & factors else {choice | {f} for f in factors}
+        choices = [c for c in grown if not any(o < c for o in grown)]  # the smallest ones
+        if len(choices) > MAX_FACTOR_CHOICES:
+            return None
+    found: list[dict] = []
+    for choice in sorted((sorted(c, key=sp.default_sort_key) for c in choices), key=sp.default_sort_key):
+        solved = _linear_in_one(choice[0], unknowns) if len(choice) == 1 else None
+        for sol in solved or (sp.solve(choice, unknowns, dict=True, check=False) if choice else [{}]):
+            if sol not in found:
+                found.append(sol)
+    return found
+
+
+def _linear_in_one(f: sp.Expr, unknowns: list[sp.Symbol]) -> list[dict[sp.Symbol, sp.Expr]] | None:
+    """``[{u: g}]`` for a polynomial ``f`` that is not linear but of degree 1 in its first unknown u,
+    with a nonzero number as coefficient: the whole zero set of ``f``, exactly, ``g`` factored as
+    sympy's ``solve`` writes it.  sympy finds the same only after solving for the other unknowns
+    (``a = ((b + 1)² − 2)³ − (b + 1)² + 2``: the roots of a sextic in b, ~1 CPU s); a linear
+    equation it solves at once (and writes expanded: left to it).  None otherwise."""
+    u = next((v for v in unknowns if f.has(v)), None)
+    if u is None or sp.Poly(f, *unknowns).total_degree() <= 1:
+        return None
+    p = sp.Poly(f, u)
+    if p.degree() != 1 or not p.LC().is_number or p.LC() == 0:
+        return None
+    return [{u: sp.factor(-p.TC() / p.LC())}]
 
 
 def _solved_linearly(eqs: list[sp.Expr], params: list[sp.Symbol]) -> list[dict] | None:

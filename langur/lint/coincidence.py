@@ -60,17 +60,21 @@ def _forced(t: Term, choice: dict[int, bool]) -> Term:
 def _common_zeros(system: list, params: list) -> list[dict]:
     """The common zeros of ``system`` (products of factors) as solution dicts: ``sympy.solve`` of a
     product system misses components (``k·ny = k·nx = 0`` gives only ``nx = ny = 0``, not ``k = 0``),
-    so each choice of one factor per product is solved, and solutions inside another dropped."""
+    so each smallest choice of one factor per product is solved (:func:`~langur.lint.algebra.solve_by_factors`;
+    sympy's ``solve`` of each choice of factors when they are not polynomials with rational
+    coefficients), and solutions inside another dropped."""
     if len(system) == 1:
         return sp.solve(system[0], params, dict=True)
-    factors = [[f for f, _ in sp.factor_list(e)[1]] or [e] for e in system]
-    if math.prod(len(f) for f in factors) > 64:
-        return sp.solve(system, params, dict=True)
-    found: list[dict] = []
-    for choice in itertools.product(*factors):
-        for s in sp.solve(list(choice), params, dict=True):
-            if s not in found:
-                found.append(s)
+    found = algebra.solve_by_factors(system, params)
+    if found is None:
+        factors = [[f for f, _ in sp.factor_list(e)[1]] or [e] for e in system]
+        if math.prod(len(f) for f in factors) > 64:
+            return sp.solve(system, params, dict=True)
+        found = []
+        for choice in itertools.product(*factors):
+            for s in sp.solve(list(choice), params, dict=True):
+                if s not in found:
+                    found.append(s)
 
     def inside(a: dict, b: dict) -> bool:  # the solutions a describes all satisfy b
         return a is not b and all(sp.simplify((k - v).subs(a)) == 0 for k, v in b.items())

@@ -4,9 +4,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+from .. import lazy
 from ..diagnostics import Diagnostic, Span
 from ..records import record
 from ..timebox import Deadline
+
+#: sympy's simplify without its import of physical units (``PerCondition.run``); imported on first
+#: use: this module is on ``langur eval``'s path (``commands._defined``), which runs no linter.
+nounits = lazy.module("langur.symbolic.nounits")
 
 
 @record
@@ -60,7 +65,8 @@ class PerCondition:
             self.left += 1
             return None
         try:
-            return self.clock.run(fn, self.limit)
+            with nounits.units_unloaded():  # (as ``algebra.timed``: no import of physical units on the clock)
+                return self.clock.run(fn, self.limit)
         except TimeoutError:
             self.undecided[condition] = span
             return None
