@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from . import failures
 from .core import Program
 from .ddenote import ddenote, ddenote_program
 from .denote import denote, denote_program, undefined_where
@@ -91,7 +92,7 @@ def _guard(fn, *args, **kwargs):
     except UndefinedIntegral as e:
         raise ExactUndefined(f"undefined: {e.reason}", e.reason) from e
     except (NotImplementedError, TypeError, ValueError, ZeroDivisionError, ArithmeticError, TimeoutError) as e:
-        reason = str(e).splitlines()[0] if str(e) else type(e).__name__
+        reason = failures.why(e)
         raise ExactUnavailable(f"symbolic engine: {reason}", reason) from e
 
 
@@ -186,7 +187,7 @@ def exact_deriv(program: Program, params: Mapping[str, float | object], directio
             spent = check_seconds is not None and time.process_time() - start >= check_seconds - 1e-3
             notes.append(CHECK_STOPPED if spent else f"Theorem 8.1 check not computed: {e}")
         except Exception as e:  # noqa: BLE001 - the check is a report, not a reason to lose the derivative
-            notes.append(f"Theorem 8.1 check not computed: {str(e).splitlines()[0] if str(e) else e!r}")
+            notes.append(f"Theorem 8.1 check not computed: {failures.why(e)}")
     return ExactDerivative(base.value, base.expr, base.method, base.error, notes, base.inconsistent,
                            regular=float(res.regular.value),
                            boundary=float(res.boundary.value), standard_ad=float(res.standard_ad),

@@ -52,7 +52,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import replace
 
-from . import timebox
+from . import failures, timebox
 from .core import Call, Param, Program, Var
 from .diagnostics import LangurError, Span
 from .lint import singular
@@ -241,7 +241,7 @@ def _analysed(program, declared, at, sources, domain_spans, sites, budget, state
                 program.span,
                 "warning",
                 "X310",
-                f"could not analyse the conditions ({type(e).__name__}): transversality is unchecked",
+                f"could not analyse the conditions ({failures.why(e)}): transversality is unchecked",
             )
         ]
     state["findings"] = findings = checker.findings

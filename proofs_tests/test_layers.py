@@ -1,7 +1,7 @@
 """The package's layers point one way (README, "Map"), read from the modules' own imports.
 
     core            langur, codes, diagnostics, core, primitives, values, timebox, lazy, progress, modules, core_json, observe,
-                    gcpause, framestack, records, memo
+                    gcpause, framestack, records, memo, failures
     sympy bridge    sympy_bridge (⟦·⟧ of Fig. 7 in sympy, names, numbers, time limits)
     front end       syntax/*, typesys, frontend
     exact engine    denote, ddenote, onesided, symbolic/*          Monte Carlo engine  operational/*
@@ -29,7 +29,7 @@ ROOT = Path(__file__).resolve().parent.parent / "langur"
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("core", ("langur", "langur.codes", "langur.diagnostics", "langur.core", "langur.primitives", "langur.values", "langur.timebox", "langur.lazy",
               "langur.progress", "langur.modules", "langur.core_json", "langur.observe", "langur.gcpause", "langur.framestack",
-              "langur.records", "langur.memo")),
+              "langur.records", "langur.memo", "langur.failures")),
     ("sympy bridge", ("langur.sympy_bridge",)),
     ("front end", ("langur.syntax", "langur.typesys", "langur.frontend")),
     ("exact engine", ("langur.symbolic", "langur.denote", "langur.ddenote", "langur.onesided", "langur.exact_batch")),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from .. import progress
+from .. import failures, progress
 from .. import typesys as ty
 from ..cli import UsageError
 from ..core import Const, IfDiffeo, ImplicitRoot, TooManyRoots, subterms
@@ -116,7 +116,7 @@ def run_exact(kind: str, program, params, direction=None, *, theorem: bool = Tru
         print(f"{e}\nlangur {kind}: no exact value (the error above)", file=sys.stderr)
         return None, 0
     except Exception as e:  # noqa: BLE001 - reported, the other engine still runs
-        print(f"langur {kind}: no exact value: {type(e).__name__}: {e}", file=sys.stderr)
+        print(f"langur {kind}: no exact value: {failures.why(e)}", file=sys.stderr)
         return None, 0
 
 

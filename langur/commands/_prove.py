@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+from .. import failures
 from ..exact import exact_deriv
 from ..lint.algebra import describe_point
 from ..timebox import run_with_timeout
@@ -55,7 +56,7 @@ class Prover:
                 if not decided:
                     out["reason"] = "D⟦p⟧ is not a finite number here (no derivative, or not computed)"
         except Exception as e:  # the engine's failures are reported, never raised
-            out = {"holds": None, "reason": f"{type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}"}
+            out = {"holds": None, "reason": failures.why(e)}
         self.cache[name] = out
         return out
 

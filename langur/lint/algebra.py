@@ -25,6 +25,7 @@ from typing import TypeVar
 import mpmath
 import sympy as sp
 
+from .. import failures
 from ..memo import remember
 from ..symbolic.nounits import units_unloaded
 from ..sympy_bridge import magnitude
@@ -74,7 +75,7 @@ def timed(fn: Callable[[], T], seconds: float = TIME_LIMIT) -> T:
         RecursionError,
         sp.PolynomialError,
     ) as e:
-        raise Undecided(f"sympy failed: {type(e).__name__}") from e
+        raise Undecided(failures.why(e)) from e
 
 
 def exact(value) -> sp.Expr:

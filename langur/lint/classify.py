@@ -22,6 +22,7 @@ from collections.abc import Iterator, Mapping
 
 import sympy as sp
 
+from .. import failures
 from ..core import Program
 from ..diagnostics import Span
 from ..sympy_bridge import denote, symbol, to_sympy
@@ -253,7 +254,7 @@ class Checker(CoincidenceChecks, NullSetChecks):
             except _FAILURES as e:  # a sympy failure outside a time-boxed call: say so, go on
                 first = args[0][0] if args and isinstance(args[0], list) else (args[0] if args else None)
                 second = args[1] if len(args) > 1 and isinstance(args[1], Occurrence) else None
-                why = f"{type(e).__name__} in the analysis"
+                why = failures.why(e)
                 if isinstance(first, Occurrence):
                     self.undecided(first, second, why)
                 else:

@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from .. import failures
 from ..core import Pow, Prim, Program, Term, subterms
 from ..ddenote import ddenote
 from ..denote import denote, program_box, undefined_where
@@ -177,7 +178,7 @@ def _guarded(what: str, fn) -> Integrability:
         out.note = (f"the analysis of {what} ran out of the analysis's CPU budget" if cut else
                     f"the analysis of {what} took longer than {TIME_LIMIT:g} CPU s")
     except Exception as e:  # noqa: BLE001 - the analysis never stops a command; it claims nothing then
-        out.note = f"the analysis of {what} could not run ({type(e).__name__}: {e})"
+        out.note = f"the analysis of {what} could not run: {failures.why(e)}"
     return out
 
 

@@ -16,6 +16,7 @@ import random
 
 import sympy as sp
 
+from langur import failures
 from langur.memo import remember as _remember
 from langur.symbolic import elementary
 from langur.symbolic.context import Context, Unsupported
@@ -261,7 +262,7 @@ def antiderivative(w, v, ctx: Context):
                 _remember(_TIMED_OUT, key, cap)
                 continue
             except Exception as exc:  # sympy raises all sorts of errors on hard inputs
-                F = f"sympy integrate failed: {type(exc).__name__}"
+                F = f"no antiderivative of {w} in {v} found: {failures.why(exc)}"
             _remember(_CACHE, key, F)
         if isinstance(F, str):
             reasons.append(F)

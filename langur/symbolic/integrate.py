@@ -42,6 +42,7 @@ from typing import Iterator, Sequence
 
 import sympy as sp
 
+from langur import failures
 from langur.implicit import ImplicitRootFn
 from langur.memo import remember as _remember
 from langur.symbolic import delta, quadrature, regions, walks
@@ -341,7 +342,7 @@ def _closed_forms(make_problems, n: int, quads, ctx: Context, what: str, converg
             why.append(f"{what} {i}: {exc or 'time limit'}")
         except Exception as exc:  # noqa: BLE001 - sympy fails in many ways; quadrature still holds
             exacts.append(None)
-            why.append(f"{what} {i}: sympy failed ({type(exc).__name__}: {exc})")
+            why.append(f"{what} {i}: {failures.why(exc)}")
         if exacts[-1] is None and not converged[i]:
             raise QuadratureUnreliable(f"{what} {i} has no closed form ({why[-1].split(': ', 1)[-1]}) and its "
                                        "quadrature did not converge (scipy), so no value has an error bound "

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import mpmath
 import sympy as sp
 
+from langur import failures
 from langur.memo import remember as _remember
 from langur.symbolic import root_formulas, walks
 from langur.symbolic.context import Cond, Context, Unsupported, _floats40, nearly_real
@@ -139,7 +140,7 @@ def _roots(c: Cond, v, ctx: Context, tidy: bool = True, within: tuple[float, flo
         except TimeoutError:
             raise Unsupported(f"solving {c.expr} = 0 for {v} timed out") from None
         except (NotImplementedError, ValueError, TypeError) as exc:
-            raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {' '.join(str(exc).split())}") from None
+            raise Unsupported(f"cannot solve {c.expr} = 0 for {v}: {failures.why(exc)}") from None
         _remember(_SOLVED, key, sols)
     if not isinstance(sols, list):
         raise Unsupported(f"infinitely many roots of {c.expr} in {v}")

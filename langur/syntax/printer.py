@@ -271,6 +271,19 @@ def _is_literal(t) -> bool:
     return isinstance(t, C.Const) and not isinstance(t.value, str)
 
 
+def _is_zero(t) -> bool:
+    return _is_literal(t) and t.value == 0
+
+
+def _compared(left, then, orelse, level: int) -> list:
+    """``ifge0 t − 0 then s else r`` (the desugaring of a comparison with 0) as the comparison:
+    ``[t >= 0]`` when it is a bracket (1 else 0), else ``if t >= 0 then s else r``; both desugar
+    back to the same term (``compare`` in ``syntax/desugar.py``), without the artefact ``- 0``."""
+    if _is_literal(then) and then.value == 1 and _is_zero(orelse):
+        return ["[", (left, SUM), " >= 0]"]
+    return _wrap(TERM, level, ["if ", (left, SUM), " >= 0 then ", (then, SUM), " else ", (orelse, TERM)])
+
+
 def _const_parts(value) -> tuple[int, list]:
     if isinstance(value, str):
         return ATOM, [value]
@@ -303,10 +316,15 @@ class _CoreRule:
             case C.Pow(base, k):
                 _, kparts = _const_parts(Fraction(k))
                 return _wrap(POWER, level, [(base, ATOM), " ^ ", *kparts])
+            case C.IfGe0(C.Add(left, C.Mul(m, zero)), then, orelse) if _is_minus_one(m) and _is_zero(zero):
+                # the desugaring of a comparison with 0 (`[t >= 0]`: t − 0), printed as it was written
+                return _compared(left, then, orelse, level)
             case C.IfGe0(cond, then, orelse):
                 return _wrap(
                     TERM, level, ["ifge0 ", (cond, SUM), " then ", (then, SUM), " else ", (orelse, TERM)]
                 )
+            case C.IfDiffeo(psi, then, orelse) if (left := self.compared_with_zero(psi)) is not None:
+                return _compared(left, then, orelse, level)
             case C.IfDiffeo(psi, then, orelse):
                 return _wrap(
                     TERM,
@@ -324,6 +342,13 @@ class _CoreRule:
                 return [head, x, ": ", (eq, SUM), " = ", (target, SUM), " in [", (lo, TERM), ", ", (hi, TERM),
                         "]", tail]
         raise TypeError(f"not a core term: {t!r}")
+
+    def compared_with_zero(self, psi: C.Diffeo):
+        """``t`` when a completed condition is ``t − 0`` (desugared from ``[t >= 0]``), else None."""
+        match psi.forward[0]:
+            case C.Add(left, C.Mul(m, zero)) if psi not in self.names and _is_minus_one(m) and _is_zero(zero):
+                return left
+        return None
 
     def condition(self, psi: C.Diffeo) -> list:
         name = self.names.get(psi)

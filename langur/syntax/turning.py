@@ -59,6 +59,7 @@ from fractions import Fraction
 
 import sympy as sp
 
+from .. import failures
 from ..core import (
     Add,
     Const,
@@ -114,7 +115,7 @@ def _piece_ends(cond: Term, e: sp.Expr, d: sp.Expr, v: sp.Symbol, lo: float, hi:
     except TimeoutError:
         return f"sympy could not find where it is continuous within {TURNING_LIMIT:g} CPU s"
     except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
-        return f"sympy could not find where it is continuous ({type(err).__name__})"
+        return f"sympy could not find where it is continuous: {failures.why(err)}"
     if not (isinstance(dom, sp.Interval) and dom.start.is_number and dom.end.is_number and dom.start < dom.end):
         return f"it is continuous on {dom} only, not on one interval of the domain [{lo:g}, {hi:g}]"
     L, R = sp.nsimplify(dom.start, rational=True), sp.nsimplify(dom.end, rational=True)  # where it is defined
@@ -287,7 +288,7 @@ def _parametric(cond: Term, e: sp.Expr, v: sp.Symbol, variables, inputs, lo, hi)
     except TimeoutError:
         dom = f"an unknown set (sympy did not decide within {TURNING_LIMIT:g} CPU s)"
     except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
-        dom = f"an unknown set ({type(err).__name__})"
+        dom = f"an unknown set ({failures.why(err)})"
     if dom != sp.S.Reals:
         return f"{why}; it is continuous on {dom}, and with a domain bound that moves with the parameters a " \
                "condition with turning points must be continuous on the whole line (give the variable a " \
@@ -310,7 +311,7 @@ def _monotone_on_the_line(e: sp.Expr, v: sp.Symbol) -> str | None:
     except TimeoutError:
         return f"sympy could not decide within {TURNING_LIMIT:g} CPU s where ∂/∂{v} = {d} vanishes"
     except Exception as err:  # noqa: BLE001 - sympy's own failures: refused with its reason
-        return f"sympy could not decide where ∂/∂{v} = {d} vanishes ({type(err).__name__})"
+        return f"sympy could not decide where ∂/∂{v} = {d} vanishes: {failures.why(err)}"
     if dom != sp.S.Reals:
         return f"it is continuous on {dom} only"
     if zeros is sp.S.EmptySet:
