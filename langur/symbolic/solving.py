@@ -83,7 +83,14 @@ def _polynomial_roots(e, v):
 
 
 def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
-    """``[c ≥ 0]`` as a disjoint union (up to null sets) of intervals in ``v``."""
+    """``[c ≥ 0]`` as a disjoint union (up to null sets) of intervals in ``v``.
+
+    A condition changes sign in ``v`` at its roots and at its poles: a quotient N/D of
+    polynomials in ``v`` is solved as the sign of N times the sign of D (:func:`_quotient`); a Psi
+    solved for ``v`` with one branch gives the one root and the direction of a condition that is
+    monotone and continuous on the whole line, which one with a pole in ``v`` is not
+    (``1/(x + y + 1/2) − a`` falls from +∞ to ``−a`` on each side of ``y = −x − 1/2``), so then it
+    is not used."""
     e = c.expr
     solved = _polynomial_roots(e, v)
     if solved is not None and len(solved) == 2:
@@ -97,8 +104,15 @@ def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
             return [Alt([Cond(disc)], [r_plus], [r_minus])]
         return [Alt([Cond(-disc, strict=True)], [], []),
                 Alt([Cond(disc)], [], [r_minus]), Alt([Cond(disc)], [r_plus], [])]
+    pole = _has_pole(e, v)
+    if pole:
+        parts = _quotient_parts(e, v)
+        if parts is not None:
+            return _quotient(c, parts, v, outer, ctx)
     psi = c.psi
     if psi is not None and psi.solved_for == v and len(psi.branches) == 1 and not psi.branches[0].guards:
+        if pole:
+            raise Unsupported(f"{e} has a pole in {v}, where it changes sign without a root")
         sub = {psi.inputs[0]: sp.Integer(0)}
         sub.update(dict(zip(psi.inputs[1:], [x for x in psi.variables if x != v])))
         comp = dict(psi.branches[0].inverse)[v]
@@ -106,6 +120,62 @@ def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
         d = sp.diff(comp, psi.inputs[0]).xreplace(sub)
         return _direction(d, v, outer, ctx, root)
     raise Unsupported(f"cannot solve {e} >= 0 for {v} in closed form")
+
+
+def _has_pole(e, v) -> bool:
+    """Whether ``e`` divides by an expression in ``v`` (a power with a negative exponent whose base
+    mentions ``v``): where that vanishes ``e`` may change sign without passing through 0."""
+    vs = frozenset((v,))
+    seen: dict = {}
+    return walks.any_node(e, lambda n: isinstance(n, sp.Pow) and n.exp.is_negative is True
+                          and walks.mentions(n.base, vs, seen))
+
+
+#: :func:`_quotient_parts`' answers by (expression, variable).
+_QUOTIENTS: dict = {}
+
+
+def _quotient_parts(e, v):
+    """``(N, D)`` with ``e = N/D``, N and D polynomials of degree ≤ 2 in ``v`` (coefficients free of
+    it), D of degree ≥ 1; None when ``e`` is not such a quotient.  Remembered by (expression,
+    variable), of which it is a pure function."""
+    key = (e, v)
+    if key in _QUOTIENTS:
+        return _QUOTIENTS[key]
+    n, d = sp.fraction(sp.together(e))
+    degrees = []
+    for part in (n, d):
+        try:
+            poly = sp.Poly(part, v)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            poly = None
+        if poly is None or poly.degree() > 2 or any(v in k.free_symbols for k in poly.all_coeffs()):
+            degrees = None
+            break
+        degrees.append(poly.degree())
+    out = (n, d) if degrees and degrees[1] >= 1 else None
+    _remember(_QUOTIENTS, key, out)
+    return out
+
+
+def _quotient(c: Cond, parts, v, outer, ctx: Context) -> list[Alt]:
+    """``[N/D ≥ 0]`` = ``[N ≥ 0]·[D > 0] + [−N ≥ 0]·[−D > 0]`` (up to the null set D = 0, where
+    the condition is undefined): each side's alternatives for N and for D, intersected; disjoint
+    because D's sign differs between the two sides and each condition's alternatives are."""
+    n, d = parts
+    out = []
+    for s in (1, -1):
+        ns = _sides(Cond(sp.expand(s * n), strict=c.strict), v, outer, ctx)
+        ds = _sides(Cond(sp.expand(s * d), strict=True), v, outer, ctx)
+        out += [Alt(a.extra + b.extra, a.lowers + b.lowers, a.uppers + b.uppers) for a in ns for b in ds]
+    return out
+
+
+def _sides(c: Cond, v, outer, ctx: Context) -> list[Alt]:
+    """:func:`alternatives`, and a condition free of ``v`` as an extra condition on the others."""
+    if v not in c.expr.free_symbols:
+        return [Alt([c], [], [])]
+    return alternatives(c, v, outer, ctx)
 
 
 #: sympy's solutions (unchecked: each call checks them at its own evaluation point) per condition
