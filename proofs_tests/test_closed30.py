@@ -25,9 +25,16 @@ In one variable, ``[1/(x + 1/2) ≥ a]`` on [−1, 1]: a = 1/2: x ∈ (−1/2, 1
 1/2, d/da = −1/a² = −1/4; a = −1: x > −1/2 (x ≤ −3/2 is outside), 3/2.
 ``[1/log x ≥ 1]`` on [1/2, 2]: log x ∈ (0, 1], x ∈ (1, 2]: 1 (main: closed form 3/2).
 ``[atanh(1/(x + 3)) ≥ −1/2]`` on [−1, 1]: atanh of a positive number is positive: 2 (main: 0).
+
+The generic one-variable method (roots ordered at the point, each interval's sign probed) takes
+the poles as points too: ``[1/log x ≥ 1]`` on [19/20, 2] is again x ∈ (1, 2], 1 (main: its probes
+all fell right of the pole at 1, closed form 21/20); ``[tan x ≤ 1/2]`` on [0, 2] is
+[0, atan(1/2)] ∪ (π/2, 2]: atan(1/2) + 2 − π/2 (main: quadrature), d/da = 1/(1 + a²) = 4/5.
 """
 
 from __future__ import annotations
+
+import math
 
 import pytest
 
@@ -102,3 +109,20 @@ def test_no_one_root_solution_for_a_condition_with_a_pole(text, value):
     assert r.value == pytest.approx(value, abs=1e-8)
     mc = operational.estimate_value(loaded, loaded.param_values(), samples=20_000, seed=7)
     assert abs(mc.value - value) <= 5 * mc.stderr + 1e-12
+
+
+@pytest.mark.parametrize("text, value, slope", [
+    ("param a = 1\nint ([0.95, 2]) [1/log(x) - a >= 0] d(x)\n", 1.0, 0.0),
+    ("param a = 0.5\nint ([0, 2]) [tan(x) - a <= 0] d(x)\n", math.atan(0.5) + 2 - math.pi / 2, 0.8),
+])
+def test_the_generic_method_takes_poles_as_points(text, value, slope):
+    loaded = load_text(text)
+    params = loaded.param_values()
+    r = exact_eval(loaded.program, params)
+    assert not r.inconsistent, r.inconsistent  # main: closed form 1.05 for the first
+    assert r.method == Method.CLOSED_FORM  # main: quadrature for the second
+    assert r.value == pytest.approx(value, rel=1e-12)
+    d = exact_deriv(loaded.program, params, {"a": 1}, check=False)
+    assert d.value == pytest.approx(slope, rel=1e-12, abs=1e-12)
+    mc = operational.estimate_derivative(loaded, params, {"a": 1}, samples=20_000, seed=7)
+    assert abs(mc.value - slope) <= 5 * mc.stderr + 1e-12

@@ -131,6 +131,50 @@ def _has_pole(e, v) -> bool:
                           and walks.mentions(n.base, vs, seen))
 
 
+#: :func:`_pole_bases`' answers by (expression, variable).
+_POLE_BASES: dict = {}
+
+
+def _pole_bases(e, v) -> list:
+    """The expressions in ``v`` whose zeros are poles of ``e``: the bases of its powers with a
+    negative exponent, and ``cos u`` for each ``tan u`` in it; remembered by (expression,
+    variable).  (A logarithm's −∞ at 0 is an end of its domain, not a sign change inside it.)"""
+    key = (e, v)
+    out = _POLE_BASES.get(key)
+    if out is None:
+        vs, seen, out = frozenset((v,)), {}, []
+
+        def collect(n) -> bool:  # (each distinct subtree once; never stops the walk)
+            if isinstance(n, sp.Pow) and n.exp.is_negative is True and walks.mentions(n.base, vs, seen):
+                base = n.base
+            elif isinstance(n, sp.tan) and walks.mentions(n.args[0], vs, seen):
+                base = sp.cos(n.args[0])
+            else:
+                return False
+            if base not in out:
+                out.append(base)
+            return False
+        walks.any_node(e, collect)
+        _remember(_POLE_BASES, key, out)
+    return out
+
+
+def poles(c: Cond, v, ctx: Context, within: tuple[float, float]) -> list:
+    """The real poles of ``c`` in ``v`` at the evaluation point (:func:`_pole_bases`' zeros, by
+    :func:`_roots`), where it may change sign without a root: :func:`_generic_1d`'s points besides
+    the roots.  A base sympy cannot solve adds none (then :func:`_no_missed_root`'s probes are
+    what finds a sign change there, as for a root sympy misses)."""
+    out = []
+    for base in _pole_bases(c.expr, v):
+        try:  # (untidy first, as for the roots: the tidy solve only for a pole inside)
+            found = _roots(Cond(base), v, ctx, tidy=False, within=within)
+            if any(_inside(r, *within, ctx) for r in found):
+                out += _roots(Cond(base), v, ctx, within=within)
+        except Unsupported:
+            continue
+    return out
+
+
 #: :func:`_quotient_parts`' answers by (expression, variable).
 _QUOTIENTS: dict = {}
 
