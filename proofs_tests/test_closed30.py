@@ -25,6 +25,12 @@ In one variable, ``[1/(x + 1/2) ≥ a]`` on [−1, 1]: a = 1/2: x ∈ (−1/2, 1
 1/2, d/da = −1/a² = −1/4; a = −1: x > −1/2 (x ≤ −3/2 is outside), 3/2.
 ``[1/log x ≥ 1]`` on [1/2, 2]: log x ∈ (0, 1], x ∈ (1, 2]: 1 (main: closed form 3/2).
 ``[atanh(1/(x + 3)) ≥ −1/2]`` on [−1, 1]: atanh of a positive number is positive: 2 (main: 0).
+``[(x − a)/(x + 1/5) ≤ 1/2]`` on [−1, 1] at a = 3/10: with t = x + 1/5 > 0 it is x ≤ 2a + 1/5, with
+t < 0 it is x ≥ 2a + 1/5 (empty): x ∈ (−1/5, 4/5], 1 (main: 9/5); d/da = 2.
+``[(x − a)/(y + 1/2) ≥ 0]`` on [−1, 1]² at a = 3/10: x ≥ a above y = −1/2, x ≤ a below:
+(1 − a)·3/2 + (1 + a)·1/2 = 17/10 (main: KeyError 'ComplexInfinity': the completion solved for y
+is infinite on the zero set x = a, and its root was compiled as a hint; the derivative of this
+program is not defined, X315).
 
 The generic one-variable method (roots ordered at the point, each interval's sign probed) takes
 the poles as points too: ``[1/log x ≥ 1]`` on [19/20, 2] is again x ∈ (1, 2], 1 (main: its probes
@@ -64,6 +70,8 @@ def _exact(body: str, a: str):
     (LINE, "0.5", 3 / 2),
     (LINE, "2", 1 / 2),
     (LINE, "-1", 3 / 2),
+    ("int ([-1, 1]) [(x - a)/(x + 0.2) <= 0.5] d(x)", "0.3", 1.0),
+    ("int ([-1, 1], [-1, 1]) [(x - a)/(y + 0.5) >= 0] d(x, y)", "0.3", 1.7),
 ])
 def test_a_pole_in_the_variable_gives_the_right_closed_form(body, a, value):
     r = _exact(body, a)
@@ -87,6 +95,7 @@ def test_the_closed_form_holds_in_its_cell():
     (PLANE, "2", -0.5),
     (PLANE, "-1", -0.5),
     (LINE, "2", -0.25),
+    ("int ([-1, 1]) [(x - a)/(x + 0.2) <= 0.5] d(x)", "0.3", 2.0),
 ])
 def test_derivative_by_hand_and_by_monte_carlo(body, a, slope):
     loaded = _load(body, a)

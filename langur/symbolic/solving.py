@@ -27,6 +27,7 @@ import sympy as sp
 from langur.memo import remember as _remember
 from langur.symbolic import root_formulas, walks
 from langur.symbolic.context import Cond, Context, Unsupported, _floats40, nearly_real
+from langur.symbolic.pieces import NOT_FINITE
 from langur.symbolic.text import math_lambdify, shared_lambdify
 from langur.symbolic.unsolvable import unsolvable
 
@@ -117,6 +118,8 @@ def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
         sub.update(dict(zip(psi.inputs[1:], [x for x in psi.variables if x != v])))
         comp = dict(psi.branches[0].inverse)[v]
         root = comp.xreplace(sub)
+        if walks.has_any(sp.sympify(root), NOT_FINITE):
+            raise Unsupported(f"the inverse of {e} solved for {v} is infinite on its zero set")
         d = sp.diff(comp, psi.inputs[0]).xreplace(sub)
         return _direction(d, v, outer, ctx, root)
     raise Unsupported(f"cannot solve {e} >= 0 for {v} in closed form")
@@ -241,6 +244,8 @@ def _roots(c: Cond, v, ctx: Context, tidy: bool = True, within: tuple[float, flo
         for b in psi.branches:
             if all(ctx.decide(g.xreplace(sub)) for g in b.guards):
                 out.append(dict(b.inverse)[v].xreplace(sub))
+        if any(walks.has_any(sp.sympify(r), NOT_FINITE) for r in out):  # Ψ̂⁻¹ infinite at u₀ = 0
+            raise Unsupported(f"the inverse of {c.expr} solved for {v} is infinite on its zero set")
         return out
     # check=False: sympy's own check drops roots whose validity depends on a parameter's sign
     # (yu + sqrt(r² − x²) = 0 has the roots ±sqrt(r² − yu²) exactly when yu ≤ 0); each candidate
