@@ -32,6 +32,12 @@ class Branch:
     guards: tuple[sp.Expr, ...] = ()
 
 
+#: The classes of sympy's ``zoo`` and ``nan``: a :class:`Psi`'s inverse branch evaluated at
+#: u₀ = 0 that holds one is infinite there (``(x − a)/(y + 1/2)`` solved for ``y``: its zero set
+#: ``x = a`` is no graph over ``x``) and gives no root.
+NOT_FINITE = (type(sp.zoo), type(sp.nan))
+
+
 @dataclass(frozen=True)
 class Psi:
     """A (piecewise) diffeomorphism in sympy form: forward components over the variables and the

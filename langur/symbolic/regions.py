@@ -54,6 +54,7 @@ from langur.symbolic.solving import (
     _radicand,
     _roots,
     alternatives,
+    poles,
 )
 
 
@@ -227,6 +228,7 @@ def _generic_1d(conds, weight, v, lo, hi, ctx: Context):
                         not _only_repeats(c.expr, v, lo_v, hi_v, known, ctx):
                     rs = _roots(c, v, ctx, within=(lo_v, hi_v))
             unsure.append(c)
+            rs = rs + poles(c, v, ctx, (lo_v, hi_v))  # (sign changes without a root)
         seen.add(c.expr)
         for r in rs:
             if _inside(r, lo_v, hi_v, ctx):

@@ -28,6 +28,7 @@ from langur import failures
 from langur.memo import remember as _remember
 from langur.symbolic import root_formulas, walks
 from langur.symbolic.context import Cond, Context, Unsupported, _floats40, nearly_real
+from langur.symbolic.pieces import NOT_FINITE
 from langur.symbolic.text import math_lambdify, shared_lambdify
 from langur.symbolic.unsolvable import unsolvable
 
@@ -84,7 +85,14 @@ def _polynomial_roots(e, v):
 
 
 def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
-    """``[c ≥ 0]`` as a disjoint union (up to null sets) of intervals in ``v``."""
+    """``[c ≥ 0]`` as a disjoint union (up to null sets) of intervals in ``v``.
+
+    A condition changes sign in ``v`` at its roots and at its poles: a quotient N/D of
+    polynomials in ``v`` is solved as the sign of N times the sign of D (:func:`_quotient`); a Psi
+    solved for ``v`` with one branch gives the one root and the direction of a condition that is
+    monotone and continuous on the whole line, which one with a pole in ``v`` is not
+    (``1/(x + y + 1/2) − a`` falls from +∞ to ``−a`` on each side of ``y = −x − 1/2``), so then it
+    is not used."""
     e = c.expr
     solved = _polynomial_roots(e, v)
     if solved is not None and len(solved) == 2:
@@ -98,15 +106,124 @@ def alternatives(c: Cond, v, outer, ctx: Context) -> list[Alt]:
             return [Alt([Cond(disc)], [r_plus], [r_minus])]
         return [Alt([Cond(-disc, strict=True)], [], []),
                 Alt([Cond(disc)], [], [r_minus]), Alt([Cond(disc)], [r_plus], [])]
+    pole = _has_pole(e, v)
+    if pole:
+        parts = _quotient_parts(e, v)
+        if parts is not None:
+            return _quotient(c, parts, v, outer, ctx)
     psi = c.psi
     if psi is not None and psi.solved_for == v and len(psi.branches) == 1 and not psi.branches[0].guards:
+        if pole:
+            raise Unsupported(f"{e} has a pole in {v}, where it changes sign without a root")
         sub = {psi.inputs[0]: sp.Integer(0)}
         sub.update(dict(zip(psi.inputs[1:], [x for x in psi.variables if x != v])))
         comp = dict(psi.branches[0].inverse)[v]
         root = comp.xreplace(sub)
+        if walks.has_any(sp.sympify(root), NOT_FINITE):
+            raise Unsupported(f"the inverse of {e} solved for {v} is infinite on its zero set")
         d = sp.diff(comp, psi.inputs[0]).xreplace(sub)
         return _direction(d, v, outer, ctx, root)
     raise Unsupported(f"cannot solve {e} >= 0 for {v} in closed form")
+
+
+def _has_pole(e, v) -> bool:
+    """Whether ``e`` divides by an expression in ``v`` (a power with a negative exponent whose base
+    mentions ``v``): where that vanishes ``e`` may change sign without passing through 0."""
+    vs = frozenset((v,))
+    seen: dict = {}
+    return walks.any_node(e, lambda n: isinstance(n, sp.Pow) and n.exp.is_negative is True
+                          and walks.mentions(n.base, vs, seen))
+
+
+#: :func:`_pole_bases`' answers by (expression, variable).
+_POLE_BASES: dict = {}
+
+
+def _pole_bases(e, v) -> list:
+    """The expressions in ``v`` whose zeros are poles of ``e``: the bases of its powers with a
+    negative exponent, and ``cos u`` for each ``tan u`` in it; remembered by (expression,
+    variable).  (A logarithm's −∞ at 0 is an end of its domain, not a sign change inside it.)"""
+    key = (e, v)
+    out = _POLE_BASES.get(key)
+    if out is None:
+        vs, seen, out = frozenset((v,)), {}, []
+
+        def collect(n) -> bool:  # (each distinct subtree once; never stops the walk)
+            if isinstance(n, sp.Pow) and n.exp.is_negative is True and walks.mentions(n.base, vs, seen):
+                base = n.base
+            elif isinstance(n, sp.tan) and walks.mentions(n.args[0], vs, seen):
+                base = sp.cos(n.args[0])
+            else:
+                return False
+            if base not in out:
+                out.append(base)
+            return False
+        walks.any_node(e, collect)
+        _remember(_POLE_BASES, key, out)
+    return out
+
+
+def poles(c: Cond, v, ctx: Context, within: tuple[float, float]) -> list:
+    """The real poles of ``c`` in ``v`` at the evaluation point (:func:`_pole_bases`' zeros, by
+    :func:`_roots`), where it may change sign without a root: :func:`_generic_1d`'s points besides
+    the roots.  A base sympy cannot solve adds none (then :func:`_no_missed_root`'s probes are
+    what finds a sign change there, as for a root sympy misses)."""
+    out = []
+    for base in _pole_bases(c.expr, v):
+        try:  # (untidy first, as for the roots: the tidy solve only for a pole inside)
+            found = _roots(Cond(base), v, ctx, tidy=False, within=within)
+            if any(_inside(r, *within, ctx) for r in found):
+                out += _roots(Cond(base), v, ctx, within=within)
+        except Unsupported:
+            continue
+    return out
+
+
+#: :func:`_quotient_parts`' answers by (expression, variable).
+_QUOTIENTS: dict = {}
+
+
+def _quotient_parts(e, v):
+    """``(N, D)`` with ``e = N/D``, N and D polynomials of degree ≤ 2 in ``v`` (coefficients free of
+    it), D of degree ≥ 1; None when ``e`` is not such a quotient.  Remembered by (expression,
+    variable), of which it is a pure function."""
+    key = (e, v)
+    if key in _QUOTIENTS:
+        return _QUOTIENTS[key]
+    n, d = sp.fraction(sp.together(e))
+    degrees = []
+    for part in (n, d):
+        try:
+            poly = sp.Poly(part, v)
+        except (sp.PolynomialError, sp.GeneratorsNeeded):
+            poly = None
+        if poly is None or poly.degree() > 2 or any(v in k.free_symbols for k in poly.all_coeffs()):
+            degrees = None
+            break
+        degrees.append(poly.degree())
+    out = (n, d) if degrees and degrees[1] >= 1 else None
+    _remember(_QUOTIENTS, key, out)
+    return out
+
+
+def _quotient(c: Cond, parts, v, outer, ctx: Context) -> list[Alt]:
+    """``[N/D ≥ 0]`` = ``[N ≥ 0]·[D > 0] + [−N ≥ 0]·[−D > 0]`` (up to the null set D = 0, where
+    the condition is undefined): each side's alternatives for N and for D, intersected; disjoint
+    because D's sign differs between the two sides and each condition's alternatives are."""
+    n, d = parts
+    out = []
+    for s in (1, -1):
+        ns = _sides(Cond(sp.expand(s * n), strict=c.strict), v, outer, ctx)
+        ds = _sides(Cond(sp.expand(s * d), strict=True), v, outer, ctx)
+        out += [Alt(a.extra + b.extra, a.lowers + b.lowers, a.uppers + b.uppers) for a in ns for b in ds]
+    return out
+
+
+def _sides(c: Cond, v, outer, ctx: Context) -> list[Alt]:
+    """:func:`alternatives`, and a condition free of ``v`` as an extra condition on the others."""
+    if v not in c.expr.free_symbols:
+        return [Alt([c], [], [])]
+    return alternatives(c, v, outer, ctx)
 
 
 #: sympy's solutions (unchecked: each call checks them at its own evaluation point) per condition
@@ -128,6 +245,8 @@ def _roots(c: Cond, v, ctx: Context, tidy: bool = True, within: tuple[float, flo
         for b in psi.branches:
             if all(ctx.decide(g.xreplace(sub)) for g in b.guards):
                 out.append(dict(b.inverse)[v].xreplace(sub))
+        if any(walks.has_any(sp.sympify(r), NOT_FINITE) for r in out):  # Ψ̂⁻¹ infinite at u₀ = 0
+            raise Unsupported(f"the inverse of {c.expr} solved for {v} is infinite on its zero set")
         return out
     # check=False: sympy's own check drops roots whose validity depends on a parameter's sign
     # (yu + sqrt(r² − x²) = 0 has the roots ±sqrt(r² − yu²) exactly when yu ≤ 0); each candidate

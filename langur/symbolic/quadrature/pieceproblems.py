@@ -11,7 +11,7 @@ from typing import Sequence
 import sympy as sp
 
 from langur.memo import remember
-from langur.symbolic.pieces import Piece, Psi
+from langur.symbolic.pieces import NOT_FINITE, Piece, Psi
 from langur.symbolic.quadrature.compiling import (
     OnFirstCall,
     _lambdify,
@@ -22,7 +22,7 @@ from langur.symbolic.quadrature.compiling import (
 from langur.symbolic.quadrature.nested import integrate_problem
 from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
 from langur.symbolic.quadrature.tolerance import _OUTER
-from langur.symbolic.walks import free_symbols, rational_form
+from langur.symbolic.walks import free_symbols, has_any, rational_form
 
 
 def _psi_hints(psi: Psi | None, v: sp.Symbol, variables, level: int, at: dict):
@@ -41,6 +41,8 @@ def _psi_hints(psi: Psi | None, v: sp.Symbol, variables, level: int, at: dict):
     for b in psi.branches:
         comp = dict(b.inverse)[v].xreplace(sub)
         guards = [g.xreplace(sub) for g in b.guards]
+        if any(has_any(sp.sympify(e), NOT_FINITE) for e in [comp, *guards]):
+            continue  # no root: Ψ̂⁻¹ is infinite at u₀ = 0 (``(x − a)/(y + 1/2)`` solved for y)
         vary = vary or any(free_symbols(sp.sympify(e)) & outer for e in [comp, *guards])
         fns.append((_lambdify(variables[:level], comp, at), [_lambdify(variables[:level], g, at) for g in guards]))
 
