@@ -264,11 +264,14 @@ def powers(scope: C.Scope) -> S.STerm:
     return forms[scope.index(len(forms))]()
 
 
+#: fuzz29's additions besides ``erf`` conditions, drawn by :func:`more`.
+MORE = (variable_ifge0, nested_loop, strict_window, cross_condition, powers)
+
+
 def more(scope: C.Scope) -> S.STerm:
-    """One of fuzz29's additions besides ``erf`` conditions (one slot of :data:`FACTORS`, so that
-    fuzz28's constructs keep most of their share)."""
-    kinds = (variable_ifge0, nested_loop, strict_window, cross_condition, powers)
-    return kinds[scope.index(len(kinds))](scope)
+    """One of :data:`MORE` (one slot of :data:`FACTORS`, so that fuzz28's constructs keep most of
+    their share)."""
+    return MORE[scope.index(len(MORE))](scope)
 
 
 #: The wide factors by kind and weight (the first is what shrinking aims at; ``logic`` twice: three
