@@ -72,6 +72,20 @@ def test_each_variant_is_drawn_only_when_wide(variant):
         find(ls.programs(), VARIANTS[variant], settings=settings(FIND, max_examples=300))
 
 
+def test_a_wide_campaign_draws_each_variant_with_its_defaults(tmp_path):
+    # what `langur fuzz --wide --seed 30 --examples 60` runs (a negative default's text was refused before)
+    with hypothesis_home(str(tmp_path)):
+        texts = generated(60, 30, wide=True)
+    found = {"negative default": 0, "no parameters": 0, "def called with other parameter terms": 0}
+    for text in texts:
+        m = parse_module(text, "main.lgr")
+        decls = [d for i in m.items if isinstance(i, S.ParamItem) for d in i.decls]
+        found["negative default"] += any(d.default < 0 for d in decls)
+        found["no parameters"] += not decls
+        found["def called with other parameter terms"] += len(_calls(text)) > 1
+    assert all(found.values()), found
+
+
 @FAST
 @given(ls.programs(wide=True))
 def test_negative_defaults_keep_every_primitive_in_its_domain(g):

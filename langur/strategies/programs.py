@@ -48,8 +48,8 @@ class Generated:
 
     @property
     def defaults(self) -> tuple[tuple[str, str], ...]:
-        """The parameters' defaults as decimal text (``("a", "0.37")``, …)."""
-        return tuple((p, decimal(d) or str(d)) for p, d in self.params)
+        """The parameters' defaults as decimal text (``("a", "0.37")``, ``("b", "-0.61")``, …)."""
+        return tuple((p, ("-" if d < 0 else "") + (decimal(abs(d)) or str(abs(d)))) for p, d in self.params)
 
     def files(self) -> dict[str, str]:
         """Every module's text by file name (``main.lgr`` and one ``NAME.lgr`` per import)."""
