@@ -66,9 +66,13 @@ def add_arguments(p):
                    help="also draw conditions in one variable with no closed-form inverse "
                         "(x^3 - x, exp(x) + x: implicit roots between turning points)")
     p.add_argument("--wide", action="store_true",
-                   help="also draw what the default draw never makes: loops, &/|/not, a let inside a factor, "
-                        "partial primitives under a guard, atan2's cut, erf/asin/acos/atanh/tan, a diffeo with a "
-                        "parametric Jacobian, boxes with both ends moving, programs without a domain")
+                   help="also draw what the default draw never makes (langur.strategies.wide, .variants): "
+                        "sum/prod loops (nested too), &/|/not, a let inside a factor, partial primitives under a "
+                        "guard, atan2's cut, erf/asin/acos/atanh/tan (erf also in conditions), ifge0 on any "
+                        "condition, strict chains with pi, vectors (dot, cross, .z), negative exponents, a diffeo "
+                        "with a parametric Jacobian, boxes with both ends moving, programs without a domain, "
+                        "negative parameter defaults, programs without parameters, a def called with other "
+                        "parameter terms; the same seed draws other programs than without --wide")
     p.add_argument("--profile", action="store_true",
                    help="print where the programs' time went: front end, linter, the exact engine's "
                         "symbolic search, its quadratures and the rest of it, the Monte Carlo engine")

@@ -236,7 +236,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     ``planned(n)``: called once the n distinct programs are generated; ``kinks``, ``turning``:
     also conditions with ``abs``/``min``/``max`` inside, or with no closed-form inverse (issue
     18; :func:`~.generate.programs`); ``wide``: the constructs the default draw never makes
-    (:mod:`langur.strategies.wide`).  A program
+    (:mod:`langur.strategies.wide`, :mod:`langur.strategies.variants`).  A program
     is time-limited (``timeout``) when it runs past
     ``timeout`` seconds; time-limited programs are counted apart from the verdicts."""
     start = time.monotonic()

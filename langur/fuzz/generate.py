@@ -96,7 +96,8 @@ def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, ma
     for light programs: the exact engine's three-dimensional regions are its slowest); ``wide``
     the constructs the default draw never makes (:mod:`langur.strategies.wide`: loops, ``&``/``|``/
     ``not``, a ``let`` in a factor, guarded partial primitives, atan2's cut, more primitives, boxes
-    with both ends moving, programs without a domain)."""
+    with both ends moving, programs without a domain; :mod:`langur.strategies.variants`: negative
+    parameter defaults, programs without parameters, a def called with other parameter terms)."""
     _hypothesis()
     if max_variables is None:
         max_variables = MAX_VARIABLES_LIGHT if light else MAX_VARIABLES

@@ -6,7 +6,7 @@ the mutant is *killed* — or the campaign is blind to that rule.  A mutant is a
 protocol of :mod:`langur.engines` (``--engine langur.fuzz.mutants:drop_delta`` runs a campaign
 against it), so exactly one engine is broken at a time and nothing in the engines knows about
 mutants: while a mutant answers, :func:`broken` swaps one case of the operational compiler
-(:func:`langur.operational.compile._compile`) or one method of its site sampler
+(:func:`langur.operational.compile.compile_subterm`) or one method of its site sampler
 (:class:`langur.operational.sample.SiteSampler`) for the broken rule, and the compiled-program
 cache is emptied before and after (no broken unit outlives the answer).
 
@@ -34,7 +34,7 @@ from ..operational import compile as comp
 from ..operational import dual, point, sample
 from .compare import ProgramResult, compare_engine
 
-_COMPILE = comp._compile  # the unbroken compiler, each mutant's fallback for every other case
+_COMPILE = comp.compile_subterm  # the unbroken compiler, each mutant's fallback for every other case
 
 
 def _ifdiffeo(jump_sign: float):
@@ -45,8 +45,8 @@ def _ifdiffeo(jump_sign: float):
             return _COMPILE(t, ctx)
         slot = len(ctx.slots)
         ctx.slots.append(("site", None, ()))
-        fc = comp._compile(t.psi.forward[0], comp._Ctx([], ctx.local, ctx.sharing))
-        fs, fr = comp._compile(t.then, ctx), comp._compile(t.orelse, ctx)
+        fc = comp.compile_subterm(t.psi.forward[0], comp.Context([], ctx.local, ctx.sharing))
+        fs, fr = comp.compile_subterm(t.then, ctx), comp.compile_subterm(t.orelse, ctx)
 
         def ifdiffeo(pt, lk):
             c, _ = fc(pt.values(), lk)
@@ -67,7 +67,7 @@ def _ifdiffeo(jump_sign: float):
 def _let_without_chain(t, ctx):
     if not isinstance(t, Let):
         return _COMPILE(t, ctx)
-    fb, fbody = comp._compile(t.bound, ctx), comp._compile(t.body, ctx.bind(t.name))
+    fb, fbody = comp.compile_subterm(t.bound, ctx), comp.compile_subterm(t.body, ctx.bind(t.name))
 
     def let(pt, lk):
         v, _ = fb(pt, lk)
@@ -76,7 +76,7 @@ def _let_without_chain(t, ctx):
 
 
 _DPSI = sample.SiteSampler.dpsi
-_MAP = sample.SiteSampler._map
+_MAP = sample.SiteSampler.branch_points
 _BRANCHES = sample.SiteSampler.branches
 
 
@@ -90,14 +90,14 @@ def _unit_weights(self, inputs, n, params, factor):
 
 #: name -> (what is broken, (object, attribute, broken replacement))
 MUTANTS: dict[str, tuple[str, tuple]] = {
-    "drop_delta": ("the delta term of the diffeomorphic conditional dropped", (comp, "_compile", _ifdiffeo(0.0))),
+    "drop_delta": ("the delta term of the diffeomorphic conditional dropped", (comp, "compile_subterm", _ifdiffeo(0.0))),
     "flip_dpsi": ("the sign of D_γ π₀Ψ̂ flipped", (sample.SiteSampler, "dpsi", _flipped_dpsi)),
     "drop_jacobian": ("the Jacobian |det DΨ̂⁻¹| of the zero set's points dropped",
-                      (sample.SiteSampler, "_map", _unit_weights)),
-    "swap_jump": ("s and r swapped in the jump ⟦s⟧ − ⟦r⟧", (comp, "_compile", _ifdiffeo(-1.0))),
+                      (sample.SiteSampler, "branch_points", _unit_weights)),
+    "swap_jump": ("s and r swapped in the jump ⟦s⟧ − ⟦r⟧", (comp, "compile_subterm", _ifdiffeo(-1.0))),
     "one_branch": ("only the first inverse branch of Ψ̂ kept",
                    (sample.SiteSampler, "branches", property(lambda self: _BRANCHES.fget(self)[:1]))),
-    "drop_let_chain": ("the chain rule of let dropped (γ'[z ↦ 0])", (comp, "_compile", _let_without_chain)),
+    "drop_let_chain": ("the chain rule of let dropped (γ'[z ↦ 0])", (comp, "compile_subterm", _let_without_chain)),
 }
 
 
@@ -105,7 +105,7 @@ MUTANTS: dict[str, tuple[str, tuple]] = {
 def broken(name: str):
     """The Monte Carlo engine with mutant ``name``'s rule broken while the block runs."""
     _, (owner, attr, replacement) = MUTANTS[name]
-    original = owner.__dict__[attr]
+    original = vars(owner)[attr]  # (as defined: a property itself, not its value)
     operational.clear_cache()
     setattr(owner, attr, replacement)
     try:

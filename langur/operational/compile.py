@@ -72,8 +72,8 @@ def compile_term(t: Term, local: frozenset[str] | None = None) -> Unit:
     declared params) is then looked up among the program's parameters (``point.root``), so a
     linked call binds only its arguments.  ``None``: every parameter is in ``point.params``."""
     with np.errstate(all="ignore"):  # constants are folded now (a NaN is a value, as when evaluated)
-        ctx = _Ctx([], local, Sharing(t))
-        fn = _compile(t, ctx)
+        ctx = Context([], local, Sharing(t))
+        fn = compile_subterm(t, ctx)
     return Unit(fn, ctx.slots)
 
 
@@ -84,11 +84,15 @@ def compile_pure(terms) -> tuple[list[Fn], bool]:
     numpy arrays of one point (:attr:`Sharing.numbers`)."""
     with np.errstate(all="ignore"):
         sharings = [Sharing(t) for t in terms]
-        fns = [_compile(t, _Ctx([], None, sh)) for t, sh in zip(terms, sharings)]
+        fns = [compile_subterm(t, Context([], None, sh)) for t, sh in zip(terms, sharings)]
     return fns, all(sh.numbers for sh in sharings)
 
 
-class _Ctx:
+class Context:
+    """What compiling a subterm needs besides the subterm: the unit's slot table (``slots``, its
+    diffeomorphic conditionals and calls in pre-order), a def body's param arguments (``local``,
+    :func:`compile_term`) and the unit's shared subterms (``sharing``)."""
+
     __slots__ = ("local", "slots", "sharing")
 
     def __init__(self, slots: list, local, sharing: Sharing):
@@ -96,11 +100,14 @@ class _Ctx:
         self.local = local
         self.sharing = sharing
 
-    def bind(self, name: str) -> _Ctx:
-        return self if self.local is None else _Ctx(self.slots, self.local | {name}, self.sharing)
+    def bind(self, name: str) -> Context:
+        return self if self.local is None else Context(self.slots, self.local | {name}, self.sharing)
 
 
-def _compile(t: Term, ctx: _Ctx) -> Fn:
+def compile_subterm(t: Term, ctx: Context) -> Fn:
+    """The closure of the subterm ``t`` (a constant folded, a shared subterm compiled once); every
+    rule's recursion goes through this module's global of this name, which is what
+    :mod:`langur.fuzz.coverage` wraps and :mod:`langur.fuzz.mutants` replaces."""
     if type(t) is not Const:
         c = constant(t)
         if c is not None:
@@ -116,7 +123,7 @@ def _compile(t: Term, ctx: _Ctx) -> Fn:
     return _compile_node(t, ctx)
 
 
-def _compile_node(t: Term, ctx: _Ctx) -> Fn:
+def _compile_node(t: Term, ctx: Context) -> Fn:
     # (each rule's closure is made by a function of its own below: the closures' variables are then
     # that function's, not cells this function would make at every call, one per variable of every case;
     # the frequent nodes' fields are read after the match, not bound by it: a class pattern that binds
@@ -137,37 +144,37 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             # Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈
             left, right = t.left, t.right
             cl, cr = constant(left), constant(right)  # (a constant operand is folded into the closure)
-            return _add(_compile(left, ctx) if cl is None or cr is not None else None,
-                        _compile(right, ctx) if cr is None else None, cl, cr)
+            return _add(compile_subterm(left, ctx) if cl is None or cr is not None else None,
+                        compile_subterm(right, ctx) if cr is None else None, cl, cr)
         case Mul():
             # Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
             left, right = t.left, t.right
             cl, cr = constant(left), constant(right)  # (a constant operand is folded into the closure)
-            return _mul(_compile(left, ctx) if cl is None or cr is not None else None,
-                        _compile(right, ctx) if cr is None else None, cl, cr)
+            return _mul(compile_subterm(left, ctx) if cl is None or cr is not None else None,
+                        compile_subterm(right, ctx) if cr is None else None, cl, cr)
         case IfGe0(cond, then, orelse):
             # Fig. 8, conditional on parameters: ⦇s⦈ if ⟦t⟧(·,γ) ≥ 0 else ⦇r⦈
             ctx.sharing.numbers = False
-            return _ifge0(_compile(cond, ctx), _compile(then, ctx), _compile(orelse, ctx))
+            return _ifge0(compile_subterm(cond, ctx), compile_subterm(then, ctx), compile_subterm(orelse, ctx))
         case IfDiffeo():
             # Fig. 8, diffeomorphic conditional: (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·D_γπ₀Ψ̂·γ'·(⟦s⟧−⟦r⟧)
             slot = len(ctx.slots)
             ctx.slots.append(("site", None, ()))
             ctx.sharing.numbers = False
-            fc = _compile(t.psi.forward[0], _Ctx([], ctx.local, ctx.sharing))
-            return _ifdiffeo(slot, fc, _compile(t.then, ctx), _compile(t.orelse, ctx))
+            fc = compile_subterm(t.psi.forward[0], Context([], ctx.local, ctx.sharing))
+            return _ifdiffeo(slot, fc, compile_subterm(t.then, ctx), compile_subterm(t.orelse, ctx))
         case Let(name, bound, body):
             # Fig. 8, let: ⦇s⦈(ρ, γ[z ↦ ⟦t⟧], γ'[z ↦ ⦇t⦈])
-            return _let(name, _compile(bound, ctx), _compile(body, ctx.bind(name)))
+            return _let(name, compile_subterm(bound, ctx), compile_subterm(body, ctx.bind(name)))
         case Prim(op, arg):
             # extension (§1): smooth primitive, chain rule ⦇f(t)⦈ = f'(⟦t⟧)·⦇t⦈
             ctx.sharing.numbers = False
-            return _primitive(_compile(arg, ctx), REGISTRY[op])
+            return _primitive(compile_subterm(arg, ctx), REGISTRY[op])
         case Pow(base, k):
             # extension (§1): constant power, ⦇t^k⦈ = k·⟦t⟧^(k−1)·⦇t⦈
             if k not in _EXACT_POWERS:
                 ctx.sharing.numbers = False
-            return _power(_compile(base, ctx), k)
+            return _power(compile_subterm(base, ctx), k)
         case Call(module, name, args):
             # §9, separate compilation: a link to a separately compiled def (see link.py)
             slot = len(ctx.slots)
@@ -178,7 +185,8 @@ def _compile_node(t: Term, ctx: _Ctx) -> Fn:
             # issue 18, implicit root (a Ψ̂⁻¹ component): x* in [lo, hi] with f(x*) = ⟦target⟧;
             # ⦇x*⦈ = (⦇target⦈ − ∂f/∂γ·γ') / ∂f/∂x at x* (implicit function theorem)
             ctx.sharing.numbers = False
-            parts = (_compile(equation, ctx), variable, _compile(target, ctx), _compile(lo, ctx), _compile(hi, ctx))
+            parts = (compile_subterm(equation, ctx), variable, compile_subterm(target, ctx),
+                     compile_subterm(lo, ctx), compile_subterm(hi, ctx))
             if index is None:
                 return roots.compile_root(*parts)
             others = tuple(sorted(free_vars(equation) - {variable}))  # Ψ̂⁻¹'s other inputs it moves with
@@ -321,7 +329,7 @@ def _power(f: Fn, k) -> Fn:
     return pow_
 
 
-def _compile_call(slot: int, module: str, name: str, args, ctx: _Ctx) -> Fn:
+def _compile_call(slot: int, module: str, name: str, args, ctx: Context) -> Fn:
     """A linked call: param arguments evaluated once in the caller (a value and its tangent, as a
     ``let`` would), var arguments renamed (they must be plain variables, see link.py)."""
     arg_fns = []
@@ -329,7 +337,7 @@ def _compile_call(slot: int, module: str, name: str, args, ctx: _Ctx) -> Fn:
         if isinstance(a, Var):
             arg_fns.append(("var", a.name))
         else:
-            arg_fns.append(("term", _compile(a, ctx)))
+            arg_fns.append(("term", compile_subterm(a, ctx)))
 
     def call(pt, lk):
         fn, offsets, arg_names = lk.units[(module, name)]

@@ -270,14 +270,14 @@ class SiteSampler:
         if not region and not self.coords:  # one variable: the zero set is points, u' has no coordinate
             # (on the number 0 where the branches give the same doubles on numbers as on arrays)
             zero = 0.0 if n == 1 and self.numbers else np.zeros(n)
-            return 1.0, self._map({self.psi.inputs[0]: zero}, n, params, None)
+            return 1.0, self.branch_points({self.psi.inputs[0]: zero}, n, params, None)
         lo = np.array([[r[0] for r in region]], dtype=float).reshape(1, len(region))
         hi = np.array([[r[1] for r in region]], dtype=float).reshape(1, len(region))
         if len(self.coords) == 1 and self.has_guards:
             inputs = {self.psi.inputs[0]: np.zeros(n)}
             inputs[self.coords[0][0]], factor = self.fold_map(unit[:, 0], lo[0, 0], hi[0, 0], params)
             volume = float(hi[0, 0] - lo[0, 0])
-            return volume, self._map(inputs, n, params, factor)
+            return volume, self.branch_points(inputs, n, params, factor)
         volume, out = self.points_many(unit, lo, hi, params)
         return float(volume[0]), out
 
@@ -300,12 +300,12 @@ class SiteSampler:
         if self.folds:
             u, factor = self.fold_map_many(unit[:, 0], lo[:, 0], hi[:, 0], point_params)
             inputs[self.coords[0][0]], factor = u.reshape(size), factor.reshape(size)
-            return volume, self._map(inputs, size, params, factor)
+            return volume, self.branch_points(inputs, size, params, factor)
         for j, (u, _, _) in enumerate(self.coords):
             inputs[u] = (lo[:, j, None] + unit[None, :, j] * width[:, j, None]).reshape(size)
-        return volume, self._map(inputs, size, params, None)
+        return volume, self.branch_points(inputs, size, params, None)
 
-    def _map(self, inputs: dict, n: int, params: dict, factor):
+    def branch_points(self, inputs: dict, n: int, params: dict, factor):
         """Each branch's points Ψ̂_b⁻¹(0, u'), weights |det DΨ̂_b⁻¹| (times a fold map's
         ``factor``) and guards, at the u' points ``inputs``."""
         out = []

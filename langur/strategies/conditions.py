@@ -47,6 +47,9 @@ class Scope:
     implicit: list = field(default_factory=list)
     zero_sets: list[T.ZeroSet] = field(default_factory=list)
     diffeos: dict[str, S.DiffeoDecl] = field(default_factory=dict)
+    #: each factor of the program with the zero sets it registered (a def called with other
+    #: parameter terms registers them again at those terms)
+    made: list[tuple[S.STerm, tuple[T.ZeroSet, ...]]] = field(default_factory=list)
 
     def pick(self, seq):
         return self.draw(st.sampled_from(tuple(seq)))
@@ -63,6 +66,11 @@ class Scope:
 
     def param(self) -> S.Name:
         return name(self.pick(self.names))
+
+    def positive(self, p: S.Name) -> S.STerm:
+        """``p``, or ``-p`` when its value is negative (``wide`` draws negative defaults): a
+        parameter term with a positive value, where a primitive's domain needs one."""
+        return p if self.env[p.name] >= 0 else S.Neg(p)
 
     def register(self, term: S.STerm, key=None) -> None:
         """The zero sets of the condition ``term ≥ 0`` (or of a kink): every smooth piece of
@@ -305,7 +313,8 @@ def smooth(scope: Scope) -> S.STerm:
     terms, each argument inside its primitive's domain on every box (boxes lie in [-1, 2],
     parameters are positive); ``light`` keeps to the first ten (sympy integrates ``atan``, ``log``
     and fractional powers over regions slowly).  ``min``, ``max`` and ``abs`` are conditionals:
-    their kinks are registered."""
+    their kinks are registered; where a form needs a positive parameter, a negative one enters as
+    ``-P`` (:meth:`Scope.positive`)."""
     v, w = name(scope.var()), name(scope.var())
     p = scope.param()
     k = num(scope.pick((F(1, 2), F(3, 2), F(2), F(1, 4))))
@@ -318,12 +327,12 @@ def smooth(scope: Scope) -> S.STerm:
         lambda: call("sin", T.add(v, mul(p, w))),
         lambda: call("cos", sub(mul(p, v), k)),
         lambda: call("sqrt", offset(v, F(3, 2))),
-        lambda: call("sqrt", T.add(mul(v, v), p)),
+        lambda: call("sqrt", T.add(mul(v, v), scope.positive(p))),
         lambda: p,
         lambda: call("log", offset(v, 2)),
         lambda: call("atan", T.add(mul(v, w), p)),
         lambda: call("tanh", mul(p, v)),
-        lambda: T.div(num(1), offset(T.add(v, p), F(3, 2))),
+        lambda: T.div(num(1), offset(T.add(v, scope.positive(p)), F(3, 2))),
         lambda: power(T.add(v, p), 3),
         lambda: power(offset(w, F(3, 2)), F(3, 2)),
         lambda: call("exp", call("min", v, p)),

@@ -18,6 +18,7 @@ from ..syntax import surface as S
 from ..syntax.printer import decimal, print_module_surface, print_term
 from . import conditions as C
 from . import terms as T
+from . import variants as V
 from . import wide as W
 from .terms import call, mul, name, num
 
@@ -47,8 +48,8 @@ class Generated:
 
     @property
     def defaults(self) -> tuple[tuple[str, str], ...]:
-        """The parameters' defaults as decimal text (``("a", "0.37")``, …)."""
-        return tuple((p, decimal(d) or str(d)) for p, d in self.params)
+        """The parameters' defaults as decimal text (``("a", "0.37")``, ``("b", "-0.61")``, …)."""
+        return tuple((p, ("-" if d < 0 else "") + (decimal(abs(d)) or str(abs(d)))) for p, d in self.params)
 
     def files(self) -> dict[str, str]:
         """Every module's text by file name (``main.lgr`` and one ``NAME.lgr`` per import)."""
@@ -136,12 +137,13 @@ def factor(scope: C.Scope) -> S.STerm:
 
 
 #: Box kinds: constant, or a parametric bound (``[0, P + 1]``, ``[P - 1, 1]``; ``wide``: also both
-#: ends moving, ``[P - 1, Q + 1]`` and ``[-P, 2 * Q]``); all in [-1, 2].
+#: ends moving, ``[P - 1, Q + 1]`` and ``[-P, 2 * Q]``); all in [-1, 2]: ``params`` are the positive
+#: parameters (without any, a constant box).
 @st.composite
 def _interval(draw, params: tuple[str, ...], wide: bool = False) -> S.Interval:
     kind = draw(st.integers(0, 6 if wide else 4))
-    if kind < 3:
-        lo, hi = ((0, 1), (-1, 1), (0, 2))[kind]
+    if kind < 3 or not params:
+        lo, hi = ((0, 1), (-1, 1), (0, 2))[kind % 3]
         return S.Interval(num(lo), num(hi))
     p = name(draw(st.sampled_from(params)))
     if kind == 3:
@@ -168,10 +170,13 @@ def _factor(draw, scope: C.Scope) -> S.STerm:
     """:func:`factor` as a strategy of its own, so that hypothesis can delete a factor (or a
     summand) of a list wherever it is when shrinking."""
     outer, scope.draw = scope.draw, draw
+    start = len(scope.zero_sets)
     try:
-        return factor(scope)
+        made = factor(scope)
     finally:
         scope.draw = outer
+    scope.made.append((made, tuple(scope.zero_sets[start:])))
+    return made
 
 
 # ---------------------------------------------------------------------------------------------
@@ -180,7 +185,8 @@ def _factor(draw, scope: C.Scope) -> S.STerm:
 
 def _extract_def(scope: C.Scope, summands: list[list[S.STerm]], params: list[str]) -> S.DefDecl | None:
     """Move one factor into ``def g(x: var, …, qa: param, …) = …`` and call it there (and maybe once
-    more, in a new summand: two call sites of one def, added), so that elaboration, inlining and
+    more, in a new summand: two call sites of one def, added; ``wide``: maybe at a third site with
+    other parameter terms, :func:`~.variants.call_elsewhere`), so that elaboration, inlining and
     the Monte Carlo engine's separately compiled defs are exercised.  Factors under a ``let`` name
     or a declared diffeo stay where they are, and so do conditions completed by implicit roots
     (they need the variables' domain, which a def does not know)."""
@@ -190,7 +196,7 @@ def _extract_def(scope: C.Scope, summands: list[list[S.STerm]], params: list[str
     if not cands:
         return None
     i, j = scope.pick(cands)
-    body = summands[i][j]
+    body = original = summands[i][j]
     used = [p for p in params if p in T.names_in(body)]
     body = T.rename(body, {p: f"q{p}" for p in used})
     args = tuple(S.DefArg(S.Ident(v), "var") for v in scope.variables) + \
@@ -199,6 +205,10 @@ def _extract_def(scope: C.Scope, summands: list[list[S.STerm]], params: list[str
     summands[i][j] = use
     if scope.draw(st.booleans()):
         summands.append([use, C.smooth(scope)])
+    if scope.wide and scope.draw(st.booleans()):
+        elsewhere = V.call_elsewhere(scope, original, used, params)
+        if elsewhere is not None:
+            summands.append([elsewhere, C.smooth(scope)])
     return S.DefDecl(S.Ident("g"), args, body)
 
 
@@ -240,8 +250,9 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
     :mod:`.wide` (loops, ``&``/``|``/``not``, a ``let`` inside a factor, guarded partial primitives,
     atan2's cut, erf/asin/acos/atanh/tan, a diffeo with a parametric Jacobian; ``erf`` conditions,
     ``ifge0`` over the variables, nested loops, strict chains with ``pi``, ``cross`` and components,
-    negative exponents), boxes with both ends moving, and programs without a domain (the box as
-    brackets in the body).  Shrinks towards one
+    negative exponents), boxes with both ends moving, programs without a domain (the box as
+    brackets in the body), and the whole-program variants of :mod:`.variants` (negative parameter
+    defaults, programs without parameters, a def called with other parameter terms).  Shrinks towards one
     variable, one parameter, one smooth factor; without ``wide`` a seed draws what it drew before."""
     if not 1 <= min_variables <= max_variables <= 3:
         raise ValueError("variables: 1 <= min_variables <= max_variables <= 3")
@@ -251,17 +262,20 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
         # lists, not a count then items: hypothesis shrinks a list by deleting any element
         # (the number of variables stays a count: it is drawn uniformly, a list's length is not)
         defaults = draw(st.lists(st.sampled_from(GENERIC), min_size=1, max_size=max_params, unique=True))
+        if wide:
+            defaults = V.signed(draw, defaults)
         params = list(PARAMS[:len(defaults)])
+        positive = [p for p, d in zip(params, defaults) if d > 0]
         variables = VARIABLES[:draw(st.integers(min_variables, max_variables))]
-        domain = tuple(draw(_interval(tuple(params), wide)) for _ in variables)
+        domain = tuple(draw(_interval(tuple(positive), wide)) for _ in variables)
         env = {p: float(d) for p, d in zip(params, defaults)}
         scope = C.Scope(draw, variables, env, list(params), light=light, kinks=kinks,
                          turning=turning, wide=wide, fixed=tuple(v for v, i in zip(variables, domain)
                                                       if not T.names_in(i.lo) | T.names_in(i.hi)))
         box = [(T.evaluate(i.lo, env), T.evaluate(i.hi, env)) for i in domain]
         let = None
-        if lets and scope.index(4) == 3:  # let s = <positive parameter term> in …
-            let = C.positive_param_term(scope, params)
+        if lets and scope.index(4) == 3 and positive:  # let s = <positive parameter term> in …
+            let = C.positive_param_term(scope, positive)
             scope.env[LET_NAME] = T.evaluate(let, env)
             scope.names.append(LET_NAME)
         summands = draw(st.lists(st.lists(_factor(scope), min_size=1, max_size=max_factors),
@@ -287,7 +301,10 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
         decls = S.ParamItem(tuple(S.ParamDecl(S.Ident(p), d) for p, d in zip(params, defaults)))
         items = [decls, *scope.diffeos.values(), *items]
         prog = S.ProgramS(None if bounded else domain, body, tuple(S.Ident(v) for v in variables))
-        return Generated(S.ModuleS("main.lgr", tuple(items), prog), tuple(zip(params, defaults)), libraries)
+        module = S.ModuleS("main.lgr", tuple(items), prog)
+        if wide and V.bare(draw):
+            return Generated(V.without_parameters(module, dict(zip(params, defaults))), (), libraries)
+        return Generated(module, tuple(zip(params, defaults)), libraries)
 
     return program()
 

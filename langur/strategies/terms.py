@@ -159,6 +159,23 @@ def names_in(t) -> set[str]:
     return out
 
 
+def substitute(t, mapping: dict[str, S.STerm]):
+    """``t`` with each name in ``mapping`` replaced by its term, simultaneously (like :func:`rename`:
+    the names a ``let`` or a loop binds are never in ``mapping``)."""
+    match t:
+        case S.Name(n):
+            return mapping.get(n, t)
+        case S.Num():
+            return t
+        case tuple():
+            return tuple(substitute(u, mapping) for u in t)
+    if hasattr(t, "__dataclass_fields__"):
+        kw = {f: substitute(getattr(t, f), mapping) if f not in ("span", "name_span", "name", "op", "ops")
+              else getattr(t, f) for f in t.__dataclass_fields__}
+        return type(t)(**kw)
+    return t
+
+
 def rename(t, mapping: dict[str, str]):
     """``t`` with the names in ``mapping`` replaced (surface terms have no binders here but ``let``,
     whose bound name is never renamed)."""
@@ -186,12 +203,15 @@ Plane = tuple[tuple[float, ...], float]  # n·x = c
 @dataclass
 class ZeroSet:
     """The zero set of ``g`` over ``variables`` at the parameter defaults; ``key`` names it (two
-    zero sets with one key are the same set); ``planes``: its flat pieces, each ``n·x = c``."""
+    zero sets with one key are the same set); ``planes``: its flat pieces, each ``n·x = c``;
+    ``term``: the surface term ``g`` evaluates (a zero set of the same term at other parameter
+    terms is :func:`zero_set` of it :func:`substitute`-d)."""
 
     key: object
     g: Callable[[dict[str, float]], float]
     variables: tuple[str, ...]
     planes: tuple[Plane, ...] = field(default=())
+    term: S.STerm | None = None
 
 
 def zero_set(term: S.STerm, variables: tuple[str, ...], env: dict[str, float],
@@ -208,7 +228,7 @@ def zero_set(term: S.STerm, variables: tuple[str, ...], env: dict[str, float],
         except (ValueError, ZeroDivisionError, OverflowError):
             return math.nan
 
-    zs = ZeroSet(key if key is not None else term, g, used)
+    zs = ZeroSet(key if key is not None else term, g, used, term=term)
     if not used:
         return zs
     origin = {v: 0.0 for v in variables}

@@ -131,6 +131,11 @@ def branch_cut(scope: C.Scope) -> S.STerm:
     return mul(call("atan2", sub(v, level), second), C.smooth(scope))
 
 
+#: ``acos(P*v/3)`` stays in acos's domain on boxes in [-1, 2] while |P| ≤ 1.4 (|P·v/3| ≤ 0.94); a
+#: larger parameter term (``let s = 2*P``, up to 1.66) is divided by 6 instead.
+ACOS_SCALE = 1.4
+
+
 def primitive(scope: C.Scope) -> S.STerm:
     """``erf``, ``asin``, ``acos``, ``atanh``, ``tan`` as smooth factors (arguments inside their
     domains on every box in [-1, 2]), or the monotone ones against a parameter term as a condition
@@ -143,7 +148,8 @@ def primitive(scope: C.Scope) -> S.STerm:
     if smooth:
         p = scope.param()
         forms = (lambda: call("erf", sub(v, p)), lambda: call("asin", third),
-                 lambda: call("acos", T.div(mul(p, v), num(3))), lambda: call("atanh", third),
+                 lambda: call("acos", T.div(mul(p, v), num(3 if abs(scope.env[p.name]) <= ACOS_SCALE else 6))),
+                 lambda: call("atanh", third),
                  lambda: call("tan", T.div(v, num(2))))
         return forms[scope.index(len(forms))]()
     forms = (lambda: (call("asin", third), offset(scope.param(), F(-1, 2))),
@@ -253,16 +259,19 @@ def powers(scope: C.Scope) -> S.STerm:
     """Smooth factors with what :func:`~.conditions.smooth` never writes: a negative or negative
     fractional exponent (``(v + 2) ^ -2``, ``(v + P + 1.5) ^ -0.5``) and ``pi`` (``cos(pi * v / 2)``)."""
     v, p = name(scope.var()), scope.param()
-    forms = (lambda: power(offset(v, 2), -2), lambda: power(offset(T.add(v, p), F(3, 2)), F(-1, 2)),
+    forms = (lambda: power(offset(v, 2), -2), lambda: power(offset(T.add(v, scope.positive(p)), F(3, 2)), F(-1, 2)),
              lambda: call("cos", T.div(mul(name("pi"), v), num(2))))
     return forms[scope.index(len(forms))]()
 
 
+#: fuzz29's additions besides ``erf`` conditions, drawn by :func:`more`.
+MORE = (variable_ifge0, nested_loop, strict_window, cross_condition, powers)
+
+
 def more(scope: C.Scope) -> S.STerm:
-    """One of fuzz29's additions besides ``erf`` conditions (one slot of :data:`FACTORS`, so that
-    fuzz28's constructs keep most of their share)."""
-    kinds = (variable_ifge0, nested_loop, strict_window, cross_condition, powers)
-    return kinds[scope.index(len(kinds))](scope)
+    """One of :data:`MORE` (one slot of :data:`FACTORS`, so that fuzz28's constructs keep most of
+    their share)."""
+    return MORE[scope.index(len(MORE))](scope)
 
 
 #: The wide factors by kind and weight (the first is what shrinking aims at; ``logic`` twice: three
