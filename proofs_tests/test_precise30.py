@@ -59,6 +59,8 @@ def test_a_number_that_is_not_real_is_refused_not_read_as_its_real_part():
     with pytest.raises(precise.NotReal):
         precise.real_number_at(sp.sqrt(a - 2), {a: 1.0})
     assert precise.real_number(sp.Rational(1, 3)) == 1 / 3
+    # an unbounded end is ±inf, as before (the first version refused it: Theorem 8.1's F6 fell back to quadrature)
+    assert precise.real_number(sp.oo) == math.inf and precise.real_number_at(-sp.oo, {a: 1.0}) == -math.inf
 
 
 def test_an_implicit_roots_bracket_end_that_is_not_real_is_no_bound():

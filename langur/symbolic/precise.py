@@ -55,11 +55,15 @@ class NotReal(TypeError):
 
 
 def real_number(e) -> float:
-    """:func:`real_value`, raising :class:`NotReal` where it is NaN (complex, undefined or
-    infinite): for a caller that must not go on with a number that is not one (a branch of a
-    ``Min`` chosen by comparing NaN, a bound of integration)."""
+    """:func:`real_value`, except that ±∞ (sympy's ``oo``, ``-oo``: an unbounded end) is ±inf, and
+    raising :class:`NotReal` where it is NaN otherwise (complex or undefined): for a caller that must
+    not go on with a number that is not one (a branch of a ``Min`` chosen by comparing NaN, a bound
+    of integration)."""
     v = real_value(e)
     if math.isnan(v):
+        s = sp.sympify(e)
+        if s is sp.oo or s is sp.S.NegativeInfinity:
+            return float(s)
         raise NotReal("not a real number")
     return v
 
