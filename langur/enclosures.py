@@ -16,8 +16,8 @@ comparisons of intervals, which pick one side of an interval holding both (``max
 
 Used by :mod:`langur.implicit` (``evalf`` and lambdified code of an indexed
 :class:`~langur.implicit.ImplicitRootFn`) and by :mod:`langur.syntax.continuity` and
-:mod:`langur.syntax.monotone` (a condition proved continuous or monotone); the Monte Carlo engine certifies the same way on its
-own, vectorized (:mod:`langur.operational.signchanges`).  The same arithmetic over a box, every
+:mod:`langur.syntax.monotone` (a condition proved continuous or monotone); the Monte Carlo
+engine certifies the same way on its own, vectorized (:mod:`langur.operational.signchanges`).  The same arithmetic over a box, every
 variable an interval (:func:`enclose`), proves a primitive's argument inside its domain for
 :mod:`langur.symbolic.definedness`.
 """
@@ -145,8 +145,7 @@ def enclose(e: sp.Expr, box: Mapping[sp.Symbol, tuple]):
     """An interval (mpmath's) containing every real value of ``e`` on the closed box (symbol →
     its ends; ``e`` in those symbols), or None (not enclosed: anything).  The same outward-rounded
     interval arithmetic as :func:`interval_function`, every variable an interval, and the same
-    refusals.  An end is a double
-    (exact) or a sympy number (a rational exactly, as the interval quotient of its numerator and
+    refusals.  An end is a double (exact) or a sympy number (a rational exactly, as the interval quotient of its numerator and
     denominator; another, ``pi/2``, widened to the doubles around it).  An enclosure with an
     infinite end (a pole inside the box) is returned as it is; a complex one (a root of a negative
     base) is None."""
