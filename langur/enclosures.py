@@ -7,13 +7,17 @@ interval enclosure of ``g − target`` that excludes 0 (no zero there) or one of
 excludes 0 (``g`` monotone: a zero iff a sign change between the cell's ends), halving a cell
 neither certifies, and refuses (:class:`~langur.core.TooManyRoots`) rather than miss one.
 The enclosures are mpmath's interval arithmetic (rounded outward: a proof) of lambdify's interval
-text of the equation (:func:`_interval_fn`, :class:`_IntervalPrinter`); for a polynomial, float
+text of the equation (:func:`interval_function`, :class:`_IntervalPrinter`); for a polynomial, float
 enclosures that bracket mpmath's decide first where they can (:mod:`langur.floativ`,
-:func:`_signer`).
+:func:`_signer`).  That text is interval arithmetic only for sums, products, powers and the
+functions of :data:`ENCLOSED`: ``Max``, ``Min``, ``Piecewise``, ``Heaviside`` are printed as Python
+comparisons of intervals, which pick one side of an interval holding both (``max(0, [−1, 2])`` is
+``0``), so an equation holding one is refused, never enclosed.
 
 Used by :mod:`langur.implicit` (``evalf`` and lambdified code of an indexed
-:class:`~langur.implicit.ImplicitRootFn`); the Monte Carlo engine certifies the same way on its
-own, vectorized (:mod:`langur.operational.signchanges`).  The same arithmetic over a box, every
+:class:`~langur.implicit.ImplicitRootFn`) and by :mod:`langur.syntax.continuity` and
+:mod:`langur.syntax.monotone` (a condition proved continuous or monotone); the Monte Carlo
+engine certifies the same way on its own, vectorized (:mod:`langur.operational.signchanges`).  The same arithmetic over a box, every
 variable an interval (:func:`enclose`), proves a primitive's argument inside its domain for
 :mod:`langur.symbolic.definedness`.
 """
@@ -88,26 +92,38 @@ def _on_intervals(xs: list, e: sp.Expr):
     return sp.lambdify(xs, e, modules=[_IV, mpmath.iv], printer=printer)
 
 
-def _interval_fn(x: sp.Symbol, e: sp.Expr, free: tuple = ()) -> _Enclosure:
-    """``e`` (in ``x`` and the symbols ``free``) on mpmath intervals: ``X, *values ↦`` an interval
-    containing ``e(X)`` at those values of ``free``; None where it cannot be enclosed.  Every
+def interval_function(x: sp.Symbol, e: sp.Expr, free: tuple = ()) -> Enclosure:
+    """``e`` (in ``x`` and the symbols ``free``) as a function of mpmath intervals, an
+    :class:`Enclosure`: ``enclosure(X, *values)`` is an interval containing every value of ``e`` on
+    the interval ``X`` at those values of ``free`` (intervals or numbers), or None where it cannot
+    be enclosed (a pole, a logarithm of an interval reaching below 0, a complex value).  Every
     operation is mpmath's interval arithmetic (rounded outward), constants included
-    (:func:`_on_intervals`); a polynomial's also compiled to float enclosures that bracket
-    mpmath's (:mod:`langur.floativ`), which decide first where they can."""
-    fn = _on_intervals([x, *free], e)
-    return _Enclosure(fn, floativ.compile_enclosure(fn, 1 + len(free)))
+    (:func:`_on_intervals`); a polynomial's is also compiled to float enclosures that bracket
+    mpmath's (:mod:`langur.floativ`), which decide first where they can.
+
+    **Refuses** an ``e`` that is not built of ``x``, ``free``, finite numbers, π, e, +, ·, powers
+    and :data:`ENCLOSED` (``Max``, ``Min``, ``Piecewise``, ``Heaviside``, ``Abs``, ``sign``, a
+    relation, another symbol, an unknown function): the enclosure it returns is
+    :attr:`~Enclosure.refused` and every call gives None, so :func:`certified_brackets` refuses its
+    roots (:class:`~langur.core.TooManyRoots`) rather than trust a comparison of intervals
+    (module docstring)."""
+    xs = (x, *free)
+    if not _enclosable(e, xs):
+        return Enclosure(None, None)
+    fn = _on_intervals(list(xs), e)
+    return Enclosure(fn, floativ.compile_enclosure(fn, len(xs)))
 
 
-#: The functions an enclosure over a box may apply (mpmath's ``iv`` or :data:`_IV` enclose each
-#: soundly); anything else (``Max``, ``Piecewise``, ``Abs``, a relation: lambdify's text compares
-#: intervals, which is not interval arithmetic) is not enclosed.
-_BOX_FUNCTIONS = frozenset({sp.exp, sp.log, sp.sin, sp.cos, sp.tan, sp.tanh, sp.atan, sp.erf,
-                            sp.asin, sp.acos, sp.atanh})
+#: The functions an enclosure may apply: mpmath's ``iv`` or :data:`_IV` enclose each soundly.
+#: Anything else is not enclosed (``Max``, ``Piecewise``, a relation: lambdify's text compares
+#: intervals, which is not interval arithmetic; ``Abs`` would be, but nothing needs it).
+ENCLOSED = frozenset({sp.exp, sp.log, sp.sin, sp.cos, sp.tan, sp.tanh, sp.atan, sp.erf,
+                      sp.asin, sp.acos, sp.atanh})
 
 
 def _enclosable(e: sp.Expr, xs: tuple) -> bool:
-    """Whether :func:`enclose` can enclose ``e`` over a box of ``xs``: built of ``xs``, finite
-    numbers, π, e, +, ·, powers and :data:`_BOX_FUNCTIONS`."""
+    """Whether :func:`enclose` and :func:`interval_function` enclose ``e`` in ``xs``: built of
+    ``xs``, finite numbers, π, e, +, ·, powers and :data:`ENCLOSED`."""
     for n in sp.preorder_traversal(e):
         if n.is_Symbol:
             if n not in xs:
@@ -115,21 +131,21 @@ def _enclosable(e: sp.Expr, xs: tuple) -> bool:
         elif n.is_Number:
             if n.is_finite is not True:
                 return False
-        elif not (n.is_Add or n.is_Mul or n.is_Pow or n is sp.pi or n is sp.E or n.func in _BOX_FUNCTIONS):
+        elif not (n.is_Add or n.is_Mul or n.is_Pow or n is sp.pi or n is sp.E or n.func in ENCLOSED):
             return False
     return True
 
 
 @functools.lru_cache(maxsize=1024)  # one condition bounds many applications
-def _box_fn(e: sp.Expr, xs: tuple) -> _Enclosure | None:
-    return _Enclosure(_on_intervals(list(xs), e), None) if _enclosable(e, xs) else None
+def _box_fn(e: sp.Expr, xs: tuple) -> Enclosure | None:
+    return Enclosure(_on_intervals(list(xs), e), None) if _enclosable(e, xs) else None
 
 
 def enclose(e: sp.Expr, box: Mapping[sp.Symbol, tuple]):
     """An interval (mpmath's) containing every real value of ``e`` on the closed box (symbol →
     its ends; ``e`` in those symbols), or None (not enclosed: anything).  The same outward-rounded
-    interval arithmetic as :func:`_interval_fn`, every variable an interval.  An end is a double
-    (exact) or a sympy number (a rational exactly, as the interval quotient of its numerator and
+    interval arithmetic as :func:`interval_function`, every variable an interval, and the same
+    refusals.  An end is a double (exact) or a sympy number (a rational exactly, as the interval quotient of its numerator and
     denominator; another, ``pi/2``, widened to the doubles around it).  An enclosure with an
     infinite end (a pole inside the box) is returned as it is; a complex one (a root of a negative
     base) is None."""
@@ -151,17 +167,24 @@ def _end(v):
     return mpmath.iv.mpf([math.nextafter(f, -math.inf), math.nextafter(f, math.inf)])
 
 
-class _Enclosure:
-    """:func:`_interval_fn`'s function: ``enclosure(X, *values)`` mpmath's interval or None;
-    ``fast``: the float enclosures ``(outer, inner)`` of :func:`langur.floativ.compile_enclosure`,
-    or None."""
+class Enclosure:
+    """:func:`interval_function`'s function: ``enclosure(X, *values)`` mpmath's interval or None;
+    ``fn``: lambdify's function of intervals (None: :attr:`refused`); ``fast``: the float
+    enclosures ``(outer, inner)`` of :func:`langur.floativ.compile_enclosure`, or None."""
 
     __slots__ = ("fn", "fast")
 
     def __init__(self, fn, fast):
         self.fn, self.fast = fn, fast
 
+    @property
+    def refused(self) -> bool:
+        """The expression is not enclosed at all (:func:`interval_function`'s refusals)."""
+        return self.fn is None
+
     def __call__(self, X, *values):
+        if self.fn is None:
+            return None
         try:
             out = self.fn(X, *values)
             out = out if isinstance(out, mpmath.iv.mpf) else mpmath.iv.mpf(out)
@@ -175,11 +198,11 @@ class _Enclosure:
 
 
 class _Bound:
-    """An :class:`_Enclosure` with its other symbols' values put in: ``bound(X)``."""
+    """An :class:`Enclosure` with its other symbols' values put in: ``bound(X)``."""
 
     __slots__ = ("enclosure", "values", "ends")
 
-    def __init__(self, enclosure: _Enclosure, values: tuple):
+    def __init__(self, enclosure: Enclosure, values: tuple):
         self.enclosure, self.values = enclosure, values
         self.ends = None if enclosure.fast is None else tuple(e for v in values for e in floativ.ends(v))
 
@@ -191,7 +214,7 @@ def _signer(enclosure, t):
     """``(a, b) ↦`` 1 or −1 when the enclosure of ``enclosure − t`` over ``[a, b]`` (floats) is
     positive or negative, 0 when it holds 0 or there is none (``t`` None: the enclosure itself, as
     for the derivative).  mpmath's interval arithmetic decides; where ``enclosure`` is an
-    :class:`_Enclosure` (or :class:`_Bound`) of a polynomial, its float enclosures answer first
+    :class:`Enclosure` (or :class:`_Bound`) of a polynomial, its float enclosures answer first
     when they agree with any answer mpmath could give (:mod:`langur.floativ`): the same signs,
     without mpmath in all but the cells where 0 is within rounding of an end."""
     iv = mpmath.iv
@@ -205,7 +228,7 @@ def _signer(enclosure, t):
             G = G - T
         return 1 if G.a > 0 else (-1 if G.b < 0 else 0)
 
-    if isinstance(enclosure, _Enclosure):
+    if isinstance(enclosure, Enclosure):
         enclosure = enclosure.bind()
     fast = enclosure.enclosure.fast if isinstance(enclosure, _Bound) else None
     if fast is None or iv.prec != floativ.PREC:
@@ -239,8 +262,8 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     monotone cells around it when ``g`` rises (or falls) on both, else the piece is refused (an
     extremum of ``g`` that is 0 within rounding); at ``lo`` and ``hi`` such a sign is ``g``'s value's.
     ``g``: a function of a number (called with an mpmath number); ``g_iv``, ``dg_iv``: of an mpmath
-    interval (None: no enclosure; an :func:`_interval_fn` or its ``bind``: float enclosures decide
-    first, :func:`_signer`).  The cells' ends are doubles (the grid and the halvings rounded to
+    interval (None: no enclosure; an :func:`interval_function` or its ``bind``: float enclosures decide
+    first, :func:`_signer`; a :attr:`~Enclosure.refused` one: the piece is refused at once).  The cells' ends are doubles (the grid and the halvings rounded to
     nearest, as mpmath at 53 bits).  ``lenient``: a cell still uncertified after ``depth`` halvings,
     and a point of unknown sign between cells that do not join, are decided by ``g``'s values
     instead of refused (turning points that move with the other *integration* variables merge on a
@@ -252,6 +275,8 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     lo, hi = float(mpmath.mpf(lo)), float(mpmath.mpf(hi))
     if not hi > lo:  # an empty interval (a moving end past the other): no sign change
         return []
+    if _refused(g_iv) or _refused(dg_iv):  # (interval_function's refusals: nothing is certified)
+        raise _uncertified(what, lo, hi)
     g_sign, dg_sign = _signer(g_iv, target), _signer(dg_iv, None)
     stack = [(hi if i == grid - 1 else lo + (hi - lo) * (i + 1) / grid, lo + (hi - lo) * i / grid, 0)
              for i in range(grid)][::-1]
@@ -278,6 +303,13 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
 
 #: The direction of a cell left uncertified in lenient mode (its ends' signs decide).
 LOOSE = 2
+
+
+def _refused(enclosure) -> bool:
+    """An :func:`interval_function` (or its ``bind``) that refused its expression."""
+    if isinstance(enclosure, _Bound):
+        enclosure = enclosure.enclosure
+    return isinstance(enclosure, Enclosure) and enclosure.refused
 
 
 def _uncertified(what, a, b) -> TooManyRoots:

@@ -1,5 +1,5 @@
 """deriv21 (issue 15): the quadrature's compiled integrands skip mpmath's second evaluation
-(``compiling._again``) where it is certain to give ``math``'s NaN again — an expression
+(``compiling._in_mpmath``) where it is certain to give ``math``'s NaN again — an expression
 ``A + c·s**q`` (q not an integer, A real) at ``s < 0`` (``compiling._off_the_reals``): the
 values are those of the rescue computed directly (mpmath on the same expression), and of the
 expression's own definition (complex there, so NaN)."""
@@ -20,7 +20,7 @@ x, y, a = sp.symbols("x y a")
 
 
 def _rescued(args, e, vals):
-    """What the unchanged path gives: math, then (non-finite) mpmath's value as ``_again`` takes it."""
+    """What the unchanged path gives: math, then (non-finite) mpmath's value as ``_in_mpmath`` takes it."""
     f = shared_lambdify(list(args), e, "math")
     try:
         v = float(f(*vals))
@@ -28,7 +28,7 @@ def _rescued(args, e, vals):
         v = math.nan
     if v - v == 0.0:
         return v
-    return compiling._again(shared_lambdify(list(args), e, "mpmath"), tuple(vals), v)
+    return compiling._in_mpmath(shared_lambdify(list(args), e, "mpmath"), tuple(vals), v)
 
 
 def _random_shape(rng):
@@ -61,14 +61,14 @@ def test_shape_values_are_the_rescues(seed, monkeypatch):
 
 
 def _count_again(monkeypatch) -> list:
-    """The arguments of every call of ``compiling._again`` (mpmath's second evaluation) from now on."""
+    """The arguments of every call of ``compiling._in_mpmath`` (mpmath's second evaluation) from now on."""
     calls = []
-    real_again = compiling._again
+    real_again = compiling._in_mpmath
 
     def counted(*args):
         calls.append(args)
         return real_again(*args)
-    monkeypatch.setattr(compiling, "_again", counted)
+    monkeypatch.setattr(compiling, "_in_mpmath", counted)
     return calls
 
 

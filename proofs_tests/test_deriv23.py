@@ -1,5 +1,5 @@
 """deriv23 (issue 15): the quadrature's compiled integrands skip mpmath's second evaluation
-(``compiling._again``) of ``A + c·R`` — ``R`` an implicit root of a polynomial equation whose
+(``compiling._in_mpmath``) of ``A + c·R`` — ``R`` an implicit root of a polynomial equation whose
 bracket's ends are integers, arguments or indexed roots (turning2d's substituted box conditions
 ``root(…) ± 1``) — where the equation certainly has one sign at both ends of the bracket
 (``compiling._RootTerm``): mpmath finds no root there either, so its value is NaN, which is

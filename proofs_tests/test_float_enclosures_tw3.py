@@ -22,7 +22,7 @@ import sympy as sp
 
 from langur import enclosures, floativ
 from langur.core import TooManyRoots
-from langur.enclosures import LOOSE, _interval_fn, _uncertified, certified_brackets
+from langur.enclosures import LOOSE, _uncertified, certified_brackets, interval_function
 from langur.implicit import implicit_root, lambdified
 
 
@@ -106,7 +106,7 @@ FOLIUM = Y**3 - Y * U + U**3 - A
 
 
 def test_box_certifications_are_bitwise_mpmaths_across_the_fold():
-    enc, denc = _interval_fn(Y, TURNING, (U,)), _interval_fn(Y, sp.diff(TURNING, Y), (U,))
+    enc, denc = interval_function(Y, TURNING, (U,)), interval_function(Y, sp.diff(TURNING, Y), (U,))
     assert enc.fast is not None and denc.fast is not None
     rng = random.Random(1518)
     refused = certified = 0
@@ -127,7 +127,7 @@ def test_point_certifications_are_bitwise_mpmaths_on_the_folium():
     for expr in (FOLIUM, TURNING):
         free = (U, A)
         g = sp.lambdify([Y, *free], expr, modules="mpmath")
-        enc, denc = _interval_fn(Y, expr, free), _interval_fn(Y, sp.diff(expr, Y), free)
+        enc, denc = interval_function(Y, expr, free), interval_function(Y, sp.diff(expr, Y), free)
         for _ in range(60):
             u = rng.choice([rng.uniform(-1, 1), rng.uniform(-1e-6, 1e-6), 0.0, 1e-30])
             a = rng.uniform(-0.5, 1.5)
@@ -172,7 +172,7 @@ def test_float_enclosures_bracket_mpmaths_and_hold_the_exact_values():
     for _ in range(60):
         expr = _random_poly(rng)
         for e in (expr, sp.diff(expr, Y)):
-            enc, terms = _interval_fn(Y, e, (U,)), _terms(e)
+            enc, terms = interval_function(Y, e, (U,)), _terms(e)
             assert enc.fast is not None, e
             outer, inner = enc.fast
             for _ in range(8):
@@ -202,7 +202,7 @@ def test_signs_from_float_enclosures_are_mpmaths_even_at_exact_zeros():
     # ends that are 0 exactly (6y on [−c, 0], 3y² − u at u = 0): mpmath says "holds 0", so must the signer
     rng = random.Random(7)
     for expr in (TURNING, sp.diff(TURNING, Y), FOLIUM, Y**4 - U**2, Y * U):
-        enc = _interval_fn(Y, expr, (U, A))
+        enc = interval_function(Y, expr, (U, A))
         for _ in range(200):
             k = rng.randint(0, 20)
             ylo = rng.choice([-(2.0**-k), 0.0, rng.uniform(-1, 1)])
@@ -218,7 +218,7 @@ def test_signs_from_float_enclosures_are_mpmaths_even_at_exact_zeros():
 def test_signs_within_rounding_of_zero_are_left_to_mpmath():
     # 3y² − u at a point y with u a few ulps from 3y²: mpmath's tight enclosure excludes 0 where the
     # float one, an ulp wider per operation, does not; then mpmath must decide (the same sign)
-    enc = _interval_fn(Y, TURNING, (U,))
+    enc = interval_function(Y, TURNING, (U,))
     rng = random.Random(3)
     decided = 0
     for _ in range(400):
@@ -236,12 +236,12 @@ def test_signs_within_rounding_of_zero_are_left_to_mpmath():
 
 
 def test_an_equation_float_enclosures_cannot_compile_is_left_to_mpmath():
-    enc = _interval_fn(Y, sp.sin(Y) - U * sp.sqrt(Y + 2), (U,))
+    enc = interval_function(Y, sp.sin(Y) - U * sp.sqrt(Y + 2), (U,))
     assert enc.fast is None
     assert floativ.compile_enclosure(lambda y: y ** 0.5, 1) is None  # a fractional power
     with mpmath.workprec(53):
-        got = certified_brackets(sp.lambdify([Y], sp.sin(3 * Y), "mpmath"), _interval_fn(Y, sp.sin(3 * Y)),
-                                 _interval_fn(Y, 3 * sp.cos(3 * Y)), 0, -2, 2)
+        got = certified_brackets(sp.lambdify([Y], sp.sin(3 * Y), "mpmath"), interval_function(Y, sp.sin(3 * Y)),
+                                 interval_function(Y, 3 * sp.cos(3 * Y)), 0, -2, 2)
     assert [p < r < q for (p, q), r in zip(got, (-math.pi / 3, 0.0, math.pi / 3))] == [True] * 3 and len(got) == 3
 
 

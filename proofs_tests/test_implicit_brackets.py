@@ -14,7 +14,7 @@ import pytest
 import sympy as sp
 
 from langur.core import TooManyRoots
-from langur.enclosures import _interval_fn, certified_brackets
+from langur.enclosures import certified_brackets, interval_function
 from langur.implicit import evalf, implicit_root, lambdified
 from langur.sturm import sturm_brackets
 
@@ -40,7 +40,7 @@ def test_sturm_brackets_find_the_sign_changes_the_enclosures_certify():
         # the odd-multiplicity real roots in (−2, 2) by numpy: one per bracket
         roots = [r.real for r in np.roots([float(v) for v in c]) if abs(r.imag) < 1e-7 and -2 < r.real < 2]
         try:
-            want = certified_brackets(sp.lambdify(x, f, "mpmath"), _interval_fn(x, f), _interval_fn(x, sp.diff(f, x)),
+            want = certified_brackets(sp.lambdify(x, f, "mpmath"), interval_function(x, f), interval_function(x, sp.diff(f, x)),
                                       0, -2, 2)
         except TooManyRoots:
             continue

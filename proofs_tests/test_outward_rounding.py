@@ -20,8 +20,8 @@ import numpy as np
 import sympy as sp
 
 from langur.core import Add, Const, Mul, Param, Pow, Prim, Var
-from langur.enclosures import _interval_fn
 from langur.enclosures import certified_brackets as exact_brackets
+from langur.enclosures import interval_function
 from langur.operational.interval import enclose_all, tape_of
 from langur.operational.signchanges import certified_brackets as mc_brackets
 
@@ -155,7 +155,7 @@ def test_a_zero_within_rounding_of_a_cell_end_is_bracketed_right_by_both_engines
     # the exact engine, on mpmath intervals
     x = sp.Symbol("x")
     gs = x - sp.Rational(c1.numerator, c1.denominator) - sp.Rational(c2.numerator, c2.denominator)
-    out = exact_brackets(sp.lambdify(x, gs, "mpmath"), _interval_fn(x, gs), _interval_fn(x, sp.diff(gs, x)),
+    out = exact_brackets(sp.lambdify(x, gs, "mpmath"), interval_function(x, gs), interval_function(x, sp.diff(gs, x)),
                          0, lo[0], hi[0])
     assert holds(out) == [True]
 
@@ -166,7 +166,7 @@ def test_the_exact_engines_interval_functions_contain_mpmath_values():
     exprs = [sp.sin(3 * x) * sp.exp(x) - sp.Rational(1, 3), sp.atan(x ** 3 - x / 7) + sp.tanh(x),
              sp.erf(x) * x ** 2 - sp.cos(x / 3), sp.sqrt(1 + x ** 2) - sp.log(2 + x ** 2)]
     for e in exprs:
-        f_iv = _interval_fn(x, e)
+        f_iv = interval_function(x, e)
         for lo in rng.uniform(-2, 2, 15):
             for w in (0.0, 1e-10, 0.3):
                 X = mpmath.iv.mpf([lo, lo + w])

@@ -26,8 +26,8 @@ from scipy.integrate import quad
 from langur import frontend
 from langur.core import IfDiffeo, ImplicitRoot, TooManyRoots, Var, subterms
 from langur.ddenote import ddenote_program
-from langur.enclosures import _interval_fn
 from langur.enclosures import certified_brackets as exact_brackets
+from langur.enclosures import interval_function
 from langur.lint.tangent import tangent_findings
 from langur.operational import estimate_derivative
 from langur.operational.interval import tape_of
@@ -111,15 +111,15 @@ def test_two_turning_points_merging_on_a_null_set_are_not_refused_when_lenient()
         rows, a_, b_ = mc_brackets(lambda at, rows, u1=u1: value(at, rows, u1), tape, "x", np.zeros(1), lo, hi, {},
                                    others={"u1": np.array([u1])}, lenient=True)
         assert len(a_) == len(expected) and all(p <= e <= q for p, q, e in zip(a_, b_, expected))
-        found = exact_brackets(lambda z, u1=u1: 3 * z**2 - u1, lambda X, u1=u1: _interval_fn(x, g, (u,))(X, u1),
-                               lambda X, u1=u1: _interval_fn(x, sp.diff(g, x), (u,))(X, u1), 0, -1, 1, lenient=True)
+        found = exact_brackets(lambda z, u1=u1: 3 * z**2 - u1, lambda X, u1=u1: interval_function(x, g, (u,))(X, u1),
+                               lambda X, u1=u1: interval_function(x, sp.diff(g, x), (u,))(X, u1), 0, -1, 1, lenient=True)
         assert len(found) == len(expected) and all(p <= e <= q for (p, q), e in zip(found, expected))
     with pytest.raises(TooManyRoots):  # not lenient (a parameter at a degenerate value): refused
         mc_brackets(lambda at, rows: value(at, rows, 0.0), tape, "x", np.zeros(1), lo, hi, {},
                     others={"u1": np.array([0.0])})
     with pytest.raises(TooManyRoots):
-        exact_brackets(lambda z: 3 * z**2, lambda X: _interval_fn(x, g, (u,))(X, 0),
-                       lambda X: _interval_fn(x, sp.diff(g, x), (u,))(X, 0), 0, -1, 1)
+        exact_brackets(lambda z: 3 * z**2, lambda X: interval_function(x, g, (u,))(X, 0),
+                       lambda X: interval_function(x, sp.diff(g, x), (u,))(X, 0), 0, -1, 1)
 
 
 def test_a_polynomial_slope_is_split_for_as_many_turning_points_as_it_can_have():

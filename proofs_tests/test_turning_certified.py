@@ -23,7 +23,7 @@ from langur import frontend
 from langur.core import Add, Const, Mul, Pow, TooManyRoots, Var
 from langur.ddenote import ddenote_program
 from langur.denote import denote_program
-from langur.enclosures import _interval_fn, certified_brackets
+from langur.enclosures import certified_brackets, interval_function
 from langur.operational import estimate_derivative
 from langur.operational.interval import _periodic, tape_of
 from langur.operational.naive import naive_derivative
@@ -125,7 +125,7 @@ def test_both_certifiers_count_two_zeros_closer_than_any_grid(k):
     # exact side: mpmath intervals
     x, g = _g(sp.Float(k, 30))
     fn = sp.lambdify(x, g, "mpmath")
-    found = certified_brackets(fn, _interval_fn(x, g), _interval_fn(x, sp.diff(g, x)), 0, -1, 1)
+    found = certified_brackets(fn, interval_function(x, g), interval_function(x, sp.diff(g, x)), 0, -1, 1)
     assert len(found) == 2
     assert found[0][0] <= 0.1 <= found[0][1] and found[1][0] <= 0.1 + k <= found[1][1]
     # Monte Carlo side: the same function as a core term, enclosed by operational/interval.py
@@ -143,7 +143,7 @@ def test_a_double_zero_is_refused_not_counted_by_both_certifiers():
     g = (x - sp.Rational(1, 3)) ** 2  # touches 0 at 1/3: g and g' vanish together
     fn = sp.lambdify(x, g, "mpmath")
     with pytest.raises(TooManyRoots, match="cannot certify"):
-        certified_brackets(fn, _interval_fn(x, g), _interval_fn(x, sp.diff(g, x)), 0, -1, 1)
+        certified_brackets(fn, interval_function(x, g), interval_function(x, sp.diff(g, x)), 0, -1, 1)
     xv = Var("x")
     tape = tape_of([Pow(Add(xv, Const(-1 / 3)), 2), Mul(Const(2.0), Add(xv, Const(-1 / 3)))], True)
     with pytest.raises(TooManyRoots, match="cannot certify"):

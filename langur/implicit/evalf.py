@@ -20,7 +20,7 @@ import mpmath
 import sympy as sp
 
 from langur.core import TooManyRoots
-from langur.enclosures import DEPTH, _interval_fn, certified_brackets
+from langur.enclosures import DEPTH, certified_brackets, interval_function
 from langur.implicit.equations import LENIENT, SPANS, form, polynomial_coefficients, too_many_roots
 from langur.implicit.solvers import bracketed_root
 from langur.memo import remember
@@ -107,8 +107,8 @@ def _shape_compiled(x, shape: sp.Expr, n: int) -> tuple:
     """The equation ``shape`` (:func:`_shape`) on mpmath numbers, and its and its derivative's
     interval versions, each called as ``(x, *constants)``."""
     cs = _PLACEHOLDERS[:n]
-    return (sp.lambdify([x, *cs], shape, modules="mpmath"), _interval_fn(x, shape, cs),
-            _interval_fn(x, sp.diff(shape, x), cs))
+    return (sp.lambdify([x, *cs], shape, modules="mpmath"), interval_function(x, shape, cs),
+            interval_function(x, sp.diff(shape, x), cs))
 
 
 @lru_cache(maxsize=4096)

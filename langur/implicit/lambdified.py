@@ -21,7 +21,7 @@ import numpy as np
 import sympy as sp
 
 from langur.core import TooManyRoots
-from langur.enclosures import _interval_fn, certified_brackets
+from langur.enclosures import certified_brackets, interval_function
 from langur.implicit.equations import LENIENT, SPANS, form, polynomial_coefficients, too_many_roots
 from langur.implicit.solvers import double_root
 from langur.memo import make_room
@@ -175,7 +175,7 @@ def _compiled(key: str) -> tuple:
         if not mp:
             mp.append(sp.lambdify([x, *free], f, modules="mpmath"))
         return mp[0](*args)
-    return (on_mpmath, _interval_fn(x, f, free), _interval_fn(x, sp.diff(f, x), free),
+    return (on_mpmath, interval_function(x, f, free), interval_function(x, sp.diff(f, x), free),
             sp.lambdify([x, *free], f, modules="math"))
 
 

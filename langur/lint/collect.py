@@ -65,7 +65,7 @@ class Occurrence:
     node_span: Span | None = None  # the whole conditional (the condition alone is ``span``)
     continuous: bool = False  # its branches agree on the zero set: no delta (abs, min, max)
     node: IfDiffeo | None = field(default=None, repr=False, compare=False)  # the conditional itself
-    _moving: bool | None = field(default=None, repr=False)
+    moves: bool | None = field(default=None, repr=False)  # :func:`~.geometry.moving`'s answer, once known
 
 
 @dataclass(frozen=True)

@@ -30,18 +30,22 @@ def xsyms(variables) -> tuple[sp.Symbol, ...]:
 
 
 def moving(occ: Occurrence, variables) -> bool:
-    """Does the zero set move with the parameters (is ``D_γ π₀Ψ̂`` nonzero somewhere on it)?"""
-    if occ._moving is None:
-        xs = set(xsyms(variables))
-        params = [s for s in occ.f.free_symbols if s not in xs]
-        occ._moving = False
-        for p in params:
-            d = sp.diff(occ.f, p)
-            for br in occ.branches:
-                if not vanishes(restrict(d, br), occ.uprime + tuple(params), br[1]):
-                    occ._moving = True
-                    return True
-    return occ._moving
+    """Does the zero set move with the parameters (is ``D_γ π₀Ψ̂`` nonzero somewhere on it)?  Decided
+    once per occurrence (kept in :attr:`Occurrence.moves`; not when the decision was interrupted)."""
+    if occ.moves is None:
+        occ.moves = _moves(occ, variables)
+    return occ.moves
+
+
+def _moves(occ: Occurrence, variables) -> bool:
+    xs = set(xsyms(variables))
+    params = [s for s in occ.f.free_symbols if s not in xs]
+    for p in params:
+        d = sp.diff(occ.f, p)
+        for br in occ.branches:
+            if not vanishes(restrict(d, br), occ.uprime + tuple(params), br[1]):
+                return True
+    return False
 
 
 def params_of(*occs: Occurrence, variables) -> list[sp.Symbol]:

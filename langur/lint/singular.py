@@ -53,6 +53,7 @@ from ..symbolic.integrability import (
     finite_on_box,
     piece_blowups,
 )
+from ..symbolic.precise import real_value
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import Deadline
 from .bounded import bounded
@@ -126,8 +127,8 @@ def _delta_pieces(deltas, xs, box, at, out: Integrability) -> None:
             for i, x in enumerate(xs):  # the box, pulled back
                 conds += [inv.get(x, x) - box[i][0], box[i][1] - inv.get(x, x)]
             if len(xs) == 1:
-                v = _num(w)
-                if all(_num(c) >= 0 for c in conds) and not math.isfinite(v):
+                v = real_value(w)
+                if all(real_value(c) >= 0 for c in conds) and not math.isfinite(v):
                     out.blowups.append((Blowup(w0, tuple(inv.values()), "zero set", 0,
                                                math.nan if math.isnan(v) else math.inf, None,
                                                Verdict.DIVERGENT, Verdict.DIVERGENT), part))
@@ -158,14 +159,6 @@ def _undefined(bad: Undefined) -> Outside:
     multiplies the application away (sympy's ``0·log(x)`` is 0)."""
     return Outside(bad.argument, tuple(p for _, p in bad.point), "undefined", None, None, None,
                    Verdict.DIVERGENT, Verdict.DIVERGENT, application=bad.application)
-
-
-def _num(e) -> float:
-    try:
-        z = complex(sp.sympify(e).evalf(30))
-    except (TypeError, ValueError, ZeroDivisionError):
-        return math.nan
-    return z.real if abs(z.imag) < 1e-25 else math.nan
 
 
 def _guarded(what: str, fn) -> Integrability:
@@ -265,10 +258,10 @@ def _culprit(program: Program, b: Blowup, at: dict, sources: Mapping[str, str]) 
         if isinstance(t, Prim):
             e = _edge(REGISTRY[t.op].domain, e)
         if b.point and len(b.point) == len(xs):
-            v = _num(e.xreplace(dict(zip(xs, b.point))))
+            v = real_value(e.xreplace(dict(zip(xs, b.point))))
             for eps in (sp.Float("1e-30", 50), sp.Float("-1e-30", 50)):
                 if math.isnan(v):  # 0·∞ at the point itself (x·log x): look right next to it
-                    v = _num(e.xreplace({x: c + eps for x, c in zip(xs, b.point)}))
+                    v = real_value(e.xreplace({x: c + eps for x, c in zip(xs, b.point)}))
                     v = v if abs(v) < 1e-20 else math.nan
             if not (math.isfinite(v) and abs(v) < 1e-25):
                 continue
@@ -307,14 +300,14 @@ def _where(b: Blowup, program: Program) -> str:
 
 def _at_end(b: Blowup, program: Program) -> bool:
     try:
-        ends = [_num(denote(e)) for e in program.box[0]]
+        ends = [real_value(denote(e)) for e in program.box[0]]
     except (TypeError, KeyError, IndexError):
         return False
-    return any(abs(_num(b.point[0]) - e) < 1e-12 for e in ends if math.isfinite(e))
+    return any(abs(real_value(b.point[0]) - e) < 1e-12 for e in ends if math.isfinite(e))
 
 
 def _fmt(v) -> str:
-    f = _num(v)
+    f = real_value(v)
     return f"{f:.6g}" if math.isfinite(f) else sp.sstr(v)
 
 

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from . import arrangement
+from .precise import real_number
 
 #: Largest expression (sympy ``count_ops``) handed to ``sp.simplify``; bigger ones are only expanded.
 SIMPLIFY_LIMIT = 400
@@ -109,16 +110,12 @@ def _variants(e: sp.Expr, limit: int = 64) -> list[sp.Expr]:
     return out
 
 
-def _num(e: sp.Expr) -> float:
-    return float(sp.N(e, 30))
-
-
 def _decide(cond, subs) -> bool:
     v = cond.subs(subs)
     if v in (sp.true, sp.false):
         return bool(v)
-    return bool(v.xreplace({r: sp.true if _num(r.lhs - r.rhs) == 0 and r.rel_op in ("<=", ">=", "==")
-                            else sp.true if r.func(_num(r.lhs), _num(r.rhs)) else sp.false
+    return bool(v.xreplace({r: sp.true if real_number(r.lhs - r.rhs) == 0 and r.rel_op in ("<=", ">=", "==")
+                            else sp.true if r.func(real_number(r.lhs), real_number(r.rhs)) else sp.false
                             for r in v.atoms(sp.core.relational.Relational)}))
 
 
@@ -134,17 +131,17 @@ def resolve(expr: sp.Expr, subs: Mapping[sp.Symbol, sp.Expr]) -> sp.Expr:
         return sp.nan
     args = [resolve(a, subs) for a in expr.args]
     if isinstance(expr, (sp.Min, sp.Max)):
-        vals = [_num(a.subs(subs)) for a in args]
+        vals = [real_number(a.subs(subs)) for a in args]
         pick = min if isinstance(expr, sp.Min) else max
         return args[vals.index(pick(vals))]
     if isinstance(expr, sp.Heaviside):
-        v = _num(args[0].subs(subs))
+        v = real_number(args[0].subs(subs))
         return sp.Integer(1) if v > 0 else sp.Integer(0) if v < 0 else expr.func(*args)
     if isinstance(expr, sp.sign):
-        v = _num(args[0].subs(subs))
+        v = real_number(args[0].subs(subs))
         return sp.Integer(1) if v > 0 else sp.Integer(-1) if v < 0 else sp.Integer(0)
     if isinstance(expr, sp.Abs):
-        v = _num(args[0].subs(subs))
+        v = real_number(args[0].subs(subs))
         return args[0] if v >= 0 else -args[0]
     return expr.func(*args)
 
@@ -234,7 +231,7 @@ def _one_parameter(expr, p, cell, everywhere) -> Readable | None:
     domain = sp.S.Reals if everywhere or not cell else _cell_set(cell, p)
     if domain is None:
         return None
-    points = sorted(cuts, key=_num)
+    points = sorted(cuts, key=real_number)
     edges = [sp.S.NegativeInfinity, *points, sp.S.Infinity]
     cases: list[Case] = []
     excluded: list[sp.Set] = []
@@ -263,17 +260,17 @@ def _one_parameter(expr, p, cell, everywhere) -> Readable | None:
             continue
         try:
             at_b = resolve(expr, {p: b}).subs(p, b)
-            _num(at_b)
+            real_number(at_b)
         except TypeError:
             continue
         for i, c in enumerate(final):
             if c.interval.sup == b or c.interval.inf == b:
-                if _num(c.expr.subs(p, b) - at_b) == 0 and _num(sp.simplify(c.expr.subs(p, b) - at_b)) == 0:
+                if real_number(c.expr.subs(p, b) - at_b) == 0 and real_number(sp.simplify(c.expr.subs(p, b) - at_b)) == 0:
                     final[i] = Case(True, c.expr, c.interval.union(sp.FiniteSet(b)))
                     break
         else:
             final.append(Case(True, tidy(at_b), sp.FiniteSet(b)))
-    final.sort(key=lambda c: _num(c.interval.inf) if c.interval.inf.is_finite else -1e300)
+    final.sort(key=lambda c: real_number(c.interval.inf) if c.interval.inf.is_finite else -1e300)
     out = tuple(Case(c.interval.as_relational(p), c.expr, c.interval) for c in final)
     if not out:
         return None
@@ -391,7 +388,7 @@ def _local(expr, at, cell) -> Readable | None:
     for s in dict.fromkeys(resolve(s, at) for s in _switching(expr)):
         if not s.free_symbols:
             continue
-        v = _num(s.subs(at))
+        v = real_number(s.subs(at))
         if v == 0:
             return None
         rel = _solved(sp.Gt(s, 0) if v > 0 else sp.Lt(s, 0))
@@ -431,7 +428,7 @@ def _tightest(conds):
         if isinstance(r.lhs, sp.Symbol) and r.rhs.is_number:
             same = [q for q in conds if q.lhs == r.lhs and q.rhs.is_number and q.func == r.func and q is not r]
             lower = r.func in (sp.Gt, sp.Ge)
-            if any((_num(q.rhs) > _num(r.rhs)) if lower else (_num(q.rhs) < _num(r.rhs)) for q in same):
+            if any((real_number(q.rhs) > real_number(r.rhs)) if lower else (real_number(q.rhs) < real_number(r.rhs)) for q in same):
                 continue
         out.append(r)
     return out

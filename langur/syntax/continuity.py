@@ -26,7 +26,7 @@ import mpmath
 import sympy as sp
 from sympy.calculus.util import continuous_domain as _sympy_continuous_domain
 
-from ..enclosures import _interval_fn
+from ..enclosures import interval_function
 from ..primitives import REGISTRY
 
 #: sympy's function of each registry primitive continuous on all of ℝ.
@@ -78,7 +78,9 @@ def _proved_continuous(e: sp.Expr, v: sp.Symbol, domain: sp.Set) -> bool:
     ends = [_end(domain.start, "a"), _end(domain.end, "b")]
     if None in ends:
         return False
-    encl = [_interval_fn(v, n) for n in risky]
+    encl = [interval_function(v, n) for n in risky]
+    if any(f.refused for f in encl):
+        return False  # (not built of what interval arithmetic encloses: nothing is proved)
     lo, hi = ends
     if mpmath.isfinite(lo) and mpmath.isfinite(hi):
         points = [lo, *(lo + (hi - lo) * k / CELLS for k in range(1, CELLS)), hi]

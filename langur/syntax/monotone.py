@@ -28,7 +28,7 @@ from functools import lru_cache
 import mpmath
 import sympy as sp
 
-from ..enclosures import _interval_fn
+from ..enclosures import interval_function
 
 #: Most sub-boxes the enclosure of ∂f/∂v is split into before giving up.
 MAX_BOXES = 256
@@ -168,7 +168,7 @@ def _enclose_mpmath(e: sp.Expr, b: dict):
 def _mpmath_fn(e: sp.Expr):
     """``e``'s symbols (sorted) and its enclosure on mpmath intervals of them, built once per ``e``."""
     syms = tuple(sorted(e.free_symbols, key=lambda s: s.name))
-    return syms, (_interval_fn(syms[0], e, syms[1:]) if syms else None)
+    return syms, (interval_function(syms[0], e, syms[1:]) if syms else None)
 
 
 def _iv(lo, hi):

@@ -8,7 +8,7 @@ from __future__ import annotations
 import sympy as sp
 
 from langur.implicit import ImplicitRootFn
-from langur.symbolic.quadrature.compiling import _num
+from langur.symbolic.precise import real_number_at
 
 
 def _implied_by_bracket(e, variables, xs, at: dict) -> bool:
@@ -30,7 +30,7 @@ def _implied_by_bracket(e, variables, xs, at: dict) -> bool:
         poly = sp.Poly(e, v)
         if poly.degree() != 1:
             return False
-        k, c0 = (_num(c, at) for c in poly.all_coeffs())
+        k, c0 = (real_number_at(c, at) for c in poly.all_coeffs())
         a, b = _bracket_range(x.args[2], at)[0], _bracket_range(x.args[3], at)[1]
     except (sp.PolynomialError, TypeError, ValueError):
         return False
@@ -47,6 +47,6 @@ def _bracket_range(e, at: dict) -> tuple[float, float]:
     e = sp.sympify(e)
     if not e.is_number and not (e.free_symbols <= set(at)):
         raise ValueError(e)
-    v = _num(e, at)
+    v = real_number_at(e, at)
     return v, v
 

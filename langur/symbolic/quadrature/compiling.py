@@ -21,11 +21,6 @@ from langur.symbolic.text import shared_lambdify
 from langur.symbolic.walks import atoms_of, free_symbols, has_any
 from langur.sympy_bridge import magnitude
 
-
-def _num(expr, at: dict) -> float:
-    return complex(sp.sympify(expr).xreplace(_floats(at)).evalf(30)).real
-
-
 #: The point's values as 30-digit Floats, by point (:func:`_floats`): every condition of every piece
 #: has them substituted (:func:`~.pieceproblems.piece_problem`), 46 times for a stylize partial
 #: derivative with its ~40 parameters; a Float is a pure function of the value (equal values, of
@@ -131,8 +126,8 @@ def _lambdify(symbols: Sequence[sp.Symbol], expr, at: dict) -> Callable[..., flo
             if v - v == 0.0:  # finite (the common case: one subtraction, no call)
                 return v
             if _off_the_reals(compiled, vals + extra):
-                return v  # mpmath's value is not real either (:func:`_off_the_reals`): _again's answer
-            return _again(rescue, vals + extra, v)  # overflowed on the way? mpmath's exponents do not
+                return v  # mpmath's value is not real either (:func:`_off_the_reals`): _in_mpmath's answer
+            return _in_mpmath(rescue, vals + extra, v)  # overflowed on the way? mpmath's exponents do not
         return call
 
     def slow(*vals):
@@ -163,16 +158,16 @@ _VISIBLE = 1e-250
 
 
 def _off_the_reals(compiled: tuple, vals: tuple) -> bool:
-    """Whether :func:`_again` is certain to return ``math``'s non-finite value at ``vals`` without
+    """Whether :func:`_in_mpmath` is certain to return ``math``'s non-finite value at ``vals`` without
     computing anything: the expression is ``A + c·s**q`` (:func:`_complex_term`) and ``s < 0``
     here.  mpmath then evaluates ``A`` (sums, products and integer powers of real numbers and of
     the arguments: a finite real mpf, or a ZeroDivisionError) and ``s**q`` as a complex number
     ``|s|^q·e^{iqπ}``, whose imaginary part is not 0 (q is not an integer: |sin qπ| ≥ 2/d for
     q = p/d); the sum's imaginary part is exactly ``c·Im(s**q)`` (adding a real number leaves it
     as it is), at least ``|c|·|s|^q·2/d``; when that is above :data:`_VISIBLE` it is still not 0
-    as a Python complex, so ``_again`` returns ``v`` (or mpmath raised first: ``v`` too).  Below
+    as a Python complex, so ``_in_mpmath`` returns ``v`` (or mpmath raised first: ``v`` too).  Below
     it (a tiny ``|s|``: the imaginary part may round to 0 in a double), and for any other
-    expression, :func:`_again` decides as before.  The cubic conditions' turning values
+    expression, :func:`_in_mpmath` decides as before.  The cubic conditions' turning values
     ``x³ − a ± (2√3/9)·x^{3/2}`` of the kinks (issue 18) are of this shape: 1,000 mpmath
     evaluations per partial derivative of turning2d, all of them NaN again (issue 15).
 
@@ -282,7 +277,7 @@ class _RootTerm:
     (or when an evaluation raises).  :meth:`_Base.sign` certifies that sign for ``f − t`` at each end:
     the exact value's, so mpmath's (rounded to a double: not 0, the same sign) too.  Then mpmath's
     ``A + c·R`` is NaN (``A`` is a real mpf, ±inf or NaN from real arguments, or it raised
-    ZeroDivisionError), and :func:`_again` returns ``math``'s value."""
+    ZeroDivisionError), and :func:`_in_mpmath` returns ``math``'s value."""
 
     def __init__(self, args: tuple, root):
         lam, target, lo, hi, index, _ = root.args
@@ -347,7 +342,7 @@ def _complex_term(args: tuple, e) -> tuple | _RootTerm | None:
                 return None
             try:
                 found = _RootTerm(args, roots[0])
-            except Exception:  # noqa: BLE001 - not of the kind (or not compilable): _again decides
+            except Exception:  # noqa: BLE001 - not of the kind (or not compilable): _in_mpmath decides
                 return None
             continue
         powers = [f for f in factors if isinstance(f, sp.Pow) and (f.base in index or (not f.base.is_number and _polynomial(f.base, index)))
@@ -397,26 +392,32 @@ def _real_parts(e, index: dict) -> bool:
     return False
 
 
-def _again(g: Callable, vals: tuple, v: float) -> float:
-    """The value ``math`` could not give (``v``: ±inf or NaN), computed again by mpmath.
+def _in_mpmath(g: Callable, vals: tuple, v: float) -> float:
+    """The value ``math`` could not give at ``vals`` (``v``: ±inf or NaN), computed again by ``g``,
+    the same expression compiled for mpmath.
 
     ``math`` gives up where an intermediate value leaves the floating-point range although the
     integrand's value does not: ``exp(800 x) · exp(−800 x + a)`` is ``inf · 0`` in floating point and
     ``e^a`` in fact.  mpmath's numbers have unbounded exponents (and the same 53-bit precision), so
-    where mpmath finds a finite real value, that is the value, and one beyond a float's range is
-    ±inf with its sign (so a sample that is ±inf now means *too large for a float*, not a pole:
-    :class:`~.adaptive._Finite` tells the two apart).  Anywhere else (a pole, a point outside a
-    primitive's domain, a complex value) ``math``'s answer stands."""
+    where mpmath finds a real value, that is the value.  Case by case, mpmath's value ``m``:
+
+    * mpmath raises (a pole, a primitive outside its domain): ``v`` (``math`` was right);
+    * ``m`` is not real (a root or logarithm of a negative number): ``v`` (likewise);
+    * ``m`` is a finite double: ``m`` (what ``math`` lost on the way);
+    * ``m`` is finite but beyond a double's range: ±inf with its sign (so a sample that is ±inf
+      means *too large for a double*, not a pole: :class:`~.adaptive._Finite` tells the two apart);
+    * ``m`` is mpmath's own ±inf or NaN: ``v``."""
     try:
-        x = g(*[mpmath.mpf(u) for u in vals])  # (mpf arguments: a float's ** overflows like math's)
-        w = complex(x)  # (a finite mpf too large for a float becomes ±inf here)
+        m = g(*[mpmath.mpf(u) for u in vals])  # (mpf arguments: a float's ** overflows like math's)
+        w = complex(m)  # (a finite mpf too large for a double becomes ±inf here)
     except (ValueError, ZeroDivisionError, OverflowError, TypeError):
         return v
     if w.imag != 0.0:
-        return v  # complex: outside a primitive's domain (as math said)
-    r = w.real
-    if r - r == 0.0 or (math.isinf(r) and mpmath.isfinite(x)):
-        return r
+        return v
+    if math.isfinite(w.real):
+        return w.real
+    if math.isinf(w.real) and mpmath.isfinite(m):
+        return w.real
     return v
 
 

@@ -15,8 +15,9 @@ import sympy as sp
 from langur.implicit import ImplicitRootFn
 from langur.memo import remember
 from langur.symbolic.pieces import DeltaPiece
+from langur.symbolic.precise import real_number_at, real_value
 from langur.symbolic.quadrature.brackets import _implied_by_bracket
-from langur.symbolic.quadrature.compiling import COMPILED, _lambdify, _num, substituted
+from langur.symbolic.quadrature.compiling import COMPILED, _lambdify, substituted
 from langur.symbolic.quadrature.nested import integrate_problem
 from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
 from langur.symbolic.walks import free_symbols
@@ -29,7 +30,7 @@ def _vanishes(expr, syms, bounds, at) -> bool:
     condition, not 0)."""
     expr = sp.sympify(expr)
     if expr.is_number:
-        return abs(_num(expr, at)) < 1e-300
+        return abs(real_value(expr)) < 1e-300
     f = _lambdify(syms, expr, at)
     rng = np.random.default_rng(12345)
     points = [[rng.uniform(lo, hi) for lo, hi in bounds] for _ in range(5)]
@@ -94,7 +95,7 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
     variables = list(variables)
     missing = [x for x in variables if x not in psi.variables]
     uprime = list(psi.inputs[1:]) + missing
-    bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in ubox]
+    bounds = [(real_number_at(lo, at), real_number_at(hi, at)) for lo, hi in ubox]
     problems = []
     for b in psi.branches:
         sub = {psi.inputs[0]: sp.Integer(0)}

@@ -12,10 +12,10 @@ import sympy as sp
 
 from langur.memo import remember
 from langur.symbolic.pieces import NOT_FINITE, Piece, Psi
+from langur.symbolic.precise import real_number_at
 from langur.symbolic.quadrature.compiling import (
     OnFirstCall,
     _lambdify,
-    _num,
     _vectorize,
     substituted,
 )
@@ -70,7 +70,7 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
         expr = sp.sympify(c.expr)
         conds.append(NumCond(_lambdify(variables[: lv + 1], expr, at), lv, hints, substituted(expr, at),
                              sym=_parametric(expr), hints_vary=vary))
-    bounds = [(_num(lo, at), _num(hi, at)) for lo, hi in box]
+    bounds = [(real_number_at(lo, at), real_number_at(hi, at)) for lo, hi in box]
     vweight = _vectorize(variables, piece.weight, at) if variables else None
     if vweight is not None and rational_form(sp.sympify(piece.weight)):
         # compiled at its first call: with the vectorized weight on every innermost interval it is

@@ -58,7 +58,7 @@ class UndefinedIntegral(ValueError):
 
 class BeyondRange(OverflowError):
     """The integrand's values are too large for a float (beyond ±1.8·10³⁰⁸, by mpmath:
-    :func:`~.compiling._again`) on a set that sampling keeps hitting: floating-point quadrature can
+    :func:`~.compiling._in_mpmath`) on a set that sampling keeps hitting: floating-point quadrature can
     give neither a value nor an error bound.  Not a verdict on the integral, which may well exist
     (``∫₀¹ exp(1000 x) dx``); the exact engine reports no value rather than *undefined*."""
 
