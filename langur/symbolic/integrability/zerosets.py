@@ -62,11 +62,11 @@ from enum import Enum
 import numpy as np
 import sympy as sp
 
-from ..primitives import REGISTRY
-from ..timebox import Deadline
-from .precise import DIGITS
-from .precise import real_value as _num
-from .precise import value_at as _value
+from ...primitives import REGISTRY
+from ...timebox import Deadline
+from ..precise import DIGITS
+from ..precise import real_value as _num
+from ..precise import value_at as _value
 
 #: Grid points per dimension (the grid has at most a few thousand points).
 GRID = {1: 401, 2: 41, 3: 15}
