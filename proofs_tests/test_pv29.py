@@ -113,11 +113,11 @@ def test_integrable_singularities_keep_their_values(body, box, variables, value,
 
 
 def test_nothing_is_claimed_past_the_time_limit(monkeypatch):
-    monkeypatch.setattr(integrability.zerosets, "TIME_LIMIT", 0.0)
+    monkeypatch.setattr(integrability.driver, "TIME_LIMIT", 0.0)
     p = _program("x/(x^2 + y^2)^2", "[-1, 1], [-1, 1]", "x, y")
     ctx = Ctx(at=at_symbols({"a": 0.5}), variables=("x", "y"))
     assert divergent_where(p, ctx) is None
-    monkeypatch.setattr(integrability.zerosets, "TIME_LIMIT", 5.0)
+    monkeypatch.setattr(integrability.driver, "TIME_LIMIT", 5.0)
     assert divergent_where(p, ctx).blowup.verdict is integrability.Verdict.DIVERGENT
 
 

@@ -1,27 +1,7 @@
-"""Whether an integrand is integrable on its region: an integral that does not exist (LANGUAGE.md §3).
+"""Where a pole base vanishes on R̄, and the codimension of that set (see the package docstring).
 
-⟦int t d(x⃗)⟧ = ∫ ⟦t⟧ (Fig. 12) exists only when ⟦t⟧ is integrable on the box (Prop. 7.1, Theorem 7.1
-assume it: "if ⟦t⟧ is locally integrable").  A principal value is not an integral: ``1/t − 1/(1 − t)``
-on [0, 1] diverges at both ends although its symmetric cancellation is 0, and quadrature can
-converge to that 0 without a warning; a closed form evaluated at the ends can too (``x/(x²+y²)²`` on
-[−1, 1]², odd in x).  This module decides it, once, for the exact engine (:func:`divergence`, which
-``langur.denote.require_defined`` asks after integrating) and for the linter's X311–X313
-(``langur.lint.singular``, through :func:`piece_blowups` and :func:`blowups`).
-
-One simply decomposable piece ``Π [c ≥ 0] · w`` (Def. 6.2) at given parameter values is integrable
-on its closed region R̄ (the box cut by the conditions) unless ``w`` blows up somewhere on R̄. It
-can only blow up on the zero set of a *pole base* ``g``: the base of a negative power (``1/x^2`` is
-``x^-2``, ``1/sqrt(x)`` is ``x^(-1/2)``), ``cos`` of the argument of a ``tan``, or ``log(b)`` in a
-denominator. Near a set S of codimension c in R̄ on which ``|w| ~ dist(·, S)^-α``,
-
-    ∫ |w| < ∞  ⇔  α < c                                    (polar coordinates around S)
-
-so ``1/x`` on [0, 1] (α = 1 on a point of ℝ¹) diverges, ``1/sqrt(x)`` (α = ½) does not,
-``1/(x²+y²)`` at the corner of [0, 1]² (α = 2 at a point of ℝ²) diverges, ``1/sqrt(x²+y²)`` does
-not, and ``1/(x+y)`` at that corner (α = 1) does not; ``w²`` (the variance of a uniform Monte
-Carlo estimate) has 2α.
-
-How the set and the exponent are found (every zero is checked, nothing is assumed):
+A weight can only blow up on the zero set of a *pole base* ``g`` (:func:`pole_bases`); every zero is
+checked, nothing is assumed:
 
 * **the set**: ``g`` is sampled on a grid of R̄ (its faces and corners included).  A sign change
   between neighbouring grid points inside R is a zero set *crossing* R: bisection (50 digits, on
@@ -32,72 +12,24 @@ How the set and the exponent are found (every zero is checked, nothing is assume
   codimension, if ``g`` shares its zero set with a condition active at p c = 1, and if ``g`` has
   no other zero on a small sphere around p in R̄ the point is isolated: c = n.  Otherwise the
   set is not known: undecided.
-* **the exponent**: ``|w(p + t·v)|`` at t = ρ, ρ·10⁻², ρ·10⁻⁴ along directions v into R̄ (50-digit
-  evaluation of the whole weight, so a numerator that vanishes there counts: ``x/(x²+y²)`` grows
-  like r⁻¹, not r⁻²; ``sin(x)/x`` not at all).  Both slopes must agree (within 0.05), else the
-  growth is not a power (oscillation, logarithms): undecided.
-
-Verdicts, with α_max the largest and α_typ the median exponent over the directions tried:
-integrable when α_max < c − margin; divergent when α_typ ≥ c − margin (margin 0.01, or 0.1 when
-a logarithm is singular at p: ``1/(x·log²x)`` measures α ≈ 0.9 but ``1/(x·log x)`` ≈ 0.95 and
-diverges, so near c a logarithm leaves it undecided); otherwise undecided.  An anisotropic zero
-(``1/(x + y²)`` at the corner: α = 1 almost everywhere, 2 along the y-axis; it is integrable) is
-honestly undecided.
-
-The exact engine says "undefined" on a divergent verdict only (never on an undecided one), within
-:data:`TIME_LIMIT` CPU seconds per integral; beyond them it claims nothing, and its quadrature's own
-diagnostics stand.
 """
 
 from __future__ import annotations
 
-import functools
-import itertools
 import math
-import statistics
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from enum import Enum
 
 import numpy as np
 import sympy as sp
 
-from ...primitives import REGISTRY
-from ...timebox import Deadline
 from ..precise import DIGITS
 from ..precise import real_value as _num
 from ..precise import value_at as _value
+from .region import Region, Undecidable, compiled
 
-#: Grid points per dimension (the grid has at most a few thousand points).
-GRID = {1: 401, 2: 41, 3: 15}
 #: Directions tried at a point (the first are the natural ones: axes, inward normals).
 DIRECTIONS = 9
-
-
-class Verdict(Enum):
-    INTEGRABLE = "integrable"
-    DIVERGENT = "divergent"
-    UNDECIDED = "undecided"
-
-
-@dataclass(frozen=True)
-class Blowup:
-    """``w`` blows up on a set of codimension ``codim`` in R̄ through ``point`` like dist^-``alpha``."""
-
-    base: sp.Expr  # the pole base g (parameters substituted)
-    point: tuple[sp.Expr, ...]  # a point of the singular set (exact numbers, or floats)
-    shape: str  # "crossing", "face", "condition", "point" or "unknown"
-    codim: int | None
-    alpha: float | None  # typical exponent (median over directions)
-    alpha_max: float | None
-    verdict: Verdict
-    square: Verdict  # the same question for w² (a finite variance)
-    logarithmic: bool = False
-    face: tuple[tuple[int, sp.Expr], ...] = ()  # (variable index, bound) of the face for "face"
-
-
-class Undecidable(Exception):
-    """The analysis cannot be carried out (no numeric value, time, shape)."""
 
 
 def pole_bases(w: sp.Expr, xs: Sequence[sp.Symbol]) -> list[sp.Expr]:
@@ -119,88 +51,10 @@ def pole_bases(w: sp.Expr, xs: Sequence[sp.Symbol]) -> list[sp.Expr]:
     return out
 
 
-def _log_points(w: sp.Expr) -> list[tuple[sp.Expr, float]]:
-    """(argument, where it is singular) of each logarithmic function in ``w``: log at 0, atanh at ±1."""
-    out = []
-    for e in sp.preorder_traversal(w):
-        if isinstance(e, sp.log):
-            out.append((e.args[0], 0.0))
-        elif isinstance(e, (sp.atanh, sp.acoth)):
-            out.append((e.args[0], 1.0))
-    return out
-
-
-class Region:
-    """R̄: the box (numbers) cut by conditions ``c ≥ 0`` (sympy, parameters substituted)."""
-
-    def __init__(self, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, sp.Expr]], conds: Sequence[sp.Expr]):
-        self.xs = tuple(xs)
-        self.box = [(sp.nsimplify(lo), sp.nsimplify(hi)) for lo, hi in box]
-        self.lo = np.array([float(lo) for lo, _ in self.box])
-        self.hi = np.array([float(hi) for _, hi in self.box])
-        if not (np.all(np.isfinite(self.lo)) and np.all(np.isfinite(self.hi)) and np.all(self.hi > self.lo)):
-            raise Undecidable("the box is empty or unbounded")
-        self.scale = float(np.max(self.hi - self.lo))
-        self.conds = [c for c in conds if c.free_symbols & set(self.xs)]
-        # a condition constant on the box (a guard of an inverse branch that does not apply at
-        # these parameters) that is negative empties the region: nothing there can blow up
-        self.empty = any(_num(c) < 0 for c in conds if not c.free_symbols & set(self.xs))
-        self._cfs = [_numpy(c, self.xs) for c in self.conds]
-
-    def grid(self) -> np.ndarray:
-        n = len(self.xs)
-        k = GRID.get(n, 7)
-        axes = [np.linspace(lo, hi, k) for lo, hi in zip(self.lo, self.hi)]
-        return np.array(list(itertools.product(*axes)), dtype=float).reshape(-1, n), k
-
-    def inside(self, pts: np.ndarray, tol: float = 1e-12) -> np.ndarray:
-        ok = np.all((pts >= self.lo - tol * self.scale) & (pts <= self.hi + tol * self.scale), axis=1)
-        for f in self._cfs:
-            with np.errstate(all="ignore"):
-                v = f(pts)
-            ok &= np.nan_to_num(v, nan=-1.0) >= -tol * self.scale
-        return ok
-
-    def inside_exact(self, p: Sequence[sp.Expr]) -> bool:
-        for (lo, hi), v in zip(self.box, p):
-            if not (_num(v - lo) >= -1e-40 and _num(hi - v) >= -1e-40):
-                return False
-        sub = dict(zip(self.xs, p))
-        return all(_num(c.xreplace(sub)) >= -1e-40 for c in self.conds)
-
-
-@functools.lru_cache(maxsize=4096)  # one condition bounds many regions
-def _lambdified(e: sp.Expr, xs: tuple):
-    """``e`` compiled for numpy over ``xs``, or False where sympy cannot print it (zoo, nan…)."""
-    try:
-        return sp.lambdify(list(xs), e, modules="numpy")
-    except Exception:  # noqa: BLE001 - sympy cannot print zoo, nan… for numpy: nowhere a number
-        return False
-
-
-def _numpy(e: sp.Expr, xs) -> callable:
-    f = _lambdified(e, tuple(xs))
-    if f is False:
-        return lambda pts: np.full(pts.shape[0], np.nan)
-
-    def call(pts: np.ndarray) -> np.ndarray:
-        with np.errstate(all="ignore"):
-            try:
-                v = np.asarray(f(*[pts[:, i] for i in range(pts.shape[1])]), dtype=complex)
-            except (TypeError, ValueError, ZeroDivisionError, OverflowError):
-                return np.full(pts.shape[0], np.nan)
-        v = np.broadcast_to(v, (pts.shape[0],))
-        return np.where(np.abs(v.imag) <= 1e-12 * np.maximum(1.0, np.abs(v.real)), v.real, np.nan)
-
-    return call
-
-
-# ----------------------------------------------------------------------------------------------
-# The singular set
-
-
 @dataclass
-class _Site:
+class Site:
+    """A point of a pole base's zero set on R̄: its shape, the codimension of the set, directions into R̄."""
+
     point: tuple[sp.Expr, ...]
     shape: str
     codim: int | None
@@ -215,14 +69,14 @@ def _snap(v: float, bounds: tuple[sp.Expr, sp.Expr], scale: float) -> sp.Expr:
     return sp.nsimplify(v, [sp.pi], tolerance=1e-9 * max(1.0, abs(v)), rational=False)
 
 
-def _crossings(g, gf, region: Region, pts, vals, inside, k: int) -> list[_Site]:
+def _crossings(g, gf, region: Region, pts, vals, inside, k: int) -> list[Site]:
     """Zero sets of g crossing R: neighbouring grid points inside R with opposite signs."""
     n = len(region.xs)
     shape = (k,) * n
     V = vals.reshape(shape)
     I = inside.reshape(shape) & np.isfinite(V)
     P = pts.reshape(shape + (n,))
-    found: list[_Site] = []
+    found: list[Site] = []
     for axis in range(n):
         a = [slice(None)] * n
         b = [slice(None)] * n
@@ -237,7 +91,7 @@ def _crossings(g, gf, region: Region, pts, vals, inside, k: int) -> list[_Site]:
                 continue
             e = np.zeros(n)
             e[axis] = 1.0
-            found.append(_Site(p, "crossing", 1, [e, -e]))
+            found.append(Site(p, "crossing", 1, [e, -e]))
         if found:
             break
     return found
@@ -369,13 +223,13 @@ def _cone(region: Region, p, active, conds, count: int) -> list[np.ndarray]:
     return [v for v in vs[ok][:count]]
 
 
-def _site_at(g, region: Region, p) -> _Site:
+def _site_at(g, region: Region, p) -> Site:
     """What kind of zero of g the point p ∈ R̄ is (see the module docstring)."""
     n = len(region.xs)
     active, conds = _inward(region, p)
     if n == 1:
         dirs = _cone(region, p, active, conds, 2) or []
-        return _Site(p, "point", 1, [np.array([1.0]), np.array([-1.0])] if not active else dirs)
+        return Site(p, "point", 1, [np.array([1.0]), np.array([-1.0])] if not active else dirs)
     if active:  # does g vanish on the face of the box through p?
         fixed = {region.xs[i]: b for i, b, _ in active}
         gf = g.xreplace(fixed)
@@ -385,7 +239,7 @@ def _site_at(g, region: Region, p) -> _Site:
             for i, _, s in active:
                 normal[i] = s
             dirs = [normal / np.linalg.norm(normal)] + _cone(region, p, active, conds, DIRECTIONS - 1)
-            return _Site(p, "face", len(active), dirs, tuple((i, b) for i, b, _ in active))
+            return Site(p, "face", len(active), dirs, tuple((i, b) for i, b, _ in active))
     for j in conds:  # the zero set of a condition active at p, shared with g
         c = region.conds[j]
         try:
@@ -395,7 +249,7 @@ def _site_at(g, region: Region, p) -> _Site:
         if not shared.is_number:
             grad = np.array([_value(sp.diff(c, x), region.xs, p) for x in region.xs])
             if np.all(np.isfinite(grad)) and np.linalg.norm(grad) > 0:
-                return _Site(p, "condition", 1, [grad / np.linalg.norm(grad)]
+                return Site(p, "condition", 1, [grad / np.linalg.norm(grad)]
                              + _cone(region, p, active, conds, DIRECTIONS - 1))
     dirs = _cone(region, p, active, conds, 64)
     if not dirs:
@@ -404,13 +258,13 @@ def _site_at(g, region: Region, p) -> _Site:
     rho = 1e-3 * region.scale
     gv = np.array([_value(g, region.xs, tuple(sp.Float(float(c), DIGITS) for c in pf + rho * d)) for d in dirs])
     if not np.all(np.isfinite(gv)):
-        return _Site(p, "unknown", None, dirs[:DIRECTIONS])
+        return Site(p, "unknown", None, dirs[:DIRECTIONS])
     if np.any(gv > 0) and np.any(gv < 0):  # the zero set passes through p into R: a crossing
         order = np.argsort(-np.abs(gv))
-        return _Site(p, "crossing", 1, [dirs[i] for i in order[:DIRECTIONS]])
+        return Site(p, "crossing", 1, [dirs[i] for i in order[:DIRECTIONS]])
     if np.min(np.abs(gv)) > 1e-12 * max(np.max(np.abs(gv)), 1e-300):
-        return _Site(p, "point", n, dirs[:DIRECTIONS])
-    return _Site(p, "unknown", None, dirs[:DIRECTIONS])
+        return Site(p, "point", n, dirs[:DIRECTIONS])
+    return Site(p, "unknown", None, dirs[:DIRECTIONS])
 
 
 def _vanishes_near(gf: sp.Expr, free, at, region: Region) -> bool:
@@ -425,10 +279,10 @@ def _vanishes_near(gf: sp.Expr, free, at, region: Region) -> bool:
     return True
 
 
-def sites(g: sp.Expr, region: Region) -> list[_Site]:
+def sites(g: sp.Expr, region: Region) -> list[Site]:
     """Points of the zero set of g on R̄, each with its shape and codimension."""
     pts, k = region.grid()
-    gf = _numpy(g, region.xs)
+    gf = compiled(g, region.xs)
     vals = gf(pts)
     inside = region.inside(pts)
     crossing = _crossings(g, gf, region, pts, vals, inside, k)
@@ -436,206 +290,3 @@ def sites(g: sp.Expr, region: Region) -> list[_Site]:
         return crossing
     return [_site_at(g, region, p) for p in _touchings(g, gf, region, pts, vals, inside)]
 
-
-# ----------------------------------------------------------------------------------------------
-# Growth exponents and verdicts
-
-
-def growth(w: sp.Expr, xs, p, v: np.ndarray, scale: float) -> float | None:
-    """α with |w(p + t·v)| ~ t^-α (None: w vanishes there, or no power law)."""
-    logs = []
-    for k in (3, 5, 7):
-        t = sp.Float(10.0 ** -k * scale, DIGITS)
-        q = [pi + t * sp.Float(float(vi), DIGITS) for pi, vi in zip(p, v)]
-        val = _value(w, xs, q)
-        if not math.isfinite(val):
-            return None
-        if val == 0:
-            return None
-        logs.append(math.log10(abs(val)))
-    s1, s2 = (logs[1] - logs[0]) / 2, (logs[2] - logs[1]) / 2
-    if abs(s1 - s2) > 0.05:
-        raise Undecidable("the integrand does not grow like a power there")
-    return s2
-
-
-def _logarithmic(w: sp.Expr, xs, p) -> bool:
-    for a, where in _log_points(w):
-        v = _value(a, xs, p)
-        if not math.isfinite(v) or abs(abs(v) - where) < 1e-30:
-            return True
-    return False
-
-
-def decide(alpha_typ: float, alpha_max: float, codim: int, logarithmic: bool) -> Verdict:
-    margin = 0.1 if logarithmic else 0.01
-    if alpha_max < codim - margin:
-        return Verdict.INTEGRABLE
-    if alpha_typ >= codim - 0.01 and not (logarithmic and abs(alpha_typ - codim) < 0.1):
-        return Verdict.DIVERGENT
-    return Verdict.UNDECIDED
-
-
-#: The sympy functions of the primitives defined and finite on all of ℝ (exp, sin, cos, tanh, atan, erf).
-_EVERYWHERE = tuple(getattr(sp, p.sympy) for p in REGISTRY.values()
-                    if isinstance(getattr(sp, p.sympy, None), type) and p.domain.everywhere)
-
-#: Largest degree of a pole base whose real roots :func:`_zero_free` counts exactly.
-ZERO_FREE_DEGREE = 20
-
-
-def finite_on_box(w: sp.Expr, xs: Sequence[sp.Symbol], box: tuple[tuple[sp.Expr, sp.Expr], ...]) -> bool:
-    """Is ``w`` certainly defined and finite on the whole closed box?  Built of the variables,
-    finite real numbers, +, ·, integer powers and the primitives defined on all of ℝ, with every
-    negative power's base free of zeros on the box (:func:`_zero_free`, exact).  Then
-    :func:`blowups` has nothing to find on any region inside the box (no pole base vanishes
-    there, no partial primitive is applied): a caller need not build the regions of a sum of 10⁴
-    pieces ``[x ≥ c_k] / (x + 1)``.  False says nothing."""
-    xs = tuple(xs)
-    for n in sp.preorder_traversal(w):
-        if n.is_Symbol:
-            if n not in xs:
-                return False
-        elif n.is_Number:
-            if n.is_finite is not True:
-                return False
-        elif n.is_Pow:
-            if not n.exp.is_Integer or (n.exp < 0 and not _zero_free(n.base, xs, box)):
-                return False
-        elif not (n.is_Add or n.is_Mul or n.is_NumberSymbol or isinstance(n, _EVERYWHERE)):
-            return False
-    return True
-
-
-@functools.lru_cache(maxsize=4096)  # one pole base, many regions
-def _zero_free(g: sp.Expr, xs: tuple, box: tuple) -> bool:
-    """Has ``g`` no zero on the closed box?  Decided exactly for a polynomial in one variable with
-    rational coefficients, of degree at most :data:`ZERO_FREE_DEGREE`, on a side with rational
-    ends (Sturm's count of its real roots there: 0); a nonzero finite number has none; anything
-    else: False (not known)."""
-    free = g.free_symbols
-    if not free:
-        return bool(g.is_Number and g.is_finite and g != 0)
-    if len(free) != 1 or not free <= set(xs):
-        return False
-    (x,) = free
-    lo, hi = box[xs.index(x)]
-    if not (lo.is_Rational and hi.is_Rational and lo <= hi):
-        return False
-    try:
-        p = sp.Poly(g, x)
-    except sp.PolynomialError:
-        return False
-    if p.domain not in (sp.ZZ, sp.QQ) or p.degree() > ZERO_FREE_DEGREE:
-        return False
-    return p.count_roots(lo, hi) == 0
-
-
-def blowups(w: sp.Expr, region: Region) -> list[Blowup]:
-    """Every place where ``w`` blows up on R̄, with its verdict."""
-    out: list[Blowup] = []
-    if region.empty:
-        return out
-    for g in pole_bases(w, region.xs):
-        try:
-            found = sites(g, region)
-        except Undecidable:
-            out.append(Blowup(g, (), "unknown", None, None, None, Verdict.UNDECIDED, Verdict.UNDECIDED))
-            continue
-        for s in found:
-            out.append(_judge(w, g, s, region))
-    return out
-
-
-def _judge(w: sp.Expr, g: sp.Expr, s: _Site, region: Region) -> Blowup:
-    logarithmic = _logarithmic(w, region.xs, s.point)
-    if s.codim is None:
-        return Blowup(g, s.point, s.shape, None, None, None, Verdict.UNDECIDED, Verdict.UNDECIDED, logarithmic)
-    alphas = []
-    try:
-        for v in s.directions:
-            a = growth(w, region.xs, s.point, v, region.scale)
-            if a is not None:
-                alphas.append(a)
-    except Undecidable:
-        return Blowup(g, s.point, s.shape, s.codim, None, None, Verdict.UNDECIDED, Verdict.UNDECIDED,
-                      logarithmic, s.face)
-    if not alphas:  # w vanishes along every direction tried: no blow-up there
-        return Blowup(g, s.point, s.shape, s.codim, 0.0, 0.0, Verdict.INTEGRABLE, Verdict.INTEGRABLE,
-                      logarithmic, s.face)
-    typ, top = statistics.median(alphas), max(alphas)
-    return Blowup(g, s.point, s.shape, s.codim, typ, top, decide(typ, top, s.codim, logarithmic),
-                  decide(2 * typ, 2 * top, s.codim, logarithmic), logarithmic, s.face)
-
-
-# ----------------------------------------------------------------------------------------------
-# The pieces of an integrand, and the exact engine's verdict
-
-#: CPU seconds the exact engine gives the analysis of one integral (beyond: nothing is claimed).
-TIME_LIMIT = 5.0
-
-
-def piece_blowups(pieces, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, sp.Expr]],
-                  at: Mapping[sp.Symbol, sp.Expr]) -> Iterator[tuple[sp.Expr, list[Blowup]]]:
-    """Each simply decomposable piece's weight (Def. 6.2: ``weight``, ``conditions``) at the parameter
-    values ``at`` (``box`` already at them) with its blow-ups on its region, piece by piece.  A piece
-    whose weight is constant in the variables or :func:`finite_on_box` is skipped (nothing blows up
-    on any region of the box), and so is a region the analysis cannot describe."""
-    whole = tuple(tuple(side) for side in box)
-    for pc in pieces:
-        w = sp.sympify(pc.weight).xreplace(at)
-        if not (w.free_symbols & set(xs)) or finite_on_box(w, xs, whole):
-            continue
-        conds = [sp.sympify(c.expr).xreplace(at) for c in pc.conditions]
-        try:
-            region = Region(xs, box, conds)
-        except Undecidable:
-            continue
-        yield w, blowups(w, region)
-
-
-@dataclass(frozen=True)
-class Divergent:
-    """``what`` (⟦t⟧, or ⦇t⦈'s regular part) is not integrable: its piece's weight ``weight`` blows up
-    as ``blowup`` says (a divergent verdict), over the variables ``names``."""
-
-    weight: sp.Expr
-    blowup: Blowup
-    names: tuple[str, ...]
-    what: str = "the integrand"
-
-    @property
-    def reason(self) -> str:
-        b = self.blowup
-        pt = ", ".join(_text(v) for v in b.point)
-        at = f"({', '.join(self.names)}) = ({pt})" if len(self.names) > 1 else f"{self.names[0]} = {pt}"
-        where = f"on the zero set of {sp.sstr(b.base)} (e.g. at {at})" if b.shape == "crossing" else f"at {at}"
-        return (f"{self.what} {sp.sstr(self.weight)} is not integrable: it blows up {where} like "
-                f"dist^-{b.alpha:.3g} near a set of codimension {b.codim}, and a singularity of order α is "
-                "integrable only when α is below that codimension: the integral diverges (a principal value "
-                "or a quadrature that converges to one is not ⟦p⟧)")
-
-
-def _text(v) -> str:
-    f = _num(v)
-    return f"{f:.6g}" if math.isfinite(f) else sp.sstr(v)
-
-
-def divergence(pieces, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, sp.Expr]],
-               at: Mapping[sp.Symbol, sp.Expr], what: str = "the integrand") -> Divergent | None:
-    """The first blow-up of the ``pieces`` of ``what`` (⟦t⟧'s, or ⦇t⦈'s regular part's, at the
-    parameter values ``at``) at which it is not integrable on the box, or None: integrable,
-    undecided, or not decided within :data:`TIME_LIMIT` CPU seconds (nothing is claimed then)."""
-    ends = [(sp.sympify(lo).xreplace(at), sp.sympify(hi).xreplace(at)) for lo, hi in box]
-
-    def first() -> Divergent | None:
-        for w, found in piece_blowups(pieces, tuple(xs), ends, at):
-            for b in found:
-                if b.verdict is Verdict.DIVERGENT:
-                    return Divergent(w, b, tuple(str(x) for x in xs), what)
-        return None
-
-    try:
-        return Deadline(TIME_LIMIT).run(first)
-    except Exception:  # noqa: BLE001 - time, or a case the analysis cannot evaluate: nothing is claimed
-        return None
