@@ -287,8 +287,9 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
     boundary = (integrate_delta_pieces(nf.deltas, variables, box, point, timeout=timeout, cell=cell,
                                        symbolic=symbolic)
                 if nf.deltas else zero_integral())
-    # ⦇p⦈ = ∫ ⦇t⦈ does not exist where ⟦p⟧ does not (T⟦t⟧ undefined), nor where its regular part is not integrable
-    require_defined(program, ctx, nf.regular)
+    # ⦇p⦈ = ∫ ⦇t⦈ does not exist where ⟦p⟧ does not (T⟦t⟧ undefined), nor where its regular part is not
+    # integrable, nor where a delta term's weight is not integrable on its zero set
+    require_defined(program, ctx, nf.regular, nf.deltas)
     exact = regular.method == Method.CLOSED_FORM and boundary.method == Method.CLOSED_FORM
     expr = regular.expr + boundary.expr if regular.expr is not None and boundary.expr is not None else None
     return DerivativeResult(

@@ -4,9 +4,10 @@
 assume it: "if ⟦t⟧ is locally integrable").  A principal value is not an integral: ``1/t − 1/(1 − t)``
 on [0, 1] diverges at both ends although its symmetric cancellation is 0, and quadrature can
 converge to that 0 without a warning; a closed form evaluated at the ends can too (``x/(x²+y²)²`` on
-[−1, 1]², odd in x).  This package decides it, once, for the exact engine (:func:`divergence`, which
-``langur.denote.require_defined`` asks after integrating) and for the linter's X311–X313
-(``langur.lint.singular``, through :func:`piece_blowups` and :func:`blowups`).
+[−1, 1]², odd in x).  This package decides it, once, for the exact engine (:func:`divergence` and
+:func:`delta_divergence`, which ``langur.denote.require_defined`` asks after integrating) and for the
+linter's X311–X313 (``langur.lint.singular``, through :func:`piece_blowups`, :func:`delta_blowups` and
+:func:`blowups`).
 
 One simply decomposable piece ``Π [c ≥ 0] · w`` (Def. 6.2) at given parameter values is integrable
 on its closed region R̄ (the box cut by the conditions) unless ``w`` blows up somewhere on R̄. It
@@ -26,15 +27,17 @@ Its modules, one job each (every zero is checked, nothing is assumed):
 * :mod:`.zerosets` — where a pole base vanishes on R̄, and the codimension of that set;
 * :mod:`.verdicts` — the exponent α along directions into R̄, and the verdict α against c;
 * :mod:`.finite` — a weight certainly finite on the whole box (nothing to look for);
+* :mod:`.deltas` — ⦇t⦈'s delta terms pulled back to their zero sets (X313's delta half);
 * :mod:`.driver` — piece by piece: the weights of ⟦t⟧'s or ⦇t⦈'s pieces, and the exact engine's verdict.
 """
 
-from .driver import TIME_LIMIT, Divergent, divergence, piece_blowups
+from .deltas import delta_blowups
+from .driver import TIME_LIMIT, Divergent, delta_divergence, divergence, piece_blowups
 from .finite import ZERO_FREE_DEGREE, finite_on_box
 from .region import GRID, Region, Undecidable
 from .verdicts import Blowup, Verdict, blowups, decide, growth
 from .zerosets import DIRECTIONS, pole_bases, sites
 
 __all__ = ["DIRECTIONS", "GRID", "TIME_LIMIT", "ZERO_FREE_DEGREE", "Blowup", "Divergent", "Region", "Undecidable",
-           "Verdict", "blowups", "decide", "divergence", "finite_on_box", "growth", "piece_blowups", "pole_bases",
-           "sites"]
+           "Verdict", "blowups", "decide", "delta_blowups", "delta_divergence", "divergence", "finite_on_box",
+           "growth", "piece_blowups", "pole_bases", "sites"]

@@ -15,6 +15,7 @@ import sympy as sp
 
 from ...timebox import Deadline
 from ..precise import real_value as _num
+from .deltas import delta_blowups
 from .finite import finite_on_box
 from .region import Region, Undecidable
 from .verdicts import Blowup, Verdict, blowups
@@ -44,8 +45,8 @@ def piece_blowups(pieces, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, 
 
 @dataclass(frozen=True)
 class Divergent:
-    """``what`` (⟦t⟧, or ⦇t⦈'s regular part) is not integrable: its piece's weight ``weight`` blows up
-    as ``blowup`` says (a divergent verdict), over the variables ``names``."""
+    """``what`` (⟦t⟧, ⦇t⦈'s regular part, or a delta term's weight on its zero set) is not integrable: its
+    piece's weight ``weight`` blows up as ``blowup`` says (a divergent verdict), over the variables ``names``."""
 
     weight: sp.Expr
     blowup: Blowup
@@ -57,11 +58,14 @@ class Divergent:
         b = self.blowup
         pt = ", ".join(_text(v) for v in b.point)
         at = f"({', '.join(self.names)}) = ({pt})" if len(self.names) > 1 else f"{self.names[0]} = {pt}"
+        if b.shape == "zero set":  # a delta term in one variable: its weight at the root
+            return (f"{self.what} {sp.sstr(self.weight)} is {'not defined' if math.isnan(b.alpha) else 'infinite'} "
+                    f"at {at}, where the delta's sifting property evaluates it: the integral does not exist")
         where = f"on the zero set of {sp.sstr(b.base)} (e.g. at {at})" if b.shape == "crossing" else f"at {at}"
         return (f"{self.what} {sp.sstr(self.weight)} is not integrable: it blows up {where} like "
                 f"dist^-{b.alpha:.3g} near a set of codimension {b.codim}, and a singularity of order α is "
                 "integrable only when α is below that codimension: the integral diverges (a principal value "
-                "or a quadrature that converges to one is not ⟦p⟧)")
+                f"or a quadrature that converges to one is not {'⟦p⟧' if self.what == 'the integrand' else '⦇p⦈'})")
 
 
 def _text(v) -> str:
@@ -83,6 +87,28 @@ def divergence(pieces, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, sp.
                     return Divergent(w, b, tuple(str(x) for x in xs), what)
         return None
 
+    return _within_limit(first)
+
+
+def delta_divergence(deltas, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, sp.Expr]],
+                     at: Mapping[sp.Symbol, sp.Expr]) -> Divergent | None:
+    """The first delta term of ⦇t⦈ (``deltas``, at the parameter values ``at``) whose weight is not
+    integrable on its zero set (:mod:`.deltas`), or None, as :func:`divergence` decides for pieces."""
+    ends = [(sp.sympify(lo).xreplace(at), sp.sympify(hi).xreplace(at)) for lo, hi in box]
+
+    def first() -> Divergent | None:
+        for w, uxs, found in delta_blowups(deltas, tuple(xs), ends, at):
+            for b in found:
+                if b.verdict is Verdict.DIVERGENT:
+                    return Divergent(w, b, tuple(str(x) for x in uxs), "the weight of a delta term of ⦇t⦈")
+        return None
+
+    return _within_limit(first)
+
+
+def _within_limit(first) -> Divergent | None:
+    """``first()`` within :data:`TIME_LIMIT` CPU seconds; past them, or where the analysis cannot
+    evaluate a case, None: nothing is claimed."""
     try:
         return Deadline(TIME_LIMIT).run(first)
     except Exception:  # noqa: BLE001 - time, or a case the analysis cannot evaluate: nothing is claimed
