@@ -16,14 +16,10 @@ on the box, α = 2 ≥ 1: undefined.  The form derived at a = −1 gave −5.33 
 
 from __future__ import annotations
 
-import math
-
-import numpy as np
 import pytest
 
 from langur.ddenote import ddenote, ddenote_program
 from langur.denote import divergent_delta
-from langur.exact_batch import exact_batch
 from langur.frontend import load_text
 from langur.lint import singular
 from langur.symbolic import integrability
