@@ -244,7 +244,7 @@ class DerivativeResult:
 _NORMAL_FORMS: dict = {}
 
 
-def _normal_form(program: Program, direction: Mapping[str, object], at) -> NormalForm:
+def normal_form(program: Program, direction: Mapping[str, object], at) -> NormalForm:
     """⦇p⦈'s normal form at ``at``; remembered by (program, γ') when the program is point-free (the
     same normal form at every point: Theorem 8.1's check computes ⦇p⦈ at nearby points), except
     while the rules are observed (:func:`langur.observe.watched`)."""
@@ -277,7 +277,7 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
     )
 
     check_values(program, at, direction)
-    nf = _normal_form(program, direction, at)
+    nf = normal_form(program, direction, at)
     point = at_symbols(at)
     ctx = Ctx(at=point, variables=tuple(program.variables))
     variables, box = symbols(program.variables), program_box(program, ctx)

@@ -16,10 +16,14 @@ on the box, α = 2 ≥ 1: undefined.  The form derived at a = −1 gave −5.33 
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
 import pytest
 
 from langur.ddenote import ddenote, ddenote_program
 from langur.denote import divergent_delta
+from langur.exact_batch import exact_batch
 from langur.frontend import load_text
 from langur.lint import singular
 from langur.symbolic import integrability
@@ -69,3 +73,31 @@ def test_a_delta_weight_infinite_at_its_root_in_one_variable():
     # away from the singular point (a = 1/4: the weight at the root is 1/sqrt(1/4) = 2) nothing is claimed
     nf = ddenote(p.body, {"a": 1}, at={"a": 0.25}, variables=("x",))
     assert divergent_delta(p, Ctx(at=at_symbols({"a": 0.25}), variables=("x",)), nf.deltas) is None
+def test_exact_batch_undefined_where_the_pole_enters_the_box():
+    p = _load("param a = -1\nint ([0, 1]) 1/(x - a)^2 d(x)\n")
+    a = np.array([-1.0, -0.5, 0.25, 0.5, 1.5, 2.0])
+    e = exact_batch(p, {"a": a})
+    outside = [0, 1, 4, 5]
+    hand = -1 / (1 - a[outside]) - 1 / a[outside]
+    assert np.allclose(e.value[outside], hand, rtol=0, atol=1e-12)
+    assert np.all(np.isnan(e.value[[2, 3]])) and sorted(e.undefined) == [2, 3]
+    assert all("not integrable" in why or "undefined" in why for why in e.undefined.values())
+    assert e.missing == 0
+
+
+def test_exact_batch_derivative_undefined_where_the_pole_enters_the_box():
+    # D_a ∫₀¹ (x − a)^(−2) dx = ∫₀¹ 2 (x − a)^(−3) dx = 1/a² − 1/(1 − a)² outside [0, 1] (by hand)
+    p = _load("param a = -1\nint ([0, 1]) 1/(x - a)^2 d(x)\n")
+    a = np.array([-1.0, 0.5, -2.0])
+    e = exact_batch(p, {"a": a}, {"a": 1})
+    assert np.allclose(e.derivative[[0, 2]], 1 / a[[0, 2]] ** 2 - 1 / (1 - a[[0, 2]]) ** 2, rtol=0, atol=1e-12)
+    assert math.isnan(e.derivative[1]) and list(e.undefined) == [1]
+
+
+def test_exact_batch_keeps_an_integrable_singularity_in_the_cell():
+    # ∫₀¹ |x − a|^(−1/2) dx = 2√a + 2√(1 − a) on [0, 1] (by hand): integrable, never undefined
+    p = _load("param a = 0.25\nint ([0, 1]) 1 / sqrt(abs(x - a)) d(x)\n")
+    a = np.array([0.25, 0.5, 0.75])
+    e = exact_batch(p, {"a": a})
+    assert not e.undefined and e.missing == 0
+    assert np.allclose(e.value, 2 * np.sqrt(a) + 2 * np.sqrt(1 - a), rtol=0, atol=1e-7)
