@@ -158,10 +158,22 @@ def _in_cell(parts: list[Integral], syms, columns) -> np.ndarray:
 
 
 def _values(expr: sp.Expr, syms, columns, members: np.ndarray) -> np.ndarray:
+    """The closed form at the ``members``: in real arithmetic, and where that is NaN in complex
+    arithmetic, kept where the imaginary parts cancel (``log(a) − log(a − Max(0, Min(1, a)))`` at a < 0:
+    log(−1) = iπ twice, which real numpy reads as NaN)."""
     f = sp.lambdify(syms, expr, modules="numpy")
+    args = [c[members] for c in columns]
     with np.errstate(all="ignore"):
-        v = f(*[c[members] for c in columns])
-    return np.broadcast_to(np.asarray(v, dtype=float), (int(members.sum()),))
+        v = np.array(np.broadcast_to(np.asarray(f(*args), dtype=float), (int(members.sum()),)))
+        nan = np.isnan(v)
+        if nan.any():
+            try:
+                z = np.broadcast_to(np.asarray(f(*[a[nan].astype(complex) for a in args]), dtype=complex),
+                                    (int(nan.sum()),))
+            except (TypeError, ValueError):
+                return v
+            v[nan] = np.where(np.abs(z.imag) <= 1e-12 * np.maximum(1.0, np.abs(z.real)), z.real, np.nan)
+    return v
 
 
 def maybe_singular(program: Program, direction: Mapping[str, object] | None, names: list[str],
@@ -170,8 +182,8 @@ def maybe_singular(program: Program, direction: Mapping[str, object] | None, nam
     in ``direction``, vanish on the closed box there?  Each base is sampled on a grid of the box
     (:data:`SINGULAR_GRID`, faces and corners included) at every point at once: a sign change, a value
     not a finite real number, or a smallest |value| below :data:`TOUCHING` of the largest says it may
-    (exact for a base affine in the variables: its zero set crosses the box, or meets it in a node;
-    otherwise conservative where a zero touches between nodes).  False: the integrand is bounded on the
+    (conservative where a zero touches between nodes); a base affine in the variables is sampled at the
+    box's corners only, where its extremes are (exact: a zero on the closed box iff min ≤ 0 ≤ max).  False: the integrand is bounded on the
     box there (it can blow up only on a pole base's zero set), so the integral exists where its
     closed form is a finite number.  Where the bases cannot be found, True everywhere."""
     if not has_partial(program.body):  # no primitive or power defined on part of ℝ: nothing blows up
@@ -179,18 +191,17 @@ def maybe_singular(program: Program, direction: Mapping[str, object] | None, nam
     xs = list(symbols(program.variables))
     params = [symbol(k) for k in names]
     try:
-        w = denote(program.body)
-        ws = [w] + [sp.diff(w, symbol(k)) for k, v in (direction or {}).items() if v]
-        bases = list(dict.fromkeys(g for e in ws for g in pole_bases(e, xs)))
+        bases = _bases(denote(program.body), xs, [symbol(k) for k, v in (direction or {}).items() if v])
         ends = [sp.lambdify(params, sp.Matrix([denote(lo), denote(hi)]), modules="numpy") for lo, hi in program.box]
-        fs = [sp.lambdify(xs + params, g, modules="numpy") for g in bases]
+        fs = [(sp.lambdify(xs + params, g, modules="numpy"), _affine(g, xs)) for g in bases]
     except Exception:  # noqa: BLE001 - a base or box sympy cannot compile: every point is checked on its own
         return np.ones(npts, dtype=bool)
     if not fs:
         return np.zeros(npts, dtype=bool)
     n = len(xs)
     k = SINGULAR_GRID.get(n, 5)
-    unit = np.array(list(itertools.product(np.linspace(0.0, 1.0, k), repeat=n)))  # (G, n)
+    grid = np.array(list(itertools.product(np.linspace(0.0, 1.0, k), repeat=n)))  # (G, n)
+    corners = np.array(list(itertools.product((0.0, 1.0), repeat=n)))  # an affine base's extremes
     out = np.zeros(npts, dtype=bool)
     with np.errstate(all="ignore"):
         for start in range(0, npts, CHUNK):
@@ -199,8 +210,9 @@ def maybe_singular(program: Program, direction: Mapping[str, object] | None, nam
             box = np.stack([np.broadcast_to(np.asarray(f(*part), dtype=float).reshape(2, -1), (2, m))
                             for f in ends], axis=-1)  # (2, m, n)
             lo, width = box[0][:, None, :], (box[1] - box[0])[:, None, :]
-            pts = lo + unit[None, :, :] * width  # (m, G, n)
-            for f in fs:
+            for f, affine in fs:
+                unit = corners if affine else grid
+                pts = lo + unit[None, :, :] * width  # (m, G, n)
                 try:
                     v = np.asarray(f(*[pts[..., d] for d in range(n)], *[c[:, None] for c in part]))
                 except (TypeError, ValueError, ZeroDivisionError, OverflowError):
@@ -210,9 +222,32 @@ def maybe_singular(program: Program, direction: Mapping[str, object] | None, nam
                     v = np.where(np.abs(v.imag) <= 1e-12 * np.maximum(1.0, np.abs(v.real)), v.real, np.nan)
                 v = np.broadcast_to(v.astype(float), (m, unit.shape[0]))
                 a = np.abs(v)
-                out[start:start + m] |= ~np.all(np.isfinite(v), axis=1) | (
-                    (np.min(v, axis=1) < 0) & (np.max(v, axis=1) > 0)) | (np.min(a, axis=1) <= TOUCHING * np.max(a, axis=1))
+                zero = (np.min(v, axis=1) <= 0) & (np.max(v, axis=1) >= 0) if affine else \
+                    ((np.min(v, axis=1) < 0) & (np.max(v, axis=1) > 0)) | (np.min(a, axis=1) <= TOUCHING * np.max(a, axis=1))
+                out[start:start + m] |= ~np.all(np.isfinite(v), axis=1) | zero
     return out
+
+
+def _bases(w: sp.Expr, xs: list[sp.Symbol], moving: list[sp.Symbol]) -> list[sp.Expr]:
+    """The pole bases of ⟦t⟧ = ``w`` and of its derivatives in the ``moving`` parameters: those of ``w``,
+    and those of the derivative of each power that is not a natural number's and each function applied
+    (the chain rule makes a derivative's poles only there: ``log(x − a)`` gives ``1/(x − a)``); each
+    small subterm is differentiated, not ``w``."""
+    out = dict.fromkeys(pole_bases(w, xs))
+    for e in sp.preorder_traversal(w) if moving else ():
+        partial = (e.is_Pow and not (e.exp.is_Integer and e.exp >= 0)) or \
+            (isinstance(e, sp.Function) and not isinstance(e, sp.Piecewise))
+        if partial and e.free_symbols & set(xs) and e.free_symbols & set(moving):
+            out.update(dict.fromkeys(g for p in moving for g in pole_bases(sp.diff(e, p), xs)))
+    return list(out)
+
+
+def _affine(g: sp.Expr, xs: list[sp.Symbol]) -> bool:
+    """Is ``g`` affine in the variables (its extremes on the box at its corners)?"""
+    try:
+        return sp.Poly(g, *xs).total_degree() <= 1
+    except sp.PolynomialError:
+        return False
 
 
 def _undefined_at(program: Program, at: Mapping[str, Fraction], direction: Mapping[str, object] | None) -> str | None:

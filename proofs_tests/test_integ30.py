@@ -101,3 +101,15 @@ def test_exact_batch_keeps_an_integrable_singularity_in_the_cell():
     e = exact_batch(p, {"a": a})
     assert not e.undefined and e.missing == 0
     assert np.allclose(e.value, 2 * np.sqrt(a) + 2 * np.sqrt(1 - a), rtol=0, atol=1e-7)
+
+
+def test_exact_batch_derivative_undefined_where_only_the_derivative_stops_existing():
+    # ⟦p⟧ = ∫₀¹ log|x − a| dx exists for every a; ⦇p⦈ = ∫₀¹ −1/(x − a) dx = log|a| − log|1 − a| (by hand)
+    # only for a ∉ [0, 1]: at a = 1/2 it is a principal value (0), not an integral (X313's case)
+    p = _load("param a = -1\nint ([0, 1]) log(abs(x - a)) d(x)\n")
+    a = np.array([-1.0, 0.5, 2.0])
+    e = exact_batch(p, {"a": a}, {"a": 1})
+    assert np.allclose(e.value[0], 2 * math.log(2) - 1, rtol=0, atol=1e-12)  # ∫₀¹ log(x + 1) dx
+    assert np.allclose(e.derivative[[0, 2]], np.log(np.abs(a[[0, 2]])) - np.log(np.abs(1 - a[[0, 2]])),
+                       rtol=0, atol=1e-12)
+    assert math.isnan(e.derivative[1]) and list(e.undefined) == [1] and "regular part" in e.undefined[1]
