@@ -22,12 +22,13 @@ import numpy as np
 import pytest
 
 from langur.ddenote import ddenote, ddenote_program
-from langur.denote import divergent_delta
+from langur.denote import denote_program, divergent_delta
 from langur.exact_batch import exact_batch
 from langur.frontend import load_text
 from langur.lint import singular
 from langur.symbolic import integrability
 from langur.symbolic.decompose import Ctx
+from langur.symbolic.integrability import verdicts
 from langur.symbolic.quadrature import UndefinedIntegral
 from langur.sympy_bridge import at_symbols
 
@@ -113,3 +114,17 @@ def test_exact_batch_derivative_undefined_where_only_the_derivative_stops_existi
     assert np.allclose(e.derivative[[0, 2]], np.log(np.abs(a[[0, 2]])) - np.log(np.abs(1 - a[[0, 2]])),
                        rtol=0, atol=1e-12)
     assert math.isnan(e.derivative[1]) and list(e.undefined) == [1] and "regular part" in e.undefined[1]
+
+
+def test_the_linter_and_the_engine_share_one_analysis(monkeypatch):
+    # a command lints ⟦p⟧ (X311) and then the engine asks require_defined at the same point: one analysis
+    runs = []
+    real = verdicts.blowups
+    monkeypatch.setattr(verdicts, "blowups", lambda w, region: runs.append(w) or real(w, region))
+    monkeypatch.setattr(verdicts, "_FOUND", {})
+    p = _load("param a = 0.5\nint ([0, 1], [0, 1]) a * x / (x^2 + y^2) d(x, y)\n")
+    assert singular.value_integrability(p, {"a": 0.5}).verdict is integrability.Verdict.INTEGRABLE
+    assert len(runs) == 1
+    # ∫∫ x/(x² + y²) = ∫₀¹ atan(1/x) dx = π/4 + log(2)/2 (by hand), times a
+    assert denote_program(p, {"a": 0.5}).value == pytest.approx(0.5 * (math.pi / 4 + math.log(2) / 2), abs=1e-9)
+    assert len(runs) == 1

@@ -35,9 +35,9 @@ from .deltas import delta_blowups
 from .driver import TIME_LIMIT, Divergent, delta_divergence, divergence, piece_blowups
 from .finite import ZERO_FREE_DEGREE, finite_on_box
 from .region import GRID, Region, Undecidable
-from .verdicts import Blowup, Verdict, blowups, decide, growth
+from .verdicts import Blowup, Verdict, blowups, blowups_on, decide, growth
 from .zerosets import DIRECTIONS, pole_bases, sites
 
 __all__ = ["DIRECTIONS", "GRID", "TIME_LIMIT", "ZERO_FREE_DEGREE", "Blowup", "Divergent", "Region", "Undecidable",
-           "Verdict", "blowups", "decide", "delta_blowups", "delta_divergence", "divergence", "finite_on_box",
+           "Verdict", "blowups", "blowups_on", "decide", "delta_blowups", "delta_divergence", "divergence", "finite_on_box",
            "growth", "piece_blowups", "pole_bases", "sites"]

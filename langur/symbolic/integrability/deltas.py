@@ -24,8 +24,8 @@ import sympy as sp
 from ..precise import DIGITS
 from ..precise import real_value as _num
 from .finite import finite_on_box
-from .region import Region, Undecidable
-from .verdicts import Blowup, Verdict, blowups
+from .region import Undecidable
+from .verdicts import Blowup, Verdict, blowups_on
 
 
 def delta_blowups(deltas, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, sp.Expr]],
@@ -62,10 +62,10 @@ def delta_blowups(deltas, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, 
             if finite_on_box(w, uxs, tuple(tuple(side) for side in ubox)):
                 continue  # nothing blows up on any region of u′'s box
             try:
-                region = Region(uxs, ubox, conds)
+                found = blowups_on(w, uxs, ubox, conds)
             except Undecidable:
                 continue
-            yield w, uxs, blowups(w, region)
+            yield w, uxs, found
 
 
 def _at_root(w: sp.Expr) -> float:

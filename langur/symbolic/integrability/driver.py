@@ -17,8 +17,8 @@ from ...timebox import Deadline
 from ..precise import real_value as _num
 from .deltas import delta_blowups
 from .finite import finite_on_box
-from .region import Region, Undecidable
-from .verdicts import Blowup, Verdict, blowups
+from .region import Undecidable
+from .verdicts import Blowup, Verdict, blowups_on
 
 #: CPU seconds the exact engine gives the analysis of one integral (beyond: nothing is claimed).
 TIME_LIMIT = 5.0
@@ -37,10 +37,10 @@ def piece_blowups(pieces, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, 
             continue
         conds = [sp.sympify(c.expr).xreplace(at) for c in pc.conditions]
         try:
-            region = Region(xs, box, conds)
+            found = blowups_on(w, xs, box, conds)
         except Undecidable:
             continue
-        yield w, blowups(w, region)
+        yield w, found
 
 
 @dataclass(frozen=True)

@@ -17,12 +17,14 @@ from __future__ import annotations
 
 import math
 import statistics
+from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import Enum
 
 import numpy as np
 import sympy as sp
 
+from ...memo import remember
 from ..precise import DIGITS
 from ..precise import value_at as _value
 from .region import Region, Undecidable
@@ -132,3 +134,19 @@ def _judge(w: sp.Expr, g: sp.Expr, s: Site, region: Region) -> Blowup:
     return Blowup(g, s.point, s.shape, s.codim, typ, top, decide(typ, top, s.codim, logarithmic),
                   decide(2 * typ, 2 * top, s.codim, logarithmic), logarithmic, s.face)
 
+
+#: :func:`blowups_on`'s answers: the linter (X311–X313) and the exact engine (``require_defined``) ask
+#: the same questions about a command's program at its point; the second asks this memo.
+_FOUND: dict = {}
+
+
+def blowups_on(w: sp.Expr, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, sp.Expr]],
+               conds: Sequence[sp.Expr]) -> list[Blowup]:
+    """:func:`blowups` of ``w`` on the region of the box cut by ``conds`` (raises
+    :class:`~.region.Undecidable` where the region cannot be described), remembered by its arguments:
+    the analysis is deterministic (its random directions are seeded), an interrupted one is not kept."""
+    key = (w, tuple(xs), tuple(tuple(side) for side in box), tuple(conds))
+    hit = _FOUND.get(key)
+    if hit is None:
+        hit = remember(_FOUND, key, tuple(blowups(w, Region(xs, box, conds))), 64)
+    return list(hit)
