@@ -244,7 +244,7 @@ class DerivativeResult:
 _NORMAL_FORMS: dict = {}
 
 
-def _normal_form(program: Program, direction: Mapping[str, object], at) -> NormalForm:
+def normal_form(program: Program, direction: Mapping[str, object], at) -> NormalForm:
     """⦇p⦈'s normal form at ``at``; remembered by (program, γ') when the program is point-free (the
     same normal form at every point: Theorem 8.1's check computes ⦇p⦈ at nearby points), except
     while the rules are observed (:func:`langur.observe.watched`)."""
@@ -277,7 +277,7 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
     )
 
     check_values(program, at, direction)
-    nf = _normal_form(program, direction, at)
+    nf = normal_form(program, direction, at)
     point = at_symbols(at)
     ctx = Ctx(at=point, variables=tuple(program.variables))
     variables, box = symbols(program.variables), program_box(program, ctx)
@@ -287,8 +287,9 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
     boundary = (integrate_delta_pieces(nf.deltas, variables, box, point, timeout=timeout, cell=cell,
                                        symbolic=symbolic)
                 if nf.deltas else zero_integral())
-    # ⦇p⦈ = ∫ ⦇t⦈ does not exist where ⟦p⟧ does not (T⟦t⟧ undefined), nor where its regular part is not integrable
-    require_defined(program, ctx, nf.regular)
+    # ⦇p⦈ = ∫ ⦇t⦈ does not exist where ⟦p⟧ does not (T⟦t⟧ undefined), nor where its regular part is not
+    # integrable, nor where a delta term's weight is not integrable on its zero set
+    require_defined(program, ctx, nf.regular, nf.deltas)
     exact = regular.method == Method.CLOSED_FORM and boundary.method == Method.CLOSED_FORM
     expr = regular.expr + boundary.expr if regular.expr is not None and boundary.expr is not None else None
     return DerivativeResult(

@@ -122,13 +122,23 @@ def divergent_where(program: Program, ctx: Ctx, pieces: list | None = None,
                                     program_box(program, ctx), ctx.at or {}, what)
 
 
-def require_defined(program: Program, ctx: Ctx, regular: list | None = None) -> None:
+def divergent_delta(program: Program, ctx: Ctx, deltas: list) -> integrability.Divergent | None:
+    """The first of ⦇t⦈'s delta terms (``deltas``, Theorem 7.1) whose weight is not integrable on its zero
+    set at ``ctx.at`` (:mod:`langur.symbolic.integrability.deltas`), or None; gated as :func:`divergent_where`."""
+    if not _partial(program):
+        return None
+    return integrability.delta_divergence(deltas, symbols(program.variables), program_box(program, ctx), ctx.at or {})
+
+
+def require_defined(program: Program, ctx: Ctx, regular: list | None = None, deltas: list | None = None) -> None:
     """Raise :class:`~langur.symbolic.quadrature.UndefinedIntegral` where :func:`undefined_where`
     finds a part of the box on which the integrand is undefined, or :func:`divergent_where` a
     blow-up it is not integrable at: ⟦p⟧ does not exist, nor does ⦇p⦈; with ``regular`` (⦇t⦈'s
-    regular part, Theorem 7.1), also where that is not integrable: ⦇p⦈ does not exist."""
+    regular part, Theorem 7.1), also where that is not integrable, and with ``deltas`` (its delta
+    terms) where one's weight is not integrable on its zero set: ⦇p⦈ does not exist."""
     bad = undefined_where(program, ctx) or divergent_where(program, ctx) or \
-        (divergent_where(program, ctx, regular, "the regular part of ⦇t⦈") if regular else None)
+        (divergent_where(program, ctx, regular, "the regular part of ⦇t⦈") if regular else None) or \
+        (divergent_delta(program, ctx, deltas) if deltas else None)
     if bad is not None:
         raise quadrature.UndefinedIntegral(bad.reason)
 

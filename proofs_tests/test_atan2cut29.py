@@ -65,7 +65,7 @@ def test_a_condition_line_is_a_site_not_undecided():
 def test_polish_lands_on_a_line_to_rounding():
     gf = lambda q: q[:, 1] - 0.29  # noqa: E731
     x0 = np.array([-0.3, 0.29 + 3e-9])
-    out = integrability._polish(gf, x0, [(-1, 1), (-1, 1)], 2.0)
+    out = integrability.zerosets._polish(gf, x0, [(-1, 1), (-1, 1)], 2.0)
     assert abs(out[1] - 0.29) < 1e-15 and out[0] == -0.3
 
 

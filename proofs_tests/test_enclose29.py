@@ -24,7 +24,7 @@ import pytest
 import sympy as sp
 
 import langur.symbolic.definedness as definedness
-import langur.symbolic.integrability as blowup
+import langur.symbolic.integrability.zerosets as blowup
 from langur import transversality as tv
 from langur.denote import undefined_where
 from langur.enclosures import enclose

@@ -9,7 +9,7 @@ condition that only an implicit root completes, and the values are computed by h
 F4: ``if x >= a - 0.2 then log(x - a + 0.3) else 0.5`` was warned about (X312) for a blow-up of
 ``log``'s derivative at x = a − 0.3, outside the guard, where ``log`` is never evaluated: the
 descent that looks for zeros of the pole base touching the region is bounded by the box only and
-left the region (:func:`langur.symbolic.integrability._touchings`).
+left the region (:func:`langur.symbolic.integrability.zerosets._touchings`).
 """
 
 import json

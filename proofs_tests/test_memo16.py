@@ -5,7 +5,7 @@ The memo's bound and its two ways of making room are checked on plain dicts agai
 promise (first in, first out; all at once), and at sites that use it with their own sizes.  The
 observer: a campaign's rule coverage (``langur.fuzz.coverage``) counts each application of Fig. 7's
 and Fig. 8's rules by wrapping the semantic functions; the memos of a point-free program's pieces
-(``denote._decomposed``) and of its ⦇p⦈ normal form (``ddenote._normal_form``) must not skip any
+(``denote._decomposed``) and of its ⦇p⦈ normal form (``ddenote.normal_form``) must not skip any
 of them, so the counts with the memos filled beforehand are those with the memos empty.
 """
 

@@ -113,17 +113,18 @@ def test_integrable_singularities_keep_their_values(body, box, variables, value,
 
 
 def test_nothing_is_claimed_past_the_time_limit(monkeypatch):
-    monkeypatch.setattr(integrability, "TIME_LIMIT", 0.0)
+    monkeypatch.setattr(integrability.driver, "TIME_LIMIT", 0.0)
     p = _program("x/(x^2 + y^2)^2", "[-1, 1], [-1, 1]", "x, y")
     ctx = Ctx(at=at_symbols({"a": 0.5}), variables=("x", "y"))
     assert divergent_where(p, ctx) is None
-    monkeypatch.setattr(integrability, "TIME_LIMIT", 5.0)
+    monkeypatch.setattr(integrability.driver, "TIME_LIMIT", 5.0)
     assert divergent_where(p, ctx).blowup.verdict is integrability.Verdict.DIVERGENT
 
 
 def test_the_linter_asks_the_same_analysis():
     # one declaration: langur.lint has no copy of the blow-up analysis, X311 reads the engine's
-    assert singular.Blowup is integrability.Blowup and singular.blowups is integrability.blowups
+    assert singular.Blowup is integrability.Blowup and singular.piece_blowups is integrability.piece_blowups
+    assert singular.delta_blowups is integrability.delta_blowups  # X313's delta half too (integ30)
     with pytest.raises(ModuleNotFoundError):
         importlib.import_module("langur.lint.blowup")
     res = singular.value_integrability(_program("1/x - 1/(1 - x)", "[0, 1]"), {"a": 0.5})

@@ -44,15 +44,7 @@ from ..diagnostics import Span
 from ..primitives import REGISTRY, Domain
 from ..symbolic.decompose import Ctx, decompose
 from ..symbolic.definedness import Undefined
-from ..symbolic.integrability import (
-    Blowup,
-    Region,
-    Undecidable,
-    Verdict,
-    blowups,
-    finite_on_box,
-    piece_blowups,
-)
+from ..symbolic.integrability import Blowup, Verdict, delta_blowups, piece_blowups
 from ..symbolic.precise import real_value
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import Deadline
@@ -109,39 +101,9 @@ def _pieces(pieces, xs, box, at, part: str, out: Integrability) -> None:
 
 
 def _delta_pieces(deltas, xs, box, at, out: Integrability) -> None:
-    """Each delta term's weight on its zero set (module docstring)."""
-    part = "a delta term"
-    for d in deltas:
-        psi = d.psi
-        for br in psi.branches:
-            sub = {psi.inputs[0]: sp.Integer(0)}
-            others = [x for x in psi.variables if x != psi.solved_for]
-            if psi.solved_for is None and len(xs) > 1:
-                continue  # a declared Ψ̂: its other coordinates are not the variables
-            sub.update(dict(zip(psi.inputs[1:], others)))
-            inv = {x: e.xreplace(sub).xreplace(at) for x, e in br.inverse}
-            w0 = sp.sympify(d.weight).xreplace(at)
-            w = w0.xreplace(inv)
-            conds = [sp.sympify(c.expr).xreplace(at).xreplace(inv) for c in d.conditions]
-            conds += [g.xreplace(sub).xreplace(at) for g in br.guards]
-            for i, x in enumerate(xs):  # the box, pulled back
-                conds += [inv.get(x, x) - box[i][0], box[i][1] - inv.get(x, x)]
-            if len(xs) == 1:
-                v = real_value(w)
-                if all(real_value(c) >= 0 for c in conds) and not math.isfinite(v):
-                    out.blowups.append((Blowup(w0, tuple(inv.values()), "zero set", 0,
-                                               math.nan if math.isnan(v) else math.inf, None,
-                                               Verdict.DIVERGENT, Verdict.DIVERGENT), part))
-                continue
-            uxs = tuple(x for x in xs if x != psi.solved_for)
-            ubox = [box[xs.index(x)] for x in uxs]
-            if finite_on_box(w, uxs, tuple(tuple(side) for side in ubox)):
-                continue  # nothing blows up on any region of u′'s box (integrability.finite_on_box)
-            try:
-                region = Region(uxs, ubox, conds)
-            except Undecidable:
-                continue
-            out.blowups += [(b, part) for b in blowups(w, region)]
+    """Each delta term's weight on its zero set (the exact engine's analysis, module docstring)."""
+    for _, _, found in delta_blowups(deltas, xs, box, at):
+        out.blowups += [(b, "a delta term") for b in found]
 
 
 @dataclass(frozen=True)
