@@ -33,6 +33,7 @@ from __future__ import annotations
 import _signal as signal  # (the C module the standard ``signal`` wraps: see the end of the docstring)
 import _weakrefset
 import gc
+import inspect
 import sys
 import threading
 import time
@@ -158,6 +159,7 @@ def _limited(fn: Callable[[], T], seconds: float, which: int, signum: int, clock
             return
         raise _Expired(token)
 
+    handler.ends_a_limit = True  # (an enclosing limit's handler: see the ``finally`` below)
     old_handler = signal.getsignal(signum)
     try:
         # Installed and armed inside the ``try``: a signal delivered between two of these
@@ -173,6 +175,7 @@ def _limited(fn: Callable[[], T], seconds: float, which: int, signum: int, clock
     except BaseException as exc:
         state["done"] = True
         if _ours(exc, token):
+            state["expired"] = True
             raise TimeoutError(f"call took longer than {limit:.3g} {unit}") from None
         raise
     finally:
@@ -181,9 +184,18 @@ def _limited(fn: Callable[[], T], seconds: float, which: int, signum: int, clock
         signal.signal(signum, old_handler)
         if old_remaining > 0:
             left = old_remaining - (clock() - start)
-            if left <= 0:
-                # The outer limit expired while we ran: deliver it now to the outer handler.
+            # Our limit was the outer one's remaining time and it expired: the outer limit did too,
+            # whatever ``clock`` says (the interval timer and ``clock`` count in different steps).
+            if left <= 0 or (old_remaining <= seconds and state.get("expired")):
+                # The outer limit expired while we ran: deliver it to the outer handler now.  Left to
+                # a timer re-armed for later, it was taken by the next inner limit as its own (that
+                # limit's remaining time is then the outer's few microseconds), and a caller catching
+                # the inner TimeoutError and going on lost the outer limit for good (CI: ``check
+                # --timeout 0.2`` ran its whole analysis).  The re-armed timer stays as the fallback
+                # for a handler that declines (:func:`_where_swallowed`) or is not a limit's.
                 signal.setitimer(which, 1e-4, old_interval)
+                if getattr(old_handler, "ends_a_limit", False):
+                    old_handler(signum, inspect.currentframe())
             else:
                 signal.setitimer(which, left, old_interval)
 
