@@ -18,7 +18,7 @@ from fractions import Fraction
 
 import sympy as sp
 
-from langur.symbolic import context, integrate, rational, text, walks
+from langur.symbolic import context, integrate, rational, tape, text, walks
 from langur.symbolic.context import Context
 from langur.timebox import Deadline
 
@@ -42,9 +42,9 @@ def _forms(seed: int, n: int):
 
 def test_values_and_slopes_at_many_points_and_tangents_are_sympys():
     rng = random.Random(5)
-    # more points than local remembers (VALUE_POINTS), revisited: evicted values are recomputed
+    # more points than the tape remembers (tape.VALUE_POINTS), revisited: evicted values are recomputed
     points = [{k: sp.Rational(rng.randint(-40, 40), rng.randint(1, 13)) for k in (a, b, c)}
-              for _ in range(rational.VALUE_POINTS + 1)]
+              for _ in range(tape.VALUE_POINTS + 1)]
     points.append({a: sp.Rational(0.1234567), b: sp.Rational(-2.5e-3), c: sp.Rational(7.75)})  # floats' exact values
     tangents = [{a: 1}, {c: 1}, {a: sp.Rational(1, 3), b: -2}]
     checked = 0
