@@ -27,6 +27,10 @@ Two jobs, both with sympy (through :mod:`langur.sympy_bridge`, every call time-b
      interval in which ``t`` is *proved* strictly monotone on the box (interval enclosures of
      ``∂t/∂v``, :mod:`langur.syntax.monotone`), by one implicit-root branch.
 
+  A variable whose inverse branch is infinite on the zero set (``u₀ = 0``: a division by the
+  target, ``[(x - a)/(y + 0.5) >= 0]`` solved for ``y``) is not a candidate: the condition is
+  solved for another variable (here ``x = a + u₀·(y + ½)``) or refused.
+
   Inverse branches are solved with these bounded strategies only (no open-ended
   ``sympy.solve``, whose solution sets for transcendental equations can be incomplete: a missed
   root would silently drop part of the derivative).
@@ -180,6 +184,11 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds, ends=None,
         if not branches:
             reasons.append(f"{v}: no inverse branch meets the domain")
             continue
+        pole = _infinite_on_zero_set(branches, symbol(inputs[0]))
+        if pole is not None:
+            reasons.append(f"{v}: its inverse {v} = {pole} is infinite on the zero set (at {inputs[0]} = 0), "
+                           "so Ψ̂ is not a diffeomorphism there (Def. 3.4)")
+            continue
         found.append((rank, -variables.index(v), v, branches, nonzero))
     for rank, _, v, branches, nonzero in sorted(found, key=lambda f: f[:2]):
         try:
@@ -210,6 +219,20 @@ def _choose(cond, expr, variables, occurring, inputs, params, bounds, ends=None,
                        "variable's whole interval for every value of the others: split the domain there (several "
                        "integrals), or declare a `diffeo` with its inverse")
     return "no variable can be isolated (" + "; ".join(reasons) + ")"
+
+
+def _infinite_on_zero_set(branches, u0):
+    """The first inverse branch that is not finite where the condition is 0 (``u0 = 0``: a division
+    by the target, ``(x - a)/(y + ½) = u0`` solved for ``y``), or None.  Such a branch is no
+    completion in that variable: Ψ̂⁻¹ must be finite on the zero set, where the delta of the
+    condition sits (Def. 3.4, §5.2); solved for ``y`` the zero set ``x = a`` is no graph over ``x``.
+    (An inverse infinite only where *another* variable takes one value, ``x = a + u0·(y + ½)``
+    at ``y = −½``, fails on a null set only, like a tangency.)"""
+    for vexpr, _ in branches:
+        at_zero = vexpr.subs(u0, 0)
+        if at_zero.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+            return vexpr
+    return None
 
 
 def _solve_for(e, v, u0, others: set, ranges):

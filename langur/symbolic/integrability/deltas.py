@@ -11,7 +11,8 @@ A delta term is pulled back to its zero set through the inverse branch ``x = Ψ�
 completed by solving for one variable (then u′ are the other variables, their box is the box's, and
 the region is cut by the term's conditions, the branch's guards and the box pulled back); in one
 variable the weight is evaluated at the root.  The Jacobian ``|det DΨ̂_b⁻¹|`` is left out (its folds,
-``1/sqrt`` at the rim of a disk, are integrable); a declared Ψ̂ in several variables is not analysed.
+``1/sqrt`` at the rim of a disk, are integrable) unless it is a polynomial that may vanish and cancel a
+pole of the weight (:func:`_vanishing_jacobian`); a declared Ψ̂ in several variables is not analysed.
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ def delta_blowups(deltas, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, 
             sub.update(dict(zip(psi.inputs[1:], others)))
             inv = {x: e.xreplace(sub).xreplace(at) for x, e in br.inverse}
             w0 = sp.sympify(d.weight).xreplace(at)
-            w = w0.xreplace(inv)
+            w = w0.xreplace(inv) * _vanishing_jacobian(psi, br, sub, at, xs)
             conds = [sp.sympify(c.expr).xreplace(at).xreplace(inv) for c in d.conditions]
             conds += [g.xreplace(sub).xreplace(at) for g in br.guards]
             for i, x in enumerate(xs):  # the box, pulled back
@@ -66,6 +67,24 @@ def delta_blowups(deltas, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, 
             except Undecidable:
                 continue
             yield w, uxs, found
+
+
+def _vanishing_jacobian(psi, br, sub: dict, at: Mapping, xs: Sequence[sp.Symbol]) -> sp.Expr:
+    """det DΨ̂_b⁻¹ = ∂x_b/∂u₀ on the zero set when it is a nonconstant polynomial in u′ there, else 1.
+    A pole of the condition across which it changes sign (``(x − a)/(y + ½)`` solved for ``x``:
+    ``x = a + u₀·(y + ½)``) puts a weight ``1/(y + ½)`` on the zero set that the Jacobian ``y + ½``
+    cancels: left out, the weight would look non-integrable (a false X313).  Integrability sees
+    only the modulus, so the sign does not matter; an unbounded Jacobian (a fold) is left out as before."""
+    if psi.solved_for is None or len(xs) == 1:
+        return sp.Integer(1)
+    comp = dict(br.inverse).get(psi.solved_for)
+    if comp is None:
+        return sp.Integer(1)
+    jac = sp.diff(comp, psi.inputs[0]).xreplace(sub).xreplace(at)
+    uxs = tuple(x for x in xs if x != psi.solved_for)
+    if not (jac.free_symbols & set(uxs)) or not jac.is_polynomial(*uxs):
+        return sp.Integer(1)  # constant (affine completions: nothing changes), or possibly unbounded
+    return jac
 
 
 def _at_root(w: sp.Expr) -> float:
