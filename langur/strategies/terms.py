@@ -162,32 +162,27 @@ def names_in(t) -> set[str]:
 def substitute(t, mapping: dict[str, S.STerm]):
     """``t`` with each name in ``mapping`` replaced by its term, simultaneously (like :func:`rename`:
     the names a ``let`` or a loop binds are never in ``mapping``)."""
-    match t:
-        case S.Name(n):
-            return mapping.get(n, t)
-        case S.Num():
-            return t
-        case tuple():
-            return tuple(substitute(u, mapping) for u in t)
-    if hasattr(t, "__dataclass_fields__"):
-        kw = {f: substitute(getattr(t, f), mapping) if f not in ("span", "name_span", "name", "op", "ops")
-              else getattr(t, f) for f in t.__dataclass_fields__}
-        return type(t)(**kw)
-    return t
+    return _at_names(t, lambda n: mapping.get(n.name, n))
 
 
 def rename(t, mapping: dict[str, str]):
     """``t`` with the names in ``mapping`` replaced (surface terms have no binders here but ``let``,
     whose bound name is never renamed)."""
+    return _at_names(t, lambda n: S.Name(mapping.get(n.name, n.name)))
+
+
+def _at_names(t, at_name):
+    """``t`` with each :class:`~langur.syntax.surface.Name` ``n`` in it replaced by ``at_name(n)`` (the
+    one walk of :func:`substitute` and :func:`rename`; spans, bound names and operators are kept)."""
     match t:
-        case S.Name(n):
-            return S.Name(mapping.get(n, n))
+        case S.Name():
+            return at_name(t)
         case S.Num():
             return t
         case tuple():
-            return tuple(rename(u, mapping) for u in t)
+            return tuple(_at_names(u, at_name) for u in t)
     if hasattr(t, "__dataclass_fields__"):
-        kw = {f: rename(getattr(t, f), mapping) if f not in ("span", "name_span", "name", "op", "ops")
+        kw = {f: _at_names(getattr(t, f), at_name) if f not in ("span", "name_span", "name", "op", "ops")
               else getattr(t, f) for f in t.__dataclass_fields__}
         return type(t)(**kw)
     return t
