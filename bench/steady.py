@@ -1,7 +1,7 @@
 """Verdicts that an unsteady host does not flip (issue 15's ``bench/bench_issue15.py``; not a test).
 
-On a shared machine the CPU seconds of the same code move by up to 2× within half an hour (bench18's and
-the coordinator's runs in ``bench/RESULTS.md``): a single median against a limit gives ✓ in one run and ✗
+On a shared machine the CPU seconds of the same code move by up to 2× within half an hour (bench18's,
+``bench/history/2026-11-28.md#bench18``, and the coordinator's runs after it, indexed by ``bench/RESULTS.md``): a single median against a limit gives ✓ in one run and ✗
 in the next.  Three tools, each measured in the same run as what it judges:
 
 * **Rounds and a band**: a quantity is measured in several rounds spread over the run (each round the

@@ -1,5 +1,5 @@
 """Conditions a user writes, in one and two variables: does the front end complete them, how, and
-do the two engines agree (branch front29; bench/RESULTS.md, "Conditions the front end refused …").
+do the two engines agree (branch front29; bench/history/2026-11-29.md#front29, "Conditions the front end refused …").
 
 For each condition of :data:`C` (``param a``, the box ``[-1, 1]`` or ``[-1, 1]²``, an optional weight):
 load it (refused: the diagnostic codes), the kind of completion of its condition (``closed/v/kbr``:

@@ -1,4 +1,4 @@
-"""False "undefined" from one level's quadrature (bug hunt F2 and F6, bench/RESULTS.md; LANGUAGE.md's
+"""False "undefined" from one level's quadrature (bug hunt F2 and F6, bench/history/2026-11-29.md#fuzz28; LANGUAGE.md's
 undefined integrals; paper §8.2's ⟦p⟧ at a point).
 
 * **F2**: QUADPACK's "probably divergent" (ier = 5) fired on a convergent integral whose integrand
@@ -13,7 +13,7 @@ undefined integrals; paper §8.2's ⟦p⟧ at a point).
 
 The values are by hand (∫₀¹ t^(−1/2) = 2, ∫₀¹ log t = −1); the ones that failed on main (facc4ad)
 are marked.  The whole programs F2 and F6 take 40–120 CPU s in the exact engine: their check
-against the Monte Carlo engine is in bench/RESULTS.md (fold28), not here.
+against the Monte Carlo engine is in bench/history/2026-11-29.md#fold28, not here.
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ curve's turns as outer kinks (``quadrature.foldcurve._add_fold_guards``).  Check
 reference, written out here with no engine involved: dV/da = −∫dy ∫dx Σ 1/|3z² − y| over the roots
 z ∈ [−1, 1] of z³ − yz = a − y³ − (x³ − yx) (trigonometric / Cardano roots, the kinks of the inner
 integrand as scipy ``quad`` breakpoints); on [−1, 1]³ it agrees with the five-point difference of
-the value's nested quadrature to 5·10⁻⁸ (bench/RESULTS.md, roots10).
+the value's nested quadrature to 5·10⁻⁸ (bench/history/2026-11-27.md#roots10).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Two findings of the bug hunt with the differential tester (bench/RESULTS.md, fuzz28), fixed by front28.
+"""Two findings of the bug hunt with the differential tester (bench/history/2026-11-29.md#fuzz28), fixed by front28.
 
 F3: ``[erf(x) <= a - 0.5]`` on ``[-1, 1]`` was refused (T207, "sympy could not find where it is
 continuous"): sympy's ``continuous_domain`` does not know ``erf``; the registry says it is defined,

@@ -1,5 +1,5 @@
 """Conditions a user writes that the front end refused (T207) or completed badly (branch front29;
-bench/RESULTS.md, "Conditions the front end refused …").
+bench/history/2026-11-29.md#front29, "Conditions the front end refused …").
 
 * ``erf`` under a division, a root, a ``log`` or a fractional power (``[1/(erf(x) + 2) <= a]``,
   ``[sqrt(erf(x) + 2) >= a + 1]``) was refused: sympy's ``continuous_domain`` does not know ``erf``

@@ -10,7 +10,7 @@ error widened for its 31 degrees of freedom (:mod:`langur.operational.student`).
 Every value below is computed here by hand (or with mpmath's quadrature of a 1-D integral), not by
 either engine.  False alarms: with the fix, one comparison exceeds 5 (widened) standard errors with
 probability about 5.7e-7 when the replicates' means are close to normal (measured on these programs
-over 200 seeds each, bench/RESULTS.md qmc29: none beyond 3.1); this module makes about 600
+over 200 seeds each, bench/history/2026-11-29.md#qmc29: none beyond 3.1); this module makes about 600
 comparisons, so a fresh draw would fail with probability below 1e-3 — and the seeds are fixed, so
 the module never flakes.  A fix that made the ± useless (huge) fails the second check: the printed
 ± must stay within a factor of the actual root-mean-square error over the seeds.

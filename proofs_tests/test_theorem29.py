@@ -1,4 +1,4 @@
-"""Last bug hunt's exact-engine findings (bench/RESULTS.md, branches fuzz28 and fold28; paper §8.3's
+"""Last bug hunt's exact-engine findings (bench/history/2026-11-29.md#fuzz28 and #fold28; paper §8.3's
 Theorem 8.1, §6.3's regions, Fig. 12's ⟦p⟧).
 
 * **F6 with x ∈ [−0.26, −0.24]**: Theorem 8.1's line said ``FAILS: D⟦p⟧ = nan``.  ⟦p⟧'s closed form

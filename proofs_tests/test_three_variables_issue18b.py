@@ -13,7 +13,7 @@ breakpoints; dV/da by central differences (h = 1e−4; h = 1e−3 gives the same
 Checks of the reference itself: f is odd and the box symmetric, so V(a) + V(−a) = 18.
 
 At a = 0.3 (inside f's range [−4.135, 4.135]) the Monte Carlo engine must agree with it within 5
-standard errors.  The exact engine does not give this value yet (bench/RESULTS.md, roots7): its
+standard errors.  The exact engine does not give this value yet (bench/history/2026-11-27.md#roots7): its
 quadrature over (x, y) with z solved meets a logarithmic singularity where the fold curve is
 singular, and it is not asked here.  At a = 4.5 (outside f's range: no zero set) both engines must
 give 0, as the reference does.

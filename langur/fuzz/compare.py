@@ -124,8 +124,8 @@ def agree(exact: float, error: float, mc: float, stderr: float) -> bool:
 #: A tenth (2 CPU s of the default 20): most of a campaign's time went to searches that then gave
 #: up (31 of the first 150 programs of seed 1 spent 181 CPU s there); at 0.1 instead of 0.4 they
 #: cost half, every verdict stayed the same and 8 of their 99 answers became quadratures with
-#: error bounds instead of closed forms (bench/RESULTS.md, campaign throughput, third pass).
-#: A twentieth (1 CPU s) since the fifth pass: on the same 150 programs, run side by side, 183.2 →
+#: error bounds instead of closed forms (bench/history/2026-11-26.md#campaign3, campaign throughput, third pass).
+#: A twentieth (1 CPU s) since the fifth pass (bench/history/2026-11-27.md#campaign5): on the same 150 programs, run side by side, 183.2 →
 #: 151.8 CPU s, every verdict and comparison row the same, 6 of ~450 answers (4 programs, 3-D and
 #: rotated 2-D regions) quadratures with error bounds instead of closed forms.
 SYMBOLIC_SHARE = 0.05
@@ -133,7 +133,7 @@ SYMBOLIC_SHARE = 0.05
 #: The share of a program's time limit its Theorem 8.1 checks may take together (CPU seconds, over
 #: every partial derivative; ``exact_deriv``'s ``check_seconds``).  The check's finite differences
 #: of ⟦p⟧ by nested quadrature were 62 % of the CPU of the programs that timed out in a 10-minute
-#: campaign (bench/RESULTS.md, campaign throughput, eighth pass): past this share a check is left
+#: campaign (bench/history/2026-11-27.md#camp8, campaign throughput, eighth pass): past this share a check is left
 #: out — the finding "Theorem 8.1 not checked … budget", counted apart in the summary — and the
 #: engines are still compared on every quantity.
 CHECK_SHARE = 0.25
@@ -149,7 +149,7 @@ CHECK_SHARE = 0.25
 #: three variables).  Theorem 8.1's finite differences set their own tolerance
 #: (:func:`langur.theorem._finite_difference`).  The 3-D programs that timed out or took over
 #: 3 CPU s in the idle 10-minute campaign spent most of it in the outermost level's subdivisions
-#: (bench/RESULTS.md, campaign throughput, ninth pass).
+#: (bench/history/2026-11-27.md#camp9, campaign throughput, ninth pass).
 OUTER_LOOSENESS = 1000.0
 
 

@@ -6,7 +6,7 @@ long-lived worker processes forked from the campaign's process, one unit at a ti
 worker keeps what it has learned (sympy's caches, the antiderivatives it found, the modules it
 imported) from one unit to the next, instead of starting every unit from a fresh fork of the
 campaign's process (which cost each unit a copy-on-write copy of the whole heap and a cold
-start; bench/RESULTS.md, "Campaign throughput, third pass").  A unit that runs past its time
+start; bench/history/2026-11-26.md#campaign3, "Campaign throughput, third pass").  A unit that runs past its time
 limit, counted in CPU seconds its worker spent on it (:data:`BACKSTOP`), is killed with its
 worker, which a fresh fork replaces: a killed unit is reported as ``timeout`` (time-limited,
 never a verdict); a worker that dies is replaced the same way and its unit reported by
@@ -49,8 +49,8 @@ BACKSTOP = 4.0
 #: A worker's cyclic garbage collector thresholds (CPython's default: 700, 10, 10).  Units build
 #: sympy expressions by the million, few of them in cycles: at the default the collector ran
 #: 2,726 times over 98 programs of seed 1 and took 4.8 % of their CPU (6.2 of 128.9 s); at these
-#: 67 times, 2.2 % (2.7 of 121.8 s), no full collection, the same verdicts (bench/RESULTS.md,
-#: campaign throughput, tenth pass).  Cycles are still collected (the youngest generation once
+#: 67 times, 2.2 % (2.7 of 121.8 s), no full collection, the same verdicts
+#: (bench/history/2026-11-27.md#camp10, campaign throughput, tenth pass).  Cycles are still collected (the youngest generation once
 #: 20,000 more container objects are allocated than freed), only less often.
 GC_THRESHOLDS = (20000, 20, 20)
 #: Seconds between two looks at the running units' CPU times.

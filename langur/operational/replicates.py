@@ -12,7 +12,7 @@ net's elementary intervals lie at the same places in every replicate (scrambling
 never moves the intervals), so a jump at a fixed place cuts them at the same relative position θ in
 every replicate: a replicate's count of points before the jump is ⌊nθ'⌋ or ⌊nθ'⌋ + 1 with
 probability θ — a two-point law — and with θ = 0.97 all 32 replicates agree 38 % of the time: the
-spread is then ≈ 0 while the estimate is off (bench/RESULTS.md, branch qmc29: before this, the
+spread is then ≈ 0 while the estimate is off (bench/history/2026-11-29.md#qmc29: before this, the
 printed ± was exceeded fivefold on 22–40 % of seeds for a jump in a 1-D value or on the zero set of
 a program in two variables; finding F0 of branch fuzz28).
 
@@ -27,7 +27,7 @@ smooth integrand, measured).  Every point stays uniform on [0, 1]^m and the repl
 so the estimate and the replicates' variance estimate stay unbiased.  The price is accuracy on
 smooth integrands: the tent doubles derivatives, 2–3× the error at the same number of samples
 (in 1–3 variables still 60–200× below uniform sampling's for qmc, 4–300× for stratified: measured
-in bench/RESULTS.md, qmc29).
+in bench/history/2026-11-29.md#qmc29).
 
 The replicates' spread has R − 1 degrees of freedom, so their standard error is widened by
 :func:`.student.widening` (1.254 for R = 32): 5 of them are Student's t quantile at the normal 5σ
