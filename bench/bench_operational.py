@@ -39,7 +39,7 @@ from langur.operational.naive import naive_derivative, naive_value
 EX = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")  # the project's own
 
 
-CLOCK = time.process_time  # CPU time of this process: the machine is shared (see RESULTS.md)
+CLOCK = time.process_time  # CPU time of this process: the machine is shared (bench/history/2026-11-22.md#operational-engine-languroperational-benchmark-results)
 
 
 def median_time(f, reps: int, clock=None) -> float:
@@ -128,7 +128,7 @@ def jumps(quick: bool, tmp: str) -> None:
         t_naive = median_time(partial(naive_derivative, L.program, p, d, samples=10), 1)
         print(f"| {n} | {2 * n} | {t_load * 1e3:.0f} | {statistics.median(comp) * 1e3:.2f} | "
               f"{statistics.median(first) * 1e3:.2f} | **{cold * 1e3:.2f}** | {t_eval * 1e3:.2f} | "
-              f"{t_naive * 1e3:.1f} | {r['value']:.3f} ± {r['stderr']:.3f} |")
+              f"{t_naive * 1e3:.1f} | {r.value:.3f} ± {r.stderr:.3f} |")
     print()
 
 
