@@ -25,8 +25,8 @@ import argparse
 import os
 import re
 import sys
-from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 BENCH = Path(__file__).resolve().parent
 RESULTS = BENCH / "RESULTS.md"
@@ -42,8 +42,7 @@ FENCE = re.compile(r"^```.*?^```", re.S | re.M)
 DATE = re.compile(r"20\d\d-\d\d-\d\d")
 
 
-@dataclass(frozen=True)
-class Section:
+class Section(NamedTuple):
     """One ``## `` section: its title (the heading without ``## ``) and its text, heading included."""
 
     title: str
