@@ -8,15 +8,18 @@ section under its exact title (so its GitHub anchor is the one it had in RESULTS
 code and tests cite a section).
 
 Branches append their section at the end of RESULTS.md, below the line :data:`MARKER`, and its TOC line
-to the list above that line.  After merging them::
+to the list "Sections not yet moved to bench/history/" at the top; while there, code may cite it as
+``bench/RESULTS.md, BRANCH``.  After merging them::
 
-    python3 bench/history.py move     # every section below MARKER into bench/history/DAY.md, indexed
-    python3 bench/history.py check    # every link of RESULTS.md and the history, every citation in the code
+    python3 bench/history.py move --rewrite-citations   # every section below MARKER into bench/history/
+    python3 bench/history.py check                      # every link and every citation leads to its section
 
 ``move`` takes DAY from the first date in a section's title (``--day`` for a title without one), appends
 the section verbatim to that day's file (only its relative links are rewritten to lead where they led
-from RESULTS.md), adds its line to the day's list in RESULTS.md's index and drops the section's TOC line
-from the list of sections not yet moved.  What the current-measurements part says is written by hand.
+from RESULTS.md), adds its line to the day's list in RESULTS.md's index, drops the section's TOC line and
+points RESULTS.md's other links to it at its new place; ``--rewrite-citations`` turns the code's
+``bench/RESULTS.md, BRANCH`` of a moved section into ``bench/history/DAY.md#BRANCH`` (``check`` lists the
+ones left, e.g. a section cited by its words).  What the current-measurements part says is written by hand.
 """
 
 from __future__ import annotations
@@ -225,16 +228,27 @@ def broken_links(bench: Path = BENCH) -> list[str]:
 
 #: a citation of a section: ``bench/history/<day>.md#<anchor>`` (or ``bench/RESULTS.md#<anchor>``)
 CITATION = re.compile(r"bench/(history/[\w-]+\.md|RESULTS\.md)#([\w-]+)")
+#: how branches cite a section while it is in RESULTS.md: ``bench/RESULTS.md, qmc29`` (or ``RESULTS.md
+#: (fold28)``, ``RESULTS.md, branch qmc29``, ``RESULTS.md qmc29``); NAME is the branch, the section's short id
+OLD_CITATION = re.compile(r"(?:bench/)?RESULTS\.md(?:``)?(?:,? \(|, | )(?:branch )?(?P<name>[a-z][\w-]*\d[\w-]*)\)?")
+#: anything that looks like a citation of a section of RESULTS.md by words, not by an anchor
+OLD_LOOK = re.compile(r"RESULTS\.md(?:``)?(?:,| \(| [a-z]+\d)")
+
+
+def citing_files(root: Path = BENCH.parent) -> list[Path]:
+    """The files where a citation may stand (not RESULTS.md, the history, this script or its test, whose
+    examples of citations lead nowhere on purpose)."""
+    files = [p for name in CITING for p in ([root / name] if name.endswith(".md") else sorted((root / name).rglob("*")))
+             if p.is_file() and p.suffix in (".py", ".md", ".lgr", ".ipynb", ".toml", ".txt")]
+    return [p for p in files if p not in (root / "bench/RESULTS.md", root / "bench/history.py")
+            and root / "bench/history" not in p.parents and p.name != "test_notes31.py"]
 
 
 def broken_citations(root: Path = BENCH.parent) -> list[str]:
     """Every ``bench/history/<day>.md#<anchor>`` in the code, tests and docs that leads to no section."""
     found = []
-    files = [p for name in CITING for p in ([root / name] if name.endswith(".md") else
-                                             sorted((root / name).rglob("*")))
-             if p.is_file() and p.suffix in (".py", ".md", ".lgr", ".ipynb", ".toml", ".txt")]
     cache: dict[str, set[str]] = {}
-    for path in files:
+    for path in citing_files(root):
         for m in CITATION.finditer(path.read_text(encoding="utf-8", errors="replace")):
             target = root / "bench" / m.group(1)
             if m.group(1) not in cache:
@@ -244,16 +258,52 @@ def broken_citations(root: Path = BENCH.parent) -> list[str]:
     return found
 
 
+def _short_ids(root: Path) -> tuple[set[str], dict[str, str]]:
+    """The short ids of the sections below RESULTS.md's marker, and where each moved one is."""
+    below = (root / "bench/RESULTS.md").read_text(encoding="utf-8").partition(MARKER)[2]
+    here = {i for s in split(below)[1] if (i := short_id(s.title))}
+    moved = {i: f"bench/history/{p.name}#{i}" for p in sorted((root / "bench/history").glob("*.md"))
+             for i in re.findall(r'<a id="([^"]+)"></a>', p.read_text(encoding="utf-8"))}
+    return here, moved
+
+
+def stale_citations(root: Path = BENCH.parent, rewrite: bool = False) -> list[str]:
+    """Citations of a section of RESULTS.md by words that no longer lead to it: every one but
+    ``RESULTS.md, NAME`` for a section NAME still below the marker.  With ``rewrite``, each
+    ``RESULTS.md, NAME`` of a moved section becomes ``bench/history/DAY.md#NAME`` (what `move` asks)."""
+    here, moved = _short_ids(root)
+    stale = []
+    for path in citing_files(root):
+        text = path.read_text(encoding="utf-8", errors="replace")
+        for m in OLD_LOOK.finditer(text):
+            old = OLD_CITATION.match(text, max(m.start() - 6, 0) if text[max(m.start() - 6, 0):m.start()] == "bench/"
+                                     else m.start())
+            name = old.group("name") if old else None
+            if name not in here:
+                hint = f" (cite {moved[name]})" if name in moved else ""
+                stale.append(f"{path.relative_to(root)}: {text[m.start():m.start() + 60].splitlines()[0]}…{hint}")
+        if rewrite:
+            new = OLD_CITATION.sub(lambda m: moved[m.group("name")] if m.group("name") in moved
+                                   and m.group("name") not in here else m.group(0), text)
+            if new != text:
+                path.write_text(new, encoding="utf-8")
+    return stale
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
     mv = sub.add_parser("move", help="move every section below the marker into bench/history/DAY.md")
     mv.add_argument("--day", help="YYYY-MM-DD for a section whose title has no date")
+    mv.add_argument("--rewrite-citations", action="store_true",
+                    help="rewrite `bench/RESULTS.md, NAME` of a moved section to bench/history/DAY.md#NAME")
     sub.add_parser("check", help="every link of RESULTS.md and bench/history/, every citation in the code")
     args = parser.parse_args(argv)
     if args.command == "move":
         print(f"moved {move(default_day=args.day)} section(s) to {HISTORY}")
-    problems = broken_links() + broken_citations()
+        if args.rewrite_citations:
+            stale_citations(rewrite=True)
+    problems = broken_links() + broken_citations() + stale_citations()
     print("\n".join(problems) or "every link and citation leads to its section")
     return 1 if problems else 0
 

@@ -3,12 +3,13 @@
 * Every link of RESULTS.md and of bench/history/*.md leads to a file of the repository and, with
   ``#anchor``, to a heading (GitHub's anchor) or a short ``<a id>`` anchor of that page.
 * Every citation ``bench/history/<day>.md#<anchor>`` in the code, tests, benchmarks and docs leads to its
-  section; none cites a section of RESULTS.md the old way (``bench/RESULTS.md, qmc29``), which no longer
-  leads anywhere since the sections moved.
+  section; a section is cited by the file's name, a comma and its branch only while it is still in
+  RESULTS.md (below the marker, where this session's branches append theirs).
 * RESULTS.md's index lists every section of the history, in order, each linking its day's file; a
   section's short anchor names the branch its title names.
 * ``python3 bench/history.py move`` (how the coordinator files the sections branches append) moves them
-  verbatim to their day's file, indexes them, drops their TOC lines and relinks what pointed at them — run
+  verbatim to their day's file, indexes them, drops their TOC lines and relinks what pointed at them; the
+  code's citations of them by branch are then reported, and rewritten with ``--rewrite-citations`` — run
   on a copy of the real files in a temporary folder.
 """
 
@@ -40,20 +41,11 @@ def test_every_link_of_results_and_the_history_leads_to_its_section():
     assert history.broken_links() == []
 
 
-def test_every_citation_leads_to_its_section_and_none_is_of_the_old_kind():
+def test_every_citation_leads_to_its_section_and_none_by_words_to_a_moved_one():
     assert history.broken_citations() == []
-    cited, old = 0, []
-    for name in history.CITING:
-        paths = [REPO / name] if name.endswith(".md") else sorted((REPO / name).rglob("*"))
-        for path in paths:
-            if path.suffix not in (".py", ".md") or path.name in ("history.py", "RESULTS.md", "test_notes31.py") \
-                    or (REPO / "bench/history") in path.parents:
-                continue
-            text = path.read_text(encoding="utf-8")
-            cited += len(history.CITATION.findall(text))
-            old += [f"{path.relative_to(REPO)}: {m.group(0)}"
-                    for m in re.finditer(r"RESULTS\.md(?:``)?(?:,| \(| [a-z]+\d)", text)]
-    assert cited >= 25 and old == [], old
+    cited = sum(len(history.CITATION.findall(p.read_text(encoding="utf-8"))) for p in history.citing_files())
+    assert cited >= 25
+    assert history.stale_citations() == []
 
 
 def _sections_of_the_history():
@@ -82,7 +74,7 @@ def test_a_sections_short_anchor_names_the_branch_of_its_title():
 
 @pytest.fixture
 def copy(tmp_path):
-    """bench/RESULTS.md, bench/history/ and the pictures RESULTS.md links, copied to a temporary folder."""
+    """Copies of bench/history/, bench/RESULTS.md and the pictures it links, in a temporary folder."""
     bench = tmp_path / "bench"
     shutil.copytree(REPO / "bench/history", bench / "history")
     shutil.copy(REPO / "bench/RESULTS.md", bench / "RESULTS.md")
@@ -104,6 +96,12 @@ def test_move_files_appended_sections_verbatim_and_keeps_every_link(copy):
     results.write_text(text, encoding="utf-8")
     kept = history.split(text.partition(history.MARKER + "\n")[2])[1][0]  # the coordinator's section, dated 2026-11-29
 
+    code = copy.parent / "langur/module.py"
+    code.parent.mkdir()
+    code.write_text('"""What it does (bench/RESULTS.md, zz31; the file\'s numbers: bench/RESULTS.md (zz31))."""\n',
+                    encoding="utf-8")
+    assert history.stale_citations(copy.parent) == []  # its section is in RESULTS.md: the citation leads there
+
     assert history.move(results, copy / "history") == 2
     after = results.read_text(encoding="utf-8")
     assert after.endswith(history.MARKER + "\n") and "## A new measurement" not in after
@@ -120,6 +118,13 @@ def test_move_files_appended_sections_verbatim_and_keeps_every_link(copy):
     assert history.broken_links(copy) == []
     index = after.split(history.INDEX_START, 1)[1].split(history.INDEX_END, 1)[0]
     assert re.findall(r"^### ([\d-]+)", index, re.M)[-2:] == ["2026-11-29", "2026-11-30"]
+
+    stale = history.stale_citations(copy.parent)
+    assert len(stale) == 2 and all(s.endswith("(cite bench/history/2026-11-30.md#zz31)") for s in stale), stale
+    history.stale_citations(copy.parent, rewrite=True)
+    assert code.read_text(encoding="utf-8") == ('"""What it does (bench/history/2026-11-30.md#zz31; the file\'s '
+                                                'numbers: bench/history/2026-11-30.md#zz31)."""\n')
+    assert history.stale_citations(copy.parent) == [] and history.broken_citations(copy.parent) == []
 
     assert history.move(results, copy / "history") == 0  # nothing left to move: nothing changes
     assert results.read_text(encoding="utf-8") == after
