@@ -120,7 +120,9 @@ def relink(text: str, source: Path, dest: Path, where: dict[str, Path]) -> str:
             file_path = (source.parent / file).resolve()
         new = os.path.relpath(file_path, dest.parent) + (f"#{anchor}" if anchor else "")
         return f"]({new})"
-    return re.sub(r"\]\(([^)\s]+)\)", fix, text)
+    # code (fenced, or in backticks) is left as it is: a link quoted there is text, not a link
+    parts = re.split(r"(^```.*?^```|`[^`]+`)", text, flags=re.S | re.M)
+    return "".join(part if i % 2 else re.sub(r"\]\(([^)\s]+)\)", fix, part) for i, part in enumerate(parts))
 
 
 def history_header(day: str) -> str:
