@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .geometry import Scene, curve, spikes  # noqa: E402
+from .geometry import Scene, Spike, curve, spikes  # noqa: E402
 
 DELTA_COLOR = "#e8710a"  # the paper's orange for what the delta contributes
 CURVE_COLOR = "#1f4e9c"
@@ -23,7 +23,19 @@ SAMPLES = 10
 
 
 def _fmt(v: float) -> str:
-    return f"{v:.6g}"
+    """Six significant digits, with a true minus sign (as matplotlib's tick labels)."""
+    return f"{v:.6g}".replace("-", "\u2212")
+
+
+def _label_rows(sps: list[Spike], width: float) -> list[tuple[Spike, int]]:
+    """Each spike with the row of its label, centred above (or below) its tip: a label shares a row
+    with no label of the same sign less than a third of the box away, so that none overlap and each
+    stands over its own spike."""
+    placed: list[tuple[Spike, int]] = []
+    for sp_ in sorted(sps, key=lambda p: p.x):
+        near = {row for p, row in placed if (p.weight >= 0) == (sp_.weight >= 0) and abs(p.x - sp_.x) < width / 3}
+        placed.append((sp_, min(set(range(len(near) + 1)) - near)))
+    return placed
 
 
 def _draw(ax, pieces, **kw):
@@ -60,13 +72,20 @@ def figure(s: Scene, title: str, wrt: str):
     ax = axes[2]
     _draw(ax, regular, color=CURVE_COLOR, lw=2, label="regular part")
     top = ymax
-    for sp_ in spikes(s):
+    rows = _label_rows(spikes(s), hi - lo)
+    for sp_, row in rows:
         ax.annotate("", xy=(sp_.x, sp_.weight), xytext=(sp_.x, 0.0),
                     arrowprops=dict(arrowstyle="-|>", color=DELTA_COLOR, lw=2.5))
-        ax.text(sp_.x, sp_.weight, f"  δ weight {_fmt(sp_.weight)}", color=DELTA_COLOR, va="center",
-                ha="left" if sp_.x < (lo + hi) / 2 else "right")
+        up = sp_.weight >= 0
+        ax.annotate(f"δ {_fmt(sp_.weight)}", xy=(sp_.x, sp_.weight), xytext=(0, (4 + 14 * row) * (1 if up else -1)),
+                    textcoords="offset points", color=DELTA_COLOR, ha="center", va="bottom" if up else "top")
         top = max(top, sp_.weight)
         ymin = min(ymin, sp_.weight)
+    # room for the labels: a row of text is about 7 % of the panel's height
+    depth = 1 + max([row for _, row in rows], default=-1)
+    label_pad = 0.08 * (max(top, ymax) - ymin or 1.0) * depth
+    top += label_pad if any(sp_.weight >= 0 for sp_, _ in rows) else 0.0
+    ymin -= label_pad if any(sp_.weight < 0 for sp_, _ in rows) else 0.0
     ax.set_title(f"(c) derivative = {_fmt(s.derivative)} (deltas {_fmt(s.boundary)})")
 
     ax = axes[3]
