@@ -137,7 +137,7 @@ def test_flat_draws_a_zero_set_of_weight_zero_visibly():
     plt.close(fig)
 
 
-def test_delta_labels_stand_over_their_own_spikes_without_overlapping():
+def test_delta_labels_stand_under_their_own_spikes_crossed_by_no_arrow():
     # turning.lgr at a = 0.2: three deltas of negative weight at x ≈ −0.86, −0.2, 1.1 on [−2, 2]
     # (each weight −e^{x/2}/|3x² − 1|, summing to the boundary part −2.2012)
     from viz import curves
@@ -150,14 +150,18 @@ def test_delta_labels_stand_over_their_own_spikes_without_overlapping():
     fig = curves.figure(s, "turning", "a")
     fig.canvas.draw()
     ax = fig.axes[2]
-    texts = [t for t in ax.texts if t.get_text().startswith("δ ")]
+    texts = [t for t in ax.texts if t.get_text().startswith("weight ")]
     assert len(texts) == 3
     boxes = [t.get_window_extent() for t in texts]
     for i, b in enumerate(boxes):
         for c in boxes[i + 1:]:
             assert not b.overlaps(c)
+    for b in boxes:  # no arrow (from 0 to its weight) runs through a label
+        for p in sps:
+            (x, y0), (_, y1) = ax.transData.transform([(p.x, 0.0), (p.x, p.weight)])
+            assert not (b.x0 <= x <= b.x1 and min(y0, y1) <= b.y1 and b.y0 <= max(y0, y1))
     for p in sps:  # the label whose text is this weight is centred on this spike, inside the axes
-        (t, b), = [(t, b) for t, b in zip(texts, boxes) if t.get_text() == f"δ {curves._fmt(p.weight)}"]
+        (t, b), = [(t, b) for t, b in zip(texts, boxes) if t.get_text() == f"weight {curves._fmt(p.weight)}"]
         x, _ = ax.transData.transform((p.x, 0))
         assert abs((b.x0 + b.x1) / 2 - x) < 2 and ax.bbox.contains(b.x0, b.y0) and ax.bbox.contains(b.x1, b.y1)
         assert "\u2212" in t.get_text() and "-" not in t.get_text()

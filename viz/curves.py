@@ -27,15 +27,21 @@ def _fmt(v: float) -> str:
     return f"{v:.6g}".replace("-", "\u2212")
 
 
-def _label_rows(sps: list[Spike], width: float) -> list[tuple[Spike, int]]:
-    """Each spike with the row of its label, centred above (or below) its tip: a label shares a row
-    with no label of the same sign less than a third of the box away, so that none overlap and each
-    stands over its own spike."""
-    placed: list[tuple[Spike, int]] = []
+def _label_rows(sps: list[Spike], width: float) -> list[tuple[Spike, int, float]]:
+    """Each spike with the row of its label and the height the rows start from, centred above (or
+    below) it: a label shares a row with no label of the same sign less than a third of the box
+    away, and starts past the longest arrow among those, so that no label overlaps another or is
+    crossed by a neighbour's arrow, and each stands over its own spike."""
+    placed: list[tuple[Spike, int, float]] = []
     for sp_ in sorted(sps, key=lambda p: p.x):
-        near = {row for p, row in placed if (p.weight >= 0) == (sp_.weight >= 0) and abs(p.x - sp_.x) < width / 3}
-        placed.append((sp_, min(set(range(len(near) + 1)) - near)))
-    return placed
+        near = [(p, row) for p, row, _ in placed
+                if (p.weight >= 0) == (sp_.weight >= 0) and abs(p.x - sp_.x) < width / 3]
+        taken = {row for _, row in near}
+        placed.append((sp_, min(set(range(len(taken) + 1)) - taken), 0.0))
+    return [(p, row, max((abs(q.weight) for q, _, _ in placed
+                          if (q.weight >= 0) == (p.weight >= 0) and abs(q.x - p.x) < width / 3),
+                         default=abs(p.weight)) * (1 if p.weight >= 0 else -1))
+            for p, row, _ in placed]
 
 
 def _draw(ax, pieces, **kw):
@@ -73,19 +79,19 @@ def figure(s: Scene, title: str, wrt: str):
     _draw(ax, regular, color=CURVE_COLOR, lw=2, label="regular part")
     top = ymax
     rows = _label_rows(spikes(s), hi - lo)
-    for sp_, row in rows:
+    for sp_, row, start in rows:
         ax.annotate("", xy=(sp_.x, sp_.weight), xytext=(sp_.x, 0.0),
                     arrowprops=dict(arrowstyle="-|>", color=DELTA_COLOR, lw=2.5))
         up = sp_.weight >= 0
-        ax.annotate(f"δ {_fmt(sp_.weight)}", xy=(sp_.x, sp_.weight), xytext=(0, (4 + 14 * row) * (1 if up else -1)),
+        ax.annotate(f"weight {_fmt(sp_.weight)}", xy=(sp_.x, start), xytext=(0, (4 + 14 * row) * (1 if up else -1)),
                     textcoords="offset points", color=DELTA_COLOR, ha="center", va="bottom" if up else "top")
         top = max(top, sp_.weight)
         ymin = min(ymin, sp_.weight)
     # room for the labels: a row of text is about 7 % of the panel's height
-    depth = 1 + max([row for _, row in rows], default=-1)
+    depth = 1 + max([row for _, row, _ in rows], default=-1)
     label_pad = 0.08 * (max(top, ymax) - ymin or 1.0) * depth
-    top += label_pad if any(sp_.weight >= 0 for sp_, _ in rows) else 0.0
-    ymin -= label_pad if any(sp_.weight < 0 for sp_, _ in rows) else 0.0
+    top += label_pad if any(sp_.weight >= 0 for sp_, _, _ in rows) else 0.0
+    ymin -= label_pad if any(sp_.weight < 0 for sp_, _, _ in rows) else 0.0
     ax.set_title(f"(c) derivative = {_fmt(s.derivative)} (deltas {_fmt(s.boundary)})")
 
     ax = axes[3]
