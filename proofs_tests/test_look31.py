@@ -168,3 +168,29 @@ def test_delta_labels_stand_under_their_own_spikes_crossed_by_no_arrow():
     import matplotlib.pyplot as plt
 
     plt.close(fig)
+
+
+def test_jumps_are_drawn_as_walls_where_the_field_jumps_only():
+    # fig9 at θ = 0: one wall, on y = x, from 0 (above) to 1 + x + y = 1 + 2x (below)
+    from viz import surfaces
+
+    s = _scene("fig9.lgr", "theta")
+    (w,) = surfaces.cliffs(s, s.integrand, resolution=40)
+    n = w.n_points // 2
+    used = np.unique(w.faces.reshape(-1, 5)[:, 1:3])  # the curve's points the wall stands on
+    p, v = w.points[used], w.point_data["value"]
+    assert np.allclose(p[:, 0], p[:, 1], atol=1e-6) and p[:, 0].min() < -0.9 and p[:, 0].max() > 0.9
+    lo, hi = np.minimum(v[used], v[used + n]), np.maximum(v[used], v[used + n])
+    x = p[:, 0]
+    assert np.allclose(np.where(1 + 2 * x >= 0, lo, hi), 0.0, atol=1e-5)
+    assert np.allclose(np.where(1 + 2 * x >= 0, hi, lo), 1 + 2 * x, atol=1e-5)
+    # window.lgr: jumps on x = c ± 0.2 = 0.1, 0.5 (the strip) and on |x|, |y| = a = 0.5 (the square);
+    # the kink of |x − c| at x = 0.3 and of max(|x|, |y|) on its diagonals are splits without a jump
+    s = _scene("window.lgr", "a")
+    for w in surfaces.cliffs(s, s.integrand, resolution=40):
+        n = w.n_points // 2
+        x, y = w.points[:n, 0], w.points[:n, 1]
+        used = np.unique(w.faces.reshape(-1, 5)[:, 1:3])
+        x, y = x[used], y[used]
+        on = np.isclose(x, 0.1) | np.isclose(x, 0.5) | np.isclose(np.abs(x), 0.5) | np.isclose(np.abs(y), 0.5)
+        assert on.all() and not np.isclose(x, 0.3).all() and not np.isclose(np.abs(x), np.abs(y)).all()

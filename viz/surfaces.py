@@ -84,6 +84,60 @@ def _phi(f: Field, expr):
     raise KeyError(expr)
 
 
+def cliffs(s: Scene, f: Field, resolution: int = RESOLUTION) -> list[pv.PolyData]:
+    """The walls of ``f``'s jumps: along each condition's zero set Φ = 0 in the box (a contour of Φ
+    on the mesh), a vertical strip from the field on one side to the field on the other, read a
+    hair off the curve along ∇Φ; kept where the two differ (a kink split without a jump has none).
+    Point data ``value`` as the surfaces': the wall is lifted with them (:func:`_lift`)."""
+    (x0, x1), (y0, y1) = s.box
+    plane = pv.Plane(center=((x0 + x1) / 2, (y0 + y1) / 2, 0.0), direction=(0, 0, 1), i_size=x1 - x0,
+                     j_size=y1 - y0, i_resolution=resolution, j_resolution=resolution).triangulate()
+    eps = h = 1e-7 * max(x1 - x0, y1 - y0)
+    out = []
+    for c in f.conditions:
+        phi = _phi(f, c.expr)
+        m = plane.copy()
+        m.point_data["phi"] = np.nan_to_num(phi(m.points[:, 0], m.points[:, 1]), nan=-1.0)
+        line = m.contour([0.0], scalars="phi")
+        if line.n_points < 2 or line.n_lines == 0:
+            continue
+        p = line.points.copy()
+        for _ in range(4):  # the contour is Φ's linear interpolant: Newton steps onto Φ = 0 itself
+            grad = np.column_stack([phi(p[:, 0] + h, p[:, 1]) - phi(p[:, 0] - h, p[:, 1]),
+                                    phi(p[:, 0], p[:, 1] + h) - phi(p[:, 0], p[:, 1] - h)]) / (2 * h)
+            g2 = np.sum(grad * grad, axis=1)
+            step = np.where(g2 > 0, phi(p[:, 0], p[:, 1]) / np.where(g2 > 0, g2, 1.0), 0.0)
+            p[:, :2] -= np.nan_to_num(step)[:, None] * grad
+        p[:, 0], p[:, 1] = np.clip(p[:, 0], x0, x1), np.clip(p[:, 1], y0, y1)
+        grad /= np.maximum(np.linalg.norm(grad, axis=1, keepdims=True), 1e-300)
+        a = f(p[:, 0] + eps * grad[:, 0], p[:, 1] + eps * grad[:, 1])
+        b = f(p[:, 0] - eps * grad[:, 0], p[:, 1] - eps * grad[:, 1])
+        segs = _segments(line.lines)
+        # a continuous field differs across the hair by about |∇f|·2ε: far below a visible jump
+        jump = np.abs(a - b) > 1e-4 * max(1.0, float(np.nanmax(np.abs(np.concatenate([a, b])))))
+        segs = segs[jump[segs[:, 0]] & jump[segs[:, 1]]]
+        if len(segs) == 0:
+            continue
+        n = len(p)
+        pts = np.vstack([p, p])
+        faces = np.hstack([[4, i, j, n + j, n + i] for i, j in segs])
+        wall = pv.PolyData(pts, faces=faces)
+        wall.point_data["value"] = np.concatenate([a, b])
+        out.append(wall)
+    return out
+
+
+def _segments(lines: np.ndarray) -> np.ndarray:
+    """VTK's line cells ``[n, i₀, …, iₙ₋₁, …]`` as the pairs of consecutive points (k × 2)."""
+    out, k = [], 0
+    while k < len(lines):
+        n = int(lines[k])
+        ids = lines[k + 1:k + 1 + n]
+        out.extend(zip(ids[:-1], ids[1:]))
+        k += n + 1
+    return np.array(out, dtype=int).reshape(-1, 2)
+
+
 def _lift(mesh: pv.PolyData, scale: float) -> pv.PolyData:
     m = mesh.copy()
     m.points[:, 2] = np.nan_to_num(m.point_data["value"]) * scale
@@ -137,6 +191,7 @@ def render(s: Scene, path: str, title: str, wrt: str, window=WINDOW) -> str:
     (x0, x1), (y0, y1) = s.box
     size = max(x1 - x0, y1 - y0)
     integrand, regular = regions(s, s.integrand), regions(s, s.regular)
+    walls = [cliffs(s, s.integrand), cliffs(s, s.regular), cliffs(s, s.regular)]
     rs = ridges(s)
     bases = [_base(s, r) for r in rs]
     values = [m.point_data["value"] for m in integrand + regular] + \
@@ -160,6 +215,8 @@ def render(s: Scene, path: str, title: str, wrt: str, window=WINDOW) -> str:
             actor = pl.add_mesh(_lift(m, scale), scalars="value", cmap="coolwarm", clim=clim, show_scalar_bar=False,
                                 opacity=opacity)
             mapper = actor.mapper
+        for w in walls[col]:  # a jump is a cliff, not a gap
+            pl.add_mesh(_lift(w, scale), color="gray", opacity=0.7 * opacity)
         for r, b in zip(ridge_list, bases):
             strip, top = _curtain(r, b, scale)
             pl.add_mesh(strip, color=RIDGE_COLOR, opacity=0.55)
