@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .geometry import Scene, curve, spikes  # noqa: E402
+from .geometry import Scene, Spike, curve, spikes  # noqa: E402
 
 DELTA_COLOR = "#e8710a"  # the paper's orange for what the delta contributes
 CURVE_COLOR = "#1f4e9c"
@@ -23,7 +23,25 @@ SAMPLES = 10
 
 
 def _fmt(v: float) -> str:
-    return f"{v:.6g}"
+    """Six significant digits, with a true minus sign (as matplotlib's tick labels)."""
+    return f"{v:.6g}".replace("-", "\u2212")
+
+
+def _label_rows(sps: list[Spike], width: float) -> list[tuple[Spike, int, float]]:
+    """Each spike with the row of its label and the height the rows start from, centred above (or
+    below) it: a label shares a row with no label of the same sign less than a third of the box
+    away, and starts past the longest arrow among those, so that no label overlaps another or is
+    crossed by a neighbour's arrow, and each stands over its own spike."""
+    placed: list[tuple[Spike, int, float]] = []
+    for sp_ in sorted(sps, key=lambda p: p.x):
+        near = [(p, row) for p, row, _ in placed
+                if (p.weight >= 0) == (sp_.weight >= 0) and abs(p.x - sp_.x) < width / 3]
+        taken = {row for _, row in near}
+        placed.append((sp_, min(set(range(len(taken) + 1)) - taken), 0.0))
+    return [(p, row, max((abs(q.weight) for q, _, _ in placed
+                          if (q.weight >= 0) == (p.weight >= 0) and abs(q.x - p.x) < width / 3),
+                         default=abs(p.weight)) * (1 if p.weight >= 0 else -1))
+            for p, row, _ in placed]
 
 
 def _draw(ax, pieces, **kw):
@@ -60,13 +78,20 @@ def figure(s: Scene, title: str, wrt: str):
     ax = axes[2]
     _draw(ax, regular, color=CURVE_COLOR, lw=2, label="regular part")
     top = ymax
-    for sp_ in spikes(s):
+    rows = _label_rows(spikes(s), hi - lo)
+    for sp_, row, start in rows:
         ax.annotate("", xy=(sp_.x, sp_.weight), xytext=(sp_.x, 0.0),
                     arrowprops=dict(arrowstyle="-|>", color=DELTA_COLOR, lw=2.5))
-        ax.text(sp_.x, sp_.weight, f"  δ weight {_fmt(sp_.weight)}", color=DELTA_COLOR, va="center",
-                ha="left" if sp_.x < (lo + hi) / 2 else "right")
+        up = sp_.weight >= 0
+        ax.annotate(f"weight {_fmt(sp_.weight)}", xy=(sp_.x, start), xytext=(0, (4 + 14 * row) * (1 if up else -1)),
+                    textcoords="offset points", color=DELTA_COLOR, ha="center", va="bottom" if up else "top")
         top = max(top, sp_.weight)
         ymin = min(ymin, sp_.weight)
+    # room for the labels: a row of text is about 7 % of the panel's height
+    depth = 1 + max([row for _, row, _ in rows], default=-1)
+    label_pad = 0.08 * (max(top, ymax) - ymin or 1.0) * depth
+    top += label_pad if any(sp_.weight >= 0 for sp_, _, _ in rows) else 0.0
+    ymin -= label_pad if any(sp_.weight < 0 for sp_, _, _ in rows) else 0.0
     ax.set_title(f"(c) derivative = {_fmt(s.derivative)} (deltas {_fmt(s.boundary)})")
 
     ax = axes[3]

@@ -13,6 +13,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib import patheffects  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 
 from langur import operational  # noqa: E402
@@ -43,6 +44,15 @@ def _image(ax, s: Scene, f, title: str, cmap: str = "coolwarm"):
 
 def flat(s: Scene, path: str, title: str, wrt: str) -> str:
     """Integrand and regular part as images; the deltas' zero sets coloured by their weight."""
+    fig = figure(s, title, wrt)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+def figure(s: Scene, title: str, wrt: str):
+    """:func:`flat`'s matplotlib figure.  Each zero set is drawn over a black edge: where a delta's
+    weight is near 0 its colour (the diverging map's white) would vanish into the image under it."""
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.4), constrained_layout=True)
     fig.suptitle(title)
     im = _image(axes[0], s, s.integrand, f"integrand, integral = {_fmt(s.value)}")
@@ -56,13 +66,13 @@ def flat(s: Scene, path: str, title: str, wrt: str) -> str:
         lim = float(np.nanmax(np.abs(dens))) or 1.0
         for r in rs:
             seg = np.stack([r.points[:-1], r.points[1:]], axis=1)
-            lc = LineCollection(seg, cmap="PuOr", norm=plt.Normalize(-lim, lim), linewidths=4)
+            lc = LineCollection(seg, cmap="PuOr", norm=plt.Normalize(-lim, lim), linewidths=4,
+                                path_effects=[patheffects.Stroke(linewidth=7, foreground="black"),
+                                              patheffects.Normal()])
             lc.set_array((r.density[:-1] + r.density[1:]) / 2)
             axes[1].add_collection(lc)
         fig.colorbar(lc, ax=axes[1], label="delta weight per unit length")
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return fig
 
 
 def convergence(s: Scene, target, path: str, title: str, wrt: str, *, seed: int = 0,

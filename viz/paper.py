@@ -78,7 +78,7 @@ def fig14(data: dict, out: str) -> str:
     for name, im in imgs.items():
         rgb = np.clip(im["rgb"], 0.0, 1.0)
         pattern = (np.abs(im["drgb"]) > 1e-12).astype(float)
-        for arr, what in ((rgb, f"{name} shader"), (pattern, f"{name} shader: D_t ≠ 0 per channel")):
+        for arr, what in ((rgb, f"{name} shader"), (pattern, f"{name} shader: $D_t$ ≠ 0 per channel")):
             ax = axes[col]
             ax.imshow(arr, extent=(x0, x1, y1, y0), origin="upper", interpolation="nearest")
             ax.set_title(f"({next(letters)}) {what}", fontsize=10)
@@ -88,7 +88,9 @@ def fig14(data: dict, out: str) -> str:
     ax = axes[col]
     mag = sum(np.abs(im["drgb"]).sum(axis=-1) for im in imgs.values())
     shown = ax.imshow(mag, extent=(x0, x1, y1, y0), origin="upper", interpolation="nearest", cmap="magma")
-    ax.set_title("|D_t| summed over channels and shaders", fontsize=10)
+    ax.set_title(f"({next(letters)}) $|D_t|$ summed over channels and shaders", fontsize=10)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
     fig.colorbar(shown, ax=ax, fraction=0.046, pad=0.04)
     fig.suptitle("Fig. 14: a ray-traced triangle expanding with t, two toon shaders (Monte Carlo)", fontsize=11)
     fig.tight_layout()

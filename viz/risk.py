@@ -36,6 +36,11 @@ def _h(x, q):
     return density(x, q["mu"]) * ((x >= q["a"]) & (x <= q["b"]))
 
 
+def _num(v: float) -> str:
+    """A parameter's value in a title: two decimals, a true minus sign (as the tick labels)."""
+    return f"{v:.2f}".replace("-", "\u2212")
+
+
 def _curves(ax, q, title):
     x = np.linspace(LO, HI, 2001)
     ax.plot(x, density(x, 2.0), color="0.25", lw=1.5, ls="--", label="g = N(x; 2, 5)")
@@ -54,7 +59,7 @@ def _step(ax, q0, q1, color, samples, stars):
             ax.annotate("", xy=(q0[k] + d, y), xytext=(q0[k], y),
                         arrowprops=dict(arrowstyle="-|>", color="black", lw=1.8))
         ax.plot([q0[k]], [y], "|", color="black", ms=8)
-        ax.text(q0[k], y + 0.004, f"Δ{'μ' if k == 'mu' else k} = {d:+.2f}", ha=ha, fontsize=8)
+        ax.text(q0[k], y + 0.004, f"Δ{'μ' if k == 'mu' else k} = {d:+.2f}".replace("-", "\u2212"), ha=ha, fontsize=8)
     ax.plot(samples, _h(samples, q0), "o", color="black", ms=3.5, label="shared uniform samples")
     if stars:
         ax.plot([q0["a"], q0["b"]], [density(q0["a"], q0["mu"]), density(q0["b"], q0["mu"])], "*", color=color,
@@ -72,13 +77,13 @@ def fig2(figures: dict, path: str) -> str:
     _curves(axes[1], std[0], "(b) standard AD's first step −Dˢ")
     _step(axes[1], std[0], std[1], STANDARD, samples, False)
     q = std[-1]
-    _curves(axes[2], q, f"(c) standard AD after {len(std) - 1} steps: a = {q['a']:.2f}, b = {q['b']:.2f}, "
-            f"μ = {q['mu']:.2f}")
+    _curves(axes[2], q, f"(c) standard AD after {len(std) - 1} steps: a = {_num(q['a'])}, b = {_num(q['b'])}, "
+            f"μ = {_num(q['mu'])}")
     _curves(axes[3], lang[0], "(d) Langur's first step: the jumps are sampled")
     _step(axes[3], lang[0], lang[1], LANGUR, samples, True)
     q = lang[-1]
-    _curves(axes[4], q, f"(e) Langur after {len(lang) - 1} steps: a = {q['a']:.2f}, b = {q['b']:.2f}, "
-            f"μ = {q['mu']:.2f}")
+    _curves(axes[4], q, f"(e) Langur after {len(lang) - 1} steps: a = {_num(q['a'])}, b = {_num(q['b'])}, "
+            f"μ = {_num(q['mu'])}")
     axes[0].legend(loc="upper left", fontsize=8)
     axes[3].legend(loc="center left", fontsize=8)
     fig.savefig(path, dpi=90)
@@ -101,7 +106,10 @@ def fig3(figures: dict, path: str) -> str:
         axes[3].plot(it, [float(risk(q["a"], q["b"], q["mu"])) for q in run], color=color, lw=2, label=label)
     for ax, k, best in zip(axes, ("a", "b", "μ"), (-10.0, 10.0, 2.0)):
         ax.axhline(best, color="0.5", ls=":", lw=1)
-        ax.set_title(f"{k} (optimum {best:g})")
+        lo, hi = ax.get_ylim()  # the optimum's line inside the frame, not on its edge
+        lo, hi = min(lo, best), max(hi, best)
+        ax.set_ylim(lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo))
+        ax.set_title(f"{k} (optimum {best:g})".replace("-", "\u2212"))
         ax.set_xlabel("iteration")
     axes[3].set_yscale("log")
     axes[3].set_title("risk R (exact closed form of ⟦p⟧)")
