@@ -41,7 +41,8 @@ def complete_or_split(cond: Term, variables: tuple[str, ...], box=()) -> Diffeo 
     """:func:`complete`, or the factors of ``cond`` whose signs are its sign a.e. when ``cond``
     changes sign on a moving set its completion does not reach (Fig. 8's delta would miss that
     jump; :mod:`langur.syntax.poles`).  An affine condition is one factor with no pole: completed
-    at once.  Raises ``diffeo.CompletionError`` (also ``poles.TooManyFactors``'s message as one)."""
+    at once.  Raises ``diffeo.CompletionError`` (also for ``poles.TooManyFactors`` and a pole that
+    moves inside a factor no split reaches, ``poles.MovingPole``: refused before any number)."""
     direct = affine.complete(cond, tuple(variables))
     if direct is not None:
         return direct
@@ -57,6 +58,8 @@ def complete_or_split(cond: Term, variables: tuple[str, ...], box=()) -> Diffeo 
         raise diffeo.CompletionError(f"{e}: its sign changes where its completion does not reach (a pole or "
                                      "a factor that moves with the parameters); write it as a product of "
                                      "fewer conditions") from None
+    except poles.MovingPole as e:
+        raise diffeo.CompletionError(str(e)) from None
     if split is not None:
         return split
     if failed is not None:

@@ -43,11 +43,17 @@ class TooManyFactors(Exception):
     """A condition changes sign at more moving factors than :data:`MAX_FACTORS`."""
 
 
+class MovingPole(Exception):
+    """A condition changes sign at a pole that moves with the parameters inside a factor that is
+    not a polynomial (``exp(1/(x − b)) − 2``): no split into factors puts a delta there, so the
+    derivative is refused (the message says why and how to rewrite)."""
+
+
 def sign_factors(cond: Term, psi: Diffeo | None) -> tuple[Term | None, tuple[Term, ...]] | None:
     """``(c, (f₁, …))`` with ``[cond ≥ 0] = [c ≥ 0] ⊕ [f₁ ≥ 0] ⊕ …`` a.e. (``c`` None: a positive
     constant) when the sign of ``cond`` changes on a set that moves with the parameters and that
     ``psi`` (``cond``'s completion, None when it has none) does not parametrize; else None.
-    Raises :class:`TooManyFactors`."""
+    Raises :class:`TooManyFactors`, :class:`MovingPole`."""
     try:
         expr = to_sympy(cond)
     except NotSmooth:
@@ -77,22 +83,48 @@ def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
             coefficient *= arg
             continue
         base, k = arg.as_base_exp()
-        if not (k.is_Integer and base.is_polynomial(*variables)):
-            return None  # a root or a transcendental factor: not a sign of polynomial factors
-        sub_coefficient, parts = sp.factor_list(base)
-        coefficient *= sub_coefficient ** k
+        if not k.is_Integer:
+            return None  # a root of a term over variables: no sign change to split on where it is defined
+        if base.is_polynomial(*variables):
+            sub_coefficient, parts = sp.factor_list(base)
+            coefficient *= sub_coefficient ** k
+        else:
+            parts = [(base, 1)]  # a transcendental factor (exp(x) - a): its own sign
         for part, m in parts:
             if not part.free_symbols & variables:
                 coefficient *= part ** (m * k)
             elif (m * k) % 2:
                 factors.append(part)
                 pole = pole or k < 0
+    for f in factors:
+        inner = _moving_pole(f, variables)
+        if inner is not None:
+            raise MovingPole(f"it changes sign where {inner} = 0, a pole that moves with the parameters, and no "
+                             "conditional's zero set is there: the derivative's delta (Fig. 8) sits on the zero set "
+                             "of the condition only and would miss that jump; write the condition so that the pole is "
+                             "a factor's ([exp(1/(x - b)) >= 2] is [1/(x - b) >= log(2)]: a quotient, split at its "
+                             "pole), or split the domain at the pole")
     if len(factors) < 2 and not pole:
         return None  # one factor, not under a division: the condition itself, up to its coefficient
     moving = [f for f in factors if f.free_symbols - variables]
     if not moving or (psi is not None and _reaches(psi, moving, expr.free_symbols - variables)):
         return None
     return coefficient, factors
+
+
+def _moving_pole(f: sp.Expr, variables: set) -> sp.Expr | None:
+    """A pole inside ``f`` where ``f`` changes sign and that moves: the base of an odd negative
+    power, or the argument of ``tan``'s cosine, over variables and mentioning a parameter."""
+    for node in sp.preorder_traversal(f):
+        if node.is_Pow and node.exp.is_Integer and node.exp < 0 and node.exp % 2:
+            base = node.base
+        elif isinstance(node, sp.tan):
+            base = sp.cos(node.args[0])
+        else:
+            continue
+        if base.free_symbols & variables and base.free_symbols - variables:
+            return base
+    return None
 
 
 #: Parameter values at which :func:`_reaches` compares (two, so that a coincidence at one is not
@@ -124,4 +156,4 @@ def _vanishes(value: sp.Expr) -> bool:
     return not value.has(sp.zoo, sp.oo, -sp.oo, sp.nan) and sp.simplify(value) == 0
 
 
-__all__ = ["MAX_FACTORS", "TooManyFactors", "sign_factors"]
+__all__ = ["MAX_FACTORS", "MovingPole", "TooManyFactors", "sign_factors"]
