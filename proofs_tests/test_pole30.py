@@ -59,7 +59,9 @@ def test_both_engines_against_the_hand_values(text, value, slope):
     assert not d.inconsistent, d.inconsistent
     assert d.value == pytest.approx(slope, rel=1e-12)  # main: no exact value for ROOT_X and OFFSET
     mc = operational.estimate_derivative(loaded, params, {"a": 1}, samples=20_000, seed=7)
-    assert mc.stderr > 0 or slope == 0  # main: 0 ± 0 for ROOT_X and OFFSET
+    # main: 0 ± 0 for ROOT_X and OFFSET; since pole31 OFFSET is split at its moving pole into affine
+    # conditionals, whose deltas Monte Carlo samples exactly when the pole is outside the box (± 0)
+    assert mc.stderr > 0 or slope == 0 or mc.value == pytest.approx(slope, abs=1e-12)
     assert abs(mc.value - slope) <= 5 * mc.stderr + 1e-12, (mc.value, mc.stderr)
     mv = operational.estimate_value(loaded, params, samples=20_000, seed=7)
     assert abs(mv.value - value) <= 5 * mv.stderr

@@ -77,7 +77,7 @@ def sign_factors(cond: Term, psi: Diffeo | None) -> tuple[Term | None, tuple[Ter
 def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
     variables = {s for s in expr.free_symbols if s.name in free_vars(cond)}
     quotient = sp.together(expr)
-    coefficient, factors, pole = sp.S.One, [], False
+    coefficient, factors, poles = sp.S.One, [], []
     for arg in sp.Mul.make_args(quotient):
         if not arg.free_symbols & variables:
             coefficient *= arg
@@ -95,7 +95,8 @@ def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
                 coefficient *= part ** (m * k)
             elif (m * k) % 2:
                 factors.append(part)
-                pole = pole or k < 0
+                if k < 0:
+                    poles.append(part)
     for f in factors:
         inner = _moving_pole(f, variables)
         if inner is not None:
@@ -104,10 +105,12 @@ def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
                              "of the condition only and would miss that jump; write the condition so that the pole is "
                              "a factor's ([exp(1/(x - b)) >= 2] is [1/(x - b) >= log(2)]: a quotient, split at its "
                              "pole), or split the domain at the pole")
-    if len(factors) < 2 and not pole:
+    if len(factors) < 2 and not poles:
         return None  # one factor, not under a division: the condition itself, up to its coefficient
     moving = [f for f in factors if f.free_symbols - variables]
-    if not moving or (psi is not None and _reaches(psi, moving, expr.free_symbols - variables)):
+    if psi is None:  # no completion: split only for a pole that moves (a fixed one stays refused, T207)
+        return (coefficient, factors) if any(f in moving for f in poles) else None
+    if not moving or _reaches(psi, moving, expr.free_symbols - variables):
         return None
     return coefficient, factors
 
@@ -127,15 +130,18 @@ def _moving_pole(f: sp.Expr, variables: set) -> sp.Expr | None:
     return None
 
 
-#: Parameter values at which :func:`_reaches` compares (two, so that a coincidence at one is not
-#: taken for identity; distinct per parameter, so that ``a = b`` is not one of them).
+#: Values of the parameters (and of the zero set's other coordinates) at which :func:`_reaches`
+#: compares (two, so that a coincidence at one is not taken for identity; distinct per symbol, so
+#: that ``a = b`` is not one of them).
 _PROBES = (lambda j: sp.Rational(2 * j + 3, 7), lambda j: sp.Rational(-(3 * j + 5), 11))
 
 
 def _reaches(psi: Diffeo, factors: list[sp.Expr], params: set) -> bool:
-    """Whether every factor vanishes identically on some inverse branch's image of the zero set
-    ``u₀ = 0`` (at two points of the parameters): the completion's delta then sits on each factor's
-    sign change, as Fig. 8 needs."""
+    """Whether every factor vanishes on some inverse branch's image of the zero set ``u₀ = 0``: the
+    completion's delta then sits on each factor's sign change, as Fig. 8 needs.  Identically in the
+    parameters, or else at each of two points of theirs where a branch's image is defined (a branch
+    ``x = ±sqrt(u₀ + a²)`` reaches ``x − a`` as ``Abs(a)``; ``erfinv(1/a − 2)`` exists for some ``a``
+    only); where no image is defined at either point, the completion is kept (no evidence it misses)."""
     u0 = symbol(psi.inputs[0])
     images = []
     for branch in psi.branches:
@@ -143,13 +149,26 @@ def _reaches(psi: Diffeo, factors: list[sp.Expr], params: set) -> bool:
             images.append({symbol(x): to_sympy(c).subs(u0, 0) for x, c in zip(psi.variables, branch.components)})
         except NotSmooth:
             continue
-    ordered = sorted(params, key=lambda s: s.name)
-    for probe in _PROBES:
-        at = {p: probe(j) for j, p in enumerate(ordered)}
-        for f in factors:
-            if not any(_vanishes(f.subs(image, simultaneous=True).subs(at)) for image in images):
-                return False
+    for f in factors:
+        on = [f.subs(image, simultaneous=True) for image in images]
+        if any(_vanishes(v) for v in on):
+            continue
+        # the parameters and the zero set's other coordinates u' at two points
+        ordered = sorted(set().union(*(v.free_symbols for v in on)) | params, key=lambda s: s.name)
+        probes = [{p: probe(j) for j, p in enumerate(ordered)} for probe in _PROBES]
+        defined = [[w for w in (v.subs(at) for v in on) if _defined(w)] for at in probes]
+        if any(values and not any(abs(complex(w.evalf(30))) < 1e-20 for w in values) for values in defined):
+            return False
     return True
+
+
+def _defined(value: sp.Expr) -> bool:
+    """A real, finite number (an image of the zero set that exists at these parameter values)."""
+    try:
+        z = complex(value.evalf(30))
+    except (TypeError, ValueError):
+        return False
+    return z == z and abs(z.real) != float("inf") and abs(z.imag) <= 1e-20 * (1 + abs(z.real))
 
 
 def _vanishes(value: sp.Expr) -> bool:
