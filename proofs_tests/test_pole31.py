@@ -10,7 +10,9 @@ delta.  ⟦p⟧ is unchanged (the integrands agree off the null set D = 0).
 Hand values (every zero set and pole inside the box):
 * ``[(x − a)/(y + b) ≥ 0]``: y > −b: x ≥ a; y < −b: x ≤ a.  ⟦p⟧ = (1 − a)(1 + b) + (1 + a)(1 − b)
   = 2 − 2ab; d/da = −2b, d/db = −2a (the brief's −0.6 is a = 0.3; at a = b = ½ it is −1).
-* ``[(y − a)/(x + b) ≥ 0]``: the same with x and y swapped: 2 − 2ab.
+* ``[(y − a)/(x + b) ≥ 0]``: the same with x and y swapped: 2 − 2ab; ``[(a − x)/(y + b) ≤ 0]`` is the
+  same set; ``[2(x − a)/(b(y + b)) ≥ 0]`` too for b > 0, its complement 2 + 2ab for b < 0 (d/da = 2b,
+  d/db = 2a: the sign of the coefficient b is a conditional on the parameters).
 * ``[(x − a)/(y + b) ≤ c]``: y > −b: x ≤ a + c(y + b); y < −b: x ≥ a + c(y + b).
   ⟦p⟧ = ∫_{−b}^{1} (1 + a + c(y + b)) dy + ∫_{−1}^{−b} (1 − a − c(y + b)) dy = 2 + 2ab + c(1 + b²)
   (while a + c(y + b) stays in [−1, 1]); d/da = 2b, d/db = 2a + 2bc.
@@ -61,6 +63,8 @@ PRODUCT = f"{BOX2} [(x - a)*(y - b) >= 0] d(x, y)"
 FIXED_FACTOR = f"{BOX2} [(x - a)*(y - 0.5) >= 0] d(x, y)"
 FIXED_POLE = f"{BOX2} [(x - a)/(y + 0.5) >= 0] d(x, y)"
 THROUGH_DEF = f"def g(u: var, v: var) = [u/v >= 0]\n{BOX2} g(x - a, y + b) d(x, y)"
+NEGATED = f"{BOX2} [(a - x)/(y + b) <= 0] d(x, y)"  # the same set as QUOTIENT_X
+COEFFICIENT = f"{BOX2} [2*(x - a)/(b*(y + b)) >= 0] d(x, y)"  # b < 0 flips it: the complement, 2 + 2ab
 
 
 def _cases():
@@ -68,7 +72,8 @@ def _cases():
     for a, b in ((0.5, 0.5), (0.3, -0.25)):
         quotient = (2 - 2 * a * b, {"a": -2 * b, "b": -2 * a})
         out += [(QUOTIENT_X, a, b, 0.0) + quotient, (QUOTIENT_Y, a, b, 0.0) + quotient,
-                (THROUGH_DEF, a, b, 0.0) + quotient,
+                (THROUGH_DEF, a, b, 0.0) + quotient, (NEGATED, a, b, 0.0) + quotient,
+                (COEFFICIENT, a, b, 0.0) + (quotient if b > 0 else (2 + 2 * a * b, {"a": 2 * b, "b": 2 * a})),
                 (PRODUCT, a, b, 0.0, 2 + 2 * a * b, {"a": 2 * b, "b": 2 * a})]
     c = 0.25
     for a, b in ((0.5, 0.5), (0.2, -0.3)):

@@ -11,7 +11,9 @@ D⟦p⟧ (Theorem 8.1 fails: ``deriv --wrt b`` printed 0 for −2a).
 
 Almost everywhere (off the factors' zero sets, a null set: nonzero analytic functions)
 
-    [c · Π fᵢ^kᵢ ≥ 0]  =  [c ≥ 0] ⊕ [f₁ ≥ 0] ⊕ … (over the odd kᵢ)      (⊕: the sign's parity)
+    [c · Π fᵢ^kᵢ ≥ 0]  =  [c ≥ 0] ⊕ [f₁ ≥ 0] ⊕ … (over the odd kᵢ)
+
+(⊕: the parity of the signs — the condition holds where an even number of ``c``, ``f₁``, … are negative)
 
 with ``c`` free of variables and the ``fᵢ`` the factors over variables; an even power is positive
 a.e. and drops out.  Each ``[fᵢ ≥ 0]`` is a conditional of its own, completed to a diffeomorphism
@@ -33,7 +35,7 @@ from ..core import Diffeo, Term, free_vars
 from ..sympy_bridge import NotSmooth, from_sympy, symbol, to_sympy
 from ..timebox import run_with_timeout
 
-#: At most this many factors over variables are split on (2^k branches, shared as a DAG).
+#: At most this many factors over variables are split on (2k − 1 conditionals for k factors).
 MAX_FACTORS = 6
 #: CPU-second limit of the factoring and of the check that the completion reaches every factor.
 TIME_LIMIT = 3.0
@@ -70,7 +72,9 @@ def sign_factors(cond: Term, psi: Diffeo | None) -> tuple[Term | None, tuple[Ter
     variables = sorted(free_vars(cond))
     params = sorted(s.name for s in coefficient.free_symbols | {s for f in factors for s in f.free_symbols}
                     if s.name not in variables)
-    c = None if coefficient == 1 else from_sympy(coefficient, (), params)
+    if coefficient.is_number and coefficient < 0:  # a negative constant: the first factor's sign flipped
+        coefficient, factors = -coefficient, [-factors[0], *factors[1:]]
+    c = None if coefficient.is_number else from_sympy(coefficient, (), params)
     return c, tuple(from_sympy(f, variables, params) for f in factors)
 
 
