@@ -73,7 +73,7 @@ def sign_chain(split: Split, then: Term, orelse: Term, conditional: Callable[[Te
     :mod:`langur.syntax.poles`): ``ifge0 f₁ then (… then s else r) else (… then r else s)``, each
     factor made a conditional by ``conditional(f, then, orelse)`` (completed on its own, so that each
     moving sign change — a pole's too — gets its delta, Fig. 8); the coefficient ``c`` (None:
-    positive) a plain ifge0 outside.  The branches are shared: 2·k conditionals for k factors."""
+    positive) a plain ifge0 outside.  The branches are shared: 2k − 1 conditionals for k factors."""
     coefficient, factors = split
     memo: dict[tuple[int, bool], Term] = {}
 
