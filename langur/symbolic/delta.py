@@ -24,7 +24,7 @@ from langur.implicit import ImplicitRootFn
 from langur.memo import remember
 from langur.symbolic import walks
 from langur.symbolic.context import Cond, Context, Deferred
-from langur.symbolic.pieces import DeltaPiece, Psi
+from langur.symbolic.pieces import NOT_FINITE, DeltaPiece, Psi
 from langur.symbolic.quadrature import printable
 from langur.symbolic.quadrature.deltaproblems import cofactor_det
 from langur.symbolic.rational import dual_derivative
@@ -227,6 +227,20 @@ def _jacobian_entries(comps: tuple, inputs: tuple) -> list[list]:
     wanted = _differentiated(list(comps), inputs)
     return [[sp.diff(e, u) if wanted[i][j] else sp.Integer(0) for j, u in enumerate(inputs)]
             for i, e in enumerate(comps)]
+
+
+def infinite_on_zero_set(psi: Psi) -> str | None:
+    """The first inverse branch component not finite on the zero set (``u₀ = 0``), as
+    ``x = Ψ̂⁻¹ₓ``, or None.  There Ψ̂⁻¹(0, u') — the zero set the delta sits on (LANGUAGE.md §4) —
+    does not exist: Ψ̂ is no diffeomorphism on the zero set (Def. 3.4), and δ(π₀Ψ̂) cannot be taken
+    through it.  (The front end completes no condition so and refuses such a declared diffeo, T216:
+    this is the engine's own check, for a core program built otherwise.)"""
+    u0 = psi.inputs[0]
+    for b in psi.branches:
+        for x, c in b.inverse:
+            if walks.has_any(sp.sympify(c).xreplace({u0: sp.Integer(0)}), NOT_FINITE):
+                return f"{x} = {c}"
+    return None
 
 
 def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Context, ubox):

@@ -397,6 +397,12 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
     ∫ h(Ψ̂_b⁻¹(0,u'))·|det DΨ̂_b⁻¹(0,u')| du' on the guards (LANGUAGE.md §4); ``symbolic`` as
     :func:`integrate_pieces`'s."""
     variables = tuple(variables)
+    for i, pc in enumerate(pieces):
+        infinite = delta.infinite_on_zero_set(pc.psi)
+        if infinite is not None:
+            raise UndefinedIntegral(f"delta piece {i}: its Ψ̂⁻¹ is infinite on the zero set ({infinite} at "
+                                    f"{pc.psi.inputs[0]} = 0): Ψ̂ is no diffeomorphism there (Def. 3.4), so "
+                                    "δ(π₀Ψ̂) is not defined through it")
     ctx, boxd = _setup(variables, box, at, timeout, cell)
     uboxes = []
     for i, pc in enumerate(pieces):

@@ -42,7 +42,7 @@ from ..core import (
 )
 from ..diagnostics import Span
 from . import kinks
-from .completion import complete, diffeo
+from .completion import complete, complete_or_split, diffeo, sign_chain
 from .inline import expand_calls
 from .scope import Scope
 from .surface import DiffeoApp, Iverson, Name, STerm
@@ -161,7 +161,7 @@ class Conditionals:
         """``ifge0 ⌊Ψ⌋ then … else …`` with Ψ the completion of ``cond`` over the variables (a
         pending one while the program's box is not known yet)."""
         try:
-            psi = complete(cond, sc.variables, sc.box)
+            psi = complete_or_split(cond, sc.variables, sc.box)
         except diffeo.CompletionError as e:
             why = kinks.on_piece(str(e), self.sides)
             if not sc.in_program and "bounded" in why:
@@ -173,10 +173,18 @@ class Conditionals:
             self.pending.append((psi, diagnostic))
             self.unsafe()
             return IfDiffeo(psi, then, orelse, span=span)
+        if isinstance(psi, tuple):
+            return self.signs(psi, then, orelse, sc, span, cond_span)
         node = IfDiffeo(psi, then, orelse, span)
         if self.records:
             self.note_completion(node, cond, sc.variables, sc.box)
         return node
+
+    def signs(self, split, then: Term, orelse: Term, sc: Scope, span, cond_span) -> Term:
+        """A condition that changes sign where its completion does not reach, as the signs of its
+        factors (:func:`langur.syntax.completion.sign_chain`), each factor a conditional of its own."""
+        self.unsafe()  # the factors are read off the condition's value (sympy factors it)
+        return sign_chain(split, then, orelse, lambda f, s, r: self.conditional(f, s, r, sc, span, cond_span), span)
 
     def complete_pending(self, t: Term, variables: tuple[str, ...], box) -> Term:
         """``t`` with the conditions left pending completed over the program's ``box`` (a periodic

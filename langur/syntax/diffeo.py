@@ -465,6 +465,14 @@ def _check(name, variables, params, forward, inputs, inverse):
     if det == 0:
         raise DiffeoCheckError("T216", f"diffeo {name} has a singular Jacobian: det DΨ̂ = 0 everywhere")
     _numeric_inverse(name, variables, params, inputs, F, G, xs, us)
+    on_zero_set = [g.subs(us[0], 0) for g in G]
+    if any(g.has(sp.zoo, sp.oo, -sp.oo, sp.nan) for g in on_zero_set):
+        # Ψ̂⁻¹(0, u') is where the delta of the condition sits (LANGUAGE.md §4): infinite there, Ψ̂
+        # maps no point onto its zero set's coordinates — DΨ̂ is singular all along the zero set
+        raise DiffeoCheckError("T216", f"diffeo {name}'s inverse is infinite on the zero set of its condition "
+                               f"({', '.join(f'{x} = {g}' for x, g in zip(variables, G))} at {inputs[0]} = 0): "
+                               "Ψ̂ is not a diffeomorphism there (det DΨ̂ = 0 on it), and the derivative's delta "
+                               "cannot be taken through it; solve the condition for another variable")
     if det.free_symbols & set(xs):
         if len(det.free_symbols & set(xs)) == 1:
             (x,) = det.free_symbols & set(xs)

@@ -46,7 +46,7 @@ from ..core import (
 )
 from ..diagnostics import Diagnostic, LangurError
 from ..modules import ElaboratedModule
-from .completion import complete, diffeo
+from .completion import complete, complete_or_split, diffeo, sign_chain
 from .support import numeric_box
 
 #: Deepest nesting of an inlined program (T230): twice what a written term may have (E105), so
@@ -221,7 +221,10 @@ class _Subst:
                     if not free_vars(cond):
                         return IfGe0(cond, a, b, span=t.span)
                     try:
-                        new_psi = complete(cond, self.inl.variables, self.inl.box)
+                        new_psi = complete_or_split(cond, self.inl.variables, self.inl.box)
+                        if isinstance(new_psi, tuple):  # a pole or factor that moves once inlined (syntax.poles)
+                            return sign_chain(new_psi, a, b, lambda f, s, r: IfDiffeo(
+                                complete(f, self.inl.variables, self.inl.box), s, r, span=t.span), t.span)
                     except diffeo.CompletionError as e:
                         self.inl.errors.append(ty.reject_condition(
                             self.span, f"in the body of `{self.fname}` inlined here: {e}"))
