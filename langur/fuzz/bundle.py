@@ -54,7 +54,8 @@ def join(main: str, libraries: dict[str, str]) -> str:
 
 def split(text: str) -> tuple[str, dict[str, str]]:
     """``(main, libraries)`` of a bundle (:func:`join`): ``main`` is ``text`` itself (the library
-    lines are comments in it), ``libraries`` each file's text by its name, line ends kept."""
+    lines are comments in it), ``libraries`` each file's text by its name, line ends kept; a
+    module's block may follow other comment lines (a counterexample's header, ``langur fuzz --out``)."""
     libraries: dict[str, list[str]] = {}
     current = None
     for line in text.splitlines(keepends=True):
@@ -64,7 +65,7 @@ def split(text: str) -> tuple[str, dict[str, str]]:
         elif current is not None and line.startswith(LINE):
             libraries[current].append(line[len(LINE):])
         else:
-            break  # the bundle's head ends at the main module's first line
+            current = None
     return text, {file: "".join(lines) for file, lines in libraries.items()}
 
 
