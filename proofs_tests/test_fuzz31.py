@@ -129,6 +129,36 @@ def test_a_def_whose_let_moves_through_two_modules_by_hand_in_both_engines():
     assert r.theorem_8_1 == {"a": "checked"}
 
 
+#: Programs with a new construct each, their value and ∂a worked out by hand at a = 0.37.
+BY_HAND = {
+    # ∫_a^1 (x + 0.1) dx = (1 − a²)/2 + 0.1(1 − a); ∂a = −(a + 0.1)
+    "lexical": ("# θ ≤ 1\r\nparam a = .37\r\nint ([0, 1e0])#box\r\n\t([x ≥ a] * (x + 1e-1))\r\nd(x)\r\n",
+                (1 - 0.37 ** 2) / 2 + 0.1 * 0.63, -0.47),
+    # s = a² + 0.1 at sites s and 2s: Σ t²/2 + t; ∂a = 2a·((s + 1) + 2(2s + 1))
+    "the program's let passed to a def": (
+        "param a = 0.37\ndef g(x: var, qs: param) = [x <= qs] * (x + 1)\nint ([0, 1])\n"
+        "  let s = a * a + 0.1 in g(x, s) + g(x, 2 * s)\nd(x)\n",
+        sum(t * t / 2 + t for t in (0.2369, 0.4738)), 0.74 * (1.2369 + 2 * 1.4738)),
+    # x + y ≥ a on the unit square: 1.5 − (a³/6 + a²/2) + 0.5·a²/2; ∂a = −a²/2 − a/2
+    "a diffeo from a module": (
+        bundle.join("param a = 0.37\nfrom geo import sh\nint ([0, 1], [0, 1])\n  ifge0 sh(x, y; a) then y + 1 else 0.5\n"
+                    "d(x, y)\n", {"geo.lgr": "diffeo sh(x, y; c) = (x + y - c, y) inverse (u, v) = (u - v + c, v)\n"}),
+        1.5 - 0.37 ** 3 / 6 - 0.37 ** 2 / 4, -(0.37 ** 2) / 2 - 0.37 / 2),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(BY_HAND))
+def test_each_new_construct_by_hand_in_both_engines(kind):
+    text, value, deriv = BY_HAND[kind]
+    r = compare_text(text, samples=20000, timeout=60)
+    assert r.status == "agree", (r.reason, r.findings)
+    rows = {(row.quantity, row.wrt): row for row in r.rows}
+    assert rows["value", None].exact == pytest.approx(value, abs=1e-12)
+    assert rows["derivative", "a"].exact == pytest.approx(deriv, abs=1e-12)
+    for q in ("value", None), ("derivative", "a"):
+        assert abs(rows[q].mc - rows[q].exact) <= 5 * rows[q].stderr + 1e-9, q
+
+
 def test_a_counterexample_with_modules_shrinks_its_main_module_and_keeps_its_libraries():
     lib = "def g(x: var, qa: param) = [x >= qa]\n"
     text = bundle.join("param a = 0.37\nfrom lib import g\nint ([0, 1])\n  g(x, a) * (x + 1) + x ^ 2\nd(x)\n",
