@@ -159,6 +159,43 @@ def test_each_new_construct_by_hand_in_both_engines(kind):
         assert abs(rows[q].mc - rows[q].exact) <= 5 * rows[q].stderr + 1e-9, q
 
 
+LIB_G = "def g(x: var, qa: param) = [x <= qa] * (x + 1)\n"
+#: Linking shapes the generator does not draw, by hand (a = 0.37; [x <= t]·(x + 1) on [0, 1] is
+#: t²/2 + t, its ∂t is t + 1).
+LINKS = {
+    # one def under two local names, at a and 2a
+    "two names": (bundle.join("param a = 0.37\nfrom lib import g, g as h\nint ([0, 1])\n  g(x, a) + h(x, 2 * a)\n"
+                              "d(x)\n", {"lib.lgr": LIB_G}),
+                  0.37 ** 2 / 2 + 0.37 + 0.74 ** 2 / 2 + 0.74, 1.37 + 2 * 1.74),
+    # a diamond: main imports lib and lib2, lib2 imports lib too (k(x, q) = g(x, q/2))
+    "diamond": (bundle.join("param a = 0.37\nfrom lib import g\nfrom lib2 import k\nint ([0, 1])\n  g(x, a) + k(x, a)\n"
+                            "d(x)\n", {"lib.lgr": LIB_G,
+                                        "lib2.lgr": "from lib import g\ndef k(x: var, qb: param) = g(x, qb / 2)\n"}),
+                0.37 ** 2 / 2 + 0.37 + 0.185 ** 2 / 2 + 0.185, 1.37 + 0.5 * 1.185),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(LINKS))
+def test_linking_shapes_by_hand_in_both_engines(kind):
+    text, value, deriv = LINKS[kind]
+    r = compare_text(text, samples=20000, timeout=60)
+    assert r.status == "agree", (r.reason, r.findings)
+    rows = {(row.quantity, row.wrt): row for row in r.rows}
+    assert rows["value", None].exact == pytest.approx(value, abs=1e-12)
+    assert rows["derivative", "a"].exact == pytest.approx(deriv, abs=1e-12)
+    assert rows["derivative", "a"].mc == pytest.approx(deriv, abs=1e-9)
+
+
+def test_units_with_another_library_of_the_same_name_in_one_process():
+    # a worker runs unit after unit: each unit's lib.lgr (in a folder of its own) is its own, never the last one's
+    main_text = "param a = 0.37\nfrom lib import g\nint ([0, 1])\n  g(x, a)\nd(x)\n"
+    below, above = (0.37 ** 2 / 2 + 0.37, 1.37), (1.5 - (0.37 ** 2 / 2 + 0.37), -1.37)
+    for lib, (value, deriv) in ((LIB_G, below), (LIB_G.replace("<=", ">="), above), (LIB_G, below)):
+        r = compare_text(bundle.join(main_text, {"lib.lgr": lib}), samples=2000, timeout=60, isolate=False)
+        assert r.status == "agree" and [row.exact for row in r.rows[:2]] == pytest.approx([value, deriv], abs=1e-12)
+        assert r.rows[1].mc == pytest.approx(deriv, abs=1e-9)
+
+
 def test_a_counterexample_with_modules_shrinks_its_main_module_and_keeps_its_libraries():
     lib = "def g(x: var, qa: param) = [x >= qa]\n"
     text = bundle.join("param a = 0.37\nfrom lib import g\nint ([0, 1])\n  g(x, a) * (x + 1) + x ^ 2\nd(x)\n",
