@@ -264,7 +264,11 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
     ``ifge0`` over the variables, nested loops, strict chains with ``pi``, ``cross`` and components,
     negative exponents), boxes with both ends moving, programs without a domain (the box as
     brackets in the body), and the whole-program variants of :mod:`.variants` (negative parameter
-    defaults, programs without parameters, a def called with other parameter terms).  Shrinks towards one
+    defaults, programs without parameters, a def called with other parameter terms, also a def whose
+    ``let`` then takes another value; with ``modules`` the def imported under another name or
+    through a second module, the diffeos from a module of their own) and lexical variants of the
+    text (:mod:`.lexical`: comments, CRLF, numbers spelled otherwise, ≤/≥, extra parentheses;
+    :attr:`Generated.spelling`).  Shrinks towards one
     variable, one parameter, one smooth factor; without ``wide`` a seed draws what it drew before."""
     if not 1 <= min_variables <= max_variables <= 3:
         raise ValueError("variables: 1 <= min_variables <= max_variables <= 3")
