@@ -250,6 +250,8 @@ VARIANTS = {
 def test_each_variant_is_drawn_only_when_wide(variant):
     g = find(ls.programs(wide=True, modules=True), VARIANTS[variant], settings=FIND)
     g.load()
+    if variant == "def in a module":  # what `modules=True` drew before; `langur fuzz` only with --wide
+        return
     with pytest.raises(NoSuchExample):
         find(ls.programs(modules=True), VARIANTS[variant], settings=settings(FIND, max_examples=300))
 
