@@ -119,10 +119,12 @@ def test_each_form_of_the_new_builders_is_drawn(feature):
 
 
 def test_a_wide_campaign_reaches_the_new_builders(tmp_path):
-    # the programs of `langur fuzz --wide --seed 5 --examples 300` and `--seed 7` (seed 6 until fuzz30's
-    # variants changed the wide draw: seeds 5 and 6 then drew no `sin(3 * erf(…))`, seed 7 draws four)
+    # the programs of `langur fuzz --wide --seed 6 --examples 300` and `--seed 7` (seed 6 until fuzz30's
+    # variants changed the wide draw: seeds 5 and 6 then drew no `sin(3 * erf(…))`, seed 7 draws four;
+    # seeds 5 and 7 since, until fuzz31's modules and spellings changed it again: they then drew no
+    # `^ -0.5`, seed 6 draws four and every other feature listed here)
     with hypothesis_home(str(tmp_path)):
-        texts = generated(300, 5, wide=True) + generated(300, 7, wide=True)
+        texts = generated(300, 6, wide=True) + generated(300, 7, wide=True)
     counts = Counter(f for t in texts for f in _features(t))
     reached = {"erf implicit", "erf turning", "erf inverse", "erf graph", "ifge0 on variables", "cross",
                "negative fractional exponent"}
