@@ -126,7 +126,10 @@ def _gate_nf(nf: NormalForm, cond: sp.Expr, branch: bool) -> NormalForm:
 
 @shared
 @observe.nested
-def _dd(t: Term, ctx: Ctx, dctx: DCtx) -> NormalForm:
+def ddenote_subterm(t: Term, ctx: Ctx, dctx: DCtx) -> NormalForm:
+    """⦇t⦈ of one subterm under ``ctx`` (ρ's symbols, γ) and ``dctx`` (γ'): Fig. 8, one ``match``
+    case per rule, recursing through this module's global of this name — the public hook a
+    campaign's rule coverage wraps (:mod:`langur.fuzz.coverage`); :func:`ddenote` is the entry."""
     match t:
         case Const():  # Fig. 8, constant: ⦇c⦈ = 0
             observe.rule("Fig. 8, constant: ⦇c⦈ = 0", t)
@@ -140,25 +143,27 @@ def _dd(t: Term, ctx: Ctx, dctx: DCtx) -> NormalForm:
             return NormalForm(leaf(g))
         case Add(a, b):  # Fig. 8, sum: ⦇t⦈ + ⦇s⦈
             observe.rule("Fig. 8, sum: ⦇t + s⦈ = ⦇t⦈ + ⦇s⦈", t)
-            return _dd(a, ctx, dctx) + _dd(b, ctx, dctx)
+            return ddenote_subterm(a, ctx, dctx) + ddenote_subterm(b, ctx, dctx)
         case Mul(a, b):  # Fig. 8, product: ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧
             observe.rule("Fig. 8, product: ⦇t·s⦈ = ⦇t⦈·T⟦s⟧ + ⦇s⦈·T⟦t⟧", t)
-            return _dd(a, ctx, dctx).times(decompose(b, ctx)) + _dd(b, ctx, dctx).times(decompose(a, ctx))
+            return (ddenote_subterm(a, ctx, dctx).times(decompose(b, ctx))
+                    + ddenote_subterm(b, ctx, dctx).times(decompose(a, ctx)))
         case Prim(op, a):  # LANGUAGE.md §1, primitive: chain rule f'(⟦t⟧)·⦇t⦈
             observe.rule("LANGUAGE.md §1, primitive: ⦇f(t)⦈ = f'(⟦t⟧)·⦇t⦈", t)
-            return _dd(a, ctx, dctx).times(apply_smooth(derivative_function(op), decompose(a, ctx)))
+            return ddenote_subterm(a, ctx, dctx).times(apply_smooth(derivative_function(op), decompose(a, ctx)))
         case Pow(a, k):  # LANGUAGE.md §1, constant power: k·⟦t⟧^(k−1)·⦇t⦈
             observe.rule("LANGUAGE.md §1, constant power: ⦇t^k⦈ = k·⟦t⟧^(k−1)·⦇t⦈", t)
             k = const_expr(k)
-            return _dd(a, ctx, dctx).times(apply_smooth(lambda w: k * w ** (k - 1), decompose(a, ctx)))
+            return ddenote_subterm(a, ctx, dctx).times(apply_smooth(lambda w: k * w ** (k - 1), decompose(a, ctx)))
         case IfGe0(c, a, b):  # Fig. 8, conditional: ⦇s⦈ if ⟦t⟧(·, γ) ≥ 0 else ⦇r⦈
             observe.rule("Fig. 8, conditional: ⦇s⦈ if ⟦t⟧(·, γ) ≥ 0 else ⦇r⦈", t)
-            return select(smooth_value(c, ctx), _dd(a, ctx, dctx), _dd(b, ctx, dctx), ctx.at, _gate_nf)
+            return select(smooth_value(c, ctx), ddenote_subterm(a, ctx, dctx), ddenote_subterm(b, ctx, dctx),
+                          ctx.at, _gate_nf)
         case IfDiffeo(psi, a, b):  # Fig. 8, diffeomorphic conditional:
             # (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·(D_γ π₀Ψ̂ · γ')·T⟦s⟧−⟦r⟧
             observe.rule("Fig. 8, diffeomorphic conditional: (⦇s⦈ if π₀Ψ̂ ≥ 0 else ⦇r⦈) + δ(π₀Ψ̂)·⦇π₀Ψ̂⦈·(⟦s⟧ − ⟦r⟧)", t)
             c = condition_of(psi, ctx, t.span)
-            f = _dd(a, ctx, dctx).under(c) + _dd(b, ctx, dctx).under(complement(c))
+            f = ddenote_subterm(a, ctx, dctx).under(c) + ddenote_subterm(b, ctx, dctx).under(complement(c))
             speed = tangent(psi.forward[0], ctx, dctx)  # D_γ π₀Ψ̂ · γ' = ⦇π₀Ψ̂⦈
             if speed == 0:
                 return f
@@ -166,7 +171,7 @@ def _dd(t: Term, ctx: Ctx, dctx: DCtx) -> NormalForm:
             return f + NormalForm([], [DeltaPiece(c.psi, p.conditions, speed * p.weight) for p in jump])
         case Let(name, bound, body):  # Fig. 8, let: ⦇s⦈(ρ, γ[z ↦ ⟦t⟧], γ'[z ↦ ⦇t⦈])
             observe.rule("Fig. 8, let: ⦇s⦈(ρ, γ[z ↦ ⟦t⟧], γ'[z ↦ ⦇t⦈])", t)
-            return _dd(body, ctx.bind(name, smooth_value(bound, ctx)),
+            return ddenote_subterm(body, ctx.bind(name, smooth_value(bound, ctx)),
                        DCtx(dctx.direction, {**dctx.tangents, name: tangent(bound, ctx, dctx)}))
         case Call(module, name, _):
             raise TypeError(f"call of {module}.{name} left in a core term: inline it first")
@@ -175,7 +180,7 @@ def _dd(t: Term, ctx: Ctx, dctx: DCtx) -> NormalForm:
 
 def tangent(t: Term, ctx: Ctx, dctx: DCtx) -> sp.Expr:
     """⦇t⦈ of a term without diffeomorphic conditionals: its ordinary derivative D_γ⟦t⟧·γ'."""
-    nf = _dd(t, ctx, dctx)
+    nf = ddenote_subterm(t, ctx, dctx)
     if nf.deltas:
         raise TypeError("a variable-free term has no delta terms")
     return collapse(nf.regular, "term")
@@ -195,7 +200,7 @@ def ddenote(t: Term, direction: Mapping[str, object], *, env: Mapping[str, sp.Ex
     """
     ctx = Ctx(env=dict(env or {}), at=at_symbols(at) if at is not None else None,
               variables=tuple(variables) if variables is not None else None)
-    return _dd(t, ctx, DCtx(_direction(direction)))
+    return ddenote_subterm(t, ctx, DCtx(_direction(direction)))
 
 
 @dataclass
@@ -249,8 +254,8 @@ def normal_form(program: Program, direction: Mapping[str, object], at) -> Normal
     same normal form at every point: Theorem 8.1's check computes ⦇p⦈ at nearby points), except
     while the rules are observed (:func:`langur.observe.watched`)."""
     key = None
-    # (not while an observer records or counts the rules: a campaign's rule coverage wraps _dd and
-    # must see the same applications as without this memo)
+    # (not while an observer records or counts the rules: a campaign's rule coverage wraps
+    # ddenote_subterm and must see the same applications as without this memo)
     if not observe.watched() and point_free(program):
         # by the program's identity (the entry keeps it alive: its spans, which equality ignores,
         # are in the pieces) and γ' exactly

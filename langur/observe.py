@@ -1,7 +1,7 @@
 """An optional observer of the semantic functions' rules: ``langur show --steps`` / ``--typing``.
 
 The derivation of ⦇t⦈ (Fig. 8) and the typing derivation (Fig. 6, 11) are byproducts of the one
-semantics: each case of ``ddenote._dd`` and ``typesys.type_term`` calls :func:`rule` with the name
+semantics: each case of ``ddenote.ddenote_subterm`` and ``typesys.type_term`` calls :func:`rule` with the name
 of its rule and the term it applies to; a recursive pass decorated with :func:`nested` records the
 depth and, for a case that returns one, the result.  Nothing is recorded (and almost nothing done)
 unless a caller opened :func:`observing`.

@@ -72,7 +72,10 @@ def add_arguments(p):
                         "condition, strict chains with pi, vectors (dot, cross, .z), negative exponents, a diffeo "
                         "with a parametric Jacobian, boxes with both ends moving, programs without a domain, "
                         "negative parameter defaults, programs without parameters, a def called with other "
-                        "parameter terms; the same seed draws other programs than without --wide")
+                        "parameter terms (and a def's let at other parameter terms), modules (a def imported, "
+                        "renamed, through a second module; diffeos from a module), comments, CRLF, tabs, "
+                        "numbers as .5 or 37e-2, ≤/≥, extra parentheses; the same seed draws other programs "
+                        "than without --wide")
     p.add_argument("--profile", action="store_true",
                    help="print where the programs' time went: front end, linter, the exact engine's "
                         "symbolic search, its quadratures and the rest of it, the Monte Carlo engine")

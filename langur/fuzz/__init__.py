@@ -3,7 +3,8 @@
 The exact symbolic reference (:mod:`langur.exact`, sympy) and the operational Monte Carlo
 engine (:mod:`langur.operational`, numpy) implement ⟦p⟧ and ⦇p⦈ (LANGUAGE.md §3–§4) independently.
 This module generates random well-typed, *transverse* programs as ``.lgr`` text (so the front end
-is exercised too), loads them with :func:`langur.frontend.load_text`, and compares the engines.
+is exercised too), loads them with :func:`langur.frontend.load_text` (a program with modules, ``--wide``:
+its files written to a folder the campaign owns, :mod:`langur.fuzz.bundle`), and compares the engines.
 
 Public API::
 

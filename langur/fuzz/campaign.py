@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from ..frontend import load_text
 from ..symbolic import antiderivatives
 from ..transversality import check_loaded
-from . import cluster, counterexamples, coverage, pool
+from . import bundle, cluster, counterexamples, coverage, pool
 from .compare import PHASES, THEOREM_OUTCOMES, ProgramResult, compare_engine, compare_text
 from .generate import FuzzProgram, _hypothesis, hypothesis_home, programs
 
@@ -220,6 +220,7 @@ def _unit_error(text: str, reason: str) -> ProgramResult:
     return ProgramResult(text, "exact_error", reason=f"worker: {reason}")
 
 
+@bundle.campaign_folder()  # the units' module files, and whatever a killed unit left, go with it
 def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: float = 20.0,
              keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform",
              engine=None, light: bool = False, workers: int = 0, shrink: bool = True,

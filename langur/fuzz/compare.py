@@ -13,12 +13,11 @@ from dataclasses import dataclass, field
 from .. import engines, operational
 from .. import exact as api
 from ..diagnostics import LangurError
-from ..frontend import load_text
 from ..memo import remember
 from ..symbolic import integrate, quadrature
 from ..timebox import budget
 from ..transversality import check_loaded
-from . import pool
+from . import bundle, pool
 from .generate import ABS_SLACK, LINT_DISCARD, REL_SLACK, SIGMA
 
 
@@ -252,12 +251,13 @@ def _exact_fork(program, params, timeout: float):
 LINT_SHARE = 0.25
 
 
-def _linted(loaded, params, text: str, timeout: float, only: frozenset[str] | None) -> list[str]:
+def _linted(loaded, params, sources: dict[str, str], timeout: float, only: frozenset[str] | None) -> list[str]:
     """The linter's findings on a loaded program, as ``CODE message`` lines, within ``LINT_SHARE ·
-    timeout`` CPU seconds; ``only``: the codes asked for (``check_loaded``'s ``only``)."""
+    timeout`` CPU seconds; ``sources``: its modules' texts by path (:func:`.bundle.load`);
+    ``only``: the codes asked for (``check_loaded``'s ``only``)."""
     try:
         found = check_loaded(loaded, at={k: float(v) for k, v in params.items()},
-                             sources={"<fuzz>.lgr": text}, budget=LINT_SHARE * timeout, only=only)
+                             sources=sources, budget=LINT_SHARE * timeout, only=only)
     except Exception as e:  # noqa: BLE001 - a linter crash is recorded, the engines still run
         return [f"linter error: {type(e).__name__}: {e}"]
     return [f"{f.code} {f.message}" for f in found]
@@ -269,7 +269,7 @@ def _with_all_findings(result: ProgramResult, loaded, params, timeout: float, li
     integrability (X311–X313) … may explain a discrepancy.  Failures are rare: the cost is theirs."""
     if lint and loaded is not None and result.failed:
         discard = [f for f in result.findings if f.split(" ", 1)[0] in LINT_DISCARD or f.startswith("linter error")]
-        full = _linted(loaded, params, result.text, timeout, None)
+        full = _linted(loaded, params, bundle.sources(loaded), timeout, None)
         others = [f for f in result.findings if f.startswith(("Theorem 8.1", "recheck"))]
         result.findings = list(dict.fromkeys(full + discard)) + others
     return result
@@ -287,7 +287,7 @@ def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
     (False: in this process, which a worker pool kills at its time limit)."""
     t0 = time.monotonic()
     try:
-        loaded = load_text(text, path="<fuzz>.lgr")
+        loaded = bundle.load(text)  # a program with modules: its files in a folder of the harness's
     except LangurError as e:
         return ProgramResult(text, "load_error", reason="; ".join(d.format() for d in e.diagnostics),
                              timing={"front_end": time.monotonic() - t0}), None, None, None, None
@@ -298,7 +298,7 @@ def _prepared(text: str, timeout: float, lint: bool, isolate: bool = True):
         _phase("lint", result)
         # only the analyses that can discard the program (X301, X305): the others' findings are
         # reported with a failure only (_with_all_findings)
-        found = _linted(loaded, params, text, timeout, frozenset(LINT_DISCARD))
+        found = _linted(loaded, params, bundle.sources(loaded), timeout, frozenset(LINT_DISCARD))
         result.findings += found
         if any(f.split(" ", 1)[0] in LINT_DISCARD for f in found):
             result.status = "discarded"

@@ -21,7 +21,7 @@ from collections.abc import Callable
 from ..diagnostics import LangurError
 from ..syntax import surface as S
 from ..syntax.parser import parse_module
-from . import generate
+from . import bundle, generate
 
 #: Candidates run per failing program at most (each is one unit: both engines).
 BUDGET = 40
@@ -94,7 +94,9 @@ def _unused_items(m: S.ModuleS) -> list[S.ModuleS]:
 
 def shrink(result, unit: Callable[[str], object], budget: int = BUDGET):
     """The smallest failing program found from ``result`` (a failing ``ProgramResult``) by running
-    ``unit(text)`` on at most ``budget`` candidates (module doc); ``result`` itself if none fails."""
+    ``unit(text)`` on at most ``budget`` candidates (module doc); ``result`` itself if none fails.
+    A program with modules (a :mod:`.bundle`) is shrunk in its main module, its libraries kept."""
+    libraries = bundle.split(result.text)[1]
     try:
         module = parse_module(result.text, "<fuzz>.lgr")
     except LangurError:
@@ -109,7 +111,7 @@ def shrink(result, unit: Callable[[str], object], budget: int = BUDGET):
                       for b in _replacements(module.program.body)] + _unused_items(module)
         candidates.sort(key=_size)
         for cand in candidates:
-            text = generate.strategies.render(cand)
+            text = bundle.join(generate.strategies.render(cand), libraries)
             if text in seen:
                 continue
             seen.add(text)

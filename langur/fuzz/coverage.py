@@ -4,7 +4,7 @@ How often each rule of the paper's figures fires while a campaign runs: Fig. 6 (
 :func:`langur.typesys.type_term`), Fig. 7 (⟦t⟧ as simply decomposable pieces,
 :func:`langur.symbolic.decompose.decompose`, whose smooth pieces are
 :func:`langur.sympy_bridge.denote`), Fig. 8 (⦇t⦈
-in the exact engine, :func:`langur.ddenote._dd`, and in the Monte Carlo engine's compiler,
+in the exact engine, :func:`langur.ddenote.ddenote_subterm`, and in the Monte Carlo engine's compiler,
 :func:`langur.operational.compile.compile_subterm`), Fig. 11 (typing of programs,
 :func:`langur.typesys.type_program`), Fig. 12 (⟦p⟧, :func:`langur.denote.denote_program`), and
 each kind of diffeomorphism completion met by Fig. 8's diffeomorphic conditional.
@@ -99,7 +99,7 @@ def _hooks():
         (typesys, "type_term", lambda f: _by_term("Fig. 6", f, 2)),
         (decompose, "decompose", lambda f: _by_term("Fig. 7", f, 0)),  # conditionals: pieces
         (sympy_bridge, "denote", lambda f: _by_term("Fig. 7", f, 0)),  # smooth terms: one expression
-        (ddenote, "_dd", lambda f: _by_term("Fig. 8 exact", f, 0)),
+        (ddenote, "ddenote_subterm", lambda f: _by_term("Fig. 8 exact", f, 0)),
         (mc_compile, "compile_subterm", lambda f: _by_term("Fig. 8 mc", f, 0)),
         (typesys, "type_program", lambda f: _whole("Fig. 11", f)),
         *[(m, "denote_program", lambda f: _whole("Fig. 12", f)) for m in (denote, exact, theorem)

@@ -11,6 +11,7 @@ import os
 from dataclasses import dataclass
 
 from .. import lazy
+from . import bundle
 
 #: The public strategies (they import hypothesis: loaded when generating, not at start-up).
 strategies = lazy.module("langur.strategies")
@@ -68,7 +69,8 @@ def hypothesis_home(directory: str | None):
 
 @dataclass(frozen=True)
 class FuzzProgram:
-    """A generated program: its ``.lgr`` text and the parameter defaults it declares."""
+    """A generated program: its ``.lgr`` text (with modules, a :mod:`.bundle` of their files) and
+    the parameter defaults it declares."""
 
     text: str
     params: tuple[tuple[str, str], ...]
@@ -85,7 +87,8 @@ def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, ma
              light: bool = False, kinks: bool = False, max_variables: int | None = None,
              turning: bool = False, wide: bool = False):
     """A hypothesis strategy of :class:`FuzzProgram` (well-typed, transverse at the defaults):
-    :func:`langur.strategies.programs` without imported modules, printed.
+    :func:`langur.strategies.programs`, printed (with ``wide``, a program with modules as a
+    :mod:`.bundle`).
 
     ``max_conds`` bounds the number of zero sets per program and ``max_params`` the parameters
     (each one is a derivative to compute): both bound the exact engine's work.  ``light`` keeps
@@ -97,14 +100,18 @@ def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, ma
     the constructs the default draw never makes (:mod:`langur.strategies.wide`: loops, ``&``/``|``/
     ``not``, a ``let`` in a factor, guarded partial primitives, atan2's cut, more primitives, boxes
     with both ends moving, programs without a domain; :mod:`langur.strategies.variants`: negative
-    parameter defaults, programs without parameters, a def called with other parameter terms)."""
+    parameter defaults, programs without parameters, a def called with other parameter terms, a
+    def whose ``let`` takes other values there, modules; :mod:`langur.strategies.lexical`: comments,
+    CRLF, numbers spelled otherwise, ≤/≥, extra parentheses)."""
     _hypothesis()
     if max_variables is None:
         max_variables = MAX_VARIABLES_LIGHT if light else MAX_VARIABLES
     return strategies.programs(max_summands=max_summands, max_factors=max_factors, max_conds=max_conds,
                                max_params=max_params, light=light, kinks=kinks, max_variables=max_variables,
-                               turning=turning, wide=wide, modules=False).map(_fuzz_program)
+                               turning=turning, wide=wide, modules=wide).map(_fuzz_program)
 
 
 def _fuzz_program(g) -> FuzzProgram:
-    return FuzzProgram(g.text, g.defaults)
+    files = g.files()
+    main = files.pop("main.lgr")
+    return FuzzProgram(bundle.join(main, files), g.defaults)

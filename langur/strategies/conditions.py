@@ -50,6 +50,9 @@ class Scope:
     #: each factor of the program with the zero sets it registered (a def called with other
     #: parameter terms registers them again at those terms)
     made: list[tuple[S.STerm, tuple[T.ZeroSet, ...]]] = field(default_factory=list)
+    #: the bound of each ``let`` drawn inside a factor (:func:`~.wide.let_level`), by its name: a
+    #: def whose body binds it, called with other parameter terms, binds it to other values
+    lets: dict[str, S.STerm] = field(default_factory=dict)
 
     def pick(self, seq):
         return self.draw(st.sampled_from(tuple(seq)))

@@ -17,6 +17,7 @@ from ..modules import Loaded
 from ..syntax import surface as S
 from ..syntax.printer import decimal, print_module_surface, print_term
 from . import conditions as C
+from . import lexical as L
 from . import terms as T
 from . import variants as V
 from . import wide as W
@@ -35,16 +36,21 @@ LET_NAME, LIBRARY = "s", "lib"
 @dataclass(frozen=True)
 class Generated:
     """A drawn program: its main module (surface AST), the modules it imports (name → surface
-    AST) and its parameters' defaults."""
+    AST), its parameters' defaults and how its text is spelled (:mod:`.lexical`; None: as
+    :func:`render` prints it)."""
 
     module: S.ModuleS
     params: tuple[tuple[str, F], ...]
     libraries: tuple[tuple[str, S.ModuleS], ...] = ()
+    spelling: L.Spelling | None = None
 
     @property
     def text(self) -> str:
-        """The main module as `.lgr` text (:func:`render`)."""
-        return render(self.module)
+        """The main module as `.lgr` text (:func:`render`, spelled as :attr:`spelling` says)."""
+        return self._spelled(render(self.module))
+
+    def _spelled(self, text: str) -> str:
+        return text if self.spelling is None else L.spell(text, self.spelling)
 
     @property
     def defaults(self) -> tuple[tuple[str, str], ...]:
@@ -53,7 +59,7 @@ class Generated:
 
     def files(self) -> dict[str, str]:
         """Every module's text by file name (``main.lgr`` and one ``NAME.lgr`` per import)."""
-        return {"main.lgr": self.text, **{f"{n}.lgr": render(m) for n, m in self.libraries}}
+        return {"main.lgr": self.text, **{f"{n}.lgr": self._spelled(render(m)) for n, m in self.libraries}}
 
     def load(self, directory: str | None = None) -> Loaded:
         """Through the front end (parse, elaborate, inline, type-check): the core program.  With
@@ -64,7 +70,7 @@ class Generated:
             with tempfile.TemporaryDirectory(prefix="langur-strategies-") as d:
                 return self.load(d)
         for file, text in self.files().items():
-            with open(os.path.join(directory, file), "w", encoding="utf-8") as fh:
+            with open(os.path.join(directory, file), "w", encoding="utf-8", newline="") as fh:
                 fh.write(text)
         return load(os.path.join(directory, "main.lgr"))
 
@@ -187,17 +193,23 @@ def _extract_def(scope: C.Scope, summands: list[list[S.STerm]], params: list[str
     """Move one factor into ``def g(x: var, …, qa: param, …) = …`` and call it there (and maybe once
     more, in a new summand: two call sites of one def, added; ``wide``: maybe at a third site with
     other parameter terms, :func:`~.variants.call_elsewhere`), so that elaboration, inlining and
-    the Monte Carlo engine's separately compiled defs are exercised.  Factors under a ``let`` name
-    or a declared diffeo stay where they are, and so do conditions completed by implicit roots
-    (they need the variables' domain, which a def does not know)."""
+    the Monte Carlo engine's separately compiled defs are exercised.  Factors under a declared
+    diffeo stay where they are, and so do conditions completed by implicit roots (they need the
+    variables' domain, which a def does not know), and without ``wide`` those reading the
+    program's ``let`` name; with ``wide`` that name is passed to the def as a parameter argument,
+    and a factor that binds a ``let`` of its own is preferred (fuzz31: its let then takes other
+    values at a second site)."""
+    terms = [*params, LET_NAME] if scope.wide and LET_NAME in scope.env else params
     cands = [(i, j) for i, fs in enumerate(summands) for j, f in enumerate(fs)
-             if LET_NAME not in T.names_in(f) and not (T.names_in(f) & set(scope.diffeos))
+             if (scope.wide or LET_NAME not in T.names_in(f)) and not (T.names_in(f) & set(scope.diffeos))
              and not any(f is c for c in scope.implicit)]
+    if scope.wide:
+        cands = [(i, j) for i, j in cands if isinstance(summands[i][j], S.LetIn)] or cands
     if not cands:
         return None
     i, j = scope.pick(cands)
     body = original = summands[i][j]
-    used = [p for p in params if p in T.names_in(body)]
+    used = [p for p in terms if p in T.names_in(body)]
     body = T.rename(body, {p: f"q{p}" for p in used})
     args = tuple(S.DefArg(S.Ident(v), "var") for v in scope.variables) + \
         tuple(S.DefArg(S.Ident(f"q{p}"), "param") for p in used)
@@ -206,7 +218,7 @@ def _extract_def(scope: C.Scope, summands: list[list[S.STerm]], params: list[str
     if scope.draw(st.booleans()):
         summands.append([use, C.smooth(scope)])
     if scope.wide and scope.draw(st.booleans()):
-        elsewhere = V.call_elsewhere(scope, original, used, params)
+        elsewhere = V.call_elsewhere(scope, original, used, terms)
         if elsewhere is not None:
             summands.append([elsewhere, C.smooth(scope)])
     return S.DefDecl(S.Ident("g"), args, body)
@@ -252,7 +264,11 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
     ``ifge0`` over the variables, nested loops, strict chains with ``pi``, ``cross`` and components,
     negative exponents), boxes with both ends moving, programs without a domain (the box as
     brackets in the body), and the whole-program variants of :mod:`.variants` (negative parameter
-    defaults, programs without parameters, a def called with other parameter terms).  Shrinks towards one
+    defaults, programs without parameters, a def called with other parameter terms, also a def whose
+    ``let`` then takes another value; with ``modules`` the def imported under another name or
+    through a second module, the diffeos from a module of their own) and lexical variants of the
+    text (:mod:`.lexical`: comments, CRLF, numbers spelled otherwise, ≤/≥, extra parentheses;
+    :attr:`Generated.spelling`).  Shrinks towards one
     variable, one parameter, one smooth factor; without ``wide`` a seed draws what it drew before."""
     if not 1 <= min_variables <= max_variables <= 3:
         raise ValueError("variables: 1 <= min_variables <= max_variables <= 3")
@@ -282,11 +298,16 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
                                  min_size=1, max_size=max_summands))
         items: list[S.Item] = []
         libraries: tuple[tuple[str, S.ModuleS], ...] = ()
+        diffeos = tuple(scope.diffeos.values())
         if defs and scope.index(3) == 2:
             d = _extract_def(scope, summands, params)
             if d is not None and modules and draw(st.booleans()):
-                libraries = ((LIBRARY, S.ModuleS(f"{LIBRARY}.lgr", (d,), None)),)
-                items.append(S.ImportItem(S.Ident(LIBRARY), (S.ImportName(S.Ident("g"), None),)))
+                if wide:  # the def (and maybe the diffeos) in modules of several shapes
+                    libraries, imports, diffeos = V.modular(draw, d, diffeos)
+                    items += imports
+                else:
+                    libraries = ((LIBRARY, S.ModuleS(f"{LIBRARY}.lgr", (d,), None)),)
+                    items.append(S.ImportItem(S.Ident(LIBRARY), (S.ImportName(S.Ident("g"), None),)))
             elif d is not None:
                 items.append(d)
         assume(len(scope.zero_sets) <= max_conds)
@@ -299,12 +320,13 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
         if bounded:
             body = _bounded(domain, variables, body)
         decls = S.ParamItem(tuple(S.ParamDecl(S.Ident(p), d) for p, d in zip(params, defaults)))
-        items = [decls, *scope.diffeos.values(), *items]
+        items = [decls, *diffeos, *items]
         prog = S.ProgramS(None if bounded else domain, body, tuple(S.Ident(v) for v in variables))
         module = S.ModuleS("main.lgr", tuple(items), prog)
+        spelling = draw(L.spellings()) if wide and scope.index(2) == 1 else None
         if wide and V.bare(draw):
-            return Generated(V.without_parameters(module, dict(zip(params, defaults))), (), libraries)
-        return Generated(module, tuple(zip(params, defaults)), libraries)
+            return Generated(V.without_parameters(module, dict(zip(params, defaults))), (), libraries, spelling)
+        return Generated(module, tuple(zip(params, defaults)), libraries, spelling)
 
     return program()
 

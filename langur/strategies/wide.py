@@ -96,6 +96,7 @@ def let_level(scope: C.Scope) -> S.LetIn:
              lambda: T.div(p, offset(q, 1)))
     bound = forms[scope.index(len(forms))]()
     scope.env[t] = T.evaluate(bound, scope.env)
+    scope.lets[t] = bound
     scope.names.append(t)
     try:
         lhs, cmp, _ = C.affine(scope)
