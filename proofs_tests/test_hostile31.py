@@ -175,3 +175,25 @@ def test_render_names_the_picture_it_writes(tmp_path):
         assert r.returncode == 0 and r.stdout.strip().splitlines()[-1] == "pic.png", said
         assert (tmp_path / "pic.png").read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
     assert (tmp_path / "pic").read_text() == "precious\n"
+
+
+# --- check --fix --in-place through a link, and the file's permissions --------------------------------
+
+
+def test_fix_in_place_keeps_the_link_and_the_permissions(tmp_path):
+    """``check --fix --in-place link.lgr`` (link.lgr → real.lgr) put a new regular file in the link's
+    place, mode 0600 (mkstemp's), and left real.lgr as it was; now the file the link names is
+    rewritten, keeping its mode, the link stays, and the backup has the original's text and mode."""
+    original = (ROOT / "examples" / "degenerate" / "coincident.lgr").read_text(encoding="utf-8")
+    real = _file(tmp_path, "real.lgr", original)
+    real.chmod(0o640)
+    (tmp_path / "link.lgr").symlink_to("real.lgr")
+    r, said = _langur(tmp_path, "check", "--fix", "--in-place", "link.lgr")
+    assert r.returncode == 0, said
+    assert (tmp_path / "link.lgr").is_symlink() and os.readlink(tmp_path / "link.lgr") == "real.lgr", said
+    rewritten = real.read_text(encoding="utf-8")
+    assert rewritten != original and "ifge0" in rewritten, said  # the transverse rewrite (X301 gone)
+    assert (tmp_path / "link.lgr.bak").read_text(encoding="utf-8") == original
+    assert real.stat().st_mode & 0o777 == 0o640 and (tmp_path / "link.lgr.bak").stat().st_mode & 0o777 == 0o640
+    r, said = _langur(tmp_path, "check", "real.lgr", "--select", "X301")
+    assert r.returncode == 0 and "X301" not in r.stdout, said

@@ -34,11 +34,12 @@ def picture_file(path: str, inputs: list[str], option: str, refusal: str) -> str
     """:func:`output_file` for a picture: ``path``, with ``.png`` added when it has no extension (as
     matplotlib adds it: the file really written), refused when its extension is not a picture format."""
     ext = os.path.splitext(path)[1].lower()
+    if os.path.isdir(path) or ext in PICTURES:
+        return output_file(path, inputs, option, refusal)
     if not ext:
-        path, ext = path + ".png", ".png"
-    if ext not in PICTURES and ext != ".lgr":
-        raise UsageError(f"{option} {path}: {ext} is not a picture format (use {', '.join(PICTURES)})")
-    return output_file(path, inputs, option, refusal)
+        return output_file(path + ".png", inputs, option, refusal)
+    _refuse_inputs(path, inputs, refusal)  # (that refusal first: over a program, or a file read)
+    raise UsageError(f"{option} {path}: {ext} is not a picture format (use {', '.join(PICTURES)})")
 
 
 def output_file(path: str, inputs: list[str], option: str, refusal: str) -> str:
@@ -47,8 +48,7 @@ def output_file(path: str, inputs: list[str], option: str, refusal: str) -> str:
     is overwritten, through a link either), refused when it exists and is not a file of the kind
     written (:data:`SIGNATURES`), and refused when it is a directory or in a folder that
     does not exist or cannot be written."""
-    if path.endswith(".lgr") or (os.path.exists(path) and any(_same(path, f) for f in inputs)):
-        raise UsageError(refusal)
+    _refuse_inputs(path, inputs, refusal)
     if os.path.isdir(path):
         raise UsageError(f"{option} {path}: is a directory")
     if os.path.lexists(path) and not _previous_output(path):
@@ -80,6 +80,12 @@ def _same(a: str, b: str) -> bool:
         return os.path.samefile(a, b)
     except OSError:
         return False
+
+
+def _refuse_inputs(path: str, inputs: list[str], refusal: str) -> None:
+    """A usage error saying ``refusal`` when ``path`` is a program (``.lgr``) or one of ``inputs``."""
+    if path.endswith(".lgr") or (os.path.exists(path) and any(_same(path, f) for f in inputs)):
+        raise UsageError(refusal)
 
 
 def _previous_output(path: str) -> bool:
