@@ -18,6 +18,7 @@ system's reason, every other file is still checked, and the status is then 2, th
 
 from __future__ import annotations
 
+import errno
 import os
 import sys
 from pathlib import Path
@@ -36,7 +37,7 @@ from ..lint import config as cfgmod
 from ..lint import fix as fixmod
 from ..lint.formats import Report, known_codes, render
 from ..lint.noqa import suppressed
-from ..source import read_source
+from ..source import read_file, read_source
 from ..timebox import backstop, run_with_timeout
 from ..transversality import check_library, check_loaded, point_of
 from ._prove import Prover
@@ -228,9 +229,12 @@ def run(args) -> int:
         try:
             if stdin:
                 data = read_source(sys.stdin.buffer, name)
-            else:
-                with open(f, "rb") as fh:
-                    data = read_source(fh, f)
+            else:  # within the budget, of wall clock: opening a named pipe no program writes to never returns
+                data = run_with_timeout(lambda f=f: read_file(f), args.timeout)
+        except TimeoutError:
+            inputs.append((f, None, unreadable(f, TimeoutError(errno.ETIMEDOUT, f"nothing to read after {args.timeout:g} s "
+                                                               "(--timeout; a named pipe no program writes to?)"))))
+            continue
         except OSError as e:
             inputs.append((f, None, unreadable(f, e)))
             continue

@@ -17,7 +17,7 @@ import sys
 from .. import progress
 from ..cli import UsageError, add_common, add_timeout, seed
 from . import _common as c
-from ._outputs import inputs_of, output_file
+from ._outputs import inputs_of, picture_file
 
 KINDS = ("auto", "curves", "surfaces", "flat", "convergence", "all")
 GREEK = {"alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "theta": "θ", "mu": "μ", "sigma": "σ",
@@ -59,9 +59,8 @@ def _outputs(args, kind: str, inputs: list[str]) -> list[tuple[str, str]]:
         outs = [(kind, stem + (ext or ".png"))]
     else:
         outs = [(k, f"{stem}_{k}{ext or '.png'}") for k in ("surfaces", "flat", "convergence")]
-    for _, out in outs:
-        output_file(out, inputs, "-o", f"-o {out}: refusing to write a picture over a program")
-    return outs
+    return [(k, picture_file(out, inputs, "-o", f"-o {out}: refusing to write a picture over a program"))
+            for k, out in outs]
 
 
 def run(args) -> int:

@@ -23,7 +23,7 @@ from ..cli import UsageError, add_common, add_timeout, samples, seed
 from ..operational.batch import estimate_batch
 from ..operational.sample import METHODS
 from . import _common as c
-from ._outputs import inputs_of, output_file
+from ._outputs import inputs_of, output_file, picture_file
 
 #: Most grid points per axis, and most samples in all (points × samples per point).
 MAX_AXIS = 2000
@@ -96,7 +96,10 @@ def run(args) -> int:
             refusal = f"{given}: refusing to write over a program"
             if given.endswith(".lgr"):
                 raise UsageError(refusal)
-            output_file(path, inputs, option, refusal)
+            if option == "-o":
+                args.out = picture_file(path, inputs, option, refusal)  # (pic: pic.png, the file written)
+            else:
+                output_file(path, inputs, option, refusal)
     painter = _painter() if args.out else None
     base = {k: float(v) for k, v in c.param_values(args, loaded).items() if k not in (xn, yn)}
     direction = c.direction(args, loaded) if (args.wrt or args.dir) else None

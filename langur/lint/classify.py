@@ -23,7 +23,7 @@ from collections.abc import Iterator, Mapping
 import sympy as sp
 
 from .. import failures
-from ..core import Program
+from ..core import Program, TooManyRoots
 from ..diagnostics import Span
 from ..sympy_bridge import denote, symbol, to_sympy
 from ..timebox import Deadline
@@ -48,6 +48,7 @@ LISTED_PAIRS = 200_000
 BUDGET = 30.0
 _FAILURES = (
     Undecided,
+    TooManyRoots,  # a condition split for fewer turning points than it has at the point (sin(100000·x))
     TypeError,
     ValueError,
     AttributeError,

@@ -147,19 +147,23 @@ def write(f: Fix, in_place: bool) -> str:
     """Write the fix (after :func:`check_writable`); returns the path written."""
     dest = target(f.path, in_place)
     if in_place:
-        _atomic(f.path + ".bak", f.before)
-    else:
-        with open(dest, "x", encoding="utf-8") as fh:  # never over an existing file
-            fh.write(f.after)
+        _atomic(f.path + ".bak", f.before, like=f.path)
+        _atomic(os.path.realpath(f.path), f.after)  # through a link: the file it names, the link kept
         return dest
-    _atomic(dest, f.after)
+    with open(dest, "x", encoding="utf-8") as fh:  # never over an existing file
+        fh.write(f.after)
     return dest
 
 
-def _atomic(path: str, text: str) -> None:
+def _atomic(path: str, text: str, like: str | None = None) -> None:
+    """``text`` written to ``path`` at once (a temporary file renamed), with the permissions of
+    ``like`` (default: ``path``) where it exists — mkstemp's file is 0600."""
     d = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(dir=d, prefix=".langur-fix-")
     try:
+        like = like or path
+        if os.path.exists(like):
+            os.chmod(tmp, os.stat(like).st_mode & 0o7777)
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(text)
         os.replace(tmp, path)

@@ -13,4 +13,7 @@ def const_value(c: Const) -> float:
         return math.pi
     if isinstance(v, float):
         return v
-    return v.numerator / v.denominator  # = float(Fraction): int / int is correctly rounded
+    try:
+        return v.numerator / v.denominator  # = float(Fraction): int / int is correctly rounded
+    except OverflowError:  # beyond the doubles (a completion's 1e300·1e300): rounded, that is ±∞,
+        return math.inf if v > 0 else -math.inf  # as the doubles of the unfolded term would give

@@ -304,7 +304,7 @@ def _const_ends(c: Const) -> tuple[np.float64, np.float64]:
     """The doubles around a constant: itself when it is one, else the two it lies between (π, 1/3)."""
     v = np.float64(const_value(c))
     exact = c.value if not isinstance(c.value, str) else None
-    if exact is not None and (isinstance(exact, float) or Fraction(float(v)) == exact):
+    if exact is not None and (isinstance(exact, float) or (np.isfinite(v) and Fraction(float(v)) == exact)):
         return v, v
     return _down(v), _up(v)
 

@@ -343,7 +343,16 @@ def random_points(fbox) -> np.ndarray:
     """:data:`SAMPLES` points of the box ``fbox`` (rows: its sides' ends, doubles) uniformly at
     random, one row each, the same every time (seed 0)."""
     rng = np.random.default_rng(0)
-    return np.stack([rng.uniform(lo, hi, SAMPLES) for lo, hi in fbox], axis=1)
+    return np.stack([_uniform(rng, lo, hi) for lo, hi in fbox], axis=1)
+
+
+def _uniform(rng, lo: float, hi: float) -> np.ndarray:
+    """``rng.uniform(lo, hi, SAMPLES)``, also where ``hi − lo`` is beyond the doubles ([−1e308, 1e308]:
+    numpy refuses, OverflowError): there ``lo·(1 − u) + hi·u`` of the same draws ``u``."""
+    if np.isfinite(hi - lo):
+        return rng.uniform(lo, hi, SAMPLES)
+    u = rng.random(SAMPLES)
+    return lo * (1 - u) + hi * u
 
 
 def _short(v: float) -> sp.Rational:
