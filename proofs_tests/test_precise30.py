@@ -1,7 +1,7 @@
 """precise30: one high-precision evaluation, one public interval function that refuses what it would
 enclose wrongly, no private attributes reached across modules.
 
-* :mod:`langur.symbolic.precise` is the one 50-digit evaluation: the linter's X311–X313 (``lint/singular``),
+* :mod:`langur.precise` is the one 50-digit evaluation: the linter's X311–X313 (``lint/singular``),
   the readable closed forms (``symbolic/readable``) and the quadrature's bounds (``symbolic/quadrature``)
   each had their own (30 digits; a complex value read as its real part, raised, or NaN).  A bound that
   is not a real number is now refused, not read as its real part.
@@ -31,7 +31,7 @@ from langur.core import TooManyRoots
 from langur.enclosures import certified_brackets, interval_function
 from langur.lint import geometry
 from langur.lint.collect import Occurrence
-from langur.symbolic import precise
+from langur import precise
 from langur.symbolic.quadrature import brackets, compiling
 from langur.symbolic.readable import readable
 

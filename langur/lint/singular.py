@@ -45,7 +45,7 @@ from ..primitives import REGISTRY, Domain
 from ..symbolic.decompose import Ctx, decompose
 from ..symbolic.definedness import Undefined
 from ..symbolic.integrability import Blowup, Verdict, delta_blowups, piece_blowups
-from ..symbolic.precise import real_value
+from ..precise import real_value
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import Deadline
 from .bounded import bounded

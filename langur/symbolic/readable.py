@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from . import arrangement
-from .precise import real_number
+from ..precise import real_number
 
 #: Largest expression (sympy ``count_ops``) handed to ``sp.simplify``; bigger ones are only expanded.
 SIMPLIFY_LIMIT = 400

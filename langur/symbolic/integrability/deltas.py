@@ -22,8 +22,8 @@ from collections.abc import Iterator, Mapping, Sequence
 
 import sympy as sp
 
-from ..precise import DIGITS
-from ..precise import real_value as _num
+from ...precise import DIGITS
+from ...precise import real_value as _num
 from .finite import finite_on_box
 from .region import Undecidable
 from .verdicts import Blowup, Verdict, blowups_on

@@ -12,7 +12,7 @@ import sympy as sp
 
 from langur.memo import remember
 from langur.symbolic.pieces import NOT_FINITE, Piece, Psi
-from langur.symbolic.precise import real_number_at
+from langur.precise import real_number_at
 from langur.symbolic.quadrature.compiling import (
     OnFirstCall,
     _lambdify,
