@@ -25,11 +25,11 @@ import sympy as sp
 
 import langur.symbolic.definedness as definedness
 import langur.symbolic.integrability.zerosets as blowup
+from langur import precise
 from langur import transversality as tv
 from langur.denote import undefined_where
 from langur.enclosures import enclose
 from langur.frontend import load_text
-from langur import precise
 from langur.symbolic.decompose import Ctx
 from langur.sympy_bridge import at_symbols
 

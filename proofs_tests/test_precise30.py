@@ -26,12 +26,11 @@ import mpmath
 import pytest
 import sympy as sp
 
-from langur import enclosures
+from langur import enclosures, precise
 from langur.core import TooManyRoots
 from langur.enclosures import certified_brackets, interval_function
 from langur.lint import geometry
 from langur.lint.collect import Occurrence
-from langur import precise
 from langur.symbolic.quadrature import brackets, compiling
 from langur.symbolic.readable import readable
 

@@ -40,10 +40,10 @@ import sympy as sp
 
 from ..core import IfDiffeo, IfGe0, Let, Pow, Prim, Term, children
 from ..enclosures import enclose
+from ..precise import real_value
 from ..primitives import REGISTRY, Domain
 from ..sympy_bridge import symbols
 from .decompose import Ctx, decide, decompose, sign_patterns, smooth_value
-from ..precise import real_value
 from .text import expr_text
 
 #: Grid points per dimension of the box (the same as the integrability analysis's grid, ``langur.symbolic.integrability.GRID``).

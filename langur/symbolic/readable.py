@@ -32,9 +32,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ..precise import real_number
 from ..primitives import REGISTRY
 from . import arrangement
-from ..precise import real_number
 
 #: Largest expression (sympy ``count_ops``) handed to ``sp.simplify``; bigger ones are only expanded.
 SIMPLIFY_LIMIT = 400

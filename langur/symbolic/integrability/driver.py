@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ...timebox import Deadline
 from ...precise import real_value as _num
+from ...timebox import Deadline
 from .deltas import delta_blowups
 from .finite import finite_on_box
 from .region import Undecidable
