@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..precise import real_number
-from ..primitives import REGISTRY
+from ..sympy_bridge import DOMAINS
 from . import arrangement
 
 #: Largest expression (sympy ``count_ops``) handed to ``sp.simplify``; bigger ones are only expanded.
@@ -97,9 +97,8 @@ def _switching(expr: sp.Expr) -> list[sp.Expr]:
 
 
 #: The sympy functions of the primitives defined on part of ℝ only, with their domains (``log``, ``asin``,
-#: ``acos``, ``atanh``, …: :mod:`langur.primitives` declares each; ``sqrt`` is a power, below).
-_PARTIAL = {getattr(sp, p.sympy): p.domain for p in REGISTRY.values()
-            if isinstance(getattr(sp, p.sympy, None), type) and not p.domain.everywhere}
+#: ``acos``, ``atanh``, ``tan``: :mod:`langur.primitives` declares each; ``sqrt`` is a power, below).
+_PARTIAL = {f: dom for f, dom in DOMAINS.items() if not dom.everywhere}
 
 
 def _domain_edges(expr: sp.Expr) -> list[sp.Expr]:
