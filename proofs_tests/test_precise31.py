@@ -185,3 +185,12 @@ def test_sign_and_number_are_not_rounded_to_doubles():
     with pytest.raises(precise.NotReal):
         precise.sign(sp.oo)  # a sign of a finite value only
     assert precise.complex_value(sp.sqrt(-4)) == 2j and abs(precise.complex_value(sp.sqrt(-2), 20)) == pytest.approx(2 ** 0.5)
+
+
+def test_an_argument_at_its_domain_end_on_an_interval_keeps_the_case():
+    # disk.lgr's ⟦p⟧ = 2r²·asin(r/|r|) in the cell 0 < r < 1: asin's argument is 1, its domain's end, for
+    # every r > 0 (a zero set that is an interval: its end 0 is the breakpoint); by hand 2r²·π/2 = πr²
+    r = sp.Symbol("r", real=True)
+    out = readable(2 * r ** 2 * sp.asin(r / sp.Abs(r)), {r: sp.Rational(1, 2)}, cell=(1 - r > 0, r > 0, r ** 2 > 0),
+                   everywhere=False, generic=True)
+    assert [(c.interval, c.expr) for c in out.cases] == [(sp.Interval.open(0, 1), sp.pi * r ** 2)]

@@ -199,8 +199,10 @@ def _exp_collected(e: sp.Expr) -> sp.Expr:
     return sp.factor_terms(sp.collect(e, list(e.atoms(sp.exp))))
 
 
-def _roots(s: sp.Expr, p: sp.Symbol) -> list[sp.Expr] | None:
-    """Real roots of ``s`` in p (None when not found exactly as a finite set)."""
+def _roots(s: sp.Expr, p: sp.Symbol, edge: bool = False) -> list[sp.Expr] | None:
+    """Real roots of ``s`` in p (None when not found exactly as a finite set).  ``edge`` (an end of the
+    real domain, :func:`_domain_edges`): a zero set made of intervals gives its ends (``r/|r| − 1``,
+    asin's argument at its end 1 for every r > 0: 0), where alone a continuous ``s`` can change sign."""
     if p not in s.free_symbols:
         return []
     try:
@@ -209,6 +211,8 @@ def _roots(s: sp.Expr, p: sp.Symbol) -> list[sp.Expr] | None:
         return None
     if sol is sp.S.Reals:  # identically zero: never switches
         return []
+    if edge and isinstance(sol, (sp.Interval, sp.Union)) and isinstance(sol.boundary, sp.FiniteSet):
+        return [r for r in sol.boundary if r.is_finite]
     if not isinstance(sol, sp.FiniteSet):
         try:
             found = sp.solve(s, p)
@@ -245,11 +249,12 @@ def _same(a: sp.Expr, b: sp.Expr) -> bool:
 def _one_parameter(expr, p, cell, everywhere) -> Readable | None:
     cuts: set = set()
     try:
-        switching = [v for s in _switching(expr) + _domain_edges(expr) for v in _variants(s)]
+        switching = [v for s in _switching(expr) for v in _variants(s)]
+        edges = [v for s in _domain_edges(expr) for v in _variants(s)]
     except ValueError:
         return None
-    for s in dict.fromkeys(switching + [r.lhs - r.rhs for r in cell]):
-        roots = _roots(s, p)
+    for s, edge in {**dict.fromkeys(switching + [r.lhs - r.rhs for r in cell], False), **dict.fromkeys(edges, True)}.items():
+        roots = _roots(s, p, edge)
         if roots is None:
             return None
         cuts.update(r for r in roots if r.is_real)
