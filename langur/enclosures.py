@@ -10,7 +10,7 @@ The enclosures are mpmath's interval arithmetic (rounded outward: a proof) of la
 text of the equation (:func:`interval_function`, :class:`_IntervalPrinter`); for a polynomial, float
 enclosures that bracket mpmath's decide first where they can (:mod:`langur.floativ`,
 :func:`_signer`).  That text is interval arithmetic only for sums, products, powers and the
-functions of :data:`ENCLOSED`: ``Max``, ``Min``, ``Piecewise``, ``Heaviside`` are printed as Python
+functions of :data:`ENCLOSED` (``Abs`` among them): ``Max``, ``Min``, ``Piecewise``, ``Heaviside`` are printed as Python
 comparisons of intervals, which pick one side of an interval holding both (``max(0, [−1, 2])`` is
 ``0``), so an equation holding one is refused, never enclosed.
 
@@ -72,7 +72,8 @@ _IV = {"log": mpmath.iv.log, "mpf": mpmath.iv.mpf, "atan": _monotone_iv(mpmath.a
 class _IntervalPrinter(PythonCodePrinter):
     """lambdify's text for mpmath intervals: a rational constant as the interval quotient of its
     numerator and denominator (``1/3`` would be the double 0.333…, ``x**(1/3)`` a double power),
-    a float as the interval of its decimal digits."""
+    a float as the interval of its decimal digits; ``Abs`` is Python's ``abs``, which an mpmath
+    interval answers exactly (``|[−1, 2]|`` is ``[0, 2]``)."""
 
     def _print_Rational(self, e):
         return f"(mpf({e.p})/mpf({e.q}))"
@@ -102,8 +103,8 @@ def interval_function(x: sp.Symbol, e: sp.Expr, free: tuple = ()) -> Enclosure:
     mpmath's (:mod:`langur.floativ`), which decide first where they can.
 
     **Refuses** an ``e`` that is not built of ``x``, ``free``, finite numbers, π, e, +, ·, powers
-    and :data:`ENCLOSED` (``Max``, ``Min``, ``Piecewise``, ``Heaviside``, ``Abs``, ``sign``, a
-    relation, another symbol, an unknown function): the enclosure it returns is
+    and :data:`ENCLOSED` (``Max``, ``Min``, ``Piecewise``, ``Heaviside``, ``sign``, a relation,
+    another symbol, an unknown function): the enclosure it returns is
     :attr:`~Enclosure.refused` and every call gives None, so :func:`certified_brackets` refuses its
     roots (:class:`~langur.core.TooManyRoots`) rather than trust a comparison of intervals
     (module docstring)."""
@@ -114,16 +115,21 @@ def interval_function(x: sp.Symbol, e: sp.Expr, free: tuple = ()) -> Enclosure:
     return Enclosure(fn, floativ.compile_enclosure(fn, len(xs)))
 
 
-#: The functions an enclosure may apply: mpmath's ``iv`` or :data:`_IV` enclose each soundly.
-#: Anything else is not enclosed (``Max``, ``Piecewise``, a relation: lambdify's text compares
-#: intervals, which is not interval arithmetic; ``Abs`` would be, but nothing needs it).
+#: The functions an enclosure may apply: mpmath's ``iv`` or :data:`_IV` enclose each soundly (``Abs`` by
+#: mpmath's interval ``abs``).  Anything else is not enclosed: ``Max``, ``Piecewise``, a relation
+#: (lambdify's text compares intervals, which is not interval arithmetic), and ``sign``, which an
+#: interval function could enclose but which jumps where it is finite: every function here is
+#: continuous wherever it is finite, which :mod:`langur.syntax.continuity` reads off a finite enclosure.
 ENCLOSED = frozenset({sp.exp, sp.log, sp.sin, sp.cos, sp.tan, sp.tanh, sp.atan, sp.erf,
-                      sp.asin, sp.acos, sp.atanh})
+                      sp.asin, sp.acos, sp.atanh, sp.Abs})
 
 
 def _enclosable(e: sp.Expr, xs: tuple) -> bool:
     """Whether :func:`enclose` and :func:`interval_function` enclose ``e`` in ``xs``: built of
-    ``xs``, finite numbers, π, e, +, ·, powers and :data:`ENCLOSED`."""
+    ``xs``, finite numbers, π, e, +, ·, powers and :data:`ENCLOSED`.  That interval arithmetic is
+    sound for ``e``, not that ``e`` is finite (``1/x`` over [0, 1] is enclosed by [1, ∞]): a weight
+    certainly finite on a box is another question, decided exactly
+    (:func:`langur.symbolic.integrability.finite_on_box`)."""
     for n in sp.preorder_traversal(e):
         if n.is_Symbol:
             if n not in xs:

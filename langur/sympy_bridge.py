@@ -50,7 +50,7 @@ from .core import (
 )
 from .diagnostics import LangurError, error
 from .implicit import implicit_root
-from .primitives import REGISTRY
+from .primitives import REGISTRY, Domain
 
 T = TypeVar("T")
 
@@ -63,6 +63,8 @@ class NotSmooth(Exception):
 FUNCTIONS: dict[str, Callable[[sp.Expr], sp.Expr]] = {p.name: getattr(sp, p.sympy) for p in REGISTRY.values()}
 #: sympy function ↦ the primitive's name.
 PRIMITIVE_OF: dict[type, str] = {f: name for name, f in FUNCTIONS.items()}
+#: sympy function class ↦ the primitive's domain, for every primitive that is one (``sqrt`` is a power).
+DOMAINS: dict[type, Domain] = {f: REGISTRY[name].domain for name, f in FUNCTIONS.items() if isinstance(f, type)}
 
 
 @cache

@@ -29,6 +29,7 @@ from .ddenote import ddenote_program
 from .denote import denote_program
 from .implicit import ImplicitRootFn
 from .onesided import closed_form_sides
+from .precise import FORM_DIGITS, complex_value, evaluated
 from .symbolic import quadrature
 from .symbolic.context import nearly_real
 from .symbolic.pieces import Method
@@ -103,23 +104,19 @@ def directional(expr: sp.Expr, direction: Mapping[str, object]) -> sp.Expr:
     return sp.Add(*[sp.diff(expr, symbol(z)) * exact_number(v) for z, v in direction.items() if v != 0])
 
 
-#: Digits of the implicit roots put in before :func:`_float` evaluates a form with 20 digits.
-ROOT_DIGITS = 50
-
-
 def _float(e: sp.Expr, at: Mapping[str, object]) -> float:
-    """``e`` at ``at`` with 20 digits, as a float (nan where it is not real there, or not finite).
-    Real up to :data:`~langur.symbolic.context.IMAGINARY_NOISE` counts as real: a square root of a
-    radicand that is exactly 0 (the cylinder's fold a + √0.3 put into 3 − 10a² + 20a·y − 10y²)
-    comes out of sympy's 20 digits as ±10⁻⁴⁸·i, not as 0.  Each implicit
-    root is evaluated once, with :data:`ROOT_DIGITS` digits, and put in as that number: sympy's
-    evalf would solve it again at every precision it tries on each subexpression holding it
+    """``e`` at ``at`` with :data:`~langur.precise.FORM_DIGITS` digits, as a float (nan where it is not
+    real there, or not finite).  Real up to :data:`~langur.symbolic.context.IMAGINARY_NOISE` counts as
+    real: a square root of a radicand that is exactly 0 (the cylinder's fold a + √0.3 put into
+    3 − 10a² + 20a·y − 10y²) comes out of sympy's 20 digits as ±10⁻⁴⁸·i, not as 0.  Each implicit
+    root is evaluated once, with :data:`~langur.precise.DIGITS` digits, and put in as that number:
+    sympy's evalf would solve it again at every precision it tries on each subexpression holding it
     (turning.lgr: a tenth of a second per evaluation)."""
     e = e.xreplace(at_symbols(at))
     if has_any(e, (ImplicitRootFn,)):  # (each distinct subtree once: large forms share theirs)
-        e = e.xreplace({r: r.evalf(ROOT_DIGITS) for r in atoms_of(e, (ImplicitRootFn,)) if not r.free_symbols})
+        e = e.xreplace({r: evaluated(r) for r in atoms_of(e, (ImplicitRootFn,)) if not r.free_symbols})
     try:
-        z = complex(sp.N(e, 20))
+        z = complex_value(e, FORM_DIGITS)
     except TypeError:  # a symbol left, or not a number
         return math.nan
     return z.real if math.isfinite(z.real) and nearly_real(z) else math.nan
@@ -135,8 +132,7 @@ def localize(expr: sp.Expr, at: Mapping[sp.Symbol, sp.Expr], eps: float = 1e-12)
     ``_Tie`` when ``at`` is on a switching set (then no neighbourhood has one branch)."""
 
     def value(e: sp.Expr) -> float:
-        v = complex(sp.N(e.xreplace(dict(at)), 30))
-        return v.real
+        return complex_value(e.xreplace(dict(at)), FORM_DIGITS).real
 
     def holds(cond) -> bool:
         if cond is sp.true or cond is sp.false:
@@ -395,13 +391,13 @@ def _closed_form_derivative(expr: sp.Expr, at: Mapping[str, object], direction, 
 
 
 def _central_difference(expr: sp.Expr, at: Mapping[str, object], direction) -> float:
-    """(expr(at + hγ') − expr(at − hγ'))/2h with h = 1e-8, evaluated with 30 digits; a ValueError
+    """(expr(at + hγ') − expr(at − hγ'))/2h with h = 1e-8, evaluated with :data:`~langur.precise.DIGITS` digits; a ValueError
     when it is not real (beyond :data:`~langur.symbolic.context.IMAGINARY_NOISE`)."""
     h = sp.Rational(1, 10 ** 8)
     pt = at_symbols(at)
     plus = {k: v + h * exact_number(direction.get(k.name, 0)) for k, v in pt.items()}
     minus = {k: v - h * exact_number(direction.get(k.name, 0)) for k, v in pt.items()}
-    z = complex(sp.N((expr.xreplace(plus) - expr.xreplace(minus)) / (2 * h), 30))
+    z = complex_value((expr.xreplace(plus) - expr.xreplace(minus)) / (2 * h))
     if not nearly_real(z):
         raise ValueError(f"the closed form of ⟦p⟧ is not real beside the point (its central difference is {z})")
     return z.real

@@ -7,7 +7,7 @@
   sampled points computed independently with 50-digit mpmath (outward rounding included: a box
   that is one double wide around a value exact in no double), and it refuses what interval
   arithmetic cannot enclose by lambdify's text (``Max``, a complex root).
-* ``definedness._num`` and ``integrability._value`` (was ``lint.blowup``): one :mod:`langur.symbolic.precise`.
+* ``definedness._num`` and ``integrability._value`` (was ``lint.blowup``): one :mod:`langur.precise`.
 * X307 asks the engine's definedness (``undefined_parts``) whether a primitive is outside its
   domain on a set of positive measure: its witness is the example, and its verdicts correct the
   old sampling's in both directions (each by LANGUAGE.md §1, worked out below).
@@ -25,11 +25,11 @@ import sympy as sp
 
 import langur.symbolic.definedness as definedness
 import langur.symbolic.integrability.zerosets as blowup
+from langur import precise
 from langur import transversality as tv
 from langur.denote import undefined_where
 from langur.enclosures import enclose
 from langur.frontend import load_text
-from langur.symbolic import precise
 from langur.symbolic.decompose import Ctx
 from langur.sympy_bridge import at_symbols
 

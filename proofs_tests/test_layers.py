@@ -2,7 +2,7 @@
 
     core            langur, codes, diagnostics, core, primitives, values, timebox, lazy, progress, modules, core_json, observe,
                     gcpause, framestack, records, memo, failures
-    sympy bridge    sympy_bridge (⟦·⟧ of Fig. 7 in sympy, names, numbers, time limits)
+    sympy bridge    sympy_bridge (⟦·⟧ of Fig. 7 in sympy, names, numbers, time limits), precise (50-digit values)
     front end       syntax/*, typesys, frontend
     exact engine    denote, ddenote, onesided, symbolic/*          Monte Carlo engine  operational/*
     linter          transversality, lint/*
@@ -30,7 +30,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("core", ("langur", "langur.codes", "langur.diagnostics", "langur.core", "langur.primitives", "langur.values", "langur.timebox", "langur.lazy",
               "langur.progress", "langur.modules", "langur.core_json", "langur.observe", "langur.gcpause", "langur.framestack",
               "langur.records", "langur.memo", "langur.failures")),
-    ("sympy bridge", ("langur.sympy_bridge",)),
+    ("sympy bridge", ("langur.sympy_bridge", "langur.precise")),
     ("front end", ("langur.syntax", "langur.typesys", "langur.frontend")),
     ("exact engine", ("langur.symbolic", "langur.denote", "langur.ddenote", "langur.onesided", "langur.exact_batch")),
     ("linter", ("langur.transversality", "langur.lint")),

@@ -48,10 +48,10 @@ from ..core import (
     children,
 )
 from ..denote import program_box
+from ..precise import real_value
 from ..primitives import REGISTRY, Domain
 from ..symbolic.decompose import Ctx
 from ..symbolic.definedness import Undefined, random_points, undefined_parts
-from ..symbolic.precise import real_value
 from ..sympy_bridge import at_symbols
 from .findings import Finding, quote
 

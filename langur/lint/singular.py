@@ -41,11 +41,11 @@ from ..core import Pow, Prim, Program, Term, subterms
 from ..ddenote import ddenote
 from ..denote import denote, program_box, undefined_where
 from ..diagnostics import Span
+from ..precise import real_value
 from ..primitives import REGISTRY, Domain
 from ..symbolic.decompose import Ctx, decompose
 from ..symbolic.definedness import Undefined
 from ..symbolic.integrability import Blowup, Verdict, delta_blowups, piece_blowups
-from ..symbolic.precise import real_value
 from ..sympy_bridge import at_symbols, symbols
 from ..timebox import Deadline
 from .bounded import bounded

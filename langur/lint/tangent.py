@@ -20,6 +20,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ..core import IfDiffeo, ImplicitRoot, Program, TooManyRoots, subterms
+from ..precise import DIGITS, complex_value, number, sign
 from ..sympy_bridge import NotSmooth, symbol, to_sympy
 from .findings import Finding, PerCondition
 
@@ -91,8 +92,8 @@ def _critical_findings(site: IfDiffeo, program: Program, point, explicit) -> lis
             continue  # the condition alone: coincident or degenerate everywhere, other checks
         names = tuple(p.name for p in params)
         where = "(" + ", ".join(x.name for x in xs) + ") = (" + ", ".join(sp.sstr(s[x]) for x in xs) + ")"
-        hit = point is not None and all(n in point for n in names) and abs(complex(
-            value.xreplace({p: sp.Float(float(point[p.name]), 30) for p in params}).evalf(30))) <= TOLERANCE
+        hit = point is not None and all(n in point for n in names) and abs(complex_value(
+            value.xreplace({p: sp.Float(float(point[p.name]), DIGITS) for p in params}))) <= TOLERANCE
         shown = ", ".join(f"{n} = {float(point[n]):g}" for n in names) if hit else ""
         if hit and explicit:
             out.append(Finding(site.span, "error", "X305",
@@ -162,8 +163,8 @@ def _findings(site: IfDiffeo, roots: list[ImplicitRoot], point, explicit) -> lis
 def _on_turning_point(f, v, c, end, roots, at) -> bool:
     """Does a root of ``f`` sit on the turning point ``c`` at the parameter values ``at``?"""
     try:
-        here = sp.Float(c.xreplace(at).evalf(30), 30)
-        lo, hi = (sp.Float(to_sympy(t).xreplace(at).evalf(30), 30) for t in (roots[0].lo, roots[-1].hi))
+        here = number(c.xreplace(at))
+        lo, hi = (number(to_sympy(t).xreplace(at)) for t in (roots[0].lo, roots[-1].hi))
     except (TypeError, ValueError, TooManyRoots):  # more turning points than pieces: the engines say so
         return False
     if isinstance(end, ImplicitRoot) and here == hi:
@@ -171,8 +172,8 @@ def _on_turning_point(f, v, c, end, roots, at) -> bool:
     if not lo <= here <= hi:
         return False  # a turning point outside the domain (whose end moves) at these values
     fx = f.xreplace(at)
-    scale = 1 + max(abs(complex(fx.xreplace({v: lo}).evalf(20))), abs(complex(fx.xreplace({v: hi}).evalf(20))))
-    return abs(complex(fx.xreplace({v: here}).evalf(30))) <= TOLERANCE * scale
+    scale = 1 + max(abs(complex_value(fx.xreplace({v: lo}))), abs(complex_value(fx.xreplace({v: hi}))))
+    return abs(complex_value(fx.xreplace({v: here}))) <= TOLERANCE * scale
 
 
 def _fixed_turning_points(ends, v) -> list | None:
@@ -189,7 +190,7 @@ def _fixed_turning_points(ends, v) -> list | None:
         return None
     points = sorted(zeros, key=lambda z: float(z))
     probes = [points[0] - 1] + [(p + q) / 2 for p, q in zip(points, points[1:])] + [points[-1] + 1] if points else []
-    signs = [bool(slope.xreplace({v: p}).evalf(30) > 0) for p in probes]
+    signs = [sign(slope.xreplace({v: p})) > 0 for p in probes]
     return [c for k, c in enumerate(points) if signs[k] != signs[k + 1]]
 
 

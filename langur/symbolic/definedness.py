@@ -19,7 +19,7 @@ outside the domain's closure (open sets: a neighbourhood of the point is such a 
 argument constant there, the constant outside the domain (``log(max(x, 0))`` at x < 0, a division
 by a term that is 0 there).  The point is looked for on a grid (:data:`GRID`), then, where the
 grid has none (a region thinner than its step), at :data:`SAMPLES` random points of the box, and
-proved at its exact coordinates with 50 digits (:mod:`langur.symbolic.precise`): undefined is
+proved at its exact coordinates with 50 digits (:mod:`langur.precise`): undefined is
 said only with a witness.  An argument whose interval enclosure over the box lies in the domain
 (:func:`langur.enclosures.enclose`, mpmath's interval arithmetic) is not searched at all.
 ``langur check`` reports X311 "undefined" from this same search (``langur.lint.singular``,
@@ -40,10 +40,10 @@ import sympy as sp
 
 from ..core import IfDiffeo, IfGe0, Let, Pow, Prim, Term, children
 from ..enclosures import enclose
+from ..precise import real_value
 from ..primitives import REGISTRY, Domain
 from ..sympy_bridge import symbols
 from .decompose import Ctx, decide, decompose, sign_patterns, smooth_value
-from .precise import real_value
 from .text import expr_text
 
 #: Grid points per dimension of the box (the same as the integrability analysis's grid, ``langur.symbolic.integrability.GRID``).
@@ -322,7 +322,7 @@ def _compiled(exprs: tuple, xs: tuple):
 
 def _witness(exprs: list[sp.Expr], xs, ends, fbox: np.ndarray) -> tuple[sp.Expr, ...] | None:
     """An exact point strictly inside the box where every ``e`` of ``exprs`` is > 0, proved with
-    :data:`~langur.symbolic.precise.DIGITS` digits: looked for on the grid (:data:`GRID`: round
+    :data:`~langur.precise.DIGITS` digits: looked for on the grid (:data:`GRID`: round
     coordinates), then, where it has none, at :func:`random_points` (a region thinner than the
     grid's step: ``log(x)`` on [−0.001, 1]), each moved to a nearby short rational (None when
     neither has one)."""

@@ -26,13 +26,15 @@ Every case is an exact sympy expression (no floats are introduced); :func:`reada
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 import sympy as sp
 
+from ..precise import real_number
+from ..sympy_bridge import DOMAINS
 from . import arrangement
-from .precise import real_number
 
 #: Largest expression (sympy ``count_ops``) handed to ``sp.simplify``; bigger ones are only expanded.
 SIMPLIFY_LIMIT = 400
@@ -91,6 +93,29 @@ def _switching(expr: sp.Expr) -> list[sp.Expr]:
                 out += [r.lhs - r.rhs for r in cond.atoms(sp.core.relational.Relational)]
         elif isinstance(node, (sp.Heaviside, sp.sign, sp.Abs)):
             out.append(node.args[0])
+    return out
+
+
+#: The sympy functions of the primitives defined on part of ℝ only, with their domains (``log``, ``asin``,
+#: ``acos``, ``atanh``, ``tan``: :mod:`langur.primitives` declares each; ``sqrt`` is a power, below).
+_PARTIAL = {f: dom for f, dom in DOMAINS.items() if not dom.everywhere}
+
+
+def _domain_edges(expr: sp.Expr) -> list[sp.Expr]:
+    """The functions of the parameters whose roots bound where ``expr`` is real and finite: the base of
+    every fractional power (a root of a negative number) and of every negative one (a pole), the
+    argument of every primitive defined on part of ℝ minus each finite end of its domain.  Between two
+    of their roots the expression is real at every point or at none (a periodic pole, ``tan``'s, is
+    not one of them: its roots are not a finite set).  Without them a case would be decided at one
+    point for a whole interval across such an end: ``Max(log(t), 0)`` resolved at t = 0 (not real)
+    excluded all of t < 1 although it is 0 on (0, 1), ``Min(sqrt(t), 1)`` at t = 0 claimed √t for t < 0."""
+    out: list[sp.Expr] = []
+    for node in sp.preorder_traversal(expr):
+        if node.is_Pow and not node.exp.is_integer or node.is_Pow and node.exp.is_negative:
+            out.append(node.base)
+        elif type(node) in _PARTIAL and not _PARTIAL[type(node)].poles:
+            dom = _PARTIAL[type(node)]
+            out += [node.args[0] - sp.nsimplify(end) for end in (dom.lo, dom.hi) if math.isfinite(end)]
     return out
 
 
@@ -174,8 +199,10 @@ def _exp_collected(e: sp.Expr) -> sp.Expr:
     return sp.factor_terms(sp.collect(e, list(e.atoms(sp.exp))))
 
 
-def _roots(s: sp.Expr, p: sp.Symbol) -> list[sp.Expr] | None:
-    """Real roots of ``s`` in p (None when not found exactly as a finite set)."""
+def _roots(s: sp.Expr, p: sp.Symbol, edge: bool = False) -> list[sp.Expr] | None:
+    """Real roots of ``s`` in p (None when not found exactly as a finite set).  ``edge`` (an end of the
+    real domain, :func:`_domain_edges`): a zero set made of intervals gives its ends (``r/|r| − 1``,
+    asin's argument at its end 1 for every r > 0: 0), where alone a continuous ``s`` can change sign."""
     if p not in s.free_symbols:
         return []
     try:
@@ -184,6 +211,8 @@ def _roots(s: sp.Expr, p: sp.Symbol) -> list[sp.Expr] | None:
         return None
     if sol is sp.S.Reals:  # identically zero: never switches
         return []
+    if edge and isinstance(sol, (sp.Interval, sp.Union)) and isinstance(sol.boundary, sp.FiniteSet):
+        return [r for r in sol.boundary if r.is_finite]
     if not isinstance(sol, sp.FiniteSet):
         try:
             found = sp.solve(s, p)
@@ -221,10 +250,11 @@ def _one_parameter(expr, p, cell, everywhere) -> Readable | None:
     cuts: set = set()
     try:
         switching = [v for s in _switching(expr) for v in _variants(s)]
+        edges = [v for s in _domain_edges(expr) for v in _variants(s)]
     except ValueError:
         return None
-    for s in dict.fromkeys(switching + [r.lhs - r.rhs for r in cell]):
-        roots = _roots(s, p)
+    for s, edge in {**dict.fromkeys(switching + [r.lhs - r.rhs for r in cell], False), **dict.fromkeys(edges, True)}.items():
+        roots = _roots(s, p, edge)
         if roots is None:
             return None
         cuts.update(r for r in roots if r.is_real)
@@ -239,9 +269,10 @@ def _one_parameter(expr, p, cell, everywhere) -> Readable | None:
         x0 = _inner_point(lo, hi)
         if not domain.contains(x0) == sp.true:
             continue
-        try:
+        try:  # not real at x0 (a root of a negative number): nowhere between the two breakpoints
             piece = tidy(resolve(expr, {p: x0}))
-        except TypeError:  # not real there (e.g. a square root of a negative number)
+            real_number(piece.subs(p, x0))
+        except TypeError:
             excluded.append(sp.Interval.open(lo, hi))
             continue
         cases.append(Case(True, piece, sp.Interval.open(lo, hi)))
@@ -262,19 +293,29 @@ def _one_parameter(expr, p, cell, everywhere) -> Readable | None:
             at_b = resolve(expr, {p: b}).subs(p, b)
             real_number(at_b)
         except TypeError:
+            excluded.append(sp.FiniteSet(b))
             continue
         for i, c in enumerate(final):
-            if c.interval.sup == b or c.interval.inf == b:
-                if real_number(c.expr.subs(p, b) - at_b) == 0 and real_number(sp.simplify(c.expr.subs(p, b) - at_b)) == 0:
-                    final[i] = Case(True, c.expr, c.interval.union(sp.FiniteSet(b)))
-                    break
+            if (c.interval.sup == b or c.interval.inf == b) and _equal_at(c.expr.subs(p, b), at_b):
+                final[i] = Case(True, c.expr, c.interval.union(sp.FiniteSet(b)))
+                break
         else:
             final.append(Case(True, tidy(at_b), sp.FiniteSet(b)))
     final.sort(key=lambda c: real_number(c.interval.inf) if c.interval.inf.is_finite else -1e300)
     out = tuple(Case(c.interval.as_relational(p), c.expr, c.interval) for c in final)
     if not out:
         return None
-    return Readable(out, p, domain, True, excluded=tuple(excluded))
+    gaps = sp.Union(*excluded) if excluded else sp.S.EmptySet
+    gaps = gaps.args if isinstance(gaps, sp.Union) else (gaps,) if excluded else ()
+    return Readable(out, p, domain, True, excluded=tuple(gaps))
+
+
+def _equal_at(a: sp.Expr, b: sp.Expr) -> bool:
+    """Two values at a breakpoint are equal (a value that is not real there equals nothing)."""
+    try:
+        return real_number(a - b) == 0 and real_number(sp.simplify(a - b)) == 0
+    except TypeError:
+        return False
 
 
 def readable(expr: sp.Expr, at: Mapping[sp.Symbol, sp.Expr] | None = None, *, cell=(),
@@ -383,12 +424,16 @@ def _isolated(pl, sign: int, params, strict: bool):
 
 
 def _local(expr, at, cell) -> Readable | None:
-    """The case containing the evaluation point: signs of the switching functions there."""
+    """The case containing the evaluation point: signs of the switching functions there, and of the
+    functions whose roots bound where the closed form is real (:func:`_domain_edges`)."""
     conds = []
-    for s in dict.fromkeys(resolve(s, at) for s in _switching(expr)):
+    edges = {resolve(s, at) for s in _domain_edges(expr)}
+    for s in dict.fromkeys([resolve(s, at) for s in _switching(expr)] + list(edges)):
         if not s.free_symbols:
             continue
         v = real_number(s.subs(at))
+        if v == 0 and s in edges:  # on an end of the real domain: the case's closure holds it
+            continue
         if v == 0:
             return None
         rel = _solved(sp.Gt(s, 0) if v > 0 else sp.Lt(s, 0))
@@ -494,7 +539,8 @@ def readable_text(r: Readable, latex: bool = False) -> str:
     width = max(len(c) for _, c in rows)
     lines = [f"{c:<{width}} : {e}" for e, c in rows]
     for iv in r.excluded:
-        lines.append(f"({_e(iv.as_relational(r.parameter), latex)}: the closed form is not real there, it does not apply)")
+        lines.append(f"({_cond_text(Case(sp.false, sp.nan, iv), r.parameter, latex)}: the closed form is not real "
+                     "there, it does not apply)")
     if r.boundaries_open:
         lines.append("(on the boundaries between the cases: the full form, `langur show --raw`)")
     if r.near:

@@ -73,6 +73,7 @@ from ..core import (
     neg,
     substitute,
 )
+from ..precise import NotReal, number, real_value, sign
 from ..sympy_bridge import from_sympy
 from ..timebox import run_with_timeout
 from .continuity import continuous_domain
@@ -322,7 +323,7 @@ def _monotone_on_the_line(e: sp.Expr, v: sp.Symbol) -> str | None:
         return f"the zeros of ∂/∂{v} = {d} on the line are {zeros}"
     probes = ([points[0] - 1] + [(p + q) / 2 for p, q in zip(points, points[1:])] + [points[-1] + 1]
               if points else [sp.Integer(0)])
-    signs = {bool(d.subs(v, p).evalf(30) > 0) for p in probes}
+    signs = {sign(d.subs(v, p)) > 0 for p in probes}
     if len(signs) > 1:
         return f"it has turning points (∂/∂{v} = {d} changes sign at {', '.join(map(str, points))})"
     return None
@@ -359,7 +360,7 @@ def _exact_ends(d, v, L, R) -> list[Term] | str | None:
         zeros = sp.S.EmptySet  # … but ∂f/∂x is proved of one strict sign on [L, R] (1/(erf(x) + 2)): none
     if zeros is sp.S.EmptySet:
         points = []
-    elif isinstance(zeros, sp.FiniteSet) and all(z.is_real or z.evalf(30).is_real for z in zeros):  # erfinv(π/6)/2
+    elif isinstance(zeros, sp.FiniteSet) and all(z.is_real or not math.isnan(real_value(z)) for z in zeros):  # erfinv(π/6)/2
         if len(zeros) >= MAX_PIECES:
             return f"it has {len(zeros)} turning points (zeros of ∂/∂{v} = {d}) on the domain, more than {MAX_PIECES - 1}"
         points = sorted(zeros, key=lambda z: float(z))
@@ -380,10 +381,13 @@ def _sign_changes(d, v, cuts):
     keep = [cuts[0]]
     signs = []
     for a, b in zip(cuts, cuts[1:]):
-        mid = d.subs(v, (a + b) / 2).evalf(30)
-        if not mid.is_real or mid == 0:
+        try:
+            mid = sign(d.subs(v, (a + b) / 2))
+        except NotReal:
+            mid = 0
+        if mid == 0:
             return f"∂/∂{v} = {d} vanishes or is undefined between {a} and {b}"
-        signs.append(1 if mid > 0 else -1)
+        signs.append(mid)
     for k, c in enumerate(cuts[1:-1]):
         if signs[k] != signs[k + 1]:
             keep.append(c)
@@ -398,7 +402,7 @@ def _point(c: sp.Expr, d: sp.Expr, v: sp.Symbol, x: str) -> Term:
         return from_sympy(c, (), ())
     except ValueError:
         pass
-    value = sp.Float(c.evalf(40), 40)
+    value = number(c)
     for digits in (6, 9, 12):  # decimals around the value: the first bracket with a sign change
         scale = 10**digits
         a = sp.Rational(sp.floor(value * scale) - 1, scale)

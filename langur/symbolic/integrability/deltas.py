@@ -17,13 +17,14 @@ pole of the weight (:func:`_vanishing_jacobian`); a declared Ψ̂ in several var
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Iterator, Mapping, Sequence
 
 import sympy as sp
 
-from ..precise import DIGITS
-from ..precise import real_value as _num
+from ...precise import DIGITS
+from ...precise import real_value as _num
 from .finite import finite_on_box
 from .region import Undecidable
 from .verdicts import Blowup, Verdict, blowups_on
@@ -34,7 +35,8 @@ def delta_blowups(deltas, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, 
                   ) -> Iterator[tuple[sp.Expr, tuple[sp.Symbol, ...], list[Blowup]]]:
     """Each delta term's (``DeltaPiece``: ``psi``, ``conditions``, ``weight``) weight at the parameter
     values ``at`` (``box`` already at them), per inverse branch: (the weight, the variables u′ of its zero
-    set, its blow-ups there).  In one variable a weight infinite or undefined at the root (inside the box
+    set, its blow-ups there, each at a point of the box in all the variables ``xs``; their codimension
+    is the singular set's in the zero set).  In one variable a weight infinite or undefined at the root (inside the box
     and the conditions) is one DIVERGENT blow-up of shape "zero set" (α = ∞, or NaN where undefined)."""
     xs = tuple(xs)
     for d in deltas:
@@ -66,7 +68,16 @@ def delta_blowups(deltas, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Expr, 
                 found = blowups_on(w, uxs, ubox, conds)
             except Undecidable:
                 continue
-            yield w, uxs, found
+            yield w, uxs, [_lifted(b, inv, uxs, xs) for b in found]
+
+
+def _lifted(b: Blowup, inv: Mapping[sp.Symbol, sp.Expr], uxs: tuple, xs: tuple) -> Blowup:
+    """A blow-up found in the zero set's variables u′ as a point of the box, in all the variables
+    ``xs`` (``x = Ψ̂_b⁻¹(0, u′)``; a face named by its variable's index in ``xs``): what the linter and
+    the engine print, ``(x, y) = (1, 1)``, not the u′ coordinates alone under every variable's name."""
+    at = {u: sp.sympify(v) for u, v in zip(uxs, b.point)}
+    point = tuple(inv.get(x, x).xreplace(at) for x in xs) if len(b.point) == len(uxs) else b.point
+    return dataclasses.replace(b, point=point, face=tuple((xs.index(uxs[i]), v) for i, v in b.face))
 
 
 def _vanishing_jacobian(psi, br, sub: dict, at: Mapping, xs: Sequence[sp.Symbol]) -> sp.Expr:

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ...precise import real_value as _num
 from ...timebox import Deadline
-from ..precise import real_value as _num
 from .deltas import delta_blowups
 from .finite import finite_on_box
 from .region import Undecidable
@@ -97,10 +97,10 @@ def delta_divergence(deltas, xs: Sequence[sp.Symbol], box: Sequence[tuple[sp.Exp
     ends = [(sp.sympify(lo).xreplace(at), sp.sympify(hi).xreplace(at)) for lo, hi in box]
 
     def first() -> Divergent | None:
-        for w, uxs, found in delta_blowups(deltas, tuple(xs), ends, at):
+        for w, _, found in delta_blowups(deltas, tuple(xs), ends, at):
             for b in found:
                 if b.verdict is Verdict.DIVERGENT:
-                    return Divergent(w, b, tuple(str(x) for x in uxs), "the weight of a delta term of ⦇t⦈")
+                    return Divergent(w, b, tuple(str(x) for x in xs), "the weight of a delta term of ⦇t⦈")
         return None
 
     return _within_limit(first)

@@ -8,11 +8,10 @@ from collections.abc import Sequence
 
 import sympy as sp
 
-from ...primitives import REGISTRY
+from ...sympy_bridge import DOMAINS
 
 #: The sympy functions of the primitives defined and finite on all of ℝ (exp, sin, cos, tanh, atan, erf).
-_EVERYWHERE = tuple(getattr(sp, p.sympy) for p in REGISTRY.values()
-                    if isinstance(getattr(sp, p.sympy, None), type) and p.domain.everywhere)
+_EVERYWHERE = tuple(f for f, dom in DOMAINS.items() if dom.everywhere)
 
 #: Largest degree of a pole base whose real roots :func:`_zero_free` counts exactly.
 ZERO_FREE_DEGREE = 20
@@ -24,7 +23,14 @@ def finite_on_box(w: sp.Expr, xs: Sequence[sp.Symbol], box: tuple[tuple[sp.Expr,
     negative power's base free of zeros on the box (:func:`_zero_free`, exact).  Then
     :func:`blowups` has nothing to find on any region inside the box (no pole base vanishes
     there, no partial primitive is applied): a caller need not build the regions of a sum of 10⁴
-    pieces ``[x ≥ c_k] / (x + 1)``.  False says nothing."""
+    pieces ``[x ≥ c_k] / (x + 1)``.  False says nothing.
+
+    Not :func:`langur.enclosures.enclose`'s whitelist (``_enclosable``), although both walk "built of
+    the variables, finite numbers, +, · and powers": that one says interval arithmetic is *sound* for
+    an expression, not that the expression is finite — ``1/x`` and ``log(x)`` are enclosed, their
+    enclosures over [0, 1] infinite — and an enclosure can be too wide to prove a pole base free of
+    zeros (``x² − 2x + 1.0001`` over [0, 2] encloses [−2.9999, 5.0001] ∋ 0), which Sturm's count here
+    decides exactly.  Finite on a box is a property of ``w``; enclosable, of the arithmetic."""
     xs = tuple(xs)
     for n in sp.preorder_traversal(w):
         if n.is_Symbol:

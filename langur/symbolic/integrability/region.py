@@ -11,7 +11,7 @@ from collections.abc import Sequence
 import numpy as np
 import sympy as sp
 
-from ..precise import real_value as _num
+from ...precise import real_value as _num
 
 #: Grid points per dimension (the grid has at most a few thousand points).
 GRID = {1: 401, 2: 41, 3: 15}

@@ -25,8 +25,8 @@ import numpy as np
 import sympy as sp
 
 from ...memo import remember
-from ..precise import DIGITS
-from ..precise import value_at as _value
+from ...precise import DIGITS
+from ...precise import value_at as _value
 from .region import Region, Undecidable
 from .zerosets import Site, pole_bases, sites
 

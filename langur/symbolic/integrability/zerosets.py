@@ -23,9 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..precise import DIGITS
-from ..precise import real_value as _num
-from ..precise import value_at as _value
+from ...precise import DIGITS
+from ...precise import real_value as _num
+from ...precise import value_at as _value
 from .region import Region, Undecidable, compiled
 
 #: Directions tried at a point (the first are the natural ones: axes, inward normals).

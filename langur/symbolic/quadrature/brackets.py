@@ -8,7 +8,7 @@ from __future__ import annotations
 import sympy as sp
 
 from langur.implicit import ImplicitRootFn
-from langur.symbolic.precise import real_number_at
+from langur.precise import real_number_at
 
 
 def _implied_by_bracket(e, variables, xs, at: dict) -> bool:

@@ -14,8 +14,8 @@ import sympy as sp
 
 from langur.implicit import ImplicitRootFn
 from langur.memo import remember
+from langur.precise import real_number_at, real_value
 from langur.symbolic.pieces import DeltaPiece
-from langur.symbolic.precise import real_number_at, real_value
 from langur.symbolic.quadrature.brackets import _implied_by_bracket
 from langur.symbolic.quadrature.compiling import COMPILED, _lambdify, substituted
 from langur.symbolic.quadrature.nested import integrate_problem

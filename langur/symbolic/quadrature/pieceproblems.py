@@ -11,8 +11,8 @@ from typing import Sequence
 import sympy as sp
 
 from langur.memo import remember
+from langur.precise import real_number_at
 from langur.symbolic.pieces import NOT_FINITE, Piece, Psi
-from langur.symbolic.precise import real_number_at
 from langur.symbolic.quadrature.compiling import (
     OnFirstCall,
     _lambdify,
