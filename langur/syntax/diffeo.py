@@ -75,7 +75,7 @@ from ..sympy_bridge import (
 from ..timebox import run_with_timeout
 from . import affine, turning
 from .affine import fresh_inputs
-from .folding import refolded
+from .folding import nonzero_constant, refolded
 from .support import float_bounds
 
 #: CPU-second limit of one completion / one declaration check (CPU, not wall clock: what a program
@@ -530,7 +530,8 @@ def instantiate(psi: Diffeo, decl_params: tuple[str, ...], var_names: tuple[str,
                                      tuple(refolded(substitute(g, imap, pmap)) for g in b.guards))
                        for b in psi.branches),
         solved_for=None, name=psi.name,
-        nonzero=tuple(refolded(substitute(z, {}, pmap)) for z in psi.nonzero))
+        # (a constant other than 0 never vanishes: `needs k ≠ 0` with k = 1 says nothing)
+        nonzero=tuple(z for z in (refolded(substitute(z, {}, pmap)) for z in psi.nonzero) if not nonzero_constant(z)))
     if program_variables is not None:
         out = extend_diffeo(out, tuple(program_variables))
     return out

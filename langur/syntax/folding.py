@@ -71,7 +71,7 @@ def defined_everywhere(t: Term) -> bool:
         tu = type(u)
         if tu is Pow:
             k = u.exponent
-            if k.denominator != 1 or k < 0 and not _nonzero_constant(u.base):
+            if k.denominator != 1 or k < 0 and not nonzero_constant(u.base):
                 return False
         elif tu is Prim:
             if not REGISTRY[u.op].domain.everywhere:
@@ -84,7 +84,7 @@ def defined_everywhere(t: Term) -> bool:
     return True
 
 
-def _nonzero_constant(t: Term) -> bool:
+def nonzero_constant(t: Term) -> bool:
     """``t`` is a rational constant other than 0 (its negative integer powers are defined: ``a / 4``).
     (Not its sign: a loop's copies at indices of both signs share the first copy's shape.)"""
     return type(t) is Const and type(t.value) is Fraction and t.value != 0
@@ -136,7 +136,7 @@ def divided(t: Term, s: Term, span: Span | None = None) -> Term:
     (``1 / s`` stays: the printer's ``/``)."""
     if is_one(s):
         return t
-    if is_zero(t) and _nonzero_constant(s):
+    if is_zero(t) and nonzero_constant(s):
         return t
     return Mul(t, Pow(s, MINUS_ONE, span), span)
 
@@ -187,5 +187,5 @@ def refolded(t: Term) -> Term:
     return go(t)
 
 
-__all__ = ["defined_everywhere", "divided", "is_one", "is_zero", "minus", "negated", "plus", "power", "refolded",
-           "times"]
+__all__ = ["defined_everywhere", "divided", "is_one", "is_zero", "minus", "negated", "nonzero_constant", "plus",
+           "power", "refolded", "times"]
