@@ -233,4 +233,11 @@ def test_folding_constructors_are_the_identities_they_claim():
     assert folding.negated(one) == C.Const(Fraction(-1)) and folding.negated(zero) is zero
     assert folding.power(x, Fraction(1)) is x and folding.power(one, Fraction(-1)) is one
     assert folding.divided(one, x) == C.Mul(one, C.Pow(x, Fraction(-1)))  # 1 / x as written
+    assert folding.times(one, C.Pow(x, Fraction(-1))) == C.Mul(one, C.Pow(x, Fraction(-1)))  # (printed 1 / x)
     assert folding.plus(x, a) == C.Add(x, a) and folding.times(x, a) == C.Mul(x, a)
+
+
+def test_a_def_returning_1_divided_stays_1_over():
+    # scene.lgr: shade(x, y, c) = 1 (shader.lgr), inlined in shade(x, y, c) / h^2: 1 / h ^ 2, not (h ^ 2) ^ -1
+    loaded = load(str(EXAMPLES / "scene.lgr"))
+    assert "then 1 / h ^ 2 else 0" in print_program(loaded.program)

@@ -8,7 +8,7 @@ same sums and products with the identities folded where they are exact for Langu
 (§4, Fig. 7: ⟦t⟧ is a partial function, undefined where a primitive or a negative power is):
 
 * ``t + 0``, ``0 + t``, ``t − 0`` are ``t``; ``0 − t`` is ``−t``; ``−0`` is ``0``, ``−1`` is ``−1``;
-* ``t · 1``, ``1 · t`` and ``t ^ 1`` are ``t``, ``1 ^ k`` is ``1``;
+* ``t · 1``, ``1 · t`` and ``t ^ 1`` are ``t``, ``1 ^ k`` is ``1`` (but ``1 · s ^ −1`` stays: ``1 / s``);
 * ``t · 0`` and ``0 · t`` are ``0`` only where ⟦t⟧ is defined everywhere (:func:`defined_everywhere`):
   ``0 · (1/x)`` is undefined at x = 0 and stays as written; so is ``t ^ 0`` ``1``, and ``0 / c`` ``0``
   for a constant ``c ≠ 0``;
@@ -118,11 +118,12 @@ def minus(t: Term, s: Term, span: Span | None = None) -> Term:
 
 
 def times(t: Term, s: Term, span: Span | None = None) -> Term:
-    """``t · s``; a factor 1 folds, a factor 0 absorbs the other where that one is defined everywhere."""
+    """``t · s``; a factor 1 folds (but in ``1 · s ^ −1``, which prints as ``1 / s``), a factor 0 absorbs
+    the other where that one is defined everywhere."""
     if type(s) is Const or type(t) is Const:
         if is_one(s):
             return t
-        if is_one(t):
+        if is_one(t) and not (type(s) is Pow and s.exponent == MINUS_ONE):
             return s
         if is_zero(s) and defined_everywhere(t):
             return s
