@@ -43,17 +43,17 @@ from ..core import (
 from ..diagnostics import Span
 from ..primitives import REGISTRY
 
-_ONE = INT_FRACTIONS[1]
+_ZERO, _ONE = INT_FRACTIONS[0], INT_FRACTIONS[1]
 
 
 def is_zero(t: Term) -> bool:
-    """``t`` is the constant 0."""
-    return type(t) is Const and type(t.value) is Fraction and not t.value
+    """``t`` is the constant 0 (a literal's is ``INT_FRACTIONS[0]``: one identity test)."""
+    return type(t) is Const and (t.value is _ZERO or type(t.value) is Fraction and not t.value)
 
 
 def is_one(t: Term) -> bool:
-    """``t`` is the constant 1."""
-    return type(t) is Const and type(t.value) is Fraction and t.value == _ONE
+    """``t`` is the constant 1 (compared with the int 1: Fraction's fast path)."""
+    return type(t) is Const and (t.value is _ONE or type(t.value) is Fraction and t.value == 1)
 
 
 def defined_everywhere(t: Term) -> bool:
@@ -92,9 +92,9 @@ def nonzero_constant(t: Term) -> bool:
 
 def plus(t: Term, s: Term, span: Span | None = None) -> Term:
     """``t + s``; ``t + 0`` and ``0 + s`` fold."""
-    if is_zero(s):
+    if type(s) is Const and is_zero(s):  # (the class first: most operands are no constant)
         return t
-    if is_zero(t):
+    if type(t) is Const and is_zero(t):
         return s
     return Add(t, s, span)
 
@@ -110,9 +110,9 @@ def negated(t: Term, span: Span | None = None) -> Term:
 
 def minus(t: Term, s: Term, span: Span | None = None) -> Term:
     """``t − s``, i.e. ``t + (−1)·s``; ``t − 0`` is ``t``, ``0 − s`` is ``−s``."""
-    if is_zero(s):
+    if type(s) is Const and is_zero(s):
         return t
-    if is_zero(t):
+    if type(t) is Const and is_zero(t):
         return negated(s, span)
     return Add(t, Mul(Const(MINUS_ONE), s), span)
 
@@ -123,7 +123,7 @@ def times(t: Term, s: Term, span: Span | None = None) -> Term:
     if type(s) is Const or type(t) is Const:
         if is_one(s):
             return t
-        if is_one(t) and not (type(s) is Pow and s.exponent == MINUS_ONE):
+        if is_one(t) and not (type(s) is Pow and s.exponent == -1):
             return s
         if is_zero(s) and defined_everywhere(t):
             return s
@@ -135,9 +135,7 @@ def times(t: Term, s: Term, span: Span | None = None) -> Term:
 def divided(t: Term, s: Term, span: Span | None = None) -> Term:
     """``t / s``, i.e. ``t · s ^ −1``; ``t / 1`` is ``t``, ``0 / c`` is ``0`` for a constant ``c ≠ 0``
     (``1 / s`` stays: the printer's ``/``)."""
-    if is_one(s):
-        return t
-    if is_zero(t) and nonzero_constant(s):
+    if type(s) is Const and (is_one(s) or is_zero(t) and nonzero_constant(s)):
         return t
     return Mul(t, Pow(s, MINUS_ONE, span), span)
 
@@ -146,7 +144,7 @@ def power(t: Term, k: Fraction, span: Span | None = None) -> Term:
     """``t ^ k``; ``t ^ 1`` is ``t``, ``1 ^ k`` is ``1`` (so ``t · 1 ^ −1``, printed ``t / 1``, is ``t``);
     ``t ^ 0`` is ``1`` where ``t`` is defined everywhere (``0 ^ 0`` is 1, as both engines compute it:
     sympy's ``0**0`` and numpy's ``0.0 ** 0``)."""
-    if k == _ONE or is_one(t):
+    if k == 1 or is_one(t):
         return t
     if not k and defined_everywhere(t):
         return Const(_ONE, span)

@@ -257,8 +257,10 @@ def balanced(terms: list[Term], op: str, span: Span | None = None) -> Term:
     component ``0 * 0`` in ``dot``)."""
     make: Callable[..., Term] = Add if op == "sum" else Mul
     drop = is_zero if op == "sum" else is_one
-    if any(drop(t) for t in terms):
-        terms = [t for t in terms if not drop(t)]
+    for t in terms:
+        if type(t) is Const and drop(t):
+            terms = [u for u in terms if not drop(u)]
+            break
     if not terms:
         return Const(Fraction(0 if op == "sum" else 1), span=span)
     if len(terms) <= CHAIN_BALANCE:
