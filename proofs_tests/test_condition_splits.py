@@ -98,7 +98,7 @@ def _repeated(t, decided=()):
 
 def test_the_split_is_visible_in_the_core_program():
     program = _load(CASES[0][1]).program
-    assert "ifge0 x - a then (ifge0 0.2 - (x - a) then 1 else 0) else" in print_core(program.integrand)
+    assert "ifge0 x - a then [0.2 - (x - a) >= 0] else" in print_core(program.integrand)  # (brackets: fold31)
     # the square: the sign of x and of y is decided once on each path
     square_ = _load(CASES[3][1]).program
     assert "ifge0 x then (ifge0 y then (ifge0 x - y then" in print_core(square_.integrand)

@@ -133,14 +133,15 @@ def test_the_plan_is_the_one_the_definitions_give(seed, monkeypatch):
         for plan in watched.built:
             _check_plan(plan)
             planned += 1
-    assert planned >= 20
+    assert planned >= 12  # (fewer since fold31: a loop of copies at 0 and 1 only, e.g. 0..1, 1..2, has no template)
     frontend.clear_load_cache()
     watched.built.clear()
     frontend.load_text(MB1)
     assert len(watched.built) == 2
     for plan in watched.built:
         _check_plan(plan)
-        assert len(plan.steps) == 15 and len(plan.shared) == 11
+        # (14 and 10 since fold31: the condition's `- 0` is gone, one dependent node and one shared constant fewer)
+        assert len(plan.steps) == 14 and len(plan.shared) == 10
 
 
 def test_a_deep_first_copy_is_planned_by_the_stack_walk_with_its_steps(monkeypatch):

@@ -140,13 +140,15 @@ def test_instantiated_copies_are_the_desugared_copies(seed):
             y = operational.estimate_derivative(old, at, d, samples=200, seed=seed)
             assert (x.value, x.regular, x.boundary) == (y.value, y.regular, y.boundary), text
     assert loaded_ok >= 10
-    assert copies.STATS["instantiated"] - before["instantiated"] >= 40  # the new path was taken
+    # the new path was taken (the copies at i = 0 and 1 are desugared on their own since fold31: there
+    # the index folds, x * 1 is x)
+    assert copies.STATS["instantiated"] - before["instantiated"] >= 20
 
 
 @pytest.mark.parametrize("cond, shifted", [
-    ("x + 1/i - a >= 0", 3),            # the index in a constant summand
-    ("a - x - i/3 >= 0", 3),            # under a negation: the summand's factor is -1
-    ("2*(x + i/5) + 1 <= a", 3),        # under a constant factor
+    ("x + 1/i - a >= 0", 2),            # the index in a constant summand
+    ("a - x - i/3 >= 0", 2),            # under a negation: the summand's factor is -1
+    ("2*(x + i/5) + 1 <= a", 2),        # under a constant factor
     ("x + (i - 2)*a >= 0", 0),          # a coefficient of a parameter: solved again per copy
     ("x + y/(i + 1) >= 1/2", 0),        # a coefficient of a variable: solved again per copy
     ("y - x^2 >= i/8", 0),              # not affine (sympy): completed again per copy
@@ -163,7 +165,7 @@ def test_conditions_of_one_shape_move_their_constant_term_only(cond, shifted):
     assert new.program == old.program
     _same_attributes(new.program.body, old.program.body)
     assert print_program(new.program) == print_program(old.program)
-    assert copies.STATS["instantiated"] - before["instantiated"] == 3
+    assert copies.STATS["instantiated"] - before["instantiated"] == 2  # i = 3, 4 (i = 1 folds: on its own, fold31)
     assert copies.STATS["shifted"] - before["shifted"] == shifted
     at, d = new.param_values({}), {"a": 1.0}
     assert (operational.estimate_derivative(new, at, d, samples=50, seed=1).value
@@ -171,8 +173,9 @@ def test_conditions_of_one_shape_move_their_constant_term_only(cond, shifted):
 
 
 def test_a_copy_that_does_not_complete_is_desugared_and_refused():
-    # i = 0: `0 * x - 1 >= 0` has no variable to isolate; the copies i = -1, 1 complete
-    text = "int ([0, 2]) (sum i in -1..1: [i*x - 1 >= 0] * x) d(x)\n"
+    # i = 3: `(3 - 3) * x - 1 >= 0` has no variable to isolate; the copies i = 2, 4 complete (the
+    # template is made at i = 2: copies at i = 0 and 1 are desugared on their own since fold31)
+    text = "int ([0, 2]) (sum i in 2..4: [(i - 3)*x - 1 >= 0] * x) d(x)\n"
     refused = copies.STATS["refused"]
     new, new_errors = _load(text, True)
     old, old_errors = _load(text, False)

@@ -27,22 +27,24 @@ from fractions import Fraction
 
 from .. import typesys as ty
 from ..core import (
+    Add,
     Call,
     Const,
     Diffeo,
     IfDiffeo,
     IfGe0,
+    Mul,
     Term,
     free_vars,
     map_children,
     smooth,
-    sub,
     subterms,
     tree_size,
 )
 from ..diagnostics import Span
 from . import kinks
 from .completion import complete, complete_or_split, diffeo, sign_chain
+from .folding import minus, plus, times
 from .inline import expand_calls
 from .scope import Scope
 from .surface import DiffeoApp, Iverson, Name, STerm
@@ -72,6 +74,10 @@ def decided(t: Term, cond: Term, holds: bool) -> Term:
     t = map_children(t, lambda c: decided(c, cond, holds))
     if isinstance(t, IfDiffeo) and t.psi.condition == cond:
         return t.then if holds else t.orelse
+    if type(t) is Add:  # (a branch put in may be 0 or 1: [max(x, 0) >= a] where x < 0 is [0 - a >= 0], i.e. -a)
+        return plus(t.left, t.right, t.span)
+    if type(t) is Mul:
+        return times(t.left, t.right, t.span)
     return t
 
 
@@ -254,11 +260,12 @@ def join(a: STerm, b: STerm) -> Span | None:
 
 
 def compare(left: Term, op: str, right: Term) -> Term:
-    """The condition of ``[left op right]``: ``left − right`` for ≥ and >, ``right − left`` for ≤ and <."""
+    """The condition of ``[left op right]``: ``left − right`` for ≥ and >, ``right − left`` for ≤ and <
+    (``t − 0`` is ``t``, ``0 − t`` is ``−t``: :func:`~langur.syntax.folding.minus`)."""
     if op in (">=", ">", "≥"):
-        return sub(left, right)
+        return minus(left, right)
     if op in ("<=", "<", "≤"):
-        return sub(right, left)
+        return minus(right, left)
     raise ValueError(f"unknown comparison {op}")
 
 

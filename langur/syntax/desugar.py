@@ -52,6 +52,7 @@ from ..diagnostics import Diagnostic, Span
 from ..primitives import ALL_PRIMITIVES, PRIMITIVES
 from . import kinks, loops, template, vectors
 from .conditionals import Conditionals, compare, join
+from .folding import divided, minus, negated, plus, power, times
 from .scope import SUGAR_FUNCTIONS, Env, Scope
 from .surface import (
     Apply,
@@ -130,14 +131,15 @@ class Desugarer(Conditionals, Unrolling):
                 left, right = self.value(a, sc), self.value(b, sc)
                 if isinstance(left, Vec) or isinstance(right, Vec):
                     return self.vector_op(vectors.binop, op, left, right, span, (a.span, b.span))
+                # (t + 0, t − 0, t·1, 1·t, t / 1 fold; t·0 and 0·t where t is defined everywhere: syntax/folding.py)
                 if op == "+":
-                    return Add(left, right, span)  # (the span by position: a keyword costs a node ~1 k instructions)
+                    return plus(left, right, span)  # (the span by position: a keyword costs a node ~1 k instructions)
                 if op == "-":
-                    return Add(left, neg(right), span)
+                    return minus(left, right, span)
                 if op == "*":
-                    return Mul(left, right, span)
+                    return times(left, right, span)
                 if op == "/":
-                    return Mul(left, Pow(right, _MINUS_ONE, span), span)
+                    return divided(left, right, span)
                 raise ValueError(f"unknown operator {op}")
             case Num(v):
                 # a decimal literal, read exactly
@@ -146,11 +148,11 @@ class Desugarer(Conditionals, Unrolling):
                 # a negative literal is Const(-k)
                 return Const(-v, span)
             case Neg(a):
-                # unary −t is (−1)·t; −u of a vector is each component's
+                # unary −t is (−1)·t (−0 is 0); −u of a vector is each component's
                 arg = self.value(a, sc)
                 if isinstance(arg, Vec):
                     return vectors.negate(arg)
-                return Mul(Const(_MINUS_ONE), arg, span)
+                return negated(arg, span)
             case Apply("dot" | "cross" as f, args):
                 # dot(u, v) is u1·v1 + … + un·vn; cross(u, v) of 3-vectors
                 if len(args) != 2:
@@ -280,7 +282,7 @@ class Desugarer(Conditionals, Unrolling):
                                      f"exact value has more than {loops.MAX_BITS} bits"), st.span)
         if k is None:
             return self.fail(ty.reject_exponent(getattr(st.right, "span", st.span)), st.span)
-        return Pow(base, k, st.span)
+        return power(base, k, st.span)  # (t ^ 1 is t)
 
     def apply(self, st: Apply, sc: Scope) -> Term:
         name, span = st.name, st.span
@@ -293,7 +295,7 @@ class Desugarer(Conditionals, Unrolling):
             a = self.term(st.args[0], sc)
             if name == "abs":
                 # abs(t) is ifge0 t then t else −t
-                return self.conditional(a, a, neg(a), sc, span)
+                return self.conditional(a, a, negated(a), sc, span)
             return Prim(name, a, span=span)
         if name in ("min", "max"):
             if len(st.args) != 2:
@@ -301,7 +303,7 @@ class Desugarer(Conditionals, Unrolling):
             t, s = (self.term(a, sc) for a in st.args)
             # min(t, s) is ifge0 t − s then s else t;  max(t, s) is ifge0 t − s then t else s
             then, orelse = (s, t) if name == "min" else (t, s)
-            return self.conditional(sub(t, s), then, orelse, sc, span)
+            return self.conditional(minus(t, s), then, orelse, sc, span)
         if name == "atan2":
             if len(st.args) != 2:
                 return self.fail(ty.reject_arity(where, "`atan2`", 2, len(st.args)), span)

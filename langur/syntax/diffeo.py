@@ -75,6 +75,7 @@ from ..sympy_bridge import (
 from ..timebox import run_with_timeout
 from . import affine, turning
 from .affine import fresh_inputs
+from .folding import nonzero_constant, refolded
 from .support import float_bounds
 
 #: CPU-second limit of one completion / one declaration check (CPU, not wall clock: what a program
@@ -529,14 +530,16 @@ def instantiate(psi: Diffeo, decl_params: tuple[str, ...], var_names: tuple[str,
         taken |= free_params(t)
     new_inputs = fresh_inputs(len(psi.inputs), taken)
     imap = {a: Var(b) for a, b in zip(psi.inputs, new_inputs)}
-    out = Diffeo(
+    out = Diffeo(  # (the parameters put in: `k * x - c` with k = 1 is `x - c`, syntax/folding.py)
         variables=tuple(var_names),
-        forward=tuple(substitute(f, vmap, pmap) for f in psi.forward),
+        forward=tuple(refolded(substitute(f, vmap, pmap)) for f in psi.forward),
         inputs=new_inputs,
-        branches=tuple(InverseBranch(tuple(substitute(c, imap, pmap) for c in b.components),
-                                     tuple(substitute(g, imap, pmap) for g in b.guards)) for b in psi.branches),
+        branches=tuple(InverseBranch(tuple(refolded(substitute(c, imap, pmap)) for c in b.components),
+                                     tuple(refolded(substitute(g, imap, pmap)) for g in b.guards))
+                       for b in psi.branches),
         solved_for=None, name=psi.name,
-        nonzero=tuple(substitute(z, {}, pmap) for z in psi.nonzero))
+        # (a constant other than 0 never vanishes: `needs k ≠ 0` with k = 1 says nothing)
+        nonzero=tuple(z for z in (refolded(substitute(z, {}, pmap)) for z in psi.nonzero) if not nonzero_constant(z)))
     if program_variables is not None:
         out = extend_diffeo(out, tuple(program_variables))
     return out

@@ -16,10 +16,11 @@ from fractions import Fraction
 
 from .. import lazy
 from .. import typesys as ty
-from ..core import INT_FRACTIONS, Call, Const, Diffeo, Interval, Program, Var, sub, subterms
+from ..core import INT_FRACTIONS, Call, Const, Diffeo, Interval, Program, Var, subterms
 from ..diagnostics import Diagnostic, Span
 from ..modules import CoreDef, ElaboratedModule
 from .desugar import Desugarer, is_smooth
+from .folding import minus
 from .scope import RESERVED, DefSig, DiffeoSig, Env, Scope
 from .support import infer_box, numeric_box
 from .surface import Apply, DefDecl, DiffeoDecl, ImportItem, ModuleS, ParamItem, ProgramS
@@ -277,7 +278,7 @@ def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) 
         one, zero = Const(INT_FRACTIONS[1]), Const(INT_FRACTIONS[0])
         for x, (lo, hi), iv in zip(xs, box, p.domain):
             lower, upper = (ds.conditional(cond, one, zero, sc, p.span, iv.span)
-                            for cond in (sub(Var(x), lo), sub(hi, Var(x))))
+                            for cond in (minus(Var(x), lo), minus(hi, Var(x))))  # ([x - 0 >= 0] is [x >= 0])
             domain.append(Interval(x, lo, hi, lower, upper, span=iv.span))
         if len(errors) > n_err:
             return None

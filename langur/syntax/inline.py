@@ -32,6 +32,7 @@ from ..core import (
     Let,
     Mul,
     Param,
+    Pow,
     Program,
     Term,
     Var,
@@ -47,6 +48,7 @@ from ..core import (
 from ..diagnostics import Diagnostic, LangurError
 from ..modules import ElaboratedModule
 from .completion import complete, complete_or_split, diffeo, sign_chain
+from .folding import plus, power, times
 from .support import numeric_box
 
 #: Deepest nesting of an inlined program (T230): twice what a written term may have (E105), so
@@ -326,15 +328,21 @@ class _Depth:
 
 
 def _rebuilt(t: Term, f) -> Term:
-    """``map_children(t, f)``, but ``t`` itself when ``f`` changes no child: what inlining leaves
-    alone stays the same node, so that the passes that keep their results on nodes (typing, the
+    """``map_children(t, f)`` (sums, products and powers folded), but ``t`` itself when ``f`` changes no
+    child: what inlining leaves alone stays the same node, so that the passes that keep their results on nodes (typing, the
     range check, the depth) do not redo the scene after a shader swap."""
     old = children(t)
     new = tuple(f(c) for c in old)
     if all(n is o for n, o in zip(new, old)):
         return t
-    if type(t) in (Add, Mul):  # the most frequent nodes, built directly (``replace`` is slower)
-        return type(t)(new[0], new[1], span=t.span)
+    # (a sum, product or power whose child changed: its 0s and 1s folded, a param argument 1 or 0
+    # in `k * x + c` gives x: syntax/folding.py)
+    if type(t) is Add:
+        return plus(new[0], new[1], t.span)
+    if type(t) is Mul:
+        return times(new[0], new[1], t.span)
+    if type(t) is Pow:
+        return power(new[0], t.exponent, t.span)
     it = iter(new)
     return map_children(t, lambda _: next(it))
 

@@ -19,8 +19,9 @@ from __future__ import annotations
 from dataclasses import replace
 from fractions import Fraction
 
-from ..core import Add, Const, Mul, Param, Term, free_vars
+from ..core import Const, Mul, Param, Term, free_vars
 from . import affine
+from .folding import plus
 from .printer import print_core
 from .surface import Apply, BinOp, Iverson, Logic, Neg, Num, STerm
 
@@ -35,8 +36,8 @@ def cancelled(cond: Term) -> Term:
         return cond
     coeffs, constant = form
     out: Term = Const(Fraction(constant))
-    for (_, name), c in sorted(coeffs.items()):  # parameters only: the variables cancelled
-        out = Add(out, Param(name) if c == 1 else Mul(Const(c), Param(name)))
+    for (_, name), c in sorted(coeffs.items()):  # parameters only: the variables cancelled (0 + a is a)
+        out = plus(out, Param(name) if c == 1 else Mul(Const(c), Param(name)))
     return replace(out, span=getattr(cond, "span", None))
 
 

@@ -29,6 +29,7 @@ from ..core import Add, Const, Mul, Term
 from ..diagnostics import Span
 from ..records import record
 from .chains import CHAIN_BALANCE
+from .folding import is_one, is_zero
 from .surface import BinOp, Name, Neg, Num, STerm
 
 #: Most copies of loop bodies that the loops of one module may write out (T225).
@@ -251,8 +252,15 @@ def once(diagnostics: list) -> list:
 def balanced(terms: list[Term], op: str, span: Span | None = None) -> Term:
     """``t1 + … + tn`` (``op`` ``"sum"``) or ``t1 · … · tn`` (``"prod"``) as the parser builds the
     written-out chain: left-nested up to :data:`~langur.syntax.chains.CHAIN_BALANCE` operands,
-    halved recursively beyond (depth log₂ n).  An empty sum is 0, an empty product 1."""
+    halved recursively beyond (depth log₂ n).  An empty sum is 0, an empty product 1; a summand 0
+    (a factor 1) is left out (``syntax/folding.py``: a loop's copy at i = 0 of ``x * i``, a vector's
+    component ``0 * 0`` in ``dot``)."""
     make: Callable[..., Term] = Add if op == "sum" else Mul
+    drop = is_zero if op == "sum" else is_one
+    for t in terms:
+        if type(t) is Const and drop(t):
+            terms = [u for u in terms if not drop(u)]
+            break
     if not terms:
         return Const(Fraction(0 if op == "sum" else 1), span=span)
     if len(terms) <= CHAIN_BALANCE:

@@ -22,10 +22,12 @@ printed text gives the same core term:
   negative constant prints as ``-k`` (``-k`` is ``Const(-k)``, LANGUAGE.md's negative literal).
 * ``Add(t, Mul(Const(-1), s))`` is ``t - s``; ``Mul(t, Pow(s, -1))`` is ``t / s``;
   ``Mul(Const(-1), t)`` is ``-t`` (but ``-1 * k`` for a literal ``k``, which ``-k`` would fold).
-* ``Pow(t, k)`` is ``t ^ k``, ``Prim`` is ``exp(t)``, ``IfGe0`` is ``ifge0 c then s else r``,
+* ``Pow(t, k)`` is ``t ^ k``, ``Prim`` is ``exp(t)``, ``IfGe0`` is ``[c >= 0]`` when it is a bracket (then 1,
+  else 0), else ``ifge0 c then s else r``,
   ``Let`` is ``let z = t in s``, ``Call`` (elaborated modules only) is ``module.name(args)``.
 * ``IfDiffeo``.  A completed condition (``psi.name is None``) prints as its condition term,
-  ``ifge0 <psi.forward[0]> then … else …``: desugaring completes it again.  A *declared* diffeo
+  ``[<psi.forward[0]> >= 0]`` or ``ifge0 <psi.forward[0]> then … else …`` as ``IfGe0``: desugaring
+  completes it again.  A *declared* diffeo
   has been instantiated (its parameters replaced by the actual argument terms), so its original
   parameter arguments cannot be recovered in general.  Choice: :func:`print_core` prints it, too,
   as its condition term (a true, readable statement of the test), unless ``diffeo_names`` maps
@@ -275,13 +277,13 @@ def _is_zero(t) -> bool:
     return _is_literal(t) and t.value == 0
 
 
-def _compared(left, then, orelse, level: int) -> list:
-    """``ifge0 t − 0 then s else r`` (the desugaring of a comparison with 0) as the comparison:
-    ``[t >= 0]`` when it is a bracket (1 else 0), else ``if t >= 0 then s else r``; both desugar
-    back to the same term (``compare`` in ``syntax/desugar.py``), without the artefact ``- 0``."""
+def _bracket(cond, then, orelse):
+    """``ifge0 t then 1 else 0`` as the bracket ``[t >= 0]``, which desugars back to the same term (its
+    condition ``t − 0`` is ``t``: ``compare`` in ``syntax/conditionals.py``, ``syntax/folding.py``); None
+    for other branches (printed ``ifge0 t then s else r``)."""
     if _is_literal(then) and then.value == 1 and _is_zero(orelse):
-        return ["[", (left, SUM), " >= 0]"]
-    return _wrap(TERM, level, ["if ", (left, SUM), " >= 0 then ", (then, SUM), " else ", (orelse, TERM)])
+        return ["[", (cond, SUM), " >= 0]"]
+    return None
 
 
 def _const_parts(value) -> tuple[int, list]:
@@ -316,15 +318,16 @@ class _CoreRule:
             case C.Pow(base, k):
                 _, kparts = _const_parts(Fraction(k))
                 return _wrap(POWER, level, [(base, ATOM), " ^ ", *kparts])
-            case C.IfGe0(C.Add(left, C.Mul(m, zero)), then, orelse) if _is_minus_one(m) and _is_zero(zero):
-                # the desugaring of a comparison with 0 (`[t >= 0]`: t − 0), printed as it was written
-                return _compared(left, then, orelse, level)
+            case C.IfGe0(cond, then, orelse) if (parts := _bracket(cond, then, orelse)) is not None:
+                # an Iverson bracket, printed as one: [t >= 0]
+                return parts
             case C.IfGe0(cond, then, orelse):
                 return _wrap(
                     TERM, level, ["ifge0 ", (cond, SUM), " then ", (then, SUM), " else ", (orelse, TERM)]
                 )
-            case C.IfDiffeo(psi, then, orelse) if (left := self.compared_with_zero(psi)) is not None:
-                return _compared(left, then, orelse, level)
+            case C.IfDiffeo(psi, then, orelse) if psi not in self.names and (
+                    parts := _bracket(psi.forward[0], then, orelse)) is not None:
+                return parts
             case C.IfDiffeo(psi, then, orelse):
                 return _wrap(
                     TERM,
@@ -342,13 +345,6 @@ class _CoreRule:
                 return [head, x, ": ", (eq, SUM), " = ", (target, SUM), " in [", (lo, TERM), ", ", (hi, TERM),
                         "]", tail]
         raise TypeError(f"not a core term: {t!r}")
-
-    def compared_with_zero(self, psi: C.Diffeo):
-        """``t`` when a completed condition is ``t − 0`` (desugared from ``[t >= 0]``), else None."""
-        match psi.forward[0]:
-            case C.Add(left, C.Mul(m, zero)) if psi not in self.names and _is_minus_one(m) and _is_zero(zero):
-                return left
-        return None
 
     def condition(self, psi: C.Diffeo) -> list:
         name = self.names.get(psi)

@@ -23,6 +23,17 @@ from .conditionals import join
 from .scope import Scope
 from .surface import Loop, Name, STerm
 
+#: The index values whose copies are desugared on their own, never built from the template: there the
+#: index folds (``x * i`` at i = 1 is ``x``, at i = 0 is ``0``; ``syntax/folding.py``), at any other value
+#: a copy has the first copy's shape.
+FOLDING = (0, 1)
+
+
+def _next_instantiable(k: int, hi: int) -> bool:
+    """Whether a copy after the one at ``k`` (≤ ``hi``) may be built from a template made at ``k``."""
+    after = k + 1 if k + 1 not in FOLDING else 2
+    return after <= hi
+
 
 class Unrolling:
     """The desugarer's §9 loops (a part of :class:`~langur.syntax.desugar.Desugarer`)."""
@@ -54,17 +65,32 @@ class Unrolling:
         before = len(self.errors)
         copies: list[Term] = []
         plan: template.Template | None = None
+        watched = False  # whether a copy was desugared while a record watched (at most one)
+        try_all = False  # whether to build the rest of this run of copies at once
         charged = (0, 0)  # what desugaring the first copy took of the budget: each instantiated copy takes it too
-        for k in range(lo, hi + 1):
-            if plan is not None and k == lo + 1:
-                # every other copy at once when they all fit the budget and all complete (else one
-                # by one, below: a copy that does not complete is desugared, and reports why)
-                rest = hi - lo
+        k = lo
+        while k <= hi:
+            if k in FOLDING:
+                # the index at 0 or 1 folds (x·0, x·1, t − 0: syntax/folding.py), so the copy may not have the
+                # template's shape: desugared on its own (and the copies after it form a new run)
+                copies.append(self.term(st.body, sc.with_index(st.index, k)))
+                if self.budget.exhausted:
+                    break
+                try_all = plan is not None
+                k += 1
+                continue
+            end = min(hi, -1) if k < 0 else hi  # the last copy of this run (no index 0 or 1 in it)
+            if plan is not None and try_all:
+                # every other copy of the run at once when they all fit the budget and all complete (else
+                # one by one, below: a copy that does not complete is desugared, and reports why)
+                try_all = False
+                rest = end - k + 1
                 if self.budget.again(charged[0] * rest, charged[1] * rest):
-                    built = plan.at_all(range(k, hi + 1))
+                    built = plan.at_all(range(k, end + 1))
                     if built is not None:
                         copies += built
-                        break
+                        k = end + 1
+                        continue
                     self.budget.copies -= charged[0] * rest
                     self.budget.nodes -= charged[1] * rest
             if plan is not None:
@@ -72,19 +98,23 @@ class Unrolling:
                     copy = plan.at(k)
                     if copy is not None:
                         copies.append(copy)
+                        k += 1
                         continue
                     self.budget.copies -= charged[0]
                     self.budget.nodes -= charged[1]
                 else:
                     plan = None  # past the bound: desugared (and refused) as before
-            if k == lo and hi > lo and template.ENABLED:
+            if not watched and template.ENABLED and _next_instantiable(k, hi):
                 # the first copy, watched: the others are built from it when its desugaring allows
+                watched = True
                 first, plan, charged = self.first_copy(st, sc, k)
                 copies.append(first)
+                try_all = plan is not None
             else:
                 copies.append(self.term(st.body, sc.with_index(st.index, k)))
             if self.budget.exhausted:
                 break
+            k += 1
         self.errors[before:] = loops.once(self.errors[before:])  # the copies' diagnostics are the body's
         if self.budget.exhausted:
             return Const(Fraction(0), span=st.span)

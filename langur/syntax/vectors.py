@@ -12,6 +12,8 @@ never reaches the core language (§4: every term is real).  The sugar:
 * ``cross(u, v)`` of 3-vectors (T229) is ``(u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z,
   u.x * v.y - u.y * v.x)``;
 * ``u.x``, ``u.y``, ``u.z``, ``u.w`` are the first to fourth components (T232 past the size);
+* written out with the identities folded (``x·1`` is ``x``, ``y·0`` is ``0``, a sum drops its 0s:
+  :mod:`langur.syntax.folding`), so ``dot((x, y, 0), (a, 1, 0))`` is ``x·a + y``;
 * ``let o = (…) in t``: ``o`` names the vector, whose components are substituted where ``o`` is
   used (a let-bound vector is a name for its components, like an inlined def's body, so unlike a
   real ``let`` its components may mention variables; T233 when an inner ``let`` rebinds a name
@@ -24,12 +26,11 @@ function here returns the result or raises :class:`VectorError` with the diagnos
 
 from __future__ import annotations
 
-from fractions import Fraction
-
 from .. import typesys as ty
-from ..core import Add, Mul, Pow, Term, free_params, neg, sub
+from ..core import Term, free_params
 from ..diagnostics import Diagnostic, Span
 from ..records import frozen
+from .folding import divided, minus, negated, plus, times
 from .loops import balanced
 
 #: Component names, in order: ``u.x`` is the first component, ``u.w`` the fourth.
@@ -89,26 +90,26 @@ def binop(op: str, left: Term | Vec, right: Term | Vec, span: Span | None, spans
             raise VectorError(ty.reject_real(where, f"`{op}` adds or subtracts vectors of one size, component-wise; "
                                              "this operand is a real"))
         _sizes(left, right, span, "`+`" if op == "+" else "`-`")
-        make = (lambda a, b: Add(a, b, span=span)) if op == "+" else sub
+        make = (lambda a, b: plus(a, b, span)) if op == "+" else minus
         return Vec(tuple(make(a, b) for a, b in zip(left.parts, right.parts)))
     if op == "*":
         if isinstance(left, Vec) and isinstance(right, Vec):
             raise VectorError(ty.reject_vector(spans[1], len(right.parts), ": `*` scales a vector by a real; "
                                                "vectors multiply by dot(u, v) or cross(u, v)"))
         if isinstance(left, Vec):
-            return Vec(tuple(Mul(a, right, span=span) for a in left.parts))
-        return Vec(tuple(Mul(left, b, span=span) for b in right.parts))
+            return Vec(tuple(times(a, right, span) for a in left.parts))
+        return Vec(tuple(times(left, b, span) for b in right.parts))
     if op == "/":
         if isinstance(right, Vec):
             raise VectorError(ty.reject_vector(spans[1], len(right.parts), ": a vector is divided by a real, "
                                                "never by a vector"))
-        return Vec(tuple(Mul(a, Pow(right, Fraction(-1), span=span), span=span) for a in left.parts))
+        return Vec(tuple(divided(a, right, span) for a in left.parts))
     raise ValueError(f"not a vector operator: {op}")
 
 
 def negate(u: Vec) -> Vec:
     """``-u``: each component times −1 (as unary minus on a real)."""
-    return Vec(tuple(neg(a) for a in u.parts))
+    return Vec(tuple(negated(a) for a in u.parts))
 
 
 def _vectors(args: list[Term | Vec], spans, fname: str) -> list[Vec]:
@@ -122,7 +123,7 @@ def dot(args: list[Term | Vec], span: Span | None, spans) -> Term:
     """``dot(u, v)``: the sum of the component-wise products."""
     u, v = _vectors(args, spans, "dot")
     _sizes(u, v, span, "dot")
-    return balanced([Mul(a, b, span=span) for a, b in zip(u.parts, v.parts)], "sum", span)
+    return balanced([times(a, b, span) for a, b in zip(u.parts, v.parts)], "sum", span)
 
 
 def cross(args: list[Term | Vec], span: Span | None, spans) -> Vec:
@@ -131,7 +132,8 @@ def cross(args: list[Term | Vec], span: Span | None, spans) -> Vec:
     if len(u.parts) != 3 or len(v.parts) != 3:
         raise VectorError(ty.reject_cross(span, (len(u.parts), len(v.parts))))
     (ux, uy, uz), (vx, vy, vz) = u.parts, v.parts
-    return Vec((sub(Mul(uy, vz), Mul(uz, vy)), sub(Mul(uz, vx), Mul(ux, vz)), sub(Mul(ux, vy), Mul(uy, vx))))
+    return Vec((minus(times(uy, vz), times(uz, vy)), minus(times(uz, vx), times(ux, vz)),
+                minus(times(ux, vy), times(uy, vx))))
 
 
 def component(u: Term | Vec, name: str, span: Span | None, base_span: Span | None, name_span: Span | None) -> Term:
