@@ -30,6 +30,7 @@ from langur.symbolic.quadrature.kinks import _breakpoints, _kink_functions
 from langur.symbolic.quadrature.problem import NumProblem, UndefinedIntegral
 from langur.symbolic.quadrature.rounding import REACH, end_allowance, flat_size, uncertainty
 from langur.symbolic.quadrature.tolerance import _OUTER, BOUNDARY, EPSABS, NARROW
+from langur.symbolic.quadrature.wide import WIDE, cuts
 
 
 def _holds(v: float) -> bool:
@@ -79,6 +80,11 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         owners[t] = owners[t] | own if t in owners else own
     pts = {lo, hi}
     pts.update(owners)
+    if hi - lo > WIDE:  # a wide range: breakpoints where the mass may hide (:mod:`.wide`)
+        p.wide = True
+        for t in cuts(lo, hi, p.centres.get(level, (0.0,))):
+            pts.add(t)
+            owners.setdefault(t, frozenset())  # (a root of no condition: only its own rounding)
     kinks.update(fixed[1])
     if tangent is not None:
         tangent.update(p.fixed_tangent[level])
