@@ -31,7 +31,7 @@ from langur.frontend import load_text
 from langur.operational.estimate import UNVARIED
 from langur.symbolic.pieces import Method
 from langur.symbolic.quadrature import ESTIMATE
-from langur.symbolic.quadrature.wide import DECADES, WIDE, centres, cuts
+from langur.symbolic.quadrature.wide import BELOW, WIDE, centres, spread
 
 GAUSS = "param a = 0.5\nint ([-1e10, 1e10]) [x <= a]*exp(-x*x) d(x)\n"
 COSH = "exp(-(exp(x) + exp(-x))/2)"
@@ -47,6 +47,8 @@ def _exact(text: str):
     ("int ([0, 2e6]) exp(-(x - 1e6)^2) d(x)\n", math.sqrt(math.pi)),
     ("param a = 0.5\nint ([-1e12, 1e12]) [x <= a]*(1/(1 + x^2)) d(x)\n", math.atan(0.5) + math.atan(1e12)),
     ("param a = 3\nint ([-1e9, 1e9]) exp(-(x - a)^2)*[x >= 0] d(x)\n", math.sqrt(math.pi) * (1 + math.erf(3)) / 2),
+    # a peak of width 10⁻⁴ in [0, 1000] (main: 0 with "error ≤ 1e-10" too): √π/10⁴
+    ("int ([0, 1000]) exp(-1e8*(x - 0.3)^2) d(x)\n", math.sqrt(math.pi) / 1e4),
 ])
 def test_a_peak_in_a_wide_box_keeps_its_closed_form(text, value):
     r = _exact(text)
@@ -82,24 +84,27 @@ def test_a_narrow_range_still_prints_a_bound():
     assert ESTIMATE not in r.notes and r.how().startswith("quadrature, error ≤ ")
 
 
-def test_cuts_only_on_wide_ranges_and_close_to_the_centres():
-    assert cuts(-1.0, 1.0, [0.0]) == [] and cuts(0.0, WIDE, [0.0]) == []
-    got = cuts(-1e10, 0.5, [0.0])
-    assert 0.0 in got and all(-1e10 < t < 0.5 for t in got)
-    # the piece next to the peak is DECADES decades narrower than the range's decade (10¹¹): 10⁻¹
-    assert min(abs(t) for t in got if t < 0) == pytest.approx(10.0 ** (11 - DECADES))
+def test_breakpoints_only_on_ranges_wide_for_the_weight_and_close_to_its_centres():
+    assert spread(-1.0, 1.0) == [] and spread(0.0, WIDE) == []  # narrow for the unit scale: as before
+    got = spread(-1e10, 0.5)
+    assert 0.0 in got and all(-1e10 < t < 0.5 for t in got) and got == sorted(set(got))
+    # the piece next to the peak is BELOW decades narrower than the scale 1
+    assert min(abs(t) for t in got if t < 0) == pytest.approx(10.0 ** -BELOW)
     # and every piece is at most 10 times farther from the centre than it is wide
     neg = sorted((t for t in got if t < 0), reverse=True)
     assert all(abs(b) <= 10 * (abs(b) - abs(a)) * (1 + 1e-12) for a, b in zip(neg, neg[1:]))
-    assert got == sorted(set(got))
+    near = spread(0.0, 1000.0, [(0.3, 1e-4)])  # a peak of width 10⁻⁴ at 0.3: cuts 10⁻⁶ from it
+    assert 0.3 in near and min(abs(t - 0.3) for t in near if t != 0.3) == pytest.approx(1e-4 * 10.0 ** -BELOW)
 
 
 def test_centres_of_the_weights_polynomial_parts():
     x = sp.Symbol("x")
-    assert centres(sp.exp(-(x - 10**6) ** 2), x) == [0.0, pytest.approx(1e6, rel=1e-12)]  # a double root, once
-    assert centres(1 / (1 + x**2), x) == [0.0]  # poles ±i: real part 0
-    assert centres(1 / (1 + (x - 5) ** 2), x) == [0.0, pytest.approx(5.0, rel=1e-12)]
-    assert centres(sp.sin(x) / x, x) == [0.0]
+    assert centres(sp.exp(-(x - 10**6) ** 2), x) == [(0.0, 1.0), (pytest.approx(1e6, rel=1e-12), 1.0)]  # once
+    assert centres(1 / (1 + x**2), x) == [(0.0, 1.0)]  # poles ±i: real part 0
+    assert centres(1 / (1 + (x - 5) ** 2), x) == [(0.0, 1.0), (pytest.approx(5.0, rel=1e-12), 1.0)]
+    assert centres(sp.exp(-10**8 * (x - sp.Rational(3, 10)) ** 2), x) == [
+        (0.0, 1.0), (pytest.approx(0.3, rel=1e-12), pytest.approx(1e-4, rel=1e-12))]
+    assert centres(sp.sin(x) / x, x) == [(0.0, 1.0)]
 
 
 def test_monte_carlo_says_a_zero_standard_error_bounds_nothing():

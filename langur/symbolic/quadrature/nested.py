@@ -30,7 +30,6 @@ from langur.symbolic.quadrature.kinks import _breakpoints, _kink_functions
 from langur.symbolic.quadrature.problem import NumProblem, UndefinedIntegral
 from langur.symbolic.quadrature.rounding import REACH, end_allowance, flat_size, uncertainty
 from langur.symbolic.quadrature.tolerance import _OUTER, BOUNDARY, EPSABS, NARROW
-from langur.symbolic.quadrature.wide import WIDE, cuts
 
 
 def _holds(v: float) -> bool:
@@ -80,9 +79,10 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         owners[t] = owners[t] | own if t in owners else own
     pts = {lo, hi}
     pts.update(owners)
-    if hi - lo > WIDE:  # a wide range: breakpoints where the mass may hide (:mod:`.wide`)
+    spread = p.spread.get(level)
+    if spread:  # a range wide for its weight: breakpoints where the mass may hide (:mod:`.wide`)
         p.wide = True
-        for t in cuts(lo, hi, p.centres.get(level, (0.0,))):
+        for t in spread:
             pts.add(t)
             owners.setdefault(t, frozenset())  # (a root of no condition: only its own rounding)
     kinks.update(fixed[1])

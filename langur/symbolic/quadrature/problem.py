@@ -114,10 +114,9 @@ class NumProblem:
     fixed: dict = field(default_factory=dict, repr=False)
     fixed_tangent: dict = field(default_factory=dict, repr=False)
     _moving: dict = field(default_factory=dict, repr=False)  # (level, vary) -> :meth:`moving`
-    #: level -> where the weight's mass may concentrate in that level's variable
-    #: (:func:`~.wide.centres`), for levels wider than :data:`~.wide.WIDE`; 0 alone where not given
-    centres: dict = field(default_factory=dict, repr=False)
-    #: a level wider than :data:`~.wide.WIDE` was integrated: the error is an estimate (:data:`~.wide.ESTIMATE`)
+    #: level -> breakpoints where the weight's mass may hide on a range wide for it (:func:`~.wide.spread`)
+    spread: dict = field(default_factory=dict, repr=False)
+    #: such breakpoints were used: the error is an estimate (:data:`~.wide.ESTIMATE`)
     wide: bool = False
 
     def here(self, level: int) -> list[NumCond]:

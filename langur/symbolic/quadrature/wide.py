@@ -1,5 +1,6 @@
 """Where the mass of an integrand over a wide range may hide (paper §8.2's ⟦p⟧ at a point over a
-box as large as ``[-1e10, 1e10]``; branch exact31).
+box as large as ``[-1e10, 1e10]``, or a peak as narrow as ``exp(-1e8*(x - 0.3)^2)`` on [0, 1000];
+branch exact31).
 
 Gauss–Kronrod samples an interval at 21 abscissae and stops when the two rules agree: over
 [−10¹⁰, 0.5] every abscissa of ``exp(-x*x)`` is 0 (the nearest is 4·10⁷ away from the peak), so
@@ -7,20 +8,22 @@ Gauss–Kronrod samples an interval at 21 abscissae and stops when the two rules
 1e-10)`` against the right closed form √π(erf(½) + 1)/2 = 1.3475.  No sampling rule can find a
 peak it never samples; what is done here is to put breakpoints where the mass can be:
 
-* :func:`centres` — the points of a level's variable v where the weight's polynomial parts (the
+* :func:`centres` — the points of a level's variable v where the weight's polynomial parts P (the
   arguments of its functions, the bases of its powers, and their terms; polynomials in v alone once
-  the parameters' values are in) vanish or turn: the real roots of each such polynomial P and of
-  P′, and the real parts of P's complex roots (``1/(1 + x²)``'s poles ±i: its mass sits at 0), and
-  0 (every program's natural origin);
-* :func:`cuts` — on a range wider than :data:`WIDE`, breakpoints at c ± 10ᵏ around each centre c,
-  k from the range's decade down :data:`DECADES` decades: each piece is then at most ten times
-  farther from c than it is wide, so a peak of width ≳ 10⁻¹² of the range at a centre lies in
-  pieces that ``quad`` resolves, and a slowly decaying tail (``1/(1 + x²)`` to 10¹²) is integrated
-  decade by decade (QUADPACK over the whole range called it "probably divergent").
+  the parameters' values are in) vanish or turn: the real roots of P and of P′, and the real parts
+  of P's complex roots (``1/(1 + x²)``'s poles ±i: its mass sits at 0), each with P's *scale*
+  |leading coefficient|^(−1/degree) (the distance over which P's leading term changes by 1: the
+  width of ``exp(-1e8*(x - 0.3)^2)``'s peak is 10⁻⁴); and 0 with scale 1 (every program's
+  natural origin and unit);
+* :func:`spread` — on a range wider than :data:`WIDE` times a centre's scale w, breakpoints at
+  c ± w·10ᵏ, k from −:data:`BELOW` up to the range's decade: each piece is then at most ten times
+  farther from c than it is wide, so the peak lies in pieces of its own size, which ``quad``
+  resolves, and a slowly decaying tail (``1/(1 + x²)`` to 10¹²) is integrated decade by decade
+  (QUADPACK over the whole range called it "probably divergent").
 
 Breakpoints only refine the partition (the conditions are tested on each piece, as at any
-breakpoint): a value that was right stays right; nothing is assumed about the integrand.
-Ranges narrower than :data:`WIDE` — every example's — are partitioned as before.
+breakpoint): a value that was right stays right; nothing is assumed about the integrand.  Ranges
+narrower than :data:`WIDE` scales — every example's — are partitioned as before.
 """
 
 from __future__ import annotations
@@ -33,25 +36,26 @@ import sympy as sp
 
 from langur.symbolic.walks import free_symbols
 
-#: A range wider than this gets :func:`cuts` (the examples' boxes are at most a few units wide).
+#: A range wider than this many of a centre's scales gets :func:`spread` around it (the examples'
+#: ranges are at most a few of their weights' scales).
 WIDE = 1e4
 
 
-#: Decades below the range's own, around each centre, that get a breakpoint on each side
-#: (10⁻¹² of the range: half the digits of a double).
-DECADES = 12
+#: Decades below a centre's scale where its breakpoints start (a peak a few scales wide: a
+#: Gaussian's mass is within 6 of them).
+BELOW = 2
+
+
+#: The note of an exact-engine result whose value comes from a quadrature that placed such
+#: breakpoints (:func:`langur.symbolic.integrate._finish`): its error is printed as an estimate
+#: (:meth:`langur.exact.ExactValue.how`), not as a bound.
+ESTIMATE = ("quadrature over a range wider than 1e4 times the integrand's scale: breakpoints were placed where "
+            "its mass can concentrate (0, the roots of its polynomial parts), but sampling cannot exclude a "
+            "narrow peak elsewhere: the error is quadrature's estimate, not a bound")
 
 
 #: Degree up to which a polynomial part's roots are found (numpy's companion matrix).
 DEGREE = 8
-
-
-#: The note of an exact-engine result whose value comes from a quadrature over a range wider than
-#: :data:`WIDE` (:func:`langur.symbolic.integrate._finish`): its error is printed as an estimate
-#: (:meth:`langur.exact.ExactValue.how`), not as a bound.
-ESTIMATE = ("quadrature over a range wider than 1e4: breakpoints were placed where the integrand's mass can "
-            "concentrate (0, the roots of its polynomial parts), but sampling cannot exclude a narrow peak "
-            "elsewhere: the error is quadrature's estimate, not a bound")
 
 
 #: Centres closer than this (relative) are one: numpy's roots of ``(x − 10⁶)²`` are 10⁶ ± 5·10⁻¹⁰.
@@ -62,26 +66,39 @@ SAME = 1e-9
 MOST = 6
 
 
-def centres(weight, v: sp.Symbol) -> list[float]:
-    """The points of ``v`` where the mass of ``weight`` (parameters' values substituted) may
-    concentrate (module doc), 0 first."""
-    found: set[float] = set()
+#: The natural origin: 0 with scale 1.
+ORIGIN = ((0.0, 1.0),)
+
+
+def centres(weight, v: sp.Symbol) -> list[tuple[float, float]]:
+    """``(centre, scale)`` pairs of ``v`` where the mass of ``weight`` (parameters' values
+    substituted) may concentrate (module doc), :data:`ORIGIN` first."""
+    found: dict[float, float] = {}
     for part in _polynomial_parts(sp.sympify(weight), v):
         try:
             coeffs = [complex(c) for c in sp.Poly(part, v).all_coeffs()]
         except (sp.PolynomialError, TypeError, ValueError):
             continue
-        if not 1 <= len(coeffs) - 1 <= DEGREE or not all(map(_finite, coeffs)):
+        degree = len(coeffs) - 1
+        if not 1 <= degree <= DEGREE or not all(map(_finite, coeffs)) or coeffs[0] == 0:
             continue
-        deriv = np.polyder(np.array(coeffs))
-        for poly in (np.array(coeffs), deriv):
-            if len(poly) < 2:
-                continue
-            found.update(float(r.real) for r in np.roots(poly) if math.isfinite(r.real))
-    out = [0.0]
+        scale = abs(coeffs[0]) ** (-1.0 / degree)
+        if not 0.0 < scale < math.inf:
+            continue
+        poly = np.array(coeffs)
+        for q in (poly, np.polyder(poly)):
+            for r in (np.roots(q) if len(q) >= 2 else ()):
+                c = float(r.real)
+                if math.isfinite(c):
+                    found[c] = min(scale, found.get(c, math.inf))
+    out = list(ORIGIN)
     for c in sorted(found, key=abs):  # (a multiple root comes back as a cluster within rounding)
-        if len(out) < MOST and all(abs(c - k) > SAME * max(1.0, abs(k)) for k in out):
-            out.append(c)
+        near = [i for i, (k, _) in enumerate(out) if abs(c - k) <= SAME * max(1.0, abs(k))]
+        if near:
+            i = near[0]
+            out[i] = (out[i][0], min(out[i][1], found[c]))
+        elif len(out) < MOST:
+            out.append((c, found[c]))
     return out
 
 
@@ -91,9 +108,16 @@ def _finite(z: complex) -> bool:
 
 def _polynomial_parts(e: sp.Basic, v: sp.Symbol):
     """The sub-expressions of ``e`` that are polynomials of degree ≥ 1 in ``v`` alone: the
-    arguments of its functions, the bases of its powers, and the terms of those that are sums."""
-    seen = set()
-    for node in sp.preorder_traversal(e):
+    arguments of its functions, the bases of its powers, and the terms of those that are sums
+    (each distinct subtree visited once)."""
+    seen: set = set()
+    stack = [e]
+    while stack:
+        node = stack.pop()
+        if node in seen or not node.args:
+            continue
+        seen.add(node)
+        stack.extend(node.args)
         if isinstance(node, sp.Pow):
             candidates = [node.base]
         elif isinstance(node, sp.Function):
@@ -102,24 +126,24 @@ def _polynomial_parts(e: sp.Basic, v: sp.Symbol):
             continue
         for c in candidates:
             for part in (c, *(c.args if isinstance(c, sp.Add) else ())):
-                if part in seen or free_symbols(part) != {v} or not part.is_polynomial(v):
-                    continue
-                seen.add(part)
-                yield part
+                if free_symbols(part) == {v} and part.is_polynomial(v):
+                    yield part
 
 
-def cuts(lo: float, hi: float, at: Sequence[float]) -> list[float]:
-    """Breakpoints strictly inside [lo, hi] at c ± 10ᵏ around each centre c (clamped to the range),
-    and c itself, when the range is wider than :data:`WIDE`; none otherwise."""
+def spread(lo: float, hi: float, at: Sequence[tuple[float, float]] = ORIGIN) -> list[float]:
+    """Breakpoints strictly inside [lo, hi] around each ``(centre, scale)`` of ``at`` (the centre
+    clamped to the range) whose scale the range exceeds :data:`WIDE` times: c and c ± w·10ᵏ; none
+    around the others."""
     span = hi - lo
-    if not span > WIDE or not math.isfinite(span):
+    if not math.isfinite(span):
         return []
-    top = math.ceil(math.log10(span))
     out = set()
-    for c in at:
+    for c, w in at:
+        if not span > WIDE * w:
+            continue
         c = min(max(c, lo), hi)
         out.add(c)
-        for k in range(top - DECADES, top + 1):
-            step = 10.0 ** k
+        for k in range(-BELOW, math.ceil(math.log10(span / w)) + 1):
+            step = w * 10.0 ** k
             out.update((c - step, c + step))
     return sorted(t for t in out if lo < t < hi)
