@@ -135,12 +135,6 @@ def tail_notes(f: np.ndarray, overflows=None) -> list[str]:
     return []
 
 
-#: The note of a value estimate 0 ± 0 (branch exact31: ``[x <= a]·exp(−x²)`` over [−1e10, 1e10], every
-#: sample 0, printed ``0 ± 0`` and "engines agree" with the exact engine's quadrature, ⟦p⟧ = 1.3475).
-UNVARIED = ("every sample was 0, so the standard error is 0: that does not bound the error (mass that no "
-            "sample reached, such as a narrow peak in a wide box, is not seen)")
-
-
 def _variance(notes: list[str], infinite_variance: str | None) -> dict:
     """``finite_variance`` and ``notes`` of a result (the caller's reason first)."""
     if infinite_variance:
@@ -163,8 +157,6 @@ def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, see
         notes: list[str] = []
         with np.errstate(all="ignore"):
             value, se, n = _over_domain(linked, p, rng, samples, method, 0, notes, mode=VALUE)
-        if value == 0.0 and se == 0.0 and n > 1:  # (a constant non-zero integrand is left alone)
-            notes.append(UNVARIED)
     return ValueEstimate(value, se, n, seed, method, **_variance(notes, infinite_variance))
 
 
