@@ -32,7 +32,7 @@ The modules, each importing only those above it in this list:
 * :mod:`.brackets` — what an implicit root's bracket implies;
 * :mod:`.rounding` — how far a breakpoint's float may be from the true boundary (the error bound's
   share for the breakpoints' rounding, whatever the program's scale);
-* :mod:`.wide` — breakpoints where the mass may hide on a range wider than 10⁴;
+* :mod:`.wide` — breakpoints where the mass may hide on a range wide for its weight (> 10⁴ of its scale);
 * :mod:`.nested` — the nested integral of one problem;
 * :mod:`.pieceproblems`, :mod:`.deltaproblems` — the pieces' and delta pieces' fronts.
 
