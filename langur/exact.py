@@ -32,7 +32,7 @@ from .symbolic.decompose import Ctx
 from .symbolic.integrate import for_reading
 from .symbolic.nounits import units_unloaded
 from .symbolic.pieces import Method
-from .symbolic.quadrature import UndefinedIntegral, printable
+from .symbolic.quadrature import ESTIMATE, UndefinedIntegral, printable
 from .symbolic.readable import Readable, readable
 from .symbolic.text import (
     delta_text,
@@ -124,7 +124,11 @@ class ExactValue:
         """How the value was obtained, for the text output."""
         if self.method == Method.CLOSED_FORM:
             return "closed form"
-        return f"quadrature, error ≤ {self.error:.3g}" if self.error is not None else "quadrature"
+        if self.error is None:
+            return "quadrature"
+        if ESTIMATE in self.notes:  # a range wider than 1e4 sampled: no bound to claim
+            return f"quadrature, error estimate {self.error:.3g}"
+        return f"quadrature, error ≤ {self.error:.3g}"
 
     def to_json(self) -> dict:
         """The ``exact`` object of ``langur eval --json`` (CLI.md)."""

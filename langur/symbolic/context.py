@@ -108,6 +108,7 @@ class Context:
     generic: bool = False  # the generic 1-D path was used (cell also fixes the set of real roots)
     notes: list = field(default_factory=list)
     inconsistent: list = field(default_factory=list)  # closed forms that failed the cross-check
+    estimated: bool = False  # a quadrature sampled a range wider than 1e4 (quadrature.ESTIMATE)
 
     def value(self, expr) -> complex:
         """``expr`` at the point with 30 digits (40-digit floats substituted), as a complex;

@@ -228,6 +228,8 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -
     notes.append(f"no closed form for {sum(e is None for e in exacts)} of {len(exacts)} "
                  f"{what}; adaptive quadrature at the evaluation point")
     notes.extend(dict.fromkeys(w for w in fallbacks if w))
+    if ctx.estimated:
+        notes.append(quadrature.ESTIMATE)
     if exact_part and for_reading():  # (untidied: not printed, a tenth of a second per large part)
         notes.append(f"exact part ({first}): {sp.Add(*exact_part)}")
     notes.extend(dict.fromkeys(ctx.notes))
@@ -239,6 +241,8 @@ def _quadrature_only(quads, ctx: Context, what: str) -> Integral:
     value, error = sum(q for q, _ in quads), sum(e for _, e in quads)
     notes = [f"the closed form of the {what} disagreed with the quadrature cross-check, an internal "
              "inconsistency of the exact engine (please report it): the quadrature is reported"]
+    if ctx.estimated:
+        notes.append(quadrature.ESTIMATE)
     return Integral(None, value, Method.QUADRATURE, error, value, notes + list(dict.fromkeys(ctx.notes)),
                     inconsistent=tuple(ctx.inconsistent))
 
@@ -364,6 +368,7 @@ def _quadratures(quad_one, items, ctx: Context):
         problems: list[quadrature.NumProblem] = []
         quads.append(quad_one(item, notes, problems))
         converged.append(all(p.converged for p in problems))
+        ctx.estimated = ctx.estimated or any(p.wide for p in problems)
         ctx.notes.extend(notes)
     return quads, converged
 

@@ -32,6 +32,7 @@ The modules, each importing only those above it in this list:
 * :mod:`.brackets` — what an implicit root's bracket implies;
 * :mod:`.rounding` — how far a breakpoint's float may be from the true boundary (the error bound's
   share for the breakpoints' rounding, whatever the program's scale);
+* :mod:`.wide` — breakpoints where the mass may hide on a range wide for its weight (> 10⁴ of its scale);
 * :mod:`.nested` — the nested integral of one problem;
 * :mod:`.pieceproblems`, :mod:`.deltaproblems` — the pieces' and delta pieces' fronts.
 
@@ -43,6 +44,7 @@ from langur.symbolic.quadrature.deltaproblems import quad_delta_pieces
 from langur.symbolic.quadrature.pieceproblems import quad_pieces
 from langur.symbolic.quadrature.problem import BeyondRange, NumProblem, UndefinedIntegral
 from langur.symbolic.quadrature.tolerance import looseness, outer_tolerance
+from langur.symbolic.quadrature.wide import ESTIMATE
 
-__all__ = ["BeyondRange", "NumProblem", "UndefinedIntegral", "looseness", "outer_tolerance", "printable", "quad_delta_pieces",
+__all__ = ["ESTIMATE", "BeyondRange", "NumProblem", "UndefinedIntegral", "looseness", "outer_tolerance", "printable", "quad_delta_pieces",
            "quad_pieces"]

@@ -20,6 +20,7 @@ from langur.symbolic.quadrature.brackets import _implied_by_bracket
 from langur.symbolic.quadrature.compiling import COMPILED, _lambdify, substituted
 from langur.symbolic.quadrature.nested import integrate_problem
 from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
+from langur.symbolic.quadrature.wide import spread
 from langur.symbolic.walks import free_symbols
 from langur.sympy_bridge import magnitude
 
@@ -123,7 +124,8 @@ def delta_problems(piece: DeltaPiece, variables, box, at: dict, ubox) -> list[Nu
             continue
         problems.append(NumProblem(conds, _Weight(piece, variables, uprime, xs, at), bounds, syms=uprime, at=dict(at),
                                    sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in ubox],
-                                   folds=any(e.has(ImplicitRootFn) for e in xs)))
+                                   folds=any(e.has(ImplicitRootFn) for e in xs),
+                                   spread={lv: spread(lo, hi) for lv, (lo, hi) in enumerate(bounds)}))
     return problems
 
 

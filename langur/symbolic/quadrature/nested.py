@@ -79,6 +79,12 @@ def _nested(p: NumProblem, level: int, prefix: tuple) -> float:
         owners[t] = owners[t] | own if t in owners else own
     pts = {lo, hi}
     pts.update(owners)
+    spread = p.spread.get(level)
+    if spread:  # a range wide for its weight: breakpoints where the mass may hide (:mod:`.wide`)
+        p.wide = True
+        for t in spread:
+            pts.add(t)
+            owners.setdefault(t, frozenset())  # (a root of no condition: only its own rounding)
     kinks.update(fixed[1])
     if tangent is not None:
         tangent.update(p.fixed_tangent[level])

@@ -22,6 +22,7 @@ from langur.symbolic.quadrature.compiling import (
 from langur.symbolic.quadrature.nested import integrate_problem
 from langur.symbolic.quadrature.problem import NumCond, NumProblem, _level, _parametric
 from langur.symbolic.quadrature.tolerance import _OUTER
+from langur.symbolic.quadrature.wide import centres, spread
 from langur.symbolic.walks import free_symbols, has_any, rational_form
 
 
@@ -80,8 +81,10 @@ def piece_problem(piece: Piece, variables, box, at: dict) -> NumProblem:
         weight = OnFirstCall(lambda: _lambdify(variables, piece.weight, point))
     else:
         weight = _lambdify(variables, piece.weight, at)
+    w = substituted(sp.sympify(piece.weight), at)
+    wide = {level: spread(lo, hi, centres(w, v)) for level, (v, (lo, hi)) in enumerate(zip(variables, bounds))}
     return NumProblem(conds, weight, bounds, syms=variables, vweight=vweight,
-                      at=dict(at), sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in box])
+                      at=dict(at), sbounds=[(sp.sympify(lo), sp.sympify(hi)) for lo, hi in box], spread=wide)
 
 
 #: Each piece's quadrature ``(value, error, problem)`` by the piece, the variables, the box and the

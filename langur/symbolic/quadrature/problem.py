@@ -114,6 +114,10 @@ class NumProblem:
     fixed: dict = field(default_factory=dict, repr=False)
     fixed_tangent: dict = field(default_factory=dict, repr=False)
     _moving: dict = field(default_factory=dict, repr=False)  # (level, vary) -> :meth:`moving`
+    #: level -> breakpoints where the weight's mass may hide on a range wide for it (:func:`~.wide.spread`)
+    spread: dict = field(default_factory=dict, repr=False)
+    #: such breakpoints were used: the error is an estimate (:data:`~.wide.ESTIMATE`)
+    wide: bool = False
 
     def here(self, level: int) -> list[NumCond]:
         """The conditions whose last variable is ``level``'s."""
