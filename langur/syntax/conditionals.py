@@ -90,26 +90,31 @@ class Conditionals:
         out = then
         for i in reversed(range(len(chain.ops))):
             out = self.conditional(compare(core[i], chain.ops[i], core[i + 1]), out, orelse, sc, span,
-                                   join(chain.terms[i], chain.terms[i + 1]))
+                                   join(chain.terms[i], chain.terms[i + 1]), built=True)
         return out
 
-    def conditional(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span=None) -> Term:
+    def conditional(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span=None,
+                    built: bool = False) -> Term:
         """``ifge0 cond then … else …``: IfGe0 when ``cond`` is variable-free, else the completed
-        IfDiffeo (Fig. 6, conditional / diffeomorphic conditional)."""
+        IfDiffeo (Fig. 6, conditional / diffeomorphic conditional).  ``built``: ``cond`` is a
+        difference the desugarer wrote (a comparison's ``t − s``, min/max's), not a term of the
+        source: its completion Ψ takes no span of its own, so a finding on it is located at the
+        conditional (the bracket ``[`` or the ``if``), as before fold31 — where ``t − 0`` folds to
+        ``t`` the condition *is* the operand ``t``, whose span would move the finding onto it."""
         cond = kinks.cancelled(cond) if self.splitting else cond  # a kink split's flat piece
         if not free_vars(cond):
             return IfGe0(cond, then, orelse, span)
         if smooth(cond):  # no conditional and no call inside: completed as it is
             self.count_piece()
-            return self.completed(cond, then, orelse, sc, span, cond_span)
+            return self.completed(cond, then, orelse, sc, span, cond_span, built)
         inner = next((u for u in subterms(cond) if isinstance(u, IfGe0) and not free_vars(u.cond)), None)
         if inner is not None:
             # a conditional on the parameters inside a condition over variables ([x < min(t, s)],
             # a bound `if c < 0 then a else b`): constant in the variables, it is lifted out —
             # ifge0 c' then (the condition with its then-branch) else (… with its else-branch)
             return IfGe0(inner.cond,
-                         self.conditional(put(cond, inner, inner.then), then, orelse, sc, span, cond_span),
-                         self.conditional(put(cond, inner, inner.orelse), then, orelse, sc, span, cond_span),
+                         self.conditional(put(cond, inner, inner.then), then, orelse, sc, span, cond_span, built),
+                         self.conditional(put(cond, inner, inner.orelse), then, orelse, sc, span, cond_span, built),
                          span=span)
         kink = next((u for u in subterms(cond) if isinstance(u, IfDiffeo)), None)
         if kink is not None and tree_size(cond) > MAX_SPLIT_SIZE:
@@ -132,9 +137,9 @@ class Conditionals:
             top, self.splitting = not self.splitting, True
             self.sides.append((c, True))  # which piece: for the messages of a piece refused (T207)
             try:
-                yes = self.conditional(decided(cond, c, True), then, orelse, sc, span, cond_span)
+                yes = self.conditional(decided(cond, c, True), then, orelse, sc, span, cond_span, built)
                 self.sides[-1] = (c, False)
-                no = self.conditional(decided(cond, c, False), then, orelse, sc, span, cond_span)
+                no = self.conditional(decided(cond, c, False), then, orelse, sc, span, cond_span, built)
                 return IfDiffeo(kink.psi, yes, no, span=span)
             except TooManyPieces:
                 if not top:
@@ -154,7 +159,7 @@ class Conditionals:
             if errs:
                 self.errors.extend(errs)
                 return Const(Fraction(0), span=span)
-        return self.completed(cond, then, orelse, sc, span, cond_span)
+        return self.completed(cond, then, orelse, sc, span, cond_span, built)
 
     def count_piece(self) -> None:
         """One more piece of a condition split at its kinks (at most MAX_PIECES in all)."""
@@ -163,7 +168,7 @@ class Conditionals:
             if self.pieces > MAX_PIECES:
                 raise TooManyPieces
 
-    def completed(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span) -> Term:
+    def completed(self, cond: Term, then: Term, orelse: Term, sc: Scope, span, cond_span, built=False) -> Term:
         """``ifge0 ⌊Ψ⌋ then … else …`` with Ψ the completion of ``cond`` over the variables (a
         pending one while the program's box is not known yet)."""
         try:
@@ -175,22 +180,24 @@ class Conditionals:
             diagnostic = ty.reject_condition(cond_span or cond.span or span, why)
             if self.pending is None:
                 return self.fail(diagnostic, span)
-            psi = Diffeo(sc.variables, (cond,), (), ())  # completed by complete_pending
+            psi = Diffeo(sc.variables, (cond,), (), (), span=None if built else cond.span)  # completed by complete_pending
             self.pending.append((psi, diagnostic))
             self.unsafe()
             return IfDiffeo(psi, then, orelse, span=span)
         if isinstance(psi, tuple):
-            return self.signs(psi, then, orelse, sc, span, cond_span)
+            return self.signs(psi, then, orelse, sc, span, cond_span, built)
+        if built and psi.span is not None:
+            psi = replace(psi, span=None)  # (a built difference has no text of its own: ``conditional``)
         node = IfDiffeo(psi, then, orelse, span)
         if self.records:
             self.note_completion(node, cond, sc.variables, sc.box)
         return node
 
-    def signs(self, split, then: Term, orelse: Term, sc: Scope, span, cond_span) -> Term:
+    def signs(self, split, then: Term, orelse: Term, sc: Scope, span, cond_span, built=False) -> Term:
         """A condition that changes sign where its completion does not reach, as the signs of its
         factors (:func:`langur.syntax.completion.sign_chain`), each factor a conditional of its own."""
         self.unsafe()  # the factors are read off the condition's value (sympy factors it)
-        return sign_chain(split, then, orelse, lambda f, s, r: self.conditional(f, s, r, sc, span, cond_span), span)
+        return sign_chain(split, then, orelse, lambda f, s, r: self.conditional(f, s, r, sc, span, cond_span, built), span)
 
     def complete_pending(self, t: Term, variables: tuple[str, ...], box) -> Term:
         """``t`` with the conditions left pending completed over the program's ``box`` (a periodic
@@ -205,7 +212,7 @@ class Conditionals:
                 return u
             if box:
                 try:
-                    return replace(u, psi=complete(u.psi.forward[0], variables, box))
+                    return replace(u, psi=replace(complete(u.psi.forward[0], variables, box), span=u.psi.span))
                 except diffeo.CompletionError as e:
                     return self.fail(ty.reject_condition(pending[id(u.psi)].span, str(e)), u.span)
             return self.fail(pending[id(u.psi)], u.span)

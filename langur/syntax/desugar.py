@@ -176,7 +176,7 @@ class Desugarer(Conditionals, Unrolling):
                 errors, pieces = len(self.errors), self.pieces
                 core = [self.term(t, sc) for t in terms]
                 out = product([self.conditional(compare(core[i], op, core[i + 1]), Const(_ONE),
-                                                Const(_ZERO), sc, span, join(terms[i], terms[i + 1]))
+                                                Const(_ZERO), sc, span, join(terms[i], terms[i + 1]), built=True)
                                for i, op in enumerate(ops)], span)
                 if len(self.errors) > errors and all(kinks.TOO_LARGE in d.message for d in self.errors[errors:]) \
                         and (alt := kinks.lattice(st)) is not None:
@@ -222,7 +222,8 @@ class Desugarer(Conditionals, Unrolling):
             case IfCmp(left, op, right, then, orelse):
                 # if t CMP s then p else q is ifge0 (t − s) (or s − t) then p else q
                 cond = compare(self.term(left, sc), op, self.term(right, sc))
-                return self.conditional(cond, self.term(then, sc), self.term(orelse, sc), sc, span, join(left, right))
+                return self.conditional(cond, self.term(then, sc), self.term(orelse, sc), sc, span, join(left, right),
+                                        built=True)
             case NestedInt():
                 # Fig. 11: a term contains no int (T208)
                 return self.fail(ty.reject_nested_int(span), span)
@@ -303,7 +304,7 @@ class Desugarer(Conditionals, Unrolling):
             t, s = (self.term(a, sc) for a in st.args)
             # min(t, s) is ifge0 t − s then s else t;  max(t, s) is ifge0 t − s then t else s
             then, orelse = (s, t) if name == "min" else (t, s)
-            return self.conditional(minus(t, s), then, orelse, sc, span)
+            return self.conditional(minus(t, s), then, orelse, sc, span, built=True)
         if name == "atan2":
             if len(st.args) != 2:
                 return self.fail(ty.reject_arity(where, "`atan2`", 2, len(st.args)), span)
