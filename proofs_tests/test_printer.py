@@ -237,6 +237,17 @@ def test_core_round_trip(t):
     assert redesugar(t) == t, print_core(t)
 
 
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(core_terms())
+def test_core_as_an_operand_round_trip(t):
+    # check --fix splices print_core(t, operand=True) into any position: as the base of a power in a
+    # product it reads back as the whole term in parentheses does (an atom bare, anything else wrapped)
+    text = print_core(t, operand=True)
+    read = [frontend.core_term_from_text(f"2 * {u} ^ 3", variables=VARIABLES, params=PARAMS)
+            for u in (text, f"({print_core(t)})")]
+    assert read[0] == read[1], text
+
+
 @pytest.mark.parametrize(
     "cond",
     [C.sub(x, a), C.sub(a, x), C.sub(y, Add(x, a)), C.sub(Add(x, y), k(1)), C.sub(Pow(x, Fraction(2)), a)],

@@ -80,7 +80,9 @@ def _patched(text: str, path: str, rw: Rewritten, program_span) -> str | None:
     for start, end, new in cuts:
         if end > last:  # overlapping replacements: not a patch
             return None
-        out = out[:start] + "(" + print_core(new) + ")" + out[end:]
+        # (in parentheses unless an atom: a bracket [t >= 0] needs none — fold31 prints
+        # ifge0 t then 1 else 0 as one, where before fold31 the patch was (ifge0 t then 1 else 0))
+        out = out[:start] + print_core(new, operand=True) + out[end:]
         last = start
     return out
 

@@ -354,9 +354,11 @@ class _CoreRule:
         return [name, "(", ", ".join(psi.variables), _semi(params), ")"]
 
 
-def print_core(t, diffeo_names: dict | None = None) -> str:
-    """A core term in `.lgr` syntax (see the module docstring for the choices made)."""
-    return _render(t, _CoreRule(diffeo_names))
+def print_core(t, diffeo_names: dict | None = None, operand: bool = False) -> str:
+    """A core term in `.lgr` syntax (see the module docstring for the choices made).  ``operand``:
+    printed to stand in any position of a larger term (an atom as it is, anything else in
+    parentheses), as ``check --fix`` splices it into the source."""
+    return _render(t, _CoreRule(diffeo_names), ATOM if operand else TERM)
 
 
 def _diffeo_param_names(psi: C.Diffeo) -> list[str]:
