@@ -61,7 +61,7 @@ from .symbolic.decompose import (
 from .symbolic.pieces import Condition, DeltaPiece, Integral, Method, Piece
 from .symbolic.readable import readable
 from .symbolic.text import derivative_result_text, normal_form_text
-from .sympy_bridge import at_symbols, const_expr, derivative_function, exact_number, symbols
+from .sympy_bridge import at_symbols, const_expr, derivative_function, exact_number, may_vanish, symbols
 from .values import check_values
 
 __all__ = ["DerivativeResult", "NormalForm", "ddenote", "ddenote_program", "tangent"]
@@ -165,8 +165,8 @@ def ddenote_subterm(t: Term, ctx: Ctx, dctx: DCtx) -> NormalForm:
             c = condition_of(psi, ctx, t.span)
             f = ddenote_subterm(a, ctx, dctx).under(c) + ddenote_subterm(b, ctx, dctx).under(complement(c))
             speed = tangent(psi.forward[0], ctx, dctx)  # D_γ π₀Ψ̂ · γ' = ⦇π₀Ψ̂⦈
-            if speed == 0:
-                return f
+            if speed == 0 or not may_vanish(c.expr, c.psi.variables):  # δ(π₀Ψ̂) = 0 off π₀Ψ̂'s zero set:
+                return f  # an empty one (exp(x − a) > 0) carries no delta, Ψ̂⁻¹(0, u') is never used
             jump = normalize(decompose(a, ctx) + [Piece(p.conditions, -p.weight) for p in decompose(b, ctx)])
             return f + NormalForm([], [DeltaPiece(c.psi, p.conditions, speed * p.weight) for p in jump])
         case Let(name, bound, body):  # Fig. 8, let: ⦇s⦈(ρ, γ[z ↦ ⟦t⟧], γ'[z ↦ ⦇t⦈])

@@ -120,6 +120,23 @@ def magnitude(expr: sp.Expr) -> sp.Expr:
     return sp.Abs(expr) + 1
 
 
+def may_vanish(expr: sp.Expr, variables: Iterable[sp.Symbol]) -> bool:
+    """Whether ``expr`` may be 0 somewhere in ℝⁿ (its parameters any reals): False only when that is
+    proved — ``expr`` nonzero under real symbols (``exp(x)``, ``x² + 1``), or, in one variable and
+    no parameter, without a real root (``solveset``).  A condition's zero set, where its delta sits
+    (LANGUAGE.md §4): empty, it carries no delta, and ``Ψ̂⁻¹(0, u′)`` is never used."""
+    if expr.is_zero is False:
+        return False
+    syms = expr.free_symbols
+    if len(syms) == 1 and syms <= set(variables):
+        (x,) = syms
+        try:
+            return sp.solveset(expr, x, sp.S.Reals) != sp.S.EmptySet
+        except (NotImplementedError, TypeError, ValueError):
+            return True
+    return True
+
+
 def derivative_function(op: str) -> Callable[[sp.Expr], sp.Expr]:
     """f' as a sympy function, for the chain rule (LANGUAGE.md §1).
 

@@ -107,7 +107,16 @@ def test_the_ray_tracers_forward_determinants_equal_sympys():
     # (made when a quadrature first needs a weight, since exact14r: this pixel's regions are empty)
     for piece in res.normal_form.deltas:
         _forward_det(piece.psi)
-    assert len(_FORWARD_DETS) == 4
+    # 3 edges, the depth boundary and (since pole31) the depth shader's pole n·d = 0 (the ray parallel to the
+    # triangle's plane): it moves with t, so the shader is split there into conditionals on its factors' signs
+    # (docs/language.md "Signs of factors") and the pole is a Ψ̂ of its own
+    assert len(_FORWARD_DETS) == 5
+    # independently, from the scene's vertices A, B, C: one forward condition is a constant times n·d
+    A = sp.Matrix([-sp.Rational(9, 20) - 3 * t / 10, -sp.Rational(9, 20) - 3 * t / 10, 2 - 3 * t / 5])
+    B = sp.Matrix([sp.Rational(11, 20) + 3 * t / 10, -sp.Rational(1, 4), 3])
+    C = sp.Matrix([-sp.Rational(3, 20), sp.Rational(3, 5) + 3 * t / 10, 3])
+    n_dot_d = (B - A).cross(C - A).dot(sp.Matrix([x, y, 1]))
+    assert sum(not sp.cancel(forward[0] / n_dot_d).free_symbols for forward, _ in _FORWARD_DETS) == 1
     for (forward, variables), det in _FORWARD_DETS.items():
         jac = sp.Matrix(forward).jacobian(list(variables))
         assert det == jacobian_det(forward, variables)  # the formula, not sympy's cancelled form (new)

@@ -85,15 +85,20 @@ def test_the_ray_tracers_empty_pixel_makes_no_jacobian():
     delta._SIMPLIFIED.clear()
     deltaproblems._FORWARD_DETS.clear()
     res = ddenote_program(loaded.program, at, {k: int(k == "t") for k in at})
-    assert len(res.normal_form.deltas) == 4
+    # 5 zero sets, each in two delta pieces: the 3 edges, the depth boundary and (since pole31) the depth
+    # shader's pole n·d = 0 (the ray parallel to the triangle's plane), which moves with t: the shader is split
+    # there into conditionals on its factors' signs (docs/language.md "Signs of factors"), so every jump is
+    # taken on each side of the pole (2 × 5; before the split 4 pieces, the pole's jump missed)
+    assert len(res.normal_form.deltas) == 10
+    assert len({p.psi.forward[0] for p in res.normal_form.deltas}) == 5
     assert res.boundary.expr == 0 and res.value == 0.0
     # no determinant was made, forward or inverse, nor simplified: every region is empty here
     assert not delta._JACOBIANS and not delta._SIMPLIFIED and not deltaproblems._FORWARD_DETS
-    # independently: the three edge lines miss the pixel [0, h]² (one sign at its four corners)
+    # independently: the three edge lines and the pole's line miss the pixel [0, h]² (one sign at its four corners)
     point = {sp.Symbol(k, real=True): sp.nsimplify(v) for k, v in at.items()}
     h = point[sp.Symbol("h", real=True)]
-    edges = [p.psi.forward[0] for p in res.normal_form.deltas if sp.Symbol("zth", real=True) not in p.psi.forward[0].free_symbols]
-    assert len(edges) == 3
+    edges = {p.psi.forward[0] for p in res.normal_form.deltas if sp.Symbol("zth", real=True) not in p.psi.forward[0].free_symbols}
+    assert len(edges) == 4
     for f in edges:
         assert len({sp.sign(f.xreplace(point).xreplace({x: cx, y: cy})) for cx in (0, h) for cy in (0, h)}) == 1
 

@@ -147,6 +147,28 @@ def test_a_declared_diffeo_infinite_on_its_zero_set_is_refused(tmp_path, capsys)
     assert "MC" not in out.out
 
 
+@pytest.mark.parametrize("declaration", [
+    "diffeo e(x; ) = (exp(x)) inverse (u) = (log(u))",
+    "diffeo e(x; c) = (exp(x - c)) inverse (u) = (log(u) + c)",
+])
+def test_an_inverse_infinite_where_the_condition_never_vanishes_is_accepted(declaration):
+    # log(u) is infinite at u = 0, but exp never vanishes: the zero set is empty, no delta sits on it and
+    # Ψ̂⁻¹(0) is never used (pole31 refused this with T216).  exp > 0 on [0, 1]: ⟦p⟧ = ∫₀¹ x dx = ½, and
+    # nothing moves with the parameter: d/da = 0
+    call = "e(x; )" if "x; )" in declaration else "e(x; a)"
+    loaded = load_text(f"param a = 0.3\n{declaration}\nint ([0, 1]) ifge0 {call} then x else 0 d(x)\n")
+    params = loaded.param_values()
+    r = exact_eval(loaded.program, params)
+    assert not r.inconsistent, r.inconsistent
+    assert r.value == pytest.approx(0.5, rel=1e-12)
+    d = exact_deriv(loaded.program, params, {"a": 1}, check=True)
+    assert not d.inconsistent, d.inconsistent
+    assert d.value == pytest.approx(0.0, abs=1e-12)
+    assert d.theorem_8_1 is not None and d.theorem_8_1.holds, d.theorem_8_1
+    mv = operational.estimate_value(loaded, params, samples=20_000, seed=7)
+    assert abs(mv.value - 0.5) <= 5 * mv.stderr + 1e-12
+
+
 def test_the_exact_delta_path_says_undefined_for_an_inverse_infinite_on_the_zero_set():
     # a core program built without the front end: Ψ̂ solved for y, y = (x − a)/u₀ − ½
     loaded = load_text(f"param a = 0.3\n{FIXED_POLE}\n")
