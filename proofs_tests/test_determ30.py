@@ -79,10 +79,10 @@ def test_the_shader_against_the_triangle_is_decided_with_a_tenth_of_the_limit(fa
     found = _findings(RAYTRACE / "scene.lgr")
     shader = [f for f in found if f[0] == "shader.lgr"]
     assert not [f for f in found if f[3] == "X310"], found
-    # the plane z = zth holds the edge B C (both at z = 3) exactly when zth = 3: one X304, by hand (the edge's
-    # span is its expression's, col 8, as the scene's own X306 at 24:8 since fold31)
+    # the plane z = zth holds the edge B C (both at z = 3) exactly when zth = 3: one X304, by hand (at the
+    # edge's comparison, col 7, as the scene's own X306 at 24:7: a condition the desugarer builds has no span)
     assert [(f[1], f[2], f[3]) for f in shader] == [(6, 20, "X304"), (6, 20, "X306"), (6, 20, "X306")]
-    assert "when zth = 3" in shader[0][4] and "scene.lgr:24:8" in shader[0][4]
+    assert "when zth = 3" in shader[0][4] and "scene.lgr:24:7" in shader[0][4]
     # since pole31 the depth condition zth − k/(n·d) is split at its pole n·d = 0 (it moves with t) into
     # conditionals on its factors' signs, n·d and zth·(n·d) − k, each with its own X306 (two findings, not one
     # repeated): n·d degenerates where n is along z (nx = ny = 0), zth·(n·d) − k also where zth = 0.

@@ -111,7 +111,8 @@ def test_the_refusal_is_located_x316_with_exit_status_1(tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 1, r
     lines = [ln for ln in r.stderr.splitlines() if "X316" in ln]
-    assert len(lines) == 2 and all(ln.startswith(f"{f}:2:15: error X316 ") for ln in lines), r.stderr
+    # col 16: the condition's expression (before fold31 the desugarer's `… - 0` around it carried the bracket's col 15)
+    assert len(lines) == 2 and all(ln.startswith(f"{f}:2:16: error X316 ") for ln in lines), r.stderr
     assert "no exact value" in lines[0] and "no Monte Carlo value" in lines[1]
     assert "Traceback" not in r.stderr
 

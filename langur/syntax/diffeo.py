@@ -115,12 +115,16 @@ def complete(cond: Term, variables: tuple[str, ...], box: Box = (), avoid: froze
     direct = affine.complete(cond, tuple(variables), avoid)  # affine conditions: the same Diffeo, no sympy
     if direct is not None:
         return direct
-    psi = _complete_cached(cond, tuple(variables), tuple(box), frozenset(avoid))
+    # (the span is part of the key: a completion's implicit roots carry the condition's place, named when
+    # evaluating them is refused (X316); terms are equal whatever their spans, so without it a second file's
+    # equal condition was refused at the first file's place)
+    psi = _complete_cached(cond, tuple(variables), tuple(box), frozenset(avoid), getattr(cond, "span", None))
     return replace(psi, forward=(cond,) + psi.forward[1:], span=getattr(cond, "span", None))
 
 
 @lru_cache(maxsize=4096)
-def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box, avoid: frozenset[str] = frozenset()) -> Diffeo:
+def _complete_cached(cond: Term, variables: tuple[str, ...], box: Box, avoid: frozenset[str] = frozenset(),
+                     span: object = None) -> Diffeo:
     occurring = [v for v in variables if v in free_vars(cond)]
     if not occurring:
         raise CompletionError("the condition has no variables (it is a plain ifge0)")
