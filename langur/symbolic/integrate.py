@@ -45,7 +45,7 @@ import sympy as sp
 from langur import failures
 from langur.implicit import ImplicitRootFn
 from langur.memo import remember as _remember
-from langur.symbolic import delta, quadrature, regions, walks
+from langur.symbolic import delta, offbox, quadrature, regions, walks
 from langur.symbolic.context import Cond, Context, Unsupported
 from langur.symbolic.nounits import units_unloaded
 from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
@@ -381,8 +381,10 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
     without ``symbolic``, the value by quadrature (closed forms only where it did not converge)."""
     variables = tuple(variables)
     ctx, boxd = _setup(variables, box, at, timeout, cell)
-    quads, converged = _quads(lambda pc, *out: quadrature.quad_pieces([pc], variables, box, ctx.at, *out),
-                              pieces, ctx)
+    # (each piece's quadrature as it is on the box near the point: 0 where it vanishes there, offbox.py)
+    quads, converged = _quads(lambda pc, *out: (0.0, 0.0) if pc is None else
+                              quadrature.quad_pieces([pc], variables, box, ctx.at, *out),
+                              offbox.reduced(pieces, boxd, ctx.at), ctx)
     _check_defined(quads, "piece")
     ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work
 
@@ -416,8 +418,9 @@ def integrate_delta_pieces(pieces: Sequence[DeltaPiece], variables, box, at, *,
         except Unsupported as exc:
             raise ValueError(f"delta piece {i}: cannot bound the zero set's coordinates: {exc}") from None
     quads, converged = _quads(
-        lambda item, *out: quadrature.quad_delta_pieces([item[0]], variables, box, ctx.at, [item[1]], *out),
-        list(zip(pieces, uboxes)), ctx)
+        lambda item, *out: (0.0, 0.0) if item[0] is None else
+        quadrature.quad_delta_pieces([item[0]], variables, box, ctx.at, [item[1]], *out),
+        list(zip(offbox.reduced(pieces, boxd, ctx.at), uboxes)), ctx)
     _check_defined(quads, "delta piece")
     ctx.deadline = Deadline(timeout)  # the time limit is for the symbolic work
 
