@@ -9,6 +9,8 @@
   checks the ``$ langur`` lines of README.md and commands.md only).
 * Every statement of ``check``'s default budget says CPU seconds: SECURITY.md still said "60 s of
   wall-clock time per file" after determ30 made it CPU time.
+* commands.md's campaign size is what a campaign checks: ``--examples 50`` gave 45 programs, which
+  the page's "fewer than N only when it runs out of new ones" did not explain.
 """
 
 from __future__ import annotations
@@ -109,3 +111,15 @@ def test_every_page_states_checks_default_budget_in_cpu_seconds():
     assert len(stated) >= 4, stated  # README, SECURITY, commands.md, CODES.md
     wall = [s for s in stated if "CPU" not in s[1]]
     assert not wall, wall
+
+
+def test_the_campaign_size_commands_md_gives_is_what_a_campaign_checks():
+    from langur.fuzz.campaign import draws, generated
+
+    text = " ".join((REPO / "docs/commands.md").read_text(encoding="utf-8").split())
+    shown = re.search(r"`langur fuzz --examples (\d+)` checks (\d+) programs with seed (\d+)", text)
+    asked, checked, seed = map(int, shown.groups())
+    assert checked < asked  # the page's point: fewer than asked when the draws repeat
+    assert draws(asked) == 10 * (asked // 10) + 9 and draws(500) == 5000  # the bound the page states
+    texts = generated(asked, seed)  # the CLI's default shape (no --kinks/--turning/--wide)
+    assert len(texts) == len(set(texts)) == checked
