@@ -1,14 +1,14 @@
 """What a fresh user of the clone reads stays true (docs29).
 
-* Every relative link of README.md, SECURITY.md, examples/adapters/README.md and docs/*.md leads
+* Every relative link of README.md, SECURITY.md, examples/**/README.md and docs/*.md leads
   to a file of the repository and, with ``#anchor``, to a heading of that page (GitHub's anchors).
 * ``LANGUAGE.md §N`` and ``CLI.md`` — the project's specification, cited by messages, by
   ``show --steps``'s rule names and by the docs, but not a file of the repository — are each
   explained by a row of docs/README.md's map, which names the user documentation to read instead.
 * Every ``pip install -e '.[EXTRA,…]'`` the pages show installs extras pyproject.toml declares.
-* The time budgets of ``check`` and of ``show``/``eval``/``deriv``/``render`` are wall-clock time, as
-  commands.md and README.md now say (a busy machine reaches them sooner): a command that waits
-  without using the CPU is stopped at its ``--timeout``.
+* The time budgets of ``show``/``eval``/``deriv``/``plot``/``render`` are wall-clock time, as
+  commands.md and README.md say (a busy machine reaches them sooner): a command that waits
+  without using the CPU is stopped at its ``--timeout``; ``check``'s counts CPU seconds (determ30).
 """
 
 from __future__ import annotations
@@ -22,8 +22,8 @@ from paths import REPO
 
 from langur.timebox import run_with_timeout
 
-PAGES = [REPO / "README.md", REPO / "SECURITY.md", REPO / "examples/adapters/README.md",
-         *sorted((REPO / "docs").glob("*.md"))]
+PAGES = [REPO / "README.md", REPO / "SECURITY.md", *sorted((REPO / "examples").rglob("README.md")),
+         *sorted((REPO / "docs").glob("*.md"))]  # examples/README.md since fresh32
 FENCE = re.compile(r"^```.*?^```", re.S | re.M)
 
 
