@@ -5,8 +5,8 @@ elements, and programs over huge boxes.  Each kind is drawn with its option and 
 and prints back to its AST; each builder registers the zero sets its condition changes sign on
 (the pole's too); one program of each kind has its value and derivatives computed by hand, which
 both engines must give; the front end no longer raises an internal error on a product with a
-cubed moving factor (`[(y - a)^3 * (y - 1) >= 0]`, found by this round's draws: bench/RESULTS.md,
-fuzz32)."""
+cubed moving factor (`[(y - a)^3 * (y - 1) >= 0]`, found by this round's draws:
+bench/RESULTS.md, fuzz32)."""
 
 import math
 import re
