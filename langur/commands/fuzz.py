@@ -76,6 +76,14 @@ def add_arguments(p):
                         "renamed, through a second module; diffeos from a module), comments, CRLF, tabs, "
                         "numbers as .5 or 37e-2, ≤/≥, extra parentheses; the same seed draws other programs "
                         "than without --wide")
+    p.add_argument("--poles", action="store_true",
+                   help="also draw conditions with a moving pole ([(x - a)/(y + b) >= 0], [1/(x - b) >= 1]), "
+                        "products of moving factors ([(x - a)*(y - b) >= 0], a factor squared or cubed), such "
+                        "conditions as an if's inside another, and terms spelled with neutral elements "
+                        "(x*1, t - 0, 0*(1/(x - a))) (langur.strategies.poles)")
+    p.add_argument("--huge", action="store_true",
+                   help="draw a third of the programs over a huge box (up to [-1e10, 1e10]) with decaying "
+                        "weights: narrow or far-off Gaussians, 1/(1 + x^2)")
     p.add_argument("--profile", action="store_true",
                    help="print where the programs' time went: front end, linter, the exact engine's "
                         "symbolic search, its quadratures and the rest of it, the Monte Carlo engine")
@@ -126,7 +134,8 @@ def run(args) -> int:
                                     workers=workers, shrink=not args.no_shrink,
                                     storage=args.hypothesis_dir, scheduler=args.scheduler,
                                     planned=bar.plan if bar is not None else None,
-                                    kinks=args.kinks, turning=args.turning, wide=args.wide)
+                                    kinks=args.kinks, turning=args.turning, wide=args.wide,
+                                    poles=args.poles, huge=args.huge)
     except (fuzz.MissingHypothesis, fuzz.cluster.MissingCluster) as e:
         print(f"langur fuzz: error: {e}", file=sys.stderr)
         return 2

@@ -85,7 +85,7 @@ MAX_VARIABLES, MAX_VARIABLES_LIGHT = 3, 2
 
 def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, max_params: int = 3,
              light: bool = False, kinks: bool = False, max_variables: int | None = None,
-             turning: bool = False, wide: bool = False):
+             turning: bool = False, wide: bool = False, poles: bool = False, huge: bool = False):
     """A hypothesis strategy of :class:`FuzzProgram` (well-typed, transverse at the defaults):
     :func:`langur.strategies.programs`, printed (with ``wide``, a program with modules as a
     :mod:`.bundle`).
@@ -102,13 +102,16 @@ def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, ma
     with both ends moving, programs without a domain; :mod:`langur.strategies.variants`: negative
     parameter defaults, programs without parameters, a def called with other parameter terms, a
     def whose ``let`` takes other values there, modules; :mod:`langur.strategies.lexical`: comments,
-    CRLF, numbers spelled otherwise, ≤/≥, extra parentheses)."""
+    CRLF, numbers spelled otherwise, ≤/≥, extra parentheses); ``poles``: moving poles, products of
+    moving factors, such conditions nested, folding edge cases (:mod:`langur.strategies.poles`);
+    ``huge``: a third of the programs over a huge box (up to ±10¹⁰, decaying weights)."""
     _hypothesis()
     if max_variables is None:
         max_variables = MAX_VARIABLES_LIGHT if light else MAX_VARIABLES
     return strategies.programs(max_summands=max_summands, max_factors=max_factors, max_conds=max_conds,
                                max_params=max_params, light=light, kinks=kinks, max_variables=max_variables,
-                               turning=turning, wide=wide, modules=wide).map(_fuzz_program)
+                               turning=turning, wide=wide, modules=wide, poles=poles,
+                               huge=huge).map(_fuzz_program)
 
 
 def _fuzz_program(g) -> FuzzProgram:

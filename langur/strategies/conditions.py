@@ -40,6 +40,8 @@ class Scope:
     turning: bool = False
     #: constructs the default draw never makes (:mod:`~.wide`)
     wide: bool = False
+    #: moving poles, products of moving factors, folding edge cases (:mod:`~.poles`)
+    poles: bool = False
     #: the variables whose domain bounds are constants (an implicit root needs a fixed bracket)
     fixed: tuple[str, ...] = ()
     #: the conditions drawn by :func:`turning_condition` (they stay in the program: in a ``def``

@@ -18,6 +18,7 @@ from ..syntax import surface as S
 from ..syntax.printer import decimal, print_module_surface, print_term
 from . import conditions as C
 from . import lexical as L
+from . import poles as P
 from . import terms as T
 from . import variants as V
 from . import wide as W
@@ -108,13 +109,16 @@ def factor(scope: C.Scope) -> S.STerm:
     of two affine terms, a conditional on parameters only, a declared diffeo's ``ifge0``, and with
     ``scope.kinks`` a condition with ``abs``/``min``/``max`` inside, with ``scope.turning`` one
     with no closed-form inverse (implicit roots), with ``scope.wide`` a construct of :mod:`.wide`
-    (loops, ``&``/``|``/``not``, a ``let`` in a factor, guarded partial primitives, …)."""
+    (loops, ``&``/``|``/``not``, a ``let`` in a factor, guarded partial primitives, …), with
+    ``scope.poles`` one of :mod:`.poles` (moving poles, products of moving factors, folding edge cases)."""
     if scope.kinks and scope.index(4) == 3:
         return C.kink_condition(scope)
     if scope.turning and scope.index(4) == 3:
         return C.turning_condition(scope)
     if scope.wide and scope.index(3) == 2:
         return W.factor(scope)
+    if scope.poles and scope.index(3) == 2:
+        return P.factor(scope)
     kind = scope.index(11)
     if kind <= 1:
         return C.smooth(scope)
@@ -248,7 +252,7 @@ def _sum(scope: C.Scope, summands: list[list[S.STerm]]) -> S.STerm:
 def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: int = 3, max_factors: int = 3,
              max_conds: int = 4, max_params: int = 3, light: bool = False, kinks: bool = True,
              turning: bool = False, lets: bool = True, defs: bool = True, modules: bool = False, generic: bool = True,
-             wide: bool = False):
+             wide: bool = False, poles: bool = False, huge: bool = False):
     """A hypothesis strategy of :class:`Generated`: well-typed programs in ``min_variables`` to
     ``max_variables`` (≤ 3) variables, one to ``max_params`` parameters with generic defaults,
     sums of at most ``max_summands`` products of at most ``max_factors`` factors (:func:`factor`),
@@ -268,8 +272,11 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
     ``let`` then takes another value; with ``modules`` the def imported under another name or
     through a second module, the diffeos from a module of their own) and lexical variants of the
     text (:mod:`.lexical`: comments, CRLF, numbers spelled otherwise, ≤/≥, extra parentheses;
-    :attr:`Generated.spelling`).  Shrinks towards one
-    variable, one parameter, one smooth factor; without ``wide`` a seed draws what it drew before."""
+    :attr:`Generated.spelling`); ``poles``: the factors of :mod:`.poles` (moving poles, products of
+    moving factors, such conditions nested, folding edge cases); ``huge``: a third of the programs
+    over a huge box (:func:`.poles.huge`: up to ±10¹⁰, decaying weights).  Shrinks towards one
+    variable, one parameter, one smooth factor; without ``wide``, ``poles`` and ``huge`` a seed draws
+    what it drew before."""
     if not 1 <= min_variables <= max_variables <= 3:
         raise ValueError("variables: 1 <= min_variables <= max_variables <= 3")
 
@@ -282,11 +289,16 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
             defaults = V.signed(draw, defaults)
         params = list(PARAMS[:len(defaults)])
         positive = [p for p, d in zip(params, defaults) if d > 0]
+        if huge and positive and draw(st.integers(0, 2)) == 2:
+            domain, body, names = draw(P.huge(tuple(positive)))
+            decls = S.ParamItem(tuple(S.ParamDecl(S.Ident(p), d) for p, d in zip(params, defaults)))
+            prog = S.ProgramS(domain, body, tuple(S.Ident(v) for v in names))
+            return Generated(S.ModuleS("main.lgr", (decls,), prog), tuple(zip(params, defaults)))
         variables = VARIABLES[:draw(st.integers(min_variables, max_variables))]
         domain = tuple(draw(_interval(tuple(positive), wide)) for _ in variables)
         env = {p: float(d) for p, d in zip(params, defaults)}
         scope = C.Scope(draw, variables, env, list(params), light=light, kinks=kinks,
-                         turning=turning, wide=wide, fixed=tuple(v for v, i in zip(variables, domain)
+                         turning=turning, wide=wide, poles=poles, fixed=tuple(v for v, i in zip(variables, domain)
                                                       if not T.names_in(i.lo) | T.names_in(i.hi)))
         box = [(T.evaluate(i.lo, env), T.evaluate(i.hi, env)) for i in domain]
         let = None

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..core import Diffeo, Term, free_vars
+from ..core import Diffeo, Term, TooManyRoots, free_vars
 from ..sympy_bridge import NotSmooth, from_sympy, symbol, to_sympy
 from ..timebox import run_with_timeout
 
@@ -170,7 +170,7 @@ def _defined(value: sp.Expr) -> bool:
     """A real, finite number (an image of the zero set that exists at these parameter values)."""
     try:
         z = complex(value.evalf(30))
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, TooManyRoots):
         return False
     return z == z and abs(z.real) != float("inf") and abs(z.imag) <= 1e-20 * (1 + abs(z.real))
 
