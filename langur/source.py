@@ -8,11 +8,15 @@ from __future__ import annotations
 
 import errno
 import os
-import select
 import stat
 import time
 
+from . import lazy
 from .diagnostics import Span, error
+
+# Waiting for a pipe's bytes, imported when a file that is not a regular file is read (3 ms of every
+# process's start-up otherwise: issue 15's one-shot target).
+select = lazy.module("select")
 
 #: Most bytes a source may have: a program has at most a million characters outside comments and
 #: white space (E108, ``langur.syntax.parser``), so this leaves room for comments; past it the
