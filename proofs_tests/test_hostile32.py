@@ -13,6 +13,7 @@ import json
 import math
 import os
 import resource
+import stat
 import subprocess
 import sys
 import threading
@@ -173,3 +174,28 @@ def test_a_condition_with_31831_turning_points_is_refused_quickly(tmp_path):
     assert "more than the 7 the condition was split for" in r.stdout, said
     r, said = _langur(tmp_path, "deriv", "p.lgr", "--wrt", "a", "--engine", "exact", cpu=20)
     assert r.returncode == 1 and "X316 no exact value: at least 101 turning points" in r.stderr, said
+
+
+# --- new round: check --fix --in-place on a named pipe -----------------------------------------------
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes")
+def test_fix_in_place_of_a_named_pipe_is_refused(tmp_path):
+    """A writer puts examples/degenerate/coincident.lgr (X301: a rewrite to write) into a FIFO once;
+    ``check --fix --in-place`` read it, then opened it again to see that it had not changed — outside
+    any time limit, waiting for a writer forever (main: killed here after 60 s).  Now a usage error
+    before anything is written; the pipe is still a pipe."""
+    pipe = tmp_path / "fx.lgr"
+    os.mkfifo(pipe)
+    text = (ROOT / "examples" / "degenerate" / "coincident.lgr").read_text(encoding="utf-8")
+
+    def write():
+        with open(pipe, "w", encoding="utf-8") as fh:
+            fh.write(text)
+
+    writer = threading.Thread(target=write, daemon=True)
+    writer.start()
+    r, said = _langur(tmp_path, "check", "fx.lgr", "--fix", "--in-place", "--timeout", "20", wall=60)
+    writer.join(5)
+    assert r.returncode == 2 and "fx.lgr is not a regular file: not rewritten in place" in r.stderr, said
+    assert stat.S_ISFIFO(os.stat(pipe).st_mode) and not (tmp_path / "fx.lgr.bak").exists(), said
