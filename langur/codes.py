@@ -131,10 +131,12 @@ CODES: dict[str, Code] = _catalogue(
 # :mod:`langur.operational.naive`).  True of ``langur eval`` as of ``langur deriv``: a value needs
 # the ends of the condition's monotone pieces as much as a derivative does.
 
-def turning_points_beyond_split(count: int, of: int, where: str) -> str:
+def turning_points_beyond_split(count: int, of: int, where: str, at_least: bool = False) -> str:
     """X316: ``count`` turning points ``where`` (``on [-2, 2]``, ``on the domain``) at the parameter
-    values in force, more than the ``of`` the condition was split for."""
-    return (f"{count} turning points {where} at these parameter values, more than the {of} the condition "
+    values in force, more than the ``of`` the condition was split for; ``at_least``: the count
+    stopped there (the first ones found, from the left end)."""
+    return (f"{'at least ' if at_least else ''}{count} turning points {where} at these parameter values, more than "
+            f"the {of} the condition "
             "was split for: this engine cannot find the ends of the condition's monotone pieces here; split "
             "the variable's domain (a sum of integrals over sub-intervals, each with at most that many "
             "turning points)")

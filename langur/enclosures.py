@@ -257,7 +257,8 @@ def _signer(enclosure, t):
 
 
 def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: int = DEPTH,
-                       what: str = "the equation", lenient: bool = False, box: bool = False) -> list[tuple]:
+                       what: str = "the equation", lenient: bool = False, box: bool = False,
+                       most: int | None = None) -> list[tuple]:
     """The brackets, increasing, each holding exactly one sign change of ``g − target`` on
     ``[lo, hi]``, all of them: each cell of a ``grid``-cell grid is certified, by an interval
     enclosure of ``g − target`` that excludes 0 (no zero there) or one of ``g'`` that excludes 0
@@ -277,7 +278,11 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     engine certifies the same way on its own (:mod:`langur.operational.signchanges`).  ``box``:
     ``g_iv`` and ``dg_iv`` enclose the equation for every value of its other symbols in a box
     (:func:`langur.implicit.lambdified._box_brackets`): nothing is decided by ``g``'s values (a point of unknown sign at an end
-    of the domain is refused too), so the brackets hold for every point of the box."""
+    of the domain is refused too), so the brackets hold for every point of the box.  ``most``: a
+    caller that refuses more than ``most`` sign changes (a condition split for that many turning
+    points) gets, as soon as more than ``most`` are certified, those found so far — the first ones,
+    from ``lo`` on — instead of all: ``sin(100000·x)`` has 31,831 on [0, 1], 26 CPU s of
+    certification to say "more than 7" (bench/RESULTS.md, hostile32)."""
     lo, hi = float(mpmath.mpf(lo)), float(mpmath.mpf(hi))
     if not hi > lo:  # an empty interval (a moving end past the other): no sign change
         return []
@@ -287,6 +292,7 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     stack = [(hi if i == grid - 1 else lo + (hi - lo) * (i + 1) / grid, lo + (hi - lo) * i / grid, 0)
              for i in range(grid)][::-1]
     cells = []  # (a, b, direction), increasing; direction 0: no zero in the cell
+    monotone, ask = 0, None if most is None else most + 1  # (cells that may hold a zero; when to count)
     while stack:
         b, a, d = stack.pop()
         if g_sign(a, b):
@@ -295,6 +301,12 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
         s = dg_sign(a, b)
         if s:  # monotone: at most one zero
             cells.append((a, b, s))
+            monotone += 1
+            if ask is not None and monotone >= ask and stack and g_sign(b, b):
+                ask = 2 * monotone  # (counted again after twice as many: linear in all)
+                found = _sign_changes(g, g_sign, target, cells, what, lenient, box)
+                if len(found) > most:  # (the cells so far end at b, of known sign: sign changes of all)
+                    return found
             continue
         if d == depth:
             if lenient:

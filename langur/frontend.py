@@ -18,7 +18,10 @@ Modules.  ``from m import f`` finds ``m.lgr`` in the directory of the importing 
 NAME it was given in ``modules``; the main module's name is its file's stem.  Missing modules
 (T218), modules whose file cannot be read (T223, with the operating system's reason), import
 cycles (T219) and missing names (T220) are errors at the import.  A main file that cannot be
-read is E109 (T218 when there is no such file).
+read is E109 (T218 when there is no such file).  Files are opened without waiting for a writer
+(``langur.source.read_file``); ``wait`` (seconds of wall clock) bounds the wait for the bytes of a
+file that is not a regular file, a named pipe nobody writes to (``langur check`` passes its
+``--timeout``; the other commands' whole run is bounded by theirs): past it, T223 or E109.
 
 Incremental loading (the front end's twin of separate compilation, §9).  A module's elaborated
 form depends only on its name, its path, its bytes and the *signatures* of the modules it imports
@@ -99,31 +102,33 @@ CACHE = LoadCache()
 load_stats, reset_load_stats, clear_load_cache = CACHE.stats, CACHE.reset_stats, CACHE.clear
 
 
-def load(path: str, modules: dict[str, str] | None = None) -> Loaded:
+def load(path: str, modules: dict[str, str] | None = None, wait: float | None = None) -> Loaded:
     """Load the module in the file ``path`` and everything it imports."""
     try:
-        data = read_file(path)
+        data = read_file(path, wait)
     except FileNotFoundError:
         raise LangurError(ty.diag(Span(path, 1, 1, 1, 1), "T218", f"module not found: no file {path}")) from None
     except OSError as e:
         raise LangurError(Diagnostic(Span(path, 1, 1, 1, 1), "error", "E109",
                                      f"cannot read this file: {e.strerror or type(e).__name__}")) from None
-    return load_bytes(data, path, modules)
+    return load_bytes(data, path, modules, wait)
 
 
-def load_text(text: str, path: str = "<string>", modules: dict[str, str] | None = None) -> Loaded:
+def load_text(text: str, path: str = "<string>", modules: dict[str, str] | None = None,
+              wait: float | None = None) -> Loaded:
     """Load a module given as text (imports resolve beside ``path``, or the working directory)."""
-    return load_bytes(text.encode("utf-8"), path, modules)
+    return load_bytes(text.encode("utf-8"), path, modules, wait)
 
 
-def load_bytes(data: bytes, path: str = "<bytes>", modules: dict[str, str] | None = None) -> Loaded:
+def load_bytes(data: bytes, path: str = "<bytes>", modules: dict[str, str] | None = None,
+               wait: float | None = None) -> Loaded:
     """Load a module given as bytes (UTF-8; a decoding error is the parser's E101)."""
     with gcpause.kept():  # loading builds many small objects and no cycles, most of them kept
-        return _load_bytes(data, path, modules)
+        return _load_bytes(data, path, modules, wait)
 
 
-def _load_bytes(data: bytes, path: str, modules: dict[str, str] | None) -> Loaded:
-    loader = _Loader(modules or {})
+def _load_bytes(data: bytes, path: str, modules: dict[str, str] | None, wait: float | None) -> Loaded:
+    loader = _Loader(modules or {}, wait)
     main = loader.module(_module_name(path), path, data, None)
     if loader.errors or main is None:
         raise LangurError(loader.errors or [ty.diag(None, "T218", f"cannot load {path}")])
@@ -152,12 +157,29 @@ def _module_name(path: str) -> str:
 class _Loader:
     """Finds, parses and elaborates modules, each once; detects import cycles."""
 
-    def __init__(self, overrides: dict[str, str]):
+    def __init__(self, overrides: dict[str, str], wait: float | None = None):
         self.overrides = dict(overrides)
+        self.wait = wait  # (seconds for a module file's bytes: ``langur.source.read_file``)
         self.done: dict[str, ElaboratedModule] = {}
         self.stack: list[str] = []
         self.errors: list[Diagnostic] = []
         self.ok: dict[tuple[str, str], bool] = {}  # (name, path) -> loadable
+        self.files: dict[str, bytes | OSError | LangurError] = {}  # path -> what reading it gave
+
+    def read(self, path: str) -> bytes:
+        """The bytes of the module file ``path`` (``read_file``, waiting at most ``self.wait``), read
+        once per load however often the loader asks (``loadable``, ``key``, ``elaborate``): a named
+        pipe's bytes can be read only once, and a wait for bytes that never come is waited once."""
+        got = self.files.get(path)
+        if got is None:
+            try:
+                got = read_file(path, self.wait)
+            except (OSError, LangurError) as e:
+                got = e
+            self.files[path] = got
+        if isinstance(got, bytes):
+            return got
+        raise got
 
     def module(self, name: str, path: str, data: bytes, span: Span | None) -> ElaboratedModule | None:
         key = self.key(name, path, data) if self.loadable(name, path, data, ()) else None
@@ -230,7 +252,7 @@ class _Loader:
             dep = item.module.name
             dpath = self.overrides.get(dep) or os.path.join(os.path.dirname(path), dep + ".lgr")
             try:
-                ddata = read_file(dpath)
+                ddata = self.read(dpath)
             except (OSError, LangurError):
                 ok = False
                 break
@@ -255,7 +277,7 @@ class _Loader:
             return self.done[name]
         where = "given by --module" if name in self.overrides else "beside the importing file"
         try:
-            data = read_file(path)
+            data = self.read(path)
         except FileNotFoundError:
             self.errors.append(ty.diag(span, "T218", f"module `{name}` not found: no file {path} ({where})"))
             return None

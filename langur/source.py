@@ -1,13 +1,22 @@
 """A program's bytes read from a file or a stream, bounded (E108): what the front end reads — FILE,
 standard input, and every module a program imports — never fills memory, whatever the file is
-(``/dev/zero``, an endless pipe, a link to a huge file)."""
+(``/dev/zero``, an endless pipe, a link to a huge file), and a named file is never waited for
+without a bound: opening a named pipe that no program writes to does not block, and its reader
+waits for bytes at most as long as it was told (:func:`read_file`)."""
 
 from __future__ import annotations
 
+import errno
 import os
 import stat
+import time
 
+from . import lazy
 from .diagnostics import Span, error
+
+# Waiting for a pipe's bytes, imported when a file that is not a regular file is read (3 ms of every
+# process's start-up otherwise: issue 15's one-shot target).
+select = lazy.module("select")
 
 #: Most bytes a source may have: a program has at most a million characters outside comments and
 #: white space (E108, ``langur.syntax.parser``), so this leaves room for comments; past it the
@@ -38,7 +47,49 @@ def read_source(fh, path: str) -> bytes:
                 "has at most 1,000,000 characters outside comments and white space)")
 
 
-def read_file(path: str) -> bytes:
-    """The bytes of the file ``path`` (:func:`read_source`); OSError as ``open`` raises it."""
-    with open(path, "rb") as fh:
-        return read_source(fh, path)
+def read_file(path: str, wait: float | None = None) -> bytes:
+    """The bytes of the file ``path`` (:func:`read_source`); OSError as ``open`` raises it.
+
+    The file is opened without blocking (``O_NONBLOCK``): a plain ``open`` of a named pipe waits,
+    uninterruptibly by a CPU-time limit, until some program opens it for writing — forever if none
+    does (``langur check`` of a program importing such a "module" sat there for its 605 s
+    backstop, bench/RESULTS.md, hostile32).  A regular file is then read as before; anything else
+    (a pipe, a device) is read as its bytes arrive, and when ``wait`` (seconds of wall clock) is
+    given, :class:`TimeoutError` (an OSError, ETIMEDOUT) says that it was not all there by then.
+    Without ``wait`` the caller's own time limit bounds the read."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    with os.fdopen(fd, "rb", buffering=0) as fh:
+        st = os.fstat(fd)
+        if stat.S_ISDIR(st.st_mode):  # (``open`` refuses a directory; ``os.open`` does not)
+            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), path)
+        if stat.S_ISREG(st.st_mode):
+            os.set_blocking(fd, True)
+            return read_source(fh, path)
+        return read_source(_Arriving(fd, wait), path)
+
+
+class _Arriving:
+    """A non-blocking descriptor read as a blocking file would be (``read(n)``: up to n bytes, b""
+    at the end), each read waiting (``poll``) for bytes until ``wait`` seconds after the first."""
+
+    def __init__(self, fd: int, wait: float | None):
+        self.fd = fd
+        self.wait = wait
+        self.end = None if wait is None else time.monotonic() + wait
+
+    def fileno(self) -> int:
+        return self.fd
+
+    def read(self, n: int) -> bytes:
+        poller = select.poll()
+        poller.register(self.fd, select.POLLIN)
+        while True:
+            left = None if self.end is None else self.end - time.monotonic()
+            if left is not None and left <= 0:
+                raise TimeoutError(errno.ETIMEDOUT, f"nothing to read after {self.wait:g} s (a named pipe no "
+                                   "program writes to?)")
+            if poller.poll(None if left is None else max(1, round(left * 1000))):
+                try:
+                    return os.read(self.fd, n)
+                except BlockingIOError:  # (woken, but another reader was first)
+                    continue

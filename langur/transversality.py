@@ -94,13 +94,9 @@ def check_loaded(
     if loaded.program is None:
         return []
     sources = dict(sources or {})
-    for m in loaded.modules.values():
+    for m in loaded.modules.values():  # (the bytes the load read: a named pipe cannot be read again)
         if m.path not in sources:
-            try:
-                with open(m.path, encoding="utf-8") as fh:
-                    sources[m.path] = fh.read()
-            except OSError:
-                pass
+            sources[m.path] = m.source.decode("utf-8", errors="replace")
     return check_program(
         loaded.program,
         loaded.params,

@@ -16,7 +16,7 @@ import numpy  # noqa: F401
 
 from .. import frontend, lazy, progress
 from ..cli import UsageError, parse_assignments, parse_modules, refuse_unimported_modules
-from ..source import read_source
+from ..source import read_file, read_source
 
 #: json only for ``--json`` output (as in :mod:`langur.cli`).
 json = lazy.module("json")
@@ -35,8 +35,7 @@ def load(args, path: str | None = None):
         raise UsageError(f"{path}: is a directory")
     else:
         try:
-            with open(path, "rb") as fh:
-                data = read_source(fh, path)
+            data = read_file(path)  # (a named pipe: waited for within the command's --timeout)
         except OSError as e:  # as for a missing file: status 2 (langur check reports it as E109)
             raise UsageError(f"{path}: cannot read this file ({e.strerror or type(e).__name__})") from None
     with progress.phase("reading and type-checking"):

@@ -162,7 +162,7 @@ def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, re
     text = data.decode("utf-8", errors="replace")
     sources = {name: text}
     try:
-        loaded = frontend.load_bytes(data, name, modules=modules)
+        loaded = frontend.load_bytes(data, name, modules=modules, wait=args.timeout)
     except LangurError as e:
         reports.extend(Report(d) for d in e.diagnostics)
         return
@@ -174,7 +174,7 @@ def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, re
             if args.fix and not args.diff:  # report what remains in the rewritten file
                 name = STDIN_NAME if name == STDIN_NAME else fixmod.target(name, args.in_place)
                 text, sources = fixed.after, {name: fixed.after}
-                loaded = frontend.load_text(text, name, modules=modules)
+                loaded = frontend.load_text(text, name, modules=modules, wait=args.timeout)
     here = {k: v for k, v in at.items() if k in loaded.params}
     used_at |= set(here)
     if loaded.program is None:  # a library module: each def on its own
@@ -182,12 +182,8 @@ def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, re
     else:
         findings = None
     for m in loaded.modules.values():  # imported modules: quoted in messages, their # noqa honoured
-        if m.path not in sources and os.path.isfile(m.path):
-            try:
-                with open(m.path, encoding="utf-8", errors="replace") as fh:
-                    sources[m.path] = fh.read()
-            except OSError:
-                pass
+        if m.path not in sources:  # (the bytes the load read: a named pipe cannot be read again)
+            sources[m.path] = m.source.decode("utf-8", errors="replace")
     if findings is None:
         findings = check_loaded(loaded, at=here, sources=sources)
     prover = (
@@ -229,8 +225,8 @@ def run(args) -> int:
         try:
             if stdin:
                 data = read_source(sys.stdin.buffer, name)
-            else:  # within the budget, of wall clock: opening a named pipe no program writes to never returns
-                data = run_with_timeout(lambda f=f: read_file(f), args.timeout)
+            else:  # within the budget, of wall clock: a named pipe no program writes to has nothing to read
+                data = read_file(f, wait=args.timeout)
         except TimeoutError:
             inputs.append((f, None, unreadable(f, TimeoutError(errno.ETIMEDOUT, f"nothing to read after {args.timeout:g} s "
                                                                "(--timeout; a named pipe no program writes to?)"))))

@@ -21,7 +21,7 @@ import sympy as sp
 
 from langur.core import TooManyRoots
 from langur.enclosures import DEPTH, certified_brackets, interval_function
-from langur.implicit.equations import LENIENT, SPANS, form, polynomial_coefficients, too_many_roots
+from langur.implicit.equations import COUNTED, LENIENT, SPANS, form, polynomial_coefficients, too_many_roots
 from langur.implicit.solvers import bracketed_root
 from langur.memo import remember
 from langur.sturm import sturm_brackets
@@ -43,10 +43,11 @@ def evalf_root(args, prec):
         fn = lambda z: compiled(z, *values)  # noqa: E731
         t, a, b = (mpmath.mpf(sp.Float(v.evalf(dps), dps)) for v in (target, lo, hi))
         if index >= 0:  # the index-th of the certified brackets of the sign changes, then bisected
+            most = max(int(of), COUNTED)
             brackets = [(mpmath.mpf(p), mpmath.mpf(q)) for p, q in _brackets_at(x, shape, consts, float(t), float(a),
-                                                                                   float(b))]
-            if len(brackets) > of:
-                raise too_many_roots(len(brackets), float(a), float(b), of, x)
+                                                                                   float(b), most)]
+            if len(brackets) > of:  # (past ``most``, the first ones only: _brackets_at stops there)
+                raise too_many_roots(len(brackets), float(a), float(b), of, x, at_least=len(brackets) > most)
             if index >= len(brackets):
                 return sp.Float(b, dps)
             a, b = brackets[int(index)]
@@ -112,11 +113,11 @@ def _shape_compiled(x, shape: sp.Expr, n: int) -> tuple:
 
 
 @lru_cache(maxsize=4096)
-def _brackets_at(x, shape, consts: tuple, t: float, a: float, b: float) -> tuple:
+def _brackets_at(x, shape, consts: tuple, t: float, a: float, b: float, most: int | None = None) -> tuple:
     """The certified brackets of the sign changes of ``f − t`` (``f`` in ``x`` only: ``shape``
     with the constants ``consts``, :func:`_shape`) on ``[a, b]``, found once for every index and
     precision: in double precision, since the certificate does not depend on the precision the
-    root is wanted in."""
+    root is wanted in.  More than ``most`` of them: the first ones only (``certified_brackets``)."""
     coefficients = polynomial_coefficients(x, shape, tuple(_PLACEHOLDERS[:len(consts)]))
     if coefficients is not None and all(math.isfinite(v) for v in (t, a, b)):
         # a polynomial: its sign changes isolated exactly (no enclosure), unless two roots (or a
@@ -133,7 +134,7 @@ def _brackets_at(x, shape, consts: tuple, t: float, a: float, b: float) -> tuple
         try:
             found = certified_brackets(lambda z: fn(z, *mp), g_iv.bind(*iv), dg_iv.bind(*iv), t, a, b,
                                        what=f"{shape.xreplace(dict(zip(_PLACEHOLDERS, consts)))}",
-                                       lenient=x in LENIENT)
+                                       lenient=x in LENIENT, most=most)
         except TooManyRoots as err:
             raise TooManyRoots(str(err), SPANS.get(x)) from None
     return tuple((float(p), float(q)) for p, q in found)

@@ -22,7 +22,7 @@ import sympy as sp
 
 from langur.core import TooManyRoots
 from langur.enclosures import certified_brackets, interval_function
-from langur.implicit.equations import LENIENT, SPANS, form, polynomial_coefficients, too_many_roots
+from langur.implicit.equations import COUNTED, LENIENT, SPANS, form, polynomial_coefficients, too_many_roots
 from langur.implicit.solvers import double_root
 from langur.memo import make_room
 from langur.sturm import sturm_brackets
@@ -140,10 +140,11 @@ def _indexed_at(key: str, target, lo, hi, index, of, *values) -> float:
     if t != t or a != a or b != b:  # NaN
         return math.nan
     vals = tuple(map(float, values))
-    brackets = _brackets_of(key, t, a, b, vals)
-    if len(brackets) > of:
+    most = max(int(of), COUNTED)
+    brackets = _brackets_of(key, t, a, b, vals, most)
+    if len(brackets) > of:  # (past ``most``, the first ones only: certified_brackets stops there)
         lam, _ = _INDEXED[key]
-        raise too_many_roots(len(brackets), a, b, of, lam.variables[0])
+        raise too_many_roots(len(brackets), a, b, of, lam.variables[0], at_least=len(brackets) > most)
     if index >= len(brackets):
         return b
     p, q = brackets[index]
@@ -235,12 +236,12 @@ def _code_of(f):
 
 
 @lru_cache(maxsize=65536)
-def _brackets_of(key: str, t: float, a: float, b: float, vals: tuple) -> tuple:
+def _brackets_of(key: str, t: float, a: float, b: float, vals: tuple, most: int | None = None) -> tuple:
     """:func:`langur.implicit.evalf._brackets_at` for the equation named ``key`` at these values of its other symbols:
     those certified once for a box of them holding these values (:func:`_box_brackets`), else
     certified at these values."""
     if vals:
-        found = _box_brackets(key, t, a, b, vals)
+        found = _box_brackets(key, t, a, b, vals, most)
         if found is not None:
             return found
     lam, _ = _INDEXED[key]
@@ -256,7 +257,7 @@ def _brackets_of(key: str, t: float, a: float, b: float, vals: tuple) -> tuple:
         try:
             found = certified_brackets(lambda z: fn(z, *mp_vals), g_iv.bind(*iv_vals),
                                        dg_iv.bind(*iv_vals), t, a, b, what=f"{lam.expr}",
-                                       lenient=x in LENIENT)
+                                       lenient=x in LENIENT, most=most)
         except TooManyRoots as err:
             raise TooManyRoots(str(err), SPANS.get(x)) from None
     return tuple((float(p), float(q)) for p, q in found)
@@ -275,7 +276,7 @@ BOXES = 200_000
 _UNSEEN = object()
 
 
-def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple | None:
+def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple, most: int | None = None) -> tuple | None:
     """The certified brackets of the indexed root's sign changes for every value of its other
     symbols in a dyadic box holding ``vals`` (the widest of :data:`BOX_LEVELS` that certifies,
     :func:`langur.enclosures.certified_brackets` with ``box``): a quadrature over those symbols
@@ -290,7 +291,7 @@ def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple 
     for level in BOX_LEVELS:
         w = 2.0 ** level
         cell = (math.floor(vals[0] / w),) if len(vals) == 1 else tuple(math.floor(v / w) for v in vals)
-        k = (shared, t, a, b, level, cell)
+        k = (shared, t, a, b, level, cell, most)
         found = _BOXES.get(k, _UNSEEN)
         if found is _UNSEEN:
             make_room(_BOXES, BOXES, at_once=True)
@@ -299,7 +300,7 @@ def _box_brackets(key: str, t: float, a: float, b: float, vals: tuple) -> tuple 
                 try:
                     found = tuple((float(p), float(q)) for p, q in certified_brackets(
                         None, g_iv.bind(*box), dg_iv.bind(*box), t, a, b, depth=BOX_DEPTH,
-                        box=True))
+                        box=True, most=most))
                 except TooManyRoots:
                     found = None
             _BOXES[k] = found

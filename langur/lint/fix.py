@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import difflib
 import os
+import stat
 import tempfile
 from dataclasses import dataclass
 
@@ -132,6 +133,8 @@ def check_writable(f: Fix, in_place: bool) -> None:
             raise FixError(f"{dest} exists: not overwritten (remove it, or use --diff)")
         return
     try:
+        if not stat.S_ISREG(os.stat(f.path).st_mode):  # a named pipe: reading it again waits for a writer
+            raise FixError(f"{f.path} is not a regular file: not rewritten in place (use --fix without --in-place)")
         with open(f.path, encoding="utf-8") as fh:
             now = fh.read()
     except OSError as e:

@@ -32,7 +32,7 @@ from .estimate import LOW_HITS, _inside, prepare
 from .link import CACHE, CompileCache, Linked
 from .pcg64 import Stream
 from .point import DELTA, TANGENT, VALUE, Point, full
-from .sample import design
+from .sample import design, spread, volume_parts
 
 #: At most this many samples (points × samples per point) are evaluated in one pass.
 CHUNK = 1_000_000
@@ -146,27 +146,45 @@ def _chunk(linked: Linked, grid: dict, dp: dict | None, samples: int, seed: int,
     d = design(rng, m, samples, method)
     n = d.points.shape[0]
     lo, hi = _box(linked, grid, npts)
-    width = hi - lo
+    with np.errstate(over="ignore"):  # (a box beyond the doubles: handled below)
+        width = hi - lo
     undefined = np.any(np.isnan(lo) | np.isnan(hi), axis=1)
     empty = ~undefined & np.any(~(hi > lo), axis=1)
     volume = np.prod(np.where(empty[:, None], 1.0, width), axis=1)
     pts = lo[:, None, :] + d.points[None, :, :] * width[:, None, :]
+    wide = ~np.isfinite(volume) & ~undefined & ~empty  # boxes beyond the doubles ([−1e308, 1e308])
+    if np.any(wide):
+        pts[wide] = spread(lo[wide, None, :], hi[wide, None, :], d.points[None, :, :])
+        mantissa, exponent = volume_parts(lo[wide], hi[wide])
+        volume = volume.copy()
+        volume[wide] = mantissa
+    else:
+        exponent = None
     x = {v: pts[:, :, i].reshape(npts * n) for i, v in enumerate(linked.variables)}
     rep = {k: np.repeat(v, n) for k, v in grid.items()}
     out = {}
     with np.errstate(all="ignore"):
         f = full(_run(linked, x, rep, mode=VALUE)[0], npts * n).reshape(npts, n)
         mean, se = _rows_mean(d, f)
-        out["value"], out["se"] = _finish(volume * mean, volume * se, empty, undefined)
+        out["value"], out["se"] = _finish(*_times(volume, exponent, wide, mean, se), empty, undefined)
         if dp is None:
             return out
         g = full(_run(linked, x, rep, dparams=dp, mode=TANGENT)[1], npts * n).reshape(npts, n)
         mean, se = _rows_mean(d, g)
-        out["reg"], out["reg_se"] = _finish(volume * mean, volume * se, empty, undefined)
+        out["reg"], out["reg_se"] = _finish(*_times(volume, exponent, wide, mean, se), empty, undefined)
         bnd, var, low, degenerate = _boundary(linked, grid, dp, rng, samples, method, lo, hi, npts)
         out["bnd"], out["bnd_se"] = _finish(bnd, np.sqrt(var), empty, undefined)
         out["low"], out["degenerate"] = low, degenerate & ~empty
     return out
+
+
+def _times(volume: np.ndarray, exponent, wide: np.ndarray, mean: np.ndarray, se: np.ndarray):
+    """volume · mean and volume · se, where the rows ``wide`` hold their volume as mantissa · 2**exponent
+    (``sample.volume_parts``; ``exponent`` None: no such row)."""
+    est, err = volume * mean, volume * se
+    if exponent is not None:
+        est[wide], err[wide] = np.ldexp(est[wide], exponent), np.ldexp(err[wide], exponent)
+    return est, err
 
 
 def _finish(est: np.ndarray, se: np.ndarray, empty: np.ndarray, undefined: np.ndarray):

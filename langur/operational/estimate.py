@@ -15,7 +15,7 @@ from .link import CACHE, CompileCache, Linked, compile_program, link
 from .pcg64 import Stream
 from .point import DELTA, TANGENT, VALUE, Point, full
 from .results import DerivativeEstimate, Estimate, ValueEstimate
-from .sample import design, evaluate_box
+from .sample import design, evaluate_box, spread, volume_parts
 
 #: Most nodes the program may have written out as a tree: this engine evaluates it path by path
 #: (each call of a definition is a linked instance with its own sampling sites, §9), so a
@@ -68,18 +68,26 @@ def prepare(program_or_loaded, params: dict, sites: str = "inlined", direction: 
 
 
 def _domain(linked: Linked, params: dict, rng, samples: int, method: str):
-    """Uniform-design points in Program.box: (points dict, volume, design), or None if empty."""
+    """Uniform-design points in Program.box: (points dict, volume, exponent, design), the box's
+    volume being volume · 2**exponent (exponent 0 unless it is no double: ``sample.volume_parts``);
+    points None if the box is empty or undefined."""
     box = evaluate_box(linked.box_fns, params)
     m = len(linked.variables)
     d = design(rng, m, samples, method)
     if any(math.isnan(lo) or math.isnan(hi) for lo, hi in box):
-        return None, math.nan, d  # a bound outside its primitive's domain: the integral is undefined
+        return None, math.nan, 0, d  # a bound outside its primitive's domain: the integral is undefined
     if any(not (hi > lo) for lo, hi in box):
-        return None, 0.0, d
+        return None, 0.0, 0, d
     lo = np.array([b[0] for b in box])
     width = np.array([b[1] - b[0] for b in box])
-    pts = lo + d.points * width
-    return {x: pts[:, i] for i, x in enumerate(linked.variables)}, float(np.prod(width)), d
+    volume, exponent = float(np.prod(width)), 0
+    if math.isfinite(volume):
+        pts = lo + d.points * width
+    else:  # a box beyond the doubles ([−1e308, 1e308]: its width is ∞)
+        hi = np.array([b[1] for b in box])
+        pts = spread(lo, hi, d.points)
+        volume, exponent = (float(v) for v in volume_parts(lo, hi))
+    return {x: pts[:, i] for i, x in enumerate(linked.variables)}, volume, int(exponent), d
 
 
 def _run(linked: Linked, x, params, **point) -> tuple:
@@ -165,7 +173,7 @@ def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: 
     """vol(box) · mean over a design in Program.box of ``linked.fn``'s value (``part`` 0) or tangent
     (``part`` 1), with its standard error and the number of points: ``(estimate, stderr, n)``;
     :func:`tail_notes` of the samples are appended to ``notes``."""
-    x, volume, d = _domain(linked, p, rng, samples, method)
+    x, volume, exponent, d = _domain(linked, p, rng, samples, method)
     n = d.points.shape[0]
     if x is None:  # an empty or undefined box
         return (0.0, 0.0, n) if volume == 0.0 else (math.nan, math.nan, n)
@@ -173,6 +181,8 @@ def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: 
     if notes is not None:
         notes += tail_notes(np.asarray(f), lambda bad: _overflows(linked, x, p, bad, **point))
     mean, se = d.mean(f)
+    if exponent:  # ± ∞ only where the estimate itself is no double
+        return float(np.ldexp(volume * mean, exponent)), float(np.ldexp(volume * se, exponent)), n
     return volume * mean, volume * se, n
 
 

@@ -74,11 +74,37 @@ def design(rng: Stream | np.random.Generator, m: int, samples: int, method: str)
     return Design(points, method, groups)
 
 
+# -- boxes beyond the doubles ---------------------------------------------------------------------
+# A box of doubles can be wider than any double: [−1e308, 1e308] is 2e308 long, so hi − lo is ∞,
+# lo + u·∞ is ∞ or NaN (u = 0), and vol · mean is ∞·0 = NaN where the integral is 0
+# (bench/RESULTS.md, hostile32).  Both are computed differently only there: an ordinary box keeps
+# its very points and volume.
+
+def spread(lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
+    """The points lo·(1 − u) + hi·u of the box [lo, hi] for the unit-cube points ``unit`` (arrays
+    that broadcast): where hi − lo is a double, :func:`design`'s callers' ``lo + u·(hi − lo)``;
+    the form here where it is not."""
+    return lo * (1 - unit) + hi * unit
+
+
+def volume_parts(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The volumes Π (hi − lo) along the last axis as ``mantissa · 2**exponent`` (numpy's frexp of
+    each side, whose halves are doubles: hi/2 − lo/2), for boxes whose volume is no double; an
+    estimate vol · mean is then ``np.ldexp(mantissa · mean, exponent)``, ±∞ only when it is."""
+    f, e = np.frexp(hi / 2 - lo / 2)
+    return np.prod(f, axis=-1), np.sum(e + 1, axis=-1)
+
+
 # -- sampling the zero set of one condition -------------------------------------------------------
 
 #: Cells per coordinate of the grid over the u'-box that :meth:`SiteSampler.shrink` encloses
 #: (for one, two, three or more coordinates).
 SHRINK_CELLS = (64, 16, 6)
+#: Most cells of that grid, per parameter point: with more coordinates each gets fewer cells (6 per
+#: coordinate were 6⁴⁰ cells for a zero set in 41 variables, an out-of-memory:
+#: bench/RESULTS.md, hostile32) — down to one, the u'-box itself, which still finds a zero set
+#: missing the box.
+SHRINK_MOST = 6 ** 5
 #: Rounds of shrinking, while a round still removes more than 1 − SHRINK_ENOUGH of the volume.
 SHRINK_ROUNDS, SHRINK_ENOUGH = 8, 0.8
 #: The narrower box replaces the u'-box only when its volume is at most this fraction of it.
@@ -224,6 +250,8 @@ class SiteSampler:
     def _shrink_once(self, lo, hi, box, params):
         npts, m = lo.shape
         k = SHRINK_CELLS[min(m, len(SHRINK_CELLS)) - 1]
+        while k > 1 and k ** m > SHRINK_MOST:
+            k -= 1
         edges = np.linspace(lo, hi, k + 1, axis=2)  # (P, m, k + 1)
         cells = np.array(list(itertools.product(range(k), repeat=m)))  # (K, m)
         cell = {self.psi.inputs[0]: (np.zeros((1, 1)), np.zeros((1, 1)))}

@@ -27,7 +27,7 @@ from langur.symbolic.quadrature.fold import (
 from langur.symbolic.quadrature.foldcurve import _add_fold_turns
 from langur.symbolic.quadrature.gausskronrod import UNVECTORIZABLE, _first_panel
 from langur.symbolic.quadrature.kinks import _breakpoints, _kink_functions
-from langur.symbolic.quadrature.problem import NumProblem, UndefinedIntegral
+from langur.symbolic.quadrature.problem import MOST_LEVELS, NumProblem, TooManyLevels, UndefinedIntegral
 from langur.symbolic.quadrature.rounding import REACH, end_allowance, flat_size, uncertainty
 from langur.symbolic.quadrature.tolerance import _OUTER, BOUNDARY, EPSABS, NARROW
 
@@ -393,6 +393,10 @@ def integrate_problem(p: NumProblem) -> tuple[float, float]:
         if not math.isfinite(v):
             raise UndefinedIntegral(f"the integrand is undefined ({v}) at the evaluation point")
         return v, 0.0
+    if len(p.bounds) > MOST_LEVELS:
+        raise TooManyLevels(f"nested quadrature over {len(p.bounds)} variables is out of reach (at least "
+                            f"21^{len(p.bounds)} = {21.0 ** len(p.bounds):.1e} evaluations of the integrand; at most "
+                            f"{MOST_LEVELS} variables are tried)")
     p.errors.clear()
     p.narrow_allow = 0.0
     p.round_last.clear()

@@ -67,6 +67,18 @@ class BeyondRange(OverflowError):
         self.reason = reason
 
 
+class TooManyLevels(ValueError):
+    """Nested quadrature over more variables than it can finish (:data:`MOST_LEVELS`): not a verdict
+    on the integral; the exact engine reports no value, at once instead of after its time limit."""
+
+
+#: Most variables nested quadrature is tried over: each level evaluates what is inside it at least
+#: 21 times (the 21-point Gauss–Kronrod rule of its first panel), so d levels cost at least 21^d
+#: evaluations of the integrand — 8.6·10⁷ at d = 6, 1.8·10⁹ at d = 7, hours at microseconds each; a
+#: program in 41 variables ran until its 600 s limit (bench/RESULTS.md, hostile32).
+MOST_LEVELS = 6
+
+
 @dataclass
 class NumProblem:
     conds: list[NumCond]
