@@ -186,7 +186,7 @@ def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: 
     if notes is not None:
         notes += tail_notes(np.asarray(f), lambda bad: _overflows(linked, x, p, bad, **point))
     mean, se = d.mean(f)
-    return volume * mean, volume * se, n, bool(np.any(f))
+    return volume * mean, volume * se, n, mean != 0 or se != 0 or bool(np.any(f))  # (any: only for 0 ± 0)
 
 
 def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, samples: int = 10000,
@@ -292,9 +292,9 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
     starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
     if notes is not None:  # (a delta's score too large for a float: the estimate is not a number)
         notes += _not_finite(score, "samples on the discontinuities")
-    hit = bool(np.any(score))
     if all(des.method == "exact" for _, des, _, _ in plan):  # one variable: every root once, exactly
-        return float(np.sum(np.add.reduceat(score, starts))), 0.0, hit
+        total = float(np.sum(np.add.reduceat(score, starts)))
+        return total, 0.0, total != 0 or bool(np.any(score))  # (any: only for an exact 0)
     total, var = 0.0, 0.0
     for (_k, des, volume, branches), at, c in zip(plan, starts, counts):
         # per u'-point, the sum over branches; then the design's mean and standard error
@@ -306,4 +306,4 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
         mean, se = des.mean(f)
         total += volume * mean
         var += (volume * se) ** 2
-    return total, var, hit
+    return total, var, total != 0 or var != 0 or bool(np.any(score))

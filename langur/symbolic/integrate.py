@@ -7,11 +7,15 @@
 (regions from the conditions, sympy only on smooth integrands with plain bounds, every sympy call
 time-boxed), and every piece is also integrated by the independent adaptive quadrature of
 :mod:`langur.symbolic.quadrature`.  A closed form that disagrees with its quadrature (relative +
-absolute tolerance ~1e-7) is an internal inconsistency: the quadrature is reported instead, with a
-note, and the result's ``inconsistent`` lists what disagreed.  A piece without a closed form (no
-elementary antiderivative, unsolvable condition, time limit) falls back to its quadrature: the
-result's ``method`` is then ``Method.QUADRATURE``, ``expr`` is None, ``error`` the quadrature's error
-estimate, and the notes keep the exact part.
+absolute tolerance ~1e-7) is judged by an interval enclosure of the piece's integral
+(:mod:`langur.symbolic.quadrature.enclosed`, a proof): kept, with a note, when the enclosure holds
+it and excludes the quadrature (a peak between quad's samples); otherwise an internal inconsistency:
+the quadrature is reported instead, with a note, and the result's ``inconsistent`` lists what
+disagreed.  A piece without a closed form (no elementary antiderivative, unsolvable condition, time
+limit) falls back to its quadrature: the result's ``method`` is then ``Method.QUADRATURE``, ``expr``
+is None, ``error`` the quadrature's error estimate, ``proved`` the bound an enclosure proves (None:
+none; a quadrature outside its enclosure is replaced by the enclosure's midpoint), and the notes
+keep the exact part.
 
 Notes convention (for the CLI): the first note is one of
 ``"closed form valid for all parameter values"`` or
@@ -440,7 +444,9 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
         conds = [Cond(sp.sympify(c.expr), psi=c.psi) for c in pc.conditions]
         return [(conds, sp.sympify(pc.weight))], list(variables), boxd
 
-    prove = _prover(pieces, variables, box, ctx) if symbolic and proofs else None
+    # (not within :func:`untidied`: ``langur fuzz`` compares values under a per-program time limit, which
+    # the proofs' tenths of a second per quadrature piece would change; bench/RESULTS.md, exact32)
+    prove = _prover(pieces, variables, box, ctx) if symbolic and proofs and for_reading() else None
     exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "piece", converged, symbolic, prove)
     return _finish(exacts, quads, why, ctx, "pieces", converged, prove)
 
