@@ -222,6 +222,8 @@ class DerivativeResult:
     inconsistent: tuple[str, ...] = ()
     #: the evaluation point (parameter symbols → exact values), for presenting ``expr``
     at: dict = field(default_factory=dict)
+    #: a proved bound on |value − ⦇p⦈| (the parts' :attr:`Integral.proved`, a closed form's 0), or None
+    proved: float | None = None
 
     @property
     def standard_ad(self) -> float:
@@ -301,4 +303,16 @@ def ddenote_program(program: Program, at: Mapping[str, object] | None, direction
         value=regular.value + boundary.value, regular=regular, boundary=boundary, expr=expr,
         method=Method.CLOSED_FORM if exact else Method.QUADRATURE, error=regular.error + boundary.error,
         normal_form=nf, notes=list(regular.notes) + [n for n in boundary.notes if n not in regular.notes],
-        inconsistent=regular.inconsistent + boundary.inconsistent, at=dict(point))
+        inconsistent=regular.inconsistent + boundary.inconsistent, at=dict(point),
+        proved=_proved(regular, boundary))
+
+
+def _proved(*parts: Integral) -> float | None:
+    """The sum of the parts' proved error bounds (a closed form's is 0); None if one has none."""
+    total = 0.0
+    for part in parts:
+        if part.method != Method.CLOSED_FORM:
+            if part.proved is None:
+                return None
+            total += part.proved
+    return total

@@ -32,7 +32,7 @@ from .symbolic.decompose import Ctx
 from .symbolic.integrate import for_reading
 from .symbolic.nounits import units_unloaded
 from .symbolic.pieces import Method
-from .symbolic.quadrature import ESTIMATE, UndefinedIntegral, printable
+from .symbolic.quadrature import UndefinedIntegral, printable
 from .symbolic.readable import Readable, readable
 from .symbolic.text import (
     delta_text,
@@ -100,7 +100,8 @@ def _guard(fn, *args, **kwargs):
 class ExactValue:
     """⟦p⟧ at the parameters: ``expr`` the closed form as text (None: quadrature only, or no text
     wanted: ``integrate.untidied``), ``error``
-    a bound on |value − ⟦p⟧| for quadrature (None for a closed form)."""
+    quadrature's estimate of |value − ⟦p⟧| (None for a closed form), ``proved`` a bound on it that
+    interval enclosures prove (None: none proved; :mod:`langur.symbolic.quadrature.enclosed`)."""
 
     value: float
     expr: str | None
@@ -109,6 +110,7 @@ class ExactValue:
     notes: list[str]
     #: closed forms discarded because their quadrature cross-check failed (an engine bug)
     inconsistent: tuple[str, ...] = ()
+    proved: float | None = None
 
     @classmethod
     def of(cls, r) -> ExactValue:
@@ -118,7 +120,8 @@ class ExactValue:
         if text is None and r.expr is not None and for_reading():
             notes.append(f"closed form of more than {UNPRINTED_OPS:,} nodes: not printed")
         return cls(float(r.value), text, r.method,
-                   None if r.method == Method.CLOSED_FORM else float(r.error), notes, r.inconsistent)
+                   None if r.method == Method.CLOSED_FORM else float(r.error), notes, r.inconsistent,
+                   None if r.method == Method.CLOSED_FORM or r.proved is None else float(r.proved))
 
     def how(self) -> str:
         """How the value was obtained, for the text output."""
@@ -126,9 +129,11 @@ class ExactValue:
             return "closed form"
         if self.error is None:
             return "quadrature"
-        if ESTIMATE in self.notes:  # a range wider than 1e4 sampled: no bound to claim
+        if self.proved is None:  # sampling alone: nothing excludes a peak between the samples
             return f"quadrature, error estimate {self.error:.3g}"
-        return f"quadrature, error ≤ {self.error:.3g}"
+        if self.proved <= self.error:
+            return f"quadrature, error ≤ {self.error:.3g}"
+        return f"quadrature, error estimate {self.error:.3g}, proved ≤ {self.proved:.3g}"
 
     def to_json(self) -> dict:
         """The ``exact`` object of ``langur eval --json`` (CLI.md)."""
@@ -192,7 +197,7 @@ def exact_deriv(program: Program, params: Mapping[str, float | object], directio
             notes.append(CHECK_STOPPED if spent else f"Theorem 8.1 check not computed: {e}")
         except Exception as e:  # noqa: BLE001 - the check is a report, not a reason to lose the derivative
             notes.append(f"Theorem 8.1 check not computed: {failures.why(e)}")
-    return ExactDerivative(base.value, base.expr, base.method, base.error, notes, base.inconsistent,
+    return ExactDerivative(base.value, base.expr, base.method, base.error, notes, base.inconsistent, base.proved,
                            regular=float(res.regular.value),
                            boundary=float(res.boundary.value), standard_ad=float(res.standard_ad),
                            theorem_8_1=theorem)

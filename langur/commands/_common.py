@@ -181,8 +181,10 @@ def fmt_se(stderr, value=None) -> str:
 AGREE_SE = 5.0
 
 
-def agreement(exact_value, exact_error, mc_value, mc_stderr) -> str:
-    """One line: do the exact and Monte Carlo engines agree, and by how many standard errors."""
+def agreement(exact_value, exact_error, mc_value, mc_stderr, all_zero: bool = False) -> str:
+    """One line: do the exact and Monte Carlo engines agree, and by how many standard errors;
+    ``all_zero``: every Monte Carlo sample was 0 (its standard error 0 bounds nothing, so an
+    agreement is no evidence: bench/RESULTS.md, exact32)."""
     diff = abs(float(exact_value) - float(mc_value))
     slack = float(exact_error or 0.0) + 1e-12 * (1 + abs(float(exact_value)))
     se = float(mc_stderr)
@@ -192,8 +194,10 @@ def agreement(exact_value, exact_error, mc_value, mc_stderr) -> str:
         return f"engines not compared (the {' and the '.join(which)} {'is' if len(which) == 1 else 'are'} not finite)"
     if se <= 0:
         ok = diff <= slack
+        why = (f"every MC sample was 0: {'consistent, not evidence' if ok else 'MC saw none of the mass'};"
+               if all_zero else "MC SE = 0,")  # (an SE of 0 from all-zero samples bounds nothing)
         return (f"engines {'agree' if ok else 'DISAGREE'}: |exact − MC| = {diff:.2g} "
-                f"(MC SE = 0{', exact ± ' + format(float(exact_error), '.2g') if exact_error else ''})")
+                f"({why[:-1]}{why[-1] + ' exact ± ' + format(float(exact_error), '.2g') if exact_error else ''})")
     k = max(0.0, diff - slack) / se
     ok = k <= AGREE_SE
     return (f"engines {'agree' if ok else 'DISAGREE'}: |exact − MC| = {diff / se:.1f} SE"

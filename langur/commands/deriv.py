@@ -132,7 +132,7 @@ def run(args) -> int:
               f"({mc.samples} samples, {mc.method}, seed {mc.seed})")
         print_mc_notes(mc, "                ")
     if exact is not None and mc is not None:
-        print("  agree       : " + c.agreement(exact.value, exact.error, mc.value, mc.stderr))
+        print("  agree       : " + c.agreement(exact.value, exact.error, mc.value, mc.stderr, mc.all_zero))
     if standard_ad is not None:
         print(f"  standard AD : {c.fmt_mc(standard_ad['value'], standard_ad['stderr'])} ± "
               f"{c.fmt_se(standard_ad['stderr'], standard_ad['value'])}"

@@ -80,7 +80,7 @@ def run(args) -> int:
               f"({mc.samples} samples, {mc.method}, seed {mc.seed})")
         print_mc_notes(mc, "          ")
     if exact is not None and mc is not None:
-        print("  agree : " + c.agreement(exact.value, exact.error, mc.value, mc.stderr))
+        print("  agree : " + c.agreement(exact.value, exact.error, mc.value, mc.stderr, mc.all_zero))
     if named is not None:
         print_named(named, 6)
     sys.stdout.flush()

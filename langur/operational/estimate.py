@@ -102,6 +102,16 @@ DOMINANT = 0.5
 LOW_HITS = 30
 
 
+def all_zero_note(n: int, derivative: bool = False) -> str:
+    """The note of an estimate whose every sample was 0 (its standard error is then 0): true
+    whether the integral is 0 (an empty pixel of ``examples/raytrace/scene.lgr``) or has mass no
+    sample met (``exp(-1e8*(x - 0.3)^2)`` on [0, 1]); bench/RESULTS.md, exact32."""
+    where = "in the box and on the discontinuities " if derivative else ""
+    return (f"every one of the {n} samples {where}was 0, so the standard error is 0: it bounds nothing — "
+            "mass where no sample fell (a region or a peak narrower than the samples' spacing) is not seen, "
+            "and the integral may be 0 or not")
+
+
 def _not_finite(f: np.ndarray, where: str = "samples", overflows=None) -> list[str]:
     """The note on ``f``'s samples that are not finite, if any; ``overflows(bad)``: whether this
     engine's arithmetic overflows where it computes the samples ``bad`` (a mask), when it can tell."""
@@ -164,26 +174,30 @@ def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, see
         rng = Stream(seed)  # numpy's default_rng(seed), its draws without numpy.random
         notes: list[str] = []
         with np.errstate(all="ignore"):
-            value, se, n = _over_domain(linked, p, rng, samples, method, 0, notes, mode=VALUE)
-    return ValueEstimate(value, se, n, seed, method, **_variance(notes, infinite_variance))
+            value, se, n, seen = _over_domain(linked, p, rng, samples, method, 0, notes, mode=VALUE)
+        if not seen:
+            notes.append(all_zero_note(n))
+    return ValueEstimate(value, se, n, seed, method, **_variance(notes, infinite_variance), all_zero=not seen)
 
 
 def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: int,
                  notes: list[str] | None = None, **point):
     """vol(box) · mean over a design in Program.box of ``linked.fn``'s value (``part`` 0) or tangent
-    (``part`` 1), with its standard error and the number of points: ``(estimate, stderr, n)``;
+    (``part`` 1), with its standard error, the number of points and whether a sample was not 0 (an
+    empty box, whose integral is 0 exactly, counts as seen): ``(estimate, stderr, n, seen)``;
     :func:`tail_notes` of the samples are appended to ``notes``."""
     x, volume, exponent, d = _domain(linked, p, rng, samples, method)
     n = d.points.shape[0]
     if x is None:  # an empty or undefined box
-        return (0.0, 0.0, n) if volume == 0.0 else (math.nan, math.nan, n)
+        return (0.0, 0.0, n, True) if volume == 0.0 else (math.nan, math.nan, n, True)
     f = full(_run(linked, x, p, **point)[part], n)
     if notes is not None:
         notes += tail_notes(np.asarray(f), lambda bad: _overflows(linked, x, p, bad, **point))
     mean, se = d.mean(f)
+    seen = mean != 0 or se != 0 or bool(np.any(f))  # (any: only for 0 ± 0)
     if exponent:  # ± ∞ only where the estimate itself is no double
-        return float(np.ldexp(volume * mean, exponent)), float(np.ldexp(volume * se, exponent)), n
-    return volume * mean, volume * se, n
+        return float(np.ldexp(volume * mean, exponent)), float(np.ldexp(volume * se, exponent)), n, seen
+    return volume * mean, volume * se, n, seen
 
 
 def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, samples: int = 10000,
@@ -200,12 +214,14 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
         with np.errstate(all="ignore"):
             # regular part: the tangent with every delta dropped (Dˢ), over the domain design
             notes: list[str] = []
-            reg, reg_se, n = _over_domain(linked, p, rng, samples, method, 1, notes, dparams=dp, mode=TANGENT)
-            bnd, bnd_var = _boundary(linked, p, dp, rng, samples, method, notes)
+            reg, reg_se, n, seen = _over_domain(linked, p, rng, samples, method, 1, notes, dparams=dp, mode=TANGENT)
+            bnd, bnd_var, hit = _boundary(linked, p, dp, rng, samples, method, notes)
+        if not (seen or hit):
+            notes.append(all_zero_note(n, derivative=True))
     bnd_se = math.sqrt(bnd_var)
     return DerivativeEstimate(reg + bnd, math.sqrt(reg_se ** 2 + bnd_var), n, seed, method,
-                              regular=Estimate(reg, reg_se), boundary=Estimate(bnd, bnd_se),
-                              **_variance(notes, infinite_variance))
+                              **_variance(notes, infinite_variance), all_zero=not (seen or hit),
+                              regular=Estimate(reg, reg_se), boundary=Estimate(bnd, bnd_se))
 
 
 def _inside(x: dict, box: dict) -> np.ndarray:
@@ -231,7 +247,8 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
     """Σ_k ∫ E_k δ_k: every live site's zero set sampled through every inverse branch, all sites'
     points scored in ONE vectorized pass of the integrand in DELTA mode.  A site whose zero set
     was hit (scored nonzero) by fewer than :data:`LOW_HITS` points says so in ``notes``: its
-    standard error is not backed by enough samples."""
+    standard error is not backed by enough samples.  ``(estimate, variance, whether a score was not 0)``
+    (no site sampled: nothing to see, so False)."""
     live = set(dp)
     box = dict(zip(linked.variables, evaluate_box(linked.box_fns, p)))
     m = len(linked.variables) - 1
@@ -244,21 +261,21 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
         if sampler.vanishing(p):  # Ψ̂ is no diffeomorphism here: ⦇p⦈ is not defined
             if notes is not None:
                 notes.append(VANISHING_NOTE)
-            return math.nan, math.nan
+            return math.nan, math.nan, True
         des = point if point is not None else design(rng, m, samples, method)
         region = sampler.region(box, p) if m else ()
         if region:  # (one variable: no u'-box to enclose nor shrink)
             if any(math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b) for a, b in region):
                 # no finite box encloses this zero set's coordinates (a pole of Ψ̂'s other components
                 # over the domain): no uniform design can sample it, so the estimate is undefined
-                return math.nan, math.nan
+                return math.nan, math.nan, True
             region = sampler.shrink(region, box, p)
             if region and any(not (b > a) for a, b in region):
                 continue
         volume, branches = sampler.points(des.points, region, p)
         plan.append((k, des, volume, [(xb, w, ok, sampler.dpsi(xb, p, dp)) for xb, w, ok in branches]))
     if not plan:
-        return 0.0, 0.0
+        return 0.0, 0.0, False
     # lay out every (site, branch) block of points one after the other: site ids, points, weights
     ids, xs, ws, oks, dps, counts = [], {v: [] for v in linked.variables}, [], [], [], []
     for k, des, _, branches in plan:
@@ -287,7 +304,8 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
     if notes is not None:  # (a delta's score too large for a float: the estimate is not a number)
         notes += _not_finite(score, "samples on the discontinuities")
     if all(des.method == "exact" for _, des, _, _ in plan):  # one variable: every root once, exactly
-        return float(np.sum(np.add.reduceat(score, starts))), 0.0
+        total = float(np.sum(np.add.reduceat(score, starts)))
+        return total, 0.0, total != 0 or bool(np.any(score))  # (any: only for an exact 0)
     total, var = 0.0, 0.0
     for (_k, des, volume, branches), at, c in zip(plan, starts, counts):
         # per u'-point, the sum over branches; then the design's mean and standard error
@@ -299,4 +317,4 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
         mean, se = des.mean(f)
         total += volume * mean
         var += (volume * se) ** 2
-    return total, var
+    return total, var, total != 0 or var != 0 or bool(np.any(score))

@@ -33,6 +33,8 @@ class ValueEstimate(Estimate):
     method: str = "uniform"
     finite_variance: bool = True
     notes: tuple[str, ...] = field(default=())
+    #: every sample was 0 (the standard error 0 then bounds nothing: a note says so)
+    all_zero: bool = False
 
     def _tail(self) -> dict:
         out: dict = {"samples": self.samples, "seed": self.seed, "method": self.method}

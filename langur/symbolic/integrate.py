@@ -7,11 +7,15 @@
 (regions from the conditions, sympy only on smooth integrands with plain bounds, every sympy call
 time-boxed), and every piece is also integrated by the independent adaptive quadrature of
 :mod:`langur.symbolic.quadrature`.  A closed form that disagrees with its quadrature (relative +
-absolute tolerance ~1e-7) is an internal inconsistency: the quadrature is reported instead, with a
-note, and the result's ``inconsistent`` lists what disagreed.  A piece without a closed form (no
-elementary antiderivative, unsolvable condition, time limit) falls back to its quadrature: the
-result's ``method`` is then ``Method.QUADRATURE``, ``expr`` is None, ``error`` the quadrature's error
-estimate, and the notes keep the exact part.
+absolute tolerance ~1e-7) is judged by an interval enclosure of the piece's integral
+(:mod:`langur.symbolic.quadrature.enclosed`, a proof): kept, with a note, when the enclosure holds
+it and excludes the quadrature (a peak between quad's samples); otherwise an internal inconsistency:
+the quadrature is reported instead, with a note, and the result's ``inconsistent`` lists what
+disagreed.  A piece without a closed form (no elementary antiderivative, unsolvable condition, time
+limit) falls back to its quadrature: the result's ``method`` is then ``Method.QUADRATURE``, ``expr``
+is None, ``error`` the quadrature's error estimate, ``proved`` the bound an enclosure proves (None:
+none; a quadrature outside its enclosure is replaced by the enclosure's midpoint), and the notes
+keep the exact part.
 
 Notes convention (for the CLI): the first note is one of
 ``"closed form valid for all parameter values"`` or
@@ -49,7 +53,7 @@ from langur.symbolic import delta, offbox, quadrature, regions, walks
 from langur.symbolic.context import Cond, Context, Unsupported
 from langur.symbolic.nounits import units_unloaded
 from langur.symbolic.pieces import DeltaPiece, Integral, Method, Piece
-from langur.symbolic.quadrature import UndefinedIntegral
+from langur.symbolic.quadrature import UndefinedIntegral, enclosed
 from langur.symbolic.text import shared_sstr, shared_sstrs
 from langur.timebox import Deadline
 
@@ -194,9 +198,10 @@ def _relation_text(rel) -> str:
     return _relation_texts((rel,))[0]
 
 
-def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -> Integral:
+def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None, prove=None) -> Integral:
     """Combine per-piece closed forms (None where missing) with per-piece quadratures (a piece
-    whose quadrature did not converge was cross-checked only roughly: so is the sum)."""
+    whose quadrature did not converge was cross-checked only roughly: so is the sum); ``prove``
+    (:func:`_prover`'s, or None: no proofs) encloses a piece that has only its quadrature."""
     notes = []
     cell = "; ".join(_relation_texts(ctx.cell))
     first = (CELL_PREFIX + cell) if cell else ALL_PARAMS
@@ -217,14 +222,29 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -
                         inconsistent=tuple(ctx.inconsistent), cell=tuple(ctx.cell), generic=ctx.generic)
     value = 0.0
     error = 0.0
+    proved: float | None = 0.0  # a proved bound on the quadratures' error (None: not proved)
     exact_part = []
-    for e, (q, qe), why in zip(exacts, quads, fallbacks):
+    for i, (e, (q, qe)) in enumerate(zip(exacts, quads)):
         if e is not None:
             value += _value(e, ctx)
             exact_part.append(e)
-        else:
-            value += q
-            error += qe
+            continue
+        enc = prove(i, qe, enclosed.CELLS) if prove is not None else None
+        if enc is not None and not (enc.confirms(q, qe) or enc.dimensions > 1 and enc.holds(q, qe)):
+            # a closer look (:data:`~.enclosed.CELLS_REFUTED` cells): where quadrature is refuted, or on one
+            # variable, where the rule's remainder makes more cells pay (on more, the cells on a boundary
+            # curve keep their whole width: a few thousand cells narrow a proof little)
+            enc = prove(i, qe, enclosed.CELLS_REFUTED) or enc
+        if enc is not None and not enc.holds(q, qe):  # quadrature missed mass: the proof is the answer
+            q = (enc.lo + enc.hi) / 2
+            qe = enc.distance(q)
+            ctx.notes.append(f"{what[:-1]} {i}: quadrature gave {quads[i][0]:.10g} ± {quads[i][1]:.2g}, outside its "
+                             f"interval enclosure [{enc.lo:.10g}, {enc.hi:.10g}] (outward-rounded interval arithmetic "
+                             f"over {enc.cells} cells: a proof), so it missed mass between its samples: the "
+                             "enclosure's midpoint is reported, its half-width the error bound")
+        value += q
+        error += qe
+        proved = None if enc is None or proved is None else proved + enc.distance(q)
     notes.append(f"no closed form for {sum(e is None for e in exacts)} of {len(exacts)} "
                  f"{what}; adaptive quadrature at the evaluation point")
     notes.extend(dict.fromkeys(w for w in fallbacks if w))
@@ -233,7 +253,8 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None) -
     if exact_part and for_reading():  # (untidied: not printed, a tenth of a second per large part)
         notes.append(f"exact part ({first}): {sp.Add(*exact_part)}")
     notes.extend(dict.fromkeys(ctx.notes))
-    return Integral(None, value, Method.QUADRATURE, error, check, notes, inconsistent=tuple(ctx.inconsistent))
+    return Integral(None, value, Method.QUADRATURE, error, check, notes, inconsistent=tuple(ctx.inconsistent),
+                    proved=proved)
 
 
 def _quadrature_only(quads, ctx: Context, what: str) -> Integral:
@@ -319,11 +340,14 @@ def _exact_pieces(*args, **kwargs):
 
 
 def _closed_forms(make_problems, n: int, quads, ctx: Context, what: str, converged=None,
-                  symbolic: bool = True):
+                  symbolic: bool = True, prove=None):
     """Closed forms per piece (None where there is none) and the reasons for the fallbacks; a piece
     whose quadrature did not converge must have a closed form (:class:`QuadratureUnreliable`).
     Without ``symbolic`` only such pieces are integrated symbolically (a value is all that is
-    wanted, and a converged quadrature gives it with its error bound)."""
+    wanted, and a converged quadrature gives it with its error bound).  A closed form that
+    disagrees with its quadrature is kept when ``prove`` encloses the piece's integral around it
+    and away from the quadrature (:func:`_judged`; ``quads[i]`` becomes the closed form's value
+    and its distance to the enclosure's ends)."""
     exacts, why = [], []
     converged = converged or [True] * n
     for i in range(n):
@@ -337,10 +361,17 @@ def _closed_forms(make_problems, n: int, quads, ctx: Context, what: str, converg
             problems, uvars, ubox = make_problems(i)
             exacts.append(_exact_piece(problems, uvars, ubox, ctx, quads[i], f"{what} {i}", converged[i]))
             why.append("")
-        except IntegrationMismatch as exc:  # an engine bug: the quadrature stands, and says so
-            exacts.append(None)
-            why.append(f"{what} {i}: {exc}")
-            ctx.inconsistent.append(str(exc))
+        except IntegrationMismatch as exc:  # one of the two is wrong: a proof decides, if there is one
+            enc = _judged(exc, prove(i, abs(exc.closed - exc.quad) / 4, enclosed.CELLS_REFUTED) if prove else None,
+                          ctx, f"{what} {i}")
+            if enc is not None:
+                exacts.append(exc.expr)
+                why.append("")
+                quads[i] = (exc.closed, enc.distance(exc.closed))
+            else:  # an engine bug, or undecided: the quadrature stands, and says so
+                exacts.append(None)
+                why.append(f"{what} {i}: {exc}")
+                ctx.inconsistent.append(str(exc))
         except (Unsupported, TimeoutError) as exc:
             exacts.append(None)
             why.append(f"{what} {i}: {exc or 'time limit'}")
@@ -352,6 +383,26 @@ def _closed_forms(make_problems, n: int, quads, ctx: Context, what: str, converg
                                        "quadrature did not converge (scipy), so no value has an error bound "
                                        "to trust")
     return exacts, why
+
+
+def _judged(exc: IntegrationMismatch, enc: enclosed.Enclosed | None, ctx: Context, what: str):
+    """``enc`` when it proves the closed form right and the quadrature wrong (the closed form
+    inside the enclosure, the quadrature outside it by more than its error estimate), else None;
+    a note says which was kept and why."""
+    if enc is None:
+        return None
+    inside, outside = enc.holds(exc.closed), not enc.holds(exc.quad, exc.error)
+    where = (f"the interval enclosure [{enc.lo:.10g}, {enc.hi:.10g}] of its integral (outward-rounded "
+             f"interval arithmetic over {enc.cells} cells: a proof)")
+    if inside and outside:
+        ctx.notes.append(f"{what}: closed form kept ({exc.closed:.10g}): the quadrature cross-check gave "
+                         f"{exc.quad:.10g} ± {exc.error:.2g}, outside {where}, which holds the closed form: "
+                         "quadrature missed mass between its samples")
+        return enc
+    if not inside and not outside:
+        ctx.notes.append(f"{what}: the closed form {exc.closed:.10g} is outside {where}, which holds the "
+                         f"quadrature {exc.quad:.10g}: the closed form is wrong, the quadrature kept")
+    return None
 
 
 def _quads(quad_one, items, ctx: Context):
@@ -375,10 +426,12 @@ def _quadratures(quad_one, items, ctx: Context):
 
 @units_unloaded()  # sympy's simplify without its import of physical units (nounits.py)
 def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: float = 20.0,
-                     cell: Sequence[sp.Rel] = (), symbolic: bool = True) -> Integral:
+                     cell: Sequence[sp.Rel] = (), symbolic: bool = True, proofs: bool = True) -> Integral:
     """Σ ∫_box Π[conditions]·weight (regular part of a denotation or derivative denotation);
     ``cell``: relations on the parameters the pieces were built on (the closed form holds there);
-    without ``symbolic``, the value by quadrature (closed forms only where it did not converge)."""
+    without ``symbolic``, the value by quadrature (closed forms only where it did not converge);
+    with ``symbolic`` and ``proofs``, a quadrature's error is proved where interval enclosures can
+    (:func:`_prover`), and a closed form disagreeing with its quadrature judged by one."""
     variables = tuple(variables)
     ctx, boxd = _setup(variables, box, at, timeout, cell)
     # (each piece's quadrature as it is on the box near the point: 0 where it vanishes there, offbox.py)
@@ -393,8 +446,29 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
         conds = [Cond(sp.sympify(c.expr), psi=c.psi) for c in pc.conditions]
         return [(conds, sp.sympify(pc.weight))], list(variables), boxd
 
-    exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "piece", converged, symbolic)
-    return _finish(exacts, quads, why, ctx, "pieces", converged)
+    # (not within :func:`untidied`: ``langur fuzz`` compares values under a per-program time limit, which
+    # the proofs' tenths of a second per quadrature piece would change; bench/RESULTS.md, exact32)
+    prove = _prover(pieces, variables, box, ctx) if symbolic and proofs and for_reading() else None
+    exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "piece", converged, symbolic, prove)
+    return _finish(exacts, quads, why, ctx, "pieces", converged, prove)
+
+
+def _prover(pieces: Sequence[Piece], variables, box, ctx: Context):
+    """``prove(i, target, cells)``: piece i's integral enclosed (:mod:`.quadrature.enclosed`: a
+    proof, or None), independent of both the closed form and the quadrature; its time is
+    quadrature's (``SPENT``).  Delta pieces have none: their integrand over the zero set comes
+    from the closed form's own change of variables, so enclosing it would prove nothing
+    independent about a disagreement."""
+    def prove(i: int, target: float, cells: int):
+        pc = pieces[i]
+        with _spending("quadrature"):
+            try:
+                return ctx.deadline.run(lambda: enclosed.enclose_integral(
+                    [c.expr for c in pc.conditions], pc.weight, variables, box, ctx.at, target=target, cells=cells),
+                    cap=enclosed.seconds(cells))
+            except TimeoutError:  # (:func:`~.quadrature.enclosed.seconds`: no proof)
+                return None
+    return prove
 
 
 @units_unloaded()

@@ -89,7 +89,7 @@ class Method(StrEnum):
     """How an :class:`Integral`'s value was obtained (written as its value in JSON output)."""
 
     CLOSED_FORM = "closed_form"  # an exact expression, cross-checked by quadrature
-    QUADRATURE = "quadrature"  # numeric, with an error bound
+    QUADRATURE = "quadrature"  # numeric, with an error estimate (a bound where ``Integral.proved`` says so)
 
 
 @dataclass
@@ -98,8 +98,8 @@ class Integral:
 
     ``expr``: exact sympy expression in the parameters (None when no closed form was found);
     ``value``: float at the evaluation point; ``method``: a :class:`Method`;
-    ``error``: a bound on |value − true value| (0.0 for a closed form that passed the
-    cross-check); ``check``: the independent quadrature value used to cross-check a closed form
+    ``error``: quadrature's estimate of |value − true value| (0.0 for a closed form that passed the
+    cross-check; ``proved`` says what is proved); ``check``: the independent quadrature value used to cross-check a closed form
     (None if it could not be computed); ``notes``: human-readable remarks (e.g. "closed form valid
     for parameters near the evaluation point: theta in (0, 1)"); ``everywhere``: the closed form
     holds for every parameter value, not only in the evaluation point's cell; ``inconsistent``:
@@ -121,6 +121,10 @@ class Integral:
     #: the evaluation point, which ``cell`` does not say
     cell: tuple = ()
     generic: bool = False
+    #: for a quadrature: a proved bound on |value − true value| (interval enclosures,
+    #: :mod:`langur.symbolic.quadrature.enclosed`), or None where nothing proves one (``error``
+    #: is then quadrature's estimate)
+    proved: float | None = None
 
     def _repr_latex_(self) -> str:
         """In a notebook: the closed form in readable cases when it has them (else the engine's

@@ -33,6 +33,8 @@ The modules, each importing only those above it in this list:
 * :mod:`.rounding` — how far a breakpoint's float may be from the true boundary (the error bound's
   share for the breakpoints' rounding, whatever the program's scale);
 * :mod:`.wide` — breakpoints where the mass may hide on a range wide for its weight (> 10⁴ of its scale);
+* :mod:`.enclosed` — a piece's integral enclosed by interval arithmetic: a proof, which backs a
+  quadrature's error bound or finds the mass it missed (it imports none of the modules here);
 * :mod:`.nested` — the nested integral of one problem;
 * :mod:`.pieceproblems`, :mod:`.deltaproblems` — the pieces' and delta pieces' fronts.
 
