@@ -6,6 +6,12 @@
    the equal program loaded FIRST in the process — another file, or another line.  A refusal now
    carries its node, and each engine's public entry names the program's own equal node
    (``core.refusals_located``).
+2. pole31 splits a condition with a moving pole into conditionals on its factors' signs; the linter's
+   findings about one factor quoted the written condition only.  They name the part as well: "the
+   part `f >= 0` of `[written]`" (``lint/classify.py``, ``split_parts``).
+3. ``syntax/folding.defined_everywhere`` walks with ``core.subterms`` (and π₀Ψ̂ on its own).
+4. fold31's leftovers in core terms: ``x - -1``, ``t - -s``, ``-1 * -1 * a`` (a loop's ``-i * a`` at
+   i = −1) and turning2d's guard ``u1 * 1`` fold, by exact rules: −(−s) = s, t − (−s) = t + s.
 """
 
 from __future__ import annotations
@@ -14,7 +20,10 @@ import pytest
 from test_cli_contract import run  # (status, stdout, stderr) of ``langur ARGV`` in this process
 
 from langur import frontend, operational
-from langur.core import ImplicitRoot, TooManyRoots, own_root, subterms
+from langur.core import Add, Const, IfDiffeo, ImplicitRoot, Mul, TooManyRoots, own_root, subterms
+from langur.syntax import template
+from langur.syntax.folding import defined_everywhere
+from langur.syntax.printer import print_core
 from langur.ddenote import ddenote_program
 from langur.denote import denote_program
 
@@ -91,3 +100,115 @@ def test_own_root_finds_the_equal_node_or_none(tmp_path):
         assert mine == r and mine is not r and (r.span is None) == (mine.span is None)
         assert r.span is None or (r.span.path, mine.span.path) == (str(first), str(lower))
     assert own_root(frontend.load_text("int ([0, 1]) x d(x)\n").program, roots_a[0]) is None
+
+
+# ---------------------------------------------------------------- 2. a split condition's findings name the part
+
+# [zth − k/d ≥ 0] with d = x + n·y (its pole d = 0 crosses the box and moves with n): split into the signs
+# of its factors, zth·d − k and d (zth − k/d = (zth·d − k)/d, by hand); the strict [k/d − zth > 0] into
+# those of −k + zth·d and −d ((k − zth·d)/d has the sign of (−k + zth·d)·(−d))
+SIX = "param k = 1\nparam zth = 2.6\nparam n = 0.3\nint ([-1, 1], [-1, 1]) [zth - k / (x + n * y) >= 0] d(x, y)\n"
+SEVEN = "param k = 1\nparam zth = 2.6\nparam n = 0.3\nint ([-1, 1], [-1, 1]) [k / (x + n * y) - zth > 0] d(x, y)\n"
+
+
+def _check_lines(capsys, tmp_path, name, text, *more):
+    f = tmp_path / name
+    f.write_text(text)
+    _, out, err = run(capsys, "check", f, *more)
+    return f, [ln for ln in (out + err).splitlines() if ln.startswith(str(f))]
+
+
+def test_a_factors_finding_names_the_factor(capsys, tmp_path):
+    f, lines = _check_lines(capsys, tmp_path, "seven.lgr", SEVEN)
+    written = "`[k / (x + n * y) - zth > 0]`"
+    # at k = 0 the factors −k + zth·d and −d have the same zero set d = 0 (X304); −k + zth·d's completion
+    # divides by n·zth (X306 when zth = 0; n = 0 has the other completion, by x)
+    assert lines == [
+        f"{f}:4:24: warning X304 the part `-k + x * zth + n * y * zth >= 0` of {written} and the part "
+        f"`-x + -n * y >= 0` of {written} at 4:24 have coincident zero sets when k = 0: there the derivative counts "
+        "the jump twice (Def. 7.2 fails; paper §7.3.1)",
+        f"{f}:4:24: warning X306 the part `-k + x * zth + n * y * zth >= 0` of {written} stops being a "
+        "diffeomorphism when zth = 0 (its completion divides by n*zth, and every completion by another variable "
+        "degenerates there too): there the derivative is not defined"]
+
+
+def test_the_k_0_case_of_the_non_strict_condition_is_found_at_the_point(capsys, tmp_path):
+    # [zth − k/d ≥ 0] at k = 0: the factors zth·d and d are ≥ 0 on the same side of d = 0 and their signs' parity
+    # is constant — no jump — while for k ≠ 0 the slab between d = 0 and d = k/zth is cut out: the integral is
+    # A − c·|k|, a kink in k at 0 (by hand), which the linter reports at the point (a jump lying on another)
+    f, lines = _check_lines(capsys, tmp_path, "six.lgr", SIX)
+    assert [ln.split(" ")[2] for ln in lines] == ["X306"]  # no parametric warning: kinks are reported at a point
+    f, lines = _check_lines(capsys, tmp_path, "six.lgr", SIX, "--at", "k=0")
+    x305 = [ln for ln in lines if " X305 " in ln]
+    assert len(x305) == 1 and "at k = 0, zth = 2.6, n = 0.3 the jump of the part `x + n * y >= 0` of " \
+        "`[zth - k / (x + n * y) >= 0]` lies on the part `-k + x * zth + n * y * zth >= 0`" in x305[0]
+
+
+def test_an_unsplit_condition_is_quoted_as_written(capsys, tmp_path):
+    f, lines = _check_lines(capsys, tmp_path, "kink.lgr", "param a = 0.5\nparam b = 0.2\n"
+                            "int ([-1, 1], [-1, 1]) [abs(x - b) + abs(y) <= a] * [y - x + b >= 0] d(x, y)\n")
+    assert lines == [f"{f}:3:53: warning X304 `[y - x + b >= 0]` and `[abs(x - b) + abs(y) <= a]` at 3:24 have "
+                     "coincident zero sets when a = 0: there the derivative counts the jump twice (Def. 7.2 fails; "
+                     "paper §7.3.1)"]
+
+
+# ---------------------------------------------------------------- 3. defined_everywhere
+
+
+@pytest.mark.parametrize("text, defined", [
+    ("x * a + exp(y)", True),
+    ("x ^ 2 + y / 4", True),
+    ("1 / x", False),
+    ("sqrt(x)", False),
+    ("x ^ 0.5", False),
+    ("[x - a >= 0] * y", True),
+    ("[log(x) - a >= 0] * y", False),  # the condition is evaluated: undefined for x ≤ 0
+    ("[x - 1 / a >= 0] * y", False),  # a parameter's reciprocal: undefined at a = 0
+])
+def test_defined_everywhere_reads_conditions_too(text, defined):
+    box = tuple((Const(-1), Const(1)) for _ in "xy")
+    t = frontend.core_term_from_text(text, variables=("x", "y"), params=("a",), box=box)
+    assert defined_everywhere(t) is defined
+    if "[" in text:
+        assert any(isinstance(u, IfDiffeo) for u in subterms(t))
+
+
+# ---------------------------------------------------------------- 4. the leftovers fold
+
+
+def _core(text: str) -> str:
+    return print_core(frontend.load_text(text).program.body)
+
+
+def test_double_negations_fold():
+    assert _core("int ([-1, 1]) [x >= 0] d(x)") == "[x + 1 >= 0] * [1 - x >= 0] * [x >= 0]"
+    assert _core("param a = 1\nint ([0, 1]) [a - -x >= 0] + -(-x) - -1 d(x)").endswith("([a + x >= 0] + x + 1)")
+    assert _core("param a = 1\nint ([0, 1]) -(-(-x)) * a d(x)").endswith("(-x * a)")
+    # −(−s) stays undefined where s is: sqrt(x) on [−1, 0)
+    assert _core("int ([-1, 1]) -(-sqrt(x)) d(x)").endswith("sqrt(x)")
+
+
+def test_the_guard_of_a_split_along_y_has_no_times_one():
+    ld = frontend.load("examples/turning2d.lgr")
+    guards = [g for u in subterms(ld.program.body) if isinstance(u, IfDiffeo)
+              for b in u.psi.branches for g in b.guards]
+    assert guards and not any(isinstance(v, Mul) and isinstance(v.right, Const) and v.right.value == 1
+                              for g in guards for v in subterms(g))
+
+
+LOOP = "param a = 0.5\nint ([-1, 1]) (sum i in {lo}..{hi}: [x - i >= a * 0.1] + -i * a - -i) d(x)\n"
+
+
+@pytest.mark.parametrize("lo, hi", [(-4, 3), (-3, -1), (-1, 2), (-6, -2), (2, 5)])
+def test_a_loops_copies_from_the_template_are_the_copies_desugared_one_by_one(monkeypatch, lo, hi):
+    text = LOOP.format(lo=lo, hi=hi)
+    with_template = frontend.load_text(text).program
+    frontend.clear_load_cache()
+    monkeypatch.setattr(template, "ENABLED", False)
+    one_by_one = frontend.load_text(text).program
+    assert with_template == one_by_one and print_core(with_template.body) == print_core(one_by_one.body)
+    printed = print_core(with_template.body)
+    if lo <= -1 <= hi:  # the copy at i = −1 (desugared on its own): x − (−1), −(−1)·a and − −(−1) folded
+        assert "[x + 1 - a * 0.1 >= 0] + a - 1" in printed and "x - -1" not in printed
+    if lo <= -2:  # the other copies keep the first copy's shape: no constant arithmetic on the index
+        assert "[x - -2 - a * 0.1 >= 0] + -1 * -2 * a + -2" in printed
