@@ -20,12 +20,12 @@ import pytest
 from test_cli_contract import run  # (status, stdout, stderr) of ``langur ARGV`` in this process
 
 from langur import frontend, operational
-from langur.core import Add, Const, IfDiffeo, ImplicitRoot, Mul, TooManyRoots, own_root, subterms
+from langur.core import Const, IfDiffeo, ImplicitRoot, Mul, TooManyRoots, own_root, subterms
+from langur.ddenote import ddenote_program
+from langur.denote import denote_program
 from langur.syntax import template
 from langur.syntax.folding import defined_everywhere
 from langur.syntax.printer import print_core
-from langur.ddenote import ddenote_program
-from langur.denote import denote_program
 
 # ---------------------------------------------------------------- 1. a refusal names its own program
 

@@ -75,7 +75,7 @@ def subterms(t: Term):
         stack.extend(reversed(children(u)))
 
 
-def own_root(program, root: ImplicitRoot):
+def own_root(program, root: ImplicitRoot) -> ImplicitRoot | None:
     """``program``'s own node equal to ``root`` (the first in pre-order, a diffeo's own terms and the
     box's bounds included), or None: ``root`` may be an equal program's node, met through an engine's
     memo of what it compiled, which equal terms share (their spans do not count)."""
