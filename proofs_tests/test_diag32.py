@@ -16,14 +16,16 @@
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import pytest
 from test_cli_contract import run  # (status, stdout, stderr) of ``langur ARGV`` in this process
 
 from langur import frontend, operational
-from langur.core import Const, IfDiffeo, ImplicitRoot, Mul, TooManyRoots, own_root, subterms
+from langur.core import Add, Const, IfDiffeo, ImplicitRoot, Mul, Param, TooManyRoots, Var, own_root, subterms
 from langur.ddenote import ddenote_program
 from langur.denote import denote_program
-from langur.syntax import template
+from langur.syntax import folding, template
 from langur.syntax.folding import defined_everywhere
 from langur.syntax.printer import print_core
 
@@ -178,6 +180,19 @@ def test_defined_everywhere_reads_conditions_too(text, defined):
 
 def _core(text: str) -> str:
     return print_core(frontend.load_text(text).program.body)
+
+
+def test_the_new_folds_are_the_identities_they_claim():
+    x, a = Var("x"), Param("a")
+    minus_one, one, two = Const(Fraction(-1)), Const(Fraction(1)), Const(Fraction(2))
+    assert folding.negated(folding.negated(x)) is x and folding.negated(minus_one) == one
+    assert folding.minus(a, folding.negated(x)) == Add(a, x) and folding.minus(a, minus_one) == Add(a, one)
+    assert folding.times(minus_one, folding.negated(x)) is x and folding.times(minus_one, minus_one) == one
+    # what is not a negation stays: t − 2, 2·(−x), (−1)·x, and −2 written as a constant is no negation of 2
+    assert folding.minus(a, two) == Add(a, Mul(minus_one, two))
+    assert folding.times(two, folding.negated(x)) == Mul(two, Mul(minus_one, x))
+    assert folding.times(minus_one, x) == Mul(minus_one, x)
+    assert folding.negated(Const(Fraction(-2))) == Mul(minus_one, Const(Fraction(-2)))
 
 
 def test_double_negations_fold():
