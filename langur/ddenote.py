@@ -37,6 +37,7 @@ from .core import (
     Program,
     Term,
     Var,
+    refusals_located,
     shared,
 )
 from .denote import point_free, program_box, require_defined, zero_integral
@@ -271,6 +272,7 @@ def normal_form(program: Program, direction: Mapping[str, object], at) -> Normal
     return nf
 
 
+@refusals_located
 def ddenote_program(program: Program, at: Mapping[str, object] | None, direction: Mapping[str, object], *,
                     timeout: float = 20.0, symbolic: bool = True) -> DerivativeResult:
     """⦇int t d(x⃗)⦈(γ, γ') = ∫ ⦇t⦈ dρ (Fig. 12) at ``at`` in the direction γ' = ``direction``

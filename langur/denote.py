@@ -17,7 +17,7 @@ from dataclasses import replace
 import sympy as sp
 
 from . import lazy, observe
-from .core import IfDiffeo, IfGe0, Program, subterms
+from .core import IfDiffeo, IfGe0, Program, refusals_located, subterms
 from .memo import remember
 from .symbolic import local
 from .symbolic.decompose import Ctx, decided_cell, decompose, smooth_value
@@ -154,6 +154,7 @@ REMEMBERED = 16
 _remembered: dict = {}
 
 
+@refusals_located
 def denote_program(program: Program, at: Mapping[str, object] | None = None, *,
                    timeout: float = 20.0, symbolic: bool = True, near: bool = False) -> Integral:
     """⟦int t d(x⃗)⟧(γ) (Fig. 12) at the parameter values ``at`` (name → number; exact decimals

@@ -193,7 +193,7 @@ def denote(t: Term, env: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
         case ImplicitRoot(eq, x, target, lo, hi, index, of):  # issue 18, an inverse branch with no closed form
             inner = {k: v for k, v in env.items() if k != x}
             return implicit_root(denote(eq, inner), symbol(x), denote(target, env), denote(lo, env), denote(hi, env),
-                                 index, of, span=t.span, lenient=bool(free_vars(eq) - {x}))
+                                 index, of, root=t, lenient=bool(free_vars(eq) - {x}))
     raise TypeError(f"not a core term: {t!r}")
 
 

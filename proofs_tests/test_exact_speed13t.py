@@ -23,6 +23,8 @@ import pytest
 import sympy as sp
 from sympy.printing.str import StrPrinter
 
+from langur.core import Const, ImplicitRoot, Var
+from langur.diagnostics import Span
 from langur.implicit import evalf, implicit_root, lambdified
 
 Y, U, V, A = sp.symbols("y u v a", real=True)
@@ -63,8 +65,10 @@ def test_an_equation_built_again_gets_its_first_key():
     assert _key(_indexed(TURNING.xreplace({U: V}), 0, 2)) != _key(first)  # another symbol
     assert _key(_indexed(TURNING + 1, 0, 2)) != _key(first)
     assert _key(implicit_root(TURNING, Y, sp.Integer(0), sp.Integer(-2), sp.Integer(2), index=0, of=2)) != _key(first)
-    assert _key(_indexed(TURNING, 0, 2, span="a.lgr:3:5")) != _key(first)  # named when refused
-    assert _key(_indexed(TURNING, 0, 2, span="a.lgr:3:5")) == _key(_indexed(TURNING, 1, 2, span="a.lgr:3:5"))
+    # named when refused: the core node's place (diag32: the node is kept, its span keys the code)
+    node = ImplicitRoot(Var("y"), "y", Const(0), Const(-2), Const(2), 0, 2, span=Span("a.lgr", 3, 5, 3, 9))
+    assert _key(_indexed(TURNING, 0, 2, root=node)) != _key(first)
+    assert _key(_indexed(TURNING, 0, 2, root=node)) == _key(_indexed(TURNING, 1, 2, root=node))
     z = sp.Dummy("y", real=True)  # a variable of another name orders its terms otherwise
     assert _key(implicit_root(TURNING.xreplace({Y: sp.Symbol("w", real=True)}), sp.Symbol("w", real=True),
                               sp.Integer(0), sp.Integer(-2), sp.Integer(2), index=0, of=2, lenient=True)) != _key(first)

@@ -7,6 +7,7 @@ the terms; the readers of the attributes a node keeps (:mod:`langur.core.attribu
 
 from __future__ import annotations
 
+import functools
 from dataclasses import replace
 from fractions import Fraction
 from typing import Callable
@@ -28,6 +29,7 @@ from .terms import (
     Pow,
     Prim,
     Term,
+    TooManyRoots,
     Var,
     children,
 )
@@ -71,6 +73,48 @@ def subterms(t: Term):
         seen.add(id(u))
         yield u
         stack.extend(reversed(children(u)))
+
+
+def own_root(program, root: ImplicitRoot) -> ImplicitRoot | None:
+    """``program``'s own node equal to ``root`` (the first in pre-order, a diffeo's own terms and the
+    box's bounds included), or None: ``root`` may be an equal program's node, met through an engine's
+    memo of what it compiled, which equal terms share (their spans do not count)."""
+    body, box = getattr(program, "body", None), getattr(program, "box", ())
+    stack = [t for t in (body, *(t for bounds in box for t in bounds)) if t is not None][::-1]
+    seen: set[int] = set()
+    while stack:
+        u = stack.pop()
+        if id(u) in seen:
+            continue
+        seen.add(id(u))
+        if isinstance(u, ImplicitRoot) and u == root:
+            return u
+        kids = children(u)
+        if isinstance(u, IfDiffeo):  # (Ψ̂'s own terms, where a completion's implicit roots are)
+            psi = u.psi
+            kids += (*psi.forward, *psi.nonzero, *(c for b in psi.branches for c in (*b.components, *b.guards)))
+        stack.extend(reversed(kids))
+    return None
+
+
+def refusals_located(entry):
+    """An engine's public entry ``entry(program_or_loaded, …)``: a :class:`TooManyRoots` it raises
+    names ``program``'s own node and place (:func:`own_root`), not an equal program's that the engine's
+    memos kept (bench/RESULTS.md, diag32)."""
+
+    @functools.wraps(entry)
+    def located(program_or_loaded, *args, **kwargs):
+        try:
+            return entry(program_or_loaded, *args, **kwargs)
+        except TooManyRoots as e:
+            if e.root is None:
+                raise
+            own = own_root(getattr(program_or_loaded, "program", program_or_loaded), e.root)
+            if own is None or own is e.root:
+                raise
+            raise TooManyRoots(str(e), own).with_traceback(e.__traceback__) from None
+
+    return located
 
 
 def free_vars(t: Term) -> frozenset[str]:

@@ -313,11 +313,17 @@ Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot
 class TooManyRoots(Exception):
     """An indexed :class:`ImplicitRoot` met more sign changes than its ``of`` (the completion
     split the domain into that many pieces at most), or sign changes it cannot certify it counted
-    all of; ``span``: the condition's place in the source (issue 18)."""
+    all of; ``root``: that node, when known, and ``span`` its place in the source, the condition's
+    (issue 18).
 
-    def __init__(self, message: str, span: Span | None = None):
+    The engines remember what they compiled by equal terms, whose spans do not count: the node met
+    may be an equal program's, loaded earlier in the process.  An engine's public entry names the
+    program's own place (:func:`~langur.core.structural.refusals_located`)."""
+
+    def __init__(self, message: str, root: "ImplicitRoot | None" = None):
         super().__init__(message)
-        self.span = span
+        self.root = root
+        self.span: Span | None = None if root is None else root.span
 
 
 Term = Union[Const, Var, Param, Add, Mul, Prim, Pow, IfGe0, IfDiffeo, Let, Call, ImplicitRoot]

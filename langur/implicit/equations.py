@@ -19,9 +19,10 @@ from sympy.printing.pycode import PythonCodePrinter
 from ..codes import turning_points_beyond_split
 from ..core import TooManyRoots
 
-#: The source place of a root's equation (sympy terms carry none), by its bound variable (a
-#: Dummy of its own, kept when parameter values are put in the equation).
-SPANS: dict = {}
+#: The core :class:`~langur.core.ImplicitRoot` a root was made of, by its bound variable (a Dummy of
+#: its own, kept when parameter values are put in the equation): sympy terms carry no source place,
+#: the node does (its ``span``, named when evaluating it is refused).
+NODES: dict = {}
 #: The bound variables of indexed roots whose equation mentions other integration variables (a
 #: condition split along a variable at turning points that move with the others): certified
 #: leniently on the null set where two of them merge (:func:`langur.enclosures.certified_brackets`).
@@ -41,7 +42,8 @@ def form(lam, free: tuple):
     (x,), f = lam.variables, lam.expr
     if f.atoms(sp.Dummy) != {x}:
         return None
-    span = SPANS.get(x)
+    root = NODES.get(x)
+    span = None if root is None else root.span
     try:
         hash(span)
     except TypeError:
@@ -103,4 +105,4 @@ def too_many_roots(count: int, a: float, b: float, of, x, at_least: bool = False
     """X316: ``count`` sign changes (``at_least``: at least that many) on ``[a, b]`` at these
     parameter values, more than the ``of`` the condition was split for; located at the condition
     of the equation bound by ``x``."""
-    return TooManyRoots(turning_points_beyond_split(count, int(of), f"on [{a:g}, {b:g}]", at_least), SPANS.get(x))
+    return TooManyRoots(turning_points_beyond_split(count, int(of), f"on [{a:g}, {b:g}]", at_least), NODES.get(x))

@@ -21,7 +21,7 @@ import sympy as sp
 
 from langur.core import TooManyRoots
 from langur.enclosures import DEPTH, certified_brackets, interval_function
-from langur.implicit.equations import COUNTED, LENIENT, SPANS, form, polynomial_coefficients, too_many_roots
+from langur.implicit.equations import COUNTED, LENIENT, NODES, form, polynomial_coefficients, too_many_roots
 from langur.implicit.solvers import bracketed_root
 from langur.memo import remember
 from langur.sturm import sturm_brackets
@@ -136,5 +136,5 @@ def _brackets_at(x, shape, consts: tuple, t: float, a: float, b: float, most: in
                                        what=f"{shape.xreplace(dict(zip(_PLACEHOLDERS, consts)))}",
                                        lenient=x in LENIENT, most=most)
         except TooManyRoots as err:
-            raise TooManyRoots(str(err), SPANS.get(x)) from None
+            raise TooManyRoots(str(err), NODES.get(x)) from None
     return tuple((float(p), float(q)) for p, q in found)

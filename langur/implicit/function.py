@@ -21,7 +21,7 @@ from __future__ import annotations
 import sympy as sp
 from sympy.printing.str import StrPrinter
 
-from langur.implicit.equations import LENIENT, SPANS
+from langur.implicit.equations import LENIENT, NODES
 from langur.implicit.evalf import evalf_root
 from langur.implicit.lambdified import indexed_key, lambdified_root
 from langur.memo import make_room, remember
@@ -143,14 +143,15 @@ _DERIVATIVES: dict = {}
 
 
 def implicit_root(equation: sp.Expr, variable: sp.Symbol, target: sp.Expr, lo: sp.Expr, hi: sp.Expr,
-                  index: int | None = None, of: int = 0, span=None, lenient: bool = False) -> sp.Expr:
-    """``ImplicitRootFn`` of ``equation`` in ``variable`` (bound: replaced by a dummy); ``span``:
-    the condition's place in the source, named when evaluating it is refused; ``lenient``: the
+                  index: int | None = None, of: int = 0, root=None, lenient: bool = False) -> sp.Expr:
+    """``ImplicitRootFn`` of ``equation`` in ``variable`` (bound: replaced by a dummy); ``root``:
+    the core :class:`~langur.core.ImplicitRoot` it denotes, whose span (the condition's place in the
+    source) is named when evaluating it is refused; ``lenient``: the
     equation mentions other integration variables (see :func:`langur.enclosures.certified_brackets`)."""
     x = sp.Dummy(variable.name, real=True)
     lam = sp.Lambda(x, equation.xreplace({variable: x}))
-    if span is not None:
-        SPANS[x] = span
+    if root is not None:
+        NODES[x] = root
     if lenient:
         LENIENT.add(x)
     return ImplicitRootFn(lam, target, lo, hi, sp.Integer(-1 if index is None else index), sp.Integer(of))

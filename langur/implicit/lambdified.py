@@ -22,7 +22,7 @@ import sympy as sp
 
 from langur.core import TooManyRoots
 from langur.enclosures import certified_brackets, interval_function
-from langur.implicit.equations import COUNTED, LENIENT, SPANS, form, polynomial_coefficients, too_many_roots
+from langur.implicit.equations import COUNTED, LENIENT, NODES, form, polynomial_coefficients, too_many_roots
 from langur.implicit.solvers import double_root
 from langur.memo import make_room
 from langur.sturm import sturm_brackets
@@ -259,7 +259,7 @@ def _brackets_of(key: str, t: float, a: float, b: float, vals: tuple, most: int 
                                        dg_iv.bind(*iv_vals), t, a, b, what=f"{lam.expr}",
                                        lenient=x in LENIENT, most=most)
         except TooManyRoots as err:
-            raise TooManyRoots(str(err), SPANS.get(x)) from None
+            raise TooManyRoots(str(err), NODES.get(x)) from None
     return tuple((float(p), float(q)) for p, q in found)
 
 

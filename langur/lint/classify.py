@@ -26,6 +26,7 @@ from .. import failures
 from ..core import Program, TooManyRoots
 from ..diagnostics import Span
 from ..sympy_bridge import denote, symbol, to_sympy
+from ..syntax.printer import print_core
 from ..timebox import Deadline
 from .algebra import Undecided, bad_parameters, describe_point, exact, vanishes
 from .ancestry import ancestry
@@ -116,6 +117,7 @@ class Checker(CoincidenceChecks, NullSetChecks):
         self.coincident: set[frozenset[int]] = set()
         self.kinks: dict[int, list] = {}
         self.degenerate_families: list[frozenset[int]] = []
+        self._split_parts: frozenset[int] | None = None
 
     # -- wording --------------------------------------------------------------------------------
 
@@ -142,9 +144,26 @@ class Checker(CoincidenceChecks, NullSetChecks):
         if frag and occ.node_span != occ.span and whole.startswith(("ifge0", "if")):
             frag = ("ifge0 " if whole.startswith("ifge0") else "if ") + frag
         text = f"`{frag}`" if frag else f"`{sp.sstr(occ.f)} >= 0`"
+        if frag and occ.index in self.split_parts():  # (what the finding is about: the part, not the whole)
+            text = f"the part `{print_core(occ.psi.forward[0])} >= 0` of {text}"
         if occ.sites and occ.span is not None:
             text += f" (in a def's body at {self.where(occ.span, occ.sites[0])})"
         return text
+
+    def split_parts(self) -> frozenset[int]:
+        """The occurrences that are parts of a condition written once and split into several
+        conditionals — the signs of its factors (``syntax/poles.py``), the pieces of a kinked one
+        (``syntax/kinks.py``): nested one in another's branch, from the same text (the condition's
+        span and call sites).  Their findings name the part as well as the written condition."""
+        if self._split_parts is None:
+            occ, parts = self.col.occurrences, set()
+            for o in occ:
+                for path in self.ancestry.get(o.index) or ():
+                    for i, _ in path:
+                        if o.span is not None and (occ[i].span, occ[i].sites) == (o.span, o.sites):
+                            parts |= {i, o.index}
+            self._split_parts = frozenset(parts)
+        return self._split_parts
 
     def where(self, span: Span | None, relative_to: Span | None) -> str:
         if span is None:

@@ -25,7 +25,7 @@ from dataclasses import field
 
 import numpy as np
 
-from ..core import diffeo_params, free_params
+from ..core import diffeo_params, free_params, refusals_located
 from ..records import frozen
 from ..values import ParameterError
 from .estimate import LOW_HITS, _inside, prepare
@@ -78,6 +78,7 @@ class BatchEstimate:
         return self.regular
 
 
+@refusals_located
 def estimate_batch(program_or_loaded, params: dict, *, direction: dict | None = None, samples: int = 10000,
                    seed: int = 0, method: str = "uniform", sites: str = "inlined",
                    cache: CompileCache = CACHE) -> BatchEstimate:

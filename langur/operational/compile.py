@@ -192,7 +192,7 @@ def _compile_node(t: Term, ctx: Context) -> Fn:
             others = tuple(sorted(free_vars(equation) - {variable}))  # Ψ̂⁻¹'s other inputs it moves with
             return roots.compile_sign_change(*parts, index, of,
                                               None if slope is None else interval.tape_of([equation, slope], True),
-                                              t.span, others, equation)
+                                              t, others, equation)
     raise TypeError(f"not a core term: {t!r}")
 
 

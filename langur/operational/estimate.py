@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from .. import gcpause
-from ..core import Program, tree_size
+from ..core import Program, refusals_located, tree_size
 from ..modules import Loaded
 from ..values import ParameterError, check_values
 from .link import CACHE, CompileCache, Linked, compile_program, link
@@ -160,6 +160,7 @@ def _variance(notes: list[str], infinite_variance: str | None) -> dict:
     return {"finite_variance": not infinite_variance, "notes": tuple(notes)}
 
 
+@refusals_located
 def estimate_value(program_or_loaded, params: dict, *, samples: int = 10000, seed: int = 0,
                    method: str = "uniform", sites: str = "inlined", infinite_variance: str | None = None,
                    cache: CompileCache = CACHE) -> ValueEstimate:
@@ -200,6 +201,7 @@ def _over_domain(linked: Linked, p: dict, rng, samples: int, method: str, part: 
     return volume * mean, volume * se, n, seen
 
 
+@refusals_located
 def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, samples: int = 10000,
                         seed: int = 0, method: str = "uniform", sites: str = "inlined",
                         infinite_variance: str | None = None, cache: CompileCache = CACHE) -> DerivativeEstimate:

@@ -65,17 +65,17 @@ def _pow(a: float, k: Fraction) -> float:
         return math.inf
 
 
-def _root(f, a: float, b: float, index: int | None, of: int, certify=None, span=None) -> float:
+def _root(f, a: float, b: float, index: int | None, of: int, certify=None, root=None) -> float:
     """The sign change of ``f`` in ``[a, b]`` (``index`` None: the one of a monotone ``f``, NaN
     if none) or its ``index``-th one (``b`` if there are fewer; :class:`~langur.core.TooManyRoots`
     if more than ``of``), bisected: ``certify`` gives the brackets, each certified to hold one
     (:mod:`langur.operational.signchanges`)."""
     if index is not None:
         if certify is None:
-            raise TooManyRoots(NO_SLOPE_TO_CERTIFY, span)
+            raise TooManyRoots(NO_SLOPE_TO_CERTIFY, root)
         brackets = certify(a, b)
         if len(brackets) > of:
-            raise TooManyRoots(turning_points_beyond_split(len(brackets), of, "on the domain"), span)
+            raise TooManyRoots(turning_points_beyond_split(len(brackets), of, "on the domain"), root)
         if index >= len(brackets):
             return b
         a, b = brackets[index]
@@ -93,7 +93,7 @@ def _root(f, a: float, b: float, index: int | None, of: int, certify=None, span=
     return 0.5 * (a + b)
 
 
-def _brackets(f, target: float, tape, x: str, lo: float, hi: float, params: dict, span,
+def _brackets(f, target: float, tape, x: str, lo: float, hi: float, params: dict, root,
               moving: dict) -> list[tuple[float, float]]:
     """The certified brackets of the sign changes of ``f`` (= equation − target) on ``[lo, hi]``,
     one point at a time (``f`` evaluated point by point, the enclosures by the shared tape);
@@ -101,7 +101,7 @@ def _brackets(f, target: float, tape, x: str, lo: float, hi: float, params: dict
     def value(at, rows):
         return np.array([f(float(p)) + target for p in at])
     _, a, b = certified_brackets(value, tape, x, np.array([float(target)]), np.array([float(lo)]),
-                                 np.array([float(hi)]), params, span, what=f"∂/∂{x}", others=moving,
+                                 np.array([float(hi)]), params, root, what=f"∂/∂{x}", others=moving,
                                  lenient=bool(moving))
     return list(zip(a.tolist(), b.tolist()))
 
@@ -168,8 +168,8 @@ def evaluate(t: Term, rho: dict, gamma: dict, dgamma: dict, mode: int = VALUE, s
                 f = lambda at: evaluate(eq, {**rho, x: at}, g, {})[0] - tv  # noqa: E731
                 moving = {k: np.array([float(rho[k])]) for k in sorted(free_vars(eq) - {x})}  # other inputs
                 certify = None if slope is None else (
-                    lambda lo, hi: _brackets(f, tv, tape_of([eq, slope], True), x, lo, hi, g, u.span, moving))
-                r = _root(f, a, b, index, of, certify, u.span)
+                    lambda lo, hi: _brackets(f, tv, tape_of([eq, slope], True), x, lo, hi, g, u, moving))
+                r = _root(f, a, b, index, of, certify, u)
                 if index is not None and r == b:
                     return r, db  # no index-th sign change: the bracket's end
                 fx = evaluate(eq, {**rho, x: r}, g, {}, TANGENT, dvars={x: 1.0})[1]

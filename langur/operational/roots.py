@@ -65,7 +65,7 @@ def compile_root(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn) -> Fn:
 _SIGN_CHANGES: dict = {}
 
 
-def compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of: int, tape, span,
+def compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of: int, tape, root,
                          others: tuple[str, ...] = (), equation: Term | None = None) -> Fn:
     """The ``index``-th sign change of ``f − target`` on ``[lo, hi]`` (``hi`` when there are
     fewer; :class:`~langur.core.TooManyRoots` when more than ``of``, or when they cannot be
@@ -73,11 +73,12 @@ def compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of
     ``tape`` encloses f and ∂f/∂x), once per distinct parameter point, and bisected there.
     ``others``: the other inputs of Ψ̂⁻¹ ``f`` mentions (turning points that move with the other
     variables of a condition split along ``x``): part of each point, and a cell left uncertified
-    on a null set of them is decided by its ends (``lenient``)."""
+    on a null set of them is decided by its ends (``lenient``).  ``root``: the :class:`ImplicitRoot`
+    compiled, named by the refusals."""
     def sign_change(pt, lk):
         vals = pt.values()
         if tape is None:
-            raise TooManyRoots(NO_SLOPE_TO_CERTIFY, span)
+            raise TooManyRoots(NO_SLOPE_TO_CERTIFY, root)
         t, dt = ft(pt, lk)
         (lo, _), (hi, dhi) = flo(vals, lk), fhi(pt, lk)
         columns = [t, lo, hi] + [vals.vars[u] for u in others] + [v for v in vals.params.values() if np.ndim(v)]
@@ -103,11 +104,11 @@ def compile_sign_change(fe: Fn, x: str, ft: Fn, flo: Fn, fhi: Fn, index: int, of
                tuple((k, float(v)) for k, v in sorted(vals.params.items()) if not np.ndim(v)))
         found = _SIGN_CHANGES.get(key)
         if found is None or found[0] is not equation:
-            r, a, b = certified_brackets(value, tape, x, tr, lor, hir, params, span, what=f"∂/∂{x}", others=moving,
+            r, a, b = certified_brackets(value, tape, x, tr, lor, hir, params, root, what=f"∂/∂{x}", others=moving,
                                          lenient=bool(others))
             counts = np.bincount(r, minlength=len(tr))
             if np.any(counts > of):
-                raise TooManyRoots(turning_points_beyond_split(int(counts.max()), of, "on the domain"), span)
+                raise TooManyRoots(turning_points_beyond_split(int(counts.max()), of, "on the domain"), root)
             roots = bisection(lambda at: value(at, r), tr[r], a, b)  # every sign change of every row at once
             found = (equation, r, counts, roots)
             remember(_SIGN_CHANGES, key, found, 8)

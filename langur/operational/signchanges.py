@@ -39,7 +39,7 @@ DEPTH = 30
 
 
 def certified_brackets(value, tape, x: str, target: np.ndarray, lo: np.ndarray, hi: np.ndarray, params: dict,
-                       span=None, what: str = "g", others: dict | None = None, lenient: bool = False):
+                       root=None, what: str = "g", others: dict | None = None, lenient: bool = False):
     """The brackets ``(row, a, b)`` (arrays, sorted by row then ``a``) each holding exactly one
     sign change of ``g − target`` for the parameter point ``row``, all of them on ``[lo, hi]``.
 
@@ -82,14 +82,14 @@ def certified_brackets(value, tape, x: str, target: np.ndarray, lo: np.ndarray, 
                 kept.append((rows[rest], a[rest], b[rest], np.full(int(rest.sum()), LOOSE)))
                 break
             k = int(np.argmax(rest))
-            raise _uncertified(what, x, a[k], b[k], span)
+            raise _uncertified(what, x, a[k], b[k], root)
         rows, a, b = rows[rest], a[rest], b[rest]
         mid = 0.5 * (a + b)
         rows, a, b = np.concatenate([rows, rows]), np.concatenate([a, mid]), np.concatenate([mid, b])
     r, ca, cb, direction = (np.concatenate(c) for c in zip(*kept))
     order = np.lexsort((ca, r))
     r, ca, cb, direction = r[order], ca[order], cb[order], direction[order]
-    return _sign_changes(value, tape, x, target, params, r, ca, cb, direction, span, what, others, lenient)
+    return _sign_changes(value, tape, x, target, params, r, ca, cb, direction, root, what, others, lenient)
 
 
 #: The direction of a cell left uncertified in lenient mode (its ends' signs decide).
@@ -100,11 +100,11 @@ def _at_rows(params: dict, rows: np.ndarray) -> dict:
     return {k: (np.asarray(v, dtype=float)[rows] if np.ndim(v) else v) for k, v in params.items()}
 
 
-def _uncertified(what, x, a, b, span) -> TooManyRoots:
-    return TooManyRoots(turning_points_uncertified(what, x, a, b), span)
+def _uncertified(what, x, a, b, root) -> TooManyRoots:
+    return TooManyRoots(turning_points_uncertified(what, x, a, b), root)
 
 
-def _sign_changes(value, tape, x, target, params, r, a, b, direction, span, what, others, lenient):
+def _sign_changes(value, tape, x, target, params, r, a, b, direction, root, what, others, lenient):
     """The brackets of the sign changes over the certified cells (sorted by row, then ``a``; they
     tile each row's ``[lo, hi]``): the sign of ``g − target`` at each cell's start and at each
     row's end, from point enclosures; a point of unknown sign joins the monotone cells on its two
@@ -149,7 +149,7 @@ def _sign_changes(value, tape, x, target, params, r, a, b, direction, span, what
             inner[j] = False
         elif bad.any():
             j = k[int(np.argmax(bad))]
-            raise _uncertified(what, x, pts[j - 1], pts[j + 1], span)
+            raise _uncertified(what, x, pts[j - 1], pts[j + 1], root)
     known = ~inner
     pts, prow, sign = pts[known], prow[known], sign[known]
     change = (prow[1:] == prow[:-1]) & (sign[1:] != sign[:-1])

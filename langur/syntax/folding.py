@@ -8,16 +8,18 @@ same sums and products with the identities folded where they are exact for Langu
 (§4, Fig. 7: ⟦t⟧ is a partial function, undefined where a primitive or a negative power is):
 
 * ``t + 0``, ``0 + t``, ``t − 0`` are ``t``; ``0 − t`` is ``−t``; ``−0`` is ``0``, ``−1`` is ``−1``;
+* ``−(−s)`` is ``s`` and ``t − (−s)`` is ``t + s``: (−1)·(−1)·v = v wherever v is defined, and ``s``
+  is undefined where ``−s`` is (diag32); so are ``−(−1)`` ``1`` and ``t − (−1)`` ``t + 1``;
 * ``t · 1``, ``1 · t`` and ``t ^ 1`` are ``t``, ``1 ^ k`` is ``1`` (but ``1 · s ^ −1`` stays: ``1 / s``);
 * ``t · 0`` and ``0 · t`` are ``0`` only where ⟦t⟧ is defined everywhere (:func:`defined_everywhere`):
   ``0 · (1/x)`` is undefined at x = 0 and stays as written; so is ``t ^ 0`` ``1``, and ``0 / c`` ``0``
   for a constant ``c ≠ 0``;
 * ``t / 1`` is ``t``.
 
-Only a constant written ``0`` or ``1`` (a literal, a loop's index at 0 or 1, a vector's component)
-folds, and the one other thing asked of a constant is whether it is 0 (never its sign); no other
-constant arithmetic is done, so a loop's copies at any other index have the shape of the first (``syntax/template.py``: the copies at 0 and 1 are desugared on their own,
-``syntax/unrolling.py``).  A ``1 / s`` the user wrote stays ``1 / s`` (``·`` of ``s ^ −1``, the
+Only a constant written ``0``, ``1`` or ``−1`` (a literal, a loop's index at −1, 0 or 1, a vector's
+component) folds, and the one other thing asked of a constant is whether it is 0 (never its sign); no
+other constant arithmetic is done, so a loop's copies at any other index have the shape of the first
+(``syntax/template.py``: the copies at −1, 0 and 1 are desugared on their own, ``syntax/unrolling.py``).  A ``1 / s`` the user wrote stays ``1 / s`` (``·`` of ``s ^ −1``, the
 printer's ``/``).  Spans: a folded node is its kept operand, with that operand's span.
 """
 
@@ -39,6 +41,7 @@ from ..core import (
     Term,
     children,
     map_children,
+    subterms,
 )
 from ..diagnostics import Span
 from ..primitives import REGISTRY
@@ -56,18 +59,28 @@ def is_one(t: Term) -> bool:
     return type(t) is Const and (t.value is _ONE or type(t.value) is Fraction and t.value == 1)
 
 
+def is_minus_one(t: Term) -> bool:
+    """``t`` is the constant −1 (a negation's factor, a literal ``-1``, a loop's index at −1)."""
+    return type(t) is Const and (t.value is MINUS_ONE or type(t.value) is Fraction and t.value == -1)
+
+
+def negand(t: Term) -> Term | None:
+    """``s`` when ``t`` is the negation ``−s`` — ``(−1)·s`` or, for ``s = 1``, the constant −1 (as
+    :func:`negated` builds them) — else None."""
+    if type(t) is Mul and is_minus_one(t.left):
+        return t.right
+    if is_minus_one(t):
+        return Const(_ONE, t.span)
+    return None
+
+
 def defined_everywhere(t: Term) -> bool:
     """⟦t⟧ is defined at every point of ℝⁿ and every parameter value: no negative or fractional
     power, no primitive with a restricted domain (``Domain.everywhere``), no call or implicit root
     (a def's body is not known here; a root is undefined outside its bracket); a conditional's
-    condition counts too (its π₀Ψ̂ is evaluated)."""
-    seen: set[int] = set()
-    stack = [t]
-    while stack:
-        u = stack.pop()
-        if id(u) in seen:
-            continue
-        seen.add(id(u))
+    condition counts too (its π₀Ψ̂ is evaluated; a diffeo's own terms are no children, so it is
+    walked on its own)."""
+    for u in subterms(t):
         tu = type(u)
         if tu is Pow:
             k = u.exponent
@@ -78,9 +91,8 @@ def defined_everywhere(t: Term) -> bool:
                 return False
         elif tu is Call or tu is ImplicitRoot:
             return False
-        elif tu is IfDiffeo:
-            stack.append(u.psi.forward[0])
-        stack.extend(children(u))
+        elif tu is IfDiffeo and not defined_everywhere(u.psi.forward[0]):
+            return False
     return True
 
 
@@ -100,27 +112,36 @@ def plus(t: Term, s: Term, span: Span | None = None) -> Term:
 
 
 def negated(t: Term, span: Span | None = None) -> Term:
-    """``−t``, i.e. ``(−1)·t``; ``−0`` is ``0`` and ``−1`` the constant −1 (as ``(−1)·1`` would fold)."""
+    """``−t``, i.e. ``(−1)·t``; ``−0`` is ``0``, ``−1`` the constant −1 (as ``(−1)·1`` would fold) and
+    ``−(−s)`` is ``s``."""
     if is_zero(t):
         return t
     if is_one(t):
         return Const(MINUS_ONE, span)
+    s = negand(t)
+    if s is not None:
+        return s
     return Mul(Const(MINUS_ONE), t, span)
 
 
 def minus(t: Term, s: Term, span: Span | None = None) -> Term:
-    """``t − s``, i.e. ``t + (−1)·s``; ``t − 0`` is ``t``, ``0 − s`` is ``−s``."""
+    """``t − s``, i.e. ``t + (−1)·s``; ``t − 0`` is ``t``, ``0 − s`` is ``−s``, ``t − (−r)`` is ``t + r``."""
     if type(s) is Const and is_zero(s):
         return t
     if type(t) is Const and is_zero(t):
         return negated(s, span)
+    r = negand(s)
+    if r is not None:
+        return Add(t, r, span)
     return Add(t, Mul(Const(MINUS_ONE), s), span)
 
 
 def times(t: Term, s: Term, span: Span | None = None) -> Term:
     """``t · s``; a factor 1 folds (but in ``1 · s ^ −1``, which prints as ``1 / s``), a factor 0 absorbs
-    the other where that one is defined everywhere."""
+    the other where that one is defined everywhere, and ``(−1) · (−r)`` is ``r``."""
     if type(s) is Const or type(t) is Const:
+        if is_minus_one(t) and negand(s) is not None:
+            return negand(s)
         if is_one(s):
             return t
         if is_one(t) and not (type(s) is Pow and s.exponent == -1):
@@ -186,5 +207,5 @@ def refolded(t: Term) -> Term:
     return go(t)
 
 
-__all__ = ["defined_everywhere", "divided", "is_one", "is_zero", "minus", "negated", "nonzero_constant", "plus",
-           "power", "refolded", "times"]
+__all__ = ["defined_everywhere", "divided", "is_minus_one", "is_one", "is_zero", "minus", "negand", "negated",
+           "nonzero_constant", "plus", "power", "refolded", "times"]

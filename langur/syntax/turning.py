@@ -77,6 +77,7 @@ from ..precise import NotReal, number, real_value, sign
 from ..sympy_bridge import from_sympy
 from ..timebox import run_with_timeout
 from .continuity import continuous_domain
+from .folding import refolded
 from .monotone import Monotone, _enclose, certify, certify_derivative, rational
 
 #: CPU-second limit of the search for turning points (CPU: the split must not change with the load).
@@ -339,7 +340,7 @@ def _by_roots(cond: Term, x: str, variables: tuple[str, ...], inputs: tuple[str,
     branches = []
     for a, b in zip(ends, ends[1:]):
         root = ImplicitRoot(equation, x, u0, a, b)
-        fa, fb = substitute(equation, {x: a}), substitute(equation, {x: b})
+        fa, fb = refolded(substitute(equation, {x: a})), refolded(substitute(equation, {x: b}))  # (the end's 1s)
         guard = Mul(Add(u0, neg(fa)), Add(fb, neg(u0)))  # u0 between f(a) and f(b)
         branches.append(InverseBranch(tuple(root if y == x else by_other[y] for y in variables), (guard,)))
     return Diffeo(variables=variables, forward=(cond,) + tuple(Var(y) for y in others), inputs=inputs,

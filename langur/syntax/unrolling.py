@@ -24,14 +24,14 @@ from .scope import Scope
 from .surface import Loop, Name, STerm
 
 #: The index values whose copies are desugared on their own, never built from the template: there the
-#: index folds (``x * i`` at i = 1 is ``x``, at i = 0 is ``0``; ``syntax/folding.py``), at any other value
-#: a copy has the first copy's shape.
-FOLDING = (0, 1)
+#: index folds (``x * i`` at i = 1 is ``x``, at i = 0 is ``0``, ``t - i`` at i = −1 is ``t + 1``;
+#: ``syntax/folding.py``), at any other value a copy has the first copy's shape.
+FOLDING = (-1, 0, 1)
 
 
 def _next_instantiable(k: int, hi: int) -> bool:
     """Whether a copy after the one at ``k`` (≤ ``hi``) may be built from a template made at ``k``."""
-    after = k + 1 if k + 1 not in FOLDING else 2
+    after = k + 1 if k + 1 not in FOLDING else max(FOLDING) + 1
     return after <= hi
 
 
@@ -71,7 +71,7 @@ class Unrolling:
         k = lo
         while k <= hi:
             if k in FOLDING:
-                # the index at 0 or 1 folds (x·0, x·1, t − 0: syntax/folding.py), so the copy may not have the
+                # the index at −1, 0 or 1 folds (x·0, x·1, t − 0, t − (−1): syntax/folding.py), so the copy may not have the
                 # template's shape: desugared on its own (and the copies after it form a new run)
                 copies.append(self.term(st.body, sc.with_index(st.index, k)))
                 if self.budget.exhausted:
@@ -79,7 +79,7 @@ class Unrolling:
                 try_all = plan is not None
                 k += 1
                 continue
-            end = min(hi, -1) if k < 0 else hi  # the last copy of this run (no index 0 or 1 in it)
+            end = min(hi, min(FOLDING) - 1) if k < 0 else hi  # the last copy of this run (no folding index in it)
             if plan is not None and try_all:
                 # every other copy of the run at once when they all fit the budget and all complete (else
                 # one by one, below: a copy that does not complete is desugared, and reports why)
