@@ -11,7 +11,8 @@ MC NaN for a square).  A.e. ``[c·Π fᵢ^kᵢ ≥ 0]`` is the parity of the sig
   (a + 1) + (1 − log 1.5), ∂a = 1;
 * ``int ([0, 2]) [(y − a)²(y − 1) ≥ 0]``: y ≥ 1 a.e.: 1, ∂a = 0;
 * ``int ([−1, 1]) [(x − a)²(eˣ − 1.5) ≥ 0]``: x ≥ log 1.5 a.e.: 1 − log 1.5, ∂a = 0;
-* ``int ([−1, 1]) [(x − 0.2)²(eˣ − (a + 1)) ≥ 0]`` (a fixed square): 1 − log(1 + a), ∂a = −1/(1 + a).
+* ``int ([−1, 1]) [(x − 0.2)²(eˣ − (a + 1)) ≥ 0]`` (a fixed square): 1 − log(1 + a), ∂a = −1/(1 + a);
+* ``int ([0, 1]) [−(x − a)² ≥ 0]``: true at x = a only: 0, ∂a = 0 (no factor left: ``ifge0 −1``).
 
 D5 — ``int ([0, 1]) [x + 0·(1/(x − a)) ≥ a]``: the condition as written is x − a off x = a and
 undefined at x = a, its own zero set.  ⟦p⟧ = 1 − a (a null set changes no integral), D⟦p⟧ = −1.
@@ -50,6 +51,7 @@ CASES = [  # (program, a, ⟦p⟧ by hand, ∂a by hand)
     ("int ([0, 2]) [(y - a) ^ 2 * (y - 1) >= 0] d(y)", 0.25, 1.0, 0.0),
     ("int ([-1, 1]) [(x - a) ^ 2 * (exp(x) - 1.5) >= 0] d(x)", 0.2, 1 - LOG15, 0.0),
     ("int ([-1, 1]) [(x - 0.2) ^ 2 * (exp(x) - (a + 1)) >= 0] d(x)", 0.5, 1 - math.log(1.5), -1 / 1.5),
+    ("int ([0, 1]) [-(x - a) ^ 2 >= 0] d(x)", 0.3, 0.0, 0.0),  # only a square, a negative coefficient: false a.e.
     ("int ([0, 1]) [x + 0 * (1 / (x - a)) >= a] d(x)", 0.3, 0.7, -1.0),  # D5
 ]
 
@@ -88,7 +90,7 @@ def test_a_repeated_factor_is_split_to_its_parity():
 
 
 def test_only_a_pole_is_extended_by_continuity():
-    (pole,) = _conditions(CASES[7][0], 0.3)
+    (pole,) = _conditions(CASES[8][0], 0.3)
     assert not any(isinstance(u, Pow) and u.exponent < 0 for u in subterms(pole)) and free_vars(pole) == {"x"}
     # a logarithm is undefined for x < a, a set of positive measure: not extended, the condition as written
     written = _conditions("int ([0, 1]) [x + 0 * log(x - a + 2) >= a] d(x)", 0.3)

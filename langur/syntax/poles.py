@@ -78,9 +78,10 @@ def sign_factors(cond: Term, psi: Diffeo | None) -> tuple[Term | None, tuple[Ter
     variables = sorted(free_vars(cond))
     params = sorted(s.name for s in coefficient.free_symbols | {s for f in factors for s in f.free_symbols}
                     if s.name not in variables)
-    if coefficient.is_number and coefficient < 0:  # a negative constant: the first factor's sign flipped
+    if coefficient.is_number and coefficient < 0 and factors:  # a negative constant: the first factor's sign flipped
         coefficient, factors = -coefficient, [-factors[0], *factors[1:]]
-    c = None if coefficient.is_number else from_sympy(coefficient, (), params)
+    # (a negative constant and only even powers, [−(x − a)² ≥ 0]: false a.e., ifge0 −1 — a constant condition)
+    c = None if coefficient.is_number and coefficient > 0 else from_sympy(coefficient, (), params)
     return c, tuple(from_sympy(f, variables, params) for f in factors)
 
 
