@@ -27,7 +27,8 @@ from .findings import Finding, PerCondition
 #: CPU seconds of sympy per condition, and for all the conditions of a program (past either: X310).
 TIME_LIMIT = 2.0
 TOTAL = 15.0
-#: |f(c)| below this (relative to the scale of f) at the parameters in force: a tangent root.
+#: A tangent root at the parameters in force: |f(c)| no larger than f(c) moves when the parameters
+#: move by this (relative; the digits a default value is written with): ``_on_turning_point``.
 TOLERANCE = 1e-9
 
 
@@ -171,9 +172,13 @@ def _on_turning_point(f, v, c, end, roots, at) -> bool:
         return False  # a moving slot past the last turning point is the domain's end
     if not lo <= here <= hi:
         return False  # a turning point outside the domain (whose end moves) at these values
-    fx = f.xreplace(at)
-    scale = 1 + max(abs(complex_value(fx.xreplace({v: lo}))), abs(complex_value(fx.xreplace({v: hi}))))
-    return abs(complex_value(fx.xreplace({v: here}))) <= TOLERANCE * scale
+    # how far the value at the turning point moves when the parameters move by TOLERANCE (relative):
+    # to first order ∂f/∂θ there (∂f/∂x = 0 at c), so a value that no nearby parameter value can
+    # make 0 is not a root on the turning point however small it is — six roots 0.01 apart have
+    # values ±1e-11 at their turning points for every a, since f depends on x − a only (pole32)
+    reach = sum(abs(complex_value(sp.diff(f, p).xreplace(at).xreplace({v: here}))) * max(1, abs(float(at[p])))
+                for p in at)
+    return abs(complex_value(f.xreplace(at).xreplace({v: here}))) <= TOLERANCE * reach
 
 
 def _fixed_turning_points(ends, v) -> list | None:

@@ -14,10 +14,12 @@ for one factor), its factors to split on (:mod:`langur.syntax.poles`, imported l
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 from .. import lazy
 from ..core import Diffeo, IfGe0, Mul, Pow, Term, free_params, free_vars, subterms
 from . import affine
+from .folding import defined_everywhere
 
 #: ``langur.syntax.diffeo``, imported when first needed.
 diffeo = lazy.module("langur.syntax.diffeo")
@@ -64,6 +66,8 @@ def complete_or_split(cond: Term, variables: tuple[str, ...], box=()) -> Diffeo 
         return split
     if failed is not None:
         raise failed
+    if not defined_everywhere(cond) and (extension := poles.removable(cond)) is not None:
+        psi = replace(psi, forward=(extension, *psi.forward[1:]))  # undefined at a pole only: D5, pole32
     return psi
 
 
@@ -90,11 +94,12 @@ def sign_chain(split: Split, then: Term, orelse: Term, conditional: Callable[[Te
 
 def _may_split(cond: Term) -> bool:
     """Whether ``cond`` can have a moving sign change away from one zero set: it mentions a
-    parameter, and divides by a term over variables or multiplies two such terms."""
+    parameter, and divides by a term over variables, multiplies two such terms, or raises a term
+    over variables and parameters to a power other than 1 (a repeated moving factor)."""
     if not free_params(cond):
         return False
     for u in subterms(cond):
-        if type(u) is Pow and u.exponent < 0 and free_vars(u.base):
+        if type(u) is Pow and free_vars(u.base) and (u.exponent < 0 or u.exponent > 1 and free_params(u.base)):
             return True
         if type(u) is Mul and free_vars(u.left) and free_vars(u.right):
             return True

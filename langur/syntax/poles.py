@@ -24,16 +24,22 @@ set, where the condition as written is 0/0 or undefined anyway (LANGUAGE.md §1)
 :func:`sign_factors` decides when the split is needed: only when a factor over variables that
 mentions a parameter (its sign change moves) is missed by the completion found for the condition
 as a whole — so a pole that does not move, or a product whose completion reaches its one moving
-factor, keeps today's completion (and its Ψ̂, closed forms, printed terms).
+factor, keeps today's completion (and its Ψ̂, closed forms, printed terms) — and whenever a factor
+over variables has multiplicity > 1 (``(x − a)³``, ``(x − a)²·(exp(x) − 1.5)``): there ∂/∂x of
+the condition vanishes on that factor's zero set, Ψ̂ is no diffeomorphism (Def. 3.4; a degenerate
+turning point, X316, or a double root, X305/X315), while the parity rule's odd power keeps the
+factor once and an even one drops it (a touch, no jump) — bench/RESULTS.md, pole32.
 """
 
 from __future__ import annotations
 
 import sympy as sp
 
-from ..core import Diffeo, Term, TooManyRoots, free_vars
+from ..core import Call, Diffeo, IfDiffeo, ImplicitRoot, Pow, Prim, Term, TooManyRoots, free_vars, subterms
+from ..primitives import REGISTRY
 from ..sympy_bridge import NotSmooth, from_sympy, symbol, to_sympy
 from ..timebox import run_with_timeout
+from .folding import defined_everywhere
 
 #: At most this many factors over variables are split on (2k − 1 conditionals for k factors).
 MAX_FACTORS = 6
@@ -72,16 +78,17 @@ def sign_factors(cond: Term, psi: Diffeo | None) -> tuple[Term | None, tuple[Ter
     variables = sorted(free_vars(cond))
     params = sorted(s.name for s in coefficient.free_symbols | {s for f in factors for s in f.free_symbols}
                     if s.name not in variables)
-    if coefficient.is_number and coefficient < 0:  # a negative constant: the first factor's sign flipped
+    if coefficient.is_number and coefficient < 0 and factors:  # a negative constant: the first factor's sign flipped
         coefficient, factors = -coefficient, [-factors[0], *factors[1:]]
-    c = None if coefficient.is_number else from_sympy(coefficient, (), params)
+    # (a negative constant and only even powers, [−(x − a)² ≥ 0]: false a.e., ifge0 −1 — a constant condition)
+    c = None if coefficient.is_number and coefficient > 0 else from_sympy(coefficient, (), params)
     return c, tuple(from_sympy(f, variables, params) for f in factors)
 
 
 def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
     variables = {s for s in expr.free_symbols if s.name in free_vars(cond)}
     quotient = sp.together(expr)
-    coefficient, factors, poles = sp.S.One, [], []
+    coefficient, factors, poles, repeated = sp.S.One, [], [], False
     for arg in sp.Mul.make_args(quotient):
         if not arg.free_symbols & variables:
             coefficient *= arg
@@ -97,7 +104,9 @@ def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
         for part, m in parts:
             if not part.free_symbols & variables:
                 coefficient *= part ** (m * k)
-            elif (m * k) % 2:
+                continue
+            repeated |= abs(m * k) > 1
+            if (m * k) % 2:
                 factors.append(part)
                 if k < 0:
                     poles.append(part)
@@ -109,6 +118,8 @@ def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
                              "of the condition only and would miss that jump; write the condition so that the pole is "
                              "a factor's ([exp(1/(x - b)) >= 2] is [1/(x - b) >= log(2)]: a quotient, split at its "
                              "pole), or split the domain at the pole")
+    if repeated:  # a factor of multiplicity > 1: a degenerate turning point (odd) or a touch (even) on it
+        return coefficient, factors
     if len(factors) < 2 and not poles:
         return None  # one factor, not under a division: the condition itself, up to its coefficient
     moving = [f for f in factors if f.free_symbols - variables]
@@ -117,6 +128,27 @@ def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
     if not moving or _reaches(psi, moving, expr.free_symbols - variables):
         return None
     return coefficient, factors
+
+
+def removable(cond: Term) -> Term | None:
+    """``cond`` as the term sympy reads it (its continuous extension) when ``cond`` is undefined only
+    at poles — zeros of the bases of its negative integer powers, a null set — and that term is
+    defined everywhere (``x + 0·(1/(x − a))`` is ``x``; ``(x − a)/(x − a)·x`` is ``x``); else None.
+    Both are one condition a.e. (⟦p⟧ is unchanged), but the term as written is undefined on its own
+    zero set, where the derivative's delta evaluates it (Fig. 8: D π₀Ψ̂ at π₀Ψ̂ = 0): the exact
+    engine, through sympy, gave the extension's −1 and Monte Carlo NaN.  The completion Ψ̂ is the
+    extension's, a C¹ diffeomorphism (Def. 3.4): both engines evaluate that (bench/RESULTS.md, pole32)."""
+    for u in subterms(cond):
+        if (type(u) is Pow and u.exponent.denominator != 1 or type(u) in (Call, ImplicitRoot, IfDiffeo)
+                or type(u) is Prim and not REGISTRY[u.op].domain.everywhere):
+            return None  # a root, a primitive with a restricted domain, …: undefined perhaps on more than a null set
+    try:
+        expr = to_sympy(cond)
+        variables = sorted(free_vars(cond))
+        out = from_sympy(expr, variables, sorted(s.name for s in expr.free_symbols if s.name not in variables))
+    except (NotSmooth, ValueError):
+        return None
+    return out if defined_everywhere(out) else None
 
 
 def _moving_pole(f: sp.Expr, variables: set) -> sp.Expr | None:
@@ -179,4 +211,4 @@ def _vanishes(value: sp.Expr) -> bool:
     return not value.has(sp.zoo, sp.oo, -sp.oo, sp.nan) and sp.simplify(value) == 0
 
 
-__all__ = ["MAX_FACTORS", "MovingPole", "TooManyFactors", "sign_factors"]
+__all__ = ["MAX_FACTORS", "MovingPole", "TooManyFactors", "removable", "sign_factors"]
