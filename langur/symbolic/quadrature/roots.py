@@ -45,13 +45,12 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
     xs = np.linspace(lo, hi, GRID + 1).tolist()  # Python floats: math functions, no numpy warnings
     vals = [g(x) for x in xs]
     out = _hidden_pairs(g, xs, vals)
-    for i in range(GRID):
-        if vals[i] == 0.0 and i > 0:
-            out.append(xs[i])
-    cells = [(xs[i], xs[i + 1], vals[i], vals[i + 1]) for i in range(GRID - 1, -1, -1)]
+    cells = [(xs[i], xs[i + 1], vals[i], vals[i + 1], i) for i in range(GRID - 1, -1, -1)]
     more = MORE_CELLS
-    while cells:
-        a, b, fa, fb = cells.pop()
+    while cells:  # (the grid's cells in order, each followed by those its bisection set aside)
+        a, b, fa, fb, i = cells.pop()
+        if fa == 0.0 and i > 0:
+            out.append(a)
         sa, sb = _state(fa), _state(fb)
         if sa == sb:
             continue
@@ -76,7 +75,7 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
             else:
                 if _state(gm) != _state(fb) and more > 0:  # [m, b] set aside holds a transition too
                     more -= 1
-                    cells.append((m, b, gm, fb))
+                    cells.append((m, b, gm, fb, 0))
                 b, fb = m, gm
         out.append(0.5 * (a + b))
     return out
