@@ -86,7 +86,30 @@ def test_the_same_roots_as_the_unchanged_search(seed):
         for g in _conditions(rng):
             got = roots._roots(g, lo, hi)
             want = _unchanged(g, lo, hi)
-            assert [x.hex() for x in got] == [x.hex() for x in want]
+            _with_lost_transitions(got, want, g)
+
+
+def _with_lost_transitions(got: list[float], want: list[float], g) -> None:
+    """``got`` is ``want`` (the same doubles, in order) with, in between, transitions the unchanged
+    search lost: wide32 (bench/RESULTS.md, wide32) searches the halves its bisection set aside with
+    different states at their ends (``√(x − r) − c``: its edge r and its root r + c² in one cell);
+    each one added is a change of state within a few units in the last place."""
+    rest = iter(got)
+    extra = []
+    for w in want:
+        for t in rest:
+            if t.hex() == w.hex():
+                break
+            extra.append(t)
+        else:
+            raise AssertionError(f"{w} of the unchanged search is missing from {got}")
+    extra += list(rest)
+    for t in extra:
+        left, right = t, t
+        for _ in range(4):
+            left, right = math.nextafter(left, -math.inf), math.nextafter(right, math.inf)
+        assert roots._state(g(left)) != roots._state(g(right)), (t, got, want)
+        assert all(abs(t - w) > 1e-12 for w in want), (t, want)
 
 
 def test_a_boundary_at_a_node_and_at_zero():

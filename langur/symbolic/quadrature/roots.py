@@ -30,14 +30,25 @@ def _state(v: float) -> int:
     return 1 if v >= 0 else -1
 
 
+#: Most cells :func:`_roots` searches besides its grid's (each one a piece its bisection set aside
+#: with different states at its ends: a second transition there).
+MORE_CELLS = 4 * GRID
+
+
 def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
     """Points in (lo, hi) where ``g`` changes sign or definedness (grid + brentq/bisection, and
-    :func:`_hidden_pairs` where a pair of roots closer than the grid's step hides between nodes)."""
+    :func:`_hidden_pairs` where a pair of roots closer than the grid's step hides between nodes).
+    A bisection keeps one half; a half it sets aside whose ends differ in state (defined or not,
+    sign) holds another transition and is searched too: ``3/20 − √(0.96 − u²)`` has its edge of
+    definedness (u = −0.9798) and its root (u = −0.9682) between two nodes, and the bisection, drawn
+    to the edge, lost the root — a whole arc of a circle's delta piece (bench/RESULTS.md, wide32)."""
     xs = np.linspace(lo, hi, GRID + 1).tolist()  # Python floats: math functions, no numpy warnings
     vals = [g(x) for x in xs]
     out = _hidden_pairs(g, xs, vals)
-    for i in range(GRID):
-        a, b, fa, fb = xs[i], xs[i + 1], vals[i], vals[i + 1]
+    cells = [(xs[i], xs[i + 1], vals[i], vals[i + 1], i) for i in range(GRID - 1, -1, -1)]
+    more = MORE_CELLS
+    while cells:  # (the grid's cells in order, each followed by those its bisection set aside)
+        a, b, fa, fb, i = cells.pop()
         if fa == 0.0 and i > 0:
             out.append(a)
         sa, sb = _state(fa), _state(fb)
@@ -58,10 +69,14 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
                 # with its state) — so the answer below is the same; issue 15: ~620 of turning2d's 4,500
                 # grid evaluations, each an implicit root's condition.  (At 0, ±0 could differ.)
                 break
-            if _state(g(m)) == sa:
+            gm = g(m)
+            if _state(gm) == sa:
                 a = m
             else:
-                b = m
+                if _state(gm) != _state(fb) and more > 0:  # [m, b] set aside holds a transition too
+                    more -= 1
+                    cells.append((m, b, gm, fb, 0))
+                b, fb = m, gm
         out.append(0.5 * (a + b))
     return out
 
