@@ -176,8 +176,8 @@ def test_standard_ad_fails_with_a_small_counterexample():
     # Which program is the minimal one must depend on computation only, never on the machine's
     # load: hypothesis shrinks the campaign's first failure (no search for more failures for 10 s
     # of wall clock after it — campaign._settings), and the exact engine's budget, 5 CPU seconds per
-    # program, is far past what any program of this shrink needs (at most 1.4 CPU s for the whole
-    # comparison on an idle machine), so that no candidate turns into a timeout on a loaded one.
+    # program, is far past what any program of this shrink needs (at most 1.6 CPU s for the whole
+    # comparison, measured), so that no candidate turns into a timeout on a loaded one.
     # With 2 CPU s and the 10 s search the minimal was ∫₀^{a+1} (x + 0.5) dx on an idle machine and
     # ∫₀¹ [x ≤ a] dx under load (bench/RESULTS.md, flake32).
     s = fuzz.run_fuzz(6, seed=4, samples=2000, timeout=5.0, engine=engines.resolve("standard-ad", samples=2000),
