@@ -210,11 +210,11 @@ def test_rejections(cond, variables, box, why):
 
 
 def test_completion_is_fast_and_bounded():
-    t0 = time.time()
+    t0 = time.process_time()
     for k in range(2, 12):
         D._complete_cached.cache_clear()
         complete(sub(Add(Pow(x, F(k)), Mul(Const(F(k)), y)), P("a")), ("x", "y"))
-    assert time.time() - t0 < 20
+    assert time.process_time() - t0 < 20
 
 
 def test_the_validator_itself_catches_a_missing_branch_and_a_wrong_inverse():

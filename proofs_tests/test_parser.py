@@ -430,7 +430,7 @@ def test_empty_bytes():
 
 
 def test_ten_megabytes():
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     # 10 MB of comments and white space around a program: parses
     big = ("# " + "c" * 98 + "\n") * 100_000 + "int x d(x)\n"
     assert parse_bytes(big.encode(), "big.lgr").program.body == x
@@ -440,7 +440,7 @@ def test_ten_megabytes():
     assert err(parse_module, huge).code == "E108"
     # a 10 MB number literal
     assert err(parse_module, "int " + "9" * 10_000_000 + " d(x)").code in ("E106", "E108")
-    assert time.perf_counter() - t0 < 20
+    assert time.process_time() - t0 < 20
 
 
 @pytest.mark.parametrize(
@@ -479,11 +479,11 @@ def test_examples_parse_in_milliseconds():
     texts = [(p.read_text(), str(p)) for p in EXAMPLE_FILES]
     for text, path in texts:  # warm-up (builds the parser once)
         parse_module(text, path)
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     for _ in range(10):
         for text, path in texts:
             parse_module(text, path)
-    per_file = (time.perf_counter() - t0) / (10 * len(texts))
+    per_file = (time.process_time() - t0) / (10 * len(texts))
     assert per_file < 0.02, per_file
 
 

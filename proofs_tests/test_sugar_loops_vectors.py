@@ -157,9 +157,9 @@ def test_bounds_that_are_not_integer_constants(src, needle):
 
 def test_a_huge_loop_is_refused_at_once_at_its_range():
     src = "int ([0, 1]) sum i in 1..1000000000: x d(x)"
-    start = time.monotonic()
+    start = time.process_time()
     assert errors(src) == [("T225", *at(src, "1..1000000000"))]
-    assert time.monotonic() - start < 2
+    assert time.process_time() - start < 2
 
 
 @pytest.mark.parametrize("src, code, needle", [
@@ -171,16 +171,16 @@ def test_a_huge_loop_is_refused_at_once_at_its_range():
     ("int ([0, 1]) x ^ ((((10^64)^64)^64)^64) d(x)", "T231", "(((10"),  # the span of the parenthesized term
 ])
 def test_huge_constants_are_refused_without_computing_them(src, code, needle):
-    start = time.monotonic()
+    start = time.process_time()
     assert errors(src) == [(code, *at(src, needle))]
-    assert time.monotonic() - start < 2
+    assert time.process_time() - start < 2
 
 
 def test_nested_loops_past_the_bound_are_refused_once_at_the_inner_loop():
     src = "int ([0, 1]) sum i in 1..1000: sum j in 1..1000: x d(x)"  # 10⁶ copies of x
-    start = time.monotonic()
+    start = time.process_time()
     assert errors(src) == [("T225", *at(src, "1..1000: x"))]
-    assert time.monotonic() - start < 10
+    assert time.process_time() - start < 10
 
 
 def test_a_large_body_counts_its_nodes():
@@ -264,9 +264,9 @@ def test_a_let_bound_vector_is_shared_not_copied():
     # work on the shared form: ∫₀¹ [2^40 x <= 2^39] · 2^40 dx = 2^40 / 2
     lets = "".join(f"let v{k} = v{k - 1} + v{k - 1} in " for k in range(1, 41))
     src = f"int ([0, 1]) let v0 = (x, 1) in {lets}[v40.x <= 2^39] * v40.y d(x)"
-    start = time.monotonic()
+    start = time.process_time()
     assert value(src) == 2**39
-    assert time.monotonic() - start < 20
+    assert time.process_time() - start < 20
 
 
 def test_a_vector_chain_too_deep_once_substituted_is_refused_quickly():
@@ -274,9 +274,9 @@ def test_a_vector_chain_too_deep_once_substituted_is_refused_quickly():
     # past the 400 of T230 (the depth measure and the search for a culprit visit shared nodes once)
     lets = "".join(f"let v{k} = cross(v{k - 1}, (1, 2, 3)) in " for k in range(1, 191))
     src = f"int ([0, 1]) let v0 = (x, 1, 2) in {lets}v190.x * x d(x)"
-    start = time.monotonic()
+    start = time.process_time()
     assert errors(src) == [("T230", 1, 1)]
-    assert time.monotonic() - start < 10
+    assert time.process_time() - start < 10
 
 
 # ----------------------------------------------------------------------------------------------

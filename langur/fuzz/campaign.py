@@ -102,13 +102,17 @@ def draws(examples: int) -> int:
 def _settings(examples: int, seed: int):
     """The hypothesis run of a campaign: seeded, no example database (nothing is written to the
     user's folder), no deadline (time limits are the campaign's own); at most :func:`draws`
-    programs drawn."""
+    programs drawn; one failure is shrunk, the first (``report_multiple_bugs=False``: otherwise
+    hypothesis goes on drawing programs after it, to look for other failures, for at most 10 s of
+    wall clock — a loaded machine checks fewer of them, and the minimal program then depended on
+    the load; bench/RESULTS.md, flake32)."""
     hypothesis, _ = _hypothesis()
     from hypothesis import HealthCheck, settings
 
     def wrap(test):
         return settings(max_examples=draws(examples), deadline=None, database=None, derandomize=False,
-                        suppress_health_check=list(HealthCheck), print_blob=False)(
+                        suppress_health_check=list(HealthCheck), print_blob=False,
+                        report_multiple_bugs=False)(
             hypothesis.seed(seed)(test))
     return wrap
 

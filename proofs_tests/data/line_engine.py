@@ -8,11 +8,11 @@ import json
 import sys
 import time
 
-from langur import core_json, operational
-
 mode = sys.argv[1] if len(sys.argv) > 1 else ""
 for line in sys.stdin:
     ask = json.loads(line)
+    # the misbehaviours come before the workbench is imported: they happen at once, however long a
+    # loaded machine takes to import it (bench/RESULTS.md, flake32)
     if mode == "--crash":
         sys.exit(3)
     if mode == "--hang":
@@ -23,6 +23,8 @@ for line in sys.stdin:
     if mode == "--decline":
         print(json.dumps({"id": ask["id"], "declined": "this engine declines everything"}), flush=True)
         continue
+    from langur import core_json, operational
+
     program, _ = core_json.from_json(ask["program"])
     if ask["request"] == "value":
         r = operational.estimate_value(program, ask["params"], samples=20000, seed=ask["id"])
