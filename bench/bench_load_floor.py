@@ -1,5 +1,5 @@
 """Microbenchmark 1's loading at small n: where a small program's load goes, and what "link + eval" it is
-compared with (issue 15's "loading ≤ ½ (link + eval)"; bench/RESULTS.md, load32; not a test).
+compared with (issue 15's "loading ≤ ½ (link + eval)"; bench/history/2026-11-29.md#load32; not a test).
 
 Run:  python bench/bench_load_floor.py [--sizes 1,10,25,49,100] [--reps K] [--no-instructions]
 

@@ -282,7 +282,7 @@ def certified_brackets(g, g_iv, dg_iv, target, lo, hi, grid: int = GRID, depth: 
     caller that refuses more than ``most`` sign changes (a condition split for that many turning
     points) gets, as soon as more than ``most`` are certified, those found so far — the first ones,
     from ``lo`` on — instead of all: ``sin(100000·x)`` has 31,831 on [0, 1], 26 CPU s of
-    certification to say "more than 7" (bench/RESULTS.md, hostile32)."""
+    certification to say "more than 7" (bench/history/2026-11-29.md#hostile32."""
     lo, hi = float(mpmath.mpf(lo)), float(mpmath.mpf(hi))
     if not hi > lo:  # an empty interval (a moving end past the other): no sign change
         return []

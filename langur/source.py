@@ -53,7 +53,7 @@ def read_file(path: str, wait: float | None = None) -> bytes:
     The file is opened without blocking (``O_NONBLOCK``): a plain ``open`` of a named pipe waits,
     uninterruptibly by a CPU-time limit, until some program opens it for writing — forever if none
     does (``langur check`` of a program importing such a "module" sat there for its 605 s
-    backstop, bench/RESULTS.md, hostile32).  A regular file is then read as before; anything else
+    backstop, bench/history/2026-11-29.md#hostile32.  A regular file is then read as before; anything else
     (a pipe, a device) is read as its bytes arrive, and when ``wait`` (seconds of wall clock) is
     given, :class:`TimeoutError` (an OSError, ETIMEDOUT) says that it was not all there by then.
     Without ``wait`` the caller's own time limit bounds the read."""

@@ -76,7 +76,7 @@ def test_x316_deriv_says_the_same_for_both_engines(capsys, tmp_path):
     assert status == 1
     # this file's own place, though other tests in this process loaded files of the same text (this module's
     # sine7.lgr in another folder, another module's case.lgr) whose equal core terms the engines' memos keep:
-    # a refusal names the program's own node (core.refusals_located; bench/RESULTS.md, diag32)
+    # a refusal names the program's own node (core.refusals_located; bench/history/2026-11-29.md#diag32
     assert _x316_lines(err) == [f"{f}:2:16: error X316 no exact value: {_x316_text('on [-2, 2]')}",
                                 f"{f}:2:16: error X316 no Monte Carlo value: {_x316_text('on the domain')}"]
 

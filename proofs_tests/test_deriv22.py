@@ -91,7 +91,7 @@ def test_the_same_roots_as_the_unchanged_search(seed):
 
 def _with_lost_transitions(got: list[float], want: list[float], g) -> None:
     """``got`` is ``want`` (the same doubles, in order) with, in between, transitions the unchanged
-    search lost: wide32 (bench/RESULTS.md, wide32) searches the halves its bisection set aside with
+    search lost: wide32 (bench/history/2026-11-29.md#wide32 searches the halves its bisection set aside with
     different states at their ends (``√(x − r) − c``: its edge r and its root r + c² in one cell);
     each one added is a change of state within a few units in the last place."""
     rest = iter(got)

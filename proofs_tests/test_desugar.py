@@ -60,7 +60,7 @@ def test_domain_with_parametric_bounds_in_two_variables():
     xy = ("x", "y")
     a, b = Param("a"), Param("b")
     minus1, twob = const(-1), Mul(const(2), b)
-    # [y − (−1) ≥ 0] is [y + 1 ≥ 0] (syntax/folding.py: t − (−s) = t + s; bench/RESULTS.md, diag32)
+    # [y − (−1) ≥ 0] is [y + 1 ≥ 0] (syntax/folding.py: t − (−s) = t + s; bench/history/2026-11-29.md#diag32
     factors = [ind(sub(x, a), xy), ind(sub(b, x), xy), ind(Add(y, const(1)), xy), ind(sub(twob, y), xy)]
     expected = Mul(Mul(Mul(factors[0], factors[1]), factors[2]), factors[3])
     assert p.body == Mul(expected, Mul(x, y))

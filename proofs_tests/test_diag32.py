@@ -1,4 +1,4 @@
-"""Diagnostics that tell the truth (session 2026-11-29, diag32; bench/RESULTS.md, diag32).
+"""Diagnostics that tell the truth (session 2026-11-29, diag32; bench/history/2026-11-29.md#diag32.
 
 1. The engines remember what they compiled by equal core terms, whose spans do not count (the
    Monte Carlo engine's units, samplers and linked programs, the exact engine's Ψ̂ and results).

@@ -1,4 +1,4 @@
-"""What a fresh user reads stays true, on every page (fresh32; bench/RESULTS.md, fresh32).
+"""What a fresh user reads stays true, on every page (fresh32; bench/history/2026-11-29.md#fresh32.
 
 * examples/README.md lists every example in examples/ (each ``.lgr`` outside ``adapters/``, which
   has its own README, the notebook and the strategies example), names only files that exist, and

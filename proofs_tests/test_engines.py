@@ -150,7 +150,7 @@ def test_an_engine_in_another_process_passes_and_a_wrong_one_fails():
 #: that never answers (any budget reports it, the shortest keeps the test short), 120 s — far past
 #: any start-up on a loaded machine — for those that exit or answer garbage at once, whose report
 #: must not depend on how soon the process got to do so (with 2 s, a start-up slowed past 2 s by
-#: load was reported as "no answer within 2 s"; bench/RESULTS.md, flake32).
+#: load was reported as "no answer within 2 s"; bench/history/2026-11-29.md#flake32.
 MISBEHAVING = [("--crash", "exited", 120), ("--hang", "no answer within", 2), ("--garbage", "not JSON", 120)]
 
 
@@ -179,7 +179,7 @@ def test_standard_ad_fails_with_a_small_counterexample():
     # program, is far past what any program of this shrink needs (at most 1.6 CPU s for the whole
     # comparison, measured), so that no candidate turns into a timeout on a loaded one.
     # With 2 CPU s and the 10 s search the minimal was ∫₀^{a+1} (x + 0.5) dx on an idle machine and
-    # ∫₀¹ [x ≤ a] dx under load (bench/RESULTS.md, flake32).
+    # ∫₀¹ [x ≤ a] dx under load (bench/history/2026-11-29.md#flake32.
     s = fuzz.run_fuzz(6, seed=4, samples=2000, timeout=5.0, engine=engines.resolve("standard-ad", samples=2000),
                       light=True)
     assert s.failed and s.minimal is not None

@@ -80,7 +80,7 @@ def test_a_narrow_range_still_prints_a_bound():
     assert r.method == Method.QUADRATURE
     ref = si.quad(lambda x: math.exp(-math.cosh(x)), 0, 1, epsabs=1e-14)[0]
     assert r.value == pytest.approx(ref, rel=1e-9)
-    # the bound printed is what interval enclosures prove (bench/RESULTS.md, exact32): here wider than
+    # the bound printed is what interval enclosures prove (bench/history/2026-11-29.md#exact32: here wider than
     # quadrature's estimate, so both are printed
     assert ESTIMATE not in r.notes and abs(r.value - ref) <= r.proved < 1e-6
     assert r.how() == f"quadrature, error estimate {r.error:.3g}, proved ≤ {r.proved:.3g}"

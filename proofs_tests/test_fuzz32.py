@@ -6,7 +6,7 @@ and prints back to its AST; each builder registers the zero sets its condition c
 (the pole's too); one program of each kind has its value and derivatives computed by hand, which
 both engines must give; the front end no longer raises an internal error on a product with a
 cubed moving factor (`[(y - a)^3 * (y - 1) >= 0]`, found by this round's draws:
-bench/RESULTS.md, fuzz32)."""
+bench/history/2026-11-29.md#fuzz32."""
 
 import math
 import re
@@ -131,7 +131,7 @@ HAND = {
                          (1 - A * A) / 2 + 1 - A, {"a": -(A + 1)}),
     # 0 * (1/(x + 2)) is 0 on the box (not folded: 1/(x + 2) is undefined at −2): 1 − a.  With the
     # pole on the jump, [x + 0 * (1 / (x - a)) >= a], the engines disagree (exact −1, Monte Carlo
-    # nan: bench/RESULTS.md, fuzz32)
+    # nan: bench/history/2026-11-29.md#fuzz32
     "0 * (1 / pole)": ("param a = 0.3\nint ([0, 1]) [x + 0 * (1 / (x + 2)) >= a] d(x)\n", 1 - A, {"a": -1}),
 }
 

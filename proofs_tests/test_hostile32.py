@@ -4,7 +4,7 @@ named pipe imported as a module, a box wider than the largest double, 41 integra
 
 Every command runs in a subprocess bounded in memory (``RLIMIT_AS``), CPU time (``RLIMIT_CPU``) and
 wall clock; the contract (CLI.md): exit 0, 1 or 2, a located diagnostic or one usage line, never a
-traceback or an internal error.  bench/RESULTS.md, hostile32.
+traceback or an internal error.  bench/history/2026-11-29.md#hostile32.
 """
 
 from __future__ import annotations

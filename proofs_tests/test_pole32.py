@@ -1,4 +1,4 @@
-"""pole31's split, leftovers found by fuzz32 (bench/RESULTS.md, fuzz32 D1 and D5; hostile32's X306): bench/RESULTS.md, pole32.
+"""pole31's split, leftovers found by fuzz32 (bench/history/2026-11-29.md#fuzz32 D1 and D5; hostile32's X306): bench/history/2026-11-29.md#pole32.
 
 D1 — a factor of multiplicity > 1.  ``[(y − a)³ ≥ 0]`` has ∂/∂y = 3(y − a)² = 0 on its zero set: Ψ̂ is no
 diffeomorphism there (Def. 3.4), a degenerate turning point (X316 in both engines, or X315/X305 and

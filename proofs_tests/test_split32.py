@@ -7,7 +7,7 @@ from 0.67 to 1.3–1.4 CPU s, most of it the quadrature of the split's extra pie
 now gives the quadrature each piece as it is on the box at the point (langur.symbolic.offbox): 0 where
 a condition is proved negative on the whole box (or a delta's zero set misses it), without the
 conditions proved positive there; the closed forms are sought for the pieces as they were
-(bench/RESULTS.md, split32).
+(bench/history/2026-11-29.md#split32.
 
 Hand values, box [0, 1]², ``[(x − a)/(y + b) ≥ 0]``, a ∈ (0, 1):
 * b > 0 (y + b > 0 on the box): x ≥ a, ⟦p⟧ = 1 − a, d/da = −1, d/db = 0;

@@ -1,4 +1,4 @@
-"""Two wrong answers of the exact engine found by fuzz32 (bench/RESULTS.md, wide32).
+"""Two wrong answers of the exact engine found by fuzz32 (bench/history/2026-11-29.md#wide32.
 
 * D4, a wrong number: ``∂/∂c ∫∫_{[-1,1]×[0,0.15]} [x² + y² ≥ c + 0.55]·x`` is 0 (the integrand is odd
   in x on a region symmetric in x), but the delta piece's quadrature lost the arc x < 0 and gave

@@ -184,7 +184,7 @@ AGREE_SE = 5.0
 def agreement(exact_value, exact_error, mc_value, mc_stderr, all_zero: bool = False) -> str:
     """One line: do the exact and Monte Carlo engines agree, and by how many standard errors;
     ``all_zero``: every Monte Carlo sample was 0 (its standard error 0 bounds nothing, so an
-    agreement is no evidence: bench/RESULTS.md, exact32)."""
+    agreement is no evidence: bench/history/2026-11-29.md#exact32."""
     diff = abs(float(exact_value) - float(mc_value))
     slack = float(exact_error or 0.0) + 1e-12 * (1 + abs(float(exact_value)))
     se = float(mc_stderr)

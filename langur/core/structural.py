@@ -100,7 +100,7 @@ def own_root(program, root: ImplicitRoot) -> ImplicitRoot | None:
 def refusals_located(entry):
     """An engine's public entry ``entry(program_or_loaded, …)``: a :class:`TooManyRoots` it raises
     names ``program``'s own node and place (:func:`own_root`), not an equal program's that the engine's
-    memos kept (bench/RESULTS.md, diag32)."""
+    memos kept (bench/history/2026-11-29.md#diag32."""
 
     @functools.wraps(entry)
     def located(program_or_loaded, *args, **kwargs):

@@ -105,7 +105,7 @@ def _settings(examples: int, seed: int):
     programs drawn; one failure is shrunk, the first (``report_multiple_bugs=False``: otherwise
     hypothesis goes on drawing programs after it, to look for other failures, for at most 10 s of
     wall clock — a loaded machine checks fewer of them, and the minimal program then depended on
-    the load; bench/RESULTS.md, flake32)."""
+    the load; bench/history/2026-11-29.md#flake32."""
     hypothesis, _ = _hypothesis()
     from hypothesis import HealthCheck, settings
 

@@ -97,7 +97,7 @@ def polynomial_coefficients(x, f, free: tuple):
 
 #: Sign changes counted before a condition with more than it was split for is refused (X316 says
 #: "at least N" past this many): counting all 31,831 of ``sin(100000·x) − a`` on [0, 1] took 26 CPU s
-#: (bench/RESULTS.md, hostile32).
+#: (bench/history/2026-11-29.md#hostile32.
 COUNTED = 100
 
 

@@ -53,7 +53,7 @@ def params_of(*occs: Occurrence, variables) -> list[sp.Symbol]:
     out: set[sp.Symbol] = set()
     for o in occs:
         out |= {s for s in o.f.free_symbols if s not in xs}
-        uprime = set(o.uprime)  # (once per occurrence, not once per symbol: 41 variables, bench/RESULTS.md, hostile32)
+        uprime = set(o.uprime)  # (once per occurrence, not once per symbol: 41 variables, bench/history/2026-11-29.md#hostile32
         for comps, guards in o.branches:
             for e in list(comps.values()) + list(guards):
                 out |= {s for s in e.free_symbols if s not in xs and s not in uprime}
@@ -150,7 +150,7 @@ def num(e) -> float | None:
 def is_linear(f: sp.Expr, xs) -> bool:
     """Whether ``f`` is a polynomial of degree ≤ 1 in the variables ``xs`` (its coefficients may be
     anything else).  Only the variables ``f`` contains are the polynomial's generators: a dense
-    polynomial in all 41 of a program's variables cost 4 ms per condition (bench/RESULTS.md, hostile32)."""
+    polynomial in all 41 of a program's variables cost 4 ms per condition (bench/history/2026-11-29.md#hostile32."""
     gens = [x for x in xs if x in f.free_symbols]
     if not gens:
         return True  # (constant in xs: degree 0)

@@ -140,7 +140,7 @@ class NullSetChecks:
         k = len(fam)
         # Only the variables the family's functions contain: a minor with a column of another
         # variable (all 0) is identically 0, which says nothing below; all n columns made C(n, k)
-        # determinants per family — 10,660 for 3 conditions in 41 variables (bench/RESULTS.md, hostile32).
+        # determinants per family — 10,660 for 3 conditions in 41 variables (bench/history/2026-11-29.md#hostile32.
         xs = [x for x in self.xs if any(x in o.f.free_symbols for o in fam)]
         jac = sp.Matrix([[sp.diff(o.f, x) for x in xs] for o in fam])
         minors = [

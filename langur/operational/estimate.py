@@ -105,7 +105,7 @@ LOW_HITS = 30
 def all_zero_note(n: int, derivative: bool = False) -> str:
     """The note of an estimate whose every sample was 0 (its standard error is then 0): true
     whether the integral is 0 (an empty pixel of ``examples/raytrace/scene.lgr``) or has mass no
-    sample met (``exp(-1e8*(x - 0.3)^2)`` on [0, 1]); bench/RESULTS.md, exact32."""
+    sample met (``exp(-1e8*(x - 0.3)^2)`` on [0, 1]); bench/history/2026-11-29.md#exact32."""
     where = "in the box and on the discontinuities " if derivative else ""
     return (f"every one of the {n} samples {where}was 0, so the standard error is 0: it bounds nothing — "
             "mass where no sample fell (a region or a peak narrower than the samples' spacing) is not seen, "

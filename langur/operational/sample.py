@@ -77,7 +77,7 @@ def design(rng: Stream | np.random.Generator, m: int, samples: int, method: str)
 # -- boxes beyond the doubles ---------------------------------------------------------------------
 # A box of doubles can be wider than any double: [−1e308, 1e308] is 2e308 long, so hi − lo is ∞,
 # lo + u·∞ is ∞ or NaN (u = 0), and vol · mean is ∞·0 = NaN where the integral is 0
-# (bench/RESULTS.md, hostile32).  Both are computed differently only there: an ordinary box keeps
+# (bench/history/2026-11-29.md#hostile32.  Both are computed differently only there: an ordinary box keeps
 # its very points and volume.
 
 def spread(lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
@@ -102,7 +102,7 @@ def volume_parts(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray
 SHRINK_CELLS = (64, 16, 6)
 #: Most cells of that grid, per parameter point: with more coordinates each gets fewer cells (6 per
 #: coordinate were 6⁴⁰ cells for a zero set in 41 variables, an out-of-memory:
-#: bench/RESULTS.md, hostile32) — down to one, the u'-box itself, which still finds a zero set
+#: bench/history/2026-11-29.md#hostile32 — down to one, the u'-box itself, which still finds a zero set
 #: missing the box.
 SHRINK_MOST = 6 ** 5
 #: Rounds of shrinking, while a round still removes more than 1 − SHRINK_ENOUGH of the volume.

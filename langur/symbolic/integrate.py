@@ -447,7 +447,7 @@ def integrate_pieces(pieces: Sequence[Piece], variables, box, at, *, timeout: fl
         return [(conds, sp.sympify(pc.weight))], list(variables), boxd
 
     # (not within :func:`untidied`: ``langur fuzz`` compares values under a per-program time limit, which
-    # the proofs' tenths of a second per quadrature piece would change; bench/RESULTS.md, exact32)
+    # the proofs' tenths of a second per quadrature piece would change; bench/history/2026-11-29.md#exact32
     prove = _prover(pieces, variables, box, ctx) if symbolic and proofs and for_reading() else None
     exacts, why = _exact_pieces(problems, len(pieces), quads, ctx, "piece", converged, symbolic, prove)
     return _finish(exacts, quads, why, ctx, "pieces", converged, prove)

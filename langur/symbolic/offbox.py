@@ -7,7 +7,7 @@ the box the delta is 0 there.  :func:`reduced` gives each piece so: None for 0, 
 conditions that are 1.  The quadrature at the point (:mod:`langur.symbolic.quadrature`, the
 cross-check of every closed form and the value where there is none) integrates these: it would find
 the same value, but only after following every kink of the conditions over the box (the ray
-tracer's pixel: a tenth of a second per piece, bench/RESULTS.md, split32).  The closed forms are
+tracer's pixel: a tenth of a second per piece, bench/history/2026-11-29.md#split32.  The closed forms are
 still sought for the pieces as they are (:mod:`langur.symbolic.regions`: in the parameters, for all
 parameter values where it can), and checked against these values.
 

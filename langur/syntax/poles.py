@@ -28,7 +28,7 @@ factor, keeps today's completion (and its Ψ̂, closed forms, printed terms) —
 over variables has multiplicity > 1 (``(x − a)³``, ``(x − a)²·(exp(x) − 1.5)``): there ∂/∂x of
 the condition vanishes on that factor's zero set, Ψ̂ is no diffeomorphism (Def. 3.4; a degenerate
 turning point, X316, or a double root, X305/X315), while the parity rule's odd power keeps the
-factor once and an even one drops it (a touch, no jump) — bench/RESULTS.md, pole32.
+factor once and an even one drops it (a touch, no jump) — bench/history/2026-11-29.md#pole32.
 """
 
 from __future__ import annotations
@@ -137,7 +137,7 @@ def removable(cond: Term) -> Term | None:
     Both are one condition a.e. (⟦p⟧ is unchanged), but the term as written is undefined on its own
     zero set, where the derivative's delta evaluates it (Fig. 8: D π₀Ψ̂ at π₀Ψ̂ = 0): the exact
     engine, through sympy, gave the extension's −1 and Monte Carlo NaN.  The completion Ψ̂ is the
-    extension's, a C¹ diffeomorphism (Def. 3.4): both engines evaluate that (bench/RESULTS.md, pole32)."""
+    extension's, a C¹ diffeomorphism (Def. 3.4): both engines evaluate that (bench/history/2026-11-29.md#pole32."""
     for u in subterms(cond):
         if (type(u) is Pow and u.exponent.denominator != 1 or type(u) in (Call, ImplicitRoot, IfDiffeo)
                 or type(u) is Prim and not REGISTRY[u.op].domain.everywhere):

@@ -12,7 +12,7 @@ mode = sys.argv[1] if len(sys.argv) > 1 else ""
 for line in sys.stdin:
     ask = json.loads(line)
     # the misbehaviours come before the workbench is imported: they happen at once, however long a
-    # loaded machine takes to import it (bench/RESULTS.md, flake32)
+    # loaded machine takes to import it (bench/history/2026-11-29.md#flake32
     if mode == "--crash":
         sys.exit(3)
     if mode == "--hang":

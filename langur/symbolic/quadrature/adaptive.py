@@ -159,7 +159,7 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
     the sum over its subintervals, and under an absolute tolerance as large as the integral
     itself it stops early and fires on a convergent one (bug hunt D4 of fuzz32: the tail of
     ``exp(-(x-3)^2)·exp(-y^2)`` at x near 10, ~10⁻¹¹ over y in [−0.47, 1000], against ε = 10⁻¹¹:
-    "undefined" for an integral 2.3436; bench/RESULTS.md, wide32) — and so does no
+    "undefined" for an integral 2.3436; bench/history/2026-11-29.md#wide32 — and so does no
     convergence on an interval that ends at a point where the integrand is not finite."""
     where = f"{_name(p, level)} in [{a:.6g}, {b:.6g}]"
     singular: list[float] = []

@@ -75,7 +75,7 @@ class TooManyLevels(ValueError):
 #: Most variables nested quadrature is tried over: each level evaluates what is inside it at least
 #: 21 times (the 21-point Gauss–Kronrod rule of its first panel), so d levels cost at least 21^d
 #: evaluations of the integrand — 8.6·10⁷ at d = 6, 1.8·10⁹ at d = 7, hours at microseconds each; a
-#: program in 41 variables ran until its 600 s limit (bench/RESULTS.md, hostile32).
+#: program in 41 variables ran until its 600 s limit (bench/history/2026-11-29.md#hostile32.
 MOST_LEVELS = 6
 
 

@@ -41,7 +41,7 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
     A bisection keeps one half; a half it sets aside whose ends differ in state (defined or not,
     sign) holds another transition and is searched too: ``3/20 − √(0.96 − u²)`` has its edge of
     definedness (u = −0.9798) and its root (u = −0.9682) between two nodes, and the bisection, drawn
-    to the edge, lost the root — a whole arc of a circle's delta piece (bench/RESULTS.md, wide32)."""
+    to the edge, lost the root — a whole arc of a circle's delta piece (bench/history/2026-11-29.md#wide32."""
     xs = np.linspace(lo, hi, GRID + 1).tolist()  # Python floats: math functions, no numpy warnings
     vals = [g(x) for x in xs]
     out = _hidden_pairs(g, xs, vals)
