@@ -133,9 +133,9 @@ BIG = 2 ** 500 + 1  # 1/i and i^-2 have 501- and 1,001-bit denominators: not sma
     (2, "[x - i^-2 - a/i >= 0] * (i^2 * x + 1/i + i^-2)", 3),       # three exponents, each twice
     (2, "[2*x + 1/(i + 1) >= a] * (x / i) * i^3", 3),               # a power of a sum: not the index itself
     (BIG, "[x + 1/i - a >= 0] * (i^2 + x) * i^-2", 3),              # powers that are not small
-    # i = 0: 0^-1, not small (nan both ways); since fold31 the copies at i = 0 and 1 are desugared on their
-    # own (there the index folds): only i = -1 is instantiated
-    (-2, "[x + i/3 >= a] * (i^-1 + 1) + i^2", 1),
+    # i = 0: 0^-1, not small (nan both ways); since fold31 the copies at i = 0 and 1, and since diag32 at
+    # i = -1, are desugared on their own (there the index folds): of -3..0 only i = -2 is instantiated
+    (-3, "[x + i/3 >= a] * (i^-1 + 1) + i^2", 1),
 ], ids=["mb1", "three-exponents", "power-of-a-sum", "not-small", "zero"])
 def test_copies_with_powers_of_the_index_are_the_desugared_copies(lo, body, instantiated):
     text = f"param a = 0.5\nint ([0, 1]) (sum i in {lo}..{lo + 3}: {body}) d(x)\n"

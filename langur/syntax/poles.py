@@ -105,7 +105,7 @@ def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
             if not part.free_symbols & variables:
                 coefficient *= part ** (m * k)
                 continue
-            repeated |= abs(m * k) > 1
+            repeated |= m * k > 1  # (a repeated pole, k < −1, is the parity rule's: no zero set to degenerate)
             if (m * k) % 2:
                 factors.append(part)
                 if k < 0:
@@ -137,7 +137,7 @@ def removable(cond: Term) -> Term | None:
     Both are one condition a.e. (⟦p⟧ is unchanged), but the term as written is undefined on its own
     zero set, where the derivative's delta evaluates it (Fig. 8: D π₀Ψ̂ at π₀Ψ̂ = 0): the exact
     engine, through sympy, gave the extension's −1 and Monte Carlo NaN.  The completion Ψ̂ is the
-    extension's, a C¹ diffeomorphism (Def. 3.4): both engines evaluate that (bench/history/2026-11-29.md#pole32."""
+    extension's, a C¹ diffeomorphism (Def. 3.4): both engines evaluate that (bench/history/2026-11-29.md#pole32)."""
     for u in subterms(cond):
         if (type(u) is Pow and u.exponent.denominator != 1 or type(u) in (Call, ImplicitRoot, IfDiffeo)
                 or type(u) is Prim and not REGISTRY[u.op].domain.everywhere):

@@ -157,7 +157,7 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
     null set.  scipy's "probably divergent" means the integral does not exist — when it stands
     with a relative tolerance alone too: QUADPACK's test (ier = 5) compares its extrapolation with
     the sum over its subintervals, and under an absolute tolerance as large as the integral
-    itself it stops early and fires on a convergent one (bug hunt D4 of fuzz32: the tail of
+    itself it stops early and fires on a convergent one (bug hunt D3 of fuzz32: the tail of
     ``exp(-(x-3)^2)·exp(-y^2)`` at x near 10, ~10⁻¹¹ over y in [−0.47, 1000], against ε = 10⁻¹¹:
     "undefined" for an integral 2.3436; bench/history/2026-11-29.md#wide32 — and so does no
     convergence on an interval that ends at a point where the integrand is not finite."""
