@@ -73,6 +73,35 @@ class TheoremCheck:
     notes: list[str] = field(default_factory=list)
     error: float | None = None
 
+    def left_side(self, digits: int = 10, wrt: str = "") -> str:
+        """D⟦p⟧·γ' as a report line shows it (``wrt``: the parameter, written as D_wrt⟦p⟧), saying
+        when it is not computed from the closed form of ⟦p⟧: by finite differences of quadratures
+        it is ``D⟦p⟧ ≈ value ± error``, ``error`` the estimate of :func:`_differences` (the two steps'
+        difference plus the quadratures' own error estimates over the step: an estimate, not a proof)."""
+        name = f"D_{wrt}⟦p⟧" if wrt else "D⟦p⟧"
+        value = f"{float(self.d_denotation):.{digits}g}"
+        if self.how == How.FINITE_DIFFERENCE and self.error is not None:
+            return (f"{name} ≈ {value} ± {self.error:.2g} (finite differences of quadratures of ⟦p⟧, "
+                    "error estimated)")
+        return f"{name} = {value}"
+
+    def compared(self) -> str:
+        """How the two sides were compared, for a report line (paper §8.3; the module docstring)."""
+        match self.how:
+            case How.SYMBOLIC if self.holds is not None:  # (inconclusive: its note says why)
+                return "compared symbolically near the parameters"
+            case How.NUMERIC:
+                nearby = len(self.points) - 1
+                return (f"compared numerically at the parameters and {nearby} nearby point{'s' * (nearby != 1)}"
+                        if nearby else "compared numerically at the parameters only")
+            case How.FINITE_DIFFERENCE:
+                return "compared within the finite differences' error"
+        return ""
+
+    def reason(self) -> str | None:
+        """Why the check is inconclusive (its note saying so), or None."""
+        return next((n for n in self.notes if n.startswith("inconclusive")), None) if self.holds is None else None
+
     def to_json(self) -> dict:
         out = {"holds": self.holds, "d_denotation": float(self.d_denotation),
                "derivative_denotation": float(self.derivative_denotation), "how": self.how}

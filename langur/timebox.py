@@ -39,6 +39,7 @@ import threading
 import time
 import weakref
 from contextlib import contextmanager
+from enum import StrEnum
 from typing import Callable, Iterator, TypeVar
 
 T = TypeVar("T")
@@ -54,6 +55,29 @@ BACKSTOP_SLACK = 5.0
 def backstop(seconds: float) -> float:
     """The wall-clock seconds allowed to a limit of ``seconds`` CPU seconds."""
     return BACKSTOP_FACTOR * seconds + BACKSTOP_SLACK
+
+
+class Clock(StrEnum):
+    """Which limit ended a call (its value: the unit its message gives the seconds in)."""
+
+    CPU = "CPU s"  # a limit of CPU seconds (``run_with_timeout(…, cpu=True)``)
+    BACKSTOP = "s (wall clock)"  # the wall-clock backstop of such a limit (:func:`backstop`)
+    WALL = "s"  # a limit of wall-clock seconds
+
+
+class TimeLimit(TimeoutError):
+    """The :class:`TimeoutError` of a limit that ended a call, saying which (``clock``) and after
+    how many seconds (``seconds``): a command's message can then say whether its CPU budget ran out
+    or the wall-clock backstop stopped it on a loaded machine, and how to raise either."""
+
+    def __init__(self, seconds: float, clock: Clock):
+        super().__init__(f"call took longer than {seconds:.3g} {clock}")
+        self.seconds, self.clock = seconds, clock
+
+
+def stopped_by(exc: BaseException) -> Clock | None:
+    """The clock of the limit that raised ``exc`` (None: a TimeoutError of something else)."""
+    return exc.clock if isinstance(exc, TimeLimit) else None
 
 
 class _Expired(BaseException):
@@ -129,22 +153,25 @@ def run_with_timeout(fn: Callable[[], T], seconds: float, *, cpu: bool = False) 
         clock = time.process_time if cpu else time.monotonic
         start, wall = clock(), time.monotonic()
         result = fn()
-        if clock() - start > seconds or (cpu and time.monotonic() - wall > backstop(seconds)):
-            raise TimeoutError(f"call took longer than {seconds:.3g} {'CPU ' if cpu else ''}s")
+        if clock() - start > seconds:
+            raise TimeLimit(seconds, Clock.CPU if cpu else Clock.WALL)
+        if cpu and time.monotonic() - wall > backstop(seconds):
+            raise TimeLimit(backstop(seconds), Clock.BACKSTOP)
         return result
     if not cpu:
-        return _limited(fn, seconds, signal.ITIMER_REAL, signal.SIGALRM, time.monotonic, "s")
+        return _limited(fn, seconds, signal.ITIMER_REAL, signal.SIGALRM, time.monotonic, Clock.WALL)
     wall = backstop(seconds)
-    bounded = (lambda: _limited(fn, wall, signal.ITIMER_REAL, signal.SIGALRM, time.monotonic, "s (wall clock)"))
+    bounded = (lambda: _limited(fn, wall, signal.ITIMER_REAL, signal.SIGALRM, time.monotonic, Clock.BACKSTOP))
     if not _HAS_PROF:  # pragma: no cover - every POSIX platform has ITIMER_PROF
         return bounded()
-    return _limited(bounded, seconds, signal.ITIMER_PROF, signal.SIGPROF, time.process_time, "CPU s")
+    return _limited(bounded, seconds, signal.ITIMER_PROF, signal.SIGPROF, time.process_time, Clock.CPU)
 
 
 def _limited(fn: Callable[[], T], seconds: float, which: int, signum: int, clock: Callable[[], float],
              unit: str) -> T:
     """``fn()`` under the interval timer ``which`` (delivering ``signum``), measured by ``clock``;
-    nesting: an inner limit never extends an outer one of the same timer, which is re-armed after."""
+    nesting: an inner limit never extends an outer one of the same timer, which is re-armed after.
+    ``unit``: the :class:`Clock` the limit counts in (said by its :class:`TimeLimit`)."""
     token = object()
     state = {"done": False, "declined": 0}
     start = clock()
@@ -176,7 +203,7 @@ def _limited(fn: Callable[[], T], seconds: float, which: int, signum: int, clock
         state["done"] = True
         if _ours(exc, token):
             state["expired"] = True
-            raise TimeoutError(f"call took longer than {limit:.3g} {unit}") from None
+            raise TimeLimit(limit, Clock(unit)) from None
         raise
     finally:
         state["done"] = True

@@ -36,6 +36,7 @@ class Prover:
         self.program = program
         self.point = dict(point) if point is not None else None
         self.cache: dict[str, dict] = {}
+        self.shown: dict[str, str] = {}  # D_name⟦p⟧ as the summary shows it (TheoremCheck.left_side)
 
     def direction(self, name: str) -> dict:
         if name in self.cache:
@@ -52,7 +53,9 @@ class Prover:
                     "d_denotation": thm.d_denotation,
                     "derivative_denotation": thm.derivative_denotation,
                     "how": thm.how,
+                    **({"error": thm.error} if thm.error is not None else {}),
                 }
+                self.shown[name] = thm.left_side(6, name)
                 if not decided:
                     out["reason"] = "D⟦p⟧ is not a finite number here (no derivative, or not computed)"
         except Exception as e:  # the engine's failures are reported, never raised
@@ -78,10 +81,8 @@ class Prover:
             if c.get("holds") is None:
                 parts.append(f"D_{n}: undecided ({c.get('reason', 'unknown')})")
             else:
-                rel = "=" if c["holds"] else "≠"
-                parts.append(
-                    f"D_{n}⟦p⟧ = {_fmt(c['d_denotation'])} {rel} ⦇p⦈ = {_fmt(c['derivative_denotation'])}"
-                )
+                rel = ("≈" if "error" in c else "=") if c["holds"] else "≠"  # (≈: within the error estimate)
+                parts.append(f"{self.shown[n]} {rel} ⦇p⦈ = {_fmt(c['derivative_denotation'])}")
         if any(c.get("holds") is False for c in checks.values()):
             verdict, tail = "wrong", "the derivative denotation is wrong here"
         elif all(c.get("holds") is True for c in checks.values()):

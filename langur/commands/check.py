@@ -21,9 +21,10 @@ from __future__ import annotations
 import errno
 import os
 import sys
+import time
 from pathlib import Path
 
-from .. import __version__, frontend
+from .. import __version__, frontend, timebox
 from ..cli import (
     UsageError,
     add_common,
@@ -35,10 +36,10 @@ from ..cli import (
 from ..diagnostics import Diagnostic, LangurError, Span
 from ..lint import config as cfgmod
 from ..lint import fix as fixmod
-from ..lint.formats import Report, known_codes, render
+from ..lint.formats import Report, distinct, known_codes, render
 from ..lint.noqa import suppressed
 from ..source import read_file, read_source
-from ..timebox import backstop, run_with_timeout
+from ..timebox import Clock, backstop, run_with_timeout, stopped_by
 from ..transversality import check_library, check_loaded, point_of
 from ._prove import Prover
 
@@ -137,6 +138,22 @@ def unreadable(path: str, err: OSError) -> Diagnostic:
     """E109: the file exists but cannot be read (located at its start, with the OS's reason)."""
     return Diagnostic(Span(path, 1, 1, 1, 1), "error", "E109",
                       f"cannot read this file: {err.strerror or type(err).__name__}")
+
+
+def timed_out(path: str, seconds: float, clock: Clock | None, used: float) -> Diagnostic:
+    """X399: the check of ``path`` was stopped, saying by which limit (``clock``, None: the CPU budget)
+    after ``used`` CPU seconds, and how to raise it (``--timeout`` sets both: CPU, and wall clock
+    through :func:`~langur.timebox.backstop`)."""
+    if clock is Clock.BACKSTOP:
+        why = (f"was stopped by its wall-clock backstop after {backstop(seconds):g} s "
+               f"({timebox.BACKSTOP_FACTOR:g} × --timeout + {timebox.BACKSTOP_SLACK:g}), having used {used:.2g} of its "
+               f"{seconds:g} CPU s: the machine is busy or the check waited (a larger --timeout raises both "
+               "limits; or check it again when the machine is less loaded)")
+    else:
+        why = (f"did not finish within {seconds:g} CPU s, its CPU budget (--timeout {seconds:g}; a larger "
+               f"--timeout raises it)")
+    return Diagnostic(Span(path, 1, 1, 1, 1), "error", "X399",
+                      f"the check {why}: what was not reported is unchecked")
 
 
 def here_at(at: dict, loaded) -> dict:
@@ -255,14 +272,13 @@ def run(args) -> int:
         if isinstance(data, LangurError):
             reports.extend(Report(d) for d in data.diagnostics)
             continue
+        start = time.process_time()
         try:  # CPU seconds, as every limit of the linter: a busy machine does not change the findings
             run_with_timeout(lambda n=name, d=data, c=cfg: _check_one(args, n, d, c, modules, at, used_at, fixes,
                                                                        reports, loaded_files), args.timeout, cpu=True)
-        except TimeoutError:
-            reports.append(Report(Diagnostic(
-                Span(name, 1, 1, 1, 1), "error", "X399",
-                f"the check did not finish within {args.timeout:g} CPU s (--timeout; or {backstop(args.timeout):g} s "
-                "of wall clock): what was not reported is unchecked")))
+        except TimeoutError as e:
+            reports.append(Report(timed_out(name, args.timeout, stopped_by(e), time.process_time() - start)))
+    reports = distinct(reports)
     unknown = sorted(set(at) - used_at)
     if unknown and not any(r.diagnostic.code[:1] in ("E", "T") for r in reports):
         raise UsageError(f"--at {unknown[0]}: no checked FILE declares this parameter")

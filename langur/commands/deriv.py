@@ -141,9 +141,12 @@ def run(args) -> int:
         print_named(named, 12)
     if theorem is not None:
         verdict = {True: "holds", False: "FAILS", None: "inconclusive"}[theorem.holds]
-        print(f"  Theorem 8.1 : {verdict}: D⟦p⟧ = {c.fmt(theorem.d_denotation)}, "
-              f"⦇p⦈ = {c.fmt(theorem.derivative_denotation)}"
-              + ("   (run `langur check` for transversality)" if theorem.holds is False else ""))
+        how = "; ".join(filter(None, [theorem.compared(),
+                                      "run `langur check` for transversality" if theorem.holds is False else ""]))
+        print(f"  Theorem 8.1 : {verdict}: {theorem.left_side()}, ⦇p⦈ = {c.fmt(theorem.derivative_denotation)}"
+              + (f"   ({how})" if how else ""))
+        if theorem.reason() is not None:
+            print(f"                note: {theorem.reason()}")
     return status
 
 

@@ -14,6 +14,7 @@ Each entry is a :class:`Report`: a diagnostic plus, with ``--prove``, the Theore
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import dataclass, replace
 from pathlib import Path
 from urllib.parse import quote
@@ -40,6 +41,39 @@ class Report:
         if self.prove and self.prove.get("summary"):
             msg += f" [--prove: {self.prove['summary']}]"
         return msg
+
+
+def _place(s: Span | None):
+    """A span as a place in a file: its path resolved (``a.lgr`` and ``./a.lgr`` are one file)."""
+    if s is None:
+        return None
+    path = os.path.realpath(s.path) if os.path.isfile(s.path) else s.path
+    return (path, s.line, s.col, s.end_line, s.end_col)
+
+
+def _finding(d: Diagnostic) -> tuple:
+    """What makes two diagnostics one finding: the same code and message at the same places."""
+    return (_place(d.span), d.severity, d.code, d.message, tuple(_place(s) for s in d.related))
+
+
+def distinct(reports: list[Report]) -> list[Report]:
+    """Each finding of one run once (CLI.md, Diagnostics), in the order first reported.  A finding
+    inside an imported module is reported at the module's place by the check of every FILE that
+    imports it, and by the module's own check when it is a FILE too (``langur check examples``:
+    shader.lgr's X306 twice).  With ``--prove``, the Theorem 8.1 checks of one finding made in
+    different programs (each at its own parameter values) are all kept, and a copy without one
+    (the module checked as a library) is dropped when another copy has one."""
+    groups: dict[tuple, list[Report]] = {}
+    for r in reports:
+        groups.setdefault(_finding(r.diagnostic), []).append(r)
+    out: list[Report] = []
+    for copies in groups.values():
+        proved: dict[str, Report] = {}
+        for r in copies:
+            if r.prove is not None:
+                proved.setdefault(json.dumps(r.prove, sort_keys=True, default=str), r)
+        out.extend(proved.values() if proved else copies[:1])
+    return out
 
 
 def _shown(r: Report) -> Diagnostic:
