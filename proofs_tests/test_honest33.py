@@ -210,3 +210,23 @@ def test_a_limit_says_which_clock_ended_it(monkeypatch):
         timebox.run_with_timeout(lambda: time.sleep(20), 0.2)
     assert timebox.stopped_by(plain.value) is timebox.Clock.WALL
     assert timebox.stopped_by(TimeoutError("elsewhere")) is None
+
+
+# -- (4) render's comparison says where the Monte Carlo standard error was 0 ---------------------------
+
+def test_render_counts_points_whose_mc_samples_all_missed(tmp_path, capsys):
+    # ∫₀¹ [x ≤ a + b] dx = a + b (by hand) is 1e-4 … 3e-4 on this grid: 64 samples (seed 0) all miss
+    # it, so MC says 0 with SE 0 at every point; main left these points out and printed
+    # "value: MC within 0 SE (beyond 5 SE: 0)"
+    program = tmp_path / "tiny.lgr"
+    program.write_text("param a = 0.0001, b = 0\nint ([0, 1]) [x <= a + b] d(x)\n", encoding="utf-8")
+    grid = ["--grid", "a=0.0001:0.0002:2,b=0:0.0001:2", "--exact", "--wrt", "a"]
+    status, out, _ = run(capsys, "render", program, *grid, "--json")
+    ex = json.loads(out)["exact"]
+    assert ex["value"]["min"] == pytest.approx(1e-4) and ex["value"]["max"] == pytest.approx(3e-4)
+    assert (ex["value_compared_se"], ex["value_se_zero"], ex["value_se_zero_differ"]) == (0, 4, 4)
+    # the derivative's boundary part is the delta at x = a + b: 1 for every sample, as exactly
+    assert (ex["derivative_se_zero"], ex["derivative_se_zero_differ"]) == (4, 0)
+    status, out, _ = run(capsys, "render", program, *grid)
+    assert "value: MC's SE is 0 at 4 point(s) (every sample alike), compared for equality: 4 differ" in out, out
+    assert "within 0 SE" not in out

@@ -162,11 +162,24 @@ def _exact(loaded, grid, direction, mc, shape, arrays) -> dict:
         out["derivative"] = _summary(ex.derivative)
         pairs.append(("derivative", mc.derivative, mc.derivative_stderr, ex.derivative))
     for name, m, se, e in pairs:
-        ok = np.isfinite(m) & np.isfinite(e)
-        z = np.abs(m - e)[ok & (se > 0)] / se[ok & (se > 0)]
-        out[f"{name}_max_z"] = float(z.max()) if z.size else 0.0
-        out[f"{name}_beyond_5se"] = int(np.count_nonzero(z > 5))
+        out.update(_compared(name, m, se, e))
     return out
+
+
+def _compared(name: str, m, se, e) -> dict:
+    """How far the Monte Carlo image ``m`` (standard errors ``se``) is from the exact one ``e``:
+    in standard errors where the SE is positive (``NAME_max_z``, ``NAME_beyond_5se``), and where it
+    is 0 — every sample alike, most often all 0 because none hit the region — by equality up to
+    10⁻¹²·(1 + |exact|) (``NAME_se_zero`` points, ``NAME_se_zero_differ`` of them differ: an SE of 0
+    bounds nothing, and such a point was left out of the comparison, which then read "MC within
+    0 SE"; as ``langur.commands._common.agreement`` for one point)."""
+    ok = np.isfinite(m) & np.isfinite(e)
+    positive, zero = ok & (se > 0), ok & (se == 0)
+    z = np.abs(m - e)[positive] / se[positive]
+    differ = np.abs(m - e)[zero] > 1e-12 * (1 + np.abs(e[zero]))
+    return {f"{name}_max_z": float(z.max()) if z.size else 0.0, f"{name}_beyond_5se": int(np.count_nonzero(z > 5)),
+            f"{name}_compared_se": int(z.size), f"{name}_se_zero": int(np.count_nonzero(zero)),
+            f"{name}_se_zero_differ": int(np.count_nonzero(differ))}
 
 
 def _painter():
@@ -194,6 +207,19 @@ def _draw(images, args, arrays, direction, names, xs, ys) -> str:
     return images.save(rows, extent, names, args.out, f"{args.file}: {args.samples} samples per point")
 
 
+def _agreement(e: dict, name: str) -> str:
+    """The Monte Carlo image against the exact one (:func:`_compared`), saying on how many points."""
+    said = []
+    if e[f"{name}_compared_se"]:
+        said.append(f"MC within {e[f'{name}_max_z']:.2g} SE at {e[f'{name}_compared_se']} point(s) "
+                    f"(beyond 5 SE: {e[f'{name}_beyond_5se']})")
+    zero, differ = e[f"{name}_se_zero"], e[f"{name}_se_zero_differ"]
+    if zero:
+        said.append(f"MC's SE is 0 at {zero} point(s) (every sample alike), compared for equality: "
+                    + (f"{differ} differ (MC saw no variation there: give more samples)" if differ else "all equal"))
+    return "; ".join(said) or "no point to compare"
+
+
 def _print(args, report: dict, npoints: int) -> None:
     (xn, gx), (yn, gy) = report["grid"].items()
     print(f"{args.file}: {npoints} points, {xn} in [{gx[0]:g}, {gx[1]:g}] ({gx[2]}) × {yn} in [{gy[0]:g}, {gy[1]:g}] "
@@ -209,7 +235,7 @@ def _print(args, report: dict, npoints: int) -> None:
         parts = [f"{e['derivations']} derivation(s), {e['closed_form_points']} points by closed form"]
         for name in ("value", "derivative"):
             if f"{name}_max_z" in e:
-                parts.append(f"{name}: MC within {e[f'{name}_max_z']:.2g} SE (beyond 5 SE: {e[f'{name}_beyond_5se']})")
+                parts.append(f"{name}: " + _agreement(e, name))
         print(f"  exact       : {'; '.join(parts)}")
     for note in report.get("notes", []):
         print(f"  note: {note}")
