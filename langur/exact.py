@@ -31,7 +31,7 @@ from .denote import denote, denote_program, undefined_where
 from .symbolic.decompose import Ctx
 from .symbolic.integrate import for_reading
 from .symbolic.nounits import units_unloaded
-from .symbolic.pieces import Method
+from .symbolic.pieces import Method, accuracy, accuracy_of
 from .symbolic.quadrature import UndefinedIntegral, printable
 from .symbolic.readable import Readable, readable
 from .symbolic.text import (
@@ -127,13 +127,7 @@ class ExactValue:
         """How the value was obtained, for the text output."""
         if self.method == Method.CLOSED_FORM:
             return "closed form"
-        if self.error is None:
-            return "quadrature"
-        if self.proved is None:  # sampling alone: nothing excludes a peak between the samples
-            return f"quadrature, error estimate {self.error:.3g}"
-        if self.proved <= self.error:
-            return f"quadrature, error ≤ {self.error:.3g}"
-        return f"quadrature, error estimate {self.error:.3g}, proved ≤ {self.proved:.3g}"
+        return accuracy(self.error, self.proved)
 
     def to_json(self) -> dict:
         """The ``exact`` object of ``langur eval --json`` (CLI.md)."""
@@ -285,8 +279,7 @@ def show_denotation(program, latex: bool = False, params: Mapping[str, object] |
             lines.append(f"\\text{{at }} {_at_latex(at)}:\\ [\\![p]\\!] = {r.value:.12g}{how}")
             lines += [f"\\text{{note: {latex_text(n)}}}" for n in r.notes]
         else:
-            lines.append(f"  value at {_at_text(at)}: {r.value:.12g}"
-                         + ("" if r.method == Method.CLOSED_FORM else f" ± {r.error:.2g} (quadrature)"))
+            lines.append(f"  value at {_at_text(at)}: {r.value:.12g}{accuracy_of(r)}")
             lines += [f"  note: {n}" for n in r.notes]
     return ("\\\\\n" if latex else "\n").join(lines)
 
@@ -392,5 +385,5 @@ def show_derivative(program, direction: Mapping[str, object], latex: bool = Fals
             lines += _closed_form_lines(res.expr, rd, latex, "(\\!|p|\\!)" if latex else "⦇p⦈")
             value = f"{res.value:.12g}" + ("" if res.method == Method.CLOSED_FORM else f" ± {res.error:.2g}")
             lines.append(f"\\text{{at }} {_at_latex(at)}:\\ (\\!|p|\\!) = {value}" if latex
-                         else f"value at {_at_text(at)}: {value}  {split}")
+                         else f"value at {_at_text(at)}: {res.value:.12g}{accuracy_of(res)}  {split}")
     return nl.join(lines)

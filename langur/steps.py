@@ -23,7 +23,7 @@ from .ddenote import NormalForm, ddenote
 from .denote import program_box
 from .exact import latex_text, readable_of
 from .symbolic.decompose import Ctx, decided_cell
-from .symbolic.pieces import Method
+from .symbolic.pieces import Method, accuracy_of
 from .symbolic.text import expr_text, normal_form_text, product_text
 from .sympy_bridge import at_symbols, symbols
 from .syntax import printer
@@ -181,7 +181,8 @@ def sifting(program: Program, nf: NormalForm, at: Mapping[str, object], latex: b
                 lines.append(f"    δ({e(psi.inputs[0])}) sifts {e(psi.inputs[0])} = 0:  "
                              + (f"∫ {sifted} d({rest})" if rest else sifted))
         r = integrals[k - 1]
-        value = f"{r.value:.12g}" + ("" if r.method == Method.CLOSED_FORM else f" ± {r.error:.2g} (quadrature)")
+        value = f"{r.value:.12g}" + (("" if r.method == Method.CLOSED_FORM else f" ± {r.error:.2g} (quadrature)") if latex
+                                     else accuracy_of(r))
         rd = readable_of(r.expr, at, (r,)) if r.expr is not None and r.method == Method.CLOSED_FORM else None
         closed = r.expr is not None and r.method == Method.CLOSED_FORM
         if latex:

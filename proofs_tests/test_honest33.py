@@ -230,3 +230,19 @@ def test_render_counts_points_whose_mc_samples_all_missed(tmp_path, capsys):
     status, out, _ = run(capsys, "render", program, *grid)
     assert "value: MC's SE is 0 at 4 point(s) (every sample alike), compared for equality: 4 differ" in out, out
     assert "within 0 SE" not in out
+
+
+# -- (4) show says what eval says of a quadrature's error: an estimate, and what is proved ------------
+
+def test_show_says_a_quadratures_error_is_an_estimate(capsys):
+    # implicit2d has no closed form: main's show printed "2.15293234983 ± 6.3e-10 (quadrature)", an
+    # unqualified ± where eval says "error estimate 6.31e-10, proved ≤ 0.773" (only 0.773 is proved)
+    status, out, _ = run(capsys, "eval", EXAMPLES / "implicit2d.lgr", "--engine", "exact", "--json")
+    ex = json.loads(out)["exact"]
+    assert ex["method"] == "quadrature"
+    status, out, _ = run(capsys, "eval", EXAMPLES / "implicit2d.lgr", "--engine", "exact")
+    said = re.search(r"exact : \S+ +(\(quadrature, [^)]*\))", out).group(1)
+    assert said.startswith(f"(quadrature, error estimate {ex['error']:.3g}") or "error ≤" in said, said
+    status, out, _ = run(capsys, "show", EXAMPLES / "implicit2d.lgr")
+    line = next(x for x in out.splitlines() if "value at a = 1/2" in x)
+    assert line.endswith(f"{ex['value']:.12g} {said}"), (line, said)

@@ -92,6 +92,25 @@ class Method(StrEnum):
     QUADRATURE = "quadrature"  # numeric, with an error estimate (a bound where ``Integral.proved`` says so)
 
 
+def accuracy(error: float | None, proved: float | None) -> str:
+    """How accurate a quadrature's value is, for the text output (``eval``, ``deriv``, ``show``):
+    ``error`` quadrature's estimate, ``proved`` a bound the interval enclosures prove (None: none);
+    "error ≤" only for what is proved."""
+    if error is None:
+        return "quadrature"
+    if proved is None:  # sampling alone: nothing excludes a peak between the samples
+        return f"quadrature, error estimate {error:.3g}"
+    if proved <= error:
+        return f"quadrature, error ≤ {error:.3g}"
+    return f"quadrature, error estimate {error:.3g}, proved ≤ {proved:.3g}"
+
+
+def accuracy_of(r) -> str:
+    """:func:`accuracy` of a result (an :class:`Integral`, a derivative's result), after its value:
+    ``" (quadrature, error estimate …)"``, or "" for a closed form."""
+    return "" if r.method == Method.CLOSED_FORM else f" ({accuracy(r.error, r.proved)})"
+
+
 @dataclass
 class Integral:
     """The result of integrating pieces over the box.

@@ -24,7 +24,7 @@ from sympy.printing.str import StrPrinter
 
 from ..memo import remember
 from .cse import evaluated_once
-from .pieces import Condition, DeltaPiece, Method, Piece, Psi
+from .pieces import Condition, DeltaPiece, Method, Piece, Psi, accuracy_of
 from .walks import any_node, atoms_of
 
 
@@ -383,7 +383,8 @@ def normal_form_text(nf, latex: bool = False) -> str:
 
 
 def derivative_result_text(res, latex: bool = False) -> str:
-    value = f"{res.value:.12g}" + ("" if res.method == Method.CLOSED_FORM else f" ± {res.error:.2g}")
+    value = f"{res.value:.12g}" + (("" if res.method == Method.CLOSED_FORM else f" ± {res.error:.2g}") if latex
+                                   else accuracy_of(res))
     if res.expr is not None:
         body = expr_text(res.expr, latex)
         return f"{body} = {value}" if not latex else f"{body} \\approx {value}"
