@@ -80,6 +80,15 @@ def stopped_by(exc: BaseException) -> Clock | None:
     return exc.clock if isinstance(exc, TimeLimit) else None
 
 
+def by_backstop(seconds: float, used: float | None = None) -> str:
+    """How a report says that the wall-clock backstop, not the CPU budget of ``seconds``, ended a
+    computation (``used``: the CPU seconds it had used, when known)."""
+    return (f"by its wall-clock backstop after {backstop(seconds):g} s ({BACKSTOP_FACTOR:g} × {seconds:g} + "
+            f"{BACKSTOP_SLACK:g})" + (f", having used {used:.2g} of its {seconds:g} CPU s" if used is not None else
+                                      f", before its {seconds:g} CPU s were used")
+            + ": the machine is busy or it waited")
+
+
 class _Expired(BaseException):
     """Raised from the alarm handler; a BaseException so that library code catching
     ``Exception`` cannot swallow it.  Converted to :class:`TimeoutError` at the boundary."""
@@ -263,6 +272,16 @@ class Deadline:
 
     def remaining(self) -> float:
         return min(_left(e) for e in [self.end, *_BUDGETS])
+
+    def stopped_by(self) -> Clock | None:
+        """Which limit has ended this budget: :attr:`Clock.CPU` when CPU seconds ran out (its own or
+        an enclosing :func:`budget`'s), :attr:`Clock.BACKSTOP` when a wall-clock backstop passed
+        first (a loaded machine); None while time is left."""
+        ends = [self.end, *_BUDGETS]
+        if all(_left(e) > 0 for e in ends):
+            return None
+        now = time.process_time()
+        return Clock.CPU if any(cpu_end <= now for cpu_end, _ in ends) else Clock.BACKSTOP
 
     def run(self, fn: Callable[[], T], cap: float | None = None) -> T:
         left = self.remaining()

@@ -195,9 +195,9 @@ def check_program(
             return timebox.run_with_timeout(
                 lambda: _analysed(program, declared, at, sources, domain_spans, sites, budget, state, only),
                 budget + OVERRUN, cpu=True)
-        except TimeoutError:
-            found = list(state.get("findings", ()))
-    return _dedupe(found + [_stopped(program, budget, "it ran past it")])
+        except TimeoutError as e:
+            found, clock = list(state.get("findings", ())), timebox.stopped_by(e)
+    return _dedupe(found + [_stopped(program, budget, "it ran past it", clock)])
 
 
 #: CPU seconds an analysis with a ``budget`` may run past it (code between two checks) before it is
@@ -205,9 +205,11 @@ def check_program(
 OVERRUN = 1.0
 
 
-def _stopped(program: Program, budget: float, rest: str) -> Finding:
-    return Finding(program.span, "warning", "X310",
-                   f"the transversality analysis stopped after {budget:g} CPU s (its budget): {rest}; the rest is unchecked")
+def _stopped(program: Program, budget: float, rest: str, clock: timebox.Clock | None = None) -> Finding:
+    """X310: the analysis stopped by its budget (``clock``: which limit; the wall-clock backstop is said)."""
+    how = (f"was stopped {timebox.by_backstop(budget)}" if clock is timebox.Clock.BACKSTOP
+           else f"stopped after {budget:g} CPU s (its budget)")
+    return Finding(program.span, "warning", "X310", f"the transversality analysis {how}: {rest}; the rest is unchecked")
 
 
 #: The codes each analysis after the checker's can report (``check_program``'s ``only`` skips an
@@ -253,9 +255,10 @@ def _analysed(program, declared, at, sources, domain_spans, sites, budget, state
     if only is not None:
         after = [(what, analysis) for what, analysis in after if ANALYSES_CODES[what] & only]
     for k, (_what, analysis) in enumerate(after):
-        if budget is not None and timebox.Deadline(budget).remaining() <= 0:
+        clock = timebox.Deadline(budget).stopped_by() if budget is not None else None
+        if clock is not None:
             skipped = ", ".join(w for w, _ in after[k:])
-            findings.append(_stopped(program, budget, f"{skipped} not analysed"))
+            findings.append(_stopped(program, budget, f"{skipped} not analysed", clock))
             break
         findings += analysis()
         state["findings"] = findings

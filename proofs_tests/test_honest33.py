@@ -177,8 +177,8 @@ def test_x399_says_the_wall_clock_backstop_stopped_it(tmp_path, monkeypatch, cap
     status, out, _ = run(capsys, "check", _program(tmp_path), "--timeout", "0.3")
     assert time.monotonic() - start < 10
     assert status == 1
-    assert "error X399 the check was stopped by its wall-clock backstop after 0.5 s (1 × --timeout + 0.2)" in out, out
-    assert "CPU budget" not in out and "a larger --timeout raises both limits" in out
+    assert "error X399 the check was stopped by its wall-clock backstop after 0.5 s (1 × 0.3 + 0.2), having used " in out, out
+    assert "CPU budget" not in out and "a larger one raises both limits" in out
 
 
 def _spin(*args):
@@ -246,3 +246,29 @@ def test_show_says_a_quadratures_error_is_an_estimate(capsys):
     status, out, _ = run(capsys, "show", EXAMPLES / "implicit2d.lgr")
     line = next(x for x in out.splitlines() if "value at a = 1/2" in x)
     assert line.endswith(f"{ex['value']:.12g} {said}"), (line, said)
+
+
+def test_an_analysis_budget_says_when_the_backstop_ended_it(monkeypatch):
+    # X310's "stopped after S CPU s (its budget)" was said whichever limit ended the budget
+    from langur.lint.findings import PerCondition
+    from langur.transversality import _stopped
+
+    assert timebox.Deadline(0.0).stopped_by() is timebox.Clock.CPU
+    assert timebox.Deadline(60.0).stopped_by() is None
+    monkeypatch.setattr(timebox, "BACKSTOP_FACTOR", 0.0)
+    monkeypatch.setattr(timebox, "BACKSTOP_SLACK", 0.05)
+    clock = timebox.Deadline(60.0)
+    per = PerCondition("turning points", 1.0, 60.0)
+    time.sleep(0.2)  # wall clock passes, hardly any CPU
+    assert clock.stopped_by() is timebox.Clock.BACKSTOP
+    assert per.run("c", None, lambda: "decided") is None
+    (finding,) = per.unchecked(Span("p.lgr", 1, 1, 1, 2))
+    assert "the analysis was stopped by its wall-clock backstop after 0.05 s (0 × 60 + 0.05), before its 60 CPU s " \
+           "were used" in finding.message, finding.message
+    assert "stopped after 60 CPU s" not in finding.message
+
+    class P:
+        span = Span("p.lgr", 1, 1, 1, 2)
+
+    assert "analysis was stopped by its wall-clock backstop" in _stopped(P, 60.0, "x", timebox.Clock.BACKSTOP).message
+    assert "analysis stopped after 60 CPU s (its budget)" in _stopped(P, 60.0, "x", timebox.Clock.CPU).message

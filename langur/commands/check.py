@@ -24,7 +24,7 @@ import sys
 import time
 from pathlib import Path
 
-from .. import __version__, frontend, timebox
+from .. import __version__, frontend
 from ..cli import (
     UsageError,
     add_common,
@@ -39,7 +39,7 @@ from ..lint import fix as fixmod
 from ..lint.formats import Report, distinct, known_codes, render
 from ..lint.noqa import suppressed
 from ..source import read_file, read_source
-from ..timebox import Clock, backstop, run_with_timeout, stopped_by
+from ..timebox import Clock, by_backstop, run_with_timeout, stopped_by
 from ..transversality import check_library, check_loaded, point_of
 from ._prove import Prover
 
@@ -145,9 +145,7 @@ def timed_out(path: str, seconds: float, clock: Clock | None, used: float) -> Di
     after ``used`` CPU seconds, and how to raise it (``--timeout`` sets both: CPU, and wall clock
     through :func:`~langur.timebox.backstop`)."""
     if clock is Clock.BACKSTOP:
-        why = (f"was stopped by its wall-clock backstop after {backstop(seconds):g} s "
-               f"({timebox.BACKSTOP_FACTOR:g} × --timeout + {timebox.BACKSTOP_SLACK:g}), having used {used:.2g} of its "
-               f"{seconds:g} CPU s: the machine is busy or the check waited (a larger --timeout raises both "
+        why = (f"was stopped {by_backstop(seconds, used)} (--timeout {seconds:g}: a larger one raises both "
                "limits; or check it again when the machine is less loaded)")
     else:
         why = (f"did not finish within {seconds:g} CPU s, its CPU budget (--timeout {seconds:g}; a larger "

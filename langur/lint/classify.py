@@ -27,7 +27,7 @@ from ..core import Program, TooManyRoots
 from ..diagnostics import Span
 from ..sympy_bridge import denote, symbol, to_sympy
 from ..syntax.printer import print_core
-from ..timebox import Deadline
+from ..timebox import Clock, Deadline, by_backstop
 from .algebra import Undecided, bad_parameters, describe_point, exact, vanishes
 from .ancestry import ancestry
 from .coincidence import CoincidenceChecks
@@ -258,15 +258,17 @@ class Checker(CoincidenceChecks, NullSetChecks):
             if same is not None and same in clean:
                 continue
             before = self._state()
-            if clock.remaining() <= 0:
+            stopped = clock.stopped_by()
+            if stopped is not None:
                 left = (f"{count - k} of {count} checks left" if count is not None else
                         f"{k} checks done of at most {len(squared) + most + len(rest)}")
+                how = (f"was stopped {by_backstop(self.budget)}" if stopped is Clock.BACKSTOP
+                       else f"stopped after {self.budget:g} CPU s (its budget)")
                 self.add(
                     self.program.span,
                     "warning",
                     "X310",
-                    f"the transversality analysis stopped after {self.budget:g} CPU s (its budget) with "
-                    f"{left}: the rest is unchecked",
+                    f"the transversality analysis {how} with {left}: the rest is unchecked",
                 )
                 break
             try:

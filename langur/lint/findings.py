@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from .. import lazy
 from ..diagnostics import Diagnostic, Span
 from ..records import record
-from ..timebox import Deadline
+from ..timebox import Clock, Deadline, by_backstop
 
 #: sympy's simplify without its import of physical units (``PerCondition.run``); imported on first
 #: use: this module is on ``langur eval``'s path (``commands._defined``), which runs no linter.
@@ -57,12 +57,15 @@ class PerCondition:
         self.clock = Deadline(total)
         self.undecided: dict = {}  # condition → its span, for the conditions whose check ran out of its limit
         self.left = 0  # conditions not checked at all: the total was spent
+        self.stopped: Clock | None = None  # which limit ended the total (the backstop is said)
 
     def run(self, condition, span: Span | None, fn):
         """``fn()``, the check of ``condition``, within the limits; None (and remembered) when it did
         not finish or was not run."""
-        if self.clock.remaining() <= 0:
+        stopped = self.clock.stopped_by()
+        if stopped is not None:
             self.left += 1
+            self.stopped = self.stopped or stopped
             return None
         try:
             with nounits.units_unloaded():  # (as ``algebra.timed``: no import of physical units on the clock)
@@ -81,7 +84,9 @@ class PerCondition:
             parts.append(f"sympy took longer than {self.limit:g} CPU s on {len(self.undecided)} condition(s)"
                          + (f", the first at {first.line}:{first.col}" if first is not None else ""))
         if self.left:
-            parts.append(f"the analysis stopped after {self.total:g} CPU s with {self.left} condition(s) left")
+            how = (f"was stopped {by_backstop(self.total)}" if self.stopped is Clock.BACKSTOP
+                   else f"stopped after {self.total:g} CPU s")
+            parts.append(f"the analysis {how} with {self.left} condition(s) left")
         span = next((s for s in self.undecided.values() if s is not None), program_span)
         return [Finding(span, "warning", "X310", f"{self.what} is unchecked for some conditions "
                                                    f"({'; '.join(parts)}): Theorem 8.1's assumption is unchecked there")]
