@@ -150,7 +150,7 @@ def _signed_parts(g: _Finite, c: float, d: float, eps: float, inside: list[float
     return pos[0] - neg[0], pos[1] + neg[1]
 
 
-def _interval(g: _Finite, h, c: float, d: float, eps: float, inside: list[float]):
+def _interval(g: _Finite, c: float, d: float, eps: float, inside: list[float]):
     """∫_c^d g by ``quad`` with the warnings that stand: ``(value, error, [warning texts])``.
 
     "Probably divergent" may be only a sign change's cancellation or an integral as small as the
@@ -162,7 +162,7 @@ def _interval(g: _Finite, h, c: float, d: float, eps: float, inside: list[float]
     val, e, ws = _quad_once(g, c, d, eps, inside)
     tol = eps
     if not ws:
-        val, e, ws, tol = _at_scale(g, h, c, d, eps, inside, val, e)
+        val, e, ws, tol = _at_scale(g, c, d, eps, inside, val, e)
     if any(DIVERGENT in w for w in ws):  # perhaps only a sign change's cancellation
         parts = _signed_parts(g, c, d, eps, inside, tol)
         if parts is None:  # perhaps only an integral as small as the absolute tolerance
@@ -172,7 +172,7 @@ def _interval(g: _Finite, h, c: float, d: float, eps: float, inside: list[float]
     return val, e, ws
 
 
-def _at_scale(g: _Finite, h, c: float, d: float, eps: float, inside: list[float], val: float, e: float):
+def _at_scale(g: _Finite, c: float, d: float, eps: float, inside: list[float], val: float, e: float):
     """A pass of ``quad`` over [c, d] that met its absolute tolerance ``eps`` but not the same
     tolerance relative to the integrand's size S = (d − c)·max |g| over the abscissae sampled
     (``g.size``), done again with the absolute tolerance eps·S: ``(value, error, warnings, eps·S)``.
@@ -183,23 +183,16 @@ def _at_scale(g: _Finite, h, c: float, d: float, eps: float, inside: list[float]
     without a warning with "value" 8.8·k ± 9.9·k (the mirror of fuzz32's D3,
     bench/history/2026-11-29.md#wide32; bench/RESULTS.md, diverge33).  Under eps·S the pass is
     the one the integrand scaled to size ~1 gets under ε, so ``k·t^-1.01`` diverges at every k
-    and a tiny convergent one (``10⁻²⁰·e^(−t²)``) converges, to its relative accuracy.  Its
-    warnings stand when they are a verdict — "probably divergent" (:func:`_interval` then asks
-    the one-signed parts, under eps·S) or no convergence next to an end where |h| grows like
-    |t − end|^-α, α ≥ 1 (:func:`_end_growth`); otherwise the first pass stands (it met the
-    tolerance every other integral meets: no new note).  Nothing is redone at or above size 1:
-    there the first pass met eps·S already."""
+    and a tiny convergent one (``10⁻²⁰·e^(−t²)``) converges, to its relative accuracy.  Its value
+    and warnings are taken as the integrand of size ~1 would have them (:func:`_quad` reads them:
+    "probably divergent", after :func:`_interval` asked the one-signed parts under eps·S; no
+    convergence, with or without a growth of |h| like 1/|t − end|): the same verdict, and the same
+    note, at every scale.  Nothing is redone at or above size 1: there the first pass met eps·S
+    already."""
     tol = eps * g.size * (d - c)
     if not e > max(tol, eps * abs(val)):
         return val, e, [], eps
-    val2, e2, ws2 = _quad_once(g, c, d, eps, inside, tol)
-    if not ws2:
-        return val2, e2, [], tol
-    if any(DIVERGENT in w for w in ws2) or (
-            any(k in w for w in ws2 for k in NOT_CONVERGED)
-            and any(alpha >= 1 - GROWTH_SLACK for _, alpha in _end_growth(h, c, d))):
-        return val2, e2, ws2, tol
-    return val, e, [], eps
+    return (*_quad_once(g, c, d, eps, inside, tol), tol)
 
 
 def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem, level: int):
@@ -227,7 +220,7 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
             for c, d in zip(cuts, cuts[1:]):
                 if not d > c:
                     continue
-                val, e, ws = _interval(g, h, c, d, eps, [q for q in inside if c < q < d])
+                val, e, ws = _interval(g, c, d, eps, [q for q in inside if c < q < d])
                 total += val
                 err += e
                 texts += [(c, d, w) for w in ws]
