@@ -154,7 +154,10 @@ def _exact(loaded, grid, direction, mc, shape, arrays) -> dict:
     with progress.phase("exact engine over the grid (sympy)"):
         ex = exact_batch(loaded.program, grid, direction)
     out = {"seconds": round(time.perf_counter() - t, 3), "derivations": ex.derivations,
-           "closed_form_points": int(ex.closed.sum()), "missing": ex.missing, "value": _summary(ex.value)}
+           "closed_form_points": int(ex.closed.sum()), "missing": ex.missing, "value": _summary(ex.value),
+           "undefined": len(ex.undefined)}
+    if ex.undefined:  # the integral does not exist there (NaN in the exact image): say so, and why
+        out["undefined_reason"] = ex.undefined[min(ex.undefined)]
     arrays["exact_value"] = ex.value.reshape(shape)
     pairs = [("value", mc.value, mc.stderr, ex.value)]
     if direction is not None:
@@ -166,6 +169,7 @@ def _exact(loaded, grid, direction, mc, shape, arrays) -> dict:
         z = np.abs(m - e)[ok & (se > 0)] / se[ok & (se > 0)]
         out[f"{name}_max_z"] = float(z.max()) if z.size else 0.0
         out[f"{name}_beyond_5se"] = int(np.count_nonzero(z > 5))
+        out[f"{name}_compared"] = int(np.count_nonzero(ok))  # (both finite; a point with SE 0 has no z)
     return out
 
 
@@ -207,9 +211,15 @@ def _print(args, report: dict, npoints: int) -> None:
     if "exact" in report:
         e = report["exact"]
         parts = [f"{e['derivations']} derivation(s), {e['closed_form_points']} points by closed form"]
+        if e["undefined"]:
+            parts[0] += f", undefined at {e['undefined']} of {npoints} points ({e['undefined_reason']})"
         for name in ("value", "derivative"):
-            if f"{name}_max_z" in e:
-                parts.append(f"{name}: MC within {e[f'{name}_max_z']:.2g} SE (beyond 5 SE: {e[f'{name}_beyond_5se']})")
+            if e.get(f"{name}_compared") == 0:
+                parts.append(f"{name}: compared with MC at no point (none where both are finite)")
+            elif f"{name}_max_z" in e:
+                where = "" if e[f"{name}_compared"] == npoints else f" at the {e[f'{name}_compared']} points where both are finite"
+                parts.append(f"{name}: MC within {e[f'{name}_max_z']:.2g} SE{where} "
+                             f"(beyond 5 SE: {e[f'{name}_beyond_5se']})")
         print(f"  exact       : {'; '.join(parts)}")
     for note in report.get("notes", []):
         print(f"  note: {note}")
