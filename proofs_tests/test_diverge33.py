@@ -87,9 +87,9 @@ def test_a_tiny_finite_integral_has_its_value_to_relative_accuracy(name, k):
 def test_a_sign_change_that_cancels_is_not_divergent_at_any_scale():
     # sin on [-1, 1]: 0 by symmetry; its one-signed parts (1 - cos 1 each) decide, at every scale
     for k in (1e-30, 1e-12, 1.0):
-        val, _ = _quad(lambda t: k * math.sin(t), -1.0, 1.0, EPS, [], _problem(), 0)
+        val, _ = _quad(lambda t, k=k: k * math.sin(t), -1.0, 1.0, EPS, [], _problem(), 0)
         assert abs(val) <= 1e-12 * k
-        val, _ = _quad(lambda t: k * math.sin(3 * t), -0.2, 1.0, EPS, [], _problem(), 0)
+        val, _ = _quad(lambda t, k=k: k * math.sin(3 * t), -0.2, 1.0, EPS, [], _problem(), 0)
         assert abs(val / k - (math.cos(-0.6) - math.cos(3.0)) / 3) <= 1e-9
 
 
