@@ -208,7 +208,9 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
     itself it stops early and fires on a convergent one (bug hunt D3 of fuzz32: the tail of
     ``exp(-(x-3)^2)·exp(-y^2)`` at x near 10, ~10⁻¹¹ over y in [−0.47, 1000], against ε = 10⁻¹¹:
     "undefined" for an integral 2.3436; bench/history/2026-11-29.md#wide32 — and so does no
-    convergence on an interval that ends at a point where the integrand is not finite."""
+    convergence on an interval that ends at a point where the integrand is not finite.  Conversely, a
+    pass that met the absolute tolerance only is done again at the integrand's own scale
+    (:func:`_at_scale`): ``10⁻²⁰·x^-1.01`` is as undefined as ``x^-1.01``."""
     where = f"{_name(p, level)} in [{a:.6g}, {b:.6g}]"
     singular: list[float] = []
     for _ in range(SPLIT_ROUNDS + 1):
