@@ -154,7 +154,10 @@ def _exact(loaded, grid, direction, mc, shape, arrays) -> dict:
     with progress.phase("exact engine over the grid (sympy)"):
         ex = exact_batch(loaded.program, grid, direction)
     out = {"seconds": round(time.perf_counter() - t, 3), "derivations": ex.derivations,
-           "closed_form_points": int(ex.closed.sum()), "missing": ex.missing, "value": _summary(ex.value)}
+           "closed_form_points": int(ex.closed.sum()), "missing": ex.missing, "value": _summary(ex.value),
+           "undefined": len(ex.undefined)}
+    if ex.undefined:  # the integral does not exist there (NaN in the exact image): say so, and why
+        out["undefined_reason"] = ex.undefined[min(ex.undefined)]
     arrays["exact_value"] = ex.value.reshape(shape)
     pairs = [("value", mc.value, mc.stderr, ex.value)]
     if direction is not None:
@@ -179,7 +182,8 @@ def _compared(name: str, m, se, e) -> dict:
     differ = np.abs(m - e)[zero] > 1e-12 * (1 + np.abs(e[zero]))
     return {f"{name}_max_z": float(z.max()) if z.size else 0.0, f"{name}_beyond_5se": int(np.count_nonzero(z > 5)),
             f"{name}_compared_se": int(z.size), f"{name}_se_zero": int(np.count_nonzero(zero)),
-            f"{name}_se_zero_differ": int(np.count_nonzero(differ))}
+            f"{name}_se_zero_differ": int(np.count_nonzero(differ)),
+            f"{name}_compared": int(np.count_nonzero(ok))}  # both finite (where the exact one is undefined, no point)
 
 
 def _painter():
@@ -207,8 +211,11 @@ def _draw(images, args, arrays, direction, names, xs, ys) -> str:
     return images.save(rows, extent, names, args.out, f"{args.file}: {args.samples} samples per point")
 
 
-def _agreement(e: dict, name: str) -> str:
+def _agreement(e: dict, name: str, npoints: int) -> str:
     """The Monte Carlo image against the exact one (:func:`_compared`), saying on how many points."""
+    if e[f"{name}_compared"] == 0:
+        return "compared with MC at no point (none where both are finite)"
+    where = "" if e[f"{name}_compared"] == npoints else f"at the {e[f'{name}_compared']} points where both are finite: "
     said = []
     if e[f"{name}_compared_se"]:
         said.append(f"MC within {e[f'{name}_max_z']:.2g} SE at {e[f'{name}_compared_se']} point(s) "
@@ -217,7 +224,7 @@ def _agreement(e: dict, name: str) -> str:
     if zero:
         said.append(f"MC's SE is 0 at {zero} point(s) (every sample alike), compared for equality: "
                     + (f"{differ} differ (MC saw no variation there: give more samples)" if differ else "all equal"))
-    return "; ".join(said) or "no point to compare"
+    return where + ("; ".join(said) or "no point to compare")
 
 
 def _print(args, report: dict, npoints: int) -> None:
@@ -233,9 +240,11 @@ def _print(args, report: dict, npoints: int) -> None:
     if "exact" in report:
         e = report["exact"]
         parts = [f"{e['derivations']} derivation(s), {e['closed_form_points']} points by closed form"]
+        if e["undefined"]:
+            parts[0] += f", undefined at {e['undefined']} of {npoints} points ({e['undefined_reason']})"
         for name in ("value", "derivative"):
             if f"{name}_max_z" in e:
-                parts.append(f"{name}: " + _agreement(e, name))
+                parts.append(f"{name}: " + _agreement(e, name, npoints))
         print(f"  exact       : {'; '.join(parts)}")
     for note in report.get("notes", []):
         print(f"  note: {note}")

@@ -55,6 +55,7 @@ class _Finite:
         self.bad: list[float] = []
         self.inner: str | None = None  # the first inner integral's reason for being undefined
         self.undefined = False  # a NaN among the values (±inf alone: too large for a float, :class:`BeyondRange`)
+        self.size = 0.0  # the largest |value| returned since it was last reset (:func:`_interval`)
 
     def __call__(self, t: float) -> float:
         try:
@@ -67,6 +68,8 @@ class _Finite:
                 return 0.0  # the end within rounding (END_ROUNDING)
             self.undefined = self.undefined or v != v
             return self._bad(t)
+        if abs(v) > self.size:
+            self.size = abs(v)
         return v
 
     def _bad(self, t: float) -> float:
@@ -147,6 +150,51 @@ def _signed_parts(g: _Finite, c: float, d: float, eps: float, inside: list[float
     return pos[0] - neg[0], pos[1] + neg[1]
 
 
+def _interval(g: _Finite, c: float, d: float, eps: float, inside: list[float]):
+    """∫_c^d g by ``quad`` with the warnings that stand: ``(value, error, [warning texts])``.
+
+    "Probably divergent" may be only a sign change's cancellation or an integral as small as the
+    absolute tolerance: the one-signed parts decide (:func:`_signed_parts`, first under the same
+    tolerances, then under the relative one alone).  A pass without a warning is checked at the
+    integrand's own scale (:func:`_at_scale`): an absolute tolerance above the integrand's size
+    accepts a divergent integral as readily as a convergent one."""
+    g.size = 0.0
+    val, e, ws = _quad_once(g, c, d, eps, inside)
+    tol = eps
+    if not ws:
+        val, e, ws, tol = _at_scale(g, c, d, eps, inside, val, e)
+    if any(DIVERGENT in w for w in ws):  # perhaps only a sign change's cancellation
+        parts = _signed_parts(g, c, d, eps, inside, tol)
+        if parts is None:  # perhaps only an integral as small as the absolute tolerance
+            parts = _signed_parts(g, c, d, eps, inside, 0.0)
+        if parts is not None:
+            (val, e), ws = parts, []
+    return val, e, ws
+
+
+def _at_scale(g: _Finite, c: float, d: float, eps: float, inside: list[float], val: float, e: float):
+    """A pass of ``quad`` over [c, d] that met its absolute tolerance ``eps`` but not the same
+    tolerance relative to the integrand's size S = (d − c)·max |g| over the abscissae sampled
+    (``g.size``), done again with the absolute tolerance eps·S: ``(value, error, warnings, eps·S)``.
+
+    QUADPACK's verdicts are scale-free under tolerances that scale with the integrand (its
+    relative one, and this), not under a fixed absolute one: ``quad(k·t^-1.01, 0, 1)`` with
+    ε = 10⁻¹¹ says "probably divergent" for k ≥ 10⁻¹¹ and, for k ≤ 10⁻¹², stops after 63 abscissae
+    without a warning with "value" 8.8·k ± 9.9·k (the mirror of fuzz32's D3,
+    bench/history/2026-11-29.md#wide32; bench/RESULTS.md, diverge33).  Under eps·S the pass is
+    the one the integrand scaled to size ~1 gets under ε, so ``k·t^-1.01`` diverges at every k
+    and a tiny convergent one (``10⁻²⁰·e^(−t²)``) converges, to its relative accuracy.  Its value
+    and warnings are taken as the integrand of size ~1 would have them (:func:`_quad` reads them:
+    "probably divergent", after :func:`_interval` asked the one-signed parts under eps·S; no
+    convergence, with or without a growth of |h| like 1/|t − end|): the same verdict, and the same
+    note, at every scale.  Nothing is redone at or above size 1: there the first pass met eps·S
+    already."""
+    tol = eps * g.size * (d - c)
+    if not e > max(tol, eps * abs(val)):
+        return val, e, [], eps
+    return (*_quad_once(g, c, d, eps, inside, tol), tol)
+
+
 def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem, level: int):
     """∫_a^b h by ``quad``, made safe and honest.
 
@@ -160,7 +208,9 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
     itself it stops early and fires on a convergent one (bug hunt D3 of fuzz32: the tail of
     ``exp(-(x-3)^2)·exp(-y^2)`` at x near 10, ~10⁻¹¹ over y in [−0.47, 1000], against ε = 10⁻¹¹:
     "undefined" for an integral 2.3436; bench/history/2026-11-29.md#wide32 — and so does no
-    convergence on an interval that ends at a point where the integrand is not finite."""
+    convergence on an interval that ends at a point where the integrand is not finite.  Conversely, a
+    pass that met the absolute tolerance only is done again at the integrand's own scale
+    (:func:`_at_scale`): ``10⁻²⁰·x^-1.01`` is as undefined as ``x^-1.01``."""
     where = f"{_name(p, level)} in [{a:.6g}, {b:.6g}]"
     singular: list[float] = []
     for _ in range(SPLIT_ROUNDS + 1):
@@ -172,13 +222,7 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
             for c, d in zip(cuts, cuts[1:]):
                 if not d > c:
                     continue
-                val, e, ws = _quad_once(g, c, d, eps, [q for q in inside if c < q < d])
-                if any(DIVERGENT in w for w in ws):  # perhaps only a sign change's cancellation
-                    parts = _signed_parts(g, c, d, eps, [q for q in inside if c < q < d])
-                    if parts is None:  # perhaps only an integral as small as the absolute tolerance
-                        parts = _signed_parts(g, c, d, eps, [q for q in inside if c < q < d], 0.0)
-                    if parts is not None:
-                        (val, e), ws = parts, []
+                val, e, ws = _interval(g, c, d, eps, [q for q in inside if c < q < d])
                 total += val
                 err += e
                 texts += [(c, d, w) for w in ws]

@@ -45,6 +45,7 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
     xs = np.linspace(lo, hi, GRID + 1).tolist()  # Python floats: math functions, no numpy warnings
     vals = [g(x) for x in xs]
     out = _hidden_pairs(g, xs, vals)
+    edges: list[tuple[float, float, int]] = []  # (last defined point, its value, side of the defined part)
     cells = [(xs[i], xs[i + 1], vals[i], vals[i + 1], i) for i in range(GRID - 1, -1, -1)]
     more = MORE_CELLS
     while cells:  # (the grid's cells in order, each followed by those its bisection set aside)
@@ -71,17 +72,48 @@ def _roots(g: Callable[[float], float], lo: float, hi: float) -> list[float]:
                 break
             gm = g(m)
             if _state(gm) == sa:
-                a = m
+                a, fa = m, gm
             else:
                 if _state(gm) != _state(fb) and more > 0:  # [m, b] set aside holds a transition too
                     more -= 1
                     cells.append((m, b, gm, fb, 0))
                 b, fb = m, gm
         out.append(0.5 * (a + b))
+        if sa == 0 or _state(fb) == 0:  # an edge of definedness: a pair of roots beside it is not seen above
+            edges.append((b, fb, 1) if sa == 0 else (a, fa, -1))
+    for end, value, side in edges:
+        out += _pairs_beside(g, xs, vals, end, value, side, out)
     return out
 
 
-def _hidden_pairs(g: Callable[[float], float], xs: list, vals: list, flat: bool = True) -> list[float]:
+def _pairs_beside(g: Callable[[float], float], xs: list, vals: list, end: float, value: float, side: int,
+                  known: list[float]) -> list[float]:
+    """The pairs of roots of ``g`` next to an edge of definedness that neither the grid's bisection
+    nor :func:`_hidden_pairs` sees: ``end`` is the last defined point the bisection reached
+    (``value`` = g there), the defined side lies towards ``side`` (+1: to the right).  The grid's
+    node next to a NaN is skipped by :func:`_hidden_pairs` (its neighbour has no sign), and a turn
+    of ``g`` between the edge and that node or the next one hides a pair: ``0.0001·√(x − 0.26) +
+    (x − 0.285)² − 3·10⁻⁵`` on [0, 1] (grid step 0.025) is negative on (0.28106, 0.28862), and the
+    grid search saw only the edge 0.26 (bench/RESULTS.md, diverge33).  Here the edge's point
+    stands in for the NaN neighbour: :func:`_hidden_pairs` on ``end`` and the next two defined
+    nodes, the farther one not searched (the grid's own search covers it, with both its
+    neighbours); a root already ``known`` (within 10⁻¹² relative) is not repeated."""
+    nodes = [k for k in (range(len(xs)) if side > 0 else range(len(xs) - 1, -1, -1)) if side * (xs[k] - end) > 0][:2]
+    pts, vs = [end], [value]
+    for k in nodes:
+        if not math.isfinite(vals[k]):
+            break
+        pts.append(xs[k])
+        vs.append(vals[k])
+    if side < 0:
+        pts, vs = pts[::-1], vs[::-1]
+    near = range(len(pts)) if len(pts) < 3 else range(2) if side > 0 else range(1, 3)
+    found = _hidden_pairs(g, pts, vs, searched=near) if len(pts) > 1 else []
+    return [r for r in found if not any(abs(r - q) <= 1e-12 * max(1.0, abs(r)) for q in known)]
+
+
+def _hidden_pairs(g: Callable[[float], float], xs: list, vals: list, flat: bool = True,
+                  searched: range | None = None) -> list[float]:
     """The roots of ``g`` a sign-change search on the grid ``xs`` cannot see: two roots between
     neighbouring nodes where ``g`` turns (``[x ≥ sin(z) + a]`` in z near z = π/2, x just below
     a + 1: the set in z has a gap narrower than the step, and ∫∫ lost ~10⁻⁵ with an error bound of
@@ -91,10 +123,10 @@ def _hidden_pairs(g: Callable[[float], float], xs: list, vals: list, flat: bool 
     there, the two roots on its sides by brentq.  Nothing is added where the grid sees the turn.
     ``flat=False``: a node equal to all its neighbours is not searched (a value constant along the
     grid — the fold grid's many series that do not depend on the outer variable — would cost one
-    Brent search per node)."""
+    Brent search per node).  ``searched``: the nodes searched (default all)."""
     out: list[float] = []
     n = len(xs)
-    for j in range(n):
+    for j in range(n) if searched is None else searched:
         v = vals[j]
         if not (math.isfinite(v) and v != 0.0):
             continue
