@@ -44,6 +44,13 @@ MAX_FAMILIES = 400
 #: time, in the same order, as the checks reach them within the budget.
 LISTED_PAIRS = 200_000
 
+#: The codes that speak only of the parameter values in force (X301: for every value; X305: at the
+#: values given with ``--at``): when a caller asks for no other (the ``deriv`` gate, the fuzzer) with
+#: values given, the checks skip solving for the *set* of degenerate parameter values — which only
+#: X304, X306 and their wording need — wherever the values in force are not in it
+#: (:meth:`Checker.here_only`; bench/RESULTS.md, lambert33).
+HERE_CODES = frozenset({"X301", "X305"})
+
 #: CPU seconds the whole analysis of one program may take (beyond: X310, the rest unchecked); CPU
 #: time, as every limit of the checker, so that its findings do not change with the machine's load.
 BUDGET = 30.0
@@ -100,6 +107,9 @@ class Checker(CoincidenceChecks, NullSetChecks):
         #: the codes asked for (None: all): the null-set checks (tangency, families: X302, X303
         #: only, :data:`NULL_SET_CODES`) are left out when neither is (``check_program``'s ``only``)
         self.null_sets = only is None or bool(NULL_SET_CODES & only)
+        #: only X301/X305 asked for, at values given with ``--at``: parameter sets are solved for
+        #: only when the values lie in them (:data:`HERE_CODES`)
+        self.here_only = only is not None and only <= HERE_CODES and explicit and point is not None
         self.program = program
         self.col = collect(program, sites, point)
         self.ancestry = ancestry(program.body, self.col.occurrences)
@@ -118,6 +128,8 @@ class Checker(CoincidenceChecks, NullSetChecks):
         self.kinks: dict[int, list] = {}
         self.degenerate_families: list[frozenset[int]] = []
         self._split_parts: frozenset[int] | None = None
+        #: pairs whose parameter sets :attr:`here_only` did not solve for (:meth:`report_kinks`)
+        self.passed_over: list[tuple[Occurrence, Occurrence]] = []
 
     # -- wording --------------------------------------------------------------------------------
 
@@ -285,7 +297,7 @@ class Checker(CoincidenceChecks, NullSetChecks):
 
     def _state(self) -> tuple[int, ...]:
         return (len(self.findings), len(self.coincident), len(self.degenerate_families),
-                sum(map(len, self.kinks.values())))
+                sum(map(len, self.kinks.values())), len(self.passed_over))
 
     def undecided(self, a: Occurrence, b: Occurrence | None, why: str):
         p, o = self.primary(a, b) if b is not None else (a, None)
@@ -310,12 +322,19 @@ class Checker(CoincidenceChecks, NullSetChecks):
         names = self.param_names(c, g)
         relations = []
         unsolved = []
-        for br in c.branches:
-            e = restrict(g.f, br)
+        restricted = [(br, restrict(g.f, br)) for br in c.branches]
+        # X305 needs the values in force in the set: when they are on no branch's, only X301 is left
+        # to decide, and the set itself (X304's) is not asked for
+        solve = not self.here_only or any(self.vanishes_here(c, br, e) for br, e in restricted)
+        if not solve:
+            self.passed_over.append((c, g))
+        for br, e in restricted:
             if vanishes(e, c.uprime + tuple(params), br[1]):
                 if not self.meet_in_force(c, g, br):
                     return  # the common zero set lies where one of them is not in force (a piece)
                 return self.always(c, g, br, names)
+            if not solve:
+                continue
             try:
                 relations += [(sol, br, e) for sol in bad_parameters(e, c.uprime, params, br[1])]
             except Undecided as u:
