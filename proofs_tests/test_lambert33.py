@@ -18,6 +18,7 @@ from paths import EXAMPLES
 from langur import transversality
 from langur.commands import _defined
 from langur.frontend import load, load_text
+from langur.lint import classify
 
 SCENE = str(EXAMPLES / "raytrace" / "scene.lgr")
 LAMBERT = {"shader": str(EXAMPLES / "raytrace" / "lambert.lgr")}
@@ -46,9 +47,12 @@ PROGRAMS = [
 ]
 
 
+ALL = None
+
+
 def _lines(findings, codes=transversality.HERE_CODES):
-    return sorted((f.code, f.span.line if f.span else 0, f.span.col if f.span else 0, f.message)
-                  for f in findings if f.code in codes)
+    return [(f.code, f.span.line if f.span else 0, f.span.col if f.span else 0, f.message)
+            for f in findings if codes is None or f.code in codes]
 
 
 @pytest.mark.parametrize(("text", "at"), PROGRAMS)
@@ -57,6 +61,30 @@ def test_the_gate_reports_what_the_whole_analysis_reports_for_its_codes(text, at
     whole = _lines(transversality.check_loaded(loaded, at=at, sources={"p.lgr": text}))
     asked = transversality.check_loaded(loaded, at=at, sources={"p.lgr": text}, only=transversality.HERE_CODES)
     assert _lines(asked) == whole
+
+
+KINKS = [
+    # [x <= a] on the bound x = 1 at the defaults (a = 1), on x = 0 when a = 0, on [x >= b] when a = b
+    "param a = 1, b = 0.5\nint ([0, 1]) [x >= b] * [x <= a] d(x)\n",
+    "param a = 0.5, b = 0.5\nint ([0, 1]) [x <= a] * [x >= b] * [x <= 2*a] d(x)\n",
+    # a moving circle against the box's four sides: on x = 1 (and y = 1) when r = 1 (the defaults)
+    "param r = 1\nint ([0, 1], [0, 1]) [x^2 + y^2 - r^2 <= 0] d(x, y)\n",
+    "param r = 0.5\nint ([0, 1], [0, 1]) [x^2 + y^2 - r^2 <= 0] d(x, y)\n",
+]
+
+
+@pytest.mark.parametrize("text", KINKS + [t for t, _ in PROGRAMS])
+@pytest.mark.parametrize("explicit", [False, True])
+def test_passing_over_a_parameter_set_changes_no_finding(monkeypatch, text, explicit):
+    # the whole analysis (`langur check`, with and without --at) against the same analysis solving
+    # every pair's parameter set, as main did (Checker.pass_over never true): the same findings, in
+    # the same words and order
+    loaded = load_text(text, "p.lgr")
+    at = {k: float(v) for k, v in loaded.param_values({}).items()} if explicit else None
+    fast = transversality.check_loaded(loaded, at=at, sources={"p.lgr": text})
+    monkeypatch.setattr(classify.Checker, "pass_over", lambda self, c, g: False)
+    slow = transversality.check_loaded(loaded, at=at, sources={"p.lgr": text})
+    assert _lines(fast, ALL) == _lines(slow, ALL)
 
 
 def test_the_kink_names_every_set_its_jump_lies_on():

@@ -33,7 +33,7 @@ from .ancestry import ancestry
 from .coincidence import CoincidenceChecks
 from .collect import MAX_PRODUCTS, Occurrence, collect
 from .findings import Finding, quote
-from .geometry import is_linear, params_of, restrict, span_key, xsyms
+from .geometry import is_linear, moving, params_of, restrict, span_key, xsyms
 from .nullsets import NULL_SET_CODES, NullSetChecks
 
 #: At most this many families of 3 to n+1 conditions are solved for a common point.
@@ -47,8 +47,8 @@ LISTED_PAIRS = 200_000
 #: The codes that speak only of the parameter values in force (X301: for every value; X305: at the
 #: values given with ``--at``): when a caller asks for no other (the ``deriv`` gate, the fuzzer) with
 #: values given, the checks skip solving for the *set* of degenerate parameter values — which only
-#: X304, X306 and their wording need — wherever the values in force are not in it
-#: (:meth:`Checker.here_only`; bench/RESULTS.md, lambert33).
+#: X304, X306, X310 and their wording need — wherever the values in force are not in it
+#: (:attr:`Checker.here_only`, :meth:`Checker.pass_over`; bench/RESULTS.md, lambert33).
 HERE_CODES = frozenset({"X301", "X305"})
 
 #: CPU seconds the whole analysis of one program may take (beyond: X310, the rest unchecked); CPU
@@ -128,8 +128,11 @@ class Checker(CoincidenceChecks, NullSetChecks):
         self.kinks: dict[int, list] = {}
         self.degenerate_families: list[frozenset[int]] = []
         self._split_parts: frozenset[int] | None = None
-        #: pairs whose parameter sets :attr:`here_only` did not solve for (:meth:`report_kinks`)
-        self.passed_over: list[tuple[Occurrence, Occurrence]] = []
+        #: pairs whose parameter sets were not solved for (:meth:`pass_over`), and the order in
+        #: which the pairs were checked (:meth:`report_kinks` solves the first when it needs them)
+        self.passed_over: list[tuple] = []
+        self.pair_order: dict[tuple[int, int], int] = {}
+        self.solve_all = False
 
     # -- wording --------------------------------------------------------------------------------
 
@@ -299,6 +302,16 @@ class Checker(CoincidenceChecks, NullSetChecks):
         return (len(self.findings), len(self.coincident), len(self.degenerate_families),
                 sum(map(len, self.kinks.values())), len(self.passed_over))
 
+    def pass_over(self, c: Occurrence, g: Occurrence) -> bool:
+        """May the pair's parameter set go unsolved when the values in force are not in it?  Yes
+        when only X301/X305 are asked for (:attr:`here_only`), and whenever the pair cannot be two
+        moving jumps (:meth:`parametric`'s X304, :meth:`unsolved`'s X310): a jump meeting the
+        domain's bound or a fixed zero set is a kink, reported only at values in its set."""
+        if self.solve_all:
+            return False
+        both = moving(c, self.variables) and moving(g, self.variables) and not (c.bound or g.bound)
+        return self.here_only or not both
+
     def undecided(self, a: Occurrence, b: Occurrence | None, why: str):
         p, o = self.primary(a, b) if b is not None else (a, None)
         other = (
@@ -315,26 +328,32 @@ class Checker(CoincidenceChecks, NullSetChecks):
 
     def pair(self, a: Occurrence, b: Occurrence):
         """Def. 7.2 for two multiplying conditions: the same zero set for every parameter value
-        (:meth:`always`), for some values (:meth:`parametric`, :meth:`unsolved`), or a tangent
-        meeting (:meth:`tangency`)."""
+        (:meth:`always`), for some values (:meth:`parameter_sets`), or a tangent meeting
+        (:meth:`tangency`)."""
         c, g = (a, b) if len(a.branches) <= len(b.branches) else (b, a)
         params = params_of(c, g, variables=self.variables)
         names = self.param_names(c, g)
-        relations = []
-        unsolved = []
+        self.pair_order.setdefault((c.index, g.index), len(self.pair_order))
         restricted = [(br, restrict(g.f, br)) for br in c.branches]
-        # X305 needs the values in force in the set: when they are on no branch's, only X301 is left
-        # to decide, and the set itself (X304's) is not asked for
-        solve = not self.here_only or any(self.vanishes_here(c, br, e) for br, e in restricted)
-        if not solve:
-            self.passed_over.append((c, g))
         for br, e in restricted:
             if vanishes(e, c.uprime + tuple(params), br[1]):
                 if not self.meet_in_force(c, g, br):
                     return  # the common zero set lies where one of them is not in force (a piece)
                 return self.always(c, g, br, names)
-            if not solve:
-                continue
+        self.parameter_sets(c, g, restricted, params, names)
+        if self.null_sets and self.n >= 2 and not (is_linear(c.f, self.xs) and is_linear(g.f, self.xs)):
+            self.tangency(c, g, names)
+
+    def parameter_sets(self, c: Occurrence, g: Occurrence, restricted, params, names):
+        """The parameter values where the zero sets coincide (:meth:`parametric`, :meth:`unsolved`):
+        solved for only when a finding can come of them (:meth:`pass_over`; else remembered in
+        :attr:`passed_over`, for :meth:`report_kinks`)."""
+        if self.pass_over(c, g) and not any(self.vanishes_here(c, br, e) for br, e in restricted):
+            self.passed_over.append((c, g, restricted, params, names))
+            return
+        relations = []
+        unsolved = []
+        for br, e in restricted:
             try:
                 relations += [(sol, br, e) for sol in bad_parameters(e, c.uprime, params, br[1])]
             except Undecided as u:
@@ -343,5 +362,3 @@ class Checker(CoincidenceChecks, NullSetChecks):
             self.unsolved(c, g, unsolved, names)
         if relations:
             self.parametric(c, g, relations, names)
-        if self.null_sets and self.n >= 2 and not (is_linear(c.f, self.xs) and is_linear(g.f, self.xs)):
-            self.tangency(c, g, names)

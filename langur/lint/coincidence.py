@@ -218,7 +218,9 @@ class CoincidenceChecks:
 
     def vanishes_here(self, c: Occurrence, br, e: sp.Expr) -> bool:
         """Does the restriction ``e`` of a condition to c's zero set (through c's branch ``br``)
-        vanish identically at the parameter values in force?  (False when undecided.)"""
+        vanish identically at the parameter values in force?  (False when undecided, or without values.)"""
+        if self.point is None:
+            return False
         try:
             return vanishes(e.subs(self.point), c.uprime, [gd.subs(self.point) for gd in br[1]])
         except Undecided:
@@ -349,11 +351,15 @@ class CoincidenceChecks:
     def report_kinks(self):
         occ = self.col.occurrences
         movers = {i for i, entries in self.kinks.items() if any(hit for _, _, hit in entries)}
-        again = [(c, g) for c, g in self.passed_over if {c.index, g.index} & movers]
-        if again:  # an X305 names every set its jump lies on: those of the pairs passed over too
-            self.here_only, self.passed_over = False, []
-            for c, g in again:
-                self.pair(c, g)
+        again = [args for args in self.passed_over if {args[0].index, args[1].index} & movers]
+        if again:  # a kink's finding names every set its jump lies on: those of the pairs passed over too
+            self.passed_over, self.solve_all = [], True
+            for args in again:
+                self.parameter_sets(*args)
+            order = self.pair_order  # (in the order the pairs were checked, as if none was passed over)
+            for i in movers:
+                self.kinks[i].sort(key=lambda e, i=i: min(order.get((i, e[0].index), math.inf),
+                                                          order.get((e[0].index, i), math.inf)))
         for i, entries in sorted(self.kinks.items()):
             if not any(hit for _, _, hit in entries):
                 continue
