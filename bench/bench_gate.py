@@ -1,7 +1,7 @@
 """CPU of ``langur deriv``'s transversality gate (X301: is ⦇p⦈ the derivative; X305: at these
 values?), this tree against a baseline tree, program by program (bench/RESULTS.md, lambert33).
 
-    python bench/bench_gate.py --baseline /tmp/base [--json OUT] [--pixels 3]
+    python bench/bench_gate.py [--baseline /tmp/base] [--json OUT] [--pixels 3]
     (baseline: ``git archive REV | tar -x -C /tmp/base``)
 
 Each case — every example with a program at its default values, and lambert pixels of the paper's
@@ -64,13 +64,14 @@ def run(tree: str, case) -> dict | None:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--baseline", required=True)
+    ap.add_argument("--baseline", help="the other tree (without it: this tree only, base = new)")
     ap.add_argument("--pixels", type=int, default=3)
     ap.add_argument("--json")
     args = ap.parse_args()
     rows = []
     for case in cases(args.pixels):
-        new, old = run(HERE, case), run(args.baseline, case)
+        new = run(HERE, case)
+        old = run(args.baseline, case) if args.baseline else new
         if new is None or old is None:
             continue
         name = os.path.relpath(case[0], HERE) + (" lambert " + json.dumps(case[2]) if case[1] else "")
