@@ -56,7 +56,7 @@ from . import failures, timebox
 from .core import Call, Param, Program, Var
 from .diagnostics import LangurError, Span
 from .lint import singular
-from .lint.classify import _FAILURES, BUDGET, MAX_FAMILIES, Checker
+from .lint.classify import _FAILURES, BUDGET, HERE_CODES, MAX_FAMILIES, Checker
 from .lint.collect import MAX_PRODUCTS, Collected, Occurrence, Product, call_sites, collect
 from .lint.domains import domain_findings
 from .lint.doubleroot import double_root_findings
@@ -68,6 +68,7 @@ from .syntax.inline import inline
 
 __all__ = [
     "BUDGET",
+    "HERE_CODES",
     "MAX_FAMILIES",
     "MAX_PRODUCTS",
     "Collected",

@@ -164,7 +164,7 @@ def transversal(loaded, path: str | None, at=None) -> Transversal:
         return Transversal()  # affine conditions: the analysis would find nothing (no sympy)
     sources = _sources(path)
     checked = transversality.check_loaded(loaded, at=None if at is None else {k: float(v) for k, v in at.items()},
-                           sources=sources)
+                           sources=sources, only=transversality.HERE_CODES)
     found = [f for f in checked if f.code == "X301"]
     here = [f for f in checked if f.code == "X305"]
     if not found:

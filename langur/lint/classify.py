@@ -33,7 +33,7 @@ from .ancestry import ancestry
 from .coincidence import CoincidenceChecks
 from .collect import MAX_PRODUCTS, Occurrence, collect
 from .findings import Finding, quote
-from .geometry import is_linear, params_of, restrict, span_key, xsyms
+from .geometry import is_linear, moving, params_of, restrict, span_key, xsyms
 from .nullsets import NULL_SET_CODES, NullSetChecks
 
 #: At most this many families of 3 to n+1 conditions are solved for a common point.
@@ -43,6 +43,13 @@ MAX_FAMILIES = 400
 #: conditions has 5·10⁷: gigabytes); past this many (counted with repeats) they are made one at a
 #: time, in the same order, as the checks reach them within the budget.
 LISTED_PAIRS = 200_000
+
+#: The codes that speak only of the parameter values in force (X301: for every value; X305: at the
+#: values given with ``--at``): when a caller asks for no other (the ``deriv`` gate, the fuzzer) with
+#: values given, the checks skip solving for the *set* of degenerate parameter values — which only
+#: X304, X306, X310 and their wording need — wherever the values in force are not in it
+#: (:attr:`Checker.here_only`, :meth:`Checker.pass_over`; bench/RESULTS.md, lambert33).
+HERE_CODES = frozenset({"X301", "X305"})
 
 #: CPU seconds the whole analysis of one program may take (beyond: X310, the rest unchecked); CPU
 #: time, as every limit of the checker, so that its findings do not change with the machine's load.
@@ -100,6 +107,9 @@ class Checker(CoincidenceChecks, NullSetChecks):
         #: the codes asked for (None: all): the null-set checks (tangency, families: X302, X303
         #: only, :data:`NULL_SET_CODES`) are left out when neither is (``check_program``'s ``only``)
         self.null_sets = only is None or bool(NULL_SET_CODES & only)
+        #: only X301/X305 asked for, at values given with ``--at``: parameter sets are solved for
+        #: only when the values lie in them (:data:`HERE_CODES`)
+        self.here_only = only is not None and only <= HERE_CODES and explicit and point is not None
         self.program = program
         self.col = collect(program, sites, point)
         self.ancestry = ancestry(program.body, self.col.occurrences)
@@ -118,6 +128,11 @@ class Checker(CoincidenceChecks, NullSetChecks):
         self.kinks: dict[int, list] = {}
         self.degenerate_families: list[frozenset[int]] = []
         self._split_parts: frozenset[int] | None = None
+        #: pairs whose parameter sets were not solved for (:meth:`pass_over`), and the order in
+        #: which the pairs were checked (:meth:`report_kinks` solves the first when it needs them)
+        self.passed_over: list[tuple] = []
+        self.pair_order: dict[tuple[int, int], int] = {}
+        self.solve_all = False
 
     # -- wording --------------------------------------------------------------------------------
 
@@ -287,7 +302,17 @@ class Checker(CoincidenceChecks, NullSetChecks):
 
     def _state(self) -> tuple[int, ...]:
         return (len(self.findings), len(self.coincident), len(self.degenerate_families),
-                sum(map(len, self.kinks.values())))
+                sum(map(len, self.kinks.values())), len(self.passed_over))
+
+    def pass_over(self, c: Occurrence, g: Occurrence) -> bool:
+        """May the pair's parameter set go unsolved when the values in force are not in it?  Yes
+        when only X301/X305 are asked for (:attr:`here_only`), and whenever the pair cannot be two
+        moving jumps (:meth:`parametric`'s X304, :meth:`unsolved`'s X310): a jump meeting the
+        domain's bound or a fixed zero set is a kink, reported only at values in its set."""
+        if self.solve_all:
+            return False
+        both = moving(c, self.variables) and moving(g, self.variables) and not (c.bound or g.bound)
+        return self.here_only or not both
 
     def undecided(self, a: Occurrence, b: Occurrence | None, why: str):
         p, o = self.primary(a, b) if b is not None else (a, None)
@@ -305,19 +330,32 @@ class Checker(CoincidenceChecks, NullSetChecks):
 
     def pair(self, a: Occurrence, b: Occurrence):
         """Def. 7.2 for two multiplying conditions: the same zero set for every parameter value
-        (:meth:`always`), for some values (:meth:`parametric`, :meth:`unsolved`), or a tangent
-        meeting (:meth:`tangency`)."""
+        (:meth:`always`), for some values (:meth:`parameter_sets`), or a tangent meeting
+        (:meth:`tangency`)."""
         c, g = (a, b) if len(a.branches) <= len(b.branches) else (b, a)
         params = params_of(c, g, variables=self.variables)
         names = self.param_names(c, g)
-        relations = []
-        unsolved = []
-        for br in c.branches:
-            e = restrict(g.f, br)
+        self.pair_order.setdefault((c.index, g.index), len(self.pair_order))
+        restricted = [(br, restrict(g.f, br)) for br in c.branches]
+        for br, e in restricted:
             if vanishes(e, c.uprime + tuple(params), br[1]):
                 if not self.meet_in_force(c, g, br):
                     return  # the common zero set lies where one of them is not in force (a piece)
                 return self.always(c, g, br, names)
+        self.parameter_sets(c, g, restricted, params, names)
+        if self.null_sets and self.n >= 2 and not (is_linear(c.f, self.xs) and is_linear(g.f, self.xs)):
+            self.tangency(c, g, names)
+
+    def parameter_sets(self, c: Occurrence, g: Occurrence, restricted, params, names):
+        """The parameter values where the zero sets coincide (:meth:`parametric`, :meth:`unsolved`):
+        solved for only when a finding can come of them (:meth:`pass_over`; else remembered in
+        :attr:`passed_over`, for :meth:`report_kinks`)."""
+        if self.pass_over(c, g) and not any(self.vanishes_here(c, br, e) for br, e in restricted):
+            self.passed_over.append((c, g, restricted, params, names))
+            return
+        relations = []
+        unsolved = []
+        for br, e in restricted:
             try:
                 relations += [(sol, br, e) for sol in bad_parameters(e, c.uprime, params, br[1])]
             except Undecided as u:
@@ -326,5 +364,3 @@ class Checker(CoincidenceChecks, NullSetChecks):
             self.unsolved(c, g, unsolved, names)
         if relations:
             self.parametric(c, g, relations, names)
-        if self.null_sets and self.n >= 2 and not (is_linear(c.f, self.xs) and is_linear(g.f, self.xs)):
-            self.tangency(c, g, names)

@@ -210,16 +210,21 @@ class CoincidenceChecks:
         if self.point is None:
             return False
         _, br, e = rel
-        guards = br[1]
-        try:
-            at = e.subs(self.point)
-            if not vanishes(at, c.uprime, [gd.subs(self.point) for gd in guards]):
-                return False
-        except Undecided:
+        if not self.vanishes_here(c, br, e):
             return False
         # the meeting must be where both are in force (a kink split's piece ends at its kink)
         return any(self._in_force([c] + ([g] if g is not None else []), pt)
                    for pt in zero_set_points(c, br, self.box, self.point, self.variables))
+
+    def vanishes_here(self, c: Occurrence, br, e: sp.Expr) -> bool:
+        """Does the restriction ``e`` of a condition to c's zero set (through c's branch ``br``)
+        vanish identically at the parameter values in force?  (False when undecided, or without values.)"""
+        if self.point is None:
+            return False
+        try:
+            return vanishes(e.subs(self.point), c.uprime, [gd.subs(self.point) for gd in br[1]])
+        except Undecided:
+            return False
 
     def nested(self, o: Occurrence) -> bool:
         """Is o written in a branch of another conditional (a kink split's piece)?"""
@@ -345,6 +350,16 @@ class CoincidenceChecks:
 
     def report_kinks(self):
         occ = self.col.occurrences
+        movers = {i for i, entries in self.kinks.items() if any(hit for _, _, hit in entries)}
+        again = [args for args in self.passed_over if {args[0].index, args[1].index} & movers]
+        if again:  # a kink's finding names every set its jump lies on: those of the pairs passed over too
+            self.passed_over, self.solve_all = [], True
+            for args in again:
+                self.parameter_sets(*args)
+            order = self.pair_order  # (in the order the pairs were checked, as if none was passed over)
+            for i in movers:
+                self.kinks[i].sort(key=lambda e, i=i: min(order.get((i, e[0].index), math.inf),
+                                                          order.get((e[0].index, i), math.inf)))
         for i, entries in sorted(self.kinks.items()):
             if not any(hit for _, _, hit in entries):
                 continue
@@ -391,6 +406,9 @@ class CoincidenceChecks:
         reported is where every completion degenerates."""
         if c.continuous:  # no delta: a degenerate coefficient changes nothing in the derivative
             return
+        if self.here_only and not (any(num(t.subs(self.point)) == 0 for t in c.nonzero)
+                                   or recomplete.vanishing(c.psi, self.point)):
+            return  # X305 only, and no coefficient vanishes at the values in force (``hit`` below)
         closed = c.psi.solved_for is not None and free_vars(c.psi.condition) <= set(c.psi.variables)
         chain = None
         if closed and c.nonzero:
