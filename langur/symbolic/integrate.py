@@ -248,7 +248,7 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None, p
     notes.append(f"no closed form for {sum(e is None for e in exacts)} of {len(exacts)} "
                  f"{what}; adaptive quadrature at the evaluation point")
     notes.extend(dict.fromkeys(w for w in fallbacks if w))
-    if ctx.estimated:
+    if ctx.estimated and (proved is None or proved > error):  # (a proof within the estimate backs it)
         notes.append(quadrature.ESTIMATE)
     if exact_part and for_reading():  # (untidied: not printed, a tenth of a second per large part)
         notes.append(f"exact part ({first}): {sp.Add(*exact_part)}")
