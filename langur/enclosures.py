@@ -62,9 +62,30 @@ def _monotone_iv(fn, increasing: bool = True):
     return f
 
 
+#: The argument below which :func:`_exp` does not compute ``exp`` (a double's exponent range, far past).
+_EXP_FLOOR = -(2 ** 1100)
+
+
+def _exp(X):
+    """mpmath's interval ``exp``, except below :data:`_EXP_FLOOR`, where it is ``[0, exp(floor)]``:
+    ``exp`` is increasing and positive, so that holds it; mpmath computes ``exp(−e^(10⁶))`` to its
+    53 bits, with an exponent of 434,294 digits, in seconds (``exp(-cosh x)`` on [−10⁶, 10⁶],
+    bench/RESULTS.md, proof33)."""
+    X = mpmath.iv.mpf(X)
+    if X.a >= _EXP_FLOOR:
+        return mpmath.iv.exp(X)
+    top = _exp_floor() if X.b < _EXP_FLOOR else mpmath.iv.exp(X.b)
+    return mpmath.iv.mpf([0, top.b])
+
+
+@functools.lru_cache(maxsize=1)
+def _exp_floor():
+    return mpmath.iv.exp(mpmath.iv.mpf(_EXP_FLOOR))
+
+
 #: lambdify's names for the interval versions (the rest from ``mpmath.iv``; ``log`` is a method of
 #: its class, which lambdify would otherwise take from ``math``).
-_IV = {"log": mpmath.iv.log, "mpf": mpmath.iv.mpf, "atan": _monotone_iv(mpmath.atan), "tanh": _monotone_iv(mpmath.tanh), "erf": _monotone_iv(mpmath.erf),
+_IV = {"log": mpmath.iv.log, "mpf": mpmath.iv.mpf, "exp": _exp, "atan": _monotone_iv(mpmath.atan), "tanh": _monotone_iv(mpmath.tanh), "erf": _monotone_iv(mpmath.erf),
        "asin": _monotone_iv(mpmath.asin), "acos": _monotone_iv(mpmath.acos, increasing=False),
        "atanh": _monotone_iv(mpmath.atanh)}
 

@@ -98,9 +98,13 @@ def test_thirty_one_missed_peaks():
 
 def test_a_bound_is_printed_only_where_proved():
     cosh = "exp(-(exp(x) + exp(-x))/2)"
-    r = _exact(f"int ([0, 1]) {cosh} d(x)\n")  # 0.3785…: enclosed, the estimate's 4e-15 not reached
+    r = _exact(f"int ([0, 1]) {cosh} d(x)\n")  # 0.3125…: enclosed within the estimate since proof33
     ref = _mp(lambda x: mpmath.exp(-mpmath.cosh(x)), [0, 1])
     assert abs(r.value - ref) <= max(r.error, 1e-15) and r.proved is not None and abs(r.value - ref) <= r.proved
+    assert r.proved <= r.error and r.how() == f"quadrature, error ≤ {r.error:.3g}"
+    # two variables, a curved boundary: proved, but wider than the estimate, so both are printed
+    r = _exact("param a = 0.5\nint ([-1, 1], [-1, 1]) [x^3 + x + y^3 + y >= a] * (1 + x * y + x) d(x, y)\n")
+    assert r.method == Method.QUADRATURE and r.error < r.proved
     assert r.how() == f"quadrature, error estimate {r.error:.3g}, proved ≤ {r.proved:.3g}"
     # a delta through an implicit root (examples/implicit2d.lgr): no proof, so no bound is claimed
     loaded, at = _loaded("param a = 0.5\nint ([-1, 1], [-1, 1]) [x^3 + x + y^3 + y >= a] d(x, y)\n")

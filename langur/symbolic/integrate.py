@@ -232,8 +232,9 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None, p
         enc = prove(i, qe, enclosed.CELLS) if prove is not None else None
         if enc is not None and not (enc.confirms(q, qe) or enc.dimensions > 1 and enc.holds(q, qe)):
             # a closer look (:data:`~.enclosed.CELLS_REFUTED` cells): where quadrature is refuted, or on one
-            # variable, where the rule's remainder makes more cells pay (on more, the cells on a boundary
-            # curve keep their whole width: a few thousand cells narrow a proof little)
+            # variable, where the rule's remainder makes more cells pay (on more, a curved boundary's cells
+            # narrow as h³: 3,000 cells take 2 CPU s to prove implicit2d ≤ 2e-4, not 1e-10 — not worth it
+            # at every point of a render; bench/RESULTS.md, proof33)
             enc = prove(i, qe, enclosed.CELLS_REFUTED) or enc
         if enc is not None and not enc.holds(q, qe):  # quadrature missed mass: the proof is the answer
             q = (enc.lo + enc.hi) / 2
@@ -248,7 +249,7 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None, p
     notes.append(f"no closed form for {sum(e is None for e in exacts)} of {len(exacts)} "
                  f"{what}; adaptive quadrature at the evaluation point")
     notes.extend(dict.fromkeys(w for w in fallbacks if w))
-    if ctx.estimated:
+    if ctx.estimated and (proved is None or proved > error):  # (a proof within the estimate backs it)
         notes.append(quadrature.ESTIMATE)
     if exact_part and for_reading():  # (untidied: not printed, a tenth of a second per large part)
         notes.append(f"exact part ({first}): {sp.Add(*exact_part)}")

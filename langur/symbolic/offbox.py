@@ -34,12 +34,14 @@ from .pieces import DeltaPiece, Piece
 
 
 def box_at(boxd: Mapping[sp.Symbol, tuple], at: Mapping) -> dict[sp.Symbol, tuple] | None:
-    """The box's ends at the evaluation point as numbers (``lo ≤ hi``), or None (not numbers, or
-    an empty box: nothing decided)."""
+    """The box's ends at the evaluation point (symbol → sympy number) as real numbers, or None (an
+    end that is not one: it moves with an outer variable, or a parameter has no value).  The box may
+    be empty (an end past the other); each caller decides what that means: nothing decided here,
+    an integral of 0 for :func:`langur.symbolic.quadrature.enclosed.enclose_integral`."""
     out = {}
     for v, (lo, hi) in boxd.items():
         lo, hi = sp.sympify(lo).subs(at), sp.sympify(hi).subs(at)
-        if not (lo.is_number and hi.is_number and lo.is_real and hi.is_real) or not bool(lo <= hi):
+        if not (lo.is_number and hi.is_number and lo.is_real and hi.is_real):
             return None
         out[v] = (lo, hi)
     return out
@@ -67,8 +69,8 @@ def reduced(pieces: Sequence, boxd: Mapping[sp.Symbol, tuple], at: Mapping) -> l
     """Each of ``pieces`` (regular or delta) as it is on the box near ``at``: None where it is 0
     there, else without its conditions that are 1 there (module doc)."""
     box = box_at(boxd, at)
-    if box is None:
-        return list(pieces)
+    if box is None or not all(bool(lo <= hi) for lo, hi in box.values()):
+        return list(pieces)  # (not numbers, or an empty box: nothing decided)
     signs: dict[sp.Expr, int] = {}
 
     def sign(expr) -> int:
