@@ -174,7 +174,8 @@ def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, re
             if args.fix and not args.diff:  # report what remains in the rewritten file
                 name = STDIN_NAME if name == STDIN_NAME else fixmod.target(name, args.in_place)
                 text, sources = fixed.after, {name: fixed.after}
-                loaded = frontend.load_text(text, name, modules=modules, wait=args.timeout)
+                # (its imports as the first load read them: a named pipe is not read twice)
+                loaded = frontend.load_text(text, name, modules=modules, wait=args.timeout, files=loaded.files())
     here = {k: v for k, v in at.items() if k in loaded.params}
     used_at |= set(here)
     if loaded.program is None:  # a library module: each def on its own
