@@ -57,7 +57,7 @@ from .diagnostics import Diagnostic, LangurError, Span
 from .memo import remember
 from .modules import ElaboratedModule, Loaded
 from .records import record
-from .source import read_file
+from .source import linked_away, read_file
 from .syntax.desugar import Desugarer
 from .syntax.elaborate import elaborate
 from .syntax.inline import inline
@@ -182,6 +182,9 @@ class _Loader:
         got = self.files.get(path)
         if got is None:
             try:
+                away = None if path in self.overrides.values() else linked_away(path)
+                if away is not None:
+                    raise away
                 got = read_file(path, self.wait)
             except (OSError, LangurError) as e:
                 got = e

@@ -37,7 +37,7 @@ from ..lint import config as cfgmod
 from ..lint import fix as fixmod
 from ..lint.formats import Report, known_codes, render
 from ..lint.noqa import suppressed
-from ..source import read_file, read_source
+from ..source import linked_away, read_file, read_source
 from ..timebox import backstop, run_with_timeout
 from ..transversality import check_library, check_loaded, point_of
 from ._prove import Prover
@@ -101,8 +101,11 @@ def _codes(values) -> list[str] | None:
     return out or None
 
 
-def _expand(files: list[str]) -> list[str]:
+def _expand(files: list[str]) -> tuple[list[str], set[str]]:
+    """The FILEs to check, a directory replaced by its ``*.lgr`` files; and those found that way
+    (nobody named them: ``source.linked_away`` is asked before one is read)."""
     out: list[str] = []
+    found_in_dirs: set[str] = set()
     stdin_seen = False
     for f in files:
         if f == "-":
@@ -117,11 +120,12 @@ def _expand(files: list[str]) -> list[str]:
             if not found:
                 raise UsageError(f"{f}: no .lgr files in this directory")
             out.extend(found)
+            found_in_dirs.update(found)
         elif not os.path.lexists(f):
             raise UsageError(f"{f}: no such file")
         else:
             out.append(f)
-    return out
+    return out, found_in_dirs
 
 
 def _check_prefixes(cfg, known, where: str | None = None) -> None:
@@ -211,7 +215,7 @@ def run(args) -> int:
         raise UsageError(f"{what} on standard output: it does not go with {'--json' if args.json else '--format ' + fmt}")
     at = parse_assignments(args.at, "--at")
     modules = parse_modules(args.module)
-    files = _expand(args.files)
+    files, found_in_dirs = _expand(args.files)
     select, ignore = _codes(args.select), _codes(args.ignore)
     known = known_codes()
     _check_prefixes(cfgmod.Config(select=tuple(select or ()) or None), known, f"--select {','.join(select or ())}")
@@ -224,6 +228,9 @@ def run(args) -> int:
         stdin = f == "-"
         name, where = (args.stdin_filename or STDIN_NAME, args.stdin_filename or os.getcwd()) if stdin else (f, f)
         try:
+            away = linked_away(f) if f in found_in_dirs else None
+            if away is not None:
+                raise away
             if stdin:
                 data = read_source(sys.stdin.buffer, name)
             else:  # within the budget, of wall clock: a named pipe no program writes to has nothing to read
