@@ -12,9 +12,6 @@ traceback or an internal error.  bench/RESULTS.md, hostile33.
 from __future__ import annotations
 
 import os
-import resource
-import subprocess
-import sys
 import threading
 import time
 from pathlib import Path
@@ -22,34 +19,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+# (the subprocess under RLIMIT_AS / RLIMIT_CPU / a wall clock, asserting the CLI contract, and a file)
+from test_hostile32 import _file, _langur
+
 from langur import frontend
 from langur.diagnostics import LangurError
 from langur.lint import fix as fixmod
 from langur.syntax.inline import MAX_INLINED_NODES
 
-ROOT = Path(__file__).resolve().parents[1]
-WALL = 120
 SECRET = "ghp_TOKEN_hostile33_not_to_be_printed"
-
-
-def _langur(cwd: Path, *argv: str, cpu: int = 40, wall: float = WALL):
-    def limit():
-        resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))
-        resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 5))
-
-    env = {k: v for k, v in os.environ.items() if k != "LANGUR_DEBUG"}
-    env.update(PYTHONPATH=str(ROOT), OPENBLAS_NUM_THREADS="1")
-    r = subprocess.run([sys.executable, "-P", "-m", "langur", *argv], cwd=cwd, env=env, capture_output=True,
-                       text=True, errors="replace", timeout=wall, preexec_fn=limit)
-    said = f"langur {' '.join(argv)}: exit {r.returncode}\n{r.stdout[-1500:]}\n{r.stderr[-1500:]}"
-    assert r.returncode in (0, 1, 2), said  # (a CPU limit is SIGXCPU: negative)
-    assert "Traceback" not in r.stderr and "internal error" not in r.stderr, said
-    return r, said
-
-
-def _file(folder: Path, name: str, text: str) -> Path:
-    (folder / name).write_text(text, encoding="utf-8")
-    return folder / name
 
 
 def _write_once(pipe: Path, text: str) -> threading.Thread:
@@ -117,10 +95,10 @@ def test_a_rewrite_is_loaded_with_the_modules_the_program_was_loaded_with(tmp_pa
     main = _file(tmp_path, "main.lgr", "from lib import f\nparam a = 0.5\nint ([0, 1]) f(x) * [x >= a] * [x >= a] d(x)\n")
     text = main.read_text(encoding="utf-8")
     loaded = frontend.load_text(text, str(main))
-    assert loaded.files() == {str(lib): b"def f(x: var) = x\n"}
     lib.write_text("this is not a module\n", encoding="utf-8")  # changed after the load read it
     fixed = fixmod.fix(text, str(main), loaded)
     assert fixed is not None and not fixed.whole
+    assert loaded.files() == {str(lib): b"def f(x: var) = x\n"}
     assert fixed.after.endswith("int ([0, 1]) (ifge0 x - a then x else 0) d(x)\n")
     with pytest.raises(LangurError):  # (the file on disk itself no longer loads)
         frontend.load_text(text, str(main))
@@ -233,3 +211,41 @@ def test_an_output_the_system_refuses_is_a_usage_error(tmp_path, argv):
     target = argv[-1]
     assert r.returncode == 2 and f"{argv[-2]} {target}: cannot write this file (No such file or directory)" \
         in r.stderr, said
+
+
+# --- lines: one definition for the parser, quotes, # noqa and --fix ---------------------------------
+
+
+def _check(tmp_path, name: str, text: str, *argv: str):
+    (tmp_path / name).write_bytes(text.encode("utf-8"))
+    return _langur(tmp_path, "check", name, *argv)
+
+
+def test_a_comment_with_a_unicode_line_separator_moves_no_noqa(tmp_path):
+    """A comment may hold U+2028 (or U+0085, a form feed); the parser's lines end at LF only, but quotes,
+    ``# noqa`` and ``--fix`` split the text with ``str.splitlines``, which ends a line there too: every
+    line after it was one off.  Main: a ``# noqa: X301`` on line 2 silenced the X301 on line 3 (a
+    finding hidden by a directive on another line), the one on line 3 itself did not, X301 quoted
+    `t ([0, 1` (text of another line), and ``--fix`` could not patch the file (the whole program
+    printed instead, its comment lost).  By hand: the finding is at 3:14 in the first file."""
+    head = "param a = 0.5 # one\u2028two\n"
+    r, said = _check(tmp_path, "other.lgr", head + "int ([0, 1]) [x >= a] * # noqa: X301\n  [x >= a] d(x)\n")
+    assert r.returncode == 1 and "other.lgr:3:3: error X301 `[x >= a]` and `[x >= a]` at 2:14" in r.stdout, said
+    r, said = _check(tmp_path, "own.lgr", head + "int ([0, 1])\n  [x >= a] * [x >= a] d(x)  # noqa: X301\n")
+    assert r.returncode == 0 and "X301" not in r.stdout, said
+    r, said = _check(tmp_path, "fix.lgr", head + "int ([0, 1])\n  x * [x >= a] * [x >= a] d(x)\n", "--fix")
+    assert r.returncode == 0, said
+    assert (tmp_path / "fix.fixed.lgr").read_text(encoding="utf-8") == \
+        head + "int ([0, 1])\n  (ifge0 x - a then x else 0) d(x)\n"
+
+
+def test_carriage_return_line_ends_are_refused_where_they_stand(tmp_path):
+    """CR-only line ends (old Mac files), which editors show as lines: the parser read one line, so a
+    finding on the third line shown was at 1:55 (main: ``cr.lgr:1:55: error E104 … '$'``), its quote and
+    ``# noqa`` taken from the wrong line.  Now E104 at the first lone CR (1:14, by hand); CRLF files
+    are read as before (the error at 3:29)."""
+    r, said = _check(tmp_path, "cr.lgr", "param a = 0.5\rparam b = 1\rint ([0, 1]) x * [x <= a] * $ d(x)\r")
+    assert r.returncode == 1 and "cr.lgr:1:14: error E104 a carriage return (U+000D) not followed by a line " \
+        "feed" in r.stdout, said
+    r, said = _check(tmp_path, "crlf.lgr", "param a = 0.5\r\nparam b = 1\r\nint ([0, 1]) x * [x <= a] * $ d(x)\r\n")
+    assert r.returncode == 1 and "crlf.lgr:3:29: error E104 unexpected character '$'" in r.stdout, said

@@ -22,7 +22,7 @@ import tempfile
 from dataclasses import dataclass
 
 from .. import frontend
-from ..diagnostics import LangurError
+from ..diagnostics import LangurError, source_lines
 from ..syntax.printer import print_core, print_program
 from .rewrite import Rewritten, transverse
 
@@ -71,7 +71,7 @@ def _inside(s, outer) -> bool:
 def _patched(text: str, path: str, rw: Rewritten, program_span) -> str | None:
     """The source with each rewritten subterm of the program's own text replaced (a subterm of a
     def's body is not patched: the def has other callers and its own argument names)."""
-    lines = text.splitlines(keepends=True)
+    lines = source_lines(text, keepends=True)
     cuts = []
     for original, new in rw.replaced:
         s = original.span
