@@ -112,4 +112,4 @@ def writing(path: str, option: str):
     try:
         yield
     except OSError as e:
-        raise UsageError(f"{option} {path}: cannot write this file ({e.strerror or type(e).__name__})") from None
+        raise UsageError(f"{option} {path}: cannot write this file ({e.strerror or e})") from None
