@@ -70,6 +70,18 @@ class Diagnostic:
         return {**span_json(self.span), "severity": self.severity, "code": self.code, "message": self.message}
 
 
+def source_lines(text: str, keepends: bool = False) -> list[str]:
+    """The lines of a source as spans number them: ended by a line feed only — the parser's lines
+    (a CRLF's carriage return is white space at the end of its line, dropped here unless
+    ``keepends``).  ``str.splitlines`` also ends a line at a lone CR, a form feed, U+0085, U+2028 …,
+    which a comment may hold and the parser does not count: a comment with U+2028 on line 1 made
+    ``# noqa`` on line 2 silence a finding on line 3, and quotes quote the wrong text
+    (bench/RESULTS.md, hostile33)."""
+    parts = text.split("\n")
+    lines = [p + "\n" for p in parts[:-1]] + ([parts[-1]] if parts[-1] else [])  # (a final LF starts no line)
+    return lines if keepends else [ln.rstrip("\n").removesuffix("\r") for ln in lines]
+
+
 def span_json(s: Span | None) -> dict:
     """The location fields of CLI.md's JSON diagnostics (all None when the place is unknown)."""
     return {

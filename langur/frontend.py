@@ -3,8 +3,8 @@
 Public API::
 
     load(path, modules: dict[str, str] | None = None) -> Loaded
-    load_text(text, path="<string>", modules=None) -> Loaded
-    load_bytes(data, path="<bytes>", modules=None) -> Loaded
+    load_text(text, path="<string>", modules=None, files=None) -> Loaded
+    load_bytes(data, path="<bytes>", modules=None, files=None) -> Loaded
     core_term_from_text(text, variables=(), params=(), path="<string>", box=None, diffeos=None) -> Term
 
 ``load*`` parse the main module (``langur.syntax.parser``), follow its imports, elaborate each
@@ -22,6 +22,10 @@ read is E109 (T218 when there is no such file).  Files are opened without waitin
 (``langur.source.read_file``); ``wait`` (seconds of wall clock) bounds the wait for the bytes of a
 file that is not a regular file, a named pipe nobody writes to (``langur check`` passes its
 ``--timeout``; the other commands' whole run is bounded by theirs): past it, T223 or E109.
+``files`` (path → bytes, :meth:`Loaded.files` of an earlier load) are module files already read in
+this run, used instead of reading them again: loading a rewrite of a program (``check --fix``)
+sees the very modules the program was loaded with — a named pipe's bytes come only once, and a
+module file changed in between would make the rewrite another program.
 
 Incremental loading (the front end's twin of separate compilation, §9).  A module's elaborated
 form depends only on its name, its path, its bytes and the *signatures* of the modules it imports
@@ -42,6 +46,7 @@ those are shared by name with the importing program).
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from dataclasses import field
 from fractions import Fraction
 
@@ -52,7 +57,7 @@ from .diagnostics import Diagnostic, LangurError, Span
 from .memo import remember
 from .modules import ElaboratedModule, Loaded
 from .records import record
-from .source import read_file
+from .source import linked_away, read_file
 from .syntax.desugar import Desugarer
 from .syntax.elaborate import elaborate
 from .syntax.inline import inline
@@ -115,20 +120,22 @@ def load(path: str, modules: dict[str, str] | None = None, wait: float | None = 
 
 
 def load_text(text: str, path: str = "<string>", modules: dict[str, str] | None = None,
-              wait: float | None = None) -> Loaded:
+              wait: float | None = None, files: Mapping[str, bytes] | None = None) -> Loaded:
     """Load a module given as text (imports resolve beside ``path``, or the working directory)."""
-    return load_bytes(text.encode("utf-8"), path, modules, wait)
+    return load_bytes(text.encode("utf-8"), path, modules, wait, files)
 
 
 def load_bytes(data: bytes, path: str = "<bytes>", modules: dict[str, str] | None = None,
-               wait: float | None = None) -> Loaded:
-    """Load a module given as bytes (UTF-8; a decoding error is the parser's E101)."""
+               wait: float | None = None, files: Mapping[str, bytes] | None = None) -> Loaded:
+    """Load a module given as bytes (UTF-8; a decoding error is the parser's E101); the module files
+    in ``files`` are taken from there, not read again (module docstring)."""
     with gcpause.kept():  # loading builds many small objects and no cycles, most of them kept
-        return _load_bytes(data, path, modules, wait)
+        return _load_bytes(data, path, modules, wait, files)
 
 
-def _load_bytes(data: bytes, path: str, modules: dict[str, str] | None, wait: float | None) -> Loaded:
-    loader = _Loader(modules or {}, wait)
+def _load_bytes(data: bytes, path: str, modules: dict[str, str] | None, wait: float | None,
+                files: Mapping[str, bytes] | None) -> Loaded:
+    loader = _Loader(modules or {}, wait, files)
     main = loader.module(_module_name(path), path, data, None)
     if loader.errors or main is None:
         raise LangurError(loader.errors or [ty.diag(None, "T218", f"cannot load {path}")])
@@ -157,14 +164,16 @@ def _module_name(path: str) -> str:
 class _Loader:
     """Finds, parses and elaborates modules, each once; detects import cycles."""
 
-    def __init__(self, overrides: dict[str, str], wait: float | None = None):
+    def __init__(self, overrides: dict[str, str], wait: float | None = None,
+                 files: Mapping[str, bytes] | None = None):
         self.overrides = dict(overrides)
         self.wait = wait  # (seconds for a module file's bytes: ``langur.source.read_file``)
         self.done: dict[str, ElaboratedModule] = {}
         self.stack: list[str] = []
         self.errors: list[Diagnostic] = []
         self.ok: dict[tuple[str, str], bool] = {}  # (name, path) -> loadable
-        self.files: dict[str, bytes | OSError | LangurError] = {}  # path -> what reading it gave
+        # path -> what reading it gave (the files read already in this run: their bytes)
+        self.files: dict[str, bytes | OSError | LangurError] = dict(files or {})
 
     def read(self, path: str) -> bytes:
         """The bytes of the module file ``path`` (``read_file``, waiting at most ``self.wait``), read
@@ -173,6 +182,9 @@ class _Loader:
         got = self.files.get(path)
         if got is None:
             try:
+                away = None if path in self.overrides.values() else linked_away(path)
+                if away is not None:
+                    raise away
                 got = read_file(path, self.wait)
             except (OSError, LangurError) as e:
                 got = e

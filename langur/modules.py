@@ -67,6 +67,18 @@ class Loaded:
     def __init__(self, main, modules, program, params):
         self.main, self.modules, self.program, self.params = main, modules, program, params
 
+    def files(self) -> dict[str, bytes]:
+        """The bytes of every imported module's file, by path, as this load read them: what a load of
+        a rewrite of this program is given (``frontend.load_text(…, files=)``) instead of reading
+        them again."""
+        return {m.path: m.source for m in self.modules.values() if m is not self.main}
+
+    def texts(self) -> dict[str, str]:
+        """Every module's text (the main one's included) by path, as this load read it: what
+        messages quote (a file is not opened again: a named pipe has nothing more to give, and a
+        file changed since would be quoted wrong)."""
+        return {m.path: m.source.decode("utf-8", errors="replace") for m in self.modules.values()}
+
     def param_values(self, overrides: dict[str, float] | None = None) -> dict[str, Fraction | float]:
         """Defaults overridden by ``overrides``; raises ``KeyError`` naming a missing value."""
         out: dict[str, Fraction | float] = {}

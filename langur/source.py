@@ -68,6 +68,27 @@ def read_file(path: str, wait: float | None = None) -> bytes:
         return read_source(_Arriving(fd, wait), path)
 
 
+class LinkedAway(OSError):
+    """A module file that is a symbolic link to a regular file not named ``*.lgr``: not read."""
+
+
+def linked_away(path: str) -> LinkedAway | None:
+    """Why the ``.lgr`` file ``path`` that nobody named (an import found beside its importer, a file
+    ``langur check DIR`` found) is not read as a program: it leads, through symbolic links, to a
+    regular file whose name does not end in ``.lgr`` — a link ``m.lgr -> /proc/self/environ`` or
+    ``-> ~/.git-credentials`` in a pull request made ``langur check`` in CI print that file's first
+    word in its syntax error (E102 quotes the unexpected name), bench/RESULTS.md, hostile33.  A
+    link to another ``.lgr`` file, to a pipe or a device (read bounded, as above) is read; a file
+    named on the command line (FILE, ``--module NAME=PATH``) is read wherever it leads: the user
+    chose it.  (Checked before the open: a link changed in between is not caught — a checkout
+    does not change under the command.)"""
+    real = os.path.realpath(path)
+    if real.endswith(".lgr") or not os.path.isfile(real):
+        return None
+    return LinkedAway(errno.EPERM, f"it is a symbolic link to {real}, which is not a .lgr file: a module or "
+                      "program found by its name is read only from a .lgr file", path)
+
+
 class _Arriving:
     """A non-blocking descriptor read as a blocking file would be (``read(n)``: up to n bytes, b""
     at the end), each read waiting (``poll``) for bytes until ``wait`` seconds after the first."""

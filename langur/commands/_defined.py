@@ -75,16 +75,6 @@ class Defined:
                 print(d.format(), file=sys.stderr)
 
 
-def _sources(path: str | None) -> dict[str, str]:
-    if not path or path == "-":
-        return {}
-    try:
-        with open(path, encoding="utf-8", errors="replace") as fh:
-            return {path: fh.read()}
-    except OSError:
-        return {}
-
-
 def _short(f: Finding) -> str:
     """``X311 at 1:14: `1 / x^2` is not integrable on the domain`` (the diagnostic has the rest)."""
     where = f" at {f.span.line}:{f.span.col}" if f.span is not None else ""
@@ -157,12 +147,15 @@ class Transversal:
 
 def transversal(loaded, path: str | None, at=None) -> Transversal:
     """X301: is ⦇p⦈ the derivative of this program?  With the rewrite when it is not.  With ``at``,
-    also X305: is it the derivative at those parameter values?"""
+    also X305: is it the derivative at those parameter values?  (Messages quote, and the rewrite
+    patches, the text the load read — :meth:`~langur.modules.Loaded.texts` —, never the file read
+    again: a named pipe has nothing more to give, a blocking ``open`` of one waited for a writer
+    for the command's whole --timeout, bench/RESULTS.md, hostile33.)"""
 
     if at is not None and loaded.program is not None and \
             affineclear.nothing_to_find(loaded.program, {k: float(v) for k, v in at.items()}):
         return Transversal()  # affine conditions: the analysis would find nothing (no sympy)
-    sources = _sources(path)
+    sources = loaded.texts()
     checked = transversality.check_loaded(loaded, at=None if at is None else {k: float(v) for k, v in at.items()},
                            sources=sources, only=transversality.HERE_CODES)
     found = [f for f in checked if f.code == "X301"]
@@ -170,7 +163,7 @@ def transversal(loaded, path: str | None, at=None) -> Transversal:
     if not found:
         return Transversal(here=here)
     out = Transversal(found, rewrite.transverse(loaded.program).program, here=here)
-    text = sources.get(path or "")
+    text = sources.get(path or "") if path != "-" else None  # (standard input: no file to rewrite)
     try:
         fixed = fix.fix(text, path, loaded) if text is not None else None
     except fix.FixError:
@@ -180,12 +173,12 @@ def transversal(loaded, path: str | None, at=None) -> Transversal:
     return out
 
 
-def value(program, params, path: str | None) -> Defined:
-    """Is ⟦p⟧ an integral at ``params``?"""
+def value(program, params, sources: dict[str, str]) -> Defined:
+    """Is ⟦p⟧ an integral at ``params``?  (``sources``: the texts that messages quote,
+    :meth:`~langur.modules.Loaded.texts`.)"""
     point = dict(params)
     if bounded.nothing_to_find(program, point):  # a bounded integrand: no finding, finite variance
         return Defined()
-    sources = _sources(path)
     res = singular.value_integrability(program, point)
     out = Defined(emptydomain.empty_domain_findings(program, point) +
                   singular.findings_of(res, program, point, sources, "X311"))
@@ -197,9 +190,9 @@ def value(program, params, path: str | None) -> Defined:
     return out
 
 
-def derivative(program, params, direction, path: str | None) -> Defined:
+def derivative(program, params, direction, sources: dict[str, str]) -> Defined:
     """Is ⦇p⦈ in the direction γ' an integral at ``params`` (and is ⟦p⟧)?"""
-    out = value(program, params, path)
+    out = value(program, params, sources)
     if out.undefined is not None:
         out.undefined = "⟦p⟧ does not exist, so neither does its derivative: " + out.undefined
         out.value_exists = False
@@ -208,7 +201,7 @@ def derivative(program, params, direction, path: str | None) -> Defined:
     if affineclear.derivative_bounded(program, point):  # bounded integrand and derivative: no X313
         return out
     res = singular.derivative_integrability(program, point, direction)
-    found = singular.findings_of(res, program, point, _sources(path), "X313")
+    found = singular.findings_of(res, program, point, sources, "X313")
     out.findings += found
     if res.verdict is integrability.Verdict.DIVERGENT:
         out.undefined = _short(found[0])

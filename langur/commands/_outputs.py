@@ -6,6 +6,7 @@ only over one)."""
 from __future__ import annotations
 
 import os
+from contextlib import contextmanager
 
 from ..cli import UsageError
 
@@ -100,3 +101,15 @@ def _previous_output(path: str) -> bool:
     except OSError:
         return False
     return not head or head.startswith(signatures)
+
+
+@contextmanager
+def writing(path: str, option: str):
+    """Writing ``path`` (given as ``option``): an OSError of the write — a folder that accepts no new
+    file though :func:`output_file` found it writable (``/proc`` for root: ``access`` says yes), a
+    full disk, a quota — is a usage error naming the file and the reason, not an internal error
+    (bench/RESULTS.md, hostile33)."""
+    try:
+        yield
+    except OSError as e:
+        raise UsageError(f"{option} {path}: cannot write this file ({e.strerror or e})") from None

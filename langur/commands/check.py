@@ -38,7 +38,7 @@ from ..lint import config as cfgmod
 from ..lint import fix as fixmod
 from ..lint.formats import Report, distinct, known_codes, render
 from ..lint.noqa import suppressed
-from ..source import read_file, read_source
+from ..source import linked_away, read_file, read_source
 from ..timebox import Clock, by_backstop, run_with_timeout, stopped_by
 from ..transversality import check_library, check_loaded, point_of
 from ._prove import Prover
@@ -102,8 +102,11 @@ def _codes(values) -> list[str] | None:
     return out or None
 
 
-def _expand(files: list[str]) -> list[str]:
+def _expand(files: list[str]) -> tuple[list[str], set[str]]:
+    """The FILEs to check, a directory replaced by its ``*.lgr`` files; and those found that way
+    (nobody named them: ``source.linked_away`` is asked before one is read)."""
     out: list[str] = []
+    found_in_dirs: set[str] = set()
     stdin_seen = False
     for f in files:
         if f == "-":
@@ -118,11 +121,12 @@ def _expand(files: list[str]) -> list[str]:
             if not found:
                 raise UsageError(f"{f}: no .lgr files in this directory")
             out.extend(found)
+            found_in_dirs.update(found)
         elif not os.path.lexists(f):
             raise UsageError(f"{f}: no such file")
         else:
             out.append(f)
-    return out
+    return out, found_in_dirs
 
 
 def _check_prefixes(cfg, known, where: str | None = None) -> None:
@@ -189,7 +193,8 @@ def _check_one(args, name, data, cfg, modules, at, used_at: set, fixes: list, re
             if args.fix and not args.diff:  # report what remains in the rewritten file
                 name = STDIN_NAME if name == STDIN_NAME else fixmod.target(name, args.in_place)
                 text, sources = fixed.after, {name: fixed.after}
-                loaded = frontend.load_text(text, name, modules=modules, wait=args.timeout)
+                # (its imports as the first load read them: a named pipe is not read twice)
+                loaded = frontend.load_text(text, name, modules=modules, wait=args.timeout, files=loaded.files())
     here = {k: v for k, v in at.items() if k in loaded.params}
     used_at |= set(here)
     if loaded.program is None:  # a library module: each def on its own
@@ -225,7 +230,7 @@ def run(args) -> int:
         raise UsageError(f"{what} on standard output: it does not go with {'--json' if args.json else '--format ' + fmt}")
     at = parse_assignments(args.at, "--at")
     modules = parse_modules(args.module)
-    files = _expand(args.files)
+    files, found_in_dirs = _expand(args.files)
     select, ignore = _codes(args.select), _codes(args.ignore)
     known = known_codes()
     _check_prefixes(cfgmod.Config(select=tuple(select or ()) or None), known, f"--select {','.join(select or ())}")
@@ -238,6 +243,9 @@ def run(args) -> int:
         stdin = f == "-"
         name, where = (args.stdin_filename or STDIN_NAME, args.stdin_filename or os.getcwd()) if stdin else (f, f)
         try:
+            away = linked_away(f) if f in found_in_dirs else None
+            if away is not None:
+                raise away
             if stdin:
                 data = read_source(sys.stdin.buffer, name)
             else:  # within the budget, of wall clock: a named pipe no program writes to has nothing to read

@@ -59,7 +59,7 @@ def run(args) -> int:
     if recompleted:
         target = program
     with progress.phase("integrability analysis"):
-        defined = _defined.derivative(program, params, direction, args.file)  # X311 / X313
+        defined = _defined.derivative(program, params, direction, loaded.texts())  # X311 / X313
     here = bool(gate.here) and not gate.findings  # X305: ⦇p⦈ is not defined at these parameter values
     sides = None  # … is ⟦p⟧ differentiable there all the same?
     if here:

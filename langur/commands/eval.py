@@ -38,7 +38,7 @@ def run(args) -> int:
     program, recompleted = _defined.completed_here(program, params)  # a completion degenerate here
     target = program if recompleted else loaded
     with progress.phase("integrability analysis"):
-        defined = _defined.value(program, params, args.file)  # X311: does ⟦p⟧ exist?
+        defined = _defined.value(program, params, loaded.texts())  # X311: does ⟦p⟧ exist?
     defined.report(args.json)
     undefined = defined.undefined
     if undefined is not None:

@@ -17,7 +17,7 @@ import sys
 from .. import progress
 from ..cli import UsageError, add_common, add_timeout, seed
 from . import _common as c
-from ._outputs import inputs_of, picture_file
+from ._outputs import inputs_of, picture_file, writing
 
 KINDS = ("auto", "curves", "surfaces", "flat", "convergence", "all")
 GREEK = {"alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "theta": "θ", "mu": "μ", "sigma": "σ",
@@ -85,7 +85,7 @@ def run(args) -> int:
         s = geometry.scene(program, params, direction)
     written = []
     for k, out in outputs:
-        with progress.phase(f"drawing {k}"):
+        with progress.phase(f"drawing {k}"), writing(out, "-o"):
             if k == "curves":
                 importlib.import_module("viz.curves").save(s, out, title, wrt)
             elif k == "surfaces":

@@ -21,9 +21,9 @@ import numpy as np
 from .. import progress
 from ..cli import UsageError, add_common, add_timeout, samples, seed
 from ..operational.batch import estimate_batch
-from ..operational.sample import METHODS
+from ..operational.sample import METHODS, spread
 from . import _common as c
-from ._outputs import inputs_of, output_file, picture_file
+from ._outputs import inputs_of, output_file, picture_file, writing
 
 #: Most grid points per axis, and most samples in all (points × samples per point).
 MAX_AXIS = 2000
@@ -68,10 +68,20 @@ def parse_grid(text: str, declared) -> list[tuple[str, np.ndarray]]:
             raise UsageError(f"--grid {name}: the ends must be finite numbers")
         if not 1 <= n <= MAX_AXIS:
             raise UsageError(f"--grid {name}: N must be between 1 and {MAX_AXIS}, got {n}")
-        axes.append((name, np.linspace(start, stop, n)))
+        axes.append((name, _evenly(start, stop, n)))
     if len(axes) != 2 or axes[0][0] == axes[1][0]:
         raise UsageError("--grid needs two different parameters (an image has two axes)")
     return axes
+
+
+def _evenly(start: float, stop: float, n: int) -> np.ndarray:
+    """``n`` evenly spaced values from ``start`` to ``stop``: numpy's ``linspace``, which steps by
+    (stop − start)/(n − 1) — ∞ for ends as far apart as −1e308 and 1e308, its points then NaN (an
+    internal error, bench/RESULTS.md, hostile33) — unless that step is no double; then the
+    points start·(1 − u) + stop·u (``operational.sample.spread``)."""
+    if math.isfinite(stop - start):
+        return np.linspace(start, stop, n)
+    return spread(np.float64(start), np.float64(stop), np.linspace(0.0, 1.0, n))
 
 
 def _summary(a: np.ndarray) -> dict:
@@ -100,6 +110,9 @@ def run(args) -> int:
                 args.out = picture_file(path, inputs, option, refusal)  # (pic: pic.png, the file written)
             else:
                 output_file(path, inputs, option, refusal)
+    if args.out and not all(map(math.isfinite, _extent(xs, ys))):  # (matplotlib: an internal error)
+        raise UsageError(f"-o {args.out}: the picture's axes would reach beyond the largest double (±1.8e308): "
+                         "narrower --grid ranges, or --npz for the arrays")
     painter = _painter() if args.out else None
     base = {k: float(v) for k, v in c.param_values(args, loaded).items() if k not in (xn, yn)}
     direction = c.direction(args, loaded) if (args.wrt or args.dir) else None
@@ -127,11 +140,13 @@ def run(args) -> int:
         report["exact"] = _exact(loaded, grid, direction, mc, shape, arrays)
     written = []
     if npz:
-        np.savez_compressed(npz, **arrays)
+        with writing(npz, "--npz"):
+            np.savez_compressed(npz, **arrays)
         written.append(npz)
     if painter is not None:
         with progress.phase("drawing"):
-            written.append(_draw(painter, args, arrays, direction, (xn, yn), xs, ys))
+            with writing(args.out, "-o"):
+                written.append(_draw(painter, args, arrays, direction, (xn, yn), xs, ys))
     report["written"] = written
     if args.json:
         c.dump_json(report)
@@ -193,10 +208,16 @@ def _painter():
         raise UsageError(f"-o needs the plot extra ({e.name or e}): pip install -e '.[plot]'") from None
 
 
+def _extent(xs: np.ndarray, ys: np.ndarray) -> tuple[float, float, float, float]:
+    """The picture's axes: each grid point a cell one step wide (∞ for ends beyond the doubles)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        dx = (xs[-1] - xs[0]) / (len(xs) - 1) if len(xs) > 1 else 1.0
+        dy = (ys[-1] - ys[0]) / (len(ys) - 1) if len(ys) > 1 else 1.0
+        return float(xs[0]), float(xs[-1] + dx), float(ys[0]), float(ys[-1] + dy)
+
+
 def _draw(images, args, arrays, direction, names, xs, ys) -> str:
-    dx = (xs[-1] - xs[0]) / (len(xs) - 1) if len(xs) > 1 else 1.0
-    dy = (ys[-1] - ys[0]) / (len(ys) - 1) if len(ys) > 1 else 1.0
-    extent = (float(xs[0]), float(xs[-1] + dx), float(ys[0]), float(ys[-1] + dy))
+    extent = _extent(xs, ys)
     row = [images.Panel("value (Monte Carlo)", arrays["value"], scale="value")]
     if "exact_value" in arrays:
         row.append(images.Panel("value (exact)", arrays["exact_value"], scale="value"))

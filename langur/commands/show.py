@@ -83,8 +83,8 @@ def run(args) -> int:
         params = c.param_values(args, loaded)
         direction = c.direction(args, loaded) if want_deriv else None
         with progress.phase("integrability analysis"):
-            defined = (_defined.derivative(program, params, direction, args.file) if want_deriv
-                       else _defined.value(program, params, args.file))  # X311 / X313
+            defined = (_defined.derivative(program, params, direction, loaded.texts()) if want_deriv
+                       else _defined.value(program, params, loaded.texts()))  # X311 / X313
         defined.report(args.json)
         out["diagnostics"] = [d.to_json() for d in defined.diagnostics()]
         value_undefined = next((f for f in defined.findings if f.code == "X311" and f.severity == "error"), None)

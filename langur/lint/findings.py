@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from .. import lazy
-from ..diagnostics import Diagnostic, Span
+from ..diagnostics import Diagnostic, Span, source_lines
 from ..records import record
 from ..timebox import Clock, Deadline, by_backstop
 
@@ -37,7 +37,7 @@ def quote(span: Span | None, sources: Mapping[str, str], *, limit: int | None = 
     `` …`` when ``multiline``, else not at all."""
     if span is None or span.path not in sources or (span.line != span.end_line and not multiline):
         return None
-    lines = sources[span.path].splitlines()
+    lines = source_lines(sources[span.path])
     if not 1 <= span.line <= len(lines):
         return None
     line = lines[span.line - 1]

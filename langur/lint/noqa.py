@@ -17,7 +17,7 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 
-from ..diagnostics import Diagnostic
+from ..diagnostics import Diagnostic, source_lines
 
 _NOQA = re.compile(
     r"#\s*noqa(?P<colon>\s*:\s*(?P<codes>[A-Za-z]+[0-9]+(?:\s*[,\s]\s*[A-Za-z]+[0-9]+)*)?)?", re.IGNORECASE
@@ -46,7 +46,7 @@ def suppressed(d: Diagnostic, sources: Mapping[str, str]) -> bool:
     text = sources.get(d.span.path)
     if text is None:
         return False
-    lines = text.splitlines()
+    lines = source_lines(text)
     if not 1 <= d.span.line <= len(lines):
         return False
     codes = directive(lines[d.span.line - 1])

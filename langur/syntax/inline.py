@@ -55,17 +55,26 @@ from .support import numeric_box
 #: that a definition's body may call another's; the recursive semantic functions stay far from
 #: the interpreter's limits (``langur.cli`` raises Python's recursion limit for them).
 #:
-#: Size needs no bound here: a call of a definition with the same arguments as an earlier one is
-#: the same shared subterm (a DAG), so the inlined program has as many distinct nodes as its
-#: definitions' text; the passes that walk it are memoized per distinct node
-#: (``langur.core.shared``), and the one engine that walks it path by path (Monte Carlo) bounds
-#: its tree's size itself.
+#: A call of a definition with the same arguments as an earlier one is the same shared subterm (a
+#: DAG), and the passes that walk the inlined program are memoized per distinct node
+#: (``langur.core.shared``); the one engine that walks it path by path (Monte Carlo) bounds its
+#: tree's size itself.
 MAX_INLINED_DEPTH = 400
+
+#: Most nodes the copies of definitions' bodies may have in all (T230): each call with *new*
+#: arguments is a copy, so a loop of calls at distinct arguments multiplies a body's size by its
+#: copies — three lines (``def f(y: var) = sum j in 1..2000: y*j`` called as ``sum i in 1..2000:
+#: f(x + i)``) wrote out 4·10⁶ nodes, 65 CPU s and 1.9 GB before anything was evaluated
+#: (bench/RESULTS.md, hostile33).  Counted as the copies are made, so refused at the call that
+#: passes it, having built at most this much: as many nodes as loops may write out (T225), so
+#: that a loop of calls costs what the same loop with the body written in it would.
+MAX_INLINED_NODES = 500_000
 
 
 def inline(program: Program, modules: Mapping[str, ElaboratedModule]) -> Program:
     """``program`` with every ``Call`` inlined (recursively), a call with the same arguments as an
-    earlier one shared; raises LangurError (T207, T217, T221, T230)."""
+    earlier one shared; raises LangurError (T207, T217, T221, T230: too deep, or too many nodes
+    copied)."""
     bounds = [b for pair in program.box for b in pair]
     body = program.body
     if not has_calls(body) and not any(has_calls(b) for b in bounds) and \
@@ -104,6 +113,10 @@ class _Inliner:
         self.box = box
         self.errors: list[Diagnostic] = []
         self.calls: dict[tuple, Term] = {}
+        #: Nodes of the bodies copied so far (at most :data:`MAX_INLINED_NODES`), and each
+        #: definition's body's distinct nodes.
+        self.copied = 0
+        self.sizes: dict[tuple[str, str], int] = {}
         #: Parameters that the calls expanded so far bring with them (their modules' params, free
         #: in an inlined body but not in the call's arguments): a caller's ``let`` of one of these
         #: names must not capture them.
@@ -146,6 +159,16 @@ class _Inliner:
                 args = tuple(self.expand(a, stack) for a in args)
                 shared = (module, name, args)  # the same call twice is one shared subterm (§9)
                 if shared not in self.calls:
+                    if self.copied > MAX_INLINED_NODES:  # (refused already: no more copies)
+                        return Const(Fraction(0), span=t.span)
+                    self.copied += self.size(key, d.body)
+                    if self.copied > MAX_INLINED_NODES:
+                        self.errors.append(ty.reject_too_large(t.span, (
+                            f"`{name}(…)` here makes the copies of definitions' bodies more than "
+                            f"{MAX_INLINED_NODES:,} nodes in all: definitions are inlined (§9), and each call "
+                            f"with new arguments is a copy of the body ({self.size(key, d.body):,} nodes for "
+                            f"`{name}`; {len(self.calls) + 1:,} copies so far)")))
+                        return Const(Fraction(0), span=t.span)
                     body = self.instantiate(d, args, t.span)
                     self.calls[shared] = self.expand(body, stack + (key,))
                 self.brought |= self.module_params(module, name)
@@ -154,6 +177,12 @@ class _Inliner:
                 return self.expand_let(t, stack)
             case _:
                 return _rebuilt(t, lambda c: self.expand(c, stack))
+
+    def size(self, key: tuple[str, str], body: Term) -> int:
+        """The distinct nodes of a definition's body (a copy has at most as many new ones)."""
+        if key not in self.sizes:
+            self.sizes[key] = sum(1 for _ in subterms(body))
+        return self.sizes[key]
 
     def module_params(self, module: str, name: str, active: frozenset = frozenset()) -> frozenset[str]:
         """The parameters a call of ``module.name`` reads besides its arguments: its module's
