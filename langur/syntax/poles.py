@@ -48,7 +48,7 @@ from ..core import (
     TooManyRoots,
     children,
     free_vars,
-    map_children,
+    map_children_kept,
     subterms,
 )
 from ..primitives import REGISTRY
@@ -217,13 +217,7 @@ def extended(t: Term) -> Term:
             tries[0] -= 1
             out = removable(u)
         if out is None:
-            kids = children(u)
-            new = tuple(go(c) for c in kids)
-            if all(n is c for n, c in zip(new, kids)):
-                out = u
-            else:
-                it = iter(new)
-                out = map_children(u, lambda _: next(it))
+            out = map_children_kept(u, go)
         done[id(u)] = out
         return out
 
