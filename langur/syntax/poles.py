@@ -181,8 +181,8 @@ def extended(t: Term) -> Term:
     they agree with the term as written off a null set, so ⟦p⟧ is unchanged (§4, Fig. 7), but the
     derivative's delta evaluates them on a jump's zero set (Fig. 8), which may be the pole: the
     exact engine, through sympy, read the extension there ((1 − a)·e^a for
-    ``(1 + 0·(1/(x − a)))·exp(min(x, a))``) and Monte Carlo NaN (findings33 F2; bench/RESULTS.md,
-    zero33).  A pole that is no removable singularity stays as written (a true pole on a delta's
+    ``(1 + 0·(1/(x − a)))·exp(min(x, a))``) and Monte Carlo NaN (fuzz33's F2;
+    bench/RESULTS.md, zero33).  A pole that is no removable singularity stays as written (a true pole on a delta's
     zero set: the boundary term does not exist, and both engines say so)."""
     if defined_everywhere(t):
         return t
