@@ -88,6 +88,7 @@ from .structural import (
     free_vars,
     has_calls,
     map_children,
+    map_children_kept,
     neg,
     own_root,
     product,
@@ -130,7 +131,7 @@ __all__ = [
     "Term", "TooManyRoots", "Var", "all_small", "children", "const", "depth", "diffeo_params", "diffeo_variables", "div",
     "extend_diffeo", "free_params", "free_vars", "has_calls", "index_const", "index_power_small", "int_fraction", "keep_memo", "keep_solved", "keep_typed", "kept_attributes",
     "kept_solved", "like",
-    "like_binary", "like_binary_many", "like_leaf", "like_power", "map_children", "neg", "own_root", "product", "refusals_located", "same_shape",
+    "like_binary", "like_binary_many", "like_leaf", "like_power", "map_children", "map_children_kept", "neg", "own_root", "product", "refusals_located", "same_shape",
     "shape_of", "shape_with_span", "shared", "small_power", "small_value", "smooth", "sub", "substitute",
     "substitute_diffeo", "subterms", "tree_size",
 ]

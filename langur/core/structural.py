@@ -241,6 +241,17 @@ def map_children(t: Term, f: Callable[[Term], Term]) -> Term:
     raise TypeError(f"not a core term: {t!r}")
 
 
+def map_children_kept(t: Term, f: Callable[[Term], Term]) -> Term:
+    """:func:`map_children`, but ``t`` itself, node for node, when ``f`` returns every child
+    unchanged (by identity: a rewrite that changes nothing keeps the term's sharing)."""
+    kids = children(t)
+    new = tuple(f(c) for c in kids)
+    if all(n is c for n, c in zip(new, kids)):
+        return t
+    it = iter(new)
+    return map_children(t, lambda _: next(it))
+
+
 def substitute_diffeo(psi: Diffeo, variables: dict[str, Term], params: dict[str, Term]) -> Diffeo:
     """Rename Ψ's variables (each must map to a ``Var``) and substitute its parameters."""
     renames: dict[str, str] = {}

@@ -121,6 +121,39 @@ class _Eval:
             k = int(np.argmax(where))
             self.bad[id(t), why] = (t, why, ", ".join(f"{x} = {v[k]:.3g}" for x, v in self.xs.items()))
 
+    def flag_at(self, t: Term, why: str, example):
+        """``t`` is outside its domain at the point ``example()`` describes (computed for the first
+        report of ``(t, why)`` only)."""
+        if self.report and (id(t), why) not in self.bad:
+            self.bad[id(t), why] = (t, why, example())
+
+    def sign_change(self, base: Term, v: np.ndarray, mask: np.ndarray) -> str:
+        """Where ``base`` (``v`` at the sample points) changes sign: bisection on the segment between
+        the samples of each sign where it is smallest, to its zero (``x = 0.53``), or to where
+        ``base`` jumps across 0 instead (a sample point, 0.27, is no zero:
+        fuzz33's F2; bench/RESULTS.md, zero33)."""
+        size = np.where(mask, np.abs(v), np.inf)
+        ends = [int(np.argmin(np.where(v < 0, size, np.inf))), int(np.argmin(np.where(v > 0, size, np.inf)))]
+        lo, hi = (np.array([xs[k] for xs in self.xs.values()]) for k in ends)
+        probe = copy.copy(self)
+        probe.report, probe.undefined, probe.uses, probe.memo, probe.kept = False, None, {}, {}, [0]
+        one = np.ones(1, dtype=bool)
+
+        def at(point: np.ndarray) -> float:
+            probe.xs = {x: point[i:i + 1] for i, x in enumerate(self.xs)}
+            return float(np.asarray(probe.value(base, one)).reshape(-1)[0])
+
+        for _ in range(60):
+            mid = (lo + hi) / 2
+            f = at(mid)
+            if f == 0 or not np.isfinite(f) or np.array_equal(mid, lo) or np.array_equal(mid, hi):
+                break
+            lo, hi = (mid, hi) if f < 0 else (lo, mid)
+        point = ", ".join(f"{x} = {m:.3g}" for x, m in zip(self.xs, mid))
+        if abs(f) <= 1e-9 * float(np.max(size, initial=0.0, where=np.isfinite(size))):
+            return point
+        return f"{point} (where it jumps across 0)"
+
     def outside(self, t: Term, why, where):
         """``t`` outside its domain on a set of positive measure: as the exact engine decides, with
         its witness and ``why(witness)`` (its reason), or, where it did not decide, at the sample
@@ -189,11 +222,8 @@ class _Eval:
                 # LANGUAGE.md §1, constant power (t / s is t · s^-1)
                 v = self.value(a, mask)
                 if k < 0 and (mask & (v > 0)).any() and (mask & (v < 0)).any():
-                    self.flag(
-                        t,
-                        "the denominator changes sign, so it divides by zero inside the region",
-                        mask & (v < 0),
-                    )
+                    self.flag_at(t, "the denominator changes sign, so it divides by zero inside the region",
+                                 lambda: self.sign_change(a, v, mask))
                 if k < 0 and self.undefined is None:
                     self.flag(t, "the denominator is zero (division by zero)", mask & (v == 0))
                 if Fraction(k).denominator != 1 or self.undefined is not None:

@@ -16,17 +16,19 @@ from fractions import Fraction
 
 from .. import lazy
 from .. import typesys as ty
-from ..core import INT_FRACTIONS, Call, Const, Diffeo, Interval, Program, Var, subterms
+from ..core import INT_FRACTIONS, Call, Const, Diffeo, Interval, Program, Term, Var, subterms
 from ..diagnostics import Diagnostic, Span
 from ..modules import CoreDef, ElaboratedModule
 from .desugar import Desugarer, is_smooth
-from .folding import minus
+from .folding import defined_everywhere, minus
 from .scope import RESERVED, DefSig, DiffeoSig, Env, Scope
 from .support import infer_box, numeric_box
 from .surface import Apply, DefDecl, DiffeoDecl, ImportItem, ModuleS, ParamItem, ProgramS
 
 #: The checker of declared diffeos (sympy), imported when a module declares one (``langur.lazy``).
 diffeo = lazy.module("langur.syntax.diffeo")
+#: ``langur.syntax.poles`` (sympy), imported when a body has a pole (``langur.lazy``).
+poles = lazy.module("langur.syntax.poles")
 
 #: ``resolve(module name, span of the import) -> Elaborated | None`` (None: already reported).
 Resolver = Callable[[str, Span | None], "ElaboratedModule | None"]
@@ -113,7 +115,7 @@ def elaborate(mod: ModuleS, name: str, path: str, source: bytes, resolve: Resolv
                                                         f"`{item.name.name}` and a declared param"))
         gamma = (module_params | {n for n, k in sig.args if k == "param"}) - set(var_args)
         sc = Scope(variables=var_args, gamma=frozenset(gamma), in_program=False)
-        body = ds.term(item.body, sc)
+        body = _extended(ds.term(item.body, sc))  # removable poles: their extensions (zero33)
         defs[item.name.name] = CoreDef(name, item.name.name, sig.args, body, span=item.span)
         env.bodies[(name, item.name.name)] = defs[item.name.name]
     defs = {item.name.name: defs[item.name.name] for item in def_items}  # declaration order
@@ -231,6 +233,12 @@ def _check_recursion(module: str, defs: dict[str, CoreDef], errors) -> None:
             visit(n, [])
 
 
+def _extended(t: Term) -> Term:
+    """``t`` with its removable poles extended (:func:`langur.syntax.poles.extended`: the term both
+    engines evaluate on a jump's zero set, Fig. 8); sympy only when ``t`` is not defined everywhere."""
+    return t if defined_everywhere(t) else poles.extended(t)
+
+
 def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) -> Program | None:
     """``int domain? t d(x⃗)``: the integrand, the domain as data, and the box (§8.3)."""
     variables: list[str] = []
@@ -282,5 +290,6 @@ def _program(p: ProgramS, ds: Desugarer, module_params: frozenset[str], errors) 
             domain.append(Interval(x, lo, hi, lower, upper, span=iv.span))
         if len(errors) > n_err:
             return None
-    return Program(integrand=body, variables=xs, box=box, domain=tuple(domain), span=p.span)
+    # removable poles: their continuous extensions, the term both engines evaluate (zero33)
+    return Program(integrand=_extended(body), variables=xs, box=box, domain=tuple(domain), span=p.span)
 

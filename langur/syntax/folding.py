@@ -39,8 +39,7 @@ from ..core import (
     Pow,
     Prim,
     Term,
-    children,
-    map_children,
+    map_children_kept,
     subterms,
 )
 from ..diagnostics import Span
@@ -194,13 +193,7 @@ def refolded(t: Term) -> Term:
             if a is u.base and type(out) is Pow:
                 out = u
         else:
-            kids = children(u)
-            new = tuple(go(c) for c in kids)
-            if all(n is c for n, c in zip(new, kids)):
-                out = u
-            else:
-                it = iter(new)
-                out = map_children(u, lambda _: next(it))
+            out = map_children_kept(u, go)
         done[id(u)] = out
         return out
 

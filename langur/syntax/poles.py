@@ -35,7 +35,22 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..core import Call, Diffeo, IfDiffeo, ImplicitRoot, Pow, Prim, Term, TooManyRoots, free_vars, subterms
+from ..core import (
+    Call,
+    Diffeo,
+    IfDiffeo,
+    IfGe0,
+    ImplicitRoot,
+    Let,
+    Pow,
+    Prim,
+    Term,
+    TooManyRoots,
+    children,
+    free_vars,
+    map_children_kept,
+    subterms,
+)
 from ..primitives import REGISTRY
 from ..sympy_bridge import NotSmooth, from_sympy, symbol, to_sympy
 from ..timebox import run_with_timeout
@@ -151,6 +166,64 @@ def removable(cond: Term) -> Term | None:
     return out if defined_everywhere(out) else None
 
 
+#: The largest subterm (in nodes) :func:`extended` hands to sympy, and how many it hands at most per
+#: term (each a conversion to sympy and back): a bound on the front end's cost.
+EXTEND_NODES = 400
+EXTEND_TRIES = 16
+
+
+def extended(t: Term) -> Term:
+    """``t`` with each largest smooth subterm that is undefined at poles only and that
+    :func:`removable` extends (``1 + 0·(1/(x − a))`` is ``1``; ``(x − a)/(x − a)`` is ``1``)
+    replaced by its continuous extension; ``t`` itself, node for node, where there is none.
+
+    The same choice as :func:`removable`'s for a condition, for the integrand's other factors:
+    they agree with the term as written off a null set, so ⟦p⟧ is unchanged (§4, Fig. 7), but the
+    derivative's delta evaluates them on a jump's zero set (Fig. 8), which may be the pole: the
+    exact engine, through sympy, read the extension there ((1 − a)·e^a for
+    ``(1 + 0·(1/(x − a)))·exp(min(x, a))``) and Monte Carlo NaN (fuzz33's F2;
+    bench/RESULTS.md, zero33).  A pole that is no removable singularity stays as written (a true pole on a delta's
+    zero set: the boundary term does not exist, and both engines say so)."""
+    if defined_everywhere(t):
+        return t
+    smooth: dict[int, tuple[bool, bool, int]] = {}  # id → (no conditional, root, call, …; has a pole; nodes)
+    tries = [EXTEND_TRIES]
+
+    def shape(u: Term) -> tuple[bool, bool, int]:
+        found = smooth.get(id(u))
+        if found is None:
+            tu = type(u)
+            ok = not (tu in (Call, ImplicitRoot, IfDiffeo, IfGe0, Let) or tu is Pow and u.exponent.denominator != 1
+                      or tu is Prim and not REGISTRY[u.op].domain.everywhere)
+            pole = tu is Pow and u.exponent < 0 and bool(free_vars(u.base))
+            nodes = 1
+            for c in children(u):
+                c_ok, c_pole, c_nodes = shape(c)
+                ok, pole, nodes = ok and c_ok, pole or c_pole, nodes + c_nodes
+            found = smooth[id(u)] = (ok, pole, nodes)
+        return found
+
+    done: dict[int, Term] = {}
+
+    def go(u: Term) -> Term:
+        out = done.get(id(u))
+        if out is not None:
+            return out
+        ok, pole, nodes = shape(u)
+        out = None
+        if not pole:
+            out = u
+        elif ok and nodes <= EXTEND_NODES and tries[0] > 0:
+            tries[0] -= 1
+            out = removable(u)
+        if out is None:
+            out = map_children_kept(u, go)
+        done[id(u)] = out
+        return out
+
+    return go(t)
+
+
 def _moving_pole(f: sp.Expr, variables: set) -> sp.Expr | None:
     """A pole inside ``f`` where ``f`` changes sign and that moves: the base of an odd negative
     power, or the argument of ``tan``'s cosine, over variables and mentioning a parameter."""
@@ -211,4 +284,4 @@ def _vanishes(value: sp.Expr) -> bool:
     return not value.has(sp.zoo, sp.oo, -sp.oo, sp.nan) and sp.simplify(value) == 0
 
 
-__all__ = ["MAX_FACTORS", "MovingPole", "TooManyFactors", "removable", "sign_factors"]
+__all__ = ["MAX_FACTORS", "MovingPole", "TooManyFactors", "extended", "removable", "sign_factors"]
