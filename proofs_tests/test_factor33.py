@@ -92,3 +92,42 @@ def test_a_factor_with_no_completion_keeps_the_conditions_refusal_once():
     message = str(caught.value)
     assert [d.code for d in caught.value.diagnostics] == ["T207"], message
     assert "(-qa + x)*(-qa/10 + x)*(x**5 + x - 1/2)" in message, message
+
+
+def _f1b(a: float, b: float) -> float:
+    """f1b by the docstring's third way: for fixed x the cubic in y (leading coefficient 1·2·1 > 0) is ≤ 0 on
+    (−∞, r₁] ∪ [r₂, r₃]; that length clipped to [0, a + 1], integrated in x by quad with the kinks as breakpoints."""
+    from scipy.integrate import quad
+
+    def length(x):
+        r = sorted([a + 0.3 - x, (b + 0.55 - x) / 2, a - x])
+        def clip(lo, up):
+            return max(0.0, min(up, a + 1) - max(lo, 0.0))
+        return clip(-math.inf, r[0]) + clip(r[1], r[2])
+    kinks = [a, a + 0.3, b + 0.55, 2 * a - b - 0.55, 2 * a - b + 0.05]
+    return quad(length, 0, b + 1, points=sorted(p for p in kinks if 0 < p < b + 1), limit=500,
+                epsabs=1e-13, epsrel=1e-13)[0]
+
+
+def _f1c(a: float) -> float:
+    """f1c likewise: for fixed y the cubic in z (leading coefficient 4) is ≥ 0 on [r₁, r₂] ∪ [r₃, ∞), clipped to
+    [a − 1, 1]; times 2 − a, the x interval's length."""
+    from scipy.integrate import quad
+
+    def length(y):
+        r = sorted([(y + a) / 2, (y + a + 0.15) / 2, y + a])
+        def clip(lo, up):
+            return max(0.0, min(up, 1.0) - max(lo, a - 1))
+        return clip(r[0], r[1]) + clip(r[2], math.inf)
+    kinks = [-a, 0.15 - a, 2 * (a - 1) - a, 2 * (a - 1) - a - 0.15, 2 - a, 1.85 - a, -1.0, 1 - a]
+    return (2 - a) * quad(length, a - 1, 1, points=sorted(p for p in kinks if a - 1 < p < 1), limit=500,
+                          epsabs=1e-13, epsrel=1e-13)[0]
+
+
+def test_the_hand_values_of_f1b_and_f1c_by_a_third_way():
+    h = 1e-5
+    assert _f1b(0.61, 0.31) == pytest.approx(0.3504, abs=1e-11)
+    assert (_f1b(0.61 + h, 0.31) - _f1b(0.61 - h, 0.31)) / (2 * h) == pytest.approx(0.8, abs=1e-7)
+    assert (_f1b(0.61, 0.31 + h) - _f1b(0.61, 0.31 - h)) / (2 * h) == pytest.approx(-0.07, abs=1e-7)
+    assert _f1c(0.61) == pytest.approx(0.5677455, abs=1e-11)
+    assert (_f1c(0.61 + h) - _f1c(0.61 - h)) / (2 * h) == pytest.approx(-2.6811, abs=1e-7)
