@@ -62,10 +62,10 @@ def complete_or_split(cond: Term, variables: tuple[str, ...], box=()) -> Diffeo 
                                      "fewer conditions") from None
     except poles.MovingPole as e:
         raise diffeo.CompletionError(str(e)) from None
-    if split is not None:
+    if split is not None and (failed is None or _each_completes(split[1], variables, box)):
         return split
     if failed is not None:
-        raise failed
+        raise failed  # (no completion, and a factor with none of its own: the condition's reason, once)
     if not defined_everywhere(cond) and (extension := poles.removable(cond)) is not None:
         psi = replace(psi, forward=(extension, *psi.forward[1:]))  # undefined at a pole only: D5, pole32
     return psi
@@ -90,6 +90,18 @@ def sign_chain(split: Split, then: Term, orelse: Term, conditional: Callable[[Te
 
     out = chain(0, False)
     return out if coefficient is None else IfGe0(coefficient, out, chain(0, True), span)
+
+
+def _each_completes(factors: tuple[Term, ...], variables: tuple[str, ...], box) -> bool:
+    """Whether every factor completes on its own: a condition with no completion of its own is split
+    only then (else each failing factor would be refused once per conditional of the chain, for a
+    reason the condition as written does not show)."""
+    try:
+        for f in factors:
+            complete(f, variables, box)
+    except diffeo.CompletionError:
+        return False
+    return True
 
 
 def _may_split(cond: Term) -> bool:

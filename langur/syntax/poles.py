@@ -29,6 +29,10 @@ over variables has multiplicity > 1 (``(x − a)³``, ``(x − a)²·(exp(x) −
 the condition vanishes on that factor's zero set, Ψ̂ is no diffeomorphism (Def. 3.4; a degenerate
 turning point, X316, or a double root, X305/X315), while the parity rule's odd power keeps the
 factor once and an even one drops it (a touch, no jump) — bench/history/2026-11-29.md#pole32.
+A condition with no completion as a whole (in a ``def``, with no box; on a box whose intervals all
+move) is split when a pole moves, or when it is a product with no pole of which some factor moves
+and every factor completes on its own (``(x − a)(x − a − 0.3)(x − a + 0.2)``: fuzz33's F1,
+bench/RESULTS.md, factor33); a pole that does not move stays refused (T207).
 """
 
 from __future__ import annotations
@@ -138,8 +142,10 @@ def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
     if len(factors) < 2 and not poles:
         return None  # one factor, not under a division: the condition itself, up to its coefficient
     moving = [f for f in factors if f.free_symbols - variables]
-    if psi is None:  # no completion: split only for a pole that moves (a fixed one stays refused, T207)
-        return (coefficient, factors) if any(f in moving for f in poles) else None
+    if psi is None:  # no completion: split for a pole that moves, or a product with no pole of which a factor
+        # moves (fuzz33's F1: bench/RESULTS.md, factor33; the caller splits only if each factor completes on its
+        # own); a fixed pole stays refused (T207), pole31's rule
+        return (coefficient, factors) if any(f in moving for f in poles) or moving and not poles else None
     if not moving or _reaches(psi, moving, expr.free_symbols - variables):
         return None
     return coefficient, factors
