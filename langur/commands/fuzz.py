@@ -84,6 +84,11 @@ def add_arguments(p):
     p.add_argument("--huge", action="store_true",
                    help="draw a third of the programs over a huge box (up to [-1e10, 1e10]) with decaying "
                         "weights: narrow or far-off Gaussians, 1/(1 + x^2)")
+    p.add_argument("--deep", action="store_true",
+                   help="also draw products of moving lines over two variables ([(x + y - a)*(x - 2*y - b) "
+                        ">= 0], one cubed, over a moving pole), split conditions nested three deep, and "
+                        "such a condition in a def called at two parameter terms (langur.strategies.deep; "
+                        "up to 7 zero sets per program instead of 4)")
     p.add_argument("--profile", action="store_true",
                    help="print where the programs' time went: front end, linter, the exact engine's "
                         "symbolic search, its quadratures and the rest of it, the Monte Carlo engine")
@@ -135,7 +140,7 @@ def run(args) -> int:
                                     storage=args.hypothesis_dir, scheduler=args.scheduler,
                                     planned=bar.plan if bar is not None else None,
                                     kinks=args.kinks, turning=args.turning, wide=args.wide,
-                                    poles=args.poles, huge=args.huge)
+                                    poles=args.poles, huge=args.huge, deep=args.deep)
     except (fuzz.MissingHypothesis, fuzz.cluster.MissingCluster) as e:
         print(f"langur fuzz: error: {e}", file=sys.stderr)
         return 2

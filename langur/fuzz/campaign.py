@@ -229,7 +229,8 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
              keep: str | None = None, lint: bool = True, progress=None, method: str = "uniform",
              engine=None, light: bool = False, workers: int = 0, shrink: bool = True,
              storage: str | None = None, scheduler=None, planned=None, kinks: bool = False,
-             turning: bool = False, wide: bool = False, poles: bool = False, huge: bool = False) -> FuzzSummary:
+             turning: bool = False, wide: bool = False, poles: bool = False, huge: bool = False,
+             deep: bool = False) -> FuzzSummary:
     """Run ``examples`` generated programs (hypothesis, seeded: same seed, same programs), each a
     unit of :mod:`langur.fuzz.pool` (``workers`` processes; 0: in this process); on a failure
     hypothesis replays the same seed and shrinks it (``shrink``), and the minimal failing program
@@ -243,7 +244,8 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     18; :func:`~.generate.programs`); ``wide``: the constructs the default draw never makes
     (:mod:`langur.strategies.wide`, :mod:`langur.strategies.variants`); ``poles``, ``huge``: moving
     poles, products of moving factors and folding edge cases, programs over huge boxes
-    (:mod:`langur.strategies.poles`).  A program
+    (:mod:`langur.strategies.poles`); ``deep``: products of moving lines, splits nested three deep,
+    in defs called twice (:mod:`langur.strategies.deep`).  A program
     is time-limited (``timeout``) when it runs past
     ``timeout`` seconds; time-limited programs are counted apart from the verdicts."""
     start = time.monotonic()
@@ -280,7 +282,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     def generate(each=None) -> list[str]:
         with hypothesis_home(storage):
             texts = generated(examples, seed, light, each=each, kinks=kinks, turning=turning, wide=wide,
-                              poles=poles, huge=huge)
+                              poles=poles, huge=huge, deep=deep)
         if planned is not None:
             planned(len(texts))
         return texts
@@ -306,7 +308,7 @@ def run_fuzz(examples: int = 50, seed: int = 0, samples: int = 20000, timeout: f
     if shrink and summary.failed:
         with hypothesis_home(storage):
             summary.minimal = _shrunk(summary, examples, seed, light, lambda t: unit(t, True),
-                                      kinks=kinks, turning=turning, wide=wide, poles=poles, huge=huge)
+                                      kinks=kinks, turning=turning, wide=wide, poles=poles, huge=huge, deep=deep)
     summary.seconds = time.monotonic() - start
     if keep:  # --out: each failure shrunk (langur.fuzz.counterexamples) and written with its numbers
         os.makedirs(keep, exist_ok=True)

@@ -79,13 +79,16 @@ class FuzzProgram:
         return self.text
 
 
+#: Zero sets a ``deep`` program may have (three nested split brackets register six or more).
+DEEP_CONDS = 7
 #: How many variables a campaign's programs have at most (1 to 3); light programs: 2.
 MAX_VARIABLES, MAX_VARIABLES_LIGHT = 3, 2
 
 
 def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, max_params: int = 3,
              light: bool = False, kinks: bool = False, max_variables: int | None = None,
-             turning: bool = False, wide: bool = False, poles: bool = False, huge: bool = False):
+             turning: bool = False, wide: bool = False, poles: bool = False, huge: bool = False,
+             deep: bool = False):
     """A hypothesis strategy of :class:`FuzzProgram` (well-typed, transverse at the defaults):
     :func:`langur.strategies.programs`, printed (with ``wide``, a program with modules as a
     :mod:`.bundle`).
@@ -104,14 +107,19 @@ def programs(max_summands: int = 3, max_factors: int = 3, max_conds: int = 4, ma
     def whose ``let`` takes other values there, modules; :mod:`langur.strategies.lexical`: comments,
     CRLF, numbers spelled otherwise, ≤/≥, extra parentheses); ``poles``: moving poles, products of
     moving factors, such conditions nested, folding edge cases (:mod:`langur.strategies.poles`);
-    ``huge``: a third of the programs over a huge box (up to ±10¹⁰, decaying weights)."""
+    ``huge``: a third of the programs over a huge box (up to ±10¹⁰, decaying weights); ``deep``:
+    products of moving lines over two variables, split conditions nested three deep, such a condition
+    in a def called at two parameter terms (:mod:`langur.strategies.deep`; ``max_conds`` raised to
+    :data:`DEEP_CONDS`: a nested split registers more zero sets)."""
     _hypothesis()
     if max_variables is None:
         max_variables = MAX_VARIABLES_LIGHT if light else MAX_VARIABLES
+    if deep:
+        max_conds = max(max_conds, DEEP_CONDS)
     return strategies.programs(max_summands=max_summands, max_factors=max_factors, max_conds=max_conds,
                                max_params=max_params, light=light, kinks=kinks, max_variables=max_variables,
                                turning=turning, wide=wide, modules=wide, poles=poles,
-                               huge=huge).map(_fuzz_program)
+                               huge=huge, deep=deep).map(_fuzz_program)
 
 
 def _fuzz_program(g) -> FuzzProgram:

@@ -15,7 +15,7 @@ Public API::
 
     programs(*, min_variables=1, max_variables=3, max_summands=3, max_factors=3, max_conds=4,
              max_params=3, light=False, kinks=True, turning=False, lets=True, defs=True,
-             modules=False, generic=True, wide=False, poles=False, huge=False) -> strategy of Generated
+             modules=False, generic=True, wide=False, poles=False, huge=False, deep=False) -> strategy of Generated
     texts(**shape) -> strategy of str          # the printed main module
     cores(**shape) -> strategy of Loaded       # through the front end (langur.frontend)
     Generated(module, params, libraries): .text, .files(), .load(directory=None)

@@ -42,6 +42,8 @@ class Scope:
     wide: bool = False
     #: moving poles, products of moving factors, folding edge cases (:mod:`~.poles`)
     poles: bool = False
+    #: split conditions over two variables, nested three deep, in defs called twice (:mod:`~.deep`)
+    deep: bool = False
     #: the variables whose domain bounds are constants (an implicit root needs a fixed bracket)
     fixed: tuple[str, ...] = ()
     #: the conditions drawn by :func:`turning_condition` (they stay in the program: in a ``def``
@@ -55,6 +57,8 @@ class Scope:
     #: the bound of each ``let`` drawn inside a factor (:func:`~.wide.let_level`), by its name: a
     #: def whose body binds it, called with other parameter terms, binds it to other values
     lets: dict[str, S.STerm] = field(default_factory=dict)
+    #: the factors drawn by :func:`~.deep.factor` (a def is preferably made of one of them)
+    split: list = field(default_factory=list)
 
     def pick(self, seq):
         return self.draw(st.sampled_from(tuple(seq)))

@@ -17,6 +17,7 @@ from ..modules import Loaded
 from ..syntax import surface as S
 from ..syntax.printer import decimal, print_module_surface, print_term
 from . import conditions as C
+from . import deep as D
 from . import lexical as L
 from . import poles as P
 from . import terms as T
@@ -110,7 +111,8 @@ def factor(scope: C.Scope) -> S.STerm:
     ``scope.kinks`` a condition with ``abs``/``min``/``max`` inside, with ``scope.turning`` one
     with no closed-form inverse (implicit roots), with ``scope.wide`` a construct of :mod:`.wide`
     (loops, ``&``/``|``/``not``, a ``let`` in a factor, guarded partial primitives, …), with
-    ``scope.poles`` one of :mod:`.poles` (moving poles, products of moving factors, folding edge cases)."""
+    ``scope.poles`` one of :mod:`.poles` (moving poles, products of moving factors, folding edge cases),
+    with ``scope.deep`` one of :mod:`.deep` (products of moving lines, splits nested three deep)."""
     if scope.kinks and scope.index(4) == 3:
         return C.kink_condition(scope)
     if scope.turning and scope.index(4) == 3:
@@ -119,6 +121,8 @@ def factor(scope: C.Scope) -> S.STerm:
         return W.factor(scope)
     if scope.poles and scope.index(3) == 2:
         return P.factor(scope)
+    if scope.deep and scope.index(2) == 1:
+        return D.factor(scope)
     kind = scope.index(11)
     if kind <= 1:
         return C.smooth(scope)
@@ -195,8 +199,9 @@ def _factor(draw, scope: C.Scope) -> S.STerm:
 
 def _extract_def(scope: C.Scope, summands: list[list[S.STerm]], params: list[str]) -> S.DefDecl | None:
     """Move one factor into ``def g(x: var, …, qa: param, …) = …`` and call it there (and maybe once
-    more, in a new summand: two call sites of one def, added; ``wide``: maybe at a third site with
-    other parameter terms, :func:`~.variants.call_elsewhere`), so that elaboration, inlining and
+    more, in a new summand: two call sites of one def, added; ``wide`` or ``deep``: maybe at a third
+    site with other parameter terms, :func:`~.variants.call_elsewhere`; ``deep`` prefers a factor of
+    :mod:`.deep`), so that elaboration, inlining and
     the Monte Carlo engine's separately compiled defs are exercised.  Factors under a declared
     diffeo stay where they are, and so do conditions completed by implicit roots (they need the
     variables' domain, which a def does not know), and without ``wide`` those reading the
@@ -209,6 +214,8 @@ def _extract_def(scope: C.Scope, summands: list[list[S.STerm]], params: list[str
              and not any(f is c for c in scope.implicit)]
     if scope.wide:
         cands = [(i, j) for i, j in cands if isinstance(summands[i][j], S.LetIn)] or cands
+    if scope.deep:  # fuzz33: a split condition in a def, called at two parameter terms
+        cands = [(i, j) for i, j in cands if any(summands[i][j] is f for f in scope.split)] or cands
     if not cands:
         return None
     i, j = scope.pick(cands)
@@ -221,7 +228,7 @@ def _extract_def(scope: C.Scope, summands: list[list[S.STerm]], params: list[str
     summands[i][j] = use
     if scope.draw(st.booleans()):
         summands.append([use, C.smooth(scope)])
-    if scope.wide and scope.draw(st.booleans()):
+    if (scope.wide or scope.deep) and scope.draw(st.booleans()):
         elsewhere = V.call_elsewhere(scope, original, used, terms)
         if elsewhere is not None:
             summands.append([elsewhere, C.smooth(scope)])
@@ -252,7 +259,7 @@ def _sum(scope: C.Scope, summands: list[list[S.STerm]]) -> S.STerm:
 def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: int = 3, max_factors: int = 3,
              max_conds: int = 4, max_params: int = 3, light: bool = False, kinks: bool = True,
              turning: bool = False, lets: bool = True, defs: bool = True, modules: bool = False, generic: bool = True,
-             wide: bool = False, poles: bool = False, huge: bool = False):
+             wide: bool = False, poles: bool = False, huge: bool = False, deep: bool = False):
     """A hypothesis strategy of :class:`Generated`: well-typed programs in ``min_variables`` to
     ``max_variables`` (≤ 3) variables, one to ``max_params`` parameters with generic defaults,
     sums of at most ``max_summands`` products of at most ``max_factors`` factors (:func:`factor`),
@@ -274,9 +281,11 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
     text (:mod:`.lexical`: comments, CRLF, numbers spelled otherwise, ≤/≥, extra parentheses;
     :attr:`Generated.spelling`); ``poles``: the factors of :mod:`.poles` (moving poles, products of
     moving factors, such conditions nested, folding edge cases); ``huge``: a third of the programs
-    over a huge box (:func:`.poles.huge`: up to ±10¹⁰, decaying weights).  Shrinks towards one
-    variable, one parameter, one smooth factor; without ``wide``, ``poles`` and ``huge`` a seed draws
-    what it drew before."""
+    over a huge box (:func:`.poles.huge`: up to ±10¹⁰, decaying weights); ``deep``: the factors of
+    :mod:`.deep` (products of moving lines over two variables, split conditions nested three deep),
+    one of them preferably moved into a def called at two parameter terms (they register more zero
+    sets: raise ``max_conds`` to 6 or so).  Shrinks towards one variable, one parameter, one smooth
+    factor; without ``wide``, ``poles``, ``huge`` and ``deep`` a seed draws what it drew before."""
     if not 1 <= min_variables <= max_variables <= 3:
         raise ValueError("variables: 1 <= min_variables <= max_variables <= 3")
 
@@ -298,7 +307,7 @@ def programs(*, min_variables: int = 1, max_variables: int = 3, max_summands: in
         domain = tuple(draw(_interval(tuple(positive), wide)) for _ in variables)
         env = {p: float(d) for p, d in zip(params, defaults)}
         scope = C.Scope(draw, variables, env, list(params), light=light, kinks=kinks,
-                         turning=turning, wide=wide, poles=poles, fixed=tuple(v for v, i in zip(variables, domain)
+                         turning=turning, wide=wide, poles=poles, deep=deep, fixed=tuple(v for v, i in zip(variables, domain)
                                                       if not T.names_in(i.lo) | T.names_in(i.hi)))
         box = [(T.evaluate(i.lo, env), T.evaluate(i.hi, env)) for i in domain]
         let = None

@@ -281,7 +281,12 @@ def generic(zero_sets: list[ZeroSet], box: list[tuple[float, float]], variables:
         e = tuple(1.0 if j == i else 0.0 for j in range(len(box)))
         planes += [("box", _normed((e, lo))), ("box", _normed((e, hi)))]
     for j, z in enumerate(zero_sets):
-        planes += [(j, _normed(p)) for p in z.planes]
+        for n, c in z.planes:
+            if not any(n):  # the variables cancel (``F/G >= k`` with F = k·G + c, fuzz33): empty, or everywhere
+                if abs(c) < tol:
+                    return False
+                continue
+            planes.append((j, _normed((n, c))))
     for i in range(len(planes)):
         for j in range(i + 1, len(planes)):
             if planes[i][0] == planes[j][0] == "box":
