@@ -3,9 +3,9 @@ variables, split conditions nested three deep, such a condition in a def called 
 terms.  Each kind is drawn with its option and never without it (seed 1's thousand default
 programs are main's: test_fuzz30's digest); every drawn program loads (the type checker) and
 prints back to its AST; the tester judges a closed form that fails its quadrature cross-check as
-`langur eval` does (F3, fixed here); the round's findings not fixed here are regression tests
-marked xfail(strict=True) with their hand values (F1, F2: /work/helpers/findings33.md,
-bench/RESULTS.md, fuzz33)."""
+`langur eval` does (F3, fixed here); the round's other findings are regression tests with their
+hand values in both engines (F1, fixed by factor33; F2, fixed by zero33: bench/RESULTS.md, fuzz33,
+factor33 and zero33)."""
 
 import math
 import re
@@ -103,11 +103,9 @@ def test_a_closed_form_kept_by_its_proof_is_compared_not_an_engine_error():
 
 
 # ---------------------------------------------------------------------------------------------
-# Findings not fixed here (other areas): hand values the engines should give
+# Findings fixed in other branches (F1: factor33, F2: zero33): hand values both engines give
 # ---------------------------------------------------------------------------------------------
 
-@pytest.mark.xfail(strict=True, reason="F1: a product of three moving factors in a def is refused (T207); "
-                                       "inline it is split (langur/syntax/poles.sign_factors with no completion)")
 def test_f1_a_product_of_three_moving_factors_in_a_def():
     # x ∈ [a − 0.2, a] ∪ [a + 0.3, 1]: 0.2 + 0.7 − a; d/da = −1
     text = ("param a = 0.61\ndef g(x: var, qa: param) = [(x - qa) * (x - (qa + 0.3)) * (x - (qa - 0.2)) >= 0]\n"
@@ -129,8 +127,6 @@ def _three_lines(a: float, b: float) -> float:
     return quad(length, 0, width, points=sorted(t for t in kinks if 0 < t < width), epsabs=1e-13, limit=200)[0]
 
 
-@pytest.mark.xfail(strict=True, reason="F1: a product of three moving lines on a box whose intervals both move "
-                                       "is refused (T207); with one interval fixed it is split and right")
 def test_f1_a_product_of_three_moving_lines_on_a_moving_box():
     a, b, h = 0.61, 0.31, 1e-5
     value = _three_lines(a, b)
@@ -142,8 +138,6 @@ def test_f1_a_product_of_three_moving_lines_on_a_moving_box():
     by_hand_in_both_engines(text, "f1b.lgr", value, derivs, 1e-6, 1e-9)
 
 
-@pytest.mark.xfail(strict=True, reason="F2: Monte Carlo samples the jump at x = a, where 0 * (1 / (x - a)) "
-                                       "is NaN; the exact engine folds it to 0 (fuzz32's D5 through a factor)")
 def test_f2_a_factor_undefined_on_a_moving_jump():
     # off the null set x = a the factor is 1: ∫₀ᵃ eˣ + (1 − a)eᵃ = (2 − a)eᵃ − 1, d/da = (1 − a)eᵃ
     a = 0.53
