@@ -16,6 +16,7 @@ from .pcg64 import Stream
 from .point import DELTA, TANGENT, VALUE, Point, full
 from .results import DerivativeEstimate, Estimate, ValueEstimate
 from .sample import design, evaluate_box, spread, volume_parts
+from .scaled import root_sum_squares, squares_share
 
 #: Most nodes the program may have written out as a tree: this engine evaluates it path by path
 #: (each call of a definition is a linked instance with its own sampling sites, §9), so a
@@ -145,10 +146,9 @@ def tail_notes(f: np.ndarray, overflows=None) -> list[str]:
     bad = _not_finite(f, overflows=overflows)
     if bad:
         return bad
-    sq = np.square(f.astype(float))
-    total = float(np.sum(sq))
-    if n >= 100 and total > 0 and math.isfinite(total) and float(np.max(sq)) > DOMINANT * total:
-        return [f"one sample carries {float(np.max(sq)) / total:.0%} of the sum of squares: the samples have a "
+    top, total = squares_share(f.astype(float))
+    if n >= 100 and total > 0 and math.isfinite(total) and top > DOMINANT * total:
+        return [f"one sample carries {top / total:.0%} of the sum of squares: the samples have a "
                 "heavy tail, the variance may be infinite and the standard error is not reliable"]
     return []
 
@@ -217,11 +217,15 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
             # regular part: the tangent with every delta dropped (Dˢ), over the domain design
             notes: list[str] = []
             reg, reg_se, n, seen = _over_domain(linked, p, rng, samples, method, 1, notes, dparams=dp, mode=TANGENT)
-            bnd, bnd_var, hit = _boundary(linked, p, dp, rng, samples, method, notes)
+            bnd, bnd_ses, hit = _boundary(linked, p, dp, rng, samples, method, notes)
         if not (seen or hit):
             notes.append(all_zero_note(n, derivative=True))
-    bnd_se = math.sqrt(bnd_var)
-    return DerivativeEstimate(reg + bnd, math.sqrt(reg_se ** 2 + bnd_var), n, seed, method,
+    bnd_var = 0.0
+    for s in bnd_ses:  # (the sites' variances summed in order, as ever: ordinary results unchanged)
+        bnd_var += s ** 2
+    bnd_se = root_sum_squares(math.sqrt(bnd_var), bnd_ses)
+    return DerivativeEstimate(reg + bnd, root_sum_squares(math.sqrt(reg_se ** 2 + bnd_var), (reg_se, *bnd_ses)),
+                              n, seed, method,
                               **_variance(notes, infinite_variance), all_zero=not (seen or hit),
                               regular=Estimate(reg, reg_se), boundary=Estimate(bnd, bnd_se))
 
@@ -245,11 +249,11 @@ VANISHING_NOTE = ("⦇p⦈ is not defined: the completion of a condition divides
 
 
 def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
-              notes: list[str] | None = None) -> tuple[float, float]:
+              notes: list[str] | None = None) -> tuple[float, list[float], bool]:
     """Σ_k ∫ E_k δ_k: every live site's zero set sampled through every inverse branch, all sites'
     points scored in ONE vectorized pass of the integrand in DELTA mode.  A site whose zero set
     was hit (scored nonzero) by fewer than :data:`LOW_HITS` points says so in ``notes``: its
-    standard error is not backed by enough samples.  ``(estimate, variance, whether a score was not 0)``
+    standard error is not backed by enough samples.  ``(estimate, each site's standard error, whether a score was not 0)``
     (no site sampled: nothing to see, so False)."""
     live = set(dp)
     box = dict(zip(linked.variables, evaluate_box(linked.box_fns, p)))
@@ -263,21 +267,21 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
         if sampler.vanishing(p):  # Ψ̂ is no diffeomorphism here: ⦇p⦈ is not defined
             if notes is not None:
                 notes.append(VANISHING_NOTE)
-            return math.nan, math.nan, True
+            return math.nan, [math.nan], True
         des = point if point is not None else design(rng, m, samples, method)
         region = sampler.region(box, p) if m else ()
         if region:  # (one variable: no u'-box to enclose nor shrink)
             if any(math.isinf(a) or math.isinf(b) or math.isnan(a) or math.isnan(b) for a, b in region):
                 # no finite box encloses this zero set's coordinates (a pole of Ψ̂'s other components
                 # over the domain): no uniform design can sample it, so the estimate is undefined
-                return math.nan, math.nan, True
+                return math.nan, [math.nan], True
             region = sampler.shrink(region, box, p)
             if region and any(not (b > a) for a, b in region):
                 continue
         volume, branches = sampler.points(des.points, region, p)
         plan.append((k, des, volume, [(xb, w, ok, sampler.dpsi(xb, p, dp)) for xb, w, ok in branches]))
     if not plan:
-        return 0.0, 0.0, False
+        return 0.0, [], False
     # lay out every (site, branch) block of points one after the other: site ids, points, weights
     ids, xs, ws, oks, dps, counts = [], {v: [] for v in linked.variables}, [], [], [], []
     for k, des, _, branches in plan:
@@ -307,8 +311,8 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
         notes += _not_finite(score, "samples on the discontinuities")
     if all(des.method == "exact" for _, des, _, _ in plan):  # one variable: every root once, exactly
         total = float(np.sum(np.add.reduceat(score, starts)))
-        return total, 0.0, total != 0 or bool(np.any(score))  # (any: only for an exact 0)
-    total, var = 0.0, 0.0
+        return total, [], total != 0 or bool(np.any(score))  # (any: only for an exact 0)
+    total, ses = 0.0, []
     for (_k, des, volume, branches), at, c in zip(plan, starts, counts):
         # per u'-point, the sum over branches; then the design's mean and standard error
         f = score[at:at + c].reshape(len(branches), des.points.shape[0]).sum(axis=0)
@@ -318,5 +322,5 @@ def _boundary(linked: Linked, p: dict, dp: dict, rng, samples: int, method: str,
                          "its standard error is not reliable (give more --samples)")
         mean, se = des.mean(f)
         total += volume * mean
-        var += (volume * se) ** 2
-    return total, var, total != 0 or var != 0 or bool(np.any(score))
+        ses.append(volume * se)
+    return total, ses, total != 0 or any(s != 0 for s in ses) or bool(np.any(score))

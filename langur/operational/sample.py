@@ -24,6 +24,7 @@ from ..records import record
 from .compile import compile_pure
 from .pcg64 import Stream
 from .point import TANGENT, UNLINKED, VALUE, Point, full
+from .scaled import homogeneous
 
 # Interval enclosures of a zero set's other coordinates, imported when a site's condition is not
 # completed by variables alone (start-up of a one-shot ``langur eval`` on an affine program, issue 15).
@@ -46,7 +47,11 @@ class Design:
     groups: int = 0  # stratified, qmc: the number of independent randomizations (replicates)
 
     def mean(self, f: np.ndarray) -> tuple[float, float]:
-        """Estimate of ∫_{[0,1]^m} f and its standard error."""
+        """Estimate of ∫_{[0,1]^m} f and its standard error (finite for finite samples, however
+        large: :func:`.scaled.homogeneous`)."""
+        return homogeneous(self._mean, np.asarray(f))
+
+    def _mean(self, f: np.ndarray) -> tuple[float, float]:
         n = len(f)
         if n == 0:
             return 0.0, 0.0

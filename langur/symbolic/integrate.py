@@ -278,6 +278,27 @@ def _setup(variables, box, at, timeout, cell=()):
     return ctx, boxd
 
 
+def _beyond_doubles(expr, ctx: Context) -> sp.Float | None:
+    """``expr``'s value at the point (15 digits) when it is a finite real number too large for a
+    double (``1e200**2/2``), else None (a pole, ∞, or no value within the call's budget)."""
+    try:
+        v = ctx.deadline.run(lambda: sp.sympify(expr).xreplace(ctx.at).evalf(15), 1.0)
+    except (TimeoutError, TypeError, ValueError, ArithmeticError):
+        return None
+    return v if isinstance(v, sp.Float) and v.is_finite else None
+
+
+class NoFloat(tuple):
+    """A piece's quadrature ``(∞, ∞)`` stopped by :class:`~.quadrature.BeyondRange` (``exc``): its
+    integrand's values are too large for a float, so only a closed form can give its value, and it
+    is not cross-checked (bench/RESULTS.md, overflow33)."""
+
+    def __new__(cls, exc: quadrature.BeyondRange):
+        out = super().__new__(cls, (math.inf, math.inf))
+        out.exc = exc
+        return out
+
+
 #: Agreement asked of a closed form whose quadrature did not converge (its error bound is not
 #: reliable: ∫₀^½ dx/(x log²x) = 1/log 2 = 1.4427 against quad's 1.4389 ± 1.6e-5).
 ROUGH = 1e-2
@@ -291,8 +312,14 @@ def _exact_piece(problems, uvars, ubox: dict, ctx: Context, quad: tuple[float, f
         total += regions.integrate_region(conds, weight, uvars, ubox, ctx)
     val = _value(total, ctx)
     if not math.isfinite(val):
+        huge = _beyond_doubles(total, ctx)
+        if huge is not None:
+            raise quadrature.BeyondRange(f"{what}'s closed form {total} is {huge:.6g} at the evaluation point, a "
+                                         "finite number beyond the doubles (±1.8e308) that this engine's values are")
         raise Unsupported(f"the closed form {total} is singular at the evaluation point")
-    if not converged:
+    if isinstance(quad, NoFloat):
+        ctx.notes.append(f"{what}: the closed form is not cross-checked: {quad.exc}")
+    elif not converged:
         if abs(val - quad[0]) > ROUGH * max(1.0, abs(quad[0])) + 10 * quad[1]:
             raise Unsupported(f"the closed form {total} is {val:.6g}, quadrature (which did not converge) "
                               f"{quad[0]:.6g}: neither is trusted")
@@ -308,8 +335,10 @@ class QuadratureUnreliable(ValueError):
 
 
 def _check_defined(quads, what: str) -> None:
+    """A piece whose quadrature is NaN or infinite is undefined — unless its quadrature stopped
+    because its values are beyond the doubles (:class:`NoFloat`: its closed form decides)."""
     for i, (q, _) in enumerate(quads):
-        if not math.isfinite(q):
+        if not math.isfinite(q) and not isinstance(quads[i], NoFloat):
             raise UndefinedIntegral(f"{what} {i}: the integrand is undefined ({q}) on part of the region at "
                                     "the evaluation point (a primitive applied outside its domain, or a "
                                     "zero set where the condition's derivative vanishes)")
@@ -373,12 +402,16 @@ def _closed_forms(make_problems, n: int, quads, ctx: Context, what: str, converg
                 exacts.append(None)
                 why.append(f"{what} {i}: {exc}")
                 ctx.inconsistent.append(str(exc))
+        except quadrature.BeyondRange:  # a closed form whose value is no double: no other value is better
+            raise
         except (Unsupported, TimeoutError) as exc:
             exacts.append(None)
             why.append(f"{what} {i}: {exc or 'time limit'}")
         except Exception as exc:  # noqa: BLE001 - sympy fails in many ways; quadrature still holds
             exacts.append(None)
             why.append(f"{what} {i}: {failures.why(exc)}")
+        if exacts[-1] is None and isinstance(quads[i], NoFloat):
+            raise quads[i].exc  # (its own words: the integrand's values are too large for a float)
         if exacts[-1] is None and not converged[i]:
             raise QuadratureUnreliable(f"{what} {i} has no closed form ({why[-1].split(': ', 1)[-1]}) and its "
                                        "quadrature did not converge (scipy), so no value has an error bound "
@@ -418,7 +451,13 @@ def _quadratures(quad_one, items, ctx: Context):
     for item in items:
         notes: list[str] = []
         problems: list[quadrature.NumProblem] = []
-        quads.append(quad_one(item, notes, problems))
+        try:
+            quads.append(quad_one(item, notes, problems))
+        except quadrature.BeyondRange as exc:  # no float quadrature: only a closed form gives the value
+            quads.append(NoFloat(exc))  # (a piece that did not converge: _closed_forms requires one)
+            converged.append(False)
+            ctx.notes.extend(notes)
+            continue
         converged.append(all(p.converged for p in problems))
         ctx.estimated = ctx.estimated or any(p.wide for p in problems)
         ctx.notes.extend(notes)
