@@ -221,10 +221,10 @@ def estimate_derivative(program_or_loaded, params: dict, direction: dict, *, sam
         if not (seen or hit):
             notes.append(all_zero_note(n, derivative=True))
     bnd_var = 0.0
-    for s in bnd_ses:  # (the sites' variances summed in order, as ever: ordinary results unchanged)
-        bnd_var += s ** 2
+    for s in bnd_ses:  # the sites' variances summed in order, as ever (s·s: the correctly rounded square,
+        bnd_var += s * s  # as s ** 2 was, but ∞ where a Python float's ** 2 raised OverflowError)
     bnd_se = root_sum_squares(math.sqrt(bnd_var), bnd_ses)
-    return DerivativeEstimate(reg + bnd, root_sum_squares(math.sqrt(reg_se ** 2 + bnd_var), (reg_se, *bnd_ses)),
+    return DerivativeEstimate(reg + bnd, root_sum_squares(math.sqrt(reg_se * reg_se + bnd_var), (reg_se, *bnd_ses)),
                               n, seed, method,
                               **_variance(notes, infinite_variance), all_zero=not (seen or hit),
                               regular=Estimate(reg, reg_se), boundary=Estimate(bnd, bnd_se))

@@ -44,8 +44,9 @@ def squares_share(f: np.ndarray) -> tuple[float, float]:
     """(max fᵢ², Σ fᵢ²) of ``f`` scaled by one power of two when Σ fᵢ² overflowed although ``f`` is
     finite: their ratio (a sample's share of the sum of squares) is what is wanted, and it does not
     change with the scale."""
-    sq = np.square(f)
-    total = float(np.sum(sq))
+    with np.errstate(over="ignore"):
+        sq = np.square(f)
+        total = float(np.sum(sq))
     if not math.isfinite(total) and np.all(np.isfinite(f)):
         sq = np.square(f / _scale(f))
         total = float(np.sum(sq))
