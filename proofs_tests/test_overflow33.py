@@ -88,7 +88,18 @@ def test_exact_eval_says_the_closed_form_value_is_beyond_the_doubles(box, power,
     loaded = load_text(f"param a = 1e200\nint ({box}) a^{power} * x * [x <= a] d(x)\n")
     with pytest.raises(ExactUnavailable) as info:
         exact_eval(loaded.program, loaded.param_values())
-    assert hand in info.value.reason and "beyond the doubles" in info.value.reason, info.value.reason
+    assert hand in info.value.reason and "finite number too large for a float" in info.value.reason, info.value.reason
+
+
+def test_exact_eval_names_the_closed_form_of_exp_1000x():
+    # ∫₀¹ exp(1000x + a) dx = (e^{1000+a} − e^a)/1000 = 3.2481e431 at a = 0.5 (by hand: e^1000 = 1.9701e434,
+    # e^0.5 = 1.6487); main: only "quadrature … too large for a float"
+    loaded = load_text("param a = 0.5\nint ([0, 1]) exp(1000 * x + a) d(x)\n")
+    with pytest.raises(ExactUnavailable) as info:
+        exact_eval(loaded.program, loaded.param_values())
+    assert "3.24810e+431" in info.value.reason
+    log10 = 1000.5 / math.log(10) - 3  # the hand value's decimal logarithm (e^a's share: 1e-431 of it)
+    assert (math.floor(log10), 10 ** (log10 % 1)) == (431, pytest.approx(3.24810, rel=1e-5))
 
 
 def test_exact_eval_value_that_is_a_double_unchanged():

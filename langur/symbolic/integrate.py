@@ -314,8 +314,9 @@ def _exact_piece(problems, uvars, ubox: dict, ctx: Context, quad: tuple[float, f
     if not math.isfinite(val):
         huge = _beyond_doubles(total, ctx)
         if huge is not None:
-            raise quadrature.BeyondRange(f"{what}'s closed form {total} is {huge:.6g} at the evaluation point, a "
-                                         "finite number beyond the doubles (±1.8e308) that this engine's values are")
+            raise quadrature.BeyondRange(f"{what}'s closed form {total} is {huge:.6g} at the evaluation point: a "
+                                         "finite number too large for a float (beyond ±1.8e308), which this "
+                                         "engine's values are")
         raise Unsupported(f"the closed form {total} is singular at the evaluation point")
     if isinstance(quad, NoFloat):
         ctx.notes.append(f"{what}: the closed form is not cross-checked: {quad.exc}")
