@@ -125,9 +125,9 @@ def fmt(v, digits: int = 10) -> str:
 
 #: The longest note the text output prints whole (a note can hold an inverse branch or det DΨ̂⁻¹ of
 #: thousands of characters: the lambert shader's, bench/RESULTS.md, budget33).
-NOTE_CHARS = 240
+NOTE_CHARS = 400
 #: How much of a longer note's end is kept (where it says what was decided: "taken as +", "(heuristic)").
-NOTE_TAIL = 70
+NOTE_TAIL = 80
 
 
 def readable_note(note: str) -> str:
