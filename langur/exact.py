@@ -46,7 +46,7 @@ from .symbolic.text import (
 from .symbolic.walks import size
 from .sympy_bridge import at_symbols, exact_number, symbol
 from .theorem import TheoremCheck, check_theorem_8_1
-from .timebox import run_with_timeout
+from .timebox import budget, run_with_timeout
 
 
 class ExactUnavailable(Exception):
@@ -156,9 +156,19 @@ class ExactDerivative(ExactValue):
         return {"value": out.pop("value"), "regular": self.regular, "boundary": self.boundary, **out}
 
 
-def exact_eval(program: Program, params: Mapping[str, float | object]) -> ExactValue:
-    """⟦p⟧ at ``params``."""
-    return ExactValue.of(_guard(denote_program, program, dict(params)))
+#: The CPU seconds of sympy work one call of :func:`exact_eval` or :func:`exact_deriv` may spend (issue 15:
+#: one time budget per call): a derivative's regular and boundary parts and its Theorem 8.1 check draw on
+#: it together, and what is not done by its end is quadrature (said by the notes; the check, by
+#: :data:`CHECK_STOPPED`).  Before, each integral had 20 s of its own: a lambert pixel's exact derivative
+#: took ≈ 60 CPU s (bench/RESULTS.md, budget33).  None: no bound beyond each integral's own.
+CALL_SECONDS = 20.0
+
+
+def exact_eval(program: Program, params: Mapping[str, float | object], *,
+               seconds: float | None = CALL_SECONDS) -> ExactValue:
+    """⟦p⟧ at ``params``, the sympy work within ``seconds`` CPU seconds (:data:`CALL_SECONDS`)."""
+    with budget(seconds):
+        return ExactValue.of(_guard(denote_program, program, dict(params)))
 
 
 #: The note of a derivative whose Theorem 8.1 check ran out of the CPU seconds it was given.
@@ -166,11 +176,22 @@ CHECK_STOPPED = "Theorem 8.1 check stopped: its CPU budget was spent"
 
 
 def exact_deriv(program: Program, params: Mapping[str, float | object], direction: Mapping[str, float | object],
-                *, check: bool = True, check_seconds: float | None = None) -> ExactDerivative:
+                *, check: bool = True, check_seconds: float | None = None,
+                seconds: float | None = CALL_SECONDS) -> ExactDerivative:
     """⦇p⦈ at ``params`` in the direction γ' = ``direction`` (``--wrt a`` is ``{"a": 1}``), with the
     check of Theorem 8.1 unless ``check`` is false; ``check_seconds``: the CPU seconds the check may
     take (None: no limit), past which it is left out with the note :data:`CHECK_STOPPED` (the
-    derivative itself is never cut short)."""
+    derivative itself is never cut short: past ``seconds`` its symbolic work gives way to quadrature).
+    ``seconds`` (:data:`CALL_SECONDS`): the one CPU budget of the whole call, derivative and check;
+    the check gets what the derivative left of it (or ``check_seconds``, if less)."""
+    with budget(seconds):
+        return _exact_deriv(program, params, direction, check, check_seconds,
+                            None if seconds is None else time.process_time() + seconds)
+
+
+def _exact_deriv(program, params, direction, check: bool, check_seconds: float | None,
+                 end: float | None) -> ExactDerivative:
+    """:func:`exact_deriv` within its budget, which ends at ``end`` (``time.process_time``; None: never)."""
     params, direction = dict(params), dict(direction)
     res = _guard(ddenote_program, program, params, direction)
     base = ExactValue.of(res)
@@ -184,6 +205,8 @@ def exact_deriv(program: Program, params: Mapping[str, float | object], directio
 
     if check:
         start = time.process_time()
+        if end is not None:
+            check_seconds = max(0.0, min(end - start, check_seconds if check_seconds is not None else end - start))
         try:
             theorem = run_with_timeout(checked, check_seconds, cpu=True)
         except TimeoutError as e:  # this limit's, or one inside the check that it did not catch

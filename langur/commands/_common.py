@@ -123,6 +123,24 @@ def fmt(v, digits: int = 10) -> str:
     return f"{f:.{digits}g}"
 
 
+#: The longest note the text output prints whole (a note can hold an inverse branch or det DΨ̂⁻¹ of
+#: thousands of characters: the lambert shader's, bench/RESULTS.md, budget33).
+NOTE_CHARS = 400
+#: How much of a longer note's end is kept (where it says what was decided: "taken as +", "(heuristic)").
+NOTE_TAIL = 80
+
+
+def readable_note(note: str) -> str:
+    """``note`` as the text output prints it: whole up to :data:`NOTE_CHARS` characters, else its
+    beginning and its last :data:`NOTE_TAIL` characters around how much was left out and where the
+    whole note is (``--json``, whose ``notes`` are never shortened)."""
+    if len(note) <= NOTE_CHARS:
+        return note
+    head = NOTE_CHARS - NOTE_TAIL
+    return (f"{note[:head]} … [{len(note) - head - NOTE_TAIL} characters left out; the whole note: --json] … "
+            f"{note[-NOTE_TAIL:]}")
+
+
 def fmt_params(values: dict) -> str:
     return ", ".join(f"{k} = {fmt(v)}" for k, v in values.items()) or "no parameters"
 

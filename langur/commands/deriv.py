@@ -124,7 +124,7 @@ def run(args) -> int:
         print(f"  exact       : {c.fmt(exact.value)} = regular {c.fmt(exact.regular)}"
               f" + boundary {c.fmt(exact.boundary)}   ({exact.how()}{': ' + exact.expr if exact.expr else ''})")
         for note in exact.notes:
-            print(f"                note: {note}")
+            print(f"                note: {c.readable_note(note)}")
     if mc is not None:
         d = None if c.scientific(mc.value, mc.stderr) else c.mc_decimals(mc.stderr)
         print(f"  MC          : {c.fmt_mc(mc.value, mc.stderr)} ± {c.fmt_se(mc.stderr, mc.value)} = regular "

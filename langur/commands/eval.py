@@ -74,7 +74,7 @@ def run(args) -> int:
     if exact is not None:
         print(f"  exact : {c.fmt(exact.value)}   ({exact.how()}{': ' + exact.expr if exact.expr else ''})")
         for note in exact.notes:
-            print(f"          note: {note}")
+            print(f"          note: {c.readable_note(note)}")
     if mc is not None:
         print(f"  MC    : {c.fmt_mc(mc.value, mc.stderr)} ± {c.fmt_se(mc.stderr, mc.value)}   "
               f"({mc.samples} samples, {mc.method}, seed {mc.seed})")

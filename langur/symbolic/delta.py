@@ -131,11 +131,26 @@ _SIMPLIFIED: dict = {}
 _JACOBIANS: dict = {}
 
 
-def _jacobian(comps: tuple, inputs: tuple):
-    """det DΨ̂⁻¹ at u₀ = 0 for the inverse branch ``comps`` (the variables in the ``inputs``)."""
+#: CPU seconds sympy's ``Matrix.det`` of DΨ̂⁻¹ may take (within the call's one budget, ``ctx.deadline``)
+#: before the determinant is written by cofactor expansion instead (:func:`_jacobian`): the lambert
+#: shader's conic took seconds per branch in it (bench/RESULTS.md, budget33).
+DET_SECONDS = 1.0
+
+
+def _jacobian(comps: tuple, inputs: tuple, ctx: Context):
+    """det DΨ̂⁻¹ at u₀ = 0 for the inverse branch ``comps`` (the variables in the ``inputs``):
+    sympy's determinant (which cancels as it goes) within :data:`DET_SECONDS` of the call's budget,
+    else the same determinant by cofactor expansion, nothing cancelled (equal as a function; not
+    remembered, so a call with more time left gets sympy's form)."""
     J = _JACOBIANS.get((comps, inputs))
     if J is None:
-        jac = sp.Matrix(_jacobian_entries(comps, inputs)).det()
+        m = sp.Matrix(_jacobian_entries(comps, inputs))
+        try:
+            jac = ctx.deadline.run(m.det, cap=DET_SECONDS)
+        except TimeoutError:
+            ctx.notes.append(f"det DΨ̂⁻¹ written by cofactor expansion (sympy's determinant took over "
+                             f"{DET_SECONDS:g} CPU s)")
+            return cofactor_det(m).xreplace({inputs[0]: sp.Integer(0)})
         J = jac.xreplace({inputs[0]: sp.Integer(0)})
         remember(_JACOBIANS, (comps, inputs), J, 512)
     return J
@@ -260,7 +275,7 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
         # and simplification are left until the integration needs the weight (Deferred), and never
         # made when the region is empty at the evaluation point
         deferred = key not in _JACOBIANS and _constant_and_nonzero(*key, uprime)
-        J = None if deferred else _simplified(_jacobian(*key), ctx)
+        J = None if deferred else _simplified(_jacobian(*key, ctx), ctx)
         exprs = [sp.sympify(c.expr).xreplace(xsub) for c in piece.conditions]
         guards = [sp.sympify(g).xreplace(sub) for g in b.guards]
         if not all(ctx.decide(g) for g in guards if not (g.free_symbols - ctx.params)):
@@ -284,10 +299,10 @@ def delta_to_regular(piece: DeltaPiece, variables: Sequence, box: dict, ctx: Con
         weight = sp.sympify(piece.weight).xreplace(xsub)
         if deferred and weight != 0:
             problems.append((conds, Deferred(
-                lambda weight=weight, key=key: weight * sp.Abs(_simplified(_jacobian(*key), ctx)))))
+                lambda weight=weight, key=key: weight * sp.Abs(_simplified(_jacobian(*key, ctx), ctx)))))
             continue
         if J is None:
-            J = _simplified(_jacobian(*key), ctx)
+            J = _simplified(_jacobian(*key, ctx), ctx)
         if not (J.free_symbols & set(uprime)):
             problems.append((conds, weight * sp.Abs(J)))
             continue
