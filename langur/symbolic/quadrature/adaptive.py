@@ -13,6 +13,7 @@ from typing import Callable
 from scipy import integrate as si
 
 from langur.symbolic.quadrature.problem import BeyondRange, NumProblem, UndefinedIntegral
+from langur.symbolic.quadrature.tolerance import EPSABS
 
 #: Rounds of splitting an interval at the abscissae where the integrand was found not finite.
 SPLIT_ROUNDS = 3
@@ -150,19 +151,21 @@ def _signed_parts(g: _Finite, c: float, d: float, eps: float, inside: list[float
     return pos[0] - neg[0], pos[1] + neg[1]
 
 
-def _interval(g: _Finite, c: float, d: float, eps: float, inside: list[float]):
+def _interval(g: _Finite, c: float, d: float, eps: float, inside: list[float], known: float = 0.0):
     """∫_c^d g by ``quad`` with the warnings that stand: ``(value, error, [warning texts])``.
 
     "Probably divergent" may be only a sign change's cancellation or an integral as small as the
     absolute tolerance: the one-signed parts decide (:func:`_signed_parts`, first under the same
     tolerances, then under the relative one alone).  A pass without a warning is checked at the
     integrand's own scale (:func:`_at_scale`): an absolute tolerance above the integrand's size
-    accepts a divergent integral as readily as a convergent one."""
+    accepts a divergent integral as readily as a convergent one; ``known``: the absolute accuracy of
+    the integrand's values (an inner level's tolerance; 0 where they are computed directly), below
+    which no tolerance is asked."""
     g.size = 0.0
     val, e, ws = _quad_once(g, c, d, eps, inside)
     tol = eps
     if not ws:
-        val, e, ws, tol = _at_scale(g, c, d, eps, inside, val, e)
+        val, e, ws, tol = _at_scale(g, c, d, eps, inside, val, e, known)
     if any(DIVERGENT in w for w in ws):  # perhaps only a sign change's cancellation
         parts = _signed_parts(g, c, d, eps, inside, tol)
         if parts is None:  # perhaps only an integral as small as the absolute tolerance
@@ -172,7 +175,8 @@ def _interval(g: _Finite, c: float, d: float, eps: float, inside: list[float]):
     return val, e, ws
 
 
-def _at_scale(g: _Finite, c: float, d: float, eps: float, inside: list[float], val: float, e: float):
+def _at_scale(g: _Finite, c: float, d: float, eps: float, inside: list[float], val: float, e: float,
+              known: float = 0.0):
     """A pass of ``quad`` over [c, d] that met its absolute tolerance ``eps`` but not the same
     tolerance relative to the integrand's size S = (d − c)·max |g| over the abscissae sampled
     (``g.size``), done again with the absolute tolerance eps·S: ``(value, error, warnings, eps·S)``.
@@ -188,8 +192,11 @@ def _at_scale(g: _Finite, c: float, d: float, eps: float, inside: list[float], v
     "probably divergent", after :func:`_interval` asked the one-signed parts under eps·S; no
     convergence, with or without a growth of |h| like 1/|t − end|): the same verdict, and the same
     note, at every scale.  Nothing is redone at or above size 1: there the first pass met eps·S
-    already."""
-    tol = eps * g.size * (d - c)
+    already.  Nor below ``(d − c)·known``, the accuracy of the integrand's values: an outer level's
+    integrand is an inner integral known to the inner level's tolerance, and an integral of such
+    values that cancels to rounding noise (size 8·10⁻¹⁶ against 10⁻⁶: test_tangency13's nested
+    discs) asked to 10⁻²¹ made QUADPACK say "probably divergent" on a convergent integral."""
+    tol = max(eps * g.size, known) * (d - c)
     if not e > max(tol, eps * abs(val)):
         return val, e, [], eps
     return (*_quad_once(g, c, d, eps, inside, tol), tol)
@@ -212,6 +219,9 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
     pass that met the absolute tolerance only is done again at the integrand's own scale
     (:func:`_at_scale`): ``10⁻²⁰·x^-1.01`` is as undefined as ``x^-1.01``."""
     where = f"{_name(p, level)} in [{a:.6g}, {b:.6g}]"
+    # the accuracy of h's values: an inner level's tolerance (nested's EPSABS·10^(levels − 1 − level)) where
+    # h is an inner integral, none where it is the weight itself (the innermost level)
+    known = EPSABS * 10 ** (len(p.bounds) - 2 - level) if level < len(p.bounds) - 1 else 0.0
     singular: list[float] = []
     for _ in range(SPLIT_ROUNDS + 1):
         g = _Finite(h, (a, b))
@@ -222,7 +232,7 @@ def _quad(h, a: float, b: float, eps: float, inside: list[float], p: NumProblem,
             for c, d in zip(cuts, cuts[1:]):
                 if not d > c:
                     continue
-                val, e, ws = _interval(g, c, d, eps, [q for q in inside if c < q < d])
+                val, e, ws = _interval(g, c, d, eps, [q for q in inside if c < q < d], known)
                 total += val
                 err += e
                 texts += [(c, d, w) for w in ws]
