@@ -1,5 +1,5 @@
 """CPU of ``langur deriv``'s transversality gate (X301: is ⦇p⦈ the derivative; X305: at these
-values?), this tree against a baseline tree, program by program (bench/RESULTS.md, lambert33).
+values?), this tree against a baseline tree, program by program (bench/history/2026-11-29.md#lambert33.
 
     python bench/bench_gate.py [--baseline /tmp/base] [--json OUT] [--pixels 3]
     (baseline: ``git archive REV | tar -x -C /tmp/base``)

@@ -76,7 +76,7 @@ def source_lines(text: str, keepends: bool = False) -> list[str]:
     ``keepends``).  ``str.splitlines`` also ends a line at a lone CR, a form feed, U+0085, U+2028 …,
     which a comment may hold and the parser does not count: a comment with U+2028 on line 1 made
     ``# noqa`` on line 2 silence a finding on line 3, and quotes quote the wrong text
-    (bench/RESULTS.md, hostile33)."""
+    (bench/history/2026-11-29.md#hostile33."""
     parts = text.split("\n")
     lines = [p + "\n" for p in parts[:-1]] + ([parts[-1]] if parts[-1] else [])  # (a final LF starts no line)
     return lines if keepends else [ln.rstrip("\n").removesuffix("\r") for ln in lines]

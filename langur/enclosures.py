@@ -70,7 +70,7 @@ def _exp(X):
     """mpmath's interval ``exp``, except below :data:`_EXP_FLOOR`, where it is ``[0, exp(floor)]``:
     ``exp`` is increasing and positive, so that holds it; mpmath computes ``exp(−e^(10⁶))`` to its
     53 bits, with an exponent of 434,294 digits, in seconds (``exp(-cosh x)`` on [−10⁶, 10⁶],
-    bench/RESULTS.md, proof33)."""
+    bench/history/2026-11-29.md#proof33."""
     X = mpmath.iv.mpf(X)
     if X.a >= _EXP_FLOOR:
         return mpmath.iv.exp(X)

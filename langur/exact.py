@@ -160,7 +160,7 @@ class ExactDerivative(ExactValue):
 #: one time budget per call): a derivative's regular and boundary parts and its Theorem 8.1 check draw on
 #: it together, and what is not done by its end is quadrature (said by the notes; the check, by
 #: :data:`CHECK_STOPPED`).  Before, each integral had 20 s of its own: a lambert pixel's exact derivative
-#: took ≈ 60 CPU s (bench/RESULTS.md, budget33).  None: no bound beyond each integral's own.
+#: took ≈ 60 CPU s (bench/history/2026-11-29.md#budget33.  None: no bound beyond each integral's own.
 CALL_SECONDS = 20.0
 
 

@@ -77,7 +77,7 @@ def linked_away(path: str) -> LinkedAway | None:
     ``langur check DIR`` found) is not read as a program: it leads, through symbolic links, to a
     regular file whose name does not end in ``.lgr`` — a link ``m.lgr -> /proc/self/environ`` or
     ``-> ~/.git-credentials`` in a pull request made ``langur check`` in CI print that file's first
-    word in its syntax error (E102 quotes the unexpected name), bench/RESULTS.md, hostile33.  A
+    word in its syntax error (E102 quotes the unexpected name), bench/history/2026-11-29.md#hostile33.  A
     link to another ``.lgr`` file, to a pipe or a device (read bounded, as above) is read; a file
     named on the command line (FILE, ``--module NAME=PATH``) is read wherever it leads: the user
     chose it.  (Checked before the open: a link changed in between is not caught — a checkout

@@ -1,5 +1,5 @@
 """The exact engine within one budget per call; notes printed at a readable length (session 33,
-bench/RESULTS.md, budget33).
+bench/history/2026-11-29.md#budget33.
 
 (1) ``delta._jacobian``: sympy's determinant of DΨ̂⁻¹ is time-boxed within the call's budget
 (``DET_SECONDS``), else the determinant is written by cofactor expansion — the same function (hand

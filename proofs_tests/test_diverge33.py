@@ -1,4 +1,4 @@
-"""Undefined is undefined at every scale (bench/RESULTS.md, diverge33).
+"""Undefined is undefined at every scale (bench/history/2026-11-29.md#diverge33.
 
 * The quadrature's divergence verdict (:func:`langur.symbolic.quadrature.adaptive._quad`) was taken
   under a fixed absolute tolerance ε = 10⁻¹¹: ``quad(k·t^-1.01, 0, 1)`` says "probably divergent" for

@@ -71,7 +71,7 @@ def test_quadrature_alone_on_a_wide_range_finds_the_mass_and_proves_it(text, val
     r = _exact(text)
     assert r.method == Method.QUADRATURE
     assert r.value == pytest.approx(value, rel=1e-9)
-    # interval enclosures (Gauss–Legendre with an enclosed remainder, bench/RESULTS.md, proof33) prove the
+    # interval enclosures (Gauss–Legendre with an enclosed remainder, bench/history/2026-11-29.md#proof33 prove the
     # estimate: "error ≤", and no "not a bound" note; until proof33 nothing backed a bound here
     assert ESTIMATE not in r.notes and abs(r.value - value) <= r.proved <= r.error
     assert r.how() == f"quadrature, error ≤ {r.error:.3g}"
@@ -82,7 +82,7 @@ def test_a_narrow_range_still_prints_a_bound():
     assert r.method == Method.QUADRATURE
     ref = si.quad(lambda x: math.exp(-math.cosh(x)), 0, 1, epsabs=1e-14)[0]
     assert r.value == pytest.approx(ref, rel=1e-9)
-    # the bound printed is what interval enclosures prove: since proof33 (bench/RESULTS.md, proof33) within
+    # the bound printed is what interval enclosures prove: since proof33 (bench/history/2026-11-29.md#proof33 within
     # quadrature's estimate, so "error ≤" again (exact32 proved only 2.96e-08: "error estimate …, proved ≤ …")
     assert ESTIMATE not in r.notes and abs(r.value - ref) <= r.proved <= r.error
     assert r.how() == f"quadrature, error ≤ {r.error:.3g}"

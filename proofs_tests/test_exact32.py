@@ -39,7 +39,7 @@ ROOT = Path(__file__).resolve().parents[1]
 PEAK = "int ([0, 1]) exp(-1e8*(x - 0.3)^2) d(x)\n"
 # (width 10⁻⁴: since diverge33's pass at the integrand's own scale, quad finds a peak of width 10⁻³
 # — one of its abscissae sees e^(−100) and the tolerance is scaled to it —, so the enclosure's cases
-# need a peak that every abscissa misses, its integrand 0 in doubles; bench/RESULTS.md, diverge33)
+# need a peak that every abscissa misses, its integrand 0 in doubles; bench/history/2026-11-29.md#diverge33
 MOVING = "param a = {a}\nint ([0, 1]) [x <= a]*exp(-1e8*(x - 0.37)^2) d(x)\n"
 NEAR = "param a = {a}\nint ([0, 1]) [x <= a]*exp(-1e6*(x - 0.37)^2) d(x)\n"
 HIDDEN = "int ([0, 1]) exp(-1e8*sin(x - 0.37)^2) d(x)\n"  # sympy finds no antiderivative

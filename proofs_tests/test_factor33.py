@@ -6,7 +6,7 @@ constant box), and :func:`langur.syntax.poles.sign_factors` split such a conditi
 *pole* moved, so the program was refused though the same condition inline / on a fixed box loads.
 Almost everywhere ``[Π fᵢ ≥ 0]`` is the parity of the factors' signs (pole31), each factor affine
 and completable on its own: the front end now splits whenever a factor moves, provided every factor
-completes (else the condition's own T207, once).  bench/RESULTS.md, factor33.
+completes (else the condition's own T207, once).  bench/history/2026-11-29.md#factor33.
 
 Hand values (all independent of the engines):
 * f1a ``[(x − a)(x − a − 0.3)(x − a + 0.2) ≥ 0]`` on [0, 1], a = 0.61: x ∈ [a − 0.2, a] ∪ [a + 0.3, 1],

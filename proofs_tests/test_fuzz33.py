@@ -4,7 +4,7 @@ terms.  Each kind is drawn with its option and never without it (seed 1's thousa
 programs are main's: test_fuzz30's digest); every drawn program loads (the type checker) and
 prints back to its AST; the tester judges a closed form that fails its quadrature cross-check as
 `langur eval` does (F3, fixed here); the round's other findings are regression tests with their
-hand values in both engines (F1, fixed by factor33; F2, fixed by zero33: bench/RESULTS.md, fuzz33,
+hand values in both engines (F1, fixed by factor33; F2, fixed by zero33: bench/history/2026-11-29.md#fuzz33,
 factor33 and zero33)."""
 
 import math

@@ -1,4 +1,4 @@
-"""Command output that tells the whole truth (session 33, bench/RESULTS.md, honest33).
+"""Command output that tells the whole truth (session 33, bench/history/2026-11-29.md#honest33.
 
 (1) ``langur check`` reports one finding once per run, in every format: a finding inside an
 imported module is reported at the module's place by the importer's check and by the module's own

@@ -6,7 +6,7 @@ word) and passing here.
 
 Every command runs in a subprocess bounded in memory (``RLIMIT_AS``), CPU time (``RLIMIT_CPU``) and
 wall clock; the contract (CLI.md): exit 0, 1 or 2, a located diagnostic or one usage line, never a
-traceback or an internal error.  bench/RESULTS.md, hostile33.
+traceback or an internal error.  bench/history/2026-11-29.md#hostile33.
 """
 
 from __future__ import annotations

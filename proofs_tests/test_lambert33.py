@@ -1,7 +1,7 @@
 """The paper's renderer with the point-light shader (§10.2, Fig. 14c: examples/raytrace/lambert.lgr)
 usable pixel by pixel: ``langur deriv``'s transversality gate asks only X301 and X305
 (``transversality.HERE_CODES``), and the checker then solves for a *set* of degenerate parameter values
-only when the values in force lie in it (bench/RESULTS.md, lambert33).
+only when the values in force lie in it (bench/history/2026-11-29.md#lambert33.
 
 What the gate reports must be what the whole analysis reports for those two codes: checked here on
 programs with X305 of every kind (a kink on the domain's bound named with every set its jump lies on,

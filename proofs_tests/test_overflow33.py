@@ -1,4 +1,4 @@
-"""Huge parameter values (bench/RESULTS.md, overflow33; hostile33 found both).
+"""Huge parameter values (bench/history/2026-11-29.md#overflow33; hostile33 found both).
 
 Monte Carlo: a standard error squares its samples' deviations, so samples of 1e200 (finite) gave
 ``± inf`` (their squares are 1e400).  Both the estimate and its standard error are homogeneous of

@@ -1,4 +1,4 @@
-"""The exact engine proves tight bounds (paper §8.2's ⟦p⟧ at a point; branch proof33, bench/RESULTS.md, proof33).
+"""The exact engine proves tight bounds (paper §8.2's ⟦p⟧ at a point; branch proof33, bench/history/2026-11-29.md#proof33.
 
 exact32 enclosed a piece's integral by the midpoint rule with an enclosed second derivative: a smooth
 one-variable integral got "error estimate 1.3e-10, proved ≤ 3e-08", a two-variable one "proved ≤ 0.77"

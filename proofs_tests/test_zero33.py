@@ -1,4 +1,4 @@
-"""fuzz33's F2 (bench/RESULTS.md, zero33): a smooth factor undefined
+"""fuzz33's F2 (bench/history/2026-11-29.md#zero33: a smooth factor undefined
 exactly on a moving jump.
 
 ``int ([0, 1]) (1 + 0·(1/(x − a)))·exp(min(x, a))``: the factor is 1 off x = a and undefined at x = a,

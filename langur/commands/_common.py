@@ -124,7 +124,7 @@ def fmt(v, digits: int = 10) -> str:
 
 
 #: The longest note the text output prints whole (a note can hold an inverse branch or det DΨ̂⁻¹ of
-#: thousands of characters: the lambert shader's, bench/RESULTS.md, budget33).
+#: thousands of characters: the lambert shader's, bench/history/2026-11-29.md#budget33.
 NOTE_CHARS = 400
 #: How much of a longer note's end is kept (where it says what was decided: "taken as +", "(heuristic)").
 NOTE_TAIL = 80

@@ -150,7 +150,7 @@ def transversal(loaded, path: str | None, at=None) -> Transversal:
     also X305: is it the derivative at those parameter values?  (Messages quote, and the rewrite
     patches, the text the load read — :meth:`~langur.modules.Loaded.texts` —, never the file read
     again: a named pipe has nothing more to give, a blocking ``open`` of one waited for a writer
-    for the command's whole --timeout, bench/RESULTS.md, hostile33.)"""
+    for the command's whole --timeout, bench/history/2026-11-29.md#hostile33.)"""
 
     if at is not None and loaded.program is not None and \
             affineclear.nothing_to_find(loaded.program, {k: float(v) for k, v in at.items()}):

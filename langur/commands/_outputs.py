@@ -108,7 +108,7 @@ def writing(path: str, option: str):
     """Writing ``path`` (given as ``option``): an OSError of the write — a folder that accepts no new
     file though :func:`output_file` found it writable (``/proc`` for root: ``access`` says yes), a
     full disk, a quota — is a usage error naming the file and the reason, not an internal error
-    (bench/RESULTS.md, hostile33)."""
+    (bench/history/2026-11-29.md#hostile33."""
     try:
         yield
     except OSError as e:

@@ -77,7 +77,7 @@ def parse_grid(text: str, declared) -> list[tuple[str, np.ndarray]]:
 def _evenly(start: float, stop: float, n: int) -> np.ndarray:
     """``n`` evenly spaced values from ``start`` to ``stop``: numpy's ``linspace``, which steps by
     (stop − start)/(n − 1) — ∞ for ends as far apart as −1e308 and 1e308, its points then NaN (an
-    internal error, bench/RESULTS.md, hostile33) — unless that step is no double; then the
+    internal error, bench/history/2026-11-29.md#hostile33 — unless that step is no double; then the
     points start·(1 − u) + stop·u (``operational.sample.spread``)."""
     if math.isfinite(stop - start):
         return np.linspace(start, stop, n)

@@ -48,7 +48,7 @@ LISTED_PAIRS = 200_000
 #: values given with ``--at``): when a caller asks for no other (the ``deriv`` gate, the fuzzer) with
 #: values given, the checks skip solving for the *set* of degenerate parameter values — which only
 #: X304, X306, X310 and their wording need — wherever the values in force are not in it
-#: (:attr:`Checker.here_only`, :meth:`Checker.pass_over`; bench/RESULTS.md, lambert33).
+#: (:attr:`Checker.here_only`, :meth:`Checker.pass_over`; bench/history/2026-11-29.md#lambert33.
 HERE_CODES = frozenset({"X301", "X305"})
 
 #: CPU seconds the whole analysis of one program may take (beyond: X310, the rest unchecked); CPU

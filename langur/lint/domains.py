@@ -131,7 +131,7 @@ class _Eval:
         """Where ``base`` (``v`` at the sample points) changes sign: bisection on the segment between
         the samples of each sign where it is smallest, to its zero (``x = 0.53``), or to where
         ``base`` jumps across 0 instead (a sample point, 0.27, is no zero:
-        fuzz33's F2; bench/RESULTS.md, zero33)."""
+        fuzz33's F2; bench/history/2026-11-29.md#zero33."""
         size = np.where(mask, np.abs(v), np.inf)
         ends = [int(np.argmin(np.where(v < 0, size, np.inf))), int(np.argmin(np.where(v > 0, size, np.inf)))]
         lo, hi = (np.array([xs[k] for xs in self.xs.values()]) for k in ends)

@@ -55,7 +55,7 @@ def _offset(lines: list[str], line: int, col: int) -> int:
 def _same(text: str, path: str, modules, loaded, program) -> bool:
     """Does ``text`` load back to ``program``?  Its imports are the modules ``loaded`` read, not read
     again (a named pipe's bytes come once: the rewrite waited for a writer until check's wall-clock
-    backstop, bench/RESULTS.md, hostile33)."""
+    backstop, bench/history/2026-11-29.md#hostile33."""
     try:
         again = frontend.load_text(text, path, modules=modules, files=loaded.files())
     except LangurError:

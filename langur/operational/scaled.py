@@ -1,5 +1,5 @@
 """Means and standard errors of samples near the top of the doubles (§9's estimator, computed
-without overflow; bench/RESULTS.md, overflow33).
+without overflow; bench/history/2026-11-29.md#overflow33.
 
 A standard error squares its samples' deviations: samples of 1e200 are finite, their squares
 (1e400) are not, so the plain formula says ``± inf`` of a finite estimate.  Both the estimate and

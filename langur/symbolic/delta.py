@@ -133,7 +133,7 @@ _JACOBIANS: dict = {}
 
 #: CPU seconds sympy's ``Matrix.det`` of DΨ̂⁻¹ may take (within the call's one budget, ``ctx.deadline``)
 #: before the determinant is written by cofactor expansion instead (:func:`_jacobian`): the lambert
-#: shader's conic took seconds per branch in it (bench/RESULTS.md, budget33).
+#: shader's conic took seconds per branch in it (bench/history/2026-11-29.md#budget33.
 DET_SECONDS = 1.0
 
 

@@ -234,7 +234,7 @@ def _finish(exacts, quads, fallbacks, ctx: Context, what: str, converged=None, p
             # a closer look (:data:`~.enclosed.CELLS_REFUTED` cells): where quadrature is refuted, or on one
             # variable, where the rule's remainder makes more cells pay (on more, a curved boundary's cells
             # narrow as h³: 3,000 cells take 2 CPU s to prove implicit2d ≤ 2e-4, not 1e-10 — not worth it
-            # at every point of a render; bench/RESULTS.md, proof33)
+            # at every point of a render; bench/history/2026-11-29.md#proof33
             enc = prove(i, qe, enclosed.CELLS_REFUTED) or enc
         if enc is not None and not enc.holds(q, qe):  # quadrature missed mass: the proof is the answer
             q = (enc.lo + enc.hi) / 2
@@ -291,7 +291,7 @@ def _beyond_doubles(expr, ctx: Context) -> sp.Float | None:
 class NoFloat(tuple):
     """A piece's quadrature ``(∞, ∞)`` stopped by :class:`~.quadrature.BeyondRange` (``exc``): its
     integrand's values are too large for a float, so only a closed form can give its value, and it
-    is not cross-checked (bench/RESULTS.md, overflow33)."""
+    is not cross-checked (bench/history/2026-11-29.md#overflow33."""
 
     def __new__(cls, exc: quadrature.BeyondRange):
         out = super().__new__(cls, (math.inf, math.inf))

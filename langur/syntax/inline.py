@@ -65,7 +65,7 @@ MAX_INLINED_DEPTH = 400
 #: arguments is a copy, so a loop of calls at distinct arguments multiplies a body's size by its
 #: copies — three lines (``def f(y: var) = sum j in 1..2000: y*j`` called as ``sum i in 1..2000:
 #: f(x + i)``) wrote out 4·10⁶ nodes, 65 CPU s and 1.9 GB before anything was evaluated
-#: (bench/RESULTS.md, hostile33).  Counted as the copies are made, so refused at the call that
+#: (bench/history/2026-11-29.md#hostile33.  Counted as the copies are made, so refused at the call that
 #: passes it, having built at most this much: as many nodes as loops may write out (T225), so
 #: that a loop of calls costs what the same loop with the body written in it would.
 MAX_INLINED_NODES = 500_000

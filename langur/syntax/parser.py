@@ -154,7 +154,7 @@ def _check_line_ends(text: str, path: str) -> None:
     """E104 at a carriage return not followed by a line feed.  Lines end with LF (CRLF: the CR is
     white space); a file with CR-only line ends, which many editors show as lines, was one line
     here: its findings were reported at 1:COL, quoted from the wrong text and not silenced by the
-    ``# noqa`` the user saw on their line (bench/RESULTS.md, hostile33)."""
+    ``# noqa`` the user saw on their line (bench/history/2026-11-29.md#hostile33."""
     m = _LONE_CR.search(text)
     if m is None:
         return

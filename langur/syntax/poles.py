@@ -32,7 +32,7 @@ factor once and an even one drops it (a touch, no jump) — bench/history/2026-1
 A condition with no completion as a whole (in a ``def``, with no box; on a box whose intervals all
 move) is split when a pole moves, or when it is a product with no pole of which some factor moves
 and every factor completes on its own (``(x − a)(x − a − 0.3)(x − a + 0.2)``: fuzz33's F1,
-bench/RESULTS.md, factor33); a pole that does not move stays refused (T207).
+bench/history/2026-11-29.md#factor33; a pole that does not move stays refused (T207).
 """
 
 from __future__ import annotations
@@ -143,7 +143,7 @@ def _split(expr: sp.Expr, cond: Term, psi: Diffeo | None):
         return None  # one factor, not under a division: the condition itself, up to its coefficient
     moving = [f for f in factors if f.free_symbols - variables]
     if psi is None:  # no completion: split for a pole that moves, or a product with no pole of which a factor
-        # moves (fuzz33's F1: bench/RESULTS.md, factor33; the caller splits only if each factor completes on its
+        # moves (fuzz33's F1: bench/history/2026-11-29.md#factor33; the caller splits only if each factor completes on its
         # own); a fixed pole stays refused (T207), pole31's rule
         return (coefficient, factors) if any(f in moving for f in poles) or moving and not poles else None
     if not moving or _reaches(psi, moving, expr.free_symbols - variables):
@@ -188,7 +188,7 @@ def extended(t: Term) -> Term:
     derivative's delta evaluates them on a jump's zero set (Fig. 8), which may be the pole: the
     exact engine, through sympy, read the extension there ((1 − a)·e^a for
     ``(1 + 0·(1/(x − a)))·exp(min(x, a))``) and Monte Carlo NaN (fuzz33's F2;
-    bench/RESULTS.md, zero33).  A pole that is no removable singularity stays as written (a true pole on a delta's
+    bench/history/2026-11-29.md#zero33.  A pole that is no removable singularity stays as written (a true pole on a delta's
     zero set: the boundary term does not exist, and both engines say so)."""
     if defined_everywhere(t):
         return t

@@ -185,7 +185,7 @@ def _at_scale(g: _Finite, c: float, d: float, eps: float, inside: list[float], v
     relative one, and this), not under a fixed absolute one: ``quad(k·t^-1.01, 0, 1)`` with
     ε = 10⁻¹¹ says "probably divergent" for k ≥ 10⁻¹¹ and, for k ≤ 10⁻¹², stops after 63 abscissae
     without a warning with "value" 8.8·k ± 9.9·k (the mirror of fuzz32's D3,
-    bench/history/2026-11-29.md#wide32; bench/RESULTS.md, diverge33).  Under eps·S the pass is
+    bench/history/2026-11-29.md#wide32; bench/history/2026-11-29.md#diverge33.  Under eps·S the pass is
     the one the integrand scaled to size ~1 gets under ε, so ``k·t^-1.01`` diverges at every k
     and a tiny convergent one (``10⁻²⁰·e^(−t²)``) converges, to its relative accuracy.  Its value
     and warnings are taken as the integrand of size ~1 would have them (:func:`_quad` reads them:

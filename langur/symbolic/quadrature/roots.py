@@ -94,7 +94,7 @@ def _pairs_beside(g: Callable[[float], float], xs: list, vals: list, end: float,
     node next to a NaN is skipped by :func:`_hidden_pairs` (its neighbour has no sign), and a turn
     of ``g`` between the edge and that node or the next one hides a pair: ``0.0001·√(x − 0.26) +
     (x − 0.285)² − 3·10⁻⁵`` on [0, 1] (grid step 0.025) is negative on (0.28106, 0.28862), and the
-    grid search saw only the edge 0.26 (bench/RESULTS.md, diverge33).  Here the edge's point
+    grid search saw only the edge 0.26 (bench/history/2026-11-29.md#diverge33.  Here the edge's point
     stands in for the NaN neighbour: :func:`_hidden_pairs` on ``end`` and the next two defined
     nodes, the farther one not searched (the grid's own search covers it, with both its
     neighbours); a root already ``known`` (within 10⁻¹² relative) is not repeated."""
