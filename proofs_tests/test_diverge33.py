@@ -58,9 +58,24 @@ DIVERGENT = {  # each diverges at an end or inside: ∫ |f| = ∞ (by hand: the 
 }
 
 
-@pytest.mark.parametrize("k", [float(s) for s in SCALES])
-@pytest.mark.parametrize("name", sorted(DIVERGENT))
+#: Not caught since the coordinator's mend (bench/RESULTS.md, the coordinator's section after diverge33): the pass
+#: at the integrand's own scale turns a tiny integrand into "undefined" only where |g| grows like |t − end|^-α,
+#: α ≥ 1, at an end — an integrand of rounding noise (a continuous max's jump, 0 up to rounding) said
+#: "probably divergent" there too, on 19 convergent programs of seed 1's campaign; a divergence inside the
+#: interval, or one that oscillates with no exponent, at scales ≤ 1e-12, is again a number, as before diverge33.
+SCALE_ONLY = "a tiny divergence inside the interval or with no growth exponent: only a growth at an end decides"
+NOT_YET = {("1/(t-0.3)", "1e-30"), ("1/(t-0.3)", "1e-20"), ("1/(t-0.3)", "1e-12"), ("sin(1/t)/t", "1e-30"),
+           ("sin(1/t)/t", "1e-20"), ("sin(1/t)/t", "1e-12"), ("1/(t-0.3)^2", "1e-30"), ("1/(t-0.3)^2", "1e-20")}
+
+
+def _marked(pairs, not_yet):
+    return [pytest.param(*pair, marks=pytest.mark.xfail(strict=True, reason=SCALE_ONLY)) if pair in not_yet
+            else pytest.param(*pair) for pair in pairs]
+
+
+@pytest.mark.parametrize("name, k", _marked([(n, k) for n in sorted(DIVERGENT) for k in SCALES], NOT_YET))
 def test_a_divergent_integrand_is_undefined_at_every_scale(name, k):
+    k = float(k)
     f, a, b = DIVERGENT[name]
     with pytest.raises(UndefinedIntegral):  # main: a number for k <= 1e-12 (1e-20 for the squares)
         _quad(lambda t: k * f(t), a, b, EPS, [], _problem(), 0)
@@ -97,8 +112,8 @@ ONE = "param a = 0.5, b = 1\nint ([0, 1]) {k} * a * b * sin(1 / x) / x d(x)\n"
 TWO = "param a = 0.5, b = 1\nint ([0, 1], [0, 1]) {k} * a * b / ((y - x) * (2 + sin(1 / (y - x)))) d(x, y)\n"
 
 
-@pytest.mark.parametrize("k", SCALES)
-@pytest.mark.parametrize("src", [ONE, TWO], ids=["1-D", "2-D inner"])
+@pytest.mark.parametrize("src, k", _marked([(src, k) for src in (ONE, TWO) for k in SCALES],
+                                           {(ONE, "1e-30"), (ONE, "1e-20"), (ONE, "1e-12")}))
 def test_the_library_says_undefined_at_every_scale(src, k):
     loaded = load_text(src.format(k=k))
     at = loaded.param_values()
@@ -116,8 +131,8 @@ def _run(*args: str) -> str:
     return out.stdout + out.stderr
 
 
-@pytest.mark.parametrize("k", ["1e-30", "1e30"])
-@pytest.mark.parametrize("src", [ONE, TWO], ids=["1-D", "2-D inner"])
+@pytest.mark.parametrize("src, k", _marked([(src, k) for src in (ONE, TWO) for k in ("1e-30", "1e30")],
+                                           {(ONE, "1e-30")}))
 def test_the_commands_say_undefined_at_every_scale(tmp_path, src, k):
     path = tmp_path / "p.lgr"
     path.write_text(src.format(k=k))
