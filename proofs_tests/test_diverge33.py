@@ -58,7 +58,7 @@ DIVERGENT = {  # each diverges at an end or inside: ∫ |f| = ∞ (by hand: the 
 }
 
 
-#: Not caught since the coordinator's mend (bench/RESULTS.md, the coordinator's section after diverge33): the pass
+#: Not caught since the coordinator's mend (the coordinator's section of 2026-11-29 15:00–17:50 UTC: below bench/RESULTS.md's marker, then in bench/history/2026-11-29.md): the pass
 #: at the integrand's own scale turns a tiny integrand into "undefined" only where |g| grows like |t − end|^-α,
 #: α ≥ 1, at an end — an integrand of rounding noise (a continuous max's jump, 0 up to rounding) said
 #: "probably divergent" there too, on 19 convergent programs of seed 1's campaign; a divergence inside the

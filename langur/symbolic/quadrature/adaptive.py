@@ -201,7 +201,8 @@ def _at_scale(g: _Finite, c: float, d: float, eps: float, inside: list[float], v
     by the jump of a continuous ``max``, 0 up to rounding, on a 3-D program of seed 1's campaign) is
     tiny too, and QUADPACK asked to integrate noise to its own scale says "probably divergent"; the
     first pass's value stands then, as it did before diverge33 (a divergence inside [c, d] at a tiny
-    scale, ``10⁻²⁰/(t − 0.3)²``, is then not caught: bench/RESULTS.md, the coordinator's section)."""
+    scale, ``10⁻²⁰/(t − 0.3)²``, is then not caught: the coordinator's mend after diverge33's merge, in the coordinator's section
+    of 2026-11-29 15:00–17:50 UTC, below bench/RESULTS.md's marker until moved to bench/history/2026-11-29.md)."""
     tol = max(eps * g.size, known) * (d - c)
     if not e > max(tol, eps * abs(val)):
         return val, e, [], eps
